@@ -1,0 +1,3 @@
+from regmap.cli import main
+
+raise SystemExit(main())

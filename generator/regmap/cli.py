@@ -1,0 +1,109 @@
+"""The `regmap` command line. Thin: parse arguments, call the front end and a back end, report."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import traceback
+from collections.abc import Sequence
+from pathlib import Path
+
+from regmap import __version__
+from regmap.diagnostics import MapError, UsageError
+from regmap.frontend import load_map
+from regmap.model import Device
+
+DEFAULT_MAPS_DIR = Path("maps")
+
+
+def _maps(paths: Sequence[str]) -> list[Path]:
+    if paths:
+        return [Path(p) for p in paths]
+    found = sorted(DEFAULT_MAPS_DIR.glob("*.yaml"))
+    if not found:
+        raise UsageError(f"no maps given and none found in {DEFAULT_MAPS_DIR}/")
+    return found
+
+
+def load_all(paths: Sequence[str]) -> list[Device]:
+    """Load every map, reporting the problems of all of them before failing."""
+    devices, errors = [], []
+    for path in _maps(paths):
+        try:
+            devices.append(load_map(path))
+        except MapError as exc:
+            errors.extend(exc.diagnostics)
+    if errors:
+        raise MapError(errors)
+    return devices
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    status = 0
+    for path in _maps(args.maps):
+        try:
+            device = load_map(path)
+        except MapError as exc:
+            for diag in exc.diagnostics:
+                print(diag, file=sys.stderr)
+            status = 1
+            continue
+        arrays = device.arrays
+        print(
+            f"{path}: ok: {device.info.vendor} {device.info.model} map {device.info.map_version}, "
+            f"{len(device.registers)} registers ({len(arrays)} arrays), {len(device.enums)} enums, "
+            f"{len(device.commands)} commands, {len(device.examples)} examples, {len(device.errata)} errata"
+        )
+    return status
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    from regmap.backends.export import export_json
+
+    device = load_map(args.map)
+    json.dump(export_json(device), sys.stdout, ensure_ascii=False, indent=2)
+    sys.stdout.write("\n")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="regmap", description="Declarative Modbus RTU register maps for motor drives.")
+    parser.add_argument("--version", action="version", version=f"regmap {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("validate", help="check maps against the schema and the semantic rules")
+    p.add_argument("maps", nargs="*", metavar="MAP", help="map files (default: every maps/*.yaml)")
+    p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("export", help="print the elaborated model of a map as JSON")
+    p.add_argument("map", metavar="MAP")
+    p.add_argument("--format", choices=["json"], default="json")
+    p.set_defaults(func=cmd_export)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        result: int = args.func(args)
+        return result
+    except MapError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        return 1
+    except UsageError as exc:
+        print(f"regmap {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("regmap: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as exc:  # a bug in regmap, not bad input: one line unless asked for more
+        if os.environ.get("REGMAP_DEBUG"):
+            traceback.print_exc()
+        print(f"regmap {args.command}: internal error: {type(exc).__name__}: {exc} (set REGMAP_DEBUG=1 for the traceback)", file=sys.stderr)
+        return 70

@@ -1,0 +1,453 @@
+"""The intermediate model: one frozen `Device` per map, arrays expanded and references resolved.
+
+Every back end (Python, C, Markdown) and every runtime tool reads only this model. Values that
+back ends would otherwise compute (masks, widths, raw ranges, scale fractions) are computed here.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+
+class WordOrder(enum.Enum):
+    HIGH_FIRST = "high_first"
+    LOW_FIRST = "low_first"
+
+
+class Access(enum.Enum):
+    READ = "r"
+    READ_WRITE = "rw"
+    WRITE = "w"
+
+    @property
+    def readable(self) -> bool:
+        return self is not Access.WRITE
+
+    @property
+    def writable(self) -> bool:
+        return self is not Access.READ
+
+
+class DataType(enum.Enum):
+    U16 = "u16"
+    S16 = "s16"
+    U32 = "u32"
+    S32 = "s32"
+
+    @property
+    def words(self) -> int:
+        return 2 if self in (DataType.U32, DataType.S32) else 1
+
+    @property
+    def bits(self) -> int:
+        return 16 * self.words
+
+    @property
+    def signed(self) -> bool:
+        return self in (DataType.S16, DataType.S32)
+
+    @property
+    def raw_min(self) -> int:
+        return -(1 << (self.bits - 1)) if self.signed else 0
+
+    @property
+    def raw_max(self) -> int:
+        return (1 << (self.bits - 1)) - 1 if self.signed else (1 << self.bits) - 1
+
+
+@dataclass(frozen=True)
+class EnumMember:
+    value: int
+    name: str
+    title: str
+    title_zh: str | None = None
+    symbol: str | None = None
+    description: str = ""
+    source: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class EnumType:
+    name: str
+    title: str
+    members: tuple[EnumMember, ...]
+    title_zh: str | None = None
+    description: str = ""
+    source: tuple[str, ...] = ()
+
+    def member(self, name: str) -> EnumMember | None:
+        return next((m for m in self.members if m.name == name), None)
+
+    def by_value(self, value: int) -> EnumMember | None:
+        return next((m for m in self.members if m.value == value), None)
+
+
+@dataclass(frozen=True)
+class Bitfield:
+    name: str
+    lsb: int
+    msb: int
+    title: str
+    title_zh: str | None = None
+    description: str = ""
+    enum: EnumType | None = None
+
+    @property
+    def width(self) -> int:
+        return self.msb - self.lsb + 1
+
+    @property
+    def mask(self) -> int:
+        """Mask of the field in place (already shifted)."""
+        return ((1 << self.width) - 1) << self.lsb
+
+    @property
+    def max_value(self) -> int:
+        return (1 << self.width) - 1
+
+    @property
+    def is_flag(self) -> bool:
+        return self.width == 1 and self.enum is None
+
+    @property
+    def bits_text(self) -> str:
+        return str(self.lsb) if self.lsb == self.msb else f"{self.lsb}-{self.msb}"
+
+
+@dataclass(frozen=True)
+class ArrayMember:
+    name: str
+    offset: int
+    words: int
+    title: str
+
+
+@dataclass(frozen=True)
+class ArrayDef:
+    """A repeated block, kept beside its expanded registers so back ends can print formulas."""
+
+    name: str
+    title: str
+    count: int
+    index_base: int
+    base: int
+    stride: int
+    members: tuple[ArrayMember, ...]
+    title_zh: str | None = None
+    description: str = ""
+    element_title: str = ""
+    group: str = ""
+    source: tuple[str, ...] = ()
+    notes: str = ""
+
+    @property
+    def first_index(self) -> int:
+        return self.index_base
+
+    @property
+    def last_index(self) -> int:
+        return self.index_base + self.count - 1
+
+    def element_address(self, index: int, member: ArrayMember) -> int:
+        return self.base + (index - self.index_base) * self.stride + member.offset
+
+
+@dataclass(frozen=True)
+class ArrayRef:
+    array: str
+    index: int
+    member: str
+
+
+@dataclass(frozen=True)
+class Register:
+    name: str
+    address: int
+    type: DataType
+    access: Access
+    title: str
+    group: str
+    param: str | None = None
+    word_order: WordOrder = WordOrder.HIGH_FIRST
+    unit: str | None = None
+    scale: Fraction = Fraction(1)
+    min: int | None = None
+    max: int | None = None
+    default: int | None = None
+    enum: EnumType | None = None
+    bitfields: tuple[Bitfield, ...] = ()
+    takes_effect: str | None = None
+    settable: str | None = None
+    modes: tuple[str, ...] = ()
+    paired: bool = False
+    title_zh: str | None = None
+    description: str = ""
+    range_text: str | None = None
+    source: tuple[str, ...] = ()
+    notes: str = ""
+    array: ArrayRef | None = None
+    errata: tuple[str, ...] = ()
+
+    @property
+    def words(self) -> int:
+        return self.type.words
+
+    @property
+    def signed(self) -> bool:
+        return self.type.signed
+
+    @property
+    def first_address(self) -> int:
+        """First address the register occupies on the bus (the unused high word of a pair)."""
+        return self.address - 1 if self.paired else self.address
+
+    @property
+    def span(self) -> int:
+        """Words from `first_address` that belong to this register."""
+        return self.words + (1 if self.paired else 0)
+
+    @property
+    def last_address(self) -> int:
+        return self.address + self.words - 1
+
+    @property
+    def raw_min(self) -> int:
+        return self.min if self.min is not None else self.type.raw_min
+
+    @property
+    def raw_max(self) -> int:
+        return self.max if self.max is not None else self.type.raw_max
+
+    @property
+    def scaled(self) -> bool:
+        return self.scale != 1
+
+    @property
+    def label(self) -> str:
+        """How a person names it: the manual's id when there is one."""
+        return f"{self.param} {self.name}" if self.param else self.name
+
+
+@dataclass(frozen=True)
+class Group:
+    id: str
+    title: str
+    registers: tuple[Register, ...]
+    arrays: tuple[ArrayDef, ...] = ()
+    title_zh: str | None = None
+    description: str = ""
+    source: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class CommandArgument:
+    name: str
+    min: int
+    max: int
+    title: str = ""
+
+
+@dataclass(frozen=True)
+class Command:
+    name: str
+    title: str
+    register: Register
+    value: int
+    argument: CommandArgument | None = None
+    title_zh: str | None = None
+    description: str = ""
+    source: tuple[str, ...] = ()
+
+    def raw_value(self, argument: int | None = None) -> int:
+        if self.argument is None:
+            return self.value
+        if argument is None or not self.argument.min <= argument <= self.argument.max:
+            raise ValueError(
+                f"command {self.name} needs {self.argument.name} in {self.argument.min}..{self.argument.max}, got {argument}"
+            )
+        return self.value + argument
+
+
+@dataclass(frozen=True)
+class Fault:
+    code: str
+    name: str
+    title: str
+    kind: str
+    value: int | None = None
+    title_zh: str | None = None
+    resettable: bool | None = None
+    description: str = ""
+    source: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class ExampleValue:
+    register: Register
+    raw: tuple[int, ...] | None = None
+    value: float | str | None = None
+
+
+@dataclass(frozen=True)
+class Example:
+    id: str
+    source: tuple[str, ...]
+    direction: str
+    frame: bytes
+    meaning: str
+    request: str | None = None
+    meaning_zh: str | None = None
+    values: tuple[ExampleValue, ...] = ()
+    erratum: str | None = None
+    corrected_frame: bytes | None = None
+    notes: str = ""
+
+    @property
+    def wire_frame(self) -> bytes:
+        """The frame a correct device or master puts on the wire."""
+        return self.corrected_frame if self.corrected_frame is not None else self.frame
+
+
+@dataclass(frozen=True)
+class Reading:
+    source: tuple[str, ...]
+    says: str
+
+
+@dataclass(frozen=True)
+class Erratum:
+    id: str
+    title: str
+    readings: tuple[Reading, ...]
+    choice: str
+    reason: str
+    registers: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class ModbusException:
+    code: int
+    name: str
+    title: str
+    title_zh: str | None = None
+    source: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class TimingRow:
+    baud: int
+    receive_to_send_ms: float | None = None
+    wait_after_receive_ms: float | None = None
+    send_to_receive_ms: float | None = None
+    total_ms: float | None = None
+
+
+@dataclass(frozen=True)
+class WordOrderRegister:
+    register: Register
+    high_first: int
+    low_first: int
+
+
+@dataclass(frozen=True)
+class Transport:
+    baud: int
+    parity: str
+    data_bits: int
+    stop_bits: int
+    slave_min: int
+    slave_max: int
+    function_codes: tuple[int, ...]
+    max_read_registers: int
+    max_write_registers: int
+    word_order: WordOrder
+    baud_rates: tuple[int, ...] = ()
+    broadcast_id: int | None = None
+    max_message_bytes: int | None = None
+    word_order_register: WordOrderRegister | None = None
+    crc_byte_order: str = "low_first"
+    undocumented_addresses: str = "reject"
+    response_delay_ms: float | None = None
+    timing: tuple[TimingRow, ...] = ()
+    exceptions: tuple[ModbusException, ...] = ()
+    source: tuple[str, ...] = ()
+    notes: str = ""
+
+    @property
+    def tolerates_gaps(self) -> bool:
+        return self.undocumented_addresses == "tolerate"
+
+    def exception(self, code: int) -> ModbusException | None:
+        return next((e for e in self.exceptions if e.code == code), None)
+
+
+@dataclass(frozen=True)
+class DeviceInfo:
+    id: str
+    vendor: str
+    model: str
+    manual_title: str
+    manual_file: str
+    map_version: str
+    vendor_zh: str | None = None
+    description: str = ""
+    manual_version: str | None = None
+    manual_language: str | None = None
+    firmware: str | None = None
+
+
+@dataclass(frozen=True)
+class Device:
+    info: DeviceInfo
+    transport: Transport
+    groups: tuple[Group, ...]
+    enums: tuple[EnumType, ...]
+    commands: tuple[Command, ...]
+    faults: tuple[Fault, ...]
+    examples: tuple[Example, ...]
+    errata: tuple[Erratum, ...]
+    source_path: str
+    fingerprint: str
+    registers: tuple[Register, ...] = field(default=())
+
+    @property
+    def id(self) -> str:
+        return self.info.id
+
+    @property
+    def arrays(self) -> tuple[ArrayDef, ...]:
+        return tuple(a for g in self.groups for a in g.arrays)
+
+    def register(self, name: str) -> Register:
+        for reg in self.registers:
+            if reg.name == name:
+                return reg
+        raise KeyError(name)
+
+    def example(self, example_id: str) -> Example:
+        for ex in self.examples:
+            if ex.id == example_id:
+                return ex
+        raise KeyError(example_id)
+
+    def enum(self, name: str) -> EnumType:
+        for en in self.enums:
+            if en.name == name:
+                return en
+        raise KeyError(name)
+
+    def at_address(self, address: int) -> Register | None:
+        """The register whose listed address (or any word of it) is `address`."""
+        for reg in self.registers:
+            if reg.address <= address <= reg.last_address:
+                return reg
+        return None
+
+    def covering(self, address: int) -> Register | None:
+        """The register that owns `address`, including the unused high word of a pair."""
+        for reg in self.registers:
+            if reg.first_address <= address <= reg.last_address:
+                return reg
+        return None
