@@ -68,6 +68,16 @@ def cmd_export(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_generate(args: argparse.Namespace) -> int:
+    from regmap.generate import generate, target_names
+
+    targets = args.target or target_names()
+    devices = load_all(args.maps)
+    written = generate(devices, Path(args.out), targets, complete=not args.maps)
+    print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="regmap", description="Declarative Modbus RTU register maps for motor drives.")
     parser.add_argument("--version", action="version", version=f"regmap {__version__}")
@@ -81,7 +91,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("map", metavar="MAP")
     p.add_argument("--format", choices=["json"], default="json")
     p.set_defaults(func=cmd_export)
+    p = sub.add_parser("generate", help="generate Python clients, C headers and docs from maps")
+    p.add_argument("maps", nargs="*", metavar="MAP", help="map files (default: every maps/*.yaml)")
+    p.add_argument("--out", default="generated", metavar="DIR", help="output directory (default: generated)")
+    p.add_argument("--target", action="append", choices=_target_choices(), help="only this target (repeatable)")
+    p.set_defaults(func=cmd_generate)
+
     return parser
+
+
+def _target_choices() -> list[str]:
+    from regmap.generate import target_names
+
+    return target_names()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

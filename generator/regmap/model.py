@@ -264,9 +264,7 @@ class Command:
         if self.argument is None:
             return self.value
         if argument is None or not self.argument.min <= argument <= self.argument.max:
-            raise ValueError(
-                f"command {self.name} needs {self.argument.name} in {self.argument.min}..{self.argument.max}, got {argument}"
-            )
+            raise ValueError(f"command {self.name} needs {self.argument.name} in {self.argument.min}..{self.argument.max}, got {argument}")
         return self.value + argument
 
 

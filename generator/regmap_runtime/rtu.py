@@ -177,8 +177,27 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
     if not valid:
         problems.append(f"CRC mismatch: frame carries {to_hex(frame[-2:])}, expected {to_hex(crc_bytes(frame[:-2]))}")
 
-    def done(kind: str, **fields: object) -> Frame:
-        return Frame(raw=frame, slave=slave, function=function, kind=kind, crc_valid=valid, problems=tuple(problems), **fields)  # type: ignore[arg-type]
+    def done(
+        kind: str,
+        address: int | None = None,
+        count: int | None = None,
+        byte_count: int | None = None,
+        words: tuple[int, ...] = (),
+        exception_code: int | None = None,
+    ) -> Frame:
+        return Frame(
+            raw=frame,
+            slave=slave,
+            function=function,
+            kind=kind,
+            crc_valid=valid,
+            address=address,
+            count=count,
+            byte_count=byte_count,
+            words=words,
+            exception_code=exception_code,
+            problems=tuple(problems),
+        )
 
     if function & EXCEPTION_FLAG:
         if len(body) != 1:

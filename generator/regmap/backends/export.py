@@ -78,7 +78,12 @@ def export_json(device: Device) -> dict[str, Any]:
             "vendor_zh": info.vendor_zh,
             "model": info.model,
             "description": info.description,
-            "manual": {"title": info.manual_title, "version": info.manual_version, "file": info.manual_file, "language": info.manual_language},
+            "manual": {
+                "title": info.manual_title,
+                "version": info.manual_version,
+                "file": info.manual_file,
+                "language": info.manual_language,
+            },
             "firmware": info.firmware,
             "map_version": info.map_version,
             "fingerprint": device.fingerprint,
@@ -137,7 +142,16 @@ def export_json(device: Device) -> dict[str, Any]:
             for c in device.commands
         ],
         "faults": [
-            {"code": f.code, "value": f.value, "name": f.name, "title": f.title, "title_zh": f.title_zh, "kind": f.kind, "resettable": f.resettable, "source": list(f.source)}
+            {
+                "code": f.code,
+                "value": f.value,
+                "name": f.name,
+                "title": f.title,
+                "title_zh": f.title_zh,
+                "kind": f.kind,
+                "resettable": f.resettable,
+                "source": list(f.source),
+            }
             for f in device.faults
         ],
         "examples": [
@@ -148,7 +162,9 @@ def export_json(device: Device) -> dict[str, Any]:
                 "frame": x.frame.hex(" ").upper(),
                 "request": x.request,
                 "meaning": x.meaning,
-                "values": [{"register": v.register.name, "raw": None if v.raw is None else list(v.raw), "value": v.value} for v in x.values],
+                "values": [
+                    {"register": v.register.name, "raw": None if v.raw is None else list(v.raw), "value": v.value} for v in x.values
+                ],
                 "erratum": x.erratum,
                 "corrected_frame": None if x.corrected_frame is None else x.corrected_frame.hex(" ").upper(),
             }

@@ -19,6 +19,7 @@ from pathlib import Path as FsPath
 from typing import Any
 
 import jsonschema
+from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
 
 from regmap.diagnostics import Diagnostic, MapError
 from regmap.frontend.yamlsource import Path, Positions, YamlProblem, read_yaml
@@ -48,7 +49,6 @@ from regmap.model import (
     WordOrder,
     WordOrderRegister,
 )
-from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
 
 MAX_MAP_BYTES = 8 * 1024 * 1024
 
@@ -138,7 +138,9 @@ def _deepest(error: jsonschema.ValidationError) -> jsonschema.ValidationError:
 
 def _schema_message(error: jsonschema.ValidationError) -> str:
     if error.validator == "additionalProperties":
-        extra = sorted(set(error.instance) - set(error.schema.get("properties", {})))
+        schema = error.schema if isinstance(error.schema, dict) else {}
+        instance = error.instance if isinstance(error.instance, dict) else {}
+        extra = sorted(set(instance) - set(schema.get("properties", {})))
         return f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(repr(e) for e in extra)}"
     if error.validator == "required":
         return error.message.replace("is a required property", "is required")
@@ -409,12 +411,18 @@ class _Elaborator:
         address = r["address"] if address is None else address
         dtype = DataType(r.get("type", "u16"))
         if "words" in r and r["words"] != dtype.words:
-            self.problem((*path, "words"), f"{name}: words {r['words']} does not match type {dtype.value} ({dtype.words} word{'s' if dtype.words > 1 else ''})")
+            self.problem(
+                (*path, "words"),
+                f"{name}: words {r['words']} does not match type {dtype.value} ({dtype.words} word{'s' if dtype.words > 1 else ''})",
+            )
         if address + dtype.words - 1 > 0xFFFF:
             self.problem((*path, "address"), f"{name}: a {dtype.words}-word register at 0x{address:04X} runs past address 0xFFFF")
         paired = bool(r.get("paired", False))
         if paired and dtype.words != 1:
-            self.problem((*path, "paired"), f"{name}: `paired` describes a 16-bit value in the low word of a 32-bit pair; type {dtype.value} is already 32-bit")
+            self.problem(
+                (*path, "paired"),
+                f"{name}: `paired` describes a 16-bit value in the low word of a 32-bit pair; type {dtype.value} is already 32-bit",
+            )
         if paired and address == 0:
             self.problem((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
         if "word_order" in r and dtype.words == 1 and "word_order" not in self._defaults_keys(path):
@@ -425,18 +433,22 @@ class _Elaborator:
         low, high, default = r.get("min"), r.get("max"), r.get("default")
         for key, value in (("min", low), ("max", high), ("default", default)):
             if value is not None and not dtype.raw_min <= value <= dtype.raw_max:
-                self.problem((*path, key), f"{name}: {key} {value} is outside the range of {dtype.value} ({dtype.raw_min}..{dtype.raw_max})")
+                self.problem(
+                    (*path, key), f"{name}: {key} {value} is outside the range of {dtype.value} ({dtype.raw_min}..{dtype.raw_max})"
+                )
         if low is not None and high is not None and low > high:
             self.problem((*path, "min"), f"{name}: min {low} is greater than max {high}")
         if default is not None:
-            if low is not None and default < low or high is not None and default > high:
+            if (low is not None and default < low) or (high is not None and default > high):
                 self.problem((*path, "default"), f"{name}: default {default} is outside min..max ({low}..{high})")
             if enum_type is not None and enum_type.by_value(default) is None:
                 self.problem((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
         if enum_type is not None:
             for member in enum_type.members:
                 if not dtype.raw_min <= member.value <= dtype.raw_max:
-                    self.problem((*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}")
+                    self.problem(
+                        (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}"
+                    )
         if not r.get("source"):
             self.problem(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
         access = Access(r.get("access", "rw"))
@@ -498,7 +510,10 @@ class _Elaborator:
             if enum_type is not None:
                 for member in enum_type.members:
                     if not 0 <= member.value < (1 << (msb - lsb + 1)):
-                        self.problem((*fpath, "enum"), f"{name}.{spec['name']}: enum {enum_type.name} member {member.name} = {member.value} does not fit in {msb - lsb + 1} bit(s)")
+                        self.problem(
+                            (*fpath, "enum"),
+                            f"{name}.{spec['name']}: enum {enum_type.name} member {member.name} = {member.value} does not fit in {msb - lsb + 1} bit(s)",
+                        )
                         break
             fields.append(
                 Bitfield(
@@ -527,7 +542,10 @@ class _Elaborator:
             member_names.add(m["name"])
             words = DataType(m.get("type", defaults.get("type", "u16"))).words
             if m["offset"] + words > a["stride"]:
-                self.problem((*mpath, "offset"), f"array {a['array']}: member {m['name']} (offset {m['offset']}, {words} words) does not fit in the stride {a['stride']}")
+                self.problem(
+                    (*mpath, "offset"),
+                    f"array {a['array']}: member {m['name']} (offset {m['offset']}, {words} words) does not fit in the stride {a['stride']}",
+                )
             members.append(ArrayMember(name=m["name"], offset=m["offset"], words=words, title=m["title"]))
         array = ArrayDef(
             name=a["array"],
@@ -574,7 +592,10 @@ class _Elaborator:
             return
         expected = self._rule_address(reg.param)
         if expected is not None and expected != reg.address:
-            self.problem((*path, "address"), f"{reg.name}: parameter {reg.param} is at 0x{expected:04X} by the param_ids rule, but the address is 0x{reg.address:04X}")
+            self.problem(
+                (*path, "address"),
+                f"{reg.name}: parameter {reg.param} is at 0x{expected:04X} by the param_ids rule, but the address is 0x{reg.address:04X}",
+            )
 
     def _check_unique_registers(self) -> None:
         seen: dict[str, Register] = {}
@@ -648,17 +669,29 @@ class _Elaborator:
             if reg is not None:
                 word_order_register = WordOrderRegister(register=reg, high_first=w["high_first"], low_first=w["low_first"])
                 if reg.default is not None and reg.default not in (w["high_first"], w["low_first"]):
-                    self.problem((*path, "word_order_register"), f"the default {reg.default} of {reg.name} is neither the high_first nor the low_first value")
+                    self.problem(
+                        (*path, "word_order_register"),
+                        f"the default {reg.default} of {reg.name} is neither the high_first nor the low_first value",
+                    )
                 elif reg.default is not None:
                     configured = "high_first" if reg.default == w["high_first"] else "low_first"
                     if configured != t["word_order"]:
-                        self.problem((*path, "word_order"), f"word_order {t['word_order']} disagrees with the default of {reg.name} ({reg.default} = {configured})")
+                        self.problem(
+                            (*path, "word_order"),
+                            f"word_order {t['word_order']} disagrees with the default of {reg.name} ({reg.default} = {configured})",
+                        )
         max_bytes = t.get("max_message_bytes")
         if max_bytes is not None:
             if 5 + 2 * t["max_read_registers"] > max_bytes:
-                self.problem((*path, "max_read_registers"), f"a read response of {t['max_read_registers']} registers is {5 + 2 * t['max_read_registers']} bytes, more than max_message_bytes {max_bytes}")
+                self.problem(
+                    (*path, "max_read_registers"),
+                    f"a read response of {t['max_read_registers']} registers is {5 + 2 * t['max_read_registers']} bytes, more than max_message_bytes {max_bytes}",
+                )
             if 9 + 2 * t["max_write_registers"] > max_bytes:
-                self.problem((*path, "max_write_registers"), f"a write request of {t['max_write_registers']} registers is {9 + 2 * t['max_write_registers']} bytes, more than max_message_bytes {max_bytes}")
+                self.problem(
+                    (*path, "max_write_registers"),
+                    f"a write request of {t['max_write_registers']} registers is {9 + 2 * t['max_write_registers']} bytes, more than max_message_bytes {max_bytes}",
+                )
         codes = [e["code"] for e in t.get("exceptions", [])]
         for i, code in enumerate(codes):
             if code in codes[:i]:
@@ -683,7 +716,9 @@ class _Elaborator:
             response_delay_ms=t.get("response_delay_ms"),
             timing=tuple(TimingRow(**row) for row in t.get("timing", [])),
             exceptions=tuple(
-                ModbusException(code=e["code"], name=e["name"], title=e["title"], title_zh=e.get("title_zh"), source=_source(e.get("source")))
+                ModbusException(
+                    code=e["code"], name=e["name"], title=e["title"], title_zh=e.get("title_zh"), source=_source(e.get("source"))
+                )
                 for e in t.get("exceptions", [])
             ),
             source=_source(t.get("source")) + _source(serial.get("source")),
@@ -820,9 +855,14 @@ class _Elaborator:
                 )
             if corrected is not None:
                 if erratum is None:
-                    self.problem((*path, "corrected_frame"), f"example {x['id']}: corrected_frame needs an erratum explaining the correction")
+                    self.problem(
+                        (*path, "corrected_frame"), f"example {x['id']}: corrected_frame needs an erratum explaining the correction"
+                    )
                 if not crc_ok(corrected):
-                    self.problem((*path, "corrected_frame"), f"example {x['id']}: the corrected frame's CRC is wrong (expected {to_hex(crc_bytes(corrected[:-2]))})")
+                    self.problem(
+                        (*path, "corrected_frame"),
+                        f"example {x['id']}: the corrected frame's CRC is wrong (expected {to_hex(crc_bytes(corrected[:-2]))})",
+                    )
             request = x.get("request")
             if request is not None:
                 if x["direction"] != "response":

@@ -7,8 +7,8 @@ and only the plain YAML types can be produced (no object tags).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import re
+from dataclasses import dataclass, field
 from typing import Any
 
 import yaml
@@ -16,7 +16,9 @@ import yaml
 Path = tuple[str | int, ...]
 
 MAX_NODES = 200_000
-_AMBIGUOUS_INT = re.compile(r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$")  # far above any real map (the largest has a few thousand nodes)
+_AMBIGUOUS_INT = re.compile(
+    r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$"
+)  # far above any real map (the largest has a few thousand nodes)
 
 
 @dataclass
@@ -117,7 +119,9 @@ class _Builder:
         if node.tag == "tag:yaml.org,2002:int" and _AMBIGUOUS_INT.match(str(node.value)):
             line, col = _mark(node)
             raise YamlProblem(
-                line, col, f"ambiguous integer {node.value!r}: YAML reads a leading 0 as octal and a colon as base 60;"
+                line,
+                col,
+                f"ambiguous integer {node.value!r}: YAML reads a leading 0 as octal and a colon as base 60;"
                 " write it in decimal without the leading zero, in hex (0x...), or quote it if it is text",
             )
         try:

@@ -1,0 +1,401 @@
+"""Python back end: a typed client package per map on pymodbus, plus a copy of `regmap_runtime`.
+
+The views below compute every identifier, literal and docstring line; the template only prints.
+"""
+
+from __future__ import annotations
+
+import keyword
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from regmap_runtime.plan import plan_reads
+
+from regmap.diagnostics import UsageError
+from regmap.generate import Files, Target, ruff_format
+from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
+from regmap.render import environment, header_lines, py_doc, py_str
+
+RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "rtu.py", "spec.py")
+
+
+class PythonIdentifier(str):
+    """A snake_case identifier that is valid in Python and not a keyword."""
+
+    def __new__(cls, name: str) -> PythonIdentifier:
+        if not name.isidentifier():
+            raise UsageError(f"{name!r} is not a valid Python identifier")
+        if keyword.iskeyword(name) or keyword.issoftkeyword(name):
+            name = name + "_"
+        return super().__new__(cls, name)
+
+
+def camel(name: str) -> str:
+    return "".join(part[:1].upper() + part[1:] for part in name.split("_") if part)
+
+
+def const(name: str) -> str:
+    return name.upper()
+
+
+def fmt_number(value: float) -> str:
+    return f"{value:.10g}"
+
+
+def _int_literal(value: int) -> str:
+    """Hex for codes (the manuals print them so), decimal for small counts and negatives."""
+    return f"0x{value:02X}" if value >= 0x10 else str(value)
+
+
+@dataclass(frozen=True)
+class EnumView:
+    class_name: str
+    doc: str
+    members: tuple[tuple[str, str, str], ...]  # (NAME, literal value, docstring)
+
+
+@dataclass(frozen=True)
+class BitfieldView:
+    attr: str
+    name_literal: str
+    lsb: int
+    width: int
+    enum_class: str | None
+    annotation: str
+
+
+@dataclass(frozen=True)
+class BitsClassView:
+    class_name: str
+    doc: str
+    fields: tuple[BitfieldView, ...]
+
+
+@dataclass(frozen=True)
+class RegisterView:
+    const: str
+    attr: str  # method suffix / bundle attribute
+    spec_class: str  # ReadOnly / ReadWrite / WriteOnly
+    value_type: str
+    write_type: str
+    readable: bool
+    writable: bool
+    kwargs: tuple[tuple[str, str], ...]  # constructor keyword arguments, already literals
+    doc: str
+
+
+@dataclass(frozen=True)
+class ArrayView:
+    name: str
+    bundle_class: str
+    element_class: str
+    async_element_class: str
+    const: str
+    first: int
+    last: int
+    doc: str
+    members: tuple[RegisterView, ...]  # one view per member (element 0's), for method signatures
+    elements: tuple[tuple[int, tuple[tuple[str, str], ...]], ...]  # (index, ((attr, CONST), ...))
+
+
+@dataclass(frozen=True)
+class CommandView:
+    method: str
+    const: str
+    raw: str
+    argument: str | None
+    arg_min: int
+    arg_max: int
+    doc: str
+
+
+def _enum_view(e: EnumType) -> EnumView:
+    members = tuple(
+        (
+            const(PythonIdentifier(m.name)),
+            _int_literal(m.value),
+            py_doc(f"{m.title}" + (f" ({m.title_zh})" if m.title_zh else "") + (f" [{m.symbol}]" if m.symbol else "")),
+        )
+        for m in e.members
+    )
+    return EnumView(class_name=camel(e.name), doc=py_doc(_titled(e.title, e.title_zh) + _sources(e.source)), members=members)
+
+
+def _titled(title: str, title_zh: str | None) -> str:
+    return f"{title} ({title_zh})" if title_zh else title
+
+
+def _sources(source: tuple[str, ...]) -> str:
+    return f". Manual section {', '.join(source)}." if source else "."
+
+
+def _bits_class_name(reg: Register) -> str:
+    owner = f"{reg.array.array}_{reg.array.member}" if reg.array else reg.name
+    return camel(owner) + "Bits"
+
+
+def _bitfield_view(b: Bitfield) -> BitfieldView:
+    enum_class = camel(b.enum.name) if b.enum else None
+    annotation = f"{enum_class} | int" if enum_class else ("bool" if b.width == 1 else "int")
+    return BitfieldView(
+        attr=PythonIdentifier(b.name), name_literal=py_str(b.name), lsb=b.lsb, width=b.width, enum_class=enum_class, annotation=annotation
+    )
+
+
+def _value_type(reg: Register) -> str:
+    if reg.bitfields:
+        return _bits_class_name(reg)
+    if reg.enum is not None:
+        return f"{camel(reg.enum.name)} | int"
+    return "float" if reg.scaled else "int"
+
+
+def _eng(reg: Register, raw: int) -> str:
+    value = raw * reg.scale
+    return str(int(value)) if value.denominator == 1 else fmt_number(float(value))
+
+
+def _register_doc(reg: Register) -> str:
+    parts = [_titled(reg.title, reg.title_zh) + "."]
+    facts = []
+    if reg.param:
+        facts.append(f"Parameter {reg.param}")
+    facts.append(f"address 0x{reg.address:04X}" + (" (low word of a 32-bit pair)" if reg.paired else ""))
+    facts.append(f"{reg.type.value}")
+    if reg.unit:
+        facts.append(f"unit {reg.unit}")
+    if reg.min is not None or reg.max is not None:
+        facts.append(f"range {_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)}")
+    if reg.default is not None:
+        facts.append(f"default {_eng(reg, reg.default)}")
+    if reg.takes_effect:
+        facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
+    parts.append(", ".join(facts) + _sources(reg.source))
+    if reg.description:
+        parts.append(reg.description)
+    return py_doc(" ".join(parts))
+
+
+def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
+    spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[reg.access]
+    kwargs: list[tuple[str, str]] = [
+        ("name", py_str(reg.name)),
+        ("address", f"0x{reg.address:04X}"),
+        ("data_type", py_str(reg.type.value)),
+        ("access", py_str(reg.access.value)),
+    ]
+    if reg.words == 2:
+        kwargs.append(("word_order", py_str(reg.word_order.value)))
+    if reg.paired:
+        kwargs.append(("paired", "True"))
+    if reg.scaled:
+        kwargs += [("scale_num", str(reg.scale.numerator)), ("scale_den", str(reg.scale.denominator))]
+    for key in ("min", "max"):
+        value = getattr(reg, key)
+        if value is not None:
+            kwargs.append((key, str(value)))
+    if reg.unit:
+        kwargs.append(("unit", py_str(reg.unit)))
+    if reg.param:
+        kwargs.append(("param", py_str(reg.param)))
+    if reg.enum is not None:
+        kwargs.append(("enum", camel(reg.enum.name)))
+    if reg.bitfields:
+        kwargs.append(("bitfields", f"{_bits_class_name(reg)}.FIELDS"))
+        kwargs.append(("bitfield_type", _bits_class_name(reg)))
+    value_type = _value_type(reg)
+    write_type = value_type if reg.bitfields or reg.enum else ("float" if reg.scaled else "int")
+    if reg.enum is not None and not reg.bitfields:
+        write_type = f"{camel(reg.enum.name)} | int | str"
+    return RegisterView(
+        const=const(reg.name),
+        attr=PythonIdentifier(attr or reg.name),
+        spec_class=spec_class,
+        value_type=value_type,
+        write_type=write_type,
+        readable=reg.access.readable,
+        writable=reg.access.writable,
+        kwargs=tuple(kwargs),
+        doc=_register_doc(reg),
+    )
+
+
+def _array_view(device: Device, array: ArrayDef) -> ArrayView:
+    elements = []
+    members: dict[str, RegisterView] = {}
+    for index in range(array.first_index, array.last_index + 1):
+        pairs = []
+        for member in array.members:
+            reg = device.register(f"{array.name}_{index}_{member.name}")
+            pairs.append((str(PythonIdentifier(member.name)), const(reg.name)))
+            if member.name not in members:
+                members[member.name] = _register_view(reg, member.name)
+        elements.append((index, tuple(pairs)))
+    doc = (
+        _titled(array.title, array.title_zh)
+        + f": {array.count} elements {array.first_index}..{array.last_index}, element n at 0x{array.base:04X} + {array.stride} x (n - {array.index_base})"
+        + _sources(array.source)
+    )
+    return ArrayView(
+        name=PythonIdentifier(array.name),
+        bundle_class=camel(array.name) + "Registers",
+        element_class=camel(array.name) + "Element",
+        async_element_class="Async" + camel(array.name) + "Element",
+        const=const(array.name),
+        first=array.first_index,
+        last=array.last_index,
+        doc=py_doc(doc),
+        members=tuple(members.values()),
+        elements=tuple(elements),
+    )
+
+
+def _command_view(cmd: Command) -> CommandView:
+    doc = (
+        _titled(cmd.title, cmd.title_zh)
+        + f": writes 0x{cmd.value:04X}"
+        + (f" + {cmd.argument.name}" if cmd.argument else "")
+        + f" to {cmd.register.label} (0x{cmd.register.address:04X})"
+        + _sources(cmd.source)
+    )
+    if cmd.description:
+        doc += " " + cmd.description
+    return CommandView(
+        method=PythonIdentifier(cmd.name),
+        const=const(cmd.register.name),
+        raw=f"0x{cmd.value:04X}",
+        argument=PythonIdentifier(cmd.argument.name) if cmd.argument else None,
+        arg_min=cmd.argument.min if cmd.argument else 0,
+        arg_max=cmd.argument.max if cmd.argument else 0,
+        doc=py_doc(doc),
+    )
+
+
+def _check_names(device: Device, names: dict[str, str]) -> None:
+    seen: dict[str, str] = {}
+    for name, what in names.items():
+        if name in seen:
+            raise UsageError(
+                f"{device.source_path}: generated Python name {name!r} is used by both {seen[name]} and {what}; rename one in the map"
+            )
+        seen[name] = what
+
+
+def device_context(device: Device) -> dict[str, Any]:
+    enums = [_enum_view(e) for e in device.enums]
+    bits_classes: dict[str, BitsClassView] = {}
+    for reg in device.registers:
+        if reg.bitfields:
+            name = _bits_class_name(reg)
+            if name not in bits_classes:
+                title = reg.title if reg.array is None else f"{reg.title} of a {reg.array.array} element"
+                bits_classes[name] = BitsClassView(
+                    class_name=name, doc=py_doc(f"Fields of {title}."), fields=tuple(_bitfield_view(b) for b in reg.bitfields)
+                )
+    arrays = [_array_view(device, a) for a in device.arrays]
+    plain = [_register_view(r) for r in device.registers if r.array is None]
+    all_regs = [_register_view(r) for r in device.registers]
+    client_class = camel(device.id)
+    names = {e.class_name: f"enum {e.class_name}" for e in enums}
+    names.update({b: f"bitfield class {b}" for b in bits_classes})
+    for a in arrays:
+        names.update({a.bundle_class: f"array {a.name}", a.element_class: f"array {a.name}", a.async_element_class: f"array {a.name}"})
+    names[client_class] = "the client class"
+    names["Async" + client_class] = "the async client class"
+    _check_names(device, names)
+    methods = {f"read_{r.attr}": r.const for r in plain if r.readable}
+    methods.update({f"write_{r.attr}": r.const for r in plain if r.writable})
+    methods.update({a.name: f"array {a.name}" for a in arrays})
+    methods.update({c.name: f"command {c.name}" for c in device.commands})
+    _check_names(device, {**{k: v for k, v in methods.items()}})
+    reserved = {
+        "read",
+        "write",
+        "read_many",
+        "write_many",
+        "read_all",
+        "read_raw",
+        "write_raw",
+        "send_command",
+        "connect",
+        "close",
+        "rtu",
+        "tcp",
+    }
+    clash = reserved & set(methods)
+    if clash:
+        raise UsageError(f"{device.source_path}: {', '.join(sorted(clash))} would shadow a client method; rename it in the map")
+    t = device.transport
+    blocks = plan_reads(runtime_specs(device), t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device))
+    return {
+        "header": header_lines(device, "regmap generate"),
+        "device": device,
+        "title": py_doc(f"{device.info.vendor} {device.info.model} client"),
+        "client_class": client_class,
+        "enums": enums,
+        "bits_classes": list(bits_classes.values()),
+        "registers": all_regs,
+        "plain": plain,
+        "arrays": arrays,
+        "commands": [_command_view(c) for c in device.commands],
+        "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
+        "read_plan_requests": len(blocks),
+        "py_str": py_str,
+    }
+
+
+def documented_addresses(device: Device) -> frozenset[int]:
+    return frozenset(a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
+
+
+def runtime_specs(device: Device) -> list[Any]:
+    """RegisterSpec objects for planning at generation time (same planner as the runtime)."""
+    from regmap_runtime.spec import RegisterSpec
+
+    return [
+        RegisterSpec(
+            name=r.name,
+            address=r.address,
+            data_type=r.type.value,
+            access=r.access.value,
+            word_order=r.word_order.value,
+            paired=r.paired,
+            scale_num=r.scale.numerator,
+            scale_den=r.scale.denominator,
+            min=r.min,
+            max=r.max,
+            unit=r.unit,
+            param=r.param,
+        )
+        for r in device.registers
+    ]
+
+
+def render_device(device: Device) -> Files:
+    env = environment()
+    context = device_context(device)
+    package = device.id
+    return {
+        f"{package}/__init__.py": env.get_template("python/client.py.jinja").render(**context),
+        f"{package}/py.typed": "",
+    }
+
+
+def render_shared(devices: Any) -> Files:
+    files: Files = {"regmap_runtime/py.typed": ""}
+    source = resources.files("regmap_runtime")
+    for module in RUNTIME_MODULES:
+        text = source.joinpath(module).read_text(encoding="utf-8")
+        files[f"regmap_runtime/{module}"] = (
+            f"# Copied by regmap from generator/regmap_runtime/{module} - do not edit; regenerate with `regmap generate`.\n" + text
+        )
+    return files
+
+
+def _post(directory: Path) -> None:
+    ruff_format(directory)
+
+
+TARGET = Target(name="python", subdir="python", per_device=render_device, shared=render_shared, post=_post)

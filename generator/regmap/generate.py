@@ -1,0 +1,116 @@
+"""`regmap generate`: run the back ends and swap their output into place atomically."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from regmap.diagnostics import UsageError
+from regmap.model import Device
+
+Files = dict[str, str]  # relative path -> content
+
+
+@dataclass(frozen=True)
+class Target:
+    name: str
+    subdir: str
+    per_device: Callable[[Device], Files]
+    shared: Callable[[Sequence[Device]], Files]
+    post: Callable[[Path], None] | None = None
+
+
+def _targets() -> dict[str, Target]:
+    from regmap.backends import python
+
+    return {t.name: t for t in (python.TARGET,)}
+
+
+def target_names() -> list[str]:
+    return list(_targets())
+
+
+def render(devices: Sequence[Device], targets: Sequence[str]) -> dict[str, Files]:
+    """Every file each target produces, in memory, keyed by target subdir."""
+    known = _targets()
+    out: dict[str, Files] = {}
+    for name in targets:
+        target = known[name]
+        files: Files = dict(target.shared(devices))
+        for device in devices:
+            files.update(target.per_device(device))
+        out[name] = files
+    return out
+
+
+def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *, complete: bool) -> list[Path]:
+    """Write the targets' files under `out_dir`. With `complete` (all maps in scope) each target's
+    subdirectory is replaced whole, so files of removed maps disappear; otherwise files are added or
+    overwritten. Nothing under `out_dir` changes unless every target rendered and post-processed."""
+    known = _targets()
+    rendered = render(devices, targets)
+    out_dir = out_dir.resolve()
+    out_dir.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=".regmap-staging-", dir=out_dir.parent))
+    try:
+        tree = staging / "tree"
+        if out_dir.exists():
+            shutil.copytree(out_dir, tree, symlinks=True)
+        else:
+            tree.mkdir()
+        written: list[Path] = []
+        for name, files in rendered.items():
+            target = known[name]
+            sub = tree / target.subdir
+            if complete and sub.exists():
+                shutil.rmtree(sub)
+            for rel, content in sorted(files.items()):
+                path = sub / rel
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(content, encoding="utf-8", newline="\n")
+                written.append(out_dir / target.subdir / rel)
+            if target.post is not None:
+                target.post(sub)
+        _swap(tree, out_dir, staging)
+        return written
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _swap(new: Path, out_dir: Path, staging: Path) -> None:
+    old = staging / "previous"
+    if out_dir.exists():
+        os.rename(out_dir, old)
+    try:
+        os.rename(new, out_dir)
+    except OSError:
+        if old.exists():
+            os.rename(old, out_dir)
+        raise
+
+
+def ruff_format(directory: Path) -> None:
+    """Format generated Python with ruff (a dependency of regmap, so output is the same everywhere)."""
+    try:
+        from ruff.__main__ import find_ruff_bin
+    except ImportError:  # pragma: no cover - ruff is a declared dependency
+        raise UsageError("ruff is not installed; it formats the generated Python (pip install ruff)") from None
+    files = sorted(str(p) for p in directory.rglob("*.py"))
+    if not files:
+        return
+    config = ["--config", "line-length = 120", "--config", "target-version = 'py311'"]
+    result = subprocess.run(
+        [find_ruff_bin(), "format", "--quiet", "--no-cache", "--isolated", *config, *files],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if result.returncode != 0:
+        sys.stderr.write(result.stderr)
+        raise UsageError("ruff could not format the generated Python (a template bug): see above")
