@@ -29,7 +29,10 @@ class Target:
 def _targets() -> dict[str, Target]:
     from regmap.backends import python
 
-    return {t.name: t for t in (python.TARGET,)}
+    targets = [python.TARGET]
+    # (c back end registers here)
+    # (markdown back end registers here)
+    return {t.name: t for t in targets}
 
 
 def target_names() -> list[str]:

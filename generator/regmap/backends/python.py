@@ -11,8 +11,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from regmap_runtime.plan import plan_reads
-
+from regmap.backends.common import read_plan
 from regmap.diagnostics import UsageError
 from regmap.generate import Files, Target, ruff_format
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
@@ -328,7 +327,7 @@ def device_context(device: Device) -> dict[str, Any]:
     if clash:
         raise UsageError(f"{device.source_path}: {', '.join(sorted(clash))} would shadow a client method; rename it in the map")
     t = device.transport
-    blocks = plan_reads(runtime_specs(device), t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device))
+    blocks = read_plan(device)
     return {
         "header": header_lines(device, "regmap generate"),
         "device": device,
@@ -344,33 +343,6 @@ def device_context(device: Device) -> dict[str, Any]:
         "read_plan_requests": len(blocks),
         "py_str": py_str,
     }
-
-
-def documented_addresses(device: Device) -> frozenset[int]:
-    return frozenset(a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
-
-
-def runtime_specs(device: Device) -> list[Any]:
-    """RegisterSpec objects for planning at generation time (same planner as the runtime)."""
-    from regmap_runtime.spec import RegisterSpec
-
-    return [
-        RegisterSpec(
-            name=r.name,
-            address=r.address,
-            data_type=r.type.value,
-            access=r.access.value,
-            word_order=r.word_order.value,
-            paired=r.paired,
-            scale_num=r.scale.numerator,
-            scale_den=r.scale.denominator,
-            min=r.min,
-            max=r.max,
-            unit=r.unit,
-            param=r.param,
-        )
-        for r in device.registers
-    ]
 
 
 def render_device(device: Device) -> Files:
