@@ -78,6 +78,19 @@ def cmd_generate(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_simulate(args: argparse.Namespace) -> int:
+    from regmap.simulator import FAULT_KINDS, FaultPlan, run
+
+    if args.tcp and args.serial:
+        raise UsageError("give --tcp or --serial, not both")
+    if args.fault not in FAULT_KINDS:
+        raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
+    device = load_map(args.map)
+    faults = FaultPlan(kind=args.fault, count=args.fault_count, delay_s=args.fault_delay, exception_code=args.fault_exception)
+    state = Path(args.state) if args.state else None
+    return run(device, tcp=args.tcp, serial=args.serial, slave=args.slave, state=state, faults=faults, rtu_over_tcp=args.rtu_over_tcp)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="regmap", description="Declarative Modbus RTU register maps for motor drives.")
     parser.add_argument("--version", action="version", version=f"regmap {__version__}")
@@ -96,6 +109,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="generated", metavar="DIR", help="output directory (default: generated)")
     p.add_argument("--target", action="append", choices=_target_choices(), help="only this target (repeatable)")
     p.set_defaults(func=cmd_generate)
+
+    p = sub.add_parser("simulate", help="serve a simulated device (Modbus TCP or RTU on a serial port/pty)")
+    p.add_argument("map", metavar="MAP")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020)")
+    where.add_argument("--serial", metavar="DEVICE", help="serve RTU on a serial device or pseudo-terminal")
+    p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
+    p.add_argument("--slave", type=int, default=1, help="slave id (default 1)")
+    p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes)")
+    p.add_argument("--fault", default="none", metavar="KIND", help="inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay")
+    p.add_argument("--fault-count", type=int, default=None, metavar="N", help="only the next N answers (default: all)")
+    p.add_argument("--fault-delay", type=float, default=2.0, metavar="S", help="seconds for --fault delay")
+    p.add_argument("--fault-exception", type=lambda v: int(v, 0), default=0x04, metavar="CODE", help="code for --fault exception")
+    p.set_defaults(func=cmd_simulate)
 
     return parser
 

@@ -250,12 +250,23 @@ class CommandArgument:
 
 
 @dataclass(frozen=True)
+class CommandEffect:
+    """What the device does on the command (read by the simulator)."""
+
+    kind: str  # save, restore_defaults, clear
+    register: Register | None = None
+    value: int = 0
+    after_read: int | None = None
+
+
+@dataclass(frozen=True)
 class Command:
     name: str
     title: str
     register: Register
     value: int
     argument: CommandArgument | None = None
+    effect: CommandEffect | None = None
     title_zh: str | None = None
     description: str = ""
     source: tuple[str, ...] = ()

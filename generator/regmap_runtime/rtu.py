@@ -51,23 +51,18 @@ def crc_ok(frame: bytes) -> bool:
     return len(frame) >= 4 and crc_bytes(frame[:-2]) == frame[-2:]
 
 
-_HEX_PAIR = re.compile(r"^(0x)?([0-9a-fA-F]{2})h?$")
+_HEX_TOKEN = re.compile(r"^(?:0x)?((?:[0-9a-fA-F]{2})+)h?$")
 
 
 def parse_hex(text: str) -> bytes:
-    """Parse `01 03 00 01`, `01030001`, `0x01 0x03` or `01H 03H` into bytes."""
-    tokens = text.replace(",", " ").split()
-    if len(tokens) == 1 and len(tokens[0]) > 3 and not tokens[0].lower().startswith("0x"):
-        token = tokens[0]
-        if len(token) % 2:
-            raise FrameError(f"odd number of hex digits in {token!r}")
-        tokens = [token[i : i + 2] for i in range(0, len(token), 2)]
+    """Parse hex bytes as people write them: `01 03 00 01`, `01030001`, `0x01 0x03`, `01H 03H`,
+    or grouped words as some manuals print them (`01 06 1801 2211`)."""
     out = bytearray()
-    for token in tokens:
-        match = _HEX_PAIR.match(token)
+    for token in text.replace(",", " ").split():
+        match = _HEX_TOKEN.match(token)
         if not match:
-            raise FrameError(f"not a hex byte: {token!r}")
-        out.append(int(match.group(2), 16))
+            raise FrameError(f"not hex bytes: {token!r} (write bytes as two hex digits each)")
+        out.extend(bytes.fromhex(match.group(1)))
     if not out:
         raise FrameError("no bytes given")
     return bytes(out)

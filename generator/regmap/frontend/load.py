@@ -31,6 +31,7 @@ from regmap.model import (
     Bitfield,
     Command,
     CommandArgument,
+    CommandEffect,
     DataType,
     Device,
     DeviceInfo,
@@ -753,6 +754,7 @@ class _Elaborator:
                 if arg["min"] > arg["max"]:
                     self.problem((*path, "argument"), f"command {c['name']}: argument min {arg['min']} is greater than max {arg['max']}")
                 argument = CommandArgument(name=arg["name"], min=arg["min"], max=arg["max"], title=arg.get("title", ""))
+            effect = self._effect(c, path, by_selector)
             top = value + (argument.max if argument else 0)
             if not reg.type.raw_min <= value <= reg.type.raw_max or not reg.type.raw_min <= top <= reg.type.raw_max:
                 self.problem((*path, "value"), f"command {c['name']}: value {value} does not fit register {reg.name} ({reg.type.value})")
@@ -765,10 +767,22 @@ class _Elaborator:
                     register=reg,
                     value=value,
                     argument=argument,
+                    effect=effect,
                     source=_source(c["source"]),
                 )
             )
         return tuple(commands)
+
+    def _effect(self, c: dict[str, Any], path: Path, by_selector: dict[str, Register]) -> CommandEffect | None:
+        spec = c.get("effect")
+        if spec is None:
+            return None
+        target = None
+        if "register" in spec:
+            target = self._ref(spec["register"], by_selector, (*path, "effect", "register"), f"command {c['name']} effect")
+        elif spec["kind"] == "clear":
+            self.problem((*path, "effect"), f"command {c['name']}: a clear effect names the register it clears")
+        return CommandEffect(kind=spec["kind"], register=target, value=spec.get("value", 0), after_read=spec.get("after_read"))
 
     def _faults(self, specs: list[dict[str, Any]]) -> tuple[Fault, ...]:
         faults = []

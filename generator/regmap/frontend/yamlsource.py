@@ -7,6 +7,7 @@ and only the plain YAML types can be produced (no object tags).
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from typing import Any
@@ -15,10 +16,11 @@ import yaml
 
 Path = tuple[str | int, ...]
 
-MAX_NODES = 200_000
-_AMBIGUOUS_INT = re.compile(
-    r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$"
-)  # far above any real map (the largest has a few thousand nodes)
+MAX_NODES = 200_000  # far above any real map (the largest has a few thousand nodes)
+MAX_DEPTH = 64  # real maps nest about 8 levels; the bound keeps recursion far from Python's limit
+MAX_INT_CHARS = 100  # no register value needs more; Python refuses int() of over 4300 digits anyway
+_AMBIGUOUS_INT = re.compile(r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$")
+_PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
 
 
 @dataclass
@@ -55,10 +57,12 @@ def read_yaml(text: str) -> tuple[Any, Positions]:
     """Parse one YAML document into plain data plus the position of every value."""
     try:
         loader = _ScalarConstructor(text)
-        try:
-            root = loader.get_single_node()
-        finally:
-            loader.dispose()
+    except yaml.reader.ReaderError as exc:  # a control character; the reader checks the whole text up front
+        line = text.count("\n", 0, exc.position) + 1
+        column = exc.position - (text.rfind("\n", 0, exc.position) + 1) + 1
+        raise YamlProblem(line, column, f"control character {exc.character!r} is not allowed in YAML; remove it") from None
+    try:
+        root = loader.get_single_node()
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
@@ -66,6 +70,11 @@ def read_yaml(text: str) -> tuple[Any, Positions]:
         raise YamlProblem(line, col, f"YAML syntax error: {problem}") from None
     except yaml.YAMLError as exc:
         raise YamlProblem(1, 1, f"YAML syntax error: {exc}") from None
+    except RecursionError:  # PyYAML composes recursively
+        mark = loader.get_mark()
+        raise YamlProblem(mark.line + 1, mark.column + 1, f"the document nests more than {MAX_DEPTH} levels deep") from None
+    finally:
+        loader.dispose()
     if root is None:
         raise YamlProblem(1, 1, "the file is empty; a map is a YAML mapping starting with `format: regmap/1`")
     positions = Positions()
@@ -78,6 +87,7 @@ class _Builder:
     def __init__(self, positions: Positions) -> None:
         self.positions = positions
         self.count = 0
+        self.open: list[yaml.Node] = []  # collections being built, outermost first
         self.constructor = yaml.SafeLoader("")
 
     def build(self, node: yaml.Node, path: Path) -> Any:
@@ -86,29 +96,41 @@ class _Builder:
             line, col = _mark(node)
             raise YamlProblem(line, col, f"the document expands to more than {MAX_NODES} values (alias bomb?)")
         self.positions.by_path.setdefault(path, _mark(node))
-        if isinstance(node, yaml.MappingNode):
-            return self._mapping(node, path)
-        if isinstance(node, yaml.SequenceNode):
+        if not isinstance(node, yaml.MappingNode | yaml.SequenceNode):
+            return self._scalar(node)
+        line, col = _mark(node)
+        if node.tag not in _PLAIN_TAGS:
+            raise YamlProblem(line, col, f"unsupported YAML tag {node.tag!r}")
+        if any(node is outer for outer in self.open):
+            raise YamlProblem(line, col, "an alias refers to a collection that contains it (a recursive structure)")
+        if len(self.open) >= MAX_DEPTH:
+            raise YamlProblem(line, col, f"the document nests more than {MAX_DEPTH} levels deep")
+        self.open.append(node)
+        try:
+            if isinstance(node, yaml.MappingNode):
+                return self._mapping(node, path)
             return [self.build(item, (*path, i)) for i, item in enumerate(node.value)]
-        return self._scalar(node)
+        finally:
+            self.open.pop()
 
     def _mapping(self, node: yaml.MappingNode, path: Path) -> dict[str, Any]:
-        if node.tag not in ("tag:yaml.org,2002:map",):
-            line, col = _mark(node)
-            raise YamlProblem(line, col, f"unsupported YAML tag {node.tag!r}")
         result: dict[str, Any] = {}
+        key_marks: dict[str, tuple[int, int]] = {}
         for key_node, value_node in node.value:
             if key_node.tag == "tag:yaml.org,2002:merge":
                 line, col = _mark(key_node)
                 raise YamlProblem(line, col, "YAML merge keys (<<) are not supported in maps")
             key = self._scalar(key_node)
+            line, col = _mark(key_node)
             if not isinstance(key, str):
-                line, col = _mark(key_node)
-                raise YamlProblem(line, col, f"mapping key {key!r} must be a string")
-            if key in result:
-                line, col = _mark(key_node)
-                first_line, _ = self.positions.by_path.get((*path, key), (0, 0))
-                raise YamlProblem(line, col, f"duplicate key {key!r} (first defined on line {first_line})")
+                raise YamlProblem(line, col, f"mapping key {key_node.value!r} is read as the {_kind(key)} {key!r}; quote it to make it text")
+            if key in key_marks:
+                raise YamlProblem(line, col, f"duplicate key {key!r} (first defined on line {key_marks[key][0]})")
+            key_marks[key] = (line, col)
+            if not isinstance(value_node, yaml.ScalarNode) and value_node.start_mark.line != key_node.start_mark.line:
+                # A block collection starts on the next line, at its first child; a problem with the
+                # collection as a whole (a missing key, say) reads better at the key that names it.
+                self.positions.by_path.setdefault((*path, key), (line, col))
             result[key] = self.build(value_node, (*path, key))
         return result
 
@@ -116,6 +138,9 @@ class _Builder:
         if not isinstance(node, yaml.ScalarNode):
             line, col = _mark(node)
             raise YamlProblem(line, col, "a mapping key must be a plain scalar")
+        if node.tag == "tag:yaml.org,2002:int" and len(str(node.value)) > MAX_INT_CHARS:
+            line, col = _mark(node)
+            raise YamlProblem(line, col, f"integer of {len(str(node.value))} characters is too large (limit {MAX_INT_CHARS})")
         if node.tag == "tag:yaml.org,2002:int" and _AMBIGUOUS_INT.match(str(node.value)):
             line, col = _mark(node)
             raise YamlProblem(
@@ -132,4 +157,11 @@ class _Builder:
         if not isinstance(value, (str, int, float, bool)) and value is not None:
             line, col = _mark(node)
             raise YamlProblem(line, col, f"unsupported YAML value of type {type(value).__name__}; quote it")
+        if isinstance(value, float) and not math.isfinite(value):
+            line, col = _mark(node)
+            raise YamlProblem(line, col, f"number {node.value!r} is not finite (too large for a 64-bit float, or .inf/.nan)")
         return value
+
+
+def _kind(value: Any) -> str:
+    return {bool: "boolean", int: "integer", float: "number"}.get(type(value), "null" if value is None else type(value).__name__)

@@ -1,0 +1,336 @@
+# Copied by regmap from generator/regmap_runtime/client.py - do not edit; regenerate with `regmap generate`.
+"""The client base that generated device modules subclass: sync and async, one surface.
+
+Validation, encoding and planning happen before anything is sent; pymodbus does the transport.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable, Mapping
+from typing import Any, TypeVar, cast
+
+from pymodbus.client import AsyncModbusSerialClient, AsyncModbusTcpClient, ModbusSerialClient, ModbusTcpClient
+from pymodbus.exceptions import ConnectionException, ModbusIOException
+from pymodbus.exceptions import ModbusException as PymodbusError
+from pymodbus.pdu import ExceptionResponse
+
+from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
+from regmap_runtime.errors import ConnectionLost, DeviceException, DeviceTimeout, ProtocolError
+from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS
+from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, RegisterSpec, Writable
+
+T = TypeVar("T")
+PARITY = {"none": "N", "even": "E", "odd": "O"}
+
+
+class _Core:
+    """Everything that does not touch the bus: value checks, encoding, request planning."""
+
+    DEVICE: DeviceSpec
+
+    def __init__(self, slave: int, word_order: str | None = None) -> None:
+        if not 0 <= slave <= 255:
+            raise ValueError(f"slave id {slave} is outside 0..255")
+        self.slave = slave
+        self.word_order = word_order or self.DEVICE.word_order
+        self.requests_sent = 0
+
+    @property
+    def broadcast(self) -> bool:
+        return self.DEVICE.broadcast_id is not None and self.slave == self.DEVICE.broadcast_id
+
+    def effective(self, spec: RegisterSpec[T]) -> RegisterSpec[T]:
+        """The spec with the word order this client was told the device uses (C630S P0C-26)."""
+        if spec.words == 2 and spec.follows_device_order and spec.word_order != self.word_order:
+            return dataclasses.replace(spec, word_order=self.word_order)
+        return spec
+
+    def encode(self, spec: RegisterSpec[Any], value: Any) -> int:
+        if not spec.writable:
+            raise TypeError(f"{spec.label} is read-only")
+        if spec.bitfield_type is not None and isinstance(value, spec.bitfield_type):
+            raw = int(value.to_raw())
+            check_raw(spec, raw)
+            return raw
+        return value_to_raw(spec, value)
+
+    def decode(self, spec: RegisterSpec[T], words: list[int]) -> T:
+        spec = self.effective(spec)
+        raw = words_to_raw(spec, words)
+        if spec.bitfield_type is not None:
+            return cast(T, spec.bitfield_type.from_raw(raw))
+        return cast(T, decode_value(spec, raw))
+
+    def plan_reads(self, specs: Iterable[RegisterSpec[Any]]) -> list[ReadBlock]:
+        for spec in specs:
+            if not spec.readable:
+                raise TypeError(f"{spec.label} is write-only")
+        return plan_reads(specs, self.DEVICE.max_read_registers, self.DEVICE.documented())
+
+    def plan_writes(self, values: Mapping[Writable[Any], Any]) -> list[WriteBlock]:
+        raws = [(self.effective(spec), self.encode(spec, value)) for spec, value in values.items()]
+        return plan_writes(raws, self.DEVICE.max_write_registers, 0x10 in self.DEVICE.function_codes)
+
+    def readable(self) -> list[RegisterSpec[Any]]:
+        return [r for r in self.DEVICE.registers if r.readable]
+
+    def check_response(self, response: Any, function: int) -> Any:
+        if isinstance(response, ExceptionResponse) or (hasattr(response, "isError") and response.isError()):
+            code = int(getattr(response, "exception_code", 0))
+            for known, name, meaning in self.DEVICE.exceptions:
+                if known == code:
+                    raise DeviceException(function, code, meaning, name)
+            raise DeviceException(function, code, STANDARD_EXCEPTIONS.get(code, "unknown exception code"))
+        return response
+
+    def read_words(self, response: Any, block: ReadBlock) -> list[int]:
+        words = list(getattr(response, "registers", []))
+        if len(words) != block.count:
+            raise ProtocolError(f"asked for {block.count} registers at 0x{block.address:04X}, got {len(words)}")
+        return words
+
+
+def _transport_error(exc: Exception) -> Exception:
+    if isinstance(exc, ConnectionException):
+        return ConnectionLost(str(exc))
+    if isinstance(exc, ModbusIOException):
+        return DeviceTimeout(str(exc))
+    return ProtocolError(str(exc))
+
+
+class SyncClient(_Core):
+    """Blocking client. Use as a context manager, or call close()."""
+
+    def __init__(
+        self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None
+    ) -> None:
+        super().__init__(slave, word_order)
+        self.modbus = modbus
+
+    @classmethod
+    def rtu(
+        cls: type[C],
+        port: str,
+        slave: int = 1,
+        *,
+        baud: int | None = None,
+        parity: str | None = None,
+        stop_bits: int | None = None,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+    ) -> C:
+        """Serial RTU; port settings default to the map's transport settings."""
+        device = cls.DEVICE
+        modbus = ModbusSerialClient(
+            port,
+            baudrate=baud or device.baud,
+            parity=PARITY[parity or device.parity],
+            bytesize=device.data_bits,
+            stopbits=stop_bits or device.stop_bits,
+            timeout=timeout,
+            retries=retries,
+        )
+        return cls(modbus, slave, word_order)
+
+    @classmethod
+    def tcp(
+        cls: type[C],
+        host: str,
+        port: int = 502,
+        slave: int = 1,
+        *,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+    ) -> C:
+        """Modbus TCP (gateways, simulators)."""
+        return cls(ModbusTcpClient(host, port=port, timeout=timeout, retries=retries), slave, word_order)
+
+    def __enter__(self: C) -> C:
+        self.connect()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def connect(self) -> None:
+        if not self.modbus.connect():
+            raise ConnectionLost(f"cannot connect to {self.modbus}")
+
+    def close(self) -> None:
+        self.modbus.close()  # type: ignore[no-untyped-call]
+
+    def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+        self.requests_sent += 1
+        try:
+            response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
+        except PymodbusError as exc:
+            raise _transport_error(exc) from exc
+        if self.broadcast:
+            return None
+        return self.check_response(response, function)
+
+    def read_raw(self, address: int, count: int) -> list[int]:
+        """Read `count` register words from `address` with function 0x03."""
+        if self.broadcast:
+            raise ValueError("a broadcast cannot read")
+        response = self._call(0x03, self.modbus.read_holding_registers, address, count=count)
+        return self.read_words(response, ReadBlock(address, count, ()))
+
+    def write_raw(self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None) -> None:
+        """Write words from `address`: 0x06 for one word unless `multiple`, else 0x10."""
+        if len(words) == 1 and not multiple:
+            self._call(0x06, self.modbus.write_register, address, words[0])
+        else:
+            self._call(0x10, self.modbus.write_registers, address, list(words))
+
+    def send_command(self, spec: Writable[Any], raw: int) -> None:
+        """Write a command's fixed raw value (already checked against the map at generation time)."""
+        target = self.effective(spec)
+        words = raw_to_words(target, raw)
+        self.write_raw(target.address, words, multiple=len(words) > 1)
+
+    def read(self, spec: Readable[T]) -> T:
+        return cast(T, self.read_many(spec)[spec.name])
+
+    def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
+        """Read several registers with the fewest requests the device allows."""
+        values: dict[str, Any] = {}
+        for block in self.plan_reads(specs):
+            words = self.read_raw(block.address, block.count)
+            for spec in block.registers:
+                values[spec.name] = self.decode(spec, block.words_of(spec, words))
+        return values
+
+    def read_all(self) -> dict[str, Any]:
+        """Every readable register, by the device's read plan."""
+        return self.read_many(*cast(list[Readable[Any]], self.readable()))
+
+    def write(self, spec: Writable[T], value: T | int | float | str) -> None:
+        self.write_many({spec: value})
+
+    def write_many(self, values: Mapping[Writable[Any], Any]) -> None:
+        """Validate every value, then write contiguous registers together with 0x10."""
+        for block in self.plan_writes(values):
+            self.write_raw(block.address, block.words, multiple=not block.single)
+
+
+class AsyncClient(_Core):
+    """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
+
+    def __init__(
+        self, modbus: AsyncModbusSerialClient | AsyncModbusTcpClient, slave: int = 1, word_order: str | None = None
+    ) -> None:
+        super().__init__(slave, word_order)
+        self.modbus = modbus
+
+    @classmethod
+    def rtu(
+        cls: type[A],
+        port: str,
+        slave: int = 1,
+        *,
+        baud: int | None = None,
+        parity: str | None = None,
+        stop_bits: int | None = None,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+    ) -> A:
+        device = cls.DEVICE
+        modbus = AsyncModbusSerialClient(
+            port,
+            baudrate=baud or device.baud,
+            parity=PARITY[parity or device.parity],
+            bytesize=device.data_bits,
+            stopbits=stop_bits or device.stop_bits,
+            timeout=timeout,
+            retries=retries,
+        )
+        return cls(modbus, slave, word_order)
+
+    @classmethod
+    def tcp(
+        cls: type[A],
+        host: str,
+        port: int = 502,
+        slave: int = 1,
+        *,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+    ) -> A:
+        return cls(AsyncModbusTcpClient(host, port=port, timeout=timeout, retries=retries), slave, word_order)
+
+    async def __aenter__(self: A) -> A:
+        await self.connect()
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        self.close()
+
+    async def connect(self) -> None:
+        if not await self.modbus.connect():
+            raise ConnectionLost(f"cannot connect to {self.modbus}")
+
+    def close(self) -> None:
+        self.modbus.close()
+
+    async def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+        self.requests_sent += 1
+        try:
+            response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
+        except PymodbusError as exc:
+            raise _transport_error(exc) from exc
+        if self.broadcast:
+            return None
+        return self.check_response(response, function)
+
+    async def read_raw(self, address: int, count: int) -> list[int]:
+        if self.broadcast:
+            raise ValueError("a broadcast cannot read")
+        response = await self._call(0x03, self.modbus.read_holding_registers, address, count=count)
+        return self.read_words(response, ReadBlock(address, count, ()))
+
+    async def write_raw(
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None
+    ) -> None:
+        if len(words) == 1 and not multiple:
+            await self._call(0x06, self.modbus.write_register, address, words[0])
+        else:
+            await self._call(0x10, self.modbus.write_registers, address, list(words))
+
+    async def send_command(self, spec: Writable[Any], raw: int) -> None:
+        target = self.effective(spec)
+        words = raw_to_words(target, raw)
+        await self.write_raw(target.address, words, multiple=len(words) > 1)
+
+    async def read(self, spec: Readable[T]) -> T:
+        return cast(T, (await self.read_many(spec))[spec.name])
+
+    async def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
+        values: dict[str, Any] = {}
+        for block in self.plan_reads(specs):
+            words = await self.read_raw(block.address, block.count)
+            for spec in block.registers:
+                values[spec.name] = self.decode(spec, block.words_of(spec, words))
+        return values
+
+    async def read_all(self) -> dict[str, Any]:
+        return await self.read_many(*cast(list[Readable[Any]], self.readable()))
+
+    async def write(self, spec: Writable[T], value: T | int | float | str) -> None:
+        await self.write_many({spec: value})
+
+    async def write_many(self, values: Mapping[Writable[Any], Any]) -> None:
+        for block in self.plan_writes(values):
+            await self.write_raw(block.address, block.words, multiple=not block.single)
+
+
+C = TypeVar("C", bound=SyncClient)
+A = TypeVar("A", bound=AsyncClient)
+
+__all__ = ["LOW_FIRST", "AsyncClient", "SyncClient"]

@@ -1,0 +1,113 @@
+# Copied by regmap from generator/regmap_runtime/codec.py - do not edit; regenerate with `regmap generate`.
+"""Values <-> raw integers <-> register words, honouring type, scale, word order and pairing."""
+
+from __future__ import annotations
+
+import enum
+from decimal import Decimal
+from fractions import Fraction
+from typing import Any
+
+from regmap_runtime.spec import HIGH_FIRST, RegisterSpec
+
+
+class RangeError(ValueError):
+    """A value outside the register's range; nothing was sent."""
+
+
+def raw_to_words(spec: RegisterSpec[Any], raw: int, *, with_pair: bool = False) -> list[int]:
+    """Words on the wire for a raw value. `with_pair` adds the unused high word of a paired register."""
+    if not spec.type_min <= raw <= spec.type_max:
+        raise RangeError(f"{spec.label}: raw value {raw} does not fit {spec.data_type}")
+    unsigned = raw & ((1 << spec.bits) - 1)
+    if spec.words == 1:
+        word = unsigned
+        if with_pair and spec.paired:
+            # The pair is one 32-bit parameter of which only the low word is used; its high word is
+            # the sign extension (0 for every non-negative value, as the manual's frames show).
+            return [0xFFFF if raw < 0 else 0x0000, word]
+        return [word]
+    high, low = unsigned >> 16, unsigned & 0xFFFF
+    return [high, low] if spec.word_order == HIGH_FIRST else [low, high]
+
+
+def words_to_raw(spec: RegisterSpec[Any], words: list[int] | tuple[int, ...]) -> int:
+    """Raw value from the register's own words (without the unused high word of a pair)."""
+    if len(words) != spec.words:
+        raise ValueError(f"{spec.label}: expected {spec.words} word(s), got {len(words)}")
+    if spec.words == 1:
+        unsigned = words[0]
+    else:
+        high, low = (words[0], words[1]) if spec.word_order == HIGH_FIRST else (words[1], words[0])
+        unsigned = (high << 16) | low
+    if spec.signed and unsigned >> (spec.bits - 1):
+        return unsigned - (1 << spec.bits)
+    return unsigned
+
+
+def scale_of(spec: RegisterSpec[Any]) -> Fraction:
+    return Fraction(spec.scale_num, spec.scale_den)
+
+
+def raw_to_value(spec: RegisterSpec[Any], raw: int) -> int | float:
+    """Engineering value: raw x scale (an int when the scale is 1)."""
+    if spec.scale_num == spec.scale_den:
+        return raw
+    return float(Fraction(raw) * scale_of(spec))
+
+
+def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> int:
+    """Raw integer for an engineering value, or an enum member name; checks range and resolution."""
+    number: int | float | Decimal
+    if isinstance(value, str):
+        if spec.enum is not None and value.upper() in spec.enum.__members__:
+            return int(spec.enum[value.upper()])
+        try:
+            number = Decimal(value) if any(c in value for c in ".eE") else int(value, 0)
+        except (ValueError, ArithmeticError):
+            names = f"; one of {', '.join(spec.enum.__members__)}" if spec.enum is not None else ""
+            raise RangeError(f"{spec.label}: {value!r} is not a number{names}") from None
+    elif isinstance(value, enum.IntEnum | bool):
+        number = int(value)
+    else:
+        number = value
+    if isinstance(number, float) and number != number:
+        raise RangeError(f"{spec.label}: NaN is not a value")
+    try:
+        exact = Fraction(Decimal(str(number))) if isinstance(number, float | Decimal) else Fraction(number)
+    except (ValueError, OverflowError, ArithmeticError):
+        raise RangeError(f"{spec.label}: {value!r} is not a finite number") from None
+    raw_exact = exact / scale_of(spec)
+    raw = round(raw_exact)
+    if abs(raw_exact - raw) > Fraction(1, 1000):
+        step = _fmt(raw_to_value(spec, 1)) if spec.scale_num != spec.scale_den else "1"
+        raise RangeError(f"{spec.label}: {value} is not a multiple of the register's resolution {step}{_unit(spec)}")
+    check_raw(spec, raw)
+    return raw
+
+
+def check_raw(spec: RegisterSpec[Any], raw: int) -> None:
+    if not spec.raw_min <= raw <= spec.raw_max:
+        low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
+        shown = _fmt(raw_to_value(spec, raw))
+        raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_fmt(low)}..{_fmt(high)}{_unit(spec)}")
+    if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
+        raise RangeError(f"{spec.label}: {raw} is not one of {', '.join(f'{m.name}={m.value}' for m in spec.enum)}")
+
+
+def _unit(spec: RegisterSpec[Any]) -> str:
+    return f" {spec.unit}" if spec.unit else ""
+
+
+def _fmt(value: int | float) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def decode_value(spec: RegisterSpec[Any], raw: int) -> Any:
+    """The typed value a client returns: enum member, bitfield dict source, or number."""
+    if spec.enum is not None and not spec.bitfields:
+        try:
+            return spec.enum(raw)
+        except ValueError:
+            return raw  # a value the manual does not list: keep the number rather than fail the read
+    return raw_to_value(spec, raw)

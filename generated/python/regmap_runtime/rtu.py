@@ -1,0 +1,243 @@
+# Copied by regmap from generator/regmap_runtime/rtu.py - do not edit; regenerate with `regmap generate`.
+"""Modbus RTU framing: CRC-16, request building and frame parsing. Pure Python, no I/O."""
+
+from __future__ import annotations
+
+import re
+import struct
+from dataclasses import dataclass
+
+READ_HOLDING = 0x03
+WRITE_SINGLE = 0x06
+WRITE_MULTIPLE = 0x10
+EXCEPTION_FLAG = 0x80
+
+STANDARD_EXCEPTIONS = {
+    0x01: "illegal function",
+    0x02: "illegal data address",
+    0x03: "illegal data value",
+    0x04: "server device failure",
+    0x05: "acknowledge",
+    0x06: "server device busy",
+    0x08: "memory parity error",
+    0x0A: "gateway path unavailable",
+    0x0B: "gateway target failed to respond",
+}
+
+
+class FrameError(ValueError):
+    """A frame that cannot be built or parsed; the message says what is wrong."""
+
+
+def crc16(data: bytes) -> int:
+    """Modbus CRC-16 (polynomial 0xA001 reflected, initial value 0xFFFF)."""
+    crc = 0xFFFF
+    for byte in data:
+        crc ^= byte
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def crc_bytes(data: bytes) -> bytes:
+    """The two CRC bytes as they go on the wire: low byte first."""
+    return struct.pack("<H", crc16(data))
+
+
+def with_crc(body: bytes) -> bytes:
+    return body + crc_bytes(body)
+
+
+def crc_ok(frame: bytes) -> bool:
+    return len(frame) >= 4 and crc_bytes(frame[:-2]) == frame[-2:]
+
+
+_HEX_TOKEN = re.compile(r"^(?:0x)?((?:[0-9a-fA-F]{2})+)h?$")
+
+
+def parse_hex(text: str) -> bytes:
+    """Parse hex bytes as people write them: `01 03 00 01`, `01030001`, `0x01 0x03`, `01H 03H`,
+    or grouped words as some manuals print them (`01 06 1801 2211`)."""
+    out = bytearray()
+    for token in text.replace(",", " ").split():
+        match = _HEX_TOKEN.match(token)
+        if not match:
+            raise FrameError(f"not hex bytes: {token!r} (write bytes as two hex digits each)")
+        out.extend(bytes.fromhex(match.group(1)))
+    if not out:
+        raise FrameError("no bytes given")
+    return bytes(out)
+
+
+def to_hex(frame: bytes) -> str:
+    return " ".join(f"{b:02X}" for b in frame)
+
+
+def _check_slave(slave: int) -> None:
+    if not 0 <= slave <= 255:
+        raise FrameError(f"slave id {slave} is outside 0..255")
+
+
+def _check_address(address: int) -> None:
+    if not 0 <= address <= 0xFFFF:
+        raise FrameError(f"address {address} is outside 0..0xFFFF")
+
+
+def _check_word(word: int) -> None:
+    if not 0 <= word <= 0xFFFF:
+        raise FrameError(f"register word {word} is outside 0..0xFFFF")
+
+
+def build_read(slave: int, address: int, count: int) -> bytes:
+    _check_slave(slave)
+    _check_address(address)
+    if not 1 <= count <= 125:
+        raise FrameError(f"register count {count} is outside 1..125")
+    return with_crc(struct.pack(">BBHH", slave, READ_HOLDING, address, count))
+
+
+def build_write_single(slave: int, address: int, word: int) -> bytes:
+    _check_slave(slave)
+    _check_address(address)
+    _check_word(word)
+    return with_crc(struct.pack(">BBHH", slave, WRITE_SINGLE, address, word))
+
+
+def build_write_multiple(slave: int, address: int, words: list[int] | tuple[int, ...]) -> bytes:
+    _check_slave(slave)
+    _check_address(address)
+    if not 1 <= len(words) <= 123:
+        raise FrameError(f"register count {len(words)} is outside 1..123")
+    for word in words:
+        _check_word(word)
+    body = struct.pack(">BBHHB", slave, WRITE_MULTIPLE, address, len(words), 2 * len(words))
+    return with_crc(body + b"".join(struct.pack(">H", w) for w in words))
+
+
+def build_read_response(slave: int, words: list[int] | tuple[int, ...]) -> bytes:
+    for word in words:
+        _check_word(word)
+    body = struct.pack(">BBB", slave, READ_HOLDING, 2 * len(words))
+    return with_crc(body + b"".join(struct.pack(">H", w) for w in words))
+
+
+def build_write_multiple_response(slave: int, address: int, count: int) -> bytes:
+    return with_crc(struct.pack(">BBHH", slave, WRITE_MULTIPLE, address, count))
+
+
+def build_exception(slave: int, function: int, code: int) -> bytes:
+    return with_crc(struct.pack(">BBB", slave, function | EXCEPTION_FLAG, code))
+
+
+@dataclass(frozen=True)
+class Frame:
+    """A parsed RTU frame. `kind` says which of the optional fields are set."""
+
+    raw: bytes
+    slave: int
+    function: int
+    kind: str  # read_request, read_response, write_single, write_multiple_request, write_multiple_response, exception, unknown
+    crc_valid: bool
+    address: int | None = None
+    count: int | None = None
+    byte_count: int | None = None
+    words: tuple[int, ...] = ()
+    exception_code: int | None = None
+    problems: tuple[str, ...] = ()
+
+    @property
+    def crc_received(self) -> int:
+        return int.from_bytes(self.raw[-2:], "little")
+
+    @property
+    def crc_expected(self) -> int:
+        return crc16(self.raw[:-2])
+
+
+def _words(data: bytes) -> tuple[int, ...]:
+    return tuple(int.from_bytes(data[i : i + 2], "big") for i in range(0, len(data) - 1, 2))
+
+
+def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
+    """Parse one frame. `direction` ("request"/"response") settles the frames that read alike both ways.
+
+    Raises FrameError only when the bytes cannot be a frame at all (too short); everything else
+    that is wrong (CRC, byte count, length) is reported in `problems` so a decoder can still show it.
+    """
+    if len(frame) < 4:
+        raise FrameError(f"frame too short: {len(frame)} bytes, a Modbus RTU frame has at least 4")
+    slave, function = frame[0], frame[1]
+    body = frame[2:-2]
+    valid = crc_ok(frame)
+    problems: list[str] = []
+    if not valid:
+        problems.append(f"CRC mismatch: frame carries {to_hex(frame[-2:])}, expected {to_hex(crc_bytes(frame[:-2]))}")
+
+    def done(
+        kind: str,
+        address: int | None = None,
+        count: int | None = None,
+        byte_count: int | None = None,
+        words: tuple[int, ...] = (),
+        exception_code: int | None = None,
+    ) -> Frame:
+        return Frame(
+            raw=frame,
+            slave=slave,
+            function=function,
+            kind=kind,
+            crc_valid=valid,
+            address=address,
+            count=count,
+            byte_count=byte_count,
+            words=words,
+            exception_code=exception_code,
+            problems=tuple(problems),
+        )
+
+    if function & EXCEPTION_FLAG:
+        if len(body) != 1:
+            problems.append(f"exception frame carries {len(body)} data bytes, expected 1")
+        return done("exception", exception_code=body[0] if body else None)
+    if function == READ_HOLDING:
+        # A read request body is 4 bytes; a response body is 1 + 2n bytes, always odd.
+        if direction == "request" or (direction is None and len(body) == 4):
+            if len(body) != 4:
+                problems.append(f"read request carries {len(body)} data bytes, expected 4")
+                return done("read_request")
+            address, count = struct.unpack(">HH", body)
+            return done("read_request", address=address, count=count)
+        if not body:
+            problems.append("read response has no byte count")
+            return done("read_response")
+        byte_count = body[0]
+        data = body[1:]
+        if byte_count != len(data):
+            problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+        if len(data) % 2:
+            problems.append("odd number of data bytes")
+        return done("read_response", byte_count=byte_count, words=_words(data))
+    if function == WRITE_SINGLE:
+        if len(body) != 4:
+            problems.append(f"write-single frame carries {len(body)} data bytes, expected 4")
+            return done("write_single")
+        address, word = struct.unpack(">HH", body)
+        return done("write_single", address=address, count=1, words=(word,))
+    if function == WRITE_MULTIPLE:
+        if direction == "response" or (direction is None and len(body) == 4):
+            if len(body) != 4:
+                problems.append(f"write-multiple response carries {len(body)} data bytes, expected 4")
+                return done("write_multiple_response")
+            address, count = struct.unpack(">HH", body)
+            return done("write_multiple_response", address=address, count=count)
+        if len(body) < 5:
+            problems.append(f"write-multiple request carries only {len(body)} data bytes")
+            return done("write_multiple_request")
+        address, count, byte_count = struct.unpack(">HHB", body[:5])
+        data = body[5:]
+        if byte_count != len(data):
+            problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+        if count * 2 != len(data):
+            problems.append(f"register count says {count} but {len(data)} data bytes follow")
+        return done("write_multiple_request", address=address, count=count, byte_count=byte_count, words=_words(data))
+    return done("unknown", words=_words(body))

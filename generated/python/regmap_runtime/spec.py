@@ -1,0 +1,142 @@
+# Copied by regmap from generator/regmap_runtime/spec.py - do not edit; regenerate with `regmap generate`.
+"""Register descriptions as the runtime sees them: plain data that generated modules declare."""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
+
+HIGH_FIRST = "high_first"
+LOW_FIRST = "low_first"
+
+T = TypeVar("T")
+
+
+@dataclass(frozen=True)
+class BitfieldSpec:
+    name: str
+    lsb: int
+    width: int
+    enum: type[enum.IntEnum] | None = None
+
+    @property
+    def mask(self) -> int:
+        return ((1 << self.width) - 1) << self.lsb
+
+
+@dataclass(frozen=True)
+class RegisterSpec(Generic[T]):
+    """One register. `T` is the Python type a read returns (float, int, an IntEnum, a bitfield class)."""
+
+    name: str
+    address: int
+    data_type: str  # u16 s16 u32 s32
+    access: str  # r rw w
+    word_order: str = HIGH_FIRST
+    paired: bool = False
+    scale_num: int = 1
+    scale_den: int = 1
+    min: int | None = None
+    max: int | None = None
+    unit: str | None = None
+    param: str | None = None
+    enum: type[enum.IntEnum] | None = None
+    bitfields: tuple[BitfieldSpec, ...] = ()
+    bitfield_type: type[Any] | None = None  # a BitfieldValue subclass
+    follows_device_order: bool = True  # False when the map fixes this register's word order itself
+
+    @property
+    def words(self) -> int:
+        return 2 if self.data_type in ("u32", "s32") else 1
+
+    @property
+    def signed(self) -> bool:
+        return self.data_type.startswith("s")
+
+    @property
+    def bits(self) -> int:
+        return 16 * self.words
+
+    @property
+    def first_address(self) -> int:
+        return self.address - 1 if self.paired else self.address
+
+    @property
+    def span(self) -> int:
+        return self.words + (1 if self.paired else 0)
+
+    @property
+    def readable(self) -> bool:
+        return self.access != "w"
+
+    @property
+    def writable(self) -> bool:
+        return self.access != "r"
+
+    @property
+    def type_min(self) -> int:
+        return -(1 << (self.bits - 1)) if self.signed else 0
+
+    @property
+    def type_max(self) -> int:
+        return (1 << (self.bits - 1)) - 1 if self.signed else (1 << self.bits) - 1
+
+    @property
+    def raw_min(self) -> int:
+        return self.type_min if self.min is None else self.min
+
+    @property
+    def raw_max(self) -> int:
+        return self.type_max if self.max is None else self.max
+
+    @property
+    def label(self) -> str:
+        return f"{self.name} ({self.param})" if self.param else self.name
+
+
+class Readable(RegisterSpec[T]):
+    """A register a client may read."""
+
+
+class Writable(RegisterSpec[T]):
+    """A register a client may write."""
+
+
+class ReadOnly(Readable[T]):
+    pass
+
+
+class WriteOnly(Writable[T]):
+    pass
+
+
+class ReadWrite(Readable[T], Writable[T]):
+    pass
+
+
+@dataclass(frozen=True)
+class DeviceSpec:
+    """What a client needs to know about the device as a whole."""
+
+    id: str
+    map_version: str
+    fingerprint: str
+    registers: tuple[RegisterSpec[Any], ...]
+    baud: int
+    parity: str
+    data_bits: int
+    stop_bits: int
+    max_read_registers: int
+    max_write_registers: int
+    word_order: str
+    broadcast_id: int | None
+    function_codes: tuple[int, ...]
+    tolerates_gaps: bool
+    exceptions: tuple[tuple[int, str, str], ...] = ()  # (code, name, meaning)
+
+    def documented(self) -> frozenset[int] | None:
+        """Addresses the device answers, or None when it tolerates reads of any address."""
+        if self.tolerates_gaps:
+            return None
+        return frozenset(a for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))

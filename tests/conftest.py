@@ -1,0 +1,128 @@
+"""Shared fixtures: paths, tool requirements, simulators on loopback TCP and on pseudo-terminals."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+MAPS = sorted((ROOT / "maps").glob("*.yaml"))
+SMALL_MAPS = sorted((ROOT / "tests" / "maps" / "small").glob("*.yaml"))
+GENERATED = ROOT / "generated"
+GENERATED_PY = GENERATED / "python"
+
+if str(GENERATED_PY) not in sys.path:
+    sys.path.insert(0, str(GENERATED_PY))
+
+
+def require_tool(name: str) -> str:
+    """Path of a system tool; skip without it, except under CI=true where its absence is a failure."""
+    path = shutil.which(name)
+    if path is None:
+        message = f"{name} is not installed (.ci/run installs it)"
+        if os.environ.get("CI") == "true":
+            pytest.fail(message)
+        pytest.skip(message)
+    return path
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+def wait_for(condition: Callable[[], bool], timeout: float, what: str) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def _port_open(port: int) -> bool:
+    with socket.socket() as sock:
+        sock.settimeout(0.2)
+        return sock.connect_ex(("127.0.0.1", port)) == 0
+
+
+@dataclass
+class RunningSimulator:
+    process: subprocess.Popen[str]
+    port: int | None = None
+    serial: str | None = None
+
+    def stop(self) -> str:
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        out = self.process.stdout.read() if self.process.stdout else ""
+        return out
+
+
+SimulatorFactory = Callable[..., RunningSimulator]
+
+
+@pytest.fixture
+def simulator(tmp_path: Path) -> Iterator[SimulatorFactory]:
+    """Start `regmap simulate` as a real process; stopped at the end of the test."""
+    running: list[RunningSimulator] = []
+
+    def start(map_path: Path, *extra: str, serial: str | None = None, slave: int = 1) -> RunningSimulator:
+        cmd = [sys.executable, "-m", "regmap", "simulate", str(map_path), "--slave", str(slave), *extra]
+        port = None
+        if serial is None:
+            port = free_port()
+            cmd += ["--tcp", f"127.0.0.1:{port}"]
+        else:
+            cmd += ["--serial", serial]
+        process = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        sim = RunningSimulator(process, port, serial)
+        running.append(sim)
+        if port is not None:
+            wait_for(lambda: _port_open(port) or process.poll() is not None, 20, "the simulator to listen")
+        else:
+            time.sleep(1.0)  # the serial server opens its pty at once; there is no port to poll
+        if process.poll() is not None:
+            raise AssertionError(f"simulator exited: {sim.stop()}")
+        return sim
+
+    yield start
+    for sim in running:
+        sim.stop()
+
+
+@dataclass
+class PtyPair:
+    device: str  # the simulator's end
+    client: str  # the client's end
+
+
+@pytest.fixture
+def pty_pair(tmp_path: Path) -> Iterator[PtyPair]:
+    """Two linked pseudo-terminals from socat: an RS-485 line on one machine."""
+    socat = require_tool("socat")
+    a, b = tmp_path / "dev-a", tmp_path / "dev-b"
+    process = subprocess.Popen(
+        [socat, "-d", f"pty,raw,echo=0,link={a}", f"pty,raw,echo=0,link={b}"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    try:
+        wait_for(lambda: a.exists() and b.exists(), 10, "socat's pseudo-terminals")
+        yield PtyPair(str(a), str(b))
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
