@@ -568,10 +568,15 @@ class _Elaborator:
             self.problem((*path, "count"), f"array {array.name}: its last element ends at 0x{last:X}, past address 0xFFFF")
             return array, []
         inherited = {**defaults, "source": a.get("source", defaults.get("source"))}
+        for j, spec in enumerate(a["members"]):
+            if isinstance(spec.get("default"), list) and len(spec["default"]) != array.count:
+                self.problem((*path, "members", j, "default"), f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements")
         for i in range(array.count):
             index = index_base + i
             for j, (member, spec) in enumerate(zip(members, a["members"], strict=True)):
                 address = array.element_address(index, member)
+                if isinstance(spec.get("default"), list):
+                    spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
                 reg = self._register(
                     {**inherited, **spec},
                     (*path, "members", j),

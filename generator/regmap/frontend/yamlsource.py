@@ -60,7 +60,7 @@ def read_yaml(text: str) -> tuple[Any, Positions]:
     except yaml.reader.ReaderError as exc:  # a control character; the reader checks the whole text up front
         line = text.count("\n", 0, exc.position) + 1
         column = exc.position - (text.rfind("\n", 0, exc.position) + 1) + 1
-        raise YamlProblem(line, column, f"control character {exc.character!r} is not allowed in YAML; remove it") from None
+        raise YamlProblem(line, column, f"control character U+{exc.character:04X} is not allowed in YAML; remove it") from None
     try:
         root = loader.get_single_node()
     except yaml.MarkedYAMLError as exc:
@@ -149,11 +149,14 @@ class _Builder:
                 f"ambiguous integer {node.value!r}: YAML reads a leading 0 as octal and a colon as base 60;"
                 " write it in decimal without the leading zero, in hex (0x...), or quote it if it is text",
             )
+        if node.tag not in yaml.SafeLoader.yaml_constructors:
+            line, col = _mark(node)
+            raise YamlProblem(line, col, f"unsupported YAML tag {node.tag!r}")
         try:
             value = self.constructor.construct_object(node, deep=True)
-        except yaml.constructor.ConstructorError as exc:
+        except (yaml.constructor.ConstructorError, ValueError):
             line, col = _mark(node)
-            raise YamlProblem(line, col, f"unsupported YAML value: {exc.problem}") from None
+            raise YamlProblem(line, col, f"{node.value!r} is not a valid YAML {node.tag.rsplit(':', 1)[-1]}") from None
         if not isinstance(value, (str, int, float, bool)) and value is not None:
             line, col = _mark(node)
             raise YamlProblem(line, col, f"unsupported YAML value of type {type(value).__name__}; quote it")
