@@ -11,7 +11,6 @@ from typing import Any
 
 import pytest
 from conftest import GENERATED_PY, MAPS, ROOT, PtyPair, SimulatorFactory
-
 from regmap_runtime.errors import DeviceException, DeviceTimeout
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
@@ -38,10 +37,7 @@ def test_generated_clients_pass_mypy_strict() -> None:
 def test_read_only_register_has_no_write_path_that_type_checks(tmp_path: Path) -> None:
     program = tmp_path / "misuse.py"
     program.write_text(
-        "from idm_rs import IdmRs, RUN_STATUS\n"
-        "def f(d: IdmRs) -> None:\n"
-        "    d.write(RUN_STATUS, 1)\n"
-        "    d.write_run_status(1)\n",
+        "from idm_rs import IdmRs, RUN_STATUS\ndef f(d: IdmRs) -> None:\n    d.write(RUN_STATUS, 1)\n    d.write_run_status(1)\n",
         encoding="utf-8",
     )
     result = subprocess.run(

@@ -91,6 +91,65 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     return run(device, tcp=args.tcp, serial=args.serial, slave=args.slave, state=state, faults=faults, rtu_over_tcp=args.rtu_over_tcp)
 
 
+def cmd_frame(args: argparse.Namespace) -> int:
+    from regmap_runtime.rtu import to_hex
+
+    from regmap import frames
+
+    device = load_map(args.map)
+    if args.action == "read":
+        if not 1 <= len(args.items) <= 2:
+            raise UsageError("read wants SELECTOR [COUNT]")
+        count = frames.parse_int(args.items[1], "COUNT") if len(args.items) == 2 else None
+        if count is not None and not 1 <= count <= 125:
+            raise UsageError(f"COUNT {count} is outside 1..125")
+        built = frames.read_frames(device, args.items[0], count, args.slave)
+    elif args.action == "write":
+        if not args.items:
+            raise UsageError("write wants SELECTOR=VALUE [SELECTOR=VALUE ...]")
+        built = frames.write_frames(device, args.items, args.slave, args.raw)
+    else:
+        if not 1 <= len(args.items) <= 2:
+            raise UsageError("command wants NAME [ARGUMENT]")
+        built = frames.command_frames(device, args.items[0], args.items[1] if len(args.items) == 2 else None, args.slave)
+    for frame in built:
+        print(to_hex(frame))
+    return 0
+
+
+def cmd_decode(args: argparse.Namespace) -> int:
+    from regmap_runtime.rtu import FrameError, parse_frame, parse_hex
+
+    from regmap import frames
+
+    device = load_map(args.map)
+    if args.file:
+        if args.hex:
+            raise UsageError("give HEX or --file, not both")
+        try:
+            with open(args.file, encoding="utf-8") as handle:
+                lines = handle.read().splitlines()
+        except (OSError, UnicodeDecodeError) as exc:
+            raise UsageError(f"cannot read {args.file}: {exc}") from None
+        decoded = frames.decode_capture(device, lines, args.file)
+    else:
+        if not args.hex:
+            raise UsageError("give the frame as HEX (one argument or several) or --file CAPTURE")
+        try:
+            frame = parse_hex(" ".join(args.hex))
+            request = parse_frame(parse_hex(args.request), "request") if args.request else None
+        except FrameError as exc:
+            raise UsageError(str(exc)) from None
+        direction = "response" if request is not None else args.direction
+        decoded = [frames.decode_frame(device, frame, direction=direction, request=request)]
+    if args.json:
+        json.dump([d.as_json() for d in decoded], sys.stdout, ensure_ascii=False, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print("\n".join(frames.render_text(d) for d in decoded))
+    return 0 if all(d.frame.crc_valid for d in decoded) else 3
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="regmap", description="Declarative Modbus RTU register maps for motor drives.")
     parser.add_argument("--version", action="version", version=f"regmap {__version__}")
@@ -110,6 +169,35 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--target", action="append", choices=_target_choices(), help="only this target (repeatable)")
     p.set_defaults(func=cmd_generate)
 
+    p = sub.add_parser(
+        "frame",
+        help="print a request frame as hex bytes",
+        description="Build the request frame a master sends. SELECTOR is a register name, the manual's parameter id (Pr5.00, P05-02, 0302) or an address (0x0191, 401). VALUE is in engineering units or an enum member name; --raw takes raw integers (and lets you write any address: ADDR=W1,W2,...).",
+    )
+    p.add_argument("map", metavar="MAP")
+    p.add_argument("action", choices=["read", "write", "command"])
+    p.add_argument("items", nargs="*", metavar="ARG", help="read: SELECTOR [COUNT]; write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]")
+    p.add_argument("--slave", type=int, default=1, help="slave id (default 1)")
+    p.add_argument("--raw", action="store_true", help="values are raw register integers")
+    p.set_defaults(func=cmd_frame)
+
+    p = sub.add_parser(
+        "decode",
+        help="decode a frame or a capture log",
+        description="Decode RTU frames: function, registers, raw and engineering values, enums, bitfields, CRC and exceptions. Exit status 3 when a CRC does not match.",
+    )
+    p.add_argument("map", metavar="MAP")
+    p.add_argument("hex", nargs="*", metavar="HEX", help="the frame, as one argument or one per byte")
+    p.add_argument(
+        "--file",
+        metavar="CAPTURE",
+        help="a log of frames, one per line (optional TX/RX prefix); responses pair with the request before them",
+    )
+    p.add_argument("--request", metavar="HEX", help="the request a response answers (names the registers of a read response)")
+    p.add_argument("--direction", choices=["request", "response"], help="settle frames that read alike both ways")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_decode)
+
     p = sub.add_parser("simulate", help="serve a simulated device (Modbus TCP or RTU on a serial port/pty)")
     p.add_argument("map", metavar="MAP")
     where = p.add_mutually_exclusive_group()
@@ -118,7 +206,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
     p.add_argument("--slave", type=int, default=1, help="slave id (default 1)")
     p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes)")
-    p.add_argument("--fault", default="none", metavar="KIND", help="inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay")
+    p.add_argument(
+        "--fault",
+        default="none",
+        metavar="KIND",
+        help="inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay",
+    )
     p.add_argument("--fault-count", type=int, default=None, metavar="N", help="only the next N answers (default: all)")
     p.add_argument("--fault-delay", type=float, default=2.0, metavar="S", help="seconds for --fault delay")
     p.add_argument("--fault-exception", type=lambda v: int(v, 0), default=0x04, metavar="CODE", help="code for --fault exception")

@@ -294,8 +294,12 @@ class Fault:
 
 @dataclass(frozen=True)
 class ExampleValue:
+    """What an example frame carries for one register: its raw value, or (for a frame that
+    carries only some of a 32-bit register's words) the words themselves."""
+
     register: Register
-    raw: tuple[int, ...] | None = None
+    raw: int | None = None
+    words: tuple[int, ...] | None = None
     value: float | str | None = None
 
 

@@ -25,12 +25,12 @@ from pymodbus.constants import ExcCodes
 from pymodbus.datastore import ModbusServerContext
 from pymodbus.exceptions import NoSuchIdException
 from pymodbus.server import ModbusSerialServer, ModbusTcpServer
+from regmap_runtime.codec import raw_to_words, words_to_raw
+from regmap_runtime.rtu import crc_bytes
 
 from regmap.backends.common import runtime_specs
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
-from regmap_runtime.codec import raw_to_words, words_to_raw
-from regmap_runtime.rtu import crc_bytes
 
 FAULT_KINDS = ("none", "no_answer", "bad_crc", "truncated", "exception", "wrong_slave", "wrong_function", "delay")
 
@@ -75,7 +75,7 @@ class DeviceStore(ModbusServerContext):
     any context whose `old_simulator` is set by calling async_getValues/async_setValues directly.
     """
 
-    def __init__(self, device: Device, slave: int, state_file: Path | None = None) -> None:  # noqa: D107
+    def __init__(self, device: Device, slave: int, state_file: Path | None = None) -> None:
         self.device = device
         self.slave = slave
         self.state_file = state_file
@@ -120,7 +120,9 @@ class DeviceStore(ModbusServerContext):
         if self.state_file is None:
             return
         data = {r.name: self.raw_of(r) for r in self.persistent()}
-        text = json.dumps({"device": self.device.id, "map_version": self.device.info.map_version, "registers": data}, indent=1, sort_keys=True)
+        text = json.dumps(
+            {"device": self.device.id, "map_version": self.device.info.map_version, "registers": data}, indent=1, sort_keys=True
+        )
         # Write beside the target and rename: the state file is never left half-written.
         fd, tmp = tempfile.mkstemp(prefix=".state-", dir=self.state_file.parent)
         try:
@@ -159,7 +161,7 @@ class DeviceStore(ModbusServerContext):
         reg = self.owner.get(address)
         return reg is not None or self.device.transport.tolerates_gaps
 
-    async def async_getValues(self, device_id: int, func_code: int, address: int, count: int = 1) -> list[int] | list[bool] | ExcCodes:  # noqa: N802
+    async def async_getValues(self, device_id: int, func_code: int, address: int, count: int = 1) -> list[int] | list[bool] | ExcCodes:
         self._check_id(device_id)
         if func_code in WRITE_FUNCTIONS:  # pymodbus reads back what it wrote to build the echo
             return [self.words.get(a, 0) for a in range(address, address + count)]
@@ -180,7 +182,9 @@ class DeviceStore(ModbusServerContext):
                 self.words[a] = self.pending_after_read.pop(a)
         return values
 
-    async def async_setValues(self, device_id: int, func_code: int, address: int, values: Sequence[int] | Sequence[bool]) -> ExcCodes | None:  # noqa: N802
+    async def async_setValues(
+        self, device_id: int, func_code: int, address: int, values: Sequence[int] | Sequence[bool]
+    ) -> ExcCodes | None:
         self._check_id(device_id)
         if func_code not in WRITE_FUNCTIONS or func_code not in self.device.transport.function_codes:
             return ExcCodes.ILLEGAL_FUNCTION
@@ -209,9 +213,9 @@ class DeviceStore(ModbusServerContext):
                 return ExcCodes.ILLEGAL_VALUE
             spec = self.spec(reg)
             raw = words_to_raw(spec, [words[a - address] for a in own])
-            if reg.min is not None and raw < reg.min or reg.max is not None and raw > reg.max:
-                if not self._is_command(reg, raw):
-                    return ExcCodes.ILLEGAL_VALUE
+            out_of_range = (reg.min is not None and raw < reg.min) or (reg.max is not None and raw > reg.max)
+            if out_of_range and not self._is_command(reg, raw):
+                return ExcCodes.ILLEGAL_VALUE
             if reg.enum is not None and not reg.bitfields and reg.enum.by_value(raw) is None and not self._is_command(reg, raw):
                 return ExcCodes.ILLEGAL_VALUE
             updates.append((reg, raw))
@@ -221,7 +225,10 @@ class DeviceStore(ModbusServerContext):
         return None
 
     def _is_command(self, reg: Register, raw: int) -> bool:
-        return any(c.register.name == reg.name and (c.value == raw or (c.argument and c.value + c.argument.min <= raw <= c.value + c.argument.max)) for c in self.device.commands)
+        return any(
+            c.register.name == reg.name and (c.value == raw or (c.argument and c.value + c.argument.min <= raw <= c.value + c.argument.max))
+            for c in self.device.commands
+        )
 
     def _act(self, reg: Register, raw: int) -> None:
         for command in self.device.commands:
@@ -320,7 +327,9 @@ def parse_endpoint(text: str) -> tuple[str, int]:
     return host or "127.0.0.1", int(port)
 
 
-def run(device: Device, *, tcp: str | None, serial: str | None, slave: int, state: Path | None, faults: FaultPlan, rtu_over_tcp: bool = False) -> int:
+def run(
+    device: Device, *, tcp: str | None, serial: str | None, slave: int, state: Path | None, faults: FaultPlan, rtu_over_tcp: bool = False
+) -> int:
     """Serve until Ctrl-C or SIGTERM; returns the exit status."""
     simulator = Simulator(device, slave, state, faults)
 

@@ -10,6 +10,7 @@ import dataclasses
 from collections.abc import Iterable, Mapping
 from typing import Any, TypeVar, cast
 
+from pymodbus import FramerType
 from pymodbus.client import AsyncModbusSerialClient, AsyncModbusTcpClient, ModbusSerialClient, ModbusTcpClient
 from pymodbus.exceptions import ConnectionException, ModbusIOException
 from pymodbus.exceptions import ModbusException as PymodbusError
@@ -56,6 +57,12 @@ class _Core:
             return raw
         return value_to_raw(spec, value)
 
+    def encode_raw(self, spec: RegisterSpec[Any], raw: int) -> int:
+        if not spec.writable:
+            raise TypeError(f"{spec.label} is read-only")
+        check_raw(spec, int(raw))
+        return int(raw)
+
     def decode(self, spec: RegisterSpec[T], words: list[int]) -> T:
         spec = self.effective(spec)
         raw = words_to_raw(spec, words)
@@ -69,8 +76,12 @@ class _Core:
                 raise TypeError(f"{spec.label} is write-only")
         return plan_reads(specs, self.DEVICE.max_read_registers, self.DEVICE.documented())
 
-    def plan_writes(self, values: Mapping[Writable[Any], Any]) -> list[WriteBlock]:
-        raws = [(self.effective(spec), self.encode(spec, value)) for spec, value in values.items()]
+    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
+        """Check and encode every value, then group them into requests. `raw`: values are register integers."""
+        raws = [
+            (self.effective(spec), self.encode_raw(spec, value) if raw else self.encode(spec, value))
+            for spec, value in values.items()
+        ]
         return plan_writes(raws, self.DEVICE.max_write_registers, 0x10 in self.DEVICE.function_codes)
 
     def readable(self) -> list[RegisterSpec[Any]]:
@@ -145,9 +156,11 @@ class SyncClient(_Core):
         timeout: float = 1.0,
         retries: int = 2,
         word_order: str | None = None,
+        rtu_over_tcp: bool = False,
     ) -> C:
-        """Modbus TCP (gateways, simulators)."""
-        return cls(ModbusTcpClient(host, port=port, timeout=timeout, retries=retries), slave, word_order)
+        """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters."""
+        framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
+        return cls(ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries), slave, word_order)
 
     def __enter__(self: C) -> C:
         self.connect()
@@ -209,12 +222,12 @@ class SyncClient(_Core):
         """Every readable register, by the device's read plan."""
         return self.read_many(*cast(list[Readable[Any]], self.readable()))
 
-    def write(self, spec: Writable[T], value: T | int | float | str) -> None:
-        self.write_many({spec: value})
+    def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
+        self.write_many({spec: value}, raw=raw)
 
-    def write_many(self, values: Mapping[Writable[Any], Any]) -> None:
+    def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         """Validate every value, then write contiguous registers together with 0x10."""
-        for block in self.plan_writes(values):
+        for block in self.plan_writes(values, raw):
             self.write_raw(block.address, block.words, multiple=not block.single)
 
 
@@ -262,8 +275,12 @@ class AsyncClient(_Core):
         timeout: float = 1.0,
         retries: int = 2,
         word_order: str | None = None,
+        rtu_over_tcp: bool = False,
     ) -> A:
-        return cls(AsyncModbusTcpClient(host, port=port, timeout=timeout, retries=retries), slave, word_order)
+        framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
+        return cls(
+            AsyncModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries), slave, word_order
+        )
 
     async def __aenter__(self: A) -> A:
         await self.connect()
@@ -322,11 +339,11 @@ class AsyncClient(_Core):
     async def read_all(self) -> dict[str, Any]:
         return await self.read_many(*cast(list[Readable[Any]], self.readable()))
 
-    async def write(self, spec: Writable[T], value: T | int | float | str) -> None:
-        await self.write_many({spec: value})
+    async def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
+        await self.write_many({spec: value}, raw=raw)
 
-    async def write_many(self, values: Mapping[Writable[Any], Any]) -> None:
-        for block in self.plan_writes(values):
+    async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
+        for block in self.plan_writes(values, raw):
             await self.write_raw(block.address, block.words, multiple=not block.single)
 
 

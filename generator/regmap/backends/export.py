@@ -163,7 +163,8 @@ def export_json(device: Device) -> dict[str, Any]:
                 "request": x.request,
                 "meaning": x.meaning,
                 "values": [
-                    {"register": v.register.name, "raw": None if v.raw is None else list(v.raw), "value": v.value} for v in x.values
+                    {"register": v.register.name, "raw": v.raw, "words": None if v.words is None else list(v.words), "value": v.value}
+                    for v in x.values
                 ],
                 "erratum": x.erratum,
                 "corrected_frame": None if x.corrected_frame is None else x.corrected_frame.hex(" ").upper(),

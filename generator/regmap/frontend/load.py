@@ -6,6 +6,7 @@ Every problem in a file is collected (errors are values here) and raised togethe
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import json
 import re
@@ -102,7 +103,8 @@ def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Devic
     except YamlProblem as exc:
         raise MapError([Diagnostic(name, exc.line, exc.column, exc.message)]) from None
     if not isinstance(raw, dict):
-        raise MapError([Diagnostic(name, 1, 1, f"the map must be a YAML mapping at the top level, not a {_kind(raw)}")])
+        line, col = positions.locate(())
+        raise MapError([Diagnostic(name, line, col, f"the map must be a YAML mapping at the top level, not a {_kind(raw)}")])
     problems = _schema_problems(raw, positions, name)
     if problems:
         raise MapError(problems)
@@ -125,7 +127,19 @@ def _schema_problems(raw: dict[str, Any], positions: Positions, name: str) -> li
     for error in _validator().iter_errors(raw):
         error = _deepest(error)
         path = tuple(error.absolute_path)
-        line, col = positions.locate(path)
+        if error.validator == "additionalProperties":
+            # One line per unknown key, at the key itself.
+            known = sorted(error.schema.get("properties", {})) if isinstance(error.schema, dict) else []
+            for key in sorted(set(error.instance) - set(known)):
+                line, col = positions.locate_key((*path, key))
+                close = difflib.get_close_matches(key, known, n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                problems.append(Diagnostic(name, line, col, f"{_dotted(path)}: unknown key {key!r}{hint}"))
+            continue
+        if "propertyNames" in error.schema_path:
+            line, col = positions.locate_key((*path, error.instance))
+        else:
+            line, col = positions.locate(path)
         problems.append(Diagnostic(name, line, col, f"{_dotted(path)}: {_schema_message(error)}"))
     return problems
 
@@ -137,15 +151,27 @@ def _deepest(error: jsonschema.ValidationError) -> jsonschema.ValidationError:
     return error
 
 
+# What the schema's patterns mean, for messages a person can act on.
+_PATTERNS = {
+    "^[a-z][a-z0-9_]*$": "a snake_case identifier (lowercase letters, digits and _, starting with a letter)",
+    r"^(0|[1-9][0-9]*)\.(0|[1-9][0-9]*)\.(0|[1-9][0-9]*)$": "a semantic version such as 1.0.0",
+    "^[0-9A-Fa-f]{2}( ?[0-9A-Fa-f]{2})*$": "hex bytes such as '01 03 00 01'",
+    "^[0-9]{1,2}-[0-9]{1,2}$": "a bit number or an inclusive bit range low-high such as '8-10'",
+    "^E[0-9]+$": "an erratum id such as E1",
+}
+# YAML 1.1 reads 1e-3 (no dot, unsigned exponent) as text, where JSON and YAML 1.2 read a number.
+_FLOAT_AS_TEXT = re.compile(r"^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+$")
+
+
 def _schema_message(error: jsonschema.ValidationError) -> str:
-    if error.validator == "additionalProperties":
-        schema = error.schema if isinstance(error.schema, dict) else {}
-        instance = error.instance if isinstance(error.instance, dict) else {}
-        extra = sorted(set(instance) - set(schema.get("properties", {})))
-        return f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(repr(e) for e in extra)}"
     if error.validator == "required":
         return error.message.replace("is a required property", "is required")
-    message = error.message
+    if error.validator == "pattern" and error.validator_value in _PATTERNS:
+        message = f"{error.instance!r} is not {_PATTERNS[error.validator_value]}"
+    elif error.validator == "type" and isinstance(error.instance, str) and _FLOAT_AS_TEXT.match(error.instance):
+        message = f"{error.message}: YAML reads {error.instance} as text; write a number with a dot and a signed exponent, such as 1.0e-3"
+    else:
+        message = error.message
     return message if len(message) <= 200 else message[:197] + "..."
 
 
@@ -178,11 +204,15 @@ class _ParamRule:
     index_radix: int
 
     def address_of(self, param: str) -> int | None:
+        """The address this rule gives `param`, or None when the regex does not match.
+
+        Raises ValueError when the regex matches but a group is not a number in its radix.
+        """
         match = self.regex.fullmatch(param)
         if not match:
             return None
-        index = int(match.group("index"), self.index_radix)
-        group = int(match.group("group"), self.group_radix) if "group" in match.groupdict() and match.group("group") else 0
+        index = _number(match.group("index"), self.index_radix, "index")
+        group = _number(match.group("group"), self.group_radix, "group") if "group" in match.groupdict() and match.group("group") else 0
         return self.base + group * self.group_stride + index * self.index_stride
 
     def param_of(self, address: int) -> str | None:
@@ -194,7 +224,20 @@ class _ParamRule:
         if rest % self.index_stride:
             return None
         text = self.format.format(group=group, index=rest // self.index_stride)
-        return text if self.address_of(text) == address else None
+        try:
+            return text if self.address_of(text) == address else None
+        except ValueError:
+            return None
+
+
+_FORMAT_SPEC = re.compile(r"^(:0?[1-9]?[dxX]?)?$")
+
+
+def _number(text: str | None, radix: int, what: str) -> int:
+    try:
+        return int(text or "", radix)
+    except ValueError:
+        raise ValueError(f"its {what} {text!r} is not a base-{radix} number") from None
 
 
 class _Elaborator:
@@ -209,7 +252,7 @@ class _Elaborator:
         self.enums: dict[str, EnumType] = {}
         self.rules: list[_ParamRule] = []
         self.registers: list[Register] = []
-        self.register_paths: dict[str, Path] = {}
+        self.register_paths: list[Path] = []  # where each of self.registers is declared, in step with it
 
     def problem(self, path: Path, message: str) -> None:
         line, col = self.positions.locate(path)
@@ -223,6 +266,7 @@ class _Elaborator:
         self._enums(raw.get("enums", {}))
         word_order = WordOrder(raw["transport"]["word_order"])
         groups = [self._group(g, ("groups", i), word_order) for i, g in enumerate(raw["groups"])]
+        self._check_unique_groups_and_arrays()
         self._check_unique_registers()
         self._check_overlaps()
         errata = self._errata(raw.get("errata", []), self._selector_index())
@@ -280,15 +324,25 @@ class _Elaborator:
                 self.problem((*path, "regex"), "the regex needs a named group `index`")
                 continue
             fields = set()
+            specs = set()
             try:
-                for _, field_name, _, _ in string.Formatter().parse(rule["format"]):
+                for _, field_name, spec, conversion in string.Formatter().parse(rule["format"]):
                     if field_name is not None:
                         fields.add(field_name)
+                        specs.add(f"{'!' + conversion if conversion else ''}{':' + spec if spec else ''}")
             except ValueError as exc:
                 self.problem((*path, "format"), f"invalid format pattern: {exc}")
                 continue
             if not fields <= {"group", "index"} or "index" not in fields:
                 self.problem((*path, "format"), "the format may use only the fields {group} and {index}, and must use {index}")
+                continue
+            bad_spec = next((spec for spec in sorted(specs) if not _FORMAT_SPEC.match(spec)), None)
+            if bad_spec is not None:
+                # Only a width and a base: anything else could pad a parameter id to gigabytes.
+                self.problem(
+                    (*path, "format"),
+                    f"format spec {bad_spec!r} is not supported; use a width of at most 9 and d, x or X, as in {{index:02d}}",
+                )
                 continue
             try:
                 rule["format"].format(group=0, index=0)
@@ -378,14 +432,16 @@ class _Elaborator:
             if "array" in entry:
                 array, expanded = self._array(entry, epath, defaults, g["id"], word_order)
                 arrays.append(array)
-                registers.extend(expanded)
+                for reg, member_path in expanded:
+                    registers.append(reg)
+                    self.register_paths.append(member_path)
             else:
                 reg = self._register({**defaults, **entry}, epath, g["id"], word_order)
                 if reg is not None:
                     self._check_param(reg, epath)
                     registers.append(reg)
-        for reg in registers:
-            self.registers.append(reg)
+                    self.register_paths.append(epath)
+        self.registers.extend(registers)
         return Group(
             id=g["id"],
             title=g["title"],
@@ -531,10 +587,11 @@ class _Elaborator:
 
     def _array(
         self, a: dict[str, Any], path: Path, defaults: dict[str, Any], group: str, word_order: WordOrder
-    ) -> tuple[ArrayDef, list[Register]]:
+    ) -> tuple[ArrayDef, list[tuple[Register, Path]]]:
+        """The array and its expanded registers, each with the path of the member it comes from."""
         index_base = a.get("index_base", 0)
         members: list[ArrayMember] = []
-        expanded: list[Register] = []
+        expanded: list[tuple[Register, Path]] = []
         member_names: set[str] = set()
         for j, m in enumerate(a["members"]):
             mpath: Path = (*path, "members", j)
@@ -570,7 +627,10 @@ class _Elaborator:
         inherited = {**defaults, "source": a.get("source", defaults.get("source"))}
         for j, spec in enumerate(a["members"]):
             if isinstance(spec.get("default"), list) and len(spec["default"]) != array.count:
-                self.problem((*path, "members", j, "default"), f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements")
+                self.problem(
+                    (*path, "members", j, "default"),
+                    f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements",
+                )
         for i in range(array.count):
             index = index_base + i
             for j, (member, spec) in enumerate(zip(members, a["members"], strict=True)):
@@ -588,7 +648,7 @@ class _Elaborator:
                     array=ArrayRef(array=array.name, index=index, member=member.name),
                 )
                 if reg is not None:
-                    expanded.append(reg)
+                    expanded.append((reg, (*path, "members", j)))
         # Report per-member problems once, not once per element.
         self.problems = list(dict.fromkeys(self.problems))
         return array, expanded
@@ -596,48 +656,62 @@ class _Elaborator:
     def _check_param(self, reg: Register, path: Path) -> None:
         if reg.param is None:
             return
-        expected = self._rule_address(reg.param)
+        try:
+            expected = self._rule_address(reg.param)
+        except ValueError as exc:
+            self.problem((*path, "param"), f"{reg.name}: parameter {reg.param} matches a param_ids regex, but {exc}")
+            return
         if expected is not None and expected != reg.address:
             self.problem(
                 (*path, "address"),
                 f"{reg.name}: parameter {reg.param} is at 0x{expected:04X} by the param_ids rule, but the address is 0x{reg.address:04X}",
             )
 
-    def _check_unique_registers(self) -> None:
-        seen: dict[str, Register] = {}
-        params: dict[str, Register] = {}
-        for reg in self.registers:
-            path = self._path_of(reg)
-            if reg.name in seen:
-                self.problem(path, f"duplicate register name {reg.name!r}")
-            seen.setdefault(reg.name, reg)
-            if reg.param is not None:
-                if reg.param in params and params[reg.param].name != reg.name:
-                    self.problem(path, f"{reg.name}: parameter id {reg.param} is already used by {params[reg.param].name}")
-                params.setdefault(reg.param, reg)
-
-    def _path_of(self, reg: Register) -> Path:
-        if reg.name in self.register_paths:
-            return self.register_paths[reg.name]
+    def _check_unique_groups_and_arrays(self) -> None:
+        """Group ids and array names name things in generated code, so each must be unique."""
+        first: dict[tuple[str, str], Path] = {}
         for gi, g in enumerate(self.raw["groups"]):
+            keyed: list[tuple[str, str, Path]] = [("group id", g["id"], ("groups", gi, "id"))]
             for ri, entry in enumerate(g["registers"]):
-                if entry.get("name") == reg.name:
-                    self.register_paths[reg.name] = ("groups", gi, "registers", ri)
-                    return self.register_paths[reg.name]
-                if reg.array is not None and entry.get("array") == reg.array.array:
-                    return ("groups", gi, "registers", ri)
-        return ("groups",)
+                if "array" in entry:
+                    keyed.append(("array name", entry["array"], ("groups", gi, "registers", ri, "array")))
+            for what, value, path in keyed:
+                seen = first.setdefault((what, value), path)
+                if seen != path:
+                    self.problem(path, f"duplicate {what} {value!r} (first declared on line {self.positions.locate(seen)[0]})")
+
+    def _check_unique_registers(self) -> None:
+        """Report each repeat where it is declared, naming the line of the first; an array member once, not per element."""
+        names: dict[str, Path] = {}
+        params: dict[str, tuple[Register, Path]] = {}
+        reported: set[tuple[Path, Path]] = set()
+        for reg, path in zip(self.registers, self.register_paths, strict=True):
+            first = names.get(reg.name)
+            if first is None:
+                names[reg.name] = path
+            elif (path, first) not in reported:
+                reported.add((path, first))
+                self.problem(path, f"duplicate register name {reg.name!r} (first declared on line {self.positions.locate(first)[0]})")
+            if reg.param is not None:
+                other, other_path = params.setdefault(reg.param, (reg, path))
+                if other.name != reg.name and (path, other_path) not in reported:
+                    reported.add((path, other_path))
+                    self.problem(
+                        (*path, "param"),
+                        f"{reg.name}: parameter id {reg.param} is already used by {other.name} (line {self.positions.locate(other_path)[0]})",
+                    )
 
     def _check_overlaps(self) -> None:
         owner: dict[int, Register] = {}
         reported: set[tuple[str, str]] = set()
-        for reg in sorted(self.registers, key=lambda r: (r.first_address, r.name)):
+        placed = sorted(zip(self.registers, self.register_paths, strict=True), key=lambda rp: (rp[0].first_address, rp[0].name))
+        for reg, path in placed:
             for address in range(reg.first_address, reg.last_address + 1):
                 other = owner.get(address)
                 if other is not None and other.name != reg.name and (other.name, reg.name) not in reported:
                     reported.add((other.name, reg.name))
                     self.problem(
-                        (*self._path_of(reg), "address"),
+                        (*path, "address"),
                         f"{reg.name} (0x{reg.first_address:04X}..0x{reg.last_address:04X}) overlaps {other.name} (0x{other.first_address:04X}..0x{other.last_address:04X}) at 0x{address:04X}",
                     )
                 owner.setdefault(address, reg)
@@ -748,9 +822,12 @@ class _Elaborator:
                 self.problem((*path, "register"), f"command {c['name']}: register {reg.name} is read-only")
             value = c["value"]
             if isinstance(value, str):
-                member = reg.enum.member(value) if reg.enum else None
+                if reg.enum is None:
+                    self.problem((*path, "value"), f"command {c['name']}: register {reg.name} has no enum; give the value as an integer")
+                    continue
+                member = reg.enum.member(value)
                 if member is None:
-                    self.problem((*path, "value"), f"command {c['name']}: {value!r} is not a member of the enum of {reg.name}")
+                    self.problem((*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} of {reg.name}")
                     continue
                 value = member.value
             argument = None
@@ -886,16 +963,22 @@ class _Elaborator:
             if request is not None:
                 if x["direction"] != "response":
                     self.problem((*path, "request"), f"example {x['id']}: only a response names the request it answers")
-                elif ids.get(request) != "request":
-                    self.problem((*path, "request"), f"example {x['id']}: {request!r} is not a request example")
+                elif request not in ids:
+                    self.problem((*path, "request"), f"example {x['id']}: unknown request example {request!r}")
+                elif ids[request] != "request":
+                    self.problem((*path, "request"), f"example {x['id']}: {request!r} is a response, not a request example")
             values = []
             for j, v in enumerate(x.get("values", [])):
                 reg = self._ref(v["register"], by_selector, (*path, "values", j, "register"), f"example {x['id']}")
                 if reg is None:
                     continue
                 raw = v.get("raw")
-                raw_tuple = None if raw is None else (tuple(raw) if isinstance(raw, list) else (raw,))
-                values.append(ExampleValue(register=reg, raw=raw_tuple, value=v.get("value")))
+                words = tuple(raw) if isinstance(raw, list) else None
+                if words is not None and len(words) > reg.words:
+                    self.problem(
+                        (*path, "values", j, "raw"), f"example {x['id']}: {len(words)} words for {reg.name}, which has {reg.words}"
+                    )
+                values.append(ExampleValue(register=reg, raw=raw if isinstance(raw, int) else None, words=words, value=v.get("value")))
             examples.append(
                 Example(
                     id=x["id"],

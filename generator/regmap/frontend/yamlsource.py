@@ -21,13 +21,15 @@ MAX_DEPTH = 64  # real maps nest about 8 levels; the bound keeps recursion far f
 MAX_INT_CHARS = 100  # no register value needs more; Python refuses int() of over 4300 digits anyway
 _AMBIGUOUS_INT = re.compile(r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$")
 _PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
+_SCALAR_TAGS = {f"tag:yaml.org,2002:{t}" for t in ("str", "int", "float", "bool", "null")}
 
 
 @dataclass
 class Positions:
-    """Line/column (1-based) of every value in the document, keyed by its path."""
+    """Line/column (1-based) of every value in the document, keyed by its path, and of every mapping key."""
 
     by_path: dict[Path, tuple[int, int]] = field(default_factory=dict)
+    keys: dict[Path, tuple[int, int]] = field(default_factory=dict)
 
     def locate(self, path: Path) -> tuple[int, int]:
         """Position of `path`, or of its closest ancestor that has one."""
@@ -35,6 +37,10 @@ class Positions:
         while probe not in self.by_path and probe:
             probe = probe[:-1]
         return self.by_path.get(probe, (1, 1))
+
+    def locate_key(self, path: Path) -> tuple[int, int]:
+        """Position of the key that names `path` (its last element), falling back to `locate`."""
+        return self.keys.get(tuple(path)) or self.locate(path)
 
 
 class YamlProblem(Exception):
@@ -115,7 +121,6 @@ class _Builder:
 
     def _mapping(self, node: yaml.MappingNode, path: Path) -> dict[str, Any]:
         result: dict[str, Any] = {}
-        key_marks: dict[str, tuple[int, int]] = {}
         for key_node, value_node in node.value:
             if key_node.tag == "tag:yaml.org,2002:merge":
                 line, col = _mark(key_node)
@@ -123,10 +128,10 @@ class _Builder:
             key = self._scalar(key_node)
             line, col = _mark(key_node)
             if not isinstance(key, str):
-                raise YamlProblem(line, col, f"mapping key {key_node.value!r} is read as the {_kind(key)} {key!r}; quote it to make it text")
-            if key in key_marks:
-                raise YamlProblem(line, col, f"duplicate key {key!r} (first defined on line {key_marks[key][0]})")
-            key_marks[key] = (line, col)
+                raise YamlProblem(line, col, f"mapping key {key_node.value!r} is read as {_reading(key)}; quote it to make it text")
+            first = self.positions.keys.setdefault((*path, key), (line, col))
+            if key in result:
+                raise YamlProblem(line, col, f"duplicate key {key!r} (first defined on line {first[0]})")
             if not isinstance(value_node, yaml.ScalarNode) and value_node.start_mark.line != key_node.start_mark.line:
                 # A block collection starts on the next line, at its first child; a problem with the
                 # collection as a whole (a missing key, say) reads better at the key that names it.
@@ -135,36 +140,36 @@ class _Builder:
         return result
 
     def _scalar(self, node: yaml.Node) -> Any:
+        line, col = _mark(node)
         if not isinstance(node, yaml.ScalarNode):
-            line, col = _mark(node)
             raise YamlProblem(line, col, "a mapping key must be a plain scalar")
-        if node.tag == "tag:yaml.org,2002:int" and len(str(node.value)) > MAX_INT_CHARS:
-            line, col = _mark(node)
-            raise YamlProblem(line, col, f"integer of {len(str(node.value))} characters is too large (limit {MAX_INT_CHARS})")
-        if node.tag == "tag:yaml.org,2002:int" and _AMBIGUOUS_INT.match(str(node.value)):
-            line, col = _mark(node)
+        text = str(node.value)
+        if node.tag == "tag:yaml.org,2002:int" and len(text) > MAX_INT_CHARS:
+            raise YamlProblem(line, col, f"integer of {len(text)} characters is too large (limit {MAX_INT_CHARS})")
+        if node.tag == "tag:yaml.org,2002:int" and _AMBIGUOUS_INT.match(text):
             raise YamlProblem(
                 line,
                 col,
-                f"ambiguous integer {node.value!r}: YAML reads a leading 0 as octal and a colon as base 60;"
+                f"ambiguous integer {text!r}: YAML reads a leading 0 as octal and a colon as base 60;"
                 " write it in decimal without the leading zero, in hex (0x...), or quote it if it is text",
             )
-        if node.tag not in yaml.SafeLoader.yaml_constructors:
-            line, col = _mark(node)
+        if node.tag == "tag:yaml.org,2002:timestamp":
+            raise YamlProblem(line, col, f"{text!r} reads as a YAML date; quote it if it is text")
+        if node.tag not in _SCALAR_TAGS:
             raise YamlProblem(line, col, f"unsupported YAML tag {node.tag!r}")
         try:
             value = self.constructor.construct_object(node, deep=True)
-        except (yaml.constructor.ConstructorError, ValueError):
-            line, col = _mark(node)
-            raise YamlProblem(line, col, f"{node.value!r} is not a valid YAML {node.tag.rsplit(':', 1)[-1]}") from None
-        if not isinstance(value, (str, int, float, bool)) and value is not None:
-            line, col = _mark(node)
-            raise YamlProblem(line, col, f"unsupported YAML value of type {type(value).__name__}; quote it")
+        except (yaml.constructor.ConstructorError, ValueError, KeyError):  # an explicit tag on text it cannot read
+            raise YamlProblem(line, col, f"{text!r} is not a valid YAML {node.tag.rsplit(':', 1)[-1]}") from None
         if isinstance(value, float) and not math.isfinite(value):
-            line, col = _mark(node)
-            raise YamlProblem(line, col, f"number {node.value!r} is not finite (too large for a 64-bit float, or .inf/.nan)")
+            raise YamlProblem(line, col, f"number {text!r} is not finite (too large for a 64-bit float, or .inf/.nan)")
         return value
 
 
-def _kind(value: Any) -> str:
-    return {bool: "boolean", int: "integer", float: "number"}.get(type(value), "null" if value is None else type(value).__name__)
+def _reading(value: Any) -> str:
+    """How YAML read a plain scalar, in YAML's own spelling."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return f"the boolean {str(value).lower()}"
+    return f"the {'integer' if isinstance(value, int) else 'number'} {value}"
