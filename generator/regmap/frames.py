@@ -171,9 +171,11 @@ def write_frames(device: Device, assignments: Sequence[str], slave: int, raw: bo
         try:
             if raw:
                 number = parse_int(value_text, reg.label)
-                check_raw(spec, number)
             else:
-                number = value_to_raw(spec, value_text)
+                number = symbolic_raw(reg, value_text)
+                if number is None:
+                    number = value_to_raw(spec, value_text)
+            check_raw(spec, number)
         except RangeError as exc:
             raise UsageError(str(exc)) from None
         values.append((spec, number))
@@ -190,6 +192,30 @@ def write_frames(device: Device, assignments: Sequence[str], slave: int, raw: bo
                 else build_write_multiple(slave, block.address, list(block.words))
             )
     return frames
+
+
+def symbolic_raw(reg: Register, text: str) -> int | None:
+    """Raw value of an enum member name (`save_all_parameters`) or of bitfields written
+    `field:value,field:value` (`function:addr0,normally_closed:1`); None when `text` is neither."""
+    if reg.enum is not None:
+        member = reg.enum.member(text.strip().lower())
+        if member is not None:
+            return member.value
+    if not reg.bitfields or ":" not in text:
+        return None
+    fields = {b.name: b for b in reg.bitfields}
+    raw = 0
+    for part in text.split(","):
+        name, _, value_text = part.partition(":")
+        field_spec = fields.get(name.strip())
+        if field_spec is None:
+            raise UsageError(f"{reg.label} has no bitfield {name.strip()!r} (fields: {', '.join(fields)})")
+        member = field_spec.enum.member(value_text.strip().lower()) if field_spec.enum else None
+        value = member.value if member is not None else parse_int(value_text.strip(), f"{reg.label}.{field_spec.name}")
+        if not 0 <= value <= field_spec.max_value:
+            raise UsageError(f"{reg.label}.{field_spec.name}: {value} does not fit in {field_spec.width} bit(s)")
+        raw |= value << field_spec.lsb
+    return raw
 
 
 def command_frames(device: Device, name: str, argument: str | None, slave: int) -> list[bytes]:

@@ -89,7 +89,7 @@ def load_map_bytes(data: bytes, name: str) -> Device:
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise MapError([Diagnostic(name, line, column, f"the map is not valid UTF-8 (byte 0x{data[exc.start]:02X})")]) from None
+        raise MapError([Diagnostic(name, line, column, f"the map is not valid UTF-8 (byte 0x{data[exc.start]:02X}); save it as UTF-8")]) from None
     if text.startswith("\ufeff"):
         text = text[1:]
     return load_map_text(text, name, fingerprint=hashlib.sha256(data).hexdigest()[:16])
@@ -124,8 +124,8 @@ def _dotted(path: Iterable[str | int]) -> str:
 
 def _schema_problems(raw: dict[str, Any], positions: Positions, name: str) -> list[Diagnostic]:
     problems = []
-    for error in _validator().iter_errors(raw):
-        error = _deepest(error)
+    for umbrella in _validator().iter_errors(raw):
+        error, message = _pick(umbrella)
         path = tuple(error.absolute_path)
         if error.validator == "additionalProperties":
             # One line per unknown key, at the key itself.
@@ -140,15 +140,24 @@ def _schema_problems(raw: dict[str, Any], positions: Positions, name: str) -> li
             line, col = positions.locate_key((*path, error.instance))
         else:
             line, col = positions.locate(path)
-        problems.append(Diagnostic(name, line, col, f"{_dotted(path)}: {_schema_message(error)}"))
+        message = message if len(message) <= 200 else message[:197] + "..."
+        problems.append(Diagnostic(name, line, col, f"{_dotted(path)}: {message}"))
     return problems
 
 
-def _deepest(error: jsonschema.ValidationError) -> jsonschema.ValidationError:
-    """For oneOf/anyOf/if failures, report the most specific sub-error instead of the umbrella one."""
+def _pick(error: jsonschema.ValidationError) -> tuple[jsonschema.ValidationError, str]:
+    """The error to report for a oneOf/anyOf failure, and its message.
+
+    The branch that takes the value's type explains best (a string that misses a pattern, not "is not an
+    integer"); when no branch takes it, the message names every type that would do.
+    """
     while error.context:
-        error = jsonschema.exceptions.best_match(error.context)
-    return error
+        typed = [e for e in error.context if not (e.validator == "type" and not e.relative_path)]
+        if not typed:
+            types = [t for e in error.context for t in _as_list(e.validator_value)]
+            return error, _type_message(error.instance, types)
+        error = jsonschema.exceptions.best_match(typed)
+    return error, _schema_message(error)
 
 
 # What the schema's patterns mean, for messages a person can act on.
@@ -163,16 +172,66 @@ _PATTERNS = {
 _FLOAT_AS_TEXT = re.compile(r"^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+$")
 
 
+_TYPE_NAMES = {
+    "object": "a mapping",
+    "array": "a list",
+    "string": "a string",
+    "integer": "an integer",
+    "number": "a number",
+    "boolean": "true or false",
+    "null": "null",
+}
+
+
 def _schema_message(error: jsonschema.ValidationError) -> str:
+    """jsonschema's message, reworded where it would show Python spellings (None, True) or a bare regex."""
+    value = error.validator_value
     if error.validator == "required":
         return error.message.replace("is a required property", "is required")
-    if error.validator == "pattern" and error.validator_value in _PATTERNS:
-        message = f"{error.instance!r} is not {_PATTERNS[error.validator_value]}"
-    elif error.validator == "type" and isinstance(error.instance, str) and _FLOAT_AS_TEXT.match(error.instance):
-        message = f"{error.message}: YAML reads {error.instance} as text; write a number with a dot and a signed exponent, such as 1.0e-3"
-    else:
-        message = error.message
-    return message if len(message) <= 200 else message[:197] + "..."
+    if error.validator == "pattern" and value in _PATTERNS:
+        return f"{error.instance!r} is not {_PATTERNS[value]}"
+    if error.validator == "type":
+        return _type_message(error.instance, _as_list(value))
+    if error.validator == "enum":
+        return f"{_show(error.instance)} is not one of {', '.join(_show(v) for v in value)}"
+    if error.validator == "const":
+        return f"expected {_show(value)}, got {_show(error.instance)}"
+    if error.validator == "exclusiveMinimum":
+        return f"{_show(error.instance)} must be greater than {value}"
+    return error.message
+
+
+def _type_message(instance: Any, types: list[Any]) -> str:
+    wanted = " or ".join(dict.fromkeys(_TYPE_NAMES.get(t, str(t)) for t in types))
+    message = f"expected {wanted}, got {_describe(instance)}"
+    if isinstance(instance, str) and _FLOAT_AS_TEXT.match(instance) and {"number", "integer"} & set(types):
+        message += f"; YAML reads {instance} as text: write a number with a dot and a signed exponent, such as 1.0e-3"
+    return message
+
+
+def _as_list(value: Any) -> list[Any]:
+    return value if isinstance(value, list) else [value]
+
+
+def _show(value: Any) -> str:
+    """A value as YAML spells it (null, true), strings quoted and cut short."""
+    if isinstance(value, str):
+        return repr(value if len(value) <= 60 else value[:57] + "...")
+    if isinstance(value, dict | list):
+        return _describe(value)
+    return json.dumps(value)
+
+
+def _describe(value: Any) -> str:
+    if isinstance(value, dict):
+        return "a mapping"
+    if isinstance(value, list):
+        return "a list"
+    if isinstance(value, str):
+        return f"the string {_show(value)}"
+    if isinstance(value, bool) or value is None:
+        return _show(value)
+    return f"the {'integer' if isinstance(value, int) else 'number'} {value}"
 
 
 def _source(value: Any) -> tuple[str, ...]:
@@ -333,8 +392,12 @@ class _Elaborator:
             except ValueError as exc:
                 self.problem((*path, "format"), f"invalid format pattern: {exc}")
                 continue
-            if not fields <= {"group", "index"} or "index" not in fields:
-                self.problem((*path, "format"), "the format may use only the fields {group} and {index}, and must use {index}")
+            bad_field = next((f for f in sorted(fields) if f not in ("group", "index")), None)
+            if bad_field is not None:
+                self.problem((*path, "format"), f"format field {{{bad_field}}} is not allowed; use only {{group}} and {{index}}")
+                continue
+            if "index" not in fields:
+                self.problem((*path, "format"), "the format must use the field {index}")
                 continue
             bad_spec = next((spec for spec in sorted(specs) if not _FORMAT_SPEC.match(spec)), None)
             if bad_spec is not None:
@@ -411,12 +474,12 @@ class _Elaborator:
                 members=tuple(members),
             )
 
-    def _enum_ref(self, name: str | None, path: Path) -> EnumType | None:
+    def _enum_ref(self, name: str | None, path: Path, owner: str) -> EnumType | None:
         if name is None:
             return None
         found = self.enums.get(name)
         if found is None:
-            self.problem(path, f"unknown enum {name!r}" + (f" (known: {', '.join(sorted(self.enums))})" if self.enums else ""))
+            self.problem(path, f"{owner}: unknown enum {name!r}" + (f" (known: {', '.join(sorted(self.enums))})" if self.enums else ""))
         return found
 
     # -- groups, registers, arrays -----------------------------------------------------------
@@ -485,7 +548,7 @@ class _Elaborator:
         if "word_order" in r and dtype.words == 1 and "word_order" not in self._defaults_keys(path):
             self.problem((*path, "word_order"), f"{name}: word_order applies only to 32-bit registers; type is {dtype.value}")
         order = WordOrder(r["word_order"]) if "word_order" in r and dtype.words == 2 else word_order
-        enum_type = self._enum_ref(r.get("enum"), (*path, "enum"))
+        enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
         bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
         for key, value in (("min", low), ("max", high), ("default", default)):
@@ -563,7 +626,7 @@ class _Elaborator:
                     self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bit {bit} overlaps bitfield {used[bit]}")
                     break
                 used[bit] = spec["name"]
-            enum_type = self._enum_ref(spec.get("enum"), (*fpath, "enum"))
+            enum_type = self._enum_ref(spec.get("enum"), (*fpath, "enum"), f"{name}.{spec['name']}")
             if enum_type is not None:
                 for member in enum_type.members:
                     if not 0 <= member.value < (1 << (msb - lsb + 1)):
@@ -827,7 +890,7 @@ class _Elaborator:
                     continue
                 member = reg.enum.member(value)
                 if member is None:
-                    self.problem((*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} of {reg.name}")
+                    self.problem((*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} (the enum of {reg.name})")
                     continue
                 value = member.value
             argument = None

@@ -21,6 +21,12 @@ MAX_DEPTH = 64  # real maps nest about 8 levels; the bound keeps recursion far f
 MAX_INT_CHARS = 100  # no register value needs more; Python refuses int() of over 4300 digits anyway
 _AMBIGUOUS_INT = re.compile(r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$")
 _PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
+# PyYAML's wording names parser states; these say what usually causes them.
+_SYNTAX_HINTS = [
+    ("mapping values are not allowed here", "; a key indented deeper than its siblings, or an unquoted ': ' inside a value?"),
+    ("expected <block end>", "; check the indentation"),
+    ("found character '\\t'", "; indent with spaces, not tabs"),
+]
 _SCALAR_TAGS = {f"tag:yaml.org,2002:{t}" for t in ("str", "int", "float", "bool", "null")}
 
 
@@ -73,6 +79,9 @@ def read_yaml(text: str) -> tuple[Any, Positions]:
         mark = exc.problem_mark or exc.context_mark
         line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
         problem = exc.problem or exc.context or "invalid YAML"
+        problem += next((hint for start, hint in _SYNTAX_HINTS if problem.startswith(start)), "")
+        if exc.problem and exc.context and exc.context_mark and exc.context_mark.line + 1 != line:
+            problem += f" ({exc.context} that starts on line {exc.context_mark.line + 1})"
         raise YamlProblem(line, col, f"YAML syntax error: {problem}") from None
     except yaml.YAMLError as exc:
         raise YamlProblem(1, 1, f"YAML syntax error: {exc}") from None
@@ -147,12 +156,9 @@ class _Builder:
         if node.tag == "tag:yaml.org,2002:int" and len(text) > MAX_INT_CHARS:
             raise YamlProblem(line, col, f"integer of {len(text)} characters is too large (limit {MAX_INT_CHARS})")
         if node.tag == "tag:yaml.org,2002:int" and _AMBIGUOUS_INT.match(text):
-            raise YamlProblem(
-                line,
-                col,
-                f"ambiguous integer {text!r}: YAML reads a leading 0 as octal and a colon as base 60;"
-                " write it in decimal without the leading zero, in hex (0x...), or quote it if it is text",
-            )
+            reading = self.constructor.construct_yaml_int(node)
+            radix = "base 60" if ":" in text else "octal"
+            raise YamlProblem(line, col, f"ambiguous integer {text!r}: YAML 1.1 reads it as {reading} ({radix}); quote it if it is text")
         if node.tag == "tag:yaml.org,2002:timestamp":
             raise YamlProblem(line, col, f"{text!r} reads as a YAML date; quote it if it is text")
         if node.tag not in _SCALAR_TAGS:

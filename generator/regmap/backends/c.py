@@ -1,0 +1,918 @@
+"""C back end: a header per map (`<device>.h`) plus the shared RTU helpers (`regmap_rtu.h`).
+
+The views below compute every identifier, literal and expression; the templates only print, and
+escape map text with `c_comment` / `c_str`. The headers are C99 and C++ (include and `extern "C"`
+guards), static inline, allocation- and stdio-free.
+
+`render_frames_test` emits a C program that rebuilds every request frame of a map's `examples`
+with the header's helpers and parses every response frame; the tests compile and run it.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+from regmap_runtime.rtu import (
+    EXCEPTION_FLAG,
+    READ_HOLDING,
+    STANDARD_EXCEPTIONS,
+    WRITE_MULTIPLE,
+    WRITE_SINGLE,
+    crc_ok,
+    parse_frame,
+)
+
+from regmap.backends.common import read_plan
+from regmap.diagnostics import UsageError
+from regmap.generate import Files, Target
+from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Example, Register, WordOrder
+from regmap.render import environment
+
+SHARED_HEADER = "regmap_rtu.h"
+
+# -- identifiers -----------------------------------------------------------------------------
+
+C_KEYWORDS = frozenset(
+    """auto break case char const continue default do double else enum extern float for goto if inline int long
+    register restrict return short signed sizeof static struct switch typedef union unsigned void volatile while
+    alignas alignof bool constexpr false nullptr static_assert thread_local true typeof typeof_unqual""".split()
+)
+CPP_KEYWORDS = frozenset(
+    """and and_eq asm bitand bitor catch char8_t char16_t char32_t class co_await co_return co_yield compl concept
+    const_cast consteval constinit decltype delete dynamic_cast explicit export friend mutable namespace new noexcept
+    not not_eq operator or or_eq private protected public reinterpret_cast requires static_cast template this throw
+    try typeid typename using virtual wchar_t xor xor_eq""".split()
+)
+# Names the headers this code includes (stdbool.h, stddef.h, stdint.h) define, and common macros.
+STANDARD_NAMES = frozenset(
+    """NULL offsetof size_t ptrdiff_t max_align_t EOF errno assert main
+    int8_t int16_t int32_t int64_t uint8_t uint16_t uint32_t uint64_t intptr_t uintptr_t intmax_t uintmax_t
+    INT8_MAX INT16_MAX INT32_MAX INT64_MAX INT8_MIN INT16_MIN INT32_MIN INT64_MIN UINT8_MAX UINT16_MAX UINT32_MAX
+    UINT64_MAX SIZE_MAX PTRDIFF_MAX PTRDIFF_MIN INTPTR_MAX UINTPTR_MAX""".split()
+)
+_RESERVED = re.compile(r"^_|__|_t$")
+_UPPER = re.compile(r"^[A-Z_][A-Z0-9_]*$")
+_LOWER = re.compile(r"^[a-z_][a-z0-9_]*$")
+
+
+def _check_reserved(name: str) -> None:
+    # Leading underscores and `__` anywhere are reserved to the implementation (C 7.1.3, C++
+    # [lex.name]); `_t` names to POSIX.
+    if _RESERVED.search(name):
+        raise UsageError(f"{name!r} is a reserved C identifier (leading underscore, '__' or a '_t' suffix); rename it in the map")
+
+
+class CIdentifier(str):
+    """An upper-case C identifier for macros and enum constants, joined from parts: `[A-Z_][A-Z0-9_]*`,
+    never reserved. Upper-case names cannot be C or C++ keywords; they can be standard macros."""
+
+    def __new__(cls, *parts: str) -> CIdentifier:
+        name = "_".join(p for p in parts if p).upper()
+        if not _UPPER.match(name):
+            raise UsageError(f"{name!r} is not a valid C identifier")
+        _check_reserved(name)
+        if name in STANDARD_NAMES:
+            raise UsageError(f"{name!r} is a name of the C standard library; rename it in the map")
+        return super().__new__(cls, name)
+
+
+class CSymbol(str):
+    """A lower-case C identifier for functions, types, tables and parameters. A C or C++ keyword
+    gets a trailing underscore (`register` -> `register_`); reserved names are refused."""
+
+    def __new__(cls, *parts: str) -> CSymbol:
+        name = "_".join(p for p in parts if p).lower()
+        if not _LOWER.match(name):
+            raise UsageError(f"{name!r} is not a valid C identifier")
+        if name in C_KEYWORDS or name in CPP_KEYWORDS or name in STANDARD_NAMES:
+            name += "_"
+        _check_reserved(name)
+        return super().__new__(cls, name)
+
+
+class _Names:
+    """Every file-scope name one header declares, so two map items never generate the same one."""
+
+    def __init__(self, device: Device) -> None:
+        self.device = device
+        self.seen: dict[str, str] = {}
+
+    def add(self, name: str, what: str) -> str:
+        if name in self.seen:
+            raise UsageError(
+                f"{self.device.source_path}: generated C name {name} is used by both {self.seen[name]} and {what}; rename one in the map"
+            )
+        self.seen[name] = what
+        return name
+
+
+# -- literals --------------------------------------------------------------------------------
+
+
+def c_unsigned(value: int) -> str:
+    """An unsigned literal that keeps its value on 16-bit-int targets too."""
+    return f"{value}u" if value <= 0xFFFF else f"{value}ul"
+
+
+def c_hex(value: int) -> str:
+    return f"0x{value:04X}u" if value <= 0xFFFF else f"0x{value:08X}ul"
+
+
+def c_signed(value: int) -> str:
+    """A signed literal safe inside a macro (parenthesised when negative; INT32_MIN spelled so it is an int)."""
+    if value == -(1 << 31):
+        return "(-2147483647 - 1)"
+    return f"({value})" if value < 0 else str(value)
+
+
+def c_raw(value: int, signed: bool) -> str:
+    return c_signed(value) if signed else c_unsigned(value)
+
+
+def c_float(value: Fraction) -> str:
+    text = f"{float(value):.9g}"
+    if not any(c in text for c in ".e"):
+        text += ".0"
+    return text + "f"
+
+
+def _enum_literal(value: int) -> str:
+    return f"0x{value:02X}" if value >= 0x10 else c_signed(value)
+
+
+def _titled(title: str, title_zh: str | None) -> str:
+    return f"{title} ({title_zh})" if title_zh else title
+
+
+def _sections(source: tuple[str, ...]) -> str:
+    return f"Manual {', '.join(source)}." if source else ""
+
+
+def _eng(reg: Register, raw: int) -> str:
+    value = raw * reg.scale
+    return str(int(value)) if value.denominator == 1 else f"{float(value):.10g}"
+
+
+ACCESS_MACRO = {Access.READ: "REGMAP_ACCESS_R", Access.READ_WRITE: "REGMAP_ACCESS_RW", Access.WRITE: "REGMAP_ACCESS_W"}
+WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST: "REGMAP_LOW_FIRST"}
+PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
+
+
+# -- views -----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Macro:
+    name: str
+    value: str
+    comment: str = ""  # plain text; the template escapes it
+
+
+@dataclass(frozen=True)
+class EnumView:
+    type_name: str
+    comment: str
+    members: tuple[Macro, ...]
+    as_macros: bool  # a value does not fit an int, which a C enum constant must
+
+
+@dataclass(frozen=True)
+class BitfieldView:
+    comment: str
+    mask: Macro
+    shift: Macro
+    word_type: str
+    getter: str
+    setter: str
+
+
+@dataclass(frozen=True)
+class RegisterView:
+    template: str
+    comment: str
+    description: str
+    macros: tuple[Macro, ...]
+    bitfields: tuple[BitfieldView, ...]
+
+
+@dataclass(frozen=True)
+class ArrayMemberView:
+    comment: str
+    description: str
+    addr_macro: str
+    offset: str
+    pair_addr_macro: str | None
+    addr_function: str
+    macros: tuple[Macro, ...]
+    bitfields: tuple[BitfieldView, ...]
+
+
+@dataclass(frozen=True)
+class ArrayView:
+    template: str
+    comment: str
+    prefix: str
+    macros: tuple[Macro, ...]  # BASE FIRST LAST COUNT STRIDE
+    check: str  # C condition: index n in range
+    members: tuple[ArrayMemberView, ...]
+
+
+@dataclass(frozen=True)
+class GroupView:
+    comment: str
+    items: tuple[RegisterView | ArrayView, ...]
+
+
+@dataclass(frozen=True)
+class CommandView:
+    comment: str
+    addr: Macro
+    value: Macro
+    function: str
+    argument: str | None
+    argument_type: str
+    argument_macros: tuple[Macro, ...]
+    out_of_range: str  # C condition on the argument
+    raw: str  # C expression of the raw value to write
+    words: int
+    word_order: str
+
+
+@dataclass(frozen=True)
+class PlanBlock:
+    address: str
+    count: str
+    comment: str
+
+
+class _Context:
+    """Names for one device: macro prefix, function prefix, and the address expression of each register."""
+
+    def __init__(self, device: Device) -> None:
+        self.device = device
+        self.names = _Names(device)
+        self.prefix = CIdentifier(device.id)
+        self.lower = CSymbol(device.id)
+        self.arrays = {a.name: a for a in device.arrays}
+
+    def const(self, *parts: str) -> str:
+        return self.names.add(CIdentifier(self.prefix, *parts), " ".join(parts) or "the device")
+
+    def symbol(self, *parts: str) -> str:
+        return self.names.add(CSymbol(self.lower, *parts), " ".join(parts))
+
+    def owner(self, reg: Register) -> str:
+        """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""
+        return f"{reg.array.array}_{reg.array.member}" if reg.array else reg.name
+
+    def addr(self, reg: Register) -> str:
+        """C expression of a register's listed address."""
+        name = CIdentifier(self.prefix, self.owner(reg), "ADDR")
+        return f"{name}({reg.array.index})" if reg.array else name
+
+    def pair_addr(self, reg: Register) -> str:
+        name = CIdentifier(self.prefix, self.owner(reg), "PAIR_ADDR")
+        return f"{name}({reg.array.index})" if reg.array else name
+
+    def member_const(self, reg: Register, suffix: str) -> str:
+        return CIdentifier(self.prefix, self.owner(reg), suffix)
+
+    def symbol_ref(self, *parts: str) -> str:
+        """A function the header declares (referring to it does not declare it again)."""
+        return CSymbol(self.lower, *parts)
+
+
+def _register_comment(reg: Register, label: str) -> str:
+    facts = [f"{reg.type.value} {reg.access.value}"]
+    if reg.unit:
+        facts.append(f"unit {reg.unit}")
+    if reg.scaled:
+        facts.append(f"scale {_eng(reg, 1)}")
+    if reg.min is not None or reg.max is not None:
+        lo, hi = reg.raw_min, reg.raw_max
+        facts.append(f"raw {lo}..{hi}" + (f" ({_eng(reg, lo)}..{_eng(reg, hi)} {reg.unit or ''})".replace(" )", ")") if reg.scaled else ""))
+    if reg.range_text:
+        facts.append(f"printed range {reg.range_text}")
+    if reg.default is not None:
+        facts.append(f"default {reg.default}" + (f" ({_eng(reg, reg.default)})" if reg.scaled else ""))
+    if reg.enum is not None:
+        facts.append(f"values: enum {reg.enum.name}")
+    if reg.paired:
+        facts.append("low word of a 32-bit pair whose unused high word is at ADDR - 1")
+    if reg.takes_effect:
+        facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
+    if reg.errata:
+        facts.append(f"errata {', '.join(reg.errata)}")
+    return f"{label}: {_titled(reg.title, reg.title_zh)}. {', '.join(facts)}. {_sections(reg.source)}".strip()
+
+
+def _value_macros(ctx: _Context, reg: Register, owner: str) -> list[Macro]:
+    macros = [
+        Macro(ctx.const(owner, "WORDS"), c_unsigned(reg.words)),
+        Macro(ctx.const(owner, "ACCESS"), ACCESS_MACRO[reg.access]),
+        Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"),
+    ]
+    if reg.words == 2:
+        macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
+    for key, value in (("MIN", reg.min), ("MAX", reg.max), ("DEFAULT", reg.default)):
+        if value is not None:
+            macros.append(Macro(ctx.const(owner, key), c_raw(value, reg.signed)))
+    macros += [
+        Macro(ctx.const(owner, "SCALE"), c_float(reg.scale)),
+        Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
+        Macro(ctx.const(owner, "SCALE_DEN"), str(reg.scale.denominator)),
+        Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
+    ]
+    return macros
+
+
+def _bitfield_views(ctx: _Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
+    word_type = "uint32_t" if reg.words == 2 else "uint16_t"
+    views = []
+    for b in reg.bitfields:
+        views.append(
+            BitfieldView(
+                comment=_bitfield_comment(b),
+                mask=Macro(ctx.const(owner, b.name, "MASK"), c_hex(b.mask)),
+                shift=Macro(ctx.const(owner, b.name, "SHIFT"), c_unsigned(b.lsb)),
+                word_type=word_type,
+                getter=ctx.symbol(owner, "get", b.name),
+                setter=ctx.symbol(owner, "set", b.name),
+            )
+        )
+    return tuple(views)
+
+
+def _bitfield_comment(b: Bitfield) -> str:
+    text = f"bit{'s' if b.width > 1 else ''} {b.bits_text} {b.name}: {_titled(b.title, b.title_zh)}"
+    if b.enum is not None:
+        text += f"; values: enum {b.enum.name}"
+    if b.description:
+        text += f". {b.description}"
+    return text
+
+
+def _register_view(ctx: _Context, reg: Register) -> RegisterView:
+    macros = [Macro(ctx.const(reg.name, "ADDR"), c_hex(reg.address)), *_value_macros(ctx, reg, reg.name)]
+    if reg.paired:
+        macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
+    return RegisterView(
+        template="c/register.h.jinja",
+        comment=_register_comment(reg, reg.label),
+        description=reg.description,
+        macros=tuple(macros),
+        bitfields=_bitfield_views(ctx, reg, reg.name),
+    )
+
+
+def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
+    base = CIdentifier(ctx.prefix, array.name)
+    macros = (
+        Macro(ctx.const(array.name, "BASE"), c_hex(array.base)),
+        Macro(ctx.const(array.name, "FIRST"), c_unsigned(array.first_index)),
+        Macro(ctx.const(array.name, "LAST"), c_unsigned(array.last_index)),
+        Macro(ctx.const(array.name, "COUNT"), c_unsigned(array.count)),
+        Macro(ctx.const(array.name, "STRIDE"), c_unsigned(array.stride)),
+    )
+    # `n - FIRST < COUNT` on unsigned n checks both bounds without a `n >= 0` that -Wtype-limits flags.
+    check = f"n - {base}_FIRST < {base}_COUNT"
+    members = []
+    for member in array.members:
+        reg = ctx.device.register(f"{array.name}_{array.first_index}_{member.name}")
+        owner = f"{array.name}_{member.name}"
+        label = f"{owner} (element {array.first_index}: {reg.label})"
+        members.append(
+            ArrayMemberView(
+                comment=_register_comment(reg, label),
+                description=reg.description,
+                addr_macro=ctx.const(owner, "ADDR"),
+                offset=c_unsigned(member.offset),
+                pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
+                addr_function=ctx.symbol(owner, "addr"),
+                macros=tuple(_value_macros(ctx, reg, owner)),
+                bitfields=_bitfield_views(ctx, reg, owner),
+            )
+        )
+    comment = (
+        _titled(array.title, array.title_zh)
+        + f": {array.count} elements {array.first_index}..{array.last_index}; member m of element n is at"
+        + f" BASE 0x{array.base:04X} + {array.stride} x (n - {array.first_index}) + offset of m. {_sections(array.source)}"
+    )
+    return ArrayView(
+        template="c/array.h.jinja", comment=comment.strip(), prefix=base, macros=macros, check=check, members=tuple(members)
+    )
+
+
+def _group_views(ctx: _Context) -> list[GroupView]:
+    groups = []
+    for group in ctx.device.groups:
+        items: list[RegisterView | ArrayView] = []
+        done: set[str] = set()
+        for reg in group.registers:
+            if reg.array is None:
+                items.append(_register_view(ctx, reg))
+            elif reg.array.array not in done:
+                done.add(reg.array.array)
+                items.append(_array_view(ctx, ctx.arrays[reg.array.array]))
+        comment = f"{_titled(group.title, group.title_zh)}. {_sections(group.source)}".strip()
+        groups.append(GroupView(comment=comment, items=tuple(items)))
+    return groups
+
+
+def _enum_view(ctx: _Context, e: EnumType) -> EnumView:
+    members = tuple(
+        Macro(
+            ctx.const(e.name, m.name),
+            _enum_literal(m.value),
+            _titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else "") + (f". {m.description}" if m.description else ""),
+        )
+        for m in e.members
+    )
+    as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
+    if as_macros:
+        members = tuple(Macro(m.name, c_raw(v.value, v.value < 0), m.comment) for m, v in zip(members, e.members, strict=True))
+    comment = _titled(e.title, e.title_zh) + (f". {e.description}" if e.description else "") + f". {_sections(e.source)}"
+    return EnumView(type_name=ctx.symbol(e.name), comment=comment.strip(), members=members, as_macros=as_macros)
+
+
+def _command_view(ctx: _Context, cmd: Command) -> CommandView:
+    reg = cmd.register
+    comment = (
+        _titled(cmd.title, cmd.title_zh)
+        + f": writes {cmd.value:#06x}"
+        + (f" + {cmd.argument.name}" if cmd.argument else "")
+        + f" to {reg.label} (0x{reg.address:04X}). {cmd.description} {_sections(cmd.source)}"
+    )
+    function = ctx.symbol("build", cmd.name)
+    argument_macros: tuple[Macro, ...] = ()
+    argument = None
+    argument_type = ""
+    out_of_range = ""
+    raw = f"(unsigned long){CIdentifier(ctx.prefix, 'CMD', cmd.name, 'VALUE')}"
+    if cmd.argument is not None:
+        arg = cmd.argument
+        argument = CSymbol(arg.name)
+        if argument in ("buf", "cap", "slave", "raw", "words"):
+            argument = CSymbol(arg.name, "arg")
+        lo = Macro(ctx.const("CMD", cmd.name, arg.name, "MIN"), c_signed(arg.min), arg.title)
+        hi = Macro(ctx.const("CMD", cmd.name, arg.name, "MAX"), c_signed(arg.max))
+        argument_macros = (lo, hi)
+        if arg.min >= 0:
+            argument_type = "unsigned"
+            out_of_range = f"{argument} > {hi.name}u" if arg.min == 0 else f"{argument} < {lo.name}u || {argument} > {hi.name}u"
+            out_of_range = out_of_range.replace(f"{hi.name}u", f"(unsigned){hi.name}").replace(f"{lo.name}u", f"(unsigned){lo.name}")
+        else:
+            argument_type = "long"
+            out_of_range = f"{argument} < {lo.name} || {argument} > {hi.name}"
+        raw += f" + (unsigned long){argument}"
+    return CommandView(
+        comment=" ".join(comment.split()),
+        addr=Macro(ctx.const("CMD", cmd.name, "ADDR"), ctx.addr(reg)),
+        value=Macro(ctx.const("CMD", cmd.name, "VALUE"), c_raw(cmd.value, cmd.value < 0)),
+        function=function,
+        argument=argument,
+        argument_type=argument_type,
+        argument_macros=argument_macros,
+        out_of_range=out_of_range,
+        raw=raw,
+        words=reg.words,
+        word_order=ctx.member_const(reg, "WORD_ORDER") if reg.words == 2 else "",
+    )
+
+
+def _transport_macros(ctx: _Context) -> list[Macro]:
+    t = ctx.device.transport
+    macros = [
+        Macro(ctx.const("DEFAULT_BAUD"), f"{t.baud}ul", "baud rates: " + ", ".join(str(b) for b in t.baud_rates) if t.baud_rates else ""),
+        Macro(ctx.const("PARITY"), PARITY_CHAR[t.parity], f"parity {t.parity} (as libmodbus spells it)"),
+        Macro(ctx.const("DATA_BITS"), c_unsigned(t.data_bits)),
+        Macro(ctx.const("STOP_BITS"), c_unsigned(t.stop_bits)),
+        Macro(ctx.const("SLAVE_MIN"), c_unsigned(t.slave_min)),
+        Macro(ctx.const("SLAVE_MAX"), c_unsigned(t.slave_max)),
+    ]
+    if t.broadcast_id is not None:
+        macros.append(Macro(ctx.const("BROADCAST_ID"), c_unsigned(t.broadcast_id), "the device does not answer broadcasts"))
+    else:
+        macros.append(Macro(ctx.const("HAS_BROADCAST"), "0", "the manual says the device does not support broadcast"))
+    macros += [
+        Macro(ctx.const("MAX_READ_REGISTERS"), c_unsigned(t.max_read_registers)),
+        Macro(ctx.const("MAX_WRITE_REGISTERS"), c_unsigned(t.max_write_registers)),
+    ]
+    if t.max_message_bytes is not None:
+        macros.append(Macro(ctx.const("MAX_MESSAGE_BYTES"), c_unsigned(t.max_message_bytes)))
+    macros.append(Macro(ctx.const("WORD_ORDER"), WORD_ORDER_MACRO[t.word_order], "order of the words of 32-bit values"))
+    if t.word_order_register is not None:
+        w = t.word_order_register
+        macros += [
+            Macro(ctx.const("WORD_ORDER_REGISTER_ADDR"), ctx.addr(w.register), f"{w.register.label} selects the word order"),
+            Macro(ctx.const("WORD_ORDER_REGISTER_HIGH_FIRST"), c_raw(w.high_first, w.register.signed)),
+            Macro(ctx.const("WORD_ORDER_REGISTER_LOW_FIRST"), c_raw(w.low_first, w.register.signed)),
+        ]
+    if t.response_delay_ms is not None:
+        macros.append(Macro(ctx.const("RESPONSE_DELAY_US"), f"{round(t.response_delay_ms * 1000)}ul", "response delay"))
+    return macros
+
+
+def _plan_blocks(ctx: _Context) -> list[PlanBlock]:
+    blocks = []
+    for block in read_plan(ctx.device):
+        first, last = block.registers[0], block.registers[-1]
+        names = [r.param or r.name for r in (first, last)]
+        comment = names[0] if first is last else f"{names[0]} .. {names[1]} ({len(block.registers)} registers)"
+        blocks.append(PlanBlock(address=c_hex(block.address), count=c_unsigned(block.count), comment=comment))
+    return blocks
+
+
+def device_context(device: Device) -> dict[str, Any]:
+    ctx = _Context(device)
+    info = device.info
+    about = [
+        f"{info.vendor}{f' ({info.vendor_zh})' if info.vendor_zh else ''} {info.model}" + (f": {info.description}" if info.description else ""),
+        f"Manual: {info.manual_title}" + (f", version {info.manual_version}" if info.manual_version else "") + f" ({info.manual_file}).",
+    ]
+    if info.firmware:
+        about.append(f"Firmware: {info.firmware}")
+    transport = _transport_macros(ctx)
+    exceptions = tuple(
+        Macro(ctx.const("EXCEPTION", e.name), f"0x{e.code:02X}", _titled(e.title, e.title_zh) + " " + _sections(e.source))
+        for e in device.transport.exceptions
+    )
+    enums = [_enum_view(ctx, e) for e in device.enums]
+    groups = _group_views(ctx)
+    commands = [_command_view(ctx, c) for c in device.commands]
+    faults = [
+        Macro(ctx.const("FAULT", f.name), c_hex(f.value), f"{f.code} {_titled(f.title, f.title_zh)} ({f.kind})")
+        for f in device.faults
+        if f.value is not None
+    ]
+    return {
+        "header": _header(device),
+        "about": about,
+        "device": device,
+        "guard": CIdentifier("REGMAP", device.id, "H"),
+        "shared_header": SHARED_HEADER,
+        "prefix": ctx.prefix,
+        "map_version": ctx.const("MAP_VERSION"),
+        "map_fingerprint": ctx.const("MAP_FINGERPRINT"),
+        "transport": transport,
+        "exception_type": ctx.symbol("exception") if exceptions else "",
+        "exceptions": exceptions,
+        "build_read": ctx.symbol("build_read"),
+        "build_write_single": ctx.symbol("build_write_single"),
+        "build_write_multiple": ctx.symbol("build_write_multiple"),
+        "enums": enums,
+        "groups": groups,
+        "commands": commands,
+        "faults": faults,
+        "plan": _plan_blocks(ctx),
+        "plan_len": ctx.const("READ_PLAN_LEN"),
+        "plan_table": ctx.symbol("read_plan"),
+    }
+
+
+def _header(device: Device) -> list[str]:
+    from regmap.render import header_lines
+
+    return header_lines(device, "regmap generate")
+
+
+def render_device(device: Device) -> Files:
+    env = environment()
+    return {f"{device.id}.h": env.get_template("c/device.h.jinja").render(**device_context(device))}
+
+
+def render_shared(devices: Sequence[Device]) -> Files:
+    ids: dict[str, str] = {}
+    for device in devices:
+        if device.id in ids:
+            raise UsageError(f"{device.source_path} and {ids[device.id]} both have device id {device.id!r}: their C headers would collide")
+        ids[device.id] = device.source_path
+    header = [
+        "Generated by regmap - do not edit; regenerate with `regmap generate`.",
+        "The same file for every map: device headers include it.",
+    ]
+    return {SHARED_HEADER: environment().get_template("c/regmap_rtu.h.jinja").render(header=header)}
+
+
+TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared)
+
+
+# -- the frames test program -----------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Check:
+    label: str
+    got: str  # C expression
+    want: str  # C expression
+
+
+@dataclass(frozen=True)
+class ScaledCheck:
+    label: str
+    raw: str
+    scale: str
+    value: str
+
+
+@dataclass(frozen=True)
+class FrameCase:
+    template: str
+    id: str
+    comment: str
+    frame: str  # C initialiser list of the frame's bytes
+    slave: str
+    call: str = ""  # request: the C call that builds the frame into `buf`
+    words: tuple[str, ...] = ()  # write multiple: statements that fill `w`
+    word_count: int = 0
+    crc_wrong: bool = False  # the printed frame has a wrong CRC (an erratum without a correction)
+    status: str = "REGMAP_OK"
+    exception: str = ""
+    checks: tuple[Check, ...] = ()
+    scaled: tuple[ScaledCheck, ...] = ()
+
+
+class _FrameError(ValueError):
+    pass
+
+
+class _Frames:
+    """Turns the examples of one map into C test cases that use the header's names wherever the map has them."""
+
+    def __init__(self, device: Device) -> None:
+        self.device = device
+        self.ctx = _Context(device)
+        self.requests: dict[str, tuple[int, int, int, int | None]] = {}  # id -> (function, address, count, value)
+
+    # expressions -------------------------------------------------------------------------
+
+    def address(self, address: int) -> str:
+        for reg in self.device.registers:
+            if reg.address == address:
+                return self.ctx.addr(reg)
+        for reg in self.device.registers:
+            if reg.paired and reg.first_address == address:
+                return self.ctx.pair_addr(reg)
+            if reg.address < address <= reg.last_address:
+                return f"(uint16_t)({self.ctx.addr(reg)} + {address - reg.address}u)"
+        return c_hex(address)  # not a register of the map: the raw address
+
+    def count(self, address: int, count: int) -> str:
+        reg = next((r for r in self.device.registers if r.address == address), None)
+        if reg is not None and reg.words == count:
+            return self.ctx.member_const(reg, "WORDS")
+        return c_unsigned(count)
+
+    def word_of(self, reg: Register, raw: int) -> str:
+        """C expression of the 16-bit word of a one-word register holding `raw`, through the header's names."""
+        if reg.bitfields:
+            owner = self.ctx.owner(reg)
+            expr = "0u"
+            covered = 0
+            for b in reg.bitfields:
+                field = (raw & b.mask) >> b.lsb
+                member = b.enum.by_value(field) if b.enum else None
+                value = CIdentifier(self.ctx.prefix, b.enum.name, member.name) if b.enum and member else c_unsigned(field)
+                expr = f"{CSymbol(self.ctx.lower, owner, 'set', b.name)}({expr}, {value})"
+                covered |= b.mask
+            rest = raw & 0xFFFF & ~covered
+            return f"(uint16_t)({expr} | {c_hex(rest)})" if rest else expr
+        if reg.enum is not None:
+            member = reg.enum.by_value(raw)
+            if member is not None:
+                name = CIdentifier(self.ctx.prefix, reg.enum.name, member.name)
+                return f"regmap_s16_to_word({name})" if reg.signed else name
+        if reg.signed:
+            return f"regmap_s16_to_word({c_signed(raw)})"
+        return c_unsigned(raw)
+
+    def command_call(self, reg: Register, raw: int, slave: str) -> str | None:
+        exact = [c for c in self.device.commands if c.register == reg and c.argument is None and c.value == raw]
+        if exact:
+            return f"{CSymbol(self.ctx.lower, 'build', exact[0].name)}(buf, sizeof buf, {slave})"
+        for c in self.device.commands:
+            if c.register == reg and c.argument is not None and c.argument.min <= raw - c.value <= c.argument.max:
+                return f"{CSymbol(self.ctx.lower, 'build', c.name)}(buf, sizeof buf, {slave}, {raw - c.value})"
+        return None
+
+    # cases ------------------------------------------------------------------------------
+
+    def cases(self) -> list[FrameCase]:
+        out = []
+        for ex in self.device.examples:
+            try:
+                out.append(self.request(ex) if ex.direction == "request" else self.response(ex))
+            except _FrameError as exc:
+                raise UsageError(f"{self.device.source_path}: example {ex.id}: {exc}") from None
+        return out
+
+    def _base(self, ex: Example, template: str) -> dict[str, Any]:
+        frame = ex.wire_frame
+        return {
+            "template": template,
+            "id": ex.id,
+            "comment": f"{ex.id} ({', '.join(ex.source)}): {ex.meaning}",
+            "frame": ", ".join(f"0x{b:02X}" for b in frame),
+            "slave": f"0x{frame[0]:02X}u",
+            "crc_wrong": not crc_ok(frame),
+        }
+
+    def request(self, ex: Example) -> FrameCase:
+        frame = ex.wire_frame
+        parsed = parse_frame(frame, "request")
+        base = self._base(ex, "c/case_request.c.jinja")
+        slave = base["slave"]
+        with_raw = [v for v in ex.values if v.raw is not None]
+        if parsed.kind == "read_request" and parsed.address is not None and parsed.count is not None:
+            self.requests[ex.id] = (READ_HOLDING, parsed.address, parsed.count, None)
+            call = f"{self.ctx.symbol_ref('build_read')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {self.count(parsed.address, parsed.count)})"
+            return FrameCase(**base, call=call)
+        if parsed.kind == "write_single" and parsed.address is not None:
+            word = parsed.words[0]
+            self.requests[ex.id] = (WRITE_SINGLE, parsed.address, 1, word)
+            value = self.single_word(ex, parsed.address, word)
+            reg = self.device.at_address(parsed.address)
+            command = None
+            if reg is not None and reg.address == parsed.address and reg.words == 1 and with_raw:
+                command = self.command_call(reg, with_raw[0].raw[0] if with_raw[0].raw else word, slave)
+            call = command or f"{self.ctx.symbol_ref('build_write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {value})"
+            return FrameCase(**base, call=call)
+        if parsed.kind == "write_multiple_request" and parsed.address is not None and parsed.count is not None:
+            self.requests[ex.id] = (WRITE_MULTIPLE, parsed.address, parsed.count, None)
+            words = self.multiple_words(ex, parsed.address, parsed.words)
+            call = (
+                f"{self.ctx.symbol_ref('build_write_multiple')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {parsed.count}u)"
+            )
+            return FrameCase(**base, template="c/case_request_multiple.c.jinja", call=call, words=words, word_count=len(parsed.words))
+        # Another function code (e.g. the manual's example of an unsupported one): the generic builder.
+        body = frame[2:-2]
+        if len(body) == 4:
+            self.requests[ex.id] = (frame[1], int.from_bytes(body[:2], "big"), int.from_bytes(body[2:], "big"), None)
+            call = f"regmap_rtu_build_request(buf, sizeof buf, {slave}, 0x{frame[1]:02X}u, 0x{body[0]:02X}{body[1]:02X}u, 0x{body[2]:02X}{body[3]:02X}u)"
+            return FrameCase(**base, call=call)
+        raise _FrameError(f"cannot rebuild a {parsed.kind} request of {len(frame)} bytes")
+
+    def single_word(self, ex: Example, address: int, word: int) -> str:
+        """The word of a 0x06 frame, from the example's values when they describe it."""
+        for v in ex.values:
+            if v.raw is None:
+                continue
+            reg = v.register
+            if reg.words == 1 and reg.address == address:
+                if len(v.raw) != 1:
+                    raise _FrameError(f"{reg.name} is one word but raw gives {len(v.raw)}")
+                return self.word_of(reg, v.raw[0])
+            if reg.words == 2 and reg.address <= address <= reg.last_address and len(v.raw) == 1:
+                return c_hex(v.raw[0])  # one word of a 32-bit register, as the example gives it
+        return c_hex(word)
+
+    def multiple_words(self, ex: Example, start: int, frame_words: tuple[int, ...]) -> tuple[str, ...]:
+        """Statements that fill `w` (the 0x10 frame's words) from the example's values and the header's helpers."""
+        end = start + len(frame_words)
+        base = self.address(start)
+        filled: set[int] = set()
+        statements = []
+        for v in ex.values:
+            reg = v.register
+            if v.raw is None or reg.first_address < start or reg.last_address >= end:
+                continue
+            index = f"(unsigned)({self.ctx.addr(reg)} - {base})"
+            if reg.words == 1:
+                if len(v.raw) != 1:
+                    raise _FrameError(f"{reg.name} is one word but raw gives {len(v.raw)}")
+                statements.append(f"put(w, {len(frame_words)}u, {index}, {self.word_of(reg, v.raw[0])});")
+                filled.add(reg.address)
+                if reg.paired:
+                    high = f"(unsigned)({self.ctx.pair_addr(reg)} - {base})"
+                    statements.append(
+                        f"put(w, {len(frame_words)}u, {high}, regmap_pair_high_word({self.word_of(reg, v.raw[0])}, {self.ctx.member_const(reg, 'SIGNED')}));"
+                    )
+                    filled.add(reg.first_address)
+            elif len(v.raw) == 1:
+                func = "regmap_s32_to_words" if reg.signed else "regmap_u32_to_words"
+                order = self.ctx.member_const(reg, "WORD_ORDER")
+                statements.append(
+                    f"{func}({c_raw(v.raw[0], reg.signed)}, {order}, at(w, {len(frame_words)}u, {index}, {reg.words}u));"
+                )
+                filled.update(range(reg.address, reg.address + 2))
+            elif len(v.raw) == 2:
+                for k, word in enumerate(v.raw):
+                    statements.append(f"put(w, {len(frame_words)}u, {index} + {k}u, {c_hex(word)});")
+                filled.update(range(reg.address, reg.address + 2))
+            else:
+                raise _FrameError(f"{reg.name} has {reg.words} words but raw gives {len(v.raw)}")
+        for offset, word in enumerate(frame_words):
+            if start + offset not in filled:
+                statements.append(f"put(w, {len(frame_words)}u, {offset}u, {c_hex(word)}); /* no value in the example */")
+        return tuple(statements)
+
+    def response(self, ex: Example) -> FrameCase:
+        frame = ex.wire_frame
+        base = self._base(ex, "c/case_response.c.jinja")
+        slave = base["slave"]
+        request = self.requests.get(ex.request) if ex.request else None
+        if request is None:
+            request = self._request_from_response(frame)
+        function, address, count, value = request
+        status, exception = "REGMAP_OK", ""
+        if base["crc_wrong"]:
+            status = "REGMAP_ERR_CRC"
+        elif frame[1] & EXCEPTION_FLAG:
+            status = "REGMAP_ERR_EXCEPTION"
+            exception = self.exception_name(frame[2])
+        checks: list[Check] = []
+        scaled: list[ScaledCheck] = []
+        addr = self.address(address)
+        if function == READ_HOLDING:
+            call = f"regmap_rtu_parse_read_response(frame, sizeof frame, {slave}, {self.count(address, count)}, words, sizeof words / sizeof words[0], &exception)"
+            if status == "REGMAP_OK":
+                checks, scaled = self.read_checks(ex, address, count)
+        elif function == WRITE_SINGLE:
+            word = self.single_word(ex, address, value if value is not None else 0)
+            if ex.request is not None and not any(v.raw is not None for v in ex.values):
+                word = self.single_word(self.device.example(ex.request), address, value if value is not None else 0)
+            call = f"regmap_rtu_parse_write_single_response(frame, sizeof frame, {slave}, {addr}, {word}, &exception)"
+        elif function == WRITE_MULTIPLE:
+            call = f"regmap_rtu_parse_write_multiple_response(frame, sizeof frame, {slave}, {addr}, {c_unsigned(count)}, &exception)"
+        else:
+            call = f"regmap_rtu_check_response(frame, sizeof frame, {slave}, 0x{function:02X}u, &exception)"
+        return FrameCase(**base, call=call, status=status, exception=exception, checks=tuple(checks), scaled=tuple(scaled))
+
+    def _request_from_response(self, frame: bytes) -> tuple[int, int, int, int | None]:
+        function = frame[1] & ~EXCEPTION_FLAG & 0xFF
+        if function == READ_HOLDING and not frame[1] & EXCEPTION_FLAG:
+            return function, 0, frame[2] // 2, None
+        if len(frame) == 8:
+            return function, int.from_bytes(frame[2:4], "big"), int.from_bytes(frame[4:6], "big"), int.from_bytes(frame[4:6], "big")
+        return function, 0, 1, None
+
+    def exception_name(self, code: int) -> str:
+        e = self.device.transport.exception(code)
+        if e is not None:
+            return CIdentifier(self.ctx.prefix, "EXCEPTION", e.name)
+        standard = STANDARD_EXCEPTIONS.get(code)
+        if standard is not None:
+            return CIdentifier("REGMAP_EXC", standard.replace(" ", "_").replace("gateway_target_failed_to_respond", "gateway_target_failed"))
+        return f"0x{code:02X}u"
+
+    def read_checks(self, ex: Example, start: int, count: int) -> tuple[list[Check], list[ScaledCheck]]:
+        checks: list[Check] = []
+        scaled: list[ScaledCheck] = []
+        if ex.request is None:
+            return checks, scaled  # the block's address is unknown: only the framing is checked
+        base = self.address(start)
+        end = start + count
+        for v in ex.values:
+            reg = v.register
+            if v.raw is None or reg.address < start or reg.address >= end:
+                continue
+            index = f"(unsigned)({self.ctx.addr(reg)} - {base})"
+            got = f"word_at(words, {count}u, {index})"
+            if reg.paired and reg.first_address >= start and len(v.raw) == 1:
+                high = f"word_at(words, {count}u, (unsigned)({self.ctx.pair_addr(reg)} - {base}))"
+                sign = self.ctx.member_const(reg, "SIGNED")
+                checks.append(Check(f"{reg.name} high word", high, f"regmap_pair_high_word({got}, {sign})"))
+            if reg.words == 1 or (len(v.raw) == 1 and reg.last_address >= end):
+                raw_expr = f"regmap_s16_from_word({got})" if reg.signed and reg.words == 1 else got
+                checks.append(Check(reg.name, raw_expr, c_raw(v.raw[0], reg.signed and reg.words == 1)))
+            elif len(v.raw) == 1:
+                func = "regmap_s32_from_words" if reg.signed else "regmap_u32_from_words"
+                raw_expr = f"{func}(at(words, {count}u, {index}, 2u), {self.ctx.member_const(reg, 'WORD_ORDER')})"
+                checks.append(Check(reg.name, raw_expr, c_raw(v.raw[0], reg.signed)))
+            else:
+                for k, word in enumerate(v.raw):
+                    checks.append(Check(f"{reg.name} word {k}", f"word_at(words, {count}u, {index} + {k}u)", c_hex(word)))
+                continue
+            raw = v.raw[0]
+            if reg.bitfields and reg.words == 1:
+                owner = self.ctx.owner(reg)
+                for b in reg.bitfields:
+                    getter = CSymbol(self.ctx.lower, owner, "get", b.name)
+                    checks.append(Check(f"{reg.name}.{b.name}", f"{getter}({got})", c_unsigned((raw & b.mask) >> b.lsb)))
+            elif reg.enum is not None and isinstance(v.value, str) and reg.enum.member(v.value) is not None:
+                checks.append(Check(f"{reg.name} = {v.value}", raw_expr, CIdentifier(self.ctx.prefix, reg.enum.name, v.value)))
+            elif isinstance(v.value, int | float) and not isinstance(v.value, bool) and reg.enum is None:
+                scaled.append(ScaledCheck(reg.name, raw_expr, self.ctx.member_const(reg, "SCALE"), repr(float(v.value))))
+        return checks, scaled
+
+
+def frames_test_context(device: Device) -> dict[str, Any]:
+    frames = _Frames(device)
+    return {
+        "header": _header(device),
+        "device": device,
+        "include": f"{device.id}.h",
+        "cases": frames.cases(),
+    }
+
+
+def render_frames_test(device: Device) -> str:
+    """A C program (stdio, for the host) that checks the header against every frame of the map's examples."""
+    return environment().get_template("c/frames_test.c.jinja").render(**frames_test_context(device))
+
+
+__all__ = ["TARGET", "CIdentifier", "CSymbol", "device_context", "render_device", "render_frames_test", "render_shared"]
