@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import os
 import sys
 import traceback
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from regmap import __version__
 from regmap.diagnostics import MapError, UsageError
 from regmap.frontend import load_map
+from regmap.live import LinkError
 from regmap.model import Device
 
 DEFAULT_MAPS_DIR = Path("maps")
@@ -150,6 +153,54 @@ def cmd_decode(args: argparse.Namespace) -> int:
     return 0 if all(d.frame.crc_valid for d in decoded) else 3
 
 
+def _link(args: argparse.Namespace) -> Any:
+    from regmap.live import Link
+
+    return Link(
+        tcp=args.tcp,
+        serial=args.serial,
+        slave=args.slave,
+        baud=args.baud,
+        parity=args.parity,
+        stop_bits=args.stop_bits,
+        timeout=args.timeout,
+        retries=args.retries,
+        rtu_over_tcp=args.rtu_over_tcp,
+    )
+
+
+def cmd_read(args: argparse.Namespace) -> int:
+    from regmap import live
+
+    return live.cmd_read(load_map(args.map), _link(args), args.selectors, args.json)
+
+
+def cmd_write(args: argparse.Namespace) -> int:
+    from regmap import live
+
+    return live.cmd_write(load_map(args.map), _link(args), args.assignments, args.raw, not args.no_verify)
+
+
+def cmd_dump(args: argparse.Namespace) -> int:
+    from regmap import live
+
+    output = "json" if args.json else "csv" if args.csv else "text"
+    return live.cmd_dump(load_map(args.map), _link(args), output)
+
+
+def _add_link_options(p: argparse.ArgumentParser) -> None:
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--serial", metavar="DEVICE", help="serial port (RTU); settings default to the map's")
+    where.add_argument("--tcp", metavar="HOST:PORT", help="Modbus TCP gateway or simulator")
+    p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP connection")
+    p.add_argument("--slave", type=int, default=1, help="slave id (default 1)")
+    p.add_argument("--baud", type=int, help="override the map's default baud rate")
+    p.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity")
+    p.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
+    p.add_argument("--timeout", type=float, default=1.0, help="seconds to wait for an answer (default 1)")
+    p.add_argument("--retries", type=int, default=2, help="retries after a timeout (default 2)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="regmap", description="Declarative Modbus RTU register maps for motor drives.")
     parser.add_argument("--version", action="version", version=f"regmap {__version__}")
@@ -198,6 +249,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=cmd_decode)
 
+    p = sub.add_parser(
+        "read",
+        help="read registers from a drive",
+        description="Read registers by name, manual parameter id or address; values shown with units, enum names and bitfields.",
+    )
+    p.add_argument("map", metavar="MAP")
+    p.add_argument("selectors", nargs="+", metavar="SELECTOR")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    _add_link_options(p)
+    p.set_defaults(func=cmd_read)
+
+    p = sub.add_parser(
+        "write",
+        help="write registers, then read them back",
+        description="Values are checked against range, enum and access before anything is sent, then read back and confirmed.",
+    )
+    p.add_argument("map", metavar="MAP")
+    p.add_argument("assignments", nargs="+", metavar="SELECTOR=VALUE")
+    p.add_argument("--raw", action="store_true", help="values are raw register integers")
+    p.add_argument("--no-verify", action="store_true", help="skip the read-back")
+    _add_link_options(p)
+    p.set_defaults(func=cmd_write)
+
+    p = sub.add_parser("dump", help="read every readable register with the read plan")
+    p.add_argument("map", metavar="MAP")
+    fmt = p.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="JSON output")
+    fmt.add_argument("--csv", action="store_true", help="CSV output")
+    _add_link_options(p)
+    p.set_defaults(func=cmd_dump)
+
     p = sub.add_parser("simulate", help="serve a simulated device (Modbus TCP or RTU on a serial port/pty)")
     p.add_argument("map", metavar="MAP")
     where = p.add_mutually_exclusive_group()
@@ -227,6 +309,8 @@ def _target_choices() -> list[str]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    # pymodbus logs transport trouble itself; regmap reports it once, as one line of its own.
+    logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -239,6 +323,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as exc:
         print(f"regmap {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except LinkError as exc:
+        print(f"regmap {args.command}: bus error: {exc}", file=sys.stderr)
+        return 4
     except KeyboardInterrupt:
         print("regmap: interrupted", file=sys.stderr)
         return 130

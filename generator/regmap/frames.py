@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from regmap_runtime.codec import RangeError, check_raw, raw_to_value, raw_to_words, value_to_raw, words_to_raw
-from regmap_runtime.plan import plan_reads, plan_writes
+from regmap_runtime.plan import WriteBlock, plan_reads, plan_writes
 from regmap_runtime.rtu import (
     STANDARD_EXCEPTIONS,
     Frame,
@@ -144,12 +144,18 @@ def read_frames(device: Device, selector: str, count: int | None, slave: int) ->
     return [build_read(slave, b.address, b.count) for b in blocks]
 
 
-def write_frames(device: Device, assignments: Sequence[str], slave: int, raw: bool) -> list[bytes]:
-    """Frames for SELECTOR=VALUE assignments; contiguous registers share one 0x10 frame."""
-    check_slave(device, slave)
+@dataclass
+class Assignments:
+    """Parsed SELECTOR=VALUE items: checked register values, and raw writes to any address."""
+
+    values: list[tuple[RegisterSpec[Any], int]] = field(default_factory=list)
+    raw_writes: list[tuple[int, list[int]]] = field(default_factory=list)
+    registers: list[Register] = field(default_factory=list)
+
+
+def parse_assignments(device: Device, assignments: Sequence[str], raw: bool) -> Assignments:
     regs = Registers(device)
-    values: list[tuple[RegisterSpec[Any], int]] = []
-    frames: list[bytes] = []
+    out = Assignments()
     for item in assignments:
         selector, sep, value_text = item.partition("=")
         if not sep or not selector or not value_text:
@@ -163,7 +169,7 @@ def write_frames(device: Device, assignments: Sequence[str], slave: int, raw: bo
             words = [parse_int(w, selector) for w in value_text.split(",")]
             if any(not 0 <= w <= 0xFFFF for w in words):
                 raise UsageError(f"{selector}: raw words are 0..0xFFFF")
-            frames.append(build_write_single(slave, address, words[0]) if len(words) == 1 else build_write_multiple(slave, address, words))
+            out.raw_writes.append((address, words))
             continue
         if not reg.access.writable:
             raise UsageError(f"{reg.label} is read-only")
@@ -178,19 +184,29 @@ def write_frames(device: Device, assignments: Sequence[str], slave: int, raw: bo
             check_raw(spec, number)
         except RangeError as exc:
             raise UsageError(str(exc)) from None
-        values.append((spec, number))
-    if values:
-        use_multiple = 0x10 in device.transport.function_codes
-        try:
-            blocks = plan_writes(values, device.transport.max_write_registers, use_multiple)
-        except ValueError as exc:
-            raise UsageError(str(exc)) from None
-        for block in blocks:
-            frames.append(
-                build_write_single(slave, block.address, block.words[0])
-                if block.single
-                else build_write_multiple(slave, block.address, list(block.words))
-            )
+        out.values.append((spec, number))
+        out.registers.append(reg)
+    return out
+
+
+def write_blocks(device: Device, values: list[tuple[RegisterSpec[Any], int]]) -> list[WriteBlock]:
+    try:
+        return plan_writes(values, device.transport.max_write_registers, 0x10 in device.transport.function_codes)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def write_frames(device: Device, assignments: Sequence[str], slave: int, raw: bool) -> list[bytes]:
+    """Frames for SELECTOR=VALUE assignments; contiguous registers share one 0x10 frame."""
+    check_slave(device, slave)
+    parsed = parse_assignments(device, assignments, raw)
+    frames = [build_write_single(slave, a, w[0]) if len(w) == 1 else build_write_multiple(slave, a, w) for a, w in parsed.raw_writes]
+    for block in write_blocks(device, parsed.values):
+        frames.append(
+            build_write_single(slave, block.address, block.words[0])
+            if block.single
+            else build_write_multiple(slave, block.address, list(block.words))
+        )
     return frames
 
 

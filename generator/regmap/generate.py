@@ -30,8 +30,12 @@ def _targets() -> dict[str, Target]:
     from regmap.backends import python
 
     targets = [python.TARGET]
-    # (c back end registers here)
-    # (markdown back end registers here)
+    from regmap.backends import c
+
+    targets.append(c.TARGET)
+    from regmap.backends import markdown
+
+    targets.append(markdown.TARGET)
     return {t.name: t for t in targets}
 
 

@@ -37,22 +37,14 @@ SHARED_HEADER = "regmap_rtu.h"
 # -- identifiers -----------------------------------------------------------------------------
 
 C_KEYWORDS = frozenset(
-    """auto break case char const continue default do double else enum extern float for goto if inline int long
-    register restrict return short signed sizeof static struct switch typedef union unsigned void volatile while
-    alignas alignof bool constexpr false nullptr static_assert thread_local true typeof typeof_unqual""".split()
+    ["auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum", "extern", "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict", "return", "short", "signed", "sizeof", "static", "struct", "switch", "typedef", "union", "unsigned", "void", "volatile", "while", "alignas", "alignof", "bool", "constexpr", "false", "nullptr", "static_assert", "thread_local", "true", "typeof", "typeof_unqual"]
 )
 CPP_KEYWORDS = frozenset(
-    """and and_eq asm bitand bitor catch char8_t char16_t char32_t class co_await co_return co_yield compl concept
-    const_cast consteval constinit decltype delete dynamic_cast explicit export friend mutable namespace new noexcept
-    not not_eq operator or or_eq private protected public reinterpret_cast requires static_cast template this throw
-    try typeid typename using virtual wchar_t xor xor_eq""".split()
+    ["and", "and_eq", "asm", "bitand", "bitor", "catch", "char8_t", "char16_t", "char32_t", "class", "co_await", "co_return", "co_yield", "compl", "concept", "const_cast", "consteval", "constinit", "decltype", "delete", "dynamic_cast", "explicit", "export", "friend", "mutable", "namespace", "new", "noexcept", "not", "not_eq", "operator", "or", "or_eq", "private", "protected", "public", "reinterpret_cast", "requires", "static_cast", "template", "this", "throw", "try", "typeid", "typename", "using", "virtual", "wchar_t", "xor", "xor_eq"]
 )
 # Names the headers this code includes (stdbool.h, stddef.h, stdint.h) define, and common macros.
 STANDARD_NAMES = frozenset(
-    """NULL offsetof size_t ptrdiff_t max_align_t EOF errno assert main
-    int8_t int16_t int32_t int64_t uint8_t uint16_t uint32_t uint64_t intptr_t uintptr_t intmax_t uintmax_t
-    INT8_MAX INT16_MAX INT32_MAX INT64_MAX INT8_MIN INT16_MIN INT32_MIN INT64_MIN UINT8_MAX UINT16_MAX UINT32_MAX
-    UINT64_MAX SIZE_MAX PTRDIFF_MAX PTRDIFF_MIN INTPTR_MAX UINTPTR_MAX""".split()
+    ["NULL", "offsetof", "size_t", "ptrdiff_t", "max_align_t", "EOF", "errno", "assert", "main", "int8_t", "int16_t", "int32_t", "int64_t", "uint8_t", "uint16_t", "uint32_t", "uint64_t", "intptr_t", "uintptr_t", "intmax_t", "uintmax_t", "INT8_MAX", "INT16_MAX", "INT32_MAX", "INT64_MAX", "INT8_MIN", "INT16_MIN", "INT32_MIN", "INT64_MIN", "UINT8_MAX", "UINT16_MAX", "UINT32_MAX", "UINT64_MAX", "SIZE_MAX", "PTRDIFF_MAX", "PTRDIFF_MIN", "INTPTR_MAX", "UINTPTR_MAX"]
 )
 _RESERVED = re.compile(r"^_|__|_t$")
 _UPPER = re.compile(r"^[A-Z_][A-Z0-9_]*$")
@@ -402,9 +394,7 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
         + f": {array.count} elements {array.first_index}..{array.last_index}; member m of element n is at"
         + f" BASE 0x{array.base:04X} + {array.stride} x (n - {array.first_index}) + offset of m. {_sections(array.source)}"
     )
-    return ArrayView(
-        template="c/array.h.jinja", comment=comment.strip(), prefix=base, macros=macros, check=check, members=tuple(members)
-    )
+    return ArrayView(template="c/array.h.jinja", comment=comment.strip(), prefix=base, macros=macros, check=check, members=tuple(members))
 
 
 def _group_views(ctx: _Context) -> list[GroupView]:
@@ -531,7 +521,8 @@ def device_context(device: Device) -> dict[str, Any]:
     ctx = _Context(device)
     info = device.info
     about = [
-        f"{info.vendor}{f' ({info.vendor_zh})' if info.vendor_zh else ''} {info.model}" + (f": {info.description}" if info.description else ""),
+        f"{info.vendor}{f' ({info.vendor_zh})' if info.vendor_zh else ''} {info.model}"
+        + (f": {info.description}" if info.description else ""),
         f"Manual: {info.manual_title}" + (f", version {info.manual_version}" if info.manual_version else "") + f" ({info.manual_file}).",
     ]
     if info.firmware:
@@ -739,14 +730,14 @@ class _Frames:
             command = None
             if reg is not None and reg.address == parsed.address and reg.words == 1 and with_raw:
                 command = self.command_call(reg, with_raw[0].raw[0] if with_raw[0].raw else word, slave)
-            call = command or f"{self.ctx.symbol_ref('build_write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {value})"
+            call = (
+                command or f"{self.ctx.symbol_ref('build_write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {value})"
+            )
             return FrameCase(**base, call=call)
         if parsed.kind == "write_multiple_request" and parsed.address is not None and parsed.count is not None:
             self.requests[ex.id] = (WRITE_MULTIPLE, parsed.address, parsed.count, None)
             words = self.multiple_words(ex, parsed.address, parsed.words)
-            call = (
-                f"{self.ctx.symbol_ref('build_write_multiple')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {parsed.count}u)"
-            )
+            call = f"{self.ctx.symbol_ref('build_write_multiple')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {parsed.count}u)"
             return FrameCase(**base, template="c/case_request_multiple.c.jinja", call=call, words=words, word_count=len(parsed.words))
         # Another function code (e.g. the manual's example of an unsupported one): the generic builder.
         body = frame[2:-2]
@@ -795,9 +786,7 @@ class _Frames:
             elif len(v.raw) == 1:
                 func = "regmap_s32_to_words" if reg.signed else "regmap_u32_to_words"
                 order = self.ctx.member_const(reg, "WORD_ORDER")
-                statements.append(
-                    f"{func}({c_raw(v.raw[0], reg.signed)}, {order}, at(w, {len(frame_words)}u, {index}, {reg.words}u));"
-                )
+                statements.append(f"{func}({c_raw(v.raw[0], reg.signed)}, {order}, at(w, {len(frame_words)}u, {index}, {reg.words}u));")
                 filled.update(range(reg.address, reg.address + 2))
             elif len(v.raw) == 2:
                 for k, word in enumerate(v.raw):
@@ -856,7 +845,9 @@ class _Frames:
             return CIdentifier(self.ctx.prefix, "EXCEPTION", e.name)
         standard = STANDARD_EXCEPTIONS.get(code)
         if standard is not None:
-            return CIdentifier("REGMAP_EXC", standard.replace(" ", "_").replace("gateway_target_failed_to_respond", "gateway_target_failed"))
+            return CIdentifier(
+                "REGMAP_EXC", standard.replace(" ", "_").replace("gateway_target_failed_to_respond", "gateway_target_failed")
+            )
         return f"0x{code:02X}u"
 
     def read_checks(self, ex: Example, start: int, count: int) -> tuple[list[Check], list[ScaledCheck]]:

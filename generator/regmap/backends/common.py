@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 from regmap_runtime.plan import ReadBlock, plan_reads
-from regmap_runtime.spec import RegisterSpec
+from regmap_runtime.spec import DeviceSpec, RegisterSpec
 
 from regmap.model import Device
 
@@ -37,6 +37,28 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
         )
         for r in device.registers
     ]
+
+
+def runtime_device(device: Device) -> DeviceSpec:
+    """The runtime's view of the whole device, for clients built from a map at run time."""
+    t = device.transport
+    return DeviceSpec(
+        id=device.id,
+        map_version=device.info.map_version,
+        fingerprint=device.fingerprint,
+        registers=tuple(runtime_specs(device)),
+        baud=t.baud,
+        parity=t.parity,
+        data_bits=t.data_bits,
+        stop_bits=t.stop_bits,
+        max_read_registers=t.max_read_registers,
+        max_write_registers=t.max_write_registers,
+        word_order=t.word_order.value,
+        broadcast_id=t.broadcast_id,
+        function_codes=t.function_codes,
+        tolerates_gaps=t.tolerates_gaps,
+        exceptions=tuple((e.code, e.name, e.title) for e in t.exceptions),
+    )
 
 
 def read_plan(device: Device) -> list[ReadBlock]:

@@ -89,7 +89,9 @@ def load_map_bytes(data: bytes, name: str) -> Device:
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise MapError([Diagnostic(name, line, column, f"the map is not valid UTF-8 (byte 0x{data[exc.start]:02X}); save it as UTF-8")]) from None
+        raise MapError(
+            [Diagnostic(name, line, column, f"the map is not valid UTF-8 (byte 0x{data[exc.start]:02X}); save it as UTF-8")]
+        ) from None
     if text.startswith("\ufeff"):
         text = text[1:]
     return load_map_text(text, name, fingerprint=hashlib.sha256(data).hexdigest()[:16])
@@ -656,10 +658,12 @@ class _Elaborator:
         members: list[ArrayMember] = []
         expanded: list[tuple[Register, Path]] = []
         member_names: set[str] = set()
+        repeated: set[int] = set()  # not expanded, so the repeat is reported once, not again as duplicate registers
         for j, m in enumerate(a["members"]):
             mpath: Path = (*path, "members", j)
             if m["name"] in member_names:
                 self.problem((*mpath, "name"), f"array {a['array']}: duplicate member {m['name']!r}")
+                repeated.add(j)
             member_names.add(m["name"])
             words = DataType(m.get("type", defaults.get("type", "u16"))).words
             if m["offset"] + words > a["stride"]:
@@ -697,6 +701,8 @@ class _Elaborator:
         for i in range(array.count):
             index = index_base + i
             for j, (member, spec) in enumerate(zip(members, a["members"], strict=True)):
+                if j in repeated:
+                    continue
                 address = array.element_address(index, member)
                 if isinstance(spec.get("default"), list):
                     spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
@@ -765,19 +771,20 @@ class _Elaborator:
                     )
 
     def _check_overlaps(self) -> None:
-        owner: dict[int, Register] = {}
-        reported: set[tuple[str, str]] = set()
-        placed = sorted(zip(self.registers, self.register_paths, strict=True), key=lambda rp: (rp[0].first_address, rp[0].name))
-        for reg, path in placed:
+        """Report an overlap at the register that starts later (declared later, at equal starts), once per pair of
+        declarations: two array members that collide do so in every element, which is one mistake."""
+        owner: dict[int, tuple[Register, Path]] = {}
+        reported: set[tuple[Path, Path]] = set()
+        placed = sorted(enumerate(zip(self.registers, self.register_paths, strict=True)), key=lambda p: (p[1][0].first_address, p[0]))
+        for _, (reg, path) in placed:
             for address in range(reg.first_address, reg.last_address + 1):
-                other = owner.get(address)
-                if other is not None and other.name != reg.name and (other.name, reg.name) not in reported:
-                    reported.add((other.name, reg.name))
+                other, other_path = owner.setdefault(address, (reg, path))
+                if other.name != reg.name and (other_path, path) not in reported:
+                    reported.add((other_path, path))
                     self.problem(
                         (*path, "address"),
                         f"{reg.name} (0x{reg.first_address:04X}..0x{reg.last_address:04X}) overlaps {other.name} (0x{other.first_address:04X}..0x{other.last_address:04X}) at 0x{address:04X}",
                     )
-                owner.setdefault(address, reg)
 
     def _selector_index(self) -> dict[str, Register]:
         index: dict[str, Register] = {}
@@ -814,7 +821,7 @@ class _Elaborator:
                 if reg.default is not None and reg.default not in (w["high_first"], w["low_first"]):
                     self.problem(
                         (*path, "word_order_register"),
-                        f"the default {reg.default} of {reg.name} is neither the high_first nor the low_first value",
+                        f"word_order_register: the default {reg.default} of {reg.name} is neither the high_first value {w['high_first']} nor the low_first value {w['low_first']}",
                     )
                 elif reg.default is not None:
                     configured = "high_first" if reg.default == w["high_first"] else "low_first"
@@ -890,7 +897,9 @@ class _Elaborator:
                     continue
                 member = reg.enum.member(value)
                 if member is None:
-                    self.problem((*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} (the enum of {reg.name})")
+                    self.problem(
+                        (*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} (the enum of {reg.name})"
+                    )
                     continue
                 value = member.value
             argument = None
