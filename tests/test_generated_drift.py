@@ -16,7 +16,9 @@ def _tree(root: Path) -> dict[str, bytes]:
 
 def test_generated_tree_matches_the_maps(tmp_path: Path) -> None:
     out = tmp_path / "generated"
-    result = subprocess.run([sys.executable, "-m", "regmap", "generate", "--out", str(out)], cwd=ROOT, capture_output=True, text=True, check=False)
+    result = subprocess.run(
+        [sys.executable, "-m", "regmap", "generate", "--out", str(out)], cwd=ROOT, capture_output=True, text=True, check=False
+    )
     assert result.returncode == 0, result.stderr
     fresh, committed = _tree(out), _tree(GENERATED)
     problems = []

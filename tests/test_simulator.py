@@ -10,10 +10,9 @@ from pathlib import Path
 
 import pytest
 from conftest import ROOT, PtyPair, SimulatorFactory, require_tool
-from test_python_client import client_module
-
 from regmap.frontend import load_map
 from regmap_runtime.errors import DeviceException
+from test_python_client import client_module
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"

@@ -89,7 +89,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.fault not in FAULT_KINDS:
         raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
     device = load_map(args.map)
-    faults = FaultPlan(kind=args.fault, count=args.fault_count, delay_s=args.fault_delay, exception_code=args.fault_exception)
+    faults = FaultPlan(
+        kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
+    )
     state = Path(args.state) if args.state else None
     return run(device, tcp=args.tcp, serial=args.serial, slave=args.slave, state=state, faults=faults, rtu_over_tcp=args.rtu_over_tcp)
 
@@ -295,6 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay",
     )
     p.add_argument("--fault-count", type=int, default=None, metavar="N", help="only the next N answers (default: all)")
+    p.add_argument("--fault-after", type=int, default=0, metavar="N", help="answer N requests normally before the faults start")
     p.add_argument("--fault-delay", type=float, default=2.0, metavar="S", help="seconds for --fault delay")
     p.add_argument("--fault-exception", type=lambda v: int(v, 0), default=0x04, metavar="CODE", help="code for --fault exception")
     p.set_defaults(func=cmd_simulate)

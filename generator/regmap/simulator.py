@@ -44,12 +44,16 @@ class FaultPlan:
 
     kind: str = "none"
     count: int | None = None  # None: every answer
+    after: int = 0  # answers that go out unharmed before the faults start
     delay_s: float = 2.0
     exception_code: int = 0x04
 
     def take(self, kinds: tuple[str, ...]) -> str:
         """The fault to apply now if it is one of `kinds` (consuming one of `count`)."""
         if self.kind == "none" or self.kind not in kinds:
+            return "none"
+        if self.after > 0:
+            self.after -= 1
             return "none"
         if self.count is None:
             return self.kind

@@ -19,7 +19,6 @@ from typing import Any
 from regmap_runtime.rtu import (
     EXCEPTION_FLAG,
     READ_HOLDING,
-    STANDARD_EXCEPTIONS,
     WRITE_MULTIPLE,
     WRITE_SINGLE,
     crc_ok,
@@ -30,21 +29,157 @@ from regmap.backends.common import read_plan
 from regmap.diagnostics import UsageError
 from regmap.generate import Files, Target
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Example, Register, WordOrder
-from regmap.render import environment
+from regmap.render import environment, header_lines
 
 SHARED_HEADER = "regmap_rtu.h"
 
 # -- identifiers -----------------------------------------------------------------------------
 
 C_KEYWORDS = frozenset(
-    ["auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum", "extern", "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict", "return", "short", "signed", "sizeof", "static", "struct", "switch", "typedef", "union", "unsigned", "void", "volatile", "while", "alignas", "alignof", "bool", "constexpr", "false", "nullptr", "static_assert", "thread_local", "true", "typeof", "typeof_unqual"]
+    [
+        "auto",
+        "break",
+        "case",
+        "char",
+        "const",
+        "continue",
+        "default",
+        "do",
+        "double",
+        "else",
+        "enum",
+        "extern",
+        "float",
+        "for",
+        "goto",
+        "if",
+        "inline",
+        "int",
+        "long",
+        "register",
+        "restrict",
+        "return",
+        "short",
+        "signed",
+        "sizeof",
+        "static",
+        "struct",
+        "switch",
+        "typedef",
+        "union",
+        "unsigned",
+        "void",
+        "volatile",
+        "while",
+        "alignas",
+        "alignof",
+        "bool",
+        "constexpr",
+        "false",
+        "nullptr",
+        "static_assert",
+        "thread_local",
+        "true",
+        "typeof",
+        "typeof_unqual",
+    ]
 )
 CPP_KEYWORDS = frozenset(
-    ["and", "and_eq", "asm", "bitand", "bitor", "catch", "char8_t", "char16_t", "char32_t", "class", "co_await", "co_return", "co_yield", "compl", "concept", "const_cast", "consteval", "constinit", "decltype", "delete", "dynamic_cast", "explicit", "export", "friend", "mutable", "namespace", "new", "noexcept", "not", "not_eq", "operator", "or", "or_eq", "private", "protected", "public", "reinterpret_cast", "requires", "static_cast", "template", "this", "throw", "try", "typeid", "typename", "using", "virtual", "wchar_t", "xor", "xor_eq"]
+    [
+        "and",
+        "and_eq",
+        "asm",
+        "bitand",
+        "bitor",
+        "catch",
+        "char8_t",
+        "char16_t",
+        "char32_t",
+        "class",
+        "co_await",
+        "co_return",
+        "co_yield",
+        "compl",
+        "concept",
+        "const_cast",
+        "consteval",
+        "constinit",
+        "decltype",
+        "delete",
+        "dynamic_cast",
+        "explicit",
+        "export",
+        "friend",
+        "mutable",
+        "namespace",
+        "new",
+        "noexcept",
+        "not",
+        "not_eq",
+        "operator",
+        "or",
+        "or_eq",
+        "private",
+        "protected",
+        "public",
+        "reinterpret_cast",
+        "requires",
+        "static_cast",
+        "template",
+        "this",
+        "throw",
+        "try",
+        "typeid",
+        "typename",
+        "using",
+        "virtual",
+        "wchar_t",
+        "xor",
+        "xor_eq",
+    ]
 )
 # Names the headers this code includes (stdbool.h, stddef.h, stdint.h) define, and common macros.
 STANDARD_NAMES = frozenset(
-    ["NULL", "offsetof", "size_t", "ptrdiff_t", "max_align_t", "EOF", "errno", "assert", "main", "int8_t", "int16_t", "int32_t", "int64_t", "uint8_t", "uint16_t", "uint32_t", "uint64_t", "intptr_t", "uintptr_t", "intmax_t", "uintmax_t", "INT8_MAX", "INT16_MAX", "INT32_MAX", "INT64_MAX", "INT8_MIN", "INT16_MIN", "INT32_MIN", "INT64_MIN", "UINT8_MAX", "UINT16_MAX", "UINT32_MAX", "UINT64_MAX", "SIZE_MAX", "PTRDIFF_MAX", "PTRDIFF_MIN", "INTPTR_MAX", "UINTPTR_MAX"]
+    [
+        "NULL",
+        "offsetof",
+        "size_t",
+        "ptrdiff_t",
+        "max_align_t",
+        "EOF",
+        "errno",
+        "assert",
+        "main",
+        "int8_t",
+        "int16_t",
+        "int32_t",
+        "int64_t",
+        "uint8_t",
+        "uint16_t",
+        "uint32_t",
+        "uint64_t",
+        "intptr_t",
+        "uintptr_t",
+        "intmax_t",
+        "uintmax_t",
+        "INT8_MAX",
+        "INT16_MAX",
+        "INT32_MAX",
+        "INT64_MAX",
+        "INT8_MIN",
+        "INT16_MIN",
+        "INT32_MIN",
+        "INT64_MIN",
+        "UINT8_MAX",
+        "UINT16_MAX",
+        "UINT32_MAX",
+        "UINT64_MAX",
+        "SIZE_MAX",
+        "PTRDIFF_MAX",
+        "PTRDIFF_MIN",
+        "INTPTR_MAX",
+        "UINTPTR_MAX",
+    ]
 )
 _RESERVED = re.compile(r"^_|__|_t$")
 _UPPER = re.compile(r"^[A-Z_][A-Z0-9_]*$")
@@ -192,6 +327,15 @@ class RegisterView:
 
 
 @dataclass(frozen=True)
+class ElementTable:
+    """Per-element values of an array member whose elements differ (e.g. a default per path)."""
+
+    c_type: str
+    name: str
+    values: str
+
+
+@dataclass(frozen=True)
 class ArrayMemberView:
     comment: str
     description: str
@@ -200,6 +344,7 @@ class ArrayMemberView:
     pair_addr_macro: str | None
     addr_function: str
     macros: tuple[Macro, ...]
+    tables: tuple[ElementTable, ...]
     bitfields: tuple[BitfieldView, ...]
 
 
@@ -225,7 +370,7 @@ class CommandView:
     addr: Macro
     value: Macro
     function: str
-    argument: str | None
+    argument: str  # "" when the command takes none
     argument_type: str
     argument_macros: tuple[Macro, ...]
     out_of_range: str  # C condition on the argument
@@ -278,18 +423,31 @@ class _Context:
         return CSymbol(self.lower, *parts)
 
 
-def _register_comment(reg: Register, label: str) -> str:
+def _sentence(text: str | None) -> str:
+    text = " ".join((text or "").split())
+    return text if not text or text[-1] in ".!?。" else text + "."
+
+
+def _sentences(*parts: str | None) -> str:
+    return " ".join(filter(None, (_sentence(p) for p in parts)))
+
+
+def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
+    """Type, access, unit, scale, range, default and errata of a register (or of every element of an array member)."""
     facts = [f"{reg.type.value} {reg.access.value}"]
     if reg.unit:
         facts.append(f"unit {reg.unit}")
     if reg.scaled:
         facts.append(f"scale {_eng(reg, 1)}")
     if reg.min is not None or reg.max is not None:
-        lo, hi = reg.raw_min, reg.raw_max
-        facts.append(f"raw {lo}..{hi}" + (f" ({_eng(reg, lo)}..{_eng(reg, hi)} {reg.unit or ''})".replace(" )", ")") if reg.scaled else ""))
+        scaled = f" ({_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''})" if reg.scaled else ""
+        facts.append(f"raw {reg.raw_min}..{reg.raw_max}{scaled}")
     if reg.range_text:
         facts.append(f"printed range {reg.range_text}")
-    if reg.default is not None:
+    defaults = {r.default for r in elements}
+    if len(defaults) > 1:
+        facts.append("default differs per element")
+    elif reg.default is not None:
         facts.append(f"default {reg.default}" + (f" ({_eng(reg, reg.default)})" if reg.scaled else ""))
     if reg.enum is not None:
         facts.append(f"values: enum {reg.enum.name}")
@@ -297,64 +455,72 @@ def _register_comment(reg: Register, label: str) -> str:
         facts.append("low word of a 32-bit pair whose unused high word is at ADDR - 1")
     if reg.takes_effect:
         facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
-    if reg.errata:
-        facts.append(f"errata {', '.join(reg.errata)}")
-    return f"{label}: {_titled(reg.title, reg.title_zh)}. {', '.join(facts)}. {_sections(reg.source)}".strip()
+    errata = sorted({e for r in elements for e in r.errata})
+    if errata:
+        facts.append(f"errata {', '.join(errata)}")
+    return ", ".join(facts)
 
 
-def _value_macros(ctx: _Context, reg: Register, owner: str) -> list[Macro]:
+def _register_comment(reg: Register, label: str, elements: Sequence[Register]) -> str:
+    return _sentences(f"{label}: {_titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), _sections(reg.source))
+
+
+def _value_macros(ctx: _Context, reg: Register, owner: str, elements: Sequence[Register]) -> tuple[list[Macro], list[ElementTable]]:
+    """The macros every register (or array member) gets. An array member whose elements differ in
+    min, max or default gets a table indexed by n - FIRST instead of the macro."""
     macros = [
         Macro(ctx.const(owner, "WORDS"), c_unsigned(reg.words)),
         Macro(ctx.const(owner, "ACCESS"), ACCESS_MACRO[reg.access]),
         Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"),
     ]
+    tables = []
     if reg.words == 2:
         macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
-    for key, value in (("MIN", reg.min), ("MAX", reg.max), ("DEFAULT", reg.default)):
-        if value is not None:
-            macros.append(Macro(ctx.const(owner, key), c_raw(value, reg.signed)))
+    for key in ("min", "max", "default"):
+        values = [getattr(r, key) for r in elements]
+        if len(set(values)) == 1:
+            if values[0] is not None:
+                macros.append(Macro(ctx.const(owner, key), c_raw(values[0], reg.signed)))
+        elif None not in values:
+            c_type = f"{'int' if reg.signed else 'uint'}{reg.type.bits}_t"
+            tables.append(ElementTable(c_type, ctx.symbol(owner, key), ", ".join(c_raw(v, reg.signed) for v in values)))
     macros += [
         Macro(ctx.const(owner, "SCALE"), c_float(reg.scale)),
         Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
         Macro(ctx.const(owner, "SCALE_DEN"), str(reg.scale.denominator)),
         Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
     ]
-    return macros
+    return macros, tables
 
 
 def _bitfield_views(ctx: _Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
     word_type = "uint32_t" if reg.words == 2 else "uint16_t"
-    views = []
-    for b in reg.bitfields:
-        views.append(
-            BitfieldView(
-                comment=_bitfield_comment(b),
-                mask=Macro(ctx.const(owner, b.name, "MASK"), c_hex(b.mask)),
-                shift=Macro(ctx.const(owner, b.name, "SHIFT"), c_unsigned(b.lsb)),
-                word_type=word_type,
-                getter=ctx.symbol(owner, "get", b.name),
-                setter=ctx.symbol(owner, "set", b.name),
-            )
+    return tuple(
+        BitfieldView(
+            comment=_bitfield_comment(b),
+            mask=Macro(ctx.const(owner, b.name, "MASK"), c_hex(b.mask)),
+            shift=Macro(ctx.const(owner, b.name, "SHIFT"), c_unsigned(b.lsb)),
+            word_type=word_type,
+            getter=ctx.symbol(owner, "get", b.name),
+            setter=ctx.symbol(owner, "set", b.name),
         )
-    return tuple(views)
+        for b in reg.bitfields
+    )
 
 
 def _bitfield_comment(b: Bitfield) -> str:
-    text = f"bit{'s' if b.width > 1 else ''} {b.bits_text} {b.name}: {_titled(b.title, b.title_zh)}"
-    if b.enum is not None:
-        text += f"; values: enum {b.enum.name}"
-    if b.description:
-        text += f". {b.description}"
-    return text
+    head = f"bit{'s' if b.width > 1 else ''} {b.bits_text} {b.name}: {_titled(b.title, b.title_zh)}"
+    return _sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description)
 
 
 def _register_view(ctx: _Context, reg: Register) -> RegisterView:
-    macros = [Macro(ctx.const(reg.name, "ADDR"), c_hex(reg.address)), *_value_macros(ctx, reg, reg.name)]
+    values, _ = _value_macros(ctx, reg, reg.name, (reg,))
+    macros = [Macro(ctx.const(reg.name, "ADDR"), c_hex(reg.address)), *values]
     if reg.paired:
         macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
     return RegisterView(
         template="c/register.h.jinja",
-        comment=_register_comment(reg, reg.label),
+        comment=_register_comment(reg, reg.label, (reg,)),
         description=reg.description,
         macros=tuple(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
@@ -370,31 +536,35 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
         Macro(ctx.const(array.name, "COUNT"), c_unsigned(array.count)),
         Macro(ctx.const(array.name, "STRIDE"), c_unsigned(array.stride)),
     )
-    # `n - FIRST < COUNT` on unsigned n checks both bounds without a `n >= 0` that -Wtype-limits flags.
+    # `n - FIRST < COUNT` on an unsigned n checks both bounds, without the `n >= 0` that -Wtype-limits flags.
     check = f"n - {base}_FIRST < {base}_COUNT"
     members = []
     for member in array.members:
-        reg = ctx.device.register(f"{array.name}_{array.first_index}_{member.name}")
+        elements = [ctx.device.register(f"{array.name}_{n}_{member.name}") for n in range(array.first_index, array.last_index + 1)]
+        reg = elements[0]
         owner = f"{array.name}_{member.name}"
-        label = f"{owner} (element {array.first_index}: {reg.label})"
+        values, tables = _value_macros(ctx, reg, owner, elements)
         members.append(
             ArrayMemberView(
-                comment=_register_comment(reg, label),
+                comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
                 description=reg.description,
                 addr_macro=ctx.const(owner, "ADDR"),
                 offset=c_unsigned(member.offset),
                 pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
                 addr_function=ctx.symbol(owner, "addr"),
-                macros=tuple(_value_macros(ctx, reg, owner)),
+                macros=tuple(values),
+                tables=tuple(tables),
                 bitfields=_bitfield_views(ctx, reg, owner),
             )
         )
-    comment = (
+    comment = _sentences(
         _titled(array.title, array.title_zh)
         + f": {array.count} elements {array.first_index}..{array.last_index}; member m of element n is at"
-        + f" BASE 0x{array.base:04X} + {array.stride} x (n - {array.first_index}) + offset of m. {_sections(array.source)}"
+        + f" BASE 0x{array.base:04X} + {array.stride} x (n - {array.first_index}) + offset of m",
+        array.description,
+        _sections(array.source),
     )
-    return ArrayView(template="c/array.h.jinja", comment=comment.strip(), prefix=base, macros=macros, check=check, members=tuple(members))
+    return ArrayView(template="c/array.h.jinja", comment=comment, prefix=base, macros=macros, check=check, members=tuple(members))
 
 
 def _group_views(ctx: _Context) -> list[GroupView]:
@@ -408,62 +578,55 @@ def _group_views(ctx: _Context) -> list[GroupView]:
             elif reg.array.array not in done:
                 done.add(reg.array.array)
                 items.append(_array_view(ctx, ctx.arrays[reg.array.array]))
-        comment = f"{_titled(group.title, group.title_zh)}. {_sections(group.source)}".strip()
-        groups.append(GroupView(comment=comment, items=tuple(items)))
+        groups.append(GroupView(comment=_sentences(_titled(group.title, group.title_zh), _sections(group.source)), items=tuple(items)))
     return groups
 
 
 def _enum_view(ctx: _Context, e: EnumType) -> EnumView:
+    # A C enum constant is an int; a table with a value outside int becomes macros instead.
+    as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
     members = tuple(
         Macro(
             ctx.const(e.name, m.name),
-            _enum_literal(m.value),
-            _titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else "") + (f". {m.description}" if m.description else ""),
+            c_raw(m.value, m.value < 0) if as_macros else _enum_literal(m.value),
+            _sentences(_titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description),
         )
         for m in e.members
     )
-    as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
-    if as_macros:
-        members = tuple(Macro(m.name, c_raw(v.value, v.value < 0), m.comment) for m, v in zip(members, e.members, strict=True))
-    comment = _titled(e.title, e.title_zh) + (f". {e.description}" if e.description else "") + f". {_sections(e.source)}"
-    return EnumView(type_name=ctx.symbol(e.name), comment=comment.strip(), members=members, as_macros=as_macros)
+    comment = _sentences(_titled(e.title, e.title_zh), e.description, _sections(e.source))
+    return EnumView(type_name=ctx.symbol(e.name), comment=comment, members=members, as_macros=as_macros)
 
 
 def _command_view(ctx: _Context, cmd: Command) -> CommandView:
     reg = cmd.register
-    comment = (
-        _titled(cmd.title, cmd.title_zh)
-        + f": writes {cmd.value:#06x}"
-        + (f" + {cmd.argument.name}" if cmd.argument else "")
-        + f" to {reg.label} (0x{reg.address:04X}). {cmd.description} {_sections(cmd.source)}"
-    )
-    function = ctx.symbol("build", cmd.name)
+    what = f"writes 0x{cmd.value:04X}" + (f" + {cmd.argument.name}" if cmd.argument else "") + f" to {reg.label} (0x{reg.address:04X})"
+    comment = _sentences(f"{_titled(cmd.title, cmd.title_zh)}: {what}", cmd.description, _sections(cmd.source))
+    value = Macro(ctx.const("CMD", cmd.name, "VALUE"), c_hex(cmd.value) if cmd.value >= 0 else c_signed(cmd.value))
     argument_macros: tuple[Macro, ...] = ()
-    argument = None
-    argument_type = ""
-    out_of_range = ""
-    raw = f"(unsigned long){CIdentifier(ctx.prefix, 'CMD', cmd.name, 'VALUE')}"
+    argument = argument_type = out_of_range = ""
+    raw = value.name
     if cmd.argument is not None:
         arg = cmd.argument
         argument = CSymbol(arg.name)
-        if argument in ("buf", "cap", "slave", "raw", "words"):
+        if argument in ("buf", "cap", "slave", "words"):  # the helper's other parameters
             argument = CSymbol(arg.name, "arg")
         lo = Macro(ctx.const("CMD", cmd.name, arg.name, "MIN"), c_signed(arg.min), arg.title)
         hi = Macro(ctx.const("CMD", cmd.name, arg.name, "MAX"), c_signed(arg.max))
         argument_macros = (lo, hi)
         if arg.min >= 0:
+            # An unsigned parameter; no `< 0` test, which -Wtype-limits would flag.
             argument_type = "unsigned"
-            out_of_range = f"{argument} > {hi.name}u" if arg.min == 0 else f"{argument} < {lo.name}u || {argument} > {hi.name}u"
-            out_of_range = out_of_range.replace(f"{hi.name}u", f"(unsigned){hi.name}").replace(f"{lo.name}u", f"(unsigned){lo.name}")
+            upper = f"{argument} > (unsigned){hi.name}"
+            out_of_range = upper if arg.min == 0 else f"{argument} < (unsigned){lo.name} || {upper}"
         else:
             argument_type = "long"
             out_of_range = f"{argument} < {lo.name} || {argument} > {hi.name}"
-        raw += f" + (unsigned long){argument}"
+        raw = f"(unsigned long){value.name} + (unsigned long){argument}"
     return CommandView(
-        comment=" ".join(comment.split()),
+        comment=comment,
         addr=Macro(ctx.const("CMD", cmd.name, "ADDR"), ctx.addr(reg)),
-        value=Macro(ctx.const("CMD", cmd.name, "VALUE"), c_raw(cmd.value, cmd.value < 0)),
-        function=function,
+        value=value,
+        function=ctx.symbol("build", cmd.name),
         argument=argument,
         argument_type=argument_type,
         argument_macros=argument_macros,
@@ -529,7 +692,7 @@ def device_context(device: Device) -> dict[str, Any]:
         about.append(f"Firmware: {info.firmware}")
     transport = _transport_macros(ctx)
     exceptions = tuple(
-        Macro(ctx.const("EXCEPTION", e.name), f"0x{e.code:02X}", _titled(e.title, e.title_zh) + " " + _sections(e.source))
+        Macro(ctx.const("EXCEPTION", e.name), f"0x{e.code:02X}", _sentences(_titled(e.title, e.title_zh), _sections(e.source)))
         for e in device.transport.exceptions
     )
     enums = [_enum_view(ctx, e) for e in device.enums]
@@ -566,8 +729,6 @@ def device_context(device: Device) -> dict[str, Any]:
 
 
 def _header(device: Device) -> list[str]:
-    from regmap.render import header_lines
-
     return header_lines(device, "regmap generate")
 
 
@@ -637,11 +798,12 @@ class _Frames:
     def __init__(self, device: Device) -> None:
         self.device = device
         self.ctx = _Context(device)
-        self.requests: dict[str, tuple[int, int, int, int | None]] = {}  # id -> (function, address, count, value)
+        self.requests: dict[str, _Request] = {}
 
     # expressions -------------------------------------------------------------------------
 
     def address(self, address: int) -> str:
+        """C expression of an address: a register's macro when the map has one, else the number."""
         for reg in self.device.registers:
             if reg.address == address:
                 return self.ctx.addr(reg)
@@ -650,7 +812,7 @@ class _Frames:
                 return self.ctx.pair_addr(reg)
             if reg.address < address <= reg.last_address:
                 return f"(uint16_t)({self.ctx.addr(reg)} + {address - reg.address}u)"
-        return c_hex(address)  # not a register of the map: the raw address
+        return c_hex(address)  # not a register of the map
 
     def count(self, address: int, count: int) -> str:
         reg = next((r for r in self.device.registers if r.address == address), None)
@@ -659,7 +821,7 @@ class _Frames:
         return c_unsigned(count)
 
     def word_of(self, reg: Register, raw: int) -> str:
-        """C expression of the 16-bit word of a one-word register holding `raw`, through the header's names."""
+        """C expression of the word of a one-word register holding `raw`, built with the header's names."""
         if reg.bitfields:
             owner = self.ctx.owner(reg)
             expr = "0u"
@@ -682,11 +844,13 @@ class _Frames:
         return c_unsigned(raw)
 
     def command_call(self, reg: Register, raw: int, slave: str) -> str | None:
-        exact = [c for c in self.device.commands if c.register == reg and c.argument is None and c.value == raw]
-        if exact:
-            return f"{CSymbol(self.ctx.lower, 'build', exact[0].name)}(buf, sizeof buf, {slave})"
-        for c in self.device.commands:
-            if c.register == reg and c.argument is not None and c.argument.min <= raw - c.value <= c.argument.max:
+        """The header's command helper that writes `raw` to `reg`, when the map names one."""
+        mine = [c for c in self.device.commands if c.register.name == reg.name]
+        for c in mine:
+            if c.argument is None and c.value == raw:
+                return f"{CSymbol(self.ctx.lower, 'build', c.name)}(buf, sizeof buf, {slave})"
+        for c in mine:
+            if c.argument is not None and c.argument.min <= raw - c.value <= c.argument.max:
                 return f"{CSymbol(self.ctx.lower, 'build', c.name)}(buf, sizeof buf, {slave}, {raw - c.value})"
         return None
 
@@ -712,91 +876,108 @@ class _Frames:
             "crc_wrong": not crc_ok(frame),
         }
 
+    def check_values_inside(self, ex: Example, start: int, count: int) -> None:
+        """Every value an example gives must be carried by its frame (else the example contradicts itself)."""
+        for v in ex.values:
+            reg = v.register
+            if (v.raw is not None or v.words is not None) and not (reg.first_address < start + count and start <= reg.last_address):
+                raise _FrameError(
+                    f"it gives a value for {reg.label} (0x{reg.address:04X}), which its frame"
+                    f" (0x{start:04X}..0x{start + count - 1:04X}) does not carry"
+                )
+
     def request(self, ex: Example) -> FrameCase:
         frame = ex.wire_frame
         parsed = parse_frame(frame, "request")
+        if parsed.address is not None and parsed.kind != "unknown":
+            self.check_values_inside(ex, parsed.address, parsed.count or 1)
         base = self._base(ex, "c/case_request.c.jinja")
         slave = base["slave"]
-        with_raw = [v for v in ex.values if v.raw is not None]
         if parsed.kind == "read_request" and parsed.address is not None and parsed.count is not None:
-            self.requests[ex.id] = (READ_HOLDING, parsed.address, parsed.count, None)
-            call = f"{self.ctx.symbol_ref('build_read')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {self.count(parsed.address, parsed.count)})"
+            self.requests[ex.id] = _Request(READ_HOLDING, parsed.address, parsed.count, ex)
+            build = self.ctx.symbol_ref("build_read")
+            call = f"{build}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {self.count(parsed.address, parsed.count)})"
             return FrameCase(**base, call=call)
         if parsed.kind == "write_single" and parsed.address is not None:
-            word = parsed.words[0]
-            self.requests[ex.id] = (WRITE_SINGLE, parsed.address, 1, word)
-            value = self.single_word(ex, parsed.address, word)
-            reg = self.device.at_address(parsed.address)
-            command = None
-            if reg is not None and reg.address == parsed.address and reg.words == 1 and with_raw:
-                command = self.command_call(reg, with_raw[0].raw[0] if with_raw[0].raw else word, slave)
-            call = (
-                command or f"{self.ctx.symbol_ref('build_write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {value})"
+            self.requests[ex.id] = _Request(WRITE_SINGLE, parsed.address, 1, ex, parsed.words[0])
+            call = self.single_write_command(ex, parsed.address, slave) or (
+                f"{self.ctx.symbol_ref('build_write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address)},"
+                f" {self.single_word(ex, parsed.address, parsed.words[0])})"
             )
             return FrameCase(**base, call=call)
         if parsed.kind == "write_multiple_request" and parsed.address is not None and parsed.count is not None:
-            self.requests[ex.id] = (WRITE_MULTIPLE, parsed.address, parsed.count, None)
+            self.requests[ex.id] = _Request(WRITE_MULTIPLE, parsed.address, parsed.count, ex)
+            build = self.ctx.symbol_ref("build_write_multiple")
+            call = f"{build}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {c_unsigned(parsed.count)})"
+            base["template"] = "c/case_request_multiple.c.jinja"
             words = self.multiple_words(ex, parsed.address, parsed.words)
-            call = f"{self.ctx.symbol_ref('build_write_multiple')}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {parsed.count}u)"
-            return FrameCase(**base, template="c/case_request_multiple.c.jinja", call=call, words=words, word_count=len(parsed.words))
-        # Another function code (e.g. the manual's example of an unsupported one): the generic builder.
+            return FrameCase(**base, call=call, words=words, word_count=len(parsed.words))
         body = frame[2:-2]
         if len(body) == 4:
-            self.requests[ex.id] = (frame[1], int.from_bytes(body[:2], "big"), int.from_bytes(body[2:], "big"), None)
-            call = f"regmap_rtu_build_request(buf, sizeof buf, {slave}, 0x{frame[1]:02X}u, 0x{body[0]:02X}{body[1]:02X}u, 0x{body[2]:02X}{body[3]:02X}u)"
+            # Another function code (the manual's example of an unsupported one): the generic builder.
+            first, second = int.from_bytes(body[:2], "big"), int.from_bytes(body[2:], "big")
+            self.requests[ex.id] = _Request(frame[1], first, second, ex)
+            call = f"regmap_rtu_build_request(buf, sizeof buf, {slave}, 0x{frame[1]:02X}u, {c_hex(first)}, {c_hex(second)})"
             return FrameCase(**base, call=call)
         raise _FrameError(f"cannot rebuild a {parsed.kind} request of {len(frame)} bytes")
+
+    def single_write_command(self, ex: Example, address: int, slave: str) -> str | None:
+        for v in ex.values:
+            if v.raw is not None and v.register.words == 1 and v.register.address == address:
+                return self.command_call(v.register, v.raw, slave)
+        return None
 
     def single_word(self, ex: Example, address: int, word: int) -> str:
         """The word of a 0x06 frame, from the example's values when they describe it."""
         for v in ex.values:
-            if v.raw is None:
-                continue
             reg = v.register
-            if reg.words == 1 and reg.address == address:
-                if len(v.raw) != 1:
-                    raise _FrameError(f"{reg.name} is one word but raw gives {len(v.raw)}")
-                return self.word_of(reg, v.raw[0])
-            if reg.words == 2 and reg.address <= address <= reg.last_address and len(v.raw) == 1:
-                return c_hex(v.raw[0])  # one word of a 32-bit register, as the example gives it
+            if v.raw is not None and reg.words == 1 and reg.address == address:
+                return self.word_of(reg, v.raw)
+            if v.words is not None and reg.words == 2 and reg.address <= address <= reg.last_address:
+                if len(v.words) != 1:
+                    raise _FrameError(f"a 0x06 frame carries one word of {reg.name}, the example gives {len(v.words)}")
+                return c_hex(v.words[0])  # one word of a 32-bit register, as the example gives it
         return c_hex(word)
 
     def multiple_words(self, ex: Example, start: int, frame_words: tuple[int, ...]) -> tuple[str, ...]:
-        """Statements that fill `w` (the 0x10 frame's words) from the example's values and the header's helpers."""
-        end = start + len(frame_words)
+        """Statements that fill `w` (the words of a 0x10 frame) from the example's values through the header's helpers."""
+        count = len(frame_words)
         base = self.address(start)
         filled: set[int] = set()
         statements = []
         for v in ex.values:
             reg = v.register
-            if v.raw is None or reg.first_address < start or reg.last_address >= end:
+            inside = [a for a in range(reg.first_address, reg.last_address + 1) if start <= a < start + count]
+            if not inside or (v.raw is None and v.words is None):
                 continue
             index = f"(unsigned)({self.ctx.addr(reg)} - {base})"
+            if v.words is not None:
+                own = [a for a in inside if a >= reg.address]
+                if len(v.words) != len(own):
+                    raise _FrameError(f"the frame carries {len(own)} words of {reg.name}, the example gives {len(v.words)}")
+                for a, word in zip(own, v.words, strict=True):
+                    statements.append(f"put(w, {count}u, {index} + {a - reg.address}u, {c_hex(word)});")
+                    filled.add(a)
+                continue
+            raw = v.raw
+            assert raw is not None
+            if len(inside) != reg.span:
+                raise _FrameError(f"the frame carries only part of {reg.name}, the example gives its whole raw value")
             if reg.words == 1:
-                if len(v.raw) != 1:
-                    raise _FrameError(f"{reg.name} is one word but raw gives {len(v.raw)}")
-                statements.append(f"put(w, {len(frame_words)}u, {index}, {self.word_of(reg, v.raw[0])});")
-                filled.add(reg.address)
+                word = self.word_of(reg, raw)
+                statements.append(f"put(w, {count}u, {index}, {word});")
                 if reg.paired:
                     high = f"(unsigned)({self.ctx.pair_addr(reg)} - {base})"
-                    statements.append(
-                        f"put(w, {len(frame_words)}u, {high}, regmap_pair_high_word({self.word_of(reg, v.raw[0])}, {self.ctx.member_const(reg, 'SIGNED')}));"
-                    )
-                    filled.add(reg.first_address)
-            elif len(v.raw) == 1:
+                    signed = self.ctx.member_const(reg, "SIGNED")
+                    statements.append(f"put(w, {count}u, {high}, regmap_pair_high_word({word}, {signed}));")
+            else:
                 func = "regmap_s32_to_words" if reg.signed else "regmap_u32_to_words"
                 order = self.ctx.member_const(reg, "WORD_ORDER")
-                statements.append(f"{func}({c_raw(v.raw[0], reg.signed)}, {order}, at(w, {len(frame_words)}u, {index}, {reg.words}u));")
-                filled.update(range(reg.address, reg.address + 2))
-            elif len(v.raw) == 2:
-                for k, word in enumerate(v.raw):
-                    statements.append(f"put(w, {len(frame_words)}u, {index} + {k}u, {c_hex(word)});")
-                filled.update(range(reg.address, reg.address + 2))
-            else:
-                raise _FrameError(f"{reg.name} has {reg.words} words but raw gives {len(v.raw)}")
+                statements.append(f"{func}({c_raw(raw, reg.signed)}, {order}, at(w, {count}u, {index}, 2u));")
+            filled.update(inside)
         for offset, word in enumerate(frame_words):
             if start + offset not in filled:
-                statements.append(f"put(w, {len(frame_words)}u, {offset}u, {c_hex(word)}); /* no value in the example */")
+                statements.append(f"put(w, {count}u, {offset}u, {c_hex(word)}); /* no value in the example */")
         return tuple(statements)
 
     def response(self, ex: Example) -> FrameCase:
@@ -805,85 +986,82 @@ class _Frames:
         slave = base["slave"]
         request = self.requests.get(ex.request) if ex.request else None
         if request is None:
-            request = self._request_from_response(frame)
-        function, address, count, value = request
+            request = _request_from_response(frame)
         status, exception = "REGMAP_OK", ""
         if base["crc_wrong"]:
             status = "REGMAP_ERR_CRC"
         elif frame[1] & EXCEPTION_FLAG:
             status = "REGMAP_ERR_EXCEPTION"
             exception = self.exception_name(frame[2])
+        if request.function in (READ_HOLDING, WRITE_SINGLE, WRITE_MULTIPLE) and request.example is not None:
+            self.check_values_inside(ex, request.address, request.count)
         checks: list[Check] = []
         scaled: list[ScaledCheck] = []
-        addr = self.address(address)
-        if function == READ_HOLDING:
-            call = f"regmap_rtu_parse_read_response(frame, sizeof frame, {slave}, {self.count(address, count)}, words, sizeof words / sizeof words[0], &exception)"
-            if status == "REGMAP_OK":
-                checks, scaled = self.read_checks(ex, address, count)
-        elif function == WRITE_SINGLE:
-            word = self.single_word(ex, address, value if value is not None else 0)
-            if ex.request is not None and not any(v.raw is not None for v in ex.values):
-                word = self.single_word(self.device.example(ex.request), address, value if value is not None else 0)
-            call = f"regmap_rtu_parse_write_single_response(frame, sizeof frame, {slave}, {addr}, {word}, &exception)"
-        elif function == WRITE_MULTIPLE:
-            call = f"regmap_rtu_parse_write_multiple_response(frame, sizeof frame, {slave}, {addr}, {c_unsigned(count)}, &exception)"
+        address = self.address(request.address)
+        if request.function == READ_HOLDING:
+            count = self.count(request.address, request.count)
+            call = (
+                f"regmap_rtu_parse_read_response(frame, sizeof frame, {slave}, {count}, words, sizeof words / sizeof words[0], &exception)"
+            )
+            if status == "REGMAP_OK" and request.example is not None:
+                checks, scaled = self.read_checks(ex, request.address, request.count)
+        elif request.function == WRITE_SINGLE:
+            # The echo carries the request's word; the response's own values, when it has them, must give it too.
+            described = ex if any(v.raw is not None or v.words is not None for v in ex.values) else request.example
+            word = self.single_word(described, request.address, request.value) if described else c_hex(request.value)
+            call = f"regmap_rtu_parse_write_single_response(frame, sizeof frame, {slave}, {address}, {word}, &exception)"
+        elif request.function == WRITE_MULTIPLE:
+            count = c_unsigned(request.count)
+            call = f"regmap_rtu_parse_write_multiple_response(frame, sizeof frame, {slave}, {address}, {count}, &exception)"
         else:
-            call = f"regmap_rtu_check_response(frame, sizeof frame, {slave}, 0x{function:02X}u, &exception)"
+            call = f"regmap_rtu_check_response(frame, sizeof frame, {slave}, 0x{request.function:02X}u, &exception)"
         return FrameCase(**base, call=call, status=status, exception=exception, checks=tuple(checks), scaled=tuple(scaled))
-
-    def _request_from_response(self, frame: bytes) -> tuple[int, int, int, int | None]:
-        function = frame[1] & ~EXCEPTION_FLAG & 0xFF
-        if function == READ_HOLDING and not frame[1] & EXCEPTION_FLAG:
-            return function, 0, frame[2] // 2, None
-        if len(frame) == 8:
-            return function, int.from_bytes(frame[2:4], "big"), int.from_bytes(frame[4:6], "big"), int.from_bytes(frame[4:6], "big")
-        return function, 0, 1, None
 
     def exception_name(self, code: int) -> str:
         e = self.device.transport.exception(code)
         if e is not None:
             return CIdentifier(self.ctx.prefix, "EXCEPTION", e.name)
-        standard = STANDARD_EXCEPTIONS.get(code)
-        if standard is not None:
-            return CIdentifier(
-                "REGMAP_EXC", standard.replace(" ", "_").replace("gateway_target_failed_to_respond", "gateway_target_failed")
-            )
-        return f"0x{code:02X}u"
+        return STANDARD_EXCEPTION_MACROS.get(code, f"0x{code:02X}u")
 
     def read_checks(self, ex: Example, start: int, count: int) -> tuple[list[Check], list[ScaledCheck]]:
+        """Checks that the words a read response carries give each value the example records."""
         checks: list[Check] = []
         scaled: list[ScaledCheck] = []
-        if ex.request is None:
-            return checks, scaled  # the block's address is unknown: only the framing is checked
         base = self.address(start)
-        end = start + count
         for v in ex.values:
             reg = v.register
-            if v.raw is None or reg.address < start or reg.address >= end:
+            own = [a for a in range(reg.address, reg.last_address + 1) if start <= a < start + count]
+            if not own or (v.raw is None and v.words is None):
                 continue
             index = f"(unsigned)({self.ctx.addr(reg)} - {base})"
-            got = f"word_at(words, {count}u, {index})"
-            if reg.paired and reg.first_address >= start and len(v.raw) == 1:
-                high = f"word_at(words, {count}u, (unsigned)({self.ctx.pair_addr(reg)} - {base}))"
-                sign = self.ctx.member_const(reg, "SIGNED")
-                checks.append(Check(f"{reg.name} high word", high, f"regmap_pair_high_word({got}, {sign})"))
-            if reg.words == 1 or (len(v.raw) == 1 and reg.last_address >= end):
-                raw_expr = f"regmap_s16_from_word({got})" if reg.signed and reg.words == 1 else got
-                checks.append(Check(reg.name, raw_expr, c_raw(v.raw[0], reg.signed and reg.words == 1)))
-            elif len(v.raw) == 1:
+            if v.words is not None:
+                if len(v.words) != len(own):
+                    raise _FrameError(f"the response carries {len(own)} words of {reg.name}, the example gives {len(v.words)}")
+                for a, word in zip(own, v.words, strict=True):
+                    checks.append(
+                        Check(f"{reg.name} word {a - reg.address}", f"word_at(words, {count}u, {index} + {a - reg.address}u)", c_hex(word))
+                    )
+                continue
+            raw = v.raw
+            assert raw is not None
+            if len(own) != reg.words:
+                raise _FrameError(f"the response carries only part of {reg.name}, the example gives its whole raw value")
+            word = f"word_at(words, {count}u, {index})"
+            if reg.words == 1:
+                raw_expr = f"regmap_s16_from_word({word})" if reg.signed else word
+            else:
                 func = "regmap_s32_from_words" if reg.signed else "regmap_u32_from_words"
                 raw_expr = f"{func}(at(words, {count}u, {index}, 2u), {self.ctx.member_const(reg, 'WORD_ORDER')})"
-                checks.append(Check(reg.name, raw_expr, c_raw(v.raw[0], reg.signed)))
-            else:
-                for k, word in enumerate(v.raw):
-                    checks.append(Check(f"{reg.name} word {k}", f"word_at(words, {count}u, {index} + {k}u)", c_hex(word)))
-                continue
-            raw = v.raw[0]
+            checks.append(Check(reg.name, raw_expr, c_raw(raw, reg.signed)))
+            if reg.paired and reg.first_address >= start:
+                high = f"word_at(words, {count}u, (unsigned)({self.ctx.pair_addr(reg)} - {base}))"
+                signed = self.ctx.member_const(reg, "SIGNED")
+                checks.append(Check(f"{reg.name} high word", high, f"regmap_pair_high_word({word}, {signed})"))
             if reg.bitfields and reg.words == 1:
                 owner = self.ctx.owner(reg)
                 for b in reg.bitfields:
                     getter = CSymbol(self.ctx.lower, owner, "get", b.name)
-                    checks.append(Check(f"{reg.name}.{b.name}", f"{getter}({got})", c_unsigned((raw & b.mask) >> b.lsb)))
+                    checks.append(Check(f"{reg.name}.{b.name}", f"{getter}({word})", c_unsigned((raw & b.mask) >> b.lsb)))
             elif reg.enum is not None and isinstance(v.value, str) and reg.enum.member(v.value) is not None:
                 checks.append(Check(f"{reg.name} = {v.value}", raw_expr, CIdentifier(self.ctx.prefix, reg.enum.name, v.value)))
             elif isinstance(v.value, int | float) and not isinstance(v.value, bool) and reg.enum is None:
@@ -891,19 +1069,45 @@ class _Frames:
         return checks, scaled
 
 
+@dataclass(frozen=True)
+class _Request:
+    """What a response is checked against: the request it answers."""
+
+    function: int
+    address: int
+    count: int
+    example: Example | None = None
+    value: int = 0  # the word of a write single
+
+
+def _request_from_response(frame: bytes) -> _Request:
+    """For a response that names no request: what the frame itself says it answers."""
+    function = frame[1] & ~EXCEPTION_FLAG & 0xFF
+    if function == READ_HOLDING and not frame[1] & EXCEPTION_FLAG:
+        return _Request(function, 0, max(1, frame[2] // 2))
+    if len(frame) == 8:
+        field = int.from_bytes(frame[4:6], "big")
+        return _Request(function, int.from_bytes(frame[2:4], "big"), field, value=field)
+    return _Request(function, 0, 1)
+
+
+STANDARD_EXCEPTION_MACROS = {
+    0x01: "REGMAP_EXC_ILLEGAL_FUNCTION",
+    0x02: "REGMAP_EXC_ILLEGAL_DATA_ADDRESS",
+    0x03: "REGMAP_EXC_ILLEGAL_DATA_VALUE",
+    0x04: "REGMAP_EXC_SERVER_DEVICE_FAILURE",
+    0x05: "REGMAP_EXC_ACKNOWLEDGE",
+    0x06: "REGMAP_EXC_SERVER_DEVICE_BUSY",
+    0x08: "REGMAP_EXC_MEMORY_PARITY_ERROR",
+    0x0A: "REGMAP_EXC_GATEWAY_PATH_UNAVAILABLE",
+    0x0B: "REGMAP_EXC_GATEWAY_TARGET_FAILED",
+}
+
+
 def frames_test_context(device: Device) -> dict[str, Any]:
-    frames = _Frames(device)
-    return {
-        "header": _header(device),
-        "device": device,
-        "include": f"{device.id}.h",
-        "cases": frames.cases(),
-    }
+    return {"header": _header(device), "device": device, "include": f"{device.id}.h", "cases": _Frames(device).cases()}
 
 
 def render_frames_test(device: Device) -> str:
-    """A C program (stdio, for the host) that checks the header against every frame of the map's examples."""
+    """A host C program (it uses stdio) that checks the header against every frame of the map's examples."""
     return environment().get_template("c/frames_test.c.jinja").render(**frames_test_context(device))
-
-
-__all__ = ["TARGET", "CIdentifier", "CSymbol", "device_context", "render_device", "render_frames_test", "render_shared"]

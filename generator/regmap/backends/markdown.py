@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from regmap_runtime.codec import words_to_raw
+from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.rtu import (
     READ_HOLDING,
     STANDARD_EXCEPTIONS,
@@ -46,6 +46,7 @@ from regmap.model import (
     EnumType,
     Erratum,
     Example,
+    ExampleValue,
     Group,
     Register,
     WordOrder,
@@ -675,13 +676,12 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
         regs = by_member[m.name]
         first = regs[0]
         hex_formula, _ = _formula(array, first.address)
+        address = Md(f"`{hex_formula}`" + (" (2 words)" if first.words == 2 else ""))
         errata = [e for r in regs for e in r.errata]
-        if first.words == 2:
-            hex_formula += " (2 words)"
         rows.append(
             MemberRow(
                 offset=m.offset,
-                address=Md(f"`{hex_formula}`"),
+                address=address,
                 name=_code(m.name),
                 registers=Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"),
                 title=first.title,
@@ -694,8 +694,10 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
             )
         )
         if first.enum is not None or first.bitfields or first.description or first.notes or errata:
-            facts = [Fact("Address", Md(f"`{hex_formula}`, n = {array.first_index} … {array.last_index}"))]
-            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f.label != "Address"]
+            facts = [Fact("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
+            if first.param and regs[-1].param:
+                facts.append(Fact("Parameter", _md(f"{first.param} … {regs[-1].param}")))
+            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f.label not in ("Address", "Parameter")]
             details.append(
                 RegisterView(
                     level="#####",
@@ -906,7 +908,8 @@ def _frame_view(ctx: _Context, label: str, frame: bytes, direction: str, start: 
         data_words(start, end)
     elif parsed.kind == "write_single" and address is not None:
         take(2, "Address", Md(f"{_address(address)} ({address}): {_word_owner(device, address)}"))
-        data_words(address, end)
+        if pos + 2 <= end:
+            take(2, "Value", _word_meaning(device, address, int.from_bytes(frame[pos : pos + 2], "big"))[1])
     elif parsed.kind == "exception" and parsed.exception_code is not None:
         code = parsed.exception_code
         known = device.transport.exception(code)
@@ -936,10 +939,13 @@ def _span(parsed: Frame, start: int | None) -> range:
     return range(0)
 
 
-def _recorded(reg: Register, raw: tuple[int, ...] | None, value: float | str | None) -> Md:
+def _recorded(reg: Register, record: ExampleValue) -> Md:
     parts = []
-    if raw is not None:
-        parts.append("raw " + (_raw_literal(reg, raw[0]) if len(raw) == 1 else "words " + ", ".join(_hex(w) for w in raw)))
+    if record.raw is not None:
+        parts.append("raw " + _raw_literal(reg, record.raw))
+    if record.words is not None:
+        parts.append("words " + ", ".join(_hex(w) for w in record.words))
+    value = record.value
     if isinstance(value, str):
         parts.append(f"“{md_text(value)}”")
     elif value is not None:
@@ -974,9 +980,9 @@ def _decoded_rows(ctx: _Context, example: Example, parsed: Frame, start: int | N
         else:
             raw_text, value = DASH, Md("read" if parsed.kind == "read_request" else DASH)
         record = next((v for v in example.values if v.register == reg), None)
-        recorded = _recorded(reg, record.raw, record.value) if record is not None else Md(DASH)
-        if record is not None and record.raw is not None and len(record.raw) == 1 and decoded_raw is not None:
-            recorded = Md(recorded + (" ✓" if record.raw[0] == decoded_raw else " — **differs from the frame**"))
+        recorded = _recorded(reg, record) if record is not None else Md(DASH)
+        if record is not None and record.raw is not None and decoded_raw is not None:
+            recorded = Md(recorded + (" ✓" if record.raw == decoded_raw else " — **differs from the frame**"))
         address = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.words == 2 else _address(reg.address)
         rows.append(DecodedRow(register=_reg_link(reg), address=address, raw=raw_text, value=value, recorded=recorded))
         ctx.examples_by_register.setdefault(reg.name, [])
@@ -1021,21 +1027,17 @@ def _example_view(ctx: _Context, example: Example) -> ExampleView:
 # ---------------------------------------------------------------------------------------------- the rest
 
 
-def _command_frame(cmd: Command) -> Md:
+def _command_frame(ctx: _Context, cmd: Command) -> Md:
+    """The frame a client sends for the command (to slave 1, with the smallest argument)."""
     reg = cmd.register
     argument = cmd.argument.min if cmd.argument is not None else None
-    raw = cmd.raw_value(argument)
-    unsigned = raw & ((1 << reg.type.bits) - 1)
-    if reg.words == 1:
-        frame = build_write_single(1, reg.address, unsigned)
-    else:
-        high, low = unsigned >> 16, unsigned & 0xFFFF
-        frame = build_write_multiple(1, reg.address, [high, low] if reg.word_order is WordOrder.HIGH_FIRST else [low, high])
+    words = raw_to_words(ctx.specs[reg.name], cmd.raw_value(argument))
+    frame = build_write_single(1, reg.address, words[0]) if len(words) == 1 else build_write_multiple(1, reg.address, words)
     suffix = f" ({DocId(cmd.argument.name)} = {argument})" if cmd.argument is not None else ""
     return Md(f"`{to_hex(frame)}`{suffix}")
 
 
-def _command_view(cmd: Command) -> CommandView:
+def _command_view(ctx: _Context, cmd: Command) -> CommandView:
     reg = cmd.register
     writes = f"`{_hex(cmd.value, reg.words)}`"
     label = _enum_label(reg.enum, cmd.value) if reg.enum is not None else None
@@ -1051,7 +1053,7 @@ def _command_view(cmd: Command) -> CommandView:
         title_zh=cmd.title_zh or DASH,
         register=Md(f"{_reg_link(reg, param=False)} {_address(reg.address)}"),
         writes=Md(writes),
-        frame=_command_frame(cmd),
+        frame=_command_frame(ctx, cmd),
         description=cmd.description or DASH,
         source=_sources(cmd.source),
     )
@@ -1168,17 +1170,16 @@ def device_page(device: Device) -> DevicePage:
         if exceptions
         else Md("The manual lists no exception codes; a device may still answer with the standard Modbus codes 0x01 … 0x04.")
     )
-    zh = f" ({md_text(device.info.vendor_zh)})" if device.info.vendor_zh else ""
     return DevicePage(
         header=tuple(_html_comment(line) for line in header_lines(device, "regmap generate")),
-        title=Md(f"{md_text(device.info.vendor)}{zh} {md_text(device.info.model)}"),
+        title=Md(f"{md_text(device.info.vendor)} {md_text(device.info.model)}"),
         description=_paragraph(device.info.description),
         overview=_overview(device),
         transport_notes=_paragraph(t.notes),
         timing=_timing(device),
         groups=tuple(_group_view(ctx, g) for g in device.groups),
         enums=tuple(_enum_view(ctx, e) for e in device.enums),
-        commands=tuple(_command_view(c) for c in device.commands),
+        commands=tuple(_command_view(ctx, c) for c in device.commands),
         faults=tuple(
             FaultView(
                 anchor=_anchor("fault", f.name),
