@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from typing import Any
 
 import pytest
 from conftest import ROOT, SimulatorFactory
@@ -13,7 +14,7 @@ from test_python_client import client_module
 IDM = ROOT / "maps" / "idm_rs.yaml"
 
 
-def _drive(port: int, retries: int = 0, timeout: float = 0.5) -> object:
+def _drive(port: int, retries: int = 0, timeout: float = 0.5) -> Any:
     idm = client_module("idm_rs")
     return idm.IdmRs.tcp("127.0.0.1", port, slave=1, timeout=timeout, retries=retries, rtu_over_tcp=True)
 
@@ -32,17 +33,16 @@ def _drive(port: int, retries: int = 0, timeout: float = 0.5) -> object:
 def test_every_fault_raises_and_never_returns_a_value(simulator: SimulatorFactory, fault: str, error: type[Exception]) -> None:
     sim = simulator(IDM, "--rtu-over-tcp", "--fault", fault, "--fault-delay", "1.5")
     assert sim.port is not None
-    drive = _drive(sim.port)
-    with drive:  # type: ignore[attr-defined]
-        with pytest.raises(error):
-            value = drive.read_peak_current()  # type: ignore[attr-defined]
-            pytest.fail(f"{fault}: the client returned {value!r}")
+    drive: Any = _drive(sim.port)
+    with drive, pytest.raises(error):
+        value = drive.read_peak_current()
+        pytest.fail(f"{fault}: the client returned {value!r}")
 
 
 def test_exception_fault_is_a_typed_device_exception(simulator: SimulatorFactory) -> None:
     sim = simulator(IDM, "--rtu-over-tcp", "--fault", "exception", "--fault-exception", "0x08")
     assert sim.port is not None
-    with _drive(sim.port) as drive:  # type: ignore[attr-defined]
+    with _drive(sim.port) as drive:
         with pytest.raises(DeviceException) as info:
             drive.read_peak_current()
         assert info.value.code == 0x08
@@ -53,7 +53,7 @@ def test_exception_fault_is_a_typed_device_exception(simulator: SimulatorFactory
 def test_retries_recover_from_one_lost_answer(simulator: SimulatorFactory, fault: str) -> None:
     sim = simulator(IDM, "--rtu-over-tcp", "--fault", fault, "--fault-count", "1")
     assert sim.port is not None
-    with _drive(sim.port, retries=2) as drive:  # type: ignore[attr-defined]
+    with _drive(sim.port, retries=2) as drive:
         assert drive.read_peak_current() == pytest.approx(2.2)
 
 
@@ -97,7 +97,7 @@ def test_protocol_error_names_the_mismatch() -> None:
     from regmap_runtime.plan import ReadBlock
 
     class Short:
-        registers = [1]
+        registers = (1,)
 
     with pytest.raises(ProtocolError, match="asked for 2 registers at 0x0190, got 1"):
         drive.read_words(Short(), ReadBlock(0x0190, 2, ()))
