@@ -75,6 +75,8 @@ def main() -> int:
         problem = rejection_problem(result)
         if problem is not None:
             print(f"regen: {shown(case)} is not rejected cleanly ({problem}); its .expected is left as it was", file=sys.stderr)
+            for line in result.stderr.splitlines()[-5:]:
+                print(f"    {line}", file=sys.stderr)
             refused += 1
             continue
         target = expected_path(case)

@@ -9,7 +9,6 @@ from __future__ import annotations
 import difflib
 import re
 import subprocess
-from functools import cache
 from pathlib import Path
 
 import pytest
@@ -19,10 +18,15 @@ CASES = regen.cases()
 MESSAGE = re.compile(r"^(?P<file>[^:]+):(?P<line>[0-9]+):(?P<col>[0-9]+): \S")
 
 
-@cache
-def _results() -> dict[Path, subprocess.CompletedProcess[str]]:
-    # Every case in one parallel sweep: each run is a fresh interpreter, and there are many cases.
-    return regen.validate_all(CASES)
+@pytest.fixture(scope="module")
+def results(request: pytest.FixtureRequest) -> dict[Path, subprocess.CompletedProcess[str]]:
+    """The selected cases, run in one parallel sweep: each run is a fresh interpreter, and there are many."""
+    selected = [
+        callspec.params["case"]
+        for item in request.session.items
+        if (callspec := getattr(item, "callspec", None)) is not None and item.module is request.module and "case" in callspec.params
+    ]
+    return regen.validate_all(selected)
 
 
 def test_corpus_is_large_and_complete() -> None:
@@ -34,8 +38,8 @@ def test_corpus_is_large_and_complete() -> None:
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.stem for c in CASES])
-def test_invalid_map(case: Path) -> None:
-    result = _results()[case]
+def test_invalid_map(case: Path, results: dict[Path, subprocess.CompletedProcess[str]]) -> None:
+    result = results[case]
     shown = regen.shown(case)
     command = f"regmap validate {shown}"
     problem = regen.rejection_problem(result)

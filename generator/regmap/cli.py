@@ -54,8 +54,9 @@ def cmd_validate(args: argparse.Namespace) -> int:
             status = 1
             continue
         arrays = device.arrays
+        name = " ".join(f"{device.info.vendor} {device.info.model}".split())  # map text stays on one line
         print(
-            f"{path}: ok: {device.info.vendor} {device.info.model} map {device.info.map_version}, "
+            f"{path}: ok: {name} map {device.info.map_version}, "
             f"{len(device.registers)} registers ({len(arrays)} arrays), {len(device.enums)} enums, "
             f"{len(device.commands)} commands, {len(device.examples)} examples, {len(device.errata)} errata"
         )

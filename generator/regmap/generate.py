@@ -64,7 +64,8 @@ def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *
     rendered = render(devices, targets)
     out_dir = out_dir.resolve()
     out_dir.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".regmap-staging-", dir=out_dir.parent))
+    recover(out_dir)
+    staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir.parent))
     try:
         tree = staging / "tree"
         if out_dir.exists():
@@ -87,6 +88,32 @@ def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *
         _swap(tree, out_dir, staging)
         return written
     finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+STAGING_PREFIX = ".regmap-staging-"
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def recover(out_dir: Path) -> None:
+    """Clean up after a run that was killed: put the previous output back if the kill came
+    between the two renames of the swap, and remove staging directories of dead runs."""
+    for staging in sorted(out_dir.parent.glob(STAGING_PREFIX + "*")):
+        pid_text = staging.name[len(STAGING_PREFIX) :].split("-", 1)[0]
+        if not pid_text.isdigit() or _alive(int(pid_text)):
+            continue
+        previous = staging / "previous"
+        if not out_dir.exists() and previous.is_dir():
+            os.rename(previous, out_dir)
         shutil.rmtree(staging, ignore_errors=True)
 
 

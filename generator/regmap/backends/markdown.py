@@ -197,8 +197,7 @@ class Fact:
 @dataclass(frozen=True)
 class QuickRow:
     param: str
-    address: Md
-    decimal: str
+    address: Md  # hex, then decimal in parentheses
     name: Md
     title: str
     title_zh: str
@@ -484,14 +483,12 @@ def _address_facts(reg: Register) -> Md:
 
 def _quick_row(reg: Register) -> QuickRow:
     if reg.words == 2:
-        address = Md(f"{_address(reg.address)}–{_address(reg.last_address)}")
-        decimal = f"{reg.address}–{reg.last_address}"
+        address = Md(f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})")
     else:
-        address, decimal = _address(reg.address), str(reg.address)
+        address = Md(f"{_address(reg.address)} ({reg.address})")
     return QuickRow(
         param=reg.param or DASH,
         address=address,
-        decimal=decimal,
         name=_link(_code(reg.name), DocId(reg.name)),
         title=reg.title,
         title_zh=reg.title_zh or DASH,
@@ -759,8 +756,7 @@ def _array_quick_rows(ctx: _Context, array: ArrayDef) -> list[QuickRow]:
         out.append(
             QuickRow(
                 param=params,
-                address=Md(f"`{hex_formula}`"),
-                decimal=dec_formula,
+                address=Md(f"`{hex_formula}` ({dec_formula})"),
                 name=_link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), _anchor("array", array.name)),
                 title=first.title,
                 title_zh=first.title_zh or DASH,
@@ -1304,11 +1300,23 @@ TARGET = Target(name="markdown", subdir="docs", per_device=render_device, shared
 
 
 # ---------------------------------------------------------------------------------------------- mkdocs hook
+# mkdocs.yml names this file under `hooks:`. The generated pages are plain Markdown that also reads
+# well on a code host; what only the site needs (the project's own pages, a stylesheet for the wide
+# tables) is added here, at build time, rather than written into generated/docs.
+
+SITE_CSS = "css/regmap.css"
+
+
+def on_config(config: MkDocsConfig) -> MkDocsConfig:
+    """mkdocs hook: load the stylesheet `on_files` adds."""
+    if SITE_CSS not in config.extra_css:
+        config.extra_css.append(SITE_CSS)
+    return config
 
 
 def on_files(files: MkDocsFiles, config: MkDocsConfig) -> MkDocsFiles:
-    """mkdocs hook (mkdocs.yml `hooks:`): add the project's own pages, docs/*.md beside mkdocs.yml,
-    to the site whose pages `regmap generate` wrote, so the map format is published with the maps."""
+    """mkdocs hook: add the project's own pages (docs/*.md beside mkdocs.yml, the map format) and
+    the stylesheet to the site whose pages `regmap generate` wrote."""
     from pathlib import Path
 
     from mkdocs.exceptions import PluginError
@@ -1319,4 +1327,5 @@ def on_files(files: MkDocsFiles, config: MkDocsConfig) -> MkDocsFiles:
         if files.get_file_from_path(path.name) is not None:
             raise PluginError(f"docs/{path.name} and a generated page have the same name")
         files.append(File.generated(config, path.name, abs_src_path=str(path)))
+    files.append(File.generated(config, SITE_CSS, content=environment().get_template("docs/regmap.css.jinja").render()))
     return files
