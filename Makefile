@@ -41,5 +41,9 @@ typecheck: $(STAMP)
 
 check: lint test
 
+docs: $(STAMP)
+	$(BIN)/regmap generate --target markdown
+	$(BIN)/mkdocs build --strict
+
 clean:
 	rm -rf $(VENV) build *.egg-info generator/*.egg-info .pytest_cache .mypy_cache .ruff_cache

@@ -24,6 +24,24 @@ if str(GENERATED_PY) not in sys.path:
     sys.path.insert(0, str(GENERATED_PY))
 
 
+_SMALL_PY: list[Path] = []
+
+
+def small_maps_python() -> Path:
+    """Python clients of the small fixture maps (not committed under generated/), made once per run."""
+    if not _SMALL_PY:
+        import tempfile
+
+        from regmap.frontend import load_map
+        from regmap.generate import generate
+
+        out = Path(tempfile.mkdtemp(prefix="regmap-small-")) / "generated"
+        generate([load_map(p) for p in SMALL_MAPS], out, ["python"], complete=True)
+        _SMALL_PY.append(out / "python")
+        sys.path.append(str(out / "python"))
+    return _SMALL_PY[0]
+
+
 def require_tool(name: str) -> str:
     """Path of a system tool; skip without it, except under CI=true where its absence is a failure."""
     path = shutil.which(name)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import pytest
-from conftest import MAPS
+from conftest import MAPS, SMALL_MAPS, small_maps_python
 from regmap.frames import decode_frame
 from regmap.frontend import load_map
 from regmap.model import Device, Example, ExampleValue
@@ -26,12 +26,12 @@ from regmap_runtime.codec import value_to_raw
 from regmap_runtime.errors import DeviceException, RegmapError
 from regmap_runtime.rtu import build_read, build_read_response, build_write_multiple_response, crc_ok, parse_frame, to_hex
 
-DEVICES = {path.stem: load_map(path) for path in MAPS}
+DEVICES = {path.stem: load_map(path) for path in (*MAPS, *SMALL_MAPS)}
 
 
 def _cases() -> list[tuple[str, str | None, str | None]]:
     """(device, request example id, response example id or None) for every request example."""
-    cases = []
+    cases: list[tuple[str, str | None, str | None]] = []
     for name, device in DEVICES.items():
         responses: dict[str, list[Example]] = {}
         for ex in device.examples:
@@ -124,6 +124,8 @@ def fake_device() -> Iterator[list[FakeDevice]]:
 
 
 def _client(device: Device, port: int, slave: int) -> Any:
+    if device.source_path in {str(p) for p in SMALL_MAPS}:
+        small_maps_python()
     module = importlib.import_module(device.id)
     client_class = getattr(module, module.__all__[0])  # the sync client class comes first
     return client_class.tcp("127.0.0.1", port, slave=slave, timeout=1.0, retries=0, rtu_over_tcp=True), module
@@ -210,6 +212,7 @@ def test_client_reproduces_example(
     if expected_exception:
         assert response is not None
         meaning = device.transport.exception(response.wire_frame[2])
+        assert info is not None
         assert meaning is None or info.value.meaning == meaning.title
     if response is not None and isinstance(result, dict):
         for v in response.values:

@@ -118,7 +118,7 @@ def test_decoder_on_arbitrary_bytes_never_raises_anything_else(index: int, data:
 
 @st.composite
 def register_sets(draw: st.DrawFn) -> list[RegisterSpec[Any]]:
-    specs = []
+    specs: list[RegisterSpec[Any]] = []
     address = draw(st.integers(0, 50))
     for i in range(draw(st.integers(1, 25))):
         address += draw(st.integers(0, 3))  # gaps of up to 3 words

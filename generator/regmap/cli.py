@@ -73,11 +73,14 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_generate(args: argparse.Namespace) -> int:
+    from regmap.diff import changelog_pages, write_pages
     from regmap.generate import generate, target_names
 
     targets = args.target or target_names()
     devices = load_all(args.maps)
+    pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
     written = generate(devices, Path(args.out), targets, complete=not args.maps)
+    written += write_pages(Path(args.out), pages)
     print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
     return 0
 
@@ -221,6 +224,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("maps", nargs="*", metavar="MAP", help="map files (default: every maps/*.yaml)")
     p.add_argument("--out", default="generated", metavar="DIR", help="output directory (default: generated)")
     p.add_argument("--target", action="append", choices=_target_choices(), help="only this target (repeatable)")
+    p.add_argument("--since", metavar="GITREV", help="also write docs/<device>-changelog.md: `regmap diff` of each map against GITREV")
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser(
@@ -303,7 +307,32 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fault-exception", type=lambda v: int(v, 0), default=0x04, metavar="CODE", help="code for --fault exception")
     p.set_defaults(func=cmd_simulate)
 
+    p = sub.add_parser(
+        "diff",
+        help="what changed between two versions of a map, what it breaks, and the version bump it needs",
+        description="Compare two maps: registers are matched by name, then parameter id, then address, so a rename or a move is one change. Each change is breaking or compatible; the report suggests the map_version bump.",
+        epilog="OLD and NEW are map files; PATH@GITREV reads the map at a git revision (maps/idm_rs.yaml@HEAD~1). " + _diff_exit_help(),
+    )
+    p.add_argument("old", metavar="OLD", help="the earlier map: PATH or PATH@GITREV")
+    p.add_argument("new", metavar="NEW", help="the later map: PATH or PATH@GITREV")
+    p.add_argument("--format", choices=["text", "markdown", "json"], default="text", help="text (default), markdown (a changelog) or json")
+    p.set_defaults(func=cmd_diff)
+
     return parser
+
+
+def _diff_exit_help() -> str:
+    from regmap.diff import EXIT_HELP
+
+    return EXIT_HELP
+
+
+def cmd_diff(args: argparse.Namespace) -> int:
+    from regmap import diff
+
+    report = diff.compare(diff.load_spec(args.old), diff.load_spec(args.new))
+    sys.stdout.write(diff.render(report, args.format))
+    return report.exit_status
 
 
 def _target_choices() -> list[str]:

@@ -52,6 +52,8 @@ def md_text(text: str | None) -> str:
     cleaned = " ".join((text or "").split())
     for char, escaped in (
         ("\\", "\\\\"),
+        ("&", "&amp;"),
+        ("~", "&#126;"),  # GitHub reads 0~22 ... 0~80 as strikethrough
         ("|", "\\|"),
         ("<", "&lt;"),
         (">", "&gt;"),

@@ -352,8 +352,11 @@ class ArrayMemberView:
 class ArrayView:
     template: str
     comment: str
-    prefix: str
-    macros: tuple[Macro, ...]  # BASE FIRST LAST COUNT STRIDE
+    base: str  # names of the BASE, FIRST, COUNT and STRIDE macros
+    first: str
+    count: str
+    stride: str
+    macros: tuple[Macro, ...]
     check: str  # C condition: index n in range
     members: tuple[ArrayMemberView, ...]
 
@@ -393,14 +396,14 @@ class _Context:
         self.device = device
         self.names = _Names(device)
         self.prefix = CIdentifier(device.id)
-        self.lower = CSymbol(device.id)
+        self.lower = device.id  # only ever the start of a name; CSymbol checks the whole name
         self.arrays = {a.name: a for a in device.arrays}
 
-    def const(self, *parts: str) -> str:
-        return self.names.add(CIdentifier(self.prefix, *parts), " ".join(parts) or "the device")
+    def const(self, *parts: str, what: str = "") -> str:
+        return self.names.add(CIdentifier(self.prefix, *parts), what or " ".join(parts))
 
-    def symbol(self, *parts: str) -> str:
-        return self.names.add(CSymbol(self.lower, *parts), " ".join(parts))
+    def symbol(self, *parts: str, what: str = "") -> str:
+        return self.names.add(CSymbol(self.lower, *parts), what or " ".join(parts))
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""
@@ -515,7 +518,7 @@ def _bitfield_comment(b: Bitfield) -> str:
 
 def _register_view(ctx: _Context, reg: Register) -> RegisterView:
     values, _ = _value_macros(ctx, reg, reg.name, (reg,))
-    macros = [Macro(ctx.const(reg.name, "ADDR"), c_hex(reg.address)), *values]
+    macros = [Macro(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
     if reg.paired:
         macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
     return RegisterView(
@@ -528,8 +531,7 @@ def _register_view(ctx: _Context, reg: Register) -> RegisterView:
 
 
 def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
-    base = CIdentifier(ctx.prefix, array.name)
-    macros = (
+    base, first, _last, count, stride = macros = (
         Macro(ctx.const(array.name, "BASE"), c_hex(array.base)),
         Macro(ctx.const(array.name, "FIRST"), c_unsigned(array.first_index)),
         Macro(ctx.const(array.name, "LAST"), c_unsigned(array.last_index)),
@@ -537,7 +539,7 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
         Macro(ctx.const(array.name, "STRIDE"), c_unsigned(array.stride)),
     )
     # `n - FIRST < COUNT` on an unsigned n checks both bounds, without the `n >= 0` that -Wtype-limits flags.
-    check = f"n - {base}_FIRST < {base}_COUNT"
+    check = f"n - {first.name} < {count.name}"
     members = []
     for member in array.members:
         elements = [ctx.device.register(f"{array.name}_{n}_{member.name}") for n in range(array.first_index, array.last_index + 1)]
@@ -548,7 +550,7 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
             ArrayMemberView(
                 comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
                 description=reg.description,
-                addr_macro=ctx.const(owner, "ADDR"),
+                addr_macro=ctx.const(owner, "ADDR", what=f"the address of member {member.name} of array {array.name}"),
                 offset=c_unsigned(member.offset),
                 pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
                 addr_function=ctx.symbol(owner, "addr"),
@@ -564,7 +566,17 @@ def _array_view(ctx: _Context, array: ArrayDef) -> ArrayView:
         array.description,
         _sections(array.source),
     )
-    return ArrayView(template="c/array.h.jinja", comment=comment, prefix=base, macros=macros, check=check, members=tuple(members))
+    return ArrayView(
+        template="c/array.h.jinja",
+        comment=comment,
+        base=base.name,
+        first=first.name,
+        count=count.name,
+        stride=stride.name,
+        macros=macros,
+        check=check,
+        members=tuple(members),
+    )
 
 
 def _group_views(ctx: _Context) -> list[GroupView]:
@@ -587,14 +599,14 @@ def _enum_view(ctx: _Context, e: EnumType) -> EnumView:
     as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
     members = tuple(
         Macro(
-            ctx.const(e.name, m.name),
+            ctx.const(e.name, m.name, what=f"member {m.name} of enum {e.name}"),
             c_raw(m.value, m.value < 0) if as_macros else _enum_literal(m.value),
             _sentences(_titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description),
         )
         for m in e.members
     )
     comment = _sentences(_titled(e.title, e.title_zh), e.description, _sections(e.source))
-    return EnumView(type_name=ctx.symbol(e.name), comment=comment, members=members, as_macros=as_macros)
+    return EnumView(type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"), comment=comment, members=members, as_macros=as_macros)
 
 
 def _command_view(ctx: _Context, cmd: Command) -> CommandView:
@@ -626,7 +638,7 @@ def _command_view(ctx: _Context, cmd: Command) -> CommandView:
         comment=comment,
         addr=Macro(ctx.const("CMD", cmd.name, "ADDR"), ctx.addr(reg)),
         value=value,
-        function=ctx.symbol("build", cmd.name),
+        function=ctx.symbol("build", cmd.name, what=f"the helper of command {cmd.name}"),
         argument=argument,
         argument_type=argument_type,
         argument_macros=argument_macros,
@@ -648,7 +660,8 @@ def _transport_macros(ctx: _Context) -> list[Macro]:
         Macro(ctx.const("SLAVE_MAX"), c_unsigned(t.slave_max)),
     ]
     if t.broadcast_id is not None:
-        macros.append(Macro(ctx.const("BROADCAST_ID"), c_unsigned(t.broadcast_id), "the device does not answer broadcasts"))
+        macros.append(Macro(ctx.const("HAS_BROADCAST"), "1"))
+        macros.append(Macro(ctx.const("BROADCAST_ID"), c_unsigned(t.broadcast_id), "a request to it is not answered"))
     else:
         macros.append(Macro(ctx.const("HAS_BROADCAST"), "0", "the manual says the device does not support broadcast"))
     macros += [
@@ -692,14 +705,18 @@ def device_context(device: Device) -> dict[str, Any]:
         about.append(f"Firmware: {info.firmware}")
     transport = _transport_macros(ctx)
     exceptions = tuple(
-        Macro(ctx.const("EXCEPTION", e.name), f"0x{e.code:02X}", _sentences(_titled(e.title, e.title_zh), _sections(e.source)))
+        Macro(
+            ctx.const("EXCEPTION", e.name, what=f"exception {e.name}"),
+            f"0x{e.code:02X}",
+            _sentences(_titled(e.title, e.title_zh), _sections(e.source)),
+        )
         for e in device.transport.exceptions
     )
     enums = [_enum_view(ctx, e) for e in device.enums]
     groups = _group_views(ctx)
     commands = [_command_view(ctx, c) for c in device.commands]
     faults = [
-        Macro(ctx.const("FAULT", f.name), c_hex(f.value), f"{f.code} {_titled(f.title, f.title_zh)} ({f.kind})")
+        Macro(ctx.const("FAULT", f.name, what=f"fault {f.name}"), c_hex(f.value), f"{f.code} {_titled(f.title, f.title_zh)} ({f.kind})")
         for f in device.faults
         if f.value is not None
     ]
@@ -709,7 +726,8 @@ def device_context(device: Device) -> dict[str, Any]:
         "device": device,
         "guard": CIdentifier("REGMAP", device.id, "H"),
         "shared_header": SHARED_HEADER,
-        "prefix": ctx.prefix,
+        "max_read": CIdentifier(ctx.prefix, "MAX_READ_REGISTERS"),
+        "max_write": CIdentifier(ctx.prefix, "MAX_WRITE_REGISTERS"),
         "map_version": ctx.const("MAP_VERSION"),
         "map_fingerprint": ctx.const("MAP_FINGERPRINT"),
         "transport": transport,
@@ -955,8 +973,8 @@ class _Frames:
                 own = [a for a in inside if a >= reg.address]
                 if len(v.words) != len(own):
                     raise _FrameError(f"the frame carries {len(own)} words of {reg.name}, the example gives {len(v.words)}")
-                for a, word in zip(own, v.words, strict=True):
-                    statements.append(f"put(w, {count}u, {index} + {a - reg.address}u, {c_hex(word)});")
+                for a, given in zip(own, v.words, strict=True):
+                    statements.append(f"put(w, {count}u, {index} + {a - reg.address}u, {c_hex(given)});")
                     filled.add(a)
                 continue
             raw = v.raw
@@ -975,9 +993,9 @@ class _Frames:
                 order = self.ctx.member_const(reg, "WORD_ORDER")
                 statements.append(f"{func}({c_raw(raw, reg.signed)}, {order}, at(w, {count}u, {index}, 2u));")
             filled.update(inside)
-        for offset, word in enumerate(frame_words):
+        for offset, literal in enumerate(frame_words):
             if start + offset not in filled:
-                statements.append(f"put(w, {count}u, {offset}u, {c_hex(word)}); /* no value in the example */")
+                statements.append(f"put(w, {count}u, {offset}u, {c_hex(literal)}); /* no value in the example */")
         return tuple(statements)
 
     def response(self, ex: Example) -> FrameCase:
@@ -1037,9 +1055,9 @@ class _Frames:
             if v.words is not None:
                 if len(v.words) != len(own):
                     raise _FrameError(f"the response carries {len(own)} words of {reg.name}, the example gives {len(v.words)}")
-                for a, word in zip(own, v.words, strict=True):
+                for a, given in zip(own, v.words, strict=True):
                     checks.append(
-                        Check(f"{reg.name} word {a - reg.address}", f"word_at(words, {count}u, {index} + {a - reg.address}u)", c_hex(word))
+                        Check(f"{reg.name} word {a - reg.address}", f"word_at(words, {count}u, {index} + {a - reg.address}u)", c_hex(given))
                     )
                 continue
             raw = v.raw

@@ -120,13 +120,16 @@ _BLOCK_START = re.compile(r"^(?:[#>+\-]|\d+[.)])")
 
 
 def _paragraph(text: str | None) -> Md:
-    """Escaped text that stays one paragraph: a leading `#`, `>`, `-`, `+` or `1.` would start a block."""
+    """Escaped text that stays one paragraph: a leading `#`, `>`, `-`, `+`, `1.` or `~~~` would start
+    a block (`md_text` already folds the text onto one line and escapes everything inline)."""
     escaped = md_text(text)
     match = _BLOCK_START.match(escaped)
     if match:
         marker = match.group(0)
         escaped = (marker[:-1] + "\\" + marker[-1] if marker[0].isdigit() else "\\" + marker) + escaped[len(marker) :]
-    return Md(escaped.replace("~", "&#126;"))
+    elif escaped.startswith("~"):
+        escaped = "&#126;" + escaped[1:]
+    return Md(escaped)
 
 
 def _html_comment(line: str) -> str:
@@ -600,7 +603,7 @@ def _bitfield_view(ctx: _Context, reg: Register) -> BitfieldView:
         )
         for b in sorted(reg.bitfields, key=lambda b: b.lsb)
     )
-    owner = f"{reg.array.array} member {reg.array.member}" if reg.array else reg.name
+    owner = f"{DocId(reg.array.array)} member {DocId(reg.array.member)}" if reg.array else DocId(reg.name)
     return BitfieldView(diagram=diagram_path(ctx.device, reg), alt=f"Bit layout of {owner}", rows=rows)
 
 
@@ -979,8 +982,8 @@ def _decoded_rows(ctx: _Context, example: Example, parsed: Frame, start: int | N
         recorded = _recorded(reg, record) if record is not None else Md(DASH)
         if record is not None and record.raw is not None and decoded_raw is not None:
             recorded = Md(recorded + (" ✓" if record.raw == decoded_raw else " — **differs from the frame**"))
-        address = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.words == 2 else _address(reg.address)
-        rows.append(DecodedRow(register=_reg_link(reg), address=address, raw=raw_text, value=value, recorded=recorded))
+        where = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.words == 2 else _address(reg.address)
+        rows.append(DecodedRow(register=_reg_link(reg), address=where, raw=raw_text, value=value, recorded=recorded))
         ctx.examples_by_register.setdefault(reg.name, [])
         if example.id not in ctx.examples_by_register[reg.name]:
             ctx.examples_by_register[reg.name].append(example.id)

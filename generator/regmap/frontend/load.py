@@ -129,17 +129,18 @@ def _schema_problems(raw: dict[str, Any], positions: Positions, name: str) -> li
     for umbrella in _validator().iter_errors(raw):
         error, message = _pick(umbrella)
         path = tuple(error.absolute_path)
+        instance: Any = error.instance
         if error.validator == "additionalProperties":
             # One line per unknown key, at the key itself.
             known = sorted(error.schema.get("properties", {})) if isinstance(error.schema, dict) else []
-            for key in sorted(set(error.instance) - set(known)):
+            for key in sorted(set(instance) - set(known)):
                 line, col = positions.locate_key((*path, key))
                 close = difflib.get_close_matches(key, known, n=1)
                 hint = f" (did you mean {close[0]!r}?)" if close else ""
                 problems.append(Diagnostic(name, line, col, f"{_dotted(path)}: unknown key {key!r}{hint}"))
             continue
         if "propertyNames" in error.schema_path:
-            line, col = positions.locate_key((*path, error.instance))
+            line, col = positions.locate_key((*path, instance))
         else:
             line, col = positions.locate(path)
         message = message if len(message) <= 200 else message[:197] + "..."
@@ -187,7 +188,7 @@ _TYPE_NAMES = {
 
 def _schema_message(error: jsonschema.ValidationError) -> str:
     """jsonschema's message, reworded where it would show Python spellings (None, True) or a bare regex."""
-    value = error.validator_value
+    value: Any = error.validator_value
     if error.validator == "required":
         return error.message.replace("is a required property", "is required")
     if error.validator == "pattern" and value in _PATTERNS:
@@ -497,8 +498,8 @@ class _Elaborator:
             if "array" in entry:
                 array, expanded = self._array(entry, epath, defaults, g["id"], word_order)
                 arrays.append(array)
-                for reg, member_path in expanded:
-                    registers.append(reg)
+                for element, member_path in expanded:
+                    registers.append(element)
                     self.register_paths.append(member_path)
             else:
                 reg = self._register({**defaults, **entry}, epath, g["id"], word_order)

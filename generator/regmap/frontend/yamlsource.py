@@ -1,8 +1,9 @@
 """Safe YAML reading that keeps the line and column of every value.
 
 PyYAML's safe loader forgets positions and lets a duplicate key silently win; this reader composes
-the node tree itself, so duplicate keys become errors, alias expansion is bounded (no alias bombs),
-and only the plain YAML types can be produced (no object tags).
+the node tree itself, so duplicate keys become errors, alias expansion and nesting are bounded (no
+alias bombs, no recursion errors), and only the plain YAML types can be produced: strings, integers,
+finite floats, booleans, null, lists and mappings with string keys (no object tags, dates or binary).
 """
 
 from __future__ import annotations
@@ -20,14 +21,15 @@ MAX_NODES = 200_000  # far above any real map (the largest has a few thousand no
 MAX_DEPTH = 64  # real maps nest about 8 levels; the bound keeps recursion far from Python's limit
 MAX_INT_CHARS = 100  # no register value needs more; Python refuses int() of over 4300 digits anyway
 _AMBIGUOUS_INT = re.compile(r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$")
-_PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
+_YAML_TAG = "tag:yaml.org,2002:"
+_PLAIN_TAGS = {_YAML_TAG + "map", _YAML_TAG + "seq"}
 # PyYAML's wording names parser states; these say what usually causes them.
 _SYNTAX_HINTS = [
     ("mapping values are not allowed here", "; a key indented deeper than its siblings, or an unquoted ': ' inside a value?"),
     ("expected <block end>", "; check the indentation"),
     ("found character '\\t'", "; indent with spaces, not tabs"),
 ]
-_SCALAR_TAGS = {f"tag:yaml.org,2002:{t}" for t in ("str", "int", "float", "bool", "null")}
+_SCALAR_TAGS = {_YAML_TAG + t for t in ("str", "int", "float", "bool", "null")}
 
 
 @dataclass
@@ -115,7 +117,7 @@ class _Builder:
             return self._scalar(node)
         line, col = _mark(node)
         if node.tag not in _PLAIN_TAGS:
-            raise YamlProblem(line, col, f"unsupported YAML tag {node.tag!r}")
+            raise YamlProblem(line, col, f"unsupported YAML tag {_tag(node.tag)}; a map holds only plain values")
         if any(node is outer for outer in self.open):
             raise YamlProblem(line, col, "an alias refers to a collection that contains it (a recursive structure)")
         if len(self.open) >= MAX_DEPTH:
@@ -162,7 +164,7 @@ class _Builder:
         if node.tag == "tag:yaml.org,2002:timestamp":
             raise YamlProblem(line, col, f"{text!r} reads as a YAML date; quote it if it is text")
         if node.tag not in _SCALAR_TAGS:
-            raise YamlProblem(line, col, f"unsupported YAML tag {node.tag!r}")
+            raise YamlProblem(line, col, f"unsupported YAML tag {_tag(node.tag)}; a map holds only plain values")
         try:
             value = self.constructor.construct_object(node, deep=True)
         except (yaml.constructor.ConstructorError, ValueError, KeyError):  # an explicit tag on text it cannot read
@@ -170,6 +172,11 @@ class _Builder:
         if isinstance(value, float) and not math.isfinite(value):
             raise YamlProblem(line, col, f"number {text!r} is not finite (too large for a 64-bit float, or .inf/.nan)")
         return value
+
+
+def _tag(tag: str) -> str:
+    """A tag as it is written in the file: !!python/object:x rather than tag:yaml.org,2002:python/object:x."""
+    return "!!" + tag.removeprefix(_YAML_TAG) if tag.startswith(_YAML_TAG) else tag
 
 
 def _reading(value: Any) -> str:
