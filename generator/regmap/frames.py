@@ -175,12 +175,13 @@ def parse_assignments(device: Device, assignments: Sequence[str], raw: bool) -> 
             raise UsageError(f"{reg.label} is read-only")
         spec = regs.spec(reg)
         try:
+            symbolic = None if raw else symbolic_raw(reg, value_text)
             if raw:
                 number = parse_int(value_text, reg.label)
+            elif symbolic is not None:
+                number = symbolic
             else:
-                number = symbolic_raw(reg, value_text)
-                if number is None:
-                    number = value_to_raw(spec, value_text)
+                number = value_to_raw(spec, value_text)
             check_raw(spec, number)
         except RangeError as exc:
             raise UsageError(str(exc)) from None
