@@ -46,6 +46,14 @@ def test_invalid_map(case: Path, results: dict[Path, subprocess.CompletedProcess
     problem = regen.rejection_problem(result)
     assert problem is None, f"`{command}`: {problem}\n--- stderr ---\n{result.stderr}"
 
+    line_count = max(1, case.read_bytes().count(b"\n") + 1)
+    for message in result.stderr.splitlines():
+        match = MESSAGE.match(message)
+        assert match is not None, f"not `file:line:col: message`: {message!r}"
+        assert match["file"] == shown, message
+        assert 1 <= int(match["line"]) <= line_count, f"line out of the file: {message}"
+        assert int(match["col"]) >= 1, message
+
     expected_file = regen.expected_path(case)
     expected = expected_file.read_text(encoding="utf-8") if expected_file.exists() else ""
     if result.stderr != expected:
@@ -61,11 +69,3 @@ def test_invalid_map(case: Path, results: dict[Path, subprocess.CompletedProcess
             f"the errors for {shown} changed:\n{diff}\nIf the new text is right, run `{regen.REGEN_COMMAND}` and commit the result.",
             pytrace=False,
         )
-
-    line_count = max(1, case.read_bytes().count(b"\n") + 1)
-    for message in result.stderr.splitlines():
-        match = MESSAGE.match(message)
-        assert match is not None, f"not `file:line:col: message`: {message!r}"
-        assert match["file"] == shown, message
-        assert 1 <= int(match["line"]) <= line_count, f"line out of the file: {message}"
-        assert int(match["col"]) >= 1, message

@@ -40,6 +40,13 @@ def load_all(paths: Sequence[str]) -> list[Device]:
             errors.extend(exc.diagnostics)
     if errors:
         raise MapError(errors)
+    seen: dict[str, str] = {}
+    for device in devices:
+        if device.id in seen:
+            raise UsageError(
+                f"{device.source_path} and {seen[device.id]} both have device id {device.id!r}; their generated files would overwrite each other"
+            )
+        seen[device.id] = device.source_path
     return devices
 
 

@@ -1,0 +1,48 @@
+"""The README's examples work as printed."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+from conftest import GENERATED, GENERATED_PY, ROOT, require_tool
+
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def _block(language: str, contains: str) -> str:
+    for match in re.finditer(rf"```{language}\n(.*?)```", README, re.S):
+        if contains in match.group(1):
+            return match.group(1)
+    raise AssertionError(f"no {language} block with {contains!r} in the README")
+
+
+def test_c_example_compiles(tmp_path: Path) -> None:
+    cc = require_tool("gcc")
+    source = tmp_path / "readme.c"
+    source.write_text(_block("c", "idm_rs.h"), encoding="utf-8")
+    flags = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wconversion", "-Wno-missing-prototypes"]
+    result = subprocess.run(
+        [cc, *flags, "-I", str(GENERATED / "c"), "-c", str(source), "-o", str(tmp_path / "readme.o")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert result.returncode == 0, result.stderr
+
+
+def test_python_example_type_checks(tmp_path: Path) -> None:
+    code = _block("python", "from idm_rs import").replace('sys.path.insert(0, "generated/python")', "pass")
+    program = tmp_path / "readme_example.py"
+    program.write_text(code, encoding="utf-8")
+    result = subprocess.run(
+        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", str(program)],
+        cwd=GENERATED_PY,
+        capture_output=True,
+        text=True,
+        check=False,
+        env={"MYPYPATH": str(GENERATED_PY), "PATH": "/usr/bin:/bin"},
+    )
+    assert result.returncode == 0, result.stdout
