@@ -229,11 +229,7 @@ CASES = [
     Case("moved", set_(status, "address", 0x1004), (("register_moved", "run_status", R),)),
     Case("moved_with_its_param", _move_with_param, (("register_moved", "motor_direction", R),)),
     # width / type / word order / pairing
-    Case(
-        "width_changed",
-        set_(lambda d: register(d, "pulses_per_revolution"), "type", "u32"),
-        (("register_type_changed", "pulses_per_revolution", R),),
-    ),
+    Case("width_changed", set_(status, "type", "u32"), (("register_type_changed", "run_status", R),)),
     Case("signedness_changed", set_(peak, "type", "s16"), (("register_type_changed", "peak_current", R),)),
     Case(
         "word_order_changed",
@@ -362,7 +358,9 @@ CASES = [
     # commands
     Case(
         "command_added",
-        lambda d: d["commands"].append({"name": "factory_reset", "title": "Factory reset", "register": "control_word", "value": 0x2233, "source": "5.3.3"}),
+        lambda d: d["commands"].append(
+            {"name": "factory_reset", "title": "Factory reset", "register": "control_word", "value": 0x2233, "source": "5.3.3"}
+        ),
         (("command_added", "factory_reset", C),),
     ),
     Case(

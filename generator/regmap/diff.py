@@ -158,7 +158,7 @@ KINDS: dict[str, Kind] = {
     "command_effect_changed": Kind("command", "Command effects changed", "patch: what the simulator does"),
     "command_doc_changed": Kind("command", "Command documentation changed", "patch"),
     "fault_removed": Kind("fault", "Faults removed", "breaking: the C header defines them"),
-    "fault_changed": Kind("fault", "Faults changed", "breaking when the code or value changes; patch for kind or resettable"),
+    "fault_changed": Kind("fault", "Faults changed", "breaking when the name, code or value changes; patch for kind or resettable"),
     "fault_added": Kind("fault", "Faults added", "minor"),
     "fault_doc_changed": Kind("fault", "Fault documentation changed", "patch"),
     "example_added": Kind("example", "Examples added", "patch: documentation"),
