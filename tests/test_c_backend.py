@@ -279,7 +279,7 @@ def test_literals() -> None:
 
 
 def _small_map() -> dict[str, object]:
-    data: dict[str, object] = yaml.safe_load(SMALL_MAPS[0].read_text(encoding="utf-8"))
+    data: dict[str, object] = yaml.safe_load((ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml").read_text(encoding="utf-8"))
     return data
 
 

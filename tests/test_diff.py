@@ -7,6 +7,8 @@ states the changes `regmap diff` must report, exactly: no more, no fewer.
 
 from __future__ import annotations
 
+import copy
+import functools
 import json
 import os
 import shutil
@@ -42,13 +44,20 @@ Edit = Callable[[Map], None]
 # -- editing a map --------------------------------------------------------------------------
 
 
-def base() -> Map:
+@functools.cache
+def _v1() -> Map:
     data: Map = yaml.safe_load(V1.read_text(encoding="utf-8"))
     return data
 
 
+def base() -> Map:
+    """A fresh copy of v1 as plain data, to edit."""
+    return copy.deepcopy(_v1())
+
+
 def write(data: Map, path: Path) -> Path:
-    path.write_text(yaml.safe_dump(data, allow_unicode=True, sort_keys=False), encoding="utf-8")
+    dumper = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
+    path.write_text(yaml.dump(data, Dumper=dumper, allow_unicode=True, sort_keys=False), encoding="utf-8")
     return path
 
 

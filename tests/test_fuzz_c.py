@@ -8,7 +8,6 @@ import subprocess
 from pathlib import Path
 
 from conftest import GENERATED, MAPS, ROOT, require_tool
-
 from regmap.frontend import load_map
 
 FUZZ_SECONDS = int(os.environ.get("REGMAP_FUZZ_SECONDS", "20"))

@@ -13,9 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from regmap import __version__
-from regmap.diagnostics import MapError, UsageError
+from regmap.diagnostics import LinkError, MapError, UsageError
 from regmap.frontend import load_map
-from regmap.live import LinkError
 from regmap.model import Device
 
 DEFAULT_MAPS_DIR = Path("maps")

@@ -26,3 +26,7 @@ class MapError(Exception):
 
 class UsageError(Exception):
     """A bad command-line argument or runtime input (selector, value, frame); one line for the user."""
+
+
+class LinkError(Exception):
+    """The bus failed (no answer, connection lost, exception response); one line for the user."""

@@ -232,28 +232,29 @@ class Report:
     def bump(self) -> Bump:
         return max((c.bump for c in self.changes), default=Bump.NONE)
 
-    @property
-    def suggested_version(self) -> str | None:
-        """OLD's map_version bumped as the changes need (None when it is not X.Y.Z)."""
+    def _target(self) -> tuple[int, int, int] | None:
         v = _semver(self.old.info.map_version)
         if v is None:
             return None
         major, minor, patch = v
-        bumped = {
+        return {
             Bump.NONE: v,
             Bump.PATCH: (major, minor, patch + 1),
             Bump.MINOR: (major, minor + 1, 0),
             Bump.MAJOR: (major + 1, 0, 0),
         }[self.bump]
-        return ".".join(map(str, bumped))
+
+    @property
+    def suggested_version(self) -> str | None:
+        """OLD's map_version bumped as the changes need (None when it is not X.Y.Z)."""
+        target = self._target()
+        return None if target is None else ".".join(map(str, target))
 
     @property
     def version_ok(self) -> bool:
         """NEW's map_version is at least the suggested one (a larger bump than needed is fine)."""
-        suggested, new = self.suggested_version, _semver(self.new.info.map_version)
-        if suggested is None or new is None:
-            return False
-        return new >= _semver(suggested)  # type: ignore[operator]  # suggested is always X.Y.Z
+        target, new = self._target(), _semver(self.new.info.map_version)
+        return target is not None and new is not None and new >= target
 
     @property
     def exit_status(self) -> int:
@@ -361,7 +362,7 @@ def _addr(address: int) -> str:
 
 def _val(value: int) -> str:
     """An enum or command value as the maps write them: hex from 10 up."""
-    return str(value) if 0 <= value < 10 else f"0x{value:02X}" if value > 0 else str(value)
+    return f"0x{value:02X}" if value >= 10 else str(value)
 
 
 def _show(value: Any) -> str:
@@ -545,7 +546,7 @@ class _Diff:
         self._examples()
         self._errata()
         self._groups()
-        return tuple(sorted(self.changes, key=lambda c: (c.breaking is False, _KIND_ORDER[c.kind], _natural(c.subject), c.before)))
+        return tuple(sorted(self.changes, key=lambda c: (not c.breaking, _KIND_ORDER[c.kind], _natural(c.subject), c.before)))
 
     def _enum_name(self, e: EnumType | None) -> str | None:
         return None if e is None else self.enum_names.get(e.name, f"(removed) {e.name}")
@@ -594,7 +595,7 @@ class _Diff:
             a, b = getattr(o, name), getattr(n, name)
             if a != b:
                 note = (
-                    "and every 32-bit register without its own word order"
+                    "applies to every 32-bit register without its own word order"
                     if name == "word_order"
                     else "an old client uses the old setting by default"
                 )
@@ -1105,13 +1106,22 @@ def _line(c: Change) -> str:
     return f"  {c.kind:<28} {_plain(c.subject)}: {what}{note}"
 
 
+def _same_model(report: Report) -> str:
+    """Why two different files have no differences."""
+    old, new = report.old, report.new
+    if report.changes or old.fingerprint == new.fingerprint:
+        return ""
+    if old.info.map_version != new.info.map_version:
+        return " apart from map_version"
+    return " (the files differ only in formatting, comments or spelling)"
+
+
 def render_text(report: Report) -> str:
     old, new = report.old, report.new
     lines = [
         f"old: {_plain(old.source_path)}  {old.id} map {old.info.map_version}  fingerprint {old.fingerprint}",
         f"new: {_plain(new.source_path)}  {new.id} map {new.info.map_version}  fingerprint {new.fingerprint}",
-        _summary(report)
-        + ("" if report.changes or old.fingerprint == new.fingerprint else " (the files differ only in formatting, comments or spelling)"),
+        _summary(report) + _same_model(report),
         _verdict(report),
     ]
     for title, changes in (("breaking:", report.breaking), ("compatible:", report.compatible)):
@@ -1147,7 +1157,7 @@ def render_markdown(report: Report, header: Sequence[str] = ()) -> str:
         f"| new | {_code(new.source_path)} | {md_text(new.info.map_version)} | `{new.fingerprint}` |",
         "",
     ]
-    summary = _summary(report)
+    summary = _summary(report) + _same_model(report)
     lines.append(f"**{summary[0].upper()}{summary[1:]}.**")
     if report.changes:
         lines.append(

@@ -19,13 +19,9 @@ from regmap_runtime.errors import RegmapError
 from regmap_runtime.plan import ReadBlock, plan_reads
 
 from regmap.backends.common import documented_addresses, runtime_device
-from regmap.diagnostics import UsageError
+from regmap.diagnostics import LinkError, UsageError
 from regmap.frames import DecodedValue, Registers, check_slave, decode_words, parse_assignments, write_blocks
 from regmap.model import Device, Register
-
-
-class LinkError(Exception):
-    """The bus failed (no answer, connection lost, exception response); one line for the user."""
 
 
 @dataclass(frozen=True)

@@ -171,6 +171,7 @@ class Register:
     group: str
     param: str | None = None
     word_order: WordOrder = WordOrder.HIGH_FIRST
+    word_order_fixed: bool = False  # the map fixes it; otherwise it follows the device's (configurable) order
     unit: str | None = None
     scale: Fraction = Fraction(1)
     min: int | None = None

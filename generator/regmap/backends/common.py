@@ -27,6 +27,7 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             data_type=r.type.value,
             access=r.access.value,
             word_order=r.word_order.value,
+            follows_device_order=not r.word_order_fixed,
             paired=r.paired,
             scale_num=r.scale.numerator,
             scale_den=r.scale.denominator,

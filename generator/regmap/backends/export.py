@@ -45,6 +45,7 @@ def register_json(r: Register) -> dict[str, Any]:
         "words": r.words,
         "type": r.type.value,
         "word_order": r.word_order.value if r.words == 2 else None,
+        "word_order_fixed": r.word_order_fixed,
         "paired": r.paired,
         "access": r.access.value,
         "unit": r.unit,

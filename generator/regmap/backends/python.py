@@ -187,6 +187,8 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
     ]
     if reg.words == 2:
         kwargs.append(("word_order", py_str(reg.word_order.value)))
+        if reg.word_order_fixed:
+            kwargs.append(("follows_device_order", "False"))
     if reg.paired:
         kwargs.append(("paired", "True"))
     if reg.scaled:

@@ -581,6 +581,7 @@ class _Elaborator:
             address=address,
             type=dtype,
             word_order=order,
+            word_order_fixed="word_order" in r and dtype.words == 2,
             access=access,
             unit=r.get("unit"),
             scale=_scale(r.get("scale", 1)),
