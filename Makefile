@@ -22,6 +22,7 @@ generate: $(STAMP)
 # Rewrite every committed golden output (generated/ and the expected error texts of invalid maps).
 regen: generate
 	$(BIN)/python tests/regen.py
+	$(BIN)/regmap diff tests/maps/diff/idm_rs_small_v1.yaml tests/maps/diff/idm_rs_small_v2.yaml --format markdown > docs/changelog-example.md; test $$? -ne 2
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

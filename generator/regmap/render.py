@@ -6,6 +6,7 @@ validated identifier or through one of the escaping filters below.
 
 from __future__ import annotations
 
+import functools
 import json
 from collections.abc import Callable
 from typing import Any
@@ -87,7 +88,9 @@ FILTERS: dict[str, Callable[..., Any]] = {
 }
 
 
+@functools.cache
 def environment() -> jinja2.Environment:
+    """The shared environment: built once per process, so each template is compiled once, not once per device."""
     env = jinja2.Environment(
         loader=jinja2.PackageLoader("regmap", "templates"),
         undefined=jinja2.StrictUndefined,

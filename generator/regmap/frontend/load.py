@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import keyword
 import json
 import re
 import string
@@ -53,6 +54,13 @@ from regmap.model import (
 )
 
 MAX_MAP_BYTES = 8 * 1024 * 1024
+
+C_KEYWORDS = frozenset(
+    "auto break case char const continue default do double else enum extern float for goto if inline int long register "
+    "restrict return short signed sizeof static struct switch typedef union unsigned void volatile while bool true false "
+    "class namespace template typename private public protected new delete this operator virtual friend".split()
+)
+RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
 
 
 def _schema() -> dict[str, Any]:
@@ -339,6 +347,7 @@ class _Elaborator:
         commands = self._commands(raw.get("commands", []), by_selector)
         faults = self._faults(raw.get("faults", []))
         examples = self._examples(raw.get("examples", []), by_selector, {e.id for e in errata})
+        self._check_device_id(raw["device"]["id"])
         if self.problems:
             raise MapError(self.problems)
         info = self._device_info(raw["device"])
@@ -355,6 +364,11 @@ class _Elaborator:
             fingerprint=self.fingerprint,
             registers=tuple(sorted(self.registers, key=lambda r: (r.address, r.name))),
         )
+
+    def _check_device_id(self, device_id: str) -> None:
+        """The id names a Python package and prefixes every C name: it must be usable as both."""
+        if keyword.iskeyword(device_id) or keyword.issoftkeyword(device_id) or device_id in C_KEYWORDS or device_id in RESERVED_IDS:
+            self.problem(("device", "id"), f"device id {device_id!r} is a reserved word in Python, C or regmap; choose another (e.g. {device_id}_drive)")
 
     def _device_info(self, d: dict[str, Any]) -> DeviceInfo:
         manual = d["manual"]
