@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from regmap_runtime.codec import RangeError, check_raw, raw_to_value, raw_to_words, value_to_raw, words_to_raw
-from regmap_runtime.plan import WriteBlock, plan_reads, plan_writes
+from regmap_runtime.plan import WriteBlock, plan_writes
 from regmap_runtime.rtu import (
     STANDARD_EXCEPTIONS,
     Frame,
@@ -26,7 +26,7 @@ from regmap_runtime.rtu import (
 )
 from regmap_runtime.spec import RegisterSpec
 
-from regmap.backends.common import runtime_specs
+from regmap.backends.common import read_plan, runtime_specs
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 
@@ -135,12 +135,7 @@ def read_frames(device: Device, selector: str, count: int | None, slave: int) ->
         chosen = readable[:count]
         if len(chosen) < count:
             raise UsageError(f"only {len(chosen)} readable registers from {reg.label} onwards, asked for {count}")
-    documented = (
-        None
-        if device.transport.tolerates_gaps
-        else frozenset(a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
-    )
-    blocks = plan_reads([regs.spec(r) for r in chosen], device.transport.max_read_registers, documented)
+    blocks = read_plan(device, chosen)
     return [build_read(slave, b.address, b.count) for b in blocks]
 
 

@@ -16,9 +16,8 @@ from typing import Any
 
 from regmap_runtime.client import SyncClient
 from regmap_runtime.errors import RegmapError
-from regmap_runtime.plan import ReadBlock, plan_reads
 
-from regmap.backends.common import documented_addresses, runtime_device
+from regmap.backends.common import read_plan, runtime_device
 from regmap.diagnostics import LinkError, UsageError
 from regmap.frames import DecodedValue, Registers, check_slave, decode_words, parse_assignments, write_blocks
 from regmap.model import Device, Register
@@ -66,12 +65,6 @@ def connect(device: Device, link: Link) -> SyncClient:
     return client
 
 
-def _plan(device: Device, registers: Sequence[Register]) -> list[ReadBlock]:
-    specs = Registers(device)
-    documented = None if device.transport.tolerates_gaps else documented_addresses(device)
-    return plan_reads([specs.spec(r) for r in registers], device.transport.max_read_registers, documented)
-
-
 @dataclass
 class ReadResult:
     values: list[DecodedValue]
@@ -84,7 +77,7 @@ def read_registers(
 ) -> ReadResult:
     """Read by the plan; on a bus failure keep what was read and name what was not."""
     wanted = {r.name for r in registers}
-    blocks = _plan(device, registers)
+    blocks = read_plan(device, registers)
     values: list[DecodedValue] = []
     done: set[str] = set()
     for number, block in enumerate(blocks, 1):

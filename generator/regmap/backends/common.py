@@ -6,12 +6,13 @@ The read plan is computed once, by the very planner the runtime uses, so the Pyt
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.spec import DeviceSpec, RegisterSpec
 
-from regmap.model import Device
+from regmap.model import Device, Register
 
 
 def documented_addresses(device: Device) -> frozenset[int]:
@@ -62,7 +63,10 @@ def runtime_device(device: Device) -> DeviceSpec:
     )
 
 
-def read_plan(device: Device) -> list[ReadBlock]:
-    """The requests `read_all()` issues, in order."""
+def read_plan(device: Device, registers: Sequence[Register] | None = None) -> list[ReadBlock]:
+    """The requests that read `registers` (default: every readable one, as `read_all()` does), in order."""
     t = device.transport
-    return plan_reads(runtime_specs(device), t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device))
+    chosen = device.registers if registers is None else registers
+    names = {r.name for r in chosen}
+    specs = [s for s in runtime_specs(device) if s.name in names]
+    return plan_reads(specs, t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device))

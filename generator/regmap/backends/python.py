@@ -223,13 +223,13 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
     )
 
 
-def _array_view(device: Device, array: ArrayDef) -> ArrayView:
+def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
     elements = []
     members: dict[str, RegisterView] = {}
     for index in range(array.first_index, array.last_index + 1):
         pairs = []
         for member in array.members:
-            reg = device.register(f"{array.name}_{index}_{member.name}")
+            reg = by_name[f"{array.name}_{index}_{member.name}"]
             pairs.append((str(PythonIdentifier(member.name)), const(reg.name)))
             if member.name not in members:
                 members[member.name] = _register_view(reg, member.name)
@@ -295,9 +295,13 @@ def device_context(device: Device) -> dict[str, Any]:
                 bits_classes[name] = BitsClassView(
                     class_name=name, doc=py_doc(f"Fields of {title}."), fields=tuple(_bitfield_view(b) for b in reg.bitfields)
                 )
-    arrays = [_array_view(device, a) for a in device.arrays]
-    plain = [_register_view(r) for r in device.registers if r.array is None]
+    # One lookup table and one view per register: Device.register() scans, which made array-heavy maps quadratic.
+    by_name: dict[str, Register] = {}
+    for reg in device.registers:
+        by_name.setdefault(reg.name, reg)
+    arrays = [_array_view(by_name, a) for a in device.arrays]
     all_regs = [_register_view(r) for r in device.registers]
+    plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
     names = {e.class_name: f"enum {e.class_name}" for e in enums}
     names.update({b: f"bitfield class {b}" for b in bits_classes})

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import difflib
 import hashlib
-import keyword
 import json
+import keyword
 import re
 import string
 from collections.abc import Iterable
@@ -56,9 +56,58 @@ from regmap.model import (
 MAX_MAP_BYTES = 8 * 1024 * 1024
 
 C_KEYWORDS = frozenset(
-    "auto break case char const continue default do double else enum extern float for goto if inline int long register "
-    "restrict return short signed sizeof static struct switch typedef union unsigned void volatile while bool true false "
-    "class namespace template typename private public protected new delete this operator virtual friend".split()
+    [
+        "auto",
+        "break",
+        "case",
+        "char",
+        "const",
+        "continue",
+        "default",
+        "do",
+        "double",
+        "else",
+        "enum",
+        "extern",
+        "float",
+        "for",
+        "goto",
+        "if",
+        "inline",
+        "int",
+        "long",
+        "register",
+        "restrict",
+        "return",
+        "short",
+        "signed",
+        "sizeof",
+        "static",
+        "struct",
+        "switch",
+        "typedef",
+        "union",
+        "unsigned",
+        "void",
+        "volatile",
+        "while",
+        "bool",
+        "true",
+        "false",
+        "class",
+        "namespace",
+        "template",
+        "typename",
+        "private",
+        "public",
+        "protected",
+        "new",
+        "delete",
+        "this",
+        "operator",
+        "virtual",
+        "friend",
+    ]
 )
 RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
 
@@ -368,7 +417,10 @@ class _Elaborator:
     def _check_device_id(self, device_id: str) -> None:
         """The id names a Python package and prefixes every C name: it must be usable as both."""
         if keyword.iskeyword(device_id) or keyword.issoftkeyword(device_id) or device_id in C_KEYWORDS or device_id in RESERVED_IDS:
-            self.problem(("device", "id"), f"device id {device_id!r} is a reserved word in Python, C or regmap; choose another (e.g. {device_id}_drive)")
+            self.problem(
+                ("device", "id"),
+                f"device id {device_id!r} is a reserved word in Python, C or regmap; choose another (e.g. {device_id}_drive)",
+            )
 
     def _device_info(self, d: dict[str, Any]) -> DeviceInfo:
         manual = d["manual"]
