@@ -50,11 +50,12 @@ def test_python_example_type_checks(tmp_path: Path) -> None:
 
 def test_map_table_matches_the_maps() -> None:
     from conftest import MAPS
-
     from regmap.frontend import load_map
 
     for path in MAPS:
         device = load_map(path)
         row = re.search(rf"^\| `maps/{path.name}` \|[^|]*\| (\d+) \| (\d+) \| (\d+) \|$", README, re.M)
         assert row is not None, f"README has no row for maps/{path.name}"
-        assert tuple(int(x) for x in row.groups()) == (len(device.registers), len(device.examples), len(device.errata)), f"README row of {path.name} is stale"
+        assert tuple(int(x) for x in row.groups()) == (len(device.registers), len(device.examples), len(device.errata)), (
+            f"README row of {path.name} is stale"
+        )
