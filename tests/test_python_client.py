@@ -130,10 +130,16 @@ def test_c630s_word_order_follows_p0c_26(simulator: SimulatorFactory) -> None:
         assert drive.read_raw(c630s.GEAR1_NUMERATOR.address, 2) == [0x3880, 0x0001]
         assert drive.read_gear1_numerator() == 80000
     with c630s.C630s.tcp("127.0.0.1", sim.port, timeout=2, word_order="high_first") as drive:
-        # The simulator keeps its default order, so a client told "high first" reads the words swapped.
+        # Told "high first" while the drive is still low first, the client reads the words swapped ...
         assert drive.read_gear1_numerator() == 0x38800001
-        drive.write_raw(c630s.GEAR1_NUMERATOR.address, [0x0001, 0x3880], multiple=True)
+    with c630s.C630s.tcp("127.0.0.1", sim.port, timeout=2) as drive:
+        # ... until P0C-26 is set to 0 (high word first): the drive re-lays its 32-bit values.
+        drive.write_modbus_word_order(0)
+        assert drive.read_raw(c630s.GEAR1_NUMERATOR.address, 2) == [0x0001, 0x3880]
+    with c630s.C630s.tcp("127.0.0.1", sim.port, timeout=2, word_order="high_first") as drive:
         assert drive.read_gear1_numerator() == 80000
+        drive.write_gear1_numerator(123456789)
+        assert drive.read_raw(c630s.GEAR1_NUMERATOR.address, 2) == [0x075B, 0xCD15]
 
 
 def test_id243pro_32bit_low_word_first(simulator: SimulatorFactory) -> None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import dataclasses
 import json
 import os
 import signal
@@ -92,6 +93,7 @@ class DeviceStore(ModbusServerContext):
             for address in range(reg.first_address, reg.last_address + 1):
                 self.owner[address] = reg
         self.words: dict[int, int] = {}
+        self.word_order = device.transport.word_order.value
         self.pending_after_read: dict[int, int] = {}
         self.faults = FaultPlan()
         self.load_defaults()
@@ -101,7 +103,26 @@ class DeviceStore(ModbusServerContext):
     # -- memory ------------------------------------------------------------------------------
 
     def spec(self, reg: Register) -> Any:
-        return self.specs[reg.name]
+        """The register's codec in the word order the device uses right now (C630S P0C-26 can change it)."""
+        spec = self.specs[reg.name]
+        if spec.words == 2 and spec.follows_device_order and spec.word_order != self.word_order:
+            return dataclasses.replace(spec, word_order=self.word_order)
+        return spec
+
+    def follow_word_order_register(self) -> None:
+        """Re-lay every 32-bit value when the word-order parameter changes: values stay, words swap."""
+        control = self.device.transport.word_order_register
+        if control is None:
+            return
+        setting = self.raw_of(control.register)
+        wanted = "high_first" if setting == control.high_first else "low_first" if setting == control.low_first else self.word_order
+        if wanted == self.word_order:
+            return
+        moving = [r for r in self.device.registers if r.words == 2 and not r.word_order_fixed]
+        values = {r.name: self.raw_of(r) for r in moving}
+        self.word_order = wanted
+        for reg in moving:
+            self.store_raw(reg, values[reg.name])
 
     def store_raw(self, reg: Register, raw: int) -> None:
         words = raw_to_words(self.spec(reg), raw, with_pair=True)
@@ -114,8 +135,10 @@ class DeviceStore(ModbusServerContext):
 
     def load_defaults(self) -> None:
         self.words.clear()
+        self.word_order = self.device.transport.word_order.value
         for reg in self.device.registers:
             self.store_raw(reg, reg.default if reg.default is not None else 0)
+        self.follow_word_order_register()
 
     def persistent(self) -> list[Register]:
         return [r for r in self.device.registers if r.access.readable and r.access.writable]
@@ -146,6 +169,10 @@ class DeviceStore(ModbusServerContext):
             saved = data["registers"]
         except (OSError, ValueError, KeyError, TypeError) as exc:
             raise UsageError(f"{path}: not a regmap simulator state file ({exc})") from None
+        control = self.device.transport.word_order_register
+        if control is not None and isinstance(saved.get(control.register.name), int):
+            self.store_raw(control.register, saved[control.register.name])
+            self.follow_word_order_register()
         for name, raw in saved.items():
             reg = self.registers.get(name)
             if reg is not None and isinstance(raw, int) and reg.type.raw_min <= raw <= reg.type.raw_max:
@@ -226,6 +253,7 @@ class DeviceStore(ModbusServerContext):
         for reg, raw in updates:
             self.store_raw(reg, raw)
             self._act(reg, raw)
+        self.follow_word_order_register()
         return None
 
     def _is_command(self, reg: Register, raw: int) -> bool:
