@@ -42,6 +42,10 @@ typecheck: $(STAMP)
 
 check: lint test
 
+# Benchmarks (bench/): bus time, read-plan optimality, generation speed, client overhead, C helpers -> docs/benchmarks.md.
+bench: $(STAMP)
+	$(BIN)/python -m bench
+
 docs: $(STAMP)
 	$(BIN)/regmap generate --target markdown
 	$(BIN)/mkdocs build --strict

@@ -165,18 +165,17 @@ def measure(device: Device) -> BusResult:
     module = client_module(device.id)
     cls = client_class(module)
     readable = [spec for spec in module.DEVICE.registers if spec.readable]
-    with SimulatorThread(device) as sim:
-        with cls.tcp("127.0.0.1", sim.port, slave=1, timeout=5, rtu_over_tcp=True) as client:
-            sim.reset()
-            client.requests_sent = 0
-            values = client.read_all()
-            plan = _count(sim, client, line)
-            expected = [build_read(1, b.address, b.count) for b in read_plan(device)]
-            matches = list(sim.simulator.stats.requests) == expected and len(values) == len(readable)
-            sim.reset()
-            client.requests_sent = 0
-            for spec in readable:
-                client.read(spec)
-            per_register = _count(sim, client, line)
+    with SimulatorThread(device) as sim, cls.tcp("127.0.0.1", sim.port, slave=1, timeout=5, rtu_over_tcp=True) as client:
+        sim.reset()
+        client.requests_sent = 0
+        values = client.read_all()
+        plan = _count(sim, client, line)
+        expected = [build_read(1, b.address, b.count) for b in read_plan(device)]
+        matches = list(sim.simulator.stats.requests) == expected and len(values) == len(readable)
+        sim.reset()
+        client.requests_sent = 0
+        for spec in readable:
+            client.read(spec)
+        per_register = _count(sim, client, line)
     words = sum(spec.words for spec in readable)
     return BusResult(device.id, device.info.model, line, len(readable), words, plan, per_register, lower_bound(device, line), matches)

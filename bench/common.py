@@ -65,18 +65,29 @@ def time_call(fn: Callable[[], object], repeats: int, number: int = 1) -> list[f
     return samples
 
 
-def side_by_side(a: Callable[[], object], b: Callable[[], object], repeats: int, number: int = 1) -> tuple[list[float], list[float]]:
-    """Time `a` and `b` alternately (ABBA order, so drift and warm-up hit both alike); seconds per call."""
-    sa: list[float] = []
-    sb: list[float] = []
+@dataclass(frozen=True)
+class Pair:
+    """Interleaved samples of two callables: wall and process-CPU seconds per call of each."""
+
+    wall_a: tuple[float, ...]
+    wall_b: tuple[float, ...]
+    cpu_a: tuple[float, ...]
+    cpu_b: tuple[float, ...]
+
+
+def side_by_side(a: Callable[[], object], b: Callable[[], object], repeats: int, number: int = 1) -> Pair:
+    """Time `a` and `b` alternately (ABBA order, so drift and warm-up hit both alike)."""
+    samples: dict[str, list[float]] = {"wall_a": [], "wall_b": [], "cpu_a": [], "cpu_b": []}
     for i in range(repeats):
-        order = ((a, sa), (b, sb)) if i % 2 == 0 else ((b, sb), (a, sa))
-        for fn, out in order:
+        order = (("a", a), ("b", b)) if i % 2 == 0 else (("b", b), ("a", a))
+        for key, fn in order:
+            cpu = time.process_time()
             start = time.perf_counter()
             for _ in range(number):
                 fn()
-            out.append((time.perf_counter() - start) / number)
-    return sa, sb
+            samples[f"wall_{key}"].append((time.perf_counter() - start) / number)
+            samples[f"cpu_{key}"].append((time.process_time() - cpu) / number)
+    return Pair(**{k: tuple(v) for k, v in samples.items()})
 
 
 def calibrate(fn: Callable[[], object], target_s: float = 0.02) -> int:

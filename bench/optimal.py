@@ -11,6 +11,7 @@ registers in address order, so a DP over runs is exact.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -67,7 +68,7 @@ def fewest_requests(specs: Sequence[RegisterSpec[Any]], limit: int, documented: 
 def overlapping(specs: Sequence[RegisterSpec[Any]]) -> list[tuple[str, str]]:
     """Pairs of readable registers whose words (pair high words included) overlap."""
     regs = sorted(specs, key=lambda r: r.first_address)
-    return [(a.name, b.name) for a, b in zip(regs, regs[1:], strict=False) if b.first_address < a.address + a.words]
+    return [(a.name, b.name) for a, b in itertools.pairwise(regs) if b.first_address < a.address + a.words]
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,6 @@
-"""`python -m bench.phases OUT MAP...`: run `regmap generate` in this process and print, as JSON, the
-seconds spent in each stage (imports, YAML, schema, semantic checks, each back end, writing, ruff).
+"""`python -m bench.phases [--profile] OUT MAP...`: run `regmap generate` in this process and print, as
+JSON, the seconds spent in each stage (imports, YAML, schema, semantic checks, each back end, writing,
+ruff); with --profile, under cProfile, also the functions with the most time of their own.
 
 Stages are timed by wrapping the functions `regmap generate` calls; a stage whose function is not
 found (renamed since) is simply left out, so the breakdown degrades rather than breaks.
@@ -39,7 +40,23 @@ def _wrap(owner: Any, name: str, stage: str) -> None:
         setattr(owner, name, _timed(stage, fn))
 
 
+def _top(profile: Any, count: int) -> list[tuple[str, int, float, float]]:
+    """(function, calls, own seconds, cumulative seconds) of the `count` functions with the most own time."""
+    import os
+    import pstats
+
+    stats: dict[tuple[str, int, str], tuple[int, int, float, float, Any]] = pstats.Stats(profile).stats  # type: ignore[attr-defined]
+    rows = []
+    for (filename, line, name), (_, calls, own, cumulative, _) in stats.items():
+        where = f"{os.path.relpath(filename)}:{line}" if filename and not filename.startswith("~") else "built-in"
+        rows.append((f"{name} ({where})", calls, own, cumulative))
+    return sorted(rows, key=lambda row: -row[2])[:count]
+
+
 def main(argv: list[str]) -> int:
+    profile = argv[:1] == ["--profile"]
+    if profile:
+        argv = argv[1:]
     out, maps = argv[0], argv[1:]
     import regmap.cli as cli
     import regmap.frontend.load as load
@@ -62,10 +79,18 @@ def main(argv: list[str]) -> int:
     _wrap(generate, "render", "back ends (all)")
     _wrap(generate, "generate", "back ends, writing and post-processing")
     start = time.perf_counter()
-    status = cli.main(["generate", *maps, "--out", out])
+    top: list[tuple[str, int, float, float]] = []
+    if profile:
+        import cProfile
+
+        profiler = cProfile.Profile()
+        status = profiler.runcall(cli.main, ["generate", *maps, "--out", out])
+        top = _top(profiler, 12)
+    else:
+        status = cli.main(["generate", *maps, "--out", out])
     SPENT["total in process"] = time.perf_counter() - T0
     SPENT["command"] = time.perf_counter() - start
-    print(json.dumps({"status": status, "spent": SPENT}))
+    print(json.dumps({"status": status, "spent": SPENT, "top": top}))
     return 0
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, Generic, TypeVar
 
 HIGH_FIRST = "high_first"
@@ -45,7 +46,7 @@ class RegisterSpec(Generic[T]):
     bitfield_type: type[Any] | None = None  # a BitfieldValue subclass
     follows_device_order: bool = True  # False when the map fixes this register's word order itself
 
-    @property
+    @cached_property
     def words(self) -> int:
         return 2 if self.data_type in ("u32", "s32") else 1
 
@@ -57,7 +58,7 @@ class RegisterSpec(Generic[T]):
     def bits(self) -> int:
         return 16 * self.words
 
-    @property
+    @cached_property
     def first_address(self) -> int:
         return self.address - 1 if self.paired else self.address
 
@@ -134,6 +135,7 @@ class DeviceSpec:
     tolerates_gaps: bool
     exceptions: tuple[tuple[int, str, str], ...] = ()  # (code, name, meaning)
 
+    @cached_property
     def documented(self) -> frozenset[int] | None:
         """Addresses the device answers, or None when it tolerates reads of any address."""
         if self.tolerates_gaps:

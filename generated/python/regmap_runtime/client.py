@@ -37,6 +37,7 @@ class _Core:
         self.slave = slave
         self.word_order = word_order or self.DEVICE.word_order
         self.requests_sent = 0
+        self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
 
     @property
     def broadcast(self) -> bool:
@@ -71,10 +72,17 @@ class _Core:
         return cast(T, decode_value(spec, raw))
 
     def plan_reads(self, specs: Iterable[RegisterSpec[Any]]) -> list[ReadBlock]:
-        for spec in specs:
-            if not spec.readable:
-                raise TypeError(f"{spec.label} is write-only")
-        return plan_reads(specs, self.DEVICE.max_read_registers, self.DEVICE.documented())
+        """The requests for these registers; plans are kept, so a polling loop plans once."""
+        chosen = tuple(specs)
+        key = tuple(spec.name for spec in chosen)
+        plan = self._plans.get(key)
+        if plan is None:
+            for spec in chosen:
+                if not spec.readable:
+                    raise TypeError(f"{spec.label} is write-only")
+            plan = plan_reads(chosen, self.DEVICE.max_read_registers, self.DEVICE.documented)
+            self._plans[key] = plan
+        return plan
 
     def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
         """Check and encode every value, then group them into requests. `raw`: values are register integers."""

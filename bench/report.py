@@ -1,0 +1,435 @@
+"""docs/benchmarks.md from the measurements: tables, an inline SVG plot, and the targets checked."""
+
+from __future__ import annotations
+
+import datetime as dt
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from bench.bus import BusResult
+from bench.chelpers import CASES, CResult
+from bench.common import Machine
+from bench.genspeed import GenRun, GenSpeed
+from bench.optimal import PlanCheck
+from bench.overhead import ClientCost, Comparison
+from bench.plot import Series, loglog
+
+OVERHEAD_TARGET = 0.15
+SPEEDUP_TARGET = 5.0
+THREE_MAPS_TARGET_S = 1.0
+TEN_K_TARGET_S = 3.0
+GROWTH_TARGET = 12.0
+M0_TARGET = 1024
+
+
+@dataclass
+class Results:
+    machine: Machine
+    bus: list[BusResult]
+    plans: list[PlanCheck]
+    gen: GenSpeed | None
+    overhead: list[Comparison]
+    costs: list[ClientCost]
+    c: CResult | None
+    elapsed_s: float = 0.0
+    quick: bool = False
+
+
+def ms(seconds: float) -> str:
+    return f"{seconds * 1000:.1f} ms" if seconds < 10 else f"{seconds:.1f} s"
+
+
+def us(seconds: float) -> str:
+    return f"{seconds * 1e6:.0f} µs" if seconds >= 1e-5 else f"{seconds * 1e6:.2f} µs"
+
+
+def secs(seconds: float) -> str:
+    return f"{seconds:.2f} s"
+
+
+def pct(ratio: float) -> str:
+    return f"{ratio * 100:+.1f} %"
+
+
+def yes(ok: bool | None) -> str:
+    return "n/a" if ok is None else ("**met**" if ok else "**missed**")
+
+
+def table(header: Sequence[str], rows: Sequence[Sequence[object]], align: str = "") -> list[str]:
+    align = align or "l" + "r" * (len(header) - 1)
+    marks = {"l": "---", "r": "--:", "c": ":-:"}
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join(marks[a] for a in align) + "|"]
+    out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return [*out, ""]
+
+
+def _gen_run(run: GenRun | None) -> str:
+    if run is None:
+        return "not run"
+    if run.timed_out_after is not None:
+        return f"> {run.timed_out_after:.0f} s (stopped)"
+    return secs(run.wall)
+
+
+def targets(r: Results) -> list[tuple[str, str, bool | None]]:
+    rows: list[tuple[str, str, bool | None]] = []
+    optimal = all(p.optimal for p in r.plans) if r.plans else None
+    rows.append(
+        (
+            "read plan = proven optimum for every map",
+            ", ".join(f"{p.device_id}: {p.plan_requests} = DP {p.optimum.requests}" for p in r.plans) or "not run",
+            optimal,
+        )
+    )
+    idm = next((b for b in r.bus if b.device_id == "idm_rs"), None)
+    rows.append(
+        (
+            f"≥ {SPEEDUP_TARGET:g}× less wire time than one request per register (iDM-RS, all parameters)",
+            f"{idm.speedup:.2f}×" if idm else "not run",
+            idm.speedup >= SPEEDUP_TARGET if idm else None,
+        )
+    )
+    if r.gen is not None:
+        three = r.gen.three_maps
+        rows.append(
+            (f"three maps generated in < {THREE_MAPS_TARGET_S:g} s (whole process)", _gen_run(three), three.wall < THREE_MAPS_TARGET_S)
+        )
+        ten = r.gen.synthetic_run(10000)
+        ten_ok = None if ten is None else (ten.timed_out_after is None and ten.wall < TEN_K_TARGET_S)
+        rows.append((f"10k registers generated in < {TEN_K_TARGET_S:g} s", _gen_run(ten), ten_ok))
+        growth = r.gen.growth(1000, 10000)
+        rows.append(
+            (
+                f"growth 1k → 10k ≤ {GROWTH_TARGET:g}×",
+                f"{growth:.1f}×" if growth else "not run",
+                None if growth is None else growth <= GROWTH_TARGET,
+            )
+        )
+    if r.overhead:
+        worst = max(r.overhead, key=lambda c: c.overhead)
+        rows.append(
+            (
+                f"generated client overhead ≤ {OVERHEAD_TARGET * 100:g} % over raw pymodbus",
+                f"worst {pct(worst.overhead)} ({worst.case})",
+                worst.overhead <= OVERHEAD_TARGET,
+            )
+        )
+    if r.c is not None:
+        size = r.c.m0_text
+        rows.append(
+            (
+                "frame helpers + CRC ≤ 1 KiB text on Cortex-M0 (-Os)",
+                f"{size} bytes" if size is not None else (r.c.blocked or "not run"),
+                None if size is None else size <= M0_TARGET,
+            )
+        )
+    return rows
+
+
+def _machine(m: Machine, r: Results) -> list[str]:
+    rows = [
+        ("CPU", f"{m.cpu} ({m.cores} cores)"),
+        ("OS", m.os),
+        ("Python", m.python),
+        *((name, version) for name, version in m.packages),
+        *((name, version) for name, version in m.tools),
+        ("load average when `make bench` started (1/5/15 min)", m.load_before),
+        ("`make bench` took", f"{r.elapsed_s:.0f} s"),
+    ]
+    out = table(["", ""], rows, "ll")
+    out += [f"- {note}" for note in m.notes]
+    return [*out, ""] if m.notes else out
+
+
+def _bus(r: Results) -> list[str]:
+    out = [
+        "Each map's generated client (`generated/python/`) reads through `regmap.simulator.Simulator`, served in this",
+        "process with RTU framing over loopback TCP; the simulator's `trace_packet` counts every frame and byte it",
+        "received and sent. Wire time is what those frames take on the RS-485 line at the map's default baud: each",
+        "byte one character (start + data + parity + stop bits), and per request the device's turnaround (end of",
+        "request → start of answer) and the pause before the next request, each at least the 3.5-character silence that",
+        "ends an RTU frame. The lower bound assumes every readable word travels once, in requests filled to the",
+        "device's limit (registers per request, and message bytes where the manual limits them), with no gap words.",
+        "",
+    ]
+    rows = []
+    for b in r.bus:
+        line = b.line
+        rows.append(
+            [
+                f"`{b.device_id}`",
+                f"{line.baud} bit/s, {line.bits_per_char}-bit chars ({line.char_s * 1e6:.0f} µs)",
+                f"{line.turnaround_s * 1000:.2f} + {line.idle_s * 1000:.2f} ms",
+                f"{b.registers} ({b.words} words)",
+                f"{b.plan.requests} / {b.plan.bytes_total} B / **{ms(b.plan.wire_s)}**",
+                f"{b.per_register.requests} / {b.per_register.bytes_total} B / {ms(b.per_register.wire_s)}",
+                f"{b.bound.requests} / {b.bound.bytes_total} B / {ms(b.bound.wire_s)}",
+                f"**{b.speedup:.2f}×**",
+                f"{b.plan.wire_s / b.bound.wire_s:.2f}×",
+            ]
+        )
+    out += table(
+        [
+            "map",
+            "line",
+            "turnaround + pause",
+            "readable registers",
+            "read plan: requests / bytes / wire time",
+            "one request per register",
+            "lower bound",
+            "per register ÷ plan",
+            "plan ÷ bound",
+        ],
+        rows,
+        "lllrrrrrr",
+    )
+    for b in r.bus:
+        check = "equal `read_plan(device)` byte for byte" if b.plan_matches_frames else "**differ from `read_plan(device)`**"
+        out.append(
+            f"- `{b.device_id}`: turnaround from {b.line.turnaround_source}. The {b.plan.requests} request frames the "
+            f"simulator received for `read_all()` {check}; every frame it received was one whole read request with a valid CRC."
+        )
+    idm_bus = next((b for b in r.bus if b.device_id == "idm_rs"), None)
+    idm_plan = next((p for p in r.plans if p.device_id == "idm_rs"), None)
+    if idm_bus is not None and idm_plan is not None:
+        out += [
+            "",
+            f"Why the plan needs {idm_plan.plan_requests} requests where the bound needs {idm_bus.bound.requests}: the maps say "
+            "`undocumented_addresses: reject`, so no request may span an address the manual does not list, and the "
+            "parameters are spread over many short runs. If a device answered reads across gaps, the same planner would "
+            f"need {', '.join(f'`{p.device_id}` {p.tolerant_requests}' for p in r.plans)} requests (a what-if, not measured "
+            "on the bus: the manuals do not say the drives allow it).",
+        ]
+    return [*out, ""]
+
+
+def _plans(r: Results) -> list[str]:
+    out = [
+        "`bench/optimal.py` finds the fewest requests by dynamic programming over the readable registers in address order",
+        "(independently of the greedy planner), under the planner's constraints: at most `max_read_registers` per request,",
+        "no register split, requests of several registers start at a paired register's high word and span only",
+        "documented addresses unless the map tolerates gaps, a lone register reads only its own words. Among plans",
+        "with the fewest requests it also finds the fewest words. The check is repeated for every limit from 2 to 125",
+        "registers on each map's registers.",
+        "",
+    ]
+    rows = [
+        [
+            f"`{p.device_id}`",
+            p.limit,
+            p.plan_requests,
+            p.optimum.requests,
+            p.plan_words,
+            p.optimum.words,
+            p.overlaps,
+            f"{p.sweep_instances - len(p.sweep_mismatches)}/{p.sweep_instances}",
+            "**optimal**" if p.optimal else "**not optimal**",
+        ]
+        for p in r.plans
+    ]
+    out += table(
+        [
+            "map",
+            "max registers",
+            "plan requests",
+            "DP minimum",
+            "plan words",
+            "DP fewest words",
+            "overlapping registers",
+            "limits 2..125 where plan = DP",
+            "verdict",
+        ],
+        rows,
+    )
+    return out
+
+
+def _phase_table(phases: dict[str, dict[str, float]]) -> list[str]:
+    labels = list(phases)
+    stages: list[str] = []
+    for spent in phases.values():
+        stages += [s for s in spent if s not in stages]
+    rows = [[stage, *(secs(phases[label][stage]) if stage in phases[label] else "–" for label in labels)] for stage in stages]
+    return table(["stage (in-process, one run)", *labels], rows)
+
+
+def _gen(r: Results) -> list[str]:
+    gen = r.gen
+    if gen is None:
+        return ["Not run.", ""]
+    out = [
+        "Whole-process wall time of `regmap generate` (all targets: Python, C, Markdown) into a fresh temp directory,",
+        "median of the runs shown; CPU is user + system time of the process. The synthetic maps (`bench/synth.py`)",
+        "have the real maps' mix: a third of the registers listed one by one (scaled, enum, signed 32-bit, bitfield",
+        "registers, Chinese titles, gaps), the rest in parameter tables (arrays).",
+        "",
+    ]
+    runs = [gen.three_maps, *gen.synthetic]
+    rows = []
+    for run in runs:
+        rows.append(
+            [
+                run.label,
+                run.registers,
+                run.files or "–",
+                _gen_run(run),
+                secs(run.cpu) if run.cpu_s else "–",
+                f"{len(run.wall_s)}" + (" (stopped)" if run.timed_out_after else ""),
+                ", ".join(f"{w:.2f}" for w in run.wall_s) or "–",
+                f"{run.wall / run.registers * 1e6:.0f} µs" if run.wall_s and run.timed_out_after is None else "–",
+            ]
+        )
+    out += table(["input", "registers", "files", "wall (median)", "CPU (median)", "runs", "each run (s)", "per register"], rows, "lrrrrrlr")
+    growth = gen.growth(1000, 10000)
+    if growth is not None:
+        out += [f"Growth 1k → 10k registers: **{growth:.1f}×** wall time for 10× the registers (linear would be 10×).", ""]
+    stopped = [run for run in gen.synthetic if run.timed_out_after is not None]
+    if stopped:
+        out += [
+            f"Stopped to keep `make bench` under five minutes: {', '.join(f'{run.label} after {run.timed_out_after:.0f} s' for run in stopped)}. "
+            "The stage breakdown and profile below show where the time goes.",
+            "",
+        ]
+    points = [(run.registers, run.wall) for run in gen.synthetic if run.wall_s and run.timed_out_after is None]
+    if len(points) >= 2:
+        x0, y0 = points[0]
+        linear = Series("linear from 1k", tuple((x, y0 * x / x0) for x, _ in points), "#999", dashed=True, markers=False)
+        series = [Series("synthetic maps", tuple(points), "#1f77b4"), linear]
+        if gen.three_maps.wall_s:
+            series.append(Series(gen.three_maps.label, ((gen.three_maps.registers, gen.three_maps.wall),), "#d62728"))
+        svg = loglog("regmap generate: wall time against registers", "registers in the map", "wall time", series)
+        out += ['<div class="bench-plot">', svg, "</div>", ""]
+    if gen.phases:
+        out += [
+            "Where the time goes (`bench/phases.py`: the same command in one process, each stage timed by wrapping the",
+            "function `regmap generate` calls; stages nest: the back ends are inside \u201cback ends, writing and post-processing\u201d):",
+            "",
+            *_phase_table(gen.phases),
+        ]
+    if gen.profile:
+        out += [
+            f"A generation target is missed, so `make bench` profiled {gen.profile_label} with cProfile (which slows pure",
+            "Python several times over, so read the shares, not the seconds): the functions with the most time of their own.",
+            "",
+        ]
+        out += table(
+            ["function", "calls", "own time", "cumulative"],
+            [[f"`{name}`", calls, secs(own), secs(cumulative)] for name, calls, own, cumulative in gen.profile],
+        )
+    return out
+
+
+def _overhead(r: Results) -> list[str]:
+    out = [
+        "The generated iDM-RS client against raw pymodbus doing the same work: the same requests (the read plan's",
+        "addresses and counts, worked out before timing) and the same typed values (raw side: pymodbus's",
+        "`convert_from_registers`, then scale, enum member or bitfield value, in a table-driven loop; both sides'",
+        "results are compared). Decoding starts from pymodbus's response object. Round trips go to `regmap simulate`",
+        "(Modbus TCP on loopback, a separate process). Samples alternate generated/raw (ABBA); overhead = ratio of",
+        "medians − 1. CPU is this process's CPU time (the simulator's is not in it).",
+        "",
+    ]
+    rows = [
+        [
+            c.case,
+            c.detail,
+            us(c.generated_s),
+            us(c.raw_s),
+            f"**{pct(c.overhead)}**",
+            pct(c.cpu_overhead),
+            c.samples,
+        ]
+        for c in r.overhead
+    ]
+    out += table(["case", "work", "generated", "raw pymodbus", "overhead (wall)", "overhead (CPU)", "samples"], rows, "llrrrrr")
+    if r.costs:
+        out += [
+            "The generated client's own work in `read_many()` (a transport that answers at once, so no pymodbus I/O):",
+            "",
+        ]
+        rows = [
+            [c.case, us(c.read_many_s), us(c.plan_s), us(c.documented_s), us(c.decode_s), f"{c.plan_s / c.read_many_s * 100:.0f} %"]
+            for c in r.costs
+        ]
+        out += table(
+            ["call", "read_many() without I/O", "planning", "of which `DeviceSpec.documented()`", "decoding", "planning share"], rows
+        )
+    return out
+
+
+def _c(r: Results) -> list[str]:
+    c = r.c
+    if c is None:
+        return ["Not run.", ""]
+    out = [f"Header: {c.header}.", ""]
+    if c.m0_text is not None:
+        out += [
+            f"Cortex-M0 text (`{c.compilers.get('m0', '')}`, `arm-none-eabi-size`; `bench/c/m0_frames.c` wraps each "
+            "static inline helper out of line, so the object holds what a firmware calling them links):",
+            "",
+        ]
+        out += table(
+            ["set", "text", "target"],
+            [
+                [
+                    "every frame helper + CRC (build read / write single / write multiple, response length, parse the three responses, CRC)",
+                    f"**{c.m0_text} B**",
+                    f"≤ {M0_TARGET} B",
+                ],
+                ["a master that only reads (build read, parse read response, response length, CRC)", f"{c.m0_text_read_only} B", ""],
+            ],
+            "lrr",
+        )
+        out += table(["function (full set)", "bytes"], [[f"`{name}`", size] for name, size in c.m0_symbols])
+    if c.blocked:
+        out += [f"**Blocked:** {c.blocked}.", ""]
+    if c.host_ns:
+        out += [
+            f"Host time per operation (`{c.compilers.get('host', '')}`, median of 7 loops), with `regmap_runtime.rtu` (Python) for scale:",
+            "",
+        ]
+        out += table(
+            ["operation", "C", "Python (regmap_runtime.rtu)"],
+            [
+                [CASES.get(name, name), f"{ns:.0f} ns", f"{c.python_ns[name] / 1000:.1f} µs" if name in c.python_ns else "–"]
+                for name, ns in c.host_ns.items()
+            ],
+            "lrr",
+        )
+    return out
+
+
+def render(r: Results) -> str:
+    when = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    out = [
+        "# Benchmarks",
+        "",
+        f"<!-- Written by `make bench` (bench/) on {when}; do not edit, run `make bench` again. -->",
+        "",
+        f"Measured by `make bench` on {when} on the machine described below"
+        + (" (quick mode: tiny inputs, figures not meaningful)" if r.quick else "")
+        + ". Timings are medians of repeated runs; comparisons are ratios of medians measured side by side in the same run.",
+        "",
+        "## Targets",
+        "",
+        *table(["target", "measured", ""], [(t, m, yes(ok)) for t, m, ok in targets(r)], "llc"),
+        "## Machine",
+        "",
+        *_machine(r.machine, r),
+        "## 1. Bus time of `read_all()`",
+        "",
+        *_bus(r),
+        "## 2. Read-plan optimality",
+        "",
+        *_plans(r),
+        "## 3. Generation speed",
+        "",
+        *_gen(r),
+        "## 4. Runtime overhead",
+        "",
+        *_overhead(r),
+        "## 5. C frame helpers",
+        "",
+        *_c(r),
+    ]
+    return "\n".join(out).rstrip("\n") + "\n"
