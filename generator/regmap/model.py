@@ -9,6 +9,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 from fractions import Fraction
+from functools import cached_property
 
 
 class WordOrder(enum.Enum):
@@ -434,11 +435,12 @@ class Device:
     def arrays(self) -> tuple[ArrayDef, ...]:
         return tuple(a for g in self.groups for a in g.arrays)
 
+    @cached_property
+    def _by_name(self) -> dict[str, Register]:
+        return {reg.name: reg for reg in self.registers}
+
     def register(self, name: str) -> Register:
-        for reg in self.registers:
-            if reg.name == name:
-                return reg
-        raise KeyError(name)
+        return self._by_name[name]
 
     def example(self, example_id: str) -> Example:
         for ex in self.examples:
@@ -452,16 +454,19 @@ class Device:
                 return en
         raise KeyError(name)
 
+    @cached_property
+    def _owners(self) -> dict[int, Register]:
+        owners: dict[int, Register] = {}
+        for reg in self.registers:
+            for address in range(reg.first_address, reg.last_address + 1):
+                owners.setdefault(address, reg)
+        return owners
+
     def at_address(self, address: int) -> Register | None:
         """The register whose listed address (or any word of it) is `address`."""
-        for reg in self.registers:
-            if reg.address <= address <= reg.last_address:
-                return reg
-        return None
+        reg = self._owners.get(address)
+        return reg if reg is not None and reg.address <= address else None
 
     def covering(self, address: int) -> Register | None:
         """The register that owns `address`, including the unused high word of a pair."""
-        for reg in self.registers:
-            if reg.first_address <= address <= reg.last_address:
-                return reg
-        return None
+        return self._owners.get(address)

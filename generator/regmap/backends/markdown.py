@@ -10,6 +10,7 @@ has a hyphen in its slug, so no two ids on a page can collide.
 
 from __future__ import annotations
 
+import functools
 import json
 import re
 from collections.abc import Iterable, Sequence
@@ -1239,12 +1240,24 @@ def bitfield_svg(device: Device, reg: Register) -> str:
     if position < reg.type.bits:
         fields.append({"bits": reg.type.bits - position})
     source = {"reg": fields, "config": {"bits": reg.type.bits, "lanes": reg.type.bits // LANE_BITS, "hspace": DIAGRAM_WIDTH, "vspace": 110}}
-    drawing = wavedrom.render(json.dumps(source))
     owner = f"{reg.array.array} member {reg.array.member}" if reg.array else reg.name
-    drawing.set_desc(title=f"Bit layout of {owner}")
+    svg = _drawing(json.dumps(source, sort_keys=True)).replace(_TITLE_SLOT, f"Bit layout of {owner}", 1)
     header = "".join(f"<!-- {_html_comment(line)} -->\n" for line in header_lines(device, "regmap generate"))
-    svg: str = drawing.tostring()
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + header + svg + "\n"
+
+
+_TITLE_SLOT = "REGMAP_TITLE_SLOT"  # identifiers and fixed words only go in here, so no XML escaping is needed
+
+
+@functools.lru_cache(maxsize=256)
+def _drawing(source: str) -> str:
+    """wavedrom's SVG for one layout; registers sharing a layout (DI1..DI7) are drawn once."""
+    import wavedrom  # type: ignore[import-untyped,import-not-found,unused-ignore]
+
+    drawing = wavedrom.render(source)
+    drawing.set_desc(title=_TITLE_SLOT)
+    text: str = drawing.tostring()
+    return text
 
 
 # ---------------------------------------------------------------------------------------------- target
