@@ -35,6 +35,12 @@ class Line:
     turnaround_s: float  # end of request -> start of response
     idle_s: float  # end of response -> the device listens again (next request may start)
     turnaround_source: str
+    manual_t1_s: float | None = None  # the manual's time from start of request to end of answer, where given
+
+    @property
+    def model_t1_s(self) -> float:
+        """The model's start of a one-register read request to the end of its answer (8 + 7 bytes)."""
+        return (READ_REQUEST_BYTES + READ_RESPONSE_OVERHEAD + 2) * self.char_s + self.turnaround_s
 
     def exchange_s(self, request_bytes: int, response_bytes: int) -> float:
         return (request_bytes + response_bytes) * self.char_s + self.turnaround_s + self.idle_s
@@ -53,7 +59,9 @@ def line_of(device: Device) -> Line:
     gap_s = 3.5 * char_s
     turnaround_s, idle_s, source = gap_s, gap_s, "3.5-character gaps only (the manual gives no turnaround)"
     row = next((r for r in t.timing if r.baud == t.baud), None)
+    manual_t1_s = None
     if row is not None:
+        manual_t1_s = None if row.receive_to_send_ms is None else row.receive_to_send_ms / 1000
         wait = (row.wait_after_receive_ms or 0.0) / 1000
         back = (row.send_to_receive_ms or 0.0) / 1000
         turnaround_s, idle_s = max(gap_s, wait), max(gap_s, back)
@@ -64,7 +72,7 @@ def line_of(device: Device) -> Line:
     elif t.response_delay_ms is not None:
         turnaround_s = max(gap_s, t.response_delay_ms / 1000)
         source = f"manual response delay {t.response_delay_ms:g} ms before each answer; 3.5-character gap after it"
-    return Line(t.baud, bits, char_s, gap_s, turnaround_s, idle_s, source)
+    return Line(t.baud, bits, char_s, gap_s, turnaround_s, idle_s, source, manual_t1_s)
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,6 @@ from pathlib import Path
 
 from conftest import GENERATED, ROOT
 
-
 CACHES = {"__pycache__", ".mypy_cache", ".ruff_cache", ".pytest_cache"}  # made by tools run on the tree; git ignores them
 
 

@@ -11,6 +11,7 @@ has a hyphen in its slug, so no two ids on a page can collide.
 from __future__ import annotations
 
 import functools
+import importlib.util
 import json
 import re
 from collections.abc import Iterable, Sequence
@@ -1226,10 +1227,8 @@ def _wrap(name: str, bits: int) -> str:
 
 def bitfield_svg(device: Device, reg: Register) -> str:
     """The register's bit layout drawn by wavedrom's `reg` renderer; unused bits shaded."""
-    try:
-        import wavedrom  # type: ignore[import-untyped,import-not-found,unused-ignore]
-    except ImportError:  # pragma: no cover - wavedrom is a declared dependency
-        raise UsageError("wavedrom is not installed; it draws the bitfield diagrams of the docs (pip install wavedrom)") from None
+    if importlib.util.find_spec("wavedrom") is None:  # pragma: no cover - wavedrom is a declared dependency
+        raise UsageError("wavedrom is not installed; it draws the bitfield diagrams of the docs (pip install wavedrom)")
     fields: list[dict[str, Any]] = []
     position = 0
     for b in sorted(reg.bitfields, key=lambda b: b.lsb):
