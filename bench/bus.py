@@ -13,12 +13,11 @@ import threading
 from dataclasses import dataclass
 from typing import Any
 
+from bench.common import client_class, client_module, free_port, wait_for_port
 from regmap.backends.common import read_plan
 from regmap.model import Device
 from regmap.simulator import Simulator
 from regmap_runtime.rtu import build_read, crc_ok, parse_frame
-
-from bench.common import client_class, client_module, free_port, wait_for_port
 
 READ_REQUEST_BYTES = 8  # slave, function, address (2), count (2), CRC (2)
 READ_RESPONSE_OVERHEAD = 5  # slave, function, byte count, CRC (2); plus 2 bytes per register word

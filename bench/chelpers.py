@@ -77,9 +77,8 @@ def host_speed(include: Path, work: Path, result: CResult, cc: str, iterations: 
 
 def python_speed(result: CResult, repeats: int) -> None:
     """The same operations with regmap_runtime.rtu, for scale."""
-    from regmap_runtime.rtu import build_read, build_read_response, build_write_multiple, parse_frame
-
     from bench.common import calibrate, time_call
+    from regmap_runtime.rtu import build_read, build_read_response, build_write_multiple, parse_frame
 
     one = build_read_response(1, [0x1234])
     hundred = build_read_response(1, [(i * 2654435761) & 0xFFFF for i in range(100)])

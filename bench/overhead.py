@@ -20,9 +20,6 @@ from typing import Any, Literal
 from pymodbus.client import ModbusTcpClient
 from pymodbus.client.mixin import ModbusClientMixin
 from pymodbus.pdu.register_message import ReadHoldingRegistersResponse
-from regmap_runtime.codec import raw_to_words
-from regmap_runtime.plan import ReadBlock, plan_reads
-from regmap_runtime.spec import HIGH_FIRST, DeviceSpec, RegisterSpec
 
 from bench.common import (
     MAPS,
@@ -37,6 +34,9 @@ from bench.common import (
     time_call,
     wait_for_port,
 )
+from regmap_runtime.codec import raw_to_words
+from regmap_runtime.plan import ReadBlock, plan_reads
+from regmap_runtime.spec import HIGH_FIRST, DeviceSpec, RegisterSpec
 
 DATATYPES = {
     "u16": ModbusClientMixin.DATATYPE.UINT16,

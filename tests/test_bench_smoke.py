@@ -10,12 +10,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import MAPS, ROOT
 from pymodbus.client import ModbusTcpClient
+
 from regmap.backends.common import read_plan
 from regmap.frontend import load_map, load_map_text
 from regmap_runtime.plan import plan_reads
 from regmap_runtime.spec import RegisterSpec
+
+from conftest import MAPS, ROOT
 
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))  # bench/ sits at the top of the repository

@@ -28,13 +28,15 @@ from pathlib import Path
 
 import pytest
 import yaml
-from conftest import MAPS, ROOT, SMALL_MAPS, require_tool
+
 from regmap.backends import c as c_backend
 from regmap.backends.common import read_plan
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
 from regmap.model import Device
+
+from conftest import MAPS, ROOT, SMALL_MAPS, require_tool
 
 C_TESTS = ROOT / "tests" / "c"
 EXAMPLE = ROOT / "examples" / "libmodbus" / "main.c"

@@ -21,9 +21,11 @@ from typing import Any
 
 import pytest
 import yaml
-from conftest import ROOT
+
 from regmap import diff
 from regmap.cli import main
+
+from conftest import ROOT
 
 V1 = ROOT / "tests" / "maps" / "diff" / "idm_rs_small_v1.yaml"
 V2 = ROOT / "tests" / "maps" / "diff" / "idm_rs_small_v2.yaml"

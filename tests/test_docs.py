@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import NoReturn
 
 import pytest
+
 from regmap.backends.markdown import diagram_path
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import pytest
-from conftest import MAPS, SMALL_MAPS, small_maps_python
+
 from regmap.frames import decode_frame
 from regmap.frontend import load_map
 from regmap.model import Device, Example, ExampleValue
@@ -25,6 +25,8 @@ from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.codec import value_to_raw
 from regmap_runtime.errors import DeviceException, RegmapError
 from regmap_runtime.rtu import build_read, build_read_response, build_write_multiple_response, crc_ok, parse_frame, to_hex
+
+from conftest import MAPS, SMALL_MAPS, small_maps_python
 
 DEVICES = {path.stem: load_map(path) for path in (*MAPS, *SMALL_MAPS)}
 

@@ -7,8 +7,10 @@ import sys
 from typing import Any
 
 import pytest
-from conftest import ROOT, SimulatorFactory
+
 from regmap_runtime.errors import DeviceException, DeviceTimeout, ProtocolError, RegmapError
+
+from conftest import ROOT, SimulatorFactory
 from test_python_client import client_module
 
 IDM = ROOT / "maps" / "idm_rs.yaml"

@@ -11,6 +11,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+
 from regmap.backends.export import export_json
 from regmap.cli import main
 from regmap.diagnostics import Diagnostic, MapError

@@ -7,8 +7,9 @@ import re
 import subprocess
 from pathlib import Path
 
-from conftest import GENERATED, MAPS, ROOT, require_tool
 from regmap.frontend import load_map
+
+from conftest import GENERATED, MAPS, ROOT, require_tool
 
 FUZZ_SECONDS = int(os.environ.get("REGMAP_FUZZ_SECONDS", "20"))
 

@@ -11,9 +11,11 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import MAPS, ROOT, SMALL_MAPS
+
 from regmap.frontend import load_map
 from regmap.generate import Target, generate, recover
+
+from conftest import MAPS, ROOT, SMALL_MAPS
 from test_generated_drift import _tree
 
 

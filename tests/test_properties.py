@@ -5,9 +5,9 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from conftest import MAPS
 from hypothesis import given, settings
 from hypothesis import strategies as st
+
 from regmap.diagnostics import UsageError
 from regmap.frames import decode_frame
 from regmap.frontend import load_map
@@ -24,6 +24,8 @@ from regmap_runtime.rtu import (
     to_hex,
 )
 from regmap_runtime.spec import RegisterSpec
+
+from conftest import MAPS
 
 TYPES = ["u16", "s16", "u32", "s32"]
 ORDERS = ["high_first", "low_first"]

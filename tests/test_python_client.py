@@ -10,8 +10,10 @@ from types import ModuleType
 from typing import Any
 
 import pytest
-from conftest import GENERATED_PY, MAPS, ROOT, PtyPair, SimulatorFactory
+
 from regmap_runtime.errors import DeviceException, DeviceTimeout
+
+from conftest import GENERATED_PY, MAPS, ROOT, PtyPair, SimulatorFactory
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"

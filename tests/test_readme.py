@@ -49,8 +49,9 @@ def test_python_example_type_checks(tmp_path: Path) -> None:
 
 
 def test_map_table_matches_the_maps() -> None:
-    from conftest import MAPS
     from regmap.frontend import load_map
+
+    from conftest import MAPS
 
     for path in MAPS:
         device = load_map(path)

@@ -9,9 +9,11 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import ROOT, PtyPair, SimulatorFactory, require_tool
+
 from regmap.frontend import load_map
 from regmap_runtime.errors import DeviceException
+
+from conftest import ROOT, PtyPair, SimulatorFactory, require_tool
 from test_python_client import client_module
 
 IDM = ROOT / "maps" / "idm_rs.yaml"

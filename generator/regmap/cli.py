@@ -107,9 +107,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def cmd_frame(args: argparse.Namespace) -> int:
-    from regmap_runtime.rtu import to_hex
-
     from regmap import frames
+    from regmap_runtime.rtu import to_hex
 
     device = load_map(args.map)
     if args.action == "read":
@@ -133,9 +132,8 @@ def cmd_frame(args: argparse.Namespace) -> int:
 
 
 def cmd_decode(args: argparse.Namespace) -> int:
-    from regmap_runtime.rtu import FrameError, parse_frame, parse_hex
-
     from regmap import frames
+    from regmap_runtime.rtu import FrameError, parse_frame, parse_hex
 
     device = load_map(args.map)
     if args.file:

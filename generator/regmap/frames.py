@@ -11,6 +11,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from regmap.backends.common import read_plan, runtime_specs
+from regmap.diagnostics import UsageError
+from regmap.model import Device, Register
 from regmap_runtime.codec import RangeError, check_raw, raw_to_value, raw_to_words, value_to_raw, words_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
 from regmap_runtime.rtu import (
@@ -25,10 +28,6 @@ from regmap_runtime.rtu import (
     to_hex,
 )
 from regmap_runtime.spec import RegisterSpec
-
-from regmap.backends.common import read_plan, runtime_specs
-from regmap.diagnostics import UsageError
-from regmap.model import Device, Register
 
 FUNCTION_NAMES = {
     0x01: "read coils",

@@ -14,13 +14,12 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap_runtime.client import SyncClient
-from regmap_runtime.errors import RegmapError
-
 from regmap.backends.common import read_plan, runtime_device
 from regmap.diagnostics import LinkError, UsageError
 from regmap.frames import DecodedValue, Registers, check_slave, decode_words, parse_assignments, write_blocks
 from regmap.model import Device, Register
+from regmap_runtime.client import SyncClient
+from regmap_runtime.errors import RegmapError
 
 
 @dataclass(frozen=True)

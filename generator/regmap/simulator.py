@@ -26,12 +26,12 @@ from pymodbus.constants import ExcCodes
 from pymodbus.datastore import ModbusServerContext
 from pymodbus.exceptions import NoSuchIdException
 from pymodbus.server import ModbusSerialServer, ModbusTcpServer
-from regmap_runtime.codec import raw_to_words, words_to_raw
-from regmap_runtime.rtu import crc_bytes
 
 from regmap.backends.common import runtime_specs
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
+from regmap_runtime.codec import raw_to_words, words_to_raw
+from regmap_runtime.rtu import crc_bytes
 
 FAULT_KINDS = ("none", "no_answer", "bad_crc", "truncated", "exception", "wrong_slave", "wrong_function", "delay")
 

@@ -3812,7 +3812,7 @@ PR_PATH_15_SPECIAL: Final = ReadWrite[int](
 
 @dataclasses.dataclass(frozen=True)
 class MappingWindowRegisters:
-    """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x (n - 0). Manual section 4.12."""
+    """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x n. Manual section 4.12."""
 
     value: ReadWrite[int]
 
@@ -3833,7 +3833,7 @@ MAPPING_WINDOW: Final[dict[int, MappingWindowRegisters]] = {
 
 @dataclasses.dataclass(frozen=True)
 class MappingSetupRegisters:
-    """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x (n - 0). Manual section 4.12."""
+    """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x n. Manual section 4.12."""
 
     address: ReadWrite[int]
 
@@ -3854,7 +3854,7 @@ MAPPING_SETUP: Final[dict[int, MappingSetupRegisters]] = {
 
 @dataclasses.dataclass(frozen=True)
 class SCodeRegisters:
-    """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x (n - 0). Manual section 4.11, 5.3.1, 附录4."""
+    """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x n. Manual section 4.11, 5.3.1, 附录4."""
 
     setting: ReadWrite[SCodeSettingBits]
 
@@ -3881,7 +3881,7 @@ S_CODE: Final[dict[int, SCodeRegisters]] = {
 
 @dataclasses.dataclass(frozen=True)
 class PrPathRegisters:
-    """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x (n - 0). Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+    """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x n. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
     mode: ReadWrite[PrPathModeBits]
     position: ReadWrite[int]
@@ -5126,19 +5126,19 @@ class IdmRs(SyncClient):
         return self.read(OUTPUT_IO)
 
     def mapping_window(self, n: int) -> MappingWindowElement:
-        """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x (n - 0). Manual section 4.12."""
+        """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x n. Manual section 4.12."""
         return MappingWindowElement(self, n)
 
     def mapping_setup(self, n: int) -> MappingSetupElement:
-        """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x (n - 0). Manual section 4.12."""
+        """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x n. Manual section 4.12."""
         return MappingSetupElement(self, n)
 
     def s_code(self, n: int) -> SCodeElement:
-        """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x (n - 0). Manual section 4.11, 5.3.1, 附录4."""
+        """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x n. Manual section 4.11, 5.3.1, 附录4."""
         return SCodeElement(self, n)
 
     def pr_path(self, n: int) -> PrPathElement:
-        """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x (n - 0). Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x n. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
         return PrPathElement(self, n)
 
     def reset_current_alarm(self) -> None:
@@ -6002,19 +6002,19 @@ class AsyncIdmRs(AsyncClient):
         return await self.read(OUTPUT_IO)
 
     def mapping_window(self, n: int) -> AsyncMappingWindowElement:
-        """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x (n - 0). Manual section 4.12."""
+        """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x n. Manual section 4.12."""
         return AsyncMappingWindowElement(self, n)
 
     def mapping_setup(self, n: int) -> AsyncMappingSetupElement:
-        """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x (n - 0). Manual section 4.12."""
+        """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x n. Manual section 4.12."""
         return AsyncMappingSetupElement(self, n)
 
     def s_code(self, n: int) -> AsyncSCodeElement:
-        """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x (n - 0). Manual section 4.11, 5.3.1, 附录4."""
+        """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x n. Manual section 4.11, 5.3.1, 附录4."""
         return AsyncSCodeElement(self, n)
 
     def pr_path(self, n: int) -> AsyncPrPathElement:
-        """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x (n - 0). Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x n. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
         return AsyncPrPathElement(self, n)
 
     async def reset_current_alarm(self) -> None:
@@ -6077,7 +6077,7 @@ class AsyncIdmRs(AsyncClient):
 
 
 class MappingWindowElement:
-    """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x (n - 0). Manual section 4.12."""
+    """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x n. Manual section 4.12."""
 
     def __init__(self, client: IdmRs, n: int) -> None:
         if n not in MAPPING_WINDOW:
@@ -6096,7 +6096,7 @@ class MappingWindowElement:
 
 
 class MappingSetupElement:
-    """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x (n - 0). Manual section 4.12."""
+    """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x n. Manual section 4.12."""
 
     def __init__(self, client: IdmRs, n: int) -> None:
         if n not in MAPPING_SETUP:
@@ -6115,7 +6115,7 @@ class MappingSetupElement:
 
 
 class SCodeElement:
-    """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x (n - 0). Manual section 4.11, 5.3.1, 附录4."""
+    """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x n. Manual section 4.11, 5.3.1, 附录4."""
 
     def __init__(self, client: IdmRs, n: int) -> None:
         if n not in S_CODE:
@@ -6134,7 +6134,7 @@ class SCodeElement:
 
 
 class PrPathElement:
-    """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x (n - 0). Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+    """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x n. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
     def __init__(self, client: IdmRs, n: int) -> None:
         if n not in PR_PATH:
@@ -6201,7 +6201,7 @@ class PrPathElement:
 
 
 class AsyncMappingWindowElement:
-    """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x (n - 0). Manual section 4.12."""
+    """Mapped register window (映射后的参数地址): 10 elements 0..9, element n at 0x0F00 + 1 x n. Manual section 4.12."""
 
     def __init__(self, client: AsyncIdmRs, n: int) -> None:
         if n not in MAPPING_WINDOW:
@@ -6220,7 +6220,7 @@ class AsyncMappingWindowElement:
 
 
 class AsyncMappingSetupElement:
-    """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x (n - 0). Manual section 4.12."""
+    """Mapping set-up (address of the register to map) (地址映射): 10 elements 0..9, element n at 0x0F10 + 1 x n. Manual section 4.12."""
 
     def __init__(self, client: AsyncIdmRs, n: int) -> None:
         if n not in MAPPING_SETUP:
@@ -6239,7 +6239,7 @@ class AsyncMappingSetupElement:
 
 
 class AsyncSCodeElement:
-    """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x (n - 0). Manual section 4.11, 5.3.1, 附录4."""
+    """S-code output setting per path (S 码设置): 16 elements 0..15, element n at 0x6030 + 1 x n. Manual section 4.11, 5.3.1, 附录4."""
 
     def __init__(self, client: AsyncIdmRs, n: int) -> None:
         if n not in S_CODE:
@@ -6258,7 +6258,7 @@ class AsyncSCodeElement:
 
 
 class AsyncPrPathElement:
-    """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x (n - 0). Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+    """PR path (PR路径): 16 elements 0..15, element n at 0x6200 + 8 x n. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
     def __init__(self, client: AsyncIdmRs, n: int) -> None:
         if n not in PR_PATH:

@@ -16,6 +16,11 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from regmap.backends.common import read_plan
+from regmap.diagnostics import UsageError
+from regmap.generate import Files, Target
+from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Example, Register, WordOrder
+from regmap.render import environment, header_lines
 from regmap_runtime.rtu import (
     EXCEPTION_FLAG,
     READ_HOLDING,
@@ -24,12 +29,6 @@ from regmap_runtime.rtu import (
     crc_ok,
     parse_frame,
 )
-
-from regmap.backends.common import read_plan
-from regmap.diagnostics import UsageError
-from regmap.generate import Files, Target
-from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Example, Register, WordOrder
-from regmap.render import environment, header_lines
 
 SHARED_HEADER = "regmap_rtu.h"
 

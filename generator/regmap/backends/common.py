@@ -9,10 +9,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from regmap.model import Device, Register
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.spec import DeviceSpec, RegisterSpec
-
-from regmap.model import Device, Register
 
 
 def documented_addresses(device: Device) -> frozenset[int]:

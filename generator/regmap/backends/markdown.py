@@ -19,22 +19,6 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from regmap_runtime.codec import raw_to_words, words_to_raw
-from regmap_runtime.rtu import (
-    READ_HOLDING,
-    STANDARD_EXCEPTIONS,
-    WRITE_MULTIPLE,
-    WRITE_SINGLE,
-    Frame,
-    build_write_multiple,
-    build_write_single,
-    crc_bytes,
-    crc_ok,
-    parse_frame,
-    to_hex,
-)
-from regmap_runtime.spec import RegisterSpec
-
 from regmap.backends.common import read_plan, runtime_specs
 from regmap.diagnostics import UsageError
 from regmap.generate import Files, Target
@@ -54,6 +38,21 @@ from regmap.model import (
     WordOrder,
 )
 from regmap.render import environment, header_lines, md_text
+from regmap_runtime.codec import raw_to_words, words_to_raw
+from regmap_runtime.rtu import (
+    READ_HOLDING,
+    STANDARD_EXCEPTIONS,
+    WRITE_MULTIPLE,
+    WRITE_SINGLE,
+    Frame,
+    build_write_multiple,
+    build_write_single,
+    crc_bytes,
+    crc_ok,
+    parse_frame,
+    to_hex,
+)
+from regmap_runtime.spec import RegisterSpec
 
 if TYPE_CHECKING:
     from mkdocs.config.defaults import MkDocsConfig

@@ -236,7 +236,7 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
         elements.append((index, tuple(pairs)))
     doc = (
         _titled(array.title, array.title_zh)
-        + f": {array.count} elements {array.first_index}..{array.last_index}, element n at 0x{array.base:04X} + {array.stride} x (n - {array.index_base})"
+        + f": {array.count} elements {array.first_index}..{array.last_index}, element n at 0x{array.base:04X} + {array.stride} x {'n' if array.index_base == 0 else f'(n - {array.index_base})'}"
         + _sources(array.source)
     )
     return ArrayView(

@@ -21,7 +21,6 @@ from pathlib import Path as FsPath
 from typing import Any
 
 import jsonschema
-from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
 
 from regmap.diagnostics import Diagnostic, MapError
 from regmap.frontend.yamlsource import Path, Positions, YamlProblem, read_yaml
@@ -52,6 +51,7 @@ from regmap.model import (
     WordOrder,
     WordOrderRegister,
 )
+from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
 
 MAX_MAP_BYTES = 8 * 1024 * 1024
 
