@@ -53,6 +53,18 @@ def require_tool(name: str) -> str:
     return path
 
 
+def mypy_strict(*targets: str, cwd: Path = GENERATED_PY) -> subprocess.CompletedProcess[str]:
+    """mypy --strict on generated code, with the generated packages (and nothing else) importable."""
+    return subprocess.run(
+        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", *targets],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        check=False,
+        env={"MYPYPATH": str(cwd), "PATH": "/usr/bin:/bin"},
+    )
+
+
 def free_port() -> int:
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))

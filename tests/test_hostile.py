@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT, require_tool
+from conftest import ROOT, mypy_strict, require_tool
 
 HOSTILE = ROOT / "tests" / "maps" / "hostile" / "hostile.yaml"
 
@@ -43,13 +43,7 @@ def test_python_imports_and_runs_nothing_injected(generated: Path, tmp_path: Pat
     assert result.returncode == 0, result.stderr
     assert not list(tmp_path.iterdir()), "an injected statement created a file"
     assert '__import__("pathlib")' in result.stdout  # the text survives, as text
-    mypy = subprocess.run(
-        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", "-p", "hostile_dev"],
-        cwd=generated / "python",
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    mypy = mypy_strict("-p", "hostile_dev", cwd=generated / "python")
     assert mypy.returncode == 0, mypy.stdout
 
 

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import importlib
-import subprocess
-import sys
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -13,7 +11,7 @@ import pytest
 
 from regmap_runtime.errors import DeviceException, DeviceTimeout
 
-from conftest import GENERATED_PY, MAPS, ROOT, PtyPair, SimulatorFactory
+from conftest import MAPS, ROOT, PtyPair, SimulatorFactory, mypy_strict
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"
@@ -26,13 +24,7 @@ def client_module(device_id: str) -> ModuleType:
 
 def test_generated_clients_pass_mypy_strict() -> None:
     packages = [p.stem for p in MAPS]
-    result = subprocess.run(
-        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", *(f"-p{p}" for p in packages), "-pregmap_runtime"],
-        cwd=GENERATED_PY,
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    result = mypy_strict(*(f"-p{p}" for p in packages), "-pregmap_runtime")
     assert result.returncode == 0, result.stdout + result.stderr
 
 
@@ -42,14 +34,7 @@ def test_read_only_register_has_no_write_path_that_type_checks(tmp_path: Path) -
         "from idm_rs import IdmRs, RUN_STATUS\ndef f(d: IdmRs) -> None:\n    d.write(RUN_STATUS, 1)\n    d.write_run_status(1)\n",
         encoding="utf-8",
     )
-    result = subprocess.run(
-        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", str(program)],
-        cwd=GENERATED_PY,
-        capture_output=True,
-        text=True,
-        check=False,
-        env={"MYPYPATH": str(GENERATED_PY), "PATH": "/usr/bin:/bin"},
-    )
+    result = mypy_strict(str(program))
     assert result.returncode == 1
     assert 'incompatible type "ReadOnly[RunStatusBits]"' in result.stdout
     assert '"IdmRs" has no attribute "write_run_status"' in result.stdout

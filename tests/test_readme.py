@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import re
 import subprocess
-import sys
 from pathlib import Path
 
-from conftest import GENERATED, GENERATED_PY, ROOT, require_tool
+from conftest import GENERATED, ROOT, mypy_strict, require_tool
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 
@@ -37,14 +36,7 @@ def test_python_example_type_checks(tmp_path: Path) -> None:
     code = _block("python", "from idm_rs import").replace('sys.path.insert(0, "generated/python")', "pass")
     program = tmp_path / "readme_example.py"
     program.write_text(code, encoding="utf-8")
-    result = subprocess.run(
-        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", str(program)],
-        cwd=GENERATED_PY,
-        capture_output=True,
-        text=True,
-        check=False,
-        env={"MYPYPATH": str(GENERATED_PY), "PATH": "/usr/bin:/bin"},
-    )
+    result = mypy_strict(str(program))
     assert result.returncode == 0, result.stdout
 
 

@@ -109,10 +109,6 @@ class Bitfield:
         return (1 << self.width) - 1
 
     @property
-    def is_flag(self) -> bool:
-        return self.width == 1 and self.enum is None
-
-    @property
     def bits_text(self) -> str:
         return str(self.lsb) if self.lsb == self.msb else f"{self.lsb}-{self.msb}"
 

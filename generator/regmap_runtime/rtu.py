@@ -124,10 +124,6 @@ def build_write_multiple_response(slave: int, address: int, count: int) -> bytes
     return with_crc(struct.pack(">BBHH", slave, WRITE_MULTIPLE, address, count))
 
 
-def build_exception(slave: int, function: int, code: int) -> bytes:
-    return with_crc(struct.pack(">BBB", slave, function | EXCEPTION_FLAG, code))
-
-
 @dataclass(frozen=True)
 class Frame:
     """A parsed RTU frame. `kind` says which of the optional fields are set."""
@@ -143,14 +139,6 @@ class Frame:
     words: tuple[int, ...] = ()
     exception_code: int | None = None
     problems: tuple[str, ...] = ()
-
-    @property
-    def crc_received(self) -> int:
-        return int.from_bytes(self.raw[-2:], "little")
-
-    @property
-    def crc_expected(self) -> int:
-        return crc16(self.raw[:-2])
 
 
 def _words(data: bytes) -> tuple[int, ...]:

@@ -19,6 +19,7 @@ from typing import Any
 from regmap.backends.common import read_plan
 from regmap.diagnostics import UsageError
 from regmap.generate import Files, Target
+from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Example, Register, WordOrder
 from regmap.render import environment, header_lines
 from regmap_runtime.rtu import (
@@ -34,109 +35,6 @@ SHARED_HEADER = "regmap_rtu.h"
 
 # -- identifiers -----------------------------------------------------------------------------
 
-C_KEYWORDS = frozenset(
-    [
-        "auto",
-        "break",
-        "case",
-        "char",
-        "const",
-        "continue",
-        "default",
-        "do",
-        "double",
-        "else",
-        "enum",
-        "extern",
-        "float",
-        "for",
-        "goto",
-        "if",
-        "inline",
-        "int",
-        "long",
-        "register",
-        "restrict",
-        "return",
-        "short",
-        "signed",
-        "sizeof",
-        "static",
-        "struct",
-        "switch",
-        "typedef",
-        "union",
-        "unsigned",
-        "void",
-        "volatile",
-        "while",
-        "alignas",
-        "alignof",
-        "bool",
-        "constexpr",
-        "false",
-        "nullptr",
-        "static_assert",
-        "thread_local",
-        "true",
-        "typeof",
-        "typeof_unqual",
-    ]
-)
-CPP_KEYWORDS = frozenset(
-    [
-        "and",
-        "and_eq",
-        "asm",
-        "bitand",
-        "bitor",
-        "catch",
-        "char8_t",
-        "char16_t",
-        "char32_t",
-        "class",
-        "co_await",
-        "co_return",
-        "co_yield",
-        "compl",
-        "concept",
-        "const_cast",
-        "consteval",
-        "constinit",
-        "decltype",
-        "delete",
-        "dynamic_cast",
-        "explicit",
-        "export",
-        "friend",
-        "mutable",
-        "namespace",
-        "new",
-        "noexcept",
-        "not",
-        "not_eq",
-        "operator",
-        "or",
-        "or_eq",
-        "private",
-        "protected",
-        "public",
-        "reinterpret_cast",
-        "requires",
-        "static_cast",
-        "template",
-        "this",
-        "throw",
-        "try",
-        "typeid",
-        "typename",
-        "using",
-        "virtual",
-        "wchar_t",
-        "xor",
-        "xor_eq",
-    ]
-)
 # Names the headers this code includes (stdbool.h, stddef.h, stdint.h) define, and common macros.
 STANDARD_NAMES = frozenset(
     [

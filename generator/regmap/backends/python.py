@@ -63,6 +63,7 @@ class BitfieldView:
     width: int
     enum_class: str | None
     annotation: str
+    default: str  # literal for the dataclass field: False for a flag, 0 otherwise
 
 
 @dataclass(frozen=True)
@@ -137,9 +138,16 @@ def _bits_class_name(reg: Register) -> str:
 
 def _bitfield_view(b: Bitfield) -> BitfieldView:
     enum_class = camel(b.enum.name) if b.enum else None
-    annotation = f"{enum_class} | int" if enum_class else ("bool" if b.width == 1 else "int")
+    flag = b.width == 1 and enum_class is None
+    annotation = f"{enum_class} | int" if enum_class else ("bool" if flag else "int")
     return BitfieldView(
-        attr=PythonIdentifier(b.name), name_literal=py_str(b.name), lsb=b.lsb, width=b.width, enum_class=enum_class, annotation=annotation
+        attr=PythonIdentifier(b.name),
+        name_literal=py_str(b.name),
+        lsb=b.lsb,
+        width=b.width,
+        enum_class=enum_class,
+        annotation=annotation,
+        default="False" if flag else "0",
     )
 
 

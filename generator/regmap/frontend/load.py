@@ -24,6 +24,7 @@ import jsonschema
 
 from regmap.diagnostics import Diagnostic, MapError
 from regmap.frontend.yamlsource import Path, Positions, YamlProblem, read_yaml
+from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import (
     Access,
     ArrayDef,
@@ -55,60 +56,6 @@ from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
 
 MAX_MAP_BYTES = 8 * 1024 * 1024
 
-C_KEYWORDS = frozenset(
-    [
-        "auto",
-        "break",
-        "case",
-        "char",
-        "const",
-        "continue",
-        "default",
-        "do",
-        "double",
-        "else",
-        "enum",
-        "extern",
-        "float",
-        "for",
-        "goto",
-        "if",
-        "inline",
-        "int",
-        "long",
-        "register",
-        "restrict",
-        "return",
-        "short",
-        "signed",
-        "sizeof",
-        "static",
-        "struct",
-        "switch",
-        "typedef",
-        "union",
-        "unsigned",
-        "void",
-        "volatile",
-        "while",
-        "bool",
-        "true",
-        "false",
-        "class",
-        "namespace",
-        "template",
-        "typename",
-        "private",
-        "public",
-        "protected",
-        "new",
-        "delete",
-        "this",
-        "operator",
-        "virtual",
-        "friend",
-    ]
-)
 RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
 
 
@@ -416,7 +363,13 @@ class _Elaborator:
 
     def _check_device_id(self, device_id: str) -> None:
         """The id names a Python package and prefixes every C name: it must be usable as both."""
-        if keyword.iskeyword(device_id) or keyword.issoftkeyword(device_id) or device_id in C_KEYWORDS or device_id in RESERVED_IDS:
+        if (
+            keyword.iskeyword(device_id)
+            or keyword.issoftkeyword(device_id)
+            or device_id in C_KEYWORDS
+            or device_id in CPP_KEYWORDS
+            or device_id in RESERVED_IDS
+        ):
             self.problem(
                 ("device", "id"),
                 f"device id {device_id!r} is a reserved word in Python, C or regmap; choose another (e.g. {device_id}_drive)",
