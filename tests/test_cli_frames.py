@@ -40,7 +40,7 @@ def regmap(*args: str) -> subprocess.CompletedProcess[str]:
         ((C630S, "read", "P0B-17"), "01 03 0B 11 00 02 96 2A"),
         # iD243pro appendix: decimal addresses written as the manual's four-digit ids.
         ((ID243, "read", "0302"), "01 03 01 2E 00 01 E5 FF"),
-        ((ID243, "write", "300=1", "--raw"), "01 06 01 2C 00 01 88 3F"),
+        ((ID243, "write", "--words", "300=1"), "01 06 01 2C 00 01 88 3F"),
     ],
 )
 def test_frame_builds_the_manual_frames(args: tuple[str, ...], expected: str) -> None:
@@ -55,7 +55,7 @@ def test_frame_write_enum_member_by_name() -> None:
 
 
 def test_frame_write_bitfields_by_name() -> None:
-    result = regmap("frame", IDM, "write", "Pr4.03=function:path_address_0,normally_closed:0", "Pr4.04=function:path_address_1")
+    result = regmap("frame", IDM, "write", "Pr4.03=function:path_address_0,normally_closed:0", "Pr4.04=function:path_address_1,normally_closed:0")
     assert result.stdout.strip() == "01 10 01 46 00 04 08 00 00 00 28 00 00 00 29 1C 14", result.stderr
 
 
@@ -99,7 +99,7 @@ def test_decode_text_names_registers_units_and_bitfields() -> None:
         (("frame", IDM, "write", "peak_current=1.55"), "resolution 0.1 A"),
         (("frame", IDM, "write", "peak_current"), "write wants SELECTOR=VALUE"),
         (("frame", IDM, "write", "run_status=1", "--raw"), "is read-only"),
-        (("frame", IDM, "read", "Pr5.00", "--slave", "99"), "slave id 99 is outside 1..31"),
+        (("frame", IDM, "read", "Pr5.00", "--slave", "99"), "--slave 99 is outside 1..31"),
         (("frame", IDM, "command", "fly"), "unknown command 'fly'"),
         (("frame", IDM, "command", "trigger_path", "16"), "path in 0..15"),
         (("frame", "maps/nope.yaml", "read", "x"), "cannot read the map"),

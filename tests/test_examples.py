@@ -18,7 +18,7 @@ from typing import Any
 
 import pytest
 
-from regmap.frames import decode_frame
+from regmap.tools.decode import decode_frame
 from regmap.frontend import load_map
 from regmap.model import Device, Example, ExampleValue
 from regmap_runtime.bits import BitfieldValue

@@ -2,7 +2,23 @@
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass
+
+
+class ExitCode(enum.IntEnum):
+    """Exit statuses, one meaning each, the same in every subcommand (README "Exit status")."""
+
+    OK = 0
+    INVALID_MAP = 1  # a map is missing, unreadable or invalid (every problem printed as file:line:col)
+    USAGE = 2  # a bad command line or a bad value; nothing was sent or written
+    BAD_FRAME = 3  # `decode`: a CRC mismatch, a malformed frame, or a line that is no frame
+    BUS = 4  # the bus failed: no answer, a bad answer, an exception response, a dead port
+    VERIFY_MISMATCH = 5  # `write`: the drive reads back another value than was written
+    DIFF_COMPATIBLE = 6  # `diff`: differences, all compatible
+    DIFF_BREAKING = 7  # `diff`: breaking differences
+    INTERNAL = 70  # a bug in regmap (EX_SOFTWARE): please report it with REGMAP_DEBUG=1
+    INTERRUPTED = 130  # Ctrl-C
 
 
 @dataclass(frozen=True, order=True)
@@ -30,3 +46,9 @@ class UsageError(Exception):
 
 class LinkError(Exception):
     """The bus failed (no answer, connection lost, exception response); one line for the user."""
+
+
+def at(file: str, pos: tuple[int, int] | None, message: str) -> Diagnostic:
+    """A diagnostic at a model item's source position (line 1, column 1 when it has none)."""
+    line, column = pos or (1, 1)
+    return Diagnostic(file, line, column, message)

@@ -11,7 +11,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from regmap.diagnostics import UsageError
+from regmap.diagnostics import Diagnostic, UsageError
 from regmap.model import Device
 
 Files = dict[str, str]  # relative path -> content
@@ -24,6 +24,19 @@ class Target:
     per_device: Callable[[Device], Files]
     shared: Callable[[Sequence[Device]], Files]
     post: Callable[[Path], None] | None = None
+    check: Callable[[Device], list[Diagnostic]] | None = None  # the back end's own rules, run by `regmap validate`
+
+
+def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
+    """Every target's own checks on every device: what `generate` would refuse, found by `validate`."""
+    known = _targets()
+    problems: list[Diagnostic] = []
+    for name in targets or list(known):
+        target = known[name]
+        if target.check is not None:
+            for device in devices:
+                problems.extend(target.check(device))
+    return problems
 
 
 def _targets() -> dict[str, Target]:

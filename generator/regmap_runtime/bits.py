@@ -13,9 +13,15 @@ B = TypeVar("B", bound="BitfieldValue")
 
 @dataclasses.dataclass(frozen=True)
 class BitfieldValue:
-    """A register value split into named fields. `raw` keeps bits no field describes."""
+    """A register value split into named fields.
+
+    `raw` is the whole word as it was read: `to_raw()` keeps the bits no field describes, so
+    read -> `dataclasses.replace(value, flag=...)` -> write changes only the field the caller
+    changed. A value built from fields alone (raw=0) sets every undescribed bit to 0.
+    """
 
     FIELDS: ClassVar[tuple[BitfieldSpec, ...]] = ()
+    raw: int = dataclasses.field(default=0, kw_only=True)
 
     @classmethod
     def from_raw(cls: type[B], raw: int) -> B:
@@ -31,10 +37,18 @@ class BitfieldValue:
                 values[spec.name] = bool(value)
             else:
                 values[spec.name] = value
-        return cls(**values)
+        return cls(**values, raw=raw)
+
+    @classmethod
+    def described_mask(cls) -> int:
+        """The bits some field describes."""
+        mask = 0
+        for spec in cls.FIELDS:
+            mask |= spec.mask
+        return mask
 
     def to_raw(self) -> int:
-        raw = 0
+        raw = self.raw & ~self.described_mask()
         for spec in self.FIELDS:
             value = int(getattr(self, spec.name))
             if not 0 <= value < (1 << spec.width):

@@ -16,13 +16,28 @@ from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
 from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
-from regmap_runtime.errors import ConnectionLost, DeviceException, DeviceTimeout, ProtocolError
+from regmap_runtime.errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
 from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
-from regmap_runtime.rtu import STANDARD_EXCEPTIONS
-from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, RegisterSpec, Writable
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
+from regmap_runtime.bits import BitfieldValue
+from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")
+B = TypeVar("B", bound=BitfieldValue)
 PARITY = {"none": "N", "even": "E", "odd": "O"}
+
+
+class LineWatch:
+    """pymodbus's packet hook: keeps the bytes of the latest answer (bounded) so an unusable answer
+    can be named (bad CRC, another slave, garbage) rather than reported as silence. Changes nothing."""
+
+    def __init__(self, rtu_framing: bool) -> None:
+        self.rtu_framing = rtu_framing
+        self.received = b""
+
+    def __call__(self, sending: bool, data: bytes) -> bytes:
+        self.received = b"" if sending else bytes(data[-260:])
+        return data
 
 
 class _Core:
@@ -37,6 +52,25 @@ class _Core:
         self.word_order = word_order or self.DEVICE.word_order
         self.requests_sent = 0
         self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
+        self.line = LineWatch(rtu_framing=False)
+
+    def transport_error(self, exc: Exception) -> Exception:
+        """A typed error saying what happened on the line: silence, a bad CRC, another slave, or garbage."""
+        if isinstance(exc, ConnectionException):
+            return ConnectionLost(str(exc))
+        if not isinstance(exc, ModbusIOException):
+            return ProtocolError(str(exc))
+        seen = self.line.received
+        if "device id" in str(exc) and "received" in str(exc):
+            return WrongSlave(f"asked slave {self.slave}, {str(exc).split('but ')[-1].rstrip('.')}")
+        if not seen:
+            return DeviceTimeout(f"no answer from slave {self.slave} (after all retries)")
+        if self.line.rtu_framing:
+            if len(seen) >= 4 and seen[0] != self.slave:
+                return WrongSlave(f"asked slave {self.slave}, the answer came from slave {seen[0]}: {to_hex(seen)}")
+            if len(seen) >= 4 and not crc_ok(seen):
+                return CrcError(f"the answer's CRC does not match: {to_hex(seen)}")
+        return ProtocolError(f"unusable answer: {to_hex(seen)}")
 
     @property
     def broadcast(self) -> bool:
@@ -107,20 +141,14 @@ class _Core:
         return words
 
 
-def _transport_error(exc: Exception) -> Exception:
-    if isinstance(exc, ConnectionException):
-        return ConnectionLost(str(exc))
-    if isinstance(exc, ModbusIOException):
-        return DeviceTimeout(str(exc))
-    return ProtocolError(str(exc))
-
-
 class SyncClient(_Core):
     """Blocking client. Use as a context manager, or call close()."""
 
-    def __init__(self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None) -> None:
+    def __init__(self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None) -> None:
         super().__init__(slave, word_order)
         self.modbus = modbus
+        if line is not None:
+            self.line = line
 
     @classmethod
     def rtu(
@@ -137,6 +165,7 @@ class SyncClient(_Core):
     ) -> C:
         """Serial RTU; port settings default to the map's transport settings."""
         device = cls.DEVICE
+        line = LineWatch(rtu_framing=True)
         modbus = ModbusSerialClient(
             port,
             baudrate=baud or device.baud,
@@ -145,8 +174,9 @@ class SyncClient(_Core):
             stopbits=stop_bits or device.stop_bits,
             timeout=timeout,
             retries=retries,
+            trace_packet=line,
         )
-        return cls(modbus, slave, word_order)
+        return cls(modbus, slave, word_order, line)
 
     @classmethod
     def tcp(
@@ -162,7 +192,8 @@ class SyncClient(_Core):
     ) -> C:
         """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters."""
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
-        return cls(ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries), slave, word_order)
+        line = LineWatch(rtu_framing=rtu_over_tcp)
+        return cls(ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line)
 
     def __enter__(self: C) -> C:
         self.connect()
@@ -183,7 +214,7 @@ class SyncClient(_Core):
         try:
             response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
         except PymodbusError as exc:
-            raise _transport_error(exc) from exc
+            raise self.transport_error(exc) from exc
         if self.broadcast:
             return None
         return self.check_response(response, function)
@@ -227,6 +258,13 @@ class SyncClient(_Core):
     def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
         self.write_many({spec: value}, raw=raw)
 
+    def update(self, spec: ReadWrite[B], **fields: Any) -> B:
+        """Read-modify-write of a bitfield register: one read, then one write that changes only
+        the named fields (every other bit, described or not, is written back as read)."""
+        new = dataclasses.replace(self.read(spec), **fields)
+        self.write(spec, new)
+        return new
+
     def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         """Validate every value, then write contiguous registers together with 0x10."""
         for block in self.plan_writes(values, raw):
@@ -236,9 +274,11 @@ class SyncClient(_Core):
 class AsyncClient(_Core):
     """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
 
-    def __init__(self, modbus: AsyncModbusSerialClient | AsyncModbusTcpClient, slave: int = 1, word_order: str | None = None) -> None:
+    def __init__(self, modbus: AsyncModbusSerialClient | AsyncModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None) -> None:
         super().__init__(slave, word_order)
         self.modbus = modbus
+        if line is not None:
+            self.line = line
 
     @classmethod
     def rtu(
@@ -254,6 +294,7 @@ class AsyncClient(_Core):
         word_order: str | None = None,
     ) -> A:
         device = cls.DEVICE
+        line = LineWatch(rtu_framing=True)
         modbus = AsyncModbusSerialClient(
             port,
             baudrate=baud or device.baud,
@@ -262,8 +303,9 @@ class AsyncClient(_Core):
             stopbits=stop_bits or device.stop_bits,
             timeout=timeout,
             retries=retries,
+            trace_packet=line,
         )
-        return cls(modbus, slave, word_order)
+        return cls(modbus, slave, word_order, line)
 
     @classmethod
     def tcp(
@@ -278,7 +320,10 @@ class AsyncClient(_Core):
         rtu_over_tcp: bool = False,
     ) -> A:
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
-        return cls(AsyncModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries), slave, word_order)
+        line = LineWatch(rtu_framing=rtu_over_tcp)
+        return cls(
+            AsyncModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line
+        )
 
     async def __aenter__(self: A) -> A:
         await self.connect()
@@ -299,7 +344,7 @@ class AsyncClient(_Core):
         try:
             response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
         except PymodbusError as exc:
-            raise _transport_error(exc) from exc
+            raise self.transport_error(exc) from exc
         if self.broadcast:
             return None
         return self.check_response(response, function)
@@ -337,6 +382,12 @@ class AsyncClient(_Core):
 
     async def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
         await self.write_many({spec: value}, raw=raw)
+
+    async def update(self, spec: ReadWrite[B], **fields: Any) -> B:
+        """Read-modify-write of a bitfield register (see SyncClient.update)."""
+        new = dataclasses.replace(await self.read(spec), **fields)
+        await self.write(spec, new)
+        return new
 
     async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         for block in self.plan_writes(values, raw):

@@ -7,7 +7,7 @@ from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
-from regmap_runtime.spec import HIGH_FIRST, RegisterSpec
+from regmap_runtime.spec import HIGH_FIRST, BitfieldSpec, RegisterSpec
 
 
 class RangeError(ValueError):
@@ -60,12 +60,15 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> int:
     """Raw integer for an engineering value, or an enum member name; checks range and resolution."""
     number: int | float | Decimal
     if isinstance(value, str):
-        if spec.enum is not None and value.upper() in spec.enum.__members__:
-            return int(spec.enum[value.upper()])
+        if spec.enum is not None:
+            member = enum_member(spec.enum, value)
+            if member is not None:
+                check_raw(spec, int(member))
+                return int(member)
         try:
             number = Decimal(value) if any(c in value for c in ".eE") else int(value, 0)
         except (ValueError, ArithmeticError):
-            names = f"; one of {', '.join(spec.enum.__members__)}" if spec.enum is not None else ""
+            names = f"; one of {enum_names(spec.enum)}" if spec.enum is not None else ""
             raise RangeError(f"{spec.label}: {value!r} is not a number{names}") from None
     elif isinstance(value, enum.IntEnum | bool):
         number = int(value)
@@ -86,13 +89,33 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> int:
     return raw
 
 
+def enum_member(enum_type: type[enum.IntEnum], text: str) -> enum.IntEnum | None:
+    """The member named `text`, case-insensitively (`save_all_parameters`, `B38400`); a trailing
+    underscore that keeps a generated name off a keyword may be left out."""
+    wanted = text.strip().upper()
+    for name, member in enum_type.__members__.items():
+        if name == wanted or name.rstrip("_") == wanted:
+            return member
+    return None
+
+
+def enum_names(enum_type: type[enum.IntEnum]) -> str:
+    return ", ".join(f"{m.name.lower()}={m.value}" for m in enum_type)
+
+
 def check_raw(spec: RegisterSpec[Any], raw: int) -> None:
+    """The one check every raw value passes before it is sent or stored: the register's range,
+    and for an enum register membership of the enum."""
     if not spec.raw_min <= raw <= spec.raw_max:
         low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
         shown = _fmt(raw_to_value(spec, raw))
         raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_fmt(low)}..{_fmt(high)}{_unit(spec)}")
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
-        raise RangeError(f"{spec.label}: {raw} is not one of {', '.join(f'{m.name}={m.value}' for m in spec.enum)}")
+        raise RangeError(f"{spec.label}: {raw} is not one of {enum_names(spec.enum)}")
+    for field in spec.bitfields:
+        value = (raw & field.mask) >> field.lsb
+        if field.enum is not None and value not in field.enum._value2member_map_:
+            raise RangeError(f"{spec.label}.{field.name}: {value} is not one of {enum_names(field.enum)}")
 
 
 def _unit(spec: RegisterSpec[Any]) -> str:
@@ -111,3 +134,60 @@ def decode_value(spec: RegisterSpec[Any], raw: int) -> Any:
         except ValueError:
             return raw  # a value the manual does not list: keep the number rather than fail the read
     return raw_to_value(spec, raw)
+
+
+def field_value(spec: RegisterSpec[Any], field: BitfieldSpec, text: str) -> int:
+    """One bitfield's raw value from its text: an enum member name, `true`/`false`, or a number."""
+    text = text.strip()
+    if field.enum is not None:
+        member = enum_member(field.enum, text)
+        if member is not None:
+            return int(member)
+    flags = {"true": 1, "on": 1, "false": 0, "off": 0}
+    if field.width == 1 and text.lower() in flags:
+        return flags[text.lower()]
+    try:
+        value = int(text, 0)
+    except ValueError:
+        names = f"; one of {enum_names(field.enum)}" if field.enum is not None else ""
+        raise RangeError(f"{spec.label}.{field.name}: {text!r} is not a number{names}") from None
+    if not 0 <= value <= field.mask >> field.lsb:
+        raise RangeError(f"{spec.label}.{field.name}: {value} does not fit in {field.width} bit(s)")
+    if field.enum is not None and value not in field.enum._value2member_map_:
+        raise RangeError(f"{spec.label}.{field.name}: {value} is not one of {enum_names(field.enum)}")
+    return value
+
+
+def parse_fields(spec: RegisterSpec[Any], text: str) -> tuple[int | None, dict[str, int]]:
+    """`[BASE,]field:value,field:value` -> (the base word or None, {field: raw value}).
+
+    Field names are case-insensitive; an unknown name is an error that lists the fields."""
+    by_name = {f.name.lower(): f for f in spec.bitfields}
+    base: int | None = None
+    named: dict[str, int] = {}
+    for position, part in enumerate(text.split(",")):
+        name, sep, value_text = part.partition(":")
+        if not sep:
+            if position != 0:
+                raise RangeError(f"{spec.label}: {part.strip()!r} is not field:value (a base word may only come first)")
+            try:
+                base = int(part.strip(), 0)
+            except ValueError:
+                raise RangeError(f"{spec.label}: {part.strip()!r} is not field:value (fields: {', '.join(by_name)})") from None
+            continue
+        field = by_name.get(name.strip().lower())
+        if field is None:
+            raise RangeError(f"{spec.label} has no bitfield {name.strip()!r} (fields: {', '.join(by_name)})")
+        if field.name in named:
+            raise RangeError(f"{spec.label}.{field.name} is given twice")
+        named[field.name] = field_value(spec, field, value_text)
+    return base, named
+
+
+def merge_fields(spec: RegisterSpec[Any], base: int, named: dict[str, int]) -> int:
+    """`base` with the named fields replaced and every other bit kept."""
+    raw = base
+    for field in spec.bitfields:
+        if field.name in named:
+            raw = (raw & ~field.mask) | (named[field.name] << field.lsb)
+    return raw

@@ -19,7 +19,7 @@ class DeviceException(RegmapError):
 
 
 class DeviceTimeout(RegmapError):
-    """No (valid) answer within the timeout after all retries."""
+    """No answer at all within the timeout, after all retries (the line stayed silent)."""
 
 
 class ConnectionLost(RegmapError):
@@ -28,3 +28,11 @@ class ConnectionLost(RegmapError):
 
 class ProtocolError(RegmapError):
     """The answer was malformed or did not match the request."""
+
+
+class CrcError(ProtocolError):
+    """An answer came, but its CRC does not match (noise, wrong baud or parity, two masters)."""
+
+
+class WrongSlave(ProtocolError):
+    """An answer came from another slave id than the one asked (two drives with one id, or a wrong --slave)."""

@@ -6,12 +6,15 @@ The read plan is computed once, by the very planner the runtime uses, so the Pyt
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Sequence
 from typing import Any
 
-from regmap.model import Device, Register
+from regmap.model import Device, EnumType, Register
 from regmap_runtime.plan import ReadBlock, plan_reads
-from regmap_runtime.spec import DeviceSpec, RegisterSpec
+from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
+
+_SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
 
 
 def documented_addresses(device: Device) -> frozenset[int]:
@@ -19,8 +22,20 @@ def documented_addresses(device: Device) -> frozenset[int]:
     return frozenset(a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
 
 
+def runtime_enum(e: EnumType) -> type[enum.IntEnum]:
+    """The enum as the runtime checks it, built from the model (the generated modules declare the same)."""
+    return enum.IntEnum("".join(part.capitalize() for part in e.name.split("_")), [(m.name.upper(), m.value) for m in e.members])  # type: ignore[misc]
+
+
 def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
-    return [
+    """Every register as the runtime sees it, enums and bitfields included, so that the one
+    check (`regmap_runtime.codec.check_raw`) serves the CLI and the simulator as it serves the
+    generated clients. Built once per device."""
+    cached = _SPECS.get(id(device))
+    if cached is not None and cached[0] is device:
+        return cached[1]
+    enums = {e.name: runtime_enum(e) for e in device.enums}
+    specs: list[RegisterSpec[Any]] = [
         RegisterSpec(
             name=r.name,
             address=r.address,
@@ -35,9 +50,13 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             max=r.max,
             unit=r.unit,
             param=r.param,
+            enum=enums[r.enum.name] if r.enum is not None else None,
+            bitfields=tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields),
         )
         for r in device.registers
     ]
+    _SPECS[id(device)] = (device, specs)
+    return specs
 
 
 def runtime_device(device: Device) -> DeviceSpec:

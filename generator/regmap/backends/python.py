@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from regmap.backends.common import read_plan
-from regmap.diagnostics import UsageError
+from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.generate import Files, Target, ruff_format
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
 from regmap.render import environment, header_lines, py_doc, py_str
@@ -282,14 +282,58 @@ def _command_view(cmd: Command) -> CommandView:
     )
 
 
-def _check_names(device: Device, names: dict[str, str]) -> None:
-    seen: dict[str, str] = {}
-    for name, what in names.items():
-        if name in seen:
-            raise UsageError(
-                f"{device.source_path}: generated Python name {name!r} is used by both {seen[name]} and {what}; rename one in the map"
-            )
-        seen[name] = what
+CLIENT_METHODS = frozenset(
+    {"read", "write", "update", "read_many", "write_many", "read_all", "read_raw", "write_raw", "send_command", "connect", "close", "rtu", "tcp"}
+    | {"plan_reads", "plan_writes", "readable", "encode", "encode_raw", "decode", "effective", "broadcast", "transport_error", "check_response"}
+    | {"read_words", "slave", "word_order", "requests_sent", "line", "modbus", "DEVICE"}
+)
+BITFIELD_RESERVED = frozenset({"raw", "FIELDS", "from_raw", "to_raw", "described_mask", "describe"})
+
+
+def check(device: Device) -> list[Diagnostic]:
+    """Names the generated module would use twice or that would shadow the runtime's own, at the
+    map line that declares them (run by `regmap validate` as by `regmap generate`)."""
+    file = device.source_path
+    problems: list[Diagnostic] = []
+    taken: dict[str, str] = {}
+
+    def claim(name: str, what: str, pos: tuple[int, int] | None) -> None:
+        if name in taken and taken[name] != what:
+            problems.append(at(file, pos, f"generated Python name {name!r} is used by both {taken[name]} and {what}; rename one in the map"))
+        taken.setdefault(name, what)
+
+    client_class = camel(device.id)
+    claim(client_class, "the client class", None)
+    claim("Async" + client_class, "the async client class", None)
+    for e in device.enums:
+        claim(camel(e.name), f"enum {e.name}", e.pos)
+    for reg in device.registers:
+        if reg.bitfields:
+            claim(_bits_class_name(reg), f"the bitfield class of {reg.array.array if reg.array else reg.name}", reg.pos)
+            for b in reg.bitfields:
+                if b.name in BITFIELD_RESERVED:
+                    problems.append(at(file, b.pos, f"{reg.name}.{b.name}: bitfield name {b.name!r} would shadow BitfieldValue.{b.name}; rename it"))
+    for a in device.arrays:
+        owner = f"array {a.name}"
+        for cls in (camel(a.name) + "Registers", camel(a.name) + "Element", "Async" + camel(a.name) + "Element"):
+            claim(cls, owner, None)
+    taken.clear()
+    methods: list[tuple[str, str, tuple[int, int] | None]] = []
+    for reg in device.registers:
+        if reg.array is None:
+            attr = PythonIdentifier(reg.name)
+            if reg.access.readable:
+                methods.append((f"read_{attr}", f"register {reg.name}", reg.pos))
+            if reg.access.writable:
+                methods.append((f"write_{attr}", f"register {reg.name}", reg.pos))
+    first_element = {r.array.array: r for r in device.registers if r.array is not None}
+    methods += [(PythonIdentifier(a.name), f"array {a.name}", first_element[a.name].pos if a.name in first_element else None) for a in device.arrays]
+    methods += [(PythonIdentifier(c.name), f"command {c.name}", c.pos) for c in device.commands]
+    for name, what, pos in methods:
+        if name in CLIENT_METHODS:
+            problems.append(at(file, pos, f"{what}: the generated method {name!r} would shadow the client's own {name}(); rename it in the map"))
+        claim(name, what, pos)
+    return problems
 
 
 def device_context(device: Device) -> dict[str, Any]:
@@ -311,35 +355,9 @@ def device_context(device: Device) -> dict[str, Any]:
     all_regs = [_register_view(r) for r in device.registers]
     plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
-    names = {e.class_name: f"enum {e.class_name}" for e in enums}
-    names.update({b: f"bitfield class {b}" for b in bits_classes})
-    for a in arrays:
-        names.update({a.bundle_class: f"array {a.name}", a.element_class: f"array {a.name}", a.async_element_class: f"array {a.name}"})
-    names[client_class] = "the client class"
-    names["Async" + client_class] = "the async client class"
-    _check_names(device, names)
-    methods = {f"read_{r.attr}": r.const for r in plain if r.readable}
-    methods.update({f"write_{r.attr}": r.const for r in plain if r.writable})
-    methods.update({a.name: f"array {a.name}" for a in arrays})
-    methods.update({c.name: f"command {c.name}" for c in device.commands})
-    _check_names(device, {**{k: v for k, v in methods.items()}})
-    reserved = {
-        "read",
-        "write",
-        "read_many",
-        "write_many",
-        "read_all",
-        "read_raw",
-        "write_raw",
-        "send_command",
-        "connect",
-        "close",
-        "rtu",
-        "tcp",
-    }
-    clash = reserved & set(methods)
-    if clash:
-        raise UsageError(f"{device.source_path}: {', '.join(sorted(clash))} would shadow a client method; rename it in the map")
+    problems = check(device)
+    if problems:
+        raise MapError(problems)
     t = device.transport
     blocks = read_plan(device)
     return {
@@ -384,4 +402,4 @@ def _post(directory: Path) -> None:
     ruff_format(directory)
 
 
-TARGET = Target(name="python", subdir="python", per_device=render_device, shared=render_shared, post=_post)
+TARGET = Target(name="python", subdir="python", per_device=render_device, shared=render_shared, post=_post, check=check)

@@ -494,6 +494,7 @@ class _Elaborator:
                 description=spec.get("description", ""),
                 source=_source(spec.get("source")),
                 members=tuple(members),
+                pos=self.positions.locate(path),
             )
 
     def _enum_ref(self, name: str | None, path: Path, owner: str) -> EnumType | None:
@@ -621,6 +622,7 @@ class _Elaborator:
             notes=r.get("notes", ""),
             group=group,
             array=array,
+            pos=self.positions.locate(path),
         )
 
     def _defaults_keys(self, path: Path) -> set[str]:
@@ -667,6 +669,7 @@ class _Elaborator:
                     title_zh=spec.get("title_zh"),
                     description=spec.get("description", ""),
                     enum=enum_type,
+                    pos=self.positions.locate(fpath),
                 )
             )
         return tuple(sorted(fields, key=lambda f: f.lsb))
@@ -944,6 +947,7 @@ class _Elaborator:
                     argument=argument,
                     effect=effect,
                     source=_source(c["source"]),
+                    pos=self.positions.locate(path),
                 )
             )
         return tuple(commands)

@@ -1,0 +1,97 @@
+"""The `regmap` command line: one module per subcommand, each with `add_parser()` and `run()`.
+
+Options may come anywhere after the subcommand (argparse's intermixed parsing), an argument error
+shows the subcommand's own usage, and every outcome maps to one documented `ExitCode`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import os
+import sys
+import traceback
+from collections.abc import Sequence
+from types import ModuleType
+
+from regmap import __version__
+from regmap.diagnostics import ExitCode, LinkError, MapError, UsageError
+
+SUBCOMMANDS = ("validate", "show", "export", "generate", "frame", "decode", "read", "write", "dump", "command", "simulate", "diff")
+ALIASES = {"list": "show"}
+
+
+def _module(name: str) -> ModuleType:
+    return importlib.import_module(f"regmap.cli.{name}")
+
+
+def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
+    parser = argparse.ArgumentParser(
+        prog="regmap",
+        description="Declarative Modbus register maps for motor drives: validate, generate, build and decode frames, talk to drives.",
+        epilog="`regmap COMMAND --help` shows each command's options and examples. Exit statuses: README, 'Exit status'.",
+    )
+    parser.add_argument("--version", action="version", version=f"regmap {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    parsers = {name: _module(name).add_parser(sub) for name in SUBCOMMANDS}
+    return parser, parsers
+
+
+def _exit_for(exc: SystemExit) -> int:
+    code = exc.code
+    return code if isinstance(code, int) else ExitCode.USAGE if code else ExitCode.OK
+
+
+def _tolerant_streams() -> None:
+    """A terminal that cannot show Chinese (PYTHONIOENCODING=ascii) gets escapes, not a crash."""
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            reconfigure(errors="backslashreplace")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    # pymodbus logs transport trouble itself; regmap reports it once, as one line of its own.
+    logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
+    _tolerant_streams()
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    parser, parsers = build_parser()
+    position = next((i for i, a in enumerate(args_list) if not a.startswith("-")), None)
+    if position is None or ALIASES.get(args_list[position], args_list[position]) not in parsers:
+        try:
+            parser.parse_args(args_list)  # --help, --version, or the error naming the valid commands
+        except SystemExit as exc:
+            return _exit_for(exc)
+        return ExitCode.USAGE
+    command = ALIASES.get(args_list[position], args_list[position])
+    try:
+        if position:
+            parser.error(f"options before the command: {' '.join(args_list[:position])} (give them after {command!r})")
+        args = parsers[command].parse_intermixed_args(args_list[position + 1 :])
+    except SystemExit as exc:
+        return _exit_for(exc)
+    args.command = command
+    try:
+        result: int = _module(command).run(args)
+        return int(result)
+    except MapError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        return ExitCode.INVALID_MAP
+    except UsageError as exc:
+        print(f"regmap {command}: error: {exc}", file=sys.stderr)
+        return ExitCode.USAGE
+    except LinkError as exc:
+        print(f"regmap {command}: bus error: {exc}", file=sys.stderr)
+        return ExitCode.BUS
+    except KeyboardInterrupt:
+        print(f"regmap {command}: interrupted", file=sys.stderr)
+        return ExitCode.INTERRUPTED
+    except BrokenPipeError:
+        return ExitCode.OK
+    except Exception as exc:  # a bug in regmap, not bad input: one line unless asked for more
+        if os.environ.get("REGMAP_DEBUG"):
+            traceback.print_exc()
+        print(f"regmap {command}: internal error: {type(exc).__name__}: {exc} (set REGMAP_DEBUG=1 for the traceback)", file=sys.stderr)
+        return ExitCode.INTERNAL

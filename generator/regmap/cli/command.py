@@ -1,0 +1,32 @@
+"""`regmap command`: one of the map's commands, sent to a drive."""
+
+from __future__ import annotations
+
+import argparse
+
+from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.frontend import load_map
+
+HELP = "run one of the map's commands on a drive"
+
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = live_parser(
+        sub,
+        "command",
+        HELP,
+        "Send a command the map declares (save, factory reset, alarm reset, trigger a path ...). `regmap show MAP` lists them.",
+        f"regmap command maps/idm_rs.yaml save_all_parameters {WHERE}",
+        f"regmap command maps/idm_rs.yaml trigger_path 3 {WHERE}",
+    )
+    p.add_argument("name", metavar="NAME")
+    p.add_argument("argument", nargs="?", metavar="ARGUMENT", help="for a command that takes one (a path number ...)")
+    return p
+
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.tools import live
+
+    return live.cmd_command(load_map(args.map), link_from(args), args.name, args.argument)

@@ -1,0 +1,146 @@
+"""What several subcommands share: loading maps, the bus options, argument types."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from regmap.diagnostics import MapError, UsageError
+from regmap.frontend import load_map
+from regmap.model import Device
+from regmap.tools.link import Link
+
+DEFAULT_MAPS_DIR = Path("maps")
+
+
+def map_paths(paths: Sequence[str]) -> list[Path]:
+    if paths:
+        return [Path(p) for p in paths]
+    found = sorted(DEFAULT_MAPS_DIR.glob("*.yaml"))
+    if not found:
+        raise UsageError(f"no maps given and none found in {DEFAULT_MAPS_DIR}/")
+    return found
+
+
+def load_all(paths: Sequence[str]) -> list[Device]:
+    """Load every map, reporting the problems of all of them before failing."""
+    devices, errors = [], []
+    for path in map_paths(paths):
+        try:
+            devices.append(load_map(path))
+        except MapError as exc:
+            errors.extend(exc.diagnostics)
+    if errors:
+        raise MapError(errors)
+    seen: dict[str, str] = {}
+    for device in devices:
+        if device.id in seen:
+            raise UsageError(
+                f"{device.source_path} and {seen[device.id]} both have device id {device.id!r}; their generated files would overwrite each other"
+            )
+        seen[device.id] = device.source_path
+    return devices
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not value > 0 or value != value or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"{text} must be a positive number of seconds")
+    return value
+
+
+def count(text: str) -> int:
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{text} must be 0 or more")
+    return value
+
+
+def slave_id(text: str) -> int:
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a slave id") from None
+    if not 0 <= value <= 255:
+        raise argparse.ArgumentTypeError(f"{text} is outside 0..255")
+    return value
+
+
+def add_map(p: argparse.ArgumentParser) -> None:
+    p.add_argument("map", metavar="MAP", help="the device's map (maps/idm_rs.yaml)")
+
+
+def add_word_order(p: Any, *, live: bool) -> None:
+    choices = ["auto", "high_first", "low_first"] if live else ["high_first", "low_first"]
+    p.add_argument(
+        "--word-order",
+        choices=choices,
+        help=(
+            "word order of 32-bit values on a drive whose map has a word-order register (C630S P0C-26): "
+            + ("auto (the default) reads that register first" if live else "the drive's setting, when it is not the map's default")
+        ),
+    )
+
+
+def add_link_options(p: argparse.ArgumentParser) -> None:
+    where = p.add_argument_group("where the drive is (one of)").add_mutually_exclusive_group()
+    where.add_argument("--serial", metavar="DEVICE", help="serial port (RTU); settings default to the map's")
+    where.add_argument("--tcp", metavar="HOST:PORT", help="Modbus TCP gateway or simulator")
+    bus = p.add_argument_group("bus settings")
+    bus.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP connection (transparent serial servers)")
+    bus.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
+    bus.add_argument("--baud", type=count, help="override the map's default baud rate")
+    bus.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity")
+    bus.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
+    bus.add_argument("--timeout", type=positive_float, default=1.0, help="seconds to wait for an answer (default 1)")
+    bus.add_argument("--retries", type=count, default=2, help="retries after a timeout (default 2)")
+    add_word_order(bus, live=True)
+
+
+def link_from(args: argparse.Namespace) -> Link:
+    return Link(
+        tcp=args.tcp,
+        serial=args.serial,
+        slave=args.slave,
+        baud=args.baud,
+        parity=args.parity,
+        stop_bits=args.stop_bits,
+        timeout=args.timeout,
+        retries=args.retries,
+        rtu_over_tcp=args.rtu_over_tcp,
+        word_order=args.word_order,
+    )
+
+
+def examples(*lines: str) -> str:
+    return "examples:\n" + "\n".join(f"  {line}" for line in lines)
+
+
+WHERE = "--serial /dev/ttyUSB0"
+
+
+def live_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], name: str, help: str, description: str, *example: str) -> argparse.ArgumentParser:
+    p = sub.add_parser(name, help=help, description=description, epilog=examples(*example), formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_map(p)
+    add_link_options(p)
+    return p
+
+
+def add_output(p: argparse.ArgumentParser) -> None:
+    fmt = p.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="JSON output (addresses as integers, plus address_hex)")
+    fmt.add_argument("--csv", action="store_true", help="CSV output (a bitfield: its raw word plus one column per field)")
+
+
+def output_format(args: argparse.Namespace) -> str:
+    return "json" if args.json else "csv" if args.csv else "text"
+
+

@@ -1,0 +1,81 @@
+"""`regmap decode`: a frame or a capture log, named with the map's registers."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from regmap.cli.common import add_map, add_word_order, examples
+from regmap.diagnostics import ExitCode, UsageError
+from regmap.frontend import load_map
+
+HELP = "decode a frame or a capture log"
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = sub.add_parser(
+        "decode",
+        help=HELP,
+        description=(
+            "Decode RTU frames: function, registers, raw and engineering values, enums, bitfields, CRC and exceptions.\n"
+            "A capture (--file, - for stdin) has one frame per line, optionally after a timestamp and a TX/RX tag "
+            "(`12:00:00.001 TX: 01 03 ...`, `[2024-05-01 12:00:00.001] RX:`, `TX> ...`); # starts a comment; a response pairs with "
+            "the request before it. Exit status 3 when a frame has a CRC mismatch or another problem, or a line is not a frame."
+        ),
+        epilog=examples(
+            'regmap decode maps/idm_rs.yaml 01 03 02 00 16 39 8A --request "01 03 01 91 00 01 D4 1B"',
+            "regmap decode maps/idm_rs.yaml --file capture.log --json",
+            "cat capture.log | regmap decode maps/c630s.yaml --file -",
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_map(p)
+    p.add_argument("hex", nargs="*", metavar="HEX", help="the frame, as one argument or one per byte")
+    p.add_argument("--file", metavar="CAPTURE", help="a log of frames, one per line; - reads standard input")
+    p.add_argument("--request", metavar="HEX", help="the request a response answers (names the registers of a read response)")
+    p.add_argument("--direction", choices=["request", "response"], help="settle frames that read alike both ways")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    add_word_order(p, live=False)
+    return p
+
+
+def _capture_lines(name: str) -> list[str]:
+    try:
+        if name == "-":
+            return sys.stdin.read().splitlines()
+        with open(name, encoding="utf-8") as handle:
+            return handle.read().splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise UsageError(f"cannot read {name}: {exc}") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.tools import decode
+    from regmap_runtime.rtu import FrameError, parse_frame, parse_hex
+
+    device = load_map(args.map)
+    errors: list[str] = []
+    if args.file:
+        if args.hex:
+            raise UsageError("give HEX or --file, not both")
+        result = decode.decode_capture(device, _capture_lines(args.file), args.file, word_order=args.word_order)
+        decoded, errors = result.frames, result.errors
+    else:
+        if not args.hex:
+            raise UsageError("give the frame as HEX (one argument or several) or --file CAPTURE")
+        try:
+            frame = parse_hex(" ".join(args.hex))
+            request = parse_frame(parse_hex(args.request), "request") if args.request else None
+        except FrameError as exc:
+            raise UsageError(str(exc)) from None
+        direction = "response" if request is not None else args.direction
+        decoded = [decode.decode_frame(device, frame, direction=direction, request=request, word_order=args.word_order)]
+    if args.json:
+        json.dump([d.as_json() for d in decoded], sys.stdout, ensure_ascii=False, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print("\n".join(decode.render_text(d) for d in decoded))
+    for error in errors:
+        print(f"regmap decode: {error}", file=sys.stderr)
+    return ExitCode.OK if all(d.ok for d in decoded) and not errors else ExitCode.BAD_FRAME

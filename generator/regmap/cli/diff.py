@@ -1,0 +1,32 @@
+"""`regmap diff`: what changed between two versions of a map, what it breaks, the version bump it needs."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+HELP = "what changed between two versions of a map, what it breaks, and the version bump it needs"
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    from regmap.diff import EXIT_HELP
+
+    p = sub.add_parser(
+        "diff",
+        help=HELP,
+        description="Compare two maps: registers are matched by name, then parameter id, then address, so a rename or a move is one "
+        "change. Each change is breaking or compatible; the report suggests the map_version bump.",
+        epilog="OLD and NEW are map files; PATH@GITREV reads the map at a git revision (maps/idm_rs.yaml@HEAD~1). " + EXIT_HELP,
+    )
+    p.add_argument("old", metavar="OLD", help="the earlier map: PATH or PATH@GITREV")
+    p.add_argument("new", metavar="NEW", help="the later map: PATH or PATH@GITREV")
+    p.add_argument("--format", choices=["text", "markdown", "json"], default="text", help="text (default), markdown (a changelog) or json")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap import diff
+
+    report = diff.compare(diff.load_spec(args.old), diff.load_spec(args.new))
+    sys.stdout.write(diff.render(report, args.format))
+    return report.exit_status

@@ -1,0 +1,31 @@
+"""`regmap dump`: every readable register, by the read plan."""
+
+from __future__ import annotations
+
+import argparse
+
+from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.frontend import load_map
+
+HELP = "read every readable register with the read plan"
+
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = live_parser(
+        sub,
+        "dump",
+        HELP,
+        "Read every readable register with the fewest requests. A dump cut short by the bus or by Ctrl-C prints what was read "
+        "and names what was not (exit 4, or 130 for Ctrl-C).",
+        "regmap dump maps/idm_rs.yaml --csv --tcp 192.168.1.50:502 > drive.csv",
+    )
+    add_output(p)
+    return p
+
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.tools import live
+
+    return live.cmd_dump(load_map(args.map), link_from(args), output_format(args))

@@ -1,0 +1,60 @@
+"""`regmap generate`: every back end's output, swapped into place atomically."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+from regmap.cli.common import examples, load_all
+from regmap.diagnostics import ExitCode, UsageError
+
+HELP = "generate Python clients, C headers and docs from maps"
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    from regmap.generate import target_names
+
+    p = sub.add_parser(
+        "generate",
+        help=HELP,
+        description="Render every target for every map into OUT (default generated/). Output is swapped in only when every target "
+        "succeeded, so a failure leaves the previous tree as it was.",
+        epilog=examples(
+            "regmap generate                                 # every maps/*.yaml -> generated/",
+            "regmap generate maps/c630s.yaml --target c --out build/gen",
+            "regmap generate --since v1.0.0                  # also changelog pages in the docs",
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("maps", nargs="*", metavar="MAP", help="map files (default: every maps/*.yaml)")
+    p.add_argument("--out", default="generated", metavar="DIR", help="output directory (default: generated)")
+    p.add_argument("--target", action="append", choices=target_names(), help="only this target (repeatable)")
+    p.add_argument("--since", metavar="GITREV", help="also write docs/<device>-changelog.md: `regmap diff` of each map against GITREV")
+    return p
+
+
+def check_out_dir(out: Path) -> None:
+    """OUT must be a directory regmap can write, or a new one in a directory that exists."""
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {out}: exists and is not a directory")
+    parent = out if out.exists() else out.parent
+    if not parent.exists():
+        raise UsageError(f"--out {out}: the directory {parent} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UsageError(f"--out {out}: {parent} is not writable")
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.diff import changelog_pages, write_pages
+    from regmap.generate import generate, target_names
+
+    out = Path(args.out)
+    check_out_dir(out)
+    targets = args.target or target_names()
+    devices = load_all(args.maps)
+    pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
+    written = generate(devices, out, targets, complete=not args.maps)
+    written += write_pages(out, pages)
+    print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
+    return ExitCode.OK

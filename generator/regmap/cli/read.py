@@ -1,0 +1,33 @@
+"""`regmap read`: registers from a drive, by name."""
+
+from __future__ import annotations
+
+import argparse
+
+from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.frontend import load_map
+
+HELP = "read registers from a drive"
+
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = live_parser(
+        sub,
+        "read",
+        HELP,
+        "Read registers by name, manual parameter id or address, with the fewest requests; values are shown with units, enum "
+        "names and bitfields, in the order given. A value outside the map's range is marked OUTSIDE.",
+        f"regmap read maps/idm_rs.yaml peak_current Pr5.22 run_status {WHERE}",
+        "regmap read maps/c630s.yaml P05-02 --tcp 127.0.0.1:5020 --word-order high_first",
+    )
+    p.add_argument("selectors", nargs="+", metavar="SELECTOR")
+    add_output(p)
+    return p
+
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.tools import live
+
+    return live.cmd_read(load_map(args.map), link_from(args), args.selectors, output_format(args))

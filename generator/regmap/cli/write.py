@@ -1,0 +1,48 @@
+"""`regmap write`: checked values to a drive, then read back."""
+
+from __future__ import annotations
+
+import argparse
+
+from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.frontend import load_map
+
+HELP = "write registers, then read them back"
+
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    from regmap.tools.frames import VALUE_SYNTAX
+
+    p = live_parser(
+        sub,
+        "write",
+        HELP,
+        "Every value is checked (range, resolution, enum, bitfield widths, access, two values for one word) before the port "
+        f"is opened, then written and read back.\n{VALUE_SYNTAX}. Naming some fields of a bitfield register reads the register "
+        "first and changes only those fields (read-modify-write); --replace writes the whole word with the unnamed fields 0.",
+        f"regmap write maps/idm_rs.yaml Pr5.00=1.5 {WHERE}",
+        f"regmap write maps/idm_rs.yaml di3_function=function:ctrg {WHERE}     # the other fields are kept",
+        f"regmap write maps/idm_rs.yaml --words 0x6209=0xFFFC,0xF2C0 {WHERE}",
+    )
+    p.add_argument("assignments", nargs="+", metavar="SELECTOR=VALUE")
+    p.add_argument("--raw", action="store_true", help="values are raw register integers")
+    p.add_argument("--words", action="store_true", help="ADDR=WORD[,WORD...]: 16-bit words at any address (no read-back)")
+    p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 instead of keeping the drive's")
+    p.add_argument("--no-verify", action="store_true", help="skip the read-back")
+    return p
+
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.tools import live
+
+    return live.cmd_write(
+        load_map(args.map),
+        link_from(args),
+        args.assignments,
+        raw=args.raw,
+        verify=not args.no_verify and not args.words,
+        replace=args.replace,
+        words=args.words,
+    )

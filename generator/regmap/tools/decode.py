@@ -1,0 +1,410 @@
+"""`regmap decode`: what a frame or a bus capture holds, named with the map's registers.
+
+The words go through the runtime's codec (`words_to_raw`, `raw_to_value`), the same code that
+decodes what the generated clients read.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from regmap.diagnostics import UsageError
+from regmap.model import Device, Register
+from regmap.tools.selectors import Registers
+from regmap_runtime.codec import raw_to_value, words_to_raw
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, FrameError, crc_ok, parse_frame, parse_hex, to_hex
+from regmap_runtime.spec import RegisterSpec
+
+FUNCTION_NAMES = {
+    0x01: "read coils",
+    0x02: "read discrete inputs",
+    0x03: "read holding registers",
+    0x04: "read input registers",
+    0x05: "write single coil",
+    0x06: "write single register",
+    0x0F: "write multiple coils",
+    0x10: "write multiple registers",
+}
+
+MODBUS_MAX_READ = 125  # registers per read (Modbus application protocol 6.3)
+MODBUS_MAX_WRITE = 123  # registers per write multiple (6.12)
+CANDIDATES_SHOWN = 6
+
+
+@dataclass
+class DecodedValue:
+    address: int
+    register: str | None
+    param: str | None
+    raw: int | None
+    words: list[int]
+    value: Any = None
+    unit: str | None = None
+    text: str = ""
+    in_range: bool = True
+    fields: dict[str, Any] | None = None  # a bitfield register's fields (enum fields by member name)
+
+    def as_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "address": self.address,
+            "address_hex": f"0x{self.address:04X}",
+            "register": self.register,
+            "param": self.param,
+            "words": self.words,
+            "raw": self.raw,
+            "value": self.value,
+            "unit": self.unit,
+            "text": self.text,
+            "in_range": self.in_range,
+        }
+        if self.fields is not None:
+            out["fields"] = self.fields
+        return out
+
+
+@dataclass
+class Decoded:
+    frame: Frame
+    direction: str
+    function_name: str
+    values: list[DecodedValue] = field(default_factory=list)
+    exception: str | None = None
+    notes: list[str] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)  # beyond the frame's own (limits, junk)
+    data_words: list[str] = field(default_factory=list)  # a read response without its request: every word
+    source_line: int | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.frame.crc_valid and not self.frame.problems and not self.problems
+
+    def as_json(self) -> dict[str, Any]:
+        f = self.frame
+        return {
+            "hex": to_hex(f.raw),
+            "line": self.source_line,
+            "slave": f.slave,
+            "function": f.function,
+            "function_name": self.function_name,
+            "direction": self.direction,
+            "kind": f.kind,
+            "crc_valid": f.crc_valid,
+            "crc": to_hex(f.raw[-2:]),
+            "address": f.address,
+            "address_hex": None if f.address is None else f"0x{f.address:04X}",
+            "count": f.count,
+            "byte_count": f.byte_count,
+            "words": list(f.words),
+            "exception_code": f.exception_code,
+            "exception": self.exception,
+            "values": [v.as_json() for v in self.values],
+            "problems": [*f.problems, *self.problems],
+            "notes": self.notes,
+            "ok": self.ok,
+        }
+
+
+def _spec_in_order(regs: Registers, reg: Register, word_order: str | None) -> RegisterSpec[Any]:
+    spec = regs.spec(reg)
+    if word_order and spec.words == 2 and spec.follows_device_order and spec.word_order != word_order:
+        import dataclasses
+
+        return dataclasses.replace(spec, word_order=word_order)
+    return spec
+
+
+def _eng_text(reg: Register, spec: RegisterSpec[Any], raw: int) -> str:
+    number = raw_to_value(spec, raw)
+    return f"{number:g}" if isinstance(number, float) else str(number)
+
+
+def describe_value(device: Device, reg: Register, raw: int, regs: Registers | None = None) -> tuple[Any, str, bool, dict[str, Any] | None]:
+    """Engineering value, a human text (`2.2 A`, `save_ok (0x5555)`, `fault=0 enabled=1 ...`), whether
+    the map's range and enum admit it, and a bitfield register's fields."""
+    regs = regs or Registers(device)
+    spec = regs.spec(reg)
+    in_range = reg.raw_min <= raw <= reg.raw_max
+    outside = "" if in_range else f"  [OUTSIDE the map's range {_eng_text(reg, spec, reg.raw_min)}..{_eng_text(reg, spec, reg.raw_max)}]"
+    if reg.bitfields:
+        parts = []
+        fields: dict[str, Any] = {}
+        for b in reg.bitfields:
+            field_value = (raw & b.mask) >> b.lsb
+            member = b.enum.by_value(field_value) if b.enum else None
+            if b.enum is not None and member is None:
+                in_range = False
+            shown: Any = member.name if member else field_value
+            fields[b.name] = shown
+            parts.append(f"{b.name}={shown}")
+        return raw, f"0x{raw:04X}: " + " ".join(parts) + outside, in_range, fields
+    if reg.enum is not None:
+        member = reg.enum.by_value(raw)
+        if member is None:
+            return raw, f"{raw} = 0x{raw & 0xFFFFFFFF:X}  [NOT a value of {reg.enum.name}]", False, None
+        return member.name, f"{member.name} ({raw} = 0x{raw & 0xFFFFFFFF:X})" + outside, in_range, None
+    number = raw_to_value(spec, raw)
+    unit = f" {reg.unit}" if reg.unit else ""
+    shown = f"{number:g}" if isinstance(number, float) else str(number)
+    return number, f"{shown}{unit}" + (f" (raw {raw})" if reg.scaled else "") + outside, in_range, None
+
+
+def decode_words(device: Device, start: int, words: Sequence[int], *, word_order: str | None = None) -> list[DecodedValue]:
+    """Split words read from (or written to) `start` into the registers they carry."""
+    out: list[DecodedValue] = []
+    regs = Registers(device)
+    address = start
+    end = start + len(words)
+    while address < end:
+        reg = device.covering(address)
+        if reg is None:
+            word = words[address - start]
+            out.append(DecodedValue(address, None, None, None, [word], text=f"0x{word:04X}, not documented in the map"))
+            address += 1
+            continue
+        if reg.paired and address == reg.first_address:
+            word = words[address - start]
+            out.append(DecodedValue(address, reg.name, reg.param, None, [word], text=f"0x{word:04X}, the unused high word of {reg.label}"))
+            address += 1
+            continue
+        own = list(range(reg.address, reg.last_address + 1))
+        if own[0] < start or own[-1] >= end:
+            word = words[address - start]
+            out.append(
+                DecodedValue(
+                    address, reg.name, reg.param, None, [word], text=f"0x{word:04X}, part of {reg.label} (not all of its words are here)"
+                )
+            )
+            address += 1
+            continue
+        own_words = [words[a - start] for a in own]
+        raw = words_to_raw(_spec_in_order(regs, reg, word_order), own_words)
+        value, text, in_range, fields = describe_value(device, reg, raw, regs)
+        out.append(DecodedValue(reg.address, reg.name, reg.param, raw, own_words, value, reg.unit, text, in_range, fields))
+        address = reg.last_address + 1
+    return out
+
+
+def _plausible(frame: Frame) -> bool:
+    if frame.problems and any("CRC" not in p for p in frame.problems):
+        return False
+    if frame.kind == "read_request":
+        return frame.count is not None and 1 <= frame.count <= MODBUS_MAX_READ
+    return frame.kind != "unknown"
+
+
+def _parse(frame_bytes: bytes, direction: str | None) -> tuple[Frame, list[str]]:
+    """Parse, settling the direction by CRC and plausibility, and spotting junk after a valid CRC."""
+    extra: list[str] = []
+    if not crc_ok(frame_bytes):
+        for junk in (1, 2, 3):
+            head = frame_bytes[:-junk]
+            if len(head) >= 4 and crc_ok(head):
+                frame = parse_frame(head, direction) if direction else _best(head)
+                if _plausible(frame):
+                    extra.append(f"{junk} byte(s) after the frame's CRC: {to_hex(frame_bytes[-junk:])} (trailing junk)")
+                    return frame, extra
+    if direction:
+        return parse_frame(frame_bytes, direction), extra
+    return _best(frame_bytes), extra
+
+
+def _best(frame_bytes: bytes) -> Frame:
+    first = parse_frame(frame_bytes, None)
+    if first.kind in ("read_request", "read_response", "write_multiple_request", "write_multiple_response") and not _plausible(first):
+        other = parse_frame(frame_bytes, "response" if first.kind.endswith("request") else "request")
+        if _plausible(other):
+            return other
+    return first
+
+
+def _limits(device: Device, frame: Frame) -> list[str]:
+    t = device.transport
+    out = []
+    if frame.kind == "read_request" and frame.count is not None:
+        if not 1 <= frame.count <= MODBUS_MAX_READ:
+            out.append(f"register count {frame.count} is outside Modbus's 1..{MODBUS_MAX_READ}")
+        elif frame.count > t.max_read_registers:
+            out.append(f"register count {frame.count} is over {device.info.model}'s limit of {t.max_read_registers} per read")
+    if frame.kind == "read_response" and len(frame.words) > t.max_read_registers:
+        out.append(f"{len(frame.words)} registers is over {device.info.model}'s limit of {t.max_read_registers} per read")
+    if frame.kind == "write_multiple_request" and frame.count is not None:
+        if not 1 <= frame.count <= MODBUS_MAX_WRITE:
+            out.append(f"register count {frame.count} is outside Modbus's 1..{MODBUS_MAX_WRITE}")
+        elif frame.count > t.max_write_registers:
+            out.append(f"register count {frame.count} is over {device.info.model}'s limit of {t.max_write_registers} per write")
+    if t.max_message_bytes is not None and len(frame.raw) > t.max_message_bytes:
+        out.append(f"{len(frame.raw)} bytes is over {device.info.model}'s message limit of {t.max_message_bytes}")
+    return out
+
+
+def _candidates(device: Device, count: int) -> list[str]:
+    """Registers a read of `count` words could have started at: whole registers, no undocumented gap."""
+    documented = {a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1)}
+    starts = sorted({r.first_address for r in device.registers if r.access.readable} | {r.address for r in device.registers})
+    ranked: list[tuple[int, str]] = []
+    for start in starts:
+        span = range(start, start + count)
+        if not all(a in documented or device.transport.tolerates_gaps for a in span):
+            continue
+        first, last = device.covering(start), device.covering(start + count - 1)
+        if first is None or last is None or start not in (first.first_address, first.address) or start + count - 1 != last.last_address:
+            continue
+        # Likeliest first: one register of exactly this many words, then one paired register, then runs.
+        rank = 0 if last is first and first.words == count else 1 if last is first else 2
+        ranked.append((rank, f"0x{start:04X} {first.label}" + (f" .. {last.label}" if last is not first else "")))
+    return [text for _, text in sorted(ranked, key=lambda r: r[0])]
+
+
+def _word_table(words: Sequence[int]) -> list[str]:
+    return [f"word {i}: 0x{w:04X} = {w} unsigned, {w - 0x10000 if w & 0x8000 else w} signed" for i, w in enumerate(words)]
+
+
+def decode_frame(
+    device: Device, frame_bytes: bytes, *, direction: str | None = None, request: Frame | None = None, word_order: str | None = None
+) -> Decoded:
+    try:
+        frame, problems = _parse(frame_bytes, direction)
+    except FrameError as exc:
+        raise UsageError(str(exc)) from None
+    base_function = frame.function & 0x7F
+    name = FUNCTION_NAMES.get(base_function, f"function 0x{base_function:02X}")
+    kind_direction = {
+        "read_request": "request",
+        "read_response": "response",
+        "write_multiple_request": "request",
+        "write_multiple_response": "response",
+        "exception": "response",
+    }.get(frame.kind, direction or "request or response")
+    decoded = Decoded(frame=frame, direction=kind_direction, function_name=name, problems=problems + _limits(device, frame))
+    if frame.kind == "exception":
+        code = frame.exception_code
+        known = device.transport.exception(code) if code is not None else None
+        meaning = (
+            known.title + (f" ({known.title_zh})" if known and known.title_zh else "")
+            if known
+            else STANDARD_EXCEPTIONS.get(code or 0, "unknown exception code")
+        )
+        decoded.exception = f"0x{code:02X}: {meaning}" if code is not None else "missing exception code"
+    elif frame.kind == "read_request" and frame.address is not None and frame.count is not None:
+        decoded.values = _registers_in(device, frame.address, min(frame.count, MODBUS_MAX_READ))
+    elif frame.kind in ("write_single", "write_multiple_request") and frame.address is not None:
+        decoded.values = decode_words(device, frame.address, frame.words, word_order=word_order)
+    elif frame.kind == "read_response":
+        if request is not None and request.kind == "read_request" and request.address is not None:
+            if request.count is not None and request.count != len(frame.words):
+                decoded.problems.append(f"the request asked for {request.count} registers, the response carries {len(frame.words)}")
+            decoded.values = decode_words(device, request.address, frame.words, word_order=word_order)
+        else:
+            decoded.data_words = _word_table(frame.words)
+            could = _candidates(device, len(frame.words)) if frame.words and not frame.problems else []
+            if could:
+                shown = ", ".join(could[:CANDIDATES_SHOWN]) + (f" and {len(could) - CANDIDATES_SHOWN} more" if len(could) > CANDIDATES_SHOWN else "")
+                decoded.notes.append(f"{len(frame.words)} word(s) could be a read from {shown}")
+            decoded.notes.append("a read response does not carry the address; give the request (--request, or pair them in --file) to name the registers")
+    elif frame.kind == "write_multiple_response" and request is not None and request.count is not None and request.count != frame.count:
+        decoded.problems.append(f"the request wrote {request.count} registers, the response echoes {frame.count}")
+    if base_function not in device.transport.function_codes and frame.kind != "exception":
+        decoded.notes.append(f"function 0x{base_function:02X} is not supported by {device.info.model}")
+    if request is not None and request.slave != frame.slave:
+        decoded.problems.append(f"answer from slave {frame.slave} to a request for slave {request.slave}")
+    return decoded
+
+
+def _registers_in(device: Device, start: int, count: int) -> list[DecodedValue]:
+    out = []
+    seen: set[str] = set()
+    for address in range(start, start + count):
+        reg = device.covering(address)
+        if reg is None:
+            out.append(DecodedValue(address, None, None, None, [], text="not documented in the map"))
+        elif reg.name not in seen:
+            seen.add(reg.name)
+            out.append(DecodedValue(reg.address, reg.name, reg.param, None, [], unit=reg.unit, text=reg.title))
+    return out
+
+
+def render_text(decoded: Decoded) -> str:
+    f = decoded.frame
+    crc = "ok" if f.crc_valid else "MISMATCH"
+    where = f"line {decoded.source_line}: " if decoded.source_line is not None else ""
+    lines = [
+        where + to_hex(f.raw),
+        f"  slave {f.slave}, function 0x{f.function:02X} {decoded.function_name} ({decoded.direction}), CRC {to_hex(f.raw[-2:])} {crc}",
+    ]
+    if f.address is not None:
+        lines.append(
+            f"  address 0x{f.address:04X}"
+            + (f", count {f.count}" if f.count is not None else "")
+            + (f", byte count {f.byte_count}" if f.byte_count is not None else "")
+        )
+    elif f.byte_count is not None:
+        lines.append(f"  byte count {f.byte_count}, {len(f.words)} words")
+    if decoded.exception:
+        lines.append(f"  exception {decoded.exception}")
+    lines.extend(f"  {row}" for row in decoded.data_words)
+    for v in decoded.values:
+        label = " ".join(x for x in (v.param, v.register) if x) or "-"
+        value = f" = {v.text}" if v.raw is not None else f": {v.text}"
+        lines.append(f"  0x{v.address:04X} {label}{value}")
+    for problem in [*f.problems, *decoded.problems]:
+        lines.append(f"  problem: {problem}")
+    for note in decoded.notes:
+        lines.append(f"  note: {note}")
+    return "\n".join(lines)
+
+
+_DIRECTION_TAGS = {"tx": "request", ">": "request", "->": "request", "rx": "response", "<": "response", "<-": "response"}
+# A timestamp before the tag: `12:00:00.001`, `[2024-05-01 12:00:00.001]`, `2024-05-01T12:00:00Z`, `1714557600.123`.
+_TIMESTAMP = re.compile(
+    r"^\s*(?:\[[^\]]*\]|\d{4}-\d{2}-\d{2}[T ]\d{1,2}:\d{2}(?::\d{2}(?:[.,]\d+)?)?(?:Z|[+-]\d{2}:?\d{2})?|\d{1,2}:\d{2}:\d{2}(?:[.,]\d+)?|\d{9,}\.\d+)\s*"
+)
+_TAG = re.compile(r"^(tx|rx|->|<-|>|<)\s*[:>]?\s*", re.I)
+
+
+@dataclass
+class CaptureResult:
+    frames: list[Decoded]
+    errors: list[str]
+
+
+def split_capture_line(line: str) -> tuple[str | None, str]:
+    """(direction or None, the hex text) of one capture line, without timestamp and comment."""
+    text = line.split("#", 1)[0].strip()
+    text = _TIMESTAMP.sub("", text, count=1)
+    match = _TAG.match(text)
+    if match is None:
+        return None, text
+    return _DIRECTION_TAGS[match.group(1).lower()], text[match.end() :]
+
+
+def decode_capture(device: Device, lines: Sequence[str], source: str, *, word_order: str | None = None) -> CaptureResult:
+    """Decode a log of frames, one per line, pairing each response with the request before it.
+
+    A line may start with a timestamp and a direction tag (TX/RX, TX>, > or <); `#` starts a comment.
+    A line that is not a frame is reported with its number and the rest is still decoded.
+    """
+    out: list[Decoded] = []
+    errors: list[str] = []
+    pending: Frame | None = None
+    for number, line in enumerate(lines, 1):
+        direction, text = split_capture_line(line)
+        if not text:
+            continue
+        try:
+            frame_bytes = parse_hex(text)
+            if direction is None:
+                direction = "response" if pending is not None else None
+            decoded = decode_frame(
+                device, frame_bytes, direction=direction, request=pending if direction == "response" else None, word_order=word_order
+            )
+        except (FrameError, UsageError) as exc:
+            errors.append(f"{source}:{number}: {exc}")
+            pending = None
+            continue
+        decoded.source_line = number
+        out.append(decoded)
+        pending = decoded.frame if decoded.direction == "request" else None
+    return CaptureResult(out, errors)

@@ -1,0 +1,314 @@
+"""`regmap read`, `write`, `dump` and `command`: talk to a drive by register name, straight from its map.
+
+The client is the same runtime the generated modules use, built from the map at run time; the
+answers are shown through the same decoder as `regmap decode`, and every value written passes
+the same checks as in the generated clients before anything is sent.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import socket
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from regmap.backends.common import read_plan, runtime_device
+from regmap.diagnostics import ExitCode, LinkError, UsageError
+from regmap.model import Device, Register
+from regmap.tools.decode import DecodedValue, decode_words
+from regmap.tools.frames import (
+    Assignment,
+    command_words,
+    parse_assignments,
+    parse_word_writes,
+    word_runs,
+    write_blocks,
+)
+from regmap.tools.link import Link
+from regmap.tools.selectors import Registers, check_slave
+from regmap_runtime.client import SyncClient
+from regmap_runtime.codec import words_to_raw
+from regmap_runtime.errors import RegmapError
+
+WORD_ORDERS = ("auto", "high_first", "low_first")
+
+
+def _why_unreachable(link: Link) -> str:
+    """The operating system's reason a port or socket cannot be opened, for the one-line error."""
+    if link.serial:
+        try:
+            import serial
+
+            serial.Serial(link.serial).close()
+        except (OSError, ValueError) as exc:
+            return str(getattr(exc, "strerror", None) or exc).split(": ", 1)[-1]
+        return "the port opened, but the client could not use it"
+    host, _, port = (link.tcp or "").rpartition(":")
+    try:
+        socket.create_connection((host or "127.0.0.1", int(port)), timeout=link.timeout).close()
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return "the connection opened, but the client could not use it"
+
+
+def connect(device: Device, link: Link, *, reading: bool) -> SyncClient:
+    check_slave(device, link.slave, reading=reading)
+    client_class: type[SyncClient] = type(f"{device.id}_live", (SyncClient,), {"DEVICE": runtime_device(device)})
+    if link.serial:
+        client = client_class.rtu(
+            link.serial,
+            link.slave,
+            baud=link.baud,
+            parity=link.parity,
+            stop_bits=link.stop_bits,
+            timeout=link.timeout,
+            retries=link.retries,
+        )
+    elif link.tcp:
+        host, _, port = link.tcp.rpartition(":")
+        if not port.isdigit() or not 0 < int(port) < 65536:
+            raise UsageError(f"--tcp wants HOST:PORT, got {link.tcp!r}")
+        client = client_class.tcp(
+            host or "127.0.0.1", int(port), link.slave, timeout=link.timeout, retries=link.retries, rtu_over_tcp=link.rtu_over_tcp
+        )
+    else:
+        raise UsageError("say where the drive is: --serial DEVICE or --tcp HOST:PORT")
+    try:
+        client.connect()
+    except RegmapError:
+        raise LinkError(f"cannot open {link.where}: {_why_unreachable(link)}") from None
+    return client
+
+
+def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
+    """The word order of the drive's 32-bit values: the one given, or (`auto`) read from the map's
+    word-order register. None where the map fixes the word order."""
+    control = device.transport.word_order_register
+    if control is None:
+        if link.word_order not in (None, "auto"):
+            raise UsageError(f"{device.info.model} has no word-order register: the map fixes its word order ({device.transport.word_order.value})")
+        return None
+    if link.word_order in ("high_first", "low_first"):
+        return link.word_order
+    reg = control.register
+    try:
+        words = client.read_raw(reg.address, reg.words)
+    except RegmapError as exc:
+        raise LinkError(f"cannot read the word-order register {reg.label} (--word-order high_first|low_first skips it): {_bus(exc)}") from None
+    setting = words_to_raw(Registers(device).spec(reg), words)
+    if setting == control.high_first:
+        return "high_first"
+    if setting == control.low_first:
+        return "low_first"
+    raise LinkError(f"the word-order register {reg.label} holds {setting}, which is neither {control.high_first} nor {control.low_first}")
+
+
+def _bus(exc: RegmapError) -> str:
+    return f"{type(exc).__name__}: {exc}"
+
+
+@dataclass
+class ReadResult:
+    values: list[DecodedValue]
+    unread: list[Register]
+    error: str | None = None
+    interrupted: bool = False
+
+
+def read_registers(
+    client: SyncClient,
+    device: Device,
+    registers: Sequence[Register],
+    progress: Callable[[int, int], None] | None = None,
+    order: str | None = None,
+) -> ReadResult:
+    """Read by the plan; on a bus failure or Ctrl-C keep what was read and name what was not.
+    Values come back in the order `registers` names them."""
+    wanted = [r.name for r in registers]
+    blocks = read_plan(device, registers)
+    found: dict[str, DecodedValue] = {}
+
+    def result(error: str | None = None, interrupted: bool = False) -> ReadResult:
+        values = [found[name] for name in dict.fromkeys(wanted) if name in found]
+        unread = [r for r in registers if r.name not in found]
+        return ReadResult(values, unread, error, interrupted)
+
+    for number, block in enumerate(blocks, 1):
+        try:
+            words = client.read_raw(block.address, block.count)
+        except RegmapError as exc:
+            return result(f"{_bus(exc)} (request {number} of {len(blocks)}, 0x{block.address:04X} x {block.count})")
+        except KeyboardInterrupt:
+            return result("interrupted (Ctrl-C)", interrupted=True)
+        for value in decode_words(device, block.address, words, word_order=order):
+            if value.register in wanted and value.raw is not None:
+                found[value.register] = value
+        if progress is not None:
+            progress(number, len(blocks))
+    return result()
+
+
+def show_value(value: DecodedValue) -> str:
+    label = " ".join(x for x in (value.param, value.register) if x)
+    return f"{label} = {value.text}"
+
+
+def cmd_read(device: Device, link: Link, selectors: Sequence[str], output: str) -> int:
+    regs = Registers(device)
+    registers = [regs.resolve(s) for s in selectors]
+    for reg in registers:
+        if not reg.access.readable:
+            raise UsageError(f"{reg.label} is write-only")
+    client = connect(device, link, reading=True)
+    try:
+        result = read_registers(client, device, registers, order=word_order(device, client, link))
+    finally:
+        client.close()
+    print_values(result.values, output)
+    return finish(result, "read")
+
+
+@dataclass
+class WriteLog:
+    """What went out, for the message when a later request fails."""
+
+    done: list[str] = field(default_factory=list)
+
+    def failed(self, what: str, exc: RegmapError) -> LinkError:
+        went = f"; written before it: {', '.join(self.done)}" if self.done else "; nothing was written"
+        return LinkError(f"writing {what} failed: {_bus(exc)}{went}")
+
+
+def _merge_current(client: SyncClient, device: Device, partial: list[Assignment], order: str | None) -> list[Assignment]:
+    """Read-modify-write: one read of the registers whose fields were named, then each named field
+    merged into the word the drive holds (every other bit kept)."""
+    if not partial:
+        return []
+    current = read_registers(client, device, [a.register for a in partial], order=order)
+    if current.error:
+        raise LinkError(f"cannot read the current value of {', '.join(a.register.label for a in partial)} to change only the named fields: {current.error}")
+    held = {v.register: v.raw for v in current.values}
+    return [a.with_base(int(held[a.register.name] or 0)) for a in partial]
+
+
+def cmd_write(device: Device, link: Link, items: Sequence[str], *, raw: bool, verify: bool, replace: bool, words: bool) -> int:
+    # Every value is parsed and checked (range, enum, fields, conflicts) before the port is opened.
+    word_writes = parse_word_writes(items) if words else []
+    runs = word_runs(device, word_writes) if words else []
+    assignments = [] if words else parse_assignments(device, items, raw, replace=replace)
+    client = connect(device, link, reading=verify or any(a.raw is None for a in assignments))
+    log = WriteLog()
+    try:
+        for address, run in runs:
+            try:
+                client.write_raw(address, run, multiple=len(run) > 1)
+            except RegmapError as exc:
+                raise log.failed(f"{len(run)} word(s) at 0x{address:04X}", exc) from None
+            log.done.append(f"{len(run)} word(s) at 0x{address:04X}")
+        if words:
+            print(f"wrote {sum(len(r) for _, r in runs)} word(s) in {len(runs)} request(s)")
+            return ExitCode.OK
+        order = word_order(device, client, link) if any(a.register.words == 2 for a in assignments) else None
+        complete = [a for a in assignments if a.raw is not None]
+        complete += _merge_current(client, device, [a for a in assignments if a.raw is None], order)
+        for block in write_blocks(device, complete, order):
+            names = ", ".join(s.label for s in block.registers)
+            try:
+                client.write_raw(block.address, block.words, multiple=not block.single)
+            except RegmapError as exc:
+                raise log.failed(names, exc) from None
+            log.done.append(names)
+        if not verify or client.broadcast:
+            print(f"wrote {len(complete)} value(s) in {len(log.done)} request(s)")
+            return ExitCode.OK
+        readable = [a.register for a in complete if a.register.access.readable]
+        result = read_registers(client, device, readable, order=order)
+    finally:
+        client.close()
+    expected = {a.register.name: a.raw for a in complete}
+    mismatches = [v for v in result.values if v.register in expected and v.raw != expected[v.register]]
+    for value in result.values:
+        print(
+            f"{show_value(value)}  (verified)"
+            if value not in mismatches
+            else f"{show_value(value)}  (MISMATCH: wrote raw {expected[value.register or '']})"
+        )
+    if result.error:
+        raise LinkError(f"written, but the read-back failed: {result.error}")
+    if mismatches:
+        print(f"regmap write: {len(mismatches)} register(s) read back different values", file=sys.stderr)
+        return ExitCode.VERIFY_MISMATCH
+    return ExitCode.OK
+
+
+def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> int:
+    command, _ = command_words(device, name, argument)  # checked before the port is opened
+    client = connect(device, link, reading=False)
+    try:
+        order = word_order(device, client, link) if command.register.words == 2 else None
+        _, words = command_words(device, name, argument, order)
+        try:
+            client.write_raw(command.register.address, words, multiple=len(words) > 1)
+        except RegmapError as exc:
+            raise LinkError(f"command {command.name} failed: {_bus(exc)}") from None
+    finally:
+        client.close()
+    shown = " ".join(f"0x{w:04X}" for w in words)
+    print(f"sent {command.name}: {shown} to {command.register.label} (0x{command.register.address:04X})")
+    return ExitCode.OK
+
+
+def cmd_dump(device: Device, link: Link, output: str) -> int:
+    registers = [r for r in device.registers if r.access.readable]
+    client = connect(device, link, reading=True)
+    progress = _progress_bar if sys.stderr.isatty() else None
+    try:
+        result = read_registers(client, device, registers, progress, order=word_order(device, client, link))
+    finally:
+        client.close()
+        if progress is not None:
+            sys.stderr.write("\n")
+    print_values(result.values, output)
+    return finish(result, "dump")
+
+
+def finish(result: ReadResult, command: str) -> int:
+    if result.error is None:
+        return ExitCode.OK
+    names = ", ".join(r.name for r in result.unread[:10]) + (f" and {len(result.unread) - 10} more" if len(result.unread) > 10 else "")
+    cause = "stopped" if result.interrupted else "the bus failed"
+    print(f"regmap {command}: {cause} after {len(result.values)} register(s) were read: {result.error}; not read: {names}", file=sys.stderr)
+    return ExitCode.INTERRUPTED if result.interrupted else ExitCode.BUS
+
+
+def _progress_bar(done: int, total: int) -> None:
+    width = 30
+    filled = width * done // total
+    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} requests")
+    sys.stderr.flush()
+
+
+CSV_COLUMNS = ["register", "param", "address", "address_hex", "raw", "value", "unit", "in_range", "text"]
+
+
+def print_values(values: Sequence[DecodedValue], output: str) -> None:
+    if output == "json":
+        json.dump([v.as_json() for v in values], sys.stdout, ensure_ascii=False, indent=2)
+        sys.stdout.write("\n")
+    elif output == "csv":
+        fields = list(dict.fromkeys(name for v in values if v.fields for name in v.fields))
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=CSV_COLUMNS + fields, lineterminator="\n")
+        writer.writeheader()
+        for v in values:
+            row: dict[str, Any] = {k: val for k, val in v.as_json().items() if k in CSV_COLUMNS}
+            row.update(v.fields or {})
+            writer.writerow(row)
+        sys.stdout.write(buffer.getvalue())
+    else:
+        for v in values:
+            print(show_value(v))
