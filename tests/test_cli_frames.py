@@ -55,7 +55,9 @@ def test_frame_write_enum_member_by_name() -> None:
 
 
 def test_frame_write_bitfields_by_name() -> None:
-    result = regmap("frame", IDM, "write", "Pr4.03=function:path_address_0,normally_closed:0", "Pr4.04=function:path_address_1,normally_closed:0")
+    result = regmap(
+        "frame", IDM, "write", "Pr4.03=function:path_address_0,normally_closed:0", "Pr4.04=function:path_address_1,normally_closed:0"
+    )
     assert result.stdout.strip() == "01 10 01 46 00 04 08 00 00 00 28 00 00 00 29 1C 14", result.stderr
 
 

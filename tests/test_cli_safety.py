@@ -17,7 +17,7 @@ import pytest
 
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
-from regmap.tools.frames import write_words_frames, read_words_frame
+from regmap.tools.frames import read_words_frame, write_words_frames
 from regmap_runtime.rtu import parse_frame, to_hex, with_crc
 
 from conftest import MAPS, ROOT, SimulatorFactory
@@ -64,7 +64,9 @@ def test_a_bitfield_enum_field_is_checked() -> None:
 
 
 def test_enum_names_are_case_insensitive_and_listed_on_error() -> None:
-    assert regmap("frame", IDM, "write", "loop_mode=CLOSED_LOOP").stdout.strip() == regmap("frame", IDM, "write", "loop_mode=2").stdout.strip()
+    assert (
+        regmap("frame", IDM, "write", "loop_mode=CLOSED_LOOP").stdout.strip() == regmap("frame", IDM, "write", "loop_mode=2").stdout.strip()
+    )
     result = regmap("frame", IDM, "write", "loop_mode=closed")
     one_line_error(result, ExitCode.USAGE, "open_loop=0", "closed_loop=2")
 
@@ -194,7 +196,11 @@ def test_frame_words_expresses_every_request_a_manual_prints(map_path: Path) -> 
             if frame.kind == "write_multiple_request" and len(frame.words) == 1:
                 continue  # a one-word 0x10: mbpoll would send 0x06 for it too
             words = ",".join(f"0x{w:04X}" for w in frame.words)
-            [built] = write_words_frames(device, [f"0x{frame.address:04X}={words}"], frame.slave) if frame.slave != device.transport.broadcast_id else [example.wire_frame]
+            [built] = (
+                write_words_frames(device, [f"0x{frame.address:04X}={words}"], frame.slave)
+                if frame.slave != device.transport.broadcast_id
+                else [example.wire_frame]
+            )
         else:
             continue
         assert to_hex(built) == to_hex(example.wire_frame), example.id
@@ -255,7 +261,12 @@ def test_decode_capture_formats_stdin_and_bad_lines() -> None:
         ]
     )
     result = subprocess.run(
-        [sys.executable, "-m", "regmap", "decode", IDM, "--file", "-", "--json"], cwd=ROOT, input=capture, capture_output=True, text=True, check=False
+        [sys.executable, "-m", "regmap", "decode", IDM, "--file", "-", "--json"],
+        cwd=ROOT,
+        input=capture,
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert result.returncode == ExitCode.BAD_FRAME
     frames = json.loads(result.stdout)

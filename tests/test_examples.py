@@ -18,9 +18,9 @@ from typing import Any
 
 import pytest
 
-from regmap.tools.decode import decode_frame
 from regmap.frontend import load_map
 from regmap.model import Device, Example, ExampleValue
+from regmap.tools.decode import decode_frame
 from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.codec import value_to_raw
 from regmap_runtime.errors import DeviceException, RegmapError

@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from regmap_runtime.errors import DeviceException, DeviceTimeout, ProtocolError, RegmapError
+from regmap_runtime.errors import CrcError, DeviceException, DeviceTimeout, ProtocolError, RegmapError
 
 from conftest import ROOT, SimulatorFactory
 from test_python_client import client_module
@@ -25,8 +25,8 @@ def _drive(port: int, retries: int = 0, timeout: float = 0.5) -> Any:
     ("fault", "error"),
     [
         ("no_answer", DeviceTimeout),
-        ("bad_crc", DeviceTimeout),
-        ("truncated", DeviceTimeout),
+        ("bad_crc", CrcError),  # an answer came, but damaged: told apart from silence
+        ("truncated", ProtocolError),
         ("wrong_slave", RegmapError),
         ("wrong_function", RegmapError),
         ("delay", DeviceTimeout),

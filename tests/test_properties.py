@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from regmap.diagnostics import UsageError
-from regmap.tools.decode import decode_frame
 from regmap.frontend import load_map
+from regmap.tools.decode import decode_frame
 from regmap_runtime.codec import raw_to_value, raw_to_words, value_to_raw, words_to_raw
 from regmap_runtime.plan import plan_reads, plan_writes
 from regmap_runtime.rtu import (

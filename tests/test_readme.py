@@ -52,3 +52,24 @@ def test_map_table_matches_the_maps() -> None:
         assert tuple(int(x) for x in row.groups()) == (len(device.registers), len(device.examples), len(device.errata)), (
             f"README row of {path.name} is stale"
         )
+
+
+def test_the_tour_prints_what_the_readme_says() -> None:
+    """Each `regmap ...` line of the tour followed by a `# output` line prints that output."""
+    import shlex
+    import sys
+
+    lines = _block("sh", "regmap validate maps/idm_rs.yaml").splitlines()
+    checked = 0
+    for command, expected in zip(lines, lines[1:], strict=False):
+        if not command.startswith("regmap ") or not expected.startswith("# "):
+            continue
+        argv = shlex.split(command.split("  #", 1)[0])
+        result = subprocess.run([sys.executable, "-m", "regmap", *argv[1:]], cwd=ROOT, capture_output=True, text=True, check=False)
+        shown = expected[2:].strip()
+        if shown.endswith("..."):
+            assert any(line.strip().startswith(shown[:-3].strip()) for line in result.stdout.splitlines()), (command, result.stdout)
+        else:
+            assert shown in [line.strip() for line in result.stdout.splitlines()], (command, result.stdout, result.stderr)
+        checked += 1
+    assert checked >= 5

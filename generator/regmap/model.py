@@ -11,13 +11,8 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
 
-
 SourcePos = tuple[int, int]
 """(line, column) of an item in its map file, so a problem found late still prints file:line:col."""
-
-
-def _pos() -> SourcePos | None:
-    return field(default=None, compare=False, repr=False)  # type: ignore[no-any-return]
 
 
 class WordOrder(enum.Enum):
@@ -85,7 +80,7 @@ class EnumType:
     title_zh: str | None = None
     description: str = ""
     source: tuple[str, ...] = ()
-    pos: SourcePos | None = _pos()
+    pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     def member(self, name: str) -> EnumMember | None:
         return next((m for m in self.members if m.name == name), None)
@@ -103,7 +98,7 @@ class Bitfield:
     title_zh: str | None = None
     description: str = ""
     enum: EnumType | None = None
-    pos: SourcePos | None = _pos()
+    pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
     def width(self) -> int:
@@ -197,7 +192,7 @@ class Register:
     notes: str = ""
     array: ArrayRef | None = None
     errata: tuple[str, ...] = ()
-    pos: SourcePos | None = _pos()
+    pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
     def words(self) -> int:
@@ -279,7 +274,7 @@ class Command:
     title_zh: str | None = None
     description: str = ""
     source: tuple[str, ...] = ()
-    pos: SourcePos | None = _pos()
+    pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     def raw_value(self, argument: int | None = None) -> int:
         if self.argument is None:

@@ -15,11 +15,11 @@ from pymodbus.exceptions import ConnectionException, ModbusIOException
 from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
+from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
 from regmap_runtime.errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
 from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
-from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")
@@ -144,7 +144,9 @@ class _Core:
 class SyncClient(_Core):
     """Blocking client. Use as a context manager, or call close()."""
 
-    def __init__(self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None) -> None:
+    def __init__(
+        self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None
+    ) -> None:
         super().__init__(slave, word_order)
         self.modbus = modbus
         if line is not None:
@@ -193,7 +195,9 @@ class SyncClient(_Core):
         """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters."""
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
-        return cls(ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line)
+        return cls(
+            ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line
+        )
 
     def __enter__(self: C) -> C:
         self.connect()
@@ -274,7 +278,13 @@ class SyncClient(_Core):
 class AsyncClient(_Core):
     """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
 
-    def __init__(self, modbus: AsyncModbusSerialClient | AsyncModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None) -> None:
+    def __init__(
+        self,
+        modbus: AsyncModbusSerialClient | AsyncModbusTcpClient,
+        slave: int = 1,
+        word_order: str | None = None,
+        line: LineWatch | None = None,
+    ) -> None:
         super().__init__(slave, word_order)
         self.modbus = modbus
         if line is not None:
@@ -322,7 +332,10 @@ class AsyncClient(_Core):
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
         return cls(
-            AsyncModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line
+            AsyncModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line),
+            slave,
+            word_order,
+            line,
         )
 
     async def __aenter__(self: A) -> A:

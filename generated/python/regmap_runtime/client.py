@@ -16,11 +16,11 @@ from pymodbus.exceptions import ConnectionException, ModbusIOException
 from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
+from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
 from regmap_runtime.errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
 from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
-from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")

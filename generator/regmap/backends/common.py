@@ -24,7 +24,9 @@ def documented_addresses(device: Device) -> frozenset[int]:
 
 def runtime_enum(e: EnumType) -> type[enum.IntEnum]:
     """The enum as the runtime checks it, built from the model (the generated modules declare the same)."""
-    return enum.IntEnum("".join(part.capitalize() for part in e.name.split("_")), [(m.name.upper(), m.value) for m in e.members])  # type: ignore[misc]
+    members = [(m.name.upper(), m.value) for m in e.members]
+    made: type[enum.IntEnum] = enum.IntEnum("".join(part.capitalize() for part in e.name.split("_")), members)  # type: ignore[misc]
+    return made
 
 
 def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:

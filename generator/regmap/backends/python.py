@@ -283,8 +283,33 @@ def _command_view(cmd: Command) -> CommandView:
 
 
 CLIENT_METHODS = frozenset(
-    {"read", "write", "update", "read_many", "write_many", "read_all", "read_raw", "write_raw", "send_command", "connect", "close", "rtu", "tcp"}
-    | {"plan_reads", "plan_writes", "readable", "encode", "encode_raw", "decode", "effective", "broadcast", "transport_error", "check_response"}
+    {
+        "read",
+        "write",
+        "update",
+        "read_many",
+        "write_many",
+        "read_all",
+        "read_raw",
+        "write_raw",
+        "send_command",
+        "connect",
+        "close",
+        "rtu",
+        "tcp",
+    }
+    | {
+        "plan_reads",
+        "plan_writes",
+        "readable",
+        "encode",
+        "encode_raw",
+        "decode",
+        "effective",
+        "broadcast",
+        "transport_error",
+        "check_response",
+    }
     | {"read_words", "slave", "word_order", "requests_sent", "line", "modbus", "DEVICE"}
 )
 BITFIELD_RESERVED = frozenset({"raw", "FIELDS", "from_raw", "to_raw", "described_mask", "describe"})
@@ -299,7 +324,9 @@ def check(device: Device) -> list[Diagnostic]:
 
     def claim(name: str, what: str, pos: tuple[int, int] | None) -> None:
         if name in taken and taken[name] != what:
-            problems.append(at(file, pos, f"generated Python name {name!r} is used by both {taken[name]} and {what}; rename one in the map"))
+            problems.append(
+                at(file, pos, f"generated Python name {name!r} is used by both {taken[name]} and {what}; rename one in the map")
+            )
         taken.setdefault(name, what)
 
     client_class = camel(device.id)
@@ -312,7 +339,9 @@ def check(device: Device) -> list[Diagnostic]:
             claim(_bits_class_name(reg), f"the bitfield class of {reg.array.array if reg.array else reg.name}", reg.pos)
             for b in reg.bitfields:
                 if b.name in BITFIELD_RESERVED:
-                    problems.append(at(file, b.pos, f"{reg.name}.{b.name}: bitfield name {b.name!r} would shadow BitfieldValue.{b.name}; rename it"))
+                    problems.append(
+                        at(file, b.pos, f"{reg.name}.{b.name}: bitfield name {b.name!r} would shadow BitfieldValue.{b.name}; rename it")
+                    )
     for a in device.arrays:
         owner = f"array {a.name}"
         for cls in (camel(a.name) + "Registers", camel(a.name) + "Element", "Async" + camel(a.name) + "Element"):
@@ -327,11 +356,15 @@ def check(device: Device) -> list[Diagnostic]:
             if reg.access.writable:
                 methods.append((f"write_{attr}", f"register {reg.name}", reg.pos))
     first_element = {r.array.array: r for r in device.registers if r.array is not None}
-    methods += [(PythonIdentifier(a.name), f"array {a.name}", first_element[a.name].pos if a.name in first_element else None) for a in device.arrays]
+    methods += [
+        (PythonIdentifier(a.name), f"array {a.name}", first_element[a.name].pos if a.name in first_element else None) for a in device.arrays
+    ]
     methods += [(PythonIdentifier(c.name), f"command {c.name}", c.pos) for c in device.commands]
     for name, what, pos in methods:
         if name in CLIENT_METHODS:
-            problems.append(at(file, pos, f"{what}: the generated method {name!r} would shadow the client's own {name}(); rename it in the map"))
+            problems.append(
+                at(file, pos, f"{what}: the generated method {name!r} would shadow the client's own {name}(); rename it in the map")
+            )
         claim(name, what, pos)
     return problems
 

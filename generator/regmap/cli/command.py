@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.cli.common import WHERE, link_from, live_parser
 from regmap.frontend import load_map
 
 HELP = "run one of the map's commands on a drive"
-
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -23,7 +22,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("name", metavar="NAME")
     p.add_argument("argument", nargs="?", metavar="ARGUMENT", help="for a command that takes one (a path number ...)")
     return p
-
 
 
 def run(args: argparse.Namespace) -> int:

@@ -127,8 +127,12 @@ def examples(*lines: str) -> str:
 WHERE = "--serial /dev/ttyUSB0"
 
 
-def live_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], name: str, help: str, description: str, *example: str) -> argparse.ArgumentParser:
-    p = sub.add_parser(name, help=help, description=description, epilog=examples(*example), formatter_class=argparse.RawDescriptionHelpFormatter)
+def live_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], name: str, help: str, description: str, *example: str
+) -> argparse.ArgumentParser:
+    p = sub.add_parser(
+        name, help=help, description=description, epilog=examples(*example), formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     add_map(p)
     add_link_options(p)
     return p
@@ -142,5 +146,3 @@ def add_output(p: argparse.ArgumentParser) -> None:
 
 def output_format(args: argparse.Namespace) -> str:
     return "json" if args.json else "csv" if args.csv else "text"
-
-

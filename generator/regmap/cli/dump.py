@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.cli.common import add_output, link_from, live_parser, output_format
 from regmap.frontend import load_map
 
 HELP = "read every readable register with the read plan"
-
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -22,7 +21,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     add_output(p)
     return p
-
 
 
 def run(args: argparse.Namespace) -> int:

@@ -42,7 +42,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("items", nargs="*", metavar="ARG", help="read: SELECTOR [COUNT]; write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]")
     p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
     p.add_argument("--raw", action="store_true", help="values are raw register integers")
-    p.add_argument("--words", action="store_true", help="addresses and 16-bit words, documented or not (write ADDR=WORD,...; read ADDR COUNT)")
+    p.add_argument(
+        "--words", action="store_true", help="addresses and 16-bit words, documented or not (write ADDR=WORD,...; read ADDR COUNT)"
+    )
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 (replace the whole word)")
     add_word_order(p, live=False)
     return p

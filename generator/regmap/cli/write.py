@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, add_output, examples, link_from, live_parser, output_format
+from regmap.cli.common import WHERE, link_from, live_parser
 from regmap.frontend import load_map
 
 HELP = "write registers, then read them back"
-
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -31,7 +30,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 instead of keeping the drive's")
     p.add_argument("--no-verify", action="store_true", help="skip the read-back")
     return p
-
 
 
 def run(args: argparse.Namespace) -> int:

@@ -301,9 +301,13 @@ def decode_frame(
             decoded.data_words = _word_table(frame.words)
             could = _candidates(device, len(frame.words)) if frame.words and not frame.problems else []
             if could:
-                shown = ", ".join(could[:CANDIDATES_SHOWN]) + (f" and {len(could) - CANDIDATES_SHOWN} more" if len(could) > CANDIDATES_SHOWN else "")
+                shown = ", ".join(could[:CANDIDATES_SHOWN]) + (
+                    f" and {len(could) - CANDIDATES_SHOWN} more" if len(could) > CANDIDATES_SHOWN else ""
+                )
                 decoded.notes.append(f"{len(frame.words)} word(s) could be a read from {shown}")
-            decoded.notes.append("a read response does not carry the address; give the request (--request, or pair them in --file) to name the registers")
+            decoded.notes.append(
+                "a read response does not carry the address; give the request (--request, or pair them in --file) to name the registers"
+            )
     elif frame.kind == "write_multiple_response" and request is not None and request.count is not None and request.count != frame.count:
         decoded.problems.append(f"the request wrote {request.count} registers, the response echoes {frame.count}")
     if base_function not in device.transport.function_codes and frame.kind != "exception":

@@ -122,7 +122,11 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
             if base is not None:
                 note = f"{reg.label}: the fields not named keep the base word 0x{base:04X}'s bits"
             elif every or replace:
-                note = f"{reg.label}: " + ("the bits no field describes are 0" if every else "every field not named, and every bit no field describes, is 0 (--replace)")
+                note = f"{reg.label}: " + (
+                    "the bits no field describes are 0"
+                    if every
+                    else "every field not named, and every bit no field describes, is 0 (--replace)"
+                )
             else:
                 return Assignment(item, reg, spec, None, named)
             return dataclasses.replace(Assignment(item, reg, spec, None, named).with_base(base or 0), note=note)
@@ -210,7 +214,9 @@ def word_runs(device: Device, writes: Sequence[WordWrite]) -> list[tuple[int, tu
         if len(run) > 1 and 0x10 not in t.function_codes:
             raise UsageError(f"{device.info.model} has no function 0x10: write the words at 0x{address:04X} one by one")
         if len(run) > t.max_write_registers:
-            raise UsageError(f"{len(run)} contiguous words from 0x{address:04X}: {device.info.model} writes at most {t.max_write_registers} per request")
+            raise UsageError(
+                f"{len(run)} contiguous words from 0x{address:04X}: {device.info.model} writes at most {t.max_write_registers} per request"
+            )
     return [(address, tuple(run)) for address, run in runs]
 
 

@@ -41,7 +41,7 @@ def _why_unreachable(link: Link) -> str:
     """The operating system's reason a port or socket cannot be opened, for the one-line error."""
     if link.serial:
         try:
-            import serial
+            import serial  # type: ignore[import-untyped]
 
             serial.Serial(link.serial).close()
         except (OSError, ValueError) as exc:
@@ -90,7 +90,9 @@ def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
     control = device.transport.word_order_register
     if control is None:
         if link.word_order not in (None, "auto"):
-            raise UsageError(f"{device.info.model} has no word-order register: the map fixes its word order ({device.transport.word_order.value})")
+            raise UsageError(
+                f"{device.info.model} has no word-order register: the map fixes its word order ({device.transport.word_order.value})"
+            )
         return None
     if link.word_order in ("high_first", "low_first"):
         return link.word_order
@@ -98,7 +100,9 @@ def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
     try:
         words = client.read_raw(reg.address, reg.words)
     except RegmapError as exc:
-        raise LinkError(f"cannot read the word-order register {reg.label} (--word-order high_first|low_first skips it): {_bus(exc)}") from None
+        raise LinkError(
+            f"cannot read the word-order register {reg.label} (--word-order high_first|low_first skips it): {_bus(exc)}"
+        ) from None
     setting = words_to_raw(Registers(device).spec(reg), words)
     if setting == control.high_first:
         return "high_first"
@@ -190,7 +194,9 @@ def _merge_current(client: SyncClient, device: Device, partial: list[Assignment]
         return []
     current = read_registers(client, device, [a.register for a in partial], order=order)
     if current.error:
-        raise LinkError(f"cannot read the current value of {', '.join(a.register.label for a in partial)} to change only the named fields: {current.error}")
+        raise LinkError(
+            f"cannot read the current value of {', '.join(a.register.label for a in partial)} to change only the named fields: {current.error}"
+        )
     held = {v.register: v.raw for v in current.values}
     return [a.with_base(int(held[a.register.name] or 0)) for a in partial]
 

@@ -31,7 +31,9 @@ def _register_line(reg: Register) -> str:
 
 
 def _enum_lines(e: EnumType) -> list[str]:
-    return [f"enum {e.name}: {_titled(e.title, e.title_zh)}"] + [f"  {m.value:>6} {m.name:<28} {_titled(m.title, m.title_zh)}" for m in e.members]
+    return [f"enum {e.name}: {_titled(e.title, e.title_zh)}"] + [
+        f"  {m.value:>6} {m.name:<28} {_titled(m.title, m.title_zh)}" for m in e.members
+    ]
 
 
 def _command_line(c: Command) -> str:
@@ -100,4 +102,6 @@ def _one(device: Device, selector: str) -> list[str]:
         if c.name == wanted:
             return [_command_line(c).strip()]
     names = [r.name for r in device.registers] + [r.param for r in device.registers if r.param] + [e.name for e in device.enums]
-    raise UsageError(f"{selector!r} is no register, enum or command of {device.info.model}{suggest(selector, names + [c.name for c in device.commands])}")
+    raise UsageError(
+        f"{selector!r} is no register, enum or command of {device.info.model}{suggest(selector, names + [c.name for c in device.commands])}"
+    )
