@@ -24,7 +24,7 @@ from regmap.backends.markdown.text import (
 )
 from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
 from regmap.backends.text import eng, number
-from regmap.frames import FUNCTION_NAMES
+from regmap.frames import FUNCTION_NAMES, decode_words
 from regmap.model import (
     Device,
     Example,
@@ -101,15 +101,14 @@ def _value_text(reg: Register, raw: int) -> Md:
     return Md(text)
 
 
-def _word_meaning(device: Device, address: int | None, word: int) -> tuple[Md, Md]:
+def _word_meaning(ctx: Context, address: int | None, word: int) -> tuple[Md, Md]:
     if address is None:
         return Md("Data word"), Md(f"{word} ({_hex(word)}); address unknown")
-    owner = _word_owner(device, address)
-    reg = device.covering(address)
+    owner = _word_owner(ctx.device, address)
+    reg = ctx.device.covering(address)
     value = f"{word} ({_hex(word)})"
     if reg is not None and reg.words == 1 and address == reg.address:
-        raw = word - 0x10000 if reg.signed and word & 0x8000 else word
-        value = f"{_hex(word)} → {_value_text(reg, raw)}"
+        value = f"{_hex(word)} → {_value_text(reg, words_to_raw(ctx.registers.spec(reg), [word]))}"
     return Md(f"Register {_address(address)}"), Md(f"{owner}: {value}")
 
 
@@ -130,7 +129,7 @@ def _frame_view(ctx: Context, label: str, frame: bytes, direction: str, start: i
         i = 0
         while pos + 2 <= data_end:
             word = int.from_bytes(frame[pos : pos + 2], "big")
-            field, meaning = _word_meaning(device, None if first is None else first + i, word)
+            field, meaning = _word_meaning(ctx, None if first is None else first + i, word)
             take(2, field, meaning)
             i += 1
 
@@ -151,7 +150,7 @@ def _frame_view(ctx: Context, label: str, frame: bytes, direction: str, start: i
     elif parsed.kind == "write_single" and address is not None:
         take(2, "Address", Md(f"{_address(address)} ({address}): {_word_owner(device, address)}"))
         if pos + 2 <= end:
-            take(2, "Value", _word_meaning(device, address, int.from_bytes(frame[pos : pos + 2], "big"))[1])
+            take(2, "Value", _word_meaning(ctx, address, int.from_bytes(frame[pos : pos + 2], "big"))[1])
     elif parsed.kind == "exception" and parsed.exception_code is not None:
         code = parsed.exception_code
         known = device.transport.exception(code)
@@ -199,7 +198,10 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
     device = ctx.device
     span = _span(parsed, start)
     has_data = parsed.kind in ("read_response", "write_single", "write_multiple_request")
-    words = {a: w for a, w in zip(span, parsed.words, strict=False)} if has_data else {}
+    # The words a frame carries, split into registers by the decoder `regmap decode` uses.
+    carried = decode_words(device, span.start, parsed.words[: len(span)]) if has_data and span else []
+    words = {v.address + i: w for v in carried for i, w in enumerate(v.words)}
+    raws = {v.register: v.raw for v in carried if v.register is not None and v.raw is not None}
     regs: list[Register] = []
     for address in span:
         reg = device.covering(address)
@@ -211,9 +213,8 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
     rows = []
     for reg in regs:
         own = range(reg.address, reg.last_address + 1)
-        decoded_raw: int | None = None
-        if has_data and all(a in words for a in own):
-            decoded_raw = words_to_raw(ctx.specs[reg.name], [words[a] for a in own])
+        decoded_raw = raws.get(reg.name)  # every word of the register is in the frame
+        if decoded_raw is not None:
             raw_text, value = _raw_literal(reg, decoded_raw), _value_text(reg, decoded_raw)
         elif has_data and any(a in words for a in own):
             present = [a for a in own if a in words]

@@ -65,7 +65,7 @@ def _command_frame(ctx: Context, cmd: Command) -> Md:
     """The frame a client sends for the command (to slave 1, with the smallest argument)."""
     reg = cmd.register
     argument = cmd.argument.min if cmd.argument is not None else None
-    words = raw_to_words(ctx.specs[reg.name], cmd.raw_value(argument))
+    words = raw_to_words(ctx.registers.spec(reg), cmd.raw_value(argument))
     frame = build_write_single(1, reg.address, words[0]) if len(words) == 1 else build_write_multiple(1, reg.address, words)
     suffix = f" ({DocId(cmd.argument.name)} = {argument})" if cmd.argument is not None else ""
     return Md(f"`{to_hex(frame)}`{suffix}")

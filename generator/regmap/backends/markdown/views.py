@@ -5,14 +5,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import ClassVar
 
-from regmap.backends.common import runtime_specs
 from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
+from regmap.frames import Registers
 from regmap.model import (
     Device,
 )
-from regmap_runtime.spec import RegisterSpec
 
 # ---------------------------------------------------------------------------------------------- views
 
@@ -250,11 +249,11 @@ class DevicePage:
 
 
 class Context:
-    """What the views of one device share: specs for decoding, the example and errata cross-links."""
+    """What the views of one device share: register look-ups and specs, the example and errata cross-links."""
 
     def __init__(self, device: Device) -> None:
         self.device = device
-        self.specs: dict[str, RegisterSpec[Any]] = {s.name: s for s in runtime_specs(device)}
+        self.registers = Registers(device)
         self.examples_by_register: dict[str, list[str]] = {}
         self.responses: dict[str, list[str]] = {}
         self.enum_users: dict[str, list[Md]] = {}
