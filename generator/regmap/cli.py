@@ -79,14 +79,13 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_generate(args: argparse.Namespace) -> int:
-    from regmap.diff import changelog_pages, write_pages
+    from regmap.diff import changelog_pages
     from regmap.generate import generate, target_names
 
     targets = args.target or target_names()
     devices = load_all(args.maps)
     pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
-    written = generate(devices, Path(args.out), targets, complete=not args.maps)
-    written += write_pages(Path(args.out), pages)
+    written = generate(devices, Path(args.out), targets, complete=not args.maps, extra=pages)
     print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
     return 0
 
