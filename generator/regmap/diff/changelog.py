@@ -9,9 +9,7 @@ from regmap.diagnostics import UsageError
 from regmap.diff.compare import compare
 from regmap.diff.gitload import _load_revision, read_at_revision
 from regmap.diff.render import render_markdown
-from regmap.model import (
-    Device,
-)
+from regmap.model import Device
 from regmap.render import header_lines
 
 

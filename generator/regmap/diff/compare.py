@@ -10,7 +10,6 @@ from regmap.diff.kinds import _KIND_ORDER, MAJOR, MINOR, PATCH, Change, Changes,
 from regmap.diff.match import _match
 from regmap.diff.text import (
     ACCESS,
-    _addr,
     _array_summary,
     _effect,
     _fields,
@@ -25,16 +24,8 @@ from regmap.diff.text import (
     _val,
 )
 from regmap.diff.transport import transport_changes
-from regmap.model import (
-    ArrayDef,
-    ArrayMember,
-    Command,
-    Device,
-    EnumType,
-    Register,
-)
-
-# -- the comparison --------------------------------------------------------------------------
+from regmap.model import ArrayDef, ArrayMember, Command, Device, EnumType, Register
+from regmap.render import hex4
 
 ELEMENT = "\0"  # stands for an array index in subjects until identical element changes are merged
 
@@ -139,8 +130,8 @@ class _Diff:
                 self.changes.add("register_renamed", o.name, MAJOR, o.name, n.name, o.name, n.name, note)
             if o.address != n.address:
                 params = o.param != n.param
-                before = _addr(o.address) + (f" ({o.param})" if params and o.param else "")
-                after = _addr(n.address) + (f" ({n.param})" if params and n.param else "")
+                before = hex4(o.address) + (f" ({o.param})" if params and o.param else "")
+                after = hex4(n.address) + (f" ({n.param})" if params and n.param else "")
                 self.changes.add("register_moved", n.name, MAJOR, before, after, o.address, n.address)
             elif o.param != n.param:
                 self.changes.add("register_param_changed", n.name, PATCH, _show(o.param), _show(n.param), o.param, n.param)

@@ -8,12 +8,7 @@ from typing import Any
 from regmap.diff.kinds import PATCH, Changes
 from regmap.diff.match import T, _match
 from regmap.diff.text import _clip, _fields, _plain
-from regmap.model import (
-    Device,
-    Erratum,
-    Example,
-    Group,
-)
+from regmap.model import Device, Erratum, Example, Group
 
 
 def documentation_changes(old: Device, new: Device, rename: Callable[[str], str]) -> Changes:

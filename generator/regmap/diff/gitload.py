@@ -9,9 +9,7 @@ from pathlib import Path
 
 from regmap.diagnostics import MapError, UsageError
 from regmap.frontend.load import load_map, load_map_bytes
-from regmap.model import (
-    Device,
-)
+from regmap.model import Device
 
 
 def split_spec(spec: str) -> tuple[str, str | None]:

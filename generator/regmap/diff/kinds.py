@@ -10,9 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from regmap.diff.text import _fields, _json
-from regmap.model import (
-    Device,
-)
+from regmap.model import Device
 
 FORMATS = ("text", "markdown", "json")
 JSON_FORMAT = "regmap-diff/1"

@@ -9,9 +9,7 @@ from typing import Any
 
 from regmap.diff.kinds import JSON_FORMAT, KINDS, Bump, Change, Report
 from regmap.diff.text import _plain
-from regmap.model import (
-    Device,
-)
+from regmap.model import Device
 from regmap.render import md_text
 
 

@@ -9,11 +9,8 @@ from collections.abc import Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
-from regmap.model import (
-    Access,
-    ArrayDef,
-    Register,
-)
+from regmap.model import Access, ArrayDef, Register
+from regmap.render import hex4
 
 
 def _plain(text: str) -> str:
@@ -24,10 +21,6 @@ def _plain(text: str) -> str:
 
 def _clip(text: str, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
-
-
-def _addr(address: int) -> str:
-    return f"0x{address:04X}"
 
 
 def _val(value: int) -> str:
@@ -109,7 +102,7 @@ ACCESS = {Access.READ: "R", Access.READ_WRITE: "RW", Access.WRITE: "W"}
 
 
 def _register_summary(r: Register) -> str:
-    parts = [_addr(r.address), r.type.value, ACCESS[r.access]]
+    parts = [hex4(r.address), r.type.value, ACCESS[r.access]]
     if r.param:
         parts.insert(0, r.param)
     if r.unit:
@@ -119,11 +112,11 @@ def _register_summary(r: Register) -> str:
 
 def _array_summary(a: ArrayDef) -> str:
     members = ", ".join(m.name for m in a.members)
-    return f"{a.count} x {a.stride} words at {_addr(a.base)} ({members})"
+    return f"{a.count} x {a.stride} words at {hex4(a.base)} ({members})"
 
 
 def _layout(name: str, value: int) -> str:
-    return f"{name} {_addr(value) if name == 'base' else value}"
+    return f"{name} {hex4(value) if name == 'base' else value}"
 
 
 def _effect(effect: tuple[Any, ...] | None) -> str:

@@ -7,9 +7,7 @@ from typing import Any
 
 from regmap.diff.kinds import MAJOR, MINOR, PATCH, Bump, Changes
 from regmap.diff.text import _pair, _range, _show
-from regmap.model import (
-    Transport,
-)
+from regmap.model import Transport
 
 
 def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) -> Changes:
@@ -99,5 +97,4 @@ def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) 
         if a != b:
             out.add("transport_changed", name, PATCH, *_pair(a, b), a, b)
 
-    # -- enums
     return out

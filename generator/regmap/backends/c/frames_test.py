@@ -10,14 +10,7 @@ from regmap.backends.c.names import CIdentifier, Context, CSymbol, c_hex, c_raw,
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Example, Register
 from regmap.render import environment
-from regmap_runtime.rtu import (
-    EXCEPTION_FLAG,
-    READ_HOLDING,
-    WRITE_MULTIPLE,
-    WRITE_SINGLE,
-    crc_ok,
-    parse_frame,
-)
+from regmap_runtime.rtu import EXCEPTION_FLAG, READ_HOLDING, WRITE_MULTIPLE, WRITE_SINGLE, crc_ok, parse_frame
 
 
 @dataclass(frozen=True)

@@ -10,10 +10,7 @@ from typing import Any
 
 from regmap.backends.markdown.text import DocId, _html_comment
 from regmap.diagnostics import UsageError
-from regmap.model import (
-    Device,
-    Register,
-)
+from regmap.model import Device, Register
 from regmap.render import header_lines
 
 
@@ -22,8 +19,6 @@ def diagram_path(device: Device, reg: Register) -> str:
     owner = f"{reg.array.array}_{reg.array.member}" if reg.array else reg.name
     return f"{DocId(device.id)}/{DocId(owner)}.svg"
 
-
-# ---------------------------------------------------------------------------------------------- diagrams
 
 LANE_BITS = 8  # bits per row of a diagram: 16-bit registers draw as two rows, MSB row on top
 DIAGRAM_WIDTH = 800

@@ -12,7 +12,6 @@ from regmap.backends.markdown.text import (
     _enum_label,
     _errata_links,
     _hex,
-    _hex_byte,
     _join,
     _link,
     _md,
@@ -25,25 +24,10 @@ from regmap.backends.markdown.text import (
 from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
 from regmap.backends.text import eng, number
 from regmap.frames import FUNCTION_NAMES, decode_words
-from regmap.model import (
-    Device,
-    Example,
-    ExampleValue,
-    Register,
-    WordOrder,
-)
-from regmap.render import md_text
+from regmap.model import Device, Example, ExampleValue, Register, WordOrder
+from regmap.render import hex2, md_text
 from regmap_runtime.codec import words_to_raw
-from regmap_runtime.rtu import (
-    STANDARD_EXCEPTIONS,
-    Frame,
-    crc_bytes,
-    crc_ok,
-    parse_frame,
-    to_hex,
-)
-
-# ---------------------------------------------------------------------------------------------- frames
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex
 
 
 def _offsets(start: int, length: int) -> str:
@@ -55,8 +39,8 @@ def _function_meaning(device: Device, function: int) -> Md:
     name = FUNCTION_NAMES.get(base, "unknown function")
     supported = "" if base in device.transport.function_codes else " (not supported by this device)"
     if function & 0x80:
-        return Md(f"`{_hex_byte(function)}` = `{_hex_byte(base)}` + `0x80`: exception response to {name}{supported}")
-    return Md(f"`{_hex_byte(function)}` {name}{supported}")
+        return Md(f"`{hex2(function)}` = `{hex2(base)}` + `0x80`: exception response to {name}{supported}")
+    return Md(f"`{hex2(function)}` {name}{supported}")
 
 
 def _slave_meaning(device: Device, slave: int) -> Md:
@@ -159,7 +143,7 @@ def _frame_view(ctx: Context, label: str, frame: bytes, direction: str, start: i
             if known is not None
             else STANDARD_EXCEPTIONS.get(code, "unknown exception") + " (standard Modbus meaning; not listed by the manual)"
         )
-        take(1, "Exception code", Md(f"`{_hex_byte(code)}` {meaning}"))
+        take(1, "Exception code", Md(f"`{hex2(code)}` {meaning}"))
     if pos < end:
         take(end - pos, "Data", Md("not decoded" if parsed.kind == "unknown" else "bytes the frame layout does not account for"))
     crc = int.from_bytes(frame[-2:], "little")

@@ -18,7 +18,6 @@ from regmap.backends.markdown.text import (
     _code,
     _enum_label,
     _hex,
-    _hex_byte,
     _html_comment,
     _join,
     _link,
@@ -42,23 +41,12 @@ from regmap.backends.text import number
 from regmap.diagnostics import UsageError
 from regmap.frames import FUNCTION_NAMES
 from regmap.generate import Files
-from regmap.model import (
-    Command,
-    Device,
-    Erratum,
-    WordOrder,
-)
-from regmap.render import environment, header_lines, md_text
+from regmap.model import Command, Device, Erratum, WordOrder
+from regmap.render import environment, header_lines, hex2, md_text
 from regmap_runtime.codec import raw_to_words
-from regmap_runtime.rtu import (
-    build_write_multiple,
-    build_write_single,
-    to_hex,
-)
+from regmap_runtime.rtu import build_write_multiple, build_write_single, to_hex
 
 INDEX_PAGE = "index.md"
-
-# ---------------------------------------------------------------------------------------------- the rest
 
 
 def _command_frame(ctx: Context, cmd: Command) -> Md:
@@ -124,7 +112,7 @@ def _overview(device: Device) -> tuple[Fact, ...]:
     serial = f"{t.baud} baud, {t.data_bits} data bits, {md_text(parity)}, {t.stop_bits} stop bit{'s' if t.stop_bits != 1 else ''}"
     if t.baud_rates:
         serial += "; baud rates " + ", ".join(str(b) for b in t.baud_rates)
-    functions = ", ".join(f"`{_hex_byte(c)}` {FUNCTION_NAMES.get(c, 'unknown function')}" for c in t.function_codes)
+    functions = ", ".join(f"`{hex2(c)}` {FUNCTION_NAMES.get(c, 'unknown function')}" for c in t.function_codes)
     limits = f"read {t.max_read_registers}, write {t.max_write_registers}"
     if t.max_message_bytes is not None:
         limits += f"; longest message {t.max_message_bytes} bytes"
@@ -196,7 +184,7 @@ def device_page(device: Device) -> DevicePage:
     examples = tuple(_example_view(ctx, ex) for ex in device.examples)  # first: registers link to them
     t = device.transport
     exceptions = tuple(
-        ExceptionView(code=_hex_byte(e.code), name=_code(e.name), title=e.title, title_zh=e.title_zh or DASH, source=_sources(e.source))
+        ExceptionView(code=hex2(e.code), name=_code(e.name), title=e.title, title_zh=e.title_zh or DASH, source=_sources(e.source))
         for e in t.exceptions
     )
     note = (

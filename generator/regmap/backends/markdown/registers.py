@@ -15,7 +15,6 @@ from regmap.backends.markdown.text import (
     _enum_label,
     _errata_links,
     _hex,
-    _hex_byte,
     _join,
     _link,
     _md,
@@ -37,17 +36,8 @@ from regmap.backends.markdown.views import (
     RegisterView,
 )
 from regmap.backends.text import eng, number
-from regmap.model import (
-    Access,
-    ArrayDef,
-    Bitfield,
-    DataType,
-    EnumType,
-    Group,
-    Register,
-    WordOrder,
-)
-from regmap.render import md_text
+from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, Group, Register, WordOrder
+from regmap.render import hex2, md_text
 
 ACCESS_SHORT = {Access.READ: "R", Access.READ_WRITE: "R/W", Access.WRITE: "W"}
 ACCESS_LONG = {Access.READ: "read only", Access.READ_WRITE: "read/write", Access.WRITE: "write only"}
@@ -130,7 +120,7 @@ def _enum_view(ctx: Context, e: EnumType) -> EnumView:
     rows = tuple(
         EnumRow(
             value=str(m.value),
-            hex=_hex_byte(m.value) if 0 <= m.value <= 0xFF else _hex(m.value) if m.value >= 0 else DASH,
+            hex=hex2(m.value) if 0 <= m.value <= 0xFF else _hex(m.value) if m.value >= 0 else DASH,
             name=_code(m.name),
             symbol=m.symbol or "",
             title=m.title,

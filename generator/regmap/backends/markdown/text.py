@@ -7,10 +7,7 @@ import re
 from collections.abc import Iterable, Sequence
 
 from regmap.diagnostics import UsageError
-from regmap.model import (
-    EnumType,
-    Register,
-)
+from regmap.model import EnumType, Register
 from regmap.render import md_text
 
 DASH = "—"
@@ -86,10 +83,6 @@ def _hex(value: int, words: int = 1) -> str:
     return f"0x{value:0{4 * words}X}"
 
 
-def _hex_byte(value: int) -> str:
-    return f"0x{value:02X}"
-
-
 def _address(address: int) -> Md:
     return Md(f"`{_hex(address)}`")
 
@@ -108,6 +101,9 @@ def _raw_literal(reg: Register, raw: int) -> str:
 def _enum_label(e: EnumType, raw: int) -> Md | None:
     member = e.by_value(raw)
     return None if member is None else _code(member.name)
+
+
+# ---------------------------------------------------------------------------------------------- links
 
 
 def _reg_anchor(reg: Register) -> str:

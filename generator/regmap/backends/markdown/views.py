@@ -9,11 +9,7 @@ from typing import ClassVar
 
 from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
 from regmap.frames import Registers
-from regmap.model import (
-    Device,
-)
-
-# ---------------------------------------------------------------------------------------------- views
+from regmap.model import Device
 
 
 @dataclass(frozen=True)
