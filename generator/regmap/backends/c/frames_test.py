@@ -3,12 +3,13 @@ with the header's helpers and parses every response frame; the tests compile and
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.c.names import CIdentifier, Context, CSymbol, c_hex, c_raw, c_signed, c_unsigned, file_header
 from regmap.diagnostics import UsageError
-from regmap.model import Device, Example, Register
+from regmap.model import Device, Example, ExampleValue, Register
 from regmap.render import environment
 from regmap_runtime.rtu import EXCEPTION_FLAG, READ_HOLDING, WRITE_MULTIPLE, WRITE_SINGLE, crc_ok, parse_frame
 
@@ -196,24 +197,29 @@ class _Frames:
                 return c_hex(v.words[0])  # one word of a 32-bit register, as the example gives it
         return c_hex(word)
 
+    def carried(self, ex: Example, start: int, count: int, *, high_word: bool) -> Iterator[tuple[ExampleValue, list[int], str]]:
+        """The example's values that have words among the frame's `count` words from `start`: each with the
+        addresses of those words (from a pair's unused high word on when `high_word`) and the C index of
+        the register's listed address among the frame's words."""
+        base = self.address(start)
+        for v in ex.values:
+            reg = v.register
+            first = reg.first_address if high_word else reg.address
+            inside = [a for a in range(first, reg.last_address + 1) if start <= a < start + count]
+            if inside and (v.raw is not None or v.words is not None):
+                yield v, inside, f"(unsigned)({self.ctx.addr(reg)} - {base})"
+
     def multiple_words(self, ex: Example, start: int, frame_words: tuple[int, ...]) -> tuple[str, ...]:
         """Statements that fill `w` (the words of a 0x10 frame) from the example's values through the header's helpers."""
         count = len(frame_words)
         base = self.address(start)
         filled: set[int] = set()
         statements = []
-        for v in ex.values:
+        for v, inside, index in self.carried(ex, start, count, high_word=True):
             reg = v.register
-            inside = [a for a in range(reg.first_address, reg.last_address + 1) if start <= a < start + count]
-            if not inside or (v.raw is None and v.words is None):
-                continue
-            index = f"(unsigned)({self.ctx.addr(reg)} - {base})"
             if v.words is not None:
-                own = [a for a in inside if a >= reg.address]
-                if len(v.words) != len(own):
-                    raise _FrameError(f"the frame carries {len(own)} words of {reg.name}, the example gives {len(v.words)}")
-                for a, given in zip(own, v.words, strict=True):
-                    statements.append(f"put(w, {count}u, {index} + {a - reg.address}u, {c_hex(given)});")
+                for a, offset, given in _given_words(reg, v.words, [a for a in inside if a >= reg.address], "the frame"):
+                    statements.append(f"put(w, {count}u, {index} + {offset}u, {given});")
                     filled.add(a)
                 continue
             raw = v.raw
@@ -285,19 +291,11 @@ class _Frames:
         checks: list[Check] = []
         scaled: list[ScaledCheck] = []
         base = self.address(start)
-        for v in ex.values:
+        for v, own, index in self.carried(ex, start, count, high_word=False):
             reg = v.register
-            own = [a for a in range(reg.address, reg.last_address + 1) if start <= a < start + count]
-            if not own or (v.raw is None and v.words is None):
-                continue
-            index = f"(unsigned)({self.ctx.addr(reg)} - {base})"
             if v.words is not None:
-                if len(v.words) != len(own):
-                    raise _FrameError(f"the response carries {len(own)} words of {reg.name}, the example gives {len(v.words)}")
-                for a, given in zip(own, v.words, strict=True):
-                    checks.append(
-                        Check(f"{reg.name} word {a - reg.address}", f"word_at(words, {count}u, {index} + {a - reg.address}u)", c_hex(given))
-                    )
+                for _, offset, given in _given_words(reg, v.words, own, "the response"):
+                    checks.append(Check(f"{reg.name} word {offset}", f"word_at(words, {count}u, {index} + {offset}u)", given))
                 continue
             raw = v.raw
             assert raw is not None
@@ -324,6 +322,14 @@ class _Frames:
             elif isinstance(v.value, int | float) and not isinstance(v.value, bool) and reg.enum is None:
                 scaled.append(ScaledCheck(reg.name, raw_expr, self.ctx.member_const(reg, "SCALE"), repr(float(v.value))))
         return checks, scaled
+
+
+def _given_words(reg: Register, words: tuple[int, ...], own: list[int], carrier: str) -> list[tuple[int, int, str]]:
+    """(address, offset in the register, C literal) of each word an example gives for `reg`, which the
+    frame carries at the addresses `own`."""
+    if len(words) != len(own):
+        raise _FrameError(f"{carrier} carries {len(own)} words of {reg.name}, the example gives {len(words)}")
+    return [(a, a - reg.address, c_hex(given)) for a, given in zip(own, words, strict=True)]
 
 
 @dataclass(frozen=True)

@@ -83,11 +83,15 @@ def _default(reg: Register, *, full: bool) -> Md:
     return Md(f"{text} = {label}" if label else text)
 
 
-def _address_facts(reg: Register) -> Md:
+def _addresses(reg: Register) -> str:
+    """The register's address (both, for two words) in hex, then in decimal."""
     if reg.words == 2:
-        text = f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})"
-    else:
-        text = f"{_address(reg.address)} ({reg.address})"
+        return f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})"
+    return f"{_address(reg.address)} ({reg.address})"
+
+
+def _address_facts(reg: Register) -> Md:
+    text = _addresses(reg)
     if reg.paired:
         text += (
             f"; low word of a 32-bit pair whose unused high word is {_address(reg.first_address)}:"
@@ -96,15 +100,13 @@ def _address_facts(reg: Register) -> Md:
     return Md(text)
 
 
-def _quick_row(reg: Register) -> QuickRow:
-    if reg.words == 2:
-        address = Md(f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})")
-    else:
-        address = Md(f"{_address(reg.address)} ({reg.address})")
+def _quick_row(reg: Register, param: str, address: Md, name: Md) -> QuickRow:
+    """A row of the quick reference: where the register is and what it is called (the caller's, as an
+    array member reads differently), then the register's own columns."""
     return QuickRow(
-        param=reg.param or DASH,
+        param=param,
         address=address,
-        name=_link(_code(reg.name), DocId(reg.name)),
+        name=name,
         title=reg.title,
         title_zh=reg.title_zh or DASH,
         access=ACCESS_SHORT[reg.access],
@@ -315,21 +317,8 @@ def _array_quick_rows(ctx: Context, array: ArrayDef) -> list[QuickRow]:
         last = ctx.device.register(f"{array.name}_{array.last_index}_{m.name}")
         hex_formula, dec_formula = _formula(array, first.address)
         params = f"{first.param} … {last.param}" if first.param and last.param else DASH
-        out.append(
-            QuickRow(
-                param=params,
-                address=Md(f"`{hex_formula}` ({dec_formula})"),
-                name=_link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), _anchor("array", array.name)),
-                title=first.title,
-                title_zh=first.title_zh or DASH,
-                access=ACCESS_SHORT[first.access],
-                type=_type_text(first),
-                range=_range(first, full=False),
-                default=_default(first, full=False),
-                unit=first.unit or DASH,
-                takes_effect=first.takes_effect.replace("_", " ") if first.takes_effect else DASH,
-            )
-        )
+        name = _link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), _anchor("array", array.name))
+        out.append(_quick_row(first, params, Md(f"`{hex_formula}` ({dec_formula})"), name))
     return out
 
 
@@ -340,7 +329,7 @@ def _group_view(ctx: Context, group: Group) -> GroupView:
     done: set[str] = set()
     for reg in group.registers:
         if reg.array is None:
-            quick.append(_quick_row(reg))
+            quick.append(_quick_row(reg, reg.param or DASH, Md(_addresses(reg)), _link(_code(reg.name), DocId(reg.name))))
             items.append(_register_view(ctx, reg))
         elif reg.array.array not in done:
             done.add(reg.array.array)
