@@ -37,6 +37,28 @@ def test_a_failing_target_changes_nothing(tmp_path: Path, monkeypatch: pytest.Mo
     assert not list(tmp_path.glob(".regmap-staging-*")), "staging left behind"
 
 
+def test_extra_files_are_swapped_in_with_the_targets(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The `--since` changelog pages go into the staged tree: a failed run writes none of them, and a
+    complete run that replaces docs/ keeps them."""
+    out = tmp_path / "generated"
+    devices = [load_map(p) for p in SMALL_MAPS]
+    page = {"docs/extra-changelog.md": "# page\n"}
+    written = generate(devices, out, ["markdown"], complete=True, extra=page)
+    assert (out / "docs" / "extra-changelog.md").read_text(encoding="utf-8") == "# page\n"
+    assert out.resolve() / "docs" / "extra-changelog.md" in written
+    before = _tree(out)
+
+    def broken(directory: Path) -> None:
+        raise RuntimeError("formatter crashed")
+
+    from regmap.backends import python
+
+    monkeypatch.setattr(python, "TARGET", Target("python", "python", python.render_device, python.render_shared, broken))
+    with pytest.raises(RuntimeError):
+        generate(devices, out, ["markdown", "python"], complete=True, extra={"docs/extra-changelog.md": "# changed\n"})
+    assert _tree(out) == before
+
+
 def test_invalid_map_changes_nothing(tmp_path: Path) -> None:
     out = tmp_path / "generated"
     subprocess.run(

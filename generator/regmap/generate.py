@@ -69,10 +69,12 @@ def render(devices: Sequence[Device], targets: Sequence[str]) -> dict[str, Files
     return out
 
 
-def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *, complete: bool) -> list[Path]:
+def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *, complete: bool, extra: Files | None = None) -> list[Path]:
     """Write the targets' files under `out_dir`. With `complete` (all maps in scope) each target's
     subdirectory is replaced whole, so files of removed maps disappear; otherwise files are added or
-    overwritten. Nothing under `out_dir` changes unless every target rendered and post-processed."""
+    overwritten. `extra` (path relative to `out_dir` -> content, e.g. the `--since` changelog pages)
+    is written last, into the same staged tree. Nothing under `out_dir` changes unless every target
+    rendered and post-processed."""
     known = _targets()
     rendered = render(devices, targets)
     out_dir = out_dir.resolve()
@@ -92,16 +94,23 @@ def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *
             if complete and sub.exists():
                 shutil.rmtree(sub)
             for rel, content in sorted(files.items()):
-                path = sub / rel
-                path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_text(content, encoding="utf-8", newline="\n")
+                _write(sub, rel, content)
                 written.append(out_dir / target.subdir / rel)
             if target.post is not None:
                 target.post(sub)
+        for rel, content in sorted((extra or {}).items()):
+            _write(tree, rel, content)
+            written.append(out_dir / rel)
         _swap(tree, out_dir, staging)
         return written
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _write(root: Path, rel: str, content: str) -> None:
+    path = root / rel
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(content, encoding="utf-8", newline="\n")
 
 
 STAGING_PREFIX = ".regmap-staging-"

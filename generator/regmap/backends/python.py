@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from regmap.backends.common import read_plan
+from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.generate import Files, Target, ruff_format
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
@@ -37,10 +38,6 @@ def camel(name: str) -> str:
 
 def const(name: str) -> str:
     return name.upper()
-
-
-def fmt_number(value: float) -> str:
-    return f"{value:.10g}"
 
 
 def _int_literal(value: int) -> str:
@@ -120,11 +117,7 @@ def _enum_view(e: EnumType) -> EnumView:
         )
         for m in e.members
     )
-    return EnumView(class_name=camel(e.name), doc=py_doc(_titled(e.title, e.title_zh) + _sources(e.source)), members=members)
-
-
-def _titled(title: str, title_zh: str | None) -> str:
-    return f"{title} ({title_zh})" if title_zh else title
+    return EnumView(class_name=camel(e.name), doc=py_doc(titled(e.title, e.title_zh) + _sources(e.source)), members=members)
 
 
 def _sources(source: tuple[str, ...]) -> str:
@@ -159,13 +152,8 @@ def _value_type(reg: Register) -> str:
     return "float" if reg.scaled else "int"
 
 
-def _eng(reg: Register, raw: int) -> str:
-    value = raw * reg.scale
-    return str(int(value)) if value.denominator == 1 else fmt_number(float(value))
-
-
 def _register_doc(reg: Register) -> str:
-    parts = [_titled(reg.title, reg.title_zh) + "."]
+    parts = [titled(reg.title, reg.title_zh) + "."]
     facts = []
     if reg.param:
         facts.append(f"Parameter {reg.param}")
@@ -174,9 +162,9 @@ def _register_doc(reg: Register) -> str:
     if reg.unit:
         facts.append(f"unit {reg.unit}")
     if reg.min is not None or reg.max is not None:
-        facts.append(f"range {_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)}")
+        facts.append(f"range {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}")
     if reg.default is not None:
-        facts.append(f"default {_eng(reg, reg.default)}")
+        facts.append(f"default {eng(reg, reg.default)}")
     if reg.takes_effect:
         facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
     parts.append(", ".join(facts) + _sources(reg.source))
@@ -243,7 +231,7 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
                 members[member.name] = _register_view(reg, member.name)
         elements.append((index, tuple(pairs)))
     doc = (
-        _titled(array.title, array.title_zh)
+        titled(array.title, array.title_zh)
         + f": {array.count} elements {array.first_index}..{array.last_index}, element n at 0x{array.base:04X} + {array.stride} x {'n' if array.index_base == 0 else f'(n - {array.index_base})'}"
         + _sources(array.source)
     )
@@ -263,7 +251,7 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
 
 def _command_view(cmd: Command) -> CommandView:
     doc = (
-        _titled(cmd.title, cmd.title_zh)
+        titled(cmd.title, cmd.title_zh)
         + f": writes 0x{cmd.value:04X}"
         + (f" + {cmd.argument.name}" if cmd.argument else "")
         + f" to {cmd.register.label} (0x{cmd.register.address:04X})"

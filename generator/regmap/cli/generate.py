@@ -46,7 +46,7 @@ def check_out_dir(out: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.diff import changelog_pages, write_pages
+    from regmap.diff import changelog_pages
     from regmap.generate import generate, target_names
 
     out = Path(args.out)
@@ -54,7 +54,6 @@ def run(args: argparse.Namespace) -> int:
     targets = args.target or target_names()
     devices = load_all(args.maps)
     pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
-    written = generate(devices, out, targets, complete=not args.maps)
-    written += write_pages(out, pages)
+    written = generate(devices, out, targets, complete=not args.maps, extra=pages)
     print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
     return ExitCode.OK

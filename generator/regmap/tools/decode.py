@@ -25,8 +25,10 @@ FUNCTION_NAMES = {
     0x04: "read input registers",
     0x05: "write single coil",
     0x06: "write single register",
+    0x08: "diagnostics",
     0x0F: "write multiple coils",
     0x10: "write multiple registers",
+    0x17: "read/write multiple registers",
 }
 
 MODBUS_MAX_READ = 125  # registers per read (Modbus application protocol 6.3)

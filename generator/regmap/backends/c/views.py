@@ -1,0 +1,332 @@
+"""The views of one C header's items: registers, arrays, groups, enums and commands. Every identifier,
+literal and expression is computed here; the templates only print, escaping map text with `c_comment`."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from regmap.backends.c.names import ACCESS_MACRO, WORD_ORDER_MACRO, Context, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
+from regmap.backends.text import eng, titled
+from regmap.model import ArrayDef, Bitfield, Command, EnumType, Register
+
+
+@dataclass(frozen=True)
+class Macro:
+    name: str
+    value: str
+    comment: str = ""  # plain text; the template escapes it
+
+
+@dataclass(frozen=True)
+class EnumView:
+    type_name: str
+    comment: str
+    members: tuple[Macro, ...]
+    as_macros: bool  # a value does not fit an int, which a C enum constant must
+
+
+@dataclass(frozen=True)
+class BitfieldView:
+    comment: str
+    mask: Macro
+    shift: Macro
+    word_type: str
+    getter: str
+    setter: str
+
+
+@dataclass(frozen=True)
+class RegisterView:
+    template: str
+    comment: str
+    description: str
+    macros: tuple[Macro, ...]
+    bitfields: tuple[BitfieldView, ...]
+
+
+@dataclass(frozen=True)
+class ElementTable:
+    """Per-element values of an array member whose elements differ (e.g. a default per path)."""
+
+    c_type: str
+    name: str
+    values: str
+
+
+@dataclass(frozen=True)
+class ArrayMemberView:
+    comment: str
+    description: str
+    addr_macro: str
+    offset: str
+    pair_addr_macro: str | None
+    addr_function: str
+    macros: tuple[Macro, ...]
+    tables: tuple[ElementTable, ...]
+    bitfields: tuple[BitfieldView, ...]
+
+
+@dataclass(frozen=True)
+class ArrayView:
+    template: str
+    comment: str
+    base: str  # names of the BASE, FIRST, COUNT and STRIDE macros
+    first: str
+    count: str
+    stride: str
+    macros: tuple[Macro, ...]
+    check: str  # C condition: index n in range
+    members: tuple[ArrayMemberView, ...]
+
+
+@dataclass(frozen=True)
+class GroupView:
+    comment: str
+    items: tuple[RegisterView | ArrayView, ...]
+
+
+@dataclass(frozen=True)
+class CommandView:
+    comment: str
+    addr: Macro
+    value: Macro
+    function: str
+    argument: str  # "" when the command takes none
+    argument_type: str
+    argument_macros: tuple[Macro, ...]
+    out_of_range: str  # C condition on the argument
+    raw: str  # C expression of the raw value to write
+    words: int
+    word_order: str
+
+
+def _enum_literal(value: int) -> str:
+    return f"0x{value:02X}" if value >= 0x10 else c_signed(value)
+
+
+def manual_sections(source: tuple[str, ...]) -> str:
+    return f"Manual {', '.join(source)}." if source else ""
+
+
+def _sentence(text: str | None) -> str:
+    text = " ".join((text or "").split())
+    return text if not text or text[-1] in ".!?。" else text + "."
+
+
+def sentences(*parts: str | None) -> str:
+    return " ".join(filter(None, (_sentence(p) for p in parts)))
+
+
+def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
+    """Type, access, unit, scale, range, default and errata of a register (or of every element of an array member)."""
+    facts = [f"{reg.type.value} {reg.access.value}"]
+    if reg.unit:
+        facts.append(f"unit {reg.unit}")
+    if reg.scaled:
+        facts.append(f"scale {eng(reg, 1)}")
+    if reg.min is not None or reg.max is not None:
+        scaled = f" ({eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''})" if reg.scaled else ""
+        facts.append(f"raw {reg.raw_min}..{reg.raw_max}{scaled}")
+    if reg.range_text:
+        facts.append(f"printed range {reg.range_text}")
+    defaults = {r.default for r in elements}
+    if len(defaults) > 1:
+        facts.append("default differs per element")
+    elif reg.default is not None:
+        facts.append(f"default {reg.default}" + (f" ({eng(reg, reg.default)})" if reg.scaled else ""))
+    if reg.enum is not None:
+        facts.append(f"values: enum {reg.enum.name}")
+    if reg.paired:
+        facts.append("low word of a 32-bit pair whose unused high word is at ADDR - 1")
+    if reg.takes_effect:
+        facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
+    errata = sorted({e for r in elements for e in r.errata})
+    if errata:
+        facts.append(f"errata {', '.join(errata)}")
+    return ", ".join(facts)
+
+
+def _register_comment(reg: Register, label: str, elements: Sequence[Register]) -> str:
+    return sentences(f"{label}: {titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), manual_sections(reg.source))
+
+
+def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Register]) -> tuple[list[Macro], list[ElementTable]]:
+    """The macros every register (or array member) gets. An array member whose elements differ in
+    min, max or default gets a table indexed by n - FIRST instead of the macro."""
+    macros = [
+        Macro(ctx.const(owner, "WORDS"), c_unsigned(reg.words)),
+        Macro(ctx.const(owner, "ACCESS"), ACCESS_MACRO[reg.access]),
+        Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"),
+    ]
+    tables = []
+    if reg.words == 2:
+        macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
+    for key in ("min", "max", "default"):
+        values = [getattr(r, key) for r in elements]
+        if len(set(values)) == 1:
+            if values[0] is not None:
+                macros.append(Macro(ctx.const(owner, key), c_raw(values[0], reg.signed)))
+        elif None not in values:
+            c_type = f"{'int' if reg.signed else 'uint'}{reg.type.bits}_t"
+            tables.append(ElementTable(c_type, ctx.symbol(owner, key), ", ".join(c_raw(v, reg.signed) for v in values)))
+    macros += [
+        Macro(ctx.const(owner, "SCALE"), c_float(reg.scale)),
+        Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
+        Macro(ctx.const(owner, "SCALE_DEN"), str(reg.scale.denominator)),
+        Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
+    ]
+    return macros, tables
+
+
+def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
+    word_type = "uint32_t" if reg.words == 2 else "uint16_t"
+    return tuple(
+        BitfieldView(
+            comment=_bitfield_comment(b),
+            mask=Macro(ctx.const(owner, b.name, "MASK"), c_hex(b.mask)),
+            shift=Macro(ctx.const(owner, b.name, "SHIFT"), c_unsigned(b.lsb)),
+            word_type=word_type,
+            getter=ctx.symbol(owner, "get", b.name),
+            setter=ctx.symbol(owner, "set", b.name),
+        )
+        for b in reg.bitfields
+    )
+
+
+def _bitfield_comment(b: Bitfield) -> str:
+    head = f"bit{'s' if b.width > 1 else ''} {b.bits_text} {b.name}: {titled(b.title, b.title_zh)}"
+    return sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description)
+
+
+def _register_view(ctx: Context, reg: Register) -> RegisterView:
+    values, _ = _value_macros(ctx, reg, reg.name, (reg,))
+    macros = [Macro(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
+    if reg.paired:
+        macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
+    return RegisterView(
+        template="c/register.h.jinja",
+        comment=_register_comment(reg, reg.label, (reg,)),
+        description=reg.description,
+        macros=tuple(macros),
+        bitfields=_bitfield_views(ctx, reg, reg.name),
+    )
+
+
+def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
+    base, first, _last, count, stride = macros = (
+        Macro(ctx.const(array.name, "BASE"), c_hex(array.base)),
+        Macro(ctx.const(array.name, "FIRST"), c_unsigned(array.first_index)),
+        Macro(ctx.const(array.name, "LAST"), c_unsigned(array.last_index)),
+        Macro(ctx.const(array.name, "COUNT"), c_unsigned(array.count)),
+        Macro(ctx.const(array.name, "STRIDE"), c_unsigned(array.stride)),
+    )
+    # `n - FIRST < COUNT` on an unsigned n checks both bounds, without the `n >= 0` that -Wtype-limits flags.
+    check = f"n - {first.name} < {count.name}"
+    members = []
+    for member in array.members:
+        elements = [ctx.device.register(f"{array.name}_{n}_{member.name}") for n in range(array.first_index, array.last_index + 1)]
+        reg = elements[0]
+        owner = f"{array.name}_{member.name}"
+        values, tables = _value_macros(ctx, reg, owner, elements)
+        members.append(
+            ArrayMemberView(
+                comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
+                description=reg.description,
+                addr_macro=ctx.const(owner, "ADDR", what=f"the address of member {member.name} of array {array.name}"),
+                offset=c_unsigned(member.offset),
+                pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
+                addr_function=ctx.symbol(owner, "addr"),
+                macros=tuple(values),
+                tables=tuple(tables),
+                bitfields=_bitfield_views(ctx, reg, owner),
+            )
+        )
+    comment = sentences(
+        titled(array.title, array.title_zh)
+        + f": {array.count} elements {array.first_index}..{array.last_index}; member m of element n is at"
+        + f" BASE 0x{array.base:04X} + {array.stride} x (n - {array.first_index}) + offset of m",
+        array.description,
+        manual_sections(array.source),
+    )
+    return ArrayView(
+        template="c/array.h.jinja",
+        comment=comment,
+        base=base.name,
+        first=first.name,
+        count=count.name,
+        stride=stride.name,
+        macros=macros,
+        check=check,
+        members=tuple(members),
+    )
+
+
+def group_views(ctx: Context) -> list[GroupView]:
+    groups = []
+    for group in ctx.device.groups:
+        items: list[RegisterView | ArrayView] = []
+        done: set[str] = set()
+        for reg in group.registers:
+            if reg.array is None:
+                items.append(_register_view(ctx, reg))
+            elif reg.array.array not in done:
+                done.add(reg.array.array)
+                items.append(_array_view(ctx, ctx.arrays[reg.array.array]))
+        groups.append(GroupView(comment=sentences(titled(group.title, group.title_zh), manual_sections(group.source)), items=tuple(items)))
+    return groups
+
+
+def enum_view(ctx: Context, e: EnumType) -> EnumView:
+    # A C enum constant is an int; a table with a value outside int becomes macros instead.
+    as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
+    members = tuple(
+        Macro(
+            ctx.const(e.name, m.name, what=f"member {m.name} of enum {e.name}"),
+            c_raw(m.value, m.value < 0) if as_macros else _enum_literal(m.value),
+            sentences(titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description),
+        )
+        for m in e.members
+    )
+    comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
+    return EnumView(type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"), comment=comment, members=members, as_macros=as_macros)
+
+
+def command_view(ctx: Context, cmd: Command) -> CommandView:
+    reg = cmd.register
+    what = f"writes 0x{cmd.value:04X}" + (f" + {cmd.argument.name}" if cmd.argument else "") + f" to {reg.label} (0x{reg.address:04X})"
+    comment = sentences(f"{titled(cmd.title, cmd.title_zh)}: {what}", cmd.description, manual_sections(cmd.source))
+    value = Macro(ctx.const("CMD", cmd.name, "VALUE"), c_hex(cmd.value) if cmd.value >= 0 else c_signed(cmd.value))
+    argument_macros: tuple[Macro, ...] = ()
+    argument = argument_type = out_of_range = ""
+    raw = value.name
+    if cmd.argument is not None:
+        arg = cmd.argument
+        argument = CSymbol(arg.name)
+        if argument in ("buf", "cap", "slave", "words"):  # the helper's other parameters
+            argument = CSymbol(arg.name, "arg")
+        lo = Macro(ctx.const("CMD", cmd.name, arg.name, "MIN"), c_signed(arg.min), arg.title)
+        hi = Macro(ctx.const("CMD", cmd.name, arg.name, "MAX"), c_signed(arg.max))
+        argument_macros = (lo, hi)
+        if arg.min >= 0:
+            # An unsigned parameter; no `< 0` test, which -Wtype-limits would flag.
+            argument_type = "unsigned"
+            upper = f"{argument} > (unsigned){hi.name}"
+            out_of_range = upper if arg.min == 0 else f"{argument} < (unsigned){lo.name} || {upper}"
+        else:
+            argument_type = "long"
+            out_of_range = f"{argument} < {lo.name} || {argument} > {hi.name}"
+        raw = f"(unsigned long){value.name} + (unsigned long){argument}"
+    return CommandView(
+        comment=comment,
+        addr=Macro(ctx.const("CMD", cmd.name, "ADDR"), ctx.addr(reg)),
+        value=value,
+        function=ctx.symbol("build", cmd.name, what=f"the helper of command {cmd.name}"),
+        argument=argument,
+        argument_type=argument_type,
+        argument_macros=argument_macros,
+        out_of_range=out_of_range,
+        raw=raw,
+        words=reg.words,
+        word_order=ctx.member_const(reg, "WORD_ORDER") if reg.words == 2 else "",
+    )

@@ -1,0 +1,251 @@
+"""Frame annotation for the examples: a byte table per frame, and the values a frame carries."""
+
+from __future__ import annotations
+
+from regmap.backends.markdown.text import (
+    DASH,
+    DocId,
+    Md,
+    _address,
+    _anchor,
+    _code,
+    _enum_label,
+    _errata_links,
+    _hex,
+    _join,
+    _link,
+    _md,
+    _paragraph,
+    _raw_literal,
+    _reg_link,
+    _sources,
+    _unit_suffix,
+)
+from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
+from regmap.backends.text import eng, number
+from regmap.tools.decode import FUNCTION_NAMES, decode_words
+from regmap.model import Device, Example, ExampleValue, Register, WordOrder
+from regmap.render import hex2, md_text
+from regmap_runtime.codec import words_to_raw
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex
+
+
+def _offsets(start: int, length: int) -> str:
+    return str(start) if length == 1 else f"{start}–{start + length - 1}"
+
+
+def _function_meaning(device: Device, function: int) -> Md:
+    base = function & 0x7F
+    name = FUNCTION_NAMES.get(base, "unknown function")
+    supported = "" if base in device.transport.function_codes else " (not supported by this device)"
+    if function & 0x80:
+        return Md(f"`{hex2(function)}` = `{hex2(base)}` + `0x80`: exception response to {name}{supported}")
+    return Md(f"`{hex2(function)}` {name}{supported}")
+
+
+def _slave_meaning(device: Device, slave: int) -> Md:
+    t = device.transport
+    if t.broadcast_id is not None and slave == t.broadcast_id:
+        return Md(f"{slave}: broadcast, no slave replies")
+    if not t.slave_min <= slave <= t.slave_max:
+        return Md(f"slave {slave} (outside the documented {t.slave_min} … {t.slave_max})")
+    return Md(f"slave {slave}")
+
+
+def _word_owner(device: Device, address: int) -> Md:
+    reg = device.covering(address)
+    if reg is None:
+        return Md("no documented register")
+    link = _reg_link(reg)
+    if reg.paired and address < reg.address:
+        return Md(f"unused high word of {link}")
+    if reg.words == 2:
+        high = (address == reg.address) == (reg.word_order is WordOrder.HIGH_FIRST)
+        return Md(f"{'high' if high else 'low'} word of {link}")
+    return link
+
+
+def _value_text(reg: Register, raw: int) -> Md:
+    if reg.bitfields:
+        parts = []
+        covered = 0
+        for b in sorted(reg.bitfields, key=lambda b: b.lsb):
+            covered |= b.mask
+            field = (raw & b.mask) >> b.lsb
+            label = _enum_label(b.enum, field) if b.enum is not None else None
+            parts.append(f"{DocId(b.name)} = {label or field}")
+        rest = raw & ~covered & ((1 << reg.type.bits) - 1)
+        if rest:
+            parts.append(f"undefined bits {_hex(rest, reg.words)}")
+        return Md(", ".join(parts))
+    text = eng(reg, raw) + _unit_suffix(reg)
+    label = _enum_label(reg.enum, raw) if reg.enum is not None else None
+    if reg.enum is not None:
+        return Md(f"{text} = {label}" if label else f"{text} (not a listed value)")
+    return Md(text)
+
+
+def _word_meaning(ctx: Context, address: int | None, word: int) -> tuple[Md, Md]:
+    if address is None:
+        return Md("Data word"), Md(f"{word} ({_hex(word)}); address unknown")
+    owner = _word_owner(ctx.device, address)
+    reg = ctx.device.covering(address)
+    value = f"{word} ({_hex(word)})"
+    if reg is not None and reg.words == 1 and address == reg.address:
+        value = f"{_hex(word)} → {_value_text(reg, words_to_raw(ctx.registers.spec(reg), [word]))}"
+    return Md(f"Register {_address(address)}"), Md(f"{owner}: {value}")
+
+
+def _frame_view(ctx: Context, label: str, frame: bytes, direction: str, start: int | None) -> tuple[FrameView, Frame]:
+    device = ctx.device
+    parsed = parse_frame(frame, direction)
+    rows: list[ByteRow] = []
+    pos = 0
+
+    def take(length: int, field: str | Md, meaning: Md) -> bytes:
+        nonlocal pos
+        chunk = frame[pos : pos + length]
+        rows.append(ByteRow(offset=_offsets(pos, len(chunk)), hex=to_hex(chunk), field=Md(field), meaning=meaning))
+        pos += len(chunk)
+        return chunk
+
+    def data_words(first: int | None, data_end: int) -> None:
+        i = 0
+        while pos + 2 <= data_end:
+            word = int.from_bytes(frame[pos : pos + 2], "big")
+            field, meaning = _word_meaning(ctx, None if first is None else first + i, word)
+            take(2, field, meaning)
+            i += 1
+
+    end = len(frame) - 2
+    take(1, "Slave id", _slave_meaning(device, parsed.slave))
+    take(1, "Function", _function_meaning(device, parsed.function))
+    address, count = parsed.address, parsed.count
+    if parsed.kind in ("read_request", "write_multiple_response", "write_multiple_request") and address is not None and count is not None:
+        take(2, "Start address", Md(f"{_address(address)} ({address}): {_word_owner(device, address)}"))
+        last = address + count - 1
+        take(2, "Register count", Md(f"{count} register{'s' if count != 1 else ''}: {_address(address)} … {_address(last)}"))
+        if parsed.kind == "write_multiple_request" and parsed.byte_count is not None:
+            take(1, "Byte count", Md(f"{parsed.byte_count} bytes"))
+            data_words(address, end)
+    elif parsed.kind == "read_response" and parsed.byte_count is not None:
+        take(1, "Byte count", Md(f"{parsed.byte_count} bytes = {parsed.byte_count // 2} register{'s' if parsed.byte_count != 2 else ''}"))
+        data_words(start, end)
+    elif parsed.kind == "write_single" and address is not None:
+        take(2, "Address", Md(f"{_address(address)} ({address}): {_word_owner(device, address)}"))
+        if pos + 2 <= end:
+            take(2, "Value", _word_meaning(ctx, address, int.from_bytes(frame[pos : pos + 2], "big"))[1])
+    elif parsed.kind == "exception" and parsed.exception_code is not None:
+        code = parsed.exception_code
+        known = device.transport.exception(code)
+        meaning = (
+            f"{md_text(known.title)}" + (f" ({md_text(known.title_zh)})" if known.title_zh else "")
+            if known is not None
+            else STANDARD_EXCEPTIONS.get(code, "unknown exception") + " (standard Modbus meaning; not listed by the manual)"
+        )
+        take(1, "Exception code", Md(f"`{hex2(code)}` {meaning}"))
+    if pos < end:
+        take(end - pos, "Data", Md("not decoded" if parsed.kind == "unknown" else "bytes the frame layout does not account for"))
+    crc = int.from_bytes(frame[-2:], "little")
+    if crc_ok(frame):
+        crc_text = f"`{_hex(crc)}`, sent low byte first: valid"
+    else:
+        crc_text = f"`{_hex(crc)}`: **wrong**, the CRC of the preceding bytes is `{to_hex(crc_bytes(frame[:-2]))}`"
+    take(2, "CRC", Md(crc_text))
+    return FrameView(label=label, hex=to_hex(frame), rows=tuple(rows), problems=parsed.problems), parsed
+
+
+def _span(parsed: Frame, start: int | None) -> range:
+    """Addresses a frame touches: the request's range, or the response's data words from the request's start."""
+    if parsed.kind == "read_response":
+        return range(start, start + len(parsed.words)) if start is not None else range(0)
+    if parsed.address is not None and parsed.count is not None:
+        return range(parsed.address, parsed.address + parsed.count)
+    return range(0)
+
+
+def _recorded(reg: Register, record: ExampleValue) -> Md:
+    parts = []
+    if record.raw is not None:
+        parts.append("raw " + _raw_literal(reg, record.raw))
+    if record.words is not None:
+        parts.append("words " + ", ".join(_hex(w) for w in record.words))
+    value = record.value
+    if isinstance(value, str):
+        parts.append(f"“{md_text(value)}”")
+    elif value is not None:
+        parts.append(number(value) + _unit_suffix(reg))
+    return Md("; ".join(parts) if parts else DASH)
+
+
+def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | None) -> list[DecodedRow]:
+    device = ctx.device
+    span = _span(parsed, start)
+    has_data = parsed.kind in ("read_response", "write_single", "write_multiple_request")
+    # The words a frame carries, split into registers by the decoder `regmap decode` uses.
+    carried = decode_words(device, span.start, parsed.words[: len(span)]) if has_data and span else []
+    words = {v.address + i: w for v in carried for i, w in enumerate(v.words)}
+    raws = {v.register: v.raw for v in carried if v.register is not None and v.raw is not None}
+    regs: list[Register] = []
+    for address in span:
+        reg = device.covering(address)
+        if reg is not None and reg not in regs:
+            regs.append(reg)
+    for v in example.values:
+        if v.register not in regs:
+            regs.append(v.register)
+    rows = []
+    for reg in regs:
+        own = range(reg.address, reg.last_address + 1)
+        decoded_raw = raws.get(reg.name)  # every word of the register is in the frame
+        if decoded_raw is not None:
+            raw_text, value = _raw_literal(reg, decoded_raw), _value_text(reg, decoded_raw)
+        elif has_data and any(a in words for a in own):
+            present = [a for a in own if a in words]
+            raw_text = ", ".join(_hex(words[a]) for a in present)
+            value = Md(f"{len(present)} of {reg.words} words in this frame")
+        else:
+            raw_text, value = DASH, Md("read" if parsed.kind == "read_request" else DASH)
+        record = next((v for v in example.values if v.register == reg), None)
+        recorded = _recorded(reg, record) if record is not None else Md(DASH)
+        if record is not None and record.raw is not None and decoded_raw is not None:
+            recorded = Md(recorded + (" ✓" if record.raw == decoded_raw else " — **differs from the frame**"))
+        where = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.words == 2 else _address(reg.address)
+        rows.append(DecodedRow(register=_reg_link(reg), address=where, raw=raw_text, value=value, recorded=recorded))
+        ctx.examples_by_register.setdefault(reg.name, [])
+        if example.id not in ctx.examples_by_register[reg.name]:
+            ctx.examples_by_register[reg.name].append(example.id)
+    return rows
+
+
+def _example_view(ctx: Context, example: Example) -> ExampleView:
+    device = ctx.device
+    start: int | None = None
+    request: Example | None = None
+    if example.request is not None:
+        request = device.example(example.request)
+        start = parse_frame(request.wire_frame, "request").address
+    printed, parsed = _frame_view(ctx, "Frame as printed in the manual", example.frame, example.direction, start)
+    frames = [printed]
+    if example.corrected_frame is not None:
+        corrected, parsed = _frame_view(ctx, "Frame regmap sends (corrected)", example.corrected_frame, example.direction, start)
+        frames.append(corrected)
+    facts = [Fact("Direction", Md(example.direction)), Fact("Source", _md(_sources(example.source)))]
+    if request is not None:
+        facts.append(Fact("Answers", _link(_code(request.id), _anchor("example", request.id))))
+    answers = ctx.responses.get(example.id, [])
+    if answers:
+        facts.append(Fact("Answered by", _join(_link(_code(a), _anchor("example", a)) for a in answers)))
+    if example.erratum is not None:
+        facts.append(Fact("Erratum", _errata_links([example.erratum])))
+    direction = "request" if example.direction == "request" else "response"
+    return ExampleView(
+        anchor=_anchor("example", example.id),
+        heading=Md(f"{_code(example.id)} — {direction}, {md_text(_sources(example.source))}"),
+        meaning=_paragraph(example.meaning),
+        meaning_zh=example.meaning_zh or "",
+        facts=tuple(facts),
+        frames=tuple(frames),
+        decoded=tuple(_decoded_rows(ctx, example, parsed, start)),
+        notes=_paragraph(example.notes),
+    )

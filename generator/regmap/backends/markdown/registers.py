@@ -1,0 +1,348 @@
+"""Views of registers, arrays, groups, enums and bitfields."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from regmap.backends.markdown.diagrams import diagram_path
+from regmap.backends.markdown.text import (
+    DASH,
+    DocId,
+    Md,
+    _address,
+    _anchor,
+    _code,
+    _enum_label,
+    _errata_links,
+    _hex,
+    _join,
+    _link,
+    _md,
+    _paragraph,
+    _sources,
+    _unit_suffix,
+)
+from regmap.backends.markdown.views import (
+    ArrayView,
+    BitfieldView,
+    BitRow,
+    Context,
+    EnumRow,
+    EnumView,
+    Fact,
+    GroupView,
+    MemberRow,
+    QuickRow,
+    RegisterView,
+)
+from regmap.backends.text import eng, number
+from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, Group, Register, WordOrder
+from regmap.render import hex2, md_text
+
+ACCESS_SHORT = {Access.READ: "R", Access.READ_WRITE: "R/W", Access.WRITE: "W"}
+ACCESS_LONG = {Access.READ: "read only", Access.READ_WRITE: "read/write", Access.WRITE: "write only"}
+TYPE_LONG = {
+    DataType.U16: "unsigned 16-bit",
+    DataType.S16: "signed 16-bit",
+    DataType.U32: "unsigned 32-bit",
+    DataType.S32: "signed 32-bit",
+}
+
+
+def _type_text(reg: Register) -> str:
+    text = reg.type.value
+    if reg.words == 2:
+        order = "high" if reg.word_order is WordOrder.HIGH_FIRST else "low"
+        text += f", 2 words, {order} first"
+    if reg.paired:
+        text += ", paired"
+    return text
+
+
+def _range(reg: Register, *, full: bool) -> Md:
+    """Engineering range; `full` adds the unit and the raw integers (the quick reference has a unit column)."""
+    if reg.min is None and reg.max is None:
+        return _md(reg.range_text) if reg.range_text and not full else Md(DASH)
+    low, high = reg.raw_min, reg.raw_max
+    text = f"{eng(reg, low)} … {eng(reg, high)}"
+    if full:
+        text += _unit_suffix(reg) + (f" (raw {low} … {high})" if reg.scaled else "")
+    return Md(text)
+
+
+def _default(reg: Register, *, full: bool) -> Md:
+    if reg.default is None:
+        return Md(DASH)
+    value = reg.default
+    if reg.bitfields:
+        return Md(f"{_hex(value, reg.words)} ({value})" if full else _hex(value, reg.words))
+    text = eng(reg, value)
+    if full:
+        text += _unit_suffix(reg) + (f" (raw {value})" if reg.scaled else "")
+    label = _enum_label(reg.enum, value) if reg.enum is not None else None
+    return Md(f"{text} = {label}" if label else text)
+
+
+def _addresses(reg: Register) -> str:
+    """The register's address (both, for two words) in hex, then in decimal."""
+    if reg.words == 2:
+        return f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})"
+    return f"{_address(reg.address)} ({reg.address})"
+
+
+def _address_facts(reg: Register) -> Md:
+    text = _addresses(reg)
+    if reg.paired:
+        text += (
+            f"; low word of a 32-bit pair whose unused high word is {_address(reg.first_address)}:"
+            " single writes (0x06) go to the listed address, block reads and writes start at the high word"
+        )
+    return Md(text)
+
+
+def _quick_row(reg: Register, param: str, address: Md, name: Md) -> QuickRow:
+    """A row of the quick reference: where the register is and what it is called (the caller's, as an
+    array member reads differently), then the register's own columns."""
+    return QuickRow(
+        param=param,
+        address=address,
+        name=name,
+        title=reg.title,
+        title_zh=reg.title_zh or DASH,
+        access=ACCESS_SHORT[reg.access],
+        type=_type_text(reg),
+        range=_range(reg, full=False),
+        default=_default(reg, full=False),
+        unit=reg.unit or DASH,
+        takes_effect=reg.takes_effect.replace("_", " ") if reg.takes_effect else DASH,
+    )
+
+
+def _enum_view(ctx: Context, e: EnumType) -> EnumView:
+    rows = tuple(
+        EnumRow(
+            value=str(m.value),
+            hex=hex2(m.value) if 0 <= m.value <= 0xFF else _hex(m.value) if m.value >= 0 else DASH,
+            name=_code(m.name),
+            symbol=m.symbol or "",
+            title=m.title,
+            title_zh=m.title_zh or "",
+            description=m.description,
+        )
+        for m in e.members
+    )
+    return EnumView(
+        anchor=_anchor("enum", e.name),
+        heading=Md(f"{_code(e.name)} — {md_text(e.title)}"),
+        title=e.title,
+        title_zh=e.title_zh or "",
+        description=_paragraph(e.description),
+        source=_sources(e.source),
+        rows=rows,
+        used_by=_join(ctx.enum_users.get(e.name, [])),
+    )
+
+
+def _bit_values(b: Bitfield) -> Md:
+    if b.enum is not None:
+        return Md(f"{_link(_code(b.enum.name), _anchor('enum', b.enum.name))} ({md_text(b.enum.title)})")
+    if b.width == 1:
+        return Md("0 / 1")
+    return Md(f"0 … {b.max_value}")
+
+
+def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
+    rows = tuple(
+        BitRow(
+            bits=b.bits_text,
+            mask=_hex(b.mask, reg.words),
+            name=_code(b.name),
+            title=b.title,
+            title_zh=b.title_zh or "",
+            values=_bit_values(b),
+            description=b.description,
+        )
+        for b in sorted(reg.bitfields, key=lambda b: b.lsb)
+    )
+    owner = f"{DocId(reg.array.array)} member {DocId(reg.array.member)}" if reg.array else DocId(reg.name)
+    return BitfieldView(diagram=diagram_path(ctx.device, reg), alt=f"Bit layout of {owner}", rows=rows)
+
+
+def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[Fact, ...]:
+    facts = [Fact("Address", _address_facts(reg))]
+    if reg.param:
+        facts.append(Fact("Parameter", _md(reg.param)))
+    facts.append(Fact("Type", Md(f"{reg.type.value} ({TYPE_LONG[reg.type]})")))
+    facts.append(Fact("Access", Md(ACCESS_LONG[reg.access])))
+    if reg.min is not None or reg.max is not None:
+        facts.append(Fact("Range", _range(reg, full=True)))
+    if reg.range_text:
+        facts.append(Fact("Range as printed", _md(reg.range_text)))
+    facts.append(Fact("Default", _default(reg, full=True)))
+    if reg.scaled:
+        facts.append(Fact("Scale", Md(f"raw × {number(reg.scale)} = value{' in ' + md_text(reg.unit) if reg.unit else ''}")))
+    if reg.unit:
+        facts.append(Fact("Unit", _md(reg.unit)))
+    if reg.enum is not None:
+        facts.append(Fact("Values", _link(_code(reg.enum.name), _anchor("enum", reg.enum.name))))
+    if reg.takes_effect:
+        facts.append(Fact("Takes effect", Md(reg.takes_effect.replace("_", " "))))
+    if reg.settable:
+        facts.append(Fact("Settable", Md(reg.settable.replace("_", " "))))
+    if reg.modes:
+        facts.append(Fact("Control modes", _md(", ".join(reg.modes))))
+    facts.append(Fact("Source", _md(_sources(reg.source))))
+    if errata:
+        facts.append(Fact("Errata", _errata_links(errata)))
+    links = ctx.example_links(example_names)
+    if links:
+        facts.append(Fact("Examples", links))
+    return tuple(facts)
+
+
+def _heading(reg: Register) -> Md:
+    param = f"{md_text(reg.param)} " if reg.param else ""
+    zh = f" ({md_text(reg.title_zh)})" if reg.title_zh else ""
+    return Md(f"{param}{_code(reg.name)} — {md_text(reg.title)}{zh}")
+
+
+def _register_view(ctx: Context, reg: Register) -> RegisterView:
+    return RegisterView(
+        level="####",
+        anchor=DocId(reg.name),
+        heading=_heading(reg),
+        facts=_register_facts(ctx, reg, reg.errata, [reg.name]),
+        description=_paragraph(reg.description),
+        notes=_paragraph(reg.notes),
+        enum=_enum_view(ctx, reg.enum) if reg.enum is not None else None,
+        bitfields=_bitfield_view(ctx, reg) if reg.bitfields else None,
+    )
+
+
+def _formula(array: ArrayDef, first: int) -> tuple[str, str]:
+    """Address of element n of a member, in hex and decimal: `0x6201 + 8n` / `25089 + 8n`."""
+    step = "n" if array.stride == 1 else f"{array.stride}n"
+    if array.index_base:
+        step = f"(n − {array.index_base})" if array.stride == 1 else f"{array.stride}(n − {array.index_base})"
+    return f"{_hex(first)} + {step}", f"{first} + {step}"
+
+
+def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
+    device = ctx.device
+    indexes = range(array.first_index, array.last_index + 1)
+    by_member = {m.name: [device.register(f"{array.name}_{n}_{m.name}") for n in indexes] for m in array.members}
+    rows: list[MemberRow] = []
+    details: list[RegisterView] = []
+    for m in array.members:
+        regs = by_member[m.name]
+        first = regs[0]
+        hex_formula, _ = _formula(array, first.address)
+        address = Md(f"`{hex_formula}`" + (" (2 words)" if first.words == 2 else ""))
+        errata = [e for r in regs for e in r.errata]
+        rows.append(
+            MemberRow(
+                offset=m.offset,
+                address=address,
+                name=_code(m.name),
+                registers=Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"),
+                title=first.title,
+                title_zh=first.title_zh or DASH,
+                type=_type_text(first),
+                access=ACCESS_SHORT[first.access],
+                range=_range(first, full=False),
+                default=_default(first, full=False),
+                unit=first.unit or DASH,
+            )
+        )
+        if first.enum is not None or first.bitfields or first.description or first.notes or errata:
+            facts = [Fact("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
+            if first.param and regs[-1].param:
+                facts.append(Fact("Parameter", _md(f"{first.param} … {regs[-1].param}")))
+            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f.label not in ("Address", "Parameter")]
+            details.append(
+                RegisterView(
+                    level="#####",
+                    anchor=_anchor("array", array.name, m.name),
+                    heading=Md(
+                        f"Member {_code(m.name)} — {md_text(first.title)}" + (f" ({md_text(first.title_zh)})" if first.title_zh else "")
+                    ),
+                    facts=tuple(facts),
+                    description=_paragraph(first.description),
+                    notes=_paragraph(first.notes),
+                    enum=_enum_view(ctx, first.enum) if first.enum is not None else None,
+                    bitfields=_bitfield_view(ctx, first) if first.bitfields else None,
+                )
+            )
+    elements = []
+    for i, n in enumerate(indexes):
+        regs = [by_member[m.name][i] for m in array.members]
+        params = [r.param for r in regs if r.param]
+        param_text = md_text(f"{params[0]} … {params[-1]}" if len(params) > 1 else params[0]) if params else DASH
+        title = md_text(array.element_title.replace("{n}", str(n))) if array.element_title else DASH
+        elements.append((Md(str(n)), Md(title), Md(param_text), *(_address(r.address) for r in regs)))
+    last = device.register(f"{array.name}_{array.last_index}_{array.members[-1].name}")
+    hex_formula, dec_formula = _formula(array, array.base)
+    summary = Md(
+        f"{array.count} elements, n = {array.first_index} … {array.last_index}. Element n starts at "
+        f"`{hex_formula}` ({dec_formula}); a member at offset k sits k words further. "
+        f"Element registers are named `{DocId(array.name)}_<n>_<member>`."
+    )
+    facts = [
+        Fact("Addresses", Md(f"{_address(array.base)} … {_address(last.last_address)} ({array.base} … {last.last_address})")),
+        Fact("Stride", Md(f"{array.stride} word{'s' if array.stride != 1 else ''} per element")),
+        Fact("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
+    ]
+    if array.element_title:
+        facts.append(Fact("Element title", _md(array.element_title)))
+    facts.append(Fact("Source", _md(_sources(array.source))))
+    zh = f" ({md_text(array.title_zh)})" if array.title_zh else ""
+    return ArrayView(
+        anchor=_anchor("array", array.name),
+        heading=Md(f"Array {_code(array.name)} — {md_text(array.title)}{zh}"),
+        summary=summary,
+        facts=tuple(facts),
+        description=_paragraph(array.description),
+        notes=_paragraph(array.notes),
+        members=tuple(rows),
+        details=tuple(details),
+        element_header=(Md("n"), Md("Element"), Md("Parameters"), *(_code(m.name) for m in array.members)),
+        elements=tuple(elements),
+    )
+
+
+def _array_quick_rows(ctx: Context, array: ArrayDef) -> list[QuickRow]:
+    out = []
+    for m in array.members:
+        first = ctx.device.register(f"{array.name}_{array.first_index}_{m.name}")
+        last = ctx.device.register(f"{array.name}_{array.last_index}_{m.name}")
+        hex_formula, dec_formula = _formula(array, first.address)
+        params = f"{first.param} … {last.param}" if first.param and last.param else DASH
+        name = _link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), _anchor("array", array.name))
+        out.append(_quick_row(first, params, Md(f"`{hex_formula}` ({dec_formula})"), name))
+    return out
+
+
+def _group_view(ctx: Context, group: Group) -> GroupView:
+    arrays = {a.name: a for a in group.arrays}
+    quick: list[QuickRow] = []
+    items: list[RegisterView | ArrayView] = []
+    done: set[str] = set()
+    for reg in group.registers:
+        if reg.array is None:
+            quick.append(_quick_row(reg, reg.param or DASH, Md(_addresses(reg)), _link(_code(reg.name), DocId(reg.name))))
+            items.append(_register_view(ctx, reg))
+        elif reg.array.array not in done:
+            done.add(reg.array.array)
+            array = arrays[reg.array.array]
+            quick.extend(_array_quick_rows(ctx, array))
+            items.append(_array_view(ctx, array))
+    zh = f" ({md_text(group.title_zh)})" if group.title_zh else ""
+    return GroupView(
+        anchor=_anchor("group", group.id),
+        ref_anchor=_anchor("ref", group.id),
+        heading=Md(f"{md_text(group.title)}{zh} — group {_code(group.id)}"),
+        description=_paragraph(group.description),
+        source=_sources(group.source),
+        quick=tuple(quick),
+        items=tuple(items),
+    )

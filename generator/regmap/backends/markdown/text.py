@@ -1,0 +1,125 @@
+"""Markdown text types and helpers: validated identifiers (`DocId`), assembled Markdown (`Md`),
+escaping, links, anchors and the spelling of numbers in the docs."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Sequence
+
+from regmap.diagnostics import UsageError
+from regmap.model import EnumType, Register
+from regmap.render import md_text
+
+DASH = "—"
+
+# ---------------------------------------------------------------------------------------------- text types
+
+_DOC_ID = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+class DocId(str):
+    """A map identifier (register, enum, example, erratum ...) that is safe as an HTML id, inside a
+    Markdown code span and as a file name."""
+
+    def __new__(cls, name: str) -> DocId:
+        if not _DOC_ID.match(name):
+            raise UsageError(f"{name!r} cannot name an anchor or a file in the docs; use letters, digits and _")
+        return super().__new__(cls, name)
+
+
+class Md(str):
+    """Markdown a view assembled from escaped map text and validated identifiers: printed as is."""
+
+
+def _md(text: str | None) -> Md:
+    return Md(md_text(text))
+
+
+def _code(name: str) -> Md:
+    return Md(f"`{DocId(name)}`")
+
+
+def _link(label: str, anchor: str, page: str = "") -> Md:
+    return Md(f"[{label}]({page}#{anchor})")
+
+
+def _anchor(prefix: str, *names: str) -> str:
+    return "-".join([prefix, *(DocId(n) for n in names)])
+
+
+_BLOCK_START = re.compile(r"^(?:[#>+\-]|\d+[.)])")
+
+
+def _paragraph(text: str | None) -> Md:
+    """Escaped text that stays one paragraph: a leading `#`, `>`, `-`, `+`, `1.` or `~~~` would start
+    a block (`md_text` already folds the text onto one line and escapes everything inline)."""
+    escaped = md_text(text)
+    match = _BLOCK_START.match(escaped)
+    if match:
+        marker = match.group(0)
+        escaped = (marker[:-1] + "\\" + marker[-1] if marker[0].isdigit() else "\\" + marker) + escaped[len(marker) :]
+    elif escaped.startswith("~"):
+        escaped = "&#126;" + escaped[1:]
+    return Md(escaped)
+
+
+def _html_comment(line: str) -> str:
+    """A header line that cannot end the HTML comment it sits in."""
+    return line.replace("--", "- -").replace(">", "&gt;")
+
+
+def _sources(source: Sequence[str]) -> str:
+    return ", ".join(source) if source else DASH
+
+
+def _join(parts: Iterable[str], sep: str = ", ") -> Md:
+    return Md(sep.join(parts))
+
+
+# ---------------------------------------------------------------------------------------------- numbers
+
+
+def _hex(value: int, words: int = 1) -> str:
+    return f"0x{value:0{4 * words}X}"
+
+
+def _address(address: int) -> Md:
+    return Md(f"`{_hex(address)}`")
+
+
+def _unit_suffix(reg: Register) -> Md:
+    return Md(f" {md_text(reg.unit)}") if reg.unit else Md("")
+
+
+def _raw_literal(reg: Register, raw: int) -> str:
+    """Bit words read best in hex, everything else in decimal."""
+    if reg.bitfields and raw >= 0:
+        return _hex(raw, reg.words)
+    return str(raw)
+
+
+def _enum_label(e: EnumType, raw: int) -> Md | None:
+    member = e.by_value(raw)
+    return None if member is None else _code(member.name)
+
+
+# ---------------------------------------------------------------------------------------------- links
+
+
+def _reg_anchor(reg: Register) -> str:
+    return _anchor("array", reg.array.array) if reg.array is not None else DocId(reg.name)
+
+
+def _reg_link(reg: Register, *, param: bool = True) -> Md:
+    label = _link(_code(reg.name), _reg_anchor(reg))
+    if param and reg.param:
+        return Md(f"{label} ({md_text(reg.param)})")
+    return label
+
+
+def _errata_links(ids: Iterable[str]) -> Md:
+    unique: list[str] = []
+    for i in ids:
+        if i not in unique:
+            unique.append(i)
+    return _join(_link(md_text(i), _anchor("erratum", i)) for i in unique)

@@ -1,0 +1,283 @@
+"""The views of one device's page (every cell computed; the templates only print), and the context
+the views of one device share."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import ClassVar
+
+from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
+from regmap.tools.selectors import Registers
+from regmap.model import Device
+
+
+@dataclass(frozen=True)
+class Fact:
+    label: str
+    value: Md
+
+
+@dataclass(frozen=True)
+class QuickRow:
+    param: str
+    address: Md  # hex, then decimal in parentheses
+    name: Md
+    title: str
+    title_zh: str
+    access: str
+    type: str
+    range: Md
+    default: Md
+    unit: str
+    takes_effect: str
+
+
+@dataclass(frozen=True)
+class EnumRow:
+    value: str
+    hex: str
+    name: Md
+    symbol: str
+    title: str
+    title_zh: str
+    description: str
+
+
+@dataclass(frozen=True)
+class EnumView:
+    anchor: str
+    heading: Md
+    title: str
+    title_zh: str
+    description: Md
+    source: str
+    rows: tuple[EnumRow, ...]
+    used_by: Md
+
+
+@dataclass(frozen=True)
+class BitRow:
+    bits: str
+    mask: str
+    name: Md
+    title: str
+    title_zh: str
+    values: Md
+    description: str
+
+
+@dataclass(frozen=True)
+class BitfieldView:
+    diagram: str  # path of the SVG, relative to the page
+    alt: str
+    rows: tuple[BitRow, ...]
+
+
+@dataclass(frozen=True)
+class RegisterView:
+    template: ClassVar[str] = "docs/_register.md.jinja"
+    level: str  # heading marker: a register is a level-4 heading, an array member level 5
+    anchor: str
+    heading: Md
+    facts: tuple[Fact, ...]
+    description: Md
+    notes: Md
+    enum: EnumView | None
+    bitfields: BitfieldView | None
+
+
+@dataclass(frozen=True)
+class MemberRow:
+    offset: int
+    address: Md
+    name: Md
+    registers: Md
+    title: str
+    title_zh: str
+    type: str
+    access: str
+    range: Md
+    default: Md
+    unit: str
+
+
+@dataclass(frozen=True)
+class ArrayView:
+    template: ClassVar[str] = "docs/_array.md.jinja"
+    anchor: str
+    heading: Md
+    summary: Md
+    facts: tuple[Fact, ...]
+    description: Md
+    notes: Md
+    members: tuple[MemberRow, ...]
+    details: tuple[RegisterView, ...]  # members with values, bitfields, notes or errata
+    element_header: tuple[Md, ...]
+    elements: tuple[tuple[Md, ...], ...]
+
+
+@dataclass(frozen=True)
+class GroupView:
+    anchor: str
+    ref_anchor: str
+    heading: Md
+    description: Md
+    source: str
+    quick: tuple[QuickRow, ...]
+    items: tuple[RegisterView | ArrayView, ...]
+
+
+@dataclass(frozen=True)
+class TimingView:
+    baud: str
+    receive_to_send: str
+    wait_after_receive: str
+    send_to_receive: str
+    total: str
+
+
+@dataclass(frozen=True)
+class CommandView:
+    anchor: str
+    name: Md
+    title: str
+    title_zh: str
+    register: Md
+    writes: Md
+    frame: Md
+    description: str
+    source: str
+
+
+@dataclass(frozen=True)
+class FaultView:
+    anchor: str
+    code: str
+    value: str
+    name: Md
+    title: str
+    title_zh: str
+    kind: str
+    resettable: str
+    description: str
+    source: str
+
+
+@dataclass(frozen=True)
+class ExceptionView:
+    code: str
+    name: Md
+    title: str
+    title_zh: str
+    source: str
+
+
+@dataclass(frozen=True)
+class ByteRow:
+    offset: str
+    hex: str
+    field: Md
+    meaning: Md
+
+
+@dataclass(frozen=True)
+class FrameView:
+    label: str
+    hex: str
+    rows: tuple[ByteRow, ...]
+    problems: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class DecodedRow:
+    register: Md
+    address: Md
+    raw: str
+    value: Md
+    recorded: Md
+
+
+@dataclass(frozen=True)
+class ExampleView:
+    anchor: str
+    heading: Md
+    meaning: Md
+    meaning_zh: str
+    facts: tuple[Fact, ...]
+    frames: tuple[FrameView, ...]
+    decoded: tuple[DecodedRow, ...]
+    notes: Md
+
+
+@dataclass(frozen=True)
+class ReadingView:
+    source: str
+    says: str
+
+
+@dataclass(frozen=True)
+class ErratumView:
+    anchor: str
+    heading: Md
+    readings: tuple[ReadingView, ...]
+    choice: Md
+    reason: Md
+    links: tuple[Fact, ...]
+
+
+@dataclass(frozen=True)
+class DevicePage:
+    header: tuple[str, ...]
+    title: Md
+    description: Md
+    overview: tuple[Fact, ...]
+    transport_notes: Md
+    timing: tuple[TimingView, ...]
+    groups: tuple[GroupView, ...]
+    enums: tuple[EnumView, ...]
+    commands: tuple[CommandView, ...]
+    faults: tuple[FaultView, ...]
+    exceptions: tuple[ExceptionView, ...]
+    exceptions_note: Md
+    examples: tuple[ExampleView, ...]
+    errata: tuple[ErratumView, ...]
+
+
+class Context:
+    """What the views of one device share: register look-ups and specs, the example and errata cross-links."""
+
+    def __init__(self, device: Device) -> None:
+        self.device = device
+        self.registers = Registers(device)
+        self.examples_by_register: dict[str, list[str]] = {}
+        self.responses: dict[str, list[str]] = {}
+        self.enum_users: dict[str, list[Md]] = {}
+        for ex in device.examples:
+            if ex.request is not None:
+                self.responses.setdefault(ex.request, []).append(ex.id)
+        for e in device.enums:
+            self.enum_users[e.name] = []
+        seen: set[tuple[str, str]] = set()
+        for reg in device.registers:
+            owner = reg.array.array + "." + reg.array.member if reg.array else reg.name
+            label = (
+                Md(f"{_link(_code(reg.array.array), _anchor('array', reg.array.array))} member {_code(reg.array.member)}")
+                if reg.array
+                else _link(_code(reg.name), DocId(reg.name))
+            )
+            if reg.enum is not None and (reg.enum.name, owner) not in seen:
+                seen.add((reg.enum.name, owner))
+                self.enum_users[reg.enum.name].append(label)
+            for b in reg.bitfields:
+                if b.enum is not None and (b.enum.name, owner + ":" + b.name) not in seen:
+                    seen.add((b.enum.name, owner + ":" + b.name))
+                    self.enum_users[b.enum.name].append(Md(f"{label} bits {b.bits_text} ({_code(b.name)})"))
+
+    def example_links(self, names: Iterable[str]) -> Md:
+        ids: list[str] = []
+        for name in names:
+            for ex in self.examples_by_register.get(name, []):
+                if ex not in ids:
+                    ids.append(ex)
+        return _join(_link(_code(i), _anchor("example", i)) for i in ids)

@@ -1,0 +1,30 @@
+"""Plain-text spellings every back end shares: a title with its Chinese title, numbers, engineering values.
+
+Each back end escapes the result for its own target (`py_doc`, `c_comment`, `md_text`) and keeps its
+own spelling where the targets truly differ (C number literals, the manual-section sentence ...).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from regmap.model import Register
+
+
+def titled(title: str, title_zh: str | None) -> str:
+    """`Peak current (峰值电流)`: the manual's title, with the Chinese one when the map gives it."""
+    return f"{title} ({title_zh})" if title_zh else title
+
+
+def number(value: Fraction | int | float) -> str:
+    """A number as the docs and comments print it: integers exactly, anything else to 10 significant digits."""
+    if isinstance(value, Fraction) and value.denominator == 1:
+        return str(value.numerator)
+    if isinstance(value, int):
+        return str(value)
+    return f"{float(value):.10g}"
+
+
+def eng(reg: Register, raw: int) -> str:
+    """The engineering value of a raw register value (raw x scale)."""
+    return number(raw * reg.scale)
