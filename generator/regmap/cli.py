@@ -98,12 +98,24 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise UsageError("give --tcp or --serial, not both")
     if args.fault not in FAULT_KINDS:
         raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
+    if args.rtu_gap is not None and not 0 < args.rtu_gap <= 10000:
+        raise UsageError(f"--rtu-gap {args.rtu_gap:g} ms is outside 0..10000 ms")
     device = load_map(args.map)
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
     )
-    state = Path(args.state) if args.state else None
-    return run(device, tcp=args.tcp, serial=args.serial, slave=args.slave, state=state, faults=faults, rtu_over_tcp=args.rtu_over_tcp)
+    return run(
+        device,
+        tcp=args.tcp,
+        serial=args.serial,
+        slave=args.slave,
+        state=Path(args.state) if args.state else None,
+        faults=faults,
+        rtu_over_tcp=args.rtu_over_tcp,
+        log=Path(args.log) if args.log else None,
+        verbose=args.verbose,
+        rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
+    )
 
 
 def cmd_frame(args: argparse.Namespace) -> int:
@@ -291,14 +303,26 @@ def build_parser() -> argparse.ArgumentParser:
     _add_link_options(p)
     p.set_defaults(func=cmd_dump)
 
-    p = sub.add_parser("simulate", help="serve a simulated device (Modbus TCP or RTU on a serial port/pty)")
+    p = sub.add_parser(
+        "simulate",
+        help="serve a simulated device (Modbus TCP or RTU on a serial port/pty)",
+        description="Serve MAP as the device would: its limits, exception codes and bad-CRC behaviour (transport.bad_crc).",
+    )
     p.add_argument("map", metavar="MAP")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020)")
     where.add_argument("--serial", metavar="DEVICE", help="serve RTU on a serial device or pseudo-terminal")
     p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
-    p.add_argument("--slave", type=int, default=1, help="slave id (default 1)")
-    p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes)")
+    p.add_argument("--slave", type=int, default=1, help="slave id (default 1; must be in the map's slave id range)")
+    p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes; its directory must exist)")
+    p.add_argument("--log", metavar="FILE", help="append every request and answer, decoded with the map's names, to FILE")
+    p.add_argument("-v", "--verbose", action="store_true", help="print the request log on stderr")
+    p.add_argument(
+        "--rtu-gap",
+        type=float,
+        metavar="MS",
+        help="silence that ends an RTU frame (default 3.5 characters at the baud; 20 ms on a pty, 50 ms over TCP)",
+    )
     p.add_argument(
         "--fault",
         default="none",

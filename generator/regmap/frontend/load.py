@@ -872,7 +872,8 @@ class _Elaborator:
         if crc["reply"] == "exception" and crc["code"] not in codes:
             listed = ", ".join(f"0x{c:02X}" for c in codes) or "none"
             self.problem(
-                (*path, "bad_crc", "code"), f"bad_crc answers exception 0x{crc['code']:02X}, which transport.exceptions does not list (listed: {listed})"
+                (*path, "bad_crc", "code"),
+                f"bad_crc answers exception 0x{crc['code']:02X}, which transport.exceptions does not list (listed: {listed})",
             )
         bad_crc = BadCrc(reply=crc["reply"], code=crc.get("code"), source=_source(crc.get("source")), notes=crc.get("notes", ""))
         return Transport(

@@ -1,0 +1,68 @@
+"""The opt-in request log (`--log FILE`, `-v`): every request and its answer, decoded with the map's names."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import TextIO
+
+from regmap.diagnostics import UsageError
+from regmap.frames import decode_frame, render_text
+from regmap.model import Device
+from regmap_runtime.rtu import to_hex, with_crc
+
+
+def _stamp() -> str:
+    now = time.time()
+    return time.strftime("%H:%M:%S", time.localtime(now)) + f".{int(now * 1000) % 1000:03d}"
+
+
+class RequestLog:
+    """Writes one block per exchange; nothing is kept in memory."""
+
+    def __init__(self, device: Device, streams: list[TextIO]) -> None:
+        self.device = device
+        self.streams = streams
+
+    def _decoded(self, frame: bytes, direction: str) -> list[str]:
+        try:
+            return render_text(decode_frame(self.device, frame, direction=direction)).splitlines()
+        except UsageError as exc:  # too short to decode: the bytes say it all
+            return [to_hex(frame), f"  problem: {exc}"]
+
+    def rtu(self, peer: str, request: bytes, answer: bytes | None, note: str = "") -> None:
+        lines = [f"{_stamp()} {peer} > {line}" if i == 0 else line for i, line in enumerate(self._decoded(request, "request"))]
+        lines += self._answer(answer, note, lambda a: self._decoded(a, "response"))
+        self._write(lines)
+
+    def tcp(self, peer: str, transaction: int, unit: int, pdu: bytes, answer: bytes | None, note: str = "") -> None:
+        def pdu_lines(body: bytes, direction: str) -> list[str]:
+            # Decoded as the RTU frame with the same slave id and PDU; TCP carries no CRC, so that line goes.
+            decoded = self._decoded(with_crc(bytes([unit]) + body), direction)
+            head = f"MBAP transaction {transaction}, unit {unit}, PDU {to_hex(body)}"
+            return [head, *(line.split(", CRC ")[0] for line in decoded[1:])]
+
+        lines = pdu_lines(pdu, "request")
+        lines[0] = f"{_stamp()} {peer} > {lines[0]}"
+        lines += self._answer(answer, note, lambda a: pdu_lines(a, "response"))
+        self._write(lines)
+
+    def event(self, peer: str, text: str) -> None:
+        self._write([f"{_stamp()} {peer} ! {text}"])
+
+    @staticmethod
+    def _answer(answer: bytes | None, note: str, render: Callable[[bytes], list[str]]) -> list[str]:
+        out = []
+        if answer is None:
+            out.append(f"  < no answer{f' ({note})' if note else ''}")
+        else:
+            rendered = render(answer)
+            out.append(f"  < {rendered[0]}" + (f"  ({note})" if note else ""))
+            out += ["  " + line for line in rendered[1:]]
+        return out
+
+    def _write(self, lines: list[str]) -> None:
+        text = "\n".join(lines) + "\n"
+        for stream in self.streams:
+            stream.write(text)
+            stream.flush()
