@@ -9,7 +9,9 @@ from typing import TextIO
 from regmap.diagnostics import UsageError
 from regmap.frames import decode_frame, render_text
 from regmap.model import Device
-from regmap_runtime.rtu import to_hex, with_crc
+from regmap_runtime.rtu import Frame, FrameError, parse_frame, to_hex, with_crc
+
+MAX_LINES = 40  # per frame: a refused read of 0xFFFF registers is one line of bytes, not 65535 register names
 
 
 def _stamp() -> str:
@@ -24,21 +26,31 @@ class RequestLog:
         self.device = device
         self.streams = streams
 
-    def _decoded(self, frame: bytes, direction: str) -> list[str]:
+    def _decoded(self, frame: bytes, direction: str, request: bytes | None = None) -> list[str]:
         try:
-            return render_text(decode_frame(self.device, frame, direction=direction)).splitlines()
+            asked: Frame | None = parse_frame(request, "request") if request is not None else None
+        except FrameError:
+            asked = None
+        try:
+            lines = render_text(decode_frame(self.device, frame, direction=direction, request=asked)).splitlines()
         except UsageError as exc:  # too short to decode: the bytes say it all
             return [to_hex(frame), f"  problem: {exc}"]
+        if len(lines) > MAX_LINES:
+            lines = [*lines[: MAX_LINES - 1], f"  ... {len(lines) - MAX_LINES + 1} more lines"]
+        return lines
 
     def rtu(self, peer: str, request: bytes, answer: bytes | None, note: str = "") -> None:
         lines = [f"{_stamp()} {peer} > {line}" if i == 0 else line for i, line in enumerate(self._decoded(request, "request"))]
-        lines += self._answer(answer, note, lambda a: self._decoded(a, "response"))
+        lines += self._answer(answer, note, lambda a: self._decoded(a, "response", request))
         self._write(lines)
 
     def tcp(self, peer: str, transaction: int, unit: int, pdu: bytes, answer: bytes | None, note: str = "") -> None:
+        request = with_crc(bytes([unit]) + pdu)
+
         def pdu_lines(body: bytes, direction: str) -> list[str]:
-            # Decoded as the RTU frame with the same slave id and PDU; TCP carries no CRC, so that line goes.
-            decoded = self._decoded(with_crc(bytes([unit]) + body), direction)
+            # Decoded as the RTU frame with the same slave id and PDU; TCP carries no CRC, so that part goes.
+            frame = with_crc(bytes([unit]) + body)
+            decoded = self._decoded(frame, direction, request if direction == "response" else None)
             head = f"MBAP transaction {transaction}, unit {unit}, PDU {to_hex(body)}"
             return [head, *(line.split(", CRC ")[0] for line in decoded[1:])]
 
