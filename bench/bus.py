@@ -1,7 +1,7 @@
 """Bus time of `read_all()`: requests, bytes and wire time, counted from the frames a simulator received.
 
 The generated client talks RTU framing over loopback TCP (`rtu_over_tcp`) to `regmap.simulator.Simulator`
-running in this process; the simulator's `trace_packet` statistics count every frame and byte that
+running in this process; the simulator's statistics (counters) count every frame and byte that
 crossed. Wire time is then what those frames would take on the RS-485 line at the map's default baud.
 """
 
@@ -111,7 +111,7 @@ class SimulatorThread:
     """`regmap.simulator.Simulator` serving RTU framing on loopback TCP from a background thread."""
 
     def __init__(self, device: Device) -> None:
-        self.simulator = Simulator(device)
+        self.simulator = Simulator(device, keep_requests=4096)  # the whole per-register pass stays inspectable
         self.port = free_port()
         self.loop = asyncio.new_event_loop()
         self.thread = threading.Thread(target=self._run, name=f"simulator-{device.id}", daemon=True)
