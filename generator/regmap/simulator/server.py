@@ -258,9 +258,10 @@ class Simulator:
             self._deliver(send, out)
 
     def _deliver(self, send: Send, data: bytes) -> None:
-        send(data)
+        # Counted first: a client in another thread may look at the counters as soon as it has the answer.
         self.stats.frames_sent += 1
         self.stats.bytes_sent += len(data)
+        send(data)
 
     # -- serving -----------------------------------------------------------------------------
 
