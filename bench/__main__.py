@@ -8,7 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-from bench import bus, chelpers, genspeed, optimal, overhead
+from bench import bus, chelpers, genspeed, optimal, overhead, simload
 from bench.common import MAPS, ROOT, machine, stage
 from bench.report import Results, render, targets
 
@@ -38,7 +38,9 @@ def main(argv: list[str] | None = None) -> int:
         comparisons = overhead.measure(3 if args.quick else 41)
     with stage("C frame helpers"):
         c = chelpers.measure(iterations=2000 if args.quick else 200000, repeats=1 if args.quick else 7)
-    results = Results(facts, bus_results, plans, gen, comparisons, costs, c, quick=args.quick)
+    with stage("simulator under load, beside a libmodbus server"):
+        sim = simload.measure(2_000, 5_000, 500) if args.quick else simload.measure()
+    results = Results(facts, bus_results, plans, gen, comparisons, costs, c, quick=args.quick, sim=sim)
     results.elapsed_s = time.perf_counter() - started
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

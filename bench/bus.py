@@ -1,7 +1,7 @@
 """Bus time of `read_all()`: requests, bytes and wire time, counted from the frames a simulator received.
 
-The generated client talks RTU framing over loopback TCP (`rtu_over_tcp`) to `regmap.simulator.Simulator`
-running in this process; the simulator's `trace_packet` statistics count every frame and byte that
+The generated client talks RTU framing over loopback TCP (`rtu_over_tcp`) to `regmap.tools.simulator.Simulator`
+running in this process; the simulator's statistics (counters) count every frame and byte that
 crossed. Wire time is then what those frames would take on the RS-485 line at the map's default baud.
 """
 
@@ -14,9 +14,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from bench.common import client_class, client_module, free_port, wait_for_port
-from regmap.backends.common import read_plan
 from regmap.model import Device
-from regmap.simulator import Simulator
+from regmap.runtime_bridge import read_plan
+from regmap.tools.simulator import Simulator
 from regmap_runtime.rtu import build_read, crc_ok, parse_frame
 
 READ_REQUEST_BYTES = 8  # slave, function, address (2), count (2), CRC (2)
@@ -108,10 +108,10 @@ def lower_bound(device: Device, line: Line) -> Traffic:
 
 
 class SimulatorThread:
-    """`regmap.simulator.Simulator` serving RTU framing on loopback TCP from a background thread."""
+    """`regmap.tools.simulator.Simulator` serving RTU framing on loopback TCP from a background thread."""
 
     def __init__(self, device: Device) -> None:
-        self.simulator = Simulator(device)
+        self.simulator = Simulator(device, keep_requests=4096)  # the whole per-register pass stays inspectable
         self.port = free_port()
         self.loop = asyncio.new_event_loop()
         self.thread = threading.Thread(target=self._run, name=f"simulator-{device.id}", daemon=True)

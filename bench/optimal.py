@@ -16,8 +16,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.common import documented_addresses, runtime_specs
 from regmap.model import Device
+from regmap.runtime_bridge import documented_addresses, runtime_specs
 from regmap_runtime.plan import plan_reads
 from regmap_runtime.spec import RegisterSpec
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import select
 import shutil
 import socket
 import subprocess
@@ -91,6 +92,7 @@ class RunningSimulator:
     process: subprocess.Popen[str]
     port: int | None = None
     serial: str | None = None
+    banner: str = ""  # the "serving" line, read before the test starts
 
     def stop(self) -> str:
         if self.process.poll() is None:
@@ -101,7 +103,7 @@ class RunningSimulator:
                 self.process.kill()
                 self.process.wait()
         out = self.process.stdout.read() if self.process.stdout else ""
-        return out
+        return self.banner + out
 
 
 SimulatorFactory = Callable[..., RunningSimulator]
@@ -126,7 +128,12 @@ def simulator(tmp_path: Path) -> Iterator[SimulatorFactory]:
         if port is not None:
             wait_for(lambda: _port_open(port) or process.poll() is not None, 20, "the simulator to listen")
         else:
-            time.sleep(1.0)  # the serial server opens its pty at once; there is no port to poll
+            # No port to poll: the simulator prints its "serving" line once the pty is open.
+            deadline = time.monotonic() + 20
+            while time.monotonic() < deadline and process.poll() is None and process.stdout is not None:
+                if select.select([process.stdout], [], [], 0.1)[0]:
+                    sim.banner = process.stdout.readline()
+                    break
         if process.poll() is not None:
             raise AssertionError(f"simulator exited: {sim.stop()}")
         return sim

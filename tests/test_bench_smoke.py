@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from regmap.backends.common import read_plan
 from regmap.frontend import load_map, load_map_text
+from regmap.runtime_bridge import read_plan
 from regmap_runtime.plan import plan_reads
 from regmap_runtime.spec import RegisterSpec
 
@@ -22,7 +22,7 @@ from conftest import MAPS, ROOT
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))  # bench/ sits at the top of the repository
 
-from bench import bus, chelpers, genspeed, optimal, overhead, synth
+from bench import bus, chelpers, genspeed, optimal, overhead, simload, synth
 from bench.common import client_class, client_module, machine
 from bench.plot import Series, loglog
 from bench.report import Results, render, targets
@@ -128,3 +128,14 @@ def test_report_renders_every_section(bus_result: bus.BusResult) -> None:
     assert "<svg" in text and targets(Results(machine(), [bus_result], plans, gen, [], [], None))
     svg = loglog("t", "x", "y", [Series("a", ((1.0, 0.1), (10.0, 1.0)), "#000")])
     assert ET.fromstring(svg).tag.endswith("svg")
+
+
+def test_simulator_load_beside_libmodbus() -> None:
+    result = simload.measure(requests=200, rss_requests=200, warmup=50)
+    if result.blocked is not None:
+        pytest.skip(result.blocked)
+    assert {(r.server, r.clients) for r in result.runs} == {(s, n) for s in simload.SERVERS for n in simload.LEVELS}
+    assert all(r.errors == 0 and r.requests >= 200 - r.clients for r in result.runs)
+    assert set(result.rss_kb) == set(simload.SERVERS)
+    text = render(Results(machine(), [], [], None, [], [], None, quick=True, sim=result))
+    assert "## 6. Simulator under load" in text and "req/s ratio" in text

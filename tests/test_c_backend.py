@@ -30,11 +30,11 @@ import pytest
 import yaml
 
 from regmap.backends import c as c_backend
-from regmap.backends.common import read_plan
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
 from regmap.model import Device
+from regmap.runtime_bridge import read_plan
 
 from conftest import MAPS, ROOT, SMALL_MAPS, require_tool
 

@@ -22,8 +22,8 @@ from typing import Any
 import pytest
 import yaml
 
-from regmap import diff
 from regmap.cli import main
+from regmap.tools import diff
 
 from conftest import ROOT
 

@@ -56,12 +56,13 @@ def test_map_table_matches_the_maps() -> None:
 
 def test_the_tour_prints_what_the_readme_says() -> None:
     """Each `regmap ...` line of the tour followed by a `# output` line prints that output."""
+    import itertools
     import shlex
     import sys
 
     lines = _block("sh", "regmap validate maps/idm_rs.yaml").splitlines()
     checked = 0
-    for command, expected in zip(lines, lines[1:], strict=False):
+    for command, expected in itertools.pairwise(lines):
         if not command.startswith("regmap ") or not expected.startswith("# "):
             continue
         argv = shlex.split(command.split("  #", 1)[0])

@@ -363,6 +363,17 @@ class TimingRow:
 
 
 @dataclass(frozen=True)
+class BadCrc:
+    """What the device does with a request whose CRC is wrong: `silent` (the Modbus serial line
+    spec) or `exception` with `code` (iDM-RS 5.4.1 answers 0x08)."""
+
+    reply: str = "silent"
+    code: int | None = None
+    source: tuple[str, ...] = ()
+    notes: str = ""
+
+
+@dataclass(frozen=True)
 class WordOrderRegister:
     register: Register
     high_first: int
@@ -387,6 +398,7 @@ class Transport:
     word_order_register: WordOrderRegister | None = None
     crc_byte_order: str = "low_first"
     undocumented_addresses: str = "reject"
+    bad_crc: BadCrc = BadCrc()
     response_delay_ms: float | None = None
     timing: tuple[TimingRow, ...] = ()
     exceptions: tuple[ModbusException, ...] = ()

@@ -11,12 +11,12 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from regmap.backends.common import read_plan
 from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.generate import Files, Target, ruff_format
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
 from regmap.render import environment, header_lines, py_doc, py_str
+from regmap.runtime_bridge import read_plan
 
 RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "rtu.py", "spec.py")
 

@@ -9,7 +9,7 @@ HELP = "what changed between two versions of a map, what it breaks, and the vers
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
-    from regmap.diff import EXIT_HELP
+    from regmap.tools.diff import EXIT_HELP
 
     p = sub.add_parser(
         "diff",
@@ -25,7 +25,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap import diff
+    from regmap.tools import diff
 
     report = diff.compare(diff.load_spec(args.old), diff.load_spec(args.new))
     sys.stdout.write(diff.render(report, args.format))

@@ -46,8 +46,8 @@ def check_out_dir(out: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.diff import changelog_pages
     from regmap.generate import generate, target_names
+    from regmap.tools.diff import changelog_pages
 
     out = Path(args.out)
     check_out_dir(out)

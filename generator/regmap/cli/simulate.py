@@ -17,8 +17,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p = sub.add_parser(
         "simulate",
         help=HELP,
-        description="Serve the map as the drive: its defaults, word order, limits and exception codes; commands act (save to the "
-        "state file, factory reset, clear alarm); broadcast writes get no reply. Faults can be injected for client tests.",
+        description="Serve the map as the drive: its defaults, word order, limits, exception codes and bad-CRC behaviour "
+        "(transport.bad_crc); commands act (save to the state file, factory reset, clear alarm); broadcast writes get no reply. "
+        "Faults can be injected for client tests.",
         epilog=examples(
             "regmap simulate maps/idm_rs.yaml --tcp 127.0.0.1:5020 --state drive.json",
             "regmap simulate maps/c630s.yaml --serial /dev/pts/7",
@@ -31,8 +32,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     where.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020)")
     where.add_argument("--serial", metavar="DEVICE", help="serve RTU on a serial device or pseudo-terminal")
     p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
-    p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
-    p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes)")
+    p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1; must be in the map's slave id range)")
+    p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes; its directory must exist)")
+    p.add_argument("--log", metavar="FILE", help="append every request and answer, decoded with the map's names, to FILE")
+    p.add_argument("-v", "--verbose", action="store_true", help="print the request log on stderr")
+    p.add_argument(
+        "--rtu-gap",
+        type=float,
+        metavar="MS",
+        help="silence that ends an RTU frame (default 3.5 characters at the baud; 20 ms on a pty, 50 ms over TCP)",
+    )
     p.add_argument("--fault", default="none", metavar="KIND", help=FAULT_HELP)
     p.add_argument("--fault-count", type=count, default=None, metavar="N", help="only the next N answers (default: all)")
     p.add_argument("--fault-after", type=count, default=0, metavar="N", help="answer N requests normally before the faults start")
@@ -42,13 +51,25 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.simulator import FAULT_KINDS, FaultPlan, run
+    from regmap.tools.simulator import FAULT_KINDS, FaultPlan, run
 
     if args.fault not in FAULT_KINDS:
         raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
+    if args.rtu_gap is not None and not 0 < args.rtu_gap <= 10000:
+        raise UsageError(f"--rtu-gap {args.rtu_gap:g} ms is outside 0..10000 ms")
     device = load_map(args.map)
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
     )
-    state = Path(args.state) if args.state else None
-    return run(device, tcp=args.tcp, serial=args.serial, slave=args.slave, state=state, faults=faults, rtu_over_tcp=args.rtu_over_tcp)
+    return run(
+        device,
+        tcp=args.tcp,
+        serial=args.serial,
+        slave=args.slave,
+        state=Path(args.state) if args.state else None,
+        faults=faults,
+        rtu_over_tcp=args.rtu_over_tcp,
+        log=Path(args.log) if args.log else None,
+        verbose=args.verbose,
+        rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
+    )

@@ -30,6 +30,7 @@ from regmap.model import (
     ArrayDef,
     ArrayMember,
     ArrayRef,
+    BadCrc,
     Bitfield,
     Command,
     CommandArgument,
@@ -870,6 +871,14 @@ class _Elaborator:
         for i, code in enumerate(codes):
             if code in codes[:i]:
                 self.problem((*path, "exceptions", i, "code"), f"duplicate exception code 0x{code:02X}")
+        crc = t.get("bad_crc", {"reply": "silent"})
+        if crc["reply"] == "exception" and crc["code"] not in codes:
+            listed = ", ".join(f"0x{c:02X}" for c in codes) or "none"
+            self.problem(
+                (*path, "bad_crc", "code"),
+                f"bad_crc answers exception 0x{crc['code']:02X}, which transport.exceptions does not list (listed: {listed})",
+            )
+        bad_crc = BadCrc(reply=crc["reply"], code=crc.get("code"), source=_source(crc.get("source")), notes=crc.get("notes", ""))
         return Transport(
             baud=serial["baud"],
             baud_rates=rates,
@@ -887,6 +896,7 @@ class _Elaborator:
             word_order_register=word_order_register,
             crc_byte_order=t.get("crc_byte_order", "low_first"),
             undocumented_addresses=t.get("undocumented_addresses", "reject"),
+            bad_crc=bad_crc,
             response_delay_ms=t.get("response_delay_ms"),
             timing=tuple(TimingRow(**row) for row in t.get("timing", [])),
             exceptions=tuple(

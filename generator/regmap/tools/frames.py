@@ -11,9 +11,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.common import read_plan
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
+from regmap.runtime_bridge import read_plan
 from regmap.tools.selectors import Registers, check_slave, parse_address, parse_int, suggest
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes

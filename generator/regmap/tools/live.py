@@ -16,9 +16,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from regmap.backends.common import read_plan, runtime_device
 from regmap.diagnostics import ExitCode, LinkError, UsageError
 from regmap.model import Device, Register
+from regmap.runtime_bridge import read_plan, runtime_device
 from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
@@ -41,7 +41,7 @@ def _why_unreachable(link: Link) -> str:
     """The operating system's reason a port or socket cannot be opened, for the one-line error."""
     if link.serial:
         try:
-            import serial  # type: ignore[import-untyped]
+            import serial
 
             serial.Serial(link.serial).close()
         except (OSError, ValueError) as exc:

@@ -10,9 +10,9 @@ import re
 from collections.abc import Iterable
 from typing import Any
 
-from regmap.backends.common import runtime_specs
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
+from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.spec import RegisterSpec
 
 

@@ -8,12 +8,12 @@ from typing import Any
 
 from regmap.backends.c.names import PARITY_CHAR, WORD_ORDER_MACRO, CIdentifier, Context, c_hex, c_raw, c_unsigned, file_header
 from regmap.backends.c.views import Macro, command_view, enum_view, group_views, manual_sections, sentences
-from regmap.backends.common import read_plan
 from regmap.backends.text import titled
 from regmap.diagnostics import UsageError
 from regmap.generate import Files
 from regmap.model import Device
 from regmap.render import environment
+from regmap.runtime_bridge import read_plan
 
 SHARED_HEADER = "regmap_rtu.h"
 

@@ -23,9 +23,9 @@ from regmap.backends.markdown.text import (
 )
 from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
 from regmap.backends.text import eng, number
-from regmap.tools.decode import FUNCTION_NAMES, decode_words
 from regmap.model import Device, Example, ExampleValue, Register, WordOrder
 from regmap.render import hex2, md_text
+from regmap.tools.decode import FUNCTION_NAMES, decode_words
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex
 

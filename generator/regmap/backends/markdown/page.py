@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from regmap.backends.common import read_plan
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
 from regmap.backends.markdown.frames import _example_view
 from regmap.backends.markdown.registers import _enum_view, _group_view
@@ -39,10 +38,11 @@ from regmap.backends.markdown.views import (
 )
 from regmap.backends.text import number
 from regmap.diagnostics import UsageError
-from regmap.tools.decode import FUNCTION_NAMES
 from regmap.generate import Files
 from regmap.model import Command, Device, Erratum, WordOrder
 from regmap.render import environment, header_lines, hex2, md_text
+from regmap.runtime_bridge import read_plan
+from regmap.tools.decode import FUNCTION_NAMES
 from regmap_runtime.codec import raw_to_words
 from regmap_runtime.rtu import build_write_multiple, build_write_single, to_hex
 

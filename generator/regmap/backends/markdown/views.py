@@ -8,8 +8,8 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
-from regmap.tools.selectors import Registers
 from regmap.model import Device
+from regmap.tools.selectors import Registers
 
 
 @dataclass(frozen=True)

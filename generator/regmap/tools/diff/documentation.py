@@ -5,10 +5,10 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from regmap.diff.kinds import PATCH, Changes
-from regmap.diff.match import T, _match
-from regmap.diff.text import _clip, _fields, _plain
 from regmap.model import Device, Erratum, Example, Group
+from regmap.tools.diff.kinds import PATCH, Changes
+from regmap.tools.diff.match import T, _match
+from regmap.tools.diff.text import _clip, _fields, _plain
 
 
 def documentation_changes(old: Device, new: Device, rename: Callable[[str], str]) -> Changes:

@@ -7,10 +7,10 @@ import re
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from regmap.diff.kinds import JSON_FORMAT, KINDS, Bump, Change, Report
-from regmap.diff.text import _plain
 from regmap.model import Device
 from regmap.render import md_text
+from regmap.tools.diff.kinds import JSON_FORMAT, KINDS, Bump, Change, Report
+from regmap.tools.diff.text import _plain
 
 
 def _summary(report: Report) -> str:

@@ -5,11 +5,11 @@ How items are matched and every change classified, and why: docs/diff.md.
 
 from __future__ import annotations
 
-from regmap.diff.changelog import changelog_pages
-from regmap.diff.compare import compare
-from regmap.diff.gitload import load_spec, read_at_revision, split_spec
-from regmap.diff.kinds import EXIT_HELP, FORMATS, KINDS, Bump, Change, Report
-from regmap.diff.render import render, render_json, render_markdown, render_text
+from regmap.tools.diff.changelog import changelog_pages
+from regmap.tools.diff.compare import compare
+from regmap.tools.diff.gitload import load_spec, read_at_revision, split_spec
+from regmap.tools.diff.kinds import EXIT_HELP, FORMATS, KINDS, Bump, Change, Report
+from regmap.tools.diff.render import render, render_json, render_markdown, render_text
 
 __all__ = [
     "EXIT_HELP",

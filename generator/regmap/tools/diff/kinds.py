@@ -9,8 +9,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.diff.text import _fields, _json
 from regmap.model import Device
+from regmap.tools.diff.text import _fields, _json
 
 FORMATS = ("text", "markdown", "json")
 JSON_FORMAT = "regmap-diff/1"

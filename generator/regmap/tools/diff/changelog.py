@@ -6,11 +6,11 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from regmap.diagnostics import UsageError
-from regmap.diff.compare import compare
-from regmap.diff.gitload import _load_revision, read_at_revision
-from regmap.diff.render import render_markdown
 from regmap.model import Device
 from regmap.render import header_lines
+from regmap.tools.diff.compare import compare
+from regmap.tools.diff.gitload import _load_revision, read_at_revision
+from regmap.tools.diff.render import render_markdown
 
 
 def changelog_pages(devices: Sequence[Device], since: str, targets: Sequence[str]) -> dict[str, str]:

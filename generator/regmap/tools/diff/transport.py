@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from regmap.diff.kinds import MAJOR, MINOR, PATCH, Bump, Changes
-from regmap.diff.text import _pair, _range, _show
 from regmap.model import Transport
+from regmap.tools.diff.kinds import MAJOR, MINOR, PATCH, Bump, Changes
+from regmap.tools.diff.text import _pair, _range, _show
 
 
 def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) -> Changes:

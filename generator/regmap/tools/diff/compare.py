@@ -5,10 +5,12 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from regmap.diff.documentation import documentation_changes
-from regmap.diff.kinds import _KIND_ORDER, MAJOR, MINOR, PATCH, Change, Changes, Report
-from regmap.diff.match import _match
-from regmap.diff.text import (
+from regmap.model import ArrayDef, ArrayMember, Command, Device, EnumType, Register
+from regmap.render import hex4
+from regmap.tools.diff.documentation import documentation_changes
+from regmap.tools.diff.kinds import _KIND_ORDER, MAJOR, MINOR, PATCH, Change, Changes, Report
+from regmap.tools.diff.match import _match
+from regmap.tools.diff.text import (
     ACCESS,
     _array_summary,
     _effect,
@@ -23,9 +25,7 @@ from regmap.diff.text import (
     _show,
     _val,
 )
-from regmap.diff.transport import transport_changes
-from regmap.model import ArrayDef, ArrayMember, Command, Device, EnumType, Register
-from regmap.render import hex4
+from regmap.tools.diff.transport import transport_changes
 
 ELEMENT = "\0"  # stands for an array index in subjects until identical element changes are merged
 

@@ -1,0 +1,110 @@
+"""`regmap simulate` from the command line: start-up checks, listen, say so, serve until told to stop."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import os
+import signal
+import sys
+from pathlib import Path
+from typing import TextIO
+
+from regmap.diagnostics import UsageError
+from regmap.model import Device
+
+from .faults import FaultPlan
+from .log import RequestLog
+from .server import Simulator
+
+
+def parse_endpoint(text: str) -> tuple[str, int]:
+    host, sep, port = text.rpartition(":")
+    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UsageError(f"--tcp wants HOST:PORT, got {text!r}")
+    return host or "127.0.0.1", int(port)
+
+
+def check_start(device: Device, slave: int, state: Path | None) -> None:
+    """What would otherwise be found out later, as exception 0x04 or a lost save: refused now."""
+    t = device.transport
+    if slave == t.broadcast_id or not t.slave_min <= slave <= t.slave_max:
+        broadcast = f" ({t.broadcast_id} is the broadcast id)" if slave == t.broadcast_id else ""
+        raise UsageError(f"--slave {slave} is outside {t.slave_min}..{t.slave_max}, the slave ids of {device.info.model}{broadcast}")
+    if state is not None:
+        folder = state.parent
+        if not folder.is_dir():
+            raise UsageError(f"--state {state}: the directory {folder} does not exist")
+        if state.is_dir():
+            raise UsageError(f"--state {state} is a directory")
+        if not os.access(folder, os.W_OK):
+            raise UsageError(f"--state {state}: the directory {folder} is not writable")
+
+
+def _open_log(path: Path | None, verbose: bool) -> tuple[list[TextIO], list[TextIO]]:
+    """The streams the request log writes to, and those of them this function opened."""
+    streams: list[TextIO] = [sys.stderr] if verbose else []
+    opened: list[TextIO] = []
+    if path is not None:
+        try:
+            handle = path.open("a", encoding="utf-8")
+        except OSError as exc:
+            raise UsageError(f"--log {path}: {exc.strerror or exc}") from None
+        streams.append(handle)
+        opened.append(handle)
+    return streams, opened
+
+
+def _listen_error(where: str, exc: OSError) -> UsageError:
+    reason = os.strerror(exc.errno).lower() if exc.errno else str(exc)
+    return UsageError(f"cannot listen on {where}: {reason}")
+
+
+def run(
+    device: Device,
+    *,
+    tcp: str | None,
+    serial: str | None,
+    slave: int,
+    state: Path | None,
+    faults: FaultPlan,
+    rtu_over_tcp: bool = False,
+    log: Path | None = None,
+    verbose: bool = False,
+    rtu_gap_s: float | None = None,
+) -> int:
+    """Serve until Ctrl-C or SIGTERM; returns the exit status."""
+    check_start(device, slave, state)
+    host, port = parse_endpoint(tcp or "127.0.0.1:5020") if not serial else ("", 0)
+    streams, opened = _open_log(log, verbose)
+    request_log = RequestLog(device, streams) if streams else None
+    simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s)
+
+    async def main() -> None:
+        loop = asyncio.get_running_loop()
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.add_signal_handler(sig, simulator.stopped.set)
+        if serial:
+            await simulator.start_serial(serial)
+            where = serial
+        else:
+            where = f"{host}:{port}"
+            try:
+                await simulator.start_tcp(host, port, rtu_over_tcp=rtu_over_tcp)
+            except OSError as exc:
+                raise _listen_error(where, exc) from None
+        framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP"
+        print(f"regmap simulate: {device.info.model} (slave {slave}) on {where} ({framing}); Ctrl-C stops", flush=True)
+        await simulator.stopped.wait()
+        await simulator.stop()
+        if simulator.failure is not None:
+            raise UsageError(f"stopped serving: {simulator.failure}")
+        print(f"regmap simulate: stopped after {simulator.stats.summary()}", flush=True)
+
+    try:
+        asyncio.run(main())
+    finally:
+        for handle in opened:
+            with contextlib.suppress(OSError):
+                handle.close()
+    return 0

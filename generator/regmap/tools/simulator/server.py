@@ -1,0 +1,356 @@
+"""The simulator's own Modbus server on asyncio: Modbus TCP, RTU over TCP, RTU on a serial port or pty.
+
+Nothing per request is kept: `Stats` are counters plus a short ring of the latest request frames
+(for tests and the bench); the full record is the opt-in request log.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import os
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from regmap.diagnostics import UsageError
+from regmap.model import Device
+from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
+
+from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
+from .framing import TCP_PARTIAL_TIMEOUT_S, MbapError, MbapReceiver, RtuReceiver, mbap, rtu_gap_s
+from .log import RequestLog
+from .pdu import Dispatcher
+from .store import DeviceStore
+
+PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
+TCP_RTU_GAP_S = 0.05
+KEEP_REQUESTS = 64
+
+Send = Callable[[bytes], None]
+
+
+@dataclass
+class Stats:
+    """Counters; `requests` holds only the latest request frames (a ring of `keep` entries)."""
+
+    frames_received: int = 0
+    bytes_received: int = 0
+    frames_sent: int = 0
+    bytes_sent: int = 0
+    exceptions_sent: int = 0
+    bad_crc_frames: int = 0
+    bytes_dropped: int = 0
+    connections: int = 0
+    connections_refused: int = 0  # closed on an MBAP header that cannot be in step
+    keep: int = KEEP_REQUESTS
+    requests: deque[bytes] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.requests = deque(maxlen=self.keep)
+
+    def summary(self) -> str:
+        return (
+            f"{self.frames_received} requests, {self.frames_sent} answers ({self.exceptions_sent} exceptions), "
+            f"{self.bad_crc_frames} bad CRC, {self.bytes_dropped} bytes dropped, {self.connections_refused} connections closed on bad headers"
+        )
+
+
+def is_pty(path: str) -> bool:
+    """Unix98 pseudo-terminal slaves have major numbers 136-143."""
+    try:
+        return os.major(os.stat(path).st_rdev) in range(136, 144)
+    except OSError:
+        return False
+
+
+class _Connection(asyncio.Protocol):
+    """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only."""
+
+    def __init__(self, sim: Simulator, rtu: bool) -> None:
+        self.sim = sim
+        self.rtu_framing = rtu
+        self.transport: asyncio.Transport | None = None
+        self.peer = "tcp"
+        self.rtu: RtuReceiver | None = None
+        self.mbap = MbapReceiver()
+        self.partial_timer: asyncio.TimerHandle | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+        peer = transport.get_extra_info("peername")
+        self.peer = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else "tcp"
+        self.sim.connections.add(self)
+        self.sim.stats.connections += 1
+        if self.rtu_framing:
+            sim = self.sim
+            self.rtu = RtuReceiver(
+                asyncio.get_running_loop(),
+                sim.tcp_gap_s,
+                sim.ours,
+                lambda f: sim.rtu_frame(f, self.send, self.peer),
+                lambda f: sim.rtu_bad_frame(f, self.send, self.peer),
+                lambda b: sim.dropped(b, self.peer),
+            )
+
+    def data_received(self, data: bytes) -> None:
+        if self.rtu is not None:
+            self.rtu.feed(data)
+            return
+        try:
+            adus = self.mbap.feed(data)
+        except MbapError as exc:
+            self.sim.refuse_connection(self.peer, str(exc), len(self.mbap.buffer))
+            self.close()
+            return
+        for adu in adus:
+            self.sim.tcp_request(adu.transaction, adu.unit, adu.pdu, self.send, self.peer)
+        if adus or not self.mbap.partial:
+            self._cancel_partial()
+        if self.mbap.partial and self.partial_timer is None:
+            self.partial_timer = asyncio.get_running_loop().call_later(TCP_PARTIAL_TIMEOUT_S, self._partial_expired)
+
+    def _partial_expired(self) -> None:
+        self.partial_timer = None
+        self.sim.refuse_connection(self.peer, f"request incomplete for {TCP_PARTIAL_TIMEOUT_S:g} s", len(self.mbap.buffer))
+        self.close()
+
+    def _cancel_partial(self) -> None:
+        if self.partial_timer is not None:
+            self.partial_timer.cancel()
+            self.partial_timer = None
+
+    def send(self, data: bytes) -> None:
+        if self.transport is not None and not self.transport.is_closing():
+            self.transport.write(data)
+
+    def close(self) -> None:
+        if self.transport is not None:
+            self.transport.close()
+
+    def pause_writing(self) -> None:  # a client that does not read its answers stops being read
+        if self.transport is not None:
+            self.transport.pause_reading()
+
+    def resume_writing(self) -> None:
+        if self.transport is not None:
+            self.transport.resume_reading()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._cancel_partial()
+        if self.rtu is not None:
+            self.rtu.close()
+        self.sim.connections.discard(self)
+
+
+class Simulator:
+    """One simulated device on TCP or serial, with fault injection and frame statistics."""
+
+    def __init__(
+        self,
+        device: Device,
+        slave: int = 1,
+        state_file: Path | None = None,
+        faults: FaultPlan | None = None,
+        *,
+        log: RequestLog | None = None,
+        keep_requests: int = KEEP_REQUESTS,
+        rtu_gap_s: float | None = None,
+    ) -> None:
+        self.device = device
+        self.slave = slave
+        self.broadcast = device.transport.broadcast_id
+        self.store = DeviceStore(device, slave, state_file)
+        self.dispatcher = Dispatcher(device, self.store)
+        self.faults = faults or FaultPlan()
+        self.store.faults = self.faults
+        self.stats = Stats(keep=keep_requests)
+        self.log = log
+        self.rtu_gap_override = rtu_gap_s
+        self.tcp_gap_s = rtu_gap_s if rtu_gap_s is not None else TCP_RTU_GAP_S
+        self.map_functions = frozenset(device.transport.function_codes)
+        self.servers: list[asyncio.Server] = []
+        self.connections: set[_Connection] = set()
+        self.serial: Any = None
+        self.serial_receiver: RtuReceiver | None = None
+        self.failure: str | None = None
+        self.stopped = asyncio.Event()
+
+    # -- what comes in -----------------------------------------------------------------------
+
+    def ours(self, unit: int, function: int) -> bool:
+        return (unit == self.slave or unit == self.broadcast) and function in self.map_functions
+
+    def _answer(self, unit: int, pdu: bytes) -> tuple[bytes | None, str]:
+        """The answer PDU, or None with the reason there is none."""
+        if unit == self.slave:
+            return self.dispatcher.answer(pdu), ""
+        if unit == self.broadcast:
+            if self.dispatcher.writes(pdu):
+                self.dispatcher.answer(pdu)
+                return None, "broadcast"
+            return None, "broadcast of a request that is not a write: ignored"
+        return None, f"not for slave {self.slave}"
+
+    def _received(self, frame: bytes) -> None:
+        self.stats.frames_received += 1
+        self.stats.bytes_received += len(frame)
+        self.stats.requests.append(frame)
+
+    def rtu_frame(self, frame: bytes, send: Send, peer: str) -> None:
+        self._received(frame)
+        unit = frame[0]
+        answer, note = self._answer(unit, frame[1:-2])
+        reply = with_crc(bytes([unit]) + answer) if answer is not None else None
+        if self.log is not None:
+            self.log.rtu(peer, frame, reply, note)
+        if answer is not None and reply is not None:
+            self._send(send, reply, answer, damage_rtu)
+
+    def rtu_bad_frame(self, frame: bytes, send: Send, peer: str) -> None:
+        self.stats.bad_crc_frames += 1
+        self.stats.bytes_received += len(frame)
+        policy = self.device.transport.bad_crc
+        reply = None
+        if policy.reply == "exception" and policy.code is not None and frame[0] == self.slave:
+            reply = with_crc(bytes([self.slave, (frame[1] | EXCEPTION_FLAG) & 0xFF, policy.code]))
+        if self.log is not None:
+            self.log.rtu(peer, frame, reply, "bad CRC" + ("" if reply else f", {policy.reply}"))
+        if reply is not None:
+            self._send(send, reply, reply[1:-2], damage_rtu)
+
+    def tcp_request(self, transaction: int, unit: int, pdu: bytes, send: Send, peer: str) -> None:
+        self._received(mbap(transaction, unit, pdu))
+        answer, note = self._answer(unit, pdu)
+        if self.log is not None:
+            self.log.tcp(peer, transaction, unit, pdu, answer, note)
+        if answer is not None:
+            self._send(send, mbap(transaction, unit, answer), answer, damage_tcp)
+
+    def dropped(self, data: bytes, peer: str) -> None:
+        self.stats.bytes_dropped += len(data)
+        if self.log is not None:
+            self.log.event(
+                peer, f"dropped {len(data)} bytes that are no request: {data[:32].hex(' ').upper()}{' ...' if len(data) > 32 else ''}"
+            )
+
+    def refuse_connection(self, peer: str, reason: str, buffered: int) -> None:
+        self.stats.connections_refused += 1
+        self.stats.bytes_dropped += buffered
+        if self.log is not None:
+            self.log.event(peer, f"closing the connection: {reason}")
+
+    # -- what goes out -----------------------------------------------------------------------
+
+    def _send(self, send: Send, data: bytes, pdu: bytes, damage: Callable[[str, bytes], bytes]) -> None:
+        fault = self.faults.take(ANSWER_FAULTS)
+        if fault == "no_answer":
+            return
+        if pdu and pdu[0] & EXCEPTION_FLAG:
+            self.stats.exceptions_sent += 1
+        out = damage(fault, data)
+        if fault == "delay":
+            asyncio.get_running_loop().call_later(self.faults.delay_s, self._deliver, send, out)
+        else:
+            self._deliver(send, out)
+
+    def _deliver(self, send: Send, data: bytes) -> None:
+        # Counted first: a client in another thread may look at the counters as soon as it has the answer.
+        self.stats.frames_sent += 1
+        self.stats.bytes_sent += len(data)
+        send(data)
+
+    # -- serving -----------------------------------------------------------------------------
+
+    async def start_tcp(self, host: str, port: int, *, rtu_over_tcp: bool = False) -> None:
+        """Listen (raises OSError when the address cannot be had); requests are answered from now on."""
+        loop = asyncio.get_running_loop()
+        server = await loop.create_server(lambda: _Connection(self, rtu_over_tcp), host, port)
+        self.servers.append(server)
+
+    async def start_serial(self, port: str, baud: int | None = None) -> None:
+        import serial
+
+        t = self.device.transport
+        baud = baud or t.baud
+        try:
+            handle = serial.Serial(
+                port=port,
+                baudrate=baud,
+                bytesize=t.data_bits,
+                parity={"none": "N", "even": "E", "odd": "O"}[t.parity],
+                stopbits=t.stop_bits,
+                timeout=0,
+                write_timeout=2,
+            )
+        except (serial.SerialException, ValueError) as exc:
+            raise UsageError(f"cannot open {port}: {exc}") from None
+        self.serial = handle
+        bits = 1 + t.data_bits + (t.parity != "none") + t.stop_bits
+        gap = self.rtu_gap_override if self.rtu_gap_override is not None else PTY_GAP_S if is_pty(port) else rtu_gap_s(baud, bits)
+        self.serial_receiver = RtuReceiver(
+            asyncio.get_running_loop(),
+            gap,
+            self.ours,
+            lambda f: self.rtu_frame(f, self._serial_write, port),
+            lambda f: self.rtu_bad_frame(f, self._serial_write, port),
+            lambda b: self.dropped(b, port),
+        )
+        asyncio.get_running_loop().add_reader(handle.fileno(), self._serial_readable)
+
+    def _serial_readable(self) -> None:
+        try:
+            data = os.read(self.serial.fileno(), 4096)
+        except BlockingIOError:
+            return
+        except OSError as exc:
+            self._serial_failed(f"{self.serial.port}: {exc.strerror or exc}")
+            return
+        if not data:
+            self._serial_failed(f"{self.serial.port}: end of file")
+            return
+        assert self.serial_receiver is not None
+        self.serial_receiver.feed(data)
+
+    def _serial_failed(self, reason: str) -> None:
+        asyncio.get_running_loop().remove_reader(self.serial.fileno())
+        self.failure = reason
+        self.stopped.set()
+
+    def _serial_write(self, data: bytes) -> None:
+        import serial
+
+        try:
+            self.serial.write(data)
+        except serial.SerialTimeoutException:
+            if self.log is not None:
+                self.log.event(self.serial.port, "answer not sent: the port did not take it within 2 s")
+
+    async def serve_tcp(self, host: str, port: int, *, rtu_over_tcp: bool = False) -> None:
+        await self.start_tcp(host, port, rtu_over_tcp=rtu_over_tcp)
+        await self.stopped.wait()
+
+    async def serve_serial(self, port: str, baud: int | None = None) -> None:
+        await self.start_serial(port, baud)
+        await self.stopped.wait()
+
+    async def stop(self) -> None:
+        for connection in list(self.connections):
+            connection.close()
+        for server in self.servers:
+            server.close()
+        for server in self.servers:
+            with contextlib.suppress(Exception):
+                await asyncio.wait_for(server.wait_closed(), 5)
+        self.servers.clear()
+        if self.serial is not None:
+            with contextlib.suppress(Exception):
+                asyncio.get_running_loop().remove_reader(self.serial.fileno())
+            if self.serial_receiver is not None:
+                self.serial_receiver.close()
+            self.serial.close()
+            self.serial = None
+        self.stopped.set()
