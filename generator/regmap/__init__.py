@@ -1,3 +1,3 @@
 """regmap: declarative Modbus RTU register maps for motor drives, and the code generated from them."""
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"

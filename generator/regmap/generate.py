@@ -39,17 +39,25 @@ def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> li
     return problems
 
 
+BUILT_IN_ORDER = ("python", "c", "markdown")
+TARGET_GROUP = "regmap.targets"  # entry-point group: a third-party back end registers itself here, as the built-in ones do
+
+
 def _targets() -> dict[str, Target]:
-    from regmap.backends import python
+    """Every back end registered under the `regmap.targets` entry points, built-in ones first."""
+    from importlib.metadata import entry_points
 
-    targets = [python.TARGET]
-    from regmap.backends import c
-
-    targets.append(c.TARGET)
-    from regmap.backends import markdown
-
-    targets.append(markdown.TARGET)
-    return {t.name: t for t in targets}
+    found: dict[str, Target] = {}
+    for point in entry_points(group=TARGET_GROUP):
+        try:
+            target = point.load()
+        except Exception as exc:  # a broken plugin must not take the built-in back ends down with it
+            raise UsageError(f"back end {point.name!r} ({point.value}) cannot be loaded: {type(exc).__name__}: {exc}") from None
+        if not isinstance(target, Target) or target.name != point.name:
+            raise UsageError(f"entry point {point.name!r} ({point.value}) is not a regmap Target named {point.name!r}")
+        found[point.name] = target
+    ordered = [name for name in BUILT_IN_ORDER if name in found] + sorted(n for n in found if n not in BUILT_IN_ORDER)
+    return {name: found[name] for name in ordered}
 
 
 def target_names() -> list[str]:

@@ -7,7 +7,7 @@ import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
-from regmap.diagnostics import MapError, UsageError
+from regmap.diagnostics import Diagnostic, MapError, UsageError
 from regmap.frontend.load import load_map, load_map_bytes
 from regmap.model import Device
 
@@ -62,14 +62,8 @@ def read_at_revision(path: Path, rev: str) -> bytes | None:
 
 
 def _checked(name: str, load: Callable[[], Device]) -> Device:
-    """Load a map; an invalid one is bad input for diff (exit 2, one line), since 1 means "compatible"."""
-    try:
-        return load()
-    except MapError as exc:
-        more = len(exc.diagnostics) - 1
-        first = str(exc.diagnostics[0]) if exc.diagnostics else name
-        extra = f" (and {more} more problem{'s' if more > 1 else ''}; see `regmap validate`)" if more else ""
-        raise UsageError(f"not a valid map: {first}{extra}") from None
+    """Load a map; an invalid one is reported as `validate` reports it (every problem, exit 1)."""
+    return load()
 
 
 def _load_revision(path: str, rev: str, data: bytes) -> Device:
@@ -81,9 +75,9 @@ def load_spec(spec: str) -> Device:
     path, rev = split_spec(spec)
     if rev is None:
         if not Path(path).is_file():
-            raise UsageError(f"{path}: no such map file")
+            raise MapError([Diagnostic(path, 1, 1, "no such map file")])
         return _checked(path, lambda: load_map(path))
     data = read_at_revision(Path(path), rev)
     if data is None:
-        raise UsageError(f"{path} does not exist at git revision {rev}")
+        raise MapError([Diagnostic(f"{path}@{rev}", 1, 1, f"{path} does not exist at git revision {rev}")])
     return _load_revision(path, rev, data)

@@ -9,13 +9,17 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from regmap.diagnostics import ExitCode
 from regmap.model import Device
 from regmap.tools.diff.text import _fields, _json
 
 FORMATS = ("text", "markdown", "json")
 JSON_FORMAT = "regmap-diff/1"
-EXIT_SAME, EXIT_COMPATIBLE, EXIT_BREAKING = 0, 1, 3
-EXIT_HELP = "exit status: 0 no differences, 1 differences that are all compatible, 3 breaking differences present, 2 bad input (a missing file, an unknown git revision, an invalid map)"
+EXIT_SAME, EXIT_COMPATIBLE, EXIT_BREAKING = ExitCode.OK, ExitCode.DIFF_COMPATIBLE, ExitCode.DIFF_BREAKING
+EXIT_HELP = (
+    "exit status: 0 no differences, 6 differences that are all compatible, 7 breaking differences present, "
+    "1 a map that is missing or invalid, 2 bad input (an unknown git revision)"
+)
 
 
 class Bump(enum.IntEnum):
