@@ -1,0 +1,375 @@
+"""The cross-reference pass: uniqueness, overlaps, and what refers to registers (transport, commands, faults, errata, examples)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+from regmap.frontend.values import _source, _Walk
+from regmap.frontend.yamlsource import Path
+from regmap.model import (
+    BadCrc,
+    Command,
+    CommandArgument,
+    CommandEffect,
+    Erratum,
+    Example,
+    ExampleValue,
+    Fault,
+    ModbusException,
+    Reading,
+    Register,
+    TimingRow,
+    Transport,
+    WordOrder,
+    WordOrderRegister,
+)
+from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
+
+
+class _References(_Walk):
+    def _check_unique_groups_and_arrays(self) -> None:
+        """Group ids and array names name things in generated code, so each must be unique."""
+        first: dict[tuple[str, str], Path] = {}
+        for gi, g in enumerate(self.raw["groups"]):
+            keyed: list[tuple[str, str, Path]] = [("group id", g["id"], ("groups", gi, "id"))]
+            for ri, entry in enumerate(g["registers"]):
+                if "array" in entry:
+                    keyed.append(("array name", entry["array"], ("groups", gi, "registers", ri, "array")))
+            for what, value, path in keyed:
+                seen = first.setdefault((what, value), path)
+                if seen != path:
+                    self.problem(path, f"duplicate {what} {value!r} (first declared on line {self.positions.locate(seen)[0]})")
+
+    def _check_unique_registers(self) -> None:
+        """Report each repeat where it is declared, naming the line of the first; an array member once, not per element."""
+        names: dict[str, Path] = {}
+        params: dict[str, tuple[Register, Path]] = {}
+        reported: set[tuple[Path, Path]] = set()
+        for reg, path in zip(self.registers, self.register_paths, strict=True):
+            first = names.get(reg.name)
+            if first is None:
+                names[reg.name] = path
+            elif (path, first) not in reported:
+                reported.add((path, first))
+                self.problem(path, f"duplicate register name {reg.name!r} (first declared on line {self.positions.locate(first)[0]})")
+            if reg.param is not None:
+                other, other_path = params.setdefault(reg.param, (reg, path))
+                if other.name != reg.name and (path, other_path) not in reported:
+                    reported.add((path, other_path))
+                    self.problem(
+                        (*path, "param"),
+                        f"{reg.name}: parameter id {reg.param} is already used by {other.name} (line {self.positions.locate(other_path)[0]})",
+                    )
+
+    def _check_overlaps(self) -> None:
+        """Report an overlap at the register that starts later (declared later, at equal starts), once per pair of
+        declarations: two array members that collide do so in every element, which is one mistake."""
+        owner: dict[int, tuple[Register, Path]] = {}
+        reported: set[tuple[Path, Path]] = set()
+        placed = sorted(enumerate(zip(self.registers, self.register_paths, strict=True)), key=lambda p: (p[1][0].first_address, p[0]))
+        for _, (reg, path) in placed:
+            for address in range(reg.first_address, reg.last_address + 1):
+                other, other_path = owner.setdefault(address, (reg, path))
+                if other.name != reg.name and (other_path, path) not in reported:
+                    reported.add((other_path, path))
+                    self.problem(
+                        (*path, "address"),
+                        f"{reg.name} (0x{reg.first_address:04X}..0x{reg.last_address:04X}) overlaps {other.name} (0x{other.first_address:04X}..0x{other.last_address:04X}) at 0x{address:04X}",
+                    )
+
+    def _selector_index(self) -> dict[str, Register]:
+        index: dict[str, Register] = {}
+        for reg in self.registers:
+            if reg.param is not None:
+                index.setdefault(reg.param, reg)
+        for reg in self.registers:
+            index[reg.name] = reg
+        return index
+
+    def _ref(self, selector: str, by_selector: dict[str, Register], path: Path, what: str) -> Register | None:
+        reg = by_selector.get(selector)
+        if reg is None:
+            self.problem(path, f"{what}: unknown register {selector!r}")
+        return reg
+
+    # -- transport ---------------------------------------------------------------------------
+
+    def _transport(self, t: dict[str, Any], by_selector: dict[str, Register]) -> Transport:
+        path: Path = ("transport",)
+        serial = t["serial"]
+        rates = tuple(serial.get("baud_rates", ()))
+        if rates and serial["baud"] not in rates:
+            self.problem((*path, "serial", "baud"), f"default baud {serial['baud']} is not among baud_rates {list(rates)}")
+        ids = t["slave_ids"]
+        if ids["min"] > ids["max"]:
+            self.problem((*path, "slave_ids", "min"), f"slave id min {ids['min']} is greater than max {ids['max']}")
+        word_order_register = None
+        if "word_order_register" in t:
+            w = t["word_order_register"]
+            reg = self._ref(w["register"], by_selector, (*path, "word_order_register", "register"), "word_order_register")
+            if reg is not None:
+                word_order_register = WordOrderRegister(register=reg, high_first=w["high_first"], low_first=w["low_first"])
+                if reg.default is not None and reg.default not in (w["high_first"], w["low_first"]):
+                    self.problem(
+                        (*path, "word_order_register"),
+                        f"word_order_register: the default {reg.default} of {reg.name} is neither the high_first value {w['high_first']} nor the low_first value {w['low_first']}",
+                    )
+                elif reg.default is not None:
+                    configured = "high_first" if reg.default == w["high_first"] else "low_first"
+                    if configured != t["word_order"]:
+                        self.problem(
+                            (*path, "word_order"),
+                            f"word_order {t['word_order']} disagrees with the default of {reg.name} ({reg.default} = {configured})",
+                        )
+        max_bytes = t.get("max_message_bytes")
+        if max_bytes is not None:
+            if 5 + 2 * t["max_read_registers"] > max_bytes:
+                self.problem(
+                    (*path, "max_read_registers"),
+                    f"a read response of {t['max_read_registers']} registers is {5 + 2 * t['max_read_registers']} bytes, more than max_message_bytes {max_bytes}",
+                )
+            if 9 + 2 * t["max_write_registers"] > max_bytes:
+                self.problem(
+                    (*path, "max_write_registers"),
+                    f"a write request of {t['max_write_registers']} registers is {9 + 2 * t['max_write_registers']} bytes, more than max_message_bytes {max_bytes}",
+                )
+        codes = [e["code"] for e in t.get("exceptions", [])]
+        for i, code in enumerate(codes):
+            if code in codes[:i]:
+                self.problem((*path, "exceptions", i, "code"), f"duplicate exception code 0x{code:02X}")
+        crc = t.get("bad_crc", {"reply": "silent"})
+        if crc["reply"] == "exception" and crc["code"] not in codes:
+            listed = ", ".join(f"0x{c:02X}" for c in codes) or "none"
+            self.problem(
+                (*path, "bad_crc", "code"),
+                f"bad_crc answers exception 0x{crc['code']:02X}, which transport.exceptions does not list (listed: {listed})",
+            )
+        bad_crc = BadCrc(reply=crc["reply"], code=crc.get("code"), source=_source(crc.get("source")), notes=crc.get("notes", ""))
+        return Transport(
+            baud=serial["baud"],
+            baud_rates=rates,
+            parity=serial["parity"],
+            data_bits=serial["data_bits"],
+            stop_bits=serial["stop_bits"],
+            slave_min=ids["min"],
+            slave_max=ids["max"],
+            broadcast_id=t.get("broadcast_id"),
+            function_codes=tuple(t["function_codes"]),
+            max_read_registers=t["max_read_registers"],
+            max_write_registers=t["max_write_registers"],
+            max_message_bytes=max_bytes,
+            word_order=WordOrder(t["word_order"]),
+            word_order_register=word_order_register,
+            crc_byte_order=t.get("crc_byte_order", "low_first"),
+            undocumented_addresses=t.get("undocumented_addresses", "reject"),
+            bad_crc=bad_crc,
+            response_delay_ms=t.get("response_delay_ms"),
+            timing=tuple(TimingRow(**row) for row in t.get("timing", [])),
+            exceptions=tuple(
+                ModbusException(
+                    code=e["code"], name=e["name"], title=e["title"], title_zh=e.get("title_zh"), source=_source(e.get("source"))
+                )
+                for e in t.get("exceptions", [])
+            ),
+            source=_source(t.get("source")) + _source(serial.get("source")),
+            notes="\n".join(x for x in (t.get("notes", ""), serial.get("notes", "")) if x),
+        )
+
+    # -- commands, faults, errata, examples ---------------------------------------------------
+
+    def _commands(self, specs: list[dict[str, Any]], by_selector: dict[str, Register]) -> tuple[Command, ...]:
+        commands = []
+        names: set[str] = set()
+        for i, c in enumerate(specs):
+            path: Path = ("commands", i)
+            if c["name"] in names:
+                self.problem((*path, "name"), f"duplicate command name {c['name']!r}")
+            names.add(c["name"])
+            reg = self._ref(c["register"], by_selector, (*path, "register"), f"command {c['name']}")
+            if reg is None:
+                continue
+            if not reg.access.writable:
+                self.problem((*path, "register"), f"command {c['name']}: register {reg.name} is read-only")
+            value = c["value"]
+            if isinstance(value, str):
+                if reg.enum is None:
+                    self.problem((*path, "value"), f"command {c['name']}: register {reg.name} has no enum; give the value as an integer")
+                    continue
+                member = reg.enum.member(value)
+                if member is None:
+                    self.problem(
+                        (*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} (the enum of {reg.name})"
+                    )
+                    continue
+                value = member.value
+            argument = None
+            if "argument" in c:
+                arg = c["argument"]
+                if arg["min"] > arg["max"]:
+                    self.problem((*path, "argument"), f"command {c['name']}: argument min {arg['min']} is greater than max {arg['max']}")
+                argument = CommandArgument(name=arg["name"], min=arg["min"], max=arg["max"], title=arg.get("title", ""))
+            effect = self._effect(c, path, by_selector)
+            top = value + (argument.max if argument else 0)
+            if not reg.type.raw_min <= value <= reg.type.raw_max or not reg.type.raw_min <= top <= reg.type.raw_max:
+                self.problem((*path, "value"), f"command {c['name']}: value {value} does not fit register {reg.name} ({reg.type.value})")
+            commands.append(
+                Command(
+                    name=c["name"],
+                    title=c["title"],
+                    title_zh=c.get("title_zh"),
+                    description=c.get("description", ""),
+                    register=reg,
+                    value=value,
+                    argument=argument,
+                    effect=effect,
+                    source=_source(c["source"]),
+                    pos=self.positions.locate(path),
+                )
+            )
+        return tuple(commands)
+
+    def _effect(self, c: dict[str, Any], path: Path, by_selector: dict[str, Register]) -> CommandEffect | None:
+        spec = c.get("effect")
+        if spec is None:
+            return None
+        target = None
+        if "register" in spec:
+            target = self._ref(spec["register"], by_selector, (*path, "effect", "register"), f"command {c['name']} effect")
+        elif spec["kind"] == "clear":
+            self.problem((*path, "effect"), f"command {c['name']}: a clear effect names the register it clears")
+        return CommandEffect(kind=spec["kind"], register=target, value=spec.get("value", 0), after_read=spec.get("after_read"))
+
+    def _faults(self, specs: list[dict[str, Any]]) -> tuple[Fault, ...]:
+        faults = []
+        names: set[str] = set()
+        codes: set[str] = set()
+        for i, f in enumerate(specs):
+            path: Path = ("faults", i)
+            if f["name"] in names:
+                self.problem((*path, "name"), f"duplicate fault name {f['name']!r}")
+            if f["code"] in codes:
+                self.problem((*path, "code"), f"duplicate fault code {f['code']!r}")
+            names.add(f["name"])
+            codes.add(f["code"])
+            faults.append(
+                Fault(
+                    code=f["code"],
+                    value=f.get("value"),
+                    name=f["name"],
+                    title=f["title"],
+                    title_zh=f.get("title_zh"),
+                    kind=f["kind"],
+                    resettable=f.get("resettable"),
+                    description=f.get("description", ""),
+                    source=_source(f["source"]),
+                )
+            )
+        return tuple(faults)
+
+    def _errata(self, specs: list[dict[str, Any]], by_selector: dict[str, Register]) -> tuple[Erratum, ...]:
+        errata = []
+        ids: set[str] = set()
+        for i, e in enumerate(specs):
+            path: Path = ("errata", i)
+            if e["id"] in ids:
+                self.problem((*path, "id"), f"duplicate erratum id {e['id']!r}")
+            ids.add(e["id"])
+            names = []
+            for j, selector in enumerate(e.get("registers", [])):
+                reg = self._ref(selector, by_selector, (*path, "registers", j), f"erratum {e['id']}")
+                if reg is not None:
+                    names.append(reg.name)
+            errata.append(
+                Erratum(
+                    id=e["id"],
+                    title=e["title"],
+                    readings=tuple(Reading(source=_source(r["source"]), says=r["says"]) for r in e["readings"]),
+                    choice=e["choice"],
+                    reason=e["reason"],
+                    registers=tuple(names),
+                )
+            )
+        by_register: dict[str, list[str]] = {}
+        for erratum in errata:
+            for name in erratum.registers:
+                by_register.setdefault(name, []).append(erratum.id)
+        self.registers = [_with_errata(r, tuple(by_register.get(r.name, ()))) for r in self.registers]
+        return tuple(errata)
+
+    def _examples(self, specs: list[dict[str, Any]], by_selector: dict[str, Register], erratum_ids: set[str]) -> tuple[Example, ...]:
+        examples: list[Example] = []
+        ids: dict[str, str] = {}
+        for i, x in enumerate(specs):
+            path: Path = ("examples", i)
+            if x["id"] in ids:
+                self.problem((*path, "id"), f"duplicate example id {x['id']!r}")
+            ids[x["id"]] = x["direction"]
+        for i, x in enumerate(specs):
+            path = ("examples", i)
+            try:
+                frame = parse_hex(x["frame"])
+                corrected = parse_hex(x["corrected_frame"]) if "corrected_frame" in x else None
+            except FrameError as exc:
+                self.problem((*path, "frame"), f"example {x['id']}: {exc}")
+                continue
+            erratum = x.get("erratum")
+            if erratum is not None and erratum not in erratum_ids:
+                self.problem((*path, "erratum"), f"example {x['id']}: unknown erratum {erratum!r}")
+            if len(frame) < 4:
+                self.problem((*path, "frame"), f"example {x['id']}: a frame has at least 4 bytes")
+            elif not crc_ok(frame) and erratum is None:
+                self.problem(
+                    (*path, "frame"),
+                    f"example {x['id']}: CRC {to_hex(frame[-2:])} does not match the frame (expected {to_hex(crc_bytes(frame[:-2]))}); fix the transcription or declare an erratum",
+                )
+            if corrected is not None:
+                if erratum is None:
+                    self.problem(
+                        (*path, "corrected_frame"), f"example {x['id']}: corrected_frame needs an erratum explaining the correction"
+                    )
+                if not crc_ok(corrected):
+                    self.problem(
+                        (*path, "corrected_frame"),
+                        f"example {x['id']}: the corrected frame's CRC is wrong (expected {to_hex(crc_bytes(corrected[:-2]))})",
+                    )
+            request = x.get("request")
+            if request is not None:
+                if x["direction"] != "response":
+                    self.problem((*path, "request"), f"example {x['id']}: only a response names the request it answers")
+                elif request not in ids:
+                    self.problem((*path, "request"), f"example {x['id']}: unknown request example {request!r}")
+                elif ids[request] != "request":
+                    self.problem((*path, "request"), f"example {x['id']}: {request!r} is a response, not a request example")
+            values = []
+            for j, v in enumerate(x.get("values", [])):
+                reg = self._ref(v["register"], by_selector, (*path, "values", j, "register"), f"example {x['id']}")
+                if reg is None:
+                    continue
+                raw = v.get("raw")
+                words = tuple(raw) if isinstance(raw, list) else None
+                if words is not None and len(words) > reg.words:
+                    self.problem(
+                        (*path, "values", j, "raw"), f"example {x['id']}: {len(words)} words for {reg.name}, which has {reg.words}"
+                    )
+                values.append(ExampleValue(register=reg, raw=raw if isinstance(raw, int) else None, words=words, value=v.get("value")))
+            examples.append(
+                Example(
+                    id=x["id"],
+                    source=_source(x["source"]),
+                    direction=x["direction"],
+                    frame=frame,
+                    request=request,
+                    meaning=x["meaning"],
+                    meaning_zh=x.get("meaning_zh"),
+                    values=tuple(values),
+                    erratum=erratum,
+                    corrected_frame=corrected,
+                    notes=x.get("notes", ""),
+                )
+            )
+        return tuple(examples)
+
+
+def _with_errata(reg: Register, errata: tuple[str, ...]) -> Register:
+    return replace(reg, errata=errata) if errata else reg

@@ -1,0 +1,472 @@
+"""The elaboration pass: groups, registers, arrays and enums into the frozen model, checked as they are built."""
+
+from __future__ import annotations
+
+import keyword
+import re
+import string
+from dataclasses import replace
+from typing import Any
+
+from regmap.diagnostics import MapError
+from regmap.frontend.crossrefs import _References
+from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source
+from regmap.frontend.yamlsource import Path
+from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
+from regmap.model import (
+    Access,
+    ArrayDef,
+    ArrayMember,
+    ArrayRef,
+    Bitfield,
+    DataType,
+    Device,
+    DeviceInfo,
+    EnumMember,
+    EnumType,
+    Group,
+    Register,
+    WordOrder,
+)
+
+RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
+
+
+class _Elaborator(_References):
+    """Semantic checks and model building in one walk (the passes live in their own modules)."""
+
+    # -- top level -------------------------------------------------------------------------
+
+    def run(self) -> Device:
+        raw = self.raw
+        self._param_rules(raw.get("param_ids", []))
+        self._enums(raw.get("enums", {}))
+        word_order = WordOrder(raw["transport"]["word_order"])
+        groups = [self._group(g, ("groups", i), word_order) for i, g in enumerate(raw["groups"])]
+        self._check_unique_groups_and_arrays()
+        self._check_unique_registers()
+        self._check_overlaps()
+        errata = self._errata(raw.get("errata", []), self._selector_index())
+        final = {r.name: r for r in self.registers}
+        groups = [replace(g, registers=tuple(final[r.name] for r in g.registers)) for g in groups]
+        by_selector = self._selector_index()
+        transport = self._transport(raw["transport"], by_selector)
+        commands = self._commands(raw.get("commands", []), by_selector)
+        faults = self._faults(raw.get("faults", []))
+        examples = self._examples(raw.get("examples", []), by_selector, {e.id for e in errata})
+        self._check_device_id(raw["device"]["id"])
+        if self.problems:
+            raise MapError(self.problems)
+        info = self._device_info(raw["device"])
+        return Device(
+            info=info,
+            transport=transport,
+            groups=tuple(groups),
+            enums=tuple(self.enums.values()),
+            commands=commands,
+            faults=faults,
+            examples=examples,
+            errata=errata,
+            source_path=self.name,
+            fingerprint=self.fingerprint,
+            registers=tuple(sorted(self.registers, key=lambda r: (r.address, r.name))),
+        )
+
+    def _check_device_id(self, device_id: str) -> None:
+        """The id names a Python package and prefixes every C name: it must be usable as both."""
+        if (
+            keyword.iskeyword(device_id)
+            or keyword.issoftkeyword(device_id)
+            or device_id in C_KEYWORDS
+            or device_id in CPP_KEYWORDS
+            or device_id in RESERVED_IDS
+        ):
+            self.problem(
+                ("device", "id"),
+                f"device id {device_id!r} is a reserved word in Python, C or regmap; choose another (e.g. {device_id}_drive)",
+            )
+
+    def _device_info(self, d: dict[str, Any]) -> DeviceInfo:
+        manual = d["manual"]
+        return DeviceInfo(
+            id=d["id"],
+            vendor=d["vendor"],
+            vendor_zh=d.get("vendor_zh"),
+            model=d["model"],
+            description=d.get("description", ""),
+            manual_title=manual["title"],
+            manual_version=manual.get("version"),
+            manual_file=manual["file"],
+            manual_language=manual.get("language"),
+            firmware=d.get("firmware"),
+            map_version=d["map_version"],
+        )
+
+    # -- parameter-id rules ----------------------------------------------------------------
+
+    def _param_rules(self, rules: list[dict[str, Any]]) -> None:
+        for i, rule in enumerate(rules):
+            path: Path = ("param_ids", i)
+            try:
+                regex = re.compile(rule["regex"])
+            except re.error as exc:
+                self.problem((*path, "regex"), f"invalid regular expression: {exc}")
+                continue
+            if "index" not in regex.groupindex:
+                self.problem((*path, "regex"), "the regex needs a named group `index`")
+                continue
+            fields = set()
+            specs = set()
+            try:
+                for _, field_name, spec, conversion in string.Formatter().parse(rule["format"]):
+                    if field_name is not None:
+                        fields.add(field_name)
+                        specs.add(f"{'!' + conversion if conversion else ''}{':' + spec if spec else ''}")
+            except ValueError as exc:
+                self.problem((*path, "format"), f"invalid format pattern: {exc}")
+                continue
+            bad_field = next((f for f in sorted(fields) if f not in ("group", "index")), None)
+            if bad_field is not None:
+                self.problem((*path, "format"), f"format field {{{bad_field}}} is not allowed; use only {{group}} and {{index}}")
+                continue
+            if "index" not in fields:
+                self.problem((*path, "format"), "the format must use the field {index}")
+                continue
+            bad_spec = next((spec for spec in sorted(specs) if not _FORMAT_SPEC.match(spec)), None)
+            if bad_spec is not None:
+                # Only a width and a base: anything else could pad a parameter id to gigabytes.
+                self.problem(
+                    (*path, "format"),
+                    f"format spec {bad_spec!r} is not supported; use a width of at most 9 and d, x or X, as in {{index:02d}}",
+                )
+                continue
+            try:
+                rule["format"].format(group=0, index=0)
+            except (ValueError, KeyError, IndexError) as exc:
+                self.problem((*path, "format"), f"invalid format pattern: {exc}")
+                continue
+            self.rules.append(
+                _ParamRule(
+                    regex=regex,
+                    format=rule["format"],
+                    base=rule.get("base", 0),
+                    group_stride=rule.get("group_stride", 0),
+                    index_stride=rule.get("index_stride", 1),
+                    group_radix=rule.get("group_radix", 10),
+                    index_radix=rule.get("index_radix", 10),
+                )
+            )
+
+    def _rule_address(self, param: str) -> int | None:
+        for rule in self.rules:
+            address = rule.address_of(param)
+            if address is not None:
+                return address
+        return None
+
+    def _rule_param(self, address: int) -> str | None:
+        for rule in self.rules:
+            param = rule.param_of(address)
+            if param is not None:
+                return param
+        return None
+
+    # -- enums -----------------------------------------------------------------------------
+
+    def _enums(self, enums: dict[str, Any]) -> None:
+        for enum_name, spec in enums.items():
+            path: Path = ("enums", enum_name)
+            members = []
+            seen_names: set[str] = set()
+            seen_values: dict[int, str] = {}
+            for j, v in enumerate(spec["values"]):
+                vpath: Path = (*path, "values", j)
+                if v["name"] in seen_names:
+                    self.problem((*vpath, "name"), f"enum {enum_name}: duplicate member name {v['name']!r}")
+                if v["value"] in seen_values:
+                    self.problem((*vpath, "value"), f"enum {enum_name}: value {v['value']} is already used by {seen_values[v['value']]!r}")
+                seen_names.add(v["name"])
+                seen_values.setdefault(v["value"], v["name"])
+                members.append(
+                    EnumMember(
+                        value=v["value"],
+                        name=v["name"],
+                        title=v["title"],
+                        title_zh=v.get("title_zh"),
+                        symbol=v.get("symbol"),
+                        description=v.get("description", ""),
+                        source=_source(v.get("source")),
+                    )
+                )
+            self.enums[enum_name] = EnumType(
+                name=enum_name,
+                title=spec["title"],
+                title_zh=spec.get("title_zh"),
+                description=spec.get("description", ""),
+                source=_source(spec.get("source")),
+                members=tuple(members),
+                pos=self.positions.locate(path),
+            )
+
+    def _enum_ref(self, name: str | None, path: Path, owner: str) -> EnumType | None:
+        if name is None:
+            return None
+        found = self.enums.get(name)
+        if found is None:
+            self.problem(path, f"{owner}: unknown enum {name!r}" + (f" (known: {', '.join(sorted(self.enums))})" if self.enums else ""))
+        return found
+
+    # -- groups, registers, arrays -----------------------------------------------------------
+
+    def _group(self, g: dict[str, Any], path: Path, word_order: WordOrder) -> Group:
+        defaults = dict(g.get("defaults", {}))
+        if "source" not in defaults and "source" in g:
+            defaults["source"] = g["source"]
+        registers: list[Register] = []
+        arrays: list[ArrayDef] = []
+        for i, entry in enumerate(g["registers"]):
+            epath: Path = (*path, "registers", i)
+            if "array" in entry:
+                array, expanded = self._array(entry, epath, defaults, g["id"], word_order)
+                arrays.append(array)
+                for element, member_path in expanded:
+                    registers.append(element)
+                    self.register_paths.append(member_path)
+            else:
+                reg = self._register({**defaults, **entry}, epath, g["id"], word_order)
+                if reg is not None:
+                    self._check_param(reg, epath)
+                    registers.append(reg)
+                    self.register_paths.append(epath)
+        self.registers.extend(registers)
+        return Group(
+            id=g["id"],
+            title=g["title"],
+            title_zh=g.get("title_zh"),
+            description=g.get("description", ""),
+            source=_source(g.get("source")),
+            registers=tuple(registers),
+            arrays=tuple(arrays),
+        )
+
+    def _register(
+        self,
+        r: dict[str, Any],
+        path: Path,
+        group: str,
+        word_order: WordOrder,
+        *,
+        name: str | None = None,
+        address: int | None = None,
+        param: str | None = None,
+        array: ArrayRef | None = None,
+    ) -> Register | None:
+        name = name or r["name"]
+        address = r["address"] if address is None else address
+        dtype = DataType(r.get("type", "u16"))
+        if "words" in r and r["words"] != dtype.words:
+            self.problem(
+                (*path, "words"),
+                f"{name}: words {r['words']} does not match type {dtype.value} ({dtype.words} word{'s' if dtype.words > 1 else ''})",
+            )
+        if address + dtype.words - 1 > 0xFFFF:
+            self.problem((*path, "address"), f"{name}: a {dtype.words}-word register at 0x{address:04X} runs past address 0xFFFF")
+        paired = bool(r.get("paired", False))
+        if paired and dtype.words != 1:
+            self.problem(
+                (*path, "paired"),
+                f"{name}: `paired` describes a 16-bit value in the low word of a 32-bit pair; type {dtype.value} is already 32-bit",
+            )
+        if paired and address == 0:
+            self.problem((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
+        if "word_order" in r and dtype.words == 1 and "word_order" not in self._defaults_keys(path):
+            self.problem((*path, "word_order"), f"{name}: word_order applies only to 32-bit registers; type is {dtype.value}")
+        order = WordOrder(r["word_order"]) if "word_order" in r and dtype.words == 2 else word_order
+        enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
+        bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
+        low, high, default = r.get("min"), r.get("max"), r.get("default")
+        for key, value in (("min", low), ("max", high), ("default", default)):
+            if value is not None and not dtype.raw_min <= value <= dtype.raw_max:
+                self.problem(
+                    (*path, key), f"{name}: {key} {value} is outside the range of {dtype.value} ({dtype.raw_min}..{dtype.raw_max})"
+                )
+        if low is not None and high is not None and low > high:
+            self.problem((*path, "min"), f"{name}: min {low} is greater than max {high}")
+        if default is not None:
+            if (low is not None and default < low) or (high is not None and default > high):
+                self.problem((*path, "default"), f"{name}: default {default} is outside min..max ({low}..{high})")
+            if enum_type is not None and enum_type.by_value(default) is None:
+                self.problem((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
+        if enum_type is not None:
+            for member in enum_type.members:
+                if not dtype.raw_min <= member.value <= dtype.raw_max:
+                    self.problem(
+                        (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}"
+                    )
+        if not r.get("source"):
+            self.problem(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
+        access = Access(r.get("access", "rw"))
+        return Register(
+            name=name,
+            param=param if param is not None else r.get("param"),
+            address=address,
+            type=dtype,
+            word_order=order,
+            word_order_fixed="word_order" in r and dtype.words == 2,
+            access=access,
+            unit=r.get("unit"),
+            scale=_scale(r.get("scale", 1)),
+            min=low,
+            max=high,
+            default=default,
+            enum=enum_type,
+            bitfields=bitfields,
+            takes_effect=r.get("takes_effect"),
+            settable=r.get("settable"),
+            modes=tuple(r.get("modes", ())),
+            paired=paired,
+            title=r["title"],
+            title_zh=r.get("title_zh"),
+            description=r.get("description", ""),
+            range_text=r.get("range_text"),
+            source=_source(r.get("source")),
+            notes=r.get("notes", ""),
+            group=group,
+            array=array,
+            pos=self.positions.locate(path),
+        )
+
+    def _defaults_keys(self, path: Path) -> set[str]:
+        group_path = path[:2]
+        group = self.raw["groups"][group_path[1]] if len(group_path) == 2 else {}
+        return set(group.get("defaults", {}))
+
+    def _bitfields(self, specs: list[dict[str, Any]], path: Path, dtype: DataType, name: str) -> tuple[Bitfield, ...]:
+        fields: list[Bitfield] = []
+        used: dict[int, str] = {}
+        names: set[str] = set()
+        for i, spec in enumerate(specs):
+            fpath: Path = (*path, i)
+            lsb, msb = _bits(spec["bits"])
+            if lsb > msb:
+                self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bit range {spec['bits']} runs backwards; write low-high")
+                continue
+            if msb >= dtype.bits:
+                self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bits {spec['bits']} lie beyond the {dtype.bits}-bit register")
+                continue
+            if spec["name"] in names:
+                self.problem((*fpath, "name"), f"{name}: duplicate bitfield name {spec['name']!r}")
+            names.add(spec["name"])
+            for bit in range(lsb, msb + 1):
+                if bit in used:
+                    self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bit {bit} overlaps bitfield {used[bit]}")
+                    break
+                used[bit] = spec["name"]
+            enum_type = self._enum_ref(spec.get("enum"), (*fpath, "enum"), f"{name}.{spec['name']}")
+            if enum_type is not None:
+                for member in enum_type.members:
+                    if not 0 <= member.value < (1 << (msb - lsb + 1)):
+                        self.problem(
+                            (*fpath, "enum"),
+                            f"{name}.{spec['name']}: enum {enum_type.name} member {member.name} = {member.value} does not fit in {msb - lsb + 1} bit(s)",
+                        )
+                        break
+            fields.append(
+                Bitfield(
+                    name=spec["name"],
+                    lsb=lsb,
+                    msb=msb,
+                    title=spec["title"],
+                    title_zh=spec.get("title_zh"),
+                    description=spec.get("description", ""),
+                    enum=enum_type,
+                    pos=self.positions.locate(fpath),
+                )
+            )
+        return tuple(sorted(fields, key=lambda f: f.lsb))
+
+    def _array(
+        self, a: dict[str, Any], path: Path, defaults: dict[str, Any], group: str, word_order: WordOrder
+    ) -> tuple[ArrayDef, list[tuple[Register, Path]]]:
+        """The array and its expanded registers, each with the path of the member it comes from."""
+        index_base = a.get("index_base", 0)
+        members: list[ArrayMember] = []
+        expanded: list[tuple[Register, Path]] = []
+        member_names: set[str] = set()
+        repeated: set[int] = set()  # not expanded, so the repeat is reported once, not again as duplicate registers
+        for j, m in enumerate(a["members"]):
+            mpath: Path = (*path, "members", j)
+            if m["name"] in member_names:
+                self.problem((*mpath, "name"), f"array {a['array']}: duplicate member {m['name']!r}")
+                repeated.add(j)
+            member_names.add(m["name"])
+            words = DataType(m.get("type", defaults.get("type", "u16"))).words
+            if m["offset"] + words > a["stride"]:
+                self.problem(
+                    (*mpath, "offset"),
+                    f"array {a['array']}: member {m['name']} (offset {m['offset']}, {words} words) does not fit in the stride {a['stride']}",
+                )
+            members.append(ArrayMember(name=m["name"], offset=m["offset"], words=words, title=m["title"]))
+        array = ArrayDef(
+            name=a["array"],
+            title=a["title"],
+            title_zh=a.get("title_zh"),
+            description=a.get("description", ""),
+            element_title=a.get("element_title", a["title"] + " {n}"),
+            count=a["count"],
+            index_base=index_base,
+            base=a["base"],
+            stride=a["stride"],
+            members=tuple(members),
+            group=group,
+            source=_source(a.get("source")),
+            notes=a.get("notes", ""),
+        )
+        last = array.base + (array.count - 1) * array.stride + max((m.offset + m.words for m in members), default=1) - 1
+        if last > 0xFFFF:
+            self.problem((*path, "count"), f"array {array.name}: its last element ends at 0x{last:X}, past address 0xFFFF")
+            return array, []
+        inherited = {**defaults, "source": a.get("source", defaults.get("source"))}
+        for j, spec in enumerate(a["members"]):
+            if isinstance(spec.get("default"), list) and len(spec["default"]) != array.count:
+                self.problem(
+                    (*path, "members", j, "default"),
+                    f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements",
+                )
+        for i in range(array.count):
+            index = index_base + i
+            for j, (member, spec) in enumerate(zip(members, a["members"], strict=True)):
+                if j in repeated:
+                    continue
+                address = array.element_address(index, member)
+                if isinstance(spec.get("default"), list):
+                    spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
+                reg = self._register(
+                    {**inherited, **spec},
+                    (*path, "members", j),
+                    group,
+                    word_order,
+                    name=f"{array.name}_{index}_{member.name}",
+                    address=address,
+                    param=self._rule_param(address),
+                    array=ArrayRef(array=array.name, index=index, member=member.name),
+                )
+                if reg is not None:
+                    expanded.append((reg, (*path, "members", j)))
+        # Report per-member problems once, not once per element.
+        self.problems = list(dict.fromkeys(self.problems))
+        return array, expanded
+
+    def _check_param(self, reg: Register, path: Path) -> None:
+        if reg.param is None:
+            return
+        try:
+            expected = self._rule_address(reg.param)
+        except ValueError as exc:
+            self.problem((*path, "param"), f"{reg.name}: parameter {reg.param} matches a param_ids regex, but {exc}")
+            return
+        if expected is not None and expected != reg.address:
+            self.problem(
+                (*path, "address"),
+                f"{reg.name}: parameter {reg.param} is at 0x{expected:04X} by the param_ids rule, but the address is 0x{reg.address:04X}",
+            )

@@ -1,0 +1,100 @@
+"""How the map's text values read: sources, scales, bit ranges, parameter-id rules; and the walk's shared state."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from decimal import Decimal
+from fractions import Fraction
+from typing import Any
+
+from regmap.diagnostics import Diagnostic
+from regmap.frontend.yamlsource import Path, Positions
+from regmap.model import (
+    EnumType,
+    Register,
+)
+
+
+def _source(value: Any) -> tuple[str, ...]:
+    if value is None:
+        return ()
+    return (value,) if isinstance(value, str) else tuple(value)
+
+
+def _scale(value: Any) -> Fraction:
+    # Decimal(str()) keeps 0.1 as 1/10 instead of the binary float's 3602879701896397/36028797018963968.
+    return Fraction(Decimal(str(value)))
+
+
+def _bits(spec: int | str) -> tuple[int, int]:
+    if isinstance(spec, int):
+        return spec, spec
+    low, high = (int(p) for p in spec.split("-"))
+    return low, high
+
+
+@dataclass(frozen=True)
+class _ParamRule:
+    regex: re.Pattern[str]
+    format: str
+    base: int
+    group_stride: int
+    index_stride: int
+    group_radix: int
+    index_radix: int
+
+    def address_of(self, param: str) -> int | None:
+        """The address this rule gives `param`, or None when the regex does not match.
+
+        Raises ValueError when the regex matches but a group is not a number in its radix.
+        """
+        match = self.regex.fullmatch(param)
+        if not match:
+            return None
+        index = _number(match.group("index"), self.index_radix, "index")
+        group = _number(match.group("group"), self.group_radix, "group") if "group" in match.groupdict() and match.group("group") else 0
+        return self.base + group * self.group_stride + index * self.index_stride
+
+    def param_of(self, address: int) -> str | None:
+        offset = address - self.base
+        if offset < 0:
+            return None
+        group = offset // self.group_stride if self.group_stride else 0
+        rest = offset - group * self.group_stride
+        if rest % self.index_stride:
+            return None
+        text = self.format.format(group=group, index=rest // self.index_stride)
+        try:
+            return text if self.address_of(text) == address else None
+        except ValueError:
+            return None
+
+
+_FORMAT_SPEC = re.compile(r"^(:0?[1-9]?[dxX]?)?$")
+
+
+def _number(text: str | None, radix: int, what: str) -> int:
+    try:
+        return int(text or "", radix)
+    except ValueError:
+        raise ValueError(f"its {what} {text!r} is not a base-{radix} number") from None
+
+
+class _Walk:
+    """State shared by the passes of one walk over a map; problems accumulate in `self.problems`."""
+
+    def __init__(self, raw: dict[str, Any], positions: Positions, name: str, fingerprint: str) -> None:
+        self.raw = raw
+        self.positions = positions
+        self.name = name
+        self.fingerprint = fingerprint
+        self.problems: list[Diagnostic] = []
+        self.enums: dict[str, EnumType] = {}
+        self.rules: list[_ParamRule] = []
+        self.registers: list[Register] = []
+        self.register_paths: list[Path] = []  # where each of self.registers is declared, in step with it
+
+    def problem(self, path: Path, message: str) -> None:
+        line, col = self.positions.locate(path)
+        self.problems.append(Diagnostic(self.name, line, col, message))
