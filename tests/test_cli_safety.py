@@ -418,3 +418,15 @@ def test_validate_reports_a_back_end_clash_at_its_line(tmp_path: Path) -> None:
     result = regmap("validate", str(bad))
     assert result.returncode == ExitCode.INVALID_MAP
     assert f"{bad}:{line}:" in result.stderr and "'read_all' would shadow" in result.stderr
+
+
+def test_a_broadcast_write_needs_no_answer_and_a_broadcast_cannot_read_modify_write(simulator: SimulatorFactory) -> None:
+    sim = simulator(ROOT / IDM)
+    assert sim.port is not None
+    tcp = ["--tcp", f"127.0.0.1:{sim.port}"]
+    sent = regmap("write", IDM, "Pr5.00=1.1", "--slave", "0", *tcp)
+    assert sent.returncode == 0, sent.stderr
+    assert sent.stdout.strip() == "wrote 1 value(s) in 1 request(s)"
+    assert "1.1 A" in regmap("read", IDM, "Pr5.00", *tcp).stdout
+    partial = regmap("write", IDM, "di3_function=function:ctrg", "--slave", "0", *tcp)
+    one_line_error(partial, ExitCode.USAGE, "broadcast")

@@ -97,6 +97,8 @@ def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
     if link.word_order in ("high_first", "low_first"):
         return link.word_order
     reg = control.register
+    if client.broadcast:
+        raise UsageError(f"a broadcast cannot read the word-order register {reg.label}: give --word-order high_first|low_first")
     try:
         words = client.read_raw(reg.address, reg.words)
     except RegmapError as exc:
@@ -206,7 +208,7 @@ def cmd_write(device: Device, link: Link, items: Sequence[str], *, raw: bool, ve
     word_writes = parse_word_writes(items) if words else []
     runs = word_runs(device, word_writes) if words else []
     assignments = [] if words else parse_assignments(device, items, raw, replace=replace)
-    client = connect(device, link, reading=verify or any(a.raw is None for a in assignments))
+    client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
     try:
         for address, run in runs:
