@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: all install generate regen test lint format typecheck check docs bench clean
+.PHONY: all install generate regen test lint format typecheck check docs bench mutate clean
 
 all: generate
 
@@ -52,3 +52,7 @@ docs: $(STAMP)
 
 clean:
 	rm -rf $(VENV) build *.egg-info generator/*.egg-info .pytest_cache .mypy_cache .ruff_cache
+
+# Curated mutants (tests/mutation/mutants.yaml) against the behavioural tests; not part of `make test`.
+mutate: $(STAMP)
+	$(BIN)/python tests/mutation/run.py

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, link_from, live_parser
-from regmap.frontend import load_map
+from regmap.cli.common import WHERE, link_from, live_parser, load_map
 
 HELP = "run one of the map's commands on a drive"
 

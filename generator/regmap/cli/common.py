@@ -5,14 +5,26 @@ from __future__ import annotations
 import argparse
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from regmap.diagnostics import MapError, UsageError
-from regmap.frontend import load_map
-from regmap.model import Device
 from regmap.tools.link import Link
 
+if TYPE_CHECKING:
+    from regmap.model import Device
+
 DEFAULT_MAPS_DIR = Path("maps")
+VALUE_SYNTAX = (
+    "VALUE is in engineering units (1.5 for 1.5 A), an enum member name (save_all_parameters), or for a bitfield register "
+    "field:value,field:value (function:path_address_0,normally_closed:1), optionally after a base word (0x00A8,function:ctrg)"
+)
+
+
+def load_map(path: str | Path) -> Device:
+    """The front end, imported when a command needs a map (so `--help` and argument errors stay fast)."""
+    from regmap.frontend import load_map as front_end
+
+    return front_end(path)
 
 
 def map_paths(paths: Sequence[str]) -> list[Path]:

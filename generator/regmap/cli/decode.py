@@ -6,9 +6,8 @@ import argparse
 import json
 import sys
 
-from regmap.cli.common import add_map, add_word_order, examples
+from regmap.cli.common import add_map, add_word_order, examples, load_map
 from regmap.diagnostics import ExitCode, UsageError
-from regmap.frontend import load_map
 
 HELP = "decode a frame or a capture log"
 

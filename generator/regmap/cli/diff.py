@@ -7,12 +7,14 @@ import sys
 
 from regmap.cli.common import examples
 
+EXIT_HELP = (
+    "exit status: 0 no differences, 6 differences that are all compatible, 7 breaking differences present, "
+    "1 a map that is missing or invalid, 2 bad input (an unknown git revision)"
+)
 HELP = "what changed between two versions of a map, what it breaks, and the version bump it needs"
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
-    from regmap.tools.diff import EXIT_HELP
-
     p = sub.add_parser(
         "diff",
         help=HELP,

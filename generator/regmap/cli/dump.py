@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import add_output, link_from, live_parser, output_format
-from regmap.frontend import load_map
+from regmap.cli.common import add_output, link_from, live_parser, load_map, output_format
 
 HELP = "read every readable register with the read plan"
 

@@ -6,9 +6,8 @@ import argparse
 import json
 import sys
 
-from regmap.cli.common import add_map, examples
+from regmap.cli.common import add_map, examples, load_map
 from regmap.diagnostics import ExitCode
-from regmap.frontend import load_map
 
 HELP = "print the elaborated model of a map as JSON"
 

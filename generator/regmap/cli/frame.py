@@ -5,16 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from regmap.cli.common import add_map, add_word_order, examples, slave_id
+from regmap.cli.common import VALUE_SYNTAX, add_map, add_word_order, examples, load_map, slave_id
 from regmap.diagnostics import ExitCode, UsageError
-from regmap.frontend import load_map
 
 HELP = "print a request frame as hex bytes"
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
-    from regmap.tools.frames import VALUE_SYNTAX
-
     p = sub.add_parser(
         "frame",
         help=HELP,

@@ -13,8 +13,6 @@ HELP = "generate Python clients, C headers and docs from maps"
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
-    from regmap.generate import target_names
-
     p = sub.add_parser(
         "generate",
         help=HELP,
@@ -29,7 +27,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     p.add_argument("maps", nargs="*", metavar="MAP", help="map files (default: every maps/*.yaml)")
     p.add_argument("--out", default="generated", metavar="DIR", help="output directory (default: generated)")
-    p.add_argument("--target", action="append", choices=target_names(), help="only this target (repeatable)")
+    p.add_argument(
+        "--target",
+        action="append",
+        metavar="TARGET",
+        help="only this target (repeatable): python, c, markdown, or a plugin's (default: all)",
+    )
     p.add_argument("--since", metavar="GITREV", help="also write docs/<device>-changelog.md: `regmap diff` of each map against GITREV")
     return p
 
@@ -51,7 +54,11 @@ def run(args: argparse.Namespace) -> int:
 
     out = Path(args.out)
     check_out_dir(out)
-    targets = args.target or target_names()
+    known = target_names()
+    unknown = [t for t in args.target or [] if t not in known]
+    if unknown:
+        raise UsageError(f"--target {unknown[0]}: no such target (targets: {', '.join(known)})")
+    targets = args.target or known
     devices = load_all(args.maps)
     pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
     written = generate(devices, out, targets, complete=not args.maps, extra=pages)

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import add_map, examples
+from regmap.cli.common import add_map, examples, load_map
 from regmap.diagnostics import ExitCode
-from regmap.frontend import load_map
 
 HELP = "print the map for humans: registers, enums, commands (or one of them)"
 

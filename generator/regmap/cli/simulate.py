@@ -5,9 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from regmap.cli.common import add_map, count, examples, slave_id
+from regmap.cli.common import add_map, count, examples, load_map, slave_id
 from regmap.diagnostics import UsageError
-from regmap.frontend import load_map
 
 HELP = "serve a simulated device (Modbus TCP or RTU on a serial port/pty)"
 FAULT_HELP = "inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay"

@@ -5,9 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from regmap.cli.common import examples, map_paths
+from regmap.cli.common import examples, load_map, map_paths
 from regmap.diagnostics import ExitCode, MapError
-from regmap.frontend import load_map
 
 HELP = "check maps: schema, semantic rules, and every back end's own rules"
 

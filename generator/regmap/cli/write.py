@@ -4,15 +4,12 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, link_from, live_parser
-from regmap.frontend import load_map
+from regmap.cli.common import VALUE_SYNTAX, WHERE, link_from, live_parser, load_map
 
 HELP = "write registers, then read them back"
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
-    from regmap.tools.frames import VALUE_SYNTAX
-
     p = live_parser(
         sub,
         "write",

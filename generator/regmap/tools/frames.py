@@ -20,12 +20,6 @@ from regmap_runtime.plan import WriteBlock, plan_writes
 from regmap_runtime.rtu import build_read, build_write_multiple, build_write_single
 from regmap_runtime.spec import RegisterSpec
 
-VALUE_SYNTAX = (
-    "VALUE is in engineering units (1.5 for 1.5 A), an enum member name (save_all_parameters), or for a bitfield register "
-    "field:value,field:value (function:path_address_0,normally_closed:1), optionally after a base word (0x00A8,function:ctrg)"
-)
-
-
 # -- reads -------------------------------------------------------------------------------
 
 

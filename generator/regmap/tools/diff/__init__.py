@@ -8,11 +8,10 @@ from __future__ import annotations
 from regmap.tools.diff.changelog import changelog_pages
 from regmap.tools.diff.compare import compare
 from regmap.tools.diff.gitload import load_spec, read_at_revision, split_spec
-from regmap.tools.diff.kinds import EXIT_HELP, FORMATS, KINDS, Bump, Change, Report
+from regmap.tools.diff.kinds import FORMATS, KINDS, Bump, Change, Report
 from regmap.tools.diff.render import render, render_json, render_markdown, render_text
 
 __all__ = [
-    "EXIT_HELP",
     "FORMATS",
     "KINDS",
     "Bump",

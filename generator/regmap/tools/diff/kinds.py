@@ -16,10 +16,6 @@ from regmap.tools.diff.text import _fields, _json
 FORMATS = ("text", "markdown", "json")
 JSON_FORMAT = "regmap-diff/1"
 EXIT_SAME, EXIT_COMPATIBLE, EXIT_BREAKING = ExitCode.OK, ExitCode.DIFF_COMPATIBLE, ExitCode.DIFF_BREAKING
-EXIT_HELP = (
-    "exit status: 0 no differences, 6 differences that are all compatible, 7 breaking differences present, "
-    "1 a map that is missing or invalid, 2 bad input (an unknown git revision)"
-)
 
 
 class Bump(enum.IntEnum):
