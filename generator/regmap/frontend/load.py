@@ -571,7 +571,7 @@ class _Elaborator:
             self.problem((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
         if "word_order" in r and dtype.words == 1 and "word_order" not in self._defaults_keys(path):
             self.problem((*path, "word_order"), f"{name}: word_order applies only to 32-bit registers; type is {dtype.value}")
-        order = WordOrder(r["word_order"]) if "word_order" in r and dtype.words == 2 else word_order
+        order = WordOrder(r["word_order"]) if "word_order" in r and dtype.wide else word_order
         enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
         bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
@@ -602,7 +602,7 @@ class _Elaborator:
             address=address,
             type=dtype,
             word_order=order,
-            word_order_fixed="word_order" in r and dtype.words == 2,
+            word_order_fixed="word_order" in r and dtype.wide,
             access=access,
             unit=r.get("unit"),
             scale=_scale(r.get("scale", 1)),
@@ -798,12 +798,12 @@ class _Elaborator:
     def _check_overlaps(self) -> None:
         """Report an overlap at the register that starts later (declared later, at equal starts), once per pair of
         declarations: two array members that collide do so in every element, which is one mistake."""
-        owner: dict[int, tuple[Register, Path]] = {}
+        owner: dict[tuple[str, int], tuple[Register, Path]] = {}
         reported: set[tuple[Path, Path]] = set()
         placed = sorted(enumerate(zip(self.registers, self.register_paths, strict=True)), key=lambda p: (p[1][0].first_address, p[0]))
         for _, (reg, path) in placed:
             for address in range(reg.first_address, reg.last_address + 1):
-                other, other_path = owner.setdefault(address, (reg, path))
+                other, other_path = owner.setdefault((reg.space, address), (reg, path))
                 if other.name != reg.name and (other_path, path) not in reported:
                     reported.add((other_path, path))
                     self.problem(
