@@ -38,9 +38,9 @@ class DeviceStore:
         self.state_file = state_file
         self.specs = {s.name: s for s in runtime_specs(device)}
         self.registers = {r.name: r for r in device.registers}
-        self.words: dict[int, int] = {}
+        self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
-        self.pending_after_read: dict[int, int] = {}
+        self.pending_after_read: dict[tuple[str, int], int] = {}
         self.faults = FaultPlan()
         self.load_defaults()
         if state_file is not None and state_file.exists():
@@ -70,11 +70,11 @@ class DeviceStore:
     def store_raw(self, reg: Register, raw: int) -> None:
         words = raw_to_words(self.spec(reg), raw, with_pair=True)
         for offset, word in enumerate(words):
-            self.words[reg.first_address + offset] = word
+            self.words[reg.space, reg.first_address + offset] = word
 
     def raw_of(self, reg: Register) -> int:
         spec = self.spec(reg)
-        return words_to_raw(spec, [self.words.get(reg.address + i, 0) for i in range(reg.words)])
+        return words_to_raw(spec, [self.words.get((reg.space, reg.address + i), 0) for i in range(reg.words)])
 
     def load_defaults(self) -> None:
         self.words.clear()
@@ -135,11 +135,11 @@ class DeviceStore:
             reg = self.device.covering(a, space)
             if (reg is None and not gaps) or (reg is not None and not reg.access.readable):
                 return ILLEGAL_ADDRESS
-            values.append(self.words.get(a, 0))
+            values.append(self.words.get((space, a), 0))
         if self.pending_after_read:
             for a in range(address, address + count):
-                if a in self.pending_after_read:
-                    self.words[a] = self.pending_after_read.pop(a)
+                if (space, a) in self.pending_after_read:
+                    self.words[space, a] = self.pending_after_read.pop((space, a))
         return values
 
     def write(self, address: int, words: list[int], space: str = DEFAULT_SPACE) -> int | None:
@@ -203,7 +203,7 @@ class DeviceStore:
                 if effect.register is not None:
                     self.store_raw(effect.register, effect.value)
                     if effect.after_read is not None:
-                        self.pending_after_read[effect.register.address] = effect.after_read
+                        self.pending_after_read[effect.register.space, effect.register.address] = effect.after_read
             elif effect.kind == "restore_defaults":
                 self.load_defaults()
             elif effect.kind == "clear" and effect.register is not None:
