@@ -30,9 +30,9 @@ class Optimum:
     words: int  # fewest words read among the plans with the fewest requests
 
 
-def fewest_requests(specs: Sequence[RegisterSpec[Any]], limit: int, documented: frozenset[int] | None) -> Optimum:
-    """DP over the registers in address order: best[j] = the best plan for the first j registers,
-    minimising (requests, words) lexicographically."""
+def fewest_requests(specs: Sequence[RegisterSpec[Any]], limit: int, documented: frozenset[tuple[str, int]] | None) -> Optimum:
+    """DP over the registers of one space in address order: best[j] = the best plan for the first j
+    registers, minimising (requests, words) lexicographically."""
     regs = sorted(specs, key=lambda r: (r.first_address, r.address))
     n = len(regs)
     if n == 0:
@@ -42,7 +42,7 @@ def fewest_requests(specs: Sequence[RegisterSpec[Any]], limit: int, documented: 
     # undocumented[i]: how many addresses in base .. base+i-1 the device does not answer
     undocumented = [0] * (top - base + 1)
     for i in range(top - base):
-        undocumented[i + 1] = undocumented[i] + (documented is not None and base + i not in documented)
+        undocumented[i + 1] = undocumented[i] + (documented is not None and (regs[0].space, base + i) not in documented)
     best: list[tuple[int, int]] = [(0, 0)] + [(INFINITY, INFINITY)] * n
     for end in range(1, n + 1):
         last = regs[end - 1]

@@ -80,8 +80,8 @@ def _comparison(case: str, detail: str, pair: Pair) -> Comparison:
     )
 
 
-def documented_of(device: DeviceSpec) -> frozenset[int] | None:
-    """The addresses the device answers (a method of DeviceSpec once, a cached property now)."""
+def documented_of(device: DeviceSpec) -> frozenset[tuple[str, int]] | None:
+    """The (space, address) pairs the device answers (a method of DeviceSpec once, a cached property now)."""
     documented: Any = device.documented
     return documented() if callable(documented) else documented  # type: ignore[no-any-return]
 

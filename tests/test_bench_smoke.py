@@ -72,7 +72,9 @@ def test_dynamic_programme_agrees_with_the_planner() -> None:
     for _ in range(200):
         specs = _random_specs(rng)
         limit = rng.randint(2, 20)
-        documented = None if rng.random() < 0.3 else frozenset(a for r in specs for a in range(r.first_address, r.address + r.words))
+        documented = (
+            None if rng.random() < 0.3 else frozenset((r.space, a) for r in specs for a in range(r.first_address, r.address + r.words))
+        )
         assert optimal.fewest_requests(specs, limit, documented).requests == len(plan_reads(specs, limit, documented))
     for device in DEVICES.values():
         assert optimal.check(device, sweep=(2, 125)).optimal

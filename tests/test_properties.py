@@ -133,7 +133,7 @@ def register_sets(draw: st.DrawFn) -> list[RegisterSpec[Any]]:
     return specs
 
 
-def _fewest_requests(specs: list[RegisterSpec[Any]], limit: int, documented: frozenset[int] | None) -> int:
+def _fewest_requests(specs: list[RegisterSpec[Any]], limit: int, documented: frozenset[tuple[str, int]] | None) -> int:
     """Dynamic programme over the sorted registers: the true minimum number of requests."""
     regs = sorted(specs, key=lambda r: r.first_address)
     best = [0] + [10**9] * len(regs)
@@ -145,7 +145,7 @@ def _fewest_requests(specs: list[RegisterSpec[Any]], limit: int, documented: fro
             if last - first > limit:
                 break
             covered = {a for r in chunk for a in range(r.first_address, r.address + r.words)}
-            if documented is not None and any(a not in documented for a in range(first, last) if a not in covered):
+            if documented is not None and any((chunk[0].space, a) not in documented for a in range(first, last) if a not in covered):
                 break
             best[end] = min(best[end], best[start - 1] + 1)
     return best[-1]
@@ -154,7 +154,7 @@ def _fewest_requests(specs: list[RegisterSpec[Any]], limit: int, documented: fro
 @settings(max_examples=300)
 @given(register_sets(), st.integers(2, 20), st.booleans())
 def test_read_plan_is_valid_and_optimal(specs: list[RegisterSpec[Any]], limit: int, tolerate: bool) -> None:
-    documented = None if tolerate else frozenset(a for r in specs for a in range(r.first_address, r.address + r.words))
+    documented = None if tolerate else frozenset((r.space, a) for r in specs for a in range(r.first_address, r.address + r.words))
     blocks = plan_reads(specs, limit, documented)
     seen = [r.name for b in blocks for r in b.registers]
     assert sorted(seen) == sorted(r.name for r in specs)  # every register exactly once
@@ -163,7 +163,7 @@ def test_read_plan_is_valid_and_optimal(specs: list[RegisterSpec[Any]], limit: i
         for r in block.registers:
             assert block.address <= r.address and r.address + r.words <= block.address + block.count
         if documented is not None:
-            assert all(a in documented for a in range(block.address, block.address + block.count))
+            assert all((block.space, a) in documented for a in range(block.address, block.address + block.count))
     assert len(blocks) == _fewest_requests(specs, limit, documented)
 
 

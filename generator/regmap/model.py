@@ -11,6 +11,9 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
 
+from regmap_runtime.spaces import DEFAULT_SPACE
+from regmap_runtime.types import TYPES, TypeInfo
+
 SourcePos = tuple[int, int]
 """(line, column) of an item in its map file, so a problem found late still prints file:line:col."""
 
@@ -35,30 +38,41 @@ class Access(enum.Enum):
 
 
 class DataType(enum.Enum):
+    """A map's `type`; every fact about it comes from the runtime's one table, `regmap_runtime.types.TYPES`."""
+
     U16 = "u16"
     S16 = "s16"
     U32 = "u32"
     S32 = "s32"
 
     @property
+    def info(self) -> TypeInfo:
+        return TYPES[self.value]
+
+    @property
     def words(self) -> int:
-        return 2 if self in (DataType.U32, DataType.S32) else 1
+        return self.info.words
+
+    @property
+    def wide(self) -> bool:
+        """More than one word, so the value has a word order."""
+        return self.info.wide
 
     @property
     def bits(self) -> int:
-        return 16 * self.words
+        return self.info.bits
 
     @property
     def signed(self) -> bool:
-        return self in (DataType.S16, DataType.S32)
+        return self.info.signed
 
     @property
     def raw_min(self) -> int:
-        return -(1 << (self.bits - 1)) if self.signed else 0
+        return self.info.raw_min
 
     @property
     def raw_max(self) -> int:
-        return (1 << (self.bits - 1)) - 1 if self.signed else (1 << self.bits) - 1
+        return self.info.raw_max
 
 
 @dataclass(frozen=True)
@@ -192,11 +206,17 @@ class Register:
     notes: str = ""
     array: ArrayRef | None = None
     errata: tuple[str, ...] = ()
+    space: str = DEFAULT_SPACE  # a name in regmap_runtime.spaces.SPACES
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
     def words(self) -> int:
         return self.type.words
+
+    @property
+    def wide(self) -> bool:
+        """More than one word, so the value has a word order."""
+        return self.type.wide
 
     @property
     def signed(self) -> bool:
@@ -470,18 +490,18 @@ class Device:
         raise KeyError(name)
 
     @cached_property
-    def _owners(self) -> dict[int, Register]:
-        owners: dict[int, Register] = {}
+    def _owners(self) -> dict[tuple[str, int], Register]:
+        owners: dict[tuple[str, int], Register] = {}
         for reg in self.registers:
             for address in range(reg.first_address, reg.last_address + 1):
-                owners.setdefault(address, reg)
+                owners.setdefault((reg.space, address), reg)
         return owners
 
-    def at_address(self, address: int) -> Register | None:
-        """The register whose listed address (or any word of it) is `address`."""
-        reg = self._owners.get(address)
+    def at_address(self, address: int, space: str = DEFAULT_SPACE) -> Register | None:
+        """The register whose listed address (or any word of it) is `address` in `space`."""
+        reg = self._owners.get((space, address))
         return reg if reg is not None and reg.address <= address else None
 
-    def covering(self, address: int) -> Register | None:
-        """The register that owns `address`, including the unused high word of a pair."""
-        return self._owners.get(address)
+    def covering(self, address: int, space: str = DEFAULT_SPACE) -> Register | None:
+        """The register that owns `address` in `space`, including the unused high word of a pair."""
+        return self._owners.get((space, address))

@@ -17,9 +17,9 @@ from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
 
 
-def documented_addresses(device: Device) -> frozenset[int]:
-    """Addresses the device answers reads of: every word of every readable register (pairs included)."""
-    return frozenset(a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
+def documented_addresses(device: Device) -> frozenset[tuple[str, int]]:
+    """(space, address) of every word the device answers reads of: every readable register's, pairs included."""
+    return frozenset((r.space, a) for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
 
 
 def runtime_enum(e: EnumType) -> type[enum.IntEnum]:
@@ -54,6 +54,7 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             param=r.param,
             enum=enums[r.enum.name] if r.enum is not None else None,
             bitfields=tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields),
+            space=r.space,
         )
         for r in device.registers
     ]

@@ -20,11 +20,14 @@ from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to
 from regmap_runtime.errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
 from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
+from regmap_runtime.spaces import DEFAULT_SPACE, HOLDING, SPACES
 from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 PARITY = {"none": "N", "even": "E", "odd": "O"}
+# pymodbus's spelling of each space's reads and writes: (read, write single, write multiple).
+PYMODBUS_METHODS = {HOLDING.name: ("read_holding_registers", "write_register", "write_registers")}
 
 
 class LineWatch:
@@ -44,6 +47,7 @@ class _Core:
     """Everything that does not touch the bus: value checks, encoding, request planning."""
 
     DEVICE: DeviceSpec
+    modbus: Any  # the pymodbus client of the subclass
 
     def __init__(self, slave: int, word_order: str | None = None) -> None:
         if not 0 <= slave <= 255:
@@ -78,9 +82,7 @@ class _Core:
 
     def effective(self, spec: RegisterSpec[T]) -> RegisterSpec[T]:
         """The spec with the word order this client was told the device uses (C630S P0C-26)."""
-        if spec.words == 2 and spec.follows_device_order and spec.word_order != self.word_order:
-            return dataclasses.replace(spec, word_order=self.word_order)
-        return spec
+        return spec.in_word_order(self.word_order)
 
     def encode(self, spec: RegisterSpec[Any], value: Any) -> int:
         if not spec.writable:
@@ -120,7 +122,7 @@ class _Core:
     def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
         """Check and encode every value, then group them into requests. `raw`: values are register integers."""
         raws = [(self.effective(spec), self.encode_raw(spec, value) if raw else self.encode(spec, value)) for spec, value in values.items()]
-        return plan_writes(raws, self.DEVICE.max_write_registers, 0x10 in self.DEVICE.function_codes)
+        return plan_writes(raws, self.DEVICE.max_write_registers, HOLDING.write_multiple in self.DEVICE.function_codes)
 
     def readable(self) -> list[RegisterSpec[Any]]:
         return [r for r in self.DEVICE.registers if r.readable]
@@ -134,6 +136,18 @@ class _Core:
             raise DeviceException(function, code, STANDARD_EXCEPTIONS.get(code, "unknown exception code"))
         return response
 
+    def reader(self, space: str) -> tuple[int, Any]:
+        """The function code and the pymodbus method that read `space`."""
+        return SPACES[space].read, getattr(self.modbus, PYMODBUS_METHODS[space][0])
+
+    def writer(self, space: str, single: bool) -> tuple[int, Any]:
+        """The function code and the pymodbus method of a write to `space`: single or multiple."""
+        facts = SPACES[space]
+        function = facts.write_single if single else facts.write_multiple
+        if function is None:
+            raise TypeError(f"{facts.title} cannot be written")
+        return function, getattr(self.modbus, PYMODBUS_METHODS[space][1 if single else 2])
+
     def read_words(self, response: Any, block: ReadBlock) -> list[int]:
         words = list(getattr(response, "registers", []))
         if len(words) != block.count:
@@ -143,6 +157,8 @@ class _Core:
 
 class SyncClient(_Core):
     """Blocking client. Use as a context manager, or call close()."""
+
+    modbus: ModbusSerialClient | ModbusTcpClient
 
     def __init__(
         self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None
@@ -223,25 +239,25 @@ class SyncClient(_Core):
             return None
         return self.check_response(response, function)
 
-    def read_raw(self, address: int, count: int) -> list[int]:
-        """Read `count` register words from `address` with function 0x03."""
+    def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
+        """Read `count` register words from `address` of `space` (holding registers: function 0x03)."""
         if self.broadcast:
             raise ValueError("a broadcast cannot read")
-        response = self._call(0x03, self.modbus.read_holding_registers, address, count=count)
-        return self.read_words(response, ReadBlock(address, count, ()))
+        response = self._call(*self.reader(space), address, count=count)
+        return self.read_words(response, ReadBlock(address, count, (), space))
 
-    def write_raw(self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None) -> None:
-        """Write words from `address`: 0x06 for one word unless `multiple`, else 0x10."""
-        if len(words) == 1 and not multiple:
-            self._call(0x06, self.modbus.write_register, address, words[0])
-        else:
-            self._call(0x10, self.modbus.write_registers, address, list(words))
+    def write_raw(
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
+    ) -> None:
+        """Write words from `address`: write single (0x06) for one word unless `multiple`, else write multiple (0x10)."""
+        single = len(words) == 1 and not multiple
+        self._call(*self.writer(space, single), address, words[0] if single else list(words))
 
     def send_command(self, spec: Writable[Any], raw: int) -> None:
         """Write a command's fixed raw value (already checked against the map at generation time)."""
         target = self.effective(spec)
         words = raw_to_words(target, raw)
-        self.write_raw(target.address, words, multiple=len(words) > 1)
+        self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
 
     def read(self, spec: Readable[T]) -> T:
         return cast(T, self.read_many(spec)[spec.name])
@@ -250,7 +266,7 @@ class SyncClient(_Core):
         """Read several registers with the fewest requests the device allows."""
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
-            words = self.read_raw(block.address, block.count)
+            words = self.read_raw(block.address, block.count, space=block.space)
             for spec in block.registers:
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
@@ -272,11 +288,13 @@ class SyncClient(_Core):
     def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         """Validate every value, then write contiguous registers together with 0x10."""
         for block in self.plan_writes(values, raw):
-            self.write_raw(block.address, block.words, multiple=not block.single)
+            self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
 
 
 class AsyncClient(_Core):
     """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
+
+    modbus: AsyncModbusSerialClient | AsyncModbusTcpClient
 
     def __init__(
         self,
@@ -362,22 +380,22 @@ class AsyncClient(_Core):
             return None
         return self.check_response(response, function)
 
-    async def read_raw(self, address: int, count: int) -> list[int]:
+    async def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
         if self.broadcast:
             raise ValueError("a broadcast cannot read")
-        response = await self._call(0x03, self.modbus.read_holding_registers, address, count=count)
-        return self.read_words(response, ReadBlock(address, count, ()))
+        response = await self._call(*self.reader(space), address, count=count)
+        return self.read_words(response, ReadBlock(address, count, (), space))
 
-    async def write_raw(self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None) -> None:
-        if len(words) == 1 and not multiple:
-            await self._call(0x06, self.modbus.write_register, address, words[0])
-        else:
-            await self._call(0x10, self.modbus.write_registers, address, list(words))
+    async def write_raw(
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
+    ) -> None:
+        single = len(words) == 1 and not multiple
+        await self._call(*self.writer(space, single), address, words[0] if single else list(words))
 
     async def send_command(self, spec: Writable[Any], raw: int) -> None:
         target = self.effective(spec)
         words = raw_to_words(target, raw)
-        await self.write_raw(target.address, words, multiple=len(words) > 1)
+        await self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
 
     async def read(self, spec: Readable[T]) -> T:
         return cast(T, (await self.read_many(spec))[spec.name])
@@ -385,7 +403,7 @@ class AsyncClient(_Core):
     async def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
-            words = await self.read_raw(block.address, block.count)
+            words = await self.read_raw(block.address, block.count, space=block.space)
             for spec in block.registers:
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
@@ -404,7 +422,7 @@ class AsyncClient(_Core):
 
     async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         for block in self.plan_writes(values, raw):
-            await self.write_raw(block.address, block.words, multiple=not block.single)
+            await self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
 
 
 C = TypeVar("C", bound=SyncClient)

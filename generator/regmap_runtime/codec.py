@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import enum
+import struct
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
@@ -16,32 +17,28 @@ class RangeError(ValueError):
 
 def raw_to_words(spec: RegisterSpec[Any], raw: int, *, with_pair: bool = False) -> list[int]:
     """Words on the wire for a raw value. `with_pair` adds the unused high word of a paired register."""
-    if not spec.type_min <= raw <= spec.type_max:
+    info = spec.type_info
+    if not info.raw_min <= raw <= info.raw_max:
         raise RangeError(f"{spec.label}: raw value {raw} does not fit {spec.data_type}")
-    unsigned = raw & ((1 << spec.bits) - 1)
-    if spec.words == 1:
-        word = unsigned
-        if with_pair and spec.paired:
-            # The pair is one 32-bit parameter of which only the low word is used; its high word is
-            # the sign extension (0 for every non-negative value, as the manual's frames show).
-            return [0xFFFF if raw < 0 else 0x0000, word]
-        return [word]
-    high, low = unsigned >> 16, unsigned & 0xFFFF
-    return [high, low] if spec.word_order == HIGH_FIRST else [low, high]
+    words = list(info.to_words(raw))
+    if info.wide:
+        return words if spec.word_order == HIGH_FIRST else words[::-1]
+    if with_pair and spec.paired:
+        # The pair is one 32-bit parameter of which only the low word is used; its high word is
+        # the sign extension (0 for every non-negative value, as the manual's frames show).
+        return [0xFFFF if raw < 0 else 0x0000, *words]
+    return words
 
 
 def words_to_raw(spec: RegisterSpec[Any], words: list[int] | tuple[int, ...]) -> int:
     """Raw value from the register's own words (without the unused high word of a pair)."""
-    if len(words) != spec.words:
-        raise ValueError(f"{spec.label}: expected {spec.words} word(s), got {len(words)}")
-    if spec.words == 1:
-        unsigned = words[0]
-    else:
-        high, low = (words[0], words[1]) if spec.word_order == HIGH_FIRST else (words[1], words[0])
-        unsigned = (high << 16) | low
-    if spec.signed and unsigned >> (spec.bits - 1):
-        return unsigned - (1 << spec.bits)
-    return unsigned
+    info = spec.type_info
+    if len(words) != info.words:
+        raise ValueError(f"{spec.label}: expected {info.words} word(s), got {len(words)}")
+    try:
+        return info.from_words(words if spec.word_order == HIGH_FIRST or not info.wide else words[::-1])
+    except struct.error:
+        raise ValueError(f"{spec.label}: a register word is 0..0xFFFF, got {list(words)}") from None
 
 
 def scale_of(spec: RegisterSpec[Any]) -> Fraction:

@@ -1,8 +1,8 @@
 """Request planning: the fewest Modbus requests that read or write a set of registers.
 
-Reads: registers sorted by address are cut greedily into blocks of at most `max_registers`
-words. A block never splits a register, never crosses an address the device does not document
-(unless it tolerates gaps), and starts at the high word of a paired register. For intervals on a
+Reads: registers sorted by (space, address) are cut greedily into blocks of at most `max_registers`
+words. A block never mixes register spaces, never splits a register, never crosses an address the
+device does not document (unless it tolerates gaps), and starts at the high word of a paired register. For intervals on a
 line, taking as many as fit before cutting is optimal (an exchange argument: any optimal plan's
 first cut can be moved right to the greedy cut without adding a request).
 """
@@ -13,6 +13,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 from regmap_runtime.spec import RegisterSpec
 
 
@@ -21,6 +22,7 @@ class ReadBlock:
     address: int
     count: int
     registers: tuple[RegisterSpec[Any], ...]
+    space: str = DEFAULT_SPACE
 
     def words_of(self, spec: RegisterSpec[Any], words: Sequence[int]) -> list[int]:
         """Slice one register's own words out of the words this block returned."""
@@ -32,20 +34,27 @@ def _block(regs: list[RegisterSpec[Any]]) -> ReadBlock:
     if len(regs) == 1:
         # A lone register reads just its own words (a lone pair reads its listed low word: iDM-RS 5.2.1).
         reg = regs[0]
-        return ReadBlock(reg.address, reg.words, (reg,))
+        return ReadBlock(reg.address, reg.words, (reg,), reg.space)
     start = regs[0].first_address
     end = regs[-1].address + regs[-1].words
-    return ReadBlock(start, end - start, tuple(regs))
+    return ReadBlock(start, end - start, tuple(regs), regs[0].space)
+
+
+_SPACE_ORDER = {name: index for index, name in enumerate(SPACES)}
+
+
+def _in_order(spec: RegisterSpec[Any]) -> tuple[int, int]:
+    return _SPACE_ORDER[spec.space], spec.first_address
 
 
 def plan_reads(
     registers: Iterable[RegisterSpec[Any]],
     max_registers: int,
-    documented: frozenset[int] | None = None,
+    documented: frozenset[tuple[str, int]] | None = None,
 ) -> list[ReadBlock]:
-    """Blocks covering every register. `documented` is the set of addresses the device answers;
-    None means the device tolerates reads of undocumented addresses."""
-    regs = sorted({r.name: r for r in registers if r.readable}.values(), key=lambda r: r.first_address)
+    """Blocks covering every register, space by space. `documented` is the set of (space, address)
+    the device answers; None means the device tolerates reads of undocumented addresses."""
+    regs = sorted({r.name: r for r in registers if r.readable}.values(), key=_in_order)
     blocks: list[ReadBlock] = []
     current: list[RegisterSpec[Any]] = []
     for reg in regs:
@@ -54,8 +63,8 @@ def plan_reads(
             prev_end = current[-1].address + current[-1].words
             gap = range(prev_end, reg.first_address)
             fits = reg.address + reg.words - start <= max_registers
-            gap_ok = documented is None or all(a in documented for a in gap)
-            if fits and gap_ok and reg.first_address >= prev_end:
+            gap_ok = documented is None or all((reg.space, a) in documented for a in gap)
+            if reg.space == current[0].space and fits and gap_ok and reg.first_address >= prev_end:
                 current.append(reg)
                 continue
             blocks.append(_block(current))
@@ -70,6 +79,7 @@ class WriteBlock:
     address: int
     words: tuple[int, ...]
     registers: tuple[RegisterSpec[Any], ...]
+    space: str = DEFAULT_SPACE
 
     @property
     def single(self) -> bool:
@@ -87,7 +97,7 @@ def plan_writes(
     16-bit register goes out as 0x06 at its listed address."""
     from regmap_runtime.codec import raw_to_words
 
-    items = sorted(values, key=lambda item: item[0].first_address)
+    items = sorted(values, key=lambda item: _in_order(item[0]))
     names = [spec.name for spec, _ in items]
     if len(set(names)) != len(names):
         raise ValueError("the same register is written twice in one request")
@@ -96,7 +106,7 @@ def plan_writes(
         if groups and use_write_multiple:
             last_spec = groups[-1][-1][0]
             start = groups[-1][0][0].first_address
-            contiguous = spec.first_address == last_spec.address + last_spec.words
+            contiguous = spec.space == last_spec.space and spec.first_address == last_spec.address + last_spec.words
             if contiguous and spec.address + spec.words - start <= max_registers:
                 groups[-1].append((spec, raw))
                 continue
@@ -105,10 +115,10 @@ def plan_writes(
     for group in groups:
         if len(group) == 1 and group[0][0].words == 1:
             spec, raw = group[0]
-            blocks.append(WriteBlock(spec.address, tuple(raw_to_words(spec, raw)), (spec,)))
+            blocks.append(WriteBlock(spec.address, tuple(raw_to_words(spec, raw)), (spec,), spec.space))
             continue
         words: list[int] = []
         for spec, raw in group:
             words.extend(raw_to_words(spec, raw, with_pair=True))
-        blocks.append(WriteBlock(group[0][0].first_address, tuple(words), tuple(s for s, _ in group)))
+        blocks.append(WriteBlock(group[0][0].first_address, tuple(words), tuple(s for s, _ in group), group[0][0].space))
     return blocks

@@ -6,10 +6,13 @@ import re
 import struct
 from dataclasses import dataclass
 
-READ_HOLDING = 0x03
-WRITE_SINGLE = 0x06
-WRITE_MULTIPLE = 0x10
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+
 EXCEPTION_FLAG = 0x80
+# Which space and which operation each function code of the space table is.
+READS = {s.read: s for s in SPACES.values()}
+WRITES_SINGLE = {s.write_single: s for s in SPACES.values() if s.write_single is not None}
+WRITES_MULTIPLE = {s.write_multiple: s for s in SPACES.values() if s.write_multiple is not None}
 
 STANDARD_EXCEPTIONS = {
     0x01: "illegal function",
@@ -87,41 +90,51 @@ def _check_word(word: int) -> None:
         raise FrameError(f"register word {word} is outside 0..0xFFFF")
 
 
-def build_read(slave: int, address: int, count: int) -> bytes:
+def _write_function(space: str, multiple: bool) -> int:
+    facts = SPACES[space]
+    function = facts.write_multiple if multiple else facts.write_single
+    if function is None:
+        raise FrameError(f"{facts.title} cannot be written")
+    return function
+
+
+def build_read(slave: int, address: int, count: int, *, space: str = DEFAULT_SPACE) -> bytes:
     _check_slave(slave)
     _check_address(address)
     if not 1 <= count <= 125:
         raise FrameError(f"register count {count} is outside 1..125")
-    return with_crc(struct.pack(">BBHH", slave, READ_HOLDING, address, count))
+    return with_crc(struct.pack(">BBHH", slave, SPACES[space].read, address, count))
 
 
-def build_write_single(slave: int, address: int, word: int) -> bytes:
+def build_write_single(slave: int, address: int, word: int, *, space: str = DEFAULT_SPACE) -> bytes:
+    function = _write_function(space, multiple=False)
     _check_slave(slave)
     _check_address(address)
     _check_word(word)
-    return with_crc(struct.pack(">BBHH", slave, WRITE_SINGLE, address, word))
+    return with_crc(struct.pack(">BBHH", slave, function, address, word))
 
 
-def build_write_multiple(slave: int, address: int, words: list[int] | tuple[int, ...]) -> bytes:
+def build_write_multiple(slave: int, address: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE) -> bytes:
+    function = _write_function(space, multiple=True)
     _check_slave(slave)
     _check_address(address)
     if not 1 <= len(words) <= 123:
         raise FrameError(f"register count {len(words)} is outside 1..123")
     for word in words:
         _check_word(word)
-    body = struct.pack(">BBHHB", slave, WRITE_MULTIPLE, address, len(words), 2 * len(words))
+    body = struct.pack(">BBHHB", slave, function, address, len(words), 2 * len(words))
     return with_crc(body + b"".join(struct.pack(">H", w) for w in words))
 
 
-def build_read_response(slave: int, words: list[int] | tuple[int, ...]) -> bytes:
+def build_read_response(slave: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE) -> bytes:
     for word in words:
         _check_word(word)
-    body = struct.pack(">BBB", slave, READ_HOLDING, 2 * len(words))
+    body = struct.pack(">BBB", slave, SPACES[space].read, 2 * len(words))
     return with_crc(body + b"".join(struct.pack(">H", w) for w in words))
 
 
-def build_write_multiple_response(slave: int, address: int, count: int) -> bytes:
-    return with_crc(struct.pack(">BBHH", slave, WRITE_MULTIPLE, address, count))
+def build_write_multiple_response(slave: int, address: int, count: int, *, space: str = DEFAULT_SPACE) -> bytes:
+    return with_crc(struct.pack(">BBHH", slave, _write_function(space, multiple=True), address, count))
 
 
 @dataclass(frozen=True)
@@ -139,6 +152,7 @@ class Frame:
     words: tuple[int, ...] = ()
     exception_code: int | None = None
     problems: tuple[str, ...] = ()
+    space: str | None = None  # the register space the function addresses (None: exception, unknown)
 
 
 def _words(data: bytes) -> tuple[int, ...]:
@@ -180,13 +194,15 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
             words=words,
             exception_code=exception_code,
             problems=tuple(problems),
+            space=space.name if space is not None else None,
         )
 
+    space = READS.get(function) or WRITES_SINGLE.get(function) or WRITES_MULTIPLE.get(function)
     if function & EXCEPTION_FLAG:
         if len(body) != 1:
             problems.append(f"exception frame carries {len(body)} data bytes, expected 1")
         return done("exception", exception_code=body[0] if body else None)
-    if function == READ_HOLDING:
+    if function in READS:
         # A read request body is 4 bytes; a response body is 1 + 2n bytes, always odd.
         if direction == "request" or (direction is None and len(body) == 4):
             if len(body) != 4:
@@ -204,13 +220,13 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
         if len(data) % 2:
             problems.append("odd number of data bytes")
         return done("read_response", byte_count=byte_count, words=_words(data))
-    if function == WRITE_SINGLE:
+    if function in WRITES_SINGLE:
         if len(body) != 4:
             problems.append(f"write-single frame carries {len(body)} data bytes, expected 4")
             return done("write_single")
         address, word = struct.unpack(">HH", body)
         return done("write_single", address=address, count=1, words=(word,))
-    if function == WRITE_MULTIPLE:
+    if function in WRITES_MULTIPLE:
         if direction == "response" or (direction is None and len(body) == 4):
             if len(body) != 4:
                 problems.append(f"write-multiple response carries {len(body)} data bytes, expected 4")

@@ -3,10 +3,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, Self, TypeVar
+
+from regmap_runtime.spaces import DEFAULT_SPACE
+from regmap_runtime.types import TYPES, TypeInfo
 
 HIGH_FIRST = "high_first"
 LOW_FIRST = "low_first"
@@ -32,7 +36,7 @@ class RegisterSpec(Generic[T]):
 
     name: str
     address: int
-    data_type: str  # u16 s16 u32 s32
+    data_type: str  # a name in regmap_runtime.types.TYPES
     access: str  # r rw w
     word_order: str = HIGH_FIRST
     paired: bool = False
@@ -46,18 +50,28 @@ class RegisterSpec(Generic[T]):
     bitfields: tuple[BitfieldSpec, ...] = ()
     bitfield_type: type[Any] | None = None  # a BitfieldValue subclass
     follows_device_order: bool = True  # False when the map fixes this register's word order itself
+    space: str = DEFAULT_SPACE  # a name in regmap_runtime.spaces.SPACES
+
+    @cached_property
+    def type_info(self) -> TypeInfo:
+        return TYPES[self.data_type]
 
     @cached_property
     def words(self) -> int:
-        return 2 if self.data_type in ("u32", "s32") else 1
+        return self.type_info.words
+
+    @property
+    def wide(self) -> bool:
+        """More than one word, so the value has a word order."""
+        return self.type_info.wide
 
     @property
     def signed(self) -> bool:
-        return self.data_type.startswith("s")
+        return self.type_info.signed
 
     @property
     def bits(self) -> int:
-        return 16 * self.words
+        return self.type_info.bits
 
     @cached_property
     def first_address(self) -> int:
@@ -77,11 +91,11 @@ class RegisterSpec(Generic[T]):
 
     @property
     def type_min(self) -> int:
-        return -(1 << (self.bits - 1)) if self.signed else 0
+        return self.type_info.raw_min
 
     @property
     def type_max(self) -> int:
-        return (1 << (self.bits - 1)) - 1 if self.signed else (1 << self.bits) - 1
+        return self.type_info.raw_max
 
     @property
     def raw_min(self) -> int:
@@ -94,6 +108,12 @@ class RegisterSpec(Generic[T]):
     @property
     def label(self) -> str:
         return f"{self.name} ({self.param})" if self.param else self.name
+
+    def in_word_order(self, word_order: str | None) -> Self:
+        """The spec in the word order the device uses now, when that is not the map's (C630S P0C-26)."""
+        if word_order and self.wide and self.follows_device_order and self.word_order != word_order:
+            return dataclasses.replace(self, word_order=word_order)
+        return self
 
 
 class Readable(RegisterSpec[T]):
@@ -137,8 +157,10 @@ class DeviceSpec:
     exceptions: tuple[tuple[int, str, str], ...] = ()  # (code, name, meaning)
 
     @cached_property
-    def documented(self) -> frozenset[int] | None:
-        """Addresses the device answers, or None when it tolerates reads of any address."""
+    def documented(self) -> frozenset[tuple[str, int]] | None:
+        """(space, address) of every word the device answers, or None when it tolerates reads of any address."""
         if self.tolerates_gaps:
             return None
-        return frozenset(a for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
+        return frozenset(
+            (r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words)
+        )

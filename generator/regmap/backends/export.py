@@ -44,7 +44,7 @@ def register_json(r: Register) -> dict[str, Any]:
         "address": r.address,
         "words": r.words,
         "type": r.type.value,
-        "word_order": r.word_order.value if r.words == 2 else None,
+        "word_order": r.word_order.value if r.wide else None,
         "word_order_fixed": r.word_order_fixed,
         "paired": r.paired,
         "access": r.access.value,

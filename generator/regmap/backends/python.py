@@ -17,8 +17,9 @@ from regmap.generate import Files, Target, ruff_format
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
 from regmap.render import environment, header_lines, py_doc, py_str
 from regmap.runtime_bridge import read_plan
+from regmap_runtime.spaces import DEFAULT_SPACE
 
-RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "rtu.py", "spec.py")
+RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "rtu.py", "spaces.py", "spec.py", "types.py")
 
 
 class PythonIdentifier(str):
@@ -181,7 +182,9 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
         ("data_type", py_str(reg.type.value)),
         ("access", py_str(reg.access.value)),
     ]
-    if reg.words == 2:
+    if reg.space != DEFAULT_SPACE:
+        kwargs.append(("space", py_str(reg.space)))
+    if reg.wide:
         kwargs.append(("word_order", py_str(reg.word_order.value)))
         if reg.word_order_fixed:
             kwargs.append(("follows_device_order", "False"))

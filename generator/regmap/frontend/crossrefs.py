@@ -65,12 +65,12 @@ class _References(_Walk):
     def _check_overlaps(self) -> None:
         """Report an overlap at the register that starts later (declared later, at equal starts), once per pair of
         declarations: two array members that collide do so in every element, which is one mistake."""
-        owner: dict[int, tuple[Register, Path]] = {}
+        owner: dict[tuple[str, int], tuple[Register, Path]] = {}
         reported: set[tuple[Path, Path]] = set()
         placed = sorted(enumerate(zip(self.registers, self.register_paths, strict=True)), key=lambda p: (p[1][0].first_address, p[0]))
         for _, (reg, path) in placed:
             for address in range(reg.first_address, reg.last_address + 1):
-                other, other_path = owner.setdefault(address, (reg, path))
+                other, other_path = owner.setdefault((reg.space, address), (reg, path))
                 if other.name != reg.name and (other_path, path) not in reported:
                     reported.add((other_path, path))
                     self.problem(

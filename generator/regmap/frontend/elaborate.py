@@ -281,7 +281,7 @@ class _Elaborator(_References):
             self.problem((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
         if "word_order" in r and dtype.words == 1 and "word_order" not in self._defaults_keys(path):
             self.problem((*path, "word_order"), f"{name}: word_order applies only to 32-bit registers; type is {dtype.value}")
-        order = WordOrder(r["word_order"]) if "word_order" in r and dtype.words == 2 else word_order
+        order = WordOrder(r["word_order"]) if "word_order" in r and dtype.wide else word_order
         enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
         bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
@@ -312,7 +312,7 @@ class _Elaborator(_References):
             address=address,
             type=dtype,
             word_order=order,
-            word_order_fixed="word_order" in r and dtype.words == 2,
+            word_order_fixed="word_order" in r and dtype.wide,
             access=access,
             unit=r.get("unit"),
             scale=_scale(r.get("scale", 1)),

@@ -13,21 +13,24 @@ from typing import Any
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
+from regmap.runtime_bridge import documented_addresses
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import raw_to_value, words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, FrameError, crc_ok, parse_frame, parse_hex, to_hex
+from regmap_runtime.spaces import DEFAULT_SPACE, HOLDING
 from regmap_runtime.spec import RegisterSpec
 
+# The Modbus names of the public function codes; the holding registers' codes come from the space table.
 FUNCTION_NAMES = {
     0x01: "read coils",
     0x02: "read discrete inputs",
-    0x03: "read holding registers",
+    HOLDING.read: "read holding registers",
     0x04: "read input registers",
     0x05: "write single coil",
-    0x06: "write single register",
+    HOLDING.write_single: "write single register",
     0x08: "diagnostics",
     0x0F: "write multiple coils",
-    0x10: "write multiple registers",
+    HOLDING.write_multiple: "write multiple registers",
     0x17: "read/write multiple registers",
 }
 
@@ -110,12 +113,7 @@ class Decoded:
 
 
 def _spec_in_order(regs: Registers, reg: Register, word_order: str | None) -> RegisterSpec[Any]:
-    spec = regs.spec(reg)
-    if word_order and spec.words == 2 and spec.follows_device_order and spec.word_order != word_order:
-        import dataclasses
-
-        return dataclasses.replace(spec, word_order=word_order)
-    return spec
+    return regs.spec(reg).in_word_order(word_order)
 
 
 def _eng_text(reg: Register, spec: RegisterSpec[Any], raw: int) -> str:
@@ -153,14 +151,16 @@ def describe_value(device: Device, reg: Register, raw: int, regs: Registers | No
     return number, f"{shown}{unit}" + (f" (raw {raw})" if reg.scaled else "") + outside, in_range, None
 
 
-def decode_words(device: Device, start: int, words: Sequence[int], *, word_order: str | None = None) -> list[DecodedValue]:
-    """Split words read from (or written to) `start` into the registers they carry."""
+def decode_words(
+    device: Device, start: int, words: Sequence[int], *, word_order: str | None = None, space: str = DEFAULT_SPACE
+) -> list[DecodedValue]:
+    """Split words read from (or written to) `start` of `space` into the registers they carry."""
     out: list[DecodedValue] = []
     regs = Registers(device)
     address = start
     end = start + len(words)
     while address < end:
-        reg = device.covering(address)
+        reg = device.covering(address, space)
         if reg is None:
             word = words[address - start]
             out.append(DecodedValue(address, None, None, None, [word], text=f"0x{word:04X}, not documented in the map"))
@@ -242,16 +242,17 @@ def _limits(device: Device, frame: Frame) -> list[str]:
     return out
 
 
-def _candidates(device: Device, count: int) -> list[str]:
-    """Registers a read of `count` words could have started at: whole registers, no undocumented gap."""
-    documented = {a for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1)}
-    starts = sorted({r.first_address for r in device.registers if r.access.readable} | {r.address for r in device.registers})
+def _candidates(device: Device, count: int, space: str) -> list[str]:
+    """Registers a read of `count` words from `space` could have started at: whole registers, no undocumented gap."""
+    documented = documented_addresses(device)
+    registers = [r for r in device.registers if r.space == space]
+    starts = sorted({r.first_address for r in registers if r.access.readable} | {r.address for r in registers})
     ranked: list[tuple[int, str]] = []
     for start in starts:
         span = range(start, start + count)
-        if not all(a in documented or device.transport.tolerates_gaps for a in span):
+        if not all((space, a) in documented or device.transport.tolerates_gaps for a in span):
             continue
-        first, last = device.covering(start), device.covering(start + count - 1)
+        first, last = device.covering(start, space), device.covering(start + count - 1, space)
         if first is None or last is None or start not in (first.first_address, first.address) or start + count - 1 != last.last_address:
             continue
         # Likeliest first: one register of exactly this many words, then one paired register, then runs.
@@ -281,6 +282,7 @@ def decode_frame(
         "exception": "response",
     }.get(frame.kind, direction or "request or response")
     decoded = Decoded(frame=frame, direction=kind_direction, function_name=name, problems=problems + _limits(device, frame))
+    space = frame.space or DEFAULT_SPACE
     if frame.kind == "exception":
         code = frame.exception_code
         known = device.transport.exception(code) if code is not None else None
@@ -291,17 +293,17 @@ def decode_frame(
         )
         decoded.exception = f"0x{code:02X}: {meaning}" if code is not None else "missing exception code"
     elif frame.kind == "read_request" and frame.address is not None and frame.count is not None:
-        decoded.values = _registers_in(device, frame.address, min(frame.count, MODBUS_MAX_READ))
+        decoded.values = _registers_in(device, frame.address, min(frame.count, MODBUS_MAX_READ), space)
     elif frame.kind in ("write_single", "write_multiple_request") and frame.address is not None:
-        decoded.values = decode_words(device, frame.address, frame.words, word_order=word_order)
+        decoded.values = decode_words(device, frame.address, frame.words, word_order=word_order, space=space)
     elif frame.kind == "read_response":
         if request is not None and request.kind == "read_request" and request.address is not None:
             if request.count is not None and request.count != len(frame.words):
                 decoded.problems.append(f"the request asked for {request.count} registers, the response carries {len(frame.words)}")
-            decoded.values = decode_words(device, request.address, frame.words, word_order=word_order)
+            decoded.values = decode_words(device, request.address, frame.words, word_order=word_order, space=space)
         else:
             decoded.data_words = _word_table(frame.words)
-            could = _candidates(device, len(frame.words)) if frame.words and not frame.problems else []
+            could = _candidates(device, len(frame.words), space) if frame.words and not frame.problems else []
             if could:
                 shown = ", ".join(could[:CANDIDATES_SHOWN]) + (
                     f" and {len(could) - CANDIDATES_SHOWN} more" if len(could) > CANDIDATES_SHOWN else ""
@@ -319,11 +321,11 @@ def decode_frame(
     return decoded
 
 
-def _registers_in(device: Device, start: int, count: int) -> list[DecodedValue]:
+def _registers_in(device: Device, start: int, count: int, space: str) -> list[DecodedValue]:
     out = []
     seen: set[str] = set()
     for address in range(start, start + count):
-        reg = device.covering(address)
+        reg = device.covering(address, space)
         if reg is None:
             out.append(DecodedValue(address, None, None, None, [], text="not documented in the map"))
         elif reg.name not in seen:

@@ -18,6 +18,7 @@ from regmap.tools.selectors import Registers, check_slave, parse_address, parse_
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
 from regmap_runtime.rtu import build_read, build_write_multiple, build_write_single
+from regmap_runtime.spaces import DEFAULT_SPACE, HOLDING
 from regmap_runtime.spec import RegisterSpec
 
 # -- reads -------------------------------------------------------------------------------
@@ -37,11 +38,11 @@ def read_frames(device: Device, selector: str, count: int | None, slave: int) ->
         chosen = readable[:count]
         if len(chosen) < count:
             raise UsageError(f"only {len(chosen)} readable registers from {reg.label} onwards, asked for {count}")
-    return [build_read(slave, b.address, b.count) for b in read_plan(device, chosen)]
+    return [build_read(slave, b.address, b.count, space=b.space) for b in read_plan(device, chosen)]
 
 
 def read_words_frame(device: Device, address_text: str, count: int, slave: int) -> bytes:
-    """`read --words ADDR COUNT`: one 0x03 request for COUNT words, documented or not."""
+    """`read --words ADDR COUNT`: one read of COUNT holding-register words, documented or not."""
     check_slave(device, slave, reading=True)
     address = word_address(address_text)
     limit = device.transport.max_read_registers
@@ -178,9 +179,7 @@ def parse_word_writes(items: Sequence[str]) -> list[WordWrite]:
 
 def effective_spec(spec: RegisterSpec[Any], word_order: str | None) -> RegisterSpec[Any]:
     """The spec in the word order the drive uses now (a device whose word-order register was changed)."""
-    if word_order and spec.words == 2 and spec.follows_device_order and spec.word_order != word_order:
-        return dataclasses.replace(spec, word_order=word_order)
-    return spec
+    return spec.in_word_order(word_order)
 
 
 def write_blocks(device: Device, assignments: Sequence[Assignment], word_order: str | None = None) -> list[WriteBlock]:
@@ -189,7 +188,7 @@ def write_blocks(device: Device, assignments: Sequence[Assignment], word_order: 
         assert a.raw is not None, "fields must be merged into a base word first"
         values.append((effective_spec(a.spec, word_order), a.raw))
     try:
-        return plan_writes(values, device.transport.max_write_registers, 0x10 in device.transport.function_codes)
+        return plan_writes(values, device.transport.max_write_registers, HOLDING.write_multiple in device.transport.function_codes)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
 
@@ -205,8 +204,10 @@ def word_runs(device: Device, writes: Sequence[WordWrite]) -> list[tuple[int, tu
             runs.append((address, [word]))
     t = device.transport
     for address, run in runs:
-        if len(run) > 1 and 0x10 not in t.function_codes:
-            raise UsageError(f"{device.info.model} has no function 0x10: write the words at 0x{address:04X} one by one")
+        if len(run) > 1 and HOLDING.write_multiple not in t.function_codes:
+            raise UsageError(
+                f"{device.info.model} has no function 0x{HOLDING.write_multiple:02X}: write the words at 0x{address:04X} one by one"
+            )
         if len(run) > t.max_write_registers:
             raise UsageError(
                 f"{len(run)} contiguous words from 0x{address:04X}: {device.info.model} writes at most {t.max_write_registers} per request"
@@ -214,8 +215,10 @@ def word_runs(device: Device, writes: Sequence[WordWrite]) -> list[tuple[int, tu
     return [(address, tuple(run)) for address, run in runs]
 
 
-def block_frame(slave: int, address: int, words: Sequence[int], single: bool) -> bytes:
-    return build_write_single(slave, address, words[0]) if single else build_write_multiple(slave, address, list(words))
+def block_frame(slave: int, address: int, words: Sequence[int], single: bool, space: str = DEFAULT_SPACE) -> bytes:
+    if single:
+        return build_write_single(slave, address, words[0], space=space)
+    return build_write_multiple(slave, address, list(words), space=space)
 
 
 def unnamed_fields(a: Assignment) -> list[str]:
@@ -236,7 +239,7 @@ def write_frames(
                 f"(missing: {', '.join(unnamed_fields(a))}), give a base word first ({a.register.name}=0x0000,...), or --replace (they become 0)"
             )
     notes = [a.note for a in parsed if a.note]
-    frames = [block_frame(slave, b.address, b.words, b.single) for b in write_blocks(device, parsed, word_order)]
+    frames = [block_frame(slave, b.address, b.words, b.single, b.space) for b in write_blocks(device, parsed, word_order)]
     return frames, notes
 
 
@@ -270,4 +273,4 @@ def command_words(device: Device, name: str, argument: str | None, word_order: s
 def command_frames(device: Device, name: str, argument: str | None, slave: int, word_order: str | None = None) -> list[bytes]:
     check_slave(device, slave)
     command, words = command_words(device, name, argument, word_order)
-    return [block_frame(slave, command.register.address, words, len(words) == 1)]
+    return [block_frame(slave, command.register.address, words, len(words) == 1, command.register.space)]

@@ -100,7 +100,7 @@ def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
     if client.broadcast:
         raise UsageError(f"a broadcast cannot read the word-order register {reg.label}: give --word-order high_first|low_first")
     try:
-        words = client.read_raw(reg.address, reg.words)
+        words = client.read_raw(reg.address, reg.words, space=reg.space)
     except RegmapError as exc:
         raise LinkError(
             f"cannot read the word-order register {reg.label} (--word-order high_first|low_first skips it): {_bus(exc)}"
@@ -145,7 +145,7 @@ def read_registers(
 
     for number, block in enumerate(blocks, 1):
         try:
-            words = client.read_raw(block.address, block.count)
+            words = client.read_raw(block.address, block.count, space=block.space)
         except RegmapError as exc:
             return result(f"{_bus(exc)} (request {number} of {len(blocks)}, 0x{block.address:04X} x {block.count})")
         except KeyboardInterrupt:
@@ -220,13 +220,13 @@ def cmd_write(device: Device, link: Link, items: Sequence[str], *, raw: bool, ve
         if words:
             print(f"wrote {sum(len(r) for _, r in runs)} word(s) in {len(runs)} request(s)")
             return ExitCode.OK
-        order = word_order(device, client, link) if any(a.register.words == 2 for a in assignments) else None
+        order = word_order(device, client, link) if any(a.register.wide for a in assignments) else None
         complete = [a for a in assignments if a.raw is not None]
         complete += _merge_current(client, device, [a for a in assignments if a.raw is None], order)
         for block in write_blocks(device, complete, order):
             names = ", ".join(s.label for s in block.registers)
             try:
-                client.write_raw(block.address, block.words, multiple=not block.single)
+                client.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
             except RegmapError as exc:
                 raise log.failed(names, exc) from None
             log.done.append(names)
@@ -257,10 +257,10 @@ def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> 
     command, _ = command_words(device, name, argument)  # checked before the port is opened
     client = connect(device, link, reading=False)
     try:
-        order = word_order(device, client, link) if command.register.words == 2 else None
+        order = word_order(device, client, link) if command.register.wide else None
         _, words = command_words(device, name, argument, order)
         try:
-            client.write_raw(command.register.address, words, multiple=len(words) > 1)
+            client.write_raw(command.register.address, words, multiple=len(words) > 1, space=command.register.space)
         except RegmapError as exc:
             raise LinkError(f"command {command.name} failed: {_bus(exc)}") from None
     finally:

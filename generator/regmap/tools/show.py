@@ -45,7 +45,7 @@ def register_detail(reg: Register) -> list[str]:
     lines = [f"{reg.label}: {_titled(reg.title, reg.title_zh)}"]
     facts = [
         ("address", f"0x{reg.address:04X} ({reg.address})" + (f", high word at 0x{reg.first_address:04X} (paired)" if reg.paired else "")),
-        ("type", f"{reg.type.value}, {reg.words} word(s)" + (f", {reg.word_order.value}" if reg.words == 2 else "")),
+        ("type", f"{reg.type.value}, {reg.words} word(s)" + (f", {reg.word_order.value}" if reg.wide else "")),
         ("access", {"r": "read only", "rw": "read/write", "w": "write only"}[reg.access.value]),
         ("unit", reg.unit or "-"),
         ("scale", str(reg.scale)),

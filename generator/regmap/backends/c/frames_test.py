@@ -11,7 +11,8 @@ from regmap.backends.c.names import CIdentifier, Context, CSymbol, c_hex, c_raw,
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Example, ExampleValue, Register
 from regmap.render import environment
-from regmap_runtime.rtu import EXCEPTION_FLAG, READ_HOLDING, WRITE_MULTIPLE, WRITE_SINGLE, crc_ok, parse_frame
+from regmap_runtime.rtu import EXCEPTION_FLAG, crc_ok, parse_frame
+from regmap_runtime.spaces import HOLDING
 
 
 @dataclass(frozen=True)
@@ -152,19 +153,19 @@ class _Frames:
         base = self._base(ex, "c/case_request.c.jinja")
         slave = base["slave"]
         if parsed.kind == "read_request" and parsed.address is not None and parsed.count is not None:
-            self.requests[ex.id] = _Request(READ_HOLDING, parsed.address, parsed.count, ex)
+            self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
             build = self.ctx.symbol_ref("build_read")
             call = f"{build}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {self.count(parsed.address, parsed.count)})"
             return FrameCase(**base, call=call)
         if parsed.kind == "write_single" and parsed.address is not None:
-            self.requests[ex.id] = _Request(WRITE_SINGLE, parsed.address, 1, ex, parsed.words[0])
+            self.requests[ex.id] = _Request(parsed.function, parsed.address, 1, ex, parsed.words[0])
             call = self.single_write_command(ex, parsed.address, slave) or (
                 f"{self.ctx.symbol_ref('build_write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address)},"
                 f" {self.single_word(ex, parsed.address, parsed.words[0])})"
             )
             return FrameCase(**base, call=call)
         if parsed.kind == "write_multiple_request" and parsed.address is not None and parsed.count is not None:
-            self.requests[ex.id] = _Request(WRITE_MULTIPLE, parsed.address, parsed.count, ex)
+            self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
             build = self.ctx.symbol_ref("build_write_multiple")
             call = f"{build}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {c_unsigned(parsed.count)})"
             base["template"] = "c/case_request_multiple.c.jinja"
@@ -191,7 +192,7 @@ class _Frames:
             reg = v.register
             if v.raw is not None and reg.words == 1 and reg.address == address:
                 return self.word_of(reg, v.raw)
-            if v.words is not None and reg.words == 2 and reg.address <= address <= reg.last_address:
+            if v.words is not None and reg.wide and reg.address <= address <= reg.last_address:
                 if len(v.words) != 1:
                     raise _FrameError(f"a 0x06 frame carries one word of {reg.name}, the example gives {len(v.words)}")
                 return c_hex(v.words[0])  # one word of a 32-bit register, as the example gives it
@@ -256,24 +257,24 @@ class _Frames:
         elif frame[1] & EXCEPTION_FLAG:
             status = "REGMAP_ERR_EXCEPTION"
             exception = self.exception_name(frame[2])
-        if request.function in (READ_HOLDING, WRITE_SINGLE, WRITE_MULTIPLE) and request.example is not None:
+        if request.function in HOLDING.codes.values() and request.example is not None:
             self.check_values_inside(ex, request.address, request.count)
         checks: list[Check] = []
         scaled: list[ScaledCheck] = []
         address = self.address(request.address)
-        if request.function == READ_HOLDING:
+        if request.function == HOLDING.read:
             count = self.count(request.address, request.count)
             call = (
                 f"regmap_rtu_parse_read_response(frame, sizeof frame, {slave}, {count}, words, sizeof words / sizeof words[0], &exception)"
             )
             if status == "REGMAP_OK" and request.example is not None:
                 checks, scaled = self.read_checks(ex, request.address, request.count)
-        elif request.function == WRITE_SINGLE:
+        elif request.function == HOLDING.write_single:
             # The echo carries the request's word; the response's own values, when it has them, must give it too.
             described = ex if any(v.raw is not None or v.words is not None for v in ex.values) else request.example
             word = self.single_word(described, request.address, request.value) if described else c_hex(request.value)
             call = f"regmap_rtu_parse_write_single_response(frame, sizeof frame, {slave}, {address}, {word}, &exception)"
-        elif request.function == WRITE_MULTIPLE:
+        elif request.function == HOLDING.write_multiple:
             count = c_unsigned(request.count)
             call = f"regmap_rtu_parse_write_multiple_response(frame, sizeof frame, {slave}, {address}, {count}, &exception)"
         else:
@@ -346,7 +347,7 @@ class _Request:
 def _request_from_response(frame: bytes) -> _Request:
     """For a response that names no request: what the frame itself says it answers."""
     function = frame[1] & ~EXCEPTION_FLAG & 0xFF
-    if function == READ_HOLDING and not frame[1] & EXCEPTION_FLAG:
+    if function == HOLDING.read and not frame[1] & EXCEPTION_FLAG:
         return _Request(function, 0, max(1, frame[2] // 2))
     if len(frame) == 8:
         field = int.from_bytes(frame[4:6], "big")

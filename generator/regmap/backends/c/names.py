@@ -4,12 +4,14 @@ table that refuses two map items generating one name, and the C spelling of numb
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from fractions import Fraction
 
 from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
-from regmap.model import Access, Device, Register, WordOrder
+from regmap.model import Access, DataType, Device, Register, WordOrder
 from regmap.render import header_lines
+from regmap_runtime.spaces import HOLDING
 
 # -- identifiers -----------------------------------------------------------------------------
 
@@ -142,8 +144,26 @@ def c_float(value: Fraction) -> str:
     return text + "f"
 
 
+@dataclass(frozen=True)
+class CType:
+    """C's spelling of a data type: the type of its value, and the unsigned type that holds its bits."""
+
+    value: str
+    bits: str
+
+
+C_TYPES = {
+    DataType.U16: CType("uint16_t", "uint16_t"),
+    DataType.S16: CType("int16_t", "uint16_t"),
+    DataType.U32: CType("uint32_t", "uint32_t"),
+    DataType.S32: CType("int32_t", "uint32_t"),
+}
 ACCESS_MACRO = {Access.READ: "REGMAP_ACCESS_R", Access.READ_WRITE: "REGMAP_ACCESS_RW", Access.WRITE: "REGMAP_ACCESS_W"}
 WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST: "REGMAP_LOW_FIRST"}
+# The macro of each function code of each space (regmap_runtime.spaces.Space.codes).
+FUNCTION_MACROS = {
+    HOLDING.name: {"read": "REGMAP_FC_READ_HOLDING", "write_single": "REGMAP_FC_WRITE_SINGLE", "write_multiple": "REGMAP_FC_WRITE_MULTIPLE"}
+}
 PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
 
 

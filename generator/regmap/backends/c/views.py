@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from regmap.backends.c.names import ACCESS_MACRO, WORD_ORDER_MACRO, Context, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
+from regmap.backends.c.names import ACCESS_MACRO, C_TYPES, WORD_ORDER_MACRO, Context, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
 from regmap.backends.text import eng, titled
 from regmap.model import ArrayDef, Bitfield, Command, EnumType, Register
 
@@ -97,7 +97,7 @@ class CommandView:
     argument_macros: tuple[Macro, ...]
     out_of_range: str  # C condition on the argument
     raw: str  # C expression of the raw value to write
-    words: int
+    wide: bool  # more than one word: written with write multiple in `word_order`
     word_order: str
 
 
@@ -160,7 +160,7 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
         Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"),
     ]
     tables = []
-    if reg.words == 2:
+    if reg.wide:
         macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
     for key in ("min", "max", "default"):
         values = [getattr(r, key) for r in elements]
@@ -168,8 +168,7 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
             if values[0] is not None:
                 macros.append(Macro(ctx.const(owner, key), c_raw(values[0], reg.signed)))
         elif None not in values:
-            c_type = f"{'int' if reg.signed else 'uint'}{reg.type.bits}_t"
-            tables.append(ElementTable(c_type, ctx.symbol(owner, key), ", ".join(c_raw(v, reg.signed) for v in values)))
+            tables.append(ElementTable(C_TYPES[reg.type].value, ctx.symbol(owner, key), ", ".join(c_raw(v, reg.signed) for v in values)))
     macros += [
         Macro(ctx.const(owner, "SCALE"), c_float(reg.scale)),
         Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
@@ -180,7 +179,7 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
 
 
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
-    word_type = "uint32_t" if reg.words == 2 else "uint16_t"
+    word_type = C_TYPES[reg.type].bits
     return tuple(
         BitfieldView(
             comment=_bitfield_comment(b),
@@ -327,6 +326,6 @@ def command_view(ctx: Context, cmd: Command) -> CommandView:
         argument_macros=argument_macros,
         out_of_range=out_of_range,
         raw=raw,
-        words=reg.words,
-        word_order=ctx.member_const(reg, "WORD_ORDER") if reg.words == 2 else "",
+        wide=reg.wide,
+        word_order=ctx.member_const(reg, "WORD_ORDER") if reg.wide else "",
     )

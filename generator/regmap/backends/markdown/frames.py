@@ -59,7 +59,7 @@ def _word_owner(device: Device, address: int) -> Md:
     link = _reg_link(reg)
     if reg.paired and address < reg.address:
         return Md(f"unused high word of {link}")
-    if reg.words == 2:
+    if reg.wide:
         high = (address == reg.address) == (reg.word_order is WordOrder.HIGH_FIRST)
         return Md(f"{'high' if high else 'low'} word of {link}")
     return link
@@ -210,7 +210,7 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
         recorded = _recorded(reg, record) if record is not None else Md(DASH)
         if record is not None and record.raw is not None and decoded_raw is not None:
             recorded = Md(recorded + (" ✓" if record.raw == decoded_raw else " — **differs from the frame**"))
-        where = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.words == 2 else _address(reg.address)
+        where = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.wide else _address(reg.address)
         rows.append(DecodedRow(register=_reg_link(reg), address=where, raw=raw_text, value=value, recorded=recorded))
         ctx.examples_by_register.setdefault(reg.name, [])
         if example.id not in ctx.examples_by_register[reg.name]:

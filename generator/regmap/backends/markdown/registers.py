@@ -51,9 +51,9 @@ TYPE_LONG = {
 
 def _type_text(reg: Register) -> str:
     text = reg.type.value
-    if reg.words == 2:
+    if reg.wide:
         order = "high" if reg.word_order is WordOrder.HIGH_FIRST else "low"
-        text += f", 2 words, {order} first"
+        text += f", {reg.words} words, {order} first"
     if reg.paired:
         text += ", paired"
     return text
@@ -85,7 +85,7 @@ def _default(reg: Register, *, full: bool) -> Md:
 
 def _addresses(reg: Register) -> str:
     """The register's address (both, for two words) in hex, then in decimal."""
-    if reg.words == 2:
+    if reg.wide:
         return f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})"
     return f"{_address(reg.address)} ({reg.address})"
 
@@ -237,7 +237,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         regs = by_member[m.name]
         first = regs[0]
         hex_formula, _ = _formula(array, first.address)
-        address = Md(f"`{hex_formula}`" + (" (2 words)" if first.words == 2 else ""))
+        address = Md(f"`{hex_formula}`" + (f" ({first.words} words)" if first.wide else ""))
         errata = [e for r in regs for e in r.errata]
         rows.append(
             MemberRow(

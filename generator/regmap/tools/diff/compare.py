@@ -147,7 +147,7 @@ class _Diff:
         # A register that follows the device's word order is reported once, as the transport change.
         device_orders = self.old.transport.word_order, self.new.transport.word_order
         follows = device_orders[0] != device_orders[1] and (o.word_order, n.word_order) == device_orders
-        if o.words == 2 and n.words == 2 and o.word_order != n.word_order and not follows:
+        if o.wide and n.wide and o.word_order != n.word_order and not follows:
             add("register_word_order_changed", subject, MAJOR, o.word_order.value, n.word_order.value, o.word_order, n.word_order)
         if o.paired != n.paired:
             add(

@@ -13,11 +13,12 @@ from __future__ import annotations
 import struct
 
 from regmap.model import Device
-from regmap_runtime.rtu import EXCEPTION_FLAG, READ_HOLDING, WRITE_MULTIPLE, WRITE_SINGLE
+from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE
+from regmap_runtime.spaces import Space
 
 from .store import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, DeviceStore
 
-IMPLEMENTED = (READ_HOLDING, WRITE_SINGLE, WRITE_MULTIPLE)
+IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE)
 SPEC_MAX_READ = 125  # §6.3
 SPEC_MAX_WRITE = 123  # §6.12
 RTU_OVERHEAD = 3  # slave id + CRC around a PDU; a map's max_message_bytes counts the RTU frame
@@ -73,45 +74,48 @@ class Dispatcher:
             # every such request of these functions asks for more registers than the map allows, so
             # it is the quantity error (0x03), as a request of that quantity is.
             return exception_pdu(function, ILLEGAL_VALUE)
-        if function == READ_HOLDING:
-            return self._read(pdu)
-        if function == WRITE_SINGLE:
-            return self._write_single(pdu)
-        return self._write_multiple(pdu)
+        if function in READS:
+            return self._read(pdu, READS[function])
+        if function in WRITES_SINGLE:
+            return self._write_single(pdu, WRITES_SINGLE[function])
+        return self._write_multiple(pdu, WRITES_MULTIPLE[function])
 
-    def _read(self, pdu: bytes) -> bytes:
+    def _read(self, pdu: bytes, space: Space) -> bytes:
+        function = pdu[0]
         if len(pdu) != 5:
-            return exception_pdu(READ_HOLDING, ILLEGAL_VALUE)
+            return exception_pdu(function, ILLEGAL_VALUE)
         address, count = struct.unpack(">HH", pdu[1:5])
         if not 1 <= count <= self.max_read:
-            return exception_pdu(READ_HOLDING, ILLEGAL_VALUE)
+            return exception_pdu(function, ILLEGAL_VALUE)
         if address + count > 0x10000:
-            return exception_pdu(READ_HOLDING, ILLEGAL_ADDRESS)
-        words = self.store.read(address, count)
+            return exception_pdu(function, ILLEGAL_ADDRESS)
+        words = self.store.read(address, count, space.name)
         if isinstance(words, int):
-            return exception_pdu(READ_HOLDING, words)
-        return bytes([READ_HOLDING, 2 * count]) + struct.pack(f">{count}H", *words)
+            return exception_pdu(function, words)
+        return bytes([function, 2 * count]) + struct.pack(f">{count}H", *words)
 
-    def _write_single(self, pdu: bytes) -> bytes:
+    def _write_single(self, pdu: bytes, space: Space) -> bytes:
+        function = pdu[0]
         if len(pdu) != 5:
-            return exception_pdu(WRITE_SINGLE, ILLEGAL_VALUE)
+            return exception_pdu(function, ILLEGAL_VALUE)
         address, word = struct.unpack(">HH", pdu[1:5])
-        refused = self.store.write(address, [word])
-        return pdu if refused is None else exception_pdu(WRITE_SINGLE, refused)
+        refused = self.store.write(address, [word], space.name)
+        return pdu if refused is None else exception_pdu(function, refused)
 
-    def _write_multiple(self, pdu: bytes) -> bytes:
+    def _write_multiple(self, pdu: bytes, space: Space) -> bytes:
+        function = pdu[0]
         if len(pdu) < 6:
-            return exception_pdu(WRITE_MULTIPLE, ILLEGAL_VALUE)
+            return exception_pdu(function, ILLEGAL_VALUE)
         address, count, byte_count = struct.unpack(">HHB", pdu[1:6])
         if not 1 <= count <= self.max_write or byte_count != 2 * count or len(pdu) != 6 + byte_count:
-            return exception_pdu(WRITE_MULTIPLE, ILLEGAL_VALUE)
+            return exception_pdu(function, ILLEGAL_VALUE)
         if address + count > 0x10000:
-            return exception_pdu(WRITE_MULTIPLE, ILLEGAL_ADDRESS)
+            return exception_pdu(function, ILLEGAL_ADDRESS)
         words = list(struct.unpack(f">{count}H", pdu[6:]))
-        refused = self.store.write(address, words)
-        return pdu[:5] if refused is None else exception_pdu(WRITE_MULTIPLE, refused)
+        refused = self.store.write(address, words, space.name)
+        return pdu[:5] if refused is None else exception_pdu(function, refused)
 
     @staticmethod
     def writes(pdu: bytes) -> bool:
         """A request a broadcast may carry (§4.1: broadcast requests are writes)."""
-        return pdu[0] in (WRITE_SINGLE, WRITE_MULTIPLE)
+        return pdu[0] in WRITES_SINGLE or pdu[0] in WRITES_MULTIPLE

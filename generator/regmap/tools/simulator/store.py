@@ -9,7 +9,6 @@ to the state file, restore defaults, clear a register).
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import json
 import os
 import tempfile
@@ -20,6 +19,7 @@ from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_raw
+from regmap_runtime.spaces import DEFAULT_SPACE
 
 from .faults import FaultPlan
 
@@ -38,13 +38,9 @@ class DeviceStore:
         self.state_file = state_file
         self.specs = {s.name: s for s in runtime_specs(device)}
         self.registers = {r.name: r for r in device.registers}
-        self.owner: dict[int, Register] = {}
-        for reg in device.registers:
-            for address in range(reg.first_address, reg.last_address + 1):
-                self.owner[address] = reg
-        self.words: dict[int, int] = {}
+        self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
-        self.pending_after_read: dict[int, int] = {}
+        self.pending_after_read: dict[tuple[str, int], int] = {}
         self.faults = FaultPlan()
         self.load_defaults()
         if state_file is not None and state_file.exists():
@@ -54,10 +50,7 @@ class DeviceStore:
 
     def spec(self, reg: Register) -> Any:
         """The register's codec in the word order the device uses right now (C630S P0C-26 can change it)."""
-        spec = self.specs[reg.name]
-        if spec.words == 2 and spec.follows_device_order and spec.word_order != self.word_order:
-            return dataclasses.replace(spec, word_order=self.word_order)
-        return spec
+        return self.specs[reg.name].in_word_order(self.word_order)
 
     def follow_word_order_register(self) -> None:
         """Re-lay every 32-bit value when the word-order parameter changes: values stay, words swap."""
@@ -68,7 +61,7 @@ class DeviceStore:
         wanted = "high_first" if setting == control.high_first else "low_first" if setting == control.low_first else self.word_order
         if wanted == self.word_order:
             return
-        moving = [r for r in self.device.registers if r.words == 2 and not r.word_order_fixed]
+        moving = [r for r in self.device.registers if r.wide and not r.word_order_fixed]
         values = {r.name: self.raw_of(r) for r in moving}
         self.word_order = wanted
         for reg in moving:
@@ -77,11 +70,11 @@ class DeviceStore:
     def store_raw(self, reg: Register, raw: int) -> None:
         words = raw_to_words(self.spec(reg), raw, with_pair=True)
         for offset, word in enumerate(words):
-            self.words[reg.first_address + offset] = word
+            self.words[reg.space, reg.first_address + offset] = word
 
     def raw_of(self, reg: Register) -> int:
         spec = self.spec(reg)
-        return words_to_raw(spec, [self.words.get(reg.address + i, 0) for i in range(reg.words)])
+        return words_to_raw(spec, [self.words.get((reg.space, reg.address + i), 0) for i in range(reg.words)])
 
     def load_defaults(self) -> None:
         self.words.clear()
@@ -132,31 +125,31 @@ class DeviceStore:
 
     # -- the rules ---------------------------------------------------------------------------
 
-    def read(self, address: int, count: int) -> list[int] | int:
-        """The words at `address`, or the exception code the device answers."""
+    def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> list[int] | int:
+        """The words at `address` of `space`, or the exception code the device answers."""
         if self.faults.take(("exception",)) == "exception":
             return self.faults.exception_code
         gaps = self.device.transport.tolerates_gaps
         values = []
         for a in range(address, address + count):
-            reg = self.owner.get(a)
+            reg = self.device.covering(a, space)
             if (reg is None and not gaps) or (reg is not None and not reg.access.readable):
                 return ILLEGAL_ADDRESS
-            values.append(self.words.get(a, 0))
+            values.append(self.words.get((space, a), 0))
         if self.pending_after_read:
             for a in range(address, address + count):
-                if a in self.pending_after_read:
-                    self.words[a] = self.pending_after_read.pop(a)
+                if (space, a) in self.pending_after_read:
+                    self.words[space, a] = self.pending_after_read.pop((space, a))
         return values
 
-    def write(self, address: int, words: list[int]) -> int | None:
-        """Store `words` from `address` (all or nothing); None when done, else the exception code."""
+    def write(self, address: int, words: list[int], space: str = DEFAULT_SPACE) -> int | None:
+        """Store `words` from `address` of `space` (all or nothing); None when done, else the exception code."""
         if self.faults.take(("exception",)) == "exception":
             return self.faults.exception_code
         end = address + len(words)
         touched: list[Register] = []
         for a in range(address, end):
-            reg = self.owner.get(a)
+            reg = self.device.covering(a, space)
             if reg is None:
                 if self.device.transport.tolerates_gaps:
                     continue
@@ -210,7 +203,7 @@ class DeviceStore:
                 if effect.register is not None:
                     self.store_raw(effect.register, effect.value)
                     if effect.after_read is not None:
-                        self.pending_after_read[effect.register.address] = effect.after_read
+                        self.pending_after_read[effect.register.space, effect.register.address] = effect.after_read
             elif effect.kind == "restore_defaults":
                 self.load_defaults()
             elif effect.kind == "clear" and effect.register is not None:
