@@ -26,7 +26,7 @@ GENERATED_PY = GENERATED / "python"
 
 
 def use_generated_python() -> None:
-    """Import the committed generated clients (and their copy of regmap_runtime), as a user would."""
+    """Import the committed generated clients (and their versioned copy of regmap_runtime), as a user would."""
     if str(GENERATED_PY) not in sys.path:
         sys.path.insert(0, str(GENERATED_PY))
 
@@ -38,7 +38,9 @@ def client_module(device_id: str) -> ModuleType:
 
 def client_class(module: ModuleType) -> Any:
     """The blocking client class a generated module defines (the one `DEVICE` belongs to)."""
-    from regmap_runtime.client import SyncClient
+    from regmap.backends.python import runtime_package
+
+    SyncClient = importlib.import_module(f"{runtime_package()}.client").SyncClient
 
     for value in vars(module).values():
         if isinstance(value, type) and issubclass(value, SyncClient) and value is not SyncClient and value.__module__ == module.__name__:

@@ -12,6 +12,7 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -23,6 +24,20 @@ GENERATED_PY = GENERATED / "python"
 
 if str(GENERATED_PY) not in sys.path:
     sys.path.insert(0, str(GENERATED_PY))
+
+
+def generated_runtime_name() -> str:
+    """The versioned name of the runtime copy in generated/python (regmap_runtime_<digest>)."""
+    from regmap.backends.python import runtime_package
+
+    return runtime_package()
+
+
+def generated_runtime(module: str) -> Any:
+    """A module of the runtime copy the committed generated clients import (their errors are its errors)."""
+    import importlib
+
+    return importlib.import_module(f"{generated_runtime_name()}.{module}")
 
 
 _SMALL_PY: list[Path] = []

@@ -21,12 +21,15 @@ import pytest
 from regmap.frontend import load_map
 from regmap.model import Device, Example, ExampleValue
 from regmap.tools.decode import decode_frame
-from regmap_runtime.bits import BitfieldValue
 from regmap_runtime.codec import value_to_raw
-from regmap_runtime.errors import DeviceException, RegmapError
 from regmap_runtime.rtu import build_read, build_read_response, build_write_multiple_response, crc_ok, parse_frame, to_hex
 
-from conftest import MAPS, SMALL_MAPS, small_maps_python
+from conftest import MAPS, SMALL_MAPS, generated_runtime, small_maps_python
+
+_errors = generated_runtime("errors")
+BitfieldValue = generated_runtime("bits").BitfieldValue
+DeviceException = _errors.DeviceException
+RegmapError = _errors.RegmapError
 
 DEVICES = {path.stem: load_map(path) for path in (*MAPS, *SMALL_MAPS)}
 
@@ -176,7 +179,7 @@ def _join(register: Any, words: tuple[int, ...]) -> int:
 
 def _raw_of(module: Any, name: str, value: Any) -> int:
     if isinstance(value, BitfieldValue):
-        return value.to_raw()
+        return int(value.to_raw())
     spec = _spec(module, name)
     return value_to_raw(spec, value) if not isinstance(value, int) else int(value)
 

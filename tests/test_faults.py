@@ -8,10 +8,15 @@ from typing import Any
 
 import pytest
 
-from regmap_runtime.errors import CrcError, DeviceException, DeviceTimeout, ProtocolError, RegmapError
-
-from conftest import ROOT, SimulatorFactory
+from conftest import ROOT, SimulatorFactory, generated_runtime
 from test_python_client import client_module
+
+_errors = generated_runtime("errors")
+CrcError = _errors.CrcError
+DeviceException = _errors.DeviceException
+DeviceTimeout = _errors.DeviceTimeout
+ProtocolError = _errors.ProtocolError
+RegmapError = _errors.RegmapError
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 
@@ -96,7 +101,7 @@ def test_dump_interrupted_by_a_fault_reports_what_was_read(simulator: SimulatorF
 def test_protocol_error_names_the_mismatch() -> None:
     idm = client_module("idm_rs")
     drive = idm.IdmRs.tcp("127.0.0.1", 1)
-    from regmap_runtime.plan import ReadBlock
+    ReadBlock = generated_runtime("plan").ReadBlock
 
     class Short:
         registers = (1,)

@@ -9,9 +9,11 @@ from typing import Any
 
 import pytest
 
-from regmap_runtime.errors import DeviceException, DeviceTimeout
+from conftest import MAPS, ROOT, PtyPair, SimulatorFactory, generated_runtime, generated_runtime_name, mypy_strict
 
-from conftest import MAPS, ROOT, PtyPair, SimulatorFactory, mypy_strict
+_errors = generated_runtime("errors")
+DeviceException = _errors.DeviceException
+DeviceTimeout = _errors.DeviceTimeout
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"
@@ -24,7 +26,7 @@ def client_module(device_id: str) -> ModuleType:
 
 def test_generated_clients_pass_mypy_strict() -> None:
     packages = [p.stem for p in MAPS]
-    result = mypy_strict(*(f"-p{p}" for p in packages), "-pregmap_runtime")
+    result = mypy_strict(*(f"-p{p}" for p in packages), f"-p{generated_runtime_name()}")
     assert result.returncode == 0, result.stdout + result.stderr
 
 

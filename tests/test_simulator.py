@@ -11,10 +11,12 @@ from pathlib import Path
 import pytest
 
 from regmap.frontend import load_map
-from regmap_runtime.errors import DeviceException
 
-from conftest import ROOT, PtyPair, SimulatorFactory, require_tool
+from conftest import ROOT, PtyPair, SimulatorFactory, generated_runtime, require_tool
 from test_python_client import client_module
+
+_errors = generated_runtime("errors")
+DeviceException = _errors.DeviceException
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"

@@ -128,7 +128,7 @@ def test_the_c_header_spells_the_table() -> None:
 
 def test_generated_clients_leave_the_default_space_unsaid() -> None:
     modules = sorted((ROOT / "generated" / "python").glob("*/__init__.py"))
-    assert modules and not any("space=" in m.read_text(encoding="utf-8") for m in modules if m.parent.name != "regmap_runtime")
+    assert modules and not any("space=" in m.read_text(encoding="utf-8") for m in modules if not m.parent.name.startswith("regmap_runtime"))
 
 
 def test_registers_owners_and_documented_addresses_are_keyed_on_the_space() -> None:

@@ -147,7 +147,7 @@ static inline void regmap_s32_to_words(int32_t value, regmap_word_order order, u
     regmap_u32_to_words((uint32_t)value, order, words);
 }
 
-/* The unused high word of a paired register (iDM-RS 5.2): the sign extension of its low word. */
+/* The unused high word of a paired register (a `paired` register in the map): the sign extension of its low word. */
 static inline uint16_t regmap_pair_high_word(uint16_t low_word, bool is_signed)
 {
     return (is_signed && (low_word & 0x8000u) != 0u) ? 0xFFFFu : 0x0000u;

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
-import sys
 import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -157,24 +155,3 @@ def _swap(new: Path, out_dir: Path, staging: Path) -> None:
         if old.exists():
             os.rename(old, out_dir)
         raise
-
-
-def ruff_format(directory: Path) -> None:
-    """Format generated Python with ruff (a dependency of regmap, so output is the same everywhere)."""
-    try:
-        from ruff.__main__ import find_ruff_bin
-    except ImportError:  # pragma: no cover - ruff is a declared dependency
-        raise UsageError("ruff is not installed; it formats the generated Python (pip install ruff)") from None
-    files = sorted(str(p) for p in directory.rglob("*.py"))
-    if not files:
-        return
-    config = ["--config", "line-length = 120", "--config", "target-version = 'py311'"]
-    result = subprocess.run(
-        [find_ruff_bin(), "format", "--quiet", "--no-cache", "--isolated", *config, *files],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    if result.returncode != 0:
-        sys.stderr.write(result.stderr)
-        raise UsageError("ruff could not format the generated Python (a template bug): see above")

@@ -385,7 +385,7 @@ class TimingRow:
 @dataclass(frozen=True)
 class BadCrc:
     """What the device does with a request whose CRC is wrong: `silent` (the Modbus serial line
-    spec) or `exception` with `code` (iDM-RS 5.4.1 answers 0x08)."""
+    spec) or `exception` with `code` (as maps/idm_rs.yaml records for its manual)."""
 
     reply: str = "silent"
     code: int | None = None

@@ -4,6 +4,6 @@ This package is copied verbatim into every `generated/python/` tree, so a genera
 only pymodbus. The regmap generator and its frame tools use the very same code.
 """
 
-from regmap_runtime.rtu import FrameError, crc16, parse_frame, parse_hex, to_hex
+from .rtu import FrameError, crc16, parse_frame, parse_hex, to_hex
 
 __all__ = ["FrameError", "crc16", "parse_frame", "parse_hex", "to_hex"]

@@ -6,7 +6,7 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, TypeVar
 
-from regmap_runtime.spec import BitfieldSpec
+from .spec import BitfieldSpec
 
 B = TypeVar("B", bound="BitfieldValue")
 

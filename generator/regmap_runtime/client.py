@@ -15,13 +15,13 @@ from pymodbus.exceptions import ConnectionException, ModbusIOException
 from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
-from regmap_runtime.bits import BitfieldValue
-from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
-from regmap_runtime.errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
-from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
-from regmap_runtime.rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
-from regmap_runtime.spaces import DEFAULT_SPACE, HOLDING, SPACES
-from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
+from .bits import BitfieldValue
+from .codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
+from .errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
+from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
+from .rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
+from .spaces import DEFAULT_SPACE, HOLDING, SPACES
+from .spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
@@ -81,7 +81,7 @@ class _Core:
         return self.DEVICE.broadcast_id is not None and self.slave == self.DEVICE.broadcast_id
 
     def effective(self, spec: RegisterSpec[T]) -> RegisterSpec[T]:
-        """The spec with the word order this client was told the device uses (C630S P0C-26)."""
+        """The spec with the word order this client was told the device uses (a device with a word-order register, `transport.word_order_register` in its map)."""
         return spec.in_word_order(self.word_order)
 
     def encode(self, spec: RegisterSpec[Any], value: Any) -> int:

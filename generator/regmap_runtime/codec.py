@@ -8,7 +8,7 @@ from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
-from regmap_runtime.spec import HIGH_FIRST, BitfieldSpec, RegisterSpec
+from .spec import HIGH_FIRST, BitfieldSpec, RegisterSpec
 
 
 class RangeError(ValueError):

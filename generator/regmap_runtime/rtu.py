@@ -6,7 +6,7 @@ import re
 import struct
 from dataclasses import dataclass
 
-from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from .spaces import DEFAULT_SPACE, SPACES
 
 EXCEPTION_FLAG = 0x80
 # Which space and which operation each function code of the space table is.

@@ -10,16 +10,39 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime.bits import BitfieldValue
-from regmap_runtime.client import AsyncClient, SyncClient
-from regmap_runtime.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_8820c6d93b.bits import BitfieldValue
+from regmap_runtime_8820c6d93b.client import AsyncClient, SyncClient
+from regmap_runtime_8820c6d93b.errors import (
+    ConnectionLost,
+    CrcError,
+    DeviceException,
+    DeviceTimeout,
+    ProtocolError,
+    RegmapError,
+    WrongSlave,
+)
+from regmap_runtime_8820c6d93b.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "f8d04d8e143c57b9"
 READ_PLAN_REQUESTS: Final = 71
 """Requests `read_all()` issues: the fewest the device's limits allow."""
 
-__all__ = ["C630s", "AsyncC630s", "DEVICE", "MAP_VERSION", "MAP_FINGERPRINT"]
+__all__ = [
+    "C630s",
+    "AsyncC630s",
+    "DEVICE",
+    "MAP_VERSION",
+    "MAP_FINGERPRINT",
+    "BitfieldValue",
+    "ConnectionLost",
+    "CrcError",
+    "DeviceException",
+    "DeviceTimeout",
+    "ProtocolError",
+    "RegmapError",
+    "WrongSlave",
+]
 
 
 class DiFunction(enum.IntEnum):

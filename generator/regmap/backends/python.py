@@ -5,7 +5,11 @@ The views below compute every identifier, literal and docstring line; the templa
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import keyword
+import subprocess
+import sys
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -13,7 +17,7 @@ from typing import Any
 
 from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
-from regmap.generate import Files, Target, ruff_format
+from regmap.generate import Files, Target
 from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
 from regmap.render import environment, header_lines, py_doc, py_str
 from regmap.runtime_bridge import read_plan
@@ -321,6 +325,8 @@ def check(device: Device) -> list[Diagnostic]:
         taken.setdefault(name, what)
 
     client_class = camel(device.id)
+    for name in ("BitfieldValue", "ConnectionLost", "CrcError", "DeviceException", "DeviceTimeout", "ProtocolError", "RegmapError", "WrongSlave"):
+        claim(name, f"the runtime's {name}, which the module re-exports", None)
     claim(client_class, "the client class", None)
     claim("Async" + client_class, "the async client class", None)
     for e in device.enums:
@@ -397,6 +403,7 @@ def device_context(device: Device) -> dict[str, Any]:
         "commands": [_command_view(c) for c in device.commands],
         "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
         "read_plan_requests": len(blocks),
+        "runtime": runtime_package(),
         "py_str": py_str,
     }
 
@@ -411,19 +418,52 @@ def render_device(device: Device) -> Files:
     }
 
 
+@functools.cache
+def runtime_package() -> str:
+    """The name the vendored runtime gets in a generated tree: `regmap_runtime_` and a digest of its
+    source, so two generated trees from different regmap versions on one sys.path cannot shadow each
+    other's runtime (and two of the same version share one, identical, copy)."""
+    source = resources.files("regmap_runtime")
+    digest = hashlib.sha256()
+    for module in RUNTIME_MODULES:
+        digest.update(module.encode() + b"\0" + source.joinpath(module).read_bytes() + b"\0")
+    return f"regmap_runtime_{digest.hexdigest()[:10]}"
+
+
 def render_shared(devices: Any) -> Files:
-    files: Files = {"regmap_runtime/py.typed": ""}
+    """The runtime, copied byte for byte (its modules import each other relatively)."""
+    package = runtime_package()
+    files: Files = {f"{package}/py.typed": ""}
     source = resources.files("regmap_runtime")
     for module in RUNTIME_MODULES:
-        text = source.joinpath(module).read_text(encoding="utf-8")
-        files[f"regmap_runtime/{module}"] = (
-            f"# Copied by regmap from generator/regmap_runtime/{module} - do not edit; regenerate with `regmap generate`.\n" + text
-        )
+        files[f"{package}/{module}"] = source.joinpath(module).read_text(encoding="utf-8")
     return files
 
 
+def ruff_format(directory: Path, *, skip: str) -> None:
+    """Format generated Python with ruff (a dependency of regmap, so output is the same everywhere); the vendored
+    runtime (`skip`) stays byte for byte its source."""
+    try:
+        from ruff.__main__ import find_ruff_bin
+    except ImportError:  # pragma: no cover - ruff is a declared dependency
+        raise UsageError("ruff is not installed; it formats the generated Python (pip install ruff)") from None
+    files = sorted(str(p) for p in directory.rglob("*.py") if skip not in p.relative_to(directory).parts)
+    if not files:
+        return
+    config = ["--config", "line-length = 120", "--config", "target-version = 'py311'"]
+    result = subprocess.run(
+        [find_ruff_bin(), "format", "--quiet", "--no-cache", "--isolated", *config, *files],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if result.returncode != 0:
+        sys.stderr.write(result.stderr)
+        raise UsageError("ruff could not format the generated Python (a template bug): see above")
+
+
 def _post(directory: Path) -> None:
-    ruff_format(directory)
+    ruff_format(directory, skip=runtime_package())
 
 
 TARGET = Target(name="python", subdir="python", per_device=render_device, shared=render_shared, post=_post, check=check)

@@ -5,7 +5,7 @@ The checks follow the Modbus Application Protocol v1.1b3 §6 in its order: funct
 rules (`DeviceStore`: undocumented address 0x02, read-only or out-of-range value 0x03). The map's
 limits narrow the spec's: `max_read_registers`, `max_write_registers` and `max_message_bytes` are
 quantity limits, refused with 0x03 like the spec's 125/123. The exception codes are the spec's;
-every map that lists exceptions gives these codes the same meaning (iDM-RS 5.4.1, C630S 9.2.4).
+every map that lists exceptions gives these codes the same meaning (the maps' `transport.exceptions` say where their manuals agree).
 """
 
 from __future__ import annotations

@@ -49,7 +49,7 @@ class DeviceStore:
     # -- memory ------------------------------------------------------------------------------
 
     def spec(self, reg: Register) -> Any:
-        """The register's codec in the word order the device uses right now (C630S P0C-26 can change it)."""
+        """The register's codec in the word order the device uses right now (the map's word-order register can change it)."""
         return self.specs[reg.name].in_word_order(self.word_order)
 
     def follow_word_order_register(self) -> None:

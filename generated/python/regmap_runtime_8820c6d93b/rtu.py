@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/rtu.py - do not edit; regenerate with `regmap generate`.
 """Modbus RTU framing: CRC-16, request building and frame parsing. Pure Python, no I/O."""
 
 from __future__ import annotations
@@ -7,7 +6,7 @@ import re
 import struct
 from dataclasses import dataclass
 
-from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from .spaces import DEFAULT_SPACE, SPACES
 
 EXCEPTION_FLAG = 0x80
 # Which space and which operation each function code of the space table is.
@@ -115,9 +114,7 @@ def build_write_single(slave: int, address: int, word: int, *, space: str = DEFA
     return with_crc(struct.pack(">BBHH", slave, function, address, word))
 
 
-def build_write_multiple(
-    slave: int, address: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE
-) -> bytes:
+def build_write_multiple(slave: int, address: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE) -> bytes:
     function = _write_function(space, multiple=True)
     _check_slave(slave)
     _check_address(address)

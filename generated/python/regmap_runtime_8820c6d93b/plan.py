@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/plan.py - do not edit; regenerate with `regmap generate`.
 """Request planning: the fewest Modbus requests that read or write a set of registers.
 
 Reads: registers sorted by (space, address) are cut greedily into blocks of at most `max_registers`
@@ -14,8 +13,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
-from regmap_runtime.spec import RegisterSpec
+from .spaces import DEFAULT_SPACE, SPACES
+from .spec import RegisterSpec
 
 
 @dataclass(frozen=True)
@@ -33,7 +32,7 @@ class ReadBlock:
 
 def _block(regs: list[RegisterSpec[Any]]) -> ReadBlock:
     if len(regs) == 1:
-        # A lone register reads just its own words (a lone pair reads its listed low word: iDM-RS 5.2.1).
+        # A lone register reads just its own words (a lone pair reads its listed low word, as the maps' `paired` rule says).
         reg = regs[0]
         return ReadBlock(reg.address, reg.words, (reg,), reg.space)
     start = regs[0].first_address
@@ -94,9 +93,9 @@ def plan_writes(
     use_write_multiple: bool = True,
 ) -> list[WriteBlock]:
     """Group raw writes into the fewest requests: contiguous registers share one 0x10 request
-    (a paired register contributes its high word too, as the manual's 5.2.3 frame does); a lone
+    (a paired register contributes its high word too, as a `paired` map's block writes do); a lone
     16-bit register goes out as 0x06 at its listed address."""
-    from regmap_runtime.codec import raw_to_words
+    from .codec import raw_to_words
 
     items = sorted(values, key=lambda item: _in_order(item[0]))
     names = [spec.name for spec, _ in items]
@@ -121,7 +120,5 @@ def plan_writes(
         words: list[int] = []
         for spec, raw in group:
             words.extend(raw_to_words(spec, raw, with_pair=True))
-        blocks.append(
-            WriteBlock(group[0][0].first_address, tuple(words), tuple(s for s, _ in group), group[0][0].space)
-        )
+        blocks.append(WriteBlock(group[0][0].first_address, tuple(words), tuple(s for s, _ in group), group[0][0].space))
     return blocks

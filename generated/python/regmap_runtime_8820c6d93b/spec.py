@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/spec.py - do not edit; regenerate with `regmap generate`.
 """Register descriptions as the runtime sees them: plain data that generated modules declare."""
 
 from __future__ import annotations
@@ -9,8 +8,8 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Generic, Self, TypeVar
 
-from regmap_runtime.spaces import DEFAULT_SPACE
-from regmap_runtime.types import TYPES, TypeInfo
+from .spaces import DEFAULT_SPACE
+from .types import TYPES, TypeInfo
 
 HIGH_FIRST = "high_first"
 LOW_FIRST = "low_first"
@@ -110,7 +109,7 @@ class RegisterSpec(Generic[T]):
         return f"{self.name} ({self.param})" if self.param else self.name
 
     def in_word_order(self, word_order: str | None) -> Self:
-        """The spec in the word order the device uses now, when that is not the map's (C630S P0C-26)."""
+        """The spec in the word order the device uses now, when that is not the map's (a device whose word-order register was changed)."""
         if word_order and self.wide and self.follows_device_order and self.word_order != word_order:
             return dataclasses.replace(self, word_order=word_order)
         return self
@@ -161,6 +160,4 @@ class DeviceSpec:
         """(space, address) of every word the device answers, or None when it tolerates reads of any address."""
         if self.tolerates_gaps:
             return None
-        return frozenset(
-            (r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words)
-        )
+        return frozenset((r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))

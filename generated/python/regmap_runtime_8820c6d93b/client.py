@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/client.py - do not edit; regenerate with `regmap generate`.
 """The client base that generated device modules subclass: sync and async, one surface.
 
 Validation, encoding and planning happen before anything is sent; pymodbus does the transport.
@@ -16,13 +15,13 @@ from pymodbus.exceptions import ConnectionException, ModbusIOException
 from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
-from regmap_runtime.bits import BitfieldValue
-from regmap_runtime.codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
-from regmap_runtime.errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
-from regmap_runtime.plan import ReadBlock, WriteBlock, plan_reads, plan_writes
-from regmap_runtime.rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
-from regmap_runtime.spaces import DEFAULT_SPACE, HOLDING, SPACES
-from regmap_runtime.spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
+from .bits import BitfieldValue
+from .codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
+from .errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
+from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
+from .rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
+from .spaces import DEFAULT_SPACE, HOLDING, SPACES
+from .spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
@@ -82,7 +81,7 @@ class _Core:
         return self.DEVICE.broadcast_id is not None and self.slave == self.DEVICE.broadcast_id
 
     def effective(self, spec: RegisterSpec[T]) -> RegisterSpec[T]:
-        """The spec with the word order this client was told the device uses (C630S P0C-26)."""
+        """The spec with the word order this client was told the device uses (a device with a word-order register, `transport.word_order_register` in its map)."""
         return spec.in_word_order(self.word_order)
 
     def encode(self, spec: RegisterSpec[Any], value: Any) -> int:
@@ -122,10 +121,7 @@ class _Core:
 
     def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
         """Check and encode every value, then group them into requests. `raw`: values are register integers."""
-        raws = [
-            (self.effective(spec), self.encode_raw(spec, value) if raw else self.encode(spec, value))
-            for spec, value in values.items()
-        ]
+        raws = [(self.effective(spec), self.encode_raw(spec, value) if raw else self.encode(spec, value)) for spec, value in values.items()]
         return plan_writes(raws, self.DEVICE.max_write_registers, HOLDING.write_multiple in self.DEVICE.function_codes)
 
     def readable(self) -> list[RegisterSpec[Any]]:
@@ -165,11 +161,7 @@ class SyncClient(_Core):
     modbus: ModbusSerialClient | ModbusTcpClient
 
     def __init__(
-        self,
-        modbus: ModbusSerialClient | ModbusTcpClient,
-        slave: int = 1,
-        word_order: str | None = None,
-        line: LineWatch | None = None,
+        self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None
     ) -> None:
         super().__init__(slave, word_order)
         self.modbus = modbus
@@ -220,10 +212,7 @@ class SyncClient(_Core):
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
         return cls(
-            ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line),
-            slave,
-            word_order,
-            line,
+            ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line
         )
 
     def __enter__(self: C) -> C:
@@ -258,12 +247,7 @@ class SyncClient(_Core):
         return self.read_words(response, ReadBlock(address, count, (), space))
 
     def write_raw(
-        self,
-        address: int,
-        words: list[int] | tuple[int, ...],
-        *,
-        multiple: bool | None = None,
-        space: str = DEFAULT_SPACE,
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
     ) -> None:
         """Write words from `address`: write single (0x06) for one word unless `multiple`, else write multiple (0x10)."""
         single = len(words) == 1 and not multiple
@@ -403,12 +387,7 @@ class AsyncClient(_Core):
         return self.read_words(response, ReadBlock(address, count, (), space))
 
     async def write_raw(
-        self,
-        address: int,
-        words: list[int] | tuple[int, ...],
-        *,
-        multiple: bool | None = None,
-        space: str = DEFAULT_SPACE,
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
     ) -> None:
         single = len(words) == 1 and not multiple
         await self._call(*self.writer(space, single), address, words[0] if single else list(words))

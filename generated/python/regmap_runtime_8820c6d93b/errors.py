@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/errors.py - do not edit; regenerate with `regmap generate`.
 """Errors a generated client raises. Catch `RegmapError` for all of them."""
 
 from __future__ import annotations

@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/types.py - do not edit; regenerate with `regmap generate`.
 """The one table of data types: how many register words each takes, its signedness, kind and codec.
 
 The model (`regmap.model.DataType`), the runtime (`RegisterSpec`, the codec) and every back end read

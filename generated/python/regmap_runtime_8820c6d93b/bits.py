@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/bits.py - do not edit; regenerate with `regmap generate`.
 """Base class of the typed bitfield values generated for bitfield registers."""
 
 from __future__ import annotations
@@ -7,7 +6,7 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, TypeVar
 
-from regmap_runtime.spec import BitfieldSpec
+from .spec import BitfieldSpec
 
 B = TypeVar("B", bound="BitfieldValue")
 

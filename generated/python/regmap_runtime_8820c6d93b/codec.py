@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/codec.py - do not edit; regenerate with `regmap generate`.
 """Values <-> raw integers <-> register words, honouring type, scale, word order and pairing."""
 
 from __future__ import annotations
@@ -9,7 +8,7 @@ from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
-from regmap_runtime.spec import HIGH_FIRST, BitfieldSpec, RegisterSpec
+from .spec import HIGH_FIRST, BitfieldSpec, RegisterSpec
 
 
 class RangeError(ValueError):
@@ -171,9 +170,7 @@ def parse_fields(spec: RegisterSpec[Any], text: str) -> tuple[int | None, dict[s
             try:
                 base = int(part.strip(), 0)
             except ValueError:
-                raise RangeError(
-                    f"{spec.label}: {part.strip()!r} is not field:value (fields: {', '.join(by_name)})"
-                ) from None
+                raise RangeError(f"{spec.label}: {part.strip()!r} is not field:value (fields: {', '.join(by_name)})") from None
             continue
         field = by_name.get(name.strip().lower())
         if field is None:

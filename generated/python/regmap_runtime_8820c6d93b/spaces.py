@@ -1,4 +1,3 @@
-# Copied by regmap from generator/regmap_runtime/spaces.py - do not edit; regenerate with `regmap generate`.
 """The one table of Modbus register spaces: which function codes read and write each.
 
 Registers, read plans, documented addresses and register owners are keyed on (space, address);
