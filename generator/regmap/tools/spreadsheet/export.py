@@ -81,7 +81,7 @@ def register_row(r: Register) -> dict[str, Cell]:
         "address": r.address,
         "type": r.type.value,
         "words": r.words,
-        "word_order": j["word_order"],
+        "word_order": r.word_order.value if r.word_order_fixed and r.words == 2 else None,  # empty: the device's order
         "paired": r.paired,
         "access": r.access.value,
         "unit": r.unit,
