@@ -71,7 +71,10 @@ def places(value: Decimal) -> int:
 
 
 _RANGE = re.compile(r"^(?P<lo>[^~]+?)\s*~\s*(?P<hi>[^~]+)$")
-_VALUE_LIST = re.compile(r"(?:^|\s)([0-9]+)\s*[:：-]\s*(?=\S)")
+_NUMBER = r"[+-]?(?:0[xX][0-9A-Fa-f]+|[0-9]+(?:\.[0-9]+)?)"
+_RANGE_REMARK = re.compile(rf"^(?P<lo>{_NUMBER})\s*~\s*(?P<hi>{_NUMBER})(?:\s*[,，]\s*|\s+)(?P<remark>\S.*)$")  # `0~99, 对应...`
+_VALUE = r"(0[xX][0-9A-Fa-f]+|[0-9]+)"
+_VALUE_LIST = re.compile(rf"(?:^|\s){_VALUE}\s*[:：-]\s*(?=\S)")
 
 
 @dataclass(frozen=True)
@@ -85,7 +88,7 @@ class PrintedRange:
 def printed_range(text: str) -> PrintedRange:
     """`0~65535`, `-32768~32767`, `0.0~300.0`, `0rpm~9000rpm`, `0x0001~0x0004`; a list of values `0: ... 1: ...`."""
     t = _clean(text)
-    m = _RANGE.match(t)
+    m = _RANGE_REMARK.match(t) or _RANGE.match(t)
     if m:
         lo_text, hi_text = m.group("lo"), m.group("hi")
         lo_num, lo_unit = _number_and_unit(lo_text)
@@ -98,8 +101,8 @@ def printed_range(text: str) -> PrintedRange:
         if lo_num > hi_num:
             raise CellProblem(f"range {text!r} runs backwards")
         return PrintedRange(lo_num, hi_num, UNITS[unit] if unit else None)
-    values = [int(v) for v in _VALUE_LIST.findall(t)]
-    if values and t.split()[0].rstrip(":：-").isdigit() and values == sorted(set(values)):
+    values = [int(v, 0) for v in _VALUE_LIST.findall(t)]
+    if values and re.match(rf"^{_VALUE}\s*[:：-]", t) and values == sorted(set(values)):
         return PrintedRange(Decimal(values[0]), Decimal(values[-1]), listed=True)
     raise CellProblem(f"cannot read range {text!r}")
 
@@ -142,8 +145,8 @@ def unit(text: str) -> tuple[str | None, Fraction | None]:
     t = _clean(text)
     if t in EMPTY:
         return None, None
-    if t in UNITS:
-        return UNITS[t], None
+    if t in UNITS or _squash(t) in UNITS:  # cells break words across lines: 编码器 单位
+        return UNITS.get(t) or UNITS[_squash(t)], None
     m = re.fullmatch(r"([0-9]+(?:\.[0-9]+)?)\s*(\S.*)", t)
     if m and m.group(2) in UNITS:
         return UNITS[m.group(2)], Fraction(m.group(1))

@@ -218,6 +218,8 @@ def _same(key: str, old: Any, new: Any) -> bool:
         return Fraction(old) == Fraction(new if new is not None else 1)
     if key == "bitfields":
         return [dict(sorted(b.items())) for b in old] == [dict(sorted(b.items())) for b in new]
+    if isinstance(old, str) and isinstance(new, str):  # a cell holds text on one line, trimmed
+        return old.split() == new.split()
     return bool(old == new)
 
 

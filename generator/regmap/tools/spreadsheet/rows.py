@@ -231,8 +231,8 @@ class _Reader:
                 if key not in _noted(e) and (key == "default" and self.has("default_value") or key != "default" and self._range_given):
                     e.give(key, None)
                 continue
-            try:
-                e.give(key, cells.raw_from(value, scale, key, str(value)))
+            try:  # with a unit step (0.1%, 25ns) the table prints counts; otherwise engineering values
+                e.give(key, cells.raw_from(value, Fraction(1) if unit_step is not None else scale, key, str(value)))
             except CellProblem as exc:
                 self.problems.append(Problem(e.where, str(exc)))
                 e.notes.append(f"{key}: {exc}; left null")
