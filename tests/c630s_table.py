@@ -33,7 +33,9 @@ def manual_path() -> Path:
 
 def chapter7_rows(text: str) -> list[list[str]]:
     """Every parameter row of chapter 7 (7.1 ... 7.18), its section appended."""
-    body = text[text.index("第七章 参数说明", text.index("第七章 参数说明") + 1) : text.index("第八章 故障处理", text.rindex("第七章 参数说明"))]
+    body = text[
+        text.index("第七章 参数说明", text.index("第七章 参数说明") + 1) : text.index("第八章 故障处理", text.rindex("第七章 参数说明"))
+    ]
     rows, section = [], ""
     for line in body.splitlines():
         heading = re.match(r"^(7\.[0-9]+) ", line)

@@ -19,7 +19,22 @@ from types import ModuleType
 from regmap import __version__
 from regmap.diagnostics import ExitCode, LinkError, MapError, UsageError
 
-SUBCOMMANDS = ("validate", "show", "export", "generate", "frame", "decode", "read", "write", "dump", "command", "simulate", "diff", "import", "new")
+SUBCOMMANDS = (
+    "validate",
+    "show",
+    "export",
+    "generate",
+    "frame",
+    "decode",
+    "read",
+    "write",
+    "dump",
+    "command",
+    "simulate",
+    "diff",
+    "import",
+    "new",
+)
 ALIASES = {"list": "show"}
 
 

@@ -181,7 +181,19 @@ SETTABLE = {
     "display_only": "display_only",
 }
 
-ACCESS = {"r": "r", "ro": "r", "read": "r", "只读": "r", "rw": "rw", "r/w": "rw", "读写": "rw", "w": "w", "wo": "w", "write": "w", "只写": "w"}
+ACCESS = {
+    "r": "r",
+    "ro": "r",
+    "read": "r",
+    "只读": "r",
+    "rw": "rw",
+    "r/w": "rw",
+    "读写": "rw",
+    "w": "w",
+    "wo": "w",
+    "write": "w",
+    "只写": "w",
+}
 
 TYPES = {"u16": "u16", "s16": "s16", "u32": "u32", "s32": "s32", "uint16": "u16", "int16": "s16", "uint32": "u32", "int32": "s32"}
 
@@ -244,7 +256,9 @@ def identifier(text: str, what: str) -> str:
     return t
 
 
-_BITFIELD = re.compile(r"^(?P<bits>[0-9]+(?:-[0-9]+)?)\s+(?P<name>[a-z][a-z0-9_]*)(?:\s+<(?P<enum>[a-z][a-z0-9_]*)>)?(?::\s*(?P<title>.*))?$")
+_BITFIELD = re.compile(
+    r"^(?P<bits>[0-9]+(?:-[0-9]+)?)\s+(?P<name>[a-z][a-z0-9_]*)(?:\s+<(?P<enum>[a-z][a-z0-9_]*)>)?(?::\s*(?P<title>.*))?$"
+)
 
 
 def bitfields(text: str) -> list[dict[str, object]]:

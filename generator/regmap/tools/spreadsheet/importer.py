@@ -118,11 +118,17 @@ def _errata_section(table: Table, named: dict[str, list[str]]) -> list[str]:
     lines = ["errata:"]
     if rows is not None:
         for r in rows:
-            readings = []
+            readings: list[dict[str, Any]] = []
             for line in (r.get("readings") or "").splitlines():
                 src, _, says = line.partition(": ")
                 readings.append({"source": [s.strip() for s in src.split(",") if s.strip()], "says": says})
-            item = {"id": r["id"], "title": r.get("title"), "readings": readings, "choice": r.get("choice"), "reason": r.get("reason")}
+            item: dict[str, Any] = {
+                "id": r["id"],
+                "title": r.get("title"),
+                "readings": readings,
+                "choice": r.get("choice"),
+                "reason": r.get("reason"),
+            }
             if r.get("registers"):
                 item["registers"] = [s.strip() for s in r["registers"].split(",")]
             lines += block(item, 4, "- ")
@@ -354,4 +360,3 @@ def _append_group(text: str, table: Table, entries: list[Entry]) -> str:
             continue
         break
     return text[:cut] + "\n".join(lines) + "\n" + text[cut:]
-

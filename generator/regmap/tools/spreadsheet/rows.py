@@ -228,7 +228,7 @@ class _Reader:
             e.give("scale", scale)
         for key, value in (("min", lo), ("max", hi), ("default", default)):
             if value is None:
-                if key not in _noted(e) and (key == "default" and self.has("default_value") or key != "default" and self._range_given):
+                if key not in _noted(e) and ((key == "default" and self.has("default_value")) or (key != "default" and self._range_given)):
                     e.give(key, None)
                 continue
             try:  # with a unit step (0.1%, 25ns) the table prints counts; otherwise engineering values
@@ -264,7 +264,8 @@ class _Reader:
 
     def _text(self, e: Entry, c: list[str]) -> None:
         for key in TEXT_FIELDS:
-            value = self.read(e, c, key, lambda t: " ".join(t.split()) if key != "description" and key != "notes" else t.strip())
+            keep_lines = key in ("description", "notes")
+            value = self.read(e, c, key, lambda t, keep_lines=keep_lines: t.strip() if keep_lines else " ".join(t.split()))
             if value:
                 e.give(key, value)
         source = self.read(e, c, "source", cells.text_list)
@@ -329,11 +330,8 @@ def read_entries(table: Table, rules: list[_ParamRule]) -> tuple[list[Entry], li
     for e in entries:
         other = first.setdefault(e.values["address"], e)
         if other is not e:
-            column = table.columns and next((i for i, n in table.columns.items() if n in ("address", "address_hex", "param")), None)
-            duplicates.append(
-                f"{table.where(e.row, column if isinstance(column, int) else None)}: address 0x{e.values['address']:04X} "
-                f"is also the address of row {other.row}"
-            )
+            column = next((i for i, n in sorted(table.columns.items()) if n in ("address", "address_hex", "param")), None)
+            duplicates.append(f"{table.where(e.row, column)}: address 0x{e.values['address']:04X} is also the address of row {other.row}")
     if duplicates:
         raise TableError(duplicates)
     return entries, reader.problems
