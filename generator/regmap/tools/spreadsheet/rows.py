@@ -99,6 +99,13 @@ class _Reader:
             entry.notes.append(f"{name}: the table prints {text.strip()!r}, which regmap cannot read; left null")
             return None
 
+    def take(self, entry: Entry, cells_: list[str], name: str, parse: Any) -> Any:
+        """`read`, and the entry takes the value when the cell gives one."""
+        value = self.read(entry, cells_, name, parse)
+        if value is not None:
+            entry.give(name, value)
+        return value
+
     def has(self, name: str) -> bool:
         return name in self.by_field
 
@@ -116,12 +123,8 @@ class _Reader:
     # -- name, param, address
 
     def _identity(self, e: Entry, c: list[str]) -> None:
-        param = self.read(e, c, "param", lambda t: t.strip())
-        if param is not None:
-            e.give("param", param)
-        name = self.read(e, c, "name", lambda t: cells.identifier(t, "name"))
-        if name is not None:
-            e.give("name", name)
+        param = self.take(e, c, "param", lambda t: t.strip())
+        name = self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
         address = self.read(e, c, "address", cells.address)
         if address is None:
             address = self.read(e, c, "address_hex", cells.address)
@@ -164,12 +167,8 @@ class _Reader:
                 e.give("settable", settable)
                 if settable == "display_only":
                     e.values["access"] = "r"
-        access = self.read(e, c, "access", lambda t: cells.choice(t, cells.ACCESS, "access"))
-        if access is not None:
-            e.give("access", access)
-        enum = self.read(e, c, "enum", lambda t: cells.identifier(t, "enum name"))
-        if enum is not None:
-            e.give("enum", enum)
+        self.take(e, c, "access", lambda t: cells.choice(t, cells.ACCESS, "access"))
+        self.take(e, c, "enum", lambda t: cells.identifier(t, "enum name"))
         bitfields = self.read(e, c, "bitfields", cells.bitfields)
         if bitfields:
             e.give("bitfields", bitfields)
