@@ -325,7 +325,16 @@ def check(device: Device) -> list[Diagnostic]:
         taken.setdefault(name, what)
 
     client_class = camel(device.id)
-    for name in ("BitfieldValue", "ConnectionLost", "CrcError", "DeviceException", "DeviceTimeout", "ProtocolError", "RegmapError", "WrongSlave"):
+    for name in (
+        "BitfieldValue",
+        "ConnectionLost",
+        "CrcError",
+        "DeviceException",
+        "DeviceTimeout",
+        "ProtocolError",
+        "RegmapError",
+        "WrongSlave",
+    ):
         claim(name, f"the runtime's {name}, which the module re-exports", None)
     claim(client_class, "the client class", None)
     claim("Async" + client_class, "the async client class", None)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import keyword
 import logging
 import os
 import sys
@@ -18,12 +19,27 @@ from types import ModuleType
 from regmap import __version__
 from regmap.diagnostics import ExitCode, LinkError, MapError, UsageError
 
-SUBCOMMANDS = ("validate", "show", "export", "generate", "frame", "decode", "read", "write", "dump", "command", "simulate", "diff")
+SUBCOMMANDS = (
+    "validate",
+    "show",
+    "export",
+    "generate",
+    "frame",
+    "decode",
+    "read",
+    "write",
+    "dump",
+    "command",
+    "simulate",
+    "diff",
+    "import",
+    "new",
+)
 ALIASES = {"list": "show"}
 
 
 def _module(name: str) -> ModuleType:
-    return importlib.import_module(f"regmap.cli.{name}")
+    return importlib.import_module(f"regmap.cli.{name}_" if keyword.iskeyword(name) else f"regmap.cli.{name}")  # import -> import_.py
 
 
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:

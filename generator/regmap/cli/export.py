@@ -1,34 +1,60 @@
-"""`regmap export`: the elaborated model as JSON (the documented contract for other tools)."""
+"""`regmap export`: the elaborated model as JSON (the documented contract for other tools), or as a spreadsheet."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from regmap.cli.common import add_map, examples, load_map
-from regmap.diagnostics import ExitCode
+from regmap.diagnostics import ExitCode, UsageError
+from regmap.tools.atomic import write_atomic
 
-HELP = "print the elaborated model of a map as JSON"
+HELP = "print the elaborated model of a map as JSON, or write it as CSV or XLSX"
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "export",
         help=HELP,
-        description="Print the map as regmap understands it: arrays expanded, enums resolved, defaults applied (README: the JSON contract).",
-        epilog=examples("regmap export maps/c630s.yaml > c630s.json"),
+        description="Print the map as regmap understands it: arrays expanded, enums resolved, defaults applied (README: the JSON contract). "
+        "csv and xlsx give one row per register with every field (raw and engineering values); xlsx adds sheets for groups, enums, "
+        "commands, faults and errata. CSV is UTF-8 with a BOM so that Excel shows Chinese; the same map always gives the same bytes.",
+        epilog=examples(
+            "regmap export maps/c630s.yaml > c630s.json",
+            "regmap export maps/c630s.yaml --format csv > c630s.csv",
+            "regmap export maps/c630s.yaml --format xlsx --out c630s.xlsx",
+        ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_map(p)
-    p.add_argument("--format", choices=["json"], default="json")
+    p.add_argument("--format", choices=["json", "csv", "xlsx"], default="json")
+    p.add_argument("--out", metavar="FILE", help="write to FILE (required for xlsx; json and csv go to stdout without it)")
     return p
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.backends.export import export_json
-
+    if args.format == "xlsx" and not args.out:
+        raise UsageError("--format xlsx writes a binary workbook: give --out FILE.xlsx")
     device = load_map(args.map)
-    json.dump(export_json(device), sys.stdout, ensure_ascii=False, indent=2)
-    sys.stdout.write("\n")
+    data: bytes
+    if args.format == "json":
+        from regmap.backends.export import export_json
+
+        data = (json.dumps(export_json(device), ensure_ascii=False, indent=2) + "\n").encode()
+    elif args.format == "csv":
+        from regmap.tools.spreadsheet.export import export_csv
+
+        data = export_csv(device).encode()
+    else:
+        from regmap.tools.spreadsheet.export import export_xlsx
+
+        data = export_xlsx(device)
+    if args.out:
+        write_atomic(Path(args.out), data)
+    else:
+        sys.stdout.flush()
+        sys.stdout.buffer.write(data)
+        sys.stdout.buffer.flush()
     return ExitCode.OK

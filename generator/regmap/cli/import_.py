@@ -1,0 +1,126 @@
+"""`regmap import`: a register table (CSV or XLSX) -> a new map draft, or an update of an existing map."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from regmap.cli.common import examples
+from regmap.diagnostics import ExitCode, MapError, UsageError
+from regmap.tools.atomic import write_atomic
+
+HELP = "make a map draft from a register table (CSV/XLSX), or update a map from one"
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = sub.add_parser(
+        "import",
+        help=HELP,
+        description="Read a register table as manuals print it (headers in English or Chinese: 地址 参数号 名称 设定范围 出厂值 单位 "
+        "生效方式 ...; cells like 0x0191, 0191h, P05-02, 0~65535, 0.1A, 立即生效) and write --into MAP: a new draft when MAP does not "
+        "exist, otherwise an update that changes only what the table says differently and keeps every comment. A cell regmap cannot "
+        "read is reported (file:sheet!cell) and left null with a note, never guessed. The result goes through the front end: a new "
+        "draft that fails it is still written (exit 1: edit it); an update that would make the map invalid writes nothing.",
+        epilog=examples(
+            "regmap import vendor-registers.xlsx --into maps/acme_x1.yaml            # a new draft",
+            "regmap import c630s-ch7.csv --columns c630s-columns.yaml --into maps/c630s_draft.yaml",
+            "regmap import id243pro.xlsx --sheet registers --into maps/id243pro.yaml  # update: prints the change summary",
+            "regmap import table.csv --into maps/id243pro.yaml --dry-run              # show the changes, write nothing",
+        )
+        + "\n\nA mapping file (--columns) names columns and gives param_ids rules for tables without an address column:\n"
+        "  columns: {Code: param, Name: title_zh}\n"
+        "  param_ids: [{regex: '^P(?P<group>[0-9A-F]{2})-(?P<index>[0-9]{2})$', format: 'P{group:02X}-{index:02d}', "
+        "group_radix: 16, group_stride: 256}]",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("table", metavar="TABLE", help="a .csv (UTF-8) or .xlsx register table")
+    p.add_argument("--into", required=True, metavar="MAP", help="the map to create or update")
+    p.add_argument("--sheet", help="the xlsx sheet to read (default: 'registers', else the first)")
+    p.add_argument("--columns", metavar="MAPPING.yaml", help="column mapping file: header -> field, param_ids rules")
+    p.add_argument("--vendor", default="unknown", help="vendor of a new draft (default 'unknown')")
+    p.add_argument("--model", default="unknown", help="model of a new draft (default 'unknown')")
+    p.add_argument("--dry-run", action="store_true", help="print what would change; write nothing")
+    return p
+
+
+def _map_rules(path: Path) -> list[dict[str, Any]]:
+    data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    rules = data.get("param_ids", []) if isinstance(data, dict) else []
+    return [r for r in rules if isinstance(r, dict)]
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.frontend import load_map, load_map_text
+    from regmap.tools.diff import compare, render_text
+    from regmap.tools.spreadsheet.columns import Mapping, load_mapping
+    from regmap.tools.spreadsheet.importer import build_draft, update_map
+    from regmap.tools.spreadsheet.rows import param_rules, read_entries
+    from regmap.tools.spreadsheet.table import TableError, read_table
+
+    into = Path(args.into)
+    mapping = load_mapping(args.columns) if args.columns else Mapping()
+    device = load_map(into) if into.exists() else None
+    rules = [*(_map_rules(into) if device is not None else []), *mapping.param_ids]
+    try:
+        table = read_table(args.table, args.sheet, mapping)
+        print(f"{table.label}: header in row {table.header_row}; columns:")
+        print("\n".join(table.describe_columns()))
+        entries, problems = read_entries(table, param_rules(rules))
+    except TableError as exc:
+        for line in exc.problems:
+            print(line, file=sys.stderr)
+        print(f"regmap import: {args.table}: nothing written", file=sys.stderr)
+        return ExitCode.USAGE
+    except re.error as exc:
+        raise UsageError(f"param_ids: bad regex: {exc}") from None
+    for problem in problems:
+        print(problem, file=sys.stderr)
+    unread = f"{len(problems)} cell(s) could not be read" + (" (listed above; null with a note in the map)" if problems else "")
+
+    if device is None:
+        device_id = into.stem
+        if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", device_id):
+            raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
+        draft = build_draft(table, entries, problems, device_id, args.vendor, args.model, mapping.param_ids)
+        status: int = ExitCode.OK
+        try:
+            load_map_text(draft.text, str(into))
+        except MapError as exc:
+            for diag in exc.diagnostics:
+                print(diag, file=sys.stderr)
+            status = ExitCode.INVALID_MAP
+        if not args.dry_run:
+            write_atomic(into, draft.text.encode())
+        verdict = "valid" if status == ExitCode.OK else "written, but the front end rejects it (above): edit it"
+        action = "would write" if args.dry_run else "wrote"
+        print(f"{action} {into}: a new draft, {draft.registers} registers in {len(draft.groups)} group(s), {verdict}; {unread}")
+        return status
+
+    text = into.read_text(encoding="utf-8")
+    update = update_map(text, device, table, entries)
+    for line in update.skipped:
+        print(line, file=sys.stderr)
+    if update.text == text:
+        print(f"{into}: no changes ({update.unchanged} registers agree with the table); {unread}")
+        return ExitCode.OK
+    try:
+        new = load_map_text(update.text, str(into))
+    except MapError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        print(f"regmap import: the update would make {into} invalid (above): nothing written", file=sys.stderr)
+        return ExitCode.INVALID_MAP
+    sys.stdout.write(render_text(compare(device, new)))
+    if not args.dry_run:
+        write_atomic(into, update.text.encode())
+    action = "would update" if args.dry_run else "updated"
+    print(
+        f"{action} {into}: {len(update.changed)} value(s) changed, {len(update.added)} register(s) added, "
+        f"{update.unchanged} unchanged, {len(update.skipped)} not applied; {unread}"
+    )
+    return ExitCode.OK

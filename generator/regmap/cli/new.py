@@ -1,0 +1,52 @@
+"""`regmap new`: a commented skeleton map that validates, to start transcribing a manual."""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+from regmap.cli.common import examples
+from regmap.diagnostics import ExitCode, UsageError
+from regmap.tools.atomic import write_atomic
+
+HELP = "write a commented skeleton map for a new device"
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = sub.add_parser(
+        "new",
+        help=HELP,
+        description="Write maps/DEVICE_ID.yaml (or --out): a skeleton that validates, every transport field explained in a comment. "
+        "Its transport values are Modbus's defaults marked 'check': replace each with the manual's. Refuses to overwrite a file.",
+        epilog=examples(
+            "regmap new acme_x1 --vendor Acme --model 'X1 servo'",
+            "regmap new acme_x1 --vendor Acme --model X1 --out /tmp/acme_x1.yaml",
+            "regmap import x1-registers.xlsx --into maps/acme_x1.yaml     # then fill it from a spreadsheet",
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("device_id", metavar="DEVICE_ID", help="snake_case id: prefix of generated files and C macros")
+    p.add_argument("--vendor", required=True, help="vendor name (English)")
+    p.add_argument("--model", required=True, help="model name as the manual prints it")
+    p.add_argument("--out", metavar="FILE", help="where to write (default maps/DEVICE_ID.yaml)")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.frontend import load_map_text
+    from regmap.tools.spreadsheet.skeleton import skeleton
+
+    if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", args.device_id):
+        raise UsageError(f"device id {args.device_id!r}: expected snake_case (a-z, 0-9, _), starting with a letter")
+    for name, value in (("--vendor", args.vendor), ("--model", args.model)):
+        if not value.strip() or any(ch in value for ch in "\r\n"):
+            raise UsageError(f"{name}: expected one line of text")
+    out = Path(args.out) if args.out else Path("maps") / f"{args.device_id}.yaml"
+    if out.exists():
+        raise UsageError(f"{out} exists: regmap new does not overwrite a map (use regmap import --into to update one)")
+    text = skeleton(args.device_id, args.vendor.strip(), args.model.strip())
+    load_map_text(text, str(out))  # the skeleton validates (a device id that is a reserved word does not)
+    write_atomic(out, text.encode())
+    print(f"{out}: skeleton for {args.vendor.strip()} {args.model.strip()}; check every value marked 'check' against the manual")
+    return ExitCode.OK

@@ -1,0 +1,287 @@
+"""Cell readers: a cell as manuals print it -> a value, or a `CellProblem` saying why it cannot be read.
+
+Conservative on purpose: a range like `0~∞`, a unit not in `UNITS` or a default that is not a
+number is reported, never guessed.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from fractions import Fraction
+
+
+class CellProblem(ValueError):
+    """A cell that cannot be read; the message says what was expected."""
+
+
+EMPTY = {"", "-", "--", "—", "/", "n/a", "N/A", "无"}
+"""Cells that say "nothing here" (the manuals print '-')."""
+
+
+def blank(text: str) -> bool:
+    return text.strip() in EMPTY
+
+
+def _clean(text: str) -> str:
+    return " ".join(text.replace("\u3000", " ").replace("～", "~").replace("－", "-").replace("＋", "+").split())
+
+
+_HEX = re.compile(r"^(?:0[xX]([0-9A-Fa-f]+)|([0-9A-Fa-f]+)[hH])$")
+
+
+def integer(text: str, what: str = "number") -> int:
+    """`401`, `-32768`, `0x0191`, `0191h`, `+5`."""
+    t = _clean(text)
+    m = _HEX.match(t)
+    if m:
+        return int(m.group(1) or m.group(2), 16)
+    if re.fullmatch(r"[+-]?[0-9]+", t):
+        return int(t)
+    raise CellProblem(f"cannot read {what} {text!r}")
+
+
+def address(text: str) -> int:
+    value = integer(text, "address")
+    if not 0 <= value <= 0xFFFF:
+        raise CellProblem(f"address {text!r} is outside 0..0xFFFF")
+    return value
+
+
+_DECIMAL = re.compile(r"^[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)$")
+
+
+def decimal(text: str, what: str = "number") -> Decimal:
+    """A printed number in engineering units: `2.00`, `-500.0`, `0x01FF`; the digits after the point count."""
+    t = _clean(text)
+    if _HEX.match(t):
+        return Decimal(integer(t, what))
+    if not _DECIMAL.match(t):
+        raise CellProblem(f"cannot read {what} {text!r}")
+    try:
+        return Decimal(t)
+    except InvalidOperation:  # pragma: no cover - the pattern admits only numbers
+        raise CellProblem(f"cannot read {what} {text!r}") from None
+
+
+def places(value: Decimal) -> int:
+    exponent = value.as_tuple().exponent
+    return -exponent if isinstance(exponent, int) and exponent < 0 else 0
+
+
+_RANGE = re.compile(r"^(?P<lo>[^~]+?)\s*~\s*(?P<hi>[^~]+)$")
+_NUMBER = r"[+-]?(?:0[xX][0-9A-Fa-f]+|[0-9]+(?:\.[0-9]+)?)"
+_RANGE_REMARK = re.compile(rf"^(?P<lo>{_NUMBER})\s*~\s*(?P<hi>{_NUMBER})(?:\s*[,，]\s*|\s+)(?P<remark>\S.*)$")  # `0~99, 对应...`
+_VALUE = r"(0[xX][0-9A-Fa-f]+|[0-9]+)"
+_VALUE_LIST = re.compile(rf"(?:^|\s){_VALUE}\s*[:：-]\s*(?=\S)")
+
+
+@dataclass(frozen=True)
+class PrintedRange:
+    lo: Decimal
+    hi: Decimal
+    unit: str | None = None  # a unit printed inside the range (`0rpm~9000rpm`)
+    listed: bool = False  # read from a list of values (`0: speed 1: position ...`), not an a~b range
+
+
+def printed_range(text: str) -> PrintedRange:
+    """`0~65535`, `-32768~32767`, `0.0~300.0`, `0rpm~9000rpm`, `0x0001~0x0004`; a list of values `0: ... 1: ...`."""
+    t = _clean(text)
+    m = _RANGE_REMARK.match(t) or _RANGE.match(t)
+    if m:
+        lo_text, hi_text = m.group("lo"), m.group("hi")
+        lo_num, lo_unit = _number_and_unit(lo_text)
+        hi_num, hi_unit = _number_and_unit(hi_text)
+        if lo_num is None or hi_num is None or (lo_unit and hi_unit and lo_unit != hi_unit):
+            raise CellProblem(f"cannot read range {text!r}")
+        unit = lo_unit or hi_unit
+        if unit is not None and unit not in UNITS:
+            raise CellProblem(f"cannot read range {text!r}: unknown unit {unit!r}")
+        if lo_num > hi_num:
+            raise CellProblem(f"range {text!r} runs backwards")
+        return PrintedRange(lo_num, hi_num, UNITS[unit] if unit else None)
+    values = [int(v, 0) for v in _VALUE_LIST.findall(t)]
+    if values and re.match(rf"^{_VALUE}\s*[:：-]", t) and values == sorted(set(values)):
+        return PrintedRange(Decimal(values[0]), Decimal(values[-1]), listed=True)
+    raise CellProblem(f"cannot read range {text!r}")
+
+
+def _number_and_unit(text: str) -> tuple[Decimal | None, str | None]:
+    m = re.fullmatch(r"([+-]?(?:0[xX][0-9A-Fa-f]+|[0-9]+(?:\.[0-9]*)?))\s*(\S.*)?", text.strip())
+    if not m:
+        return None, None
+    try:
+        return decimal(m.group(1)), m.group(2)
+    except CellProblem:
+        return None, None
+
+
+UNITS: dict[str, str] = {
+    **{u: u for u in ("A", "mA", "V", "mV", "kV", "W", "kW", "Ω", "Hz", "kHz", "ms", "s", "us", "μs", "ns", "min", "h", "rpm", "rps")},
+    **{u: u for u in ("r", "%", "°", "°C", "P/r", "P/R", "ppr", "pulse", "bps", "Nm", "N·m", "mH", "kg·cm²")},
+    "ohm": "Ω",
+    "℃": "°C",
+    "度": "°",
+    "秒": "s",
+    "毫秒": "ms",
+    "分": "min",
+    "分钟": "min",
+    "倍": "times",
+    "times": "times",
+    "编码器单位": "encoder unit",
+    "指令单位": "command unit",
+    "编码器 / 指令单位": "encoder/command unit",
+    "编码器/指令单位": "encoder/command unit",
+    "encoder unit": "encoder unit",
+    "command unit": "command unit",
+    "encoder/command unit": "encoder/command unit",
+}
+"""Units the importer knows, as printed -> as the maps write them. Anything else is reported."""
+
+
+def unit(text: str) -> tuple[str | None, Fraction | None]:
+    """`A` -> (A, None); `0.1A` / `0.1 A` -> (A, 1/10); `25ns` -> (ns, 25); `-` -> (None, None)."""
+    t = _clean(text)
+    if t in EMPTY:
+        return None, None
+    if t in UNITS or _squash(t) in UNITS:  # cells break words across lines: 编码器 单位
+        return UNITS.get(t) or UNITS[_squash(t)], None
+    m = re.fullmatch(r"([0-9]+(?:\.[0-9]+)?)\s*(\S.*)", t)
+    if m and m.group(2) in UNITS:
+        return UNITS[m.group(2)], Fraction(m.group(1))
+    raise CellProblem(f"cannot read unit {text!r}")
+
+
+TAKES_EFFECT = {
+    "立即生效": "immediately",
+    "立即": "immediately",
+    "实时生效": "immediately",
+    "再次通电": "after_restart",
+    "重新上电": "after_restart",
+    "断电重启": "after_restart",
+    "重启生效": "after_restart",
+    "上电生效": "after_restart",
+    "停机生效": "when_stopped",
+    "immediately": "immediately",
+    "immediate": "immediately",
+    "after_restart": "after_restart",
+    "after restart": "after_restart",
+    "power cycle": "after_restart",
+    "when_stopped": "when_stopped",
+    "when stopped": "when_stopped",
+}
+
+SETTABLE = {
+    "运行设定": "always",
+    "停机设定": "when_stopped",
+    "显示": "display_only",
+    "always": "always",
+    "when_stopped": "when_stopped",
+    "display_only": "display_only",
+}
+
+ACCESS = {
+    "r": "r",
+    "ro": "r",
+    "read": "r",
+    "只读": "r",
+    "rw": "rw",
+    "r/w": "rw",
+    "读写": "rw",
+    "w": "w",
+    "wo": "w",
+    "write": "w",
+    "只写": "w",
+}
+
+TYPES = {"u16": "u16", "s16": "s16", "u32": "u32", "s32": "s32", "uint16": "u16", "int16": "s16", "uint32": "u32", "int32": "s32"}
+
+WORD_ORDERS = {"high_first": "high_first", "low_first": "low_first"}
+
+
+def _squash(text: str) -> str:
+    """Table cells break words across lines (`停机 生效`): compare without spaces."""
+    return "".join(_clean(text).split())
+
+
+def choice(text: str, table: dict[str, str], what: str) -> str | None:
+    t = _clean(text)
+    if t in EMPTY:
+        return None
+    for key in (t, t.lower(), _squash(t)):
+        if key in table:
+            return table[key]
+    raise CellProblem(f"cannot read {what} {text!r}")
+
+
+def modes(text: str) -> list[str]:
+    """`PST`, `PS`, `ALL`, `P, S`, `-` -> a subset of [P, S, T] in that order."""
+    t = _squash(text).upper().replace(",", "")
+    if t in {"", "-", "--", "—"}:
+        return []
+    if t == "ALL":
+        return ["P", "S", "T"]
+    if not t or any(c not in "PST" for c in t) or len(set(t)) != len(t):
+        raise CellProblem(f"cannot read modes {text!r}")
+    return [m for m in "PST" if m in t]
+
+
+def boolean(text: str, what: str) -> bool | None:
+    t = _clean(text).lower()
+    if t in EMPTY:
+        return None
+    if t in {"true", "yes", "y", "1", "是"}:
+        return True
+    if t in {"false", "no", "n", "0", "否"}:
+        return False
+    raise CellProblem(f"cannot read {what} {text!r}")
+
+
+def text_list(text: str) -> list[str]:
+    """`7.3, 6.2.2` or one item per line."""
+    t = text.strip()
+    if t in EMPTY:
+        return []
+    return [p.strip() for p in re.split(r"[,\n;，；]", t) if p.strip()]
+
+
+_IDENT = re.compile(r"^[a-z][a-z0-9_]*$")
+
+
+def identifier(text: str, what: str) -> str:
+    t = text.strip()
+    if not _IDENT.match(t):
+        raise CellProblem(f"cannot read {what} {text!r}: not a snake_case identifier")
+    return t
+
+
+_BITFIELD = re.compile(
+    r"^(?P<bits>[0-9]+(?:-[0-9]+)?)\s+(?P<name>[a-z][a-z0-9_]*)(?:\s+<(?P<enum>[a-z][a-z0-9_]*)>)?(?::\s*(?P<title>.*))?$"
+)
+
+
+def bitfields(text: str) -> list[dict[str, object]]:
+    """The export's readable form, one field per line: `8-10 function <di_function>: DI function`."""
+    out: list[dict[str, object]] = []
+    for line in text.splitlines():
+        line = line.strip()
+        if not line:
+            continue
+        m = _BITFIELD.match(line)
+        if not m:
+            raise CellProblem(f"cannot read bitfield {line!r} (expected 'BITS NAME [<ENUM>]: TITLE')")
+        bits: object = int(m.group("bits")) if "-" not in m.group("bits") else m.group("bits")
+        field: dict[str, object] = {"name": m.group("name"), "bits": bits, "title": (m.group("title") or "").strip() or m.group("name")}
+        if m.group("enum"):
+            field["enum"] = m.group("enum")
+        out.append(field)
+    return out
+
+
+def raw_from(value: Decimal, scale: Fraction, what: str, text: str) -> int:
+    """Engineering value -> raw integer; refuses a value that is not a whole number of steps."""
+    raw = Fraction(value) / scale
+    if raw.denominator != 1:
+        raise CellProblem(f"{what} {text!r} is not a whole number of steps of {float(scale):g}")
+    return int(raw)

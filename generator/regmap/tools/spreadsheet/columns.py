@@ -1,0 +1,179 @@
+"""Which column is which: headers recognised in English or Chinese, or named by a mapping file.
+
+A mapping file (`--columns MAPPING.yaml`) is YAML:
+
+    columns: {功能码: param, 名称: title_zh, 设定范围: range}   # header as printed -> field
+    param_ids:                                                # addresses from parameter ids (C630S)
+      - {regex: '^P(?P<group>[0-9A-F]{2})-(?P<index>[0-9]{2})$', format: 'P{group:02X}-{index:02d}', group_radix: 16, group_stride: 256}
+    sheet: Sheet1                                             # optional, like --sheet
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from regmap.diagnostics import UsageError
+
+FIELDS: dict[str, str] = {
+    "name": "identifier (snake_case)",
+    "param": "the manual's parameter id",
+    "address": "register address (0x0191, 0191h or 401)",
+    "address_hex": "register address in hex (the export's second address column)",
+    "type": "u16 s16 u32 s32",
+    "words": "1 or 2 (checked against type)",
+    "word_order": "high_first or low_first",
+    "paired": "iDM-RS pair (true/false)",
+    "access": "r rw w",
+    "unit": "unit, optionally with its step (0.1A)",
+    "scale": "raw x scale = value",
+    "min": "raw minimum",
+    "max": "raw maximum",
+    "default": "raw default",
+    "range": "the range as printed, in engineering units (0~655.35)",
+    "min_value": "minimum in engineering units",
+    "max_value": "maximum in engineering units",
+    "default_value": "default in engineering units, as printed",
+    "range_text": "the range text the map keeps",
+    "enum": "name of an enum",
+    "bitfields": "one field per line: BITS NAME [<ENUM>]: TITLE",
+    "takes_effect": "立即生效 / 再次通电 / 停机生效 or immediately / after_restart / when_stopped",
+    "settable": "运行设定 / 停机设定 / 显示 or always / when_stopped / display_only",
+    "modes": "PST, PS, ALL, -",
+    "group": "group id",
+    "array": "array element (array[index].member); read-only information",
+    "title": "English title",
+    "title_zh": "Chinese title",
+    "description": "text",
+    "source": "manual section(s)",
+    "errata": "erratum ids",
+    "notes": "text",
+}
+
+HEADERS: dict[str, str] = {
+    # English (the export's own headers are the field names)
+    **{f: f for f in FIELDS},
+    "addr": "address",
+    "reg": "address",
+    "register": "address",
+    "register address": "address",
+    "modbus address": "address",
+    "address (hex)": "address_hex",
+    "hex": "address_hex",
+    "parameter": "param",
+    "param id": "param",
+    "parameter id": "param",
+    "identifier": "name",
+    "data type": "type",
+    "read/write": "access",
+    "r/w": "access",
+    "range": "range",
+    "setting range": "range",
+    "default": "default",
+    "factory default": "default_value",
+    "factory setting": "default_value",
+    "takes effect": "takes_effect",
+    "effective": "takes_effect",
+    "modes": "modes",
+    "related modes": "modes",
+    "title (en)": "title",
+    "title (zh)": "title_zh",
+    "chinese title": "title_zh",
+    "section": "source",
+    # Chinese, as the manuals print them
+    "地址": "address",
+    "寄存器地址": "address",
+    "通讯地址": "address",
+    "通信地址": "address",
+    "modbus地址": "address",
+    "参数号": "param",
+    "参数编号": "param",
+    "功能码": "param",
+    "参数代码": "param",
+    "代码": "param",
+    "名称": "title_zh",
+    "参数名称": "title_zh",
+    "中文名称": "title_zh",
+    "英文名称": "title",
+    "设定范围": "range",
+    "范围": "range",
+    "取值范围": "range",
+    "出厂值": "default_value",
+    "出厂设定": "default_value",
+    "默认值": "default_value",
+    "缺省值": "default_value",
+    "单位": "unit",
+    "生效方式": "takes_effect",
+    "生效": "takes_effect",
+    "设定方式": "settable",
+    "相关模式": "modes",
+    "读写": "access",
+    "属性": "access",
+    "数据类型": "type",
+    "类型": "type",
+    "枚举": "enum",
+    "位定义": "bitfields",
+    "章节": "source",
+    "出处": "source",
+    "说明": "description",
+    "备注": "notes",
+    "分组": "group",
+}
+
+
+def normalise(header: str) -> str:
+    """Headers are compared lower-case, without spaces, line breaks or a trailing colon."""
+    return re.sub(r"[\s:：]+", "", header).lower()
+
+
+_KNOWN = {normalise(k): v for k, v in HEADERS.items()}
+
+
+@dataclass
+class Mapping:
+    columns: dict[str, str] = field(default_factory=dict)  # normalised header -> field
+    param_ids: list[dict[str, Any]] = field(default_factory=list)
+    sheet: str | None = None
+
+
+def load_mapping(path: str | Path) -> Mapping:
+    try:
+        data = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise UsageError(f"{path}: cannot read the column mapping: {exc}") from None
+    if not isinstance(data, dict) or not set(data) <= {"columns", "param_ids", "sheet"}:
+        raise UsageError(f"{path}: a column mapping has the keys columns, param_ids and sheet")
+    columns = data.get("columns") or {}
+    if not isinstance(columns, dict):
+        raise UsageError(f"{path}: columns: expected a mapping of header -> field")
+    out: dict[str, str] = {}
+    for header, name in columns.items():
+        if name not in FIELDS:
+            raise UsageError(f"{path}: column {header!r}: unknown field {name!r} (fields: {', '.join(FIELDS)})")
+        out[normalise(str(header))] = str(name)
+    rules = data.get("param_ids") or []
+    if not isinstance(rules, list) or not all(isinstance(r, dict) for r in rules):
+        raise UsageError(f"{path}: param_ids: expected a list of rules as in a map")
+    sheet = data.get("sheet")
+    return Mapping(out, rules, None if sheet is None else str(sheet))
+
+
+def recognise(header: list[str], mapping: Mapping) -> dict[int, str]:
+    """Column index -> field for every header recognised; a field named twice keeps its first column."""
+    found: dict[int, str] = {}
+    taken: set[str] = set()
+    for i, cell in enumerate(header):
+        key = normalise(cell)
+        name = mapping.columns.get(key) or _KNOWN.get(key)
+        if name and name not in taken:
+            found[i] = name
+            taken.add(name)
+    return found
+
+
+def looks_like_header(cells: list[str], mapping: Mapping) -> bool:
+    return len(recognise(cells, mapping)) >= 2

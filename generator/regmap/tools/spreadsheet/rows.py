@@ -1,0 +1,340 @@
+"""Table rows -> register entries: each field the table gives, read by `cells`, with the cells it could not read."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from decimal import Decimal
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from regmap.frontend.values import _ParamRule
+from regmap.tools.spreadsheet import cells
+from regmap.tools.spreadsheet.cells import CellProblem
+from regmap.tools.spreadsheet.table import Table, TableError
+
+
+@dataclass
+class Entry:
+    """One register as the table gives it. `values` holds map keys with raw values; `given` the keys the
+    table itself states (an update compares only those); `notes` what the draft must say about it."""
+
+    row: int
+    where: str
+    values: dict[str, Any] = field(default_factory=dict)
+    given: set[str] = field(default_factory=set)
+    notes: list[str] = field(default_factory=list)
+    errata: list[str] = field(default_factory=list)
+
+    def give(self, key: str, value: Any) -> None:
+        self.values[key] = value
+        self.given.add(key)
+
+
+@dataclass
+class Problem:
+    where: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"{self.where}: {self.message}"
+
+
+def param_rules(specs: list[dict[str, Any]]) -> list[_ParamRule]:
+    """The `param_ids` rules of a map or a mapping file (already checked by the front end for a map)."""
+    return [
+        _ParamRule(
+            regex=re.compile(s["regex"]),
+            format=s["format"],
+            base=int(s.get("base", 0)),
+            group_stride=int(s.get("group_stride", 0)),
+            index_stride=int(s.get("index_stride", 1)),
+            group_radix=int(s.get("group_radix", 10)),
+            index_radix=int(s.get("index_radix", 10)),
+        )
+        for s in specs
+    ]
+
+
+def _rule_address(rules: list[_ParamRule], param: str) -> int | None:
+    for rule in rules:
+        try:
+            address = rule.address_of(param)
+        except ValueError:
+            continue
+        if address is not None:
+            return address
+    return None
+
+
+TEXT_FIELDS = ("title", "title_zh", "description", "range_text", "notes", "group")
+
+
+class _Reader:
+    def __init__(self, table: Table, rules: list[_ParamRule]) -> None:
+        self.table, self.rules = table, rules
+        self.by_field = {name: i for i, name in table.columns.items()}
+        self.problems: list[Problem] = []  # cells it could not read: reported, left null
+
+    def cell(self, cells_: list[str], name: str) -> tuple[str, str] | None:
+        """(text, position) of a field's cell in a row, or None when the table has no such column."""
+        i = self.by_field.get(name)
+        if i is None:
+            return None
+        return (cells_[i] if i < len(cells_) else ""), self.table.where(self.row, i)
+
+    def read(self, entry: Entry, cells_: list[str], name: str, parse: Any) -> Any:
+        """The parsed cell, `None` for a blank one; a problem is reported and gives `None` too."""
+        got = self.cell(cells_, name)
+        if got is None:
+            return None
+        text, where = got
+        if cells.blank(text):
+            return None
+        try:
+            return parse(text)
+        except CellProblem as exc:
+            self.problems.append(Problem(where, str(exc)))
+            entry.notes.append(f"{name}: the table prints {text.strip()!r}, which regmap cannot read; left null")
+            return None
+
+    def take(self, entry: Entry, cells_: list[str], name: str, parse: Any) -> Any:
+        """`read`, and the entry takes the value when the cell gives one."""
+        value = self.read(entry, cells_, name, parse)
+        if value is not None:
+            entry.give(name, value)
+        return value
+
+    def has(self, name: str) -> bool:
+        return name in self.by_field
+
+    def entry(self, row: int, cells_: list[str]) -> Entry | None:
+        self.row = row
+        e = Entry(row, self.table.where(row))
+        self._identity(e, cells_)
+        if "address" not in e.values:
+            return None
+        self._kind(e, cells_)
+        self._numbers(e, cells_)
+        self._text(e, cells_)
+        return e
+
+    # -- name, param, address
+
+    def _identity(self, e: Entry, c: list[str]) -> None:
+        param = self.take(e, c, "param", lambda t: t.strip())
+        name = self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
+        address = self.read(e, c, "address", cells.address)
+        if address is None:
+            address = self.read(e, c, "address_hex", cells.address)
+        if address is None and param is not None and self.rules:
+            address = _rule_address(self.rules, param)
+            if address is None:
+                got = self.cell(c, "param")
+                assert got is not None
+                self.problems.append(Problem(got[1], f"cannot read parameter id {param!r}: no param_ids rule gives its address"))
+        if address is None:
+            got = self.cell(c, "address") or self.cell(c, "param")
+            self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address"))
+            return
+        e.give("address", address)
+        if name is None:
+            e.values["name"] = _name_from(param, address)
+            e.notes.append("name made from the " + ("parameter id" if param else "address") + ": the table has no name; rename it")
+
+    # -- type, access, enum, bitfields, word order
+
+    def _kind(self, e: Entry, c: list[str]) -> None:
+        for key, table, what in (("type", cells.TYPES, "type"), ("word_order", cells.WORD_ORDERS, "word order")):
+            value = self.read(e, c, key, lambda t, table=table, what=what: cells.choice(t, table, what))
+            if value is not None:
+                e.give(key, value)
+        words = self.read(e, c, "words", lambda t: cells.integer(t, "words"))
+        if words is not None and "type" not in e.values:
+            if words not in (1, 2):
+                self.problems.append(Problem(self.table.where(e.row), f"words {words}: expected 1 or 2"))
+            else:
+                e.give("type", "u32" if words == 2 else "u16")
+                e.notes.append("type from the words column: signedness not in the table")
+        settable_got = self.cell(c, "settable")
+        settable_text = "" if settable_got is None else cells._squash(settable_got[0])
+        if settable_text in READ_ONLY_SETTABLE:
+            e.values["access"] = "r"
+        else:
+            settable = self.read(e, c, "settable", lambda t: cells.choice(t, cells.SETTABLE, "settable"))
+            if settable is not None:
+                e.give("settable", settable)
+                if settable == "display_only":
+                    e.values["access"] = "r"
+        self.take(e, c, "access", lambda t: cells.choice(t, cells.ACCESS, "access"))
+        self.take(e, c, "enum", lambda t: cells.identifier(t, "enum name"))
+        bitfields = self.read(e, c, "bitfields", cells.bitfields)
+        if bitfields:
+            e.give("bitfields", bitfields)
+        paired = self.read(e, c, "paired", lambda t: cells.boolean(t, "paired"))
+        if paired:
+            e.give("paired", True)
+        takes = self.read(e, c, "takes_effect", lambda t: cells.choice(t, cells.TAKES_EFFECT, "takes effect"))
+        if takes is not None or (self.has("takes_effect") and "takes_effect" not in _noted(e)):
+            e.give("takes_effect", takes)
+        modes = self.read(e, c, "modes", cells.modes)
+        if modes is not None or (self.has("modes") and "modes" not in _noted(e)):
+            e.give("modes", modes or [])
+
+    # -- unit, scale, min, max, default
+
+    def _numbers(self, e: Entry, c: list[str]) -> None:
+        unit_step: Fraction | None = None
+        if self.has("unit") and self.has("scale"):  # the map's own unit (the export's): the scale has its own column
+            unit_text = self.read(e, c, "unit", lambda t: t.strip())
+            e.give("unit", unit_text)
+        elif self.has("unit"):
+            got = self.read(e, c, "unit", cells.unit)
+            if got is not None:
+                e.give("unit", got[0])
+                unit_step = got[1]
+            elif "unit" not in _noted(e):
+                e.give("unit", None)
+        scale = self.read(e, c, "scale", lambda t: Fraction(cells.decimal(t, "scale")))
+        raw = {k: self.read(e, c, k, lambda t, k=k: cells.integer(t, k)) for k in ("min", "max", "default")}
+        if any(self.has(k) for k in ("min", "max", "default")):  # raw columns (the export's): engineering columns are derived
+            for k in ("min", "max", "default"):
+                if self.has(k) and k not in _noted(e):
+                    e.give(k, raw[k])
+            if scale is not None:
+                e.give("scale", scale)
+            return
+        printed = self._printed(e, c)
+        if printed is None:
+            if scale is not None or unit_step is not None:
+                e.give("scale", scale or unit_step)
+            return
+        lo, hi, default, texts, range_unit = printed
+        if range_unit is not None and "unit" not in e.values:
+            e.give("unit", range_unit)
+        numbers = [v for v in (lo, hi, default) if v is not None]
+        decimals = max((cells.places(v) for v in numbers), default=0)
+        if scale is None:
+            if unit_step is not None and decimals:
+                self.problems.append(
+                    Problem(e.where, f"unit step {float(unit_step):g} and printed decimals ({texts}) together: scale unclear; left null")
+                )
+                e.notes.append("scale unclear: the unit has a step and the values have decimals; min, max and default left null")
+                return
+            scale = unit_step if unit_step is not None else Fraction(1, 10**decimals)
+        if scale != 1 or self.has("scale"):
+            e.give("scale", scale)
+        for key, value in (("min", lo), ("max", hi), ("default", default)):
+            if value is None:
+                if key not in _noted(e) and ((key == "default" and self.has("default_value")) or (key != "default" and self._range_given)):
+                    e.give(key, None)
+                continue
+            try:  # with a unit step (0.1%, 25ns) the table prints counts; otherwise engineering values
+                e.give(key, cells.raw_from(value, Fraction(1) if unit_step is not None else scale, key, str(value)))
+            except CellProblem as exc:
+                self.problems.append(Problem(e.where, str(exc)))
+                e.notes.append(f"{key}: {exc}; left null")
+        if self._range_text and (scale != 1 or range_unit or self._range_listed or not _plain_range(self._range_text)):
+            e.give("range_text", self._range_text)
+
+    def _printed(self, e: Entry, c: list[str]) -> tuple[Decimal | None, Decimal | None, Decimal | None, str, str | None] | None:
+        """The engineering-unit range and default as printed, or None when the table prints neither."""
+        self._range_given, self._range_text, self._range_listed = False, "", False
+        lo = hi = None
+        unit: str | None = None
+        if self.has("range"):
+            self._range_given = True
+            r = self.read(e, c, "range", cells.printed_range)
+            got = self.cell(c, "range")
+            self._range_text = "" if got is None or cells.blank(got[0]) else " ".join(got[0].split())
+            if r is not None:
+                lo, hi, unit, self._range_listed = r.lo, r.hi, r.unit, r.listed
+        elif self.has("min_value") or self.has("max_value"):
+            self._range_given = True
+            lo = self.read(e, c, "min_value", lambda t: cells.decimal(t, "minimum"))
+            hi = self.read(e, c, "max_value", lambda t: cells.decimal(t, "maximum"))
+        default = self.read(e, c, "default_value", lambda t: _default(t, unit or e.values.get("unit")))
+        if not self._range_given and not self.has("default_value"):
+            return None
+        return lo, hi, default, " ".join(t for t in (self._range_text, "" if default is None else str(default)) if t), unit
+
+    # -- text
+
+    def _text(self, e: Entry, c: list[str]) -> None:
+        for key in TEXT_FIELDS:
+            keep_lines = key in ("description", "notes")
+            value = self.read(e, c, key, lambda t, keep_lines=keep_lines: t.strip() if keep_lines else " ".join(t.split()))
+            if value:
+                e.give(key, value)
+        source = self.read(e, c, "source", cells.text_list)
+        if source:
+            e.give("source", source)
+        errata = self.read(e, c, "errata", cells.text_list)
+        if errata:
+            e.errata = errata
+        if "title" not in e.values:
+            e.values["title"] = e.values.get("title_zh") or e.values["name"]
+            e.notes.append("title copied from the " + ("Chinese name" if "title_zh" in e.values else "name") + ": translate it")
+
+
+READ_ONLY_SETTABLE = {"通信只读", "只读"}
+
+
+def _noted(e: Entry) -> set[str]:
+    """Fields whose cell could not be read (they stay out of `given`: an update leaves them alone)."""
+    return {n.split(":", 1)[0] for n in e.notes}
+
+
+def _plain_range(text: str) -> bool:
+    return re.fullmatch(r"-?[0-9]+\s*~\s*-?[0-9]+", text) is not None
+
+
+def _default(text: str, unit: str | None) -> Decimal:
+    """A printed default, optionally followed by the row's unit (`3000rpm`)."""
+    t = text.strip()
+    if unit and t.endswith(unit) and t[: -len(unit)].strip():
+        t = t[: -len(unit)].strip()
+    return cells.decimal(t, "default")
+
+
+def _name_from(param: str | None, address: int) -> str:
+    if param:
+        name = re.sub(r"[^a-z0-9]+", "_", param.lower()).strip("_")
+        if name and name[0].isalpha():
+            return name
+        return f"p{name}" if name else f"reg_{address:04x}"
+    return f"reg_{address:04x}"
+
+
+def read_entries(table: Table, rules: list[_ParamRule]) -> tuple[list[Entry], list[Problem]]:
+    """Every row as an entry, and the cells that could not be read.
+
+    Raises TableError for a table that cannot be imported at all: no address column (and no
+    param_ids rule), or two rows at one address.
+    """
+    fields = set(table.columns.values())
+    if not fields & {"address", "address_hex"} and not ("param" in fields and rules):
+        found = ", ".join(f"{table.header[i].strip()!r}" for i in sorted(table.columns)) or "none"
+        raise TableError(
+            [
+                f"{table.where(table.header_row)}: no address column (recognised: {found}); name one with --columns MAPPING.yaml, "
+                "or give param_ids rules there (or in the map) that turn parameter ids into addresses"
+            ]
+        )
+    reader = _Reader(table, rules)
+    entries = [e for row, cells_ in table.rows if (e := reader.entry(row, cells_)) is not None]
+    first: dict[int, Entry] = {}
+    duplicates = []
+    for e in entries:
+        other = first.setdefault(e.values["address"], e)
+        if other is not e:
+            column = next((i for i, n in sorted(table.columns.items()) if n in ("address", "address_hex", "param")), None)
+            duplicates.append(f"{table.where(e.row, column)}: address 0x{e.values['address']:04X} is also the address of row {other.row}")
+    if duplicates:
+        raise TableError(duplicates)
+    return entries, reader.problems
+
+
+def table_name(table: Table) -> str:
+    return Path(table.path).name
