@@ -9,6 +9,7 @@ views build from integers and validated identifiers alone.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -80,17 +81,36 @@ def is_parameter(reg: Register) -> bool:
 
 
 class Names:
-    """Entity names, unique within one generated file (a repeated title gets the register's name)."""
+    """Entity names, unique within one generated file (a repeated title gets the register's name), and
+    at most `MAX_NAME_BYTES` long (ESPHome refuses longer names; a long title is cut with an ellipsis)."""
 
-    def __init__(self) -> None:
+    def __init__(self, clean: Callable[[str], str] = str) -> None:
         self.seen: set[str] = set()
+        self.clean = clean  # the target's own escaping, applied before the length is measured
 
     def name(self, title: str, qualifier: str) -> str:
-        text = " ".join(title.split()) or qualifier
+        text = _cut(self.clean(" ".join(title.split()) or qualifier), MAX_NAME_BYTES)
         if text in self.seen:
-            text = f"{text} ({qualifier})"
+            suffix = self.clean(f" ({qualifier})")
+            text = _cut(text, MAX_NAME_BYTES - len(suffix.encode())) + suffix
         self.seen.add(text)
         return text
+
+
+MAX_NAME_BYTES = 120
+MAX_UNIT_BYTES = 63  # ESPHome's limit for unit_of_measurement
+
+
+def unit_text(unit: str) -> str:
+    return _cut(" ".join(unit.split()), MAX_UNIT_BYTES)
+
+
+def _cut(text: str, limit: int) -> str:
+    if len(text.encode()) <= limit:
+        return text
+    while len((text + "…").encode()) > limit:
+        text = text[:-1]
+    return text.rstrip() + "…"
 
 
 # -- YAML -----------------------------------------------------------------------------------

@@ -27,6 +27,7 @@ from regmap.backends.homeauto import (
     is_parameter,
     scale_float,
     single_flag,
+    unit_text,
 )
 from regmap.backends.selection import Selection
 from regmap.generate import Files
@@ -63,7 +64,7 @@ class _Package:
         self.selection = selection
         self.prefix = device.id
         self.controller = f"{device.id}_controller"
-        self.names = Names()
+        self.names = Names(esp_text)
         t = device.transport
         self.register_type = "holding" if 0x03 in t.function_codes else "read"
         self.single_write = 0x06 in t.function_codes
@@ -124,7 +125,7 @@ class _Package:
             self._sensor(reg)
 
     def _name(self, title: str, qualifier: str) -> str:
-        return esp_text(self.names.name(title, qualifier))
+        return self.names.name(title, qualifier)
 
     def _value_type(self, reg: Register) -> str:
         return VALUE_TYPE[(reg.type, reg.word_order)]
@@ -133,7 +134,7 @@ class _Package:
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg, value_type=self._value_type(reg)))
         if reg.unit:
-            entity["unit_of_measurement"] = esp_text(reg.unit)
+            entity["unit_of_measurement"] = unit_text(esp_text(reg.unit))
             if reg.unit in DEVICE_CLASS:
                 entity["device_class"] = DEVICE_CLASS[reg.unit]
         entity["accuracy_decimals"] = decimals(reg.scale)
@@ -153,7 +154,7 @@ class _Package:
         if reg.words == 1 and not self.single_write:
             entity["use_write_multiple"] = True
         if reg.unit:
-            entity["unit_of_measurement"] = esp_text(reg.unit)
+            entity["unit_of_measurement"] = unit_text(esp_text(reg.unit))
         entity["mode"] = "box"
         self.add("number", entity)
 

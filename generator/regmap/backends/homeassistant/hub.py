@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from regmap.backends.homeauto import DEVICE_CLASS, Hex, Names, decimals, dump, is_parameter, on_off, scale_float, single_flag
+from regmap.backends.homeauto import DEVICE_CLASS, Hex, Names, decimals, dump, is_parameter, on_off, scale_float, single_flag, unit_text
 from regmap.backends.selection import Selection
 from regmap.generate import Files
 from regmap.model import DataType, Device, Register, WordOrder
@@ -58,7 +58,7 @@ class _Hub:
             entity["scale"] = scale_float(reg.scale)
         entity["precision"] = decimals(reg.scale)
         if reg.unit:
-            entity["unit_of_measurement"] = reg.unit
+            entity["unit_of_measurement"] = unit_text(reg.unit)
             if reg.unit in DEVICE_CLASS:
                 entity["device_class"] = DEVICE_CLASS[reg.unit]
         if not reg.access.writable and reg.enum is None and not reg.bitfields:
