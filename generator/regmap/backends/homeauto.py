@@ -16,9 +16,8 @@ from typing import Any
 
 import yaml
 
-from regmap.model import Bitfield, EnumType, Register
+from regmap.model import Bitfield, Device, EnumType, Register
 from regmap.render import header_lines
-from regmap.model import Device
 
 # -- entity facts ------------------------------------------------------------------------------
 

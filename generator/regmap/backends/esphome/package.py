@@ -262,7 +262,12 @@ class _Package:
             ],
             "modbus": [{"id": f"{p}_modbus", "uart_id": f"{p}_uart"}],
             "modbus_controller": [
-                {"id": self.controller, "modbus_id": f"{p}_modbus", "address": self.sub("slave_id"), "update_interval": self.sub("update_interval")}
+                {
+                    "id": self.controller,
+                    "modbus_id": f"{p}_modbus",
+                    "address": self.sub("slave_id"),
+                    "update_interval": self.sub("update_interval"),
+                }
             ],
         }
         for platform in ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button"):

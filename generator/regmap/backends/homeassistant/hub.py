@@ -104,7 +104,8 @@ class _Hub:
                 nxt.array is not None
                 and nxt.array.array == first.array.array
                 and nxt.array.member == first.array.member
-                and (nxt.type, nxt.scale, nxt.unit, nxt.access, nxt.word_order) == (first.type, first.scale, first.unit, first.access, first.word_order)
+                and (nxt.type, nxt.scale, nxt.unit, nxt.access, nxt.word_order)
+                == (first.type, first.scale, first.unit, first.access, first.word_order)
                 and nxt.address == prev.address + prev.words
                 and not nxt.paired
                 and not nxt.bitfields
