@@ -108,7 +108,7 @@ def test_esphome_config_accepts_the_package(esphome: Path, tmp_path: Path, devic
     if selection == "default":
         package = (GENERATED / "esphome" / f"{device.id}.yaml").read_text(encoding="utf-8")
     else:
-        package = _only(esphome_files(device, ALL))
+        package = _file("esphome", device, ALL)
     _esphome_config(esphome, tmp_path, package)
 
 
@@ -118,7 +118,7 @@ def test_home_assistant_check_config_accepts_the_hub(hass: Path, tmp_path: Path,
     if selection == "default":
         package = (GENERATED / "homeassistant" / f"{device.id}.yaml").read_text(encoding="utf-8")
     else:
-        package = _only(hass_files(device, ALL))
+        package = _file("homeassistant", device, ALL)
     _hass_check(hass, tmp_path, package)
 
 
@@ -163,8 +163,19 @@ def test_hostile_map_validates_and_injects_nothing(esphome: Path, hass: Path, tm
 # -- semantics: every entity equals the model -------------------------------------------------------
 
 
+_FILES: dict[tuple[str, str, tuple[str, ...] | None], str] = {}
+
+
+def _file(target: str, device: Device, patterns: tuple[str, ...] | None) -> str:
+    """A generated file, made once per run (the full C630S selection is large)."""
+    key = (target, device.id, patterns)
+    if key not in _FILES:
+        _FILES[key] = _only((esphome_files if target == "esphome" else hass_files)(device, patterns))
+    return _FILES[key]
+
+
 def _esp_entities(device: Device, patterns: tuple[str, ...] | None = ALL) -> list[tuple[str, dict[str, Any]]]:
-    data = load(_only(esphome_files(device, patterns)))
+    data = load(_file("esphome", device, patterns))
     return [
         (platform, e)
         for platform in ("sensor", "number", "select", "text_sensor", "binary_sensor", "switch")
@@ -173,7 +184,7 @@ def _esp_entities(device: Device, patterns: tuple[str, ...] | None = ALL) -> lis
 
 
 def _hass_entities(device: Device, patterns: tuple[str, ...] | None = ALL) -> list[tuple[str, dict[str, Any]]]:
-    (hub,) = load(_only(hass_files(device, patterns)))["modbus"]
+    (hub,) = load(_file("homeassistant", device, patterns))["modbus"]
     return [(platform, e) for platform in ("sensors", "binary_sensors", "switches") for e in hub.get(platform, [])]
 
 
