@@ -90,7 +90,7 @@ class Names:
     def name(self, title: str, qualifier: str) -> str:
         text = _cut(self.clean(" ".join(title.split()) or qualifier), MAX_NAME_BYTES)
         if text in self.seen:
-            suffix = self.clean(f" ({qualifier})")
+            suffix = f" ({self.clean(qualifier)})"
             text = _cut(text, MAX_NAME_BYTES - len(suffix.encode())) + suffix
         self.seen.add(text)
         return text
