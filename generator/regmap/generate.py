@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -13,6 +13,7 @@ from regmap.diagnostics import Diagnostic, UsageError
 from regmap.model import Device
 
 Files = dict[str, str]  # relative path -> content
+TargetOptions = Mapping[str, str]  # `regmap generate` target options (e.g. `--select`) -> their text
 
 
 @dataclass(frozen=True)
@@ -23,6 +24,15 @@ class Target:
     shared: Callable[[Sequence[Device]], Files]
     post: Callable[[Path], None] | None = None
     check: Callable[[Device], list[Diagnostic]] | None = None  # the back end's own rules, run by `regmap validate`
+    # Target options: the names this target reads (`select`), and the target as given values make it.
+    # A target that declares none never sees them; an option no chosen target reads is refused.
+    options: tuple[str, ...] = ()
+    configure: Callable[[TargetOptions], Target] | None = None
+
+    def configured(self, options: TargetOptions) -> Target:
+        """This target with the options it reads applied (itself when none of them was given)."""
+        mine = {name: value for name, value in options.items() if name in self.options}
+        return self.configure(mine) if mine and self.configure is not None else self
 
 
 def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
@@ -37,7 +47,7 @@ def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> li
     return problems
 
 
-BUILT_IN_ORDER = ("python", "c", "markdown")
+BUILT_IN_ORDER = ("python", "c", "markdown", "esphome", "homeassistant")
 TARGET_GROUP = "regmap.targets"  # entry-point group: a third-party back end registers itself here, as the built-in ones do
 
 
@@ -62,12 +72,21 @@ def target_names() -> list[str]:
     return list(_targets())
 
 
-def render(devices: Sequence[Device], targets: Sequence[str]) -> dict[str, Files]:
+def check_options(targets: Sequence[str], options: TargetOptions) -> None:
+    """Refuse a target option that none of the chosen targets reads (it would silently do nothing)."""
+    known = _targets()
+    for option in options:
+        if not any(option in known[name].options for name in targets):
+            readers = [name for name, target in known.items() if option in target.options]
+            raise UsageError(f"--{option} is read by the target(s) {', '.join(readers) or '(none)'}, none of which is chosen")
+
+
+def render(devices: Sequence[Device], targets: Sequence[str], options: TargetOptions | None = None) -> dict[str, Files]:
     """Every file each target produces, in memory, keyed by target subdir."""
     known = _targets()
     out: dict[str, Files] = {}
     for name in targets:
-        target = known[name]
+        target = known[name].configured(options or {})
         files: Files = dict(target.shared(devices))
         for device in devices:
             files.update(target.per_device(device))
@@ -75,14 +94,22 @@ def render(devices: Sequence[Device], targets: Sequence[str]) -> dict[str, Files
     return out
 
 
-def generate(devices: Sequence[Device], out_dir: Path, targets: Sequence[str], *, complete: bool, extra: Files | None = None) -> list[Path]:
+def generate(
+    devices: Sequence[Device],
+    out_dir: Path,
+    targets: Sequence[str],
+    *,
+    complete: bool,
+    extra: Files | None = None,
+    options: TargetOptions | None = None,
+) -> list[Path]:
     """Write the targets' files under `out_dir`. With `complete` (all maps in scope) each target's
     subdirectory is replaced whole, so files of removed maps disappear; otherwise files are added or
     overwritten. `extra` (path relative to `out_dir` -> content, e.g. the `--since` changelog pages)
     is written last, into the same staged tree. Nothing under `out_dir` changes unless every target
     rendered and post-processed."""
     known = _targets()
-    rendered = render(devices, targets)
+    rendered = render(devices, targets, options)
     out_dir = out_dir.resolve()
     out_dir.parent.mkdir(parents=True, exist_ok=True)
     recover(out_dir)

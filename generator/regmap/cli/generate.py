@@ -22,6 +22,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap generate                                 # every maps/*.yaml -> generated/",
             "regmap generate maps/c630s.yaml --target c --out build/gen",
             "regmap generate --since v1.0.0                  # also changelog pages in the docs",
+            "regmap generate maps/c630s.yaml --target esphome --select 'p0b,P02-00,fault_reset'",
+            "regmap generate maps/idm_rs.yaml --target homeassistant --select @my-selection.txt",
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -31,7 +33,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "--target",
         action="append",
         metavar="TARGET",
-        help="only this target (repeatable): python, c, markdown, or a plugin's (default: all)",
+        help="only this target (repeatable): python, c, markdown, esphome, homeassistant, or a plugin's (default: all)",
+    )
+    p.add_argument(
+        "--select",
+        metavar="PATTERNS",
+        help="esphome/homeassistant: the registers and commands to generate entities for: comma-separated glob patterns over "
+        "register names, parameter ids, group ids and command names ('!' excludes), or @FILE (one pattern a line, # comments); "
+        "default: every read-only register and every command (README 'Home Assistant and ESPHome')",
     )
     p.add_argument("--since", metavar="GITREV", help="also write docs/<device>-changelog.md: `regmap diff` of each map against GITREV")
     return p
@@ -49,7 +58,7 @@ def check_out_dir(out: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.generate import generate, target_names
+    from regmap.generate import check_options, generate, target_names
     from regmap.tools.diff import changelog_pages
 
     out = Path(args.out)
@@ -59,8 +68,10 @@ def run(args: argparse.Namespace) -> int:
     if unknown:
         raise UsageError(f"--target {unknown[0]}: no such target (targets: {', '.join(known)})")
     targets = args.target or known
+    options = {"select": args.select} if args.select is not None else {}
+    check_options(targets, options)
     devices = load_all(args.maps)
     pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
-    written = generate(devices, out, targets, complete=not args.maps, extra=pages)
+    written = generate(devices, out, targets, complete=not args.maps, extra=pages, options=options)
     print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
     return ExitCode.OK

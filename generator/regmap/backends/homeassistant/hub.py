@@ -1,0 +1,183 @@
+"""The Home Assistant `modbus:` hub of one map: sensors, binary sensors and switches for the selected registers.
+
+Home Assistant reads each entity with its own request, except virtual sensors: a run of array
+elements of one type, scale and unit at consecutive addresses inside one read-plan request becomes
+one sensor with `virtual_count` (one request for the whole run). What HA's modbus integration cannot
+express from the map is listed in the file's header instead of being approximated: enum labels (the
+sensor shows the raw code), flags other than bit 0 (its binary sensor reads `value & 1`, and it loads
+one entity per address, so a register with several flags is one raw sensor), write-only
+registers and commands (call `modbus.write_register`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from regmap.backends.homeauto import DEVICE_CLASS, Hex, Names, decimals, dump, is_parameter, on_off, scale_float, single_flag, unit_text
+from regmap.backends.selection import Selection
+from regmap.generate import Files
+from regmap.model import DataType, Device, Register, WordOrder
+from regmap.runtime_bridge import read_plan
+
+DATA_TYPE = {DataType.U16: "uint16", DataType.S16: "int16", DataType.U32: "uint32", DataType.S32: "int32"}
+PARITY = {"none": "N", "even": "E", "odd": "O"}
+SCAN_INTERVAL = 10  # seconds, status values
+PARAMETER_SCAN_INTERVAL = 300  # seconds, settings (they change only when written)
+PORT = "/dev/ttyUSB0"
+
+
+class _Hub:
+    def __init__(self, device: Device, selection: Selection) -> None:
+        self.device = device
+        self.selection = selection
+        self.names = Names()
+        self.slave = 1 if device.transport.slave_min <= 1 <= device.transport.slave_max else device.transport.slave_min
+        self.input_type = "holding" if 0x03 in device.transport.function_codes else "input"
+        self.skipped: list[str] = []
+        self.sensors: list[dict[str, Any]] = []
+        self.binary_sensors: list[dict[str, Any]] = []
+        self.switches: list[dict[str, Any]] = []
+        plan = read_plan(device, [r for r in selection.registers if r.access.readable])
+        self.block_of = {s.name: i for i, block in enumerate(plan) for s in block.registers}
+
+    def _base(self, reg: Register, title: str, qualifier: str) -> dict[str, Any]:
+        return {
+            "name": self.names.name(title, qualifier),
+            "unique_id": f"{self.device.id}_{qualifier.replace('.', '_')}",
+            "slave": self.slave,
+            "address": Hex(reg.address),
+            "scan_interval": PARAMETER_SCAN_INTERVAL if is_parameter(reg) else SCAN_INTERVAL,
+        }
+
+    def _sensor(self, reg: Register, title: str, virtual: int = 0) -> None:
+        entity = self._base(reg, title, reg.name)
+        entity.update({"input_type": self.input_type, "data_type": DATA_TYPE[reg.type]})
+        if reg.words == 2 and reg.word_order is WordOrder.LOW_FIRST:
+            entity["swap"] = "word"
+        if reg.scaled:
+            entity["scale"] = scale_float(reg.scale)
+        entity["precision"] = decimals(reg.scale)
+        if reg.unit:
+            entity["unit_of_measurement"] = unit_text(reg.unit)
+            if reg.unit in DEVICE_CLASS:
+                entity["device_class"] = DEVICE_CLASS[reg.unit]
+        if not reg.access.writable and reg.enum is None and not reg.bitfields:
+            entity["state_class"] = "measurement"
+        if virtual:
+            entity["virtual_count"] = virtual
+        self.sensors.append(entity)
+
+    def _flag_sensor(self, reg: Register) -> bool:
+        """A read-only register whose only field is bit 0 becomes a binary sensor (HA reads `value & 1`);
+        HA loads one entity per address, so any other bitfield register stays one raw sensor."""
+        field = single_flag(reg)
+        if field is None or field.lsb != 0 or reg.access.writable or reg.words != 1:
+            if reg.bitfields:
+                self.skipped.append(f"{reg.name}'s bitfields as entities (HA reads bit 0 only; the register's sensor shows them)")
+            return False
+        entity = self._base(reg, f"{reg.title}: {field.title}", f"{reg.name}.{field.name}")
+        entity["input_type"] = self.input_type
+        self.binary_sensors.append(entity)
+        return True
+
+    def _switch(self, reg: Register, title: str, qualifier: str, on: int, off: int) -> None:
+        entity = self._base(reg, title, qualifier)
+        entity.update(
+            {
+                "write_type": "holding",
+                "command_on": on,
+                "command_off": off,
+                "verify": {"input_type": self.input_type, "address": Hex(reg.address), "state_on": on, "state_off": off},
+            }
+        )
+        self.switches.append(entity)
+
+    def _run(self, regs: list[Register], i: int) -> int:
+        """How many registers from regs[i] one virtual sensor can read (1 when none)."""
+        first = regs[i]
+        n = 1
+        if first.array is None or first.enum is not None or first.bitfields:
+            return 1
+        while i + n < len(regs):
+            nxt, prev = regs[i + n], regs[i + n - 1]
+            same = (
+                nxt.array is not None
+                and nxt.array.array == first.array.array
+                and nxt.array.member == first.array.member
+                and (nxt.type, nxt.scale, nxt.unit, nxt.access, nxt.word_order)
+                == (first.type, first.scale, first.unit, first.access, first.word_order)
+                and nxt.address == prev.address + prev.words
+                and not nxt.paired
+                and not nxt.bitfields
+                and nxt.enum is None
+                and self.block_of.get(nxt.name) == self.block_of.get(first.name)
+            )
+            if not same:
+                break
+            n += 1
+        return n
+
+    def build(self) -> None:
+        regs = [r for r in self.selection.registers if r.access.readable]
+        for reg in self.selection.registers:
+            if not reg.access.readable:
+                self.skipped.append(f"{reg.name} (write-only; write it with modbus.write_register)")
+        i = 0
+        while i < len(regs):
+            reg = regs[i]
+            n = self._run(regs, i)
+            if n > 1:
+                assert reg.array is not None
+                array = next(a for a in self.device.arrays if a.name == reg.array.array)
+                member = next(m for m in array.members if m.name == reg.array.member)
+                self._sensor(reg, f"{array.title}: {member.title}", virtual=n - 1)
+                i += n
+                continue
+            switch = on_off(reg.enum) if reg.access.writable and reg.words == 1 else None
+            flag = single_flag(reg) if reg.access.writable and reg.words == 1 else None
+            if switch is not None:
+                self._switch(reg, reg.title, reg.name, *switch)
+            elif flag is not None:
+                self._switch(reg, f"{reg.title}: {flag.title}", f"{reg.name}.{flag.name}", flag.mask, 0)
+            elif not self._flag_sensor(reg):
+                self._sensor(reg, reg.title)
+            i += 1
+        for command in self.selection.commands:
+            self.skipped.append(f"command {command.name} (HA modbus has no button: call modbus.write_register)")
+
+    def data(self) -> list[dict[str, Any]]:
+        self.build()
+        t = self.device.transport
+        hub: dict[str, Any] = {
+            "name": self.device.id,
+            "type": "serial",
+            "method": "rtu",
+            "port": PORT,
+            "baudrate": t.baud,
+            "bytesize": t.data_bits,
+            "parity": PARITY[t.parity],
+            "stopbits": t.stop_bits,
+        }
+        for key, entities in (("sensors", self.sensors), ("binary_sensors", self.binary_sensors), ("switches", self.switches)):
+            if entities:
+                hub[key] = entities
+        return [hub]
+
+
+def hub(device: Device, selection: Selection) -> list[dict[str, Any]]:
+    """The `modbus:` list as data (the tests read the entities from it)."""
+    return _Hub(device, selection).data()
+
+
+def render_hub(device: Device, selection: Selection) -> Files:
+    h = _Hub(device, selection)
+    data = h.data()
+    about = [
+        "",
+        f"Home Assistant modbus hub for {device.info.vendor} {device.info.model}, as a package. In configuration.yaml:",
+        f"homeassistant: packages: {{{device.id}: !include {device.id}.yaml}}. Set `port` ({PORT}) and `slave` to your line.",
+        f"32-bit values assume the device's factory word order ({device.transport.word_order.value}).",
+        f"Selection: {selection.rule} ({len(selection.registers)} registers, {len(selection.commands)} commands).",
+    ]
+    about += [f"Not generated: {s}" for s in h.skipped]
+    return {f"{device.id}.yaml": dump(device, about, {"modbus": data})}

@@ -1,0 +1,158 @@
+"""What the ESPHome and Home Assistant back ends share: entity facts computed from the model, and YAML output.
+
+Both files are emitted with PyYAML's safe dumper from plain data the views computed, never from a
+template: a string from a map is always a quoted-or-plain *string* scalar (the dumper quotes anything
+that would read back as another type, a tag `!lambda`/`!secret`/`!include`, an anchor or an alias),
+so map text cannot become YAML structure. The only tagged nodes are `Lambda`s, which the ESPHome
+views build from integers and validated identifiers alone.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import yaml
+
+from regmap.model import Bitfield, Device, EnumType, Register
+from regmap.render import header_lines
+
+# -- entity facts ------------------------------------------------------------------------------
+
+# Home Assistant device classes (ESPHome uses the same names) implied by a map's unit.
+DEVICE_CLASS = {
+    "A": "current",
+    "mA": "current",
+    "V": "voltage",
+    "mV": "voltage",
+    "W": "power",
+    "kW": "power",
+    "°C": "temperature",
+    "Hz": "frequency",
+    "kHz": "frequency",
+    "s": "duration",
+    "ms": "duration",
+    "min": "duration",
+    "h": "duration",
+}
+
+ON_NAMES = frozenset({"on", "enabled", "enable", "yes", "true"})
+OFF_NAMES = frozenset({"off", "disabled", "disable", "no", "false"})
+MAX_DECIMALS = 6
+
+
+def decimals(scale: Fraction) -> int:
+    """Digits after the point that show every raw step: 0.1 -> 1, 0.125 -> 3 (capped for 1/3)."""
+    for digits in range(MAX_DECIMALS + 1):
+        if (scale * 10**digits).denominator == 1:
+            return digits
+    return MAX_DECIMALS
+
+
+def scale_float(scale: Fraction) -> float | int:
+    return scale.numerator if scale.denominator == 1 else float(scale)
+
+
+def on_off(enum: EnumType | None) -> tuple[int, int] | None:
+    """(on value, off value) of a two-valued on/off enum, which a switch can show; else None."""
+    if enum is None or len(enum.members) != 2:
+        return None
+    on = [m.value for m in enum.members if m.name.lower() in ON_NAMES]
+    off = [m.value for m in enum.members if m.name.lower() in OFF_NAMES]
+    return (on[0], off[0]) if on and off and on[0] >= 0 and off[0] >= 0 else None
+
+
+def flags(reg: Register) -> tuple[Bitfield, ...]:
+    """The one-bit fields of a register (what a binary sensor or switch shows)."""
+    return tuple(b for b in reg.bitfields if b.width == 1)
+
+
+def single_flag(reg: Register) -> Bitfield | None:
+    """The flag of a register whose only field is one bit: writing the mask or 0 then clobbers nothing."""
+    return reg.bitfields[0] if len(reg.bitfields) == 1 and reg.bitfields[0].width == 1 else None
+
+
+def is_parameter(reg: Register) -> bool:
+    """A setting: it changes only when someone writes it, so it is polled less often than status values."""
+    return reg.access.writable
+
+
+class Names:
+    """Entity names, unique within one generated file (a repeated title gets the register's name), and
+    at most `MAX_NAME_BYTES` long (ESPHome refuses longer names; a long title is cut with an ellipsis)."""
+
+    def __init__(self, clean: Callable[[str], str] = str) -> None:
+        self.seen: set[str] = set()
+        self.clean = clean  # the target's own escaping, applied before the length is measured
+
+    def name(self, title: str, qualifier: str) -> str:
+        text = _cut(self.clean(" ".join(title.split()) or qualifier), MAX_NAME_BYTES)
+        if text in self.seen:
+            suffix = f" ({self.clean(qualifier)})"
+            text = _cut(text, MAX_NAME_BYTES - len(suffix.encode())) + suffix
+        self.seen.add(text)
+        return text
+
+
+MAX_NAME_BYTES = 120
+MAX_UNIT_BYTES = 63  # ESPHome's limit for unit_of_measurement
+
+
+def unit_text(unit: str) -> str:
+    return _cut(" ".join(unit.split()), MAX_UNIT_BYTES)
+
+
+def _cut(text: str, limit: int) -> str:
+    if len(text.encode()) <= limit:
+        return text
+    while len((text + "…").encode()) > limit:
+        text = text[:-1]
+    return text.rstrip() + "…"
+
+
+# -- YAML -----------------------------------------------------------------------------------
+
+
+class Hex(int):
+    """An integer written in hex (addresses, masks); YAML 1.1 reads `0x0010` back as 16."""
+
+    digits: int
+
+    def __new__(cls, value: int, digits: int = 4) -> Hex:
+        made = super().__new__(cls, value)
+        made.digits = digits
+        return made
+
+
+@dataclass(frozen=True)
+class Lambda:
+    """An ESPHome `!lambda` whose code the back end wrote from integers and identifiers, never from map text."""
+
+    code: str
+
+
+class _Dumper(yaml.SafeDumper):
+    def ignore_aliases(self, data: Any) -> bool:
+        return True  # no anchors/aliases: repeated values are written out
+
+
+def _hex(dumper: yaml.SafeDumper, value: Hex) -> yaml.Node:
+    return dumper.represent_scalar("tag:yaml.org,2002:int", f"0x{int(value):0{value.digits}X}")
+
+
+def _lambda(dumper: yaml.SafeDumper, value: Lambda) -> yaml.Node:
+    return dumper.represent_scalar("!lambda", value.code, style="|")
+
+
+_Dumper.add_representer(Hex, _hex)
+_Dumper.add_representer(Lambda, _lambda)
+
+
+def dump(device: Device, about: list[str], data: dict[str, Any]) -> str:
+    """The YAML file: the do-not-edit header and `about` as comments, then `data` (keys in the order given)."""
+    comments = [*header_lines(device, "regmap generate"), *about]
+    head = "".join("# " + " ".join(line.split()) + "\n" if line else "#\n" for line in comments)
+    body = yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=120, default_flow_style=False)
+    return head + body
