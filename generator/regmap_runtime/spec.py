@@ -134,10 +134,12 @@ class DeviceSpec:
     function_codes: tuple[int, ...]
     tolerates_gaps: bool
     exceptions: tuple[tuple[int, str, str], ...] = ()  # (code, name, meaning)
+    also_readable: frozenset[int] = frozenset()  # undocumented addresses a device profile saw answering reads
 
     @cached_property
     def documented(self) -> frozenset[int] | None:
         """Addresses the device answers, or None when it tolerates reads of any address."""
         if self.tolerates_gaps:
             return None
-        return frozenset(a for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
+        own = frozenset(a for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
+        return own | self.also_readable

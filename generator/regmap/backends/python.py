@@ -18,7 +18,7 @@ from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, 
 from regmap.render import environment, header_lines, py_doc, py_str
 from regmap.runtime_bridge import read_plan
 
-RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "rtu.py", "spec.py")
+RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "profile.py", "rtu.py", "spec.py")
 
 
 class PythonIdentifier(str):
