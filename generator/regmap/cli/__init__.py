@@ -18,7 +18,7 @@ from types import ModuleType
 from regmap import __version__
 from regmap.diagnostics import ExitCode, LinkError, MapError, UsageError
 
-SUBCOMMANDS = ("validate", "show", "export", "generate", "frame", "decode", "read", "write", "dump", "command", "simulate", "diff")
+SUBCOMMANDS = ("validate", "show", "export", "generate", "frame", "decode", "read", "write", "dump", "command", "simulate", "diff", "probe")
 ALIASES = {"list": "show"}
 
 
