@@ -53,7 +53,7 @@ def map_path(device_id: str) -> Path:
     return ROOT / "maps" / f"{device_id}.yaml"
 
 
-def changed(tmp_path: Path, device_id: str, edit: Callable[[dict[str, Any]], None]) -> Path:
+def changed(tmp_path: Path, device_id: str, edit: Callable[[dict[str, Any]], object]) -> Path:
     data: Map = yaml.safe_load(map_path(device_id).read_text(encoding="utf-8"))
     for group in data["groups"]:
         for reg in group.get("registers") or []:
