@@ -208,9 +208,9 @@ def _bus(r: Results) -> list[str]:
             "`undocumented_addresses: reject`, so no request may span an address the manual does not list, and the "
             "parameters are spread over many short runs. If a device answered reads across gaps, the same planner would "
             f"need {', '.join(f'`{p.device_id}` {p.tolerant_requests}' for p in r.plans)} requests (a what-if, not measured "
-            "on the bus: the manuals do not say the drives allow it).",
+            "on the bus: the manuals do not say the drives allow it; measured below on a simulator that does).",
         ]
-    return [*out, ""]
+    return [*out, *_profiles(r), ""]
 
 
 def _profiles(r: Results) -> list[str]:
