@@ -28,6 +28,8 @@ def main(argv: list[str] | None = None) -> int:
         devices = [d for d in devices if d.id == "id243pro"] or devices[:1]
     with stage("bus time of read_all() against the simulator"):
         bus_results = [bus.measure(d) for d in devices]
+    with stage("read_all() with and without a learned device profile (lenient simulator)"):
+        profiles = [bus.measure_profile(d) for d in devices]
     with stage("read-plan optimality (dynamic programme)"):
         sweep = (2, 47, 125) if args.quick else range(2, 126)
         plans = [optimal.check(d, sweep) for d in devices]
@@ -40,7 +42,7 @@ def main(argv: list[str] | None = None) -> int:
         c = chelpers.measure(iterations=2000 if args.quick else 200000, repeats=1 if args.quick else 7)
     with stage("simulator under load, beside a libmodbus server"):
         sim = simload.measure(2_000, 5_000, 500) if args.quick else simload.measure()
-    results = Results(facts, bus_results, plans, gen, comparisons, costs, c, quick=args.quick, sim=sim)
+    results = Results(facts, bus_results, plans, gen, comparisons, costs, c, quick=args.quick, sim=sim, profiles=profiles)
     results.elapsed_s = time.perf_counter() - started
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -16,7 +16,7 @@ from typing import Any
 from bench.common import client_class, client_module, free_port, wait_for_port
 from regmap.model import Device
 from regmap.runtime_bridge import read_plan
-from regmap.tools.simulator import Simulator
+from regmap.tools.simulator import Quirks, Simulator
 from regmap_runtime.rtu import build_read, crc_ok, parse_frame
 
 READ_REQUEST_BYTES = 8  # slave, function, address (2), count (2), CRC (2)
@@ -110,8 +110,8 @@ def lower_bound(device: Device, line: Line) -> Traffic:
 class SimulatorThread:
     """`regmap.tools.simulator.Simulator` serving RTU framing on loopback TCP from a background thread."""
 
-    def __init__(self, device: Device) -> None:
-        self.simulator = Simulator(device, keep_requests=4096)  # the whole per-register pass stays inspectable
+    def __init__(self, device: Device, quirks: Quirks | None = None) -> None:
+        self.simulator = Simulator(device, keep_requests=4096, quirks=quirks)  # the whole per-register pass stays inspectable
         self.port = free_port()
         self.loop = asyncio.new_event_loop()
         self.thread = threading.Thread(target=self._run, name=f"simulator-{device.id}", daemon=True)
@@ -186,3 +186,41 @@ def measure(device: Device) -> BusResult:
         per_register = _count(sim, client, line)
     words = sum(spec.words for spec in readable)
     return BusResult(device.id, device.info.model, line, len(readable), words, plan, per_register, lower_bound(device, line), matches)
+
+
+@dataclass(frozen=True)
+class ProfileResult:
+    """read_all() on a drive that answers reads across gaps, before and after `regmap probe` learned it."""
+
+    device_id: str
+    line: Line
+    probe_requests: int
+    without: Traffic  # the map's plan
+    learned: Traffic  # the plan the learned profile allows
+    bound: Traffic
+    gap_runs: int  # undocumented address runs the profile proved readable
+
+
+def measure_profile(device: Device) -> ProfileResult:
+    """Probe a lenient simulator (`--answer-gaps`), then read_all() with and without the profile it learned."""
+    from regmap.tools.link import Link
+    from regmap.tools.live import connect
+    from regmap.tools.probe import Options, probe
+
+    line = line_of(device)
+    cls = client_class(client_module(device.id))
+    with SimulatorThread(device, Quirks(answer_gaps=True)) as sim:
+        link = Link(tcp=f"127.0.0.1:{sim.port}", rtu_over_tcp=True, timeout=5)
+        prober = connect(device, link, reading=True)
+        try:
+            found, profile = probe(device, prober, link.where, Options(budget_s=120))
+        finally:
+            prober.close()
+        results = []
+        for chosen in (None, profile):
+            with cls.tcp("127.0.0.1", sim.port, slave=1, timeout=5, rtu_over_tcp=True, profile=chosen) as client:
+                sim.reset()
+                client.requests_sent = 0
+                client.read_all()
+                results.append(_count(sim, client, line))
+    return ProfileResult(device.id, line, found.requests, results[0], results[1], lower_bound(device, line), len(profile.readable_gaps))

@@ -350,7 +350,9 @@ def test_esphome_reads_follow_the_read_plan(device: Device, patterns: tuple[str,
     for start, count, classes in _esphome_ranges(entities):
         assert count <= device.transport.max_read_registers
         assert len(classes) == 1, f"range at {start:#06x} mixes polling rates"
-        assert device.transport.tolerates_gaps or all(("holding", a) in documented for a in range(start, start + count)), f"{start:#06x}+{count}"
+        assert device.transport.tolerates_gaps or all(("holding", a) in documented for a in range(start, start + count)), (
+            f"{start:#06x}+{count}"
+        )
         assert any(b.address <= start and start + count <= b.address + b.count for b in plan), f"{start:#06x}+{count} not in a plan request"
         first = device.at_address(start)
         assert first is not None and (count == first.words or not first.paired), "a block read must start at a pair's high word"

@@ -17,6 +17,7 @@ class ExitCode(enum.IntEnum):
     VERIFY_MISMATCH = 5  # `write`: the drive reads back another value than was written
     DIFF_COMPATIBLE = 6  # `diff`: differences, all compatible
     DIFF_BREAKING = 7  # `diff`: breaking differences
+    PROBE_DISAGREES = 8  # `probe`: the drive and its map disagree
     INTERNAL = 70  # a bug in regmap (EX_SOFTWARE): please report it with REGMAP_DEBUG=1
     INTERRUPTED = 130  # Ctrl-C
 

@@ -12,6 +12,7 @@ from typing import Any
 
 from regmap.model import Device, EnumType, Register
 from regmap_runtime.plan import ReadBlock, plan_reads
+from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
@@ -84,10 +85,15 @@ def runtime_device(device: Device) -> DeviceSpec:
     )
 
 
-def read_plan(device: Device, registers: Sequence[Register] | None = None) -> list[ReadBlock]:
-    """The requests that read `registers` (default: every readable one, as `read_all()` does), in order."""
+def read_plan(device: Device, registers: Sequence[Register] | None = None, profile: DeviceProfile | None = None) -> list[ReadBlock]:
+    """The requests that read `registers` (default: every readable one, as `read_all()` does), in order;
+    with a device profile, the read limit and the readable gaps it observed (as the client uses them)."""
     t = device.transport
     chosen = device.registers if registers is None else registers
     names = {r.name for r in chosen}
     specs = [s for s in runtime_specs(device) if s.name in names]
-    return plan_reads(specs, t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device))
+    limit, documented = t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device)
+    if profile is not None:
+        profile.check(device.id, device.fingerprint)
+        limit, documented = profile.plan_limits(limit, documented)
+    return plan_reads(specs, limit, documented)

@@ -154,10 +154,12 @@ class DeviceSpec:
     function_codes: tuple[int, ...]
     tolerates_gaps: bool
     exceptions: tuple[tuple[int, str, str], ...] = ()  # (code, name, meaning)
+    also_readable: frozenset[tuple[str, int]] = frozenset()  # (space, address) undocumented, but a device profile saw them answer
 
     @cached_property
     def documented(self) -> frozenset[tuple[str, int]] | None:
         """(space, address) of every word the device answers, or None when it tolerates reads of any address."""
         if self.tolerates_gaps:
             return None
-        return frozenset((r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
+        own = frozenset((r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
+        return own | self.also_readable

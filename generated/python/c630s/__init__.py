@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_8820c6d93b.bits import BitfieldValue
-from regmap_runtime_8820c6d93b.client import AsyncClient, SyncClient
-from regmap_runtime_8820c6d93b.errors import (
+from regmap_runtime_77c8932199.bits import BitfieldValue
+from regmap_runtime_77c8932199.client import AsyncClient, SyncClient
+from regmap_runtime_77c8932199.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,7 +21,7 @@ from regmap_runtime_8820c6d93b.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_8820c6d93b.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_77c8932199.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "f8d04d8e143c57b9"

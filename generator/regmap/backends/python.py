@@ -23,7 +23,19 @@ from regmap.render import environment, header_lines, py_doc, py_str
 from regmap.runtime_bridge import read_plan
 from regmap_runtime.spaces import DEFAULT_SPACE
 
-RUNTIME_MODULES = ("__init__.py", "bits.py", "client.py", "codec.py", "errors.py", "plan.py", "rtu.py", "spaces.py", "spec.py", "types.py")
+RUNTIME_MODULES = (
+    "__init__.py",
+    "bits.py",
+    "client.py",
+    "codec.py",
+    "errors.py",
+    "plan.py",
+    "profile.py",
+    "rtu.py",
+    "spaces.py",
+    "spec.py",
+    "types.py",
+)
 
 
 class PythonIdentifier(str):

@@ -34,6 +34,7 @@ SUBCOMMANDS = (
     "diff",
     "import",
     "new",
+    "probe",
 )
 ALIASES = {"list": "show"}
 

@@ -156,5 +156,26 @@ def add_output(p: argparse.ArgumentParser) -> None:
     fmt.add_argument("--csv", action="store_true", help="CSV output (a bitfield: its raw word plus one column per field)")
 
 
+def add_profile(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--profile",
+        metavar="FILE",
+        help="a device profile from `regmap probe --profile`: read with the limit and the gaps it proved (refused for another map)",
+    )
+
+
+def profile_from(args: argparse.Namespace, device: Device) -> Any:
+    """The device profile named by --profile, checked against the map (a UsageError for another map), or None."""
+    if not args.profile:
+        return None
+    from regmap.runtime_bridge import runtime_device
+    from regmap_runtime.profile import ProfileError, load_profile
+
+    try:
+        return load_profile(args.profile, runtime_device(device))
+    except ProfileError as exc:
+        raise UsageError(f"--profile {exc}") from None
+
+
 def output_format(args: argparse.Namespace) -> str:
     return "json" if args.json else "csv" if args.csv else "text"

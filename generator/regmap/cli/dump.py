@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import add_output, link_from, live_parser, load_map, output_format
+from regmap.cli.common import add_output, add_profile, link_from, live_parser, load_map, output_format, profile_from
 
 HELP = "read every readable register with the read plan"
 
@@ -19,10 +19,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "regmap dump maps/idm_rs.yaml --csv --tcp 192.168.1.50:502 > drive.csv",
     )
     add_output(p)
+    add_profile(p)
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
-    return live.cmd_dump(load_map(args.map), link_from(args), output_format(args))
+    device = load_map(args.map)
+    return live.cmd_dump(device, link_from(args), output_format(args), profile_from(args, device))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, add_output, link_from, live_parser, load_map, output_format
+from regmap.cli.common import WHERE, add_output, add_profile, link_from, live_parser, load_map, output_format, profile_from
 
 HELP = "read registers from a drive"
 
@@ -21,10 +21,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     p.add_argument("selectors", nargs="+", metavar="SELECTOR")
     add_output(p)
+    add_profile(p)
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
-    return live.cmd_read(load_map(args.map), link_from(args), args.selectors, output_format(args))
+    device = load_map(args.map)
+    return live.cmd_read(device, link_from(args), args.selectors, output_format(args), profile_from(args, device))

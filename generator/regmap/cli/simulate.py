@@ -23,6 +23,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap simulate maps/idm_rs.yaml --tcp 127.0.0.1:5020 --state drive.json",
             "regmap simulate maps/c630s.yaml --serial /dev/pts/7",
             "regmap simulate maps/idm_rs.yaml --fault no_answer --fault-after 3 --fault-count 1",
+            "regmap simulate maps/idm_rs.yaml --answer-gaps --max-read 20 --word-order low_first   # a drive unlike its map",
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -46,16 +47,31 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--fault-after", type=count, default=0, metavar="N", help="answer N requests normally before the faults start")
     p.add_argument("--fault-delay", type=float, default=2.0, metavar="S", help="seconds for --fault delay")
     p.add_argument("--fault-exception", type=lambda v: int(v, 0), default=0x04, metavar="CODE", help="code for --fault exception")
+    quirks = p.add_argument_group("a drive that departs from its map (what `regmap probe` finds)")
+    quirks.add_argument("--max-read", type=count, metavar="N", help="take reads of at most N registers (1..125), not the map's limit")
+    quirks.add_argument("--answer-gaps", action="store_true", help="answer reads over undocumented addresses (they read 0), not 0x02")
+    quirks.add_argument(
+        "--word-order",
+        choices=["high_first", "low_first"],
+        help="the drive's 32-bit word order at start-up (with a word-order register, as if that register were set to it)",
+    )
+    quirks.add_argument(
+        "--firmware", metavar="VERSION", help="the drive's firmware version: kept for a map's firmware register (no map names one yet)"
+    )
     return p
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.tools.simulator import FAULT_KINDS, FaultPlan, run
+    from regmap.tools.simulator import FAULT_KINDS, FaultPlan, Quirks, run
 
     if args.fault not in FAULT_KINDS:
         raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
     if args.rtu_gap is not None and not 0 < args.rtu_gap <= 10000:
         raise UsageError(f"--rtu-gap {args.rtu_gap:g} ms is outside 0..10000 ms")
+    try:
+        quirks = Quirks(max_read=args.max_read, answer_gaps=args.answer_gaps, word_order=args.word_order, firmware=args.firmware)
+    except ValueError as exc:
+        raise UsageError(f"--max-read/--word-order: {exc}") from None
     device = load_map(args.map)
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
@@ -71,4 +87,5 @@ def run(args: argparse.Namespace) -> int:
         log=Path(args.log) if args.log else None,
         verbose=args.verbose,
         rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
+        quirks=quirks,
     )

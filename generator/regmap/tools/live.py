@@ -33,6 +33,7 @@ from regmap.tools.selectors import Registers, check_slave
 from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.errors import RegmapError
+from regmap_runtime.profile import DeviceProfile
 
 WORD_ORDERS = ("auto", "high_first", "low_first")
 
@@ -55,7 +56,7 @@ def _why_unreachable(link: Link) -> str:
     return "the connection opened, but the client could not use it"
 
 
-def connect(device: Device, link: Link, *, reading: bool) -> SyncClient:
+def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile | None = None) -> SyncClient:
     check_slave(device, link.slave, reading=reading)
     client_class: type[SyncClient] = type(f"{device.id}_live", (SyncClient,), {"DEVICE": runtime_device(device)})
     if link.serial:
@@ -67,13 +68,20 @@ def connect(device: Device, link: Link, *, reading: bool) -> SyncClient:
             stop_bits=link.stop_bits,
             timeout=link.timeout,
             retries=link.retries,
+            profile=profile,
         )
     elif link.tcp:
         host, _, port = link.tcp.rpartition(":")
         if not port.isdigit() or not 0 < int(port) < 65536:
             raise UsageError(f"--tcp wants HOST:PORT, got {link.tcp!r}")
         client = client_class.tcp(
-            host or "127.0.0.1", int(port), link.slave, timeout=link.timeout, retries=link.retries, rtu_over_tcp=link.rtu_over_tcp
+            host or "127.0.0.1",
+            int(port),
+            link.slave,
+            timeout=link.timeout,
+            retries=link.retries,
+            rtu_over_tcp=link.rtu_over_tcp,
+            profile=profile,
         )
     else:
         raise UsageError("say where the drive is: --serial DEVICE or --tcp HOST:PORT")
@@ -131,11 +139,12 @@ def read_registers(
     registers: Sequence[Register],
     progress: Callable[[int, int], None] | None = None,
     order: str | None = None,
+    profile: DeviceProfile | None = None,
 ) -> ReadResult:
-    """Read by the plan; on a bus failure or Ctrl-C keep what was read and name what was not.
-    Values come back in the order `registers` names them."""
+    """Read by the plan (with a device profile: the plan it allows); on a bus failure or Ctrl-C keep
+    what was read and name what was not. Values come back in the order `registers` names them."""
     wanted = [r.name for r in registers]
-    blocks = read_plan(device, registers)
+    blocks = read_plan(device, registers, profile)
     found: dict[str, DecodedValue] = {}
 
     def result(error: str | None = None, interrupted: bool = False) -> ReadResult:
@@ -163,15 +172,24 @@ def show_value(value: DecodedValue) -> str:
     return f"{label} = {value.text}"
 
 
-def cmd_read(device: Device, link: Link, selectors: Sequence[str], output: str) -> int:
+def profiled_order(device: Device, client: SyncClient, link: Link, profile: DeviceProfile | None) -> str | None:
+    """The word order to decode with: the one given or the map's register (`word_order`), else the one a profile observed."""
+    order = word_order(device, client, link)
+    if order is None and profile is not None and profile.word_order != device.transport.word_order.value:
+        return profile.word_order
+    return order
+
+
+def cmd_read(device: Device, link: Link, selectors: Sequence[str], output: str, profile: DeviceProfile | None = None) -> int:
     regs = Registers(device)
     registers = [regs.resolve(s) for s in selectors]
     for reg in registers:
         if not reg.access.readable:
             raise UsageError(f"{reg.label} is write-only")
-    client = connect(device, link, reading=True)
+    client = connect(device, link, reading=True, profile=profile)
     try:
-        result = read_registers(client, device, registers, order=word_order(device, client, link))
+        order = profiled_order(device, client, link, profile)
+        result = read_registers(client, device, registers, order=order, profile=profile)
     finally:
         client.close()
     print_values(result.values, output)
@@ -270,12 +288,13 @@ def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> 
     return ExitCode.OK
 
 
-def cmd_dump(device: Device, link: Link, output: str) -> int:
+def cmd_dump(device: Device, link: Link, output: str, profile: DeviceProfile | None = None) -> int:
     registers = [r for r in device.registers if r.access.readable]
-    client = connect(device, link, reading=True)
+    client = connect(device, link, reading=True, profile=profile)
     progress = _progress_bar if sys.stderr.isatty() else None
     try:
-        result = read_registers(client, device, registers, progress, order=word_order(device, client, link))
+        order = profiled_order(device, client, link, profile)
+        result = read_registers(client, device, registers, progress, order=order, profile=profile)
     finally:
         client.close()
         if progress is not None:

@@ -7,7 +7,7 @@ map's limits or a byte count that disagrees, 0x02 for an undocumented address), 
 `bad_crc` behaviour, no answer to other slave ids or to broadcasts. Commands with a declared
 `effect` act; faults can be injected for client tests. Memory stays bounded under any load.
 
-`store` (registers and rules), `pdu` (dispatch per function code), `framing` (RTU and MBAP
+`store` (registers and rules), `quirks` (where the drive departs from its map), `pdu` (dispatch per function code), `framing` (RTU and MBAP
 streams), `server` (asyncio transports, faults, statistics), `log` (the request log), `run` (CLI).
 """
 
@@ -16,6 +16,7 @@ from __future__ import annotations
 from .faults import FAULT_KINDS, FaultPlan
 from .log import RequestLog
 from .pdu import Dispatcher, rtu_request_length
+from .quirks import Quirks
 from .run import check_start, parse_endpoint, run
 from .server import Simulator, Stats
 from .store import DeviceStore
@@ -25,6 +26,7 @@ __all__ = [
     "DeviceStore",
     "Dispatcher",
     "FaultPlan",
+    "Quirks",
     "RequestLog",
     "Simulator",
     "Stats",

@@ -16,6 +16,7 @@ from regmap.model import Device
 from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE
 from regmap_runtime.spaces import Space
 
+from .quirks import Quirks
 from .store import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, DeviceStore
 
 IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE)
@@ -56,11 +57,12 @@ def exception_pdu(function: int, code: int) -> bytes:
 class Dispatcher:
     """Answers request PDUs for one device."""
 
-    def __init__(self, device: Device, store: DeviceStore) -> None:
+    def __init__(self, device: Device, store: DeviceStore, quirks: Quirks | None = None) -> None:
         t = device.transport
         self.store = store
         self.functions = frozenset(t.function_codes) & frozenset(IMPLEMENTED)
-        self.max_read = min(SPEC_MAX_READ, t.max_read_registers)
+        wanted = quirks.max_read if quirks is not None and quirks.max_read is not None else t.max_read_registers
+        self.max_read = min(SPEC_MAX_READ, wanted)
         self.max_write = min(SPEC_MAX_WRITE, t.max_write_registers)
         self.max_bytes = t.max_message_bytes
 

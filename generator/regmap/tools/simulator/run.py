@@ -15,6 +15,7 @@ from regmap.model import Device
 
 from .faults import FaultPlan
 from .log import RequestLog
+from .quirks import Quirks
 from .server import Simulator
 
 
@@ -60,6 +61,18 @@ def _listen_error(where: str, exc: OSError) -> UsageError:
     return UsageError(f"cannot listen on {where}: {reason}")
 
 
+def _quirks_text(quirks: Quirks | None) -> str:
+    if quirks is None:
+        return ""
+    parts = [
+        *([f"reads of at most {quirks.max_read} registers"] if quirks.max_read is not None else []),
+        *(["answers reads over undocumented addresses"] if quirks.answer_gaps else []),
+        *([f"32-bit values {quirks.word_order}"] if quirks.word_order else []),
+        *([f"firmware {quirks.firmware} (no map names a firmware register yet)"] if quirks.firmware else []),
+    ]
+    return f", playing a drive that departs from its map: {', '.join(parts)}" if parts else ""
+
+
 def run(
     device: Device,
     *,
@@ -72,13 +85,14 @@ def run(
     log: Path | None = None,
     verbose: bool = False,
     rtu_gap_s: float | None = None,
+    quirks: Quirks | None = None,
 ) -> int:
     """Serve until Ctrl-C or SIGTERM; returns the exit status."""
     check_start(device, slave, state)
     host, port = parse_endpoint(tcp or "127.0.0.1:5020") if not serial else ("", 0)
     streams, opened = _open_log(log, verbose)
     request_log = RequestLog(device, streams) if streams else None
-    simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s)
+    simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s, quirks=quirks)
 
     async def main() -> None:
         loop = asyncio.get_running_loop()
@@ -94,7 +108,8 @@ def run(
             except OSError as exc:
                 raise _listen_error(where, exc) from None
         framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP"
-        print(f"regmap simulate: {device.info.model} (slave {slave}) on {where} ({framing}); Ctrl-C stops", flush=True)
+        playing = _quirks_text(quirks)
+        print(f"regmap simulate: {device.info.model} (slave {slave}) on {where} ({framing}){playing}; Ctrl-C stops", flush=True)
         await simulator.stopped.wait()
         await simulator.stop()
         if simulator.failure is not None:

@@ -23,6 +23,7 @@ from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
 from .framing import TCP_PARTIAL_TIMEOUT_S, MbapError, MbapReceiver, RtuReceiver, mbap, rtu_gap_s
 from .log import RequestLog
 from .pdu import Dispatcher
+from .quirks import Quirks
 from .store import DeviceStore
 
 PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
@@ -159,12 +160,14 @@ class Simulator:
         log: RequestLog | None = None,
         keep_requests: int = KEEP_REQUESTS,
         rtu_gap_s: float | None = None,
+        quirks: Quirks | None = None,
     ) -> None:
         self.device = device
         self.slave = slave
         self.broadcast = device.transport.broadcast_id
-        self.store = DeviceStore(device, slave, state_file)
-        self.dispatcher = Dispatcher(device, self.store)
+        self.quirks = quirks or Quirks()
+        self.store = DeviceStore(device, slave, state_file, self.quirks)
+        self.dispatcher = Dispatcher(device, self.store, self.quirks)
         self.faults = faults or FaultPlan()
         self.store.faults = self.faults
         self.stats = Stats(keep=keep_requests)

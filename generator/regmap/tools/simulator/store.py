@@ -22,6 +22,7 @@ from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_r
 from regmap_runtime.spaces import DEFAULT_SPACE
 
 from .faults import FaultPlan
+from .quirks import Quirks
 
 ILLEGAL_FUNCTION = 0x01
 ILLEGAL_ADDRESS = 0x02
@@ -32,8 +33,9 @@ DEVICE_FAILURE = 0x04
 class DeviceStore:
     """Register memory of one simulated device, with the map's rules."""
 
-    def __init__(self, device: Device, slave: int, state_file: Path | None = None) -> None:
+    def __init__(self, device: Device, slave: int, state_file: Path | None = None, quirks: Quirks | None = None) -> None:
         self.device = device
+        self.quirks = quirks or Quirks()
         self.slave = slave
         self.state_file = state_file
         self.specs = {s.name: s for s in runtime_specs(device)}
@@ -59,6 +61,10 @@ class DeviceStore:
             return
         setting = self.raw_of(control.register)
         wanted = "high_first" if setting == control.high_first else "low_first" if setting == control.low_first else self.word_order
+        self.relay(wanted)
+
+    def relay(self, wanted: str) -> None:
+        """Lay every 32-bit value that follows the device's order in `wanted`: values stay, words swap."""
         if wanted == self.word_order:
             return
         moving = [r for r in self.device.registers if r.wide and not r.word_order_fixed]
@@ -80,8 +86,22 @@ class DeviceStore:
         self.words.clear()
         self.word_order = self.device.transport.word_order.value
         for reg in self.device.registers:
-            self.store_raw(reg, reg.default if reg.default is not None else 0)
+            self.store_raw(reg, reg.default if reg.default is not None else self.rest_value(reg))
+        control = self.device.transport.word_order_register
+        if self.quirks.word_order is not None and control is not None:
+            self.store_raw(control.register, control.high_first if self.quirks.word_order == "high_first" else control.low_first)
+        elif self.quirks.word_order is not None:
+            self.relay(self.quirks.word_order)
         self.follow_word_order_register()
+
+    @staticmethod
+    def rest_value(reg: Register) -> int:
+        """What a register the map gives no default holds: 0 where the map admits it, else its lowest admitted value."""
+        members = sorted(m.value for m in reg.enum.members) if reg.enum is not None and not reg.bitfields else []
+        admitted = [v for v in members if reg.raw_min <= v <= reg.raw_max] if members else []
+        if (not members or 0 in admitted) and reg.raw_min <= 0 <= reg.raw_max:
+            return 0
+        return admitted[0] if admitted else reg.raw_min
 
     def persistent(self) -> list[Register]:
         return [r for r in self.device.registers if r.access.readable and r.access.writable]
@@ -129,7 +149,7 @@ class DeviceStore:
         """The words at `address` of `space`, or the exception code the device answers."""
         if self.faults.take(("exception",)) == "exception":
             return self.faults.exception_code
-        gaps = self.device.transport.tolerates_gaps
+        gaps = self.device.transport.tolerates_gaps or self.quirks.answer_gaps
         values = []
         for a in range(address, address + count):
             reg = self.device.covering(a, space)

@@ -19,6 +19,7 @@ from .bits import BitfieldValue
 from .codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
 from .errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
+from .profile import DeviceProfile
 from .rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
 from .spaces import DEFAULT_SPACE, HOLDING, SPACES
 from .spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
@@ -49,11 +50,15 @@ class _Core:
     DEVICE: DeviceSpec
     modbus: Any  # the pymodbus client of the subclass
 
-    def __init__(self, slave: int, word_order: str | None = None) -> None:
+    def __init__(self, slave: int, word_order: str | None = None, profile: DeviceProfile | None = None) -> None:
         if not 0 <= slave <= 255:
             raise ValueError(f"slave id {slave} is outside 0..255")
+        if profile is not None:
+            # What `regmap probe` observed: the read limit, the gaps proven readable, the word order (ProfileError for another map).
+            self.DEVICE = profile.apply(type(self).DEVICE)
+        self.profile = profile
         self.slave = slave
-        self.word_order = word_order or self.DEVICE.word_order
+        self.word_order = word_order or (profile.word_order if profile is not None else None) or self.DEVICE.word_order
         self.requests_sent = 0
         self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
         self.line = LineWatch(rtu_framing=False)
@@ -161,9 +166,14 @@ class SyncClient(_Core):
     modbus: ModbusSerialClient | ModbusTcpClient
 
     def __init__(
-        self, modbus: ModbusSerialClient | ModbusTcpClient, slave: int = 1, word_order: str | None = None, line: LineWatch | None = None
+        self,
+        modbus: ModbusSerialClient | ModbusTcpClient,
+        slave: int = 1,
+        word_order: str | None = None,
+        line: LineWatch | None = None,
+        profile: DeviceProfile | None = None,
     ) -> None:
-        super().__init__(slave, word_order)
+        super().__init__(slave, word_order, profile)
         self.modbus = modbus
         if line is not None:
             self.line = line
@@ -180,6 +190,7 @@ class SyncClient(_Core):
         timeout: float = 1.0,
         retries: int = 2,
         word_order: str | None = None,
+        profile: DeviceProfile | None = None,
     ) -> C:
         """Serial RTU; port settings default to the map's transport settings."""
         device = cls.DEVICE
@@ -194,7 +205,7 @@ class SyncClient(_Core):
             retries=retries,
             trace_packet=line,
         )
-        return cls(modbus, slave, word_order, line)
+        return cls(modbus, slave, word_order, line, profile)
 
     @classmethod
     def tcp(
@@ -207,13 +218,13 @@ class SyncClient(_Core):
         retries: int = 2,
         word_order: str | None = None,
         rtu_over_tcp: bool = False,
+        profile: DeviceProfile | None = None,
     ) -> C:
         """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters."""
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
-        return cls(
-            ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line), slave, word_order, line
-        )
+        modbus = ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile)
 
     def __enter__(self: C) -> C:
         self.connect()
@@ -302,8 +313,9 @@ class AsyncClient(_Core):
         slave: int = 1,
         word_order: str | None = None,
         line: LineWatch | None = None,
+        profile: DeviceProfile | None = None,
     ) -> None:
-        super().__init__(slave, word_order)
+        super().__init__(slave, word_order, profile)
         self.modbus = modbus
         if line is not None:
             self.line = line
@@ -320,6 +332,7 @@ class AsyncClient(_Core):
         timeout: float = 1.0,
         retries: int = 2,
         word_order: str | None = None,
+        profile: DeviceProfile | None = None,
     ) -> A:
         device = cls.DEVICE
         line = LineWatch(rtu_framing=True)
@@ -333,7 +346,7 @@ class AsyncClient(_Core):
             retries=retries,
             trace_packet=line,
         )
-        return cls(modbus, slave, word_order, line)
+        return cls(modbus, slave, word_order, line, profile)
 
     @classmethod
     def tcp(
@@ -346,6 +359,7 @@ class AsyncClient(_Core):
         retries: int = 2,
         word_order: str | None = None,
         rtu_over_tcp: bool = False,
+        profile: DeviceProfile | None = None,
     ) -> A:
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
@@ -354,6 +368,7 @@ class AsyncClient(_Core):
             slave,
             word_order,
             line,
+            profile,
         )
 
     async def __aenter__(self: A) -> A:

@@ -1,0 +1,96 @@
+"""`regmap probe`: check a live drive against its map, and learn what it tolerates."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from regmap.cli.common import WHERE, link_from, live_parser, positive_float
+from regmap.diagnostics import UsageError
+from regmap.frontend import load_map
+
+HELP = "check a live drive against its map and learn its limits (reads only)"
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    p = live_parser(
+        sub,
+        "probe",
+        HELP,
+        "Read every documented register and report where the drive and the map disagree: registers that do not answer "
+        "(and the exception), values outside the range or the enum, the 32-bit word order the values show, the largest "
+        "read the drive takes, whether it answers reads across undocumented addresses. Nothing is written unless "
+        "--write-test names registers. Exit 0: agrees; 8: disagrees; 4: could not probe; 130: Ctrl-C (what was learned "
+        "is printed first). --profile saves what was observed for `read`/`dump --profile` and the Python client.",
+        f"regmap probe maps/idm_rs.yaml {WHERE}",
+        "regmap probe maps/c630s.yaml --tcp 127.0.0.1:5020 --json --profile c630s.profile.json",
+        "regmap probe maps/id243pro.yaml --tcp 127.0.0.1:5020 --scan-undocumented --write-test 0x0000 --budget 60 --rate 20",
+    )
+    p.add_argument("--json", action="store_true", help="the report as JSON on stdout")
+    p.add_argument("--profile", metavar="FILE", help="write the device profile learned (atomically)")
+    p.add_argument(
+        "--scan-undocumented",
+        action="store_true",
+        help="also read each undocumented address inside the map's address ranges, one at a time (bounded)",
+    )
+    p.add_argument(
+        "--write-test",
+        nargs="+",
+        metavar="SELECTOR",
+        default=[],
+        help="write these registers' current values back and read them; check an out-of-range value is refused",
+    )
+    p.add_argument("--budget", type=positive_float, default=300.0, metavar="SECONDS", help="stop after this long (default 300)")
+    p.add_argument("--rate", type=positive_float, metavar="REQ_PER_S", help="at most this many requests per second (default: no limit)")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    from regmap.tools import live
+    from regmap.tools.probe import Options, probe
+    from regmap.tools.probe.profile import save
+    from regmap.tools.probe.report import render_text
+    from regmap.tools.probe.writetest import chosen
+
+    device = load_map(args.map)
+    link = link_from(args)
+    if link.word_order not in (None, "auto"):
+        raise UsageError("--word-order: the probe finds the word order itself")
+    target = Path(args.profile) if args.profile else None
+    if target is not None and not target.parent.is_dir():
+        raise UsageError(f"--profile {target}: the directory {target.parent} does not exist")
+    progress = None
+    if sys.stderr.isatty() and not args.json:
+
+        def progress(text: str) -> None:
+            sys.stderr.write(f"\r{text:<60}")
+            sys.stderr.flush()
+
+    options = Options(
+        budget_s=args.budget,
+        rate=args.rate,
+        scan_undocumented=args.scan_undocumented,
+        write_test=tuple(chosen(device, args.write_test)),
+        progress=progress,
+    )
+    client = live.connect(device, link, reading=True)
+    try:
+        found, learned = probe(device, client, link.where, options)
+    finally:
+        client.close()
+        if progress is not None:
+            sys.stderr.write("\r" + " " * 60 + "\r")
+    if target is not None and found.probed:
+        save(target, learned)
+    if args.json:
+        document = found.as_json()
+        document["profile"] = learned.to_json()
+        json.dump(document, sys.stdout, ensure_ascii=False, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print(render_text(found))
+        if target is not None:
+            print(f"profile: {'written to ' + str(target) if found.probed else 'not written (nothing was learned)'}")
+    return found.exit_code
