@@ -47,7 +47,7 @@ def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> li
     return problems
 
 
-BUILT_IN_ORDER = ("python", "c", "markdown", "esphome", "homeassistant")
+BUILT_IN_ORDER = ("python", "c", "markdown", "st", "esphome", "homeassistant")
 TARGET_GROUP = "regmap.targets"  # entry-point group: a third-party back end registers itself here, as the built-in ones do
 
 

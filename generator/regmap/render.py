@@ -48,6 +48,16 @@ def c_str(text: str | None) -> str:
     return '"' + "".join(out) + '"'
 
 
+def st_comment(text: str | None) -> str:
+    """Text safe inside a Structured Text (* *) comment on one line: CODESYS nests comments, so an
+    opener must not reach it either; IEC 61131-3 edition 3's /* */ and // are broken up too."""
+    cleaned = " ".join((text or "").split())
+    for token, broken in (("(*", "( *"), ("*)", "* )"), ("/*", "/ *"), ("*/", "* /")):
+        while token in cleaned:
+            cleaned = cleaned.replace(token, broken)
+    return cleaned
+
+
 def md_text(text: str | None) -> str:
     """Inline Markdown text: table pipes, HTML and line breaks neutralised."""
     cleaned = " ".join((text or "").split())
@@ -81,6 +91,7 @@ FILTERS: dict[str, Callable[..., Any]] = {
     "py_doc": py_doc,
     "c_comment": c_comment,
     "c_str": c_str,
+    "st_comment": st_comment,
     "md": md_text,
     "hex4": hex4,
     "hex2": hex2,

@@ -33,7 +33,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "--target",
         action="append",
         metavar="TARGET",
-        help="only this target (repeatable): python, c, markdown, esphome, homeassistant, or a plugin's (default: all)",
+        help="only this target (repeatable): python, c, markdown, st, esphome, homeassistant, or a plugin's (default: all)",
     )
     p.add_argument(
         "--select",

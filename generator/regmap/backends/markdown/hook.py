@@ -7,6 +7,7 @@ than written into generated/docs.
 
 from __future__ import annotations
 
+import re
 from typing import TYPE_CHECKING
 
 from regmap.render import environment
@@ -14,8 +15,11 @@ from regmap.render import environment
 if TYPE_CHECKING:
     from mkdocs.config.defaults import MkDocsConfig
     from mkdocs.structure.files import Files as MkDocsFiles
+    from mkdocs.structure.pages import Page
 
 SITE_CSS = "css/regmap.css"
+ST_README = "README.md"
+_ST_LINK = re.compile(r"\]\(\.\./st/([a-z0-9_]+)/README\.md\)")
 
 
 def on_config(config: MkDocsConfig) -> MkDocsConfig:
@@ -38,5 +42,18 @@ def on_files(files: MkDocsFiles, config: MkDocsConfig) -> MkDocsFiles:
         if files.get_file_from_path(path.name) is not None:
             raise PluginError(f"docs/{path.name} and a generated page have the same name")
         files.append(File.generated(config, path.name, abs_src_path=str(path)))
+    # The Structured Text READMEs (generated/st/<device>/README.md) join the site as st/<device>.md.
+    for readme in sorted((Path(config.docs_dir).parent / "st").glob(f"*/{ST_README}")):
+        files.append(File.generated(config, f"st/{readme.parent.name}.md", abs_src_path=str(readme)))
     files.append(File.generated(config, SITE_CSS, content=environment().get_template("docs/regmap.css.jinja").render()))
     return files
+
+
+def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: MkDocsFiles) -> str:
+    """mkdocs hook: the index links generated/st/<device>/README.md as a code host shows it; on the
+    site that page is st/<device>.md (plain text where the ST tree was not generated)."""
+
+    def link(match: re.Match[str]) -> str:
+        return f"](st/{match[1]}.md)" if files.get_file_from_path(f"st/{match[1]}.md") is not None else "]"
+
+    return _ST_LINK.sub(link, markdown)

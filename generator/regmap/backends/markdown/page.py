@@ -238,6 +238,7 @@ def render_device(device: Device) -> Files:
 @dataclass(frozen=True)
 class IndexRow:
     page: str
+    id: str  # the device id as the docs spell it in file names
     device: Md
     vendor: Md
     model: str
@@ -257,6 +258,7 @@ def render_shared(devices: Sequence[Device]) -> Files:
         rows.append(
             IndexRow(
                 page=f"{DocId(d.id)}.md",
+                id=DocId(d.id),
                 device=_code(d.id),
                 vendor=Md(md_text(info.vendor) + (f" ({md_text(info.vendor_zh)})" if info.vendor_zh else "")),
                 model=info.model,

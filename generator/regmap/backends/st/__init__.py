@@ -1,0 +1,64 @@
+"""Structured Text back end (IEC 61131-3): per map, `st/<device>/codesys/` (CODESYS / TwinCAT 3) and
+`st/<device>/iec/` (plain standard, for OpenPLC / matiec), each with the enums and raw read-plan
+blocks (`<device>_types.st`), the constants (`<device>_constants.st`) and the functions
+(`<device>_functions.st`), plus a README with the usage per dialect.
+
+As in the C back end, `views` computes every name, literal and statement and the templates only
+print, escaping map text with `st_comment`; `names` holds the identifier rules (IEC keywords, no
+double or trailing underscore, 64 characters, names that differ only by case collide).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from regmap.backends.st.names import StIdentifier, st_string
+from regmap.backends.st.views import DIALECTS, device_views
+from regmap.diagnostics import Diagnostic, UsageError
+from regmap.generate import Files, Target
+from regmap.model import Device
+from regmap.render import environment
+
+FILES = ("types", "constants", "functions")
+
+
+def contexts(device: Device) -> tuple[dict[str, dict[str, Any]], list[Diagnostic]]:
+    """Each dialect's template context, and every name problem of the map (found in either dialect)."""
+    problems: list[Diagnostic] = []
+    out = {dialect.name: device_views(device, dialect, problems) for dialect in DIALECTS}
+    return out, sorted(set(problems))
+
+
+def check(device: Device) -> list[Diagnostic]:
+    return contexts(device)[1]
+
+
+def render_device(device: Device) -> Files:
+    views, problems = contexts(device)
+    if problems:
+        raise UsageError("\n".join(str(p) for p in problems))
+    env = environment()
+    files: Files = {}
+    for dialect, context in views.items():
+        for name in FILES:
+            files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"st/{name}.st.jinja").render(**context)
+    files[f"{device.id}/README.md"] = env.get_template("st/README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
+    return files
+
+
+def render_shared(devices: Sequence[Device]) -> Files:
+    ids: dict[str, str] = {}
+    for device in devices:
+        key = device.id.upper()
+        if key in ids:
+            raise UsageError(
+                f"{device.source_path} and {ids[key]} have device ids that ST reads as one ({device.id!r}): their names would collide"
+            )
+        ids[key] = device.source_path
+    return {}
+
+
+TARGET = Target(name="st", subdir="st", per_device=render_device, shared=render_shared, check=check)
+
+__all__ = ["DIALECTS", "TARGET", "StIdentifier", "check", "contexts", "device_views", "render_device", "render_shared", "st_string"]

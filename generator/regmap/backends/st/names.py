@@ -1,0 +1,128 @@
+"""Structured Text identifiers and literals: the validated name (`StIdentifier`), the scopes that refuse
+two map items generating one name (compared case-insensitively, as ST compares names), and the ST
+spelling of numbers and strings."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from regmap.diagnostics import Diagnostic, at
+from regmap.keywords import IEC_KEYWORDS
+from regmap.model import Device, SourcePos
+
+# Both dialects: CODESYS / TwinCAT accept long names, but matiec (OpenPLC) and several IDE views
+# truncate past 64 characters; IEC 61131-3 guarantees only the first 6 significant, which no real
+# project relies on. 64 keeps every generated name whole in both.
+MAX_LENGTH = 64
+# IEC 61131-3 6.1.2: a letter or an underscore first, no two underscores in a row, none at the end.
+_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+# Names the generated functions declare for their own parameters and locals; an enum member printed
+# bare (the plain-standard dialect) or a map name must not shadow them.
+LOCALS = frozenset(
+    name.upper()
+    for name in (
+        "nRaw",
+        "rRaw",
+        "eValue",
+        "fValue",
+        "nValue",
+        "bValue",
+        "nWord",
+        "aWords",
+        "dw",
+        "stRaw",
+        "stValues",
+        "bHighWordFirst",
+        "bOk",
+    )
+)
+KEYWORD_SUFFIX = "KW"  # `return` -> RETURN_KW: ST has no trailing-underscore escape as C and Python do
+
+
+class StIdentifier(str):
+    """A Structured Text identifier joined from parts (upper case): valid in IEC 61131-3 and in
+    CODESYS / TwinCAT, never a keyword, at most `MAX_LENGTH` characters. A part that is a keyword on
+    its own gets `_KW` (`return` -> `RETURN_KW`); a problem is kept in `problem`, so that one run
+    reports every name of a map."""
+
+    problem: str
+
+    def __new__(cls, *parts: str) -> StIdentifier:
+        name = "_".join(p for p in parts if p).upper()
+        if name in IEC_KEYWORDS or name in LOCALS:
+            name = f"{name}_{KEYWORD_SUFFIX}"
+        made = super().__new__(cls, name)
+        made.problem = _problem(name)
+        return made
+
+
+def _problem(name: str) -> str:
+    if not _IDENTIFIER.match(name):
+        return f"{name!r} is not a Structured Text identifier"
+    if "__" in name:
+        return f"{name!r} has two underscores in a row, which IEC 61131-3 forbids in a name; rename it in the map"
+    if name.endswith("_"):
+        return f"{name!r} ends with an underscore, which IEC 61131-3 forbids in a name; rename it in the map"
+    if len(name) > MAX_LENGTH:
+        return f"{name!r} is longer than {MAX_LENGTH} characters (the limit kept for OpenPLC/matiec); shorten the name in the map"
+    return ""
+
+
+@dataclass
+class Scope:
+    """The names one ST scope declares (the global names of a device, the members of one struct or
+    enum): two map items generating names that differ only by case collide, as ST sees them."""
+
+    device: Device
+    what: str
+    problems: list[Diagnostic]
+    seen: dict[str, str] = field(default_factory=dict)
+
+    def add(self, name: StIdentifier, what: str, pos: SourcePos | None = None) -> StIdentifier:
+        if name.problem:
+            self._report(pos, f"generated Structured Text name of {what}: {name.problem}")
+        key = name.upper()
+        if key in self.seen and self.seen[key] != what:
+            self._report(
+                pos,
+                f"generated Structured Text name {name} ({self.what}) is used by both {self.seen[key]} and {what}"
+                " (ST names ignore case); rename one in the map",
+            )
+        self.seen.setdefault(key, what)
+        return name
+
+    def _report(self, pos: SourcePos | None, message: str) -> None:
+        self.problems.append(at(self.device.source_path, pos, message))
+
+
+# -- literals ----------------------------------------------------------------------------------
+
+
+def st_int(value: int) -> str:
+    return str(value)
+
+
+def st_hex(value: int, digits: int = 4) -> str:
+    return f"16#{value:0{digits}X}"
+
+
+def st_real(value: Fraction | int) -> str:
+    """An LREAL literal of an exact integer or ratio part (always with a point, as ST requires)."""
+    text = f"{float(value):.17g}"
+    return text if any(c in text for c in ".e") else text + ".0"
+
+
+def st_string(text: str) -> str:
+    """An ST STRING literal: `$` and `'` escaped, everything outside printable ASCII as `$hh` bytes."""
+    out = []
+    for byte in text.encode("utf-8"):
+        char = chr(byte)
+        if char in "$'":
+            out.append("$" + char)
+        elif 0x20 <= byte < 0x7F:
+            out.append(char)
+        else:
+            out.append(f"${byte:02X}")
+    return "'" + "".join(out) + "'"
