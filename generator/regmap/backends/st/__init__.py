@@ -13,8 +13,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
-from regmap.backends.st.views import DIALECTS, device_views
+from regmap.backends.st.views import DIALECTS
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.generate import Files, Target
 from regmap.model import Device
