@@ -226,6 +226,8 @@ def test_decode_a_read_response_without_its_request_shows_every_word() -> None:
     assert "word 0: 0xFFFC = 65532 unsigned, -4 signed" in result.stdout
     assert "word 1: 0xF2C0 = 62144 unsigned, -3392 signed" in result.stdout
     assert "could be a read from 0x6006 Pr8.06 positive_soft_limit" in result.stdout
+    edge = regmap("decode", IDM, to_hex(with_crc(bytes.fromhex("0103028000"))))
+    assert "word 0: 0x8000 = 32768 unsigned, -32768 signed" in edge.stdout
 
 
 def test_decode_a_response_with_one_junk_byte_is_not_a_request_for_5689_registers() -> None:

@@ -98,6 +98,20 @@ def test_field_text_is_checked_and_merged() -> None:
             parse_fields(s, bad)
 
 
+def test_a_bitfield_enum_field_given_as_a_number_is_checked_against_its_enum() -> None:
+    import enum
+
+    class Mode(enum.IntEnum):
+        OFF = 0
+        ON = 3
+
+    s = spec("u16", bitfields=(BitfieldSpec("mode", 0, 2, Mode),))
+    assert parse_fields(s, "mode:3") == (None, {"mode": 3})
+    assert parse_fields(s, "mode:on") == (None, {"mode": 3})
+    with pytest.raises(RangeError, match="2 is not one of off=0, on=3"):
+        parse_fields(s, "mode:2")
+
+
 def test_the_same_register_twice_in_one_write_is_refused() -> None:
     s = spec("u16")
     with pytest.raises(ValueError, match="twice"):
