@@ -136,4 +136,7 @@ def test_the_simulator_refuses_a_second_read_only_and_out_of_range_write(simulat
         with pytest.raises(DeviceException) as info:
             drive.write_raw(target.address, [high & 0xFFFF, high >> 16])  # low word first, as the map says
         assert info.value.code == 0x03
+        with pytest.raises(DeviceException) as info:
+            drive.write_raw(target.address, [1])  # half of the 32-bit value
+        assert info.value.code == 0x02
         assert drive.read_pulses_per_revolution() == 10000
