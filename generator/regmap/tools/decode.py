@@ -112,10 +112,6 @@ class Decoded:
         }
 
 
-def _spec_in_order(regs: Registers, reg: Register, word_order: str | None) -> RegisterSpec[Any]:
-    return regs.spec(reg).in_word_order(word_order)
-
-
 def _eng_text(reg: Register, spec: RegisterSpec[Any], raw: int) -> str:
     number = raw_to_value(spec, raw)
     return f"{number:g}" if isinstance(number, float) else str(number)
@@ -182,7 +178,7 @@ def decode_words(
             address += 1
             continue
         own_words = [words[a - start] for a in own]
-        raw = words_to_raw(_spec_in_order(regs, reg, word_order), own_words)
+        raw = words_to_raw(regs.spec(reg).in_word_order(word_order), own_words)
         value, text, in_range, fields = describe_value(device, reg, raw, regs)
         out.append(DecodedValue(reg.address, reg.name, reg.param, raw, own_words, value, reg.unit, text, in_range, fields))
         address = reg.last_address + 1

@@ -177,16 +177,11 @@ def parse_word_writes(items: Sequence[str]) -> list[WordWrite]:
     return parsed
 
 
-def effective_spec(spec: RegisterSpec[Any], word_order: str | None) -> RegisterSpec[Any]:
-    """The spec in the word order the drive uses now (a device whose word-order register was changed)."""
-    return spec.in_word_order(word_order)
-
-
 def write_blocks(device: Device, assignments: Sequence[Assignment], word_order: str | None = None) -> list[WriteBlock]:
     values = []
     for a in assignments:
         assert a.raw is not None, "fields must be merged into a base word first"
-        values.append((effective_spec(a.spec, word_order), a.raw))
+        values.append((a.spec.in_word_order(word_order), a.raw))
     try:
         return plan_writes(values, device.transport.max_write_registers, HOLDING.write_multiple in device.transport.function_codes)
     except ValueError as exc:
@@ -266,7 +261,7 @@ def command_words(device: Device, name: str, argument: str | None, word_order: s
         raw = command.raw_value(None if argument is None else parse_int(argument, command.name))
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    spec = effective_spec(Registers(device).spec(command.register), word_order)
+    spec = Registers(device).spec(command.register).in_word_order(word_order)
     return command, raw_to_words(spec, raw)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from regmap.backends.text import titled
 from regmap.diagnostics import UsageError
 from regmap.model import Command, Device, EnumType, Register
 from regmap.tools.selectors import Registers, suggest
@@ -14,10 +15,6 @@ def _eng(reg: Register, raw: int | None) -> str:
         return "?"
     value = Fraction(raw) * reg.scale
     return str(value.numerator) if value.denominator == 1 else f"{float(value):g}"
-
-
-def _titled(title: str, title_zh: str | None) -> str:
-    return f"{title} ({title_zh})" if title_zh else title
 
 
 def _register_line(reg: Register) -> str:
@@ -31,18 +28,18 @@ def _register_line(reg: Register) -> str:
 
 
 def _enum_lines(e: EnumType) -> list[str]:
-    return [f"enum {e.name}: {_titled(e.title, e.title_zh)}"] + [
-        f"  {m.value:>6} {m.name:<28} {_titled(m.title, m.title_zh)}" for m in e.members
+    return [f"enum {e.name}: {titled(e.title, e.title_zh)}"] + [
+        f"  {m.value:>6} {m.name:<28} {titled(m.title, m.title_zh)}" for m in e.members
     ]
 
 
 def _command_line(c: Command) -> str:
     argument = f" {c.argument.name} ({c.argument.min}..{c.argument.max})" if c.argument else ""
-    return f"  {c.name}{argument}: 0x{c.value:04X} to {c.register.label}  {_titled(c.title, c.title_zh)}"
+    return f"  {c.name}{argument}: 0x{c.value:04X} to {c.register.label}  {titled(c.title, c.title_zh)}"
 
 
 def register_detail(reg: Register) -> list[str]:
-    lines = [f"{reg.label}: {_titled(reg.title, reg.title_zh)}"]
+    lines = [f"{reg.label}: {titled(reg.title, reg.title_zh)}"]
     facts = [
         ("address", f"0x{reg.address:04X} ({reg.address})" + (f", high word at 0x{reg.first_address:04X} (paired)" if reg.paired else "")),
         ("type", f"{reg.type.value}, {reg.words} word(s)" + (f", {reg.word_order.value}" if reg.wide else "")),
@@ -59,7 +56,7 @@ def register_detail(reg: Register) -> list[str]:
         lines += ["  " + line for line in _enum_lines(reg.enum)]
     for b in reg.bitfields:
         values = f" ({', '.join(f'{m.value}={m.name}' for m in b.enum.members)})" if b.enum else ""
-        lines.append(f"  bit {b.bits_text:<6}{b.name}: {_titled(b.title, b.title_zh)}{values}")
+        lines.append(f"  bit {b.bits_text:<6}{b.name}: {titled(b.title, b.title_zh)}{values}")
     if reg.errata:
         lines.append(f"  errata       {', '.join(reg.errata)}")
     if reg.notes:
@@ -81,7 +78,7 @@ def show(device: Device, selector: str | None = None) -> str:
         f"registers ({len(device.registers)}):",
     ]
     for group in device.groups:
-        lines.append(f" {group.id}: {_titled(group.title, group.title_zh)}")
+        lines.append(f" {group.id}: {titled(group.title, group.title_zh)}")
         lines += [_register_line(r) for r in group.registers]
     lines += ["", f"enums ({len(device.enums)}):"]
     for e in device.enums:

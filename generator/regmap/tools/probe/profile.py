@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
-import tempfile
 from pathlib import Path
 
 from regmap.model import Device
 from regmap.runtime_bridge import documented_addresses
+from regmap.tools.atomic import write_atomic
 from regmap_runtime.profile import DeviceProfile, ranges
 
 from .limits import Limit
@@ -31,20 +29,5 @@ def learned(device: Device, observed: set[int], limit: Limit | None, order: Word
     )
 
 
-def write_atomically(path: Path, text: str) -> None:
-    """Write beside the target and rename: a reader sees the old file or the new one, never a part."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}-", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
 def save(path: Path, profile: DeviceProfile) -> None:
-    write_atomically(path, json.dumps(profile.to_json(), indent=2) + "\n")
+    write_atomic(path, (json.dumps(profile.to_json(), indent=2) + "\n").encode("utf-8"))

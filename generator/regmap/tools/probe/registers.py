@@ -11,7 +11,6 @@ from typing import Any
 from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
 from regmap.tools.decode import describe_value
-from regmap.tools.frames import effective_spec
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS
@@ -92,7 +91,7 @@ def judge(device: Device, reads: dict[str, RegisterRead], word_order: str | None
             notes.append(Note("registers", reg.label, "not_answered", f"0x{reg.address:04X}: {what}", True))
             continue
         assert read.words is not None
-        read.raw = words_to_raw(effective_spec(regs.spec(reg), word_order), read.words)
+        read.raw = words_to_raw(regs.spec(reg).in_word_order(word_order), read.words)
         read.value, read.text, admitted, _ = describe_value(device, reg, read.raw, regs)
         read.in_range = reg.raw_min <= read.raw <= reg.raw_max
         read.member = admitted or not read.in_range

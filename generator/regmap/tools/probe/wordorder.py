@@ -11,7 +11,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from regmap.model import Device, Register
-from regmap.tools.frames import effective_spec
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST
@@ -63,7 +62,7 @@ def infer(device: Device, reads: dict[str, RegisterRead]) -> tuple[WordOrder, li
         reg = read.register
         if reg.words != 2 or reg.word_order_fixed or read.words is None or read.words[0] == read.words[1]:
             continue
-        raws = {order: words_to_raw(effective_spec(regs.spec(reg), order), read.words) for order in ORDERS}
+        raws = {order: words_to_raw(regs.spec(reg).in_word_order(order), read.words) for order in ORDERS}
         plausible = [order for order in ORDERS if _admits(reg, raws[order])]
         if len(plausible) == 2 and reg.default is not None:
             plausible = [order for order in ORDERS if raws[order] == reg.default] or plausible

@@ -11,7 +11,6 @@ from typing import Any
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
-from regmap.tools.frames import effective_spec
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import raw_to_words, words_to_raw
 
@@ -83,7 +82,7 @@ def write_test(bus: ProbeBus, device: Device, registers: Sequence[Register], wor
     regs = Registers(device)
     results, notes = WriteTests([]), []
     for reg in registers:
-        spec = effective_spec(regs.spec(reg), word_order)
+        spec = regs.spec(reg).in_word_order(word_order)
         result = WriteTest(reg.name)
         results.tests.append(result)
 

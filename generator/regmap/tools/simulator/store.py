@@ -8,16 +8,14 @@ to the state file, restore defaults, clear a register).
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
+from regmap.tools.atomic import write_atomic
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_raw
 from regmap_runtime.spaces import DEFAULT_SPACE
 
@@ -113,18 +111,7 @@ class DeviceStore:
         text = json.dumps(
             {"device": self.device.id, "map_version": self.device.info.map_version, "registers": data}, indent=1, sort_keys=True
         )
-        # Write beside the target and rename: the state file is never left half-written.
-        fd, tmp = tempfile.mkstemp(prefix=".state-", dir=self.state_file.parent)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as handle:
-                handle.write(text)
-                handle.flush()
-                os.fsync(handle.fileno())
-            os.replace(tmp, self.state_file)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
+        write_atomic(self.state_file, text.encode("utf-8"))  # the state file is never left half-written
 
     def load_state(self, path: Path) -> None:
         try:
