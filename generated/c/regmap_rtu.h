@@ -28,6 +28,11 @@ extern "C" {
 #define REGMAP_FC_READ_HOLDING 0x03u
 #define REGMAP_FC_WRITE_SINGLE 0x06u
 #define REGMAP_FC_WRITE_MULTIPLE 0x10u
+#define REGMAP_FC_READ_INPUT 0x04u
+#define REGMAP_FC_READ_COILS 0x01u
+#define REGMAP_FC_WRITE_SINGLE_COIL 0x05u
+#define REGMAP_FC_WRITE_MULTIPLE_COILS 0x0Fu
+#define REGMAP_FC_READ_DISCRETE_INPUTS 0x02u
 #define REGMAP_FC_EXCEPTION_FLAG 0x80u
 
 /* Modbus limits and frame sizes (slave, function, data, 2 CRC bytes) */

@@ -11,7 +11,8 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
 
-from regmap_runtime.spaces import DEFAULT_SPACE
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
+from regmap_runtime.spec import parse_version
 from regmap_runtime.types import TYPES, TypeInfo
 
 SourcePos = tuple[int, int]
@@ -19,8 +20,23 @@ SourcePos = tuple[int, int]
 
 
 class WordOrder(enum.Enum):
+    """Which comes first on the wire: the high or the low word of a wide value (or byte of a word)."""
+
     HIGH_FIRST = "high_first"
     LOW_FIRST = "low_first"
+
+
+ByteOrder = WordOrder
+"""Bytes inside each word: the same two choices, kept apart in the model by field name."""
+
+
+class PollClass(enum.Enum):
+    """How often a poller reads a register: once (nameplate, limits), fast, normal (the default) or slow."""
+
+    STATIC = "static"
+    FAST = "fast"
+    NORMAL = "normal"
+    SLOW = "slow"
 
 
 class Access(enum.Enum):
@@ -44,6 +60,12 @@ class DataType(enum.Enum):
     S16 = "s16"
     U32 = "u32"
     S32 = "s32"
+    U64 = "u64"
+    S64 = "s64"
+    F32 = "f32"
+    F64 = "f64"
+    STRING = "string"
+    BOOL = "bool"
 
     @property
     def info(self) -> TypeInfo:
@@ -67,12 +89,54 @@ class DataType(enum.Enum):
         return self.info.signed
 
     @property
-    def raw_min(self) -> int:
+    def raw_min(self) -> int | float:
         return self.info.raw_min
 
     @property
-    def raw_max(self) -> int:
+    def raw_max(self) -> int | float:
         return self.info.raw_max
+
+    @property
+    def kind(self) -> str:
+        return self.info.kind
+
+    @property
+    def numeric(self) -> bool:
+        return self.info.numeric
+
+    @property
+    def is_float(self) -> bool:
+        return self.info.is_float
+
+    @property
+    def is_string(self) -> bool:
+        return self.info.is_string
+
+    @property
+    def is_bool(self) -> bool:
+        return self.info.is_bool
+
+
+@dataclass(frozen=True)
+class FirmwareGate:
+    """Firmware versions that have a register: from `first` (inclusive) until `until` (exclusive)."""
+
+    first: str | None = None
+    until: str | None = None
+
+    def admits(self, version: tuple[int, ...]) -> bool:
+        if self.first is not None and version < parse_version(self.first):
+            return False
+        return not (self.until is not None and version >= parse_version(self.until))
+
+    @property
+    def text(self) -> str:
+        """How docs and diff show it: `firmware >= 2.1`, `firmware < 3.0`, `2.1 <= firmware < 3.0`."""
+        if self.first is not None and self.until is not None:
+            return f"{self.first} <= firmware < {self.until}"
+        if self.first is not None:
+            return f"firmware >= {self.first}"
+        return f"firmware < {self.until}"
 
 
 @dataclass(frozen=True)
@@ -190,9 +254,9 @@ class Register:
     word_order_fixed: bool = False  # the map fixes it; otherwise it follows the device's (configurable) order
     unit: str | None = None
     scale: Fraction = Fraction(1)
-    min: int | None = None
-    max: int | None = None
-    default: int | None = None
+    min: int | float | None = None
+    max: int | float | None = None
+    default: int | float | str | None = None
     enum: EnumType | None = None
     bitfields: tuple[Bitfield, ...] = ()
     takes_effect: str | None = None
@@ -207,11 +271,27 @@ class Register:
     array: ArrayRef | None = None
     errata: tuple[str, ...] = ()
     space: str = DEFAULT_SPACE  # a name in regmap_runtime.spaces.SPACES
+    byte_order: ByteOrder = ByteOrder.HIGH_FIRST
+    offset: Fraction = Fraction(0)  # value = raw x scale + offset
+    string_words: int = 0  # a string register's length in words
+    encoding: str = "ascii"  # a string register's text encoding (a Python codec name)
+    padding: str = "nul"  # what fills a string register after its text: nul or space
+    firmware: FirmwareGate | None = None
+    poll: PollClass = PollClass.NORMAL
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
     def words(self) -> int:
-        return self.type.words
+        """Addresses the register takes: register words, or one bit for a coil or discrete input."""
+        return self.string_words if self.type.is_string else self.type.words
+
+    @property
+    def space_info(self) -> Space:
+        return SPACES[self.space]
+
+    @property
+    def offset_set(self) -> bool:
+        return self.offset != 0
 
     @property
     def wide(self) -> bool:
@@ -237,11 +317,11 @@ class Register:
         return self.address + self.words - 1
 
     @property
-    def raw_min(self) -> int:
+    def raw_min(self) -> int | float:
         return self.min if self.min is not None else self.type.raw_min
 
     @property
-    def raw_max(self) -> int:
+    def raw_max(self) -> int | float:
         return self.max if self.max is not None else self.type.raw_max
 
     @property
@@ -412,6 +492,9 @@ class Transport:
     max_read_registers: int
     max_write_registers: int
     word_order: WordOrder
+    byte_order: ByteOrder = ByteOrder.HIGH_FIRST
+    max_read_coils: int = 2000
+    max_write_coils: int = 1968
     baud_rates: tuple[int, ...] = ()
     broadcast_id: int | None = None
     max_message_bytes: int | None = None
@@ -446,6 +529,17 @@ class DeviceInfo:
     manual_version: str | None = None
     manual_language: str | None = None
     firmware: str | None = None
+    firmware_register: FirmwareRegister | None = None
+
+
+@dataclass(frozen=True)
+class FirmwareRegister:
+    """The register that reports the firmware version, and how a version is read from it."""
+
+    register: Register
+    format: str  # decimal, major_minor, string
+    decimals: int = 0
+    source: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,10 @@ import enum
 from collections.abc import Sequence
 from typing import Any
 
-from regmap.model import Device, EnumType, Register
+from regmap.model import ByteOrder, Device, EnumType, PollClass, Register
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
+from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
@@ -56,11 +57,53 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             enum=enums[r.enum.name] if r.enum is not None else None,
             bitfields=tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields),
             space=r.space,
+            **spec_extras(r),
         )
         for r in device.registers
     ]
     _SPECS[id(device)] = (device, specs)
     return specs
+
+
+def spec_extras(r: Register) -> dict[str, Any]:
+    """The RegisterSpec fields of the wider types, spaces and gates, where they differ from the
+    defaults: generated modules print only these, so a seed map's output does not change."""
+    extras: dict[str, Any] = {}
+    if r.byte_order is not ByteOrder.HIGH_FIRST:
+        extras["byte_order"] = r.byte_order.value
+    if r.offset_set:
+        extras["offset_num"], extras["offset_den"] = r.offset.numerator, r.offset.denominator
+    if r.type.is_string:
+        extras["string_words"] = r.string_words
+        if r.encoding != "ascii":
+            extras["encoding"] = r.encoding
+        if r.padding != "nul":
+            extras["padding"] = r.padding
+    if r.firmware is not None:
+        if r.firmware.first is not None:
+            extras["firmware_from"] = r.firmware.first
+        if r.firmware.until is not None:
+            extras["firmware_until"] = r.firmware.until
+    if r.poll is not PollClass.NORMAL:
+        extras["poll"] = r.poll.value
+    return extras
+
+
+def device_extras(device: Device) -> dict[str, Any]:
+    """The DeviceSpec fields for coil limits and the firmware register, where they differ from the defaults."""
+    t = device.transport
+    extras: dict[str, Any] = {}
+    if t.max_read_coils != MAX_READ_BITS:
+        extras["max_read_coils"] = t.max_read_coils
+    if t.max_write_coils != MAX_WRITE_BITS:
+        extras["max_write_coils"] = t.max_write_coils
+    firmware = device.info.firmware_register
+    if firmware is not None:
+        extras["firmware_register"] = firmware.register.name
+        extras["firmware_format"] = firmware.format
+        if firmware.decimals:
+            extras["firmware_decimals"] = firmware.decimals
+    return extras
 
 
 def runtime_device(device: Device) -> DeviceSpec:
@@ -82,18 +125,28 @@ def runtime_device(device: Device) -> DeviceSpec:
         function_codes=t.function_codes,
         tolerates_gaps=t.tolerates_gaps,
         exceptions=tuple((e.code, e.name, e.title) for e in t.exceptions),
+        **device_extras(device),
     )
 
 
-def read_plan(device: Device, registers: Sequence[Register] | None = None, profile: DeviceProfile | None = None) -> list[ReadBlock]:
+def read_plan(
+    device: Device,
+    registers: Sequence[Register] | None = None,
+    profile: DeviceProfile | None = None,
+    *,
+    poll: PollClass | None = None,
+) -> list[ReadBlock]:
     """The requests that read `registers` (default: every readable one, as `read_all()` does), in order;
-    with a device profile, the read limit and the readable gaps it observed (as the client uses them)."""
+    with a device profile, the read limit and the readable gaps it observed (as the client uses them);
+    with a poll class, only that class's registers (as `read_all(poll=...)` does)."""
     t = device.transport
     chosen = device.registers if registers is None else registers
+    if poll is not None:
+        chosen = [r for r in chosen if r.poll is poll]
     names = {r.name for r in chosen}
     specs = [s for s in runtime_specs(device) if s.name in names]
     limit, documented = t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device)
     if profile is not None:
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)
-    return plan_reads(specs, limit, documented)
+    return plan_reads(specs, limit, documented, max_bits=t.max_read_coils)

@@ -22,7 +22,7 @@ from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
 from .rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
 from .spaces import DEFAULT_SPACE, HOLDING, SPACES
-from .spec import LOW_FIRST, DeviceSpec, Readable, ReadWrite, RegisterSpec, Writable
+from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
@@ -89,7 +89,7 @@ class _Core:
         """The spec with the word order this client was told the device uses (a device with a word-order register, `transport.word_order_register` in its map)."""
         return spec.in_word_order(self.word_order)
 
-    def encode(self, spec: RegisterSpec[Any], value: Any) -> int:
+    def encode(self, spec: RegisterSpec[Any], value: Any) -> Raw:
         if not spec.writable:
             raise TypeError(f"{spec.label} is read-only")
         if spec.bitfield_type is not None and isinstance(value, spec.bitfield_type):
@@ -98,11 +98,12 @@ class _Core:
             return raw
         return value_to_raw(spec, value)
 
-    def encode_raw(self, spec: RegisterSpec[Any], raw: int) -> int:
+    def encode_raw(self, spec: RegisterSpec[Any], raw: Raw) -> Raw:
         if not spec.writable:
             raise TypeError(f"{spec.label} is read-only")
-        check_raw(spec, int(raw))
-        return int(raw)
+        raw = raw if isinstance(raw, str | float) else int(raw)
+        check_raw(spec, raw)
+        return raw
 
     def decode(self, spec: RegisterSpec[T], words: list[int]) -> T:
         spec = self.effective(spec)

@@ -3,26 +3,37 @@
 from __future__ import annotations
 
 import enum
-import struct
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
-from .spec import HIGH_FIRST, BitfieldSpec, RegisterSpec
+from .spec import HIGH_FIRST, BitfieldSpec, Raw, RegisterSpec
+from .types import FLOAT, INT, swap_bytes
 
 
 class RangeError(ValueError):
     """A value outside the register's range; nothing was sent."""
 
 
-def raw_to_words(spec: RegisterSpec[Any], raw: int, *, with_pair: bool = False) -> list[int]:
-    """Words on the wire for a raw value. `with_pair` adds the unused high word of a paired register."""
+def _wire_order(spec: RegisterSpec[Any], words: list[int]) -> list[int]:
+    """Words high word first, high byte first <-> the register's order on the wire (the swap is its own inverse)."""
+    if spec.byte_order != HIGH_FIRST:
+        words = swap_bytes(words)
+    if spec.type_info.wide and spec.word_order != HIGH_FIRST:
+        words = words[::-1]
+    return words
+
+
+def raw_to_words(spec: RegisterSpec[Any], raw: Raw, *, with_pair: bool = False) -> list[int]:
+    """Words on the wire for a raw value (for a coil, its one bit). `with_pair` adds the unused high word of a paired register."""
     info = spec.type_info
-    if not info.raw_min <= raw <= info.raw_max:
-        raise RangeError(f"{spec.label}: raw value {raw} does not fit {spec.data_type}")
-    words = list(info.to_words(raw))
-    if info.wide:
-        return words if spec.word_order == HIGH_FIRST else words[::-1]
+    if info.is_string:
+        return _wire_order(spec, _text_words(spec, str(raw)))
+    if info.is_bool:
+        return [1 if raw else 0]
+    if isinstance(raw, str) or not info.raw_min <= raw <= info.raw_max or (info.kind == INT and not isinstance(raw, int)):
+        raise RangeError(f"{spec.label}: raw value {raw!r} does not fit {spec.data_type}")
+    words = _wire_order(spec, list(info.to_words(raw)))
     if with_pair and spec.paired:
         # The pair is one 32-bit parameter of which only the low word is used; its high word is
         # the sign extension (0 for every non-negative value, as the manual's frames show).
@@ -30,31 +41,81 @@ def raw_to_words(spec: RegisterSpec[Any], raw: int, *, with_pair: bool = False) 
     return words
 
 
-def words_to_raw(spec: RegisterSpec[Any], words: list[int] | tuple[int, ...]) -> int:
-    """Raw value from the register's own words (without the unused high word of a pair)."""
+def words_to_raw(spec: RegisterSpec[Any], words: list[int] | tuple[int, ...]) -> Raw:
+    """Raw value from the register's own words (without the unused high word of a pair), or a coil's one bit."""
     info = spec.type_info
-    if len(words) != info.words:
-        raise ValueError(f"{spec.label}: expected {info.words} word(s), got {len(words)}")
+    if len(words) != spec.words:
+        raise ValueError(f"{spec.label}: expected {spec.words} {spec.space_info.unit}(s), got {len(words)}")
+    if info.is_bool:
+        if words[0] not in (0, 1):
+            raise ValueError(f"{spec.label}: a bit is 0 or 1, got {words[0]}")
+        return words[0]
+    if any(not 0 <= w <= 0xFFFF for w in words):
+        raise ValueError(f"{spec.label}: a register word is 0..0xFFFF, got {list(words)}")
+    ordered = _wire_order(spec, list(words))
+    if info.is_string:
+        return _words_text(spec, ordered)
+    return info.from_words(ordered)
+
+
+def _text_words(spec: RegisterSpec[Any], text: str) -> list[int]:
+    """Text as register words: its bytes in `encoding`, first character in the high byte, padded to the register's length."""
+    data = _encode_text(spec, text)
+    data += (b" " if spec.padding == "space" else b"\0") * (2 * spec.words - len(data))
+    return [data[i] << 8 | data[i + 1] for i in range(0, len(data), 2)]
+
+
+def _words_text(spec: RegisterSpec[Any], words: list[int]) -> str:
+    """The text in a string register: up to the first NUL, trailing padding removed; bytes the
+    encoding cannot read become U+FFFD rather than fail the read."""
+    data = b"".join(w.to_bytes(2, "big") for w in words).split(b"\0", 1)[0]
+    if spec.padding == "space":
+        data = data.rstrip(b" ")
+    return data.decode(spec.encoding, errors="replace")
+
+
+def _encode_text(spec: RegisterSpec[Any], text: str) -> bytes:
     try:
-        return info.from_words(words if spec.word_order == HIGH_FIRST or not info.wide else words[::-1])
-    except struct.error:
-        raise ValueError(f"{spec.label}: a register word is 0..0xFFFF, got {list(words)}") from None
+        data = text.encode(spec.encoding)
+    except UnicodeEncodeError as exc:
+        raise RangeError(f"{spec.label}: {text!r} cannot be written in {spec.encoding} ({exc.reason} at character {exc.start})") from None
+    if b"\0" in data:
+        raise RangeError(f"{spec.label}: text may not contain NUL (it ends the string on the wire)")
+    if len(data) > 2 * spec.words:
+        raise RangeError(f"{spec.label}: {text!r} is {len(data)} bytes in {spec.encoding}; the register holds {2 * spec.words}")
+    return data
 
 
 def scale_of(spec: RegisterSpec[Any]) -> Fraction:
     return Fraction(spec.scale_num, spec.scale_den)
 
 
-def raw_to_value(spec: RegisterSpec[Any], raw: int) -> int | float:
-    """Engineering value: raw x scale (an int when the scale is 1)."""
-    if spec.scale_num == spec.scale_den:
+def offset_of(spec: RegisterSpec[Any]) -> Fraction:
+    return Fraction(spec.offset_num, spec.offset_den)
+
+
+def raw_to_value(spec: RegisterSpec[Any], raw: int | float) -> int | float:
+    """Engineering value: raw x scale + offset (an int when the scale is 1 and there is no offset)."""
+    if spec.scale_num == spec.scale_den and spec.offset_num == 0:
         return raw
     # raw * num is exact and Python's int / int is correctly rounded: the same float as Fraction gives, faster.
-    return raw * spec.scale_num / spec.scale_den
+    value = raw * spec.scale_num / spec.scale_den
+    return value + spec.offset_num / spec.offset_den if spec.offset_num else value
 
 
-def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> int:
-    """Raw integer for an engineering value, or an enum member name; checks range and resolution."""
+_FLAGS = {"true": 1, "on": 1, "1": 1, "false": 0, "off": 0, "0": 0}
+
+
+def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
+    """Raw value for an engineering value, an enum member name, text or a flag; checks range and resolution."""
+    info = spec.type_info
+    if info.is_string:
+        if not isinstance(value, str):
+            raise RangeError(f"{spec.label}: a string register takes text, not {value!r}")
+        check_raw(spec, value)
+        return value
+    if info.is_bool:
+        return _flag(spec, value)
     number: int | float | Decimal
     if isinstance(value, str):
         if spec.enum is not None:
@@ -63,7 +124,7 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> int:
                 check_raw(spec, int(member))
                 return int(member)
         try:
-            number = Decimal(value) if any(c in value for c in ".eE") else int(value, 0)
+            number = Decimal(value) if any(c in value for c in ".eEnN") else int(value, 0)
         except (ValueError, ArithmeticError):
             names = f"; one of {enum_names(spec.enum)}" if spec.enum is not None else ""
             raise RangeError(f"{spec.label}: {value!r} is not a number{names}") from None
@@ -71,19 +132,34 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> int:
         number = int(value)
     else:
         number = value
-    if isinstance(number, float) and number != number:
+    if isinstance(number, float | Decimal) and number != number:
         raise RangeError(f"{spec.label}: NaN is not a value")
     try:
         exact = Fraction(Decimal(str(number))) if isinstance(number, float | Decimal) else Fraction(number)
     except (ValueError, OverflowError, ArithmeticError):
         raise RangeError(f"{spec.label}: {value!r} is not a finite number") from None
-    raw_exact = exact / scale_of(spec)
+    raw_exact = (exact - offset_of(spec)) / scale_of(spec)
+    if info.is_float:
+        raw_float = float(raw_exact)
+        check_raw(spec, raw_float)
+        return raw_float
     raw = round(raw_exact)
     if abs(raw_exact - raw) > Fraction(1, 1000):
-        step = _fmt(raw_to_value(spec, 1)) if spec.scale_num != spec.scale_den else "1"
+        step = _fmt(spec.scale_num / spec.scale_den) if spec.scale_num != spec.scale_den else "1"
         raise RangeError(f"{spec.label}: {value} is not a multiple of the register's resolution {step}{_unit(spec)}")
     check_raw(spec, raw)
     return raw
+
+
+def _flag(spec: RegisterSpec[Any], value: int | float | str) -> int:
+    if isinstance(value, str):
+        flag = _FLAGS.get(value.strip().lower())
+        if flag is None:
+            raise RangeError(f"{spec.label}: {value!r} is not on/off (true, false, on, off, 1, 0)")
+        return flag
+    if value not in (0, 1):  # True and False are 1 and 0
+        raise RangeError(f"{spec.label}: a {spec.space_info.name} is on or off (1 or 0), not {value!r}")
+    return int(value)
 
 
 def enum_member(enum_type: type[enum.IntEnum], text: str) -> enum.IntEnum | None:
@@ -100,13 +176,29 @@ def enum_names(enum_type: type[enum.IntEnum]) -> str:
     return ", ".join(f"{m.name.lower()}={m.value}" for m in enum_type)
 
 
-def check_raw(spec: RegisterSpec[Any], raw: int) -> None:
+def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
     """The one check every raw value passes before it is sent or stored: the register's range,
-    and for an enum register membership of the enum."""
+    membership of its enum, the fit of its text, 0/1 for a bit."""
+    info = spec.type_info
+    if info.is_string:
+        if not isinstance(raw, str):
+            raise RangeError(f"{spec.label}: a string register takes text, not {raw!r}")
+        _encode_text(spec, raw)
+        return
+    if isinstance(raw, str) or (isinstance(raw, float) and info.kind != FLOAT):
+        raise RangeError(f"{spec.label}: raw value {raw!r} is not an integer")
+    if info.is_bool:
+        if raw not in (0, 1):
+            raise RangeError(f"{spec.label}: a {spec.space_info.name} is on or off (1 or 0), not {raw!r}")
+        return
+    if raw != raw:
+        raise RangeError(f"{spec.label}: NaN is not a value")
     if not spec.raw_min <= raw <= spec.raw_max:
         low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
         shown = _fmt(raw_to_value(spec, raw))
         raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_fmt(low)}..{_fmt(high)}{_unit(spec)}")
+    if not isinstance(raw, int):
+        return
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
         raise RangeError(f"{spec.label}: {raw} is not one of {enum_names(spec.enum)}")
     for field in spec.bitfields:
@@ -123,9 +215,13 @@ def _fmt(value: int | float) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
-def decode_value(spec: RegisterSpec[Any], raw: int) -> Any:
-    """The typed value a client returns: enum member, bitfield dict source, or number."""
-    if spec.enum is not None and not spec.bitfields:
+def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
+    """The typed value a client returns: enum member, bitfield dict source, number, text or bool."""
+    if isinstance(raw, str):
+        return raw
+    if spec.type_info.is_bool:
+        return bool(raw)
+    if spec.enum is not None and not spec.bitfields and isinstance(raw, int):
         try:
             return spec.enum(raw)
         except ValueError:

@@ -13,8 +13,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .spaces import DEFAULT_SPACE, SPACES
-from .spec import RegisterSpec
+from .spaces import DEFAULT_SPACE, MAX_READ_BITS, MAX_WRITE_BITS, SPACES
+from .spec import Raw, RegisterSpec
 
 
 @dataclass(frozen=True)
@@ -51,9 +51,12 @@ def plan_reads(
     registers: Iterable[RegisterSpec[Any]],
     max_registers: int,
     documented: frozenset[tuple[str, int]] | None = None,
+    *,
+    max_bits: int = MAX_READ_BITS,
 ) -> list[ReadBlock]:
     """Blocks covering every register, space by space. `documented` is the set of (space, address)
-    the device answers; None means the device tolerates reads of undocumented addresses."""
+    the device answers; None means the device tolerates reads of undocumented addresses.
+    `max_registers` limits a 0x03/0x04 request, `max_bits` a 0x01/0x02 request."""
     regs = sorted({r.name: r for r in registers if r.readable}.values(), key=_in_order)
     blocks: list[ReadBlock] = []
     current: list[RegisterSpec[Any]] = []
@@ -62,7 +65,8 @@ def plan_reads(
             start = current[0].first_address
             prev_end = current[-1].address + current[-1].words
             gap = range(prev_end, reg.first_address)
-            fits = reg.address + reg.words - start <= max_registers
+            limit = max_bits if SPACES[reg.space].bits else max_registers
+            fits = reg.address + reg.words - start <= limit
             gap_ok = documented is None or all((reg.space, a) in documented for a in gap)
             if reg.space == current[0].space and fits and gap_ok and reg.first_address >= prev_end:
                 current.append(reg)
@@ -83,14 +87,16 @@ class WriteBlock:
 
     @property
     def single(self) -> bool:
-        """Sent with function 0x06 (one register word) rather than 0x10."""
+        """Sent with the single-write function (0x06 for one register, 0x05 for one coil) rather than 0x10/0x0F."""
         return len(self.words) == 1
 
 
 def plan_writes(
-    values: Iterable[tuple[RegisterSpec[Any], int]],
+    values: Iterable[tuple[RegisterSpec[Any], Raw]],
     max_registers: int,
     use_write_multiple: bool = True,
+    *,
+    max_bits: int = MAX_WRITE_BITS,
 ) -> list[WriteBlock]:
     """Group raw writes into the fewest requests: contiguous registers share one 0x10 request
     (a paired register contributes its high word too, as a `paired` map's block writes do); a lone
@@ -101,13 +107,14 @@ def plan_writes(
     names = [spec.name for spec, _ in items]
     if len(set(names)) != len(names):
         raise ValueError("the same register is written twice in one request")
-    groups: list[list[tuple[RegisterSpec[Any], int]]] = []
+    groups: list[list[tuple[RegisterSpec[Any], Raw]]] = []
     for spec, raw in items:
         if groups and use_write_multiple:
             last_spec = groups[-1][-1][0]
             start = groups[-1][0][0].first_address
             contiguous = spec.space == last_spec.space and spec.first_address == last_spec.address + last_spec.words
-            if contiguous and spec.address + spec.words - start <= max_registers:
+            limit = max_bits if SPACES[spec.space].bits else max_registers
+            if contiguous and spec.address + spec.words - start <= limit:
                 groups[-1].append((spec, raw))
                 continue
         groups.append([(spec, raw)])

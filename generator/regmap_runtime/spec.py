@@ -8,13 +8,22 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Generic, Self, TypeVar
 
-from .spaces import DEFAULT_SPACE
+from .spaces import DEFAULT_SPACE, SPACES, Space
 from .types import TYPES, TypeInfo
 
 HIGH_FIRST = "high_first"
 LOW_FIRST = "low_first"
 
 T = TypeVar("T")
+
+Raw = int | float | str
+"""A register's value as the wire carries it, before scale and offset: an integer, an IEEE float,
+text (a string register) or 0/1 (a coil or discrete input)."""
+
+
+def parse_version(text: str) -> tuple[int, ...]:
+    """A firmware version as numbers, so that 2.10 sorts after 2.9."""
+    return tuple(int(part) for part in text.split("."))
 
 
 @dataclass(frozen=True)
@@ -41,8 +50,8 @@ class RegisterSpec(Generic[T]):
     paired: bool = False
     scale_num: int = 1
     scale_den: int = 1
-    min: int | None = None
-    max: int | None = None
+    min: int | float | None = None
+    max: int | float | None = None
     unit: str | None = None
     param: str | None = None
     enum: type[enum.IntEnum] | None = None
@@ -50,14 +59,49 @@ class RegisterSpec(Generic[T]):
     bitfield_type: type[Any] | None = None  # a BitfieldValue subclass
     follows_device_order: bool = True  # False when the map fixes this register's word order itself
     space: str = DEFAULT_SPACE  # a name in regmap_runtime.spaces.SPACES
+    byte_order: str = HIGH_FIRST  # bytes inside each word
+    offset_num: int = 0  # value = raw x scale + offset_num / offset_den
+    offset_den: int = 1
+    string_words: int = 0  # a string register's length in words
+    encoding: str = "ascii"
+    padding: str = "nul"  # nul or space
+    firmware_from: str | None = None  # first firmware version that has the register
+    firmware_until: str | None = None  # first firmware version that no longer has it
+    poll: str = "normal"  # static, fast, normal, slow
 
     @cached_property
     def type_info(self) -> TypeInfo:
         return TYPES[self.data_type]
 
     @cached_property
+    def space_info(self) -> Space:
+        return SPACES[self.space]
+
+    @cached_property
     def words(self) -> int:
-        return self.type_info.words
+        """Addresses the register takes: register words, or one bit for a coil or discrete input."""
+        return self.string_words if self.type_info.is_string else self.type_info.words
+
+    @property
+    def kind(self) -> str:
+        return self.type_info.kind
+
+    def exists_in(self, version: tuple[int, ...]) -> bool:
+        """Whether firmware `version` has this register (its `firmware_from`/`firmware_until` gate)."""
+        if self.firmware_from is not None and version < parse_version(self.firmware_from):
+            return False
+        return not (self.firmware_until is not None and version >= parse_version(self.firmware_until))
+
+    @property
+    def firmware_text(self) -> str | None:
+        """The gate as people read it: `firmware >= 2.1`, `firmware < 3.0`, `2.1 <= firmware < 3.0`."""
+        if self.firmware_from is not None and self.firmware_until is not None:
+            return f"{self.firmware_from} <= firmware < {self.firmware_until}"
+        if self.firmware_from is not None:
+            return f"firmware >= {self.firmware_from}"
+        if self.firmware_until is not None:
+            return f"firmware < {self.firmware_until}"
+        return None
 
     @property
     def wide(self) -> bool:
@@ -89,19 +133,19 @@ class RegisterSpec(Generic[T]):
         return self.access != "r"
 
     @property
-    def type_min(self) -> int:
+    def type_min(self) -> int | float:
         return self.type_info.raw_min
 
     @property
-    def type_max(self) -> int:
+    def type_max(self) -> int | float:
         return self.type_info.raw_max
 
     @property
-    def raw_min(self) -> int:
+    def raw_min(self) -> int | float:
         return self.type_min if self.min is None else self.min
 
     @property
-    def raw_max(self) -> int:
+    def raw_max(self) -> int | float:
         return self.type_max if self.max is None else self.max
 
     @property
@@ -154,6 +198,11 @@ class DeviceSpec:
     function_codes: tuple[int, ...]
     tolerates_gaps: bool
     exceptions: tuple[tuple[int, str, str], ...] = ()  # (code, name, meaning)
+    max_read_coils: int = 2000
+    max_write_coils: int = 1968
+    firmware_register: str | None = None  # name of the register that reports the firmware version
+    firmware_format: str = "decimal"  # decimal, major_minor, string
+    firmware_decimals: int = 0
     also_readable: frozenset[tuple[str, int]] = frozenset()  # (space, address) undocumented, but a device profile saw them answer
 
     @cached_property
@@ -163,3 +212,37 @@ class DeviceSpec:
             return None
         own = frozenset((r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
         return own | self.also_readable
+
+    def read_limit(self, space: str) -> int:
+        """Most addresses one read request of `space` may cover."""
+        return self.max_read_coils if SPACES[space].bits else self.max_read_registers
+
+    def write_limit(self, space: str) -> int:
+        """Most addresses one multiple-write request of `space` may cover."""
+        return self.max_write_coils if SPACES[space].bits else self.max_write_registers
+
+    def firmware_version(self, raw: Raw) -> tuple[int, ...]:
+        """The firmware version its register's raw value reports, as numbers (2.10 -> (2, 10))."""
+        if self.firmware_format == "string":
+            return version_in_text(str(raw))
+        number = int(raw)
+        if self.firmware_format == "major_minor":
+            return (number >> 8, number & 0xFF)
+        if self.firmware_decimals == 0:
+            return (number,)
+        scale = 10**self.firmware_decimals
+        return (number // scale, number % scale)
+
+
+def version_in_text(text: str) -> tuple[int, ...]:
+    """The first dotted number in a version string: "V2.10 build 7" -> (2, 10)."""
+    digits = ""
+    for char in text:
+        if char.isdigit() or (char == "." and digits and digits[-1] != "."):
+            digits += char
+        elif digits:
+            break
+    digits = digits.rstrip(".")
+    if not digits:
+        raise ValueError(f"no version number in {text!r}")
+    return parse_version(digits)

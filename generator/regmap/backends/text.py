@@ -25,6 +25,13 @@ def number(value: Fraction | int | float) -> str:
     return f"{float(value):.10g}"
 
 
-def eng(reg: Register, raw: int) -> str:
-    """The engineering value of a raw register value (raw x scale)."""
-    return number(raw * reg.scale)
+def eng(reg: Register, raw: int | float | str) -> str:
+    """The engineering value of a raw register value (raw x scale + offset); text as a quoted
+    string, a coil as on/off. A float raw is scaled as a float (it is no exact fraction)."""
+    if isinstance(raw, str):
+        return '"' + raw + '"'
+    if reg.type.is_bool:
+        return "on" if raw else "off"
+    if isinstance(raw, float):
+        return number(raw * float(reg.scale) + float(reg.offset))
+    return number(raw * reg.scale + reg.offset)

@@ -16,6 +16,7 @@ from regmap.model import (
     Example,
     ExampleValue,
     Fault,
+    FirmwareRegister,
     ModbusException,
     Reading,
     Register,
@@ -25,6 +26,7 @@ from regmap.model import (
     WordOrderRegister,
 )
 from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
+from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 
 
 class _References(_Walk):
@@ -134,6 +136,7 @@ class _References(_Walk):
                     (*path, "max_write_registers"),
                     f"a write request of {t['max_write_registers']} registers is {9 + 2 * t['max_write_registers']} bytes, more than max_message_bytes {max_bytes}",
                 )
+        self._check_space_limits(t, max_bytes)
         codes = [e["code"] for e in t.get("exceptions", [])]
         for i, code in enumerate(codes):
             if code in codes[:i]:
@@ -160,6 +163,9 @@ class _References(_Walk):
             max_write_registers=t["max_write_registers"],
             max_message_bytes=max_bytes,
             word_order=WordOrder(t["word_order"]),
+            byte_order=WordOrder(t.get("byte_order", "high_first")),
+            max_read_coils=t.get("max_read_coils", MAX_READ_BITS),
+            max_write_coils=t.get("max_write_coils", MAX_WRITE_BITS),
             word_order_register=word_order_register,
             crc_byte_order=t.get("crc_byte_order", "low_first"),
             undocumented_addresses=t.get("undocumented_addresses", "reject"),
@@ -175,6 +181,59 @@ class _References(_Walk):
             source=_source(t.get("source")) + _source(serial.get("source")),
             notes="\n".join(x for x in (t.get("notes", ""), serial.get("notes", "")) if x),
         )
+
+    def _check_space_limits(self, t: dict[str, Any], max_bytes: int | None) -> None:
+        """Every function code the map's registers need is one the device lists, and bit requests fit its messages."""
+        path: Path = ("transport",)
+        listed = set(t["function_codes"])
+        needed: dict[int, Register] = {}
+        for reg in self.registers:
+            space = SPACES[reg.space]
+            if reg.access.readable:
+                needed.setdefault(space.read, reg)
+            if reg.access.writable:
+                codes = [c for c in (space.write_single, space.write_multiple) if c is not None]
+                if not listed & set(codes):
+                    needed.setdefault(codes[0], reg)
+        for code, reg in sorted(needed.items()):
+            if code not in listed:
+                self.problem(
+                    (*path, "function_codes"),
+                    f"{reg.name} is in {SPACES[reg.space].title}, which needs function 0x{code:02X}; function_codes does not list it",
+                )
+        if max_bytes is None:
+            return
+        for key, fixed in (("max_read_coils", 5), ("max_write_coils", 9)):
+            if key in t and fixed + (t[key] + 7) // 8 > max_bytes:
+                self.problem(
+                    (*path, key),
+                    f"a message of {t[key]} coils is {fixed + (t[key] + 7) // 8} bytes, more than max_message_bytes {max_bytes}",
+                )
+
+    def _firmware_register(self, d: dict[str, Any], by_selector: dict[str, Register]) -> FirmwareRegister | None:
+        spec = d.get("firmware_register")
+        if spec is None:
+            return None
+        path: Path = ("device", "firmware_register")
+        reg = self._ref(spec["register"], by_selector, (*path, "register"), "firmware_register")
+        if reg is None:
+            return None
+        form = spec["format"]
+        if form == "string" and not reg.type.is_string:
+            self.problem((*path, "format"), f"firmware_register: format string needs a string register; {reg.name} is {reg.type.value}")
+        if form != "string" and reg.type.kind != "int":
+            self.problem((*path, "format"), f"firmware_register: format {form} needs an integer register; {reg.name} is {reg.type.value}")
+        if form == "major_minor" and reg.type.words != 1:
+            self.problem(
+                (*path, "format"), f"firmware_register: major_minor reads the two bytes of one word; {reg.name} is {reg.type.value}"
+            )
+        if "decimals" in spec and form != "decimal":
+            self.problem((*path, "decimals"), f"firmware_register: decimals applies to format decimal, not {form}")
+        if not reg.access.readable:
+            self.problem((*path, "register"), f"firmware_register: {reg.name} is write-only")
+        if reg.firmware is not None:
+            self.problem((*path, "register"), f"firmware_register: {reg.name} is itself gated by firmware ({reg.firmware.text})")
+        return FirmwareRegister(register=reg, format=form, decimals=spec.get("decimals", 0), source=_source(spec.get("source")))
 
     # -- commands, faults, errata, examples ---------------------------------------------------
 

@@ -19,15 +19,22 @@ from regmap.model import (
     ArrayMember,
     ArrayRef,
     Bitfield,
+    ByteOrder,
     DataType,
     Device,
     DeviceInfo,
     EnumMember,
     EnumType,
+    FirmwareGate,
     Group,
+    PollClass,
     Register,
     WordOrder,
 )
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
+from regmap_runtime.spec import parse_version
+
+GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its registers inherit
 
 RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
 
@@ -57,7 +64,9 @@ class _Elaborator(_References):
         self._check_device_id(raw["device"]["id"])
         if self.problems:
             raise MapError(self.problems)
-        info = self._device_info(raw["device"])
+        info = replace(self._device_info(raw["device"]), firmware_register=self._firmware_register(raw["device"], by_selector))
+        if self.problems:
+            raise MapError(self.problems)
         return Device(
             info=info,
             transport=transport,
@@ -219,7 +228,7 @@ class _Elaborator(_References):
     # -- groups, registers, arrays -----------------------------------------------------------
 
     def _group(self, g: dict[str, Any], path: Path, word_order: WordOrder) -> Group:
-        defaults = dict(g.get("defaults", {}))
+        defaults = {key: g[key] for key in GROUP_KEYS if key in g} | dict(g.get("defaults", {}))
         if "source" not in defaults and "source" in g:
             defaults["source"] = g["source"]
         registers: list[Register] = []
@@ -263,41 +272,31 @@ class _Elaborator(_References):
     ) -> Register | None:
         name = name or r["name"]
         address = r["address"] if address is None else address
-        dtype = DataType(r.get("type", "u16"))
-        if "words" in r and r["words"] != dtype.words:
-            self.problem(
-                (*path, "words"),
-                f"{name}: words {r['words']} does not match type {dtype.value} ({dtype.words} word{'s' if dtype.words > 1 else ''})",
-            )
-        if address + dtype.words - 1 > 0xFFFF:
-            self.problem((*path, "address"), f"{name}: a {dtype.words}-word register at 0x{address:04X} runs past address 0xFFFF")
+        space = SPACES[r.get("space", DEFAULT_SPACE)]
+        dtype = DataType(r.get("type", "bool" if space.bits else "u16"))
+        self._check_type_in_space(r, path, name, dtype, space)
+        words = self._words(r, path, name, dtype)
+        if address + words - 1 > 0xFFFF:
+            self.problem((*path, "address"), f"{name}: a {words}-{space.unit} register at 0x{address:04X} runs past address 0xFFFF")
         paired = bool(r.get("paired", False))
-        if paired and dtype.words != 1:
+        if paired and (dtype.words != 1 or not dtype.numeric or dtype.is_float):
             self.problem(
                 (*path, "paired"),
-                f"{name}: `paired` describes a 16-bit value in the low word of a 32-bit pair; type {dtype.value} is already 32-bit",
+                f"{name}: `paired` describes a 16-bit value in the low word of a 32-bit pair; type {dtype.value} is not a 16-bit integer",
             )
         if paired and address == 0:
             self.problem((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
-        if "word_order" in r and dtype.words == 1 and "word_order" not in self._defaults_keys(path):
-            self.problem((*path, "word_order"), f"{name}: word_order applies only to 32-bit registers; type is {dtype.value}")
+        if "word_order" in r and not dtype.wide and "word_order" not in self._defaults_keys(path):
+            self.problem((*path, "word_order"), f"{name}: word_order applies only to values wider than 16 bits; type is {dtype.value}")
         order = WordOrder(r["word_order"]) if "word_order" in r and dtype.wide else word_order
+        byte_order = ByteOrder(r.get("byte_order", self.raw["transport"].get("byte_order", "high_first")))
+        if not dtype.info.has_byte_order:
+            byte_order = ByteOrder.HIGH_FIRST
         enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
         bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
-        for key, value in (("min", low), ("max", high), ("default", default)):
-            if value is not None and not dtype.raw_min <= value <= dtype.raw_max:
-                self.problem(
-                    (*path, key), f"{name}: {key} {value} is outside the range of {dtype.value} ({dtype.raw_min}..{dtype.raw_max})"
-                )
-        if low is not None and high is not None and low > high:
-            self.problem((*path, "min"), f"{name}: min {low} is greater than max {high}")
-        if default is not None:
-            if (low is not None and default < low) or (high is not None and default > high):
-                self.problem((*path, "default"), f"{name}: default {default} is outside min..max ({low}..{high})")
-            if enum_type is not None and enum_type.by_value(default) is None:
-                self.problem((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
-        if enum_type is not None:
+        self._check_values(path, name, dtype, low, high, default, r)
+        if enum_type is not None and dtype.kind == "int":
             for member in enum_type.members:
                 if not dtype.raw_min <= member.value <= dtype.raw_max:
                     self.problem(
@@ -305,7 +304,14 @@ class _Elaborator(_References):
                     )
         if not r.get("source"):
             self.problem(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
-        access = Access(r.get("access", "rw"))
+        access = Access(r.get("access", "rw" if space.writable else "r"))
+        if access.writable and not space.writable:
+            self.problem(
+                (*path, "access"),
+                f"{name}: {space.title} are read-only (function 0x{space.read:02X}); access {access.value} is not possible",
+            )
+        if isinstance(default, bool) and dtype.is_bool:
+            default = int(default)
         return Register(
             name=name,
             param=param if param is not None else r.get("param"),
@@ -316,6 +322,7 @@ class _Elaborator(_References):
             access=access,
             unit=r.get("unit"),
             scale=_scale(r.get("scale", 1)),
+            offset=_scale(r.get("offset", 0)),
             min=low,
             max=high,
             default=default,
@@ -333,8 +340,111 @@ class _Elaborator(_References):
             notes=r.get("notes", ""),
             group=group,
             array=array,
+            space=space.name,
+            byte_order=byte_order,
+            string_words=words if dtype.is_string else 0,
+            encoding=r.get("encoding", "ascii"),
+            padding=r.get("padding", "nul"),
+            firmware=self._firmware_gate(r.get("firmware"), (*path, "firmware"), name),
+            poll=PollClass(r.get("poll", "normal")),
             pos=self.positions.locate(path),
         )
+
+    def _check_type_in_space(self, r: dict[str, Any], path: Path, name: str, dtype: DataType, space: Space) -> None:
+        """A coil or discrete input is one bit (bool) and nothing else; every other type lives in register words."""
+        if space.bits and not dtype.is_bool:
+            self.problem((*path, "type"), f"{name}: a {space.name} is one bit, so its type is bool, not {dtype.value}")
+        if dtype.is_bool and not space.bits:
+            self.problem(
+                (*path, "type"),
+                f"{name}: bool is the type of coils and discrete inputs; a register in {space.title} is a number (u16 with a bitfield for flags)",
+            )
+        not_for: dict[str, tuple[bool, str]] = {
+            "scale": (not dtype.numeric, "a number"),
+            "offset": (not dtype.numeric, "a number"),
+            "unit": (dtype.is_bool, "a number or text"),
+            "bitfields": (dtype.kind != "int", "an integer"),
+            "enum": (dtype.kind != "int", "an integer"),
+            "byte_order": (not dtype.info.has_byte_order, "a value in register words"),
+            "encoding": (not dtype.is_string, "a string"),
+            "padding": (not dtype.is_string, "a string"),
+            "min": (not dtype.numeric, "a number"),
+            "max": (not dtype.numeric, "a number"),
+        }
+        inherited = self._defaults_keys(path)
+        for key, (refused, needs) in not_for.items():
+            if refused and key in r and key not in inherited and r[key] is not None:
+                what = f"a {space.name}" if space.bits else f"a {dtype.value} register"
+                self.problem((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
+
+    def _words(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> int:
+        if dtype.is_string:
+            if "words" not in r:
+                self.problem(path, f"{name}: a string register needs `words` (its length in registers, two characters each)")
+                return 1
+            words: int = r["words"]
+            return words
+        if "words" in r and r["words"] != dtype.words:
+            self.problem(
+                (*path, "words"),
+                f"{name}: words {r['words']} does not match type {dtype.value} ({dtype.words} word{'s' if dtype.words > 1 else ''})",
+            )
+        return dtype.words
+
+    def _check_values(self, path: Path, name: str, dtype: DataType, low: Any, high: Any, default: Any, r: dict[str, Any]) -> None:
+        """min/max/default are raw values of the register's type: integers, floats, text or true/false."""
+        for key, value in (("min", low), ("max", high), ("default", default)):
+            if value is None:
+                continue
+            if dtype.is_string:
+                if key == "default":
+                    self._check_string_default(path, name, value, r)
+                continue
+            if dtype.is_bool:
+                if key == "default" and not isinstance(value, bool):
+                    self.problem((*path, key), f"{name}: the default of a bit is true or false, not {value!r}")
+                continue
+            if isinstance(value, bool | str) or (dtype.kind == "int" and not isinstance(value, int)):
+                kind = "an integer" if dtype.kind == "int" else "a number"
+                self.problem((*path, key), f"{name}: {key} of a {dtype.value} register is {kind} (a raw value), not {value!r}")
+                continue
+            if not dtype.raw_min <= value <= dtype.raw_max:
+                self.problem(
+                    (*path, key), f"{name}: {key} {value} is outside the range of {dtype.value} ({dtype.raw_min:g}..{dtype.raw_max:g})"
+                )
+        if not dtype.numeric or any(isinstance(v, bool | str) for v in (low, high, default)):
+            return
+        if low is not None and high is not None and low > high:
+            self.problem((*path, "min"), f"{name}: min {low} is greater than max {high}")
+        if default is not None:
+            if (low is not None and default < low) or (high is not None and default > high):
+                self.problem((*path, "default"), f"{name}: default {default} is outside min..max ({low}..{high})")
+            enum_type = self.enums.get(r.get("enum", ""))
+            if enum_type is not None and enum_type.by_value(default) is None:
+                self.problem((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
+
+    def _check_string_default(self, path: Path, name: str, value: Any, r: dict[str, Any]) -> None:
+        if not isinstance(value, str):
+            self.problem((*path, "default"), f"{name}: the default of a string register is text, not {value!r}")
+            return
+        encoding = r.get("encoding", "ascii")
+        try:
+            size = len(value.encode(encoding))
+        except UnicodeEncodeError:
+            self.problem((*path, "default"), f"{name}: the default {value!r} cannot be written in {encoding}")
+            return
+        if isinstance(r.get("words"), int) and size > 2 * r["words"]:
+            self.problem((*path, "default"), f"{name}: the default {value!r} is {size} bytes; {r['words']} words hold {2 * r['words']}")
+
+    def _firmware_gate(self, spec: dict[str, str] | None, path: Path, name: str) -> FirmwareGate | None:
+        if spec is None:
+            return None
+        gate = FirmwareGate(first=spec.get("from"), until=spec.get("until"))
+        if gate.first is not None and gate.until is not None and parse_version(gate.first) >= parse_version(gate.until):
+            self.problem(
+                (*path, "until"), f"{name}: firmware from {gate.first} until {gate.until} is empty; `until` is the first version without it"
+            )
+        return gate
 
     def _defaults_keys(self, path: Path) -> set[str]:
         group_path = path[:2]
@@ -342,6 +452,8 @@ class _Elaborator(_References):
         return set(group.get("defaults", {}))
 
     def _bitfields(self, specs: list[dict[str, Any]], path: Path, dtype: DataType, name: str) -> tuple[Bitfield, ...]:
+        if dtype.kind != "int":
+            return ()  # reported by _check_type_in_space
         fields: list[Bitfield] = []
         used: dict[int, str] = {}
         names: set[str] = set()
@@ -400,13 +512,24 @@ class _Elaborator(_References):
                 self.problem((*mpath, "name"), f"array {a['array']}: duplicate member {m['name']!r}")
                 repeated.add(j)
             member_names.add(m["name"])
-            words = DataType(m.get("type", defaults.get("type", "u16"))).words
-            if m["offset"] + words > a["stride"]:
-                self.problem(
-                    (*mpath, "offset"),
-                    f"array {a['array']}: member {m['name']} (offset {m['offset']}, {words} words) does not fit in the stride {a['stride']}",
+            member_space = SPACES[m.get("space", defaults.get("space", DEFAULT_SPACE))]
+            member_type = DataType(m.get("type", defaults.get("type", "bool" if member_space.bits else "u16")))
+            words = m.get("words", 1) if member_type.is_string else member_type.words
+            if "word_offset" not in m:
+                moved = "offset" in m and isinstance(m["offset"], int) and "scale" not in m
+                hint = (
+                    "; `offset` is now the value offset beside `scale`, so rename this member's `offset` to `word_offset`" if moved else ""
                 )
-            members.append(ArrayMember(name=m["name"], offset=m["offset"], words=words, title=m["title"]))
+                self.problem(mpath, f"array {a['array']}: member {m['name']} needs `word_offset` (its position in the element){hint}")
+                repeated.add(j)
+                members.append(ArrayMember(name=m["name"], offset=0, words=words, title=m["title"]))
+                continue
+            if m["word_offset"] + words > a["stride"]:
+                self.problem(
+                    (*mpath, "word_offset"),
+                    f"array {a['array']}: member {m['name']} (word_offset {m['word_offset']}, {words} words) does not fit in the stride {a['stride']}",
+                )
+            members.append(ArrayMember(name=m["name"], offset=m["word_offset"], words=words, title=m["title"]))
         array = ArrayDef(
             name=a["array"],
             title=a["title"],
@@ -442,7 +565,7 @@ class _Elaborator(_References):
                 if isinstance(spec.get("default"), list):
                     spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
                 reg = self._register(
-                    {**inherited, **spec},
+                    {**inherited, **{k: v for k, v in spec.items() if k != "word_offset"}},
                     (*path, "members", j),
                     group,
                     word_order,

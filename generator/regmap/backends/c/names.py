@@ -11,7 +11,7 @@ from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Access, DataType, Device, Register, WordOrder
 from regmap.render import header_lines
-from regmap_runtime.spaces import HOLDING
+from regmap_runtime.spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT
 
 # -- identifiers -----------------------------------------------------------------------------
 
@@ -162,7 +162,10 @@ ACCESS_MACRO = {Access.READ: "REGMAP_ACCESS_R", Access.READ_WRITE: "REGMAP_ACCES
 WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST: "REGMAP_LOW_FIRST"}
 # The macro of each function code of each space (regmap_runtime.spaces.Space.codes).
 FUNCTION_MACROS = {
-    HOLDING.name: {"read": "REGMAP_FC_READ_HOLDING", "write_single": "REGMAP_FC_WRITE_SINGLE", "write_multiple": "REGMAP_FC_WRITE_MULTIPLE"}
+    HOLDING.name: {"read": "REGMAP_FC_READ_HOLDING", "write_single": "REGMAP_FC_WRITE_SINGLE", "write_multiple": "REGMAP_FC_WRITE_MULTIPLE"},
+    INPUT.name: {"read": "REGMAP_FC_READ_INPUT"},
+    COIL.name: {"read": "REGMAP_FC_READ_COILS", "write_single": "REGMAP_FC_WRITE_SINGLE_COIL", "write_multiple": "REGMAP_FC_WRITE_MULTIPLE_COILS"},
+    DISCRETE_INPUT.name: {"read": "REGMAP_FC_READ_DISCRETE_INPUTS"},
 }
 PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
 
