@@ -12,6 +12,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
+from pymodbus.client import ModbusTcpClient
+
 from libmodbus_ref import (
     ORDERS,
     LibmodbusRef,
@@ -22,7 +24,6 @@ from libmodbus_ref import (
     libmodbus_server_fixture,  # noqa: F401
     parse_dump,
 )
-from pymodbus.client import ModbusTcpClient
 
 FLOATS = [0.0, -0.0, 1.5, 230.1, -1e-38, 3.4e38, math.inf, -math.inf, math.nan]
 # Bit patterns for the getters: a signalling NaN, a NaN with payload and sign, the smallest subnormal.

@@ -403,9 +403,9 @@ class ExampleValue:
     carries only some of a 32-bit register's words) the words themselves."""
 
     register: Register
-    raw: int | None = None
+    raw: int | float | str | None = None
     words: tuple[int, ...] | None = None
-    value: float | str | None = None
+    value: float | str | bool | None = None
 
 
 @dataclass(frozen=True)

@@ -411,7 +411,9 @@ class _References(_Walk):
                     self.problem(
                         (*path, "values", j, "raw"), f"example {x['id']}: {len(words)} words for {reg.name}, which has {reg.words}"
                     )
-                values.append(ExampleValue(register=reg, raw=raw if isinstance(raw, int) else None, words=words, value=v.get("value")))
+                if isinstance(raw, bool):
+                    raw = int(raw)
+                values.append(ExampleValue(register=reg, raw=None if isinstance(raw, list) else raw, words=words, value=v.get("value")))
             examples.append(
                 Example(
                     id=x["id"],

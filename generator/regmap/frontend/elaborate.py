@@ -277,7 +277,7 @@ class _Elaborator(_References):
         self._check_type_in_space(r, path, name, dtype, space)
         words = self._words(r, path, name, dtype)
         if address + words - 1 > 0xFFFF:
-            self.problem((*path, "address"), f"{name}: a {words}-{space.unit} register at 0x{address:04X} runs past address 0xFFFF")
+            self.problem((*path, "address"), f"{name}: a {words}-word register at 0x{address:04X} runs past address 0xFFFF")
         paired = bool(r.get("paired", False))
         if paired and (dtype.words != 1 or not dtype.numeric or dtype.is_float):
             self.problem(
