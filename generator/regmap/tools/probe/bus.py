@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from regmap_runtime.client import SyncClient
 from regmap_runtime.errors import ConnectionLost, DeviceException, RegmapError
+from regmap_runtime.spaces import DEFAULT_SPACE
 
 CONFUSED_AFTER = 3  # requests in a row with no usable answer
 
@@ -86,15 +87,16 @@ class ProbeBus:
         self.silent = 0
         return Answer(words=words)
 
-    def read(self, address: int, count: int) -> Answer:
-        answer = self._send(lambda: self.client.read_raw(address, count))
-        if answer.ok:
+    def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> Answer:
+        answer = self._send(lambda: self.client.read_raw(address, count, space=space))
+        if answer.ok and space == DEFAULT_SPACE:
+            # Limits, gaps and the profile are learned for holding registers, where the drives' quirks are.
             self.observed.update(range(address, address + count))
         return answer
 
-    def write(self, address: int, words: Sequence[int]) -> Answer:
+    def write(self, address: int, words: Sequence[int], space: str = DEFAULT_SPACE) -> Answer:
         def send() -> list[int] | None:
-            self.client.write_raw(address, list(words), multiple=len(words) > 1)
+            self.client.write_raw(address, list(words), multiple=len(words) > 1, space=space)
             return None
 
         return self._send(send)

@@ -14,6 +14,7 @@ from regmap.tools.decode import describe_value
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS
+from regmap_runtime.spec import Raw
 
 from .bus import Answer, ProbeBus
 from .report import Note
@@ -24,7 +25,7 @@ class RegisterRead:
     register: Register
     answer: Answer | None = None  # None: not read (the probe stopped first)
     words: list[int] | None = None
-    raw: int | None = None
+    raw: Raw | None = None
     value: Any = None
     text: str = ""
     in_range: bool = True
@@ -63,7 +64,7 @@ def read_registers(bus: ProbeBus, device: Device, reads: dict[str, RegisterRead]
     for number, block in enumerate(blocks, 1):
         if progress is not None:
             progress(f"registers: request {number} of {len(blocks)}")
-        answer = bus.read(block.address, block.count)
+        answer = bus.read(block.address, block.count, block.space)
         if answer.ok and answer.words is not None:
             for spec in block.registers:
                 reads[spec.name].answer, reads[spec.name].words = answer, block.words_of(spec, answer.words)
@@ -72,7 +73,7 @@ def read_registers(bus: ProbeBus, device: Device, reads: dict[str, RegisterRead]
             reads[block.registers[0].name].answer = answer
             continue
         for spec in block.registers:  # the block failed: which of its registers does the drive refuse?
-            single = bus.read(spec.address, spec.words)
+            single = bus.read(spec.address, spec.words, spec.space)
             reads[spec.name].answer, reads[spec.name].words = single, single.words
 
 
@@ -88,12 +89,17 @@ def judge(device: Device, reads: dict[str, RegisterRead], word_order: str | None
             what = (
                 exception_text(device, read.answer.exception) if read.answer.exception is not None else read.answer.failure or "no answer"
             )
+            if reg.firmware is not None:
+                # Whether the firmware should have it is the firmware stage's judgement, made with the version read.
+                notes.append(Note("registers", reg.label, "not_answered", f"0x{reg.address:04X}: {what} ({reg.firmware.text})", False))
+                continue
             notes.append(Note("registers", reg.label, "not_answered", f"0x{reg.address:04X}: {what}", True))
             continue
         assert read.words is not None
-        read.raw = words_to_raw(regs.spec(reg).in_word_order(word_order), read.words)
-        read.value, read.text, admitted, _ = describe_value(device, reg, read.raw, regs)
-        read.in_range = reg.raw_min <= read.raw <= reg.raw_max
+        read.raw = raw = words_to_raw(regs.spec(reg).in_word_order(word_order), read.words)
+        read.value, read.text, admitted, _ = describe_value(device, reg, raw, regs)
+        # Text and bits have no range; a float that is NaN is outside any range.
+        read.in_range = isinstance(raw, str) or reg.raw_min <= raw <= reg.raw_max
         read.member = admitted or not read.in_range
         read.default_differs = reg.default is not None and read.raw != reg.default
         if not read.in_range:

@@ -97,5 +97,5 @@ def _gap_limit(device: Device, limit: list[limits.Limit]) -> int:
 def _firmware(device: Device, reads: dict[str, registers.RegisterRead]) -> Note:
     reg = firmware.firmware_register(device)
     read = reads.get(reg.name) if reg is not None else None
-    check = firmware.check_firmware(device, reg, read.raw if read is not None else None)
+    check = firmware.check_firmware(device, reg, read.raw if read is not None else None, reads)
     return Note("firmware", "transport", "firmware", check.text, not check.agrees)

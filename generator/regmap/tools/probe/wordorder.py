@@ -13,7 +13,7 @@ from typing import Any
 from regmap.model import Device, Register
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import words_to_raw
-from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST
+from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, Raw
 
 from .registers import RegisterRead
 from .report import Note
@@ -49,10 +49,10 @@ class WordOrder:
         }
 
 
-def _admits(reg: Register, raw: int) -> bool:
-    if not reg.raw_min <= raw <= reg.raw_max:
+def _admits(reg: Register, raw: Raw) -> bool:
+    if isinstance(raw, str) or not reg.raw_min <= raw <= reg.raw_max:
         return False
-    return reg.enum is None or bool(reg.bitfields) or reg.enum.by_value(raw) is not None
+    return reg.enum is None or bool(reg.bitfields) or reg.enum.by_value(int(raw)) is not None
 
 
 def infer(device: Device, reads: dict[str, RegisterRead]) -> tuple[WordOrder, list[Note]]:
@@ -60,7 +60,7 @@ def infer(device: Device, reads: dict[str, RegisterRead]) -> tuple[WordOrder, li
     result = WordOrder(device.transport.word_order.value)
     for read in reads.values():
         reg = read.register
-        if reg.words != 2 or reg.word_order_fixed or read.words is None or read.words[0] == read.words[1]:
+        if reg.words != 2 or reg.type.kind != "int" or reg.word_order_fixed or read.words is None or read.words[0] == read.words[1]:
             continue
         raws = {order: words_to_raw(regs.spec(reg).in_word_order(order), read.words) for order in ORDERS}
         plausible = [order for order in ORDERS if _admits(reg, raws[order])]

@@ -13,6 +13,7 @@ from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import raw_to_words, words_to_raw
+from regmap_runtime.spec import Raw
 
 from .bus import ProbeBus
 from .registers import exception_text
@@ -24,9 +25,9 @@ ILLEGAL_VALUE = 0x03
 @dataclass
 class WriteTest:
     register: str
-    held: int | None = None
+    held: Raw | None = None
     written_back: str = "not tried"
-    out_of_range: int | None = None
+    out_of_range: Raw | None = None
     refused_with: str = "not tried"
 
     def as_json(self) -> dict[str, Any]:
@@ -53,15 +54,26 @@ def chosen(device: Device, selectors: Sequence[str]) -> list[Register]:
     return out
 
 
-def outside_value(reg: Register) -> int | None:
-    """A raw value the register's type can carry but the map does not admit, or None."""
-    if reg.raw_max < reg.type.raw_max:
-        return reg.raw_max + 1
-    if reg.raw_min > reg.type.raw_min:
-        return reg.raw_min - 1
+def outside_value(reg: Register) -> Raw | None:
+    """A raw value the register's type can carry but the map does not admit, or None (text and bits
+    have none: every text that fits and both states of a coil are values)."""
+    if not reg.type.numeric:
+        return None
+    if reg.type.is_float:
+        # Well clear of the limit, so that rounding to the register's float width cannot bring it back inside.
+        if reg.max is not None:
+            return reg.max + max(1.0, abs(reg.max))
+        if reg.min is not None:
+            return reg.min - max(1.0, abs(reg.min))
+        return None
+    low, high = int(reg.raw_min), int(reg.raw_max)
+    if high < reg.type.raw_max:
+        return high + 1
+    if low > reg.type.raw_min:
+        return low - 1
     if reg.enum is not None and not reg.bitfields:
         members = {m.value for m in reg.enum.members}
-        return next((v for v in range(reg.raw_min, reg.raw_min + len(members) + 1) if v not in members), None)
+        return next((v for v in range(low, low + len(members) + 1) if v not in members), None)
     return None
 
 
@@ -86,16 +98,16 @@ def write_test(bus: ProbeBus, device: Device, registers: Sequence[Register], wor
         result = WriteTest(reg.name)
         results.tests.append(result)
 
-        def write(raw: int, reg: Register = reg, spec: Any = spec) -> str:
-            return bus.write(reg.first_address, raw_to_words(spec, raw, with_pair=True)).text
+        def write(raw: Raw, reg: Register = reg, spec: Any = spec) -> str:
+            return bus.write(reg.first_address, raw_to_words(spec, raw, with_pair=True), reg.space).text
 
-        current = bus.read(reg.address, reg.words)
+        current = bus.read(reg.address, reg.words, reg.space)
         if current.words is None:
             notes.append(Note("write_test", reg.label, "write_back", f"could not read it first: {current.text}", True))
             continue
         result.held = held = words_to_raw(spec, current.words)
         result.written_back = write(held)
-        again = bus.read(reg.address, reg.words)
+        again = bus.read(reg.address, reg.words, reg.space)
         same = again.words is not None and words_to_raw(spec, again.words) == held
         if result.written_back != "answered" or not same:
             text = f"writing back raw {held}: {result.written_back}; read again: {again.text if again.words is None else words_to_raw(spec, again.words)}"
@@ -109,7 +121,7 @@ def write_test(bus: ProbeBus, device: Device, registers: Sequence[Register], wor
             )
             continue
         code = expected_refusal(device)
-        answer = bus.write(reg.first_address, raw_to_words(spec, outside, with_pair=True))
+        answer = bus.write(reg.first_address, raw_to_words(spec, outside, with_pair=True), reg.space)
         result.refused_with = answer.text
         if answer.exception == code:
             notes.append(
