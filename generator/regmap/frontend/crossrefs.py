@@ -221,9 +221,9 @@ class _References(_Walk):
         form = spec["format"]
         if form == "string" and not reg.type.is_string:
             self.problem((*path, "format"), f"firmware_register: format string needs a string register; {reg.name} is {reg.type.value}")
-        if form != "string" and reg.type.kind != "int":
+        elif form != "string" and reg.type.kind != "int":
             self.problem((*path, "format"), f"firmware_register: format {form} needs an integer register; {reg.name} is {reg.type.value}")
-        if form == "major_minor" and reg.type.words != 1:
+        elif form == "major_minor" and reg.type.words != 1:
             self.problem(
                 (*path, "format"), f"firmware_register: major_minor reads the two bytes of one word; {reg.name} is {reg.type.value}"
             )
