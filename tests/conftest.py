@@ -19,6 +19,8 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 MAPS = sorted((ROOT / "maps").glob("*.yaml"))
 SMALL_MAPS = sorted((ROOT / "tests" / "maps" / "small").glob("*.yaml"))
+FIXTURE_MAPS = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
+"""Made-up devices (issue #19): input registers, coils, floats, strings, byte swaps, firmware gates."""
 GENERATED = ROOT / "generated"
 GENERATED_PY = GENERATED / "python"
 
@@ -56,6 +58,25 @@ def small_maps_python() -> Path:
         _SMALL_PY.append(out / "python")
         sys.path.append(str(out / "python"))
     return _SMALL_PY[0]
+
+
+_FIXTURES_OUT: list[Path] = []
+
+
+def fixture_maps_generated() -> Path:
+    """Every target generated for the fixture maps (not committed under generated/), made once per run;
+    its python/ directory is importable."""
+    if not _FIXTURES_OUT:
+        import tempfile
+
+        from regmap.frontend import load_map
+        from regmap.generate import generate, target_names
+
+        out = Path(tempfile.mkdtemp(prefix="regmap-fixtures-")) / "generated"
+        generate([load_map(p) for p in FIXTURE_MAPS], out, target_names(), complete=True)
+        _FIXTURES_OUT.append(out)
+        sys.path.append(str(out / "python"))
+    return _FIXTURES_OUT[0]
 
 
 def require_tool(name: str) -> str:
