@@ -7,8 +7,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.c.names import (
+    BUILDERS,
+    FIRMWARE_FORMAT_MACRO,
     FUNCTION_MACROS,
+    PADDING_MACRO,
     PARITY_CHAR,
+    POLL_MACRO,
+    SPACE_MACRO,
+    TYPE_MACRO,
     WORD_ORDER_MACRO,
     CIdentifier,
     Context,
@@ -17,14 +23,25 @@ from regmap.backends.c.names import (
     c_unsigned,
     file_header,
 )
-from regmap.backends.c.views import Macro, command_view, enum_view, group_views, manual_sections, sentences
+from regmap.backends.c.views import Macro, command_view, enum_view, group_views, manual_sections, modern, sentences
 from regmap.backends.text import titled
 from regmap.diagnostics import UsageError
 from regmap.generate import Files
-from regmap.model import Device
+from regmap.model import ByteOrder, Device, PollClass
 from regmap.render import environment
 from regmap.runtime_bridge import read_plan
-from regmap_runtime.spaces import HOLDING, SPACES, Space
+from regmap_runtime.spaces import (
+    BY_FUNCTION,
+    COIL_OFF,
+    COIL_ON,
+    HOLDING,
+    MAX_READ_BITS,
+    MAX_READ_REGISTERS,
+    MAX_WRITE_BITS,
+    MAX_WRITE_REGISTERS,
+    SPACES,
+    Space,
+)
 
 SHARED_HEADER = "regmap_rtu.h"
 
@@ -34,6 +51,25 @@ class PlanBlock:
     address: str
     count: str
     comment: str
+    function: str  # the macro of the read function of its space
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A read plan table; `functions` names the table of each request's function code ("" when every request reads holding registers)."""
+
+    comment: str
+    length: str
+    table: str
+    functions: str
+    blocks: tuple[PlanBlock, ...]
+
+
+@dataclass(frozen=True)
+class BuilderView:
+    function: str
+    params: str
+    body: str  # the returned C expression
 
 
 def _transport_macros(ctx: Context) -> list[Macro]:
@@ -55,9 +91,30 @@ def _transport_macros(ctx: Context) -> list[Macro]:
         Macro(ctx.const("MAX_READ_REGISTERS"), c_unsigned(t.max_read_registers)),
         Macro(ctx.const("MAX_WRITE_REGISTERS"), c_unsigned(t.max_write_registers)),
     ]
+    if _bit_spaces(ctx.device):
+        macros += [
+            Macro(ctx.const("MAX_READ_COILS"), c_unsigned(t.max_read_coils), "coils or discrete inputs one read may cover"),
+            Macro(ctx.const("MAX_WRITE_COILS"), c_unsigned(t.max_write_coils), "coils one write multiple coils may cover"),
+        ]
     if t.max_message_bytes is not None:
         macros.append(Macro(ctx.const("MAX_MESSAGE_BYTES"), c_unsigned(t.max_message_bytes)))
     macros.append(Macro(ctx.const("WORD_ORDER"), WORD_ORDER_MACRO[t.word_order], "order of the words of 32-bit values"))
+    if t.byte_order is not ByteOrder.HIGH_FIRST:
+        macros.append(Macro(ctx.const("BYTE_ORDER"), WORD_ORDER_MACRO[t.byte_order], "order of the bytes in each word"))
+    firmware = ctx.device.info.firmware_register
+    if firmware is not None:
+        macros += [
+            Macro(
+                ctx.const("FIRMWARE_REGISTER_ADDR"), ctx.addr(firmware.register), f"{firmware.register.label} reports the firmware version"
+            ),
+            Macro(
+                ctx.const("FIRMWARE_FORMAT"),
+                FIRMWARE_FORMAT_MACRO[firmware.format],
+                "see regmap_firmware_version / regmap_version_from_text",
+            ),
+        ]
+        if firmware.format == "decimal":
+            macros.append(Macro(ctx.const("FIRMWARE_DECIMALS"), c_unsigned(firmware.decimals)))
     if t.word_order_register is not None:
         w = t.word_order_register
         macros += [
@@ -70,14 +127,76 @@ def _transport_macros(ctx: Context) -> list[Macro]:
     return macros
 
 
-def _plan_blocks(ctx: Context) -> list[PlanBlock]:
+def _bit_spaces(device: Device) -> bool:
+    return any(r.space_info.bits for r in device.registers)
+
+
+def _plan_blocks(ctx: Context, poll: PollClass | None = None) -> list[PlanBlock]:
     blocks = []
-    for block in read_plan(ctx.device):
+    for block in read_plan(ctx.device, poll=poll):
         first, last = block.registers[0], block.registers[-1]
         names = [r.param or r.name for r in (first, last)]
-        comment = names[0] if first is last else f"{names[0]} .. {names[1]} ({len(block.registers)} registers)"
-        blocks.append(PlanBlock(address=c_hex(block.address), count=c_unsigned(block.count), comment=comment))
+        unit = f"{SPACES[block.space].unit}s" if SPACES[block.space].bits else "registers"
+        comment = names[0] if first is last else f"{names[0]} .. {names[1]} ({len(block.registers)} {unit})"
+        function = FUNCTION_MACROS[block.space]["read"]
+        blocks.append(PlanBlock(address=c_hex(block.address), count=c_unsigned(block.count), comment=comment, function=function))
     return blocks
+
+
+def _plans(ctx: Context) -> tuple[Plan, list[Plan]]:
+    """The read plan of every readable register, and where the map uses more than one poll class, one per class."""
+    blocks = _plan_blocks(ctx)
+    spaces = any(b.function != FUNCTION_MACROS[HOLDING.name]["read"] for b in blocks)
+    main = Plan(
+        comment="",
+        length=ctx.const("READ_PLAN_LEN"),
+        table=ctx.symbol("read_plan"),
+        functions=ctx.symbol("read_plan_function") if spaces and blocks else "",
+        blocks=tuple(blocks),
+    )
+    classes = [p for p in PollClass if any(r.poll is p for r in ctx.device.registers)]
+    per_class = []
+    if len(classes) > 1:
+        for poll in classes:
+            blocks = _plan_blocks(ctx, poll)
+            if blocks:
+                per_class.append(
+                    Plan(
+                        comment=f"poll class {poll.value} ({POLL_MACRO[poll]})",
+                        length=ctx.const("READ_PLAN", poll.value, "LEN"),
+                        table=ctx.symbol("read_plan", poll.value),
+                        functions=ctx.symbol("read_plan", poll.value, "function") if spaces else "",
+                        blocks=tuple(blocks),
+                    )
+                )
+    return main, per_class
+
+
+def _builders(ctx: Context) -> list[BuilderView]:
+    """A device wrapper within the device's limits for each shared builder of the other spaces the map uses."""
+    t = ctx.device.transport
+    used = {r.space for r in ctx.device.registers}
+    views = []
+    for space in SPACES.values():
+        if space.name not in used or space.name not in BUILDERS:
+            continue
+        for operation, code in space.codes.items():
+            builder = BUILDERS[space.name].get(operation)
+            if builder is None or code not in t.function_codes:
+                continue
+            call = f"{builder.shared}(buf, cap, slave, address, {builder.args})"
+            limit = ""
+            if builder.limited_by:
+                bits = "COILS" if space.bits else "REGISTERS"
+                limit = CIdentifier(ctx.prefix, f"MAX_{builder.limited_by.upper()}_{bits}")
+            views.append(
+                BuilderView(
+                    function=ctx.symbol(builder.suffix, what=f"the {space.title} builder"),
+                    params=builder.params,
+                    body=f"count > {limit} ? 0u : {call}" if limit else call,
+                )
+            )
+    return views
 
 
 def device_context(device: Device) -> dict[str, Any]:
@@ -102,6 +221,8 @@ def device_context(device: Device) -> dict[str, Any]:
     enums = [enum_view(ctx, e) for e in device.enums]
     groups = group_views(ctx)
     commands = [command_view(ctx, c) for c in device.commands]
+    builders = _builders(ctx)
+    main, per_class = _plans(ctx)
     faults = [
         Macro(ctx.const("FAULT", f.name, what=f"fault {f.name}"), c_hex(f.value), f"{f.code} {titled(f.title, f.title_zh)} ({f.kind})")
         for f in device.faults
@@ -127,9 +248,13 @@ def device_context(device: Device) -> dict[str, Any]:
         "groups": groups,
         "commands": commands,
         "faults": faults,
-        "plan": _plan_blocks(ctx),
-        "plan_len": ctx.const("READ_PLAN_LEN"),
-        "plan_table": ctx.symbol("read_plan"),
+        "plan": main.blocks,
+        "plan_len": main.length,
+        "plan_table": main.table,
+        "plan_functions": main.functions,
+        "class_plans": per_class,
+        "builders": builders,
+        "modern": any(modern(r) for r in device.registers),
     }
 
 
@@ -149,7 +274,29 @@ def render_shared(devices: Sequence[Device]) -> Files:
         "The same file for every map: device headers include it.",
     ]
     template = environment().get_template("c/regmap_rtu.h.jinja")
-    return {SHARED_HEADER: template.render(header=header, functions=_function_macros(), holding=_codes(HOLDING))}
+    return {SHARED_HEADER: template.render(**_shared_context(header))}
+
+
+def _shared_context(header: list[str]) -> dict[str, Any]:
+    """The shared header's tables, all from the runtime's: function codes, limits, spaces, types, poll classes."""
+    return {
+        "header": header,
+        "functions": _function_macros(),
+        "all_codes": ", ".join(f"0x{code:02X}" for code in sorted(BY_FUNCTION)),
+        **{s.name: _codes(s) for s in SPACES.values()},
+        "limits": [
+            Macro("REGMAP_RTU_MAX_READ_REGISTERS", c_unsigned(MAX_READ_REGISTERS)),
+            Macro("REGMAP_RTU_MAX_WRITE_REGISTERS", c_unsigned(MAX_WRITE_REGISTERS)),
+            Macro("REGMAP_RTU_MAX_READ_BITS", c_unsigned(MAX_READ_BITS)),
+            Macro("REGMAP_RTU_MAX_WRITE_BITS", c_unsigned(MAX_WRITE_BITS)),
+        ],
+        "coil_values": [Macro("REGMAP_COIL_ON", c_hex(COIL_ON)), Macro("REGMAP_COIL_OFF", c_hex(COIL_OFF))],
+        "spaces": [Macro(SPACE_MACRO[s.name], str(i), f"{s.title}: {_codes(s)['all']}") for i, s in enumerate(SPACES.values())],
+        "types": [Macro(TYPE_MACRO[t], str(i)) for i, t in enumerate(TYPE_MACRO)],
+        "paddings": [Macro(name, str(i)) for i, name in enumerate(PADDING_MACRO.values())],
+        "polls": [Macro(name, str(i)) for i, name in enumerate(POLL_MACRO.values())],
+        "firmware_formats": [Macro(name, str(i)) for i, name in enumerate(FIRMWARE_FORMAT_MACRO.values())],
+    }
 
 
 def _function_macros() -> list[Macro]:

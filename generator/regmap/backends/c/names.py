@@ -9,9 +9,10 @@ from fractions import Fraction
 
 from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
-from regmap.model import Access, DataType, Device, Register, WordOrder
+from regmap.model import Access, DataType, Device, PollClass, Register, WordOrder
 from regmap.render import header_lines
-from regmap_runtime.spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT
+from regmap_runtime.spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT, SPACES
+from regmap_runtime.types import TYPES
 
 # -- identifiers -----------------------------------------------------------------------------
 
@@ -118,18 +119,27 @@ class _Names:
 
 
 def c_unsigned(value: int) -> str:
-    """An unsigned literal that keeps its value on 16-bit-int targets too."""
+    """An unsigned literal that keeps its value on 16-bit-int targets too (and 64-bit values on 32-bit-long ones)."""
+    if value > 0xFFFFFFFF:
+        return f"{value}ull"
     return f"{value}u" if value <= 0xFFFF else f"{value}ul"
 
 
 def c_hex(value: int) -> str:
+    if value > 0xFFFFFFFF:
+        return f"0x{value:016X}ull"
     return f"0x{value:04X}u" if value <= 0xFFFF else f"0x{value:08X}ul"
 
 
 def c_signed(value: int) -> str:
-    """A signed literal safe inside a macro (parenthesised when negative; INT32_MIN spelled so it is an int)."""
+    """A signed literal safe inside a macro (parenthesised when negative; INT32_MIN and INT64_MIN spelled
+    so they have their type; 64-bit values as long long)."""
     if value == -(1 << 31):
         return "(-2147483647 - 1)"
+    if value == -(1 << 63):
+        return "(-9223372036854775807ll - 1)"
+    if not -(1 << 31) <= value < (1 << 31):
+        return f"({value}ll)" if value < 0 else f"{value}ll"
     return f"({value})" if value < 0 else str(value)
 
 
@@ -137,11 +147,43 @@ def c_raw(value: int, signed: bool) -> str:
     return c_signed(value) if signed else c_unsigned(value)
 
 
-def c_float(value: Fraction) -> str:
+def _negative(text: str) -> str:
+    """A literal safe inside a macro: parenthesised when negative."""
+    return f"({text})" if text.startswith("-") else text
+
+
+def c_float(value: Fraction | float) -> str:
     text = f"{float(value):.9g}"
     if not any(c in text for c in ".e"):
         text += ".0"
-    return text + "f"
+    return _negative(text + "f")
+
+
+def c_double(value: Fraction | float) -> str:
+    """A double literal that reads back as the same double (repr: the shortest that does)."""
+    text = repr(float(value))
+    if not any(c in text for c in ".e"):
+        text += ".0"
+    return _negative(text)
+
+
+def c_float_literal(value: float, data_type: DataType) -> str:
+    """A literal of a float register's type: `900.0f` for f32 (rounded by the compiler as a float32 is), `0.1` for f64."""
+    text = repr(float(value))
+    if not any(c in text for c in ".e"):
+        text += ".0"
+    return _negative(text + "f" if data_type is DataType.F32 else text)
+
+
+def c_value(value: int | float | str, reg: Register) -> str:
+    """A raw min/max/default of a register as a C literal of its type."""
+    if reg.type.is_bool:
+        return "true" if value else "false"
+    if isinstance(value, str):
+        raise TypeError("text literals go through the c_str filter")
+    if reg.type.is_float:
+        return c_float_literal(float(value), reg.type)
+    return c_raw(int(value), reg.signed)
 
 
 @dataclass(frozen=True)
@@ -157,15 +199,92 @@ C_TYPES = {
     DataType.S16: CType("int16_t", "uint16_t"),
     DataType.U32: CType("uint32_t", "uint32_t"),
     DataType.S32: CType("int32_t", "uint32_t"),
+    DataType.U64: CType("uint64_t", "uint64_t"),
+    DataType.S64: CType("int64_t", "uint64_t"),
+    DataType.F32: CType("float", "uint32_t"),
+    DataType.F64: CType("double", "uint64_t"),
+    DataType.STRING: CType("char", "uint16_t"),
+    DataType.BOOL: CType("bool", "bool"),
 }
+# The 16/32-bit integers of the first maps: their registers need no helper beyond the word conversions.
+PLAIN_TYPES = frozenset({DataType.U16, DataType.S16, DataType.U32, DataType.S32})
+# Shared helpers that move a register's value to and from its words on the wire (word and byte order applied).
+WIRE_FUNCTIONS: dict[DataType, tuple[str, str]] = {
+    t: (f"regmap_{t.value}_from_wire", f"regmap_{t.value}_to_wire") for t in DataType if t is not DataType.BOOL
+}
+# A type whose helpers exist only where the C type is IEEE 754 (the shared header's REGMAP_HAS_F32/F64).
+FLOAT_GUARD = {DataType.F32: "REGMAP_HAS_F32", DataType.F64: "REGMAP_HAS_F64"}
 ACCESS_MACRO = {Access.READ: "REGMAP_ACCESS_R", Access.READ_WRITE: "REGMAP_ACCESS_RW", Access.WRITE: "REGMAP_ACCESS_W"}
 WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST: "REGMAP_LOW_FIRST"}
+# The shared header's enums, from the runtime's tables: spaces, types, paddings, poll classes, firmware formats.
+SPACE_MACRO = {name: CIdentifier("REGMAP_SPACE", name) for name in SPACES}
+TYPE_MACRO = {DataType(name): CIdentifier("REGMAP_TYPE", name) for name in TYPES}
+PADDING_MACRO = {"nul": "REGMAP_PADDING_NUL", "space": "REGMAP_PADDING_SPACE"}
+POLL_MACRO = {p: CIdentifier("REGMAP_POLL", p.value) for p in PollClass}
+FIRMWARE_FORMAT_MACRO = {
+    "decimal": "REGMAP_FIRMWARE_DECIMAL",
+    "major_minor": "REGMAP_FIRMWARE_MAJOR_MINOR",
+    "string": "REGMAP_FIRMWARE_STRING",
+}
 # The macro of each function code of each space (regmap_runtime.spaces.Space.codes).
 FUNCTION_MACROS = {
-    HOLDING.name: {"read": "REGMAP_FC_READ_HOLDING", "write_single": "REGMAP_FC_WRITE_SINGLE", "write_multiple": "REGMAP_FC_WRITE_MULTIPLE"},
+    HOLDING.name: {
+        "read": "REGMAP_FC_READ_HOLDING",
+        "write_single": "REGMAP_FC_WRITE_SINGLE",
+        "write_multiple": "REGMAP_FC_WRITE_MULTIPLE",
+    },
     INPUT.name: {"read": "REGMAP_FC_READ_INPUT"},
-    COIL.name: {"read": "REGMAP_FC_READ_COILS", "write_single": "REGMAP_FC_WRITE_SINGLE_COIL", "write_multiple": "REGMAP_FC_WRITE_MULTIPLE_COILS"},
+    COIL.name: {
+        "read": "REGMAP_FC_READ_COILS",
+        "write_single": "REGMAP_FC_WRITE_SINGLE_COIL",
+        "write_multiple": "REGMAP_FC_WRITE_MULTIPLE_COILS",
+    },
     DISCRETE_INPUT.name: {"read": "REGMAP_FC_READ_DISCRETE_INPUTS"},
+}
+
+
+# The shared builders (and their parameters after the address) of each space's operations, and the
+# name a device header's wrapper gets (`<device>_<suffix>`); holding's wrappers are the first maps' own.
+@dataclass(frozen=True)
+class Builder:
+    shared: str
+    suffix: str
+    params: str  # after `uint16_t address`
+    args: str
+    limited_by: str  # "read", "write" or "": which device limit bounds its count
+
+
+BUILDERS = {
+    INPUT.name: {"read": Builder("regmap_rtu_build_read_input_registers", "build_read_input_registers", "uint16_t count", "count", "read")},
+    COIL.name: {
+        "read": Builder("regmap_rtu_build_read_coils", "build_read_coils", "uint16_t count", "count", "read"),
+        "write_single": Builder("regmap_rtu_build_write_single_coil", "build_write_single_coil", "bool on", "on", ""),
+        "write_multiple": Builder(
+            "regmap_rtu_build_write_multiple_coils",
+            "build_write_multiple_coils",
+            "const bool *bits, uint16_t count",
+            "bits, count",
+            "write",
+        ),
+    },
+    DISCRETE_INPUT.name: {
+        "read": Builder("regmap_rtu_build_read_discrete_inputs", "build_read_discrete_inputs", "uint16_t count", "count", "read")
+    },
+}
+# The shared parser of each space's operations (frames_test and the tests call them).
+PARSERS = {
+    HOLDING.name: {
+        "read": "regmap_rtu_parse_read_response",
+        "write_single": "regmap_rtu_parse_write_single_response",
+        "write_multiple": "regmap_rtu_parse_write_multiple_response",
+    },
+    INPUT.name: {"read": "regmap_rtu_parse_read_input_response"},
+    COIL.name: {
+        "read": "regmap_rtu_parse_read_coils_response",
+        "write_single": "regmap_rtu_parse_write_single_coil_response",
+        "write_multiple": "regmap_rtu_parse_write_multiple_coils_response",
+    },
+    DISCRETE_INPUT.name: {"read": "regmap_rtu_parse_read_discrete_inputs_response"},
 }
 PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
 

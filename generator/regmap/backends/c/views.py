@@ -6,9 +6,34 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from regmap.backends.c.names import ACCESS_MACRO, C_TYPES, WORD_ORDER_MACRO, Context, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
-from regmap.backends.text import eng, titled
-from regmap.model import ArrayDef, Bitfield, Command, EnumType, Register
+from regmap.backends.c.names import (
+    ACCESS_MACRO,
+    C_TYPES,
+    FLOAT_GUARD,
+    FUNCTION_MACROS,
+    PADDING_MACRO,
+    PLAIN_TYPES,
+    POLL_MACRO,
+    SPACE_MACRO,
+    TYPE_MACRO,
+    WIRE_FUNCTIONS,
+    WORD_ORDER_MACRO,
+    Context,
+    CSymbol,
+    c_double,
+    c_float,
+    c_hex,
+    c_raw,
+    c_signed,
+    c_unsigned,
+    c_value,
+)
+from regmap.backends.text import eng, number, titled
+from regmap.diagnostics import UsageError
+from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
+from regmap.render import c_str
+from regmap_runtime.spaces import DEFAULT_SPACE
+from regmap_runtime.spec import parse_version
 
 
 @dataclass(frozen=True)
@@ -37,12 +62,40 @@ class BitfieldView:
 
 
 @dataclass(frozen=True)
+class CodecView:
+    """A register's own value helpers: its words on the wire <-> its raw value, in its word and byte order."""
+
+    template: str  # c/codec_word.h.jinja (one word), c/codec_words.h.jinja (wide), c/codec_string.h.jinja
+    value_type: str
+    from_wire: str
+    to_wire: str
+    shared_from: str
+    shared_to: str
+    words: str  # the WORDS macro
+    word_order: str  # the WORD_ORDER macro ("" for one word and for strings)
+    byte_order: str  # the BYTE_ORDER macro
+    padding: str  # strings: the PADDING macro
+    guard: str  # "" or the shared header's macro that says the C type is IEEE 754 (REGMAP_HAS_F32/F64)
+
+
+@dataclass(frozen=True)
+class GateView:
+    """Whether a firmware version has the register (its `firmware` gate)."""
+
+    function: str
+    text: str
+    condition: str  # C expression on `version`; "" when every version has it
+
+
+@dataclass(frozen=True)
 class RegisterView:
     template: str
     comment: str
     description: str
     macros: tuple[Macro, ...]
     bitfields: tuple[BitfieldView, ...]
+    codec: CodecView | None = None
+    gate: GateView | None = None
 
 
 @dataclass(frozen=True)
@@ -65,6 +118,8 @@ class ArrayMemberView:
     macros: tuple[Macro, ...]
     tables: tuple[ElementTable, ...]
     bitfields: tuple[BitfieldView, ...]
+    codec: CodecView | None = None
+    gate: GateView | None = None
 
 
 @dataclass(frozen=True)
@@ -121,20 +176,30 @@ def sentences(*parts: str | None) -> str:
 def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
     """Type, access, unit, scale, range, default and errata of a register (or of every element of an array member)."""
     facts = [f"{reg.type.value} {reg.access.value}"]
+    if reg.space != DEFAULT_SPACE:
+        facts.append(reg.space_info.title)
+    if reg.type.is_string:
+        padding = "space" if reg.padding == "space" else "NUL"
+        facts.append(f"{reg.words} words of {reg.encoding} text, {padding} padded")
     if reg.unit:
         facts.append(f"unit {reg.unit}")
     if reg.scaled:
-        facts.append(f"scale {eng(reg, 1)}")
+        facts.append(f"scale {number(reg.scale)}")
+    if reg.offset_set:
+        facts.append(f"offset {number(reg.offset)}")
+    converted = reg.scaled or reg.offset_set
     if reg.min is not None or reg.max is not None:
-        scaled = f" ({eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''})" if reg.scaled else ""
+        scaled = f" ({eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''})" if converted else ""
         facts.append(f"raw {reg.raw_min}..{reg.raw_max}{scaled}")
     if reg.range_text:
         facts.append(f"printed range {reg.range_text}")
     defaults = {r.default for r in elements}
     if len(defaults) > 1:
         facts.append("default differs per element")
+    elif reg.default is not None and (reg.type.is_string or reg.type.is_bool):
+        facts.append(f"default {eng(reg, reg.default)}")
     elif reg.default is not None:
-        facts.append(f"default {reg.default}" + (f" ({eng(reg, reg.default)})" if reg.scaled else ""))
+        facts.append(f"default {reg.default}" + (f" ({eng(reg, reg.default)})" if converted else ""))
     if reg.enum is not None:
         facts.append(f"values: enum {reg.enum.name}")
     if reg.paired:
@@ -144,6 +209,12 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
     errata = sorted({e for r in elements for e in r.errata})
     if errata:
         facts.append(f"errata {', '.join(errata)}")
+    if reg.type.info.has_byte_order and reg.byte_order is not ByteOrder.HIGH_FIRST:
+        facts.append("bytes of each word low first")
+    if reg.firmware is not None:
+        facts.append(reg.firmware.text)
+    if reg.poll is not PollClass.NORMAL:
+        facts.append(f"poll {reg.poll.value}")
     return ", ".join(facts)
 
 
@@ -151,14 +222,34 @@ def _register_comment(reg: Register, label: str, elements: Sequence[Register]) -
     return sentences(f"{label}: {titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), manual_sections(reg.source))
 
 
+def modern(reg: Register) -> bool:
+    """Whether a register uses anything the first maps' 16/32-bit holding registers did not (another
+    space or type, swapped bytes, an offset, a firmware gate, a poll class): such a register gets the
+    macros and helpers of those features; the others keep exactly the header they always had."""
+    return (
+        reg.type not in PLAIN_TYPES
+        or reg.space != DEFAULT_SPACE
+        or reg.byte_order is not ByteOrder.HIGH_FIRST
+        or reg.offset_set
+        or reg.firmware is not None
+        or reg.poll is not PollClass.NORMAL
+    )
+
+
+def _literal(reg: Register, value: int | float | str) -> str:
+    return c_str(value) if isinstance(value, str) else c_value(value, reg)
+
+
 def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Register]) -> tuple[list[Macro], list[ElementTable]]:
     """The macros every register (or array member) gets. An array member whose elements differ in
     min, max or default gets a table indexed by n - FIRST instead of the macro."""
+    numeric = reg.type.numeric
     macros = [
-        Macro(ctx.const(owner, "WORDS"), c_unsigned(reg.words)),
+        Macro(ctx.const(owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
         Macro(ctx.const(owner, "ACCESS"), ACCESS_MACRO[reg.access]),
-        Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"),
     ]
+    if numeric:
+        macros.append(Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"))
     tables = []
     if reg.wide:
         macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
@@ -166,16 +257,104 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
         values = [getattr(r, key) for r in elements]
         if len(set(values)) == 1:
             if values[0] is not None:
-                macros.append(Macro(ctx.const(owner, key), c_raw(values[0], reg.signed)))
+                macros.append(Macro(ctx.const(owner, key), _literal(reg, values[0])))
         elif None not in values:
-            tables.append(ElementTable(C_TYPES[reg.type].value, ctx.symbol(owner, key), ", ".join(c_raw(v, reg.signed) for v in values)))
-    macros += [
-        Macro(ctx.const(owner, "SCALE"), c_float(reg.scale)),
-        Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
-        Macro(ctx.const(owner, "SCALE_DEN"), str(reg.scale.denominator)),
-        Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
-    ]
+            c_type = "const char *" if reg.type.is_string else C_TYPES[reg.type].value
+            tables.append(ElementTable(c_type, ctx.symbol(owner, key), ", ".join(_literal(reg, v) for v in values)))
+    if numeric:
+        # A float register's scale and offset are doubles (its value is computed in floating point anyway).
+        spell = c_double if reg.type.is_float else c_float
+        macros += [
+            Macro(ctx.const(owner, "SCALE"), spell(reg.scale)),
+            Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
+            Macro(ctx.const(owner, "SCALE_DEN"), str(reg.scale.denominator)),
+            Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
+        ]
+    if modern(reg):
+        macros += _feature_macros(ctx, reg, owner)
     return macros, tables
+
+
+def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
+    """The macros of the features beyond the first maps' (space, type, byte order, offset, text, poll class, firmware gate)."""
+    space = reg.space_info
+    macros = [
+        Macro(ctx.const(owner, "SPACE"), SPACE_MACRO[space.name]),
+        Macro(ctx.const(owner, "READ_FUNCTION"), FUNCTION_MACROS[space.name]["read"]),
+        Macro(ctx.const(owner, "TYPE"), TYPE_MACRO[reg.type]),
+    ]
+    if reg.type.info.has_byte_order:
+        macros.append(Macro(ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order]))
+    if reg.type.numeric:
+        spell = c_double if reg.type.is_float else c_float
+        macros += [
+            Macro(ctx.const(owner, "OFFSET"), spell(reg.offset)),
+            Macro(ctx.const(owner, "OFFSET_NUM"), c_signed(reg.offset.numerator)),
+            Macro(ctx.const(owner, "OFFSET_DEN"), str(reg.offset.denominator)),
+        ]
+    if reg.type.is_string:
+        macros += [
+            Macro(ctx.const(owner, "ENCODING"), c_str(reg.encoding)),
+            Macro(ctx.const(owner, "PADDING"), PADDING_MACRO[reg.padding]),
+            Macro(ctx.const(owner, "TEXT_SIZE"), c_unsigned(2 * reg.words + 1)),
+        ]
+    macros.append(Macro(ctx.const(owner, "POLL"), POLL_MACRO[reg.poll]))
+    gate = reg.firmware
+    if gate is not None:
+        for key, version in (("FROM", gate.first), ("UNTIL", gate.until)):
+            if version is not None:
+                macros += [
+                    Macro(ctx.const(owner, "FIRMWARE", key), c_version(version, reg)),
+                    Macro(ctx.const(owner, "FIRMWARE", key, "TEXT"), c_str(version)),
+                ]
+    return macros
+
+
+def c_version(text: str, reg: Register) -> str:
+    """A firmware version as the shared header's REGMAP_VERSION(major, minor)."""
+    parts = parse_version(text)
+    if len(parts) > 2 or any(p > 0xFFFF for p in parts):
+        raise UsageError(f"{reg.name}: firmware version {text} has more than major.minor or a part over 65535, which C cannot compare")
+    major, minor = (*parts, 0)[:2]
+    return f"REGMAP_VERSION({major}u, {minor}u)"
+
+
+def _codec_view(ctx: Context, reg: Register, owner: str) -> CodecView | None:
+    """The value helpers of a modern register (a coil or discrete input needs none: its bit is its value)."""
+    if not modern(reg) or reg.type.is_bool:
+        return None
+    shared_from, shared_to = WIRE_FUNCTIONS[reg.type]
+    if reg.type.is_string:
+        template, value_type = "c/codec_string.h.jinja", "char"
+    elif reg.words == 1:
+        template, value_type = "c/codec_word.h.jinja", C_TYPES[reg.type].value
+    else:
+        template, value_type = "c/codec_words.h.jinja", C_TYPES[reg.type].value
+    return CodecView(
+        template=template,
+        value_type=value_type,
+        from_wire=ctx.symbol(owner, "from_wire"),
+        to_wire=ctx.symbol(owner, "to_wire"),
+        shared_from=shared_from,
+        shared_to=shared_to,
+        words=ctx.member_const(reg, "WORDS"),
+        word_order=ctx.member_const(reg, "WORD_ORDER") if reg.wide else "",
+        byte_order=ctx.member_const(reg, "BYTE_ORDER"),
+        padding=ctx.member_const(reg, "PADDING") if reg.type.is_string else "",
+        guard=FLOAT_GUARD.get(reg.type, ""),
+    )
+
+
+def _gate_view(ctx: Context, reg: Register, owner: str) -> GateView | None:
+    gate = reg.firmware
+    if gate is None:
+        return None
+    conditions = []
+    if gate.first is not None and any(parse_version(gate.first)):  # `version >= 0` is always true (and -Wtype-limits says so)
+        conditions.append(f"version >= {ctx.member_const(reg, 'FIRMWARE_FROM')}")
+    if gate.until is not None:
+        conditions.append(f"version < {ctx.member_const(reg, 'FIRMWARE_UNTIL')}")
+    return GateView(function=ctx.symbol(owner, "in_firmware"), text=gate.text, condition=" && ".join(conditions))
 
 
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
@@ -209,6 +388,8 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         description=reg.description,
         macros=tuple(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
+        codec=_codec_view(ctx, reg, reg.name),
+        gate=_gate_view(ctx, reg, reg.name),
     )
 
 
@@ -239,6 +420,8 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 macros=tuple(values),
                 tables=tuple(tables),
                 bitfields=_bitfield_views(ctx, reg, owner),
+                codec=_codec_view(ctx, reg, owner),
+                gate=_gate_view(ctx, reg, owner),
             )
         )
     comment = sentences(
