@@ -1,18 +1,26 @@
 """The frames test program: a host C program that rebuilds every request frame of a map's `examples`
-with the header's helpers and parses every response frame; the tests compile and run it."""
+with the header's helpers and parses every response frame; the tests compile and run it.
+
+Requests are built from the examples' recorded values (through the register's own helpers where it
+has them: floats, 64-bit values, strings, swapped bytes, coils), never from the frame's bytes, and
+must equal the frame byte for byte; responses are parsed with the parser of their function and must
+give each recorded raw value (floats compared by their bits, strings by their text, coils by bit).
+The expected values are the examples' own (the IEEE 754 bits of a float raw come from `struct`)."""
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.c.names import CIdentifier, Context, CSymbol, c_hex, c_raw, c_signed, c_unsigned, file_header
+from regmap.backends.c.names import BUILDERS, PARSERS, CIdentifier, Context, CSymbol, c_float_literal, c_hex, c_raw, c_signed, c_unsigned, file_header
+from regmap.backends.c.views import modern
 from regmap.diagnostics import UsageError
-from regmap.model import Device, Example, ExampleValue, Register
-from regmap.render import environment
+from regmap.model import DataType, Device, Example, ExampleValue, Register
+from regmap.render import c_str, environment
 from regmap_runtime.rtu import EXCEPTION_FLAG, crc_ok, parse_frame
-from regmap_runtime.spaces import HOLDING
+from regmap_runtime.spaces import BY_FUNCTION, COIL_OFF, COIL_ON, DEFAULT_SPACE, HOLDING, SPACES
 
 
 @dataclass(frozen=True)
@@ -20,6 +28,7 @@ class Check:
     label: str
     got: str  # C expression
     want: str  # C expression
+    kind: str = "value"  # value (long long), u64 (unsigned long long: 64-bit values, float bits), text (a C string)
 
 
 @dataclass(frozen=True)
@@ -28,6 +37,7 @@ class ScaledCheck:
     raw: str
     scale: str
     value: str
+    offset: str = ""  # the OFFSET macro, for a register that has one
 
 
 @dataclass(frozen=True)
@@ -38,8 +48,9 @@ class FrameCase:
     frame: str  # C initialiser list of the frame's bytes
     slave: str
     call: str = ""  # request: the C call that builds the frame into `buf`
-    words: tuple[str, ...] = ()  # write multiple: statements that fill `w`
+    words: tuple[str, ...] = ()  # write multiple: statements that fill `w` (registers) or `b` (coils)
     word_count: int = 0
+    bits: bool = False  # a write multiple coils: `b` is a bool array
     crc_wrong: bool = False  # the printed frame has a wrong CRC (an erratum without a correction)
     status: str = "REGMAP_OK"
     exception: str = ""
@@ -49,6 +60,16 @@ class FrameCase:
 
 class _FrameError(ValueError):
     pass
+
+
+_FLOAT_BITS = {DataType.F32: (">f", ">I"), DataType.F64: (">d", ">Q")}
+
+
+def _float_bits(raw: float, data_type: DataType) -> int:
+    """The IEEE 754 bits of a float raw value, by `struct` (so the C side is checked against another encoder)."""
+    value_format, bits_format = _FLOAT_BITS[data_type]
+    bits: int = struct.unpack(bits_format, struct.pack(value_format, raw))[0]
+    return bits
 
 
 class _Frames:
@@ -61,26 +82,34 @@ class _Frames:
 
     # expressions -------------------------------------------------------------------------
 
-    def address(self, address: int) -> str:
+    def _registers(self, space: str) -> list[Register]:
+        return [r for r in self.device.registers if r.space == space]
+
+    def address(self, address: int, space: str = DEFAULT_SPACE) -> str:
         """C expression of an address: a register's macro when the map has one, else the number."""
-        for reg in self.device.registers:
+        registers = self._registers(space)
+        for reg in registers:
             if reg.address == address:
                 return self.ctx.addr(reg)
-        for reg in self.device.registers:
+        for reg in registers:
             if reg.paired and reg.first_address == address:
                 return self.ctx.pair_addr(reg)
             if reg.address < address <= reg.last_address:
                 return f"(uint16_t)({self.ctx.addr(reg)} + {address - reg.address}u)"
         return c_hex(address)  # not a register of the map
 
-    def count(self, address: int, count: int) -> str:
-        reg = next((r for r in self.device.registers if r.address == address), None)
+    def count(self, address: int, count: int, space: str = DEFAULT_SPACE) -> str:
+        reg = next((r for r in self._registers(space) if r.address == address), None)
         if reg is not None and reg.words == count:
-            return self.ctx.member_const(reg, "WORDS")
+            return self.ctx.member_const(reg, "BITS" if reg.space_info.bits else "WORDS")
+        if reg is not None and reg.array is not None:
+            array = self.ctx.arrays[reg.array.array]
+            if reg.array.index == array.first_index and array.stride == 1 and len(array.members) == 1 and count == array.count:
+                return CIdentifier(self.ctx.prefix, array.name, "COUNT")
         return c_unsigned(count)
 
-    def word_of(self, reg: Register, raw: int) -> str:
-        """C expression of the word of a one-word register holding `raw`, built with the header's names."""
+    def raw_word(self, reg: Register, raw: int) -> str:
+        """C expression of the raw value of a one-word register, built with the header's names."""
         if reg.bitfields:
             owner = self.ctx.owner(reg)
             expr = "0u"
@@ -97,10 +126,19 @@ class _Frames:
             member = reg.enum.by_value(raw)
             if member is not None:
                 name = CIdentifier(self.ctx.prefix, reg.enum.name, member.name)
-                return f"regmap_s16_to_word({name})" if reg.signed else name
-        if reg.signed:
-            return f"regmap_s16_to_word({c_signed(raw)})"
-        return c_unsigned(raw)
+                return f"(int16_t){name}" if reg.signed else name
+        return c_signed(raw) if reg.signed else c_unsigned(raw)
+
+    def word_of(self, reg: Register, raw: int) -> str:
+        """C expression of the word on the wire of a one-word register holding `raw`."""
+        value = self.raw_word(reg, raw)
+        if modern(reg):
+            if reg.signed and reg.bitfields:
+                value = f"regmap_s16_from_word({value})"  # the fields make a word; the helper takes the signed value
+            return f"{self.ctx.symbol_ref(self.ctx.owner(reg), 'to_wire')}({value})"
+        if reg.signed and not reg.bitfields:
+            return f"regmap_s16_to_word({value.removeprefix('(int16_t)')})"
+        return value
 
     def command_call(self, reg: Register, raw: int, slave: str) -> str | None:
         """The header's command helper that writes `raw` to `reg`, when the map names one."""
@@ -135,27 +173,44 @@ class _Frames:
             "crc_wrong": not crc_ok(frame),
         }
 
-    def check_values_inside(self, ex: Example, start: int, count: int) -> None:
+    def check_values_inside(self, ex: Example, start: int, count: int, space: str) -> None:
         """Every value an example gives must be carried by its frame (else the example contradicts itself)."""
         for v in ex.values:
             reg = v.register
-            if (v.raw is not None or v.words is not None) and not (reg.first_address < start + count and start <= reg.last_address):
+            inside = reg.space == space and reg.first_address < start + count and start <= reg.last_address
+            if (v.raw is not None or v.words is not None) and not inside:
                 raise _FrameError(
-                    f"it gives a value for {reg.label} (0x{reg.address:04X}), which its frame"
-                    f" (0x{start:04X}..0x{start + count - 1:04X}) does not carry"
+                    f"it gives a value for {reg.label} ({reg.space_info.title} 0x{reg.address:04X}), which its frame"
+                    f" ({SPACES[space].title} 0x{start:04X}..0x{start + count - 1:04X}) does not carry"
                 )
+
+    def _device_builder(self, space: str, operation: str) -> str:
+        if space == HOLDING.name:
+            return self.ctx.symbol_ref({"read": "build_read", "write_single": "build_write_single"}.get(operation, "build_write_multiple"))
+        return self.ctx.symbol_ref(BUILDERS[space][operation].suffix)
 
     def request(self, ex: Example) -> FrameCase:
         frame = ex.wire_frame
         parsed = parse_frame(frame, "request")
+        known = BY_FUNCTION.get(frame[1])
+        space = known[0].name if known else DEFAULT_SPACE
         if parsed.address is not None and parsed.kind != "unknown":
-            self.check_values_inside(ex, parsed.address, parsed.count or 1)
+            self.check_values_inside(ex, parsed.address, parsed.count or 1, space)
         base = self._base(ex, "c/case_request.c.jinja")
         slave = base["slave"]
         if parsed.kind == "read_request" and parsed.address is not None and parsed.count is not None:
             self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
-            build = self.ctx.symbol_ref("build_read")
-            call = f"{build}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, {self.count(parsed.address, parsed.count)})"
+            build = self._device_builder(space, "read")
+            address, count = self.address(parsed.address, space), self.count(parsed.address, parsed.count, space)
+            return FrameCase(**base, call=f"{build}(buf, sizeof buf, {slave}, {address}, {count})")
+        if parsed.kind == "write_single" and parsed.address is not None and SPACES[space].bits:
+            word = parsed.words[0]
+            self.requests[ex.id] = _Request(parsed.function, parsed.address, 1, ex, word)
+            if word in (COIL_ON, COIL_OFF):
+                on = self.single_bit(ex, parsed.address, space, word == COIL_ON)
+                call = f"{self._device_builder(space, 'write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address, space)}, {on})"
+            else:  # not a valid 0x05 frame (an example of what a device refuses): the generic builder
+                call = f"regmap_rtu_build_request(buf, sizeof buf, {slave}, 0x{frame[1]:02X}u, {c_hex(parsed.address)}, {c_hex(word)})"
             return FrameCase(**base, call=call)
         if parsed.kind == "write_single" and parsed.address is not None:
             self.requests[ex.id] = _Request(parsed.function, parsed.address, 1, ex, parsed.words[0])
@@ -164,6 +219,15 @@ class _Frames:
                 f" {self.single_word(ex, parsed.address, parsed.words[0])})"
             )
             return FrameCase(**base, call=call)
+        if parsed.kind == "write_multiple_request" and parsed.address is not None and parsed.count is not None and SPACES[space].bits:
+            self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
+            build = self._device_builder(space, "write_multiple")
+            address = self.address(parsed.address, space)
+            call = f"{build}(buf, sizeof buf, {slave}, {address}, b, {self.count(parsed.address, parsed.count, space)})"
+            base["template"] = "c/case_request_multiple.c.jinja"
+            frame_bits = _unpack(frame[7:-2], parsed.count)
+            statements = self.multiple_bits(ex, parsed.address, frame_bits, space)
+            return FrameCase(**base, call=call, words=statements, word_count=parsed.count, bits=True)
         if parsed.kind == "write_multiple_request" and parsed.address is not None and parsed.count is not None:
             self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
             build = self.ctx.symbol_ref("build_write_multiple")
@@ -182,7 +246,7 @@ class _Frames:
 
     def single_write_command(self, ex: Example, address: int, slave: str) -> str | None:
         for v in ex.values:
-            if v.raw is not None and v.register.words == 1 and v.register.address == address:
+            if isinstance(v.raw, int) and v.register.words == 1 and v.register.address == address and v.register.space == HOLDING.name:
                 return self.command_call(v.register, v.raw, slave)
         return None
 
@@ -190,25 +254,43 @@ class _Frames:
         """The word of a 0x06 frame, from the example's values when they describe it."""
         for v in ex.values:
             reg = v.register
-            if v.raw is not None and reg.words == 1 and reg.address == address:
+            if reg.space != HOLDING.name:
+                continue
+            if isinstance(v.raw, int) and reg.words == 1 and reg.address == address:
                 return self.word_of(reg, v.raw)
-            if v.words is not None and reg.wide and reg.address <= address <= reg.last_address:
+            if v.words is not None and reg.words > 1 and reg.address <= address <= reg.last_address:
                 if len(v.words) != 1:
                     raise _FrameError(f"a 0x06 frame carries one word of {reg.name}, the example gives {len(v.words)}")
-                return c_hex(v.words[0])  # one word of a 32-bit register, as the example gives it
+                return c_hex(v.words[0])  # one word of a wide register, as the example gives it
         return c_hex(word)
 
-    def carried(self, ex: Example, start: int, count: int, *, high_word: bool) -> Iterator[tuple[ExampleValue, list[int], str]]:
-        """The example's values that have words among the frame's `count` words from `start`: each with the
+    def single_bit(self, ex: Example, address: int, space: str, frame_on: bool) -> str:
+        """The state a 0x05 frame writes, from the example's value for its coil when it gives one."""
+        for v in ex.values:
+            if v.register.space == space and v.register.address == address and v.raw is not None:
+                return "true" if v.raw else "false"
+        return "true" if frame_on else "false"
+
+    def carried(
+        self, ex: Example, start: int, count: int, *, high_word: bool, space: str = DEFAULT_SPACE
+    ) -> Iterator[tuple[ExampleValue, list[int], str]]:
+        """The example's values that have words (or bits) among the frame's `count` from `start`: each with the
         addresses of those words (from a pair's unused high word on when `high_word`) and the C index of
         the register's listed address among the frame's words."""
-        base = self.address(start)
+        base = self.address(start, space)
         for v in ex.values:
             reg = v.register
+            if reg.space != space:
+                continue
             first = reg.first_address if high_word else reg.address
             inside = [a for a in range(first, reg.last_address + 1) if start <= a < start + count]
             if inside and (v.raw is not None or v.words is not None):
                 yield v, inside, f"(unsigned)({self.ctx.addr(reg)} - {base})"
+
+    def wide_literal(self, reg: Register, raw: int | float) -> str:
+        if reg.type.is_float:
+            return c_float_literal(float(raw), reg.type)
+        return c_raw(int(raw), reg.signed)
 
     def multiple_words(self, ex: Example, start: int, frame_words: tuple[int, ...]) -> tuple[str, ...]:
         """Statements that fill `w` (the words of a 0x10 frame) from the example's values through the header's helpers."""
@@ -227,21 +309,47 @@ class _Frames:
             assert raw is not None
             if len(inside) != reg.span:
                 raise _FrameError(f"the frame carries only part of {reg.name}, the example gives its whole raw value")
-            if reg.words == 1:
-                word = self.word_of(reg, raw)
+            owner = self.ctx.owner(reg)
+            if reg.type.is_string:
+                to_wire = self.ctx.symbol_ref(owner, "to_wire")
+                words = self.ctx.member_const(reg, "WORDS")
+                statements.append(f"if (!{to_wire}({c_str(str(raw))}, at(w, {count}u, {index}, {words}))) {{")
+                statements.append(f"    fail({c_str(ex.id)}, {c_str(f'{reg.name}: the text does not fit')});")
+                statements.append("}")
+            elif isinstance(raw, str):
+                raise _FrameError(f"{reg.name} is {reg.type.value}; the example gives text {raw!r}")
+            elif reg.words == 1:
+                word = self.word_of(reg, int(raw))
                 statements.append(f"put(w, {count}u, {index}, {word});")
                 if reg.paired:
                     high = f"(unsigned)({self.ctx.pair_addr(reg)} - {base})"
                     signed = self.ctx.member_const(reg, "SIGNED")
                     statements.append(f"put(w, {count}u, {high}, regmap_pair_high_word({word}, {signed}));")
+            elif modern(reg):
+                to_wire = self.ctx.symbol_ref(owner, "to_wire")
+                words = self.ctx.member_const(reg, "WORDS")
+                statements.append(f"{to_wire}({self.wide_literal(reg, raw)}, at(w, {count}u, {index}, {words}));")
             else:
                 func = "regmap_s32_to_words" if reg.signed else "regmap_u32_to_words"
                 order = self.ctx.member_const(reg, "WORD_ORDER")
-                statements.append(f"{func}({c_raw(raw, reg.signed)}, {order}, at(w, {count}u, {index}, 2u));")
+                statements.append(f"{func}({c_raw(int(raw), reg.signed)}, {order}, at(w, {count}u, {index}, 2u));")
             filled.update(inside)
         for offset, literal in enumerate(frame_words):
             if start + offset not in filled:
                 statements.append(f"put(w, {count}u, {offset}u, {c_hex(literal)}); /* no value in the example */")
+        return tuple(statements)
+
+    def multiple_bits(self, ex: Example, start: int, frame_bits: list[bool], space: str) -> tuple[str, ...]:
+        """Statements that fill `b` (the coils of a 0x0F frame) from the example's values, the rest from the frame."""
+        count = len(frame_bits)
+        filled: set[int] = set()
+        statements = []
+        for v, inside, index in self.carried(ex, start, count, high_word=False, space=space):
+            statements.append(f"put_bit(b, {count}u, {index}, {'true' if v.raw else 'false'});")
+            filled.update(inside)
+        for offset, bit in enumerate(frame_bits):
+            if start + offset not in filled:
+                statements.append(f"put_bit(b, {count}u, {offset}u, {'true' if bit else 'false'}); /* no value in the example */")
         return tuple(statements)
 
     def response(self, ex: Example) -> FrameCase:
@@ -250,36 +358,68 @@ class _Frames:
         slave = base["slave"]
         request = self.requests.get(ex.request) if ex.request else None
         if request is None:
-            request = _request_from_response(frame)
+            request = self._request_from_response(ex)
         status, exception = "REGMAP_OK", ""
         if base["crc_wrong"]:
             status = "REGMAP_ERR_CRC"
         elif frame[1] & EXCEPTION_FLAG:
             status = "REGMAP_ERR_EXCEPTION"
             exception = self.exception_name(frame[2])
-        if request.function in HOLDING.codes.values() and request.example is not None:
-            self.check_values_inside(ex, request.address, request.count)
+        known = BY_FUNCTION.get(request.function)
         checks: list[Check] = []
         scaled: list[ScaledCheck] = []
-        address = self.address(request.address)
-        if request.function == HOLDING.read:
-            count = self.count(request.address, request.count)
-            call = (
-                f"regmap_rtu_parse_read_response(frame, sizeof frame, {slave}, {count}, words, sizeof words / sizeof words[0], &exception)"
-            )
-            if status == "REGMAP_OK" and request.example is not None:
-                checks, scaled = self.read_checks(ex, request.address, request.count)
-        elif request.function == HOLDING.write_single:
-            # The echo carries the request's word; the response's own values, when it has them, must give it too.
-            described = ex if any(v.raw is not None or v.words is not None for v in ex.values) else request.example
-            word = self.single_word(described, request.address, request.value) if described else c_hex(request.value)
-            call = f"regmap_rtu_parse_write_single_response(frame, sizeof frame, {slave}, {address}, {word}, &exception)"
-        elif request.function == HOLDING.write_multiple:
-            count = c_unsigned(request.count)
-            call = f"regmap_rtu_parse_write_multiple_response(frame, sizeof frame, {slave}, {address}, {count}, &exception)"
-        else:
+        if known is None:
             call = f"regmap_rtu_check_response(frame, sizeof frame, {slave}, 0x{request.function:02X}u, &exception)"
+            return FrameCase(**base, call=call, status=status, exception=exception)
+        space, operation = known[0].name, known[1]
+        if request.example is not None:
+            self.check_values_inside(ex, request.address, request.count, space)
+        address = self.address(request.address, space)
+        parser = PARSERS[space][operation]
+        described = status == "REGMAP_OK" and request.example is not None
+        if operation == "read" and SPACES[space].bits:
+            count = self.count(request.address, request.count, space)
+            call = f"{parser}(frame, sizeof frame, {slave}, {count}, bits, sizeof bits / sizeof bits[0], &exception)"
+            if described:
+                checks = self.bit_checks(ex, request.address, request.count, space)
+        elif operation == "read":
+            count = self.count(request.address, request.count, space)
+            call = f"{parser}(frame, sizeof frame, {slave}, {count}, words, sizeof words / sizeof words[0], &exception)"
+            if described:
+                checks, scaled = self.read_checks(ex, request.address, request.count, space)
+        elif operation == "write_single" and SPACES[space].bits:
+            source = ex if any(v.raw is not None for v in ex.values) else request.example
+            on = self.single_bit(source, request.address, space, request.value == COIL_ON) if source else str(request.value == COIL_ON).lower()
+            call = f"{parser}(frame, sizeof frame, {slave}, {address}, {on}, &exception)"
+        elif operation == "write_single":
+            # The echo carries the request's word; the response's own values, when it has them, must give it too.
+            source = ex if any(v.raw is not None or v.words is not None for v in ex.values) else request.example
+            word = self.single_word(source, request.address, request.value) if source else c_hex(request.value)
+            call = f"{parser}(frame, sizeof frame, {slave}, {address}, {word}, &exception)"
+        else:
+            count = self.count(request.address, request.count, space) if SPACES[space].bits else c_unsigned(request.count)
+            call = f"{parser}(frame, sizeof frame, {slave}, {address}, {count}, &exception)"
         return FrameCase(**base, call=call, status=status, exception=exception, checks=tuple(checks), scaled=tuple(scaled))
+
+    def _request_from_response(self, ex: Example) -> _Request:
+        """For a response that names no request: what the frame says it answers, and for a read, the
+        address its values' registers give when they are exactly the words it carries."""
+        frame = ex.wire_frame
+        function = frame[1] & ~EXCEPTION_FLAG & 0xFF
+        known = BY_FUNCTION.get(function)
+        if known is not None and known[1] == "read" and not frame[1] & EXCEPTION_FLAG:
+            space = known[0]
+            count = max(1, frame[2] * 8 if space.bits else frame[2] // 2)
+            regs = sorted({v.register.name: v.register for v in ex.values if v.raw is not None}.values(), key=lambda r: r.address)
+            if regs and all(r.space == space.name for r in regs):
+                first = regs[0].first_address
+                if not space.bits and sum(r.span for r in regs) == count and regs[-1].last_address == first + count - 1:
+                    return _Request(function, first, count, ex)
+            return _Request(function, 0, count)
+        if len(frame) == 8:
+            field = int.from_bytes(frame[4:6], "big")
+            return _Request(function, int.from_bytes(frame[2:4], "big"), field, value=field)
+        return _Request(function, 0, 1)
 
     def exception_name(self, code: int) -> str:
         e = self.device.transport.exception(code)
@@ -287,12 +427,19 @@ class _Frames:
             return CIdentifier(self.ctx.prefix, "EXCEPTION", e.name)
         return STANDARD_EXCEPTION_MACROS.get(code, f"0x{code:02X}u")
 
-    def read_checks(self, ex: Example, start: int, count: int) -> tuple[list[Check], list[ScaledCheck]]:
+    def bit_checks(self, ex: Example, start: int, count: int, space: str) -> list[Check]:
+        """Checks that the bits a read response carries are the example's coils or inputs."""
+        return [
+            Check(v.register.name, f"bit_at(bits, {count}u, {index})", "true" if v.raw else "false")
+            for v, _, index in self.carried(ex, start, count, high_word=False, space=space)
+        ]
+
+    def read_checks(self, ex: Example, start: int, count: int, space: str = DEFAULT_SPACE) -> tuple[list[Check], list[ScaledCheck]]:
         """Checks that the words a read response carries give each value the example records."""
         checks: list[Check] = []
         scaled: list[ScaledCheck] = []
-        base = self.address(start)
-        for v, own, index in self.carried(ex, start, count, high_word=False):
+        base = self.address(start, space)
+        for v, own, index in self.carried(ex, start, count, high_word=False, space=space):
             reg = v.register
             if v.words is not None:
                 for _, offset, given in _given_words(reg, v.words, own, "the response"):
@@ -302,27 +449,50 @@ class _Frames:
             assert raw is not None
             if len(own) != reg.words:
                 raise _FrameError(f"the response carries only part of {reg.name}, the example gives its whole raw value")
+            owner = self.ctx.owner(reg)
+            from_wire = self.ctx.symbol_ref(owner, "from_wire")
+            words = f"at(words, {count}u, {index}, {self.ctx.member_const(reg, 'WORDS')})"
             word = f"word_at(words, {count}u, {index})"
-            if reg.words == 1:
-                raw_expr = f"regmap_s16_from_word({word})" if reg.signed else word
+            if reg.type.is_string:
+                checks.append(Check(reg.name, f"text_of({from_wire}({words}, text, sizeof text))", c_str(str(raw)), "text"))
+                continue
+            if isinstance(raw, str):
+                raise _FrameError(f"{reg.name} is {reg.type.value}; the example gives text {raw!r}")
+            if reg.type.is_float:
+                bits = "regmap_f32_to_bits" if reg.type is DataType.F32 else "regmap_f64_to_bits"
+                raw_expr = f"{from_wire}({words})"
+                checks.append(Check(f"{reg.name} (IEEE 754 bits)", f"{bits}({raw_expr})", c_hex(_float_bits(raw, reg.type)), "u64"))
             else:
-                func = "regmap_s32_from_words" if reg.signed else "regmap_u32_from_words"
-                raw_expr = f"{func}(at(words, {count}u, {index}, 2u), {self.ctx.member_const(reg, 'WORD_ORDER')})"
-            checks.append(Check(reg.name, raw_expr, c_raw(raw, reg.signed)))
+                if modern(reg):
+                    raw_expr = f"{from_wire}({word if reg.words == 1 else words})"
+                elif reg.words == 1:
+                    raw_expr = f"regmap_s16_from_word({word})" if reg.signed else word
+                else:
+                    func = "regmap_s32_from_words" if reg.signed else "regmap_u32_from_words"
+                    raw_expr = f"{func}(at(words, {count}u, {index}, 2u), {self.ctx.member_const(reg, 'WORD_ORDER')})"
+                kind = "u64" if reg.type is DataType.U64 else "value"
+                checks.append(Check(reg.name, raw_expr, c_raw(int(raw), reg.signed), kind))
             if reg.paired and reg.first_address >= start:
                 high = f"word_at(words, {count}u, (unsigned)({self.ctx.pair_addr(reg)} - {base}))"
                 signed = self.ctx.member_const(reg, "SIGNED")
                 checks.append(Check(f"{reg.name} high word", high, f"regmap_pair_high_word({word}, {signed})"))
-            if reg.bitfields and reg.words == 1:
-                owner = self.ctx.owner(reg)
+            if reg.bitfields and reg.words == 1 and isinstance(raw, int):
                 for b in reg.bitfields:
                     getter = CSymbol(self.ctx.lower, owner, "get", b.name)
-                    checks.append(Check(f"{reg.name}.{b.name}", f"{getter}({word})", c_unsigned((raw & b.mask) >> b.lsb)))
+                    checks.append(Check(f"{reg.name}.{b.name}", f"{getter}({raw_expr})", c_unsigned((raw & b.mask) >> b.lsb)))
             elif reg.enum is not None and isinstance(v.value, str) and reg.enum.member(v.value) is not None:
                 checks.append(Check(f"{reg.name} = {v.value}", raw_expr, CIdentifier(self.ctx.prefix, reg.enum.name, v.value)))
             elif isinstance(v.value, int | float) and not isinstance(v.value, bool) and reg.enum is None:
-                scaled.append(ScaledCheck(reg.name, raw_expr, self.ctx.member_const(reg, "SCALE"), repr(float(v.value))))
+                offset = self.ctx.member_const(reg, "OFFSET") if modern(reg) else ""
+                scaled.append(ScaledCheck(reg.name, raw_expr, self.ctx.member_const(reg, "SCALE"), repr(float(v.value)), offset))
         return checks, scaled
+
+
+def _unpack(data: bytes, count: int) -> list[bool]:
+    """The first `count` bits of Modbus bit bytes, least significant bit of the first byte first."""
+    if len(data) * 8 < count:
+        raise _FrameError(f"the frame carries {len(data)} bytes of bits, {count} bits need {(count + 7) // 8}")
+    return [bool(data[i // 8] >> (i % 8) & 1) for i in range(count)]
 
 
 def _given_words(reg: Register, words: tuple[int, ...], own: list[int], carrier: str) -> list[tuple[int, int, str]]:
@@ -342,17 +512,6 @@ class _Request:
     count: int
     example: Example | None = None
     value: int = 0  # the word of a write single
-
-
-def _request_from_response(frame: bytes) -> _Request:
-    """For a response that names no request: what the frame itself says it answers."""
-    function = frame[1] & ~EXCEPTION_FLAG & 0xFF
-    if function == HOLDING.read and not frame[1] & EXCEPTION_FLAG:
-        return _Request(function, 0, max(1, frame[2] // 2))
-    if len(frame) == 8:
-        field = int.from_bytes(frame[4:6], "big")
-        return _Request(function, int.from_bytes(frame[2:4], "big"), field, value=field)
-    return _Request(function, 0, 1)
 
 
 STANDARD_EXCEPTION_MACROS = {
