@@ -172,18 +172,27 @@ def _plans(ctx: Context) -> tuple[Plan, list[Plan]]:
     return main, per_class
 
 
+def has_device_builder(device: Device, space: str, operation: str) -> bool:
+    """Whether the device header wraps the shared builder of `operation` on `space`: holding's always
+    (the first maps' own), another space's where the map has registers in it and lists the function code."""
+    if space == HOLDING.name:
+        return True
+    code = SPACES[space].codes.get(operation)
+    return (
+        operation in BUILDERS.get(space, {})
+        and code in device.transport.function_codes
+        and any(r.space == space for r in device.registers)
+    )
+
+
 def _builders(ctx: Context) -> list[BuilderView]:
     """A device wrapper within the device's limits for each shared builder of the other spaces the map uses."""
-    t = ctx.device.transport
-    used = {r.space for r in ctx.device.registers}
     views = []
     for space in SPACES.values():
-        if space.name not in used or space.name not in BUILDERS:
-            continue
-        for operation, code in space.codes.items():
-            builder = BUILDERS[space.name].get(operation)
-            if builder is None or code not in t.function_codes:
+        for operation in space.codes:
+            if space.name == HOLDING.name or not has_device_builder(ctx.device, space.name, operation):
                 continue
+            builder = BUILDERS[space.name][operation]
             call = f"{builder.shared}(buf, cap, slave, address, {builder.args})"
             limit = ""
             if builder.limited_by:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.c.names import BUILDERS, PARSERS, CIdentifier, Context, CSymbol, c_float_literal, c_hex, c_raw, c_signed, c_unsigned, file_header
+from regmap.backends.c.device import has_device_builder
 from regmap.backends.c.views import modern
 from regmap.diagnostics import UsageError
 from regmap.model import DataType, Device, Example, ExampleValue, Register
@@ -187,7 +188,9 @@ class _Frames:
     def _device_builder(self, space: str, operation: str) -> str:
         if space == HOLDING.name:
             return self.ctx.symbol_ref({"read": "build_read", "write_single": "build_write_single"}.get(operation, "build_write_multiple"))
-        return self.ctx.symbol_ref(BUILDERS[space][operation].suffix)
+        if has_device_builder(self.device, space, operation):
+            return self.ctx.symbol_ref(BUILDERS[space][operation].suffix)
+        return BUILDERS[space][operation].shared  # a table the map does not use: the shared builder itself
 
     def request(self, ex: Example) -> FrameCase:
         frame = ex.wire_frame
