@@ -196,16 +196,42 @@ WRONG_FIXTURE_HEADERS = [
     ("remote_io", "bits unpacked most significant first", "shared", ">> (unsigned)(i % 8u)) & 1u", ">> (7u - (unsigned)(i % 8u))) & 1u"),
     ("remote_io", "bits packed most significant first", "shared", "(1u << (unsigned)(i % 8u))", "(0x80u >> (unsigned)(i % 8u))"),
     ("remote_io", "coil on as 0x00FF", "shared", "#define REGMAP_COIL_ON 0xFF00u", "#define REGMAP_COIL_ON 0x00FFu"),
-    ("power_meter", "current_l1 read high word first", "device", "CURRENT_L1_WORD_ORDER        REGMAP_LOW_FIRST", "CURRENT_L1_WORD_ORDER        REGMAP_HIGH_FIRST"),
-    ("power_meter", "64-bit words in the wrong order", "shared", "return ((uint64_t)w[0] << 48) | ((uint64_t)w[1] << 32)", "return ((uint64_t)w[1] << 48) | ((uint64_t)w[0] << 32)"),
-    ("power_meter", "the string copy keeps the padding", "shared", "regmap_string_byte(words, len, byte_order) != 0u", "regmap_string_byte(words, len, byte_order) != 0x100u"),
-    ("swapped_gated", "label bytes not swapped", "device", "LABEL_BYTE_ORDER           REGMAP_LOW_FIRST", "LABEL_BYTE_ORDER           REGMAP_HIGH_FIRST"),
+    (
+        "power_meter",
+        "current_l1 read high word first",
+        "device",
+        "CURRENT_L1_WORD_ORDER        REGMAP_LOW_FIRST",
+        "CURRENT_L1_WORD_ORDER        REGMAP_HIGH_FIRST",
+    ),
+    (
+        "power_meter",
+        "64-bit words in the wrong order",
+        "shared",
+        "return ((uint64_t)w[0] << 48) | ((uint64_t)w[1] << 32)",
+        "return ((uint64_t)w[1] << 48) | ((uint64_t)w[0] << 32)",
+    ),
+    (
+        "power_meter",
+        "the string copy keeps the padding",
+        "shared",
+        "regmap_string_byte(words, len, byte_order) != 0u",
+        "regmap_string_byte(words, len, byte_order) != 0x100u",
+    ),
+    (
+        "swapped_gated",
+        "label bytes not swapped",
+        "device",
+        "LABEL_BYTE_ORDER           REGMAP_LOW_FIRST",
+        "LABEL_BYTE_ORDER           REGMAP_HIGH_FIRST",
+    ),
     ("swapped_gated", "the byte swap does nothing", "shared", "(uint16_t)(((unsigned)word << 8) | ((unsigned)word >> 8))", "word"),
 ]
 
 
 @pytest.mark.parametrize(("stem", "label", "which", "old", "new"), WRONG_FIXTURE_HEADERS, ids=[w[1] for w in WRONG_FIXTURE_HEADERS])
-def test_fixture_frames_fail_on_a_wrong_header(stem: str, label: str, which: str, old: str, new: str, out_dir: Path, tmp_path: Path) -> None:
+def test_fixture_frames_fail_on_a_wrong_header(
+    stem: str, label: str, which: str, old: str, new: str, out_dir: Path, tmp_path: Path
+) -> None:
     path = next(p for p in FIXTURE_MAPS if p.stem == stem)
     device = _device(path)
     source = _frames_program(path, out_dir, tmp_path)

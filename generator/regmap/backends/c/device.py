@@ -179,9 +179,7 @@ def has_device_builder(device: Device, space: str, operation: str) -> bool:
         return True
     code = SPACES[space].codes.get(operation)
     return (
-        operation in BUILDERS.get(space, {})
-        and code in device.transport.function_codes
-        and any(r.space == space for r in device.registers)
+        operation in BUILDERS.get(space, {}) and code in device.transport.function_codes and any(r.space == space for r in device.registers)
     )
 
 

@@ -14,8 +14,20 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.c.names import BUILDERS, PARSERS, CIdentifier, Context, CSymbol, c_float_literal, c_hex, c_raw, c_signed, c_unsigned, file_header
 from regmap.backends.c.device import has_device_builder
+from regmap.backends.c.names import (
+    BUILDERS,
+    PARSERS,
+    CIdentifier,
+    Context,
+    CSymbol,
+    c_float_literal,
+    c_hex,
+    c_raw,
+    c_signed,
+    c_unsigned,
+    file_header,
+)
 from regmap.backends.c.views import modern
 from regmap.diagnostics import UsageError
 from regmap.model import DataType, Device, Example, ExampleValue, Register
@@ -211,7 +223,9 @@ class _Frames:
             self.requests[ex.id] = _Request(parsed.function, parsed.address, 1, ex, word)
             if word in (COIL_ON, COIL_OFF):
                 on = self.single_bit(ex, parsed.address, space, word == COIL_ON)
-                call = f"{self._device_builder(space, 'write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address, space)}, {on})"
+                call = (
+                    f"{self._device_builder(space, 'write_single')}(buf, sizeof buf, {slave}, {self.address(parsed.address, space)}, {on})"
+                )
             else:  # not a valid 0x05 frame (an example of what a device refuses): the generic builder
                 call = f"regmap_rtu_build_request(buf, sizeof buf, {slave}, 0x{frame[1]:02X}u, {c_hex(parsed.address)}, {c_hex(word)})"
             return FrameCase(**base, call=call)
@@ -392,7 +406,11 @@ class _Frames:
                 checks, scaled = self.read_checks(ex, request.address, request.count, space)
         elif operation == "write_single" and SPACES[space].bits:
             source = ex if any(v.raw is not None for v in ex.values) else request.example
-            on = self.single_bit(source, request.address, space, request.value == COIL_ON) if source else str(request.value == COIL_ON).lower()
+            on = (
+                self.single_bit(source, request.address, space, request.value == COIL_ON)
+                if source
+                else str(request.value == COIL_ON).lower()
+            )
             call = f"{parser}(frame, sizeof frame, {slave}, {address}, {on}, &exception)"
         elif operation == "write_single":
             # The echo carries the request's word; the response's own values, when it has them, must give it too.
