@@ -504,8 +504,8 @@ class _Frames:
             elif reg.enum is not None and isinstance(v.value, str) and reg.enum.member(v.value) is not None:
                 checks.append(Check(f"{reg.name} = {v.value}", raw_expr, CIdentifier(self.ctx.prefix, reg.enum.name, v.value)))
             elif isinstance(v.value, int | float) and not isinstance(v.value, bool) and reg.enum is None:
-                offset = self.ctx.member_const(reg, "OFFSET") if modern(reg) else ""
-                scaled.append(ScaledCheck(reg.name, raw_expr, self.ctx.member_const(reg, "SCALE"), repr(float(v.value)), offset))
+                offset_macro = self.ctx.member_const(reg, "OFFSET") if modern(reg) else ""
+                scaled.append(ScaledCheck(reg.name, raw_expr, self.ctx.member_const(reg, "SCALE"), repr(float(v.value)), offset_macro))
         return checks, scaled
 
 
