@@ -1,23 +1,57 @@
 """Every helper the C headers emit, called on known values and on the edges, under ASan and UBSan.
 
-The expected values come from the model (masks, widths, element addresses) and from Python's own
-integer arithmetic, never from the header, so a header that agrees with itself but not with the
-map (a setter that does not clear its field, an address formula off by one element) fails here.
+The expected values come from the model (masks, widths, element addresses, firmware gates), from
+Python's own integer arithmetic and from pymodbus (its register conversions for every type and word
+order, its PDUs for coil, discrete-input and input-register frames), never from the header, so a
+header that agrees with itself but not with the map or the wire (a setter that does not clear its
+field, an address formula off by one element, a float helper in the wrong order, a string copy
+that keeps its padding) fails here. The seed maps and issue #19's fixture maps are generated into a
+temporary directory, so the committed generated/ is not what is tested.
 """
 
 from __future__ import annotations
 
+import math
+import struct
 import subprocess
 from pathlib import Path
 
 import pytest
+from pymodbus.client.mixin import ModbusClientMixin
+from pymodbus.framer.rtu import FramerRTU
+from pymodbus.pdu import ModbusPDU
+from pymodbus.pdu.bit_message import (
+    ReadCoilsRequest,
+    ReadCoilsResponse,
+    ReadDiscreteInputsRequest,
+    ReadDiscreteInputsResponse,
+    WriteMultipleCoilsRequest,
+    WriteSingleCoilRequest,
+)
+from pymodbus.pdu.register_message import ReadInputRegistersRequest, ReadInputRegistersResponse
 
-from regmap.backends.c.names import Context
+from regmap.backends.c.names import Context, c_raw
+from regmap.backends.c.views import modern
 from regmap.frontend import load_map
-from regmap.model import Device
+from regmap.generate import render
+from regmap.model import ByteOrder, DataType, Device, Register, WordOrder
 from regmap_runtime.rtu import with_crc
 
-from conftest import GENERATED, MAPS, require_tool
+from conftest import FIXTURE_MAPS, MAPS, require_tool
+
+DATATYPE = ModbusClientMixin.DATATYPE
+PYMODBUS_TYPES = {
+    DataType.U16: DATATYPE.UINT16,
+    DataType.S16: DATATYPE.INT16,
+    DataType.U32: DATATYPE.UINT32,
+    DataType.S32: DATATYPE.INT32,
+    DataType.U64: DATATYPE.UINT64,
+    DataType.S64: DATATYPE.INT64,
+    DataType.F32: DATATYPE.FLOAT32,
+    DataType.F64: DATATYPE.FLOAT64,
+}
+FLOAT_FORMATS = {DataType.F32: (">f", ">I", "regmap_f32"), DataType.F64: (">d", ">Q", "regmap_f64")}
+FLOAT_VALUES = [0.0, -0.0, 230.1, 12.25, -1.5, 3.4e38, 1e-40, math.inf, -math.inf]
 
 PROLOGUE = """\
 #include <stdio.h>
@@ -148,14 +182,247 @@ def _parser_cases() -> list[str]:
     return out
 
 
+def _c_words(words: list[int]) -> str:
+    return "{ " + ", ".join(f"0x{w:04X}u" for w in words) + " }"
+
+
+def _swap(words: list[int]) -> list[int]:
+    return [((w & 0xFF) << 8) | (w >> 8) for w in words]
+
+
+def wire_words(reg: Register, raw: int | float) -> list[int]:
+    """The words on the wire of `raw` in `reg`: pymodbus's conversion in the register's word order, then
+    each word's bytes exchanged where the register's bytes are low first (pymodbus has no byte order)."""
+    little = reg.wide and reg.word_order is WordOrder.LOW_FIRST
+    words = ModbusClientMixin.convert_to_registers(raw, PYMODBUS_TYPES[reg.type], word_order="little" if little else "big")
+    assert isinstance(words, list)
+    return _swap(words) if reg.byte_order is ByteOrder.LOW_FIRST else words
+
+
+def _int_values(reg: Register) -> list[int]:
+    info = reg.type.info
+    low, high = int(info.raw_min), int(info.raw_max)
+    pattern = int.from_bytes(bytes(range(1, 2 * reg.words + 1)), "big") & high  # 0x0102..., every byte different
+    return sorted({low, high, 0, 1, pattern, -1 if reg.signed else high - 1})
+
+
+def _codec_cases(device: Device, ctx: Context) -> list[str]:
+    """Each modern register's from_wire / to_wire on values whose words pymodbus computes."""
+    out: list[str] = []
+    seen: set[str] = set()
+    for reg in device.registers:
+        owner = ctx.owner(reg)
+        if not modern(reg) or reg.type.is_bool or owner in seen:
+            continue
+        seen.add(owner)
+        from_wire, to_wire = ctx.symbol_ref(owner, "from_wire"), ctx.symbol_ref(owner, "to_wire")
+        if reg.type.is_string:
+            out += _string_cases(reg, from_wire, to_wire)
+        elif reg.type.is_float:
+            value_format, bits_format, prefix = FLOAT_FORMATS[reg.type]
+            for value in FLOAT_VALUES:
+                bits = struct.unpack(bits_format, struct.pack(value_format, value))[0]
+                words = wire_words(reg, struct.unpack(value_format, struct.pack(value_format, value))[0])
+                literal = f"0x{bits:X}ull"
+                out += [
+                    "    {",
+                    f"        static const uint16_t in[{len(words)}] = {_c_words(words)};",
+                    f"        uint16_t w[{len(words)}];",
+                    f"        {to_wire}({prefix}_from_bits({literal}), w);",
+                    f"        EXPECT(memcmp(w, in, sizeof in) == 0);  /* {reg.name} = {value!r} */",
+                    f"        EXPECT({prefix}_to_bits({from_wire}(in)) == {literal});",
+                    "    }",
+                ]
+        else:
+            for raw in _int_values(reg):
+                words = wire_words(reg, raw)
+                literal = c_raw(raw, reg.signed)
+                if reg.words == 1:
+                    out += [
+                        f"    EXPECT({to_wire}({literal}) == 0x{words[0]:04X}u);  /* {reg.name} = {raw} */",
+                        f"    EXPECT({from_wire}(0x{words[0]:04X}u) == {literal});",
+                    ]
+                    continue
+                out += [
+                    "    {",
+                    f"        static const uint16_t in[{len(words)}] = {_c_words(words)};",
+                    f"        uint16_t w[{len(words)}];",
+                    f"        {to_wire}({literal}, w);",
+                    f"        EXPECT(memcmp(w, in, sizeof in) == 0);  /* {reg.name} = {raw} */",
+                    f"        EXPECT({from_wire}(in) == {literal});",
+                    "    }",
+                ]
+    return out
+
+
+def _text_words(reg: Register, data: bytes) -> list[int]:
+    """The words of a string register holding `data`, padded as the map says (first byte high), in its byte order."""
+    data += (b" " if reg.padding == "space" else b"\0") * (2 * reg.words - len(data))
+    words = [data[i] << 8 | data[i + 1] for i in range(0, len(data), 2)]
+    return _swap(words) if reg.byte_order is ByteOrder.LOW_FIRST else words
+
+
+def _octal(data: bytes) -> str:
+    """A C string literal of exactly these bytes."""
+    return '"' + "".join(f"\\{b:03o}" for b in data) + '"'
+
+
+def _string_cases(reg: Register, from_wire: str, to_wire: str) -> list[str]:
+    size = 2 * reg.words
+    texts = [b"", b"A", b"AB-12", (b"XY" * reg.words)[:size], "\u00e9x".encode(reg.encoding) if reg.encoding == "utf-8" else b"~z"]
+    out = [f"    /* {reg.name}: {reg.words} words, {reg.padding} padded, bytes {reg.byte_order.value} */"]
+    for data in texts:
+        words = _text_words(reg, data)
+        read_back = data.rstrip(b" ") if reg.padding == "space" else data
+        literal, read_literal = _octal(data), _octal(read_back)
+        out += [
+            "    {",
+            f"        static const uint16_t in[{reg.words}] = {_c_words(words)};",
+            f"        uint16_t w[{reg.words}];",
+            f"        char text[{size + 1}];",
+            f"        EXPECT({to_wire}({literal}, w) && memcmp(w, in, sizeof in) == 0);",
+            f"        EXPECT({from_wire}(in, text, sizeof text) == {len(read_back)}u && memcmp(text, {read_literal}, {len(read_back) + 1}u) == 0);",
+            f"        EXPECT({from_wire}(in, text, 2u) == {len(read_back)}u && memcmp(text, {_octal(read_back[:1])}, {min(len(read_back), 1) + 1}u) == 0);",
+            "    }",
+        ]
+    too_long = _octal(b"Z" * (size + 1))
+    out += [
+        "    {",
+        f"        uint16_t w[{reg.words}];",
+        "        memset(w, 0x5A, sizeof w);",
+        f"        EXPECT(!{to_wire}({too_long}, w) && w[0] == 0x5A5Au);  /* one byte too many: refused, untouched */",
+        "    }",
+    ]
+    return out
+
+
+def _gate_cases(device: Device, ctx: Context) -> list[str]:
+    """Each gated register's in_firmware() at the edges of its gate; the expected answers by tuple comparison here."""
+
+    def version(text: str) -> tuple[int, int]:
+        parts = [int(p) for p in text.split(".")] + [0]
+        return parts[0], parts[1]
+
+    out: list[str] = []
+    seen: set[str] = set()
+    for reg in device.registers:
+        owner = ctx.owner(reg)
+        gate = reg.firmware
+        if gate is None or owner in seen:
+            continue
+        seen.add(owner)
+        edges = {(0, 0), (255, 255)}
+        for text in (gate.first, gate.until):
+            if text is not None:
+                major, minor = version(text)
+                edges |= {(major, minor), (major, minor + 1), (major + 1, 0)} | ({(major, minor - 1)} if minor else {(major - 1, 99)})
+        for major, minor in sorted(e for e in edges if e[0] >= 0):
+            admitted = (gate.first is None or (major, minor) >= version(gate.first)) and (
+                gate.until is None or (major, minor) < version(gate.until)
+            )
+            call = f"{ctx.symbol_ref(owner, 'in_firmware')}(REGMAP_VERSION({major}u, {minor}u))"
+            out.append(f"    EXPECT({'' if admitted else '!'}{call});  /* {gate.text} */")
+    return out
+
+
+def _rtu(pdu: ModbusPDU, slave: int = 1) -> bytes:
+    body = bytes([slave, pdu.function_code]) + pdu.encode()
+    return body + FramerRTU.compute_CRC(body).to_bytes(2, "big")
+
+
+def _builder_cases(device: Device, ctx: Context) -> list[str]:
+    """The device's coil, discrete-input and input-register builders against pymodbus's PDUs."""
+    spaces = {r.space for r in device.registers}
+    codes = device.transport.function_codes
+    t = device.transport
+    out: list[str] = ["    {", "        uint8_t buf[REGMAP_RTU_MAX_FRAME];"]
+    cases: list[tuple[str, str, bytes]] = []
+    if "input" in spaces and 0x04 in codes:
+        name = ctx.symbol_ref("build_read_input_registers")
+        cases.append((name, "0x0008u, 1u", _rtu(ReadInputRegistersRequest(address=8, count=1))))
+        cases.append((name, f"0x0000u, {t.max_read_registers}u", _rtu(ReadInputRegistersRequest(address=0, count=t.max_read_registers))))
+        out.append(f"        EXPECT({name}(buf, sizeof buf, 1u, 0x0000u, {t.max_read_registers + 1}u) == 0u);")
+    if "coil" in spaces:
+        read, single, multiple = (ctx.symbol_ref(n) for n in ("build_read_coils", "build_write_single_coil", "build_write_multiple_coils"))
+        cases.append((read, "0x0013u, 19u", _rtu(ReadCoilsRequest(address=0x13, count=19))))
+        cases.append((read, f"0x0000u, {t.max_read_coils}u", _rtu(ReadCoilsRequest(address=0, count=t.max_read_coils))))
+        out.append(f"        EXPECT({read}(buf, sizeof buf, 1u, 0x0000u, {t.max_read_coils + 1}u) == 0u);")
+        cases.append((single, "0x00ACu, true", _rtu(WriteSingleCoilRequest(address=0xAC, bits=[True]))))
+        cases.append((single, "0x00ACu, false", _rtu(WriteSingleCoilRequest(address=0xAC, bits=[False]))))
+        pattern = [bool((i * 7) % 3) for i in range(t.max_write_coils)]
+        out.append(f"        static const bool b[{len(pattern)}] = {{{', '.join('true' if bit else 'false' for bit in pattern)}}};")
+        cases.append((multiple, f"0x0013u, b, {len(pattern)}u", _rtu(WriteMultipleCoilsRequest(address=0x13, bits=pattern))))
+        cases.append((multiple, "0x0013u, b, 10u", _rtu(WriteMultipleCoilsRequest(address=0x13, bits=pattern[:10]))))
+        out.append(f"        EXPECT({multiple}(buf, sizeof buf, 1u, 0x0000u, b, {t.max_write_coils + 1}u) == 0u);")
+    if "discrete_input" in spaces:
+        name = ctx.symbol_ref("build_read_discrete_inputs")
+        cases.append((name, "0x00C4u, 22u", _rtu(ReadDiscreteInputsRequest(address=0xC4, count=22))))
+    for index, (function, args, frame) in enumerate(cases):
+        out += [
+            f"        static const uint8_t want{index}[] = {{{_bytes(frame)}}};",
+            f"        EXPECT({function}(buf, sizeof buf, 1u, {args}) == sizeof want{index} && memcmp(buf, want{index}, sizeof want{index}) == 0);",
+        ]
+    out.append("    }")
+    return out if cases else []
+
+
+def _bit_response_cases() -> list[str]:
+    """Coil and discrete-input responses that pymodbus encodes, parsed back bit for bit; input registers too."""
+    out = [
+        "    {",
+        "        static bool got[2000];",
+        "        uint16_t regs[3];",
+        "        uint8_t exc = 0u;",
+        "        bool same;",
+        "        unsigned i;",
+    ]
+    for index, count in enumerate((1, 7, 8, 9, 19, 22, 2000)):
+        bits = [(i * 5 + count) % 7 < 3 for i in range(count)]
+        expected = ", ".join("true" if bit else "false" for bit in bits)
+        out.append(f"        static const bool want{index}[{count}] = {{{expected}}};")
+        for kind, response, parser in (
+            ("c", ReadCoilsResponse, "regmap_rtu_parse_read_coils_response"),
+            ("d", ReadDiscreteInputsResponse, "regmap_rtu_parse_read_discrete_inputs_response"),
+        ):
+            frame = _rtu(response(bits=bits))
+            out += [
+                f"        static const uint8_t {kind}{index}[] = {{{_bytes(frame)}}};",
+                f"        EXPECT({parser}({kind}{index}, sizeof {kind}{index}, 1u, {count}u, got, 2000u, &exc) == REGMAP_OK);",
+                "        same = true;",
+                f"        for (i = 0u; i < {count}u; ++i) {{",
+                f"            same = same && got[i] == want{index}[i];",
+                "        }",
+                f"        EXPECT(same);  /* {count} bits from pymodbus's {response.__name__} */",
+            ]
+    frame = _rtu(ReadInputRegistersResponse(registers=[10, 0xFFFF, 0x1234]))
+    out += [
+        f"        static const uint8_t ir[] = {{{_bytes(frame)}}};",
+        "        EXPECT(regmap_rtu_parse_read_input_response(ir, sizeof ir, 1u, 3u, regs, 3u, &exc) == REGMAP_OK);",
+        "        EXPECT(regs[0] == 10u && regs[1] == 0xFFFFu && regs[2] == 0x1234u);",
+        "        EXPECT(regmap_rtu_parse_read_response(ir, sizeof ir, 1u, 3u, regs, 3u, &exc) == REGMAP_ERR_FUNCTION);",
+        "    }",
+    ]
+    return out
+
+
 def helper_program(device: Device, header: str) -> str:
     ctx = Context(device)
     body = _bitfield_cases(device, ctx) + _array_cases(device, ctx) + _word_cases() + _parser_cases()
+    body += _codec_cases(device, ctx) + _gate_cases(device, ctx) + _builder_cases(device, ctx) + _bit_response_cases()
     return PROLOGUE.format(header=header) + "\n".join(body) + "\n" + EPILOGUE
 
 
-@pytest.mark.parametrize("map_path", MAPS, ids=lambda p: p.stem)
-def test_every_generated_helper_behaves(map_path: Path, tmp_path: Path) -> None:
+@pytest.fixture(scope="module")
+def headers(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The C headers of the seed and fixture maps, as `regmap generate --target c` writes them now."""
+    out = tmp_path_factory.mktemp("c-headers")
+    for rel, text in render([load_map(p) for p in (*MAPS, *FIXTURE_MAPS)], ["c"])["c"].items():
+        (out / rel).write_text(text, encoding="utf-8")
+    return out
+
+
+@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS], ids=lambda p: p.stem)
+def test_every_generated_helper_behaves(map_path: Path, tmp_path: Path, headers: Path) -> None:
     cc = require_tool("gcc")
     device = load_map(map_path)
     source = tmp_path / "helpers.c"
@@ -171,9 +438,7 @@ def test_every_generated_helper_behaves(map_path: Path, tmp_path: Path) -> None:
         "-fsanitize=address,undefined",
         "-fno-sanitize-recover=all",
     ]
-    built = subprocess.run(
-        [cc, *flags, "-I", str(GENERATED / "c"), str(source), "-o", str(binary)], capture_output=True, text=True, check=False
-    )
+    built = subprocess.run([cc, *flags, "-I", str(headers), str(source), "-o", str(binary)], capture_output=True, text=True, check=False)
     assert built.returncode == 0, built.stderr[-3000:]
     run = subprocess.run([str(binary)], capture_output=True, text=True, check=False, timeout=60)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
@@ -181,15 +446,15 @@ def test_every_generated_helper_behaves(map_path: Path, tmp_path: Path) -> None:
     assert checks > 40, run.stdout
 
 
-def test_a_setter_that_does_not_clear_its_field_is_caught(tmp_path: Path) -> None:
+def test_a_setter_that_does_not_clear_its_field_is_caught(tmp_path: Path, headers: Path) -> None:
     """The mutant the mutation run found: set() that ORs the value in without clearing the field."""
     cc = require_tool("gcc")
     device = load_map(MAPS[[p.stem for p in MAPS].index("idm_rs")])
-    header = (GENERATED / "c" / "idm_rs.h").read_text(encoding="utf-8")
+    header = (headers / "idm_rs.h").read_text(encoding="utf-8")
     broken = header.replace("((uint32_t)raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_FUNCTION_MASK) |", "((uint32_t)raw) |", 1)
     assert broken != header
     (tmp_path / "idm_rs.h").write_text(broken, encoding="utf-8")
-    (tmp_path / "regmap_rtu.h").write_text((GENERATED / "c" / "regmap_rtu.h").read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / "regmap_rtu.h").write_text((headers / "regmap_rtu.h").read_text(encoding="utf-8"), encoding="utf-8")
     source = tmp_path / "helpers.c"
     source.write_text(helper_program(device, "idm_rs.h"), encoding="utf-8")
     built = subprocess.run(
