@@ -397,3 +397,18 @@ def test_a_name_clash_is_reported() -> None:
     device = load_map_text(yaml.safe_dump(data, allow_unicode=True), "clash.yaml")
     with pytest.raises(UsageError, match=r"_PEAK_CURRENT_ADDR is used by both"):
         render([device], ["c"])
+
+
+def test_a_firmware_version_c_cannot_compare_is_reported_at_its_line() -> None:
+    """REGMAP_VERSION holds major.minor: a three-part gate is a diagnostic at the register's line, and generate refuses it."""
+    path = next(p for p in FIXTURE_MAPS if p.stem == "swapped_gated")
+    data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    group = next(g for g in data["groups"] if g["id"] == "diagnostics")
+    group["firmware"] = {"from": "2.5.1"}
+    device = load_map_text(yaml.safe_dump(data, allow_unicode=True, sort_keys=False), "three_parts.yaml")
+    problems = c_backend.check(device)
+    assert [p.message.split(":")[0] for p in problems] == ["runtime_hours", "fault_count"]
+    assert all(p.file == "three_parts.yaml" and p.line > 1 and "2.5.1 is not major.minor" in p.message for p in problems)
+    with pytest.raises(UsageError, match=r"^three_parts\.yaml:\d+:\d+: runtime_hours: firmware version 2\.5\.1"):
+        render([device], ["c"])
+    assert c_backend.check(_device(path)) == []

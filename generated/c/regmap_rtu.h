@@ -3,8 +3,11 @@
  * The same file for every map: device headers include it.
  *
  * Modbus RTU helpers shared by every regmap device header: CRC-16, request builders and
- * response parsers working on caller buffers, and 16/32-bit word conversions.
- * Everything is static inline, allocates nothing and needs no stdio; it is C99 and C++.
+ * response parsers working on caller buffers for the four Modbus tables (function codes
+ * 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x10), and value conversions for every map type in every word
+ * and byte order: 16/32/64-bit integers, IEEE 754 floats, strings, coil bits. Everything is
+ * static inline, allocates nothing and needs no stdio (memcpy from string.h moves float bits);
+ * it is C99 and C++.
  *
  * Builders return the frame length in bytes, or 0 when an argument is out of range or the
  * buffer is too small (nothing useful is left in the buffer then). Parsers return REGMAP_OK
@@ -14,15 +17,17 @@
 #ifndef REGMAP_RTU_H
 #define REGMAP_RTU_H
 
+#include <float.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define REGMAP_RTU_H_VERSION 1
+#define REGMAP_RTU_H_VERSION 2
 
 /* Function codes */
 #define REGMAP_FC_READ_HOLDING 0x03u
@@ -38,6 +43,8 @@ extern "C" {
 /* Modbus limits and frame sizes (slave, function, data, 2 CRC bytes) */
 #define REGMAP_RTU_MAX_READ_REGISTERS 125u
 #define REGMAP_RTU_MAX_WRITE_REGISTERS 123u
+#define REGMAP_RTU_MAX_READ_BITS 2000u
+#define REGMAP_RTU_MAX_WRITE_BITS 1968u
 #define REGMAP_RTU_MAX_FRAME 256u
 #define REGMAP_RTU_READ_REQUEST_LEN 8u
 #define REGMAP_RTU_WRITE_SINGLE_LEN 8u
@@ -45,6 +52,13 @@ extern "C" {
 #define REGMAP_RTU_EXCEPTION_LEN 5u
 #define REGMAP_RTU_WRITE_MULTIPLE_LEN(count) (9u + 2u * (unsigned)(count))
 #define REGMAP_RTU_READ_RESPONSE_LEN(count) (5u + 2u * (unsigned)(count))
+/* Coils and discrete inputs travel packed, eight to a byte */
+#define REGMAP_RTU_BIT_BYTES(count) (((unsigned)(count) + 7u) / 8u)
+#define REGMAP_RTU_READ_BITS_RESPONSE_LEN(count) (5u + REGMAP_RTU_BIT_BYTES(count))
+#define REGMAP_RTU_WRITE_BITS_LEN(count) (9u + REGMAP_RTU_BIT_BYTES(count))
+/* The only two values a write single coil (0x05) carries */
+#define REGMAP_COIL_ON 0xFF00u
+#define REGMAP_COIL_OFF 0x0000u
 
 /* Register access, as the *_ACCESS macros of device headers give it */
 #define REGMAP_ACCESS_R 1u
@@ -67,6 +81,58 @@ typedef enum regmap_word_order {
     REGMAP_HIGH_FIRST = 0,
     REGMAP_LOW_FIRST = 1
 } regmap_word_order;
+
+/* Order of the two bytes inside each register word on the bus (a map's byte_order), with the same two
+ * values. With the word order it gives the four orders of a 32-bit value ABCD (word and byte high
+ * first), CDAB (words low first), BADC (bytes low first) and DCBA (both low first). */
+typedef regmap_word_order regmap_byte_order;
+
+/* The Modbus tables (a map's `space`); a device header's <NAME>_SPACE says which one a register is in */
+typedef enum regmap_space {
+    REGMAP_SPACE_HOLDING = 0, /* holding registers: 0x03, 0x06, 0x10 */
+    REGMAP_SPACE_INPUT = 1, /* input registers: 0x04 */
+    REGMAP_SPACE_COIL = 2, /* coils: 0x01, 0x05, 0x0F */
+    REGMAP_SPACE_DISCRETE_INPUT = 3 /* discrete inputs: 0x02 */
+} regmap_space;
+
+/* The map types (a device header's <NAME>_TYPE) */
+typedef enum regmap_type {
+    REGMAP_TYPE_U16 = 0,
+    REGMAP_TYPE_S16 = 1,
+    REGMAP_TYPE_U32 = 2,
+    REGMAP_TYPE_S32 = 3,
+    REGMAP_TYPE_U64 = 4,
+    REGMAP_TYPE_S64 = 5,
+    REGMAP_TYPE_F32 = 6,
+    REGMAP_TYPE_F64 = 7,
+    REGMAP_TYPE_STRING = 8,
+    REGMAP_TYPE_BOOL = 9
+} regmap_type;
+
+/* What fills a string register after its text (a map's `padding`) */
+typedef enum regmap_padding {
+    REGMAP_PADDING_NUL = 0,
+    REGMAP_PADDING_SPACE = 1
+} regmap_padding;
+
+/* How often a poller reads a register (a map's `poll`; a device header's <NAME>_POLL) */
+typedef enum regmap_poll {
+    REGMAP_POLL_STATIC = 0,
+    REGMAP_POLL_FAST = 1,
+    REGMAP_POLL_NORMAL = 2,
+    REGMAP_POLL_SLOW = 3
+} regmap_poll;
+
+/* How the firmware register reports its version (a map's device.firmware_register.format) */
+typedef enum regmap_firmware_format {
+    REGMAP_FIRMWARE_DECIMAL = 0,
+    REGMAP_FIRMWARE_MAJOR_MINOR = 1,
+    REGMAP_FIRMWARE_STRING = 2
+} regmap_firmware_format;
+
+/* A firmware version as one number that compares as versions do: major in the high 16 bits, minor
+ * in the low 16 (2.10 > 2.9). Firmware gates (<NAME>_FIRMWARE_FROM, _UNTIL) are spelled with it. */
+#define REGMAP_VERSION(major, minor) ((((uint32_t)(major)) << 16) | ((uint32_t)(minor) & 0xFFFFul))
 
 typedef enum regmap_status {
     REGMAP_OK = 0,
@@ -156,6 +222,342 @@ static inline void regmap_s32_to_words(int32_t value, regmap_word_order order, u
 static inline uint16_t regmap_pair_high_word(uint16_t low_word, bool is_signed)
 {
     return (is_signed && (low_word & 0x8000u) != 0u) ? 0xFFFFu : 0x0000u;
+}
+
+/* ---- values in every word and byte order ----
+ *
+ * `*_from_wire` take a register's words as a read response carries them (from its listed address
+ * on) and `*_to_wire` give the words to write, in the register's word order (wide values) and byte
+ * order (every word): a device header's <NAME>_WORD_ORDER and <NAME>_BYTE_ORDER, or its
+ * <name>_from_wire / <name>_to_wire that pass them. The *_from_words / *_to_words above are the
+ * same for 32-bit values whose bytes are high first. */
+
+/* A register word with its two bytes exchanged when `order` is REGMAP_LOW_FIRST (its own inverse). */
+static inline uint16_t regmap_u16_from_wire(uint16_t word, regmap_byte_order order)
+{
+    return order == REGMAP_HIGH_FIRST ? word : (uint16_t)(((unsigned)word << 8) | ((unsigned)word >> 8));
+}
+
+static inline uint16_t regmap_u16_to_wire(uint16_t value, regmap_byte_order order)
+{
+    return regmap_u16_from_wire(value, order);
+}
+
+static inline int16_t regmap_s16_from_wire(uint16_t word, regmap_byte_order order)
+{
+    return regmap_s16_from_word(regmap_u16_from_wire(word, order));
+}
+
+static inline uint16_t regmap_s16_to_wire(int16_t value, regmap_byte_order order)
+{
+    return regmap_u16_from_wire(regmap_s16_to_word(value), order);
+}
+
+/* The `count` words of a wide value high word first, high byte first, from its words on the wire,
+ * or back (the same exchange both ways). `in` and `out` must not overlap. */
+static inline void regmap_wire_exchange(const uint16_t *in, uint16_t *out, unsigned count, regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    unsigned i;
+    for (i = 0u; i < count; ++i) {
+        out[i] = regmap_u16_from_wire(in[word_order == REGMAP_HIGH_FIRST ? i : count - 1u - i], byte_order);
+    }
+}
+
+static inline uint32_t regmap_u32_from_wire(const uint16_t words[2], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    uint16_t w[2];
+    regmap_wire_exchange(words, w, 2u, word_order, byte_order);
+    return ((uint32_t)w[0] << 16) | (uint32_t)w[1];
+}
+
+static inline void regmap_u32_to_wire(uint32_t value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[2])
+{
+    uint16_t w[2];
+    w[0] = (uint16_t)(value >> 16);
+    w[1] = (uint16_t)(value & 0xFFFFu);
+    regmap_wire_exchange(w, words, 2u, word_order, byte_order);
+}
+
+static inline int32_t regmap_s32_from_wire(const uint16_t words[2], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    uint32_t value = regmap_u32_from_wire(words, word_order, byte_order);
+    return value <= 0x7FFFFFFFul ? (int32_t)value : (int32_t)(value - 0x80000000ul) - INT32_MAX - 1;
+}
+
+static inline void regmap_s32_to_wire(int32_t value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[2])
+{
+    regmap_u32_to_wire((uint32_t)value, word_order, byte_order, words);
+}
+
+static inline uint64_t regmap_u64_from_wire(const uint16_t words[4], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    uint16_t w[4];
+    regmap_wire_exchange(words, w, 4u, word_order, byte_order);
+    return ((uint64_t)w[0] << 48) | ((uint64_t)w[1] << 32) | ((uint64_t)w[2] << 16) | (uint64_t)w[3];
+}
+
+static inline void regmap_u64_to_wire(uint64_t value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[4])
+{
+    uint16_t w[4];
+    w[0] = (uint16_t)(value >> 48);
+    w[1] = (uint16_t)((value >> 32) & 0xFFFFu);
+    w[2] = (uint16_t)((value >> 16) & 0xFFFFu);
+    w[3] = (uint16_t)(value & 0xFFFFu);
+    regmap_wire_exchange(w, words, 4u, word_order, byte_order);
+}
+
+static inline int64_t regmap_s64_from_wire(const uint16_t words[4], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    /* Two's complement without implementation-defined conversions */
+    uint64_t value = regmap_u64_from_wire(words, word_order, byte_order);
+    return value <= 0x7FFFFFFFFFFFFFFFull ? (int64_t)value : (int64_t)(value - 0x8000000000000000ull) - INT64_MAX - 1;
+}
+
+static inline void regmap_s64_to_wire(int64_t value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[4])
+{
+    regmap_u64_to_wire((uint64_t)value, word_order, byte_order, words);
+}
+
+/* IEEE 754 floats: the bits are assembled as an integer in the register's order and copied into the
+ * float with memcpy (no union or pointer cast, so no undefined behaviour in C or C++; NaN payloads,
+ * infinities, -0.0 and subnormals pass unchanged). REGMAP_HAS_F32 / REGMAP_HAS_F64 say whether
+ * float / double are IEEE 754 binary32 / binary64 (from float.h; e.g. double is 32-bit on AVR);
+ * the helpers of a type exist only then, and their size is checked when the header is compiled.
+ * Float and integer bytes must be stored in the same endianness, as on every common target. */
+#if FLT_RADIX == 2 && FLT_MANT_DIG == 24 && FLT_MAX_EXP == 128
+#define REGMAP_HAS_F32 1
+#else
+#define REGMAP_HAS_F32 0
+#endif
+#if FLT_RADIX == 2 && DBL_MANT_DIG == 53 && DBL_MAX_EXP == 1024
+#define REGMAP_HAS_F64 1
+#else
+#define REGMAP_HAS_F64 0
+#endif
+
+#if defined(__cplusplus) && __cplusplus >= 201103L
+#define REGMAP_STATIC_ASSERT(cond, name) static_assert(cond, #name)
+#elif defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
+#define REGMAP_STATIC_ASSERT(cond, name) _Static_assert(cond, #name)
+#else
+/* C99 has no static assertion: a negative array size stops the compiler instead. */
+#define REGMAP_STATIC_ASSERT(cond, name) typedef char name[(cond) ? 1 : -1]
+#endif
+
+#if REGMAP_HAS_F32
+REGMAP_STATIC_ASSERT(sizeof(float) == 4u, regmap_float_is_4_bytes);
+
+static inline float regmap_f32_from_bits(uint32_t bits)
+{
+    float value;
+    memcpy(&value, &bits, sizeof value);
+    return value;
+}
+
+static inline uint32_t regmap_f32_to_bits(float value)
+{
+    uint32_t bits;
+    memcpy(&bits, &value, sizeof bits);
+    return bits;
+}
+
+static inline float regmap_f32_from_wire(const uint16_t words[2], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    return regmap_f32_from_bits(regmap_u32_from_wire(words, word_order, byte_order));
+}
+
+static inline void regmap_f32_to_wire(float value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[2])
+{
+    regmap_u32_to_wire(regmap_f32_to_bits(value), word_order, byte_order, words);
+}
+#endif
+
+#if REGMAP_HAS_F64
+REGMAP_STATIC_ASSERT(sizeof(double) == 8u, regmap_double_is_8_bytes);
+
+static inline double regmap_f64_from_bits(uint64_t bits)
+{
+    double value;
+    memcpy(&value, &bits, sizeof value);
+    return value;
+}
+
+static inline uint64_t regmap_f64_to_bits(double value)
+{
+    uint64_t bits;
+    memcpy(&bits, &value, sizeof bits);
+    return bits;
+}
+
+static inline double regmap_f64_from_wire(const uint16_t words[4], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    return regmap_f64_from_bits(regmap_u64_from_wire(words, word_order, byte_order));
+}
+
+static inline void regmap_f64_to_wire(double value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[4])
+{
+    regmap_u64_to_wire(regmap_f64_to_bits(value), word_order, byte_order, words);
+}
+#endif
+
+/* ---- strings ---- */
+
+/* Byte `index` of a string register's text: the first character is in the high byte of the first word. */
+static inline unsigned regmap_string_byte(const uint16_t *words, size_t index, regmap_byte_order byte_order)
+{
+    unsigned word = regmap_u16_from_wire(words[index / 2u], byte_order);
+    return index % 2u == 0u ? word >> 8 : word & 0xFFu;
+}
+
+/* The text of a string register from its `count` words on the wire: up to the first NUL, trailing
+ * spaces removed when `padding` is REGMAP_PADDING_SPACE, bytes as they are (an ASCII, Latin-1,
+ * UTF-8 or GBK map encoding is not converted). At most size - 1 bytes go to `text`, which is always
+ * NUL-terminated (nothing is written when `text` is NULL or `size` 0). Returns the text's whole
+ * length, so a result >= size means it was cut short; a buffer of 2 * count + 1 bytes (a device
+ * header's <NAME>_TEXT_SIZE) always holds it. */
+static inline size_t regmap_string_from_wire(const uint16_t *words, size_t count, regmap_byte_order byte_order, regmap_padding padding, char *text,
+                                             size_t size)
+{
+    size_t len = 0u;
+    size_t i;
+    if (words == NULL || count > SIZE_MAX / 2u) {
+        count = 0u;
+    }
+    while (len < 2u * count && regmap_string_byte(words, len, byte_order) != 0u) {
+        ++len;
+    }
+    while (padding == REGMAP_PADDING_SPACE && len > 0u && regmap_string_byte(words, len - 1u, byte_order) == 0x20u) {
+        --len;
+    }
+    if (text != NULL && size > 0u) {
+        size_t copied = len < size ? len : size - 1u;
+        unsigned char *out = (unsigned char *)text; /* bytes over 0x7F without a conversion to a signed char */
+        for (i = 0u; i < copied; ++i) {
+            out[i] = (unsigned char)regmap_string_byte(words, i, byte_order);
+        }
+        out[copied] = 0u;
+    }
+    return len;
+}
+
+/* The `count` words on the wire of a string register holding `text`: its bytes up to its NUL (at most
+ * 2 * count + 1 bytes of `text` are looked at), the first in the high byte of the first word, padded
+ * with NULs or spaces (`padding`). Returns false, leaving `words` as they were, when the text is
+ * longer than 2 * count bytes or a pointer is NULL. */
+static inline bool regmap_string_to_wire(const char *text, regmap_byte_order byte_order, regmap_padding padding, uint16_t *words, size_t count)
+{
+    const unsigned char *bytes = (const unsigned char *)text;
+    unsigned pad = padding == REGMAP_PADDING_SPACE ? 0x20u : 0x00u;
+    size_t len = 0u;
+    size_t i;
+    if (text == NULL || words == NULL || count > SIZE_MAX / 2u - 1u) {
+        return false;
+    }
+    while (len <= 2u * count && bytes[len] != 0u) {
+        ++len;
+    }
+    if (len > 2u * count) {
+        return false;
+    }
+    for (i = 0u; i < count; ++i) {
+        unsigned high = 2u * i < len ? bytes[2u * i] : pad;
+        unsigned low = 2u * i + 1u < len ? bytes[2u * i + 1u] : pad;
+        words[i] = regmap_u16_to_wire((uint16_t)((high << 8) | low), byte_order);
+    }
+    return true;
+}
+
+/* ---- coil and discrete input bits ---- */
+
+/* Pack `count` bits as Modbus sends them: bits[0] in the least significant bit of the first byte, the
+ * unused high bits of the last byte 0. Returns the number of bytes, (count + 7) / 8, or 0 when a
+ * pointer is NULL, `count` is 0 or `cap` is too small. */
+static inline size_t regmap_bits_pack(const bool *bits, size_t count, uint8_t *bytes, size_t cap)
+{
+    size_t len = count / 8u + (count % 8u != 0u ? 1u : 0u);
+    size_t i;
+    if (bits == NULL || bytes == NULL || count == 0u || cap < len) {
+        return 0u;
+    }
+    for (i = 0u; i < len; ++i) {
+        bytes[i] = 0u;
+    }
+    for (i = 0u; i < count; ++i) {
+        if (bits[i]) {
+            bytes[i / 8u] = (uint8_t)(bytes[i / 8u] | (1u << (unsigned)(i % 8u)));
+        }
+    }
+    return len;
+}
+
+/* Unpack the first `count` bits of Modbus bit bytes ((count + 7) / 8 of them, least significant bit
+ * of the first byte first) into bits[0..count-1]. Returns false when a pointer is NULL. */
+static inline bool regmap_bits_unpack(const uint8_t *bytes, size_t count, bool *bits)
+{
+    size_t i;
+    if (bytes == NULL || bits == NULL) {
+        return false;
+    }
+    for (i = 0u; i < count; ++i) {
+        bits[i] = (((unsigned)bytes[i / 8u] >> (unsigned)(i % 8u)) & 1u) != 0u;
+    }
+    return true;
+}
+
+/* ---- firmware versions ---- */
+
+/* The version (REGMAP_VERSION) an integer firmware register reports: REGMAP_FIRMWARE_DECIMAL with
+ * `decimals` (125 with 2 decimals is 1.25; with 0 decimals the number is the major version),
+ * REGMAP_FIRMWARE_MAJOR_MINOR (0x0203 is 2.3). 0 for REGMAP_FIRMWARE_STRING (see below). */
+static inline uint32_t regmap_firmware_version(uint32_t raw, regmap_firmware_format format, unsigned decimals)
+{
+    uint32_t divisor = 1u;
+    unsigned i;
+    if (format == REGMAP_FIRMWARE_MAJOR_MINOR) {
+        return REGMAP_VERSION((raw >> 8) & 0xFFu, raw & 0xFFu);
+    }
+    if (format != REGMAP_FIRMWARE_DECIMAL) {
+        return 0u;
+    }
+    for (i = 0u; i < decimals && divisor <= 0xFFFFFFFFul / 10u; ++i) {
+        divisor *= 10u;
+    }
+    return REGMAP_VERSION(raw / divisor, raw % divisor);
+}
+
+/* The version in a firmware text (REGMAP_FIRMWARE_STRING): its first dotted number, "V2.10 build 7"
+ * is 2.10 (a third part is left out). Looks at most `size` bytes, up to a NUL; false when there is no
+ * number or a part is over 65535. */
+static inline bool regmap_version_from_text(const char *text, size_t size, uint32_t *version)
+{
+    uint32_t parts[2] = { 0u, 0u };
+    unsigned have = 0u;
+    size_t i = 0u;
+    if (text == NULL || version == NULL) {
+        return false;
+    }
+    while (i < size && text[i] != '\0' && !(text[i] >= '0' && text[i] <= '9')) {
+        ++i;
+    }
+    while (have < 2u && i < size && text[i] >= '0' && text[i] <= '9') {
+        while (i < size && text[i] >= '0' && text[i] <= '9') {
+            parts[have] = parts[have] * 10u + (uint32_t)(text[i] - '0');
+            if (parts[have] > 0xFFFFu) {
+                return false;
+            }
+            ++i;
+        }
+        ++have;
+        if (!(i + 1u < size && text[i] == '.' && text[i + 1u] >= '0' && text[i + 1u] <= '9')) {
+            break;
+        }
+        ++i;
+    }
+    if (have == 0u) {
+        return false;
+    }
+    *version = REGMAP_VERSION(parts[0], parts[1]);
+    return true;
 }
 
 /* ---- CRC ---- */
@@ -250,10 +652,63 @@ static inline size_t regmap_rtu_build_write_multiple(uint8_t *buf, size_t cap, u
     return regmap_rtu_finish(buf, cap, len);
 }
 
+/* A read of `count` (1..`max`) registers or bits from `address` with `function`. */
+static inline size_t regmap_rtu_build_read_items(uint8_t *buf, size_t cap, uint8_t slave, uint8_t function, uint16_t address, uint16_t count,
+                                                 unsigned max)
+{
+    if (count < 1u || count > max || (uint32_t)address + (uint32_t)count > 0x10000ul) {
+        return 0u;
+    }
+    return regmap_rtu_build_request(buf, cap, slave, function, address, count);
+}
+
+/* Read input registers (0x04): `count` registers from `address`. */
+static inline size_t regmap_rtu_build_read_input_registers(uint8_t *buf, size_t cap, uint8_t slave, uint16_t address, uint16_t count)
+{
+    return regmap_rtu_build_read_items(buf, cap, slave, (uint8_t)REGMAP_FC_READ_INPUT, address, count, REGMAP_RTU_MAX_READ_REGISTERS);
+}
+
+/* Read coils (0x01): `count` coils from `address`. */
+static inline size_t regmap_rtu_build_read_coils(uint8_t *buf, size_t cap, uint8_t slave, uint16_t address, uint16_t count)
+{
+    return regmap_rtu_build_read_items(buf, cap, slave, (uint8_t)REGMAP_FC_READ_COILS, address, count, REGMAP_RTU_MAX_READ_BITS);
+}
+
+/* Read discrete inputs (0x02): `count` inputs from `address`. */
+static inline size_t regmap_rtu_build_read_discrete_inputs(uint8_t *buf, size_t cap, uint8_t slave, uint16_t address, uint16_t count)
+{
+    return regmap_rtu_build_read_items(buf, cap, slave, (uint8_t)REGMAP_FC_READ_DISCRETE_INPUTS, address, count, REGMAP_RTU_MAX_READ_BITS);
+}
+
+/* Write single coil (0x05): REGMAP_COIL_ON when `on`, else REGMAP_COIL_OFF. */
+static inline size_t regmap_rtu_build_write_single_coil(uint8_t *buf, size_t cap, uint8_t slave, uint16_t address, bool on)
+{
+    return regmap_rtu_build_request(buf, cap, slave, (uint8_t)REGMAP_FC_WRITE_SINGLE_COIL, address, (uint16_t)(on ? REGMAP_COIL_ON : REGMAP_COIL_OFF));
+}
+
+/* Write multiple coils (0x0F): `count` coils from `bits` (bits[0] to `address`), packed as regmap_bits_pack does. */
+static inline size_t regmap_rtu_build_write_multiple_coils(uint8_t *buf, size_t cap, uint8_t slave, uint16_t address, const bool *bits,
+                                                           uint16_t count)
+{
+    size_t bytes = REGMAP_RTU_BIT_BYTES(count);
+    size_t len = 7u + bytes;
+    if (buf == NULL || bits == NULL || count < 1u || count > REGMAP_RTU_MAX_WRITE_BITS || (uint32_t)address + (uint32_t)count > 0x10000ul
+        || cap < len + 2u) {
+        return 0u;
+    }
+    buf[0] = slave;
+    buf[1] = (uint8_t)REGMAP_FC_WRITE_MULTIPLE_COILS;
+    regmap_put_be16(&buf[2], address);
+    regmap_put_be16(&buf[4], count);
+    buf[6] = (uint8_t)bytes;
+    (void)regmap_bits_pack(bits, count, &buf[7], bytes);
+    return regmap_rtu_finish(buf, cap, len);
+}
+
 /* ---- responses ---- */
 
 /* The length a response will have, from its first bytes (`have` received so far): 0 while
- * fewer than 3 bytes are in or when the function is not one of 0x03, 0x06, 0x10 (then wait
+ * fewer than 3 bytes are in or when the function is not one of 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x10 (then wait
  * for the 3.5-character silence instead). */
 static inline size_t regmap_rtu_response_len(const uint8_t *frame, size_t have)
 {
@@ -264,9 +719,14 @@ static inline size_t regmap_rtu_response_len(const uint8_t *frame, size_t have)
         return REGMAP_RTU_EXCEPTION_LEN;
     }
     switch (frame[1]) {
-    case REGMAP_FC_READ_HOLDING: return 5u + (size_t)frame[2];
-    case REGMAP_FC_WRITE_SINGLE: return REGMAP_RTU_WRITE_SINGLE_LEN;
-    case REGMAP_FC_WRITE_MULTIPLE: return REGMAP_RTU_WRITE_MULTIPLE_RESPONSE_LEN;
+    case REGMAP_FC_READ_HOLDING:
+    case REGMAP_FC_READ_INPUT:
+    case REGMAP_FC_READ_COILS:
+    case REGMAP_FC_READ_DISCRETE_INPUTS: return 5u + (size_t)frame[2];
+    case REGMAP_FC_WRITE_SINGLE:
+    case REGMAP_FC_WRITE_SINGLE_COIL: return REGMAP_RTU_WRITE_SINGLE_LEN;
+    case REGMAP_FC_WRITE_MULTIPLE:
+    case REGMAP_FC_WRITE_MULTIPLE_COILS: return REGMAP_RTU_WRITE_MULTIPLE_RESPONSE_LEN;
     default: return 0u;
     }
 }
@@ -298,16 +758,16 @@ static inline regmap_status regmap_rtu_check_response(const uint8_t *frame, size
     return REGMAP_OK;
 }
 
-/* Response to a read of `count` registers: the register words go to `words` (capacity `words_cap`). */
-static inline regmap_status regmap_rtu_parse_read_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t count, uint16_t *words,
-                                                           size_t words_cap, uint8_t *exception)
+/* Response to a read of `count` registers with `function` (0x03 or 0x04): the register words go to `words` (capacity `words_cap`). */
+static inline regmap_status regmap_rtu_parse_registers_response(const uint8_t *frame, size_t len, uint8_t slave, uint8_t function, uint16_t count,
+                                                                uint16_t *words, size_t words_cap, uint8_t *exception)
 {
     regmap_status status;
     size_t i;
     if (words == NULL || count < 1u || count > REGMAP_RTU_MAX_READ_REGISTERS || words_cap < count) {
         return REGMAP_ERR_ARGUMENT;
     }
-    status = regmap_rtu_check_response(frame, len, slave, (uint8_t)REGMAP_FC_READ_HOLDING, exception);
+    status = regmap_rtu_check_response(frame, len, slave, function, exception);
     if (status != REGMAP_OK) {
         return status;
     }
@@ -323,38 +783,102 @@ static inline regmap_status regmap_rtu_parse_read_response(const uint8_t *frame,
     return REGMAP_OK;
 }
 
-/* Response to a write single (0x06): the device echoes address and value. */
-static inline regmap_status regmap_rtu_parse_write_single_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t address,
-                                                                   uint16_t value, uint8_t *exception)
+/* Response to a read of `count` holding registers (0x03): the register words go to `words` (capacity `words_cap`). */
+static inline regmap_status regmap_rtu_parse_read_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t count, uint16_t *words,
+                                                           size_t words_cap, uint8_t *exception)
 {
-    regmap_status status = regmap_rtu_check_response(frame, len, slave, (uint8_t)REGMAP_FC_WRITE_SINGLE, exception);
+    return regmap_rtu_parse_registers_response(frame, len, slave, (uint8_t)REGMAP_FC_READ_HOLDING, count, words, words_cap, exception);
+}
+
+/* Response to a read of `count` input registers (0x04): the register words go to `words` (capacity `words_cap`). */
+static inline regmap_status regmap_rtu_parse_read_input_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t count, uint16_t *words,
+                                                                 size_t words_cap, uint8_t *exception)
+{
+    return regmap_rtu_parse_registers_response(frame, len, slave, (uint8_t)REGMAP_FC_READ_INPUT, count, words, words_cap, exception);
+}
+
+/* Response to a read of `count` bits with `function` (0x01 or 0x02): the byte
+ * count must be (count + 7) / 8; the bits go to `bits` (capacity `bits_cap`), bits[0] from the least
+ * significant bit of the first byte. The padding bits of the last byte are not looked at. */
+static inline regmap_status regmap_rtu_parse_bits_response(const uint8_t *frame, size_t len, uint8_t slave, uint8_t function, uint16_t count,
+                                                           bool *bits, size_t bits_cap, uint8_t *exception)
+{
+    regmap_status status;
+    if (bits == NULL || count < 1u || count > REGMAP_RTU_MAX_READ_BITS || bits_cap < count) {
+        return REGMAP_ERR_ARGUMENT;
+    }
+    status = regmap_rtu_check_response(frame, len, slave, function, exception);
+    if (status != REGMAP_OK) {
+        return status;
+    }
+    if (len != 5u + (size_t)frame[2]) {
+        return REGMAP_ERR_LENGTH;
+    }
+    if ((unsigned)frame[2] != REGMAP_RTU_BIT_BYTES(count)) {
+        return REGMAP_ERR_BYTE_COUNT;
+    }
+    (void)regmap_bits_unpack(&frame[3], count, bits);
+    return REGMAP_OK;
+}
+
+/* Response to a read of `count` coils (0x01). */
+static inline regmap_status regmap_rtu_parse_read_coils_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t count, bool *bits,
+                                                                 size_t bits_cap, uint8_t *exception)
+{
+    return regmap_rtu_parse_bits_response(frame, len, slave, (uint8_t)REGMAP_FC_READ_COILS, count, bits, bits_cap, exception);
+}
+
+/* Response to a read of `count` discrete inputs (0x02). */
+static inline regmap_status regmap_rtu_parse_read_discrete_inputs_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t count,
+                                                                           bool *bits, size_t bits_cap, uint8_t *exception)
+{
+    return regmap_rtu_parse_bits_response(frame, len, slave, (uint8_t)REGMAP_FC_READ_DISCRETE_INPUTS, count, bits, bits_cap, exception);
+}
+
+/* A write response to `function`, which echoes the request's two 16-bit fields (address, then value or count). */
+static inline regmap_status regmap_rtu_parse_echo_response(const uint8_t *frame, size_t len, uint8_t slave, uint8_t function, uint16_t first,
+                                                           uint16_t second, uint8_t *exception)
+{
+    regmap_status status = regmap_rtu_check_response(frame, len, slave, function, exception);
     if (status != REGMAP_OK) {
         return status;
     }
     if (len != REGMAP_RTU_WRITE_SINGLE_LEN) {
         return REGMAP_ERR_LENGTH;
     }
-    if (regmap_get_be16(&frame[2]) != address || regmap_get_be16(&frame[4]) != value) {
+    if (regmap_get_be16(&frame[2]) != first || regmap_get_be16(&frame[4]) != second) {
         return REGMAP_ERR_ECHO;
     }
     return REGMAP_OK;
+}
+
+/* Response to a write single (0x06): the device echoes address and value. */
+static inline regmap_status regmap_rtu_parse_write_single_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t address,
+                                                                   uint16_t value, uint8_t *exception)
+{
+    return regmap_rtu_parse_echo_response(frame, len, slave, (uint8_t)REGMAP_FC_WRITE_SINGLE, address, value, exception);
 }
 
 /* Response to a write multiple (0x10): the device echoes address and count. */
 static inline regmap_status regmap_rtu_parse_write_multiple_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t address,
                                                                      uint16_t count, uint8_t *exception)
 {
-    regmap_status status = regmap_rtu_check_response(frame, len, slave, (uint8_t)REGMAP_FC_WRITE_MULTIPLE, exception);
-    if (status != REGMAP_OK) {
-        return status;
-    }
-    if (len != REGMAP_RTU_WRITE_MULTIPLE_RESPONSE_LEN) {
-        return REGMAP_ERR_LENGTH;
-    }
-    if (regmap_get_be16(&frame[2]) != address || regmap_get_be16(&frame[4]) != count) {
-        return REGMAP_ERR_ECHO;
-    }
-    return REGMAP_OK;
+    return regmap_rtu_parse_echo_response(frame, len, slave, (uint8_t)REGMAP_FC_WRITE_MULTIPLE, address, count, exception);
+}
+
+/* Response to a write single coil (0x05): the device echoes address and REGMAP_COIL_ON or REGMAP_COIL_OFF. */
+static inline regmap_status regmap_rtu_parse_write_single_coil_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t address,
+                                                                        bool on, uint8_t *exception)
+{
+    return regmap_rtu_parse_echo_response(frame, len, slave, (uint8_t)REGMAP_FC_WRITE_SINGLE_COIL, address,
+                                          (uint16_t)(on ? REGMAP_COIL_ON : REGMAP_COIL_OFF), exception);
+}
+
+/* Response to a write multiple coils (0x0F): the device echoes address and count. */
+static inline regmap_status regmap_rtu_parse_write_multiple_coils_response(const uint8_t *frame, size_t len, uint8_t slave, uint16_t address,
+                                                                           uint16_t count, uint8_t *exception)
+{
+    return regmap_rtu_parse_echo_response(frame, len, slave, (uint8_t)REGMAP_FC_WRITE_MULTIPLE_COILS, address, count, exception);
 }
 
 #ifdef __cplusplus

@@ -12,9 +12,27 @@ from __future__ import annotations
 from regmap.backends.c.device import SHARED_HEADER, device_context, render_device, render_shared
 from regmap.backends.c.frames_test import frames_test_context, render_frames_test
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
+from regmap.backends.c.views import c_version
+from regmap.diagnostics import Diagnostic, at
 from regmap.generate import Target
+from regmap.model import Device
 
-TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared)
+
+def check(device: Device) -> list[Diagnostic]:
+    """What the C header cannot say, at the map line that says it: a firmware gate whose version is not
+    major.minor with parts up to 65535 (REGMAP_VERSION compares two 16-bit parts)."""
+    problems = []
+    for reg in device.registers:
+        for version in (reg.firmware.first, reg.firmware.until) if reg.firmware else ():
+            if version is not None:
+                try:
+                    c_version(version)
+                except ValueError as exc:
+                    problems.append(at(device.source_path, reg.pos, f"{reg.name}: {exc}"))
+    return sorted(set(problems))
+
+
+TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared, check=check)
 
 __all__ = [
     "SHARED_HEADER",
@@ -26,6 +44,7 @@ __all__ = [
     "c_raw",
     "c_signed",
     "c_unsigned",
+    "check",
     "device_context",
     "frames_test_context",
     "render_device",

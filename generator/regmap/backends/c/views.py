@@ -29,7 +29,7 @@ from regmap.backends.c.names import (
     c_value,
 )
 from regmap.backends.text import eng, number, titled
-from regmap.diagnostics import UsageError
+from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.render import c_str
 from regmap_runtime.spaces import DEFAULT_SPACE
@@ -303,18 +303,22 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
     if gate is not None:
         for key, version in (("FROM", gate.first), ("UNTIL", gate.until)):
             if version is not None:
+                try:
+                    spelled = c_version(version)
+                except ValueError as exc:
+                    raise UsageError(str(at(ctx.device.source_path, reg.pos, f"{reg.name}: {exc}"))) from None
                 macros += [
-                    Macro(ctx.const(owner, "FIRMWARE", key), c_version(version, reg)),
+                    Macro(ctx.const(owner, "FIRMWARE", key), spelled),
                     Macro(ctx.const(owner, "FIRMWARE", key, "TEXT"), c_str(version)),
                 ]
     return macros
 
 
-def c_version(text: str, reg: Register) -> str:
-    """A firmware version as the shared header's REGMAP_VERSION(major, minor)."""
+def c_version(text: str) -> str:
+    """A firmware version as the shared header's REGMAP_VERSION(major, minor); ValueError for one C cannot compare."""
     parts = parse_version(text)
     if len(parts) > 2 or any(p > 0xFFFF for p in parts):
-        raise UsageError(f"{reg.name}: firmware version {text} has more than major.minor or a part over 65535, which C cannot compare")
+        raise ValueError(f"firmware version {text} is not major.minor with parts up to 65535, which the C header compares")
     major, minor = (*parts, 0)[:2]
     return f"REGMAP_VERSION({major}u, {minor}u)"
 
