@@ -35,7 +35,7 @@ from regmap.backends import c as c_backend
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
-from regmap.model import Device
+from regmap.model import Device, PollClass
 from regmap.runtime_bridge import read_plan
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT, SMALL_MAPS, require_tool
@@ -304,6 +304,36 @@ def test_read_plan_table_is_the_clients_plan(map_path: Path, out_dir: Path) -> N
     rows = [(int(a, 16), int(n)) for a, n in re.findall(r"\{ (0x[0-9A-F]+)u, (\d+)u \}", table)]
     assert rows == [(b.address, b.count) for b in read_plan(device)]
     assert f"#define {device.id.upper()}_READ_PLAN_LEN {len(rows)}u" in header
+
+
+FUNCTION_OF_SPACE = {"holding": "REGMAP_FC_READ_HOLDING", "input": "REGMAP_FC_READ_INPUT", "coil": "REGMAP_FC_READ_COILS",
+                     "discrete_input": "REGMAP_FC_READ_DISCRETE_INPUTS"}  # fmt: skip
+
+
+@pytest.mark.parametrize("map_path", [pytest.param(p, id=p.stem) for p in FIXTURE_MAPS])
+def test_plans_per_space_and_poll_class_are_the_clients(map_path: Path, out_dir: Path) -> None:
+    """Where a map reads more than holding registers, a function-code table runs beside the plan; where it
+    has poll classes, each class has its plan, as read_all(poll=...) reads it."""
+    device = _device(map_path)
+    header = (out_dir / f"{device.id}.h").read_text(encoding="utf-8")
+
+    def table(name: str) -> str:
+        return header.split(f"{name}[", 1)[1].split("};", 1)[0]
+
+    plans = [("read_plan", read_plan(device))]
+    classes = sorted({r.poll for r in device.registers}, key=list(PollClass).index)
+    if len(classes) > 1:
+        plans += [(f"read_plan_{poll.value}", read_plan(device, poll=poll)) for poll in classes if read_plan(device, poll=poll)]
+    else:
+        assert "read_plan_normal" not in header
+    for name, blocks in plans:
+        rows = [(int(a, 16), int(n)) for a, n in re.findall(r"\{ (0x[0-9A-F]+)u, (\d+)u \}", table(f"{device.id}_{name}"))]
+        assert rows == [(b.address, b.count) for b in blocks], name
+        if any(b.space != "holding" for b in read_plan(device)):
+            functions = re.findall(r"REGMAP_FC_READ_\w+", table(f"{device.id}_{name}_function"))
+            assert functions == [FUNCTION_OF_SPACE[b.space] for b in blocks], name
+        else:
+            assert f"{device.id}_{name}_function" not in header
 
 
 def test_generated_headers_are_deterministic() -> None:
