@@ -18,8 +18,8 @@ import yaml
 
 from regmap.model import Bitfield, ByteOrder, Device, EnumType, FirmwareGate, PollClass, Register
 from regmap.render import header_lines
-from regmap.runtime_bridge import read_plan
-from regmap_runtime.plan import ReadBlock
+from regmap.runtime_bridge import documented_addresses, runtime_specs
+from regmap_runtime.plan import ReadBlock, plan_reads
 
 # -- entity facts ------------------------------------------------------------------------------
 
@@ -102,16 +102,22 @@ def gate_key(reg: Register) -> tuple[str, str]:
     return (gate.first or "", gate.until or "") if gate is not None else ("", "")
 
 
-def planned(device: Device, registers: list[Register]) -> list[tuple[ReadBlock, PollClass, FirmwareGate | None]]:
+def planned(
+    device: Device, registers: list[Register], max_bits: int | None = None
+) -> list[tuple[ReadBlock, PollClass, FirmwareGate | None]]:
     """The read plan of `registers` split by poll class and firmware gate (a read never mixes polling
     rates, and never holds a register the connected firmware may lack beside one it has), in (space,
     address) order. One class and no gates (the seed maps): the plain read plan."""
+    t = device.transport
+    documented = None if t.tolerates_gaps else documented_addresses(device)
+    bits = t.max_read_coils if max_bits is None else min(t.max_read_coils, max_bits)
     keys = sorted({(r.poll.value, *gate_key(r)) for r in registers})
     out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
     for poll, first, until in keys:
-        chosen = [r for r in registers if r.poll.value == poll and gate_key(r) == (first, until)]
+        chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == (first, until)}
         gate = FirmwareGate(first or None, until or None) if first or until else None
-        out += [(block, PollClass(poll), gate) for block in read_plan(device, chosen)]
+        specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
+        out += [(block, PollClass(poll), gate) for block in plan_reads(specs, t.max_read_registers, documented, max_bits=bits)]
     spaces = ("holding", "input", "coil", "discrete_input")
     out.sort(key=lambda item: (spaces.index(item[0].space), item[0].address))
     return out
@@ -123,7 +129,10 @@ def firmware_notes(registers: tuple[Register, ...] | list[Register]) -> list[str
     for reg in registers:
         if reg.firmware is not None:
             by_gate.setdefault(reg.firmware.text, []).append(reg.name)
-    return [f"Needs {gate}: {', '.join(names)} (older or newer firmware answers them with an exception: the entities become unavailable)." for gate, names in by_gate.items()]
+    return [
+        f"Needs {gate}: {', '.join(names)} (older or newer firmware answers them with an exception: the entities become unavailable)."
+        for gate, names in by_gate.items()
+    ]
 
 
 class Names:
