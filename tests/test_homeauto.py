@@ -417,9 +417,10 @@ def _esp_value(e: dict[str, Any], platform: str, words: list[int]) -> float:
 @dataclass
 class _LambdaCase:
     code: str
-    kind: str  # float or text
+    kind: str  # float, text, or write (a number's write_lambda: x -> the value ESPHome then sends)
     data: bytes
     offset: int
+    x: float = 0.0
 
 
 def _run_lambdas(tmp_path: Path, cases: list[_LambdaCase]) -> list[str]:
@@ -434,14 +435,21 @@ def _run_lambdas(tmp_path: Path, cases: list[_LambdaCase]) -> list[str]:
     ]
     calls = []
     for i, case in enumerate(cases):
-        ret = "float" if case.kind == "float" else "std::string"
-        arg = "float x" if case.kind == "float" else "std::string x"
+        ret = "std::string" if case.kind == "text" else "float"
+        arg = "std::string x" if case.kind == "text" else "float x"
+        third = "std::vector<uint16_t> &payload" if case.kind == "write" else "const std::vector<uint8_t> &data"
+        unused = "(void) payload;" if case.kind == "write" else "(void) data;"
         parts.append(
-            f"static std::optional<{ret}> lambda_{i}(Item *item, {arg}, const std::vector<uint8_t> &data) {{\n(void) x;\n{case.code}\n}}\n"
+            f"static std::optional<{ret}> lambda_{i}(Item *item, {arg}, {third}) {{\n(void) item; (void) x; {unused}\n{case.code}\n}}\n"
         )
         data = ", ".join(str(b) for b in case.data) or "0"
-        x = "0.0f" if case.kind == "float" else 'std::string("")'
-        show = 'std::printf("%.9g\\n", static_cast<double>(*r));' if case.kind == "float" else 'std::printf("%s\\n", r->c_str());'
+        x = 'std::string("")' if case.kind == "text" else f"{case.x!r}f"
+        if case.kind == "write":
+            # ESPHome's number then sends float_to_payload(value, U_WORD / S_WORD): llroundf(value) & 0xFFFF
+            show = 'std::printf("%u\\n", static_cast<unsigned>(llroundf(*r) & 0xFFFF));'
+            calls.append(f"{{ Item item{{0}}; std::vector<uint16_t> payload; auto r = lambda_{i}(&item, {x}, payload); {show} }}")
+            continue
+        show = 'std::printf("%s\\n", r->c_str());' if case.kind == "text" else 'std::printf("%.9g\\n", static_cast<double>(*r));'
         calls.append(
             f"{{ Item item{{{case.offset}}}; std::vector<uint8_t> data{{{data}}}; auto r = lambda_{i}(&item, {x}, data); {show} }}"
         )
@@ -567,6 +575,33 @@ def test_the_lambdas_decode_every_order_as_struct_does(tmp_path: Path) -> None:
             assert math.isclose(float(out), float(expected), rel_tol=1e-6), (case.code, out, expected)
         else:
             assert out == expected, (case.code, out, expected)
+
+
+def test_number_lambdas_read_and_write_the_wire_words(tmp_path: Path) -> None:
+    """The fixtures' byte-swapped numbers (and a number with an offset) read a value from its wire word
+    and write back the word struct encodes for it, bytes swapped, as ESPHome sends a U_WORD/S_WORD."""
+    from dataclasses import replace
+
+    cases: list[tuple[_LambdaCase, str]] = []
+    numbers = [(d, e) for d in FIXTURES for p, e in _esp_entities(d) if p == "number" and "write_lambda" in e]
+    assert {_esp_register(d, e).name for d, e in numbers} >= {"speed", "torque_limit"}
+    for device, e in numbers:
+        reg = _esp_register(device, e)
+        for value in (float(reg.raw_min * reg.scale + reg.offset), float(reg.raw_max * reg.scale + reg.offset), float(e["step"])):
+            raw = round((value - float(reg.offset)) / float(reg.scale))
+            word = struct.pack(">h" if reg.signed else ">H", raw)
+            wire = word[::-1] if _swapped(reg) else word
+            x = float(raw) * _scale_of(e, "number")  # what ESPHome passes a number's read lambda: raw / multiply
+            cases.append((_LambdaCase(e["lambda"].value, "float", wire, 0, x), f"{value:.9g}"))
+            cases.append((_LambdaCase(e["write_lambda"].value, "write", b"", 0, value), str(int.from_bytes(wire, "big"))))
+    from regmap.backends.esphome import lambdas as esp_lambdas
+
+    offset = replace(FIXTURES[0].register("temperature"), access=FIXTURES[0].register("ct_ratio").access)
+    cases.append((_LambdaCase(esp_lambdas.offset_read_lambda(offset), "float", b"", 0, 55.0), "15"))  # 550 x 0.1 - 40
+    cases.append((_LambdaCase(esp_lambdas.offset_write_lambda(offset), "write", b"", 0, 15.0), "550"))
+    outputs = _run_lambdas(tmp_path, [c for c, _ in cases])
+    for (case, expected), out in zip(cases, outputs, strict=True):
+        assert math.isclose(float(out), float(expected), rel_tol=1e-6, abs_tol=1e-6), (case.code, case.x, out, expected)
 
 
 # -- read ranges: what ESPHome requests is within the read plan --------------------------------------
