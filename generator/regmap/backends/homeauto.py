@@ -16,8 +16,10 @@ from typing import Any
 
 import yaml
 
-from regmap.model import Bitfield, Device, EnumType, Register
+from regmap.model import Bitfield, ByteOrder, Device, EnumType, FirmwareGate, PollClass, Register
 from regmap.render import header_lines
+from regmap.runtime_bridge import documented_addresses, runtime_specs
+from regmap_runtime.plan import ReadBlock, plan_reads
 
 # -- entity facts ------------------------------------------------------------------------------
 
@@ -77,6 +79,60 @@ def single_flag(reg: Register) -> Bitfield | None:
 def is_parameter(reg: Register) -> bool:
     """A setting: it changes only when someone writes it, so it is polled less often than status values."""
     return reg.access.writable
+
+
+FLOAT_DECIMALS = 3  # decimals shown for an unscaled float register (its resolution is not a fixed step)
+
+
+def shown_decimals(reg: Register) -> int:
+    return max(FLOAT_DECIMALS, decimals(reg.scale)) if reg.type.is_float else decimals(reg.scale)
+
+
+def swapped(reg: Register) -> bool:
+    """The device sends the register's words with their bytes exchanged."""
+    return reg.byte_order is ByteOrder.LOW_FIRST and not reg.type.is_bool
+
+
+def swap_word(value: int) -> int:
+    return ((value & 0xFF) << 8) | (value >> 8)
+
+
+def gate_key(reg: Register) -> tuple[str, str]:
+    gate = reg.firmware
+    return (gate.first or "", gate.until or "") if gate is not None else ("", "")
+
+
+def planned(
+    device: Device, registers: list[Register], max_bits: int | None = None
+) -> list[tuple[ReadBlock, PollClass, FirmwareGate | None]]:
+    """The read plan of `registers` split by poll class and firmware gate (a read never mixes polling
+    rates, and never holds a register the connected firmware may lack beside one it has), in (space,
+    address) order. One class and no gates (the seed maps): the plain read plan."""
+    t = device.transport
+    documented = None if t.tolerates_gaps else documented_addresses(device)
+    bits = t.max_read_coils if max_bits is None else min(t.max_read_coils, max_bits)
+    keys = sorted({(r.poll.value, *gate_key(r)) for r in registers})
+    out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
+    for poll, first, until in keys:
+        chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == (first, until)}
+        gate = FirmwareGate(first or None, until or None) if first or until else None
+        specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
+        out += [(block, PollClass(poll), gate) for block in plan_reads(specs, t.max_read_registers, documented, max_bits=bits)]
+    spaces = ("holding", "input", "coil", "discrete_input")
+    out.sort(key=lambda item: (spaces.index(item[0].space), item[0].address))
+    return out
+
+
+def firmware_notes(registers: tuple[Register, ...] | list[Register]) -> list[str]:
+    """One line per firmware gate: which selected registers need which firmware (the others answer always)."""
+    by_gate: dict[str, list[str]] = {}
+    for reg in registers:
+        if reg.firmware is not None:
+            by_gate.setdefault(reg.firmware.text, []).append(reg.name)
+    return [
+        f"Needs {gate}: {', '.join(names)} (older or newer firmware answers them with an exception: the entities become unavailable)."
+        for gate, names in by_gate.items()
+    ]
 
 
 class Names:

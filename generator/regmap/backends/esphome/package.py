@@ -10,29 +10,52 @@ plan of `runtime_bridge.read_plan`: where two plan requests touch, the first reg
 gets `force_new_range` (ESPHome then reads it alone and starts the next range after it), so no ESPHome
 range is longer than a plan request or spans an address the plan does not read. A plan request whose
 registers are all settings is polled every `<id>_parameter_skip_updates`+1 updates, others every update.
+
+Spaces: `register_type` holding / read (input registers) / coil / discrete_input; coils and discrete
+inputs are binary sensors, a writable coil a switch. Types: U_/S_WORD, U_/S_DWORD(_R), U_/S_QWORD(_R),
+FP32(_R); ESPHome has no FP64 and no byte-swap type, so doubles and byte-swapped values are read by a
+`lambda` (`lambdas.py`, from integers only) over the register's bytes, and a byte-swapped 16-bit number
+writes through a `write_lambda`; a byte-swapped value of more than one word, or a double, is not
+writable from ESPHome (its sensor is generated; the file's header says so). Text: a text_sensor with
+`register_count`/`response_size` and a lambda that reads it as the Python client does (GBK text is
+not decoded on the device: listed as not generated). Scale and offset: `filters: multiply`, then `offset`.
+
+Poll classes (`skip_updates`; a range takes the smallest non-zero skip of its items, so no range mixes
+classes): fast registers every update; normal ones every update (settings every
+`parameter_skip_updates`+1); slow every `slow_skip_updates`+1; static once at boot (ESPHome reads each
+range at its first update) and then only after `static_skip_updates` (65535) updates. A map with fast
+registers updates every 5 s and skips normal ones every other update, so the rates stay 10 s normal,
+300 s settings, 60 s slow. Reads never mix firmware gates either (a register the firmware lacks fails
+only its own range); the header lists which entities need which firmware.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from regmap.backends.esphome import lambdas
 from regmap.backends.homeauto import (
     DEVICE_CLASS,
     Hex,
     Lambda,
     Names,
-    decimals,
     dump,
+    firmware_notes,
     flags,
     is_parameter,
+    planned,
     scale_float,
+    shown_decimals,
     single_flag,
+    swap_word,
+    swapped,
     unit_text,
 )
 from regmap.backends.selection import Selection
 from regmap.generate import Files
-from regmap.model import Command, DataType, Device, Register, WordOrder
-from regmap.runtime_bridge import read_plan
+from regmap.model import Command, DataType, Device, PollClass, Register, WordOrder
+from regmap.runtime_bridge import runtime_specs
+from regmap_runtime.codec import raw_to_words
 
 # ESPHome's spelling of a register's type: (type, word order) -> value_type.
 VALUE_TYPE = {
@@ -44,12 +67,28 @@ VALUE_TYPE = {
     (DataType.U32, WordOrder.LOW_FIRST): "U_DWORD_R",
     (DataType.S32, WordOrder.HIGH_FIRST): "S_DWORD",
     (DataType.S32, WordOrder.LOW_FIRST): "S_DWORD_R",
+    (DataType.U64, WordOrder.HIGH_FIRST): "U_QWORD",
+    (DataType.U64, WordOrder.LOW_FIRST): "U_QWORD_R",
+    (DataType.S64, WordOrder.HIGH_FIRST): "S_QWORD",
+    (DataType.S64, WordOrder.LOW_FIRST): "S_QWORD_R",
+    (DataType.F32, WordOrder.HIGH_FIRST): "FP32",
+    (DataType.F32, WordOrder.LOW_FIRST): "FP32_R",
+}
+# A value a lambda decodes is still given a type of its size, so that ESPHome reads the right count of registers.
+SIZED = {1: "U_WORD", 2: "U_DWORD", 4: "U_QWORD"}
+REGISTER_TYPE = {"input": "read", "coil": "coil", "discrete_input": "discrete_input"}  # holding: see _Package
+MAX_RANGE_BITS = 255  # ESPHome counts a range's coils in a uint8_t
+FAST_UPDATE_INTERVAL = "5s"
+SKIPS = {  # substitution -> (skip without fast registers at 10 s, with them at 5 s)
+    "normal_skip_updates": (0, 1),
+    "parameter_skip_updates": (29, 59),
+    "slow_skip_updates": (5, 11),
+    "static_skip_updates": (65535, 65535),
 }
 PARITY = {"none": "NONE", "even": "EVEN", "odd": "ODD"}
 NUMBER_LIMIT = 16777215  # ESPHome's number keeps min/max within 24 bits (float precision)
 MAX_BUTTONS_PER_COMMAND = 16  # a command with an argument gets a button per value, up to this many
 UPDATE_INTERVAL = "10s"
-PARAMETER_SKIP_UPDATES = 29  # settings every 30th update: 5 minutes at the default interval
 
 
 def esp_text(text: str) -> str:
@@ -68,7 +107,12 @@ class _Package:
         t = device.transport
         self.register_type = "holding" if 0x03 in t.function_codes else "read"
         self.single_write = 0x06 in t.function_codes
+        self.single_coil_write = 0x05 in t.function_codes
+        self.specs = {spec.name: spec for spec in runtime_specs(device)}
         self.skipped: list[str] = []
+        readable = self._entity_registers()
+        self.fast = any(r.poll is PollClass.FAST for r in readable)
+        self.used_skips: set[str] = set()
         self.entities: dict[str, list[dict[str, Any]]] = {}
         self.item_keys: dict[str, dict[str, Any]] = self._ranges()
 
@@ -80,27 +124,43 @@ class _Package:
     def _entity_registers(self) -> list[Register]:
         return [r for r in self.selection.registers if r.access.readable]
 
+    def _skip(self, poll: PollClass, settings: bool) -> str | None:
+        """The skip_updates substitution of a read of this class (None: every update)."""
+        if poll is PollClass.FAST:
+            return None
+        key = {PollClass.SLOW: "slow_skip_updates", PollClass.STATIC: "static_skip_updates"}.get(poll)
+        if key is None:
+            key = "parameter_skip_updates" if settings else "normal_skip_updates"
+        if SKIPS[key][1 if self.fast else 0] == 0:
+            return None
+        self.used_skips.add(key)
+        return self.sub(key)
+
     def _ranges(self) -> dict[str, dict[str, Any]]:
-        """Per register, the range keys of its entities: `force_new_range`, `skip_updates`."""
+        """Per register, the range keys of its entities: `force_new_range`, `skip_updates`. A register
+        another read's register ends at starts a new range, so ESPHome never joins two reads."""
         keys: dict[str, dict[str, Any]] = {}
-        previous_end: int | None = None
-        for block in read_plan(self.device, self._entity_registers()):
+        blocks = planned(self.device, self._entity_registers(), MAX_RANGE_BITS)
+        ends: dict[tuple[str, int], int] = {}
+        for index, (block, _, _) in enumerate(blocks):
+            for spec in block.registers:
+                ends[(spec.space, spec.address + spec.words)] = index
+        for index, (block, poll, _) in enumerate(blocks):
             regs = [self.device.register(s.name) for s in block.registers]
-            slow = all(is_parameter(r) for r in regs)
-            for i, reg in enumerate(regs):
+            skip = self._skip(poll, all(is_parameter(r) for r in regs))
+            for reg in regs:
                 item: dict[str, Any] = {}
-                if i == 0 and previous_end == reg.address:
+                if ends.get((reg.space, reg.address), index) != index:
                     item["force_new_range"] = True
-                if slow:
-                    item["skip_updates"] = self.sub("parameter_skip_updates")
+                if skip is not None:
+                    item["skip_updates"] = skip
                 keys[reg.name] = item
-                previous_end = reg.address + reg.words
         return keys
 
     def _item(self, reg: Register, **extra: Any) -> dict[str, Any]:
         return {
             "modbus_controller_id": self.controller,
-            "register_type": self.register_type,
+            "register_type": REGISTER_TYPE.get(reg.space, self.register_type),
             "address": Hex(reg.address),
             **extra,
             **self.item_keys[reg.name],
@@ -115,42 +175,98 @@ class _Package:
         if not reg.access.readable:
             self.skipped.append(f"{reg.name} (write-only: ESPHome's number/select/switch read their register back)")
             return
-        if reg.bitfields:
+        if reg.type.is_bool:
+            self._bit(reg)
+        elif reg.type.is_string:
+            self._text(reg)
+        elif reg.bitfields:
             self._bitfields(reg)
         elif reg.enum is not None:
             self._enum(reg)
-        elif reg.access.writable and reg.raw_min < reg.raw_max:
+        elif reg.access.writable and reg.raw_min < reg.raw_max and self._writable(reg):
             self._number(reg)
         else:
             self._sensor(reg)
+
+    def _writable(self, reg: Register) -> bool:
+        """Whether ESPHome's number can write the register (else its sensor is generated, and the header says so)."""
+        if reg.type is DataType.F64:
+            self.skipped.append(f"writes of {reg.name} (ESPHome has no 64-bit float type; its sensor reads it)")
+            return False
+        if swapped(reg) and reg.words > 1:
+            self.skipped.append(f"writes of {reg.name} (ESPHome writes no byte-swapped value wider than a word; its sensor reads it)")
+            return False
+        return True
+
+    def _lambda(self, reg: Register) -> bool:
+        """A value_type cannot say how to read it: a double or a byte-swapped value."""
+        return reg.type is DataType.F64 or swapped(reg)
+
+    def _bit(self, reg: Register) -> None:
+        entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
+        entity.update(self._item(reg))
+        if reg.access.writable and reg.space_info.writable:
+            if not self.single_coil_write:
+                entity["use_write_multiple"] = True
+            self.add("switch", entity)
+        else:
+            self.add("binary_sensor", entity)
+
+    def _text(self, reg: Register) -> None:
+        if reg.encoding not in ("ascii", "latin-1", "utf-8"):
+            self.skipped.append(f"{reg.name} ({reg.encoding} text: ESPHome has no decoder for it on the device)")
+            return
+        entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
+        entity.update(self._item(reg, register_count=reg.words, response_size=2 * reg.words, raw_encode="ANSI"))
+        entity["lambda"] = Lambda(lambdas.text_lambda(reg))
+        if reg.access.writable:
+            self.skipped.append(f"writes of {reg.name} (ESPHome's modbus_controller has no text entity)")
+        self.add("text_sensor", entity)
 
     def _name(self, title: str, qualifier: str) -> str:
         return self.names.name(title, qualifier)
 
     def _value_type(self, reg: Register) -> str:
-        return VALUE_TYPE[(reg.type, reg.word_order)]
+        if self._lambda(reg):
+            return SIZED[reg.words]
+        return VALUE_TYPE[(reg.type, reg.word_order if reg.wide else WordOrder.HIGH_FIRST)]
 
     def _sensor(self, reg: Register) -> None:
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg, value_type=self._value_type(reg)))
+        if self._lambda(reg):
+            entity["lambda"] = Lambda(lambdas.raw_lambda(reg))
         if reg.unit:
             entity["unit_of_measurement"] = unit_text(esp_text(reg.unit))
             if reg.unit in DEVICE_CLASS:
                 entity["device_class"] = DEVICE_CLASS[reg.unit]
-        entity["accuracy_decimals"] = decimals(reg.scale)
+        entity["accuracy_decimals"] = shown_decimals(reg)
         if not reg.access.writable:
             entity["state_class"] = "measurement"
+        filters: list[dict[str, Any]] = []
         if reg.scaled:
-            entity["filters"] = [{"multiply": scale_float(reg.scale)}]
+            filters.append({"multiply": scale_float(reg.scale)})
+        if reg.offset_set:
+            filters.append({"offset": scale_float(reg.offset)})
+        if filters:
+            entity["filters"] = filters
         self.add("sensor", entity)
 
     def _number(self, reg: Register) -> None:
         low, high = (max(-NUMBER_LIMIT, float(reg.raw_min * reg.scale)), min(NUMBER_LIMIT, float(reg.raw_max * reg.scale)))
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg, value_type=self._value_type(reg)))
-        entity.update({"min_value": _num(low), "max_value": _num(high), "step": scale_float(reg.scale)})
+        low, high = low + float(reg.offset), high + float(reg.offset)
+        step = scale_float(reg.scale) if not reg.type.is_float else 10.0 ** -shown_decimals(reg)
+        entity.update({"min_value": _num(low), "max_value": _num(high), "step": step})
         if reg.scaled:
             entity["multiply"] = scale_float(1 / reg.scale)  # ESPHome: raw = value x multiply, value = raw / multiply
+        if swapped(reg):  # one word (wider ones are not numbers): read and write it through lambdas
+            entity["lambda"] = Lambda(lambdas.number_read_lambda(reg))
+            entity["write_lambda"] = Lambda(lambdas.number_write_lambda(reg))
+        elif reg.offset_set:
+            entity["lambda"] = Lambda(lambdas.offset_read_lambda(reg))
+            entity["write_lambda"] = Lambda(lambdas.offset_write_lambda(reg))
         if reg.words == 1 and not self.single_write:
             entity["use_write_multiple"] = True
         if reg.unit:
@@ -174,8 +290,8 @@ class _Package:
         options = self._options(reg)
         if reg.access.writable:
             entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
-            entity.update(self._item(reg, value_type=self._value_type(reg)))
-            entity["optionsmap"] = dict(options)
+            entity.update(self._item(reg, value_type=self._wire_type(reg)))
+            entity["optionsmap"] = {label: self._wire_value(reg, value) for label, value in options}
             if reg.words == 1 and not self.single_write:
                 entity["use_write_multiple"] = True
             del entity["register_type"]  # select only talks to holding registers
@@ -184,14 +300,33 @@ class _Package:
         # Read-only: the register's bytes as hex (`raw_encode: HEXBYTES`), mapped to the manual's labels.
         entity = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg, response_size=2 * reg.words, raw_encode="HEXBYTES"))
-        entity["filters"] = [{"map": [{"from": hexbytes(reg, value), "to": label} for label, value in options]}]
+        entity["filters"] = [{"map": [{"from": self._hexbytes(reg, value), "to": label} for label, value in options]}]
         self.add("text_sensor", entity)
+
+    def _wire_words(self, reg: Register, raw: int) -> list[int]:
+        return raw_to_words(self.specs[reg.name], raw)
+
+    def _hexbytes(self, reg: Register, raw: int) -> str:
+        """What ESPHome's `raw_encode: HEXBYTES` makes of a register holding `raw`: its wire bytes, `%02x` each."""
+        return "".join(f"{w:04x}" for w in self._wire_words(reg, raw))
+
+    def _wire_type(self, reg: Register) -> str:
+        """A select's value type: a byte-swapped register is compared word for word as it is on the wire."""
+        return SIZED[reg.words] if swapped(reg) else self._value_type(reg)
+
+    def _wire_value(self, reg: Register, raw: int) -> int:
+        if not swapped(reg):
+            return raw
+        value = 0
+        for word in self._wire_words(reg, raw):
+            value = (value << 16) | word
+        return value
 
     def _bitfields(self, reg: Register) -> None:
         flag = single_flag(reg)
         if flag is not None and reg.access.writable and reg.words == 1:
             entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(f"{reg.title}: {flag.title}", reg.name)}
-            entity.update(self._item(reg, bitmask=Hex(flag.mask)))
+            entity.update(self._item(reg, bitmask=Hex(swap_word(flag.mask) if swapped(reg) else flag.mask)))
             if not self.single_write:
                 entity["use_write_multiple"] = True
             self.add("switch", entity)
@@ -200,8 +335,14 @@ class _Package:
             name = self._name(f"{reg.title}: {field.title}", f"{reg.name}.{field.name}")
             if field in flags(reg) and reg.words == 1:  # a binary_sensor reads one word; 32-bit flags are sensors
                 entity = {"platform": "modbus_controller", "name": name}
-                entity.update(self._item(reg, bitmask=Hex(field.mask, 4 * reg.words)))
+                entity.update(self._item(reg, bitmask=Hex(swap_word(field.mask) if swapped(reg) else field.mask, 4 * reg.words)))
                 self.add("binary_sensor", entity)
+            elif swapped(reg):  # the field's bits are not where the wire word has them: a lambda takes them out
+                entity = {"platform": "modbus_controller", "name": name}
+                entity.update(self._item(reg, value_type=SIZED[reg.words]))
+                entity["lambda"] = Lambda(lambdas.raw_lambda(reg, field))
+                entity["accuracy_decimals"] = 0
+                self.add("sensor", entity)
             else:
                 entity = {"platform": "modbus_controller", "name": name}
                 entity.update(self._item(reg, value_type=self._value_type(reg), bitmask=Hex(field.mask, 4 * reg.words)))
@@ -220,7 +361,7 @@ class _Package:
 
     def _button(self, command: Command, title: str, raw: int) -> None:
         reg = command.register
-        words = _words(reg, raw)
+        words = self._wire_words(reg, raw)
         ctrl = f"id({self.controller})"
         if len(words) == 1 and self.single_write:
             make = f"create_write_single_command({ctrl}, 0x{reg.address:04X}, 0x{words[0]:04X})"
@@ -246,8 +387,9 @@ class _Package:
                 f"{p}_rx_pin": "GPIO16",
                 f"{p}_baud_rate": str(t.baud),
                 f"{p}_slave_id": str(slave),
-                f"{p}_update_interval": UPDATE_INTERVAL,
-                f"{p}_parameter_skip_updates": str(PARAMETER_SKIP_UPDATES),
+                f"{p}_update_interval": FAST_UPDATE_INTERVAL if self.fast else UPDATE_INTERVAL,
+                f"{p}_parameter_skip_updates": str(SKIPS["parameter_skip_updates"][1 if self.fast else 0]),
+                **{f"{p}_{key}": str(SKIPS[key][1 if self.fast else 0]) for key in sorted(self.used_skips - {"parameter_skip_updates"})},
             },
             "uart": [
                 {
@@ -311,5 +453,13 @@ def render_package(device: Device, selection: Selection) -> Files:
         f"32-bit values assume the device's factory word order ({t.word_order.value}).",
         f"Selection: {selection.rule} ({len(selection.registers)} registers, {len(selection.commands)} commands).",
     ]
+    if any(r.poll is not PollClass.NORMAL for r in selection.registers):
+        about.append(
+            "Poll classes as skip_updates: fast every update, normal every update (settings: parameter_skip_updates),"
+            " slow every slow_skip_updates+1, static once at boot (then after static_skip_updates updates)."
+        )
+    if any(r.type.words == 4 and r.type.numeric for r in selection.registers):
+        about.append("64-bit values: ESPHome publishes a float (24 significant bits).")
+    about += firmware_notes(selection.registers)
     about += [f"Not generated: {s}" for s in pkg.skipped]
     return {f"{device.id}.yaml": dump(device, about, data)}

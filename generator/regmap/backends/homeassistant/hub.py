@@ -6,24 +6,75 @@ one sensor with `virtual_count` (one request for the whole run). What HA's modbu
 express from the map is listed in the file's header instead of being approximated: enum labels (the
 sensor shows the raw code), flags other than bit 0 (its binary sensor reads `value & 1`, and it loads
 one entity per address, so a register with several flags is one raw sensor), write-only
-registers and commands (call `modbus.write_register`).
+registers and commands (call `modbus.write_register`), text in encodings other than ASCII/UTF-8
+(HA decodes UTF-8 only).
+
+Spaces: `input_type` holding / input for registers; coils and discrete inputs are binary sensors
+(`input_type: coil` / `discrete_input`), a writable coil a switch (`write_type: coil`). Byte and word
+order: `swap: byte` (bytes inside each word), `word` (words of a wide value), `word_byte` (both); HA
+refuses `word` on 16-bit values and text. `scale` then `offset` (value = raw x scale + offset), as HA
+applies them. Poll classes: `scan_interval` fast 5 s (HA warns below 5), normal 10 s (settings 300 s),
+slow 60 s, static 0 (HA reads the entity once at start-up and never polls it).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from regmap.backends.homeauto import DEVICE_CLASS, Hex, Names, decimals, dump, is_parameter, on_off, scale_float, single_flag, unit_text
+from regmap.backends.homeauto import (
+    DEVICE_CLASS,
+    Hex,
+    Names,
+    dump,
+    firmware_notes,
+    is_parameter,
+    on_off,
+    planned,
+    scale_float,
+    shown_decimals,
+    single_flag,
+    swap_word,
+    swapped,
+    unit_text,
+)
 from regmap.backends.selection import Selection
 from regmap.generate import Files
-from regmap.model import DataType, Device, Register, WordOrder
-from regmap.runtime_bridge import read_plan
+from regmap.model import DataType, Device, PollClass, Register, WordOrder
 
-DATA_TYPE = {DataType.U16: "uint16", DataType.S16: "int16", DataType.U32: "uint32", DataType.S32: "int32"}
+DATA_TYPE = {
+    DataType.U16: "uint16",
+    DataType.S16: "int16",
+    DataType.U32: "uint32",
+    DataType.S32: "int32",
+    DataType.U64: "uint64",
+    DataType.S64: "int64",
+    DataType.F32: "float32",
+    DataType.F64: "float64",
+    DataType.STRING: "string",
+}
+INPUT_TYPE = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete_input"}
+TEXT_ENCODINGS = ("ascii", "utf-8")  # HA decodes a string register's bytes as UTF-8
 PARITY = {"none": "N", "even": "E", "odd": "O"}
 SCAN_INTERVAL = 10  # seconds, status values
 PARAMETER_SCAN_INTERVAL = 300  # seconds, settings (they change only when written)
+POLL_SCAN_INTERVAL = {PollClass.FAST: 5, PollClass.SLOW: 60, PollClass.STATIC: 0}  # normal: the two above
 PORT = "/dev/ttyUSB0"
+
+
+def swap_of(reg: Register) -> str | None:
+    """HA's `swap` for the register's byte and word order (None: as HA reads by default, ABCD)."""
+    words = reg.wide and reg.word_order is WordOrder.LOW_FIRST
+    if swapped(reg):
+        return "word_byte" if words else "byte"
+    return "word" if words else None
+
+
+def scan_interval(reg: Register) -> int:
+    if reg.poll is PollClass.NORMAL:
+        return PARAMETER_SCAN_INTERVAL if is_parameter(reg) else SCAN_INTERVAL
+    if reg.poll is PollClass.SLOW and is_parameter(reg):
+        return PARAMETER_SCAN_INTERVAL
+    return POLL_SCAN_INTERVAL[reg.poll]
 
 
 class _Hub:
@@ -32,13 +83,16 @@ class _Hub:
         self.selection = selection
         self.names = Names()
         self.slave = 1 if device.transport.slave_min <= 1 <= device.transport.slave_max else device.transport.slave_min
-        self.input_type = "holding" if 0x03 in device.transport.function_codes else "input"
+        codes = device.transport.function_codes
+        self.input_type = "holding" if 0x03 in codes else "input"
+        self.register_write = "holding" if 0x06 in codes else "holdings"
+        self.coil_write = "coil" if 0x05 in codes else "coils"
         self.skipped: list[str] = []
         self.sensors: list[dict[str, Any]] = []
         self.binary_sensors: list[dict[str, Any]] = []
         self.switches: list[dict[str, Any]] = []
-        plan = read_plan(device, [r for r in selection.registers if r.access.readable])
-        self.block_of = {s.name: i for i, block in enumerate(plan) for s in block.registers}
+        plan = planned(device, [r for r in selection.registers if r.access.readable])
+        self.block_of = {s.name: i for i, (block, _, _) in enumerate(plan) for s in block.registers}
 
     def _base(self, reg: Register, title: str, qualifier: str) -> dict[str, Any]:
         return {
@@ -46,17 +100,28 @@ class _Hub:
             "unique_id": f"{self.device.id}_{qualifier.replace('.', '_')}",
             "slave": self.slave,
             "address": Hex(reg.address),
-            "scan_interval": PARAMETER_SCAN_INTERVAL if is_parameter(reg) else SCAN_INTERVAL,
+            "scan_interval": scan_interval(reg),
         }
+
+    def _input_type(self, reg: Register) -> str:
+        return INPUT_TYPE[reg.space] if reg.space != "holding" else self.input_type
 
     def _sensor(self, reg: Register, title: str, virtual: int = 0) -> None:
         entity = self._base(reg, title, reg.name)
-        entity.update({"input_type": self.input_type, "data_type": DATA_TYPE[reg.type]})
-        if reg.words == 2 and reg.word_order is WordOrder.LOW_FIRST:
-            entity["swap"] = "word"
+        entity.update({"input_type": self._input_type(reg), "data_type": DATA_TYPE[reg.type]})
+        if reg.type.is_string:
+            entity["count"] = reg.words
+        swap = swap_of(reg)
+        if swap is not None:
+            entity["swap"] = swap
+        if reg.type.is_string:
+            self.sensors.append(entity)
+            return
         if reg.scaled:
             entity["scale"] = scale_float(reg.scale)
-        entity["precision"] = decimals(reg.scale)
+        if reg.offset_set:
+            entity["offset"] = scale_float(reg.offset)
+        entity["precision"] = shown_decimals(reg)
         if reg.unit:
             entity["unit_of_measurement"] = unit_text(reg.unit)
             if reg.unit in DEVICE_CLASS:
@@ -71,20 +136,34 @@ class _Hub:
         """A read-only register whose only field is bit 0 becomes a binary sensor (HA reads `value & 1`);
         HA loads one entity per address, so any other bitfield register stays one raw sensor."""
         field = single_flag(reg)
-        if field is None or field.lsb != 0 or reg.access.writable or reg.words != 1:
+        if field is None or field.lsb != 0 or reg.access.writable or reg.words != 1 or swapped(reg):
             if reg.bitfields:
                 self.skipped.append(f"{reg.name}'s bitfields as entities (HA reads bit 0 only; the register's sensor shows them)")
             return False
         entity = self._base(reg, f"{reg.title}: {field.title}", f"{reg.name}.{field.name}")
-        entity["input_type"] = self.input_type
+        entity["input_type"] = self._input_type(reg)
         self.binary_sensors.append(entity)
         return True
 
+    def _bit(self, reg: Register, title: str, virtual: int = 0) -> None:
+        """A coil or discrete input: a binary sensor (a run of them in one read: `virtual_count`), or a switch for a writable coil."""
+        entity = self._base(reg, title, reg.name)
+        if reg.access.writable and reg.space_info.writable:
+            entity.update({"write_type": self.coil_write, "verify": {"input_type": "coil", "address": Hex(reg.address)}})
+            self.switches.append(entity)
+            return
+        entity["input_type"] = self._input_type(reg)
+        if virtual:
+            entity["virtual_count"] = virtual
+        self.binary_sensors.append(entity)
+
     def _switch(self, reg: Register, title: str, qualifier: str, on: int, off: int) -> None:
         entity = self._base(reg, title, qualifier)
+        if swapped(reg):  # HA writes and compares the word as it is on the wire
+            on, off = swap_word(on), swap_word(off)
         entity.update(
             {
-                "write_type": "holding",
+                "write_type": self.register_write,
                 "command_on": on,
                 "command_off": off,
                 "verify": {"input_type": self.input_type, "address": Hex(reg.address), "state_on": on, "state_off": off},
@@ -96,16 +175,29 @@ class _Hub:
         """How many registers from regs[i] one virtual sensor can read (1 when none)."""
         first = regs[i]
         n = 1
-        if first.array is None or first.enum is not None or first.bitfields:
+        if first.array is None or first.enum is not None or first.bitfields or first.type.is_string:
             return 1
+        if first.type.is_bool and first.access.writable:
+            return 1  # switches read one coil each
         while i + n < len(regs):
             nxt, prev = regs[i + n], regs[i + n - 1]
             same = (
                 nxt.array is not None
                 and nxt.array.array == first.array.array
                 and nxt.array.member == first.array.member
-                and (nxt.type, nxt.scale, nxt.unit, nxt.access, nxt.word_order)
-                == (first.type, first.scale, first.unit, first.access, first.word_order)
+                and (nxt.type, nxt.scale, nxt.offset, nxt.unit, nxt.access, nxt.word_order, nxt.byte_order, nxt.space, nxt.poll)
+                == (
+                    first.type,
+                    first.scale,
+                    first.offset,
+                    first.unit,
+                    first.access,
+                    first.word_order,
+                    first.byte_order,
+                    first.space,
+                    first.poll,
+                )
+                and nxt.firmware == first.firmware
                 and nxt.address == prev.address + prev.words
                 and not nxt.paired
                 and not nxt.bitfields
@@ -130,8 +222,19 @@ class _Hub:
                 assert reg.array is not None
                 array = next(a for a in self.device.arrays if a.name == reg.array.array)
                 member = next(m for m in array.members if m.name == reg.array.member)
-                self._sensor(reg, f"{array.title}: {member.title}", virtual=n - 1)
+                if reg.type.is_bool:
+                    self._bit(reg, f"{array.title}: {member.title}", virtual=n - 1)
+                else:
+                    self._sensor(reg, f"{array.title}: {member.title}", virtual=n - 1)
                 i += n
+                continue
+            if reg.type.is_bool:
+                self._bit(reg, reg.title)
+                i += 1
+                continue
+            if reg.type.is_string and reg.encoding not in TEXT_ENCODINGS:
+                self.skipped.append(f"{reg.name} ({reg.encoding} text: HA decodes string registers as UTF-8)")
+                i += 1
                 continue
             switch = on_off(reg.enum) if reg.access.writable and reg.words == 1 else None
             flag = single_flag(reg) if reg.access.writable and reg.words == 1 else None
@@ -179,5 +282,10 @@ def render_hub(device: Device, selection: Selection) -> Files:
         f"32-bit values assume the device's factory word order ({device.transport.word_order.value}).",
         f"Selection: {selection.rule} ({len(selection.registers)} registers, {len(selection.commands)} commands).",
     ]
+    if any(r.poll is not PollClass.NORMAL for r in selection.registers):
+        about.append("Poll classes as scan_interval: fast 5 s, normal 10 s (settings 300 s), slow 60 s, static 0 (read once at start-up).")
+    if any(r.type.is_string and r.padding == "nul" for r in selection.registers):
+        about.append("Text: HA keeps a string register's NUL padding in the state (it decodes every byte).")
+    about += firmware_notes(selection.registers)
     about += [f"Not generated: {s}" for s in h.skipped]
     return {f"{device.id}.yaml": dump(device, about, {"modbus": data})}

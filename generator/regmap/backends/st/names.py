@@ -108,8 +108,8 @@ def st_hex(value: int, digits: int = 4) -> str:
     return f"16#{value:0{digits}X}"
 
 
-def st_real(value: Fraction | int) -> str:
-    """An LREAL literal of an exact integer or ratio part (always with a point, as ST requires)."""
+def st_real(value: Fraction | int | float) -> str:
+    """An LREAL literal of an exact integer, ratio part or float (always with a point, as ST requires)."""
     text = f"{float(value):.17g}"
     return text if any(c in text for c in ".e") else text + ".0"
 

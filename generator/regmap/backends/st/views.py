@@ -8,10 +8,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_string
-from regmap.backends.text import eng, titled
+from regmap.backends.st.codec import NATURAL, st_type, swapped
+from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_real, st_string
+from regmap.backends.text import number, titled
 from regmap.diagnostics import Diagnostic
-from regmap.model import Access, Bitfield, DataType, Device, EnumType, Register, WordOrder
+from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
+from regmap.runtime_bridge import runtime_device
 
 
 @dataclass(frozen=True)
@@ -32,7 +34,6 @@ CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only
 IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), False, False)
 DIALECTS = (CODESYS, IEC)
 
-NATURAL = {DataType.U16: "UINT", DataType.S16: "INT", DataType.U32: "UDINT", DataType.S32: "DINT"}
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
 
 
@@ -137,7 +138,7 @@ def owner(reg: Register) -> str:
 
 def configurable(device: Device, reg: Register) -> bool:
     """A 32-bit register whose word order follows the device's word-order parameter (C630S P0C-26)."""
-    return reg.words == 2 and device.transport.word_order_register is not None and not reg.word_order_fixed
+    return reg.wide and reg.words == 2 and device.transport.word_order_register is not None and not reg.word_order_fixed
 
 
 def needs_order_input(device: Device, regs: Sequence[Register]) -> bool:
@@ -214,46 +215,161 @@ def enum_functions(names: Names, dialect: Dialect, enums: Sequence[EnumView]) ->
 # -- constants ---------------------------------------------------------------------------------
 
 
+POLL_VALUE = {PollClass.STATIC: 0, PollClass.FAST: 1, PollClass.NORMAL: 2, PollClass.SLOW: 3}
+"""The poll-class constants' values (`<DEV>_POLL_STATIC` ... `_SLOW`)."""
+
+
+def _literal(reg: Register, raw: int | float | str) -> str:
+    if reg.type.is_string:
+        return st_string(str(raw))
+    if reg.type.is_bool:
+        return "TRUE" if raw else "FALSE"
+    if reg.type.is_float:
+        return st_real(float(raw))
+    return st_int(int(raw))
+
+
+def _ratio(value: int) -> str:
+    """DINT where the part fits, else LINT (an offset of a 64-bit counter may be large)."""
+    return "DINT" if -(1 << 31) <= value < (1 << 31) else "LINT"
+
+
 def register_consts(names: Names, reg: Register) -> Section:
     what = f"register {reg.name}"
-    t = NATURAL[reg.type]
+    t = st_type(reg)
+    c = names.const
     consts = [
-        Const(names.const(reg.name, "ADDR", what=what, pos=reg.pos), "UINT", st_hex(reg.address)),
-        Const(names.const(reg.name, "WORDS", what=what, pos=reg.pos), "UINT", st_int(reg.words)),
+        Const(c(reg.name, "ADDR", what=what, pos=reg.pos), "UINT", st_hex(reg.address)),
+        Const(c(reg.name, "WORDS", what=what, pos=reg.pos), "UINT", st_int(reg.words)),
         Const(
-            names.const(reg.name, "ACCESS", what=what, pos=reg.pos),
+            c(reg.name, "ACCESS", what=what, pos=reg.pos),
             names.access_type,
             names.dialect.member(names.access_type, ACCESS_MEMBER[reg.access]),
         ),
-        Const(names.const(reg.name, "RAW_MIN", what=what, pos=reg.pos), t, st_int(reg.raw_min)),
-        Const(names.const(reg.name, "RAW_MAX", what=what, pos=reg.pos), t, st_int(reg.raw_max)),
     ]
+    space = reg.space_info
+    if space.name != "holding":
+        writes = ", ".join(f"{op.replace('_', ' ')} 16#{code:02X}" for op, code in space.codes.items() if op != "read")
+        consts.append(
+            Const(
+                c(reg.name, "FUNCTION", what=what, pos=reg.pos),
+                "USINT",
+                st_hex(space.read, 2),
+                f"read with function 16#{space.read:02X} ({space.title})" + (f"; {writes}" if writes else ""),
+            )
+        )
+    if reg.type.numeric:
+        consts += [
+            Const(c(reg.name, "RAW_MIN", what=what, pos=reg.pos), t, _literal(reg, reg.raw_min)),
+            Const(c(reg.name, "RAW_MAX", what=what, pos=reg.pos), t, _literal(reg, reg.raw_max)),
+        ]
+    elif reg.type.is_string:
+        consts.append(
+            Const(
+                c(reg.name, "BYTES", what=what, pos=reg.pos),
+                "UINT",
+                st_int(2 * reg.words),
+                f"text bytes ({reg.encoding}, padded with {'spaces' if reg.padding == 'space' else 'NUL'})",
+            )
+        )
     if reg.default is not None:
-        consts.append(Const(names.const(reg.name, "DEFAULT", what=what, pos=reg.pos), t, st_int(reg.default)))
-    consts += [
-        Const(names.const(reg.name, "SCALE_NUM", what=what, pos=reg.pos), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
-        Const(names.const(reg.name, "SCALE_DEN", what=what, pos=reg.pos), "DINT", st_int(reg.scale.denominator)),
-    ]
-    if reg.words == 2:
+        consts.append(Const(c(reg.name, "DEFAULT", what=what, pos=reg.pos), t, _literal(reg, reg.default)))
+    if reg.type.numeric:
+        consts += [
+            Const(c(reg.name, "SCALE_NUM", what=what, pos=reg.pos), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
+            Const(c(reg.name, "SCALE_DEN", what=what, pos=reg.pos), "DINT", st_int(reg.scale.denominator)),
+        ]
+    if reg.offset_set:
+        consts += [
+            Const(
+                c(reg.name, "OFFSET_NUM", what=what, pos=reg.pos),
+                _ratio(reg.offset.numerator),
+                st_int(reg.offset.numerator),
+                "value = raw * SCALE_NUM / SCALE_DEN + OFFSET_NUM / OFFSET_DEN",
+            ),
+            Const(c(reg.name, "OFFSET_DEN", what=what, pos=reg.pos), _ratio(reg.offset.denominator), st_int(reg.offset.denominator)),
+        ]
+    if reg.wide:
         order = "device word order (parameter)" if configurable(names.device, reg) else f"{reg.word_order.value.replace('_', ' ')}"
         consts.append(
             Const(
-                names.const(reg.name, "HIGH_WORD_FIRST", what=what, pos=reg.pos),
+                c(reg.name, "HIGH_WORD_FIRST", what=what, pos=reg.pos),
                 "BOOL",
                 "TRUE" if reg.word_order is WordOrder.HIGH_FIRST else "FALSE",
                 order if not configurable(names.device, reg) else f"{order}; this is its default",
             )
         )
+    if swapped(reg):
+        consts.append(
+            Const(
+                c(reg.name, "HIGH_BYTE_FIRST", what=what, pos=reg.pos),
+                "BOOL",
+                "FALSE",
+                "each word arrives with its low byte first (ROL(word, 8) restores it)",
+            )
+        )
     if reg.paired:
         consts.append(
             Const(
-                names.const(reg.name, "FIRST_ADDR", what=what, pos=reg.pos),
+                c(reg.name, "FIRST_ADDR", what=what, pos=reg.pos),
                 "UINT",
                 st_hex(reg.first_address),
                 "the unused high word a block read or a write starts at",
             )
         )
+    if reg.firmware is not None:
+        consts += firmware_consts(names, reg.name, reg.firmware.first, reg.firmware.until, what, reg.pos)
+    if reg.poll is not PollClass.NORMAL:
+        consts.append(
+            Const(c(reg.name, "POLL", what=what, pos=reg.pos), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}")
+        )
     return Section(_register_comment(reg), tuple(consts))
+
+
+def firmware_raw(names: Names, version: str) -> int | None:
+    """The smallest raw value of the firmware register whose version is at least `version` (the
+    versions grow with the raw value), or None when the device reports its version as text."""
+    device = names.device
+    firmware = device.info.firmware_register
+    if firmware is None or firmware.format == "string" or not firmware.register.type.numeric:
+        return None
+    spec = runtime_device(device)
+    wanted = tuple(int(p) for p in version.split("."))
+    low, high = int(firmware.register.raw_min), int(firmware.register.raw_max) + 1
+    while low < high:
+        mid = (low + high) // 2
+        if spec.firmware_version(mid) >= wanted:
+            high = mid
+        else:
+            low = mid + 1
+    return low
+
+
+def firmware_consts(names: Names, label: str, first: str | None, until: str | None, what: str, pos: Any) -> list[Const]:
+    """X_FIRMWARE_FROM / X_FIRMWARE_UNTIL: the firmware register's raw values between which X exists
+    (FROM inclusive, UNTIL exclusive), or the version texts when the device reports text."""
+    firmware = names.device.info.firmware_register
+    out = []
+    for key, version in (("FROM", first), ("UNTIL", until)):
+        if version is None:
+            continue
+        raw = firmware_raw(names, version)
+        name = names.const(label, "FIRMWARE", key, what=what, pos=pos)
+        if raw is None or firmware is None:
+            out.append(Const(name, "STRING", st_string(version), f"firmware {'>=' if key == 'FROM' else '<'} {version}"))
+        elif raw > firmware.register.raw_max:
+            names.globals._report(pos, f"firmware {version} of {label} is past every value {firmware.register.name} can report")
+        else:
+            relation = ">=" if key == "FROM" else "<"
+            out.append(
+                Const(
+                    name,
+                    NATURAL[firmware.register.type],
+                    st_int(raw),
+                    f"exists while {firmware.register.name} {relation} this (firmware {relation} {version})",
+                )
+            )
+    return out
 
 
 def _register_comment(reg: Register) -> str:
@@ -261,11 +377,21 @@ def _register_comment(reg: Register) -> str:
     if reg.unit:
         facts.append(f"unit {reg.unit}")
     if reg.scaled:
-        facts.append(f"scale {eng(reg, 1)}")
+        facts.append(f"scale {number(reg.scale)}")
     if reg.enum is not None:
         facts.append(f"values: enum {reg.enum.name}")
     if reg.paired:
         facts.append("low word of a 32-bit pair")
+    if reg.space != "holding":
+        facts.append(reg.space_info.title)
+    if reg.offset_set:
+        facts.append(f"offset {number(reg.offset)}")
+    if swapped(reg):
+        facts.append("bytes swapped")
+    if reg.firmware is not None:
+        facts.append(reg.firmware.text)
+    if reg.poll is not PollClass.NORMAL:
+        facts.append(f"poll {reg.poll.value}")
     return sentences(f"{reg.label}: {titled(reg.title, reg.title_zh)}", ", ".join(facts), _manual(reg.source))
 
 
@@ -289,7 +415,7 @@ def _bitfield_comment(b: Bitfield) -> str:
 
 
 def _word(reg: Register) -> str:
-    return "DWORD" if reg.words == 2 else "WORD"
+    return {2: "DWORD", 4: "LWORD"}.get(reg.words, "WORD")
 
 
 def array_consts(names: Names) -> list[Section]:
@@ -320,7 +446,7 @@ def command_consts(names: Names) -> list[Section]:
         reg = cmd.register
         consts = [
             Const(names.const("CMD", cmd.name, "ADDR", what=what, pos=cmd.pos), "UINT", st_hex(reg.address)),
-            Const(names.const("CMD", cmd.name, "VALUE", what=what, pos=cmd.pos), NATURAL[reg.type], st_int(cmd.value)),
+            Const(names.const("CMD", cmd.name, "VALUE", what=what, pos=cmd.pos), st_type(reg), st_int(cmd.value)),
         ]
         if cmd.argument is not None:
             arg = cmd.argument
