@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
 from regmap.backends.markdown.frames import _example_view
-from regmap.backends.markdown.registers import _enum_view, _group_view
+from regmap.backends.markdown.registers import _enum_view, _group_view, extra_headers
 from regmap.backends.markdown.text import (
     DASH,
     DocId,
@@ -36,15 +36,17 @@ from regmap.backends.markdown.views import (
     ReadingView,
     TimingView,
 )
+from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, uses
 from regmap.backends.text import number
 from regmap.diagnostics import UsageError
 from regmap.generate import Files
-from regmap.model import Command, Device, Erratum, WordOrder
+from regmap.model import ByteOrder, Command, Device, Erratum, PollClass, WordOrder
 from regmap.render import environment, header_lines, hex2, md_text
 from regmap.runtime_bridge import read_plan
 from regmap.tools.decode import FUNCTION_NAMES
 from regmap_runtime.codec import raw_to_words
 from regmap_runtime.rtu import build_write_multiple, build_write_single, to_hex
+from regmap_runtime.spaces import SPACES
 
 INDEX_PAGE = "index.md"
 
@@ -101,6 +103,7 @@ def _erratum_view(ctx: Context, erratum: Erratum) -> ErratumView:
 
 def _overview(device: Device) -> tuple[Fact, ...]:
     info, t = device.info, device.transport
+    used = uses(device)
     vendor = md_text(info.vendor) + (f" ({md_text(info.vendor_zh)})" if info.vendor_zh else "")
     manual = [md_text(info.manual_title)]
     if info.manual_version:
@@ -122,6 +125,7 @@ def _overview(device: Device) -> tuple[Fact, ...]:
         Fact("Model", _md(info.model)),
         Fact("Manual", Md(", ".join(manual))),
         Fact("Firmware", _md(info.firmware) if info.firmware else Md("not named by the manual")),
+        *_firmware_facts(device, used),
         Fact(
             "Map",
             Md(f"{md_text(device.source_path)}, version {md_text(info.map_version)}, fingerprint {md_text(device.fingerprint)}"),
@@ -130,9 +134,21 @@ def _overview(device: Device) -> tuple[Fact, ...]:
         Fact("Slave ids", Md(f"{t.slave_min} … {t.slave_max}")),
         Fact("Broadcast", Md(f"id {t.broadcast_id} (no reply)" if t.broadcast_id is not None else "not supported")),
         Fact("Function codes", Md(functions)),
+        *_space_facts(device, used),
         Fact("Max registers per request", Md(limits)),
         Fact("32-bit word order", Md(order)),
     ]
+    if used.byte_order:
+        byte = "low byte first (bytes swapped)" if t.byte_order is ByteOrder.LOW_FIRST else "high byte first (Modbus order)"
+        swapped = "; registers marked so below swap their bytes" if t.byte_order is ByteOrder.HIGH_FIRST else ""
+        facts.append(
+            Fact(
+                "Byte order",
+                Md(
+                    f"{byte} in each word{swapped}; with the word order, 32-bit values travel as {order_name(2, t.word_order, t.byte_order)}"
+                ),
+            )
+        )
     if t.word_order_register is not None:
         w = t.word_order_register
         facts.append(
@@ -155,9 +171,49 @@ def _overview(device: Device) -> tuple[Fact, ...]:
     facts.append(Fact("Undocumented addresses", Md(gaps)))
     if t.response_delay_ms is not None:
         facts.append(Fact("Response delay", Md(f"{number(t.response_delay_ms)} ms")))
-    facts.append(Fact("Reading everything", Md(f"{len(read_plan(device))} requests (the fewest the limits allow)")))
+    reading = f"{len(read_plan(device))} requests (the fewest the limits allow)"
+    if used.poll:
+        classes = [p for p in PollClass if any(r.poll is p and r.access.readable for r in device.registers)]
+        reading += "; by poll class: " + ", ".join(f"{p.value} {len(read_plan(device, poll=p))}" for p in classes)
+    facts.append(Fact("Reading everything", Md(reading)))
     facts.append(Fact("Source", _md(_sources(t.source))))
     return tuple(facts)
+
+
+def _firmware_facts(device: Device, used: Uses) -> list[Fact]:
+    """The register that reports the firmware version, and how many registers only some versions have."""
+    facts = []
+    fw = device.info.firmware_register
+    text = firmware_register_text(device)
+    if fw is not None and text is not None:
+        facts.append(Fact("Firmware register", Md(f"{_reg_link(fw.register)} at {_address(fw.register.address)}: {md_text(text)}")))
+    if used.gates:
+        gated = sum(1 for r in device.registers if r.firmware is not None)
+        facts.append(
+            Fact(
+                "Firmware-gated registers",
+                Md(f"{gated} register{'s' if gated != 1 else ''} exist only in some firmware versions (the Firmware column)"),
+            )
+        )
+    return facts
+
+
+def _space_facts(device: Device, used: Uses) -> list[Fact]:
+    """Which Modbus tables the device's registers live in, and the bit limits of coil requests."""
+    if not used.other_spaces:
+        return []
+    t = device.transport
+    counts = []
+    for name in used.spaces:
+        space = SPACES[name]
+        n = sum(1 for r in device.registers if r.space == name)
+        codes = "/".join(hex2(c) for c in space.codes.values())
+        counts.append(f"{space.title} ({codes}): {n}")
+    facts = [Fact("Spaces", Md("; ".join(counts)))]
+    if used.bit_spaces:
+        limits = f"read {t.max_read_coils}" + (f", write {t.max_write_coils}" if "coil" in used.spaces else "")
+        facts.append(Fact("Max bits per request", Md(limits + " (coils and discrete inputs)")))
+    return facts
 
 
 def _timing(device: Device) -> tuple[TimingView, ...]:
@@ -181,6 +237,7 @@ def device_page(device: Device) -> DevicePage:
     if device.id == INDEX_PAGE.removesuffix(".md"):
         raise UsageError(f"{device.source_path}: a device cannot be called {device.id!r}: its page would replace the docs index")
     ctx = Context(device)
+    used = ctx.uses
     examples = tuple(_example_view(ctx, ex) for ex in device.examples)  # first: registers link to them
     t = device.transport
     exceptions = tuple(
@@ -199,6 +256,8 @@ def device_page(device: Device) -> DevicePage:
         overview=_overview(device),
         transport_notes=_paragraph(t.notes),
         timing=_timing(device),
+        quick_note=Md("raw × scale + offset" if used.offsets else "raw × scale"),
+        extra_headers=extra_headers(used),
         groups=tuple(_group_view(ctx, g) for g in device.groups),
         enums=tuple(_enum_view(ctx, e) for e in device.enums),
         commands=tuple(_command_view(ctx, c) for c in device.commands),

@@ -35,38 +35,49 @@ from regmap.backends.markdown.views import (
     QuickRow,
     RegisterView,
 )
+from regmap.backends.markdown.wire import (
+    POLL_MEANING,
+    Uses,
+    gate_fact,
+    gate_text,
+    has_conversion,
+    order_fact,
+    order_suffix,
+    scale_fact,
+    shared,
+    space_cell,
+    space_fact,
+    type_fact,
+)
 from regmap.backends.text import eng, number
-from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, Group, Register, WordOrder
+from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, FirmwareGate, Group, PollClass, Register
 from regmap.render import hex2, md_text
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 
 ACCESS_SHORT = {Access.READ: "R", Access.READ_WRITE: "R/W", Access.WRITE: "W"}
 ACCESS_LONG = {Access.READ: "read only", Access.READ_WRITE: "read/write", Access.WRITE: "write only"}
-TYPE_LONG = {
-    DataType.U16: "unsigned 16-bit",
-    DataType.S16: "signed 16-bit",
-    DataType.U32: "unsigned 32-bit",
-    DataType.S32: "signed 32-bit",
-}
+NEW_WIDE = (DataType.U64, DataType.S64, DataType.F32, DataType.F64)  # their details state the word and byte order
 
 
 def _type_text(reg: Register) -> str:
-    text = reg.type.value
-    if reg.wide:
-        order = "high" if reg.word_order is WordOrder.HIGH_FIRST else "low"
-        text += f", {reg.words} words, {order} first"
+    text = reg.type.value + order_suffix(reg)
     if reg.paired:
         text += ", paired"
     return text
 
 
+def _raw(value: int | float) -> str:
+    return number(value) if isinstance(value, float) else str(value)
+
+
 def _range(reg: Register, *, full: bool) -> Md:
-    """Engineering range; `full` adds the unit and the raw integers (the quick reference has a unit column)."""
+    """Engineering range; `full` adds the unit and the raw values (the quick reference has a unit column)."""
     if reg.min is None and reg.max is None:
         return _md(reg.range_text) if reg.range_text and not full else Md(DASH)
     low, high = reg.raw_min, reg.raw_max
     text = f"{eng(reg, low)} … {eng(reg, high)}"
     if full:
-        text += _unit_suffix(reg) + (f" (raw {low} … {high})" if reg.scaled else "")
+        text += _unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else "")
     return Md(text)
 
 
@@ -74,18 +85,20 @@ def _default(reg: Register, *, full: bool) -> Md:
     if reg.default is None:
         return Md(DASH)
     value = reg.default
-    if reg.bitfields:
+    if isinstance(value, str):
+        return Md(md_text(eng(reg, value)))  # text: quoted, escaped
+    if reg.bitfields and isinstance(value, int):
         return Md(f"{_hex(value, reg.words)} ({value})" if full else _hex(value, reg.words))
     text = eng(reg, value)
     if full:
-        text += _unit_suffix(reg) + (f" (raw {value})" if reg.scaled else "")
-    label = _enum_label(reg.enum, value) if reg.enum is not None else None
+        text += _unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
+    label = _enum_label(reg.enum, value) if reg.enum is not None and isinstance(value, int) else None
     return Md(f"{text} = {label}" if label else text)
 
 
 def _addresses(reg: Register) -> str:
-    """The register's address (both, for two words) in hex, then in decimal."""
-    if reg.wide:
+    """The register's address (first and last, for more than one word) in hex, then in decimal."""
+    if reg.words > 1:
         return f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})"
     return f"{_address(reg.address)} ({reg.address})"
 
@@ -100,10 +113,27 @@ def _address_facts(reg: Register) -> Md:
     return Md(text)
 
 
-def _quick_row(reg: Register, param: str, address: Md, name: Md) -> QuickRow:
+def _extra_cells(uses: Uses, reg: Register) -> tuple[Md, ...]:
+    """The columns only some devices have: space, firmware gate, poll class (`extra_headers` names them)."""
+    cells = []
+    if uses.other_spaces:
+        cells.append(Md(space_cell(reg)))
+    if uses.gates:
+        cells.append(Md(gate_text(reg.firmware) if reg.firmware is not None else DASH))
+    if uses.poll:
+        cells.append(Md(reg.poll.value))
+    return tuple(cells)
+
+
+def extra_headers(uses: Uses) -> tuple[str, ...]:
+    return tuple(h for h, used in (("Space", uses.other_spaces), ("Firmware", uses.gates), ("Poll", uses.poll)) if used)
+
+
+def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -> QuickRow:
     """A row of the quick reference: where the register is and what it is called (the caller's, as an
     array member reads differently), then the register's own columns."""
     return QuickRow(
+        extra=_extra_cells(ctx.uses, reg),
         param=param,
         address=address,
         name=name,
@@ -172,15 +202,20 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
     facts = [Fact("Address", _address_facts(reg))]
     if reg.param:
         facts.append(Fact("Parameter", _md(reg.param)))
-    facts.append(Fact("Type", Md(f"{reg.type.value} ({TYPE_LONG[reg.type]})")))
+    if ctx.uses.other_spaces:
+        facts.append(Fact("Space", Md(space_fact(reg))))
+    facts.append(Fact("Type", _md(type_fact(reg))))
+    if reg.type.info.has_byte_order and (ctx.uses.byte_order or reg.type in NEW_WIDE):
+        facts.append(Fact("Word and byte order", Md(order_fact(reg))))
     facts.append(Fact("Access", Md(ACCESS_LONG[reg.access])))
     if reg.min is not None or reg.max is not None:
         facts.append(Fact("Range", _range(reg, full=True)))
     if reg.range_text:
         facts.append(Fact("Range as printed", _md(reg.range_text)))
     facts.append(Fact("Default", _default(reg, full=True)))
-    if reg.scaled:
-        facts.append(Fact("Scale", Md(f"raw × {number(reg.scale)} = value{' in ' + md_text(reg.unit) if reg.unit else ''}")))
+    if has_conversion(reg):
+        label = "Scale and offset" if reg.offset_set else "Scale"
+        facts.append(Fact(label, Md(scale_fact(reg, md_text(reg.unit) if reg.unit else ""))))
     if reg.unit:
         facts.append(Fact("Unit", _md(reg.unit)))
     if reg.enum is not None:
@@ -191,6 +226,10 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
         facts.append(Fact("Settable", Md(reg.settable.replace("_", " "))))
     if reg.modes:
         facts.append(Fact("Control modes", _md(", ".join(reg.modes))))
+    if reg.firmware is not None:
+        facts.append(Fact("Firmware", Md(gate_fact(reg.firmware))))
+    if ctx.uses.poll:
+        facts.append(Fact("Poll class", Md(POLL_MEANING[reg.poll])))
     facts.append(Fact("Source", _md(_sources(reg.source))))
     if errata:
         facts.append(Fact("Errata", _errata_links(errata)))
@@ -237,10 +276,11 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         regs = by_member[m.name]
         first = regs[0]
         hex_formula, _ = _formula(array, first.address)
-        address = Md(f"`{hex_formula}`" + (f" ({first.words} words)" if first.wide else ""))
+        address = Md(f"`{hex_formula}`" + (f" ({first.words} words)" if first.words > 1 else ""))
         errata = [e for r in regs for e in r.errata]
         rows.append(
             MemberRow(
+                extra=_extra_cells(ctx.uses, first),
                 offset=m.offset,
                 address=address,
                 name=_code(m.name),
@@ -282,14 +322,15 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         elements.append((Md(str(n)), Md(title), Md(param_text), *(_address(r.address) for r in regs)))
     last = device.register(f"{array.name}_{array.last_index}_{array.members[-1].name}")
     hex_formula, dec_formula = _formula(array, array.base)
+    unit = "bit" if SPACES[last.space].bits else "word"  # a coil or discrete input array counts bit addresses
     summary = Md(
         f"{array.count} elements, n = {array.first_index} … {array.last_index}. Element n starts at "
-        f"`{hex_formula}` ({dec_formula}); a member at offset k sits k words further. "
+        f"`{hex_formula}` ({dec_formula}); a member at offset k sits k {unit}s further. "
         f"Element registers are named `{DocId(array.name)}_<n>_<member>`."
     )
     facts = [
         Fact("Addresses", Md(f"{_address(array.base)} … {_address(last.last_address)} ({array.base} … {last.last_address})")),
-        Fact("Stride", Md(f"{array.stride} word{'s' if array.stride != 1 else ''} per element")),
+        Fact("Stride", Md(f"{array.stride} {unit}{'s' if array.stride != 1 else ''} per element")),
         Fact("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
     ]
     if array.element_title:
@@ -318,7 +359,7 @@ def _array_quick_rows(ctx: Context, array: ArrayDef) -> list[QuickRow]:
         hex_formula, dec_formula = _formula(array, first.address)
         params = f"{first.param} … {last.param}" if first.param and last.param else DASH
         name = _link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), _anchor("array", array.name))
-        out.append(_quick_row(first, params, Md(f"`{hex_formula}` ({dec_formula})"), name))
+        out.append(_quick_row(ctx, first, params, Md(f"`{hex_formula}` ({dec_formula})"), name))
     return out
 
 
@@ -329,7 +370,7 @@ def _group_view(ctx: Context, group: Group) -> GroupView:
     done: set[str] = set()
     for reg in group.registers:
         if reg.array is None:
-            quick.append(_quick_row(reg, reg.param or DASH, Md(_addresses(reg)), _link(_code(reg.name), DocId(reg.name))))
+            quick.append(_quick_row(ctx, reg, reg.param or DASH, Md(_addresses(reg)), _link(_code(reg.name), DocId(reg.name))))
             items.append(_register_view(ctx, reg))
         elif reg.array.array not in done:
             done.add(reg.array.array)
@@ -343,6 +384,24 @@ def _group_view(ctx: Context, group: Group) -> GroupView:
         heading=Md(f"{md_text(group.title)}{zh} — group {_code(group.id)}"),
         description=_paragraph(group.description),
         source=_sources(group.source),
+        shared=_group_facts(ctx, group),
         quick=tuple(quick),
         items=tuple(items),
     )
+
+
+def _group_facts(ctx: Context, group: Group) -> Md:
+    """What every register of the group shares (a group's `space`, `firmware` and `poll`, which its
+    registers inherit), said once above them; empty when they share nothing new."""
+    regs = group.registers
+    parts = []
+    space = shared(regs, "space")
+    if isinstance(space, str) and space != DEFAULT_SPACE:
+        parts.append(SPACES[space].title)
+    gate = shared(regs, "firmware")
+    if isinstance(gate, FirmwareGate):
+        parts.append(gate_text(gate))
+    poll = shared(regs, "poll")
+    if isinstance(poll, PollClass) and poll is not PollClass.NORMAL:
+        parts.append(f"poll class {poll.value}")
+    return Md(f"Every register of this group: {', '.join(parts)}.") if parts else Md("")

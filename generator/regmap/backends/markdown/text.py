@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Sequence
 
+from regmap.backends.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import EnumType, Register
 from regmap.render import md_text
@@ -91,8 +92,13 @@ def _unit_suffix(reg: Register) -> Md:
     return Md(f" {md_text(reg.unit)}") if reg.unit else Md("")
 
 
-def _raw_literal(reg: Register, raw: int) -> str:
-    """Bit words read best in hex, everything else in decimal."""
+def _raw_literal(reg: Register, raw: int | float | str) -> str:
+    """Bit words read best in hex, integers in decimal, floats as the docs print numbers, text quoted
+    (and escaped: it came from a frame or a map)."""
+    if isinstance(raw, str):
+        return '"' + md_text(raw) + '"'
+    if isinstance(raw, float):
+        return number(raw)
     if reg.bitfields and raw >= 0:
         return _hex(raw, reg.words)
     return str(raw)

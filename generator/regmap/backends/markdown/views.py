@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
+from regmap.backends.markdown.wire import uses
 from regmap.model import Device
 from regmap.tools.selectors import Registers
 
@@ -20,6 +21,7 @@ class Fact:
 
 @dataclass(frozen=True)
 class QuickRow:
+    extra: tuple[Md, ...]  # the space, firmware and poll columns of a device that uses them
     param: str
     address: Md  # hex, then decimal in parentheses
     name: Md
@@ -89,6 +91,7 @@ class RegisterView:
 
 @dataclass(frozen=True)
 class MemberRow:
+    extra: tuple[Md, ...]
     offset: int
     address: Md
     name: Md
@@ -124,6 +127,7 @@ class GroupView:
     heading: Md
     description: Md
     source: str
+    shared: Md  # what every register of the group shares: space, firmware gate, poll class
     quick: tuple[QuickRow, ...]
     items: tuple[RegisterView | ArrayView, ...]
 
@@ -234,6 +238,8 @@ class DevicePage:
     overview: tuple[Fact, ...]
     transport_notes: Md
     timing: tuple[TimingView, ...]
+    quick_note: Md
+    extra_headers: tuple[str, ...]  # the quick reference's and member tables' optional columns
     groups: tuple[GroupView, ...]
     enums: tuple[EnumView, ...]
     commands: tuple[CommandView, ...]
@@ -249,6 +255,7 @@ class Context:
 
     def __init__(self, device: Device) -> None:
         self.device = device
+        self.uses = uses(device)
         self.registers = Registers(device)
         self.examples_by_register: dict[str, list[str]] = {}
         self.responses: dict[str, list[str]] = {}
