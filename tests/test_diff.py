@@ -23,12 +23,15 @@ import pytest
 import yaml
 
 from regmap.cli import main
+from regmap.frontend import load_map
 from regmap.tools import diff
 
 from conftest import ROOT
 
 V1 = ROOT / "tests" / "maps" / "diff" / "idm_rs_small_v1.yaml"
 V2 = ROOT / "tests" / "maps" / "diff" / "idm_rs_small_v2.yaml"
+FV1 = ROOT / "tests" / "maps" / "diff" / "fixture_v1.yaml"  # issue #19's features: spaces, floats, strings, gates ...
+FV2 = ROOT / "tests" / "maps" / "diff" / "fixture_v2.yaml"
 EXAMPLE = ROOT / "docs" / "changelog-example.md"
 EXAMPLE_COMMAND = [
     "regmap",
@@ -47,14 +50,19 @@ Edit = Callable[[Map], None]
 
 
 @functools.cache
-def _v1() -> Map:
-    data: Map = yaml.safe_load(V1.read_text(encoding="utf-8"))
+def _load(path: Path) -> Map:
+    data: Map = yaml.safe_load(path.read_text(encoding="utf-8"))
     return data
 
 
 def base() -> Map:
     """A fresh copy of v1 as plain data, to edit."""
-    return copy.deepcopy(_v1())
+    return copy.deepcopy(_load(V1))
+
+
+def fixture_base() -> Map:
+    """A fresh copy of fixture_v1 (input registers, coils, floats, strings, gates ...), to edit."""
+    return copy.deepcopy(_load(FV1))
 
 
 def write(data: Map, path: Path) -> Path:
@@ -185,6 +193,7 @@ class Case:
     new: Edit  # applied to v1 to get NEW
     expect: tuple[Expected, ...]
     old: Edit | None = None  # applied to v1 to get OLD (default: v1 itself)
+    start: Callable[[], Map] = base  # the map both sides start from
 
 
 def _add_register(data: Map) -> None:
@@ -464,8 +473,155 @@ CASES = [
 ]
 
 
+# -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes ------
+
+
+def fx(case_id: str, new: Edit, expect: tuple[Expected, ...], old: Edit | None = None) -> Case:
+    return Case(case_id, new, expect, old, start=fixture_base)
+
+
+def firmware_register(data: Map) -> dict[str, Any]:
+    result: dict[str, Any] = data["device"]["firmware_register"]
+    return result
+
+
+def _relay_2_becomes_an_input(data: Map) -> None:
+    register(data, "relay_2").update(space="discrete_input", access="r")
+
+
+def _relay_2_renamed_into_another_space(data: Map) -> None:
+    register(data, "relay_2").update(name="relay_b", space="discrete_input", access="r")
+
+
+def _drop_firmware_register(data: Map) -> None:
+    del data["device"]["firmware_register"]
+
+
+def _firmware_as_major_minor(data: Map) -> None:
+    firmware_register(data).update(format="major_minor")
+    del firmware_register(data)["decimals"]
+
+
+CASES += [
+    fx("fx_space", lambda d: register(d, "energy").update(space="holding", access="r"), (("register_space_changed", "energy", R),)),
+    fx(
+        "fx_space_and_access",
+        set_(lambda d: register(d, "energy"), "space", "holding"),  # holding registers default to rw
+        (("register_space_changed", "energy", R), ("register_access_changed", "energy", C)),
+    ),
+    fx(
+        "fx_coil_to_discrete_input",
+        _relay_2_becomes_an_input,
+        (("register_space_changed", "relay_2", R), ("register_access_changed", "relay_2", R)),
+    ),
+    fx(
+        "fx_other_name_in_another_space_is_another_register",
+        _relay_2_renamed_into_another_space,
+        (("register_removed", "relay_2", R), ("register_added", "relay_b", C)),
+    ),
+    fx("fx_float_to_int", set_(lambda d: register(d, "voltage"), "type", "s32"), (("register_type_changed", "voltage", R),)),
+    fx("fx_u64_to_f64", set_(lambda d: register(d, "energy"), "type", "f64"), (("register_type_changed", "energy", R),)),
+    fx("fx_string_words", set_(lambda d: register(d, "model_name"), "words", 4), (("register_string_changed", "model_name", R),)),
+    fx(
+        "fx_string_encoding",
+        set_(lambda d: register(d, "serial_number"), "encoding", "gbk"),
+        (("register_string_changed", "serial_number", R),),
+    ),
+    fx(
+        "fx_string_padding",
+        set_(lambda d: register(d, "serial_number"), "padding", "space"),
+        (("register_string_changed", "serial_number", R),),
+    ),
+    fx(
+        "fx_register_byte_order",
+        set_(lambda d: register(d, "voltage"), "byte_order", "low_first"),
+        (("register_byte_order_changed", "voltage", R),),
+    ),
+    fx(
+        "fx_register_byte_order_back_to_the_device",
+        delete(lambda d: register(d, "swapped_word"), "byte_order"),
+        (("register_byte_order_changed", "swapped_word", R),),
+    ),
+    # registers that follow the device's byte order change with it: one row, the transport's
+    fx("fx_device_byte_order", set_(transport, "byte_order", "low_first"), (("transport_changed", "byte_order", R),)),
+    fx(
+        "fx_f32_word_order",
+        delete(lambda d: register(d, "current"), "word_order"),
+        (("register_word_order_changed", "current", R),),
+    ),
+    fx("fx_offset_changed", set_(lambda d: register(d, "temperature"), "offset", -50), (("register_offset_changed", "temperature", R),)),
+    fx("fx_offset_added", set_(lambda d: register(d, "energy"), "offset", 100), (("register_offset_changed", "energy", R),)),
+    # firmware gates: a version that loses the register is breaking, one that gains it is not
+    fx(
+        "fx_gate_added",
+        set_(lambda d: register(d, "voltage"), "firmware", {"from": "2.00"}),
+        (("register_firmware_changed", "voltage", R),),
+    ),
+    fx("fx_gate_removed", delete(lambda d: register(d, "running_hours"), "firmware"), (("register_firmware_changed", "running_hours", C),)),
+    fx(
+        "fx_gate_widened",
+        set_(lambda d: register(d, "running_hours"), "firmware", {"from": "1.50"}),
+        (("register_firmware_changed", "running_hours", C),),
+    ),
+    fx(
+        "fx_gate_narrowed",
+        set_(lambda d: register(d, "running_hours"), "firmware", {"from": "2.10"}),
+        (("register_firmware_changed", "running_hours", R),),
+    ),
+    fx(
+        "fx_gate_gains_an_end",
+        set_(lambda d: register(d, "running_hours"), "firmware", {"from": "2.00", "until": "3.00"}),
+        (("register_firmware_changed", "running_hours", R),),
+    ),
+    fx(
+        "fx_gate_ends_later",
+        set_(lambda d: register(d, "legacy_mode"), "firmware", {"until": "4.00"}),
+        (("register_firmware_changed", "legacy_mode", C),),
+    ),
+    fx(
+        "fx_gate_shifted",
+        set_(lambda d: register(d, "legacy_mode"), "firmware", {"from": "1.00", "until": "4.00"}),
+        (("register_firmware_changed", "legacy_mode", R),),
+    ),
+    fx(
+        "fx_group_gate_narrowed",
+        set_(lambda d: group(d, "quality"), "firmware", {"from": "2.10"}),
+        (("register_firmware_changed", "thd_current", R), ("register_firmware_changed", "thd_voltage", R)),
+    ),
+    fx("fx_poll", set_(lambda d: register(d, "voltage"), "poll", "normal"), (("register_poll_changed", "voltage", C),)),
+    fx(
+        "fx_group_poll",
+        delete(lambda d: group(d, "nameplate"), "poll"),
+        tuple(("register_poll_changed", n, C) for n in ("firmware_version", "model_name", "serial_number")),
+    ),
+    # float ranges and defaults, as for integers
+    fx(
+        "fx_float_range_narrowed", set_(lambda d: register(d, "alarm_limit"), "max", 800.0), (("register_range_changed", "alarm_limit", R),)
+    ),
+    fx("fx_float_range_widened", set_(lambda d: register(d, "alarm_limit"), "min", -10.0), (("register_range_changed", "alarm_limit", C),)),
+    fx("fx_float_default", set_(lambda d: register(d, "alarm_limit"), "default", 230.5), (("register_default_changed", "alarm_limit", C),)),
+    # the device's firmware register
+    fx(
+        "fx_firmware_register_added",
+        lambda d: None,
+        (("firmware_register_changed", "firmware_register", C),),
+        old=_drop_firmware_register,
+    ),
+    fx("fx_firmware_register_removed", _drop_firmware_register, (("firmware_register_changed", "firmware_register", R),)),
+    fx("fx_firmware_register_format", _firmware_as_major_minor, (("firmware_register_changed", "firmware_register", R),)),
+    # coil limits, as the register limits
+    fx("fx_max_read_coils_smaller", set_(transport, "max_read_coils", 1000), (("transport_changed", "max_read_coils", R),)),
+    fx(
+        "fx_max_write_coils_larger",
+        lambda d: None,
+        (("transport_changed", "max_write_coils", C),),
+        old=set_(transport, "max_write_coils", 800),
+    ),
+]
+
+
 def run_case(case: Case, tmp_path: Path) -> tuple[diff.Report, Path, Path]:
-    old_data, new_data = base(), base()
+    old_data, new_data = case.start(), case.start()
     if case.old is not None:
         case.old(old_data)
     case.new(new_data)
@@ -599,6 +755,51 @@ def test_markdown_escapes_map_text(tmp_path: Path) -> None:
     page = diff.render_markdown(report)
     assert "<script>" not in page and "| `code`" not in page
     assert "&lt;script&gt;" in page
+
+
+def test_fixture_v2_reports_every_new_kind_and_shows_the_gates(capsys: pytest.CaptureFixture[str]) -> None:
+    """A later firmware's map: each of issue #19's kinds once, gates in text, Markdown and JSON."""
+    assert main(["diff", str(FV1), str(FV2)]) == 7
+    text = capsys.readouterr().out
+    assert "12 changes: 7 breaking, 5 compatible" in text
+    breaking, compatible = text.split("\ncompatible:\n")
+    for line in (
+        "register_space_changed       energy: input -> holding  (read 0x04 -> 0x03)",
+        "register_string_changed      serial_number: encoding ascii -> encoding utf-8",
+        "register_word_order_changed  voltage: high_first -> low_first",
+        "register_byte_order_changed  swapped_word: low_first -> high_first",
+        "register_offset_changed      temperature: -40 -> -50",
+        "register_firmware_changed    thd_voltage: firmware >= 2.00 -> firmware >= 2.10  (firmware before 2.10 loses it)",
+    ):
+        assert line in breaking, line
+    for line in (
+        "register_firmware_changed    legacy_mode: firmware < 3.00 -> every firmware  (firmware 3.00 and later gains it)",
+        "register_firmware_changed    running_hours: firmware >= 2.00 -> every firmware  (firmware before 2.00 gains it)",
+        "register_poll_changed        legacy_mode: normal -> slow",
+        "register_range_changed       alarm_limit: 0.0..1000.0 -> 0.0..1200.0  (widened)",
+        'register_added               power_factor: 0x0006 input f32 R, "Power factor", firmware >= 2.10',
+    ):
+        assert line in compatible, line
+    assert main(["diff", str(FV1), str(FV2), "--format", "markdown"]) == 7
+    page = capsys.readouterr().out
+    assert "### Register firmware gates changed" in page
+    assert "| `thd_voltage` | firmware &gt;= 2.00 | firmware &gt;= 2.10 | firmware before 2.10 loses it |" in page
+    assert '| `power_factor` | 0x0006 input f32 R, "Power factor", firmware &gt;= 2.10 |' in page
+    assert main(["diff", str(FV1), str(FV2), "--format", "json"]) == 7
+    changes = {(c["kind"], c["subject"]): c for c in json.loads(capsys.readouterr().out)["changes"]}
+    gate = changes[("register_firmware_changed", "thd_voltage")]
+    assert (gate["old"], gate["new"], gate["bump"]) == ({"from": "2.00", "until": None}, {"from": "2.10", "until": None}, "major")
+    assert changes[("register_firmware_changed", "running_hours")]["new"] is None
+    assert changes[("register_offset_changed", "temperature")]["old"] == -40
+    assert changes[("register_string_changed", "serial_number")]["new"] == {"encoding": "utf-8"}
+
+
+def test_the_fixture_maps_are_valid_and_use_the_new_features() -> None:
+    for path in (FV1, FV2):
+        device = load_map(path)  # the front end's checks (`validate` adds the back ends')
+        assert {r.space for r in device.registers} == {"holding", "input", "coil", "discrete_input"}
+        assert {r.type.value for r in device.registers} >= {"f32", "f64", "u64", "string", "bool"}
+        assert device.info.firmware_register is not None and any(r.firmware for r in device.registers)
 
 
 def test_changelog_example_is_current() -> None:

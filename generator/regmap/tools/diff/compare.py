@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from typing import Any
 
-from regmap.model import ArrayDef, ArrayMember, Command, Device, EnumType, Register
+from regmap.model import ArrayDef, ArrayMember, Command, Device, EnumType, FirmwareGate, FirmwareRegister, Register
 from regmap.render import hex4
 from regmap.tools.diff.documentation import documentation_changes
 from regmap.tools.diff.kinds import _KIND_ORDER, MAJOR, MINOR, PATCH, Change, Changes, Report
@@ -16,6 +17,7 @@ from regmap.tools.diff.text import (
     _effect,
     _fields,
     _fraction,
+    _gate,
     _indices,
     _layout,
     _natural,
@@ -26,6 +28,7 @@ from regmap.tools.diff.text import (
     _val,
 )
 from regmap.tools.diff.transport import transport_changes
+from regmap_runtime.spec import parse_version
 
 ELEMENT = "\0"  # stands for an array index in subjects until identical element changes are merged
 
@@ -75,6 +78,13 @@ class _Diff:
             a, b = getattr(o, f), getattr(n, f)
             if a != b:
                 self.changes.add("device_changed", f, PATCH, _show(a), _show(b), a, b)
+        a_fw, b_fw = _firmware_register(o.firmware_register, self._register_name), _firmware_register(n.firmware_register, str)
+        if a_fw != b_fw:
+            bump = MINOR if a_fw is None else MAJOR
+            note = "" if a_fw is None else "removed" if b_fw is None else "an old client reads the version another way"
+            self.changes.add(
+                "firmware_register_changed", "firmware_register", bump, _firmware_text(a_fw), _firmware_text(b_fw), a_fw, b_fw, note
+            )
 
     def _enums(self) -> None:
         def members(e: EnumType) -> frozenset[tuple[int, str]]:
@@ -116,7 +126,7 @@ class _Diff:
         pairs, removed, added = _match(
             old,
             new,
-            [lambda r: r.name, lambda r: r.param, lambda r: r.address],
+            [lambda r: r.name, lambda r: r.param, lambda r: (r.space, r.address)],
             accept=lambda a, b: not (a.param and b.param and a.param != b.param),
         )
         for r in removed:
@@ -141,14 +151,28 @@ class _Diff:
         """Changes of one register's type, access, unit ..., bitfields and text; name and address are the caller's."""
         out = Changes()
         add = out.add
+        if o.space != n.space:
+            add("register_space_changed", subject, MAJOR, o.space, n.space, o.space, n.space, _codes(o, n))
         if o.type != n.type:
-            note = f"{o.words} -> {n.words} words" if o.words != n.words else ("signedness" if o.signed != n.signed else "")
+            if o.type.kind != n.type.kind:
+                note = f"{o.type.kind} -> {n.type.kind}"
+            elif o.words != n.words:
+                note = f"{o.words} -> {n.words} words"
+            else:
+                note = "signedness" if o.signed != n.signed else ""
             add("register_type_changed", subject, MAJOR, o.type.value, n.type.value, o.type, n.type, note)
-        # A register that follows the device's word order is reported once, as the transport change.
+        elif o.type.is_string:
+            out += _string_changes(o, n, subject)
+        # A register that follows the device's word (byte) order is reported once, as the transport change.
         device_orders = self.old.transport.word_order, self.new.transport.word_order
         follows = device_orders[0] != device_orders[1] and (o.word_order, n.word_order) == device_orders
         if o.wide and n.wide and o.word_order != n.word_order and not follows:
             add("register_word_order_changed", subject, MAJOR, o.word_order.value, n.word_order.value, o.word_order, n.word_order)
+        device_bytes = self.old.transport.byte_order, self.new.transport.byte_order
+        follows = device_bytes[0] != device_bytes[1] and (o.byte_order, n.byte_order) == device_bytes
+        has_bytes = o.type.info.has_byte_order and n.type.info.has_byte_order
+        if has_bytes and o.byte_order != n.byte_order and not follows:
+            add("register_byte_order_changed", subject, MAJOR, o.byte_order.value, n.byte_order.value, o.byte_order, n.byte_order)
         if o.paired != n.paired:
             add(
                 "register_paired_changed",
@@ -166,6 +190,8 @@ class _Diff:
             add("register_unit_changed", subject, PATCH if o.unit is None else MAJOR, _show(o.unit), _show(n.unit), o.unit, n.unit)
         if o.scale != n.scale:
             add("register_scale_changed", subject, MAJOR, _fraction(o.scale), _fraction(n.scale), o.scale, n.scale)
+        if o.offset != n.offset:
+            add("register_offset_changed", subject, MAJOR, _fraction(o.offset), _fraction(n.offset), o.offset, n.offset)
         if (o.min, o.max) != (n.min, n.max):
             narrowed = n.raw_min > o.raw_min or n.raw_max < o.raw_max
             widened = n.raw_min < o.raw_min or n.raw_max > o.raw_max
@@ -184,6 +210,21 @@ class _Diff:
                 o.enum.name if o.enum else None,
                 b_enum,
             )
+        if o.firmware != n.firmware:
+            taken, given = _gate_change(o.firmware, n.firmware)
+            note = "; ".join(p for p in (taken, given) if p)
+            add(
+                "register_firmware_changed",
+                subject,
+                MAJOR if taken else MINOR,
+                _gate(o.firmware),
+                _gate(n.firmware),
+                _gate_json(o.firmware),
+                _gate_json(n.firmware),
+                note,
+            )
+        if o.poll != n.poll:
+            add("register_poll_changed", subject, PATCH, o.poll.value, n.poll.value, o.poll, n.poll)
         out += self._bitfields(o, n, subject)
         out.doc("register_doc_changed", subject, o, n, _REGISTER_DOC)
         return out
@@ -216,14 +257,22 @@ class _Diff:
     # -- arrays
 
     def _arrays(self) -> None:
-        pairs, removed, added = _match(self.old.arrays, self.new.arrays, [lambda a: a.name, lambda a: (a.base, a.stride)])
+        old_space, new_space = _array_spaces(self.old), _array_spaces(self.new)
+        pairs, removed, added = _match(
+            [(a, old_space[a.name]) for a in self.old.arrays],
+            [(a, new_space[a.name]) for a in self.new.arrays],
+            [lambda p: p[0].name, lambda p: (p[1], p[0].base, p[0].stride)],
+        )
+        self._array_pairs([a for a, _ in removed], [a for a, _ in added], [(o, n) for (o, _), (n, _), _ in pairs])
+
+    def _array_pairs(self, removed: list[ArrayDef], added: list[ArrayDef], pairs: list[tuple[ArrayDef, ArrayDef]]) -> None:
         for a in removed:
             self.changes.add("array_removed", a.name, MAJOR, _array_summary(a), "", a.name, None)
         for a in added:
             self.changes.add("array_added", a.name, MINOR, "", _array_summary(a), None, a.name)
         old_elements = _elements(self.old)
         new_elements = _elements(self.new)
-        for o, n, _ in pairs:
+        for o, n in pairs:
             if o.name != n.name:
                 self.changes.add("array_renamed", o.name, MAJOR, o.name, n.name, o.name, n.name)
             layout = [(f, getattr(o, f), getattr(n, f)) for f in ("base", "stride", "index_base") if getattr(o, f) != getattr(n, f)]
@@ -380,6 +429,68 @@ class _Diff:
 
 _REGISTER_DOC = ("title", "title_zh", "description", "range_text", "takes_effect", "settable", "modes", "group", "source", "notes")
 _MEMBER_DOC = ("title", "title_zh", "symbol", "description", "source")
+
+
+def _codes(o: Register, n: Register) -> str:
+    """`read 0x03 -> 0x04`: what a client sends for it now."""
+    return f"read 0x{o.space_info.read:02X} -> 0x{n.space_info.read:02X}"
+
+
+def _string_changes(o: Register, n: Register, subject: str) -> Changes:
+    """A string register's length, encoding or padding: one row listing what differs."""
+    out = Changes()
+    diffs = [(f, getattr(o, f), getattr(n, f)) for f in ("string_words", "encoding", "padding") if getattr(o, f) != getattr(n, f)]
+    if diffs:
+        before = "; ".join(f"{'words' if f == 'string_words' else f} {a}" for f, a, _ in diffs)
+        after = "; ".join(f"{'words' if f == 'string_words' else f} {b}" for f, _, b in diffs)
+        key = {"string_words": "words"}
+        old = {key.get(f, f): a for f, a, _ in diffs}
+        new = {key.get(f, f): b for f, _, b in diffs}
+        out.add("register_string_changed", subject, MAJOR, before, after, old, new)
+    return out
+
+
+def _gate_change(o: FirmwareGate | None, n: FirmwareGate | None) -> tuple[str, str]:
+    """What a gate change takes from and gives to firmware versions, as (lost, gained) notes. No gate
+    admits every version; `from` is inclusive, `until` exclusive."""
+    low, high = (float("-inf"),), (float("inf"),)
+
+    def first(g: FirmwareGate | None) -> tuple[float, ...]:
+        return low if g is None or g.first is None else tuple(map(float, parse_version(g.first)))
+
+    def until(g: FirmwareGate | None) -> tuple[float, ...]:
+        return high if g is None or g.until is None else tuple(map(float, parse_version(g.until)))
+
+    lost, gained = [], []
+    if first(n) > first(o):
+        lost.append(f"firmware before {n.first if n else ''} loses it")
+    elif first(n) < first(o):
+        gained.append(f"firmware before {o.first if o else ''} gains it")
+    if until(n) < until(o):
+        lost.append(f"firmware {n.until if n else ''} and later loses it")
+    elif until(n) > until(o):
+        gained.append(f"firmware {o.until if o else ''} and later gains it")
+    return ", ".join(lost), ", ".join(gained)
+
+
+def _gate_json(gate: FirmwareGate | None) -> dict[str, str | None] | None:
+    return None if gate is None else {"from": gate.first, "until": gate.until}
+
+
+def _firmware_register(fw: FirmwareRegister | None, rename: Callable[[str], str]) -> dict[str, Any] | None:
+    return None if fw is None else {"register": rename(fw.register.name), "format": fw.format, "decimals": fw.decimals}
+
+
+def _firmware_text(fw: dict[str, Any] | None) -> str:
+    if fw is None:
+        return "none"
+    decimals = f", {fw['decimals']} decimals" if fw["format"] == "decimal" and fw["decimals"] else ""
+    return f"{fw['register']} ({fw['format']}{decimals})"
+
+
+def _array_spaces(device: Device) -> dict[str, str]:
+    """Array name -> the space of its elements (an array's members share its group's space)."""
+    return {r.array.array: r.space for r in device.registers if r.array is not None}
 
 
 def _elements(device: Device) -> dict[tuple[str, int, str], Register]:

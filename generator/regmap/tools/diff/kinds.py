@@ -45,11 +45,19 @@ KINDS: dict[str, Kind] = {
     # Order here is the order of the report within "breaking" and within "compatible".
     "device_id_changed": Kind("field", "Device id changed", "breaking: generated module, class and macro names derive from it"),
     "transport_changed": Kind("setting", "Transport settings changed", "see the transport table"),
+    "firmware_register_changed": Kind(
+        "setting",
+        "Firmware register changed",
+        "breaking when removed or changed (register or format): an old client would read another version; minor when added",
+    ),
     "register_removed": Kind("register", "Registers removed", "breaking"),
     "register_renamed": Kind("register", "Registers renamed", "breaking: generated names change (wire unchanged)"),
     "register_moved": Kind("register", "Registers moved", "breaking: another address on the wire"),
-    "register_type_changed": Kind("register", "Register types changed", "breaking: width or signedness"),
+    "register_space_changed": Kind("register", "Register spaces changed", "breaking: another table, other function codes"),
+    "register_type_changed": Kind("register", "Register types changed", "breaking: width, signedness or kind (integer, float, text, bit)"),
+    "register_string_changed": Kind("register", "String registers changed", "breaking: length in words, encoding or padding"),
     "register_word_order_changed": Kind("register", "Register word order changed", "breaking"),
+    "register_byte_order_changed": Kind("register", "Register byte order changed", "breaking: every word reads byte-swapped"),
     "register_paired_changed": Kind("register", "Register pairing changed", "breaking: block reads start elsewhere"),
     "register_access_changed": Kind(
         "register", "Register access changed", "breaking when read or write is lost (RW->R, RW->W, R<->W); minor when gained (R->RW, W->RW)"
@@ -58,12 +66,19 @@ KINDS: dict[str, Kind] = {
         "register", "Register units changed", "breaking when changed or removed; patch when given where there was none"
     ),
     "register_scale_changed": Kind("register", "Register scales changed", "breaking"),
+    "register_offset_changed": Kind("register", "Register offsets changed", "breaking: the same raw value means another value"),
     "register_range_changed": Kind(
         "register", "Register ranges changed", "breaking when narrowed; minor when only widened; patch when the effective range is the same"
     ),
     "register_enum_changed": Kind("register", "Register enums changed", "breaking: the generated value type changes"),
+    "register_firmware_changed": Kind(
+        "register",
+        "Register firmware gates changed",
+        "breaking when firmware versions lose the register (a gate added or narrowed); minor when only widened or removed",
+    ),
     "register_default_changed": Kind("register", "Register defaults changed", "patch: factory state, never sent by generated code"),
     "register_param_changed": Kind("register", "Parameter ids changed", "patch: the manual's label only"),
+    "register_poll_changed": Kind("register", "Register poll classes changed", "patch: how often a poller reads it, not what it reads"),
     "register_added": Kind("register", "Registers added", "minor"),
     "register_doc_changed": Kind("register", "Register documentation changed", "patch"),
     "array_removed": Kind("array", "Arrays removed", "breaking"),

@@ -9,7 +9,7 @@ from collections.abc import Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
-from regmap.model import Access, ArrayDef, Register
+from regmap.model import Access, ArrayDef, FirmwareGate, Register
 from regmap.render import hex4
 
 
@@ -88,7 +88,7 @@ def _json(value: Any) -> Any:
     return value
 
 
-def _range(lo: int | None, hi: int | None) -> str:
+def _range(lo: int | float | None, hi: int | float | None) -> str:
     if lo is not None and hi is not None:
         return f"{lo}..{hi}"
     if lo is not None:
@@ -102,12 +102,23 @@ ACCESS = {Access.READ: "R", Access.READ_WRITE: "RW", Access.WRITE: "W"}
 
 
 def _register_summary(r: Register) -> str:
-    parts = [hex4(r.address), r.type.value, ACCESS[r.access]]
+    """`Pr5.00 0x0191 u16 RW A, "Peak current"`; a register outside the holding registers names its
+    space (`0x0000 input f32 R V`), a gated one its firmware (`..., firmware >= 2.0`)."""
+    kind = r.type.value + (f" x{r.words}" if r.type.is_string else "")
+    parts = [hex4(r.address), kind, ACCESS[r.access]]
+    if r.space != "holding":
+        parts.insert(1, r.space)
     if r.param:
         parts.insert(0, r.param)
     if r.unit:
         parts.append(_plain(r.unit))
-    return " ".join(parts) + f', "{_clip(_plain(r.title))}"'
+    gate = f", {r.firmware.text}" if r.firmware is not None else ""
+    return " ".join(parts) + f', "{_clip(_plain(r.title))}"' + gate
+
+
+def _gate(gate: FirmwareGate | None) -> str:
+    """A firmware gate as diff prints it: `firmware >= 2.0`, `2.1 <= firmware < 3.0`, or `every firmware`."""
+    return "every firmware" if gate is None else gate.text
 
 
 def _array_summary(a: ArrayDef) -> str:

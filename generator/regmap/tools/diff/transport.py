@@ -29,15 +29,14 @@ def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) 
             smaller = a is not None and b is not None and b < a
             setting(name, MAJOR if smaller else PATCH, a, b, note="smaller: old requests may be refused" if smaller else "")
 
-    for name in ("baud", "parity", "data_bits", "stop_bits", "word_order", "crc_byte_order"):
+    notes = {
+        "word_order": "applies to every 32-bit register without its own word order",
+        "byte_order": "applies to every register without its own byte order",
+    }
+    for name in ("baud", "parity", "data_bits", "stop_bits", "word_order", "byte_order", "crc_byte_order"):
         a, b = getattr(o, name), getattr(n, name)
         if a != b:
-            note = (
-                "applies to every 32-bit register without its own word order"
-                if name == "word_order"
-                else "an old client uses the old setting by default"
-            )
-            setting(name, MAJOR, a, b, note=note)
+            setting(name, MAJOR, a, b, note=notes.get(name, "an old client uses the old setting by default"))
     grew_or_shrank("baud_rates", o.baud_rates, n.baud_rates)
     if (o.slave_min, o.slave_max) != (n.slave_min, n.slave_max):
         narrowed = n.slave_min > o.slave_min or n.slave_max < o.slave_max
@@ -62,6 +61,8 @@ def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) 
     limit("max_read_registers", o.max_read_registers, n.max_read_registers)
     limit("max_write_registers", o.max_write_registers, n.max_write_registers)
     limit("max_message_bytes", o.max_message_bytes, n.max_message_bytes)
+    limit("max_read_coils", o.max_read_coils, n.max_read_coils)
+    limit("max_write_coils", o.max_write_coils, n.max_write_coils)
 
     def wor(t: Transport) -> dict[str, Any] | None:
         w = t.word_order_register
