@@ -222,8 +222,8 @@ def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
     shutil.copy(original, target)
     device = load_map(original)
     rows = list(csv.reader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
-    reg = next(r for r in device.registers if r.default is not None and r.max is not None and r.default < r.max)
-    assert reg.default is not None
+    reg = next(r for r in device.registers if isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max)
+    assert isinstance(reg.default, int)
     row = next(row for row in rows if row[0] == reg.name)
     row[rows[0].index("default")] = str(reg.default + 1)
     table = tmp_path / "changed.csv"
@@ -319,3 +319,221 @@ def test_new_writes_a_skeleton_that_validates(tmp_path: Path) -> None:
     assert "# check: the factory baud rate" in out.read_text(encoding="utf-8")
     assert main(["new", "acme_x1", "--vendor", "Acme", "--model", "X1", "--out", str(out)]) == ExitCode.USAGE
     assert _regmap("validate", str(out)).returncode == 0
+
+
+# -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes --
+
+FIXTURES = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
+NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll"]
+
+
+def _wire(r: Register) -> dict[str, Any]:
+    """What a client needs to read a register right: the fields issue #19 added, and its range."""
+    return {
+        "name": r.name,
+        "address": r.address,
+        "space": r.space,
+        "type": r.type.value,
+        "words": r.words,
+        "access": r.access.value,
+        "word_order": r.word_order.value if r.word_order_fixed else None,  # the column names a register's own order
+        "byte_order": r.byte_order.value if not r.type.is_bool else None,
+        "scale": r.scale,
+        "offset": r.offset,
+        "min": r.min,
+        "max": r.max,
+        "default": r.default,
+        "encoding": r.encoding if r.type.is_string else None,
+        "padding": r.padding if r.type.is_string else None,
+        "firmware": None if r.firmware is None else (r.firmware.first, r.firmware.until),
+        "poll": r.poll.value,
+        "unit": r.unit,
+        "title": r.title,
+    }
+
+
+def _draft_wire(r: dict[str, Any]) -> dict[str, Any]:
+    """The same fields read from a draft's YAML, with the map format's defaults."""
+    kind = r["type"]
+    gate = r.get("firmware")
+    default = r.get("default")
+    return {
+        "name": r["name"],
+        "address": r["address"],
+        "space": r.get("space", "holding"),
+        "type": kind,
+        "words": r.get("words", {"u32": 2, "s32": 2, "f32": 2, "u64": 4, "s64": 4, "f64": 4}.get(kind, 1)),
+        "access": r.get("access", "rw"),
+        "word_order": r.get("word_order"),
+        "byte_order": None if kind == "bool" else r.get("byte_order", "high_first"),
+        "scale": Fraction(str(r.get("scale", 1))),
+        "offset": Fraction(str(r.get("offset", 0))),
+        "min": r.get("min"),
+        "max": r.get("max"),
+        "default": int(default) if isinstance(default, bool) else default,
+        "encoding": r.get("encoding", "ascii") if kind == "string" else None,
+        "padding": r.get("padding", "nul") if kind == "string" else None,
+        "firmware": None if gate is None else (gate.get("from"), gate.get("until")),
+        "poll": r.get("poll", "normal"),
+        "unit": r.get("unit"),
+        "title": r["title"],
+    }
+
+
+def test_seed_exports_only_gain_columns_at_the_end() -> None:
+    """The columns before issue #19 keep their place and their values; the new ones hold the defaults."""
+    for path in MAPS:
+        rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
+        assert rows[0][-len(NEW_COLUMNS) :] == NEW_COLUMNS
+        assert rows[0][: -len(NEW_COLUMNS)][:4] == ["name", "param", "address_hex", "address"]
+        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal")}
+
+
+@pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)
+def test_fixture_round_trip_through_xlsx(path: Path, tmp_path: Path) -> None:
+    device = load_map(path)
+    table = tmp_path / f"{device.id}.xlsx"
+    table.write_bytes(export_xlsx(device))
+    draft = tmp_path / f"{device.id}.yaml"
+    run = _regmap("import", str(table), "--into", str(draft))
+    assert run.returncode == 0, run.stderr
+    assert "cannot read" not in run.stderr + run.stdout
+    again = load_map(draft)  # the draft validates: function codes follow the spaces it uses
+    assert [_wire(r) for r in again.registers] == [_wire(r) for r in device.registers]
+
+
+@pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)
+def test_fixture_round_trip_through_csv(path: Path, tmp_path: Path) -> None:
+    device = load_map(path)
+    table = tmp_path / f"{device.id}.csv"
+    table.write_text(export_csv(device), encoding="utf-8", newline="")
+    draft = tmp_path / f"{device.id}.yaml"
+    run = _regmap("import", str(table), "--into", str(draft))
+    assert run.returncode in (ExitCode.OK, ExitCode.INVALID_MAP), run.stderr  # a CSV carries no enum definitions
+    assert "cannot read" not in run.stderr
+    data = yaml.safe_load(draft.read_text(encoding="utf-8"))
+    got = {r["name"]: _draft_wire(r) for g in data["groups"] for r in g["registers"]}
+    assert [got[r.name] for r in device.registers] == [_wire(r) for r in device.registers]
+
+
+@pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)
+def test_fixture_update_with_its_own_table_changes_nothing(path: Path, tmp_path: Path) -> None:
+    """Inherited spaces, gates and poll classes and the device's byte order compare equal, so nothing is written."""
+    target = tmp_path / path.name
+    shutil.copy(path, target)
+    table = tmp_path / "table.xlsx"
+    table.write_bytes(export_xlsx(load_map(target)))
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == 0, run.stderr
+    assert "no changes" in run.stdout
+    assert target.read_bytes() == path.read_bytes()
+
+
+def test_update_changes_a_gate_and_a_byte_order_in_place(tmp_path: Path) -> None:
+    path = ROOT / "tests" / "maps" / "fixtures" / "swapped_gated.yaml"
+    target = tmp_path / path.name
+    shutil.copy(path, target)
+    rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
+    header = rows[0]
+    row = next(r for r in rows if r[0] == "torque_limit")
+    row[header.index("firmware_from")] = "2.1"
+    row = next(r for r in rows if r[0] == "speed")
+    row[header.index("byte_order")] = "high_first"
+    table = tmp_path / "changed.csv"
+    with table.open("w", encoding="utf-8", newline="") as handle:
+        csv.writer(handle).writerows(rows)
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == 0, run.stderr
+    assert "register_firmware_changed" in run.stdout and "register_byte_order_changed" in run.stdout
+    again = load_map(target)
+    gate = again.register("torque_limit").firmware
+    assert gate is not None and gate.first == "2.1"
+    assert again.register("speed").byte_order.value == "high_first"
+    assert again.register("position").byte_order.value == "low_first"  # still the device's
+    before, after = path.read_text(encoding="utf-8").splitlines(), target.read_text(encoding="utf-8").splitlines()
+    assert len(before) == len(after) and sum(a != b for a, b in zip(before, after, strict=True)) == 2
+
+
+VENDOR_TABLE = """\
+地址,名称,寄存器类型,数据类型,字数,字节序,单位,设定范围,偏移量,字符编码,起始固件版本,轮询
+0x0000,A相电压,输入寄存器,浮点数,,CDAB,V,0.0~500.0,,,,快
+0x0002,有功电能,04,uint64,,,kWh,,,,,慢
+0x0006,温度,3x,int16,,低字节在前,℃,-40.0~85.0,-40,,2.1,
+0x0100,型号,保持寄存器,字符串,8,,,,,gbk,,静态
+0x0000,继电器1,线圈,,,,,,,,,
+0x0001,门磁,离散输入,,,,,,,,1.5,
+"""
+
+
+def test_a_vendor_table_with_the_new_columns_imports_into_a_valid_map(tmp_path: Path) -> None:
+    """Chinese headers and the spellings vendors print: 输入寄存器, 04, 3x, 浮点数, CDAB, 低字节在前, 字符串, 线圈."""
+    table = tmp_path / "meter.csv"
+    table.write_text(VENDOR_TABLE, encoding="utf-8")
+    draft = tmp_path / "meter.yaml"
+    run = _regmap("import", str(table), "--into", str(draft))
+    assert run.returncode == 0, run.stderr + run.stdout
+    for header, field in (("寄存器类型", "space"), ("字节序", "byte_order"), ("偏移量", "offset"), ("起始固件版本", "firmware_from")):
+        assert f"{header!r} -> {field}" in run.stdout
+    device = load_map(draft)
+    by_title = {r.title_zh: r for r in device.registers}
+    voltage = by_title["A相电压"]
+    assert (voltage.space, voltage.type.value, voltage.word_order.value, voltage.byte_order.value) == (
+        "input",
+        "f32",
+        "low_first",
+        "high_first",
+    )
+    assert (voltage.min, voltage.max, voltage.scale, voltage.poll.value) == (0.0, 500.0, Fraction(1), "fast")
+    energy = by_title["有功电能"]
+    assert (energy.space, energy.type.value, energy.poll.value) == ("input", "u64", "slow")
+    temperature = by_title["温度"]
+    assert (temperature.space, temperature.byte_order.value, temperature.offset, temperature.scale) == (
+        "input",
+        "low_first",
+        Fraction(-40),
+        Fraction(1, 10),
+    )
+    assert (temperature.min, temperature.max) == (0, 1250)  # (-40.0 - -40) / 0.1 .. (85.0 - -40) / 0.1
+    assert temperature.firmware is not None and temperature.firmware.first == "2.1"
+    model = by_title["型号"]
+    assert (model.space, model.type.value, model.words, model.encoding, model.poll.value) == ("holding", "string", 8, "gbk", "static")
+    relay, door = by_title["继电器1"], by_title["门磁"]
+    assert (relay.space, relay.type.value, relay.access.value) == ("coil", "bool", "rw")
+    assert (door.space, door.type.value, door.access.value) == ("discrete_input", "bool", "r")
+    assert set(device.transport.function_codes) == {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x10}
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("04", "input"),
+        ("0x03/0x06/0x10", "holding"),
+        ("01", "coil"),
+        ("2", "discrete_input"),
+        ("4x", "holding"),
+        ("离散输入", "discrete_input"),
+    ],
+)
+def test_spaces_as_tables_print_them(text: str, value: str) -> None:
+    assert cells.space(text) == value
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("ABCD", ("high_first", "high_first")),
+        ("CDAB", ("low_first", "high_first")),
+        ("DCBA", ("low_first", "low_first")),
+        ("BA", (None, "low_first")),
+        ("big endian", (None, "high_first")),
+        ("低字节在前", (None, "low_first")),
+    ],
+)
+def test_byte_orders_as_tables_print_them(text: str, value: tuple[str | None, str]) -> None:
+    assert cells.byte_order(text) == value
+
+
+@pytest.mark.parametrize("text", ["05", "holding-ish", "0x07"])
+def test_unknown_spaces_are_reported(text: str) -> None:
+    with pytest.raises(CellProblem):
+        cells.space(text)

@@ -5,11 +5,15 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from regmap.model import Bitfield, Device, EnumType, Register
+from regmap.model import Bitfield, Device, EnumType, FirmwareGate, Register
 
 
 def _scale(scale: Fraction) -> int | float:
     return int(scale) if scale.denominator == 1 else float(scale)
+
+
+def _gate(gate: FirmwareGate | None) -> dict[str, str | None] | None:
+    return None if gate is None else {"from": gate.first, "until": gate.until}
 
 
 def _enum(e: EnumType) -> dict[str, Any]:
@@ -67,6 +71,14 @@ def register_json(r: Register) -> dict[str, Any]:
         "source": list(r.source),
         "notes": r.notes,
         "errata": list(r.errata),
+        # issue #19 (appended: the shape only grows)
+        "space": r.space,
+        "byte_order": r.byte_order.value if r.type.info.has_byte_order else None,
+        "offset": _scale(r.offset),
+        "encoding": r.encoding if r.type.is_string else None,
+        "padding": r.padding if r.type.is_string else None,
+        "firmware": _gate(r.firmware),
+        "poll": r.poll.value,
     }
 
 
@@ -112,6 +124,16 @@ def export_json(device: Device) -> dict[str, Any]:
                 "undocumented_addresses": t.undocumented_addresses,
                 "response_delay_ms": t.response_delay_ms,
                 "exceptions": [{"code": e.code, "name": e.name, "title": e.title, "title_zh": e.title_zh} for e in t.exceptions],
+                "byte_order": t.byte_order.value,
+                "max_read_coils": t.max_read_coils,
+                "max_write_coils": t.max_write_coils,
+            },
+            "firmware_register": None
+            if info.firmware_register is None
+            else {
+                "register": info.firmware_register.register.name,
+                "format": info.firmware_register.format,
+                "decimals": info.firmware_register.decimals,
             },
         },
         "groups": [{"id": g.id, "title": g.title, "title_zh": g.title_zh, "source": list(g.source)} for g in device.groups],

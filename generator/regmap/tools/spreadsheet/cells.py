@@ -120,6 +120,7 @@ def _number_and_unit(text: str) -> tuple[Decimal | None, str | None]:
 UNITS: dict[str, str] = {
     **{u: u for u in ("A", "mA", "V", "mV", "kV", "W", "kW", "Ω", "Hz", "kHz", "ms", "s", "us", "μs", "ns", "min", "h", "rpm", "rps")},
     **{u: u for u in ("r", "%", "°", "°C", "P/r", "P/R", "ppr", "pulse", "bps", "Nm", "N·m", "mH", "kg·cm²")},
+    **{u: u for u in ("Wh", "kWh", "MWh", "var", "kvar", "varh", "kvarh", "VA", "kVA", "mm", "m", "bar", "Pa", "kPa", "MPa")},
     "ohm": "Ω",
     "℃": "°C",
     "度": "°",
@@ -195,9 +196,148 @@ ACCESS = {
     "只写": "w",
 }
 
-TYPES = {"u16": "u16", "s16": "s16", "u32": "u32", "s32": "s32", "uint16": "u16", "int16": "s16", "uint32": "u32", "int32": "s32"}
+TYPES = {
+    **{t: t for t in ("u16", "s16", "u32", "s32", "u64", "s64", "f32", "f64", "string", "bool")},
+    "uint16": "u16",
+    "int16": "s16",
+    "uint32": "u32",
+    "int32": "s32",
+    "uint64": "u64",
+    "int64": "s64",
+    "word": "u16",
+    "dword": "u32",
+    "float": "f32",
+    "float32": "f32",
+    "real": "f32",
+    "double": "f64",
+    "float64": "f64",
+    "lreal": "f64",
+    "str": "string",
+    "text": "string",
+    "ascii": "string",
+    "boolean": "bool",
+    "bit": "bool",
+    "无符号16位": "u16",
+    "有符号16位": "s16",
+    "无符号32位": "u32",
+    "有符号32位": "s32",
+    "浮点数": "f32",
+    "浮点": "f32",
+    "单精度浮点": "f32",
+    "双精度浮点": "f64",
+    "字符串": "string",
+    "布尔": "bool",
+    "位": "bool",
+}
 
 WORD_ORDERS = {"high_first": "high_first", "low_first": "low_first"}
+
+SPACES = {
+    **{s: s for s in ("holding", "input", "coil", "discrete_input")},
+    "holding register": "holding",
+    "holding registers": "holding",
+    "input register": "input",
+    "input registers": "input",
+    "coils": "coil",
+    "discrete input": "discrete_input",
+    "discrete inputs": "discrete_input",
+    "4x": "holding",
+    "3x": "input",
+    "0x": "coil",
+    "1x": "discrete_input",
+    "保持寄存器": "holding",
+    "输入寄存器": "input",
+    "线圈": "coil",
+    "线圈状态": "coil",
+    "离散输入": "discrete_input",
+    "输入状态": "discrete_input",
+    "离散量输入": "discrete_input",
+}
+"""A register's Modbus table as tables print it. A read function code (03, 0x04, `03/06/10`) says it too."""
+
+_READ_CODES = {1: "coil", 2: "discrete_input", 3: "holding", 4: "input"}
+_FUNCTION_CODES = re.compile(r"^(?:0x)?0?([1-4])(?:h)?(?:\s*[/,、]\s*(?:0x)?[0-9a-f]{1,2}h?)*$", re.IGNORECASE)
+
+
+def space(text: str) -> str | None:
+    """`input register`, `3x`, `输入寄存器` or a read function code (`04`, `0x03/0x06/0x10`) -> a space name."""
+    t = _clean(text)
+    if t in EMPTY:
+        return None
+    m = _FUNCTION_CODES.match(t)
+    if m:
+        return _READ_CODES[int(m.group(1))]
+    return choice(text, SPACES, "space")
+
+
+BYTE_ORDERS = {
+    "high_first": "high_first",
+    "low_first": "low_first",
+    "big endian": "high_first",
+    "big-endian": "high_first",
+    "little endian": "low_first",
+    "little-endian": "low_first",
+    "ab": "high_first",
+    "ba": "low_first",
+    "swapped": "low_first",
+    "not swapped": "high_first",
+    "高字节在前": "high_first",
+    "低字节在前": "low_first",
+    "高位在前": "high_first",
+    "低位在前": "low_first",
+}
+
+ORDER_NAMES = {
+    "abcd": ("high_first", "high_first"),
+    "cdab": ("low_first", "high_first"),
+    "badc": ("high_first", "low_first"),
+    "dcba": ("low_first", "low_first"),
+    "abcdefgh": ("high_first", "high_first"),
+    "ghefcdab": ("low_first", "high_first"),
+    "badcfehg": ("high_first", "low_first"),
+    "hgfedcba": ("low_first", "low_first"),
+}
+"""The four-letter names of wide values' orders -> (word order, byte order)."""
+
+
+def byte_order(text: str) -> tuple[str | None, str] | None:
+    """(word order or None, byte order): `low_first` -> (None, low_first); `CDAB` -> (low_first, high_first)."""
+    t = _clean(text)
+    if t in EMPTY:
+        return None
+    named = ORDER_NAMES.get(t.lower())
+    if named is not None:
+        return named
+    found = choice(text, BYTE_ORDERS, "byte order")
+    return None if found is None else (None, found)
+
+
+POLLS = {
+    **{p: p for p in ("static", "fast", "normal", "slow")},
+    "once": "static",
+    "静态": "static",
+    "一次": "static",
+    "快": "fast",
+    "快速": "fast",
+    "普通": "normal",
+    "正常": "normal",
+    "慢": "slow",
+    "慢速": "slow",
+}
+
+ENCODINGS = {"ascii": "ascii", "latin-1": "latin-1", "latin1": "latin-1", "iso-8859-1": "latin-1", "utf-8": "utf-8", "utf8": "utf-8"}
+ENCODINGS |= {"gbk": "gbk", "gb2312": "gbk"}
+PADDINGS = {"nul": "nul", "null": "nul", "\\0": "nul", "0x00": "nul", "space": "space", "空格": "space"}
+
+
+def version(text: str) -> str:
+    """A firmware version: digits and dots (`2.10`, `V2.1` -> `2.1`)."""
+    t = _clean(text)
+    if t[:1] in ("v", "V"):
+        t = t[1:]
+    if not re.fullmatch(r"[0-9]+(?:\.[0-9]+)*", t):
+        raise CellProblem(f"cannot read firmware version {text!r} (expected digits and dots, as 2.10)")
+    return t
 
 
 def _squash(text: str) -> str:
@@ -279,9 +419,9 @@ def bitfields(text: str) -> list[dict[str, object]]:
     return out
 
 
-def raw_from(value: Decimal, scale: Fraction, what: str, text: str) -> int:
-    """Engineering value -> raw integer; refuses a value that is not a whole number of steps."""
-    raw = Fraction(value) / scale
+def raw_from(value: Decimal, scale: Fraction, what: str, text: str, offset: Fraction = Fraction(0)) -> int:
+    """Engineering value -> raw integer, (value - offset) / scale; refuses a value that is not a whole number of steps."""
+    raw = (Fraction(value) - offset) / scale
     if raw.denominator != 1:
         raise CellProblem(f"{what} {text!r} is not a whole number of steps of {float(scale):g}")
     return int(raw)

@@ -50,6 +50,15 @@ REGISTER_COLUMNS = (
     "source",
     "errata",
     "notes",
+    # issue #19, appended so that every column before keeps its place
+    "space",
+    "byte_order",
+    "offset",
+    "encoding",
+    "padding",
+    "firmware_from",
+    "firmware_until",
+    "poll",
 )
 
 Cell = str | int | float | bool | None
@@ -62,8 +71,25 @@ def _number(value: Fraction) -> int | float:
     return value.numerator if value.denominator == 1 else float(value)
 
 
-def _engineering(raw: int | None, scale: Fraction) -> int | float | None:
-    return None if raw is None else _number(raw * scale)
+def _engineering(r: Register, raw: int | float | str | None) -> Cell:
+    """raw x scale + offset; text and bits as they are."""
+    if raw is None or isinstance(raw, str) or not r.type.numeric:
+        return _raw(r, raw)
+    if isinstance(raw, float):
+        return raw * float(r.scale) + float(r.offset)
+    return _number(raw * r.scale + r.offset)
+
+
+def _raw(r: Register, raw: int | float | str | None) -> Cell:
+    """A raw value as a cell: a bit as true/false, the empty text as `""` (a blank cell says "no default")."""
+    if r.type.is_bool and raw is not None:
+        return bool(raw)
+    if raw == "" and r.type.is_string:
+        return EMPTY_TEXT
+    return raw
+
+
+EMPTY_TEXT = '""'
 
 
 def bitfields_text(r: Register) -> str:
@@ -88,10 +114,10 @@ def register_row(r: Register) -> dict[str, Cell]:
         "scale": j["scale"],
         "min": r.min,
         "max": r.max,
-        "default": r.default,
-        "min_value": _engineering(r.min, r.scale),
-        "max_value": _engineering(r.max, r.scale),
-        "default_value": _engineering(r.default, r.scale),
+        "default": _raw(r, r.default),
+        "min_value": _engineering(r, r.min),
+        "max_value": _engineering(r, r.max),
+        "default_value": _engineering(r, r.default),
         "range_text": r.range_text,
         "enum": j["enum"],
         "bitfields": bitfields_text(r) or None,
@@ -106,6 +132,14 @@ def register_row(r: Register) -> dict[str, Cell]:
         "source": ", ".join(r.source) or None,
         "errata": ", ".join(r.errata) or None,
         "notes": r.notes or None,
+        "space": j["space"],
+        "byte_order": j["byte_order"],  # the register's own, or the device's it follows (empty for a bit)
+        "offset": j["offset"],
+        "encoding": j["encoding"],
+        "padding": j["padding"],
+        "firmware_from": r.firmware.first if r.firmware else None,
+        "firmware_until": r.firmware.until if r.firmware else None,
+        "poll": j["poll"],
     }
 
 

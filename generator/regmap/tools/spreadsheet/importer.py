@@ -21,14 +21,20 @@ from regmap.tools.spreadsheet.rows import Entry, Problem, table_name
 from regmap.tools.spreadsheet.skeleton import head
 from regmap.tools.spreadsheet.table import Table
 from regmap.tools.spreadsheet.yamltext import block, flow, scalar
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 
 # Keys in the order the maps write them.
 KEY_ORDER = (
     "name",
     "param",
     "address",
+    "space",
     "type",
+    "words",
+    "encoding",
+    "padding",
     "word_order",
+    "byte_order",
     "access",
     "paired",
     "title",
@@ -36,6 +42,7 @@ KEY_ORDER = (
     "description",
     "unit",
     "scale",
+    "offset",
     "min",
     "max",
     "default",
@@ -45,9 +52,12 @@ KEY_ORDER = (
     "takes_effect",
     "settable",
     "modes",
+    "firmware",
+    "poll",
     "source",
     "notes",
 )
+NUMERIC = ("u16", "s16", "u32", "s32", "u64", "s64", "f32", "f64")
 
 
 def _register_yaml(e: Entry, source: str) -> dict[str, Any]:
@@ -59,9 +69,11 @@ def _register_yaml(e: Entry, source: str) -> dict[str, Any]:
     notes += e.notes
     if notes:
         v["notes"] = " ".join(n if n.endswith(".") else n + "." for n in notes)
-    out = {k: v[k] for k in KEY_ORDER if k in v and (v[k] is not None or k in ("min", "max", "default"))}
-    if out.get("scale") == 1:
-        del out["scale"]
+    bounds = ("min", "max", "default") if v["type"] in NUMERIC else ("default",)
+    out = {k: v[k] for k in KEY_ORDER if k in v and (v[k] is not None or k in bounds)}
+    for key, default in (("scale", 1), ("offset", 0), ("space", "holding"), ("byte_order", "high_first"), ("poll", "normal")):
+        if key in out and out[key] == default:
+            del out[key]  # the map's default: a draft says only what differs
     if not out.get("modes"):
         out.pop("modes", None)
     if len(out["source"]) == 1:
@@ -71,6 +83,8 @@ def _register_yaml(e: Entry, source: str) -> dict[str, Any]:
 
 def _type_from_range(lo: int | None, hi: int | None, e: Entry) -> str:
     """The narrowest type the raw range needs; u16 when the table gives no range (said in notes)."""
+    if e.values.get("space") in ("coil", "discrete_input"):
+        return "bool"
     if lo is None and hi is None:
         e.notes.append("type: the table gives neither type nor range; u16 until the manual says otherwise")
         return "u16"
@@ -80,6 +94,15 @@ def _type_from_range(lo: int | None, hi: int | None, e: Entry) -> str:
     if kind != "u16":
         e.notes.append(f"type {kind} from the range: the table gives no type")
     return kind
+
+
+def _function_codes(entries: list[Entry]) -> list[int]:
+    """The function codes the draft's registers need (holding registers' 0x03/0x06/0x10 at least)."""
+    codes = {0x03, 0x06, 0x10}
+    for e in entries:
+        space = SPACES[e.values.get("space") or DEFAULT_SPACE]
+        codes |= set(space.codes.values())
+    return sorted(codes)
 
 
 @dataclass
@@ -146,7 +169,7 @@ def build_draft(
 ) -> Draft:
     source = table_name(table)
     made_by = f"a draft made by `regmap import {source}`"
-    lines = head(device_id, vendor, model, made_by=made_by).splitlines()
+    lines = head(device_id, vendor, model, made_by=made_by, function_codes=_function_codes(entries)).splitlines()
     if problems:
         lines.append(f"# {len(problems)} cell(s) of the table could not be read: those values are null, with a note.")
     if rules:
@@ -204,6 +227,14 @@ def _current(reg: Register, key: str) -> Any:
         return reg.access.value
     if key == "word_order":
         return reg.word_order.value if reg.words == 2 else None
+    if key == "byte_order":
+        return reg.byte_order.value if reg.type.info.has_byte_order else None
+    if key in ("encoding", "padding"):
+        return getattr(reg, key) if reg.type.is_string else None
+    if key == "firmware":
+        return None if reg.firmware is None else {k: v for k, v in (("from", reg.firmware.first), ("until", reg.firmware.until)) if v}
+    if key == "poll":
+        return reg.poll.value
     if key == "enum":
         return reg.enum.name if reg.enum else None
     if key in ("source", "modes"):
@@ -222,6 +253,12 @@ def _current(reg: Register, key: str) -> Any:
 def _same(key: str, old: Any, new: Any) -> bool:
     if key == "scale":
         return Fraction(old) == Fraction(new if new is not None else 1)
+    if key == "source":  # a cell joins sources with ", ", so a source "6.3, 6.6" reads back as two: the same text
+        return ", ".join(old) == ", ".join(new)
+    if key == "offset":
+        return Fraction(old) == Fraction(new if new is not None else 0)
+    if isinstance(old, float | int) and isinstance(new, float | int) and not isinstance(old, bool):
+        return bool(old == new)
     if key == "bitfields":
         return [dict(sorted(b.items())) for b in old] == [dict(sorted(b.items())) for b in new]
     if isinstance(old, str) and isinstance(new, str):  # a cell holds text on one line, trimmed
@@ -283,7 +320,7 @@ def _match(entry: Entry, device: Device, by_param: dict[str, Register]) -> Regis
         return device.register(name)
     if param is not None and param in by_param:
         return by_param[param]
-    return device.at_address(entry.values["address"])
+    return device.at_address(entry.values["address"], entry.values.get("space") or DEFAULT_SPACE)
 
 
 APPLIED = (*KEY_ORDER[1:],)

@@ -13,6 +13,7 @@ from regmap.frontend.values import _ParamRule
 from regmap.tools.spreadsheet import cells
 from regmap.tools.spreadsheet.cells import CellProblem
 from regmap.tools.spreadsheet.table import Table, TableError
+from regmap_runtime.types import TYPES
 
 
 @dataclass
@@ -68,6 +69,8 @@ def _rule_address(rules: list[_ParamRule], param: str) -> int | None:
     return None
 
 
+WIDE_TYPES = ("u32", "s32", "u64", "s64", "f32", "f64")
+
 TEXT_FIELDS = ("title", "title_zh", "description", "range_text", "notes", "group")
 
 
@@ -116,6 +119,10 @@ class _Reader:
         if "address" not in e.values:
             return None
         self._kind(e, cells_)
+        if "name" not in e.values:  # after the space: coil 0 and holding register 0 need two names
+            param = e.values.get("param")
+            e.values["name"] = _name_from(param, e.values["address"], e.values.get("space") or "holding")
+            e.notes.append("name made from the " + ("parameter id" if param else "address") + ": the table has no name; rename it")
         self._numbers(e, cells_)
         self._text(e, cells_)
         return e
@@ -124,7 +131,7 @@ class _Reader:
 
     def _identity(self, e: Entry, c: list[str]) -> None:
         param = self.take(e, c, "param", lambda t: t.strip())
-        name = self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
+        self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
         address = self.read(e, c, "address", cells.address)
         if address is None:
             address = self.read(e, c, "address_hex", cells.address)
@@ -139,24 +146,46 @@ class _Reader:
             self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address"))
             return
         e.give("address", address)
-        if name is None:
-            e.values["name"] = _name_from(param, address)
-            e.notes.append("name made from the " + ("parameter id" if param else "address") + ": the table has no name; rename it")
 
     # -- type, access, enum, bitfields, word order
 
     def _kind(self, e: Entry, c: list[str]) -> None:
+        space = self.take(e, c, "space", cells.space)
         for key, table, what in (("type", cells.TYPES, "type"), ("word_order", cells.WORD_ORDERS, "word order")):
             value = self.read(e, c, key, lambda t, table=table, what=what: cells.choice(t, table, what))
             if value is not None:
                 e.give(key, value)
+        if "type" not in e.values and space in ("coil", "discrete_input"):
+            e.values["type"] = "bool"  # a coil or discrete input is one bit
         words = self.read(e, c, "words", lambda t: cells.integer(t, "words"))
-        if words is not None and "type" not in e.values:
+        if words is not None and e.values.get("type") == "string":
+            e.give("words", words)
+        elif words is not None and "type" not in e.values:
             if words not in (1, 2):
                 self.problems.append(Problem(self.table.where(e.row), f"words {words}: expected 1 or 2"))
             else:
                 e.give("type", "u32" if words == 2 else "u16")
                 e.notes.append("type from the words column: signedness not in the table")
+        orders = self.read(e, c, "byte_order", cells.byte_order)
+        if orders is not None:
+            word_order, byte_order = orders
+            e.give("byte_order", byte_order)
+            if word_order is not None and "word_order" not in e.values and e.values.get("type") in WIDE_TYPES:
+                e.give("word_order", word_order)
+        if e.values.get("type") == "string":
+            self.take(e, c, "encoding", lambda t: cells.choice(t, cells.ENCODINGS, "encoding"))
+            self.take(e, c, "padding", lambda t: cells.choice(t, cells.PADDINGS, "padding"))
+        gate = {
+            k: v
+            for k, v in (
+                ("from", self.read(e, c, "firmware_from", cells.version)),
+                ("until", self.read(e, c, "firmware_until", cells.version)),
+            )
+            if v is not None
+        }
+        if gate:
+            e.give("firmware", gate)
+        self.take(e, c, "poll", lambda t: cells.choice(t, cells.POLLS, "poll class"))
         settable_got = self.cell(c, "settable")
         settable_text = "" if settable_got is None else cells._squash(settable_got[0])
         if settable_text in READ_ONLY_SETTABLE:
@@ -197,7 +226,11 @@ class _Reader:
             elif "unit" not in _noted(e):
                 e.give("unit", None)
         scale = self.read(e, c, "scale", lambda t: Fraction(cells.decimal(t, "scale")))
-        raw = {k: self.read(e, c, k, lambda t, k=k: cells.integer(t, k)) for k in ("min", "max", "default")}
+        offset = self.read(e, c, "offset", lambda t: Fraction(cells.decimal(t, "offset")))
+        if offset is not None:
+            e.give("offset", offset)
+        kind = _kind_of(e.values.get("type"))
+        raw = {k: self.read(e, c, k, _raw_reader(kind, k)) for k in ("min", "max", "default")}
         if any(self.has(k) for k in ("min", "max", "default")):  # raw columns (the export's): engineering columns are derived
             for k in ("min", "max", "default"):
                 if self.has(k) and k not in _noted(e):
@@ -210,6 +243,9 @@ class _Reader:
             if scale is not None or unit_step is not None:
                 e.give("scale", scale or unit_step)
             return
+        if kind == "float":  # a float's printed decimals are not its step: its scale is 1 unless a column says
+            scale = scale or unit_step or Fraction(1)
+        shift = offset or Fraction(0)
         lo, hi, default, texts, range_unit = printed
         if range_unit is not None and "unit" not in e.values:
             e.give("unit", range_unit)
@@ -231,7 +267,11 @@ class _Reader:
                     e.give(key, None)
                 continue
             try:  # with a unit step (0.1%, 25ns) the table prints counts; otherwise engineering values
-                e.give(key, cells.raw_from(value, Fraction(1) if unit_step is not None else scale, key, str(value)))
+                if kind == "float":
+                    e.give(key, float((Fraction(value) - shift) / scale))
+                    continue
+                step, zero = (Fraction(1), Fraction(0)) if unit_step is not None else (scale, shift)
+                e.give(key, cells.raw_from(value, step, key, str(value), zero))
             except CellProblem as exc:
                 self.problems.append(Problem(e.where, str(exc)))
                 e.notes.append(f"{key}: {exc}; left null")
@@ -281,6 +321,26 @@ class _Reader:
 READ_ONLY_SETTABLE = {"通信只读", "只读"}
 
 
+def _kind_of(type_name: Any) -> str:
+    """int, float, string or bool: how the raw min, max and default cells read."""
+    info = TYPES.get(type_name) if isinstance(type_name, str) else None
+    return info.kind if info is not None else "int"
+
+
+def _raw_reader(kind: str, key: str) -> Any:
+    """The reader of a raw min/max/default cell of a register of this kind."""
+    if kind == "float":
+        return lambda t: float(cells.decimal(t, key))
+    if kind == "bool":
+        return lambda t: cells.boolean(t, key)
+    if kind == "string":
+        return lambda t: "" if t.strip() == EMPTY_TEXT else t  # `""` is the empty text; a blank cell is no value
+    return lambda t: cells.integer(t, key)
+
+
+EMPTY_TEXT = '""'
+
+
 def _noted(e: Entry) -> set[str]:
     """Fields whose cell could not be read (they stay out of `given`: an update leaves them alone)."""
     return {n.split(":", 1)[0] for n in e.notes}
@@ -298,13 +358,17 @@ def _default(text: str, unit: str | None) -> Decimal:
     return cells.decimal(t, "default")
 
 
-def _name_from(param: str | None, address: int) -> str:
+NAME_PREFIX = {"holding": "reg", "input": "input", "coil": "coil", "discrete_input": "di"}
+
+
+def _name_from(param: str | None, address: int, space: str = "holding") -> str:
+    fallback = f"{NAME_PREFIX[space]}_{address:04x}"
     if param:
         name = re.sub(r"[^a-z0-9]+", "_", param.lower()).strip("_")
         if name and name[0].isalpha():
             return name
-        return f"p{name}" if name else f"reg_{address:04x}"
-    return f"reg_{address:04x}"
+        return f"p{name}" if name else fallback
+    return fallback
 
 
 def read_entries(table: Table, rules: list[_ParamRule]) -> tuple[list[Entry], list[Problem]]:
@@ -324,13 +388,17 @@ def read_entries(table: Table, rules: list[_ParamRule]) -> tuple[list[Entry], li
         )
     reader = _Reader(table, rules)
     entries = [e for row, cells_ in table.rows if (e := reader.entry(row, cells_)) is not None]
-    first: dict[int, Entry] = {}
+    first: dict[tuple[str, int], Entry] = {}
     duplicates = []
-    for e in entries:
-        other = first.setdefault(e.values["address"], e)
+    for e in entries:  # one address per space: coil 0 and holding register 0 are two registers
+        space = e.values.get("space") or "holding"
+        other = first.setdefault((space, e.values["address"]), e)
         if other is not e:
             column = next((i for i, n in sorted(table.columns.items()) if n in ("address", "address_hex", "param")), None)
-            duplicates.append(f"{table.where(e.row, column)}: address 0x{e.values['address']:04X} is also the address of row {other.row}")
+            where = "" if space == "holding" else f" ({space})"
+            duplicates.append(
+                f"{table.where(e.row, column)}: address 0x{e.values['address']:04X}{where} is also the address of row {other.row}"
+            )
     if duplicates:
         raise TableError(duplicates)
     return entries, reader.problems

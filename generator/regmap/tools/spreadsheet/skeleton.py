@@ -7,11 +7,15 @@ the tools work from the first minute, but its transport values are Modbus's defa
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from regmap.tools.spreadsheet.yamltext import scalar
 
 
-def head(device_id: str, vendor: str, model: str, *, made_by: str) -> str:
+def head(device_id: str, vendor: str, model: str, *, made_by: str, function_codes: Sequence[int] = (0x03, 0x06, 0x10)) -> str:
+    """The device and transport blocks; `function_codes` are those the registers' spaces need."""
     v, m = scalar(vendor), scalar(model)
+    codes = "[" + ", ".join(f"0x{c:02X}" for c in function_codes) + "]"
     return f"""\
 # {vendor} {model} register map - {made_by}.
 # Fill it from the manual (docs/map-format.md). Values marked "check" are Modbus's defaults, not the
@@ -36,7 +40,7 @@ transport:
     stop_bits: 1                 # check: 1 or 2 (Modbus: 2 stop bits when there is no parity)
   slave_ids: {{min: 1, max: 247}}  # check: the slave ids the device accepts
   broadcast_id: 0                # 0 in Modbus; null when the manual says the device ignores broadcasts
-  function_codes: [0x03, 0x06, 0x10]   # check: the function codes the manual lists
+  function_codes: {codes}   # check: the function codes the manual lists
   max_read_registers: 125        # check: the manual's limit; Modbus's 125 when it is silent (say so in notes)
   max_write_registers: 123       # check: the manual's limit; Modbus's 123 when it is silent
   max_message_bytes: null        # the longest frame the manual allows, or null when not stated
