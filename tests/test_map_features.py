@@ -140,8 +140,8 @@ def messages(text: str) -> list[str]:
 def test_a_function_code_the_map_needs_but_the_device_does_not_list() -> None:
     text = minimal("      - {name: relay, address: 0, space: coil, title: Relay}")
     assert messages(text) == [
-        "6: relay is in coils, which needs function 0x01; function_codes does not list it",
-        "6: relay is in coils, which needs function 0x05; function_codes does not list it",
+        "6: relay is in coils, which are read with function 0x01; function_codes does not list it",
+        "6: relay is writable (access rw) in coils, which are written with 0x05 or 0x0F; function_codes lists neither",
     ]
     load_map_text(minimal("      - {name: relay, address: 0, space: coil, title: Relay}", codes="0x01, 0x0F"), "m.yaml")
 

@@ -187,27 +187,33 @@ class _References(_Walk):
         path: Path = ("transport",)
         listed = set(t["function_codes"])
         needed: dict[int, Register] = {}
+        writers: dict[tuple[int, ...], Register] = {}
         for reg in self.registers:
             space = SPACES[reg.space]
             if reg.access.readable:
                 needed.setdefault(space.read, reg)
-            if reg.access.writable:
-                codes = [c for c in (space.write_single, space.write_multiple) if c is not None]
-                if not listed & set(codes):
-                    needed.setdefault(codes[0], reg)
+            codes = tuple(c for c in (space.write_single, space.write_multiple) if c is not None)
+            if reg.access.writable and codes and not listed & set(codes):  # a read-only space: reported on the register
+                writers.setdefault(codes, reg)
         for code, reg in sorted(needed.items()):
             if code not in listed:
                 self.problem(
                     (*path, "function_codes"),
-                    f"{reg.name} is in {SPACES[reg.space].title}, which needs function 0x{code:02X}; function_codes does not list it",
+                    f"{reg.name} is in {SPACES[reg.space].title}, which are read with function 0x{code:02X}; function_codes does not list it",
                 )
+        for codes, reg in sorted(writers.items()):
+            either = " or ".join(f"0x{c:02X}" for c in codes)
+            self.problem(
+                (*path, "function_codes"),
+                f"{reg.name} is writable (access {reg.access.value}) in {SPACES[reg.space].title}, which are written with {either}; function_codes lists neither",
+            )
         if max_bytes is None:
             return
-        for key, fixed in (("max_read_coils", 5), ("max_write_coils", 9)):
+        for key, fixed, what in (("max_read_coils", 5, "a read response"), ("max_write_coils", 9, "a write request")):
             if key in t and fixed + (t[key] + 7) // 8 > max_bytes:
                 self.problem(
                     (*path, key),
-                    f"a message of {t[key]} coils is {fixed + (t[key] + 7) // 8} bytes, more than max_message_bytes {max_bytes}",
+                    f"{what} of {t[key]} coils is {fixed + (t[key] + 7) // 8} bytes, more than max_message_bytes {max_bytes}",
                 )
 
     def _firmware_register(self, d: dict[str, Any], by_selector: dict[str, Register]) -> FirmwareRegister | None:
@@ -233,7 +239,62 @@ class _References(_Walk):
             self.problem((*path, "register"), f"firmware_register: {reg.name} is write-only")
         if reg.firmware is not None:
             self.problem((*path, "register"), f"firmware_register: {reg.name} is itself gated by firmware ({reg.firmware.text})")
-        return FirmwareRegister(register=reg, format=form, decimals=spec.get("decimals", 0), source=_source(spec.get("source")))
+        firmware = FirmwareRegister(register=reg, format=form, decimals=spec.get("decimals", 0), source=_source(spec.get("source")))
+        self._check_gate_versions(firmware)
+        return firmware
+
+    def _check_gate_versions(self, firmware: FirmwareRegister) -> None:
+        """A gate's version must be one the firmware register can report: with format decimal and 2
+        decimals the register reports 2.05 as 205 and 2.50 as 250, so a gate `2.5` (= 2.05) is a slip."""
+        if firmware.format == "string":
+            return
+        shown = f"the firmware register ({firmware.register.name}) reports"
+        if firmware.format == "major_minor":
+            parts, rule = 2, f"{shown} major.minor (0x0203 = 2.3)"
+        elif firmware.decimals:
+            scale = 10**firmware.decimals
+            example = f"{2 * scale + 5} = 2.{5:0{firmware.decimals}d}"
+            parts, rule = 2, f"{shown} versions with {firmware.decimals} decimals ({example})"
+        else:
+            parts, rule = 1, f"{shown} whole versions (format decimal without decimals)"
+        reported: set[Path] = set()
+        for reg, path in zip(self.registers, self.register_paths, strict=True):
+            if reg.firmware is None:
+                continue
+            for key, version in (("from", reg.firmware.first), ("until", reg.firmware.until)):
+                if version is None:
+                    continue
+                numbers = version.split(".")
+                wrong = len(numbers) > parts or (
+                    parts == 2 and firmware.decimals and len(numbers) == 2 and len(numbers[1]) != firmware.decimals
+                )
+                where = (*self._gate_owner(path), "firmware", key)
+                if wrong and where not in reported:
+                    reported.add(where)
+                    hint = f"; a version has at most {parts} part{'s' if parts > 1 else ''}" if len(numbers) > parts else ""
+                    if firmware.decimals and len(numbers) == 2 and len(numbers[1]) < firmware.decimals:
+                        padded = numbers[1].ljust(firmware.decimals, "0")
+                        hint = f"; write {numbers[0]}.{padded} (as written it means {numbers[0]}.{numbers[1].zfill(firmware.decimals)})"
+                    self.problem(where, f"{reg.name}: firmware {key} {version}: {rule}{hint}")
+
+    def _gate_owner(self, path: Path) -> Path:
+        """Where a register's `firmware` is written: the register (or array member), its array, or its group (or the group's defaults)."""
+        candidates: list[Path] = [path]
+        if len(path) > 4:
+            candidates.append(path[:4])  # the array a member belongs to
+        candidates += [(*path[:2], "defaults"), path[:2]]
+        for candidate in candidates:
+            node: Any = self.raw
+            for step in candidate:
+                if isinstance(node, dict):
+                    node = node.get(step)
+                elif isinstance(node, list) and isinstance(step, int) and step < len(node):
+                    node = node[step]
+                else:
+                    node = None
+            if isinstance(node, dict) and "firmware" in node:
+                return candidate
+        return path
 
     # -- commands, faults, errata, examples ---------------------------------------------------
 

@@ -39,6 +39,13 @@ GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its regist
 RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
 
 
+def _article(word: str) -> str:
+    """`an f32`, `an s16`, `a u16`, `a string`: as the type's name is read aloud."""
+    if word[1:2].isdigit():  # f32, s16, u64: the letter is read by its name ("ef", "ess", "you")
+        return "an" if word[:1] in "fs" else "a"
+    return "an" if word[:1] in "aeiou" else "a"
+
+
 class _Elaborator(_References):
     """Semantic checks and model building in one walk (the passes live in their own modules)."""
 
@@ -353,11 +360,11 @@ class _Elaborator(_References):
     def _check_type_in_space(self, r: dict[str, Any], path: Path, name: str, dtype: DataType, space: Space) -> None:
         """A coil or discrete input is one bit (bool) and nothing else; every other type lives in register words."""
         if space.bits and not dtype.is_bool:
-            self.problem((*path, "type"), f"{name}: a {space.name} is one bit, so its type is bool, not {dtype.value}")
+            self.problem((*path, "type"), f"{name}: a {space.name.replace('_', ' ')} is one bit, so its type is bool, not {dtype.value}")
         if dtype.is_bool and not space.bits:
             self.problem(
                 (*path, "type"),
-                f"{name}: bool is the type of coils and discrete inputs; a register in {space.title} is a number (u16 with a bitfield for flags)",
+                f"{name}: bool is the type of coils and discrete inputs; {space.title} hold numbers (a u16 with a bitfield for flags, or `space: coil`)",
             )
         not_for: dict[str, tuple[bool, str]] = {
             "scale": (not dtype.numeric, "a number"),
@@ -374,7 +381,7 @@ class _Elaborator(_References):
         inherited = self._defaults_keys(path)
         for key, (refused, needs) in not_for.items():
             if refused and key in r and key not in inherited and r[key] is not None:
-                what = f"a {space.name}" if space.bits else f"a {dtype.value} register"
+                what = f"a {space.name.replace('_', ' ')}" if space.bits else f"{_article(dtype.value)} {dtype.value} register"
                 self.problem((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
 
     def _words(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> int:
