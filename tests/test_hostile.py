@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+import json
 import re
 import subprocess
 import sys
@@ -87,3 +89,27 @@ def test_validate_summary_is_one_line() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert len(result.stdout.strip().splitlines()) == 1, result.stdout
+
+
+HOSTILE_TEXT = "<script>alert(1)</script> | `x` [a](javascript:alert(1)) *y*"
+
+
+def test_markdown_escapes_the_text_of_string_registers() -> None:
+    """Issue #19: a string register's default is map text that reaches the page as a value (in the quick
+    reference and the details), not through a title: it is escaped like every other text."""
+    from regmap.frontend import load_map_text
+    from regmap.generate import render
+
+    fixture = ROOT / "tests" / "maps" / "fixtures" / "power_meter.yaml"
+    original = 'words: 4, encoding: utf-8, default: "", title: User label (UTF-8)'
+    hostile = f"words: 40, encoding: utf-8, default: {json.dumps(HOSTILE_TEXT)}, title: User label"
+    text = fixture.read_text(encoding="utf-8").replace(original, hostile)
+    assert HOSTILE_TEXT in text
+    # The examples are left out: they carry no string default, and their frames are another test's.
+    device = dataclasses.replace(load_map_text(text, "tests/maps/fixtures/power_meter.yaml"), examples=())
+    page = render([device], ["markdown"])["markdown"][f"{device.id}.md"]
+    assert "<script" not in page.lower()
+    assert not re.search(r"(?<!\\)\]\(javascript:", page), "a string default must not make a link"
+    row = next(line for line in page.splitlines() if "(#meter_label)" in line and line.startswith("| "))
+    assert "&lt;script&gt;" in row and "\\|" in row
+    assert len(re.findall(r"(?<!\\)\|", row)) == 15, "a pipe in the default must not add a table column"
