@@ -2,8 +2,9 @@
 and byte order (ABCD ...), its firmware gate and poll class; and what a device uses of these.
 
 A device that uses none of these features (every register a holding register, no byte order, no
-gates, no poll classes, as the seed maps) gets none of the new columns or facts: its page is what
-it was before they existed.
+gates, no poll classes, as the seed maps) gets none of the new columns or facts. One spelling is
+new on every page: a wide value whose order is not Modbus's ABCD names it in its type cell
+(`u32, 2 words, low first (CDAB)`), because that name is what users compare against other tools.
 """
 
 from __future__ import annotations
