@@ -92,22 +92,17 @@ def order_name(words: int, word_order: WordOrder, byte_order: ByteOrder) -> str:
     return "".join(b for pair in pairs for b in pair)
 
 
-def is_standard_order(reg: Register) -> bool:
-    """High word first (where there are words to order) and high byte first: Modbus's own order."""
-    return reg.byte_order is ByteOrder.HIGH_FIRST and (not reg.wide or reg.word_order is WordOrder.HIGH_FIRST)
-
-
 def bytes_swapped(reg: Register) -> bool:
     return reg.type.info.has_byte_order and reg.byte_order is ByteOrder.LOW_FIRST
 
 
 def order_suffix(reg: Register) -> str:
-    """What the type cell adds: the word order as before, the four-letter name when it is not ABCD,
-    and `bytes swapped` for a one-word value or a string whose bytes are swapped."""
+    """What the type cell adds: the word order as before; the four-letter name when the bytes are
+    swapped too (word order alone says CDAB already); `bytes swapped` for a one-word value or a string."""
     if reg.wide:
         order = "high" if reg.word_order is WordOrder.HIGH_FIRST else "low"
         text = f", {reg.words} words, {order} first"
-        if not is_standard_order(reg):
+        if bytes_swapped(reg):
             text += f" ({order_name(reg.words, reg.word_order, reg.byte_order)})"
         return text
     if reg.type.is_string:
