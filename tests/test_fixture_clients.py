@@ -855,3 +855,104 @@ def test_every_type_in_every_order_reads_and_writes(libmodbus_server: LibmodbusS
     for spec in holding:
         order = spec.name.split("_")[-1]
         assert [final["holding"][spec.address + i] for i in range(spec.words)] == matrix_words(spec.data_type, order), spec.name
+
+
+# -- the generated modules' surface ------------------------------------------------------------
+
+
+def test_generated_accessors_are_typed_per_type_and_space() -> None:
+    generated_python()
+    power, remote, swapped = (importlib.import_module(d) for d in (POWER, REMOTE, SWAPPED))
+    returns = {
+        (power.FixturePowerMeter, "read_voltage_l1"): "float",  # f32
+        (power.FixturePowerMeter, "read_frequency"): "float",  # u16 with a scale
+        (power.FixturePowerMeter, "read_temperature"): "float",  # s16 with scale and offset
+        (power.FixturePowerMeter, "read_reactive_energy"): "int",  # s64
+        (power.FixturePowerMeter, "read_model_name"): "str",
+        (power.FixturePowerMeter, "read_firmware_version"): "int",
+        (remote.FixtureRemoteIo, "read_alarm_output"): "bool",  # a coil
+        (remote.InputElement, "read_active"): "bool",  # a discrete input
+        (remote.FixtureRemoteIo, "read_analog_in_9"): "int",  # an input register
+        (swapped.FixtureSwappedDrive, "read_legacy_mode"): "DriveMode | int",
+        (swapped.FixtureSwappedDrive, "read_status"): "StatusBits",
+        (swapped.FixtureSwappedDrive, "read_runtime_hours"): "float",  # f64
+    }
+    for (cls, method), annotation in returns.items():
+        assert getattr(cls, method).__annotations__["return"] == annotation, (cls.__name__, method)
+    writes = {
+        (power.FixturePowerMeter, "write_meter_label"): "str",
+        (power.FixturePowerMeter, "write_demand_period"): "float",
+        (remote.FixtureRemoteIo, "write_alarm_output"): "bool",
+        (remote.RelayElement, "write_on"): "bool",
+    }
+    for (cls, method), annotation in writes.items():
+        assert getattr(cls, method).__annotations__["value"] == annotation, (cls.__name__, method)
+    for cls, method in (
+        (power.FixturePowerMeter, "write_voltage_l1"),  # input register
+        (power.FixturePowerMeter, "write_model_name"),  # read-only
+        (remote.FixtureRemoteIo, "write_analog_in_9"),
+        (remote.InputElement, "write_active"),  # discrete input
+        (power.AsyncFixturePowerMeter, "write_voltage_l1"),
+    ):
+        assert not hasattr(cls, method), (cls.__name__, method)
+    assert type(power.VOLTAGE_L1).__name__ == "ReadOnly" and type(remote.ALARM_OUTPUT).__name__ == "ReadWrite"
+
+
+def test_generated_docstrings_say_space_order_gate_and_poll() -> None:
+    generated_python()
+    power, remote, swapped = (importlib.import_module(d) for d in (POWER, REMOTE, SWAPPED))
+    docs = {
+        power.FixturePowerMeter.read_current_l1: ("input register, address 0x0002", "f32, byte order CDAB", "poll fast"),
+        power.FixturePowerMeter.read_thd_voltage_l1: ("byte order ABCD", "exists with firmware >= 2.00"),
+        power.FixturePowerMeter.read_active_energy: ("u64, byte order ABCDEFGH", "poll slow"),
+        power.FixturePowerMeter.read_serial_number: ("6 words (12 bytes of ascii, space padded)", "poll static"),
+        remote.FixtureRemoteIo.read_alarm_output: ("coil, address 0x00AC",),
+        remote.InputElement.read_active: ("discrete input",),
+        swapped.FixtureSwappedDrive.read_position: ("s32, byte order DCBA",),
+        swapped.FixtureSwappedDrive.read_gain: ("f32, byte order CDAB",),
+        swapped.FixtureSwappedDrive.read_speed: ("s16, byte order BA",),
+        swapped.FixtureSwappedDrive.read_label: ("bytes swapped in each word",),
+        swapped.FixtureSwappedDrive.read_legacy_mode: ("exists with firmware < 2.0",),
+    }
+    for method, phrases in docs.items():
+        for phrase in phrases:
+            assert phrase in (method.__doc__ or ""), (method.__qualname__, phrase, method.__doc__)
+    assert "check_firmware=True" in (power.FixturePowerMeter.__doc__ or "")
+    assert "check_firmware" not in (remote.FixtureRemoteIo.__doc__ or "")
+
+
+def test_generated_modules_re_export_firmware_error_where_the_map_has_a_firmware_register() -> None:
+    generated_python()
+    power, remote = importlib.import_module(POWER), importlib.import_module(REMOTE)
+    errors = importlib.import_module(power.SyncClient.__module__.rsplit(".", 1)[0] + ".errors")
+    assert "FirmwareError" in power.__all__ and power.FirmwareError is errors.FirmwareError
+    assert issubclass(errors.FirmwareError, power.RegmapError) and issubclass(errors.AccessError, power.RegmapError)
+    assert "FirmwareError" not in remote.__all__  # no firmware register: nothing to check against
+
+
+def test_misuse_of_the_generated_fixture_clients_does_not_type_check(tmp_path: Path) -> None:
+    python = generated_python()
+    program = tmp_path / "misuse.py"
+    program.write_text(
+        "from fixture_power_meter import FixturePowerMeter, VOLTAGE_L1\n"
+        "from fixture_remote_io import FixtureRemoteIo\n"
+        "def f(m: FixturePowerMeter, io: FixtureRemoteIo) -> None:\n"
+        "    m.write(VOLTAGE_L1, 1.0)\n"
+        "    m.write_voltage_l1(1.0)\n"
+        "    n: int = m.read_voltage_l1()\n"
+        "    m.write_meter_label(5)\n"
+        "    io.input(197).write_active(True)\n"
+        "    s: str = io.read_alarm_output()\n",
+        encoding="utf-8",
+    )
+    result = mypy_strict(str(program), cwd=python)
+    assert result.returncode == 1
+    for complaint in (
+        'incompatible type "ReadOnly[float]"',
+        '"FixturePowerMeter" has no attribute "write_voltage_l1"',
+        'Incompatible types in assignment (expression has type "float", variable has type "int")',
+        'Argument 1 to "write_meter_label" of "FixturePowerMeter" has incompatible type "int"; expected "str"',
+        '"InputElement" has no attribute "write_active"',
+        'Incompatible types in assignment (expression has type "bool", variable has type "str")',
+    ):
+        assert complaint in result.stdout, (complaint, result.stdout)
