@@ -632,6 +632,8 @@ def test_remote_io_reads_coils_and_discrete_inputs(
         assert digital == [bool(b) for b in inputs] and all(type(v) is bool for v in digital)
         assert read(f, client, "analog_in_9") == 10 and read(f, client, "alarm_output") is False
         assert read(f, client, "config_108") == 0x022B
+        assert client.read_raw(0x13, 19, space="coil") == coils  # 19 bits, not the 24 of the answer's three bytes
+        assert client.read_raw(0xC4, 22, space="discrete_input") == inputs
         before = len(recorder.sent)
         values = client.read_all()
     assert [values[f"relay_{n}_on"] for n in range(20, 39)] == relays
