@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from bench import bus, chelpers, genspeed, optimal, overhead, simload
-from bench.common import MAPS, ROOT, machine, stage
+from bench.common import FIXTURE_MAPS, MAPS, ROOT, machine, stage
 from bench.report import Results, render, targets
 
 
@@ -30,9 +30,10 @@ def main(argv: list[str] | None = None) -> int:
         bus_results = [bus.measure(d) for d in devices]
     with stage("read_all() with and without a learned device profile (lenient simulator)"):
         profiles = [bus.measure_profile(d) for d in devices]
-    with stage("read-plan optimality (dynamic programme)"):
+    with stage("read-plan optimality (dynamic programme), per space and poll class, seed and fixture maps"):
         sweep = (2, 47, 125) if args.quick else range(2, 126)
-        plans = [optimal.check(d, sweep) for d in devices]
+        fixtures = [load_map(path, str(path.relative_to(ROOT))) for path in FIXTURE_MAPS]
+        plans = [optimal.check(d, sweep) for d in (*devices, *fixtures)]
     with stage("generation speed"):
         gen = genspeed.measure(sizes=(200,), repeats=1, budget_s=30, maps=[MAPS[0]]) if args.quick else genspeed.measure()
     with stage("runtime overhead against raw pymodbus"):

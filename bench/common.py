@@ -21,6 +21,8 @@ from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 MAPS = sorted((ROOT / "maps").glob("*.yaml"))
+FIXTURE_MAPS = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
+"""Issue #19's made-up devices (spaces, poll classes, firmware gates): read-plan optimality only."""
 GENERATED = ROOT / "generated"
 GENERATED_PY = GENERATED / "python"
 

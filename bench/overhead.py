@@ -117,11 +117,13 @@ def raw_decode(table: list[Row], registers: Sequence[int], out: dict[str, Any]) 
         out[name] = value
 
 
-def sample_raw(spec: RegisterSpec[Any], rng: random.Random) -> int:
+def sample_raw(spec: RegisterSpec[Any], rng: random.Random) -> int | float:
     """A raw value the register can hold: an enum member, or anything in its range (signs included)."""
     if spec.enum is not None and not spec.bitfields:
         return int(rng.choice(list(spec.enum)))
-    return rng.randint(spec.raw_min, spec.raw_max)
+    if spec.type_info.is_float:
+        return rng.uniform(spec.raw_min, spec.raw_max)
+    return rng.randint(int(spec.raw_min), int(spec.raw_max))
 
 
 def response_words(block: ReadBlock, rng: random.Random) -> list[int]:

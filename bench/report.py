@@ -201,13 +201,14 @@ def _bus(r: Results) -> list[str]:
         )
     idm_bus = next((b for b in r.bus if b.device_id == "idm_rs"), None)
     idm_plan = next((p for p in r.plans if p.device_id == "idm_rs"), None)
+    on_bus = {b.device_id for b in r.bus}
     if idm_bus is not None and idm_plan is not None:
         out += [
             "",
             f"Why the plan needs {idm_plan.plan_requests} requests where the bound needs {idm_bus.bound.requests}: the maps say "
             "`undocumented_addresses: reject`, so no request may span an address the manual does not list, and the "
             "parameters are spread over many short runs. If a device answered reads across gaps, the same planner would "
-            f"need {', '.join(f'`{p.device_id}` {p.tolerant_requests}' for p in r.plans)} requests (a what-if, not measured "
+            f"need {', '.join(f'`{p.device_id}` {p.tolerant_requests}' for p in r.plans if p.device_id in on_bus)} requests (a what-if, not measured "
             "on the bus: the manuals do not say the drives allow it; measured below on a simulator that does).",
         ]
     return [*out, *_profiles(r), ""]
@@ -259,16 +260,18 @@ def _profiles(r: Results) -> list[str]:
 def _plans(r: Results) -> list[str]:
     out = [
         "`bench/optimal.py` finds the fewest requests by dynamic programming over the readable registers in address order",
-        "(independently of the greedy planner), under the planner's constraints: at most `max_read_registers` per request,",
-        "no register split, requests of several registers start at a paired register's high word and span only",
-        "documented addresses unless the map tolerates gaps, a lone register reads only its own words. Among plans",
-        "with the fewest requests it also finds the fewest words. The check is repeated for every limit from 2 to 125",
-        "registers on each map's registers.",
+        "(independently of the greedy planner), under the planner's constraints: one space per request, at most",
+        "`max_read_registers` per request (`max_read_coils` bits for coils and discrete inputs), no register split,",
+        "requests of several registers start at a paired register's high word and span only documented addresses unless",
+        "the map tolerates gaps, a lone register reads only its own words. Among plans with the fewest requests it also",
+        "finds the fewest words. The check is repeated for every limit from 2 to 125 (registers and bits alike) on each",
+        "map's registers, and, for the maps with several spaces or poll classes (the fixture maps of issue #19, marked",
+        "*fixture*), on each space's and each poll class's registers alone (`read_all(poll=...)`).",
         "",
     ]
     rows = [
         [
-            f"`{p.device_id}`",
+            f"`{p.device_id}`" + (" *fixture*" if p.device_id.startswith("fixture_") else ""),
             p.limit,
             p.plan_requests,
             p.optimum.requests,
@@ -294,6 +297,24 @@ def _plans(r: Results) -> list[str]:
         ],
         rows,
     )
+    parts = [(p, part) for p in r.plans for part in p.parts]
+    if parts:
+        out += ["", "Per space and per poll class:", ""]
+        out += table(
+            ["map", "registers of", "registers", "plan requests", "DP minimum", "limits where plan = DP", "verdict"],
+            [
+                [
+                    f"`{p.device_id}`",
+                    part.part,
+                    part.registers,
+                    part.plan_requests,
+                    part.optimum.requests,
+                    f"{p.sweep_instances - len(part.sweep_mismatches)}/{p.sweep_instances}",
+                    "**optimal**" if part.optimal else "**not optimal**",
+                ]
+                for p, part in parts
+            ],
+        )
     return out
 
 

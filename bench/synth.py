@@ -19,16 +19,16 @@ ARRAY_ELEMENTS = 50
 
 # One array element: 10 members, 11 words (one s32).
 MEMBERS = [
-    "{name: mode, offset: 0, title: Mode, title_zh: 模式, enum: choice_0, default: 0}",
-    "{name: position, offset: 1, type: s32, title: Target position, title_zh: 位置, unit: pulse, min: -2000000000, max: 2000000000, default: 0}",
-    "{name: speed, offset: 3, type: s16, title: Speed, title_zh: 速度, unit: rpm, min: -6000, max: 6000, default: 60}",
-    "{name: acceleration, offset: 4, title: Acceleration time, title_zh: 加速度, unit: ms/Krpm, min: 1, max: 32767, default: 100}",
-    "{name: deceleration, offset: 5, title: Deceleration time, title_zh: 减速度, unit: ms/Krpm, min: 1, max: 32767, default: 100}",
-    "{name: dwell, offset: 6, title: Dwell time, title_zh: 停顿时间, unit: ms, min: 0, max: 60000, default: 0}",
-    "{name: current, offset: 7, title: Current, title_zh: 电流, unit: A, scale: 0.1, min: 0, max: 80, default: 22}",
-    "{name: gain, offset: 8, title: Gain, title_zh: 增益, scale: 0.01, min: 0, max: 10000, default: 100}",
-    "{name: jump, offset: 9, title: Next element, title_zh: 跳转, min: 0, max: 1023, default: 0}",
-    "{name: flags, offset: 10, title: Flags, title_zh: 标志, min: 0, max: 255, default: 0}",
+    "{name: mode, word_offset: 0, title: Mode, title_zh: 模式, enum: choice_0, default: 0}",
+    "{name: position, word_offset: 1, type: s32, title: Target position, title_zh: 位置, unit: pulse, min: -2000000000, max: 2000000000, default: 0}",
+    "{name: speed, word_offset: 3, type: s16, title: Speed, title_zh: 速度, unit: rpm, min: -6000, max: 6000, default: 60}",
+    "{name: acceleration, word_offset: 4, title: Acceleration time, title_zh: 加速度, unit: ms/Krpm, min: 1, max: 32767, default: 100}",
+    "{name: deceleration, word_offset: 5, title: Deceleration time, title_zh: 减速度, unit: ms/Krpm, min: 1, max: 32767, default: 100}",
+    "{name: dwell, word_offset: 6, title: Dwell time, title_zh: 停顿时间, unit: ms, min: 0, max: 60000, default: 0}",
+    "{name: current, word_offset: 7, title: Current, title_zh: 电流, unit: A, scale: 0.1, min: 0, max: 80, default: 22}",
+    "{name: gain, word_offset: 8, title: Gain, title_zh: 增益, scale: 0.01, min: 0, max: 10000, default: 100}",
+    "{name: jump, word_offset: 9, title: Next element, title_zh: 跳转, min: 0, max: 1023, default: 0}",
+    "{name: flags, word_offset: 10, title: Flags, title_zh: 标志, min: 0, max: 255, default: 0}",
 ]
 MEMBER_WORDS = 11
 

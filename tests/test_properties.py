@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import struct
 from fractions import Fraction
 from typing import Any
 
@@ -11,7 +12,7 @@ from hypothesis import strategies as st
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map
 from regmap.tools.decode import decode_frame
-from regmap_runtime.codec import raw_to_value, raw_to_words, value_to_raw, words_to_raw
+from regmap_runtime.codec import check_raw, raw_to_value, raw_to_words, value_to_raw, words_to_raw
 from regmap_runtime.plan import plan_reads, plan_writes
 from regmap_runtime.rtu import (
     build_read,
@@ -53,7 +54,7 @@ def typed_raw(draw: st.DrawFn) -> tuple[RegisterSpec[Any], int]:
     s = spec(
         data_type, draw(st.sampled_from(ORDERS)), draw(st.sampled_from(SCALES)), paired=data_type in ("u16", "s16") and draw(st.booleans())
     )
-    return s, draw(st.integers(s.type_min, s.type_max))
+    return s, draw(st.integers(int(s.type_min), int(s.type_max)))
 
 
 @given(typed_raw())
@@ -176,3 +177,87 @@ def test_write_plan_covers_every_value_once(specs: list[RegisterSpec[Any]], limi
         assert len(block.words) <= max(limit, 3)
         if block.single:
             assert block.registers[0].words == 1
+
+
+# -- issue #19: wide and float types in every byte and word order, strings, bit frames ------------
+
+WIDE = {"u32": "I", "s32": "i", "u64": "Q", "s64": "q", "f32": "f", "f64": "d"}
+
+
+def _struct_layout(fmt: str, raw: int | float, byte_order: str, word_order: str) -> list[int]:
+    """struct's big-endian bytes laid out in the order: bytes swapped in each word, words reversed."""
+    data = struct.pack(">" + fmt, raw)
+    pairs = [data[i : i + 2] for i in range(0, len(data), 2)]
+    if byte_order == "low_first":
+        pairs = [p[::-1] for p in pairs]
+    if word_order == "low_first":
+        pairs = pairs[::-1]
+    return [int.from_bytes(p, "big") for p in pairs]
+
+
+@st.composite
+def wide_raw(draw: st.DrawFn) -> tuple[RegisterSpec[Any], int | float, str]:
+    data_type = draw(st.sampled_from(sorted(WIDE)))
+    s: RegisterSpec[Any] = RegisterSpec(
+        name="r",
+        address=10,
+        data_type=data_type,
+        access="rw",
+        byte_order=draw(st.sampled_from(ORDERS)),
+        word_order=draw(st.sampled_from(ORDERS)),
+    )
+    if s.type_info.is_float:
+        floats = st.floats(allow_nan=False, allow_infinity=False, width=32 if data_type == "f32" else 64)
+        raw: int | float = draw(floats)
+    else:
+        raw = draw(st.integers(int(s.type_min), int(s.type_max)))
+    return s, raw, WIDE[data_type]
+
+
+@given(wide_raw())
+def test_wide_values_are_laid_out_as_struct_says_in_every_order(case: tuple[RegisterSpec[Any], int | float, str]) -> None:
+    s, raw, fmt = case
+    words = raw_to_words(s, raw)
+    assert words == _struct_layout(fmt, raw, s.byte_order, s.word_order)
+    back = words_to_raw(s, words)
+    assert back == raw and type(back) is type(raw)
+
+
+@given(
+    st.text(max_size=8), st.sampled_from(["ascii", "latin-1", "utf-8", "gbk"]), st.sampled_from(["nul", "space"]), st.sampled_from(ORDERS)
+)
+def test_text_round_trips_or_is_refused(text: str, encoding: str, padding: str, byte_order: str) -> None:
+    s: RegisterSpec[str] = RegisterSpec(
+        name="t", address=0, data_type="string", access="rw", string_words=4, encoding=encoding, padding=padding, byte_order=byte_order
+    )
+    try:
+        data = text.encode(encoding)
+    except UnicodeEncodeError:
+        data = None
+    fits = data is not None and len(data) <= 8 and b"\0" not in data
+    if not fits:
+        try:
+            check_raw(s, text)
+        except ValueError:
+            return
+        raise AssertionError(f"accepted {text!r} in {encoding}")
+    assert data is not None
+    padded = data.ljust(8, b" " if padding == "space" else b"\0")
+    words = raw_to_words(s, text)
+    pairs = [padded[i : i + 2] for i in range(0, 8, 2)]
+    assert words == [int.from_bytes(p[::-1] if byte_order == "low_first" else p, "big") for p in pairs]
+    expected = text.rstrip(" ") if padding == "space" else text
+    assert words_to_raw(s, words) == expected
+
+
+@given(st.integers(0, 255), st.integers(0, 0xFFFF), st.lists(st.integers(0, 1), min_size=1, max_size=1968))
+def test_bit_frames_round_trip(slave: int, address: int, bits: list[int]) -> None:
+    packed = sum(b << i for i, b in enumerate(bits)).to_bytes((len(bits) + 7) // 8, "little")
+    request = build_write_multiple(slave, address, bits, space="coil")
+    assert request[7 : 7 + len(packed)] == packed
+    parsed = parse_frame(request, "request")
+    assert (parsed.kind, parsed.count, list(parsed.bits), parsed.problems) == ("write_multiple_request", len(bits), bits, ())
+    response = parse_frame(build_read_response(slave, bits, space="discrete_input"), "response")
+    assert list(response.bits[: len(bits)]) == bits and not any(response.bits[len(bits) :])
+    single = parse_frame(build_write_single(slave, address, bits[0], space="coil"))
+    assert single.words == ((0xFF00 if bits[0] else 0x0000),) and single.bits == (bits[0],)

@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import pytest
+from pymodbus.client import ModbusTcpClient
 
+from regmap.model import PollClass
+from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, value_to_raw, words_to_raw
-from regmap_runtime.plan import plan_writes
-from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, BitfieldSpec, RegisterSpec
+from regmap_runtime.errors import AccessError, FirmwareError, ProtocolError
+from regmap_runtime.plan import ReadBlock, plan_writes
+from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, POLL_CLASSES, BitfieldSpec, DeviceSpec, RegisterSpec, Writable, poll_class
 
 from conftest import ROOT, SimulatorFactory, generated_runtime
 from test_python_client import client_module
@@ -140,3 +145,151 @@ def test_the_simulator_refuses_a_second_read_only_and_out_of_range_write(simulat
             drive.write_raw(target.address, [1])  # half of the 32-bit value
         assert info.value.code == 0x02
         assert drive.read_pulses_per_revolution() == 10000
+
+
+# -- issue #19: firmware versions, gates, poll classes, bit spaces, access ------------------------
+
+
+def device_spec(**kwargs: object) -> DeviceSpec:
+    base = DeviceSpec(
+        id="d",
+        map_version="1",
+        fingerprint="f",
+        registers=(),
+        baud=9600,
+        parity="none",
+        data_bits=8,
+        stop_bits=1,
+        max_read_registers=125,
+        max_write_registers=123,
+        word_order=HIGH_FIRST,
+        broadcast_id=0,
+        function_codes=(0x01, 0x03, 0x05, 0x06, 0x0F, 0x10),
+        tolerates_gaps=False,
+    )
+    return dataclasses.replace(base, **kwargs)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("form", "decimals", "raw", "version", "text"),
+    [
+        ("decimal", 2, 125, (1, 25), "1.25"),
+        ("decimal", 2, 105, (1, 5), "1.05"),  # 1.05 < 1.20: the minor part is a number, not a digit string
+        ("decimal", 1, 20, (2, 0), "2.0"),
+        ("decimal", 0, 7, (7,), "7"),
+        ("major_minor", 0, 0x020A, (2, 10), "2.10"),
+        ("major_minor", 0, 0x0203, (2, 3), "2.3"),
+        ("string", 0, "V2.10 build 7", (2, 10), "V2.10 build 7"),
+        ("string", 0, " 3.1.4 ", (3, 1, 4), "3.1.4"),
+    ],
+)
+def test_firmware_versions_and_their_text(form: str, decimals: int, raw: int | str, version: tuple[int, ...], text: str) -> None:
+    device = device_spec(firmware_register="fw", firmware_format=form, firmware_decimals=decimals)
+    assert device.firmware_version(raw) == version
+    assert device.firmware_text(raw) == text
+
+
+def test_a_version_string_without_a_number_is_refused() -> None:
+    with pytest.raises(ValueError, match="no version number"):
+        device_spec(firmware_format="string").firmware_version("unknown")
+
+
+def test_firmware_gates_at_their_edges() -> None:
+    gated = spec("u16", firmware_from="2.0", firmware_until="3.0")
+    assert [gated.exists_in(v) for v in ((1, 99), (2, 0), (2, 10), (3, 0), (3, 0, 1))] == [False, True, True, False, False]
+    assert gated.firmware_text == "2.0 <= firmware < 3.0"
+    assert spec("u16").exists_in((0,)) and spec("u16").firmware_text is None
+
+
+def test_documented_addresses_follow_the_firmware() -> None:
+    old: RegisterSpec[int] = RegisterSpec(name="old", address=0x10, data_type="u32", access="r", firmware_until="2.0")
+    new: RegisterSpec[int] = RegisterSpec(name="new", address=0x12, data_type="u16", access="r", firmware_from="2.0")
+    device = device_spec(registers=(old, new))
+    assert device.documented == frozenset(("holding", a) for a in (0x10, 0x11, 0x12))
+    assert device.documented_in((1, 0)) == frozenset({("holding", 0x10), ("holding", 0x11)})
+    assert device.documented_in((2, 0)) == frozenset({("holding", 0x12)})
+    assert device_spec(registers=(old, new), tolerates_gaps=True).documented_in((1, 0)) is None
+
+
+def test_poll_classes_are_named_or_refused() -> None:
+    assert [poll_class(p) for p in ("static", "fast", "normal", "slow")] == list(POLL_CLASSES)
+    assert poll_class(PollClass.FAST) == "fast"
+    for bad in ("often", "", None, 1):
+        with pytest.raises(ValueError, match="unknown poll class"):
+            poll_class(bad)
+
+
+class _Bits:
+    def __init__(self, bits: list[bool]) -> None:
+        self.bits = bits
+
+
+def _offline(device: DeviceSpec) -> SyncClient:
+    cls: type[SyncClient] = type("Offline", (SyncClient,), {"DEVICE": device})
+    return cls(ModbusTcpClient("127.0.0.1", port=1))
+
+
+def test_bit_answers_are_trimmed_to_the_count_and_checked() -> None:
+    client = _offline(device_spec())
+    block = ReadBlock(0x13, 10, (), "coil")
+    assert client.read_words(_Bits([True, False] * 8), block) == [1, 0] * 5  # pymodbus pads to whole bytes
+    with pytest.raises(ProtocolError, match="asked for 10 bits at 0x0013, got 8"):
+        client.read_words(_Bits([True] * 8), block)
+
+
+def test_a_coil_is_written_as_a_bit_and_nothing_else() -> None:
+    client = _offline(device_spec())
+    assert client.write_args("coil", 0xAC, [1], True) == (0xAC, True)
+    assert client.write_args("coil", 0x13, [1, 0, 1], False) == (0x13, [True, False, True])
+    assert client.write_args("holding", 0x10, [0xFF00], True) == (0x10, 0xFF00)
+    with pytest.raises(ValueError, match="a coil is written as 0 or 1"):
+        client.write_args("coil", 0xAC, [0xFF00], True)
+
+
+def test_writes_are_planned_per_space_with_the_devices_codes_and_limits() -> None:
+    coils: list[Writable[Any]] = [Writable(name=f"c{a}", address=a, data_type="bool", access="rw", space="coil") for a in range(6)]
+    regs: list[Writable[Any]] = [Writable(name=f"h{a}", address=a, data_type="u16", access="rw") for a in range(3)]
+    values: dict[Writable[Any], Any] = {**dict.fromkeys(coils, True), **dict.fromkeys(regs, 7)}
+    client = _offline(device_spec(registers=(*coils, *regs), max_write_coils=4, max_write_registers=2))
+    assert [(b.space, b.address, b.words) for b in client.plan_writes(values)] == [
+        ("holding", 0, (7, 7)),
+        ("holding", 2, (7,)),
+        ("coil", 0, (1, 1, 1, 1)),
+        ("coil", 4, (1, 1)),
+    ]
+    single = _offline(device_spec(function_codes=(0x01, 0x03, 0x05, 0x06, 0x10)))  # no 0x0F: one coil a request
+    assert [b.words for b in single.plan_writes(dict.fromkeys(coils[:3], False))] == [(0,), (0,), (0,)]
+    only_multiple = _offline(device_spec(function_codes=(0x01, 0x03, 0x0F, 0x10)))
+    assert only_multiple.writer("coil", True)[0] == 0x0F and only_multiple.writer("holding", True)[0] == 0x10
+    assert single.writer("coil", True)[0] == 0x05
+
+
+def test_read_only_spaces_and_registers_are_refused_as_access_errors() -> None:
+    client = _offline(device_spec())
+    targets: tuple[RegisterSpec[Any], ...] = (
+        RegisterSpec(name="i", address=1, data_type="u16", access="r", space="input"),
+        RegisterSpec(name="d", address=1, data_type="bool", access="r", space="discrete_input"),
+        RegisterSpec(name="h", address=1, data_type="u16", access="r"),
+    )
+    for target in targets:
+        with pytest.raises(AccessError, match="is read-only"):
+            client.encode(target, 1)
+        with pytest.raises(TypeError):
+            client.encode_raw(target, 1)
+    with pytest.raises(AccessError, match="is write-only"):
+        client.plan_reads([RegisterSpec(name="w", address=1, data_type="u16", access="w")])
+    assert client.requests_sent == 0
+
+
+def test_check_firmware_refuses_a_version_it_cannot_read() -> None:
+    fw: RegisterSpec[str] = RegisterSpec(name="fw", address=0, data_type="string", access="r", string_words=2)
+    cls: type[SyncClient] = type(
+        "Offline", (SyncClient,), {"DEVICE": device_spec(registers=(fw,), firmware_register="fw", firmware_format="string")}
+    )
+    client = cls(ModbusTcpClient("127.0.0.1", port=1), check_firmware=True)
+    assert client.firmware_pending
+    with pytest.raises(FirmwareError, match="the firmware register fw holds 'none', which is not a version") as info:
+        client.learn_firmware([0x6E6F, 0x6E65])
+    assert info.value.found == "none" and info.value.register is None
+    assert client.learn_firmware([0x3235, 0x2E31]) == (25, 1) and client.firmware_text == "25.1"
+    assert not client.firmware_pending

@@ -1,6 +1,10 @@
 """The client base that generated device modules subclass: sync and async, one surface.
 
 Validation, encoding and planning happen before anything is sent; pymodbus does the transport.
+Every space is served: holding and input registers, coils and discrete inputs (a bit's "words" are
+its 0/1, one per address, as in the codec). A client asked to `check_firmware` reads the device's
+firmware register in `connect()` (or, used without `connect()`, before its first other request) and
+from then on refuses registers that firmware lacks.
 """
 
 from __future__ import annotations
@@ -17,18 +21,23 @@ from pymodbus.pdu import ExceptionResponse
 
 from .bits import BitfieldValue
 from .codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
-from .errors import ConnectionLost, CrcError, DeviceException, DeviceTimeout, ProtocolError, WrongSlave
+from .errors import AccessError, ConnectionLost, CrcError, DeviceException, DeviceTimeout, FirmwareError, ProtocolError, WrongSlave
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
 from .rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
-from .spaces import DEFAULT_SPACE, HOLDING, SPACES
-from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable
+from .spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, SPACES
+from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 PARITY = {"none": "N", "even": "E", "odd": "O"}
-# pymodbus's spelling of each space's reads and writes: (read, write single, write multiple).
-PYMODBUS_METHODS = {HOLDING.name: ("read_holding_registers", "write_register", "write_registers")}
+# pymodbus's spelling of each space's reads and writes: (read, write single, write multiple); None where the space is read-only.
+PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
+    HOLDING.name: ("read_holding_registers", "write_register", "write_registers"),
+    INPUT.name: ("read_input_registers", None, None),
+    COIL.name: ("read_coils", "write_coil", "write_coils"),  # write_coil(True) sends FF 00, as 0x05 requires
+    DISCRETE_INPUT.name: ("read_discrete_inputs", None, None),
+}
 
 
 class LineWatch:
@@ -45,12 +54,14 @@ class LineWatch:
 
 
 class _Core:
-    """Everything that does not touch the bus: value checks, encoding, request planning."""
+    """Everything that does not touch the bus: value checks, encoding, request planning, firmware gates."""
 
     DEVICE: DeviceSpec
     modbus: Any  # the pymodbus client of the subclass
 
-    def __init__(self, slave: int, word_order: str | None = None, profile: DeviceProfile | None = None) -> None:
+    def __init__(
+        self, slave: int, word_order: str | None = None, profile: DeviceProfile | None = None, check_firmware: bool = False
+    ) -> None:
         if not 0 <= slave <= 255:
             raise ValueError(f"slave id {slave} is outside 0..255")
         if profile is not None:
@@ -62,6 +73,22 @@ class _Core:
         self.requests_sent = 0
         self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
         self.line = LineWatch(rtu_framing=False)
+        self.check_firmware = check_firmware
+        self.firmware: tuple[int, ...] | None = None
+        """The firmware version the device reported (check_firmware=True, once read), e.g. (2, 3)."""
+        self.firmware_text: str | None = None
+        """The same version as the device's documents write it, e.g. "1.25"."""
+        self._documented = self.DEVICE.documented
+        self._firmware_spec: RegisterSpec[Any] | None = None
+        if check_firmware:
+            name = self.DEVICE.firmware_register
+            if name is None:
+                raise FirmwareError(
+                    f"{self.DEVICE.id}: check_firmware=True, but the map names no firmware register (device.firmware_register)"
+                )
+            if self.broadcast:
+                raise FirmwareError(f"check_firmware=True: a broadcast (slave {slave}) cannot read the firmware register {name}")
+            self._firmware_spec = next(r for r in self.DEVICE.registers if r.name == name)
 
     def transport_error(self, exc: Exception) -> Exception:
         """A typed error saying what happened on the line: silence, a bad CRC, another slave, or garbage."""
@@ -89,9 +116,57 @@ class _Core:
         """The spec with the word order this client was told the device uses (a device with a word-order register, `transport.word_order_register` in its map)."""
         return spec.in_word_order(self.word_order)
 
-    def encode(self, spec: RegisterSpec[Any], value: Any) -> Raw:
+    # -- firmware gates ------------------------------------------------------------------------
+
+    @property
+    def firmware_pending(self) -> bool:
+        """check_firmware=True and the version not read yet: the next request reads it first."""
+        return self.check_firmware and self.firmware is None
+
+    def firmware_block(self) -> ReadBlock:
+        """The read of the firmware register."""
+        spec = self._firmware_spec
+        if spec is None:
+            raise FirmwareError(f"{self.DEVICE.id}: this client was not asked to check the firmware (check_firmware=True)")
+        return ReadBlock(spec.address, spec.words, (spec,), spec.space)
+
+    def learn_firmware(self, words: list[int]) -> tuple[int, ...]:
+        """Keep the version the firmware register's words report; from now on plans and checks follow it."""
+        spec = self.effective(self.firmware_block().registers[0])
+        raw = words_to_raw(spec, words)
+        try:
+            version = self.DEVICE.firmware_version(raw)
+            text = self.DEVICE.firmware_text(raw)
+        except ValueError as exc:
+            raise FirmwareError(
+                f"the firmware register {spec.label} holds {raw!r}, which is not a version ({exc})", found=str(raw)
+            ) from None
+        self.firmware, self.firmware_text = version, text
+        self._documented = self.DEVICE.documented_in(version)
+        self._plans.clear()
+        return version
+
+    def check_exists(self, spec: RegisterSpec[Any]) -> None:
+        """Refuse a register the connected firmware lacks (nothing is sent)."""
+        if self.firmware is not None and not spec.exists_in(self.firmware):
+            gate = spec.firmware_text
+            raise FirmwareError(
+                f"{spec.label} exists only with {gate}; the device reports firmware {self.firmware_text}: nothing was sent",
+                spec.name,
+                gate,
+                self.firmware_text,
+            )
+
+    # -- values --------------------------------------------------------------------------------
+
+    def check_writable(self, spec: RegisterSpec[Any]) -> None:
+        if not spec.space_info.writable:
+            raise AccessError(f"{spec.label} is read-only ({spec.space_info.title} cannot be written): nothing was sent")
         if not spec.writable:
-            raise TypeError(f"{spec.label} is read-only")
+            raise AccessError(f"{spec.label} is read-only: nothing was sent")
+
+    def encode(self, spec: RegisterSpec[Any], value: Any) -> Raw:
+        self.check_writable(spec)
         if spec.bitfield_type is not None and isinstance(value, spec.bitfield_type):
             raw = int(value.to_raw())
             check_raw(spec, raw)
@@ -99,8 +174,7 @@ class _Core:
         return value_to_raw(spec, value)
 
     def encode_raw(self, spec: RegisterSpec[Any], raw: Raw) -> Raw:
-        if not spec.writable:
-            raise TypeError(f"{spec.label} is read-only")
+        self.check_writable(spec)
         raw = raw if isinstance(raw, str | float) else int(raw)
         check_raw(spec, raw)
         return raw
@@ -112,26 +186,49 @@ class _Core:
             return cast(T, spec.bitfield_type.from_raw(raw))
         return cast(T, decode_value(spec, raw))
 
+    # -- planning ------------------------------------------------------------------------------
+
     def plan_reads(self, specs: Iterable[RegisterSpec[Any]]) -> list[ReadBlock]:
-        """The requests for these registers; plans are kept, so a polling loop plans once."""
+        """The requests for these registers, per space within its limit; plans are kept, so a polling loop plans once."""
         chosen = tuple(specs)
         key = tuple(spec.name for spec in chosen)
         plan = self._plans.get(key)
         if plan is None:
             for spec in chosen:
                 if not spec.readable:
-                    raise TypeError(f"{spec.label} is write-only")
-            plan = plan_reads(chosen, self.DEVICE.max_read_registers, self.DEVICE.documented)
+                    raise AccessError(f"{spec.label} is write-only: nothing was sent")
+                self.check_exists(spec)
+            device = self.DEVICE
+            plan = plan_reads(chosen, device.max_read_registers, self._documented, max_bits=device.max_read_coils)
             self._plans[key] = plan
         return plan
 
     def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
-        """Check and encode every value, then group them into requests. `raw`: values are register integers."""
-        raws = [(self.effective(spec), self.encode_raw(spec, value) if raw else self.encode(spec, value)) for spec, value in values.items()]
-        return plan_writes(raws, self.DEVICE.max_write_registers, HOLDING.write_multiple in self.DEVICE.function_codes)
+        """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers."""
+        by_space: dict[str, list[tuple[RegisterSpec[Any], Raw]]] = {}
+        for spec, value in values.items():
+            self.check_writable(spec)
+            self.check_exists(spec)
+            encoded = self.encode_raw(spec, value) if raw else self.encode(spec, value)
+            by_space.setdefault(spec.space, []).append((self.effective(spec), encoded))
+        device = self.DEVICE
+        blocks: list[WriteBlock] = []
+        for space in SPACES:
+            if space in by_space:
+                grouped = SPACES[space].write_multiple in device.function_codes
+                blocks += plan_writes(by_space[space], device.max_write_registers, grouped, max_bits=device.max_write_coils)
+        return blocks
 
-    def readable(self) -> list[RegisterSpec[Any]]:
-        return [r for r in self.DEVICE.registers if r.readable]
+    def readable(self, poll: object = None) -> list[RegisterSpec[Any]]:
+        """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
+        cls = None if poll is None else poll_class(poll)
+        return [
+            r
+            for r in self.DEVICE.registers
+            if r.readable and (cls is None or r.poll == cls) and (self.firmware is None or r.exists_in(self.firmware))
+        ]
+
+    # -- the wire ------------------------------------------------------------------------------
 
     def check_response(self, response: Any, function: int) -> Any:
         if isinstance(response, ExceptionResponse) or (hasattr(response, "isError") and response.isError()):
@@ -146,15 +243,37 @@ class _Core:
         """The function code and the pymodbus method that read `space`."""
         return SPACES[space].read, getattr(self.modbus, PYMODBUS_METHODS[space][0])
 
-    def writer(self, space: str, single: bool) -> tuple[int, Any]:
-        """The function code and the pymodbus method of a write to `space`: single or multiple."""
+    def writer(self, space: str, single: bool) -> tuple[int, Any, bool]:
+        """The function code and the pymodbus method of a write to `space`, and whether it is the
+        single write (0x06/0x05): one word goes single unless the device lists only the multiple write."""
         facts = SPACES[space]
+        if not facts.writable:
+            raise AccessError(f"{facts.title} cannot be written: nothing was sent")
+        codes = self.DEVICE.function_codes
+        if single and facts.write_single not in codes and facts.write_multiple in codes:
+            single = False
         function = facts.write_single if single else facts.write_multiple
-        if function is None:
-            raise TypeError(f"{facts.title} cannot be written")
-        return function, getattr(self.modbus, PYMODBUS_METHODS[space][1 if single else 2])
+        method = PYMODBUS_METHODS[space][1 if single else 2]
+        assert function is not None and method is not None  # a writable space has both writes
+        return function, getattr(self.modbus, method), single
+
+    def write_args(self, space: str, address: int, words: list[int] | tuple[int, ...], single: bool) -> tuple[Any, ...]:
+        """pymodbus's arguments for a write: register words, or coils as booleans (0/1 in, so that a
+        stray 0xFF00 is not taken for "on" silently)."""
+        if not SPACES[space].bits:
+            return (address, words[0] if single else list(words))
+        if any(w not in (0, 1) for w in words):
+            raise ValueError(f"a coil is written as 0 or 1, got {list(words)}")
+        return (address, bool(words[0]) if single else [bool(w) for w in words])
 
     def read_words(self, response: Any, block: ReadBlock) -> list[int]:
+        """The block's words from a read response: registers, or (coils, discrete inputs) one 0/1 per
+        address, the answer's padding bits cut off."""
+        if SPACES[block.space].bits:
+            bits = list(getattr(response, "bits", []))
+            if len(bits) < block.count:
+                raise ProtocolError(f"asked for {block.count} bits at 0x{block.address:04X}, got {len(bits)}")
+            return [1 if bit else 0 for bit in bits[: block.count]]
         words = list(getattr(response, "registers", []))
         if len(words) != block.count:
             raise ProtocolError(f"asked for {block.count} registers at 0x{block.address:04X}, got {len(words)}")
@@ -173,8 +292,10 @@ class SyncClient(_Core):
         word_order: str | None = None,
         line: LineWatch | None = None,
         profile: DeviceProfile | None = None,
+        *,
+        check_firmware: bool = False,
     ) -> None:
-        super().__init__(slave, word_order, profile)
+        super().__init__(slave, word_order, profile, check_firmware)
         self.modbus = modbus
         if line is not None:
             self.line = line
@@ -192,8 +313,10 @@ class SyncClient(_Core):
         retries: int = 2,
         word_order: str | None = None,
         profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
     ) -> C:
-        """Serial RTU; port settings default to the map's transport settings."""
+        """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
+        firmware register on connect and refuse the registers that firmware lacks."""
         device = cls.DEVICE
         line = LineWatch(rtu_framing=True)
         modbus = ModbusSerialClient(
@@ -206,7 +329,7 @@ class SyncClient(_Core):
             retries=retries,
             trace_packet=line,
         )
-        return cls(modbus, slave, word_order, line, profile)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
 
     @classmethod
     def tcp(
@@ -220,12 +343,14 @@ class SyncClient(_Core):
         word_order: str | None = None,
         rtu_over_tcp: bool = False,
         profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
     ) -> C:
-        """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters."""
+        """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
+        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks."""
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
         modbus = ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line)
-        return cls(modbus, slave, word_order, line, profile)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
 
     def __enter__(self: C) -> C:
         self.connect()
@@ -235,13 +360,23 @@ class SyncClient(_Core):
         self.close()
 
     def connect(self) -> None:
+        """Open the port or socket; with check_firmware, read the firmware version too."""
         if not self.modbus.connect():
             raise ConnectionLost(f"cannot connect to {self.modbus}")
+        if self.firmware_pending:
+            self.detect_firmware()
 
     def close(self) -> None:
         self.modbus.close()  # type: ignore[no-untyped-call]
 
-    def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+    def detect_firmware(self) -> tuple[int, ...]:
+        """Read the firmware register now and keep its version (`firmware`, `firmware_text`); with
+        check_firmware, connect() does this, or the first request when connect() was not called."""
+        block = self.firmware_block()
+        response = self._send(*self.reader(block.space), block.address, count=block.count)
+        return self.learn_firmware(self.read_words(response, block))
+
+    def _send(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
         self.requests_sent += 1
         try:
             response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
@@ -251,8 +386,13 @@ class SyncClient(_Core):
             return None
         return self.check_response(response, function)
 
+    def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+        if self.firmware_pending:
+            self.detect_firmware()
+        return self._send(function, method, *args, **kwargs)
+
     def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
-        """Read `count` register words from `address` of `space` (holding registers: function 0x03)."""
+        """Read `count` words from `address` of `space` (holding registers: 0x03; coils and discrete inputs: one 0/1 per bit)."""
         if self.broadcast:
             raise ValueError("a broadcast cannot read")
         response = self._call(*self.reader(space), address, count=count)
@@ -261,12 +401,16 @@ class SyncClient(_Core):
     def write_raw(
         self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
     ) -> None:
-        """Write words from `address`: write single (0x06) for one word unless `multiple`, else write multiple (0x10)."""
-        single = len(words) == 1 and not multiple
-        self._call(*self.writer(space, single), address, words[0] if single else list(words))
+        """Write words from `address`: write single (0x06; a coil 0x05) for one word unless `multiple`, else
+        write multiple (0x10; coils 0x0F). A coil's word is its bit, 0 or 1 (0x05 sends it as FF 00 / 00 00)."""
+        function, method, single = self.writer(space, len(words) == 1 and not multiple)
+        self._call(function, method, *self.write_args(space, address, words, single))
 
     def send_command(self, spec: Writable[Any], raw: int) -> None:
         """Write a command's fixed raw value (already checked against the map at generation time)."""
+        if self.firmware_pending:
+            self.detect_firmware()
+        self.check_exists(spec)
         target = self.effective(spec)
         words = raw_to_words(target, raw)
         self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
@@ -276,6 +420,8 @@ class SyncClient(_Core):
 
     def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
         """Read several registers with the fewest requests the device allows."""
+        if self.firmware_pending:
+            self.detect_firmware()
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
             words = self.read_raw(block.address, block.count, space=block.space)
@@ -283,9 +429,14 @@ class SyncClient(_Core):
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
 
-    def read_all(self) -> dict[str, Any]:
-        """Every readable register, by the device's read plan."""
-        return self.read_many(*cast(list[Readable[Any]], self.readable()))
+    def read_all(self, poll: object = None) -> dict[str, Any]:
+        """Every readable register, by the device's read plan; `poll` ("static", "fast", "normal",
+        "slow"): only that class's. With check_firmware, the registers the firmware lacks are left out."""
+        if poll is not None:
+            poll_class(poll)  # an unknown class fails before anything is sent
+        if self.firmware_pending:
+            self.detect_firmware()
+        return self.read_many(*cast(list[Readable[Any]], self.readable(poll)))
 
     def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
         self.write_many({spec: value}, raw=raw)
@@ -298,7 +449,11 @@ class SyncClient(_Core):
         return new
 
     def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
-        """Validate every value, then write contiguous registers together with 0x10."""
+        """Validate every value, then write contiguous registers together (0x10; coils 0x0F)."""
+        for spec in values:
+            self.check_writable(spec)  # refused before even the firmware is read
+        if self.firmware_pending:
+            self.detect_firmware()
         for block in self.plan_writes(values, raw):
             self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
 
@@ -315,8 +470,10 @@ class AsyncClient(_Core):
         word_order: str | None = None,
         line: LineWatch | None = None,
         profile: DeviceProfile | None = None,
+        *,
+        check_firmware: bool = False,
     ) -> None:
-        super().__init__(slave, word_order, profile)
+        super().__init__(slave, word_order, profile, check_firmware)
         self.modbus = modbus
         if line is not None:
             self.line = line
@@ -334,6 +491,7 @@ class AsyncClient(_Core):
         retries: int = 2,
         word_order: str | None = None,
         profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
     ) -> A:
         device = cls.DEVICE
         line = LineWatch(rtu_framing=True)
@@ -347,7 +505,7 @@ class AsyncClient(_Core):
             retries=retries,
             trace_packet=line,
         )
-        return cls(modbus, slave, word_order, line, profile)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
 
     @classmethod
     def tcp(
@@ -361,6 +519,7 @@ class AsyncClient(_Core):
         word_order: str | None = None,
         rtu_over_tcp: bool = False,
         profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
     ) -> A:
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
@@ -370,6 +529,7 @@ class AsyncClient(_Core):
             word_order,
             line,
             profile,
+            check_firmware=check_firmware,
         )
 
     async def __aenter__(self: A) -> A:
@@ -382,11 +542,18 @@ class AsyncClient(_Core):
     async def connect(self) -> None:
         if not await self.modbus.connect():
             raise ConnectionLost(f"cannot connect to {self.modbus}")
+        if self.firmware_pending:
+            await self.detect_firmware()
 
     def close(self) -> None:
         self.modbus.close()
 
-    async def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+    async def detect_firmware(self) -> tuple[int, ...]:
+        block = self.firmware_block()
+        response = await self._send(*self.reader(block.space), block.address, count=block.count)
+        return self.learn_firmware(self.read_words(response, block))
+
+    async def _send(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
         self.requests_sent += 1
         try:
             response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
@@ -395,6 +562,11 @@ class AsyncClient(_Core):
         if self.broadcast:
             return None
         return self.check_response(response, function)
+
+    async def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+        if self.firmware_pending:
+            await self.detect_firmware()
+        return await self._send(function, method, *args, **kwargs)
 
     async def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
         if self.broadcast:
@@ -405,10 +577,13 @@ class AsyncClient(_Core):
     async def write_raw(
         self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
     ) -> None:
-        single = len(words) == 1 and not multiple
-        await self._call(*self.writer(space, single), address, words[0] if single else list(words))
+        function, method, single = self.writer(space, len(words) == 1 and not multiple)
+        await self._call(function, method, *self.write_args(space, address, words, single))
 
     async def send_command(self, spec: Writable[Any], raw: int) -> None:
+        if self.firmware_pending:
+            await self.detect_firmware()
+        self.check_exists(spec)
         target = self.effective(spec)
         words = raw_to_words(target, raw)
         await self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
@@ -417,6 +592,8 @@ class AsyncClient(_Core):
         return cast(T, (await self.read_many(spec))[spec.name])
 
     async def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
+        if self.firmware_pending:
+            await self.detect_firmware()
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
             words = await self.read_raw(block.address, block.count, space=block.space)
@@ -424,8 +601,12 @@ class AsyncClient(_Core):
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
 
-    async def read_all(self) -> dict[str, Any]:
-        return await self.read_many(*cast(list[Readable[Any]], self.readable()))
+    async def read_all(self, poll: object = None) -> dict[str, Any]:
+        if poll is not None:
+            poll_class(poll)
+        if self.firmware_pending:
+            await self.detect_firmware()
+        return await self.read_many(*cast(list[Readable[Any]], self.readable(poll)))
 
     async def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
         await self.write_many({spec: value}, raw=raw)
@@ -437,6 +618,10 @@ class AsyncClient(_Core):
         return new
 
     async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
+        for spec in values:
+            self.check_writable(spec)
+        if self.firmware_pending:
+            await self.detect_firmware()
         for block in self.plan_writes(values, raw):
             await self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
 

@@ -6,7 +6,7 @@ import re
 import struct
 from dataclasses import dataclass
 
-from .spaces import DEFAULT_SPACE, SPACES
+from .spaces import COIL_OFF, COIL_ON, DEFAULT_SPACE, MAX_READ_BITS, MAX_READ_REGISTERS, MAX_WRITE_BITS, MAX_WRITE_REGISTERS, SPACES
 
 EXCEPTION_FLAG = 0x80
 # Which space and which operation each function code of the space table is.
@@ -98,39 +98,77 @@ def _write_function(space: str, multiple: bool) -> int:
     return function
 
 
+def _check_bit(bit: int) -> None:
+    if bit not in (0, 1):
+        raise FrameError(f"a bit is 0 or 1, not {bit}")
+
+
+def pack_bits(bits: list[int] | tuple[int, ...]) -> bytes:
+    """Bits as a 0x01/0x02 response or a 0x0F request carries them: the first bit in the lowest bit of
+    the first byte, eight to a byte, the last byte padded with zeros (Modbus Application Protocol §6.1)."""
+    for bit in bits:
+        _check_bit(bit)
+    return sum(bit << i for i, bit in enumerate(bits)).to_bytes((len(bits) + 7) // 8, "little")
+
+
+def unpack_bits(data: bytes, count: int | None = None) -> tuple[int, ...]:
+    """The bits of `data`, first bit from the lowest bit of the first byte; `count` keeps only the first ones."""
+    bits = tuple((byte >> i) & 1 for byte in data for i in range(8))
+    return bits if count is None else bits[:count]
+
+
 def build_read(slave: int, address: int, count: int, *, space: str = DEFAULT_SPACE) -> bytes:
+    """A read request: `count` registers (0x03/0x04, at most 125) or bits (0x01/0x02, at most 2000)."""
     _check_slave(slave)
     _check_address(address)
-    if not 1 <= count <= 125:
-        raise FrameError(f"register count {count} is outside 1..125")
-    return with_crc(struct.pack(">BBHH", slave, SPACES[space].read, address, count))
+    facts = SPACES[space]
+    limit = MAX_READ_BITS if facts.bits else MAX_READ_REGISTERS
+    if not 1 <= count <= limit:
+        raise FrameError(f"{facts.unit} count {count} is outside 1..{limit}")
+    return with_crc(struct.pack(">BBHH", slave, facts.read, address, count))
 
 
 def build_write_single(slave: int, address: int, word: int, *, space: str = DEFAULT_SPACE) -> bytes:
+    """A write-single request: one register word (0x06), or one coil given as its bit 0/1 and sent as
+    FF00 (on) or 0000 (off), the only two values 0x05 carries (§6.5)."""
     function = _write_function(space, multiple=False)
     _check_slave(slave)
     _check_address(address)
+    if SPACES[space].bits:
+        _check_bit(word)
+        word = COIL_ON if word else COIL_OFF
     _check_word(word)
     return with_crc(struct.pack(">BBHH", slave, function, address, word))
 
 
 def build_write_multiple(slave: int, address: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE) -> bytes:
+    """A write-multiple request: register words (0x10, at most 123) or coil bits 0/1 (0x0F, at most 1968, packed as §6.11 says)."""
     function = _write_function(space, multiple=True)
     _check_slave(slave)
     _check_address(address)
-    if not 1 <= len(words) <= 123:
-        raise FrameError(f"register count {len(words)} is outside 1..123")
-    for word in words:
-        _check_word(word)
-    body = struct.pack(">BBHHB", slave, function, address, len(words), 2 * len(words))
-    return with_crc(body + b"".join(struct.pack(">H", w) for w in words))
+    facts = SPACES[space]
+    limit = MAX_WRITE_BITS if facts.bits else MAX_WRITE_REGISTERS
+    if not 1 <= len(words) <= limit:
+        raise FrameError(f"{facts.unit} count {len(words)} is outside 1..{limit}")
+    if facts.bits:
+        data = pack_bits(words)
+    else:
+        for word in words:
+            _check_word(word)
+        data = b"".join(struct.pack(">H", w) for w in words)
+    body = struct.pack(">BBHHB", slave, function, address, len(words), len(data))
+    return with_crc(body + data)
 
 
 def build_read_response(slave: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE) -> bytes:
-    for word in words:
-        _check_word(word)
-    body = struct.pack(">BBB", slave, SPACES[space].read, 2 * len(words))
-    return with_crc(body + b"".join(struct.pack(">H", w) for w in words))
+    """A read response: register words, or (coils, discrete inputs) bits 0/1, packed."""
+    if SPACES[space].bits:
+        data = pack_bits(words)
+    else:
+        for word in words:
+            _check_word(word)
+        data = b"".join(struct.pack(">H", w) for w in words)
+    return with_crc(struct.pack(">BBB", slave, SPACES[space].read, len(data)) + data)
 
 
 def build_write_multiple_response(slave: int, address: int, count: int, *, space: str = DEFAULT_SPACE) -> bytes:
@@ -153,6 +191,7 @@ class Frame:
     exception_code: int | None = None
     problems: tuple[str, ...] = ()
     space: str | None = None  # the register space the function addresses (None: exception, unknown)
+    bits: tuple[int, ...] = ()  # coils, discrete inputs: the bits carried (a read response: every bit of its bytes)
 
 
 def _words(data: bytes) -> tuple[int, ...]:
@@ -181,6 +220,7 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
         byte_count: int | None = None,
         words: tuple[int, ...] = (),
         exception_code: int | None = None,
+        bits: tuple[int, ...] = (),
     ) -> Frame:
         return Frame(
             raw=frame,
@@ -195,6 +235,7 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
             exception_code=exception_code,
             problems=tuple(problems),
             space=space.name if space is not None else None,
+            bits=bits,
         )
 
     space = READS.get(function) or WRITES_SINGLE.get(function) or WRITES_MULTIPLE.get(function)
@@ -203,8 +244,14 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
             problems.append(f"exception frame carries {len(body)} data bytes, expected 1")
         return done("exception", exception_code=body[0] if body else None)
     if function in READS:
-        # A read request body is 4 bytes; a response body is 1 + 2n bytes, always odd.
-        if direction == "request" or (direction is None and len(body) == 4):
+        assert space is not None
+        # A read request body is 4 bytes; a register response body is 1 + 2n bytes, always odd. A bit
+        # response may be 4 bytes too (3 bytes of bits): it is one when its byte count says so and the
+        # same bytes would ask for more bits than a request may.
+        looks_like_request = len(body) == 4 and not (
+            space.bits and body[0] == 3 and not 1 <= int.from_bytes(body[2:4], "big") <= MAX_READ_BITS
+        )
+        if direction == "request" or (direction is None and looks_like_request):
             if len(body) != 4:
                 problems.append(f"read request carries {len(body)} data bytes, expected 4")
                 return done("read_request")
@@ -217,16 +264,25 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
         data = body[1:]
         if byte_count != len(data):
             problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+        if space.bits:
+            return done("read_response", byte_count=byte_count, bits=unpack_bits(data))
         if len(data) % 2:
             problems.append("odd number of data bytes")
         return done("read_response", byte_count=byte_count, words=_words(data))
     if function in WRITES_SINGLE:
+        assert space is not None
         if len(body) != 4:
             problems.append(f"write-single frame carries {len(body)} data bytes, expected 4")
             return done("write_single")
         address, word = struct.unpack(">HH", body)
-        return done("write_single", address=address, count=1, words=(word,))
+        if not space.bits:
+            return done("write_single", address=address, count=1, words=(word,))
+        if word not in (COIL_ON, COIL_OFF):
+            problems.append(f"a coil write carries FF 00 (on) or 00 00 (off), not {word >> 8:02X} {word & 0xFF:02X}")
+            return done("write_single", address=address, count=1, words=(word,))
+        return done("write_single", address=address, count=1, words=(word,), bits=(1 if word == COIL_ON else 0,))
     if function in WRITES_MULTIPLE:
+        assert space is not None
         if direction == "response" or (direction is None and len(body) == 4):
             if len(body) != 4:
                 problems.append(f"write-multiple response carries {len(body)} data bytes, expected 4")
@@ -240,6 +296,10 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
         data = body[5:]
         if byte_count != len(data):
             problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+        if space.bits:
+            if (count + 7) // 8 != len(data):
+                problems.append(f"coil count says {count} but {len(data)} data bytes follow")
+            return done("write_multiple_request", address=address, count=count, byte_count=byte_count, bits=unpack_bits(data, count))
         if count * 2 != len(data):
             problems.append(f"register count says {count} but {len(data)} data bytes follow")
         return done("write_multiple_request", address=address, count=count, byte_count=byte_count, words=_words(data))

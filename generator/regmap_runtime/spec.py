@@ -21,6 +21,19 @@ Raw = int | float | str
 text (a string register) or 0/1 (a coil or discrete input)."""
 
 
+POLL_CLASSES = ("static", "fast", "normal", "slow")
+"""How often a poller reads a register: once (nameplate, limits), fast, normal (the default) or slow."""
+
+
+def poll_class(poll: object) -> str:
+    """The poll class named by `poll`: one of POLL_CLASSES, or an enum member whose value is one
+    (regmap.model.PollClass); anything else is a ValueError that lists the classes."""
+    name = getattr(poll, "value", poll)
+    if not isinstance(name, str) or name not in POLL_CLASSES:
+        raise ValueError(f"unknown poll class {poll!r}: one of {', '.join(POLL_CLASSES)}")
+    return name
+
+
 def parse_version(text: str) -> tuple[int, ...]:
     """A firmware version as numbers, so that 2.10 sorts after 2.9."""
     return tuple(int(part) for part in text.split("."))
@@ -213,6 +226,15 @@ class DeviceSpec:
         own = frozenset((r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
         return own | self.also_readable
 
+    def documented_in(self, version: tuple[int, ...]) -> frozenset[tuple[str, int]] | None:
+        """`documented` for a device running firmware `version`: a register the version lacks is not there to read."""
+        if self.tolerates_gaps:
+            return None
+        own = frozenset(
+            (r.space, a) for r in self.registers if r.readable and r.exists_in(version) for a in range(r.first_address, r.address + r.words)
+        )
+        return own | self.also_readable
+
     def read_limit(self, space: str) -> int:
         """Most addresses one read request of `space` may cover."""
         return self.max_read_coils if SPACES[space].bits else self.max_read_registers
@@ -232,6 +254,16 @@ class DeviceSpec:
             return (number,)
         scale = 10**self.firmware_decimals
         return (number // scale, number % scale)
+
+    def firmware_text(self, raw: Raw) -> str:
+        """The firmware version as the device's documents write it: 125 with 2 decimals is "1.25",
+        105 is "1.05", 0x0203 as major_minor is "2.3"; a version string is kept as the device sent it."""
+        if self.firmware_format == "string":
+            return str(raw).strip()
+        version = self.firmware_version(raw)
+        if self.firmware_format == "decimal" and self.firmware_decimals:
+            return f"{version[0]}.{version[1]:0{self.firmware_decimals}d}"
+        return ".".join(str(part) for part in version)
 
 
 def version_in_text(text: str) -> tuple[int, ...]:

@@ -18,9 +18,9 @@ from typing import Any
 from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.generate import Files, Target
-from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
+from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.render import environment, header_lines, py_doc, py_str
-from regmap.runtime_bridge import read_plan
+from regmap.runtime_bridge import device_extras, read_plan, spec_extras
 from regmap_runtime.spaces import DEFAULT_SPACE
 
 RUNTIME_MODULES = (
@@ -162,11 +162,54 @@ def _bitfield_view(b: Bitfield) -> BitfieldView:
 
 
 def _value_type(reg: Register) -> str:
+    """What a read returns: the bitfield class, the enum (or the number, for a value the manual does not
+    list), text for a string, a bool for a coil or discrete input, a float for a float or a scaled or
+    offset value, else an int."""
     if reg.bitfields:
         return _bits_class_name(reg)
     if reg.enum is not None:
         return f"{camel(reg.enum.name)} | int"
-    return "float" if reg.scaled else "int"
+    return _plain_type(reg)
+
+
+def _plain_type(reg: Register) -> str:
+    if reg.type.is_string:
+        return "str"
+    if reg.type.is_bool:
+        return "bool"
+    return "float" if reg.type.is_float or reg.scaled or reg.offset_set else "int"
+
+
+def _writable(reg: Register) -> bool:
+    """A write_ accessor exists only where both the register's access and its space allow writing."""
+    return reg.access.writable and reg.space_info.writable
+
+
+def wire_order(reg: Register) -> str:
+    """The register's bytes on the wire, A the most significant: ABCD, CDAB (words low first), BADC
+    (bytes swapped), DCBA (both), and the same for four words (ABCDEFGH ...)."""
+    letters = "ABCDEFGH"[: 2 * reg.words]
+    pairs = [letters[i : i + 2] for i in range(0, len(letters), 2)]
+    if reg.byte_order is ByteOrder.LOW_FIRST:
+        pairs = [pair[::-1] for pair in pairs]
+    if reg.wide and reg.word_order is WordOrder.LOW_FIRST:
+        pairs = pairs[::-1]
+    return "".join(pairs)
+
+
+def _layout_facts(reg: Register) -> list[str]:
+    """Where the map goes beyond 16/32-bit holding registers: the byte order of floats, 64-bit and
+    byte-swapped values, a string's length, encoding and padding (seed maps' docstrings stay as they were)."""
+    if reg.type.is_string:
+        swapped = ", bytes swapped in each word" if reg.byte_order is ByteOrder.LOW_FIRST else ""
+        return [
+            f"{reg.words} words ({2 * reg.words} bytes of {reg.encoding}, {reg.padding.upper() if reg.padding == 'nul' else reg.padding} padded{swapped})"
+        ]
+    if reg.type.is_bool:
+        return []
+    if reg.byte_order is ByteOrder.LOW_FIRST or reg.type.is_float or reg.type.words > 2:
+        return [f"byte order {wire_order(reg)}"]
+    return []
 
 
 def _register_doc(reg: Register) -> str:
@@ -174,8 +217,11 @@ def _register_doc(reg: Register) -> str:
     facts = []
     if reg.param:
         facts.append(f"Parameter {reg.param}")
+    if reg.space != DEFAULT_SPACE:
+        facts.append(reg.space_info.title[:-1])  # "input register", "coil", "discrete input"
     facts.append(f"address 0x{reg.address:04X}" + (" (low word of a 32-bit pair)" if reg.paired else ""))
     facts.append(f"{reg.type.value}")
+    facts += _layout_facts(reg)
     if reg.unit:
         facts.append(f"unit {reg.unit}")
     if reg.min is not None or reg.max is not None:
@@ -184,14 +230,23 @@ def _register_doc(reg: Register) -> str:
         facts.append(f"default {eng(reg, reg.default)}")
     if reg.takes_effect:
         facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
+    if reg.firmware is not None:
+        facts.append(f"exists with {reg.firmware.text}")
+    if reg.poll is not PollClass.NORMAL:
+        facts.append(f"poll {reg.poll.value}")
     parts.append(", ".join(facts) + _sources(reg.source))
     if reg.description:
         parts.append(reg.description)
     return py_doc(" ".join(parts))
 
 
+def _literal(value: object) -> str:
+    return py_str(value) if isinstance(value, str) else str(value)
+
+
 def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
-    spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[reg.access]
+    access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
+    spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
     kwargs: list[tuple[str, str]] = [
         ("name", py_str(reg.name)),
         ("address", f"0x{reg.address:04X}"),
@@ -221,8 +276,10 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
     if reg.bitfields:
         kwargs.append(("bitfields", f"{_bits_class_name(reg)}.FIELDS"))
         kwargs.append(("bitfield_type", _bits_class_name(reg)))
+    # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
+    kwargs += [(key, _literal(value)) for key, value in spec_extras(reg).items()]
     value_type = _value_type(reg)
-    write_type = value_type if reg.bitfields or reg.enum else ("float" if reg.scaled else "int")
+    write_type = value_type if reg.bitfields or reg.enum else _plain_type(reg)
     if reg.enum is not None and not reg.bitfields:
         write_type = f"{camel(reg.enum.name)} | int | str"
     return RegisterView(
@@ -232,7 +289,7 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
         value_type=value_type,
         write_type=write_type,
         readable=reg.access.readable,
-        writable=reg.access.writable,
+        writable=_writable(reg),
         kwargs=tuple(kwargs),
         doc=_register_doc(reg),
     )
@@ -318,7 +375,19 @@ CLIENT_METHODS = frozenset(
         "check_response",
     }
     | {"read_words", "slave", "word_order", "requests_sent", "line", "modbus", "DEVICE"}
+    | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile"}
+    | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
 )
+BASE_ERRORS = ("ConnectionLost", "CrcError", "DeviceException", "DeviceTimeout", "ProtocolError", "RegmapError", "WrongSlave")
+
+
+def module_errors(device: Device) -> tuple[str, ...]:
+    """The runtime's errors a generated module re-exports: the base ones, and FirmwareError where the
+    map names a firmware register (so a seed map's module is what it was)."""
+    extra = ("FirmwareError",) if device.info.firmware_register is not None else ()
+    return tuple(sorted((*BASE_ERRORS, *extra)))
+
+
 BITFIELD_RESERVED = frozenset({"raw", "FIELDS", "from_raw", "to_raw", "described_mask", "describe"})
 
 
@@ -337,16 +406,7 @@ def check(device: Device) -> list[Diagnostic]:
         taken.setdefault(name, what)
 
     client_class = camel(device.id)
-    for name in (
-        "BitfieldValue",
-        "ConnectionLost",
-        "CrcError",
-        "DeviceException",
-        "DeviceTimeout",
-        "ProtocolError",
-        "RegmapError",
-        "WrongSlave",
-    ):
+    for name in ("BitfieldValue", *module_errors(device)):
         claim(name, f"the runtime's {name}, which the module re-exports", None)
     claim(client_class, "the client class", None)
     claim("Async" + client_class, "the async client class", None)
@@ -371,7 +431,7 @@ def check(device: Device) -> list[Diagnostic]:
             attr = PythonIdentifier(reg.name)
             if reg.access.readable:
                 methods.append((f"read_{attr}", f"register {reg.name}", reg.pos))
-            if reg.access.writable:
+            if _writable(reg):
                 methods.append((f"write_{attr}", f"register {reg.name}", reg.pos))
     first_element = {r.array.array: r for r in device.registers if r.array is not None}
     methods += [
@@ -385,6 +445,19 @@ def check(device: Device) -> list[Diagnostic]:
             )
         claim(name, what, pos)
     return problems
+
+
+def _firmware_note(device: Device) -> str:
+    """The class docstring's word on check_firmware, for a map that names its firmware register."""
+    named = device.info.firmware_register
+    if named is None:
+        return ""
+    gated = sum(1 for r in device.registers if r.firmware is not None)
+    return py_doc(
+        f"With `check_firmware=True` the client reads {named.register.name} on connect (the version is then"
+        f" `client.firmware`) and refuses, with FirmwareError, the registers that firmware lacks ({gated} of the map's"
+        " registers exist only in some versions); read_all() leaves those out."
+    )
 
 
 def device_context(device: Device) -> dict[str, Any]:
@@ -423,6 +496,9 @@ def device_context(device: Device) -> dict[str, Any]:
         "arrays": arrays,
         "commands": [_command_view(c) for c in device.commands],
         "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
+        "device_kwargs": [(key, _literal(value)) for key, value in device_extras(device).items()],
+        "errors": module_errors(device),
+        "firmware_note": _firmware_note(device),
         "read_plan_requests": len(blocks),
         "runtime": runtime_package(),
         "py_str": py_str,

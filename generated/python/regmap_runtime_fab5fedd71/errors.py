@@ -36,3 +36,22 @@ class CrcError(ProtocolError):
 
 class WrongSlave(ProtocolError):
     """An answer came from another slave id than the one asked (two drives with one id, or a wrong --slave)."""
+
+
+class AccessError(RegmapError, TypeError):
+    """A write to a read-only register or space (input registers, discrete inputs), or a read of a
+    write-only register: refused before anything was sent."""
+
+
+class FirmwareError(RegmapError):
+    """The connected device's firmware lacks the register (its map gates it by firmware version), or
+    the firmware version could not be read or understood; for a refused register nothing was sent.
+
+    `register` names the register (None when the version itself is the problem), `gate` is its gate
+    as people read it (`firmware >= 2.00`), `found` the version the device reported (None if unknown)."""
+
+    def __init__(self, message: str, register: str | None = None, gate: str | None = None, found: str | None = None) -> None:
+        self.register = register
+        self.gate = gate
+        self.found = found
+        super().__init__(message)
