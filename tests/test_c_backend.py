@@ -430,9 +430,12 @@ def test_a_name_clash_is_reported() -> None:
 
 
 def test_a_firmware_version_c_cannot_compare_is_reported_at_its_line() -> None:
-    """REGMAP_VERSION holds major.minor: a three-part gate is a diagnostic at the register's line, and generate refuses it."""
+    """REGMAP_VERSION holds major.minor: a three-part gate (which only a firmware register that reports
+    text can carry; the front end refuses it for a numeric one) is a diagnostic at the register's line,
+    and generate refuses it."""
     path = next(p for p in FIXTURE_MAPS if p.stem == "swapped_gated")
     data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    data["device"]["firmware_register"] = {"register": "label", "format": "string"}
     group = next(g for g in data["groups"] if g["id"] == "diagnostics")
     group["firmware"] = {"from": "2.5.1"}
     device = load_map_text(yaml.safe_dump(data, allow_unicode=True, sort_keys=False), "three_parts.yaml")
