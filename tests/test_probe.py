@@ -242,12 +242,12 @@ def test_the_budget_and_the_rate_bound_the_bus() -> None:
     now = [0.0]
 
     class Silent:
-        def read_raw(self, address: int, count: int) -> list[int]:
+        def read_raw(self, address: int, count: int, space: str = "holding") -> list[int]:
             now[0] += 0.5
             raise DeviceTimeout("no answer")
 
     class Answers:
-        def read_raw(self, address: int, count: int) -> list[int]:
+        def read_raw(self, address: int, count: int, space: str = "holding") -> list[int]:
             return [0] * count
 
     def sleep(seconds: float) -> None:
