@@ -5,7 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.st import codec
-from regmap.backends.st.functions import Values, _encoder_input, bitfield_functions, blocks, command_functions, encoders, owners
+from regmap.backends.st.encoders import _encoder_input, command_functions, encoders
+from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
 from regmap.backends.st.views import (
     Const,

@@ -1,0 +1,342 @@
+"""The encoders of one device's Structured Text: engineering value -> register words, refusing (FALSE)
+what the Python client refuses: out of range, not a member, NaN, text that does not fit."""
+
+from __future__ import annotations
+
+from regmap.backends.st.codec import (
+    NATURAL,
+    Helpers,
+    put_halves64,
+    put_word,
+    st_type,
+    swapped,
+)
+from regmap.backends.st.functions import getter_name, owners
+from regmap.backends.st.names import StIdentifier, st_real
+from regmap.backends.st.views import (
+    FunctionView,
+    Member,
+    Names,
+    _word,
+    configurable,
+    owner,
+    sentences,
+)
+from regmap.backends.text import eng
+from regmap.model import Command, Device, Register, WordOrder
+
+
+def _range_lines(name: str, lo: int | float, hi: int | float) -> list[str]:
+    return [f"IF nRaw < {lo} OR nRaw > {hi} THEN", f"    {name} := FALSE;", "    RETURN;", "END_IF;"]
+
+
+def _put_words(device: Device, reg: Register, output: str) -> list[str]:
+    natural = NATURAL[reg.type]
+    if reg.words == 1:
+        word = f"{natural}_TO_WORD(LINT_TO_{natural}(nRaw))"
+        if swapped(reg):
+            word = f"ROL({word}, 8)"
+        if not reg.paired:
+            return [f"{output} := {word};"]
+        return [
+            "IF nRaw < 0 THEN",
+            f"    {output}[0] := 16#FFFF;",
+            "ELSE",
+            f"    {output}[0] := 16#0000;",
+            "END_IF;",
+            f"{output}[1] := {word};",
+        ]
+    if reg.words == 4:
+        return [
+            f"lw := {natural}_TO_LWORD(nRaw);",
+            "nHigh := LWORD_TO_DWORD(SHR(lw, 32));",
+            "nLow := LWORD_TO_DWORD(lw);",
+            *put_halves64(reg, output),
+        ]
+    lines = [f"dw := {natural}_TO_DWORD(LINT_TO_{natural}(nRaw));"]
+    return lines + _put_dword(device, reg, output)
+
+
+def _put_dword(device: Device, reg: Register, output: str) -> list[str]:
+    """The two wire words of `dw` (a 32-bit value) in the register's word and byte order."""
+    if swapped(reg):
+        high = [put_word(reg, 0, output, "DWORD_TO_WORD(SHR(dw, 16))"), put_word(reg, 1, output, "DWORD_TO_WORD(dw)")]
+        return high
+    high = [f"{output}[0] := DWORD_TO_WORD(SHR(dw, 16));", f"{output}[1] := DWORD_TO_WORD(dw);"]
+    low = [f"{output}[0] := DWORD_TO_WORD(dw);", f"{output}[1] := DWORD_TO_WORD(SHR(dw, 16));"]
+    if configurable(device, reg):
+        return ["IF bHighWordFirst THEN", *("    " + s for s in high), "ELSE", *("    " + s for s in low), "END_IF;"]
+    return high if reg.word_order is WordOrder.HIGH_FIRST else low
+
+
+def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionView]:
+    """An encoder per writable register (one per array member when its elements share the range):
+    the value into the words to write, or FALSE (words unchanged) when the Python client would
+    refuse it (out of range, not a multiple of the resolution, not a member of the enum, NaN,
+    text too long or not in the register's encoding)."""
+    device = names.device
+    functions = []
+    for regs in owners(device):
+        reg = regs[0]
+        if not reg.access.writable:
+            continue
+        uniform = len({(r.raw_min, r.raw_max) for r in regs}) == 1
+        for r in [reg] if uniform else regs:
+            label = owner(r) if uniform else r.name
+            if r.type.is_string:
+                used.add("code")
+                functions.append(_text_encoder(names, helpers, r, label))
+            elif r.type.is_bool:
+                functions.append(_bit_encoder(names, r, label))
+            elif r.type.is_float:
+                used.add("f32" if r.words == 2 else "f64")
+                functions.append(_float_encoder(names, helpers, r, label))
+            else:
+                functions.append(_encoder(names, r, label))
+    return functions
+
+
+def _less_offset(reg: Register) -> str:
+    """The engineering value less the register's offset (fValue itself without one)."""
+    if not reg.offset_set:
+        return "fValue"
+    sign = "+" if reg.offset < 0 else "-"
+    return f"(fValue {sign} {st_real(abs(reg.offset))})"
+
+
+def _output(reg: Register) -> tuple[str, str]:
+    if reg.words == 1 and not reg.paired:
+        return "nWord", "WORD"
+    return "aWords", f"ARRAY[0..{reg.span - 1}] OF WORD"
+
+
+def _encoder_comment(reg: Register, label: str, output: str) -> str:
+    where = "FIRST_ADDR (the pair's unused high word first)" if reg.paired else "ADDR"
+    if reg.type.is_string:
+        what = f"at most {2 * reg.words} bytes of {reg.encoding} text"
+    else:
+        what = f"range {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''}"
+    return sentences(
+        f"The word{'s' if output == 'aWords' else ''} to write to {label} (at its {where})",
+        what,
+        "FALSE, the words unchanged, when the Python client would refuse the value",
+    )
+
+
+def _bit_encoder(names: Names, reg: Register, label: str) -> FunctionView:
+    """A coil: the value function 16#05 writes (16#FF00 on, 16#0000 off); 16#0F takes the bit itself."""
+    name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
+    body = ("IF bValue THEN", "    nWord := 16#FF00;", "ELSE", "    nWord := 16#0000;", "END_IF;", f"{name} := TRUE;")
+    comment = sentences(
+        f"The value function 16#05 writes to {label} (16#FF00 on, 16#0000 off); function 16#0F takes the bit itself",
+        "always TRUE: a coil takes either state",
+    )
+    return FunctionView(name, "BOOL", comment, (Member("bValue", "BOOL"),), (Member("nWord", "WORD"),), (), body)
+
+
+def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> FunctionView:
+    name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
+    output, out_type = _output(reg)
+    natural = NATURAL[reg.type]
+    local = [Member("rRaw", "LREAL")]
+    body: list[str] = []
+    if reg.scaled or reg.offset_set:
+        inputs = [Member("fValue", "LREAL", f"in {reg.unit}" if reg.unit else "engineering value")]
+        body.append(f"rRaw := {_less_offset(reg)} * {st_real(reg.scale.denominator)} / {st_real(reg.scale.numerator)};")
+    else:
+        inputs = [Member("fValue", natural, f"in {reg.unit}" if reg.unit else "")]
+        body.append("rRaw := REAL_TO_LREAL(fValue);" if natural == "REAL" else "rRaw := fValue;")
+    body += [
+        f"IF NOT (rRaw >= {st_real(reg.raw_min)} AND rRaw <= {st_real(reg.raw_max)}) THEN",  # NaN fails too
+        f"    {name} := FALSE;",
+        "    RETURN;",
+        "END_IF;",
+    ]
+    if reg.words == 2:
+        local.append(Member("dw", "DWORD"))
+        body += [
+            f"IF NOT {helpers.f32_to_bits}(fValue := LREAL_TO_REAL(rRaw), nBits := dw) THEN",
+            f"    {name} := FALSE;",
+            "    RETURN;",
+            "END_IF;",
+            *_put_dword(names.device, reg, output),
+        ]
+    else:
+        local += [Member("nHigh", "DWORD"), Member("nLow", "DWORD")]
+        body += [
+            f"IF NOT {helpers.f64_to_bits}(fValue := rRaw, nHigh := nHigh, nLow := nLow) THEN",
+            f"    {name} := FALSE;",
+            "    RETURN;",
+            "END_IF;",
+            *put_halves64(reg, output),
+        ]
+    if configurable(names.device, reg):
+        inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
+    body.append(f"{name} := TRUE;")
+    return FunctionView(
+        name, "BOOL", _encoder_comment(reg, label, output), tuple(inputs), (Member(output, out_type),), tuple(local), tuple(body)
+    )
+
+
+def _text_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> FunctionView:
+    """Text into words: its bytes, first character in the high byte, padded; FALSE when too long or,
+    for ascii, a byte above 16#7F (bytes are taken as they are: no transcoding)."""
+    name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
+    size = 2 * reg.words
+    pad = "16#20" if reg.padding == "space" else "16#00"
+    body = [
+        "nLen := LEN(sValue);",
+        f"IF nLen > {size} THEN",
+        f"    {name} := FALSE;",
+        "    RETURN;",
+        "END_IF;",
+        f"FOR i := 0 TO {size - 1} DO",
+        f"    nByte := {pad};",
+        "    IF i < nLen THEN",
+        f"        nByte := {helpers.code}(MID(sValue, 1, i + 1));",
+    ]
+    if reg.encoding == "ascii":
+        body += ["        IF nByte > 16#7F THEN", f"            {name} := FALSE;", "            RETURN;", "        END_IF;"]
+    body += [
+        "    END_IF;",
+        "    aBytes[i] := nByte;",
+        "END_FOR;",
+        f"FOR i := 0 TO {reg.words - 1} DO",
+        "    nWord := SHL(BYTE_TO_WORD(aBytes[2 * i]), 8) OR BYTE_TO_WORD(aBytes[2 * i + 1]);",
+        f"    aWords[i] := {'ROL(nWord, 8)' if swapped(reg) else 'nWord'};",
+        "END_FOR;",
+        f"{name} := TRUE;",
+    ]
+    local = (
+        Member("nLen", "INT"),
+        Member("i", "INT"),
+        Member("nByte", "BYTE"),
+        Member("nWord", "WORD"),
+        Member("aBytes", f"ARRAY[0..{size - 1}] OF BYTE"),
+    )
+    return FunctionView(
+        name,
+        "BOOL",
+        _encoder_comment(reg, label, "aWords"),
+        (Member("sValue", st_type(reg)),),
+        (Member("aWords", f"ARRAY[0..{reg.words - 1}] OF WORD"),),
+        local,
+        tuple(body),
+    )
+
+
+def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
+    device = names.device
+    name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
+    natural = NATURAL[reg.type]
+    raw_type = "ULINT" if reg.type.value == "u64" else "LINT"
+    inputs: list[Member] = []
+    local = [Member("nRaw", raw_type)]
+    body: list[str] = []
+    checked = (reg.raw_min, reg.raw_max) != (reg.type.raw_min, reg.type.raw_max)
+    if reg.bitfields:
+        inputs.append(Member("nValue", _word(reg), "the whole word; build it with the SET functions"))
+        as_natural = f"{_word(reg)}_TO_{natural}(nValue)"
+        body.append(f"nRaw := {as_natural};" if natural == raw_type else f"nRaw := {natural}_TO_{raw_type}({as_natural});")
+        for b in reg.bitfields:
+            if b.enum is not None:
+                local_name = StIdentifier("e", b.name)
+                local.append(Member(local_name, names.enum_type(b.enum)))
+                decoder = StIdentifier("F", names.prefix, b.enum.name, "FROM_RAW")
+                body += [
+                    f"IF NOT {decoder}(nRaw := UINT_TO_DINT({getter_name(names, reg, b)}(nValue)), eValue := {local_name}) THEN",
+                    f"    {name} := FALSE;",
+                    "    RETURN;",
+                    "END_IF;",
+                ]
+    elif reg.enum is not None:
+        inputs.append(Member("eValue", names.enum_type(reg.enum)))
+        body.append(f"nRaw := DINT_TO_LINT({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
+        checked = True
+    elif reg.scaled or reg.offset_set:
+        inputs.append(Member("fValue", "LREAL", f"in {reg.unit}" if reg.unit else "engineering value"))
+        local.append(Member("rRaw", "LREAL"))
+        ratio = f"{st_real(reg.scale.denominator)} / {st_real(reg.scale.numerator)}"
+        body.append(f"rRaw := {_less_offset(reg)} * {ratio};")
+        if reg.words == 4:  # the bounds of a 64-bit raw value are no exact LREALs: stay half a step inside
+            bounds = f"rRaw >= {st_real(reg.raw_min)} - 0.5 AND rRaw < {st_real(reg.raw_max)} + 0.5"
+        else:
+            bounds = f"rRaw >= {st_real(reg.raw_min - 1)} AND rRaw <= {st_real(reg.raw_max + 1)}"
+        body += [
+            f"IF NOT ({bounds}) THEN",  # NaN fails too
+            f"    {name} := FALSE;",
+            "    RETURN;",
+            "END_IF;",
+            f"nRaw := LREAL_TO_{raw_type}(rRaw);",
+            f"IF ABS(rRaw - {raw_type}_TO_LREAL(nRaw)) > 0.001 THEN",
+            f"    {name} := FALSE;",
+            "    RETURN;",
+            "END_IF;",
+        ]
+        checked = True
+    else:
+        inputs.append(Member("nValue", natural))
+        body.append(f"nRaw := {natural}_TO_{raw_type}(nValue)" + ";" if raw_type != natural else "nRaw := nValue;")
+    if checked:
+        body += _range_lines(name, reg.raw_min, reg.raw_max)
+    if configurable(device, reg):
+        inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
+    if reg.words == 2:
+        local.append(Member("dw", "DWORD"))
+    if reg.words == 4:
+        local += [Member("lw", "LWORD"), Member("nHigh", "DWORD"), Member("nLow", "DWORD")]
+    output, out_type = _output(reg)
+    body += _put_words(device, reg, output)
+    body.append(f"{name} := TRUE;")
+    return FunctionView(
+        name, "BOOL", _encoder_comment(reg, label, output), tuple(inputs), (Member(output, out_type),), tuple(local), tuple(body)
+    )
+
+
+def _encoder_input(reg: Register) -> str:
+    if reg.bitfields or not (reg.enum is not None or reg.scaled):
+        return "nValue"
+    return "eValue" if reg.enum is not None else "fValue"
+
+
+def command_functions(names: Names) -> list[FunctionView]:
+    functions = []
+    for cmd in names.device.commands:
+        if cmd.argument is None:
+            continue
+        functions.append(_command_function(names, cmd))
+    return functions
+
+
+def _command_function(names: Names, cmd: Command) -> FunctionView:
+    arg = cmd.argument
+    assert arg is not None
+    reg = cmd.register
+    name = names.function("CMD", cmd.name, what=f"the helper of command {cmd.name}", pos=cmd.pos)
+    body = [
+        f"IF nValue < {arg.min} OR nValue > {arg.max} THEN",
+        f"    {name} := FALSE;",
+        "    RETURN;",
+        "END_IF;",
+        f"nRaw := DINT_TO_LINT({cmd.value} + nValue);",
+        *_range_lines(name, reg.raw_min, reg.raw_max),
+        *_put_words(names.device, reg, "nWord" if reg.words == 1 and not reg.paired else "aWords"),
+        f"{name} := TRUE;",
+    ]
+    inputs = [Member("nValue", "DINT", arg.title or arg.name)]
+    if configurable(names.device, reg):
+        inputs.append(Member("bHighWordFirst", "BOOL"))
+    output = "nWord" if reg.words == 1 and not reg.paired else "aWords"
+    local = [Member("nRaw", "LINT"), *([Member("dw", "DWORD")] if reg.words == 2 else [])]
+    return FunctionView(
+        name,
+        "BOOL",
+        f"The word(s) of command {cmd.name} ({cmd.value} + {arg.name}); FALSE when {arg.name} is outside {arg.min}..{arg.max}.",
+        tuple(inputs),
+        (Member(output, "WORD" if output == "nWord" else "ARRAY[0..1] OF WORD"),),
+        tuple(local),
+        tuple(body),
+    )
+
+
+# -- the whole device --------------------------------------------------------------------------
