@@ -56,7 +56,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="the drive's 32-bit word order at start-up (with a word-order register, as if that register were set to it)",
     )
     quirks.add_argument(
-        "--firmware", metavar="VERSION", help="the drive's firmware version: kept for a map's firmware register (no map names one yet)"
+        "--firmware",
+        metavar="VERSION",
+        help="the drive's firmware version (2.10): the map's firmware register reports it, registers it lacks (their `firmware` "
+        "gate) answer 0x02 (default: the firmware register's default, else every register is present)",
     )
     return p
 
