@@ -77,7 +77,7 @@ def _firmware_text(simulator: Simulator) -> str:
     store = simulator.store
     if store.firmware is None:
         return ""
-    version = ".".join(str(part) for part in store.firmware[0])
+    version = store.firmware_text
     fw = simulator.device.info.firmware_register
     where = f" (reported by {fw.register.label})" if fw is not None else " (the map names no firmware register)"
     absent = len(simulator.device.registers) - len(store.present)

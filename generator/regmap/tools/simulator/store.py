@@ -45,6 +45,7 @@ class DeviceStore:
         self.state_file = state_file
         self.specs = {s.name: s for s in runtime_specs(device)}
         self.firmware = firmware_played(device, self.quirks.firmware)
+        self.firmware_text = firmware_text(device, self.firmware[0], self.quirks.firmware) if self.firmware is not None else None
         # Registers the simulated firmware has (every register when no firmware is played).
         self.present = [r for r in device.registers if self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])]
         self.registers = {r.name: r for r in self.present}
@@ -219,6 +220,8 @@ class DeviceStore:
                 raw = words_to_raw(spec, [words[a - address] for a in own])
             except ValueError:  # a bit that is neither 0 nor 1 (the PDU layer sends only 0/1)
                 return ILLEGAL_VALUE
+            if isinstance(raw, str) and "\ufffd" in raw:
+                return ILLEGAL_VALUE  # bytes that are no text in the register's encoding: nothing a device could store as text
             if not self._is_command(reg, raw) and not self._acceptable(reg, spec, raw):
                 return ILLEGAL_VALUE
             updates.append((reg, raw))
@@ -310,3 +313,11 @@ def firmware_played(device: Device, version: str | None) -> tuple[tuple[int, ...
     if fw is None or fw.register.default is None:
         return None
     return runtime_device(device).firmware_version(fw.register.default), fw.register.default
+
+
+def firmware_text(device: Device, version: tuple[int, ...], given: str | None) -> str:
+    """The version as the device's documents write it: 2 decimals give "2.00", major_minor "2.3"."""
+    fw = device.info.firmware_register
+    if fw is not None and fw.format == "decimal" and fw.decimals and len(version) == 2:
+        return f"{version[0]}.{version[1]:0{fw.decimals}d}"
+    return given if given is not None else ".".join(str(part) for part in version)
