@@ -334,15 +334,32 @@ def test_firmware_sets_the_register_and_hides_what_it_lacks(
     assert f"firmware {firmware}" in sim.stop()
 
 
-def test_without_firmware_every_register_is_there(simulator: SimulatorFactory) -> None:
-    sim = simulator(POWER_METER)
+@pytest.mark.parametrize(
+    ("map_path", "cases", "banner"),
+    [
+        # PM-3000: the newest gate is "from 2.00": 2.00 is played, reported as 200, and has every register.
+        (POWER_METER, [("03 01 10 00 01", "03 02 00 C8"), ("04 00 40 00 02", "04 04 00 00 00 00")], "firmware 2.00"),
+        # SW-2: gates from 2.0, until 2.0, from 2.5: 2.5 (0x0205, bytes swapped) has no legacy_mode.
+        (SWAPPED, [("03 00 00 00 01", "03 02 05 02"), ("03 00 11 00 01", "83 02"), ("03 00 20 00 04", "03 08" + "00" * 8)], "firmware 2.5"),
+        # No gates, no firmware register: no firmware in particular.
+        (REMOTE_IO, [("04 00 08 00 01", "04 02 00 00")], "on 127.0.0.1"),
+    ],
+    ids=["meter", "sw2", "remote-io"],
+)
+def test_without_firmware_the_newest_the_map_names_is_played(
+    simulator: SimulatorFactory, map_path: Path, cases: list[tuple[str, str]], banner: str
+) -> None:
+    sim = simulator(map_path)
     assert sim.port is not None
     line = Line.tcp(sim.port)
     try:
-        got, _ = exchange("tcp", line, pdu("04 00 40 00 02"), 1)
-        assert got == mbap(1, pdu("04 04 00 00 00 00"))
+        for number, (request, answer) in enumerate(cases, 1):
+            got, _ = exchange("tcp", line, pdu(request), number)
+            assert got == mbap(number, pdu(answer)), request
     finally:
         line.close()
+    out = sim.stop()
+    assert banner in out and ("firmware" in out) == (map_path != REMOTE_IO)
 
 
 @pytest.mark.parametrize(

@@ -103,15 +103,6 @@ def add_word_order(p: Any, *, live: bool) -> None:
     )
 
 
-def space_type(text: str) -> str:
-    from regmap.tools.selectors import parse_space
-
-    try:
-        return parse_space(text)
-    except Exception as exc:  # UsageError: argparse shows it as the option's error
-        raise argparse.ArgumentTypeError(str(exc).removeprefix(f"--space {text!r}: ")) from None
-
-
 SPACE_HELP = (
     "data space of --words addresses and of address selectors: holding, input, coil, discrete_input, or mbpoll's -t numbers "
     "4, 3, 0, 1 (default: holding for --words; for an address, the one space that lists a register there)"
@@ -119,7 +110,14 @@ SPACE_HELP = (
 
 
 def add_space(p: Any) -> None:
-    p.add_argument("-t", "--space", type=space_type, metavar="SPACE", help=SPACE_HELP)
+    p.add_argument("-t", "--space", metavar="SPACE", help=SPACE_HELP)
+
+
+def space_from(args: argparse.Namespace) -> str | None:
+    """The data space -t/--space names (checked: a one-line error for a wrong one), or None."""
+    from regmap.tools.selectors import parse_space
+
+    return parse_space(args.space) if args.space is not None else None
 
 
 def add_link_options(p: argparse.ArgumentParser) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from regmap.cli.common import VALUE_SYNTAX, add_map, add_space, add_word_order, examples, load_map, slave_id
+from regmap.cli.common import VALUE_SYNTAX, add_map, add_space, add_word_order, examples, load_map, slave_id, space_from
 from regmap.diagnostics import ExitCode, UsageError
 
 HELP = "print a request frame as hex bytes"
@@ -62,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools.selectors import parse_int
     from regmap_runtime.rtu import to_hex
 
+    space = space_from(args)
     device = load_map(args.map)
     notes: list[str] = []
     if args.words and args.raw:
@@ -71,17 +72,17 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError("read wants SELECTOR [COUNT]" + (" (--words: ADDR COUNT)" if args.words else ""))
         count = parse_int(args.items[1], "COUNT") if len(args.items) == 2 else None
         if args.words:
-            built = [frames.read_words_frame(device, args.items[0], 1 if count is None else count, args.slave, args.space or "holding")]
+            built = [frames.read_words_frame(device, args.items[0], 1 if count is None else count, args.slave, space or "holding")]
         else:
             if count is not None and count < 1:
                 raise UsageError(f"COUNT {count}: give at least 1 register")
-            built = frames.read_frames(device, args.items[0], count, args.slave, args.space)
+            built = frames.read_frames(device, args.items[0], count, args.slave, space)
     elif args.action == "write":
         if args.words:
-            built = frames.write_words_frames(device, args.items, args.slave, args.space or "holding")
+            built = frames.write_words_frames(device, args.items, args.slave, space or "holding")
         else:
             built, notes = frames.write_frames(
-                device, args.items, args.slave, args.raw, replace=args.replace, word_order=args.word_order, space=args.space
+                device, args.items, args.slave, args.raw, replace=args.replace, word_order=args.word_order, space=space
             )
     else:
         if not 1 <= len(args.items) <= 2:

@@ -4,7 +4,18 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import WHERE, add_output, add_profile, add_space, link_from, live_parser, load_map, output_format, profile_from
+from regmap.cli.common import (
+    WHERE,
+    add_output,
+    add_profile,
+    add_space,
+    link_from,
+    live_parser,
+    load_map,
+    output_format,
+    profile_from,
+    space_from,
+)
 
 HELP = "read registers from a drive"
 
@@ -33,4 +44,4 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
     device = load_map(args.map)
-    return live.cmd_read(device, link_from(args), args.selectors, output_format(args), profile_from(args, device), args.space)
+    return live.cmd_read(device, link_from(args), args.selectors, output_format(args), profile_from(args, device), space_from(args))

@@ -59,7 +59,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "--firmware",
         metavar="VERSION",
         help="the drive's firmware version (2.10): the map's firmware register reports it, registers it lacks (their `firmware` "
-        "gate) answer 0x02 (default: the firmware register's default, else every register is present)",
+        "gate) answer 0x02 (default: the firmware register's default, else the newest version the map's gates name)",
     )
     return p
 

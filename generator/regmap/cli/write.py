@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import VALUE_SYNTAX, WHERE, add_space, link_from, live_parser, load_map
+from regmap.cli.common import VALUE_SYNTAX, WHERE, add_space, link_from, live_parser, load_map, space_from
 
 HELP = "write registers, then read them back"
 
@@ -37,6 +37,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
+    space = space_from(args)
     return live.cmd_write(
         load_map(args.map),
         link_from(args),
@@ -45,5 +46,5 @@ def run(args: argparse.Namespace) -> int:
         verify=not args.no_verify and not args.words,
         replace=args.replace,
         words=args.words,
-        space=args.space,
+        space=space,
     )

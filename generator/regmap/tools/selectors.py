@@ -16,7 +16,7 @@ from typing import Any
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
-from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from regmap_runtime.spaces import SPACES
 from regmap_runtime.spec import RegisterSpec
 
 # mbpoll's -t numbers (0 coils, 1 discrete inputs, 3 input registers, 4 holding registers) and the map's names.
@@ -106,7 +106,8 @@ class Registers:
             return None
         if self.space is not None:
             return self.by_address.get((self.space, address))
-        listed = [reg for (space, at), reg in self.by_address.items() if at == address]
+        order = list(SPACES)
+        listed = sorted((reg for (_, at), reg in self.by_address.items() if at == address), key=lambda r: order.index(r.space))
         if len(listed) > 1:
             named = ", ".join(f"{space_label(r.space)} {r.label}" for r in listed)
             raise UsageError(f"{selector!r} is the address of {named}; give --space (-t) or the register's name")
@@ -125,7 +126,7 @@ class Registers:
             owners = [o for o in (self.device.covering(address, space) for space in spaces) if o is not None]
             if owners:
                 return f" (0x{address:04X} lies inside {owners[0].label}; --words writes single words)"
-            where = f" among the {SPACES[self.space].title}" if self.space not in (None, DEFAULT_SPACE) else ""
+            where = f" among the {SPACES[self.space].title}" if self.space is not None else ""
             return f" (no register at 0x{address:04X}{where}; --words reads and writes any address)"
         return suggest(selector, [*self.by_name, *self.by_param])
 

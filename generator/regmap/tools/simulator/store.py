@@ -8,8 +8,9 @@ one memory keyed on (space, address); a coil's or discrete input's "word" is its
 Commands with a declared `effect` act (save to the state file, restore defaults, clear a register).
 
 The firmware it plays is `--firmware` (`Quirks.firmware`), else the default of the map's firmware
-register; the map's firmware register then reports it, and registers whose `firmware` gate does not
-admit it are absent (0x02, as undocumented addresses are). With neither, every register is present.
+register, else the newest version the map's gates name; the map's firmware register reports it, and
+registers whose `firmware` gate does not admit it are absent (0x02, as undocumented addresses are).
+A map without gates or firmware register plays no particular firmware: every register is present.
 """
 
 from __future__ import annotations
@@ -300,9 +301,17 @@ def firmware_raw(device: Device, version: str) -> Raw:
     return raw
 
 
+def newest_firmware(device: Device) -> str | None:
+    """The newest firmware version the map's gates name (a `from` or an `until`), as written; None without gates."""
+    named = {v for r in device.registers if r.firmware is not None for v in (r.firmware.first, r.firmware.until) if v is not None}
+    return max(named, key=parse_version) if named else None
+
+
 def firmware_played(device: Device, version: str | None) -> tuple[tuple[int, ...], Raw | None] | None:
-    """(version, the firmware register's raw value) the simulator plays: `--firmware`, else the
-    default of the map's firmware register; None when neither says (every register is then present)."""
+    """(version, the firmware register's raw value) the simulator plays: `--firmware`; else the default
+    of the map's firmware register; else the newest firmware the map's gates name (the device as it
+    ships today: every `from` register present, every `until` one gone); None for a map without
+    gates and without a firmware register default (every register is present)."""
     fw = device.info.firmware_register
     if version is not None:
         try:
@@ -310,9 +319,16 @@ def firmware_played(device: Device, version: str | None) -> tuple[tuple[int, ...
         except ValueError:
             raise UsageError(f"--firmware {version!r} is not a version (numbers with dots: 2, 2.10, 1.2.3)") from None
         return wanted, firmware_raw(device, version) if fw is not None else None
-    if fw is None or fw.register.default is None:
+    if fw is not None and fw.register.default is not None:
+        return runtime_device(device).firmware_version(fw.register.default), fw.register.default
+    newest = newest_firmware(device)
+    if newest is None:
         return None
-    return runtime_device(device).firmware_version(fw.register.default), fw.register.default
+    try:
+        raw = firmware_raw(device, newest) if fw is not None else None
+    except UsageError:
+        raw = None  # a gate the firmware register cannot report (a map to fix): the gates still apply
+    return parse_version(newest), raw
 
 
 def firmware_text(device: Device, version: tuple[int, ...], given: str | None) -> str:
