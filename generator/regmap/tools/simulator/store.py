@@ -162,6 +162,8 @@ class DeviceStore:
             kind_ok = isinstance(raw, str)
         elif reg.type.is_float:
             kind_ok = isinstance(raw, int | float) and not isinstance(raw, bool)
+        elif reg.type.is_bool:
+            kind_ok = raw in (0, 1)  # 0/1 or true/false
         else:
             kind_ok = isinstance(raw, int) and not isinstance(raw, bool)
         if not kind_ok:
