@@ -17,8 +17,8 @@ import pytest
 
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
+from regmap.tools.decode import carried
 from regmap.tools.frames import read_words_frame, write_words_frames
-from regmap.tools.wire import parse_frame as wire_frame
 from regmap_runtime.rtu import parse_frame, to_hex, with_crc
 from regmap_runtime.spaces import SPACES
 
@@ -191,7 +191,7 @@ def test_frame_words_expresses_every_request_a_manual_prints(map_path: Path) -> 
     for example in device.examples:
         if example.direction != "request":
             continue
-        frame = wire_frame(example.wire_frame, "request")
+        frame = parse_frame(example.wire_frame, "request")
         if not frame.crc_valid or frame.address is None or frame.space is None:
             continue
         if frame.function not in device.transport.function_codes:
@@ -200,12 +200,12 @@ def test_frame_words_expresses_every_request_a_manual_prints(map_path: Path) -> 
         t = device.transport
         if frame.kind == "read_request" and frame.count is not None and frame.count <= (t.max_read_coils if bits else t.max_read_registers):
             built = read_words_frame(device, f"0x{frame.address:04X}", frame.count, frame.slave, frame.space)
-        elif frame.kind in ("write_single", "write_multiple_request") and len(frame.words) <= (
+        elif frame.kind in ("write_single", "write_multiple_request") and len(carried(frame)) <= (
             t.max_write_coils if bits else t.max_write_registers
         ):
-            if frame.kind == "write_multiple_request" and len(frame.words) == 1:
+            if frame.kind == "write_multiple_request" and len(carried(frame)) == 1:
                 continue  # a one-word 0x10: mbpoll would send 0x06 for it too
-            words = ",".join(str(w) if bits else f"0x{w:04X}" for w in frame.words)
+            words = ",".join(str(w) if bits else f"0x{w:04X}" for w in carried(frame))
             [built] = (
                 write_words_frames(device, [f"0x{frame.address:04X}={words}"], frame.slave, frame.space)
                 if frame.slave != device.transport.broadcast_id

@@ -406,7 +406,7 @@ def test_request_log_decodes_the_bit_functions(simulator: SimulatorFactory, tmp_
     assert "0x00D9 input_218_active = on" in text and "0x00C4 input_197_active = off" in text
     assert "0x0008 analog_in_9 = 10 mV" in text
     assert "0x00AC alarm_output = on" in text
-    assert "problem: write single coil takes FF 00 (on) or 00 00 (off), not 12 34" in text
+    assert "problem: a coil write carries FF 00 (on) or 00 00 (off), not 12 34" in text
     assert "exception 0x03: Illegal data value" in text
 
 

@@ -3,11 +3,13 @@
 The words go through the runtime's codec (`words_to_raw`, `raw_to_value`), the same code that
 decodes what the generated clients read. Every frame is read in its function's data space: a 0x02
 request at 0x0001 names the discrete input at 0x0001, never the holding register there; the bit
-functions (0x01/0x02/0x05/0x0F) are parsed as bits (`regmap.tools.wire`).
+functions (0x01/0x02/0x05/0x0F) carry bits (`carried`), a bit response as many as its request asked
+for (`trim_bits`: the rest of its last byte is padding, which must be zero).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import struct
@@ -19,9 +21,8 @@ from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import documented_addresses
 from regmap.tools.selectors import Registers
-from regmap.tools.wire import parse_frame, trim_bits, unpack_bits
 from regmap_runtime.codec import raw_to_value, words_to_raw
-from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, FrameError, crc_ok, parse_hex, to_hex
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, FrameError, crc_ok, parse_frame, parse_hex, to_hex, unpack_bits
 from regmap_runtime.spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from regmap_runtime.spec import Raw, RegisterSpec
 
@@ -43,6 +44,25 @@ MODBUS_MAX_READ = 125  # registers per read (Modbus application protocol 6.3, 6.
 MODBUS_MAX_WRITE = 123  # registers per write multiple (6.12)
 CANDIDATES_SHOWN = 6
 BIT_NAMES = {0: "off", 1: "on"}
+
+
+def carried(frame: Frame) -> tuple[int, ...]:
+    """The values a frame carries, one per address: register words, or in a bit space its bits."""
+    return frame.bits if frame.space is not None and SPACES[frame.space].bits else frame.words
+
+
+def trim_bits(frame: Frame, count: int) -> Frame:
+    """A bit read response cut to the `count` bits its request asked for. A byte count other than
+    ceil(count/8), or padding bits that are not zero (§6.1, §6.2 pad with zeros), is a problem."""
+    if frame.kind != "read_response" or frame.space is None or not SPACES[frame.space].bits:
+        return frame
+    problems = list(frame.problems)
+    need = (count + 7) // 8
+    if frame.byte_count is not None and frame.byte_count != need:
+        problems.append(f"{count} bits take {need} data byte(s), the byte count says {frame.byte_count}")
+    if any(frame.bits[count:]):
+        problems.append(f"the bits after the last of {count} are not zero (a response pads with zeros)")
+    return dataclasses.replace(frame, bits=frame.bits[:count], problems=tuple(problems))
 
 
 def _json_number(value: Any) -> Any:
@@ -117,6 +137,7 @@ class Decoded:
             "byte_count": f.byte_count,
             "space": f.space,
             "words": list(f.words),
+            "bits": list(f.bits),
             "exception_code": f.exception_code,
             "exception": self.exception,
             "values": [v.as_json() for v in self.values],
@@ -379,17 +400,17 @@ def decode_frame(
         if bits and direction is None and len(frame.raw) == 8 and frame.raw[2] == 3:
             decoded.notes.append("it reads alike as a response carrying 3 bytes of bits: --direction response decodes it so")
     elif frame.kind in ("write_single", "write_multiple_request") and frame.address is not None:
-        decoded.values = decode_words(device, frame.address, frame.words, word_order=word_order, space=space)
+        decoded.values = decode_words(device, frame.address, carried(frame), word_order=word_order, space=space)
     elif frame.kind == "read_response":
         if request is not None and request.kind == "read_request" and request.address is not None:
-            carried = len(frame.words)
+            came = len(carried(frame))
             if request.space is not None and request.space != frame.space:
                 decoded.problems.append(f"a {name} response answers a request of function 0x{request.function:02X}")
-            elif not bits and request.count is not None and request.count != carried:
-                decoded.problems.append(f"the request asked for {request.count} registers, the response carries {carried}")
-            elif bits and request.count is not None and carried < request.count:
-                decoded.problems.append(f"the request asked for {request.count} bits, the response carries {carried}")
-            decoded.values = decode_words(device, request.address, frame.words, word_order=word_order, space=space)
+            elif not bits and request.count is not None and request.count != came:
+                decoded.problems.append(f"the request asked for {request.count} registers, the response carries {came}")
+            elif bits and request.count is not None and came < request.count:
+                decoded.problems.append(f"the request asked for {request.count} bits, the response carries {came}")
+            decoded.values = decode_words(device, request.address, carried(frame), word_order=word_order, space=space)
         elif bits:
             decoded.data_words = _bit_table(frame)
             decoded.notes.append(

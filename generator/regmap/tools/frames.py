@@ -16,10 +16,9 @@ from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
 from regmap.tools.decode import FUNCTION_NAMES
 from regmap.tools.selectors import Registers, article, check_slave, parse_address, parse_int, space_label, suggest
-from regmap.tools.wire import build_read_frame, build_write_frame
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
-from regmap_runtime.rtu import FrameError
+from regmap_runtime.rtu import FrameError, build_read, build_write_multiple, build_write_single
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 from regmap_runtime.spec import Raw, RegisterSpec
 
@@ -48,7 +47,7 @@ def read_frames(device: Device, selector: str, count: int | None, slave: int, sp
     blocks = read_plan(device, chosen)
     for block in blocks:
         _function(device, SPACES[block.space].read)
-    return [build_read_frame(slave, b.address, b.count, b.space) for b in blocks]
+    return [build_read(slave, b.address, b.count, space=b.space) for b in blocks]
 
 
 def _function(device: Device, function: int) -> None:
@@ -71,7 +70,7 @@ def read_words_frame(device: Device, address_text: str, count: int, slave: int, 
         raise UsageError(f"COUNT {count} is outside 1..{limit} ({device.info.model} reads at most {limit} {unit} per request)")
     if address + count > 0x10000:
         raise UsageError(f"{count} {unit} from 0x{address:04X} run past 0xFFFF")
-    return build_read_frame(slave, address, count, space)
+    return build_read(slave, address, count, space=space)
 
 
 def word_address(text: str) -> int:
@@ -318,7 +317,9 @@ def word_runs(device: Device, writes: Sequence[WordWrite]) -> list[tuple[int, tu
 def block_frame(slave: int, address: int, words: Sequence[int], single: bool, space: str = DEFAULT_SPACE) -> bytes:
     """The request of one write block: 0x06/0x10 for registers, 0x05 (FF 00 / 00 00) / 0x0F (packed bits) for coils."""
     try:
-        return build_write_frame(slave, address, words, single, space)
+        if single:
+            return build_write_single(slave, address, words[0], space=space)
+        return build_write_multiple(slave, address, list(words), space=space)
     except FrameError as exc:
         raise UsageError(str(exc)) from None
 

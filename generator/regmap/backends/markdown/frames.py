@@ -30,11 +30,10 @@ from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, Example
 from regmap.backends.text import eng, number
 from regmap.model import Device, Example, ExampleValue, Register, WordOrder
 from regmap.render import hex2, md_text
-from regmap.tools.decode import FUNCTION_NAMES, decode_words, number_text
+from regmap.tools.decode import FUNCTION_NAMES, carried, decode_words, number_text, trim_bits
 from regmap.tools.selectors import space_label
-from regmap.tools.wire import parse_frame, trim_bits, unpack_bits
 from regmap_runtime.codec import words_to_raw
-from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, to_hex
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex, unpack_bits
 from regmap_runtime.spaces import COIL_OFF, COIL_ON, DEFAULT_SPACE, SPACES
 
 # What a request's quantity counts, per space (the Modbus spec's "quantity of registers/coils/inputs").
@@ -236,7 +235,7 @@ def _frame_view(
 def _span(parsed: Frame, start: int | None) -> range:
     """Addresses a frame touches: the request's range, or the response's data words from the request's start."""
     if parsed.kind == "read_response":
-        return range(start, start + len(parsed.words)) if start is not None else range(0)
+        return range(start, start + len(carried(parsed))) if start is not None else range(0)
     if parsed.address is not None and parsed.count is not None:
         return range(parsed.address, parsed.address + parsed.count)
     return range(0)
@@ -271,9 +270,9 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
     space = parsed.space or DEFAULT_SPACE
     has_data = parsed.kind in ("read_response", "write_single", "write_multiple_request")
     # The words (bits) a frame carries, split into registers by the decoder `regmap decode` uses.
-    carried = decode_words(device, span.start, parsed.words[: len(span)], space=space) if has_data and span else []
-    words = {v.address + i: w for v in carried for i, w in enumerate(v.words)}
-    raws = {v.register: v.raw for v in carried if v.register is not None and v.raw is not None}
+    found = decode_words(device, span.start, carried(parsed)[: len(span)], space=space) if has_data and span else []
+    words = {v.address + i: w for v in found for i, w in enumerate(v.words)}
+    raws = {v.register: v.raw for v in found if v.register is not None and v.raw is not None}
     regs: list[Register] = []
     for address in span:
         reg = device.covering(address, space)

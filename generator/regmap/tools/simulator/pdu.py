@@ -16,8 +16,7 @@ from __future__ import annotations
 import struct
 
 from regmap.model import Device
-from regmap.tools.wire import byte_count, pack_bits, unpack_bits
-from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE
+from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE, pack_bits, unpack_bits
 from regmap_runtime.spaces import COIL_OFF, COIL_ON, MAX_READ_BITS, MAX_WRITE_BITS, Space
 
 from .quirks import Quirks
@@ -160,11 +159,11 @@ class Dispatcher:
         if len(pdu) < 6:
             return exception_pdu(function, ILLEGAL_VALUE)
         address, count, count_byte = struct.unpack(">HHB", pdu[1:6])
-        if not 1 <= count <= self.max_write_bits or count_byte != byte_count(count) or len(pdu) != 6 + count_byte:
+        if not 1 <= count <= self.max_write_bits or count_byte != (count + 7) // 8 or len(pdu) != 6 + count_byte:
             return exception_pdu(function, ILLEGAL_VALUE)
         if address + count > 0x10000:
             return exception_pdu(function, ILLEGAL_ADDRESS)
-        refused = self.store.write(address, unpack_bits(pdu[6:], count), space.name)
+        refused = self.store.write(address, list(unpack_bits(pdu[6:], count)), space.name)
         return pdu[:5] if refused is None else exception_pdu(function, refused)
 
     @staticmethod
