@@ -164,12 +164,9 @@ def firmware(device: Device, client: SyncClient, registers: Sequence[Register], 
     raw = words_to_raw(Registers(device).spec(reg).in_word_order(order), words)
     spec = runtime_device(device)
     try:
-        version = spec.firmware_version(raw)
+        version, text = spec.firmware_version(raw), spec.firmware_text(raw)
     except ValueError as exc:
         raise LinkError(f"the firmware register {reg.label} holds {raw!r}, which is not a version ({exc})") from None
-    text = ".".join(str(part) for part in version)
-    if fw.format == "decimal" and fw.decimals and len(version) == 2:
-        text = f"{version[0]}.{version[1]:0{fw.decimals}d}"
     absent = tuple(r for r in registers if r.firmware is not None and not r.firmware.admits(version))
     return Firmware(version, text, absent)
 

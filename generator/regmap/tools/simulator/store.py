@@ -46,7 +46,7 @@ class DeviceStore:
         self.state_file = state_file
         self.specs = {s.name: s for s in runtime_specs(device)}
         self.firmware = firmware_played(device, self.quirks.firmware)
-        self.firmware_text = firmware_text(device, self.firmware[0], self.quirks.firmware) if self.firmware is not None else None
+        self.firmware_text = firmware_text(device, self.firmware, self.quirks.firmware) if self.firmware is not None else None
         # Registers the simulated firmware has (every register when no firmware is played).
         self.present = [r for r in device.registers if self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])]
         self.registers = {r.name: r for r in self.present}
@@ -333,9 +333,10 @@ def firmware_played(device: Device, version: str | None) -> tuple[tuple[int, ...
     return parse_version(newest), raw
 
 
-def firmware_text(device: Device, version: tuple[int, ...], given: str | None) -> str:
-    """The version as the device's documents write it: 2 decimals give "2.00", major_minor "2.3"."""
-    fw = device.info.firmware_register
-    if fw is not None and fw.format == "decimal" and fw.decimals and len(version) == 2:
-        return f"{version[0]}.{version[1]:0{fw.decimals}d}"
+def firmware_text(device: Device, played: tuple[tuple[int, ...], Raw | None], given: str | None) -> str:
+    """The version played as the device's documents write it (its firmware register's raw value as the
+    runtime reads it: 2 decimals give "2.00", major_minor "2.3"), else as given."""
+    version, raw = played
+    if raw is not None:
+        return runtime_device(device).firmware_text(raw)
     return given if given is not None else ".".join(str(part) for part in version)
