@@ -243,6 +243,7 @@ def test_decode_floats_wide_values_and_strings() -> None:
         (rtu(1, 5, 0, 0xAC, 0x12, 0x34), None, "a coil write carries FF 00 (on) or 00 00 (off), not 12 34"),
         (rtu(1, 0x0F, 0, 0x13, 0, 10, 1, 0xCD), None, "coil count says 10 but 1 data bytes follow"),
         (rtu(1, 1, 1, 0xFD), rtu(1, 1, 0, 0x13, 0, 3), "the bits after the last of 3 are not zero"),
+        (rtu(1, 1, 1, 0x0D), rtu(1, 1, 0, 0x13, 0, 3), "the bits after the last of 3 are not zero"),  # only the first padding bit
         (rtu(1, 1, 2, 0x05, 0x00), rtu(1, 1, 0, 0x13, 0, 3), "3 bits take 1 data byte(s), the byte count says 2"),
         (rtu(1, 1, 0, 0x13, 0x07, 0xD1), None, "bit count 2001 is outside Modbus's 1..2000"),
         (rtu(1, 4, 0, 0, 0, 126), None, "register count 126 is outside Modbus's 1..125"),
