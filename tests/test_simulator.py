@@ -156,7 +156,7 @@ def test_live_cli_against_the_simulator(simulator: SimulatorFactory) -> None:
     rows = json.loads(dump.stdout)
     assert {r["register"] for r in rows} >= {"peak_current", "save_status", "run_status"}
     csv_dump = regmap("dump", str(IDM), "--csv", *tcp)
-    assert csv_dump.stdout.splitlines()[0].startswith("register,param,address,address_hex,raw,value,unit,in_range,text,function,")
+    assert csv_dump.stdout.splitlines()[0].startswith("register,param,address,address_hex,raw,value,unit,in_range,text,space,function,")
     dead = regmap("read", str(IDM), "peak_current", "--tcp", "127.0.0.1:1")
     assert dead.returncode == 4
     assert len(dead.stderr.strip().splitlines()) == 1, dead.stderr

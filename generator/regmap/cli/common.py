@@ -15,7 +15,8 @@ if TYPE_CHECKING:
 
 DEFAULT_MAPS_DIR = Path("maps")
 VALUE_SYNTAX = (
-    "VALUE is in engineering units (1.5 for 1.5 A), an enum member name (save_all_parameters), or for a bitfield register "
+    "VALUE is in engineering units (1.5 for 1.5 A), an enum member name (save_all_parameters), text for a string register "
+    '(label=abc, or label="two words"), on/off (true/false, 1/0) for a coil, or for a bitfield register '
     "field:value,field:value (function:path_address_0,normally_closed:1), optionally after a base word (0x00A8,function:ctrg)"
 )
 
@@ -100,6 +101,23 @@ def add_word_order(p: Any, *, live: bool) -> None:
             + ("auto (the default) reads that register first" if live else "the drive's setting, when it is not the map's default")
         ),
     )
+
+
+SPACE_HELP = (
+    "data space of --words addresses and of address selectors: holding, input, coil, discrete_input, or mbpoll's -t numbers "
+    "4, 3, 0, 1 (default: holding for --words; for an address, the one space that lists a register there)"
+)
+
+
+def add_space(p: Any) -> None:
+    p.add_argument("-t", "--space", metavar="SPACE", help=SPACE_HELP)
+
+
+def space_from(args: argparse.Namespace) -> str | None:
+    """The data space -t/--space names (checked: a one-line error for a wrong one), or None."""
+    from regmap.tools.selectors import parse_space
+
+    return parse_space(args.space) if args.space is not None else None
 
 
 def add_link_options(p: argparse.ArgumentParser) -> None:

@@ -14,8 +14,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         sub,
         "dump",
         HELP,
-        "Read every readable register with the fewest requests. A dump cut short by the bus or by Ctrl-C prints what was read "
-        "and names what was not (exit 4, or 130 for Ctrl-C).",
+        "Read every readable register of every data space with the fewest requests. A dump cut short by the bus or by Ctrl-C "
+        "prints what was read and names what was not (exit 4, or 130 for Ctrl-C). Where the map gates registers by firmware and "
+        "names its firmware register, the version is read first and the registers it lacks are left out (named on stderr).",
         "regmap dump maps/idm_rs.yaml --csv --tcp 192.168.1.50:502 > drive.csv",
     )
     add_output(p)

@@ -16,14 +16,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p = sub.add_parser(
         "simulate",
         help=HELP,
-        description="Serve the map as the drive: its defaults, word order, limits, exception codes and bad-CRC behaviour "
-        "(transport.bad_crc); commands act (save to the state file, factory reset, clear alarm); broadcast writes get no reply. "
-        "Faults can be injected for client tests.",
+        description="Serve the map as the drive: its four tables (holding and input registers, coils, discrete inputs) with "
+        "their defaults, word and byte order, limits, exception codes and bad-CRC behaviour (transport.bad_crc); its firmware "
+        "(--firmware: the firmware register reports it, gated registers it lacks answer 0x02); commands act (save to the state "
+        "file, factory reset, clear alarm); broadcast writes get no reply. Faults can be injected for client tests.",
         epilog=examples(
             "regmap simulate maps/idm_rs.yaml --tcp 127.0.0.1:5020 --state drive.json",
             "regmap simulate maps/c630s.yaml --serial /dev/pts/7",
             "regmap simulate maps/idm_rs.yaml --fault no_answer --fault-after 3 --fault-count 1",
             "regmap simulate maps/idm_rs.yaml --answer-gaps --max-read 20 --word-order low_first   # a drive unlike its map",
+            "regmap simulate tests/maps/fixtures/power_meter.yaml --firmware 1.10 -v             # an older firmware, logged",
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -56,7 +58,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="the drive's 32-bit word order at start-up (with a word-order register, as if that register were set to it)",
     )
     quirks.add_argument(
-        "--firmware", metavar="VERSION", help="the drive's firmware version: kept for a map's firmware register (no map names one yet)"
+        "--firmware",
+        metavar="VERSION",
+        help="the drive's firmware version (2.10): the map's firmware register reports it, registers it lacks (their `firmware` "
+        "gate) answer 0x02 (default: the firmware register's default, else the newest version the map's gates name)",
     )
     return p
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import VALUE_SYNTAX, WHERE, link_from, live_parser, load_map
+from regmap.cli.common import VALUE_SYNTAX, WHERE, add_space, link_from, live_parser, load_map, space_from
 
 HELP = "write registers, then read them back"
 
@@ -20,10 +20,15 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         f"regmap write maps/idm_rs.yaml Pr5.00=1.5 {WHERE}",
         f"regmap write maps/idm_rs.yaml di3_function=function:ctrg {WHERE}     # the other fields are kept",
         f"regmap write maps/idm_rs.yaml --words 0x6209=0xFFFC,0xF2C0 {WHERE}",
+        "regmap write tests/maps/fixtures/remote_io.yaml relay_20_on=on relay_21_on=off --tcp 127.0.0.1:5020   # one 0x0F",
+        "regmap write tests/maps/fixtures/remote_io.yaml --words -t 0 0x13=1,0,1 --tcp 127.0.0.1:5020",
     )
     p.add_argument("assignments", nargs="+", metavar="SELECTOR=VALUE")
     p.add_argument("--raw", action="store_true", help="values are raw register integers")
-    p.add_argument("--words", action="store_true", help="ADDR=WORD[,WORD...]: 16-bit words at any address (no read-back)")
+    p.add_argument(
+        "--words", action="store_true", help="ADDR=WORD[,WORD...]: 16-bit words (bits 0/1 with -t 0) at any address (no read-back)"
+    )
+    add_space(p)
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 instead of keeping the drive's")
     p.add_argument("--no-verify", action="store_true", help="skip the read-back")
     return p
@@ -32,6 +37,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
+    space = space_from(args)
     return live.cmd_write(
         load_map(args.map),
         link_from(args),
@@ -40,4 +46,5 @@ def run(args: argparse.Namespace) -> int:
         verify=not args.no_verify and not args.words,
         replace=args.replace,
         words=args.words,
+        space=space,
     )

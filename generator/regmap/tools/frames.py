@@ -14,43 +14,63 @@ from typing import Any
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
-from regmap.tools.selectors import Registers, check_slave, parse_address, parse_int, suggest
+from regmap.tools.decode import FUNCTION_NAMES
+from regmap.tools.selectors import Registers, article, check_slave, parse_address, parse_int, space_label, suggest
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
-from regmap_runtime.rtu import build_read, build_write_multiple, build_write_single
-from regmap_runtime.spaces import DEFAULT_SPACE, HOLDING
-from regmap_runtime.spec import RegisterSpec
+from regmap_runtime.rtu import FrameError, build_read, build_write_multiple, build_write_single
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from regmap_runtime.spec import Raw, RegisterSpec
 
 # -- reads -------------------------------------------------------------------------------
 
 
-def read_frames(device: Device, selector: str, count: int | None, slave: int) -> list[bytes]:
-    """Read one register, or `count` of the map's readable registers from it, with the fewest requests."""
+def read_frames(device: Device, selector: str, count: int | None, slave: int, space: str | None = None) -> list[bytes]:
+    """Read one register, or `count` of the map's readable registers of its space from it, with the fewest requests."""
     check_slave(device, slave, reading=True)
-    regs = Registers(device)
+    regs = Registers(device, space)
     reg = regs.resolve(selector)
     if not reg.access.readable:
         raise UsageError(f"{reg.label} is write-only")
     if count is None or count == 1:
         chosen = [reg]
     else:
-        readable = [r for r in sorted(device.registers, key=lambda r: r.address) if r.access.readable and r.address >= reg.address]
+        readable = [
+            r
+            for r in sorted(device.registers, key=lambda r: r.address)
+            if r.space == reg.space and r.access.readable and r.address >= reg.address
+        ]
         chosen = readable[:count]
         if len(chosen) < count:
-            raise UsageError(f"only {len(chosen)} readable registers from {reg.label} onwards, asked for {count}")
-    return [build_read(slave, b.address, b.count, space=b.space) for b in read_plan(device, chosen)]
+            what = "registers" if reg.space == DEFAULT_SPACE else SPACES[reg.space].title
+            raise UsageError(f"only {len(chosen)} readable {what} from {reg.label} onwards, asked for {count}")
+    blocks = read_plan(device, chosen)
+    for block in blocks:
+        _function(device, SPACES[block.space].read)
+    return [build_read(slave, b.address, b.count, space=b.space) for b in blocks]
 
 
-def read_words_frame(device: Device, address_text: str, count: int, slave: int) -> bytes:
-    """`read --words ADDR COUNT`: one read of COUNT holding-register words, documented or not."""
+def _function(device: Device, function: int) -> None:
+    """A function the device's map does not list is refused: the device would answer exception 0x01."""
+    if function not in device.transport.function_codes:
+        listed = " ".join(f"0x{c:02X}" for c in device.transport.function_codes)
+        raise UsageError(f"{device.info.model} has no function 0x{function:02X} ({FUNCTION_NAMES[function]}); its map lists {listed}")
+
+
+def read_words_frame(device: Device, address_text: str, count: int, slave: int, space: str = DEFAULT_SPACE) -> bytes:
+    """`read --words ADDR COUNT`: one read of COUNT words (bits, in a bit space) of `space`, documented or not."""
     check_slave(device, slave, reading=True)
     address = word_address(address_text)
-    limit = device.transport.max_read_registers
+    facts = SPACES[space]
+    _function(device, facts.read)
+    t = device.transport
+    limit = t.max_read_coils if facts.bits else t.max_read_registers
+    unit = "bits" if facts.bits else "registers"
     if not 1 <= count <= limit:
-        raise UsageError(f"COUNT {count} is outside 1..{limit} ({device.info.model} reads at most {limit} registers per request)")
+        raise UsageError(f"COUNT {count} is outside 1..{limit} ({device.info.model} reads at most {limit} {unit} per request)")
     if address + count > 0x10000:
-        raise UsageError(f"{count} words from 0x{address:04X} run past 0xFFFF")
-    return build_read(slave, address, count)
+        raise UsageError(f"{count} {unit} from 0x{address:04X} run past 0xFFFF")
+    return build_read(slave, address, count, space=space)
 
 
 def word_address(text: str) -> int:
@@ -71,7 +91,7 @@ class Assignment:
     argument: str
     register: Register
     spec: RegisterSpec[Any]
-    raw: int | None  # None until the named fields are merged into a base word
+    raw: Raw | None  # None until the named fields are merged into a base word
     fields: dict[str, int] | None = None  # named bitfields, when not every field is named
     note: str | None = None  # what the bits nobody named were set to
 
@@ -88,11 +108,12 @@ class Assignment:
 
 @dataclass(frozen=True)
 class WordWrite:
-    """`--words ADDR=WORD[,WORD...]`: words at a Modbus address."""
+    """`--words ADDR=WORD[,WORD...]`: words (bits, in a bit space) at a Modbus address of `space`."""
 
     argument: str
     address: int
     words: tuple[int, ...]
+    space: str = DEFAULT_SPACE
 
 
 def _split(item: str) -> tuple[str, str]:
@@ -102,13 +123,50 @@ def _split(item: str) -> tuple[str, str]:
     return selector.strip(), value_text.strip()
 
 
+def read_only(reg: Register) -> str | None:
+    """Why a register cannot be written, or None: its space has no write function, or the map says read-only."""
+    facts = reg.space_info
+    if not facts.writable:
+        return (
+            f"{reg.label} is {article(space_label(reg.space))}: {facts.title} are read-only "
+            f"(function 0x{facts.read:02X} reads them, no function writes them)"
+        )
+    if not reg.access.writable:
+        return f"{reg.label} is read-only"
+    return None
+
+
+def _unquoted(text: str) -> str:
+    """Text given as "abc" or 'abc' (quoted so that spaces or an empty text survive the shell)."""
+    if len(text) >= 2 and text[0] == text[-1] and text[0] in "\"'":
+        return text[1:-1]
+    return text
+
+
+def parse_raw(spec: RegisterSpec[Any], text: str, label: str) -> Raw:
+    """A raw register value from the command line (`--raw`): an integer, a float for a float
+    register, text for a string, 0/1 (on/off) for a bit."""
+    info = spec.type_info
+    if info.is_string:
+        return _unquoted(text)
+    if info.is_bool:
+        return value_to_raw(spec, text)
+    if info.is_float:
+        try:
+            return float(text)
+        except ValueError:
+            raise UsageError(f"{label}: {text!r} is not a number") from None
+    return parse_int(text, label)
+
+
 def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = False) -> Assignment:
     """Check one SELECTOR=VALUE through the runtime's one validation path (range, resolution, enum,
-    bitfield widths and enums, access) before anything is built or sent."""
+    bitfield widths and enums, text that fits, access) before anything is built or sent."""
     selector, value_text = _split(item)
     reg = regs.resolve(selector)
-    if not reg.access.writable:
-        raise UsageError(f"{reg.label} is read-only")
+    refused = read_only(reg)
+    if refused is not None:
+        raise UsageError(refused)
     spec = regs.spec(reg)
     try:
         if reg.bitfields and ":" in value_text:
@@ -125,71 +183,116 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
             else:
                 return Assignment(item, reg, spec, None, named)
             return dataclasses.replace(Assignment(item, reg, spec, None, named).with_base(base or 0), note=note)
-        number = parse_int(value_text, reg.label) if raw else value_to_raw(spec, value_text)
+        if raw:
+            number = parse_raw(spec, value_text, reg.label)
+        else:
+            number = value_to_raw(spec, _unquoted(value_text) if spec.type_info.is_string else value_text)
         check_raw(spec, number)
     except RangeError as exc:
         raise UsageError(str(exc)) from None
+    except OverflowError:  # the codec's float conversion of a number beyond any float (1e400)
+        raise UsageError(f"{reg.label}: {value_text} is beyond the range of {reg.type.value}") from None
     return Assignment(item, reg, spec, number)
 
 
-def parse_word_write(item: str) -> WordWrite:
+_BIT_WORDS = {"0": 0, "1": 1, "off": 0, "on": 1, "false": 0, "true": 1}
+
+
+def parse_word_write(item: str, space: str = DEFAULT_SPACE) -> WordWrite:
     selector, value_text = _split(item)
     address = word_address(selector)
-    words = tuple(parse_int(w, selector) for w in value_text.split(","))
-    if any(not 0 <= w <= 0xFFFF for w in words):
-        raise UsageError(f"{item}: a word is 0..0xFFFF (0..65535)")
+    bits = SPACES[space].bits
+    if bits:
+        try:
+            words = tuple(_BIT_WORDS[w.strip().lower()] for w in value_text.split(","))
+        except KeyError:
+            raise UsageError(f"{item}: a {space_label(space)} is 0 or 1 (on/off), as in {selector}=1,0,1") from None
+    else:
+        words = tuple(parse_int(w, selector) for w in value_text.split(","))
+        if any(not 0 <= w <= 0xFFFF for w in words):
+            raise UsageError(f"{item}: a word is 0..0xFFFF (0..65535)")
     if address + len(words) > 0x10000:
-        raise UsageError(f"{item}: {len(words)} words from 0x{address:04X} run past 0xFFFF")
-    return WordWrite(item, address, words)
+        raise UsageError(f"{item}: {len(words)} {'bits' if bits else 'words'} from 0x{address:04X} run past 0xFFFF")
+    return WordWrite(item, address, words, space)
 
 
-def _words_touched(item: Assignment | WordWrite) -> range:
+def _words_touched(item: Assignment | WordWrite) -> list[tuple[str, int]]:
     if isinstance(item, WordWrite):
-        return range(item.address, item.address + len(item.words))
-    return range(item.register.first_address, item.register.last_address + 1)
+        return [(item.space, a) for a in range(item.address, item.address + len(item.words))]
+    return [(item.register.space, a) for a in range(item.register.first_address, item.register.last_address + 1)]
 
 
 def check_conflicts(items: Sequence[Assignment | WordWrite]) -> None:
     """Two arguments that set the same word would build two frames that disagree: refuse them."""
-    owner: dict[int, Assignment | WordWrite] = {}
+    owner: dict[tuple[str, int], Assignment | WordWrite] = {}
     for item in items:
-        for address in _words_touched(item):
-            other = owner.get(address)
+        for key in _words_touched(item):
+            other = owner.get(key)
             if other is not None:
-                raise UsageError(f"{other.argument!r} and {item.argument!r} both set the word at 0x{address:04X}; give one value per word")
-            owner[address] = item
+                what = "word" if key[0] == DEFAULT_SPACE else space_label(key[0])
+                raise UsageError(
+                    f"{other.argument!r} and {item.argument!r} both set the {what} at 0x{key[1]:04X}; give one value per {what}"
+                )
+            owner[key] = item
 
 
-def parse_assignments(device: Device, items: Sequence[str], raw: bool, *, replace: bool = False) -> list[Assignment]:
+def parse_assignments(
+    device: Device, items: Sequence[str], raw: bool, *, replace: bool = False, space: str | None = None
+) -> list[Assignment]:
     if not items:
         raise UsageError("write wants SELECTOR=VALUE [SELECTOR=VALUE ...]")
-    regs = Registers(device)
+    regs = Registers(device, space)
     parsed = [parse_assignment(regs, item, raw, replace=replace) for item in items]
     check_conflicts(parsed)
     return parsed
 
 
-def parse_word_writes(items: Sequence[str]) -> list[WordWrite]:
+def parse_word_writes(items: Sequence[str], space: str = DEFAULT_SPACE) -> list[WordWrite]:
     if not items:
         raise UsageError("write --words wants ADDR=WORD[,WORD...] ...")
-    parsed = [parse_word_write(item) for item in items]
+    facts = SPACES[space]
+    if not facts.writable:
+        raise UsageError(f"{facts.title} are read-only: no function writes them (function 0x{facts.read:02X} reads them)")
+    parsed = [parse_word_write(item, space) for item in items]
     check_conflicts(parsed)
     return parsed
 
 
+def write_function(device: Device, space: str, count: int) -> bool:
+    """Whether `count` values of `space` go out with the single-write function (0x06/0x05): one value,
+    and the device has it; else the multiple write (0x10/0x0F), which the device must have."""
+    facts = SPACES[space]
+    single, multiple = facts.write_single, facts.write_multiple
+    assert single is not None and multiple is not None
+    codes = device.transport.function_codes
+    if count == 1 and (single in codes or multiple not in codes):
+        _function(device, single)
+        return True
+    _function(device, multiple)
+    return False
+
+
 def write_blocks(device: Device, assignments: Sequence[Assignment], word_order: str | None = None) -> list[WriteBlock]:
-    values = []
+    """The requests that write these values: contiguous values of one space share a request, space by space."""
+    t = device.transport
+    by_space: dict[str, list[tuple[RegisterSpec[Any], Raw]]] = {}
     for a in assignments:
         assert a.raw is not None, "fields must be merged into a base word first"
-        values.append((a.spec.in_word_order(word_order), a.raw))
+        by_space.setdefault(a.register.space, []).append((a.spec.in_word_order(word_order), a.raw))
+    blocks: list[WriteBlock] = []
     try:
-        return plan_writes(values, device.transport.max_write_registers, HOLDING.write_multiple in device.transport.function_codes)
+        for space in (s for s in SPACES if s in by_space):
+            multiple = SPACES[space].write_multiple in t.function_codes
+            blocks += plan_writes(by_space[space], t.max_write_registers, multiple, max_bits=t.max_write_coils)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    return blocks
 
 
 def word_runs(device: Device, writes: Sequence[WordWrite]) -> list[tuple[int, tuple[int, ...]]]:
-    """Contiguous words become one run (one 0x10, as mbpoll sends them); a lone word goes out as 0x06."""
+    """Contiguous words become one run (one 0x10, as mbpoll sends them; bits: one 0x0F); a lone word goes out as 0x06 (0x05)."""
+    space = writes[0].space if writes else DEFAULT_SPACE
+    facts = SPACES[space]
     words = sorted((w.address + i, word) for w in writes for i, word in enumerate(w.words))
     runs: list[tuple[int, list[int]]] = []
     for address, word in words:
@@ -198,22 +301,27 @@ def word_runs(device: Device, writes: Sequence[WordWrite]) -> list[tuple[int, tu
         else:
             runs.append((address, [word]))
     t = device.transport
+    limit = t.max_write_coils if facts.bits else t.max_write_registers
+    unit = "coils" if facts.bits else "words"
     for address, run in runs:
-        if len(run) > 1 and HOLDING.write_multiple not in t.function_codes:
+        if len(run) > 1 and facts.write_multiple not in t.function_codes:
             raise UsageError(
-                f"{device.info.model} has no function 0x{HOLDING.write_multiple:02X}: write the words at 0x{address:04X} one by one"
+                f"{device.info.model} has no function 0x{facts.write_multiple:02X}: write the {unit} at 0x{address:04X} one by one"
             )
-        if len(run) > t.max_write_registers:
-            raise UsageError(
-                f"{len(run)} contiguous words from 0x{address:04X}: {device.info.model} writes at most {t.max_write_registers} per request"
-            )
+        if len(run) > limit:
+            raise UsageError(f"{len(run)} contiguous {unit} from 0x{address:04X}: {device.info.model} writes at most {limit} per request")
+        write_function(device, space, len(run))
     return [(address, tuple(run)) for address, run in runs]
 
 
 def block_frame(slave: int, address: int, words: Sequence[int], single: bool, space: str = DEFAULT_SPACE) -> bytes:
-    if single:
-        return build_write_single(slave, address, words[0], space=space)
-    return build_write_multiple(slave, address, list(words), space=space)
+    """The request of one write block: 0x06/0x10 for registers, 0x05 (FF 00 / 00 00) / 0x0F (packed bits) for coils."""
+    try:
+        if single:
+            return build_write_single(slave, address, words[0], space=space)
+        return build_write_multiple(slave, address, list(words), space=space)
+    except FrameError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def unnamed_fields(a: Assignment) -> list[str]:
@@ -221,12 +329,19 @@ def unnamed_fields(a: Assignment) -> list[str]:
 
 
 def write_frames(
-    device: Device, items: Sequence[str], slave: int, raw: bool, *, replace: bool = False, word_order: str | None = None
+    device: Device,
+    items: Sequence[str],
+    slave: int,
+    raw: bool,
+    *,
+    replace: bool = False,
+    word_order: str | None = None,
+    space: str | None = None,
 ) -> tuple[list[bytes], list[str]]:
-    """Frames for SELECTOR=VALUE assignments (contiguous registers share one 0x10 frame), and notes
-    that say what bits nobody named were set to."""
+    """Frames for SELECTOR=VALUE assignments (contiguous registers share one 0x10 frame, contiguous
+    coils one 0x0F), and notes that say what bits nobody named were set to."""
     check_slave(device, slave)
-    parsed = parse_assignments(device, items, raw, replace=replace)
+    parsed = parse_assignments(device, items, raw, replace=replace, space=space)
     for a in parsed:
         if a.raw is None:
             raise UsageError(
@@ -234,13 +349,14 @@ def write_frames(
                 f"(missing: {', '.join(unnamed_fields(a))}), give a base word first ({a.register.name}=0x0000,...), or --replace (they become 0)"
             )
     notes = [a.note for a in parsed if a.note]
-    frames = [block_frame(slave, b.address, b.words, b.single, b.space) for b in write_blocks(device, parsed, word_order)]
-    return frames, notes
+    blocks = write_blocks(device, parsed, word_order)
+    return [block_frame(slave, b.address, b.words, write_function(device, b.space, len(b.words)), b.space) for b in blocks], notes
 
 
-def write_words_frames(device: Device, items: Sequence[str], slave: int) -> list[bytes]:
+def write_words_frames(device: Device, items: Sequence[str], slave: int, space: str = DEFAULT_SPACE) -> list[bytes]:
     check_slave(device, slave)
-    return [block_frame(slave, address, run, len(run) == 1) for address, run in word_runs(device, parse_word_writes(items))]
+    runs = word_runs(device, parse_word_writes(items, space))
+    return [block_frame(slave, address, run, write_function(device, space, len(run)), space) for address, run in runs]
 
 
 # -- commands ----------------------------------------------------------------------------

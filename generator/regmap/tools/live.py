@@ -2,7 +2,10 @@
 
 The client is the same runtime the generated modules use, built from the map at run time; the
 answers are shown through the same decoder as `regmap decode`, and every value written passes
-the same checks as in the generated clients before anything is sent.
+the same checks as in the generated clients before anything is sent. Every data space is read and
+written with its own functions (`SyncClient.read_raw`/`write_raw` with `space=`). Where the map
+names a firmware register and some of the registers asked for are gated by firmware, the version is
+read first: `dump` leaves out what that firmware lacks, `read` and `write` refuse it.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from typing import Any
 
 from regmap.diagnostics import ExitCode, LinkError, UsageError
 from regmap.model import Device, Register
-from regmap.runtime_bridge import read_plan, runtime_device
+from regmap.runtime_bridge import documented_addresses, read_plan, runtime_device, runtime_specs
 from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
@@ -27,13 +30,17 @@ from regmap.tools.frames import (
     parse_word_writes,
     word_runs,
     write_blocks,
+    write_function,
 )
 from regmap.tools.link import Link
 from regmap.tools.selectors import Registers, check_slave
 from regmap_runtime.client import SyncClient
-from regmap_runtime.codec import words_to_raw
+from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import RegmapError
+from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
+from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from regmap_runtime.spec import Raw
 
 WORD_ORDERS = ("auto", "high_first", "low_first")
 
@@ -125,6 +132,66 @@ def _bus(exc: RegmapError) -> str:
     return f"{type(exc).__name__}: {exc}"
 
 
+@dataclass(frozen=True)
+class Firmware:
+    """The firmware version a drive reported, and the registers asked for that it lacks."""
+
+    version: tuple[int, ...]
+    text: str
+    absent: tuple[Register, ...]
+
+    def refuse(self, registers: Sequence[Register], doing: str) -> None:
+        """A UsageError naming the registers of `registers` this firmware lacks, before anything is sent."""
+        missing = [r for r in registers if r in self.absent]
+        if missing:
+            gates = "; ".join(f"{r.label} exists only with {r.firmware.text if r.firmware else '?'}" for r in missing)
+            raise UsageError(f"{gates}; the drive reports firmware {self.text}: nothing was {doing}")
+
+
+def firmware(device: Device, client: SyncClient, registers: Sequence[Register], order: str | None = None) -> Firmware | None:
+    """The drive's firmware, read from the map's firmware register when some of `registers` are gated
+    by firmware (None when none is, or the map names no firmware register: every register is asked for)."""
+    fw = device.info.firmware_register
+    if fw is None or not any(r.firmware is not None for r in registers):
+        return None
+    reg = fw.register
+    if client.broadcast:
+        raise UsageError(f"a broadcast cannot read the firmware register {reg.label}, which says which of the registers exist")
+    try:
+        words = client.read_raw(reg.address, reg.words, space=reg.space)
+    except RegmapError as exc:
+        raise LinkError(f"cannot read the firmware register {reg.label}: {_bus(exc)}") from None
+    raw = words_to_raw(Registers(device).spec(reg).in_word_order(order), words)
+    spec = runtime_device(device)
+    try:
+        version, text = spec.firmware_version(raw), spec.firmware_text(raw)
+    except ValueError as exc:
+        raise LinkError(f"the firmware register {reg.label} holds {raw!r}, which is not a version ({exc})") from None
+    absent = tuple(r for r in registers if r.firmware is not None and not r.firmware.admits(version))
+    return Firmware(version, text, absent)
+
+
+def plan(device: Device, registers: Sequence[Register], profile: DeviceProfile | None, known: Firmware | None) -> list[ReadBlock]:
+    """The read plan (`read_plan`); with a firmware that lacks some registers, their addresses are
+    not read across either (the drive answers 0x02 for them)."""
+    if known is None or not known.absent:
+        return read_plan(device, registers, profile)
+    absent = {
+        (r.space, a)
+        for r in device.registers
+        if r.firmware is not None and not r.firmware.admits(known.version)
+        for a in range(r.first_address, r.last_address + 1)
+    }
+    t = device.transport
+    documented = None if t.tolerates_gaps else documented_addresses(device) - absent
+    limit = t.max_read_registers
+    if profile is not None:
+        profile.check(device.id, device.fingerprint)
+        limit, documented = profile.plan_limits(limit, documented)
+    names = {r.name for r in registers}
+    return plan_reads([s for s in runtime_specs(device) if s.name in names], limit, documented, max_bits=t.max_read_coils)
+
+
 @dataclass
 class ReadResult:
     values: list[DecodedValue]
@@ -140,11 +207,13 @@ def read_registers(
     progress: Callable[[int, int], None] | None = None,
     order: str | None = None,
     profile: DeviceProfile | None = None,
+    known: Firmware | None = None,
 ) -> ReadResult:
-    """Read by the plan (with a device profile: the plan it allows); on a bus failure or Ctrl-C keep
-    what was read and name what was not. Values come back in the order `registers` names them."""
+    """Read by the plan (with a device profile: the plan it allows; with a firmware: around the registers
+    it lacks); on a bus failure or Ctrl-C keep what was read and name what was not. Values come back
+    in the order `registers` names them."""
     wanted = [r.name for r in registers]
-    blocks = read_plan(device, registers, profile)
+    blocks = plan(device, registers, profile, known)
     found: dict[str, DecodedValue] = {}
 
     def result(error: str | None = None, interrupted: bool = False) -> ReadResult:
@@ -159,7 +228,7 @@ def read_registers(
             return result(f"{_bus(exc)} (request {number} of {len(blocks)}, 0x{block.address:04X} x {block.count})")
         except KeyboardInterrupt:
             return result("interrupted (Ctrl-C)", interrupted=True)
-        for value in decode_words(device, block.address, words, word_order=order):
+        for value in decode_words(device, block.address, words, word_order=order, space=block.space):
             if value.register in wanted and value.raw is not None:
                 found[value.register] = value
         if progress is not None:
@@ -180,8 +249,10 @@ def profiled_order(device: Device, client: SyncClient, link: Link, profile: Devi
     return order
 
 
-def cmd_read(device: Device, link: Link, selectors: Sequence[str], output: str, profile: DeviceProfile | None = None) -> int:
-    regs = Registers(device)
+def cmd_read(
+    device: Device, link: Link, selectors: Sequence[str], output: str, profile: DeviceProfile | None = None, space: str | None = None
+) -> int:
+    regs = Registers(device, space)
     registers = [regs.resolve(s) for s in selectors]
     for reg in registers:
         if not reg.access.readable:
@@ -189,7 +260,10 @@ def cmd_read(device: Device, link: Link, selectors: Sequence[str], output: str, 
     client = connect(device, link, reading=True, profile=profile)
     try:
         order = profiled_order(device, client, link, profile)
-        result = read_registers(client, device, registers, order=order, profile=profile)
+        known = firmware(device, client, registers, order)
+        if known is not None:
+            known.refuse(registers, "read")
+        result = read_registers(client, device, registers, order=order, profile=profile, known=known)
     finally:
         client.close()
     print_values(result.values, output)
@@ -221,30 +295,55 @@ def _merge_current(client: SyncClient, device: Device, partial: list[Assignment]
     return [a.with_base(int(held[a.register.name] or 0)) for a in partial]
 
 
-def cmd_write(device: Device, link: Link, items: Sequence[str], *, raw: bool, verify: bool, replace: bool, words: bool) -> int:
+def _as_written(a: Assignment) -> Raw | None:
+    """The raw value the drive holds after the write: an f32 keeps only float32's precision (0.1 reads
+    back as 0.10000000149011612), text only what fits; what the read-back is compared with."""
+    if a.raw is None:
+        return None
+    return words_to_raw(a.spec, raw_to_words(a.spec, a.raw))
+
+
+def cmd_write(
+    device: Device,
+    link: Link,
+    items: Sequence[str],
+    *,
+    raw: bool,
+    verify: bool,
+    replace: bool,
+    words: bool,
+    space: str | None = None,
+) -> int:
     # Every value is parsed and checked (range, enum, fields, conflicts) before the port is opened.
-    word_writes = parse_word_writes(items) if words else []
+    word_space = space or DEFAULT_SPACE
+    word_writes = parse_word_writes(items, word_space) if words else []
     runs = word_runs(device, word_writes) if words else []
-    assignments = [] if words else parse_assignments(device, items, raw, replace=replace)
+    assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space)
     client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
+    unit = "bit" if word_space != DEFAULT_SPACE and SPACES[word_space].bits else "word"
     try:
         for address, run in runs:
+            single = write_function(device, word_space, len(run))
             try:
-                client.write_raw(address, run, multiple=len(run) > 1)
+                client.write_raw(address, run, multiple=not single, space=word_space)
             except RegmapError as exc:
-                raise log.failed(f"{len(run)} word(s) at 0x{address:04X}", exc) from None
-            log.done.append(f"{len(run)} word(s) at 0x{address:04X}")
+                raise log.failed(f"{len(run)} {unit}(s) at 0x{address:04X}", exc) from None
+            log.done.append(f"{len(run)} {unit}(s) at 0x{address:04X}")
         if words:
-            print(f"wrote {sum(len(r) for _, r in runs)} word(s) in {len(runs)} request(s)")
+            print(f"wrote {sum(len(r) for _, r in runs)} {unit}(s) in {len(runs)} request(s)")
             return ExitCode.OK
         order = word_order(device, client, link) if any(a.register.wide for a in assignments) else None
+        known = firmware(device, client, [a.register for a in assignments], order)
+        if known is not None:
+            known.refuse([a.register for a in assignments], "written")
         complete = [a for a in assignments if a.raw is not None]
         complete += _merge_current(client, device, [a for a in assignments if a.raw is None], order)
         for block in write_blocks(device, complete, order):
             names = ", ".join(s.label for s in block.registers)
+            single = write_function(device, block.space, len(block.words))
             try:
-                client.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
+                client.write_raw(block.address, block.words, multiple=not single, space=block.space)
             except RegmapError as exc:
                 raise log.failed(names, exc) from None
             log.done.append(names)
@@ -252,16 +351,16 @@ def cmd_write(device: Device, link: Link, items: Sequence[str], *, raw: bool, ve
             print(f"wrote {len(complete)} value(s) in {len(log.done)} request(s)")
             return ExitCode.OK
         readable = [a.register for a in complete if a.register.access.readable]
-        result = read_registers(client, device, readable, order=order)
+        result = read_registers(client, device, readable, order=order, known=known)
     finally:
         client.close()
-    expected = {a.register.name: a.raw for a in complete}
+    expected = {a.register.name: _as_written(a) for a in complete}
     mismatches = [v for v in result.values if v.register in expected and v.raw != expected[v.register]]
     for value in result.values:
         print(
             f"{show_value(value)}  (verified)"
             if value not in mismatches
-            else f"{show_value(value)}  (MISMATCH: wrote raw {expected[value.register or '']})"
+            else f"{show_value(value)}  (MISMATCH: wrote raw {expected[value.register or '']!r})"
         )
     if result.error:
         raise LinkError(f"written, but the read-back failed: {result.error}")
@@ -294,7 +393,14 @@ def cmd_dump(device: Device, link: Link, output: str, profile: DeviceProfile | N
     progress = _progress_bar if sys.stderr.isatty() else None
     try:
         order = profiled_order(device, client, link, profile)
-        result = read_registers(client, device, registers, progress, order=order, profile=profile)
+        known = firmware(device, client, registers, order)
+        if known is not None and known.absent:
+            registers = [r for r in registers if r not in known.absent]
+            names = ", ".join(r.name for r in known.absent[:10]) + (f" and {len(known.absent) - 10} more" if len(known.absent) > 10 else "")
+            print(
+                f"regmap dump: firmware {known.text} lacks {len(known.absent)} register(s) of the map, not read: {names}", file=sys.stderr
+            )
+        result = read_registers(client, device, registers, progress, order=order, profile=profile, known=known)
     finally:
         client.close()
         if progress is not None:
@@ -319,7 +425,14 @@ def _progress_bar(done: int, total: int) -> None:
     sys.stderr.flush()
 
 
-CSV_COLUMNS = ["register", "param", "address", "address_hex", "raw", "value", "unit", "in_range", "text"]
+CSV_COLUMNS = ["register", "param", "address", "address_hex", "raw", "value", "unit", "in_range", "text", "space"]
+
+
+def _csv_cell(value: Any) -> Any:
+    """A CSV cell as JSON writes the value: true/false for a bit (and in_range), numbers as numbers, text as text."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return "" if value is None else value
 
 
 def print_values(values: Sequence[DecodedValue], output: str) -> None:
@@ -332,8 +445,8 @@ def print_values(values: Sequence[DecodedValue], output: str) -> None:
         writer = csv.DictWriter(buffer, fieldnames=CSV_COLUMNS + fields, lineterminator="\n")
         writer.writeheader()
         for v in values:
-            row: dict[str, Any] = {k: val for k, val in v.as_json().items() if k in CSV_COLUMNS}
-            row.update(v.fields or {})
+            row: dict[str, Any] = {k: _csv_cell(val) for k, val in v.as_json().items() if k in CSV_COLUMNS}
+            row.update({k: _csv_cell(val) for k, val in (v.fields or {}).items()})
             writer.writerow(row)
         sys.stdout.write(buffer.getvalue())
     else:

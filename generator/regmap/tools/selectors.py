@@ -1,6 +1,9 @@
 """How a person names a register on the command line: name, manual parameter id or address.
 
 Names and ids are matched case-insensitively where that is unambiguous; a typo gets suggestions.
+An address names the register listed there in the data space given (`--space`/`-t`), or in the one
+space that lists a register there; where several do (a coil and a holding register at 0x0013), the
+space must be given.
 """
 
 from __future__ import annotations
@@ -13,7 +16,29 @@ from typing import Any
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
+from regmap_runtime.spaces import SPACES
 from regmap_runtime.spec import RegisterSpec
+
+# mbpoll's -t numbers (0 coils, 1 discrete inputs, 3 input registers, 4 holding registers) and the map's names.
+SPACE_ALIASES = {"0": "coil", "1": "discrete_input", "3": "input", "4": "holding", **{name: name for name in SPACES}}
+
+
+def parse_space(text: str) -> str:
+    """A data space as the command line names it: the map's name or mbpoll's -t number."""
+    name = SPACE_ALIASES.get(text.strip().lower())
+    if name is None:
+        raise UsageError(f"--space {text!r}: one of {', '.join(SPACES)}, or mbpoll's 0 (coil), 1 (discrete_input), 3 (input), 4 (holding)")
+    return name
+
+
+def article(noun: str) -> str:
+    """`an input register`, `a coil`."""
+    return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
+
+
+def space_label(space: str) -> str:
+    """`coil`, `input register`: how a message names one address of a space."""
+    return {"holding": "holding register", "input": "input register", "coil": "coil", "discrete_input": "discrete input"}[space]
 
 
 def suggest(wrong: str, candidates: Iterable[str]) -> str:
@@ -51,12 +76,13 @@ def parse_int(text: str, what: str) -> int:
 class Registers:
     """Look-ups by selector and by address over one device's registers."""
 
-    def __init__(self, device: Device) -> None:
+    def __init__(self, device: Device, space: str | None = None) -> None:
         self.device = device
+        self.space = space  # the space an address selector names (None: the one space that lists a register there)
         self.specs: dict[str, RegisterSpec[Any]] = {s.name: s for s in runtime_specs(device)}
         self.by_name = {r.name: r for r in device.registers}
         self.by_param = {r.param: r for r in device.registers if r.param}
-        self.by_address = {r.address: r for r in device.registers}
+        self.by_address = {(r.space, r.address): r for r in device.registers}
         folded: dict[str, list[Register]] = {}
         for reg in device.registers:
             for key in {reg.name.lower(), (reg.param or reg.name).lower()}:
@@ -76,9 +102,16 @@ class Registers:
         if len(matches) > 1:
             raise UsageError(f"{selector!r} is ambiguous: {', '.join(r.label for r in matches)}; spell it exactly")
         address = parse_address(text)
-        if address is not None:
-            return self.by_address.get(address)
-        return None
+        if address is None:
+            return None
+        if self.space is not None:
+            return self.by_address.get((self.space, address))
+        order = list(SPACES)
+        listed = sorted((reg for (_, at), reg in self.by_address.items() if at == address), key=lambda r: order.index(r.space))
+        if len(listed) > 1:
+            named = ", ".join(f"{space_label(r.space)} {r.label}" for r in listed)
+            raise UsageError(f"{selector!r} is the address of {named}; give --space (-t) or the register's name")
+        return listed[0] if listed else None
 
     def resolve(self, selector: str) -> Register:
         reg = self.find(selector)
@@ -89,10 +122,12 @@ class Registers:
     def hint(self, selector: str) -> str:
         address = parse_address(selector)
         if address is not None:
-            owner = self.device.covering(address)
-            if owner is not None:
-                return f" (0x{address:04X} lies inside {owner.label}; --words writes single words)"
-            return f" (no register at 0x{address:04X}; --words reads and writes any address)"
+            spaces = [self.space] if self.space is not None else list(SPACES)
+            owners = [o for o in (self.device.covering(address, space) for space in spaces) if o is not None]
+            if owners:
+                return f" (0x{address:04X} lies inside {owners[0].label}; --words writes single words)"
+            where = f" among the {SPACES[self.space].title}" if self.space is not None else ""
+            return f" (no register at 0x{address:04X}{where}; --words reads and writes any address)"
         return suggest(selector, [*self.by_name, *self.by_param])
 
     def spec(self, reg: Register) -> RegisterSpec[Any]:

@@ -6,24 +6,62 @@ from fractions import Fraction
 
 from regmap.backends.text import titled
 from regmap.diagnostics import UsageError
-from regmap.model import Command, Device, EnumType, Register
+from regmap.model import ByteOrder, Command, Device, EnumType, PollClass, Register
+from regmap.tools.decode import BIT_NAMES, number_text
 from regmap.tools.selectors import Registers, suggest
+from regmap_runtime.spaces import DEFAULT_SPACE
 
 
-def _eng(reg: Register, raw: int | None) -> str:
+def _eng(reg: Register, raw: int | float | str | None) -> str:
+    """A raw value as the engineering value people read: scaled and offset, text quoted, a bit on/off."""
     if raw is None:
         return "?"
-    value = Fraction(raw) * reg.scale
-    return str(value.numerator) if value.denominator == 1 else f"{float(value):g}"
+    if isinstance(raw, str):
+        return '"' + raw + '"'
+    if reg.type.is_bool:
+        return BIT_NAMES[1 if raw else 0]
+    if isinstance(raw, float):
+        value = raw * float(reg.scale) + float(reg.offset) if reg.scaled or reg.offset_set else raw
+        return number_text(value, None if reg.scaled or reg.offset_set else reg.type.value)
+    return _fraction_text(Fraction(raw) * reg.scale + reg.offset)
+
+
+def _fraction_text(exact: Fraction) -> str:
+    """An exact value in decimals where it has them (scale 0.001 of a u64: 18446744073709551.615), else the nearest float."""
+    den = exact.denominator
+    twos_fives = den
+    for prime in (2, 5):
+        while twos_fives % prime == 0:
+            twos_fives //= prime
+    if twos_fives != 1:
+        return number_text(float(exact))
+    places = 0
+    while (10**places) % den:
+        places += 1
+    digits = str(abs(exact.numerator) * (10**places // den)).rjust(places + 1, "0")
+    whole, frac = (digits[:-places] or "0", digits[-places:]) if places else (digits, "")
+    return ("-" if exact < 0 else "") + whole + (f".{frac}" if frac else "")
+
+
+def _range(reg: Register, unit: str) -> str:
+    if reg.type.is_string:
+        return f"text of up to {2 * reg.words} bytes"
+    if reg.type.is_bool:
+        return "off/on"
+    return f"{_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)}{unit}"
 
 
 def _register_line(reg: Register) -> str:
     unit = f" {reg.unit}" if reg.unit else ""
     kind = reg.enum.name if reg.enum else "bitfield" if reg.bitfields else reg.type.value
+    if reg.space != DEFAULT_SPACE:
+        kind += f", {reg.space_info.title}"
+    if reg.firmware is not None:
+        kind += f", {reg.firmware.text}"
     param = f"{reg.param:<8} " if reg.param else " " * 9
     return (
         f"  0x{reg.address:04X} {param}{reg.name:<32} {reg.type.value:<4} {reg.access.value:<2} "
-        f"{_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)}{unit}  default {_eng(reg, reg.default)}  [{kind}]"
+        f"{_range(reg, unit)}  default {_eng(reg, reg.default)}  [{kind}]"
     )
 
 
@@ -38,16 +76,41 @@ def _command_line(c: Command) -> str:
     return f"  {c.name}{argument}: 0x{c.value:04X} to {c.register.label}  {titled(c.title, c.title_zh)}"
 
 
+def _type_text(reg: Register) -> str:
+    if reg.type.is_bool:
+        return "bool, 1 bit"
+    if reg.type.is_string:
+        return f"string, {reg.words} word(s) = {2 * reg.words} bytes, {reg.encoding}, {reg.padding} padded"
+    text = f"{reg.type.value}, {reg.words} word(s)" + (f", {reg.word_order.value}" if reg.wide else "")
+    if reg.byte_order is not ByteOrder.HIGH_FIRST:
+        text += f", bytes {reg.byte_order.value}"
+    return text
+
+
+def _raw_text(reg: Register, raw: int | float | str) -> str:
+    return repr(raw) if isinstance(raw, str) else number_text(raw, reg.type.value)
+
+
 def register_detail(reg: Register) -> list[str]:
     lines = [f"{reg.label}: {titled(reg.title, reg.title_zh)}"]
+    unit = f" {reg.unit}" if reg.unit else ""
+    space = reg.space_info
+    codes = "/".join(f"0x{c:02X}" for c in space.codes.values())
     facts = [
         ("address", f"0x{reg.address:04X} ({reg.address})" + (f", high word at 0x{reg.first_address:04X} (paired)" if reg.paired else "")),
-        ("type", f"{reg.type.value}, {reg.words} word(s)" + (f", {reg.word_order.value}" if reg.wide else "")),
+        *([("space", f"{space.title} ({codes})")] if reg.space != DEFAULT_SPACE else []),
+        ("type", _type_text(reg)),
         ("access", {"r": "read only", "rw": "read/write", "w": "write only"}[reg.access.value]),
         ("unit", reg.unit or "-"),
-        ("scale", str(reg.scale)),
-        ("range", f"{_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)} (raw {reg.raw_min}..{reg.raw_max})"),
-        ("default", f"{_eng(reg, reg.default)} (raw {reg.default})" if reg.default is not None else "unknown"),
+        ("scale", str(reg.scale) if reg.type.numeric else "-"),
+        *([("offset", str(reg.offset))] if reg.offset_set else []),
+        (
+            "range",
+            _range(reg, unit) + (f" (raw {_raw_text(reg, reg.raw_min)}..{_raw_text(reg, reg.raw_max)})" if reg.type.numeric else ""),
+        ),
+        ("default", f"{_eng(reg, reg.default)} (raw {_raw_text(reg, reg.default)})" if reg.default is not None else "unknown"),
+        *([("firmware", reg.firmware.text)] if reg.firmware is not None else []),
+        *([("poll", reg.poll.value)] if reg.poll is not PollClass.NORMAL else []),
         ("takes effect", reg.takes_effect or "-"),
         ("source", ", ".join(reg.source) or "-"),
     ]
@@ -73,7 +136,18 @@ def show(device: Device, selector: str | None = None) -> str:
         f"  serial {t.baud} {t.data_bits}{t.parity[0].upper()}{t.stop_bits}, slave {t.slave_min}..{t.slave_max}"
         + (f", broadcast {t.broadcast_id}" if t.broadcast_id is not None else "")
         + f", functions {' '.join(f'0x{c:02X}' for c in t.function_codes)}, word order {t.word_order.value}"
-        + f", at most {t.max_read_registers} registers per read, {t.max_write_registers} per write",
+        + f", at most {t.max_read_registers} registers per read, {t.max_write_registers} per write"
+        + (
+            f"; {t.max_read_coils} bits per read, {t.max_write_coils} coils per write"
+            if any(r.space_info.bits for r in device.registers)
+            else ""
+        )
+        + (f", bytes {t.byte_order.value}" if t.byte_order is not ByteOrder.HIGH_FIRST else ""),
+        *(
+            [f"  firmware version in {fw.register.label} ({fw.format}" + (f", {fw.decimals} decimals)" if fw.decimals else ")")]
+            if (fw := device.info.firmware_register) is not None
+            else []
+        ),
         "",
         f"registers ({len(device.registers)}):",
     ]

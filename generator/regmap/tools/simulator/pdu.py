@@ -1,10 +1,13 @@
 """Modbus PDU dispatch: one request PDU in, the answer PDU out, with the exception a conformant slave gives.
 
 The checks follow the Modbus Application Protocol v1.1b3 §6 in its order: function code supported
-(else 0x01), quantity and byte count (else 0x03), address range (else 0x02), then the device's own
-rules (`DeviceStore`: undocumented address 0x02, read-only or out-of-range value 0x03). The map's
-limits narrow the spec's: `max_read_registers`, `max_write_registers` and `max_message_bytes` are
-quantity limits, refused with 0x03 like the spec's 125/123. The exception codes are the spec's;
+(else 0x01), quantity and byte count (else 0x03; for 0x05 a value other than FF 00/00 00), address
+range (else 0x02), then the device's own rules (`DeviceStore`: an address the map does not document
+in that space, or a register the simulated firmware lacks, 0x02; read-only or out-of-range value
+0x03). The map's limits narrow the spec's: `max_read_registers` (0x03/0x04), `max_write_registers`,
+`max_read_coils` (0x01/0x02), `max_write_coils` (0x0F) and `max_message_bytes` are quantity limits,
+refused with 0x03 like the spec's 125/123/2000/1968. Input registers and discrete inputs have no
+write function, so a write to them is a function the space lacks. The exception codes are the spec's;
 every map that lists exceptions gives these codes the same meaning (the maps' `transport.exceptions` say where their manuals agree).
 """
 
@@ -13,8 +16,8 @@ from __future__ import annotations
 import struct
 
 from regmap.model import Device
-from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE
-from regmap_runtime.spaces import Space
+from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE, pack_bits, unpack_bits
+from regmap_runtime.spaces import COIL_OFF, COIL_ON, MAX_READ_BITS, MAX_WRITE_BITS, Space
 
 from .quirks import Quirks
 from .store import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, DeviceStore
@@ -64,6 +67,8 @@ class Dispatcher:
         wanted = quirks.max_read if quirks is not None and quirks.max_read is not None else t.max_read_registers
         self.max_read = min(SPEC_MAX_READ, wanted)
         self.max_write = min(SPEC_MAX_WRITE, t.max_write_registers)
+        self.max_read_bits = min(MAX_READ_BITS, t.max_read_coils)
+        self.max_write_bits = min(MAX_WRITE_BITS, t.max_write_coils)
         self.max_bytes = t.max_message_bytes
 
     def answer(self, pdu: bytes) -> bytes:
@@ -77,10 +82,15 @@ class Dispatcher:
             # it is the quantity error (0x03), as a request of that quantity is.
             return exception_pdu(function, ILLEGAL_VALUE)
         if function in READS:
-            return self._read(pdu, READS[function])
+            space = READS[function]
+            return self._read_bits(pdu, space) if space.bits else self._read(pdu, space)
         if function in WRITES_SINGLE:
-            return self._write_single(pdu, WRITES_SINGLE[function])
-        return self._write_multiple(pdu, WRITES_MULTIPLE[function])
+            space = WRITES_SINGLE[function]
+            return self._write_coil(pdu, space) if space.bits else self._write_single(pdu, space)
+        space = WRITES_MULTIPLE[function]
+        return self._write_coils(pdu, space) if space.bits else self._write_multiple(pdu, space)
+
+    # -- registers: 0x03, 0x04 (§6.3, §6.4), 0x06 (§6.6), 0x10 (§6.12) ---------------------
 
     def _read(self, pdu: bytes, space: Space) -> bytes:
         function = pdu[0]
@@ -115,6 +125,45 @@ class Dispatcher:
             return exception_pdu(function, ILLEGAL_ADDRESS)
         words = list(struct.unpack(f">{count}H", pdu[6:]))
         refused = self.store.write(address, words, space.name)
+        return pdu[:5] if refused is None else exception_pdu(function, refused)
+
+    # -- bits: 0x01, 0x02 (§6.1, §6.2), 0x05 (§6.5), 0x0F (§6.11) ---------------------------
+
+    def _read_bits(self, pdu: bytes, space: Space) -> bytes:
+        function = pdu[0]
+        if len(pdu) != 5:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        address, count = struct.unpack(">HH", pdu[1:5])
+        if not 1 <= count <= self.max_read_bits:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        if address + count > 0x10000:
+            return exception_pdu(function, ILLEGAL_ADDRESS)
+        bits = self.store.read(address, count, space.name)
+        if isinstance(bits, int):
+            return exception_pdu(function, bits)
+        data = pack_bits(bits)  # LSB first, the last byte's unused bits zero
+        return bytes([function, len(data)]) + data
+
+    def _write_coil(self, pdu: bytes, space: Space) -> bytes:
+        function = pdu[0]
+        if len(pdu) != 5:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        address, value = struct.unpack(">HH", pdu[1:5])
+        if value not in (COIL_ON, COIL_OFF):  # §6.5: FF 00 or 00 00, any other value is illegal
+            return exception_pdu(function, ILLEGAL_VALUE)
+        refused = self.store.write(address, [1 if value == COIL_ON else 0], space.name)
+        return pdu if refused is None else exception_pdu(function, refused)
+
+    def _write_coils(self, pdu: bytes, space: Space) -> bytes:
+        function = pdu[0]
+        if len(pdu) < 6:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        address, count, count_byte = struct.unpack(">HHB", pdu[1:6])
+        if not 1 <= count <= self.max_write_bits or count_byte != (count + 7) // 8 or len(pdu) != 6 + count_byte:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        if address + count > 0x10000:
+            return exception_pdu(function, ILLEGAL_ADDRESS)
+        refused = self.store.write(address, list(unpack_bits(pdu[6:], count)), space.name)
         return pdu[:5] if refused is None else exception_pdu(function, refused)
 
     @staticmethod

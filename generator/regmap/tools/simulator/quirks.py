@@ -1,7 +1,8 @@
 """Where a simulated drive departs from its map: the devices `regmap probe` has to recognise.
 
 A real drive may answer reads across undocumented addresses, refuse reads shorter than the map's
-limit (or take longer ones), lay 32-bit values in the other word order, or run another firmware.
+limit (or take longer ones), lay 32-bit values in the other word order, or run another firmware (whose gated registers are
+absent, and whose firmware register reports it).
 Each quirk is off by default: the simulator then plays the map exactly.
 """
 
@@ -19,7 +20,7 @@ class Quirks:
     word_order: str | None = (
         None  # the drive's 32-bit word order at start-up (on a map with a word-order register: that register's setting)
     )
-    firmware: str | None = None  # kept for the map's firmware register; no map names one yet, so nothing reads it
+    firmware: str | None = None  # the firmware version played: the map's firmware register reports it, registers it lacks answer 0x02
 
     def __post_init__(self) -> None:
         if self.max_read is not None and not 1 <= self.max_read <= 125:

@@ -68,9 +68,21 @@ def _quirks_text(quirks: Quirks | None) -> str:
         *([f"reads of at most {quirks.max_read} registers"] if quirks.max_read is not None else []),
         *(["answers reads over undocumented addresses"] if quirks.answer_gaps else []),
         *([f"32-bit values {quirks.word_order}"] if quirks.word_order else []),
-        *([f"firmware {quirks.firmware} (no map names a firmware register yet)"] if quirks.firmware else []),
     ]
     return f", playing a drive that departs from its map: {', '.join(parts)}" if parts else ""
+
+
+def _firmware_text(simulator: Simulator) -> str:
+    """What the banner says of the firmware played: its version, where the map reports it, and the registers it lacks."""
+    store = simulator.store
+    if store.firmware is None:
+        return ""
+    version = store.firmware_text
+    fw = simulator.device.info.firmware_register
+    where = f" (reported by {fw.register.label})" if fw is not None else " (the map names no firmware register)"
+    absent = len(simulator.device.registers) - len(store.present)
+    lacking = f", {absent} register(s) it lacks answer 0x02" if absent else ""
+    return f", firmware {version}{where}{lacking}"
 
 
 def run(
@@ -108,7 +120,7 @@ def run(
             except OSError as exc:
                 raise _listen_error(where, exc) from None
         framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP"
-        playing = _quirks_text(quirks)
+        playing = _firmware_text(simulator) + _quirks_text(quirks)
         print(f"regmap simulate: {device.info.model} (slave {slave}) on {where} ({framing}){playing}; Ctrl-C stops", flush=True)
         await simulator.stopped.wait()
         await simulator.stop()

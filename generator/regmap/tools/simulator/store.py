@@ -1,9 +1,16 @@
 """The device's register memory and rules: what a read or a write does, and which exception it earns.
 
-`DeviceStore` knows nothing of frames: it is given an address and a count (or words) and returns
-the words, or the Modbus exception code the real device answers (undocumented address, half of a
-32-bit value, read-only register, value out of range). Commands with a declared `effect` act (save
-to the state file, restore defaults, clear a register).
+`DeviceStore` knows nothing of frames: it is given a space, an address and a count (or words, or
+bits) and returns the words, or the Modbus exception code the real device answers (an address the
+map does not document in that space, a register the simulated firmware lacks, half of a wide value,
+read-only register, value out of range). The four tables (holding, input, coil, discrete input) are
+one memory keyed on (space, address); a coil's or discrete input's "word" is its bit, 0 or 1.
+Commands with a declared `effect` act (save to the state file, restore defaults, clear a register).
+
+The firmware it plays is `--firmware` (`Quirks.firmware`), else the default of the map's firmware
+register, else the newest version the map's gates name; the map's firmware register reports it, and
+registers whose `firmware` gate does not admit it are absent (0x02, as undocumented addresses are).
+A map without gates or firmware register plays no particular firmware: every register is present.
 """
 
 from __future__ import annotations
@@ -14,10 +21,11 @@ from typing import Any
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
-from regmap.runtime_bridge import runtime_specs
+from regmap.runtime_bridge import runtime_device, runtime_specs
 from regmap.tools.atomic import write_atomic
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_raw
 from regmap_runtime.spaces import DEFAULT_SPACE
+from regmap_runtime.spec import Raw, parse_version
 
 from .faults import FaultPlan
 from .quirks import Quirks
@@ -37,7 +45,11 @@ class DeviceStore:
         self.slave = slave
         self.state_file = state_file
         self.specs = {s.name: s for s in runtime_specs(device)}
-        self.registers = {r.name: r for r in device.registers}
+        self.firmware = firmware_played(device, self.quirks.firmware)
+        self.firmware_text = firmware_text(device, self.firmware, self.quirks.firmware) if self.firmware is not None else None
+        # Registers the simulated firmware has (every register when no firmware is played).
+        self.present = [r for r in device.registers if self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])]
+        self.registers = {r.name: r for r in self.present}
         self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
         self.pending_after_read: dict[tuple[str, int], int] = {}
@@ -65,26 +77,34 @@ class DeviceStore:
         """Lay every 32-bit value that follows the device's order in `wanted`: values stay, words swap."""
         if wanted == self.word_order:
             return
-        moving = [r for r in self.device.registers if r.wide and not r.word_order_fixed]
+        moving = [r for r in self.present if r.wide and not r.word_order_fixed]
         values = {r.name: self.raw_of(r) for r in moving}
         self.word_order = wanted
         for reg in moving:
             self.store_raw(reg, values[reg.name])
 
-    def store_raw(self, reg: Register, raw: int) -> None:
+    def covering(self, address: int, space: str) -> Register | None:
+        """The register that owns `address` in `space`, if the simulated firmware has it."""
+        reg = self.device.covering(address, space)
+        return reg if reg is not None and reg.name in self.registers else None
+
+    def store_raw(self, reg: Register, raw: Raw) -> None:
         words = raw_to_words(self.spec(reg), raw, with_pair=True)
         for offset, word in enumerate(words):
             self.words[reg.space, reg.first_address + offset] = word
 
-    def raw_of(self, reg: Register) -> int:
+    def raw_of(self, reg: Register) -> Raw:
         spec = self.spec(reg)
         return words_to_raw(spec, [self.words.get((reg.space, reg.address + i), 0) for i in range(reg.words)])
 
     def load_defaults(self) -> None:
         self.words.clear()
         self.word_order = self.device.transport.word_order.value
-        for reg in self.device.registers:
+        for reg in self.present:
             self.store_raw(reg, reg.default if reg.default is not None else self.rest_value(reg))
+        fw = self.device.info.firmware_register
+        if self.firmware is not None and self.firmware[1] is not None and fw is not None:
+            self.store_raw(fw.register, self.firmware[1])
         control = self.device.transport.word_order_register
         if self.quirks.word_order is not None and control is not None:
             self.store_raw(control.register, control.high_first if self.quirks.word_order == "high_first" else control.low_first)
@@ -93,16 +113,22 @@ class DeviceStore:
         self.follow_word_order_register()
 
     @staticmethod
-    def rest_value(reg: Register) -> int:
-        """What a register the map gives no default holds: 0 where the map admits it, else its lowest admitted value."""
+    def rest_value(reg: Register) -> Raw:
+        """What a register the map gives no default holds: 0 (0.0, empty text, off) where the map admits it, else its lowest admitted value."""
+        if reg.type.is_string:
+            return ""
+        if reg.type.is_bool:
+            return 0
+        if reg.type.is_float:
+            return 0.0 if reg.raw_min <= 0 <= reg.raw_max else float(reg.raw_min)
         members = sorted(m.value for m in reg.enum.members) if reg.enum is not None and not reg.bitfields else []
         admitted = [v for v in members if reg.raw_min <= v <= reg.raw_max] if members else []
         if (not members or 0 in admitted) and reg.raw_min <= 0 <= reg.raw_max:
             return 0
-        return admitted[0] if admitted else reg.raw_min
+        return admitted[0] if admitted else int(reg.raw_min)
 
     def persistent(self) -> list[Register]:
-        return [r for r in self.device.registers if r.access.readable and r.access.writable]
+        return [r for r in self.present if r.access.readable and r.access.writable]
 
     def save_state(self) -> None:
         if self.state_file is None:
@@ -127,8 +153,27 @@ class DeviceStore:
             self.follow_word_order_register()
         for name, raw in saved.items():
             reg = self.registers.get(name)
-            if reg is not None and isinstance(raw, int) and reg.type.raw_min <= raw <= reg.type.raw_max:
+            if reg is not None and self._storable(reg, raw):
                 self.store_raw(reg, raw)
+
+    def _storable(self, reg: Register, raw: object) -> bool:
+        """A saved value of the register's kind that its words can hold (a state file edited by hand may hold anything)."""
+        if reg.type.is_string:
+            kind_ok = isinstance(raw, str)
+        elif reg.type.is_float:
+            kind_ok = isinstance(raw, int | float) and not isinstance(raw, bool)
+        elif reg.type.is_bool:
+            kind_ok = raw in (0, 1)  # 0/1 or true/false
+        else:
+            kind_ok = isinstance(raw, int) and not isinstance(raw, bool)
+        if not kind_ok:
+            return False
+        assert isinstance(raw, int | float | str)
+        try:
+            raw_to_words(self.spec(reg), raw)
+        except RangeError:
+            return False
+        return True
 
     # -- the rules ---------------------------------------------------------------------------
 
@@ -139,7 +184,7 @@ class DeviceStore:
         gaps = self.device.transport.tolerates_gaps or self.quirks.answer_gaps
         values = []
         for a in range(address, address + count):
-            reg = self.device.covering(a, space)
+            reg = self.covering(a, space)
             if (reg is None and not gaps) or (reg is not None and not reg.access.readable):
                 return ILLEGAL_ADDRESS
             values.append(self.words.get((space, a), 0))
@@ -156,25 +201,30 @@ class DeviceStore:
         end = address + len(words)
         touched: list[Register] = []
         for a in range(address, end):
-            reg = self.device.covering(a, space)
+            reg = self.covering(a, space)
             if reg is None:
                 if self.device.transport.tolerates_gaps:
                     continue
                 return ILLEGAL_ADDRESS
             if reg not in touched:
                 touched.append(reg)
-        updates: list[tuple[Register, int]] = []
+        updates: list[tuple[Register, Raw]] = []
         for reg in touched:
             own = range(reg.address, reg.last_address + 1)
             covered = [a for a in own if address <= a < end]
             if not covered:
                 continue  # only the unused high word of a pair was written
             if len(covered) != len(own):
-                return ILLEGAL_ADDRESS  # half of a 32-bit value
+                return ILLEGAL_ADDRESS  # half of a wide value (32/64 bits, a string)
             if not reg.access.writable:
                 return ILLEGAL_VALUE
             spec = self.spec(reg)
-            raw = words_to_raw(spec, [words[a - address] for a in own])
+            try:
+                raw = words_to_raw(spec, [words[a - address] for a in own])
+            except ValueError:  # a bit that is neither 0 nor 1 (the PDU layer sends only 0/1)
+                return ILLEGAL_VALUE
+            if isinstance(raw, str) and "\ufffd" in raw:
+                return ILLEGAL_VALUE  # bytes that are no text in the register's encoding: nothing a device could store as text
             if not self._is_command(reg, raw) and not self._acceptable(reg, spec, raw):
                 return ILLEGAL_VALUE
             updates.append((reg, raw))
@@ -185,22 +235,23 @@ class DeviceStore:
         return None
 
     @staticmethod
-    def _acceptable(reg: Register, spec: Any, raw: int) -> bool:
+    def _acceptable(reg: Register, spec: Any, raw: Raw) -> bool:
         """The one validation path shared with the client and the CLI: `check_raw` (range, enum)."""
         try:
             check_raw(spec, raw)
         except RangeError:
             return False
         # Until runtime specs carry enums for every register, the map's enum is checked here too.
-        return reg.enum is None or bool(reg.bitfields) or reg.enum.by_value(raw) is not None
+        return reg.enum is None or bool(reg.bitfields) or (isinstance(raw, int) and reg.enum.by_value(raw) is not None)
 
-    def _is_command(self, reg: Register, raw: int) -> bool:
+    def _is_command(self, reg: Register, raw: Raw) -> bool:
         return any(
-            c.register.name == reg.name and (c.value == raw or (c.argument and c.value + c.argument.min <= raw <= c.value + c.argument.max))
+            c.register.name == reg.name
+            and (c.value == raw or (isinstance(raw, int) and c.argument and c.value + c.argument.min <= raw <= c.value + c.argument.max))
             for c in self.device.commands
         )
 
-    def _act(self, reg: Register, raw: int) -> None:
+    def _act(self, reg: Register, raw: Raw) -> None:
         for command in self.device.commands:
             if command.register.name != reg.name or command.value != raw or command.effect is None:
                 continue
@@ -215,3 +266,77 @@ class DeviceStore:
                 self.load_defaults()
             elif effect.kind == "clear" and effect.register is not None:
                 self.store_raw(effect.register, effect.value)
+
+
+def firmware_raw(device: Device, version: str) -> Raw:
+    """The raw value of the map's firmware register that reports `version` (its format: decimal with
+    N decimals, major_minor, string); a version the register cannot report is a UsageError."""
+    fw = device.info.firmware_register
+    assert fw is not None
+    spec = runtime_device(device)
+    wanted = parse_version(version)
+    raw: Raw
+    if fw.format == "string":
+        raw = version
+    elif fw.format == "major_minor":
+        if len(wanted) != 2 or not all(0 <= part <= 0xFF for part in wanted):
+            raise UsageError(f"--firmware {version}: {fw.register.label} reports MAJOR.MINOR, each 0..255 (major_minor)")
+        raw = wanted[0] << 8 | wanted[1]
+    elif fw.decimals == 0:
+        if len(wanted) != 1:
+            raise UsageError(f"--firmware {version}: {fw.register.label} reports a whole number (decimal, no decimals)")
+        raw = wanted[0]
+    else:
+        scale = 10**fw.decimals
+        if len(wanted) != 2 or wanted[1] >= scale:
+            raise UsageError(
+                f"--firmware {version}: {fw.register.label} reports MAJOR.MINOR with MINOR below {scale} (decimal, {fw.decimals} decimals)"
+            )
+        raw = wanted[0] * scale + wanted[1]
+    reg_spec = next(s for s in spec.registers if s.name == fw.register.name)
+    try:
+        check_raw(reg_spec, raw)
+    except RangeError as exc:
+        raise UsageError(f"--firmware {version}: {exc}") from None
+    if spec.firmware_version(raw) != wanted:
+        raise UsageError(f"--firmware {version}: {fw.register.label} cannot report it ({fw.format})")
+    return raw
+
+
+def newest_firmware(device: Device) -> str | None:
+    """The newest firmware version the map's gates name (a `from` or an `until`), as written; None without gates."""
+    named = {v for r in device.registers if r.firmware is not None for v in (r.firmware.first, r.firmware.until) if v is not None}
+    return max(named, key=parse_version) if named else None
+
+
+def firmware_played(device: Device, version: str | None) -> tuple[tuple[int, ...], Raw | None] | None:
+    """(version, the firmware register's raw value) the simulator plays: `--firmware`; else the default
+    of the map's firmware register; else the newest firmware the map's gates name (the device as it
+    ships today: every `from` register present, every `until` one gone); None for a map without
+    gates and without a firmware register default (every register is present)."""
+    fw = device.info.firmware_register
+    if version is not None:
+        try:
+            wanted = parse_version(version)
+        except ValueError:
+            raise UsageError(f"--firmware {version!r} is not a version (numbers with dots: 2, 2.10, 1.2.3)") from None
+        return wanted, firmware_raw(device, version) if fw is not None else None
+    if fw is not None and fw.register.default is not None:
+        return runtime_device(device).firmware_version(fw.register.default), fw.register.default
+    newest = newest_firmware(device)
+    if newest is None:
+        return None
+    try:
+        raw = firmware_raw(device, newest) if fw is not None else None
+    except UsageError:
+        raw = None  # a gate the firmware register cannot report (a map to fix): the gates still apply
+    return parse_version(newest), raw
+
+
+def firmware_text(device: Device, played: tuple[tuple[int, ...], Raw | None], given: str | None) -> str:
+    """The version played as the device's documents write it (its firmware register's raw value as the
+    runtime reads it: 2 decimals give "2.00", major_minor "2.3"), else as given."""
+    version, raw = played
+    if raw is not None:
+        return runtime_device(device).firmware_text(raw)
+    return given if given is not None else ".".join(str(part) for part in version)
