@@ -140,7 +140,10 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
         raise RangeError(f"{spec.label}: {value!r} is not a finite number") from None
     raw_exact = (exact - offset_of(spec)) / scale_of(spec)
     if info.is_float:
-        raw_float = float(raw_exact)
+        try:
+            raw_float = float(raw_exact)
+        except OverflowError:
+            raise RangeError(f"{spec.label}: {value} is beyond any {spec.data_type} value") from None
         check_raw(spec, raw_float)
         return raw_float
     raw = round(raw_exact)

@@ -190,8 +190,6 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
         check_raw(spec, number)
     except RangeError as exc:
         raise UsageError(str(exc)) from None
-    except OverflowError:  # the codec's float conversion of a number beyond any float (1e400)
-        raise UsageError(f"{reg.label}: {value_text} is beyond the range of {reg.type.value}") from None
     return Assignment(item, reg, spec, number)
 
 
