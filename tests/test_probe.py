@@ -263,3 +263,53 @@ def test_the_budget_and_the_rate_bound_the_bus() -> None:
         for _ in range(100):
             silent.read(0, 1)
     assert silent.requests == 3
+
+
+FIXTURE_DIR = ROOT / "tests" / "maps" / "fixtures"
+
+
+@pytest.mark.parametrize("fixture", ["power_meter", "remote_io", "swapped_gated"])
+def test_a_clean_fixture_device_agrees_in_every_space(fixture: str, simulator: SimulatorFactory) -> None:
+    """Input registers, coils, discrete inputs, floats, text and byte-swapped words are read and judged like holding registers."""
+    path = FIXTURE_DIR / f"{fixture}.yaml"
+    sim = simulator(path)
+    code, report = probe(sim.port or 0, path)
+    assert code == ExitCode.OK, report["disagreements"]
+    device = load_map(path)
+    readable = {r.name for r in device.registers if r.access.readable}
+    answered = {r["register"] for r in report["registers"] if r["status"] == "answered"}
+    gated_out = {r["register"] for r in report["registers"] if r["status"] == "exception"}
+    assert answered | gated_out == readable
+    assert all(device.register(name).firmware is not None for name in gated_out)
+
+
+def _without_gate(tmp_path: Path, register: str) -> Path:
+    data: Map = yaml.safe_load((FIXTURE_DIR / "swapped_gated.yaml").read_text(encoding="utf-8"))
+    for group in data["groups"]:
+        for reg in group["registers"]:
+            if reg.get("name") == register:
+                reg.pop("firmware")
+    out = tmp_path / "ungated.yaml"
+    out.write_text(yaml.safe_dump(data, allow_unicode=True, sort_keys=False), encoding="utf-8")
+    return out
+
+
+def test_the_firmware_stage_checks_the_gates_against_the_version_read(simulator: SimulatorFactory, tmp_path: Path) -> None:
+    path = FIXTURE_DIR / "swapped_gated.yaml"
+    old = simulator(path, "--firmware", "1.9")  # torque_limit (from 2.0) and the 2.5 diagnostics are absent
+    code, report = probe(old.port or 0, path)
+    assert code == ExitCode.OK, report["disagreements"]
+    (note,) = [n for n in report["information"] if n["stage"] == "firmware"]
+    assert note["text"].startswith("firmware 1.9 (firmware): 1 of 4 gated registers exist in it")
+    # A drive that has torque_limit although its firmware is 1.9: the map's gate is wrong for it.
+    served = _without_gate(tmp_path, "torque_limit")
+    odd = simulator(served, "--firmware", "1.9")
+    code, report = probe(odd.port or 0, path)
+    assert code == ExitCode.PROBE_DISAGREES
+    assert disagreements(report) == {("firmware", "firmware", "transport")}
+    (note,) = [n for n in report["disagreements"] if n["stage"] == "firmware"]
+    assert "torque_limit (firmware >= 2.0) answered" in note["text"]
+    # A map without the gate probing a 1.9 drive: the refusal is a register the drive lacks.
+    code, report = probe(old.port or 0, served)
+    assert code == ExitCode.PROBE_DISAGREES
+    assert disagreements(report) == {(REG, "not_answered", "torque_limit")}

@@ -12,6 +12,7 @@ from regmap.model import Device
 from regmap.runtime_bridge import documented_addresses, runtime_specs
 from regmap_runtime.plan import plan_reads
 from regmap_runtime.profile import ranges
+from regmap_runtime.spaces import DEFAULT_SPACE
 
 from .bus import ProbeBus
 from .report import Note
@@ -37,10 +38,16 @@ class Gaps:
         }
 
 
+def holding_addresses(device: Device) -> set[int]:
+    """The documented holding-register addresses: read limits, gap reads and the scan are learned for
+    holding registers, where the drives' quirks are (and what a device profile records)."""
+    return {address for space, address in documented_addresses(device) if space == DEFAULT_SPACE}
+
+
 def spanning_reads(device: Device, limit: int) -> list[tuple[int, int]]:
     """The requests of the gap-spanning plan that cross an undocumented address."""
-    documented = {address for _, address in documented_addresses(device)}  # holding registers only, for now
-    blocks = plan_reads(runtime_specs(device), limit, None)
+    documented = holding_addresses(device)
+    blocks = plan_reads([s for s in runtime_specs(device) if s.space == DEFAULT_SPACE], limit, None)
     return [(b.address, b.count) for b in blocks if any(a not in documented for a in range(b.address, b.address + b.count))]
 
 
@@ -86,10 +93,10 @@ class Scan:
 
 def undocumented_in_ranges(device: Device) -> list[int]:
     """Undocumented addresses between the first and last register of each group (the map's address ranges)."""
-    documented = {address for _, address in documented_addresses(device)}  # holding registers only, for now
+    documented = holding_addresses(device)
     out: set[int] = set()
     for group in device.groups:
-        regs = [r for r in device.registers if r.group == group.id]
+        regs = [r for r in device.registers if r.group == group.id and r.space == DEFAULT_SPACE]
         if regs:
             first, last = min(r.first_address for r in regs), max(r.last_address for r in regs)
             out.update(a for a in range(first, last + 1) if a not in documented)

@@ -8,7 +8,6 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from regmap.model import Device, Register
-from regmap.runtime_bridge import documented_addresses
 from regmap_runtime.client import SyncClient
 from regmap_runtime.profile import DeviceProfile
 
@@ -64,7 +63,7 @@ def probe(device: Device, client: SyncClient, where: str, options: Options) -> t
     found.answered_registers = sum(1 for r in reads.values() if r.answer is not None and r.answer.ok)
     limit: list[limits.Limit] = []
     steps: list[tuple[str, Step]] = [
-        ("limits", lambda: limits.search(bus, device, {address for _, address in documented_addresses(device)} | bus.observed)),
+        ("limits", lambda: limits.search(bus, device, gaps.holding_addresses(device) | bus.observed)),
         ("gaps", lambda: gaps.try_gaps(bus, device, _gap_limit(device, limit), options.progress)),
     ]
     if options.scan_undocumented:
