@@ -12,7 +12,7 @@ from fractions import Fraction
 from functools import cached_property
 
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
-from regmap_runtime.spec import parse_version
+from regmap_runtime.spec import gate_admits, gate_text
 from regmap_runtime.types import TYPES, TypeInfo
 
 SourcePos = tuple[int, int]
@@ -125,18 +125,12 @@ class FirmwareGate:
     until: str | None = None
 
     def admits(self, version: tuple[int, ...]) -> bool:
-        if self.first is not None and version < parse_version(self.first):
-            return False
-        return not (self.until is not None and version >= parse_version(self.until))
+        return gate_admits(self.first, self.until, version)
 
     @property
     def text(self) -> str:
         """How docs and diff show it: `firmware >= 2.1`, `firmware < 3.0`, `2.1 <= firmware < 3.0`."""
-        if self.first is not None and self.until is not None:
-            return f"{self.first} <= firmware < {self.until}"
-        if self.first is not None:
-            return f"firmware >= {self.first}"
-        return f"firmware < {self.until}"
+        return gate_text(self.first, self.until) or "any firmware"
 
 
 @dataclass(frozen=True)
