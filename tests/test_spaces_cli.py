@@ -141,7 +141,7 @@ def test_frame_builds_every_space_and_type(args: tuple[str, ...], expected: str)
         ((POWER_METER, "write", "meter_label=abcdefghi"), "'abcdefghi' is 9 bytes in utf-8; the register holds 8"),
         ((POWER_METER, "write", "demand_period=0.5"), "demand_period: 0.5 s is outside 1..3600 s"),
         ((POWER_METER, "write", "demand_period=nan"), "NaN is not a value"),
-        ((POWER_METER, "write", "demand_period=1e400"), "demand_period: 1e400 is beyond the range of f32"),
+        ((POWER_METER, "write", "demand_period=1e400"), "demand_period: 1e400 is beyond any f32 value"),
         ((POWER_METER, "write", "--raw", "demand_period=inf"), "demand_period: inf s is outside 1..3600 s"),
         ((POWER_METER, "write", "--raw", "demand_period=fast"), "demand_period: 'fast' is not a number"),
         ((SWAPPED, "write", "label=AXIS"), "label is read-only"),

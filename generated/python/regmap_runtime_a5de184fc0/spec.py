@@ -39,6 +39,24 @@ def parse_version(text: str) -> tuple[int, ...]:
     return tuple(int(part) for part in text.split("."))
 
 
+def gate_admits(first: str | None, until: str | None, version: tuple[int, ...]) -> bool:
+    """Whether a register gated from `first` (inclusive) until `until` (exclusive) exists in `version`."""
+    if first is not None and version < parse_version(first):
+        return False
+    return not (until is not None and version >= parse_version(until))
+
+
+def gate_text(first: str | None, until: str | None) -> str | None:
+    """A firmware gate as people read it: `firmware >= 2.1`, `firmware < 3.0`, `2.1 <= firmware < 3.0`."""
+    if first is not None and until is not None:
+        return f"{first} <= firmware < {until}"
+    if first is not None:
+        return f"firmware >= {first}"
+    if until is not None:
+        return f"firmware < {until}"
+    return None
+
+
 @dataclass(frozen=True)
 class BitfieldSpec:
     name: str
@@ -101,20 +119,12 @@ class RegisterSpec(Generic[T]):
 
     def exists_in(self, version: tuple[int, ...]) -> bool:
         """Whether firmware `version` has this register (its `firmware_from`/`firmware_until` gate)."""
-        if self.firmware_from is not None and version < parse_version(self.firmware_from):
-            return False
-        return not (self.firmware_until is not None and version >= parse_version(self.firmware_until))
+        return gate_admits(self.firmware_from, self.firmware_until, version)
 
     @property
     def firmware_text(self) -> str | None:
         """The gate as people read it: `firmware >= 2.1`, `firmware < 3.0`, `2.1 <= firmware < 3.0`."""
-        if self.firmware_from is not None and self.firmware_until is not None:
-            return f"{self.firmware_from} <= firmware < {self.firmware_until}"
-        if self.firmware_from is not None:
-            return f"firmware >= {self.firmware_from}"
-        if self.firmware_until is not None:
-            return f"firmware < {self.firmware_until}"
-        return None
+        return gate_text(self.firmware_from, self.firmware_until)
 
     @property
     def wide(self) -> bool:
