@@ -5,6 +5,7 @@ that is in its file exactly once and tests that exist, so a refactor that moves 
 from __future__ import annotations
 
 import importlib.util
+import sys
 from typing import Any
 
 from conftest import ROOT
@@ -15,6 +16,7 @@ def _gate() -> Any:
     spec = importlib.util.spec_from_file_location("mutation_gate", ROOT / "tests" / "mutation" / "run.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclass looks itself up there
     spec.loader.exec_module(module)
     return module
 
