@@ -22,7 +22,7 @@ from test_simulator_conformance import Line, mbap
 
 from regmap_runtime.rtu import with_crc
 
-from conftest import ROOT, PtyPair, SimulatorFactory, require_tool
+from conftest import ROOT, PtyPair, RunningSimulator, SimulatorFactory, require_tool
 
 FIXTURES = ROOT / "tests" / "maps" / "fixtures"
 REMOTE_IO = FIXTURES / "remote_io.yaml"
@@ -290,6 +290,18 @@ def test_byte_swapped_defaults(simulator: SimulatorFactory) -> None:
 # -- firmware --------------------------------------------------------------------------------
 
 
+def answers_over_tcp(sim: RunningSimulator, cases: list[tuple[str, str]]) -> None:
+    """Each (request PDU, answer PDU) pair, exchanged in turn over Modbus TCP."""
+    assert sim.port is not None
+    line = Line.tcp(sim.port)
+    try:
+        for number, (request, answer) in enumerate(cases, 1):
+            got, _ = exchange("tcp", line, pdu(request), number)
+            assert got == mbap(number, pdu(answer)), request
+    finally:
+        line.close()
+
+
 @pytest.mark.parametrize(
     ("map_path", "firmware", "cases"),
     [
@@ -323,14 +335,7 @@ def test_firmware_sets_the_register_and_hides_what_it_lacks(
     simulator: SimulatorFactory, map_path: Path, firmware: str, cases: list[tuple[str, str]]
 ) -> None:
     sim = simulator(map_path, "--firmware", firmware)
-    assert sim.port is not None
-    line = Line.tcp(sim.port)
-    try:
-        for number, (request, answer) in enumerate(cases, 1):
-            got, _ = exchange("tcp", line, pdu(request), number)
-            assert got == mbap(number, pdu(answer)), request
-    finally:
-        line.close()
+    answers_over_tcp(sim, cases)
     assert f"firmware {firmware}" in sim.stop()
 
 
@@ -350,14 +355,7 @@ def test_without_firmware_the_newest_the_map_names_is_played(
     simulator: SimulatorFactory, map_path: Path, cases: list[tuple[str, str]], banner: str
 ) -> None:
     sim = simulator(map_path)
-    assert sim.port is not None
-    line = Line.tcp(sim.port)
-    try:
-        for number, (request, answer) in enumerate(cases, 1):
-            got, _ = exchange("tcp", line, pdu(request), number)
-            assert got == mbap(number, pdu(answer)), request
-    finally:
-        line.close()
+    answers_over_tcp(sim, cases)
     out = sim.stop()
     assert banner in out and ("firmware" in out) == (map_path != REMOTE_IO)
 
