@@ -442,3 +442,24 @@ def test_a_broadcast_write_needs_no_answer_and_a_broadcast_cannot_read_modify_wr
     assert "1.1 A" in regmap("read", IDM, "Pr5.00", *tcp).stdout
     partial = regmap("write", IDM, "di3_function=function:ctrg", "--slave", "0", *tcp)
     one_line_error(partial, ExitCode.USAGE, "broadcast")
+
+
+def test_a_port_that_refuses_the_line_settings_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A Linux pseudo-terminal refuses even parity with termios.error (no OSError): the message names the settings."""
+    import termios
+
+    import serial
+
+    from regmap.frontend import load_map
+    from regmap.tools.link import Link
+    from regmap.tools.live import _why_unreachable
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise termios.error(22, "Invalid argument")
+
+    monkeypatch.setattr(serial, "Serial", refuse)
+    text = _why_unreachable(Link(serial="/dev/pts/9"), load_map(ROOT / "tests" / "maps" / "fixtures" / "remote_io.yaml"))
+    assert (
+        text
+        == "the port refuses 19200 baud, even parity, 1 stop bit(s): Invalid argument (a pseudo-terminal may refuse parity: try --parity none)"
+    )

@@ -34,7 +34,7 @@ from regmap.tools.frames import (
 )
 from regmap.tools.link import Link
 from regmap.tools.selectors import Registers, check_slave
-from regmap_runtime.client import SyncClient
+from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import RegmapError
 from regmap_runtime.plan import ReadBlock, plan_reads
@@ -45,15 +45,22 @@ from regmap_runtime.spec import Raw
 WORD_ORDERS = ("auto", "high_first", "low_first")
 
 
-def _why_unreachable(link: Link) -> str:
-    """The operating system's reason a port or socket cannot be opened, for the one-line error."""
+def _why_unreachable(link: Link, device: Device) -> str:
+    """The operating system's reason a port or socket cannot be opened, for the one-line error: the port
+    itself, then the line settings the client asked of it (a pseudo-terminal refuses parity, for one)."""
     if link.serial:
-        try:
-            import serial
+        import serial
 
-            serial.Serial(link.serial).close()
-        except (OSError, ValueError) as exc:
+        t = device.transport
+        baud, parity, stop_bits = link.baud or t.baud, link.parity or t.parity, link.stop_bits or t.stop_bits
+        try:
+            serial.Serial(link.serial, baudrate=baud, parity=PARITY[parity], stopbits=stop_bits, bytesize=t.data_bits).close()
+        except (OSError, ValueError) as exc:  # the port itself: missing, busy, not a tty
             return str(getattr(exc, "strerror", None) or exc).split(": ", 1)[-1]
+        except Exception as exc:  # termios.error (no OSError): the port refuses the line settings
+            reason = str(exc.args[-1] if exc.args else exc)
+            hint = " (a pseudo-terminal may refuse parity: try --parity none)" if parity != "none" else ""
+            return f"the port refuses {baud} baud, {parity} parity, {stop_bits} stop bit(s): {reason}{hint}"
         return "the port opened, but the client could not use it"
     host, _, port = (link.tcp or "").rpartition(":")
     try:
@@ -95,7 +102,7 @@ def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile
     try:
         client.connect()
     except RegmapError:
-        raise LinkError(f"cannot open {link.where}: {_why_unreachable(link)}") from None
+        raise LinkError(f"cannot open {link.where}: {_why_unreachable(link, device)}") from None
     return client
 
 
