@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from fractions import Fraction
 
+from regmap_runtime.types import TYPES as DATA_TYPES
+
 
 class CellProblem(ValueError):
     """A cell that cannot be read; the message says what was expected."""
@@ -197,7 +199,7 @@ ACCESS = {
 }
 
 TYPES = {
-    **{t: t for t in ("u16", "s16", "u32", "s32", "u64", "s64", "f32", "f64", "string", "bool")},
+    **{t: t for t in DATA_TYPES},
     "uint16": "u16",
     "int16": "s16",
     "uint32": "u32",

@@ -22,6 +22,7 @@ from regmap.tools.spreadsheet.skeleton import head
 from regmap.tools.spreadsheet.table import Table
 from regmap.tools.spreadsheet.yamltext import block, flow, scalar
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from regmap_runtime.types import TYPES
 
 # Keys in the order the maps write them.
 KEY_ORDER = (
@@ -57,7 +58,7 @@ KEY_ORDER = (
     "source",
     "notes",
 )
-NUMERIC = ("u16", "s16", "u32", "s32", "u64", "s64", "f32", "f64")
+NUMERIC = tuple(t.name for t in TYPES.values() if t.numeric)  # types with a range: min, max and default
 
 
 def _register_yaml(e: Entry, source: str) -> dict[str, Any]:

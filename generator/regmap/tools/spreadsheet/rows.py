@@ -69,7 +69,7 @@ def _rule_address(rules: list[_ParamRule], param: str) -> int | None:
     return None
 
 
-WIDE_TYPES = ("u32", "s32", "u64", "s64", "f32", "f64")
+WIDE_TYPES = tuple(t.name for t in TYPES.values() if t.wide)  # the types that have a word order
 
 TEXT_FIELDS = ("title", "title_zh", "description", "range_text", "notes", "group")
 
