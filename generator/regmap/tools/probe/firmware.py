@@ -30,10 +30,6 @@ def firmware_register(device: Device) -> Register | None:
     return named.register if named is not None else None
 
 
-def version_text(version: tuple[int, ...]) -> str:
-    return ".".join(str(part) for part in version)
-
-
 def check_firmware(
     device: Device, register: Register | None, raw: Raw | None, reads: Mapping[str, RegisterRead] | None = None
 ) -> FirmwareCheck:
@@ -43,11 +39,12 @@ def check_firmware(
         return FirmwareCheck(None, None, True, "the map names no firmware register: the version was not read")
     if raw is None:
         return FirmwareCheck(register.name, None, True, f"{register.label} did not answer: the version is unknown")
+    spec = runtime_device(device)
     try:
-        version = runtime_device(device).firmware_version(raw)
+        version = spec.firmware_version(raw)
     except ValueError as exc:
         return FirmwareCheck(register.name, None, False, f"{register.label} = {raw!r}: not a version ({exc})")
-    shown = version_text(version)
+    shown = spec.firmware_text(raw)  # as the device's documents write it: 1.05, not 1.5
     gated = [r for r in device.registers if r.firmware is not None and r.access.readable]
     if not gated:
         return FirmwareCheck(register.name, shown, True, f"firmware {shown} ({register.label}); the map gates no register by firmware")
