@@ -28,6 +28,8 @@ MAPS = sorted((ROOT / "maps").glob("*.yaml"))
 sys.path.insert(0, str(Path(__file__).parent))
 import c630s_table  # noqa: E402
 
+from conftest import manual  # noqa: E402
+
 
 def _fields(r: Register) -> dict[str, Any]:
     """The register fields a spreadsheet carries (issue #22)."""
@@ -200,6 +202,7 @@ def test_round_trip_through_csv(path: Path, tmp_path: Path) -> None:
 
 
 def test_c630s_manual_table_reproduces_the_map(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    manual("c630s.txt")
     summary = c630s_table.report(tmp_path)
     with capsys.disabled():
         print("\nC630S chapter 7 import:\n" + summary)
