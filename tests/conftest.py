@@ -12,7 +12,7 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import pytest
 
@@ -83,10 +83,7 @@ def require_tool(name: str) -> str:
     """Path of a system tool; skip without it, except under CI=true where its absence is a failure."""
     path = shutil.which(name)
     if path is None:
-        message = f"{name} is not installed (.ci/run installs it)"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message)
-        pytest.skip(message)
+        skip_or_fail(f"{name} is not installed (.ci/run installs it)")
     return path
 
 
@@ -204,7 +201,7 @@ def pty_pair(tmp_path: Path) -> Iterator[PtyPair]:
 # -- the third-party tools (ESPHome, Home Assistant, the ST parsers, matiec), built by `make tools` --------
 
 
-def skip_or_fail(message: str) -> None:
+def skip_or_fail(message: str) -> NoReturn:
     """A test that cannot run here: a skip with the reason, except under CI=true, where .ci/run provides
     everything and a missing tool is a failure."""
     if os.environ.get("CI") == "true":
@@ -220,7 +217,6 @@ def built_tool(name: str) -> Path:
         return tool_envs.find(name)
     except tool_envs.ToolUnavailable as exc:
         skip_or_fail(str(exc))
-        raise AssertionError("unreachable") from exc
 
 
 SHARED = ROOT.parent / "shared"

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import tool_envs
-from conftest import ROOT, built_tool
+from conftest import ROOT, built_tool, skip_or_fail
 
 
 def test_an_environment_without_its_stamp_is_not_taken_for_a_built_one(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -60,3 +60,12 @@ def test_matiec_compiles_structured_text(tmp_path: Path) -> None:
     )
     assert result.returncode == 0, result.stdout + result.stderr
     assert "SCALED" in (out / "POUS.c").read_text(encoding="utf-8")
+
+
+def test_a_missing_tool_skips_here_and_fails_under_ci(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("CI", raising=False)
+    with pytest.raises(pytest.skip.Exception, match="no such tool"):
+        skip_or_fail("no such tool")
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(pytest.fail.Exception, match="no such tool"):
+        skip_or_fail("no such tool")
