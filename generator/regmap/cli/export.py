@@ -28,7 +28,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     add_map(p)
     p.add_argument("--format", choices=["json", "csv", "xlsx"], default="json")
-    p.add_argument("--out", metavar="FILE", help="write to FILE, or to stdout with - (required for xlsx; json and csv go to stdout without it)")
+    p.add_argument(
+        "--out", metavar="FILE", help="write to FILE, or to stdout with - (required for xlsx; json and csv go to stdout without it)"
+    )
     return p
 
 
