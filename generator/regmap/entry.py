@@ -9,6 +9,7 @@ def main() -> int:
     try:
         import signal
 
+        sys.unraisablehook = _interrupt_again
         from regmap.cli import main as cli_main
 
         status = cli_main()
@@ -23,6 +24,17 @@ def main() -> int:
         status = ExitCode.INTERRUPTED
     _forget_the_interrupt()
     return status
+
+
+def _interrupt_again(unraisable: "sys.UnraisableHookArgs") -> None:
+    """A Ctrl-C that lands in a callback (a weakref's, during an import) is dropped by Python with 'Exception ignored';
+    raised again, it lands in regmap's code and ends the run like any other."""
+    import signal
+
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):
+        signal.raise_signal(signal.SIGINT)
+    else:
+        sys.__unraisablehook__(unraisable)
 
 
 def _forget_the_interrupt() -> None:
