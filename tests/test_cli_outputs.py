@@ -251,12 +251,17 @@ def test_new_out_dash_prints_the_skeleton(tmp_path: Path) -> None:
 # -- 4. a full standard output, and Ctrl-C ---------------------------------------------------------
 
 
-def test_show_to_a_full_device_is_exit_74(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    "command",
+    [("show", IDM), ("frame", IDM, "read", "peak_current")],
+    ids=["show: fails while printing", "frame: one line, fails at the last flush"],
+)
+def test_a_full_standard_output_is_exit_74(command: tuple[str, ...], tmp_path: Path) -> None:
     full = device_node(tmp_path / "full", 7)
     with full.open("w") as stdout:
-        result = regmap("show", IDM, stdout=stdout)
+        result = regmap(*command, stdout=stdout)
     assert result.returncode == ExitCode.OUTPUT, result.stderr
-    assert result.stderr == "regmap show: error: cannot write to standard output: No space left on device\n"
+    assert result.stderr == f"regmap {command[0]}: error: cannot write to standard output: No space left on device\n"
 
 
 def test_a_closed_pipe_stays_quiet() -> None:
