@@ -4,7 +4,6 @@ moment, even while the command line is still being imported, is one line and exi
 
 from __future__ import annotations
 
-import csv
 import errno
 import io
 import json
@@ -24,10 +23,10 @@ from typing import IO
 
 import openpyxl
 import pytest
+from test_spreadsheet import table_changing_a_default
 
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
-from regmap.tools.spreadsheet.export import export_csv
 
 from conftest import ROOT
 
@@ -85,20 +84,12 @@ def test_import_into_a_symlinked_map_updates_the_map_it_names(tmp_path: Path) ->
     shutil.copy(SMALL, real)
     link = tmp_path / "idm_rs_small.yaml"
     link.symlink_to(real)
-    device = load_map(SMALL)
-    rows = list(csv.reader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
-    reg = next(r for r in device.registers if isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max)
-    assert isinstance(reg.default, int)
-    row = next(row for row in rows if row[0] == reg.name)
-    row[rows[0].index("default")] = str(reg.default + 1)
-    table = tmp_path / "changed.csv"
-    with table.open("w", encoding="utf-8", newline="") as handle:
-        csv.writer(handle).writerows(rows)
+    table, reg, default = table_changing_a_default(load_map(SMALL), tmp_path)
     result = regmap("import", str(table), "--into", str(link))
     assert result.returncode == 0, result.stderr
     assert link.is_symlink() and link.resolve() == real
     updated = load_map(real).registers
-    assert next(r for r in updated if r.name == reg.name).default == reg.default + 1
+    assert next(r for r in updated if r.name == reg.name).default == default
 
 
 def test_a_dangling_symlink_gets_its_target_created(tmp_path: Path) -> None:

@@ -18,7 +18,7 @@ from types import ModuleType
 
 from regmap import __version__
 from regmap.diagnostics import ExitCode, LinkError, MapError, OutputError, UsageError
-from regmap.tools.output import StdoutError, guarded_stdout
+from regmap.tools.output import guarded_stdout
 
 SUBCOMMANDS = (
     "validate",
@@ -111,9 +111,6 @@ def _run(command: str, args: argparse.Namespace) -> int:
         return ExitCode.BUS
     except OutputError as exc:
         print(f"regmap {command}: error: {exc}", file=sys.stderr)
-        return ExitCode.OUTPUT
-    except StdoutError as exc:
-        print(f"regmap {command}: error: cannot write to standard output: {exc.strerror}", file=sys.stderr)
         return ExitCode.OUTPUT
     except KeyboardInterrupt:
         print(f"regmap {command}: interrupted", file=sys.stderr)

@@ -132,12 +132,12 @@ def _umask() -> int:
     return mask
 
 
-class StdoutError(OSError):
-    """Standard output could not be written (a full disk, not a closed pipe: that is BrokenPipeError, left as it is)."""
+class StdoutError(OutputError):
+    """Standard output could not be written (a full disk; a closed pipe is BrokenPipeError, left as it is)."""
 
 
 class _GuardedRaw(io.FileIO):
-    """Standard output's file descriptor, whose write failures are StdoutError; after one, later writes are dropped, so
+    """Standard output's file descriptor, whose write failures are StdoutErrors; after one, later writes are dropped, so
     the interpreter's flush at exit does not print 'Exception ignored' under the one line regmap printed."""
 
     failed = False
@@ -152,7 +152,7 @@ class _GuardedRaw(io.FileIO):
             raise
         except OSError as exc:
             self.failed = True
-            raise StdoutError(exc.errno, exc.strerror) from None
+            raise StdoutError(f"cannot write to standard output: {exc.strerror or exc}") from None
 
 
 @contextlib.contextmanager
