@@ -10,6 +10,7 @@ from pathlib import Path
 from regmap.cli.common import WHERE, link_from, live_parser, positive_float
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map
+from regmap.tools.output import check_output
 
 HELP = "check a live drive against its map and learn its limits (reads only)"
 
@@ -59,8 +60,8 @@ def run(args: argparse.Namespace) -> int:
     if link.word_order not in (None, "auto"):
         raise UsageError("--word-order: the probe finds the word order itself")
     target = Path(args.profile) if args.profile else None
-    if target is not None and not target.parent.is_dir():
-        raise UsageError(f"--profile {target}: the directory {target.parent} does not exist")
+    if args.profile:
+        check_output(args.profile, "--profile")  # now: after the probe, a directory or a full disk would lose what was learned
     progress = None
     if sys.stderr.isatty() and not args.json:
 
