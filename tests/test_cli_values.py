@@ -197,3 +197,11 @@ def test_simulate_refuses_line_settings_without_serial_and_unlisted_baud_rates()
     one_line_error(regmap("simulate", IDM, "--tcp", "127.0.0.1:0", "--parity", "even", timeout=15), ExitCode.USAGE, "--serial")
     refused = regmap("simulate", IDM, "--serial", "/dev/regmap-no-such-port", "--baud", "115000", timeout=15)
     one_line_error(refused, ExitCode.USAGE, "--baud 115000 is not a baud rate of iDM-RS (V2.0)")
+
+
+def test_a_missing_port_is_the_operating_systems_reason_not_pyserials_text() -> None:
+    missing = "/dev/regmap-no-such-port"
+    read = one_line_error(regmap("read", IDM, "Pr5.00", "--serial", missing), ExitCode.BUS)
+    assert read == f"regmap read: bus error: cannot open {missing}: No such file or directory"
+    served = one_line_error(regmap("simulate", IDM, "--serial", missing, timeout=15), ExitCode.USAGE)
+    assert served == f"regmap simulate: error: cannot open {missing}: No such file or directory"

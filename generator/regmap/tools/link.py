@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -57,3 +58,10 @@ def serial_line(
         raise UsageError(f"--baud {baud} is not a baud rate of {device.info.model}: it talks at {listed}")
     t = device.transport
     return Line(t.baud if baud is None else baud, t.parity if parity is None else parity, t.stop_bits if stop_bits is None else stop_bits)
+
+
+def port_reason(exc: Exception) -> str:
+    """The operating system's words for why a port cannot be opened ("No such file or directory"),
+    not pyserial's "[Errno 2] could not open port X: [Errno 2] ..."."""
+    errno = getattr(exc, "errno", None)
+    return os.strerror(errno) if isinstance(errno, int) else str(exc)

@@ -32,7 +32,7 @@ from regmap.tools.frames import (
     write_blocks,
     write_function,
 )
-from regmap.tools.link import Link, serial_line
+from regmap.tools.link import Link, port_reason, serial_line
 from regmap.tools.selectors import Registers, check_slave
 from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
@@ -57,7 +57,7 @@ def _why_unreachable(link: Link, device: Device) -> str:
                 link.serial, baudrate=line.baud, parity=PARITY[line.parity], stopbits=line.stop_bits, bytesize=device.transport.data_bits
             ).close()
         except (OSError, ValueError) as exc:  # the port itself: missing, busy, not a tty
-            return str(getattr(exc, "strerror", None) or exc).split(": ", 1)[-1]
+            return port_reason(exc)
         except Exception as exc:  # termios.error (no OSError): the port refuses the line settings
             return line.refused(str(exc.args[-1] if exc.args else exc))
         return "the port opened, but the client could not use it"

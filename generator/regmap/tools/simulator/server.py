@@ -17,7 +17,7 @@ from typing import Any
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device
-from regmap.tools.link import Line
+from regmap.tools.link import Line, port_reason
 from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
@@ -292,7 +292,7 @@ class Simulator:
                 write_timeout=2,
             )
         except (serial.SerialException, ValueError) as exc:
-            raise UsageError(f"cannot open {port}: {exc}") from None
+            raise UsageError(f"cannot open {port}: {port_reason(exc)}") from None
         except Exception as exc:  # termios.error (no OSError): the port refuses the line settings
             raise UsageError(f"cannot open {port}: {line.refused(str(exc.args[-1] if exc.args else exc))}") from None
         self.serial = handle
