@@ -104,7 +104,7 @@ class _Core:
             self._firmware_spec = next(r for r in self.DEVICE.registers if r.name == name)
 
     def transport_error(self, exc: Exception) -> Exception:
-        """A typed error saying what happened on the line, in regmap's words (pymodbus's name its own
+        """A typed error saying what happened on the line, in regmap's words (pymodbus's texts name its own
         internals): silence, a lost connection, a bad CRC, another slave, or garbage."""
         seen = self.line.received
         text = str(exc)

@@ -104,7 +104,7 @@ def positive_count(text: str) -> int:
 
 
 def baud_rate(text: str) -> int:
-    """A baud rate as mbpoll's -b takes it: decimal, positive (whether the map's drive talks at it: `check_line`)."""
+    """A baud rate as mbpoll's -b takes it: decimal, positive (whether the map's drive talks at it: `tools.link.serial_line`)."""
     if not (text.isascii() and text.isdigit()) or int(text) == 0:
         raise argparse.ArgumentTypeError(f"{text} is not a baud rate (a positive whole number: 9600, 38400 ...)")
     return int(text)
