@@ -205,3 +205,19 @@ def test_a_missing_port_is_the_operating_systems_reason_not_pyserials_text() -> 
     assert read == f"regmap read: bus error: cannot open {missing}: No such file or directory"
     served = one_line_error(regmap("simulate", IDM, "--serial", missing, timeout=15), ExitCode.USAGE)
     assert served == f"regmap simulate: error: cannot open {missing}: No such file or directory"
+
+
+def test_a_client_that_cannot_connect_names_the_place_not_pymodbus_s_class() -> None:
+    from regmap.frontend import load_map
+    from regmap.runtime_bridge import runtime_device
+    from regmap_runtime.client import SyncClient
+    from regmap_runtime.errors import ConnectionLost
+
+    client_class = type("live", (SyncClient,), {"DEVICE": runtime_device(load_map(ROOT / IDM))})
+    for client, where in (
+        (client_class.tcp("127.0.0.1", 1, timeout=0.5, retries=0), "127.0.0.1:1"),
+        (client_class.rtu("/dev/regmap-no-such-port", timeout=0.5, retries=0), "/dev/regmap-no-such-port"),
+    ):
+        with pytest.raises(ConnectionLost) as refused:
+            client.connect()
+        assert str(refused.value) == f"cannot connect to {where}"

@@ -128,6 +128,14 @@ class _Core:
         return ProtocolError(f"unusable answer: {to_hex(seen)}")
 
     @property
+    def where(self) -> str:
+        """The port or HOST:PORT, as the user gave it (pymodbus's str() starts with its class name)."""
+        params = getattr(self.modbus, "comm_params", None)
+        if params is None:  # a stand-in for pymodbus's client (a test double)
+            return str(self.modbus)
+        return str(params.host) if isinstance(self.modbus, ModbusSerialClient | AsyncModbusSerialClient) else f"{params.host}:{params.port}"
+
+    @property
     def broadcast(self) -> bool:
         return self.DEVICE.broadcast_id is not None and self.slave == self.DEVICE.broadcast_id
 
@@ -378,7 +386,7 @@ class SyncClient(_Core):
     def connect(self) -> None:
         """Open the port or socket; with check_firmware, read the firmware version too."""
         if not self.modbus.connect():
-            raise ConnectionLost(f"cannot connect to {self.modbus}")
+            raise ConnectionLost(f"cannot connect to {self.where}")
         if self.firmware_pending:
             self.detect_firmware()
 
@@ -554,7 +562,7 @@ class AsyncClient(_Core):
 
     async def connect(self) -> None:
         if not await self.modbus.connect():
-            raise ConnectionLost(f"cannot connect to {self.modbus}")
+            raise ConnectionLost(f"cannot connect to {self.where}")
         if self.firmware_pending:
             await self.detect_firmware()
 
