@@ -213,7 +213,7 @@ def test_a_client_that_cannot_connect_names_the_place_not_pymodbus_s_class() -> 
     from regmap_runtime.client import SyncClient
     from regmap_runtime.errors import ConnectionLost
 
-    client_class = type("live", (SyncClient,), {"DEVICE": runtime_device(load_map(ROOT / IDM))})
+    client_class: type[SyncClient] = type("live", (SyncClient,), {"DEVICE": runtime_device(load_map(ROOT / IDM))})
     for client, where in (
         (client_class.tcp("127.0.0.1", 1, timeout=0.5, retries=0), "127.0.0.1:1"),
         (client_class.rtu("/dev/regmap-no-such-port", timeout=0.5, retries=0), "/dev/regmap-no-such-port"),
