@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from regmap.cli.common import examples
-from regmap.diagnostics import ExitCode, UsageError
+from regmap.diagnostics import ExitCode, MapError, UsageError
 from regmap.tools.output import check_output, is_stdout, write_output
 
 HELP = "write a commented skeleton map for a new device"
@@ -34,6 +34,13 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
+def _argument_at(skeleton: str, line: int, args: argparse.Namespace) -> str:
+    """The command-line argument that wrote the skeleton's line `line` (its `vendor:`, `model:` or, else, the device id)."""
+    lines = skeleton.splitlines()
+    key = lines[line - 1].strip().partition(":")[0] if 0 < line <= len(lines) else ""
+    return {"vendor": f"--vendor {args.vendor!r}", "model": f"--model {args.model!r}"}.get(key, f"DEVICE_ID {args.device_id!r}")
+
+
 def run(args: argparse.Namespace) -> int:
     from regmap.frontend import load_map_text
     from regmap.tools.spreadsheet.skeleton import skeleton
@@ -48,7 +55,11 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"{out} exists: regmap new does not overwrite a map (use regmap import --into to update one)")
     check_output(out, "--out", stdout=True)
     text = skeleton(args.device_id, args.vendor.strip(), args.model.strip())
-    load_map_text(text, f"maps/{args.device_id}.yaml" if is_stdout(out) else str(out))  # it validates (a reserved word does not)
+    try:
+        load_map_text(text, "skeleton")  # it validates (a device id that is a reserved word does not)
+    except MapError as exc:  # the skeleton differs only by the arguments: the problem is in one of them, not in a file
+        problems = "; ".join(f"{_argument_at(text, diag.line, args)}: {diag.message}" for diag in exc.diagnostics)
+        raise UsageError(f"{problems}; nothing written") from None
     write_output(out, text.encode(), "--out")
     print(
         f"{'stdout' if is_stdout(out) else out}: skeleton for {args.vendor.strip()} {args.model.strip()}; "

@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from regmap.cli.common import WHERE, link_from, live_parser, positive_float
+from regmap.cli.common import WHERE, link_from, live_parser, positive_float, requests_per_second
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map
 from regmap.tools.output import check_output
@@ -44,7 +44,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="write these registers' current values back and read them; check an out-of-range value is refused",
     )
     p.add_argument("--budget", type=positive_float, default=300.0, metavar="SECONDS", help="stop after this long (default 300)")
-    p.add_argument("--rate", type=positive_float, metavar="REQ_PER_S", help="at most this many requests per second (default: no limit)")
+    p.add_argument(
+        "--rate", type=requests_per_second, metavar="REQ_PER_S", help="at most this many requests per second (default: no limit)"
+    )
     return p
 
 

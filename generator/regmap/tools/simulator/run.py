@@ -12,6 +12,7 @@ from typing import TextIO
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device
+from regmap.tools.link import Line
 from regmap.tools.output import check_output
 
 from .faults import FaultPlan
@@ -86,6 +87,7 @@ def run(
     tcp: str | None,
     serial: str | None,
     slave: int,
+    line: Line | None = None,
     state: Path | None,
     faults: FaultPlan,
     rtu_over_tcp: bool = False,
@@ -106,7 +108,7 @@ def run(
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.add_signal_handler(sig, simulator.stopped.set)
         if serial:
-            await simulator.start_serial(serial)
+            await simulator.start_serial(serial, line)
             where = serial
         else:
             where = f"{host}:{port}"
