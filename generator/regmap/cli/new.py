@@ -53,13 +53,13 @@ def run(args: argparse.Namespace) -> int:
     out: str | Path = args.out or Path("maps") / f"{args.device_id}.yaml"
     if not is_stdout(out) and Path(out).exists():
         raise UsageError(f"{out} exists: regmap new does not overwrite a map (use regmap import --into to update one)")
-    check_output(out, "--out", stdout=True)
     text = skeleton(args.device_id, args.vendor.strip(), args.model.strip())
     try:
         load_map_text(text, "skeleton")  # it validates (a device id that is a reserved word does not)
     except MapError as exc:  # the skeleton differs only by the arguments: the problem is in one of them, not in a file
         problems = "; ".join(f"{_argument_at(text, diag.line, args)}: {diag.message}" for diag in exc.diagnostics)
         raise UsageError(f"{problems}; nothing written") from None
+    check_output(out, "--out", stdout=True)
     write_output(out, text.encode(), "--out")
     print(
         f"{'stdout' if is_stdout(out) else out}: skeleton for {args.vendor.strip()} {args.model.strip()}; "
