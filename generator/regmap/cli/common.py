@@ -20,6 +20,12 @@ VALUE_SYNTAX = (
     "field:value,field:value (function:path_address_0,normally_closed:1), optionally after a base word (0x00A8,function:ctrg)"
 )
 
+SELECTOR_SYNTAX = (
+    "SELECTOR is a register name, the manual's parameter id (Pr5.00, P05-02, 0302) or a register's 0-based protocol address "
+    "(0x0191, 0191h, 401; mbpoll's -r 402, Modicon's 40402 with --modicon); a plain decimal number right after a SELECTOR "
+    "is its COUNT: that many of the map's readable registers from it on (with --words: words), as mbpoll's -c"
+)
+
 
 def load_map(path: str | Path) -> Device:
     """The front end, imported when a command needs a map (so `--help` and argument errors stay fast)."""
@@ -111,6 +117,22 @@ SPACE_HELP = (
 
 def add_space(p: Any) -> None:
     p.add_argument("-t", "--space", metavar="SPACE", help=SPACE_HELP)
+
+
+MODICON_HELP = (
+    "decimal addresses are Modicon reference numbers, which name the space and count from 1: 0xxxx coils, 1xxxx discrete "
+    "inputs, 3xxxx input registers, 4xxxx holding registers (40402 and 400402 are holding register 401); hex ones stay addresses"
+)
+
+
+def add_addressing(p: Any, *, start: bool) -> None:
+    """--modicon, and where a command reads from a start: mbpoll's -r (1-based start reference) and -c (count)."""
+    if start:
+        p.add_argument(
+            "-r", dest="start", metavar="REF", help="mbpoll's -r: the start reference, counting from 1 (-r 402 is address 401)"
+        )
+        p.add_argument("-c", dest="count", metavar="N", help="mbpoll's -c: how many from the start (registers of the map; with --words, words)")
+    p.add_argument("--modicon", action="store_true", help=MODICON_HELP)
 
 
 def space_from(args: argparse.Namespace) -> str | None:
