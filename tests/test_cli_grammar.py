@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import re
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -172,6 +173,18 @@ def test_a_bare_number_stays_a_protocol_address_and_the_error_names_the_notation
         regmap("frame", IDM, "read", "40402"), "no register at 40402 = 0x9DD2", "as a Modicon number 40402 is holding register 401", "--modicon"
     )
     one_line_error(regmap("frame", IDM, "read", "402"), "no register at 402 = 0x0192", "mbpoll's -r 402 is address 401", "-r 402")
+
+
+def test_the_readmes_addresses_print_what_it_says() -> None:
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = re.search(r"### Addresses\n.*?```sh\n(.*?)```", readme, re.S)
+    assert block is not None, "README has no Addresses example"
+    lines = block.group(1).splitlines()
+    pairs = [(c, e) for c, e in zip(lines, lines[1:], strict=False) if c.startswith("regmap ") and e.startswith("# ")]
+    assert len(pairs) == 3
+    for command, expected in pairs:
+        argv = shlex.split(command.split("  #", 1)[0])
+        assert regmap(*argv[1:]).stdout.strip() == expected[2:].strip(), command
 
 
 # -- item 7: did you mean ----------------------------------------------------------------------
