@@ -8,6 +8,7 @@ stderr; "did you mean" offers the zero-padded parameter id first. Live reads run
 
 from __future__ import annotations
 
+import itertools
 import json
 import re
 import shlex
@@ -122,7 +123,9 @@ def test_mbpoll_r_is_one_based_and_said() -> None:
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines() == frame(IDM, "read", "0x0191", "3")
     assert "-r 402 is address 401 (0x0191)" in result.stderr
-    assert frame(REMOTE_IO, "read", "--words", "-t", "1", "-r", "197", "-c", "22") == frame(REMOTE_IO, "read", "--words", "-t", "1", "0xC4", "22")
+    assert frame(REMOTE_IO, "read", "--words", "-t", "1", "-r", "197", "-c", "22") == frame(
+        REMOTE_IO, "read", "--words", "-t", "1", "0xC4", "22"
+    )
 
 
 def test_read_and_dump_take_r(simulator: SimulatorFactory) -> None:
@@ -170,7 +173,10 @@ def test_modicon_writes_and_word_writes() -> None:
 def test_a_bare_number_stays_a_protocol_address_and_the_error_names_the_notations() -> None:
     # 40402 is protocol address 0x9DD2, where the iDM-RS has nothing; as a Modicon number it is Pr5.00.
     one_line_error(
-        regmap("frame", IDM, "read", "40402"), "no register at 40402 = 0x9DD2", "as a Modicon number 40402 is holding register 401", "--modicon"
+        regmap("frame", IDM, "read", "40402"),
+        "no register at 40402 = 0x9DD2",
+        "as a Modicon number 40402 is holding register 401",
+        "--modicon",
     )
     one_line_error(regmap("frame", IDM, "read", "402"), "no register at 402 = 0x0192", "mbpoll's -r 402 is address 401", "-r 402")
 
@@ -180,7 +186,7 @@ def test_the_readmes_addresses_print_what_it_says() -> None:
     block = re.search(r"### Addresses\n.*?```sh\n(.*?)```", readme, re.S)
     assert block is not None, "README has no Addresses example"
     lines = block.group(1).splitlines()
-    pairs = [(c, e) for c, e in zip(lines, lines[1:], strict=False) if c.startswith("regmap ") and e.startswith("# ")]
+    pairs = [(c, e) for c, e in itertools.pairwise(lines) if c.startswith("regmap ") and e.startswith("# ")]
     assert len(pairs) == 3
     for command, expected in pairs:
         argv = shlex.split(command.split("  #", 1)[0])

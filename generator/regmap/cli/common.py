@@ -128,10 +128,10 @@ MODICON_HELP = (
 def add_addressing(p: Any, *, start: bool) -> None:
     """--modicon, and where a command reads from a start: mbpoll's -r (1-based start reference) and -c (count)."""
     if start:
+        p.add_argument("-r", dest="start", metavar="REF", help="mbpoll's -r: the start reference, counting from 1 (-r 402 is address 401)")
         p.add_argument(
-            "-r", dest="start", metavar="REF", help="mbpoll's -r: the start reference, counting from 1 (-r 402 is address 401)"
+            "-c", dest="count", metavar="N", help="mbpoll's -c: how many from the start (registers of the map; with --words, words)"
         )
-        p.add_argument("-c", dest="count", metavar="N", help="mbpoll's -c: how many from the start (registers of the map; with --words, words)")
     p.add_argument("--modicon", action="store_true", help=MODICON_HELP)
 
 

@@ -57,7 +57,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     add_map(p)
     p.add_argument("action", choices=["read", "write", "command"])
     p.add_argument(
-        "items", nargs="*", metavar="ARG", help="read: SELECTOR [COUNT] ... (or -r REF [-c N]); write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]"
+        "items",
+        nargs="*",
+        metavar="ARG",
+        help="read: SELECTOR [COUNT] ... (or -r REF [-c N]); write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]",
     )
     p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
     p.add_argument("--raw", action="store_true", help="values are raw register integers")
@@ -102,7 +105,14 @@ def run(args: argparse.Namespace) -> int:
             notes = [w.located for w in writes if w.located]
         else:
             built, notes = frames.write_frames(
-                device, args.items, args.slave, args.raw, replace=args.replace, word_order=args.word_order, space=space, modicon=args.modicon
+                device,
+                args.items,
+                args.slave,
+                args.raw,
+                replace=args.replace,
+                word_order=args.word_order,
+                space=space,
+                modicon=args.modicon,
             )
     else:
         if not 1 <= len(args.items) <= 2:

@@ -325,7 +325,11 @@ def print_words(rows: Sequence[dict[str, Any]], output: str) -> None:
     else:
         for r in rows:
             word = r["word"]
-            shown = str(word) if SPACES[r["space"]].bits else f"0x{word:04X} = {word} unsigned, {word - 0x10000 if word & 0x8000 else word} signed"
+            shown = (
+                str(word)
+                if SPACES[r["space"]].bits
+                else f"0x{word:04X} = {word} unsigned, {word - 0x10000 if word & 0x8000 else word} signed"
+            )
             print(f"{space_label(r['space'])} 0x{r['address']:04X} = {shown}")
 
 

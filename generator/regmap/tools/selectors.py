@@ -195,7 +195,9 @@ def parse_items(
                 items.append(Item(token))
     if count is not None:
         if len(items) > 1:
-            raise UsageError(f"-c {count} counts from one start: give one SELECTOR (or a COUNT after each: {items[0].selector} {count} ...)")
+            raise UsageError(
+                f"-c {count} counts from one start: give one SELECTOR (or a COUNT after each: {items[0].selector} {count} ...)"
+            )
         if items[0].count is not None:
             raise UsageError(f"two counts: {items[0].selector} {items[0].count} and -c {count}; give one")
         items = [Item(items[0].selector, _count(count, "-c"), items[0].located)]
@@ -267,7 +269,9 @@ class Registers:
         reg = self.at(item.located, item.selector)
         if reg is None:
             where = f" among the {SPACES[item.located.space].title}" if item.located.space is not None else ""
-            raise UsageError(f"{item.selector}: no register at {item.located.address} = 0x{item.located.address:04X}{where}; --words reads any address")
+            raise UsageError(
+                f"{item.selector}: no register at {item.located.address} = 0x{item.located.address:04X}{where}; --words reads any address"
+            )
         return reg
 
     def expand(self, item: Item) -> list[Register]:
@@ -292,7 +296,9 @@ class Registers:
 
     def from_on(self, space: str, address: int) -> list[Register]:
         """The map's readable registers of `space` at or after `address`, by address."""
-        return sorted((r for r in self.device.registers if r.space == space and r.access.readable and r.address >= address), key=lambda r: r.address)
+        return sorted(
+            (r for r in self.device.registers if r.space == space and r.access.readable and r.address >= address), key=lambda r: r.address
+        )
 
     def _count_as_address(self, item: Item) -> str:
         """Where a COUNT is also an address of the map: how to name that register instead."""
@@ -317,7 +323,13 @@ class Registers:
             return f" (0x{address:04X} lies inside {owners[0].label}; --words writes single words)"
         where = f" among the {SPACES[located.space].title}" if located.space is not None else ""
         typed = selector.strip()
-        at = f"0x{address:04X}" if not typed.isdigit() else f"{typed} = 0x{address:04X}" if not self.modicon else f"Modicon {typed} = 0x{address:04X}"
+        at = (
+            f"0x{address:04X}"
+            if not typed.isdigit()
+            else f"{typed} = 0x{address:04X}"
+            if not self.modicon
+            else f"Modicon {typed} = 0x{address:04X}"
+        )
         return f" (no register at {at}{where}{self._nearby(located, selector)}; --words reads and writes any address)"
 
     def _nearby(self, located: Located, selector: str | None = None) -> str:
