@@ -204,6 +204,14 @@ def add_profile(p: argparse.ArgumentParser) -> None:
     )
 
 
+def add_read_options(p: argparse.ArgumentParser) -> None:
+    """What `read` and `dump` share: the space, mbpoll's -r/-c, --modicon, the output format, --profile."""
+    add_space(p)
+    add_addressing(p, start=True)
+    add_output(p)
+    add_profile(p)
+
+
 def profile_from(args: argparse.Namespace, device: Device) -> Any:
     """The device profile named by --profile, checked against the map (a UsageError for another map), or None."""
     if not args.profile:

@@ -7,10 +7,7 @@ import argparse
 from regmap.cli.common import (
     SELECTOR_SYNTAX,
     WHERE,
-    add_addressing,
-    add_output,
-    add_profile,
-    add_space,
+    add_read_options,
     link_from,
     live_parser,
     load_map,
@@ -43,10 +40,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument(
         "--words", action="store_true", help="ADDR [COUNT]: 16-bit words (bits, in a bit space) at any address, documented or not"
     )
-    add_space(p)
-    add_addressing(p, start=True)
-    add_output(p)
-    add_profile(p)
+    add_read_options(p)
     return p
 
 

@@ -353,6 +353,23 @@ class Registers:
         return self.specs[reg.name]
 
 
+def dump_range(
+    device: Device, start: str | None, count: str | None, space: str | None, *, modicon: bool = False
+) -> tuple[list[Register] | None, list[str]]:
+    """What `dump -t SPACE` or `dump -r REF [-c N]` reads (None: every readable register), and how -r was read."""
+    if start is None:
+        if count is not None:
+            raise UsageError(f"-c {count} counts from a start: give -r REF too")
+        return (None if space is None else Registers(device).from_on(space, 0)), []
+    (item,) = parse_items([], count=count, start=start, modicon=modicon, space=space)
+    assert item.located is not None
+    start_space = item.located.space or space or DEFAULT_SPACE
+    chosen = Registers(device).from_on(start_space, item.located.address)[: item.count]
+    if not chosen:
+        raise UsageError(f"{item.selector}: no readable {SPACES[start_space].title} from 0x{item.located.address:04X} on")
+    return chosen, [item.located.note] if item.located.note else []
+
+
 def say_notes(command: str, notes: Iterable[str]) -> None:
     """How addresses were read (-r, Modicon numbers) and other notes, each once, on stderr."""
     for note in dict.fromkeys(notes):
