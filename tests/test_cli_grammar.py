@@ -178,7 +178,7 @@ def test_a_bare_number_stays_a_protocol_address_and_the_error_names_the_notation
         "as a Modicon number 40402 is holding register 401",
         "--modicon",
     )
-    one_line_error(regmap("frame", IDM, "read", "402"), "no register at 402 = 0x0192", "mbpoll's -r 402 is address 401", "-r 402")
+    one_line_error(regmap("frame", IDM, "read", "402"), "no register at 402 = 0x0192", "mbpoll's -r 402 is address 401 (Pr5.00")
 
 
 def test_the_readmes_addresses_print_what_it_says() -> None:

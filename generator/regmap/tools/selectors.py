@@ -322,14 +322,9 @@ class Registers:
         if owners:
             return f" (0x{address:04X} lies inside {owners[0].label}; --words writes single words)"
         where = f" among the {SPACES[located.space].title}" if located.space is not None else ""
-        typed = selector.strip()
-        at = (
-            f"0x{address:04X}"
-            if not typed.isdigit()
-            else f"{typed} = 0x{address:04X}"
-            if not self.modicon
-            else f"Modicon {typed} = 0x{address:04X}"
-        )
+        typed, at = selector.strip(), f"0x{address:04X}"
+        if typed.isdigit():  # say the number as typed too: 40402 = 0x9DD2
+            at = f"{'Modicon ' if self.modicon else ''}{typed} = {at}"
         return f" (no register at {at}{where}{self._nearby(located, selector)}; --words reads and writes any address)"
 
     def _nearby(self, located: Located, selector: str | None = None) -> str:
@@ -346,7 +341,7 @@ class Registers:
         spaces = [located.space] if located.space is not None else list(SPACES)
         below = [self.by_address[(s, located.address - 1)] for s in spaces if (s, located.address - 1) in self.by_address]
         if below:
-            return f"; mbpoll's -r {located.address} is address {located.address - 1} ({below[0].label}): give -r {located.address}"
+            return f"; mbpoll's -r {located.address} is address {located.address - 1} ({below[0].label})"
         return ""
 
     def spec(self, reg: Register) -> RegisterSpec[Any]:
