@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: all install generate regen test lint format typecheck check docs bench mutate clean
+.PHONY: all install tools generate regen test lint format typecheck check docs bench mutate clean
 
 all: generate
 
@@ -16,6 +16,12 @@ $(STAMP): pyproject.toml
 
 install: $(STAMP)
 
+# The third-party judges of the generated output (ESPHome, Home Assistant, the ST parsers, matiec), each in
+# its own environment under ~/.cache/regmap/tools, rebuilt only when its pins change (tests/tool_envs.py).
+# A tool that cannot be built here is reported and its tests skip; under CI=true that fails.
+tools: $(STAMP)
+	$(BIN)/python tests/tool_envs.py install
+
 generate: $(STAMP)
 	$(BIN)/regmap generate
 
@@ -24,7 +30,7 @@ regen: generate
 	$(BIN)/python tests/regen.py
 	$(BIN)/regmap diff tests/maps/diff/idm_rs_small_v1.yaml tests/maps/diff/idm_rs_small_v2.yaml --format markdown > docs/changelog-example.md; status=$$?; test $$status -eq 6 -o $$status -eq 7
 
-test: $(STAMP)
+test: $(STAMP) tools
 	$(BIN)/python -m pytest -q
 
 lint: $(STAMP)

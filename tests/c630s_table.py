@@ -4,8 +4,8 @@ Rows are copied cell for cell from ../shared/manuals/c630s.txt (tab-separated in
 section number is added as a column (章节), so that the draft cites its source. Nothing is corrected:
 what the manual prints wrongly or splits across lines stays so, and the import must report it.
 
-    python tests/c630s_table.py OUT.csv        # write the table
-    python tests/c630s_table.py --report       # import it into a draft; the agreement with maps/c630s.yaml
+    python tests/c630s_table.py write OUT.csv   # write the table
+    python tests/c630s_table.py report          # import it into a draft; the agreement with maps/c630s.yaml
 """
 
 from __future__ import annotations
@@ -24,11 +24,14 @@ param_ids:
 """
 
 
+class ManualAbsent(Exception):
+    """The manual's text is beside the repository only in the shared layout (../shared/manuals)."""
+
+
 def manual_path() -> Path:
-    for candidate in (MANUAL, Path("../shared/manuals/c630s.txt")):
-        if candidate.exists():
-            return candidate
-    raise FileNotFoundError("c630s.txt (../shared/manuals/)")
+    if not MANUAL.is_file():
+        raise ManualAbsent(f"{MANUAL} is absent: the manuals are beside the repository only in the shared layout")
+    return MANUAL
 
 
 def chapter7_rows(text: str) -> list[list[str]]:
@@ -55,10 +58,6 @@ def write_table(out: Path) -> int:
         writer.writerow(HEADER)
         writer.writerows(rows)
     return len(rows)
-
-
-if __name__ == "__main__" and len(sys.argv) == 2 and sys.argv[1] != "--report":
-    print(write_table(Path(sys.argv[1])), "rows")
 
 
 FIELDS = ("address", "range", "default", "unit", "scale")
@@ -124,8 +123,27 @@ def report(out_dir: Path) -> str:
     return "\n".join(lines)
 
 
-if __name__ == "__main__" and sys.argv[1:] == ["--report"]:
+def main(argv: list[str] | None = None) -> int:
+    import argparse
     import tempfile
 
-    with tempfile.TemporaryDirectory() as tmp:
-        print(report(Path(tmp)))
+    parser = argparse.ArgumentParser(prog="tests/c630s_table.py", description=__doc__.split("\n\n")[0])
+    actions = parser.add_subparsers(dest="action", required=True)
+    write = actions.add_parser("write", help="write chapter 7 as a CSV")
+    write.add_argument("out", type=Path, metavar="OUT.csv")
+    actions.add_parser("report", help="import the table into a draft and say how far it agrees with maps/c630s.yaml")
+    args = parser.parse_args(argv)
+    try:
+        if args.action == "write":
+            print(write_table(args.out), "rows")
+        else:
+            with tempfile.TemporaryDirectory() as tmp:
+                print(report(Path(tmp)))
+    except ManualAbsent as exc:
+        print(f"tests/c630s_table.py: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -12,7 +12,7 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import pytest
 
@@ -83,10 +83,7 @@ def require_tool(name: str) -> str:
     """Path of a system tool; skip without it, except under CI=true where its absence is a failure."""
     path = shutil.which(name)
     if path is None:
-        message = f"{name} is not installed (.ci/run installs it)"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message)
-        pytest.skip(message)
+        skip_or_fail(f"{name} is not installed (.ci/run installs it)")
     return path
 
 
@@ -201,49 +198,44 @@ def pty_pair(tmp_path: Path) -> Iterator[PtyPair]:
         process.wait(timeout=10)
 
 
-# -- the home-automation tools (ESPHome, Home Assistant), each in its own venv ---------------------
-
-# Newest releases that install on the Python regmap supports (3.11): ESPHome 2026.6.5; Home Assistant
-# 2024.3.3 (2024.4 needs 3.12). pymodbus is the modbus integration's own pin (its manifest), colorlog
-# the check_config script's, so the check installs nothing at run time.
-HOMEAUTO_TOOLS = {
-    "esphome": ("esphome", ["esphome==2026.6.5"]),
-    "hass": ("hass", ["homeassistant==2024.3.3", "pymodbus==3.6.6", "colorlog==6.8.2"]),
-}
+# -- the third-party tools (ESPHome, Home Assistant, the ST parsers, matiec), built by `make tools` --------
 
 
-def tool_venv(name: str) -> Path:
-    """The executable of a home-automation tool, installed once into ROOT/.venv-<name> (gitignored) and
-    reused while its pins are unchanged. Without the network the test is skipped, except under CI=true."""
-    executable, pins = HOMEAUTO_TOOLS[name]
-    venv = ROOT / f".venv-{name}"
-    stamp = venv / ".regmap-pins"
-    tool = venv / "bin" / executable
-    if stamp.exists() and stamp.read_text(encoding="utf-8") == "\n".join(pins) and tool.exists():
-        return tool
+def skip_or_fail(message: str) -> NoReturn:
+    """A test that cannot run here: a skip with the reason, except under CI=true, where .ci/run provides
+    everything and a missing tool is a failure."""
+    if os.environ.get("CI") == "true":
+        pytest.fail(message)
+    pytest.skip(message)
+
+
+def built_tool(name: str) -> Path:
+    """A tool from tests/tool_envs.py, built beforehand by `make tools`; never installed here."""
+    import tool_envs
+
     try:
-        subprocess.run([sys.executable, "-m", "venv", "--clear", str(venv)], check=True, capture_output=True, timeout=120)
-        subprocess.run(
-            [str(venv / "bin" / "pip"), "install", "--quiet", "--disable-pip-version-check", *pins],
-            check=True,
-            capture_output=True,
-            text=True,
-            timeout=900,
-        )
-    except (subprocess.CalledProcessError, subprocess.TimeoutExpired) as exc:
-        message = f"cannot install {' '.join(pins)} into {venv}: {getattr(exc, 'stderr', '') or exc}"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message)
-        pytest.skip(message)
-    stamp.write_text("\n".join(pins), encoding="utf-8")
-    return tool
+        return tool_envs.find(name)
+    except tool_envs.ToolUnavailable as exc:
+        skip_or_fail(str(exc))
+
+
+SHARED = ROOT.parent / "shared"
+MANUALS = SHARED / "manuals"
+
+
+def manual(name: str) -> Path:
+    """A manual's text from ../shared/manuals; a clone outside that layout skips the test (CI=true fails it)."""
+    path = MANUALS / name
+    if not path.is_file():
+        skip_or_fail(f"{path} is absent: the manuals are beside the repository only in the shared layout")
+    return path
 
 
 @pytest.fixture(scope="session")
 def esphome() -> Path:
-    return tool_venv("esphome")
+    return built_tool("esphome")
 
 
 @pytest.fixture(scope="session")
 def hass() -> Path:
-    return tool_venv("hass")
+    return built_tool("hass")

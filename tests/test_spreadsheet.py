@@ -28,6 +28,8 @@ MAPS = sorted((ROOT / "maps").glob("*.yaml"))
 sys.path.insert(0, str(Path(__file__).parent))
 import c630s_table  # noqa: E402
 
+from conftest import manual  # noqa: E402
+
 
 def _fields(r: Register) -> dict[str, Any]:
     """The register fields a spreadsheet carries (issue #22)."""
@@ -200,6 +202,7 @@ def test_round_trip_through_csv(path: Path, tmp_path: Path) -> None:
 
 
 def test_c630s_manual_table_reproduces_the_map(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    manual("c630s.txt")
     summary = c630s_table.report(tmp_path)
     with capsys.disabled():
         print("\nC630S chapter 7 import:\n" + summary)
@@ -216,11 +219,8 @@ def test_c630s_manual_table_reproduces_the_map(tmp_path: Path, capsys: pytest.Ca
 # -- update keeps the map's text --------------------------------------------------------------
 
 
-def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
-    original = ROOT / "maps" / "id243pro.yaml"
-    target = tmp_path / "id243pro.yaml"
-    shutil.copy(original, target)
-    device = load_map(original)
+def table_changing_a_default(device: Device, tmp_path: Path) -> tuple[Path, Register, int]:
+    """tmp_path/changed.csv: the device's table with one register's default raised by one; that register and its new default."""
     rows = list(csv.reader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
     reg = next(r for r in device.registers if isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max)
     assert isinstance(reg.default, int)
@@ -229,13 +229,21 @@ def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
     table = tmp_path / "changed.csv"
     with table.open("w", encoding="utf-8", newline="") as handle:
         csv.writer(handle).writerows(rows)
+    return table, reg, reg.default + 1
+
+
+def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
+    original = ROOT / "maps" / "id243pro.yaml"
+    target = tmp_path / "id243pro.yaml"
+    shutil.copy(original, target)
+    table, reg, default = table_changing_a_default(load_map(original), tmp_path)
     run = _regmap("import", str(table), "--into", str(target))
     assert run.returncode == 0, run.stderr
     assert "register_default_changed" in run.stdout and reg.name in run.stdout
     before, after = original.read_text(encoding="utf-8").splitlines(), target.read_text(encoding="utf-8").splitlines()
     assert len(before) == len(after)
     changed = [(a, b) for a, b in zip(before, after, strict=True) if a != b]
-    assert len(changed) == 1 and str(reg.default + 1) in changed[0][1]
+    assert len(changed) == 1 and str(default) in changed[0][1]
 
 
 def test_update_with_the_same_table_changes_nothing(tmp_path: Path) -> None:

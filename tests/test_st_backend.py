@@ -2,16 +2,14 @@
 maps, the hostile map and issue 19's fixture maps (input registers, coils, discrete inputs, floats,
 64-bit values, text, byte swaps, offsets, firmware gates, poll classes).
 
-blark (TwinCAT's grammar, lark-based) and tree-sitter-iec61131-3-st (the plain standard) are installed
-into their own venv, `.venv-st/` (gitignored, kept between runs), since their pins are not regmap's;
-tests/st/parse_st.py runs inside it. Without that venv and no way to make it, the parse tests skip,
-except under CI=true where they fail.
+blark (TwinCAT's grammar, lark-based) and tree-sitter-iec61131-3-st (the plain standard) live in a venv
+of their own (tests/tool_envs.py, built by `make tools`), since their pins are not regmap's;
+tests/st/parse_st.py runs inside it. Without it the parse tests skip, except under CI=true where they fail.
 """
 
 from __future__ import annotations
 
 import json
-import os
 import re
 import subprocess
 import sys
@@ -27,10 +25,8 @@ from regmap.generate import render
 from regmap.model import ByteOrder, Device
 from regmap.runtime_bridge import read_plan
 
-from conftest import FIXTURE_MAPS, MAPS, ROOT
+from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool
 
-ST_VENV = ROOT / ".venv-st"
-ST_TOOLS = ("blark==0.8.3", "tree-sitter-iec61131-3-st==0.1.2", "tree-sitter>=0.23")
 PARSE = ROOT / "tests" / "st" / "parse_st.py"
 HOSTILE = ROOT / "tests" / "maps" / "hostile" / "hostile.yaml"
 CONST = re.compile(r"^\s+([A-Z0-9_]+) : ([A-Z]+(?:\(\d+\))?) := (.+?);(?: \(\*.*\*\))?$", re.M)
@@ -38,24 +34,9 @@ ALL_MAPS = [*MAPS, *FIXTURE_MAPS]
 SPACE_TAG = {"holding": "", "input": "INPUT_", "coil": "COIL_", "discrete_input": "DISCRETE_"}
 
 
-def _fail_or_skip(message: str) -> None:
-    if os.environ.get("CI") == "true":
-        pytest.fail(message)
-    pytest.skip(message)
-
-
 @pytest.fixture(scope="session")
 def st_python() -> Path:
-    python = ST_VENV / "bin" / "python"
-    stamp = ST_VENV / ".installed"
-    if not stamp.exists() or stamp.read_text() != "\n".join(ST_TOOLS):
-        try:
-            subprocess.run([sys.executable, "-m", "venv", "--clear", str(ST_VENV)], check=True, capture_output=True, timeout=300)
-            subprocess.run([str(python), "-m", "pip", "install", "--quiet", *ST_TOOLS], check=True, capture_output=True, timeout=600)
-        except (subprocess.CalledProcessError, subprocess.TimeoutExpired) as exc:
-            _fail_or_skip(f"cannot install the ST parsers into {ST_VENV}: {exc}")
-        stamp.write_text("\n".join(ST_TOOLS))
-    return python
+    return built_tool("st")
 
 
 @pytest.fixture(scope="module")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -63,13 +64,31 @@ def load_all(paths: Sequence[str]) -> list[Device]:
     return devices
 
 
-def positive_float(text: str) -> float:
+def _positive(text: str, unit: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
-    if not value > 0 or value != value or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"{text} must be a positive number of seconds")
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of {unit}") from None
+    if not 0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text} must be a positive number of {unit}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    return _positive(text, "seconds")
+
+
+def requests_per_second(text: str) -> float:
+    return _positive(text, "requests per second")
+
+
+def seconds_or_zero(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 <= value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text} is not a number of seconds, 0 or more")
     return value
 
 
@@ -81,6 +100,20 @@ def count(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"{text} must be 0 or more")
     return value
+
+
+def positive_count(text: str) -> int:
+    value = count(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError(f"{text} must be 1 or more")
+    return value
+
+
+def baud_rate(text: str) -> int:
+    """A baud rate as mbpoll's -b takes it: decimal, positive (whether the map's drive talks at it: `tools.link.serial_line`)."""
+    if not (text.isascii() and text.isdigit()) or int(text) == 0:
+        raise argparse.ArgumentTypeError(f"{text} is not a baud rate (a positive whole number: 9600, 38400 ...)")
+    return int(text)
 
 
 def slave_id(text: str) -> int:
@@ -149,7 +182,7 @@ def add_link_options(p: argparse.ArgumentParser) -> None:
     bus = p.add_argument_group("bus settings")
     bus.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP connection (transparent serial servers)")
     bus.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
-    bus.add_argument("--baud", type=count, help="override the map's default baud rate")
+    bus.add_argument("--baud", type=baud_rate, help="override the map's default baud rate")
     bus.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity")
     bus.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
     bus.add_argument("--timeout", type=positive_float, default=1.0, help="seconds to wait for an answer (default 1)")

@@ -402,6 +402,11 @@ def find_command(device: Device, name: str) -> Any:
 
 def command_words(device: Device, name: str, argument: str | None, word_order: str | None = None) -> tuple[Any, list[int]]:
     command = find_command(device, name)
+    takes = command.argument
+    if takes is None and argument is not None:
+        raise UsageError(f"command {command.name} takes no argument, got {argument!r}")
+    if takes is not None and argument is None:
+        raise UsageError(f"command {command.name} needs an argument: {takes.name} ({takes.min}..{takes.max})")
     try:
         raw = command.raw_value(None if argument is None else parse_int(argument, command.name))
     except ValueError as exc:

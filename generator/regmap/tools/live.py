@@ -34,7 +34,7 @@ from regmap.tools.frames import (
     write_blocks,
     write_function,
 )
-from regmap.tools.link import Link
+from regmap.tools.link import Link, port_reason, serial_line
 from regmap.tools.selectors import Item, Registers, check_slave, say_notes, space_label
 from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
@@ -53,16 +53,15 @@ def _why_unreachable(link: Link, device: Device) -> str:
     if link.serial:
         import serial
 
-        t = device.transport
-        baud, parity, stop_bits = link.baud or t.baud, link.parity or t.parity, link.stop_bits or t.stop_bits
+        line = serial_line(device, link.serial, link.baud, link.parity, link.stop_bits)
         try:
-            serial.Serial(link.serial, baudrate=baud, parity=PARITY[parity], stopbits=stop_bits, bytesize=t.data_bits).close()
+            serial.Serial(
+                link.serial, baudrate=line.baud, parity=PARITY[line.parity], stopbits=line.stop_bits, bytesize=device.transport.data_bits
+            ).close()
         except (OSError, ValueError) as exc:  # the port itself: missing, busy, not a tty
-            return str(getattr(exc, "strerror", None) or exc).split(": ", 1)[-1]
+            return port_reason(exc)
         except Exception as exc:  # termios.error (no OSError): the port refuses the line settings
-            reason = str(exc.args[-1] if exc.args else exc)
-            hint = " (a pseudo-terminal may refuse parity: try --parity none)" if parity != "none" else ""
-            return f"the port refuses {baud} baud, {parity} parity, {stop_bits} stop bit(s): {reason}{hint}"
+            return line.refused(str(exc.args[-1] if exc.args else exc))
         return "the port opened, but the client could not use it"
     host, _, port = (link.tcp or "").rpartition(":")
     try:
@@ -74,6 +73,7 @@ def _why_unreachable(link: Link, device: Device) -> str:
 
 def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile | None = None) -> SyncClient:
     check_slave(device, link.slave, reading=reading)
+    serial_line(device, link.serial, link.baud, link.parity, link.stop_bits)
     client_class: type[SyncClient] = type(f"{device.id}_live", (SyncClient,), {"DEVICE": runtime_device(device)})
     if link.serial:
         client = client_class.rtu(
@@ -366,6 +366,14 @@ def _as_written(a: Assignment) -> Raw | None:
     return words_to_raw(a.spec, raw_to_words(a.spec, a.raw))
 
 
+def _written_value(device: Device, a: Assignment, order: str | None) -> DecodedValue:
+    """What a write sent, decoded as `read` shows a value (for a register that cannot be read back)."""
+    assert a.raw is not None
+    words = raw_to_words(a.spec.in_word_order(order), a.raw)
+    decoded = decode_words(device, a.register.address, words, word_order=order, space=a.register.space)
+    return next(v for v in decoded if v.register == a.register.name)
+
+
 def cmd_write(
     device: Device,
     link: Link,
@@ -421,7 +429,13 @@ def cmd_write(
         client.close()
     expected = {a.register.name: _as_written(a) for a in complete}
     mismatches = [v for v in result.values if v.register in expected and v.raw != expected[v.register]]
-    for value in result.values:
+    read_back = {v.register: v for v in result.values}
+    for a in complete:  # in the order given
+        value = read_back.get(a.register.name)
+        if value is None:
+            if not a.register.access.readable:
+                print(f"{show_value(_written_value(device, a, order))}  (written; write-only, not read back)")
+            continue
         print(
             f"{show_value(value)}  (verified)"
             if value not in mismatches
