@@ -21,6 +21,12 @@ VALUE_SYNTAX = (
     "field:value,field:value (function:path_address_0,normally_closed:1), optionally after a base word (0x00A8,function:ctrg)"
 )
 
+SELECTOR_SYNTAX = (
+    "SELECTOR is a register name, the manual's parameter id (Pr5.00, P05-02, 0302) or a register's 0-based protocol address "
+    "(0x0191, 0191h, 401; mbpoll's -r 402, Modicon's 40402 with --modicon); a plain decimal number right after a SELECTOR "
+    "is its COUNT: that many of the map's readable registers from it on (with --words: words), as mbpoll's -c"
+)
+
 
 def load_map(path: str | Path) -> Device:
     """The front end, imported when a command needs a map (so `--help` and argument errors stay fast)."""
@@ -146,6 +152,22 @@ def add_space(p: Any) -> None:
     p.add_argument("-t", "--space", metavar="SPACE", help=SPACE_HELP)
 
 
+MODICON_HELP = (
+    "decimal addresses are Modicon reference numbers, which name the space and count from 1: 0xxxx coils, 1xxxx discrete "
+    "inputs, 3xxxx input registers, 4xxxx holding registers (40402 and 400402 are holding register 401); hex ones stay addresses"
+)
+
+
+def add_addressing(p: Any, *, start: bool) -> None:
+    """--modicon, and where a command reads from a start: mbpoll's -r (1-based start reference) and -c (count)."""
+    if start:
+        p.add_argument("-r", dest="start", metavar="REF", help="mbpoll's -r: the start reference, counting from 1 (-r 402 is address 401)")
+        p.add_argument(
+            "-c", dest="count", metavar="N", help="mbpoll's -c: how many from the start (registers of the map; with --words, words)"
+        )
+    p.add_argument("--modicon", action="store_true", help=MODICON_HELP)
+
+
 def space_from(args: argparse.Namespace) -> str | None:
     """The data space -t/--space names (checked: a one-line error for a wrong one), or None."""
     from regmap.tools.selectors import parse_space
@@ -213,6 +235,14 @@ def add_profile(p: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="a device profile from `regmap probe --profile`: read with the limit and the gaps it proved (refused for another map)",
     )
+
+
+def add_read_options(p: argparse.ArgumentParser) -> None:
+    """What `read` and `dump` share: the space, mbpoll's -r/-c, --modicon, the output format, --profile."""
+    add_space(p)
+    add_addressing(p, start=True)
+    add_output(p)
+    add_profile(p)
 
 
 def profile_from(args: argparse.Namespace, device: Device) -> Any:

@@ -25,15 +25,17 @@ from regmap.runtime_bridge import documented_addresses, read_plan, runtime_devic
 from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
+    WordRead,
     command_words,
     parse_assignments,
     parse_word_writes,
+    word_reads,
     word_runs,
     write_blocks,
     write_function,
 )
 from regmap.tools.link import Link, port_reason, serial_line
-from regmap.tools.selectors import Registers, check_slave
+from regmap.tools.selectors import Item, Registers, check_slave, say_notes, space_label
 from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import RegmapError
@@ -257,13 +259,22 @@ def profiled_order(device: Device, client: SyncClient, link: Link, profile: Devi
 
 
 def cmd_read(
-    device: Device, link: Link, selectors: Sequence[str], output: str, profile: DeviceProfile | None = None, space: str | None = None
+    device: Device,
+    link: Link,
+    items: Sequence[Item],
+    output: str,
+    profile: DeviceProfile | None = None,
+    space: str | None = None,
+    *,
+    modicon: bool = False,
+    words: bool = False,
 ) -> int:
-    regs = Registers(device, space)
-    registers = [regs.resolve(s) for s in selectors]
-    for reg in registers:
-        if not reg.access.readable:
-            raise UsageError(f"{reg.label} is write-only")
+    """Read what the items name (parse_items: SELECTOR [COUNT] ..., as `frame read` builds it); with
+    `words`, COUNT words (bits) at each address, documented or not."""
+    if words:
+        return _read_words(device, link, word_reads(device, items, space, modicon=modicon), output, profile)
+    regs = Registers(device, space, modicon=modicon)
+    registers = regs.select(items)
     client = connect(device, link, reading=True, profile=profile)
     try:
         order = profiled_order(device, client, link, profile)
@@ -274,7 +285,52 @@ def cmd_read(
     finally:
         client.close()
     print_values(result.values, output)
+    say_notes("read", regs.notes)
     return finish(result, "read")
+
+
+def _read_words(device: Device, link: Link, reads: Sequence[WordRead], output: str, profile: DeviceProfile | None) -> int:
+    """`read --words`: one request per ADDR [COUNT], every word shown as it came (hex, unsigned, signed; bits 0/1)."""
+    client = connect(device, link, reading=True, profile=profile)
+    rows: list[dict[str, Any]] = []
+    error = None
+    try:
+        for read in reads:
+            try:
+                got = client.read_raw(read.address, read.count, space=read.space)
+            except RegmapError as exc:
+                error = f"{_bus(exc)} (0x{read.address:04X} x {read.count})"
+                break
+            rows += [{"space": read.space, "address": read.address + i, "word": int(w)} for i, w in enumerate(got)]
+    finally:
+        client.close()
+    print_words(rows, output)
+    say_notes("read", [r.note for r in reads if r.note])
+    if error is not None:
+        raise LinkError(f"the bus failed after {len(rows)} word(s) were read: {error}")
+    return ExitCode.OK
+
+
+def print_words(rows: Sequence[dict[str, Any]], output: str) -> None:
+    if output == "json":
+        out = [{"address": r["address"], "address_hex": f"0x{r['address']:04X}", "space": r["space"], "word": r["word"]} for r in rows]
+        json.dump(out, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    elif output == "csv":
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=["space", "address", "address_hex", "word"], lineterminator="\n")
+        writer.writeheader()
+        writer.writerows({**r, "address_hex": f"0x{r['address']:04X}"} for r in rows)
+        sys.stdout.write(buffer.getvalue())
+    else:
+        for r in rows:
+            word = r["word"]
+            shown = (
+                str(word)
+                if SPACES[r["space"]].bits
+                else f"0x{word:04X} = {word} unsigned, {word - 0x10000 if word & 0x8000 else word} signed"
+            )
+            print(f"{space_label(r['space'])} 0x{r['address']:04X} = {shown}")
 
 
 @dataclass
@@ -328,12 +384,14 @@ def cmd_write(
     replace: bool,
     words: bool,
     space: str | None = None,
+    modicon: bool = False,
 ) -> int:
     # Every value is parsed and checked (range, enum, fields, conflicts) before the port is opened.
-    word_space = space or DEFAULT_SPACE
-    word_writes = parse_word_writes(items, word_space) if words else []
+    word_writes = parse_word_writes(items, space, modicon=modicon) if words else []
+    word_space = word_writes[0].space if word_writes else DEFAULT_SPACE
     runs = word_runs(device, word_writes) if words else []
-    assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space)
+    assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
+    say_notes("write", [n for n in (*(w.located for w in word_writes), *(a.located for a in assignments)) if n])
     client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
     unit = "bit" if word_space != DEFAULT_SPACE and SPACES[word_space].bits else "word"
@@ -408,8 +466,11 @@ def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> 
     return ExitCode.OK
 
 
-def cmd_dump(device: Device, link: Link, output: str, profile: DeviceProfile | None = None) -> int:
-    registers = [r for r in device.registers if r.access.readable]
+def cmd_dump(
+    device: Device, link: Link, output: str, profile: DeviceProfile | None = None, chosen: Sequence[Register] | None = None
+) -> int:
+    """Every readable register (or the `chosen` ones: -t, -r/-c) with the read plan."""
+    registers = [r for r in device.registers if r.access.readable] if chosen is None else list(chosen)
     client = connect(device, link, reading=True, profile=profile)
     progress = _progress_bar if sys.stderr.isatty() else None
     try:
