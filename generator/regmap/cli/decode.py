@@ -42,41 +42,45 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
-def _capture_lines(name: str) -> list[str]:
+def _capture_bytes(name: str) -> bytes:
     try:
         if name == "-":
-            return sys.stdin.read().splitlines()
-        with open(name, encoding="utf-8") as handle:
-            return handle.read().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise UsageError(f"cannot read {name}: {exc}") from None
+            return sys.stdin.buffer.read()
+        with open(name, "rb") as handle:
+            return handle.read()
+    except OSError as exc:
+        raise UsageError(f"cannot read {name}: {exc.strerror or exc}") from None
 
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import decode
-    from regmap_runtime.rtu import FrameError, parse_frame, parse_hex
+    from regmap_runtime.rtu import FrameError, parse_hex
 
     device = load_map(args.map)
-    errors: list[str] = []
+    entries: list[decode.Decoded | decode.CaptureError]
     if args.file:
         if args.hex:
             raise UsageError("give HEX or --file, not both")
-        result = decode.decode_capture(device, _capture_lines(args.file), args.file, word_order=args.word_order)
-        decoded, errors = result.frames, result.errors
+        lines = decode.capture_lines(_capture_bytes(args.file), args.file)
+        result = decode.decode_capture(device, lines, args.file, word_order=args.word_order)
+        entries, decoded, errors = result.entries(), result.frames, result.errors
     else:
         if not args.hex:
             raise UsageError("give the frame as HEX (one argument or several) or --file CAPTURE")
         try:
             frame = parse_hex(" ".join(args.hex))
-            request = parse_frame(parse_hex(args.request), "request") if args.request else None
+            request = parse_hex(args.request) if args.request else None
         except FrameError as exc:
             raise UsageError(str(exc)) from None
-        direction = "response" if request is not None else args.direction
-        decoded = [decode.decode_frame(device, frame, direction=direction, request=request, word_order=args.word_order)]
+        if request is not None:
+            one = decode.decode_answer(device, frame, request, word_order=args.word_order)
+        else:
+            one = decode.decode_frame(device, frame, direction=args.direction, word_order=args.word_order)
+        entries, decoded, errors = [one], [one], []
     if args.json:
-        json.dump([d.as_json() for d in decoded], sys.stdout, ensure_ascii=False, indent=2)
+        json.dump([entry.as_json() for entry in entries], sys.stdout, ensure_ascii=False, indent=2)
         sys.stdout.write("\n")
-    else:
+    elif decoded:
         print("\n".join(decode.render_text(d) for d in decoded))
     for error in errors:
         print(f"regmap decode: {error}", file=sys.stderr)
