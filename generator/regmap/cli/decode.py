@@ -21,13 +21,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "frame is read in its function's data space (0x03 holding, 0x04 input registers, 0x01/0x05/0x0F coils, 0x02 "
             "discrete inputs: bit by bit, the padding of a response checked); floats, 64-bit values and text by the map's types.\n"
             "A capture (--file, - for stdin) has one frame per line, optionally after a timestamp and a TX/RX tag "
-            "(`12:00:00.001 TX: 01 03 ...`, `[2024-05-01 12:00:00.001] RX:`, `TX> ...`); # starts a comment; a response pairs with "
-            "the request before it. Exit status 3 when a frame has a CRC mismatch or another problem, or a line is not a frame."
+            "(`12:00:00.001 TX: 01 03 ...`, `[2024-05-01 12:00:00.001] RX:`, `TX> ...`), or mbpoll -v's `[01][03]...` (sent) and "
+            "`<01><03>...` (received); # starts a comment; a response pairs with the request before it. UTF-8 or UTF-16 with a BOM; "
+            "a binary file is refused.\n"
+            "Exit status 3 when a frame (or its --request) has a CRC mismatch or another problem, a line is not a frame, or a "
+            "capture holds no frame; --json then lists the bad lines with an error member."
         ),
         epilog=examples(
             'regmap decode maps/idm_rs.yaml 01 03 02 00 16 39 8A --request "01 03 01 91 00 01 D4 1B"',
-            "regmap decode maps/idm_rs.yaml --file capture.log --json",
-            "cat capture.log | regmap decode maps/c630s.yaml --file -",
+            "regmap decode maps/idm_rs.yaml --file examples/capture.log --json",
+            "cat examples/capture.log | regmap decode maps/idm_rs.yaml --file -",
             'regmap decode tests/maps/fixtures/remote_io.yaml 01 01 03 CD 6B 05 42 82 --request "01 01 00 13 00 13 8C 02"',
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
