@@ -7,10 +7,13 @@ that order, in what the command prints (stdout, then stderr); one ending in `...
 `# exit status N` says the command exits N (otherwise it must exit 0). A `#` line after a blank line
 is prose. Durations (`9.8 s`) are not compared.
 
-A live command (`--serial DEVICE` or `--tcp HOST:PORT`) talks to a simulator: the block's own
-`regmap simulate ... &` line if it has one, else one the test starts for the command's map. Its
-address replaces the README's in the command and in the expected output, nothing else. `make X`
-lines are checked with `make -n X`. The lines in NOT_RUN are not run, each for the reason given.
+A line that names a drive (`--tcp HOST:PORT`, or a serial device `/dev/tty...` for regmap or mbpoll)
+talks to a simulator there: the block's own `regmap simulate ... &` line for that address, else one
+the test starts for the block's map (on loopback TCP, or on a socat pseudo-terminal pair for a serial
+device). The simulator's address replaces the README's in the line and in its expected output,
+nothing else. `make X` lines are checked with `make -n X`. Another program than regmap and make must
+be installed (skipped without it, except under CI=true). The lines in NOT_RUN are not run, each for
+the reason given.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import GENERATED, ROOT, RunningSimulator, free_port, generated_runtime_name, mypy_strict, require_tool, wait_for
+from conftest import GENERATED, ROOT, free_port, generated_runtime_name, mypy_strict, require_tool, wait_for
 
 README_PATH = ROOT / "README.md"
 README = README_PATH.read_text(encoding="utf-8")
@@ -41,7 +44,7 @@ NOT_RUN = {
     ),
 }
 # A simulated drive answers on loopback; the README's devices and hosts are replaced by it.
-LIVE_ADDRESS = re.compile(r"--(?:serial|tcp)\s+(\S+)")
+LIVE_ADDRESS = re.compile(r"--tcp\s+(\S+)|(/dev/tty[\w.-]+)")
 DURATION = re.compile(r"\b\d+(?:\.\d+)? s\b")
 EXIT_STATUS = re.compile(r"^exit status (\d+)$")
 COMMAND_TIMEOUT_S = 300
@@ -98,7 +101,8 @@ def not_run(command: Command) -> str | None:
 
 
 def normalized(line: str) -> str:
-    return DURATION.sub("<duration> s", line.strip())
+    """A line as compared: runs of blanks are one space (mbpoll prints tabs), durations any."""
+    return DURATION.sub("<duration> s", " ".join(line.split()))
 
 
 def assert_prints(command: Command, result: subprocess.CompletedProcess[str]) -> None:
@@ -138,45 +142,67 @@ def scratch(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return root
 
 
-def shell(command: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
-    return subprocess.run(["bash", "-c", command], cwd=cwd, env=env, capture_output=True, text=True, check=False, timeout=COMMAND_TIMEOUT_S)
-
-
 class Simulators:
-    """The simulators one block talks to; stopped when the block ends."""
+    """The simulated drives one block talks to, by the address the README gives them; stopped when the
+    block ends. A serial device is one end of a socat pseudo-terminal pair, the simulator on the other."""
 
-    def __init__(self, cwd: Path) -> None:
+    def __init__(self, cwd: Path, scratch_dir: Path) -> None:
         self.cwd = cwd
-        self.running: list[RunningSimulator] = []
-        self.address: str | None = None  # the block's own `regmap simulate ... &`
+        self.scratch_dir = scratch_dir
+        self.addresses: dict[str, str] = {}  # the README's address -> the simulator's
+        self.processes: list[subprocess.Popen[bytes]] = []
 
-    def start(self, argv: list[str]) -> str:
-        port = free_port()
-        argv = [*argv, "--tcp", f"127.0.0.1:{port}"]
-        env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
-        process = subprocess.Popen(argv, cwd=self.cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        sim = RunningSimulator(process, port)
-        self.running.append(sim)
-        wait_for(lambda: _answers(port) or process.poll() is not None, 20, f"{shlex.join(argv)} to listen")
-        assert process.poll() is None, f"{shlex.join(argv)} exited: {sim.stop()}"
-        return f"127.0.0.1:{port}"
+    def start(self, readme_address: str, simulate_argv: list[str]) -> None:
+        """Start `regmap simulate` (its arguments without an address) where `readme_address` points."""
+        number = len(self.processes)
+        log = self.scratch_dir / f"simulator-{number}.log"
+        if readme_address.startswith("/dev/"):
+            socat = require_tool("socat")
+            sim_end, client_end = self.scratch_dir / f"pty-{number}-sim", self.scratch_dir / f"pty-{number}-client"
+            pair = [f"pty,raw,echo=0,link={sim_end}", f"pty,raw,echo=0,link={client_end}"]
+            self.processes.append(subprocess.Popen([socat, *pair], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            wait_for(lambda: sim_end.exists() and client_end.exists(), 10, "socat's pseudo-terminals")
+            argv, actual = [*simulate_argv, "--serial", str(sim_end)], str(client_end)
+        else:
+            port = free_port()
+            argv, actual = [*simulate_argv, "--tcp", f"127.0.0.1:{port}"], f"127.0.0.1:{port}"
+        with log.open("wb") as output:
+            process = subprocess.Popen(argv, cwd=self.cwd, env=with_venv(), stdout=output, stderr=subprocess.STDOUT)
+        self.processes.append(process)
+        # It prints its "on ADDRESS ...; Ctrl-C stops" line once it serves.
+        wait_for(lambda: "Ctrl-C stops" in log.read_text(errors="replace") or process.poll() is not None, 20, f"{shlex.join(argv)}")
+        assert process.poll() is None, f"{shlex.join(argv)} exited: {log.read_text(errors='replace')}"
+        self.addresses[readme_address] = actual
 
     def stop(self) -> None:
-        for sim in self.running:
-            sim.stop()
+        for process in reversed(self.processes):
+            process.terminate()
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
 
 
-def _answers(port: int) -> bool:
-    import socket
+def with_venv() -> dict[str, str]:
+    return {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
 
-    with socket.socket() as sock:
-        sock.settimeout(0.2)
-        return sock.connect_ex(("127.0.0.1", port)) == 0
+
+def shell(command: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    result = subprocess.run(["bash", "-c", command], cwd=cwd, env=with_venv(), capture_output=True, check=False, timeout=COMMAND_TIMEOUT_S)
+    # `--out -` may print a binary file: shown, not decoded
+    return subprocess.CompletedProcess(
+        result.args, result.returncode, result.stdout.decode(errors="replace"), result.stderr.decode(errors="replace")
+    )
+
+
+def addresses(text: str) -> list[str]:
+    """The drives a line talks to: `--tcp HOST:PORT` and serial devices, as the README writes them."""
+    return [m.group(1) or m.group(2) for m in LIVE_ADDRESS.finditer(text)]
 
 
 def without_address(argv: list[str]) -> list[str]:
-    """A `regmap simulate` line's arguments without its --tcp/--serial (the test picks the port) and `&`."""
+    """A `regmap simulate ... &` line's arguments without its --tcp/--serial (the test picks them) and `&`."""
     out: list[str] = []
     skip = False
     for arg in argv:
@@ -189,37 +215,36 @@ def without_address(argv: list[str]) -> list[str]:
     return out
 
 
-def run_block(block: Block, cwd: Path) -> Iterator[int]:
-    """Run a block's lines; yields the README line numbers it ran (for the count)."""
-    simulators = Simulators(cwd)
+def run_block(block: Block, cwd: Path, scratch_dir: Path) -> Iterator[int]:
+    """Run a block's lines in order; yields the README line of each one run."""
+    simulators = Simulators(cwd, scratch_dir)
+    the_map: str | None = None  # the map of the block's latest regmap line: the drive a map-less line (mbpoll) talks to
     try:
         for command in block.commands:
             if not_run(command) is not None:
                 continue
-            if command.text.startswith("make"):
-                argv = shlex.split(command.text.split(" #", 1)[0])
-                result = subprocess.run(
-                    ["make", "-n", *argv[1:]], cwd=ROOT, capture_output=True, text=True, check=False, timeout=COMMAND_TIMEOUT_S
-                )
+            words = shlex.split(command.text, comments=True)
+            if words[0] == "make":
+                result = subprocess.run(["make", "-n", *words[1:]], cwd=ROOT, capture_output=True, text=True, check=False)
                 assert result.returncode == 0, f"README.md:{command.line}: make -n has no such target: {result.stderr}"
                 yield command.line
                 continue
-            words = shlex.split(command.text, comments=True)
+            if words[0] != "regmap":
+                require_tool(words[0])
+            the_map = next((w for w in words if w.endswith(".yaml")), the_map)
             if words[:2] == ["regmap", "simulate"] and words[-1] == "&":
-                simulators.address = simulators.start([str(BIN / "regmap"), *without_address(words[1:])])
+                [readme_address] = addresses(command.text)
+                simulators.start(readme_address, [str(BIN / "regmap"), *without_address(words[1:])])
                 yield command.line
                 continue
-            text = command.text
-            expected = command.expected
-            live = LIVE_ADDRESS.search(text)
-            if live is not None:
-                address = simulators.address
-                if address is None:  # a drive of the command's own map, as the factory ships it
-                    the_map = next(w for w in words if w.endswith(".yaml"))
-                    address = simulators.start([str(BIN / "regmap"), "simulate", the_map])
-                readme_address = live.group(1)
-                text = LIVE_ADDRESS.sub(f"--tcp {address}", text)
-                expected = [e.replace(readme_address, address) for e in expected]
+            text, expected = command.text, command.expected
+            for readme_address in addresses(command.text):
+                if readme_address not in simulators.addresses:  # a drive of the map as the factory ships it
+                    assert the_map is not None, f"README.md:{command.line}: no map in the block says which drive {readme_address} is"
+                    simulators.start(readme_address, [str(BIN / "regmap"), "simulate", the_map])
+                actual = simulators.addresses[readme_address]
+                text = text.replace(readme_address, actual)
+                expected = [e.replace(readme_address, actual) for e in expected]
             assert_prints(Command(text, command.line, expected), shell(text, cwd))
             yield command.line
     finally:
@@ -239,8 +264,8 @@ def test_the_readme_has_command_blocks_and_outputs() -> None:
 
 
 @pytest.mark.parametrize("block", BLOCKS, ids=[f"line{b.line}" for b in BLOCKS])
-def test_every_command_line_prints_what_the_readme_says(block: Block, scratch: Path) -> None:
-    ran = list(run_block(block, scratch))
+def test_every_command_line_prints_what_the_readme_says(block: Block, scratch: Path, tmp_path: Path) -> None:
+    ran = list(run_block(block, scratch, tmp_path))
     assert len(ran) == len([c for c in block.commands if not_run(c) is None])
 
 
@@ -253,6 +278,22 @@ def test_a_changed_output_line_fails() -> None:
     assert_prints(command, result)
     with pytest.raises(AssertionError, match=rf"README.md:{command.line}: .* prints no line '01 06 01 91 00 0F 99 DE'"):
         assert_prints(edited, result)
+
+
+def test_a_serial_line_of_another_program_talks_to_the_same_drive(tmp_path: Path) -> None:
+    """Lines added later (mbpoll beside regmap) run the same way: one simulated drive per device name."""
+    require_tool("mbpoll")
+    [block] = sh_blocks(
+        "```sh\n"
+        "regmap write maps/idm_rs.yaml Pr5.00=1.5 --serial /dev/ttyUSB0\n"
+        "mbpoll -m rtu -a 1 -b 19200 -P even -r 402 -c 1 -1 /dev/ttyUSB0   # mbpoll counts from 1\n"
+        "# [402]: 15\n"
+        "```\n"
+    )
+    assert list(run_block(block, ROOT, tmp_path)) == [2, 3]
+    block.commands[1].expected = ["[402]: 22"]
+    with pytest.raises(AssertionError, match="README.md:3: mbpoll .* prints no line '\\[402\\]: 22'"):
+        list(run_block(block, ROOT, tmp_path))
 
 
 def _block(language: str, contains: str) -> str:
