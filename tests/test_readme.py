@@ -292,7 +292,7 @@ def test_a_serial_line_of_another_program_talks_to_the_same_drive(tmp_path: Path
     )
     assert list(run_block(block, ROOT, tmp_path)) == [2, 3]
     block.commands[1].expected = ["[402]: 22"]
-    with pytest.raises(AssertionError, match="README.md:3: mbpoll .* prints no line '\\[402\\]: 22'"):
+    with pytest.raises(AssertionError, match=r"README\.md:3: mbpoll .* prints no line '\[402\]: 22'"):
         list(run_block(block, ROOT, tmp_path))
 
 
