@@ -30,7 +30,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import GENERATED, ROOT, free_port, generated_runtime_name, mypy_strict, require_tool, wait_for
+from conftest import GENERATED, GENERATED_PY, ROOT, SimulatorFactory, free_port, generated_runtime_name, mypy_strict, require_tool, wait_for
 
 README_PATH = ROOT / "README.md"
 README = README_PATH.read_text(encoding="utf-8")
@@ -330,6 +330,41 @@ def test_python_examples_type_check(code: str, tmp_path: Path) -> None:
     program.write_text(code.replace('sys.path.insert(0, "generated/python")', "pass"), encoding="utf-8")
     result = mypy_strict(str(program))
     assert result.returncode == 0, result.stdout
+
+
+def test_the_profile_example_plans_with_what_the_probe_proved(simulator: SimulatorFactory, tmp_path: Path) -> None:
+    """The README's load_profile example, run against the drive its probe example describes (with the
+    profile that probe wrote): it reads the registers it says in the requests it says."""
+    [code] = [c for c in PYTHON_BLOCKS if "load_profile" in c]
+    claim = re.search(r"# (\d+) registers in (\d+) requests", code)
+    assert claim is not None, "the profile example says how many registers and requests"
+    registers, requests = (int(n) for n in claim.groups())
+    drive_options = ("--max-read", "20", "--answer-gaps")
+    profile = tmp_path / "drive.json"
+    probed = simulator(ROOT / "maps" / "idm_rs.yaml", *drive_options)
+    probe = shell(f"regmap probe maps/idm_rs.yaml --tcp 127.0.0.1:{probed.port} --profile {profile}", ROOT)
+    assert probe.returncode == 8, probe.stdout + probe.stderr  # it disagrees with the map, as the README shows
+    log = tmp_path / "bus.log"
+    drive = simulator(ROOT / "maps" / "idm_rs.yaml", *drive_options, "--log", str(log))
+    program = tmp_path / "profile_example.py"
+    program.write_text(
+        code.replace('"generated/python"', repr(str(GENERATED_PY)))
+        .replace('"127.0.0.1", 5020', f'"127.0.0.1", {drive.port}')
+        .replace('"drive.json"', repr(str(profile))),
+        encoding="utf-8",
+    )
+    result = subprocess.run([sys.executable, str(program)], capture_output=True, text=True, check=False, timeout=COMMAND_TIMEOUT_S)
+    assert (result.returncode, result.stdout.strip()) == (0, str(registers)), result.stderr
+    # The simulator logs a request once it has answered it: wait for the last one, then count.
+    wait_for(lambda: _requests(log) >= requests, 10, f"{requests} requests in the simulator's log")
+    assert _requests(log) == requests
+
+
+def _requests(log: Path) -> int:
+    """Requests in a simulator's --log: one line each that starts with its time."""
+    if not log.exists():
+        return 0
+    return sum(1 for line in log.read_text(encoding="utf-8").splitlines() if line[:1].isdigit())
 
 
 def test_map_table_matches_the_maps() -> None:
