@@ -109,3 +109,13 @@ def test_mbpoll_verbose_frames_decode_as_request_and_answer() -> None:
     assert result.returncode == ExitCode.OK, result.stderr
     assert "(request), CRC D4 1B ok" in result.stdout
     assert "0x0191 Pr5.00 peak_current = 2.2 A (raw 22)" in result.stdout
+
+
+def test_a_request_beside_a_capture_is_refused_not_ignored(tmp_path: Path) -> None:
+    capture = tmp_path / "bus.log"
+    capture.write_text(f"RX {PEAK_CURRENT_IS_2_2_A}\n", encoding="utf-8")
+    result = regmap("decode", IDM, "--file", str(capture), "--request", READ_PEAK_CURRENT)
+    assert (result.returncode, result.stdout) == (ExitCode.USAGE, "")
+    assert result.stderr == (
+        "regmap decode: error: --request goes with one HEX frame; a capture pairs each response with the request before it\n"
+    )

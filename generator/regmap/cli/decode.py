@@ -64,6 +64,8 @@ def run(args: argparse.Namespace) -> int:
     if args.file:
         if args.hex:
             raise UsageError("give HEX or --file, not both")
+        if args.request:
+            raise UsageError("--request goes with one HEX frame; a capture pairs each response with the request before it")
         lines = decode.capture_lines(_capture_bytes(args.file), args.file)
         result = decode.decode_capture(device, lines, args.file, word_order=args.word_order)
         entries, decoded, errors = result.entries(), result.frames, result.errors
