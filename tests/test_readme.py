@@ -30,7 +30,18 @@ from pathlib import Path
 
 import pytest
 
-from conftest import GENERATED, GENERATED_PY, ROOT, SimulatorFactory, free_port, generated_runtime_name, mypy_strict, require_tool, wait_for
+from conftest import (
+    GENERATED,
+    GENERATED_PY,
+    ROOT,
+    RunningSimulator,
+    SimulatorFactory,
+    free_port,
+    generated_runtime_name,
+    mypy_strict,
+    require_tool,
+    wait_for,
+)
 
 README_PATH = ROOT / "README.md"
 README = README_PATH.read_text(encoding="utf-8")
@@ -150,38 +161,34 @@ class Simulators:
         self.cwd = cwd
         self.scratch_dir = scratch_dir
         self.addresses: dict[str, str] = {}  # the README's address -> the simulator's
-        self.processes: list[subprocess.Popen[bytes]] = []
+        self.running: list[RunningSimulator] = []  # and the socat pairs they serve on (stopped the same way)
 
     def start(self, readme_address: str, simulate_argv: list[str]) -> None:
         """Start `regmap simulate` (its arguments without an address) where `readme_address` points."""
-        number = len(self.processes)
+        number = len(self.running)
         log = self.scratch_dir / f"simulator-{number}.log"
         if readme_address.startswith("/dev/"):
             socat = require_tool("socat")
             sim_end, client_end = self.scratch_dir / f"pty-{number}-sim", self.scratch_dir / f"pty-{number}-client"
             pair = [f"pty,raw,echo=0,link={sim_end}", f"pty,raw,echo=0,link={client_end}"]
-            self.processes.append(subprocess.Popen([socat, *pair], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            pty_pair = subprocess.Popen([socat, *pair], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, text=True)
+            self.running.append(RunningSimulator(pty_pair))
             wait_for(lambda: sim_end.exists() and client_end.exists(), 10, "socat's pseudo-terminals")
             argv, actual = [*simulate_argv, "--serial", str(sim_end)], str(client_end)
         else:
             port = free_port()
             argv, actual = [*simulate_argv, "--tcp", f"127.0.0.1:{port}"], f"127.0.0.1:{port}"
         with log.open("wb") as output:
-            process = subprocess.Popen(argv, cwd=self.cwd, env=with_venv(), stdout=output, stderr=subprocess.STDOUT)
-        self.processes.append(process)
+            process = subprocess.Popen(argv, cwd=self.cwd, env=with_venv(), stdout=output, stderr=subprocess.STDOUT, text=True)
+        self.running.append(RunningSimulator(process))
         # It prints its "on ADDRESS ...; Ctrl-C stops" line once it serves.
         wait_for(lambda: "Ctrl-C stops" in log.read_text(errors="replace") or process.poll() is not None, 20, f"{shlex.join(argv)}")
         assert process.poll() is None, f"{shlex.join(argv)} exited: {log.read_text(errors='replace')}"
         self.addresses[readme_address] = actual
 
     def stop(self) -> None:
-        for process in reversed(self.processes):
-            process.terminate()
-            try:
-                process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        for running in reversed(self.running):  # each simulator before its pty pair
+            running.stop()
 
 
 def with_venv() -> dict[str, str]:
