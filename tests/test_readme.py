@@ -332,7 +332,9 @@ def test_python_examples_type_check(code: str, tmp_path: Path) -> None:
     """Each Python example that imports from generated/python type-checks there, the runtime copy's
     versioned name included (generated/python/regmap_runtime_<digest>)."""
     for name in re.findall(r"\b(regmap_runtime_\w+)", code):
-        assert name == generated_runtime_name(), f"the README imports {name}; generated/python holds {generated_runtime_name()}"
+        assert name == generated_runtime_name(), (
+            f"the README imports {name}; generated/python holds {generated_runtime_name()}: write that name in README.md"
+        )
     program = tmp_path / "readme_example.py"
     program.write_text(code.replace('sys.path.insert(0, "generated/python")', "pass"), encoding="utf-8")
     result = mypy_strict(str(program))
