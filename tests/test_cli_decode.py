@@ -119,3 +119,19 @@ def test_a_request_beside_a_capture_is_refused_not_ignored(tmp_path: Path) -> No
     assert result.stderr == (
         "regmap decode: error: --request goes with one HEX frame; a capture pairs each response with the request before it\n"
     )
+
+
+def test_pymodbus_frame_logging_decodes() -> None:
+    # pymodbus 3.16 at DEBUG (pymodbus_apply_logging_config) against `regmap simulate`: its frame log
+    # (`send:`, and `recv: ... extra data:` as 2.x spelled it in capitals) and what it received (`Processing:`).
+    capture = (
+        b"2026-12-02 00:57:34,880 DEBUG logging:103 send: 0x1 0x3 0x1 0x91 0x0 0x1 0xd4 0x1b\n"
+        b"2026-12-02 00:57:34,887 DEBUG base:76 Processing: 0x1 0x3 0x2 0x0 0x16 0x39 0x8a\n"
+        b"DEBUG:pymodbus.logging:SEND: 0x1 0x3 0x1 0x91 0x0 0x1 0xd4 0x1b\n"
+        b"DEBUG:pymodbus.logging:RECV: 0x1 0x3 0x2 0x0 0x16 0x39 0x8a extra data: \n"
+    )
+    result = regmap("decode", IDM, "--file", "-", "--json", stdin=capture)
+    assert result.returncode == ExitCode.OK, result.stderr
+    entries = json.loads(result.stdout)
+    assert [(e["hex"], e["direction"]) for e in entries] == [(READ_PEAK_CURRENT, "request"), (PEAK_CURRENT_IS_2_2_A, "response")] * 2
+    assert [[v["value"] for v in e["values"]] for e in entries[1::2]] == [[2.2], [2.2]]

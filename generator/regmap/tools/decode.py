@@ -505,6 +505,10 @@ _TIMESTAMP = re.compile(
 )
 _LIBMODBUS = re.compile(r"^(?:(?:\[[0-9A-Fa-f]{2}\])+|(?:<[0-9A-Fa-f]{2}>)+)$")
 _TAG = re.compile(r"^(tx|rx|->|<-|>|<)\s*[:>]?\s*", re.I)
+# pymodbus's frame logging, after its log prefix: `send: 0x1 0x3 0x1 0x91 ...`, `recv: 0x1 0x3 ... extra data: `
+# (2.x: SEND:/RECV:), and `Processing: 0x1 0x3 ...` for the bytes it received (a response on a client).
+_PYMODBUS = re.compile(r"\b(send|recv|processing):\s*((?:0x[0-9a-f]{1,2}\b\s*)+)", re.I)
+_PYMODBUS_DIRECTIONS = {"send": "request", "recv": "response", "processing": None}
 
 
 @dataclass(frozen=True)
@@ -575,6 +579,9 @@ def split_capture_line(line: str) -> tuple[str | None, str]:
     if libmodbus is not None:  # libmodbus's debug output (mbpoll -v): [01][03]... sent, <01><03>... received
         direction = "request" if text.startswith("[") else "response"
         return direction, " ".join(re.findall(r"[0-9A-Fa-f]{2}", text))
+    pymodbus = _PYMODBUS.search(text)
+    if pymodbus is not None:
+        return _PYMODBUS_DIRECTIONS[pymodbus.group(1).lower()], " ".join(f"{int(t, 16):02X}" for t in pymodbus.group(2).split())
     text = _TIMESTAMP.sub("", text, count=1)
     match = _TAG.match(text)
     if match is None:
