@@ -575,8 +575,7 @@ def capture_lines(data: bytes, source: str) -> list[CaptureLine]:
 def split_capture_line(line: str) -> tuple[str | None, str]:
     """(direction or None, the hex text) of one capture line, without timestamp and comment."""
     text = line.split("#", 1)[0].strip()
-    libmodbus = _LIBMODBUS.match(text)
-    if libmodbus is not None:  # libmodbus's debug output (mbpoll -v): [01][03]... sent, <01><03>... received
+    if _LIBMODBUS.match(text):  # libmodbus's debug output (mbpoll -v): [01][03]... sent, <01><03>... received
         direction = "request" if text.startswith("[") else "response"
         return direction, " ".join(re.findall(r"[0-9A-Fa-f]{2}", text))
     pymodbus = _PYMODBUS.search(text)
@@ -592,7 +591,8 @@ def split_capture_line(line: str) -> tuple[str | None, str]:
 def decode_capture(device: Device, lines: Sequence[CaptureLine], source: str, *, word_order: str | None = None) -> CaptureResult:
     """Decode a log of frames, one per line, pairing each response with the request before it.
 
-    A line may start with a timestamp and a direction tag (TX/RX, TX>, > or <); `#` starts a comment.
+    A line may start with a timestamp and a direction tag (TX/RX, TX>, > or <), or be a frame line of
+    mbpoll -v or of pymodbus's log; `#` starts a comment.
     A line that is not a frame is reported with its number and the rest is still decoded; a capture
     without a single frame is reported too.
     """
