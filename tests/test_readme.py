@@ -49,10 +49,6 @@ BIN = Path(sys.executable).parent  # the venv whose `regmap` the README's lines 
 
 NOT_RUN = {
     r"\. \.venv/bin/activate": "the lines run .venv's regmap from PATH already",
-    r"regmap import \S+ --into maps/acme_x1\.yaml.*": (
-        "fails today: `import --into` the skeleton `regmap new` just wrote refuses its own update as a YAML syntax error "
-        "(maps/acme_x1.yaml:54:5: expected <block end>, but found '-') and writes nothing; run it once import is fixed"
-    ),
 }
 # A simulated drive answers on loopback; the README's devices and hosts are replaced by it.
 LIVE_ADDRESS = re.compile(r"--tcp\s+(\S+)|(/dev/tty[\w.-]+)")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+import re
 import shutil
 import subprocess
 import sys
@@ -545,3 +546,25 @@ def test_byte_orders_as_tables_print_them(text: str, value: tuple[str | None, st
 def test_unknown_spaces_are_reported(text: str) -> None:
     with pytest.raises(CellProblem):
         cells.space(text)
+
+
+NEW_REGISTER_TABLE = "Address,Name,Title,Range,Access\n0xFE00,added_setting,Added setting,0~100,RW\n"
+
+
+@pytest.mark.parametrize("path", [*MAPS, "groups at column 0"], ids=lambda p: p if isinstance(p, str) else p.name)
+def test_a_new_register_goes_into_an_existing_map(tmp_path: Path, path: Path | str) -> None:
+    """The appended group is indented as the map's own groups are, wherever their dashes stand."""
+    target = tmp_path / "device.yaml"
+    if isinstance(path, Path):
+        target.write_text(path.read_text(encoding="utf-8"), encoding="utf-8")
+    else:
+        text = (ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml").read_text(encoding="utf-8")
+        flush_left = re.sub(r"(?m)^  ", "", text[text.index("groups:") :])
+        target.write_text(text[: text.index("groups:")] + flush_left, encoding="utf-8")
+        assert "\n- id:" in target.read_text(encoding="utf-8")
+    table = tmp_path / "new.csv"
+    table.write_text(NEW_REGISTER_TABLE, encoding="utf-8")
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == ExitCode.OK, run.stderr
+    added = next(r for r in load_map(target).registers if r.name == "added_setting")
+    assert (added.address, added.min, added.max) == (0xFE00, 0, 100)
