@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from regmap.model import Bitfield, Device, EnumType, FirmwareGate, Register
+from regmap.model import Bitfield, Device, EnumType, Example, FirmwareGate, Register, Transport
 
 
 def _scale(scale: Fraction) -> int | float:
@@ -82,60 +83,88 @@ def register_json(r: Register) -> dict[str, Any]:
     }
 
 
-def export_json(device: Device) -> dict[str, Any]:
-    info, t = device.info, device.transport
+def _transport_json(t: Transport) -> dict[str, Any]:
     return {
-        "device": {
-            "id": info.id,
-            "vendor": info.vendor,
-            "vendor_zh": info.vendor_zh,
-            "model": info.model,
-            "description": info.description,
-            "manual": {
-                "title": info.manual_title,
-                "version": info.manual_version,
-                "file": info.manual_file,
-                "language": info.manual_language,
-            },
-            "firmware": info.firmware,
-            "map_version": info.map_version,
-            "fingerprint": device.fingerprint,
-            "transport": {
-                "baud": t.baud,
-                "baud_rates": list(t.baud_rates),
-                "parity": t.parity,
-                "data_bits": t.data_bits,
-                "stop_bits": t.stop_bits,
-                "slave_ids": {"min": t.slave_min, "max": t.slave_max},
-                "broadcast_id": t.broadcast_id,
-                "function_codes": list(t.function_codes),
-                "max_read_registers": t.max_read_registers,
-                "max_write_registers": t.max_write_registers,
-                "max_message_bytes": t.max_message_bytes,
-                "word_order": t.word_order.value,
-                "word_order_register": None
-                if t.word_order_register is None
-                else {
-                    "register": t.word_order_register.register.name,
-                    "high_first": t.word_order_register.high_first,
-                    "low_first": t.word_order_register.low_first,
-                },
-                "crc_byte_order": t.crc_byte_order,
-                "undocumented_addresses": t.undocumented_addresses,
-                "response_delay_ms": t.response_delay_ms,
-                "exceptions": [{"code": e.code, "name": e.name, "title": e.title, "title_zh": e.title_zh} for e in t.exceptions],
-                "byte_order": t.byte_order.value,
-                "max_read_coils": t.max_read_coils,
-                "max_write_coils": t.max_write_coils,
-            },
-            "firmware_register": None
-            if info.firmware_register is None
-            else {
-                "register": info.firmware_register.register.name,
-                "format": info.firmware_register.format,
-                "decimals": info.firmware_register.decimals,
-            },
+        "baud": t.baud,
+        "baud_rates": list(t.baud_rates),
+        "parity": t.parity,
+        "data_bits": t.data_bits,
+        "stop_bits": t.stop_bits,
+        "slave_ids": {"min": t.slave_min, "max": t.slave_max},
+        "broadcast_id": t.broadcast_id,
+        "function_codes": list(t.function_codes),
+        "max_read_registers": t.max_read_registers,
+        "max_write_registers": t.max_write_registers,
+        "max_message_bytes": t.max_message_bytes,
+        "word_order": t.word_order.value,
+        "word_order_register": None
+        if t.word_order_register is None
+        else {
+            "register": t.word_order_register.register.name,
+            "high_first": t.word_order_register.high_first,
+            "low_first": t.word_order_register.low_first,
         },
+        "crc_byte_order": t.crc_byte_order,
+        "undocumented_addresses": t.undocumented_addresses,
+        "response_delay_ms": t.response_delay_ms,
+        "exceptions": [{"code": e.code, "name": e.name, "title": e.title, "title_zh": e.title_zh} for e in t.exceptions],
+        "byte_order": t.byte_order.value,
+        "max_read_coils": t.max_read_coils,
+        "max_write_coils": t.max_write_coils,
+    }
+
+
+def _device_json(device: Device) -> dict[str, Any]:
+    info = device.info
+    return {
+        "id": info.id,
+        "vendor": info.vendor,
+        "vendor_zh": info.vendor_zh,
+        "model": info.model,
+        "description": info.description,
+        "manual": {
+            "title": info.manual_title,
+            "version": info.manual_version,
+            "file": info.manual_file,
+            "language": info.manual_language,
+        },
+        "firmware": info.firmware,
+        "map_version": info.map_version,
+        "fingerprint": device.fingerprint,
+        "transport": _transport_json(device.transport),
+        "firmware_register": None
+        if info.firmware_register is None
+        else {
+            "register": info.firmware_register.register.name,
+            "format": info.firmware_register.format,
+            "decimals": info.firmware_register.decimals,
+        },
+    }
+
+
+def _examples_json(examples: Sequence[Example]) -> list[dict[str, Any]]:
+    return [
+        {
+            "id": x.id,
+            "source": list(x.source),
+            "direction": x.direction,
+            "frame": x.frame.hex(" ").upper(),
+            "request": x.request,
+            "meaning": x.meaning,
+            "values": [
+                {"register": v.register.name, "raw": v.raw, "words": None if v.words is None else list(v.words), "value": v.value}
+                for v in x.values
+            ],
+            "erratum": x.erratum,
+            "corrected_frame": None if x.corrected_frame is None else x.corrected_frame.hex(" ").upper(),
+        }
+        for x in examples
+    ]
+
+
+def export_json(device: Device) -> dict[str, Any]:
+    return {
+        "device": _device_json(device),
         "groups": [{"id": g.id, "title": g.title, "title_zh": g.title_zh, "source": list(g.source)} for g in device.groups],
         "arrays": [
             {
@@ -177,23 +206,7 @@ def export_json(device: Device) -> dict[str, Any]:
             }
             for f in device.faults
         ],
-        "examples": [
-            {
-                "id": x.id,
-                "source": list(x.source),
-                "direction": x.direction,
-                "frame": x.frame.hex(" ").upper(),
-                "request": x.request,
-                "meaning": x.meaning,
-                "values": [
-                    {"register": v.register.name, "raw": v.raw, "words": None if v.words is None else list(v.words), "value": v.value}
-                    for v in x.values
-                ],
-                "erratum": x.erratum,
-                "corrected_frame": None if x.corrected_frame is None else x.corrected_frame.hex(" ").upper(),
-            }
-            for x in device.examples
-        ],
+        "examples": _examples_json(device.examples),
         "errata": [
             {
                 "id": e.id,
