@@ -5,8 +5,19 @@ from __future__ import annotations
 import re
 import struct
 from dataclasses import dataclass
+from typing import Any
 
-from .spaces import COIL_OFF, COIL_ON, DEFAULT_SPACE, MAX_READ_BITS, MAX_READ_REGISTERS, MAX_WRITE_BITS, MAX_WRITE_REGISTERS, SPACES
+from .spaces import (
+    COIL_OFF,
+    COIL_ON,
+    DEFAULT_SPACE,
+    MAX_READ_BITS,
+    MAX_READ_REGISTERS,
+    MAX_WRITE_BITS,
+    MAX_WRITE_REGISTERS,
+    SPACES,
+    Space,
+)
 
 EXCEPTION_FLAG = 0x80
 # Which space and which operation each function code of the space table is.
@@ -212,95 +223,91 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
     problems: list[str] = []
     if not valid:
         problems.append(f"CRC mismatch: frame carries {to_hex(frame[-2:])}, expected {to_hex(crc_bytes(frame[:-2]))}")
-
-    def done(
-        kind: str,
-        address: int | None = None,
-        count: int | None = None,
-        byte_count: int | None = None,
-        words: tuple[int, ...] = (),
-        exception_code: int | None = None,
-        bits: tuple[int, ...] = (),
-    ) -> Frame:
-        return Frame(
-            raw=frame,
-            slave=slave,
-            function=function,
-            kind=kind,
-            crc_valid=valid,
-            address=address,
-            count=count,
-            byte_count=byte_count,
-            words=words,
-            exception_code=exception_code,
-            problems=tuple(problems),
-            space=space.name if space is not None else None,
-            bits=bits,
-        )
-
     space = READS.get(function) or WRITES_SINGLE.get(function) or WRITES_MULTIPLE.get(function)
     if function & EXCEPTION_FLAG:
         if len(body) != 1:
             problems.append(f"exception frame carries {len(body)} data bytes, expected 1")
-        return done("exception", exception_code=body[0] if body else None)
-    if function in READS:
-        assert space is not None
-        # A read request body is 4 bytes; a register response body is 1 + 2n bytes, always odd. A bit
-        # response may be 4 bytes too (3 bytes of bits): it is one when its byte count says so and the
-        # same bytes would ask for more bits than a request may.
-        looks_like_request = len(body) == 4 and not (
-            space.bits and body[0] == 3 and not 1 <= int.from_bytes(body[2:4], "big") <= MAX_READ_BITS
-        )
-        if direction == "request" or (direction is None and looks_like_request):
-            if len(body) != 4:
-                problems.append(f"read request carries {len(body)} data bytes, expected 4")
-                return done("read_request")
-            address, count = struct.unpack(">HH", body)
-            return done("read_request", address=address, count=count)
-        if not body:
-            problems.append("read response has no byte count")
-            return done("read_response")
-        byte_count = body[0]
-        data = body[1:]
-        if byte_count != len(data):
-            problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
-        if space.bits:
-            return done("read_response", byte_count=byte_count, bits=unpack_bits(data))
-        if len(data) % 2:
-            problems.append("odd number of data bytes")
-        return done("read_response", byte_count=byte_count, words=_words(data))
-    if function in WRITES_SINGLE:
-        assert space is not None
+        fields: dict[str, Any] = {"kind": "exception", "exception_code": body[0] if body else None}
+    elif space is None:
+        fields = {"kind": "unknown", "words": _words(body)}
+    elif function in READS:
+        fields = _read_fields(space, body, direction, problems)
+    elif function in WRITES_SINGLE:
+        fields = _write_single_fields(space, body, problems)
+    else:
+        fields = _write_multiple_fields(space, body, direction, problems)
+    return Frame(
+        raw=frame,
+        slave=slave,
+        function=function,
+        crc_valid=valid,
+        problems=tuple(problems),
+        space=space.name if space is not None else None,
+        **fields,
+    )
+
+
+def _read_fields(space: Space, body: bytes, direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """A read request (0x01-0x04) or its response; what is wrong goes to `problems`."""
+    # A read request body is 4 bytes; a register response body is 1 + 2n bytes, always odd. A bit
+    # response may be 4 bytes too (3 bytes of bits): it is one when its byte count says so and the
+    # same bytes would ask for more bits than a request may.
+    looks_like_request = len(body) == 4 and not (space.bits and body[0] == 3 and not 1 <= int.from_bytes(body[2:4], "big") <= MAX_READ_BITS)
+    if direction == "request" or (direction is None and looks_like_request):
         if len(body) != 4:
-            problems.append(f"write-single frame carries {len(body)} data bytes, expected 4")
-            return done("write_single")
-        address, word = struct.unpack(">HH", body)
-        if not space.bits:
-            return done("write_single", address=address, count=1, words=(word,))
-        if word not in (COIL_ON, COIL_OFF):
-            problems.append(f"a coil write carries FF 00 (on) or 00 00 (off), not {word >> 8:02X} {word & 0xFF:02X}")
-            return done("write_single", address=address, count=1, words=(word,))
-        return done("write_single", address=address, count=1, words=(word,), bits=(1 if word == COIL_ON else 0,))
-    if function in WRITES_MULTIPLE:
-        assert space is not None
-        if direction == "response" or (direction is None and len(body) == 4):
-            if len(body) != 4:
-                problems.append(f"write-multiple response carries {len(body)} data bytes, expected 4")
-                return done("write_multiple_response")
-            address, count = struct.unpack(">HH", body)
-            return done("write_multiple_response", address=address, count=count)
-        if len(body) < 5:
-            problems.append(f"write-multiple request carries only {len(body)} data bytes")
-            return done("write_multiple_request")
-        address, count, byte_count = struct.unpack(">HHB", body[:5])
-        data = body[5:]
-        if byte_count != len(data):
-            problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
-        if space.bits:
-            if (count + 7) // 8 != len(data):
-                problems.append(f"coil count says {count} but {len(data)} data bytes follow")
-            return done("write_multiple_request", address=address, count=count, byte_count=byte_count, bits=unpack_bits(data, count))
-        if count * 2 != len(data):
-            problems.append(f"register count says {count} but {len(data)} data bytes follow")
-        return done("write_multiple_request", address=address, count=count, byte_count=byte_count, words=_words(data))
-    return done("unknown", words=_words(body))
+            problems.append(f"read request carries {len(body)} data bytes, expected 4")
+            return {"kind": "read_request"}
+        address, count = struct.unpack(">HH", body)
+        return {"kind": "read_request", "address": address, "count": count}
+    if not body:
+        problems.append("read response has no byte count")
+        return {"kind": "read_response"}
+    byte_count = body[0]
+    data = body[1:]
+    if byte_count != len(data):
+        problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+    if space.bits:
+        return {"kind": "read_response", "byte_count": byte_count, "bits": unpack_bits(data)}
+    if len(data) % 2:
+        problems.append("odd number of data bytes")
+    return {"kind": "read_response", "byte_count": byte_count, "words": _words(data)}
+
+
+def _write_single_fields(space: Space, body: bytes, problems: list[str]) -> dict[str, Any]:
+    """A write-single frame (0x05/0x06: the request and its echo read alike)."""
+    if len(body) != 4:
+        problems.append(f"write-single frame carries {len(body)} data bytes, expected 4")
+        return {"kind": "write_single"}
+    address, word = struct.unpack(">HH", body)
+    fields: dict[str, Any] = {"kind": "write_single", "address": address, "count": 1, "words": (word,)}
+    if not space.bits:
+        return fields
+    if word not in (COIL_ON, COIL_OFF):
+        problems.append(f"a coil write carries FF 00 (on) or 00 00 (off), not {word >> 8:02X} {word & 0xFF:02X}")
+        return fields
+    return {**fields, "bits": (1 if word == COIL_ON else 0,)}
+
+
+def _write_multiple_fields(space: Space, body: bytes, direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """A write-multiple request (0x0F/0x10) or its response."""
+    if direction == "response" or (direction is None and len(body) == 4):
+        if len(body) != 4:
+            problems.append(f"write-multiple response carries {len(body)} data bytes, expected 4")
+            return {"kind": "write_multiple_response"}
+        address, count = struct.unpack(">HH", body)
+        return {"kind": "write_multiple_response", "address": address, "count": count}
+    if len(body) < 5:
+        problems.append(f"write-multiple request carries only {len(body)} data bytes")
+        return {"kind": "write_multiple_request"}
+    address, count, byte_count = struct.unpack(">HHB", body[:5])
+    data = body[5:]
+    if byte_count != len(data):
+        problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+    fields: dict[str, Any] = {"kind": "write_multiple_request", "address": address, "count": count, "byte_count": byte_count}
+    if space.bits:
+        if (count + 7) // 8 != len(data):
+            problems.append(f"coil count says {count} but {len(data)} data bytes follow")
+        return {**fields, "bits": unpack_bits(data, count)}
+    if count * 2 != len(data):
+        problems.append(f"register count says {count} but {len(data)} data bytes follow")
+    return {**fields, "words": _words(data)}

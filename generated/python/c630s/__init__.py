@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_abd63787c7.bits import BitfieldValue
-from regmap_runtime_abd63787c7.client import AsyncClient, SyncClient
-from regmap_runtime_abd63787c7.errors import (
+from regmap_runtime_fd4193d512.bits import BitfieldValue
+from regmap_runtime_fd4193d512.client import AsyncClient, SyncClient
+from regmap_runtime_fd4193d512.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,7 +21,7 @@ from regmap_runtime_abd63787c7.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_abd63787c7.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_fd4193d512.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "c00a044d45903b2e"

@@ -31,6 +31,7 @@ from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec,
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
+K = TypeVar("K", bound="_Core")
 PARITY = {"none": "N", "even": "E", "odd": "O"}
 # pymodbus's spelling of each space's reads and writes: (read, write single, write multiple); None where the space is read-only.
 PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
@@ -71,9 +72,19 @@ class _Core:
 
     DEVICE: DeviceSpec
     modbus: Any  # the pymodbus client of the subclass
+    # pymodbus's client classes the subclass drives: one pair of constructors serves sync and async.
+    SERIAL_TRANSPORT: Any
+    TCP_TRANSPORT: Any
 
     def __init__(
-        self, slave: int, word_order: str | None = None, profile: DeviceProfile | None = None, check_firmware: bool = False
+        self,
+        modbus: Any,
+        slave: int = 1,
+        word_order: str | None = None,
+        line: LineWatch | None = None,
+        profile: DeviceProfile | None = None,
+        *,
+        check_firmware: bool = False,
     ) -> None:
         if not 0 <= slave <= 255:
             raise ValueError(f"slave id {slave} is outside 0..255")
@@ -85,7 +96,8 @@ class _Core:
         self.word_order = word_order or (profile.word_order if profile is not None else None) or self.DEVICE.word_order
         self.requests_sent = 0
         self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
-        self.line = LineWatch(rtu_framing=False)
+        self.modbus = modbus
+        self.line = line or LineWatch(rtu_framing=False)
         self.check_firmware = check_firmware
         self.firmware: tuple[int, ...] | None = None
         """The firmware version the device reported (check_firmware=True, once read), e.g. (2, 3)."""
@@ -102,6 +114,49 @@ class _Core:
             if self.broadcast:
                 raise FirmwareError(f"check_firmware=True: a broadcast (slave {slave}) cannot read the firmware register {name}")
             self._firmware_spec = next(r for r in self.DEVICE.registers if r.name == name)
+
+    @classmethod
+    def rtu(
+        cls: type[K],
+        port: str,
+        slave: int = 1,
+        *,
+        baud: int | None = None,
+        parity: str | None = None,
+        stop_bits: int | None = None,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+        profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
+    ) -> K:
+        """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
+        firmware register on connect and refuse the registers that firmware lacks."""
+        line = LineWatch(rtu_framing=True)
+        settings = serial_settings(cls.DEVICE, baud, parity, stop_bits)
+        modbus = cls.SERIAL_TRANSPORT(port, **settings, timeout=timeout, retries=retries, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
+
+    @classmethod
+    def tcp(
+        cls: type[K],
+        host: str,
+        port: int = 502,
+        slave: int = 1,
+        *,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+        rtu_over_tcp: bool = False,
+        profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
+    ) -> K:
+        """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
+        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks."""
+        framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
+        line = LineWatch(rtu_framing=rtu_over_tcp)
+        modbus = cls.TCP_TRANSPORT(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
 
     def transport_error(self, exc: Exception) -> Exception:
         """A typed error saying what happened on the line, in regmap's words (pymodbus's texts name its own
@@ -311,70 +366,8 @@ class SyncClient(_Core):
     """Blocking client. Use as a context manager, or call close()."""
 
     modbus: ModbusSerialClient | ModbusTcpClient
-
-    def __init__(
-        self,
-        modbus: ModbusSerialClient | ModbusTcpClient,
-        slave: int = 1,
-        word_order: str | None = None,
-        line: LineWatch | None = None,
-        profile: DeviceProfile | None = None,
-        *,
-        check_firmware: bool = False,
-    ) -> None:
-        super().__init__(slave, word_order, profile, check_firmware)
-        self.modbus = modbus
-        if line is not None:
-            self.line = line
-
-    @classmethod
-    def rtu(
-        cls: type[C],
-        port: str,
-        slave: int = 1,
-        *,
-        baud: int | None = None,
-        parity: str | None = None,
-        stop_bits: int | None = None,
-        timeout: float = 1.0,
-        retries: int = 2,
-        word_order: str | None = None,
-        profile: DeviceProfile | None = None,
-        check_firmware: bool = False,
-    ) -> C:
-        """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
-        firmware register on connect and refuse the registers that firmware lacks."""
-        device = cls.DEVICE
-        line = LineWatch(rtu_framing=True)
-        modbus = ModbusSerialClient(
-            port,
-            **serial_settings(device, baud, parity, stop_bits),
-            timeout=timeout,
-            retries=retries,
-            trace_packet=line,
-        )
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
-
-    @classmethod
-    def tcp(
-        cls: type[C],
-        host: str,
-        port: int = 502,
-        slave: int = 1,
-        *,
-        timeout: float = 1.0,
-        retries: int = 2,
-        word_order: str | None = None,
-        rtu_over_tcp: bool = False,
-        profile: DeviceProfile | None = None,
-        check_firmware: bool = False,
-    ) -> C:
-        """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
-        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks."""
-        framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
-        line = LineWatch(rtu_framing=rtu_over_tcp)
-        modbus = ModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line)
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
+    SERIAL_TRANSPORT = ModbusSerialClient
+    TCP_TRANSPORT = ModbusTcpClient
 
     def __enter__(self: C) -> C:
         self.connect()
@@ -486,72 +479,8 @@ class AsyncClient(_Core):
     """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
 
     modbus: AsyncModbusSerialClient | AsyncModbusTcpClient
-
-    def __init__(
-        self,
-        modbus: AsyncModbusSerialClient | AsyncModbusTcpClient,
-        slave: int = 1,
-        word_order: str | None = None,
-        line: LineWatch | None = None,
-        profile: DeviceProfile | None = None,
-        *,
-        check_firmware: bool = False,
-    ) -> None:
-        super().__init__(slave, word_order, profile, check_firmware)
-        self.modbus = modbus
-        if line is not None:
-            self.line = line
-
-    @classmethod
-    def rtu(
-        cls: type[A],
-        port: str,
-        slave: int = 1,
-        *,
-        baud: int | None = None,
-        parity: str | None = None,
-        stop_bits: int | None = None,
-        timeout: float = 1.0,
-        retries: int = 2,
-        word_order: str | None = None,
-        profile: DeviceProfile | None = None,
-        check_firmware: bool = False,
-    ) -> A:
-        device = cls.DEVICE
-        line = LineWatch(rtu_framing=True)
-        modbus = AsyncModbusSerialClient(
-            port,
-            **serial_settings(device, baud, parity, stop_bits),
-            timeout=timeout,
-            retries=retries,
-            trace_packet=line,
-        )
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
-
-    @classmethod
-    def tcp(
-        cls: type[A],
-        host: str,
-        port: int = 502,
-        slave: int = 1,
-        *,
-        timeout: float = 1.0,
-        retries: int = 2,
-        word_order: str | None = None,
-        rtu_over_tcp: bool = False,
-        profile: DeviceProfile | None = None,
-        check_firmware: bool = False,
-    ) -> A:
-        framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
-        line = LineWatch(rtu_framing=rtu_over_tcp)
-        return cls(
-            AsyncModbusTcpClient(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line),
-            slave,
-            word_order,
-            line,
-            profile,
-            check_firmware=check_firmware,
-        )
+    SERIAL_TRANSPORT = AsyncModbusSerialClient
+    TCP_TRANSPORT = AsyncModbusTcpClient
 
     async def __aenter__(self: A) -> A:
         await self.connect()
