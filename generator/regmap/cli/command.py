@@ -24,6 +24,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def run(args: argparse.Namespace) -> int:
+    from regmap.diagnostics import ExitCode
     from regmap.tools import live
 
-    return live.cmd_command(load_map(args.map), link_from(args), args.name, args.argument)
+    sent = live.send_command(load_map(args.map), link_from(args), args.name, args.argument)
+    shown = " ".join(f"0x{w:04X}" for w in sent.words)
+    print(f"sent {sent.name}: {shown} to {sent.register.label} (0x{sent.register.address:04X})")
+    return ExitCode.OK

@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
+from typing import TYPE_CHECKING
 
 from regmap.cli.common import add_read_options, link_from, live_parser, load_map, output_format, profile_from, space_from
+
+if TYPE_CHECKING:
+    from regmap.tools.live import Firmware
 
 HELP = "read every readable register with the read plan"
 
@@ -26,13 +31,27 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
+def _say_lacking(known: Firmware) -> None:
+    absent = known.absent
+    names = ", ".join(r.name for r in absent[:10]) + (f" and {len(absent) - 10} more" if len(absent) > 10 else "")
+    print(f"regmap dump: firmware {known.text} lacks {len(absent)} register(s) of the map, not read: {names}", file=sys.stderr)
+
+
 def run(args: argparse.Namespace) -> int:
+    from regmap.cli.live_output import ProgressBar, print_values, read_status
     from regmap.tools import live
     from regmap.tools.selectors import dump_range, say_notes
 
     space = space_from(args)
     device = load_map(args.map)
     chosen, notes = dump_range(device, args.start, args.count, space, modicon=args.modicon)
-    status = live.cmd_dump(device, link_from(args), output_format(args), profile_from(args, device), chosen)
+    progress = ProgressBar() if sys.stderr.isatty() else None
+    try:
+        result = live.dump(device, link_from(args), profile_from(args, device), chosen, progress=progress, lacking=_say_lacking)
+    finally:
+        if progress is not None:
+            progress.end()
+    print_values(result.values, output_format(args))
+    status = read_status(result, "dump")
     say_notes("dump", notes)
     return status

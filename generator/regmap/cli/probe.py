@@ -6,11 +6,15 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from regmap.cli.common import WHERE, link_from, live_parser, positive_float, requests_per_second
-from regmap.diagnostics import UsageError
+from regmap.diagnostics import ExitCode, UsageError
 from regmap.frontend import load_map
 from regmap.tools.output import check_output
+
+if TYPE_CHECKING:
+    from regmap.tools.probe.report import Findings
 
 HELP = "check a live drive against its map and learn its limits (reads only)"
 
@@ -96,4 +100,15 @@ def run(args: argparse.Namespace) -> int:
         print(render_text(found))
         if target is not None:
             print(f"profile: {'written to ' + str(target) if found.probed else 'not written (nothing was learned)'}")
-    return found.exit_code
+    return probe_status(found)
+
+
+def probe_status(found: Findings) -> int:
+    """0: the drive agrees with its map; 8: it disagrees; 4: it could not be probed (or the probe stopped early); 130: Ctrl-C."""
+    if found.interrupted:
+        return ExitCode.INTERRUPTED
+    if not found.probed:
+        return ExitCode.BUS  # nothing answered: a silence is no disagreement
+    if found.disagreements:
+        return ExitCode.PROBE_DISAGREES
+    return ExitCode.BUS if found.stopped is not None else ExitCode.OK

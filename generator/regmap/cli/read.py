@@ -45,12 +45,23 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def run(args: argparse.Namespace) -> int:
+    from regmap.cli.live_output import print_values, print_words, read_status
+    from regmap.diagnostics import ExitCode, LinkError
     from regmap.tools import live
-    from regmap.tools.selectors import parse_items
+    from regmap.tools.selectors import parse_items, say_notes
 
     space = space_from(args)
     items = parse_items(args.selectors, count=args.count, start=args.start, modicon=args.modicon, space=space)
     device = load_map(args.map)
-    return live.cmd_read(
-        device, link_from(args), items, output_format(args), profile_from(args, device), space, modicon=args.modicon, words=args.words
-    )
+    link, profile = link_from(args), profile_from(args, device)
+    if args.words:
+        got = live.read_words(device, link, items, profile, space, modicon=args.modicon)
+        print_words(got.words, output_format(args))
+        say_notes("read", got.notes)
+        if got.error is not None:
+            raise LinkError(f"the bus failed after {len(got.words)} word(s) were read: {got.error}")
+        return ExitCode.OK
+    result = live.read(device, link, items, profile, space, modicon=args.modicon)
+    print_values(result.values, output_format(args))
+    say_notes("read", result.notes)
+    return read_status(result, "read")

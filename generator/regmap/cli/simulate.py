@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from regmap.cli.common import add_map, baud_rate, count, examples, load_map, positive_count, seconds_or_zero, slave_id
-from regmap.diagnostics import UsageError
+from regmap.diagnostics import ExitCode, UsageError
 from regmap.tools.link import serial_line
+
+if TYPE_CHECKING:
+    from regmap.tools.simulator.run import Listening
 
 HELP = "serve a simulated device (Modbus TCP or RTU on a serial port/pty)"
 FAULT_HELP = "inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay"
@@ -89,6 +94,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
+def _say_listening(at: Listening) -> None:
+    print(f"regmap simulate: {at.model} (slave {at.slave}) on {at.where} ({at.framing}){at.playing}; Ctrl-C stops", flush=True)
+
+
 def run(args: argparse.Namespace) -> int:
     from regmap.tools.simulator import FAULT_KINDS, FaultPlan, Quirks, run
 
@@ -105,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
     )
-    return run(
+    served = run(
         device,
         tcp=args.tcp,
         serial=args.serial,
@@ -115,7 +124,10 @@ def run(args: argparse.Namespace) -> int:
         faults=faults,
         rtu_over_tcp=args.rtu_over_tcp,
         log=Path(args.log) if args.log else None,
-        verbose=args.verbose,
+        echo=sys.stderr if args.verbose else None,
         rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
         quirks=quirks,
+        listening=_say_listening,
     )
+    print(f"regmap simulate: stopped after {served}", flush=True)
+    return ExitCode.OK

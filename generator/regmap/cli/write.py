@@ -36,17 +36,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def run(args: argparse.Namespace) -> int:
+    from regmap.cli.live_output import write_status
     from regmap.tools import live
+    from regmap.tools.selectors import say_notes
 
     space = space_from(args)
-    return live.cmd_write(
-        load_map(args.map),
-        link_from(args),
-        args.assignments,
-        raw=args.raw,
-        verify=not args.no_verify and not args.words,
-        replace=args.replace,
-        words=args.words,
-        space=space,
-        modicon=args.modicon,
+    device = load_map(args.map)
+    plan = live.plan_write(
+        device, args.assignments, raw=args.raw, replace=args.replace, words=args.words, space=space, modicon=args.modicon
     )
+    say_notes("write", plan.notes)
+    return write_status(live.write(device, link_from(args), plan, verify=not args.no_verify and not args.words))

@@ -10,22 +10,16 @@ read first: `dump` leaves out what that firmware lacks, `read` and `write` refus
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import socket
-import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
-from regmap.diagnostics import ExitCode, LinkError, UsageError
+from regmap.diagnostics import LinkError, UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import documented_addresses, read_plan, runtime_device, runtime_specs
 from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
-    WordRead,
     command_words,
     parse_assignments,
     parse_word_writes,
@@ -35,7 +29,7 @@ from regmap.tools.frames import (
     write_function,
 )
 from regmap.tools.link import Link, port_reason, serial_line
-from regmap.tools.selectors import Item, Registers, check_slave, say_notes, space_label
+from regmap.tools.selectors import Item, Registers, check_slave
 from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import RegmapError
@@ -203,10 +197,13 @@ def plan(device: Device, registers: Sequence[Register], profile: DeviceProfile |
 
 @dataclass
 class ReadResult:
+    """The values read, in the order asked for; what was not read, and why (a bus failure or Ctrl-C)."""
+
     values: list[DecodedValue]
     unread: list[Register]
     error: str | None = None
     interrupted: bool = False
+    notes: list[str] = field(default_factory=list)  # how addresses were read (-r, Modicon numbers)
 
 
 def read_registers(
@@ -245,11 +242,6 @@ def read_registers(
     return result()
 
 
-def show_value(value: DecodedValue) -> str:
-    label = " ".join(x for x in (value.param, value.register) if x)
-    return f"{label} = {value.text}"
-
-
 def profiled_order(device: Device, client: SyncClient, link: Link, profile: DeviceProfile | None) -> str | None:
     """The word order to decode with: the one given or the map's register (`word_order`), else the one a profile observed."""
     order = word_order(device, client, link)
@@ -258,21 +250,17 @@ def profiled_order(device: Device, client: SyncClient, link: Link, profile: Devi
     return order
 
 
-def cmd_read(
+def read(
     device: Device,
     link: Link,
     items: Sequence[Item],
-    output: str,
     profile: DeviceProfile | None = None,
     space: str | None = None,
     *,
     modicon: bool = False,
-    words: bool = False,
-) -> int:
-    """Read what the items name (parse_items: SELECTOR [COUNT] ..., as `frame read` builds it); with
-    `words`, COUNT words (bits) at each address, documented or not."""
-    if words:
-        return _read_words(device, link, word_reads(device, items, space, modicon=modicon), output, profile)
+) -> ReadResult:
+    """Read what the items name (parse_items: SELECTOR [COUNT] ..., as `frame read` builds it), with
+    the notes on how addresses were read."""
     regs = Registers(device, space, modicon=modicon)
     registers = regs.select(items)
     client = connect(device, link, reading=True, profile=profile)
@@ -284,53 +272,50 @@ def cmd_read(
         result = read_registers(client, device, registers, order=order, profile=profile, known=known)
     finally:
         client.close()
-    print_values(result.values, output)
-    say_notes("read", regs.notes)
-    return finish(result, "read")
+    result.notes = list(regs.notes)
+    return result
 
 
-def _read_words(device: Device, link: Link, reads: Sequence[WordRead], output: str, profile: DeviceProfile | None) -> int:
-    """`read --words`: one request per ADDR [COUNT], every word shown as it came (hex, unsigned, signed; bits 0/1)."""
+@dataclass(frozen=True)
+class Word:
+    """One word (a bit, in a bit space) as `read --words` got it."""
+
+    space: str
+    address: int
+    word: int
+
+
+@dataclass
+class WordsRead:
+    words: list[Word]
+    notes: list[str]
+    error: str | None = None  # the bus failure that ended the reads
+
+
+def read_words(
+    device: Device,
+    link: Link,
+    items: Sequence[Item],
+    profile: DeviceProfile | None = None,
+    space: str | None = None,
+    *,
+    modicon: bool = False,
+) -> WordsRead:
+    """`read --words`: COUNT words (bits) at each address, documented or not, one request per ADDR [COUNT]."""
+    reads = word_reads(device, items, space, modicon=modicon)
     client = connect(device, link, reading=True, profile=profile)
-    rows: list[dict[str, Any]] = []
-    error = None
+    got = WordsRead([], [r.note for r in reads if r.note])
     try:
         for read in reads:
             try:
-                got = client.read_raw(read.address, read.count, space=read.space)
+                answer = client.read_raw(read.address, read.count, space=read.space)
             except RegmapError as exc:
-                error = f"{_bus(exc)} (0x{read.address:04X} x {read.count})"
+                got.error = f"{_bus(exc)} (0x{read.address:04X} x {read.count})"
                 break
-            rows += [{"space": read.space, "address": read.address + i, "word": int(w)} for i, w in enumerate(got)]
+            got.words += [Word(read.space, read.address + i, int(w)) for i, w in enumerate(answer)]
     finally:
         client.close()
-    print_words(rows, output)
-    say_notes("read", [r.note for r in reads if r.note])
-    if error is not None:
-        raise LinkError(f"the bus failed after {len(rows)} word(s) were read: {error}")
-    return ExitCode.OK
-
-
-def print_words(rows: Sequence[dict[str, Any]], output: str) -> None:
-    if output == "json":
-        out = [{"address": r["address"], "address_hex": f"0x{r['address']:04X}", "space": r["space"], "word": r["word"]} for r in rows]
-        json.dump(out, sys.stdout, indent=2)
-        sys.stdout.write("\n")
-    elif output == "csv":
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=["space", "address", "address_hex", "word"], lineterminator="\n")
-        writer.writeheader()
-        writer.writerows({**r, "address_hex": f"0x{r['address']:04X}"} for r in rows)
-        sys.stdout.write(buffer.getvalue())
-    else:
-        for r in rows:
-            word = r["word"]
-            shown = (
-                str(word)
-                if SPACES[r["space"]].bits
-                else f"0x{word:04X} = {word} unsigned, {word - 0x10000 if word & 0x8000 else word} signed"
-            )
-            print(f"{space_label(r['space'])} 0x{r['address']:04X} = {shown}")
+    return got
 
 
 @dataclass
@@ -374,38 +359,72 @@ def _written_value(device: Device, a: Assignment, order: str | None) -> DecodedV
     return next(v for v in decoded if v.register == a.register.name)
 
 
-def cmd_write(
-    device: Device,
-    link: Link,
-    items: Sequence[str],
-    *,
-    raw: bool,
-    verify: bool,
-    replace: bool,
-    words: bool,
-    space: str | None = None,
-    modicon: bool = False,
-) -> int:
-    # Every value is parsed and checked (range, enum, fields, conflicts) before the port is opened.
+@dataclass(frozen=True)
+class WritePlan:
+    """What `write` will send, parsed and checked (range, enum, fields, conflicts) before the port is opened."""
+
+    words: bool  # --words: word runs at any address, not values by register
+    space: str  # the data space of the word runs
+    runs: list[tuple[int, tuple[int, ...]]]
+    assignments: list[Assignment]
+    notes: list[str]  # how addresses were read
+
+    @property
+    def unit(self) -> str:
+        return "bit" if self.space != DEFAULT_SPACE and SPACES[self.space].bits else "word"
+
+
+def plan_write(
+    device: Device, items: Sequence[str], *, raw: bool, replace: bool, words: bool, space: str | None = None, modicon: bool = False
+) -> WritePlan:
     word_writes = parse_word_writes(items, space, modicon=modicon) if words else []
-    word_space = word_writes[0].space if word_writes else DEFAULT_SPACE
-    runs = word_runs(device, word_writes) if words else []
     assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
-    say_notes("write", [n for n in (*(w.located for w in word_writes), *(a.located for a in assignments)) if n])
+    return WritePlan(
+        words,
+        word_writes[0].space if word_writes else DEFAULT_SPACE,
+        word_runs(device, word_writes) if words else [],
+        assignments,
+        [n for n in (*(w.located for w in word_writes), *(a.located for a in assignments)) if n],
+    )
+
+
+@dataclass(frozen=True)
+class Checked:
+    """One value written, as read back: `verified`, `mismatch` (the drive holds another value than
+    `wrote`), or `write-only` (shown as sent: it cannot be read back)."""
+
+    value: DecodedValue
+    outcome: str
+    wrote: Raw | None = None
+
+
+@dataclass
+class Written:
+    """What a write sent: `count` values (words, bits) in `requests` requests, and the read-back
+    (None where nothing was read back: --no-verify, --words, a broadcast)."""
+
+    count: int
+    unit: str  # value, word or bit
+    requests: int
+    checked: list[Checked] | None = None
+    mismatches: int = 0
+    read_back_error: str | None = None
+
+
+def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Written:
+    assignments = plan.assignments
     client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
-    unit = "bit" if word_space != DEFAULT_SPACE and SPACES[word_space].bits else "word"
     try:
-        for address, run in runs:
-            single = write_function(device, word_space, len(run))
+        for address, run in plan.runs:
+            single = write_function(device, plan.space, len(run))
             try:
-                client.write_raw(address, run, multiple=not single, space=word_space)
+                client.write_raw(address, run, multiple=not single, space=plan.space)
             except RegmapError as exc:
-                raise log.failed(f"{len(run)} {unit}(s) at 0x{address:04X}", exc) from None
-            log.done.append(f"{len(run)} {unit}(s) at 0x{address:04X}")
-        if words:
-            print(f"wrote {sum(len(r) for _, r in runs)} {unit}(s) in {len(runs)} request(s)")
-            return ExitCode.OK
+                raise log.failed(f"{len(run)} {plan.unit}(s) at 0x{address:04X}", exc) from None
+            log.done.append(f"{len(run)} {plan.unit}(s) at 0x{address:04X}")
+        if plan.words:
+            return Written(sum(len(r) for _, r in plan.runs), plan.unit, len(plan.runs))
         order = word_order(device, client, link) if any(a.register.wide for a in assignments) else None
         known = firmware(device, client, [a.register for a in assignments], order)
         if known is not None:
@@ -420,9 +439,9 @@ def cmd_write(
             except RegmapError as exc:
                 raise log.failed(names, exc) from None
             log.done.append(names)
+        written = Written(len(complete), "value", len(log.done))
         if not verify or client.broadcast:
-            print(f"wrote {len(complete)} value(s) in {len(log.done)} request(s)")
-            return ExitCode.OK
+            return written
         readable = [a.register for a in complete if a.register.access.readable]
         result = read_registers(client, device, readable, order=order, known=known)
     finally:
@@ -430,26 +449,27 @@ def cmd_write(
     expected = {a.register.name: _as_written(a) for a in complete}
     mismatches = [v for v in result.values if v.register in expected and v.raw != expected[v.register]]
     read_back = {v.register: v for v in result.values}
+    written.checked = []
     for a in complete:  # in the order given
         value = read_back.get(a.register.name)
         if value is None:
             if not a.register.access.readable:
-                print(f"{show_value(_written_value(device, a, order))}  (written; write-only, not read back)")
+                written.checked.append(Checked(_written_value(device, a, order), "write-only"))
             continue
-        print(
-            f"{show_value(value)}  (verified)"
-            if value not in mismatches
-            else f"{show_value(value)}  (MISMATCH: wrote raw {expected[value.register or '']!r})"
-        )
-    if result.error:
-        raise LinkError(f"written, but the read-back failed: {result.error}")
-    if mismatches:
-        print(f"regmap write: {len(mismatches)} register(s) read back different values", file=sys.stderr)
-        return ExitCode.VERIFY_MISMATCH
-    return ExitCode.OK
+        mismatch = value in mismatches
+        written.checked.append(Checked(value, "mismatch" if mismatch else "verified", expected[value.register or ""] if mismatch else None))
+    written.mismatches, written.read_back_error = len(mismatches), result.error
+    return written
 
 
-def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> int:
+@dataclass(frozen=True)
+class CommandSent:
+    name: str
+    words: list[int]
+    register: Register
+
+
+def send_command(device: Device, link: Link, name: str, argument: str | None) -> CommandSent:
     command, _ = command_words(device, name, argument)  # checked before the port is opened
     client = connect(device, link, reading=False)
     try:
@@ -461,76 +481,29 @@ def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> 
             raise LinkError(f"command {command.name} failed: {_bus(exc)}") from None
     finally:
         client.close()
-    shown = " ".join(f"0x{w:04X}" for w in words)
-    print(f"sent {command.name}: {shown} to {command.register.label} (0x{command.register.address:04X})")
-    return ExitCode.OK
+    return CommandSent(command.name, list(words), command.register)
 
 
-def cmd_dump(
-    device: Device, link: Link, output: str, profile: DeviceProfile | None = None, chosen: Sequence[Register] | None = None
-) -> int:
-    """Every readable register (or the `chosen` ones: -t, -r/-c) with the read plan."""
+def dump(
+    device: Device,
+    link: Link,
+    profile: DeviceProfile | None = None,
+    chosen: Sequence[Register] | None = None,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    lacking: Callable[[Firmware], None] | None = None,
+) -> ReadResult:
+    """Every readable register (or the `chosen` ones: -t, -r/-c) with the read plan. `progress` is told
+    of each request done; `lacking` of a firmware that lacks some of the registers (left out), before they are read."""
     registers = [r for r in device.registers if r.access.readable] if chosen is None else list(chosen)
     client = connect(device, link, reading=True, profile=profile)
-    progress = _progress_bar if sys.stderr.isatty() else None
     try:
         order = profiled_order(device, client, link, profile)
         known = firmware(device, client, registers, order)
         if known is not None and known.absent:
             registers = [r for r in registers if r not in known.absent]
-            names = ", ".join(r.name for r in known.absent[:10]) + (f" and {len(known.absent) - 10} more" if len(known.absent) > 10 else "")
-            print(
-                f"regmap dump: firmware {known.text} lacks {len(known.absent)} register(s) of the map, not read: {names}", file=sys.stderr
-            )
-        result = read_registers(client, device, registers, progress, order=order, profile=profile, known=known)
+            if lacking is not None:
+                lacking(known)
+        return read_registers(client, device, registers, progress, order=order, profile=profile, known=known)
     finally:
         client.close()
-        if progress is not None:
-            sys.stderr.write("\n")
-    print_values(result.values, output)
-    return finish(result, "dump")
-
-
-def finish(result: ReadResult, command: str) -> int:
-    if result.error is None:
-        return ExitCode.OK
-    names = ", ".join(r.name for r in result.unread[:10]) + (f" and {len(result.unread) - 10} more" if len(result.unread) > 10 else "")
-    cause = "stopped" if result.interrupted else "the bus failed"
-    print(f"regmap {command}: {cause} after {len(result.values)} register(s) were read: {result.error}; not read: {names}", file=sys.stderr)
-    return ExitCode.INTERRUPTED if result.interrupted else ExitCode.BUS
-
-
-def _progress_bar(done: int, total: int) -> None:
-    width = 30
-    filled = width * done // total
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} requests")
-    sys.stderr.flush()
-
-
-CSV_COLUMNS = ["register", "param", "address", "address_hex", "raw", "value", "unit", "in_range", "text", "space"]
-
-
-def _csv_cell(value: Any) -> Any:
-    """A CSV cell as JSON writes the value: true/false for a bit (and in_range), numbers as numbers, text as text."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return "" if value is None else value
-
-
-def print_values(values: Sequence[DecodedValue], output: str) -> None:
-    if output == "json":
-        json.dump([v.as_json() for v in values], sys.stdout, ensure_ascii=False, indent=2)
-        sys.stdout.write("\n")
-    elif output == "csv":
-        fields = list(dict.fromkeys(name for v in values if v.fields for name in v.fields))
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=CSV_COLUMNS + fields, lineterminator="\n")
-        writer.writeheader()
-        for v in values:
-            row: dict[str, Any] = {k: _csv_cell(val) for k, val in v.as_json().items() if k in CSV_COLUMNS}
-            row.update({k: _csv_cell(val) for k, val in (v.fields or {}).items()})
-            writer.writerow(row)
-        sys.stdout.write(buffer.getvalue())
-    else:
-        for v in values:
-            print(show_value(v))

@@ -1,12 +1,11 @@
 """What the probe found: notes (each a disagreement with the map, or information), the stages'
-details, a human summary and a JSON document, and the exit status."""
+details, a human summary and a JSON document."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Any
 
-from regmap.diagnostics import ExitCode
 from regmap.model import Device
 
 
@@ -43,16 +42,6 @@ class Findings:
     def probed(self) -> bool:
         """Enough was read to say anything: the registers stage ran and some register answered."""
         return "registers" in self.stages_done and self.answered_registers > 0
-
-    @property
-    def exit_code(self) -> int:
-        if self.interrupted:
-            return ExitCode.INTERRUPTED
-        if not self.probed:
-            return ExitCode.BUS  # nothing answered: a silence is no disagreement
-        if self.disagreements:
-            return ExitCode.PROBE_DISAGREES
-        return ExitCode.BUS if self.stopped is not None else ExitCode.OK
 
     @property
     def verdict(self) -> str:

@@ -1,4 +1,4 @@
-"""`regmap simulate` from the command line: start-up checks, listen, say so, serve until told to stop."""
+"""`regmap simulate` from the command line: start-up checks, listen, tell the caller, serve until told to stop."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ import asyncio
 import contextlib
 import os
 import signal
-import sys
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TextIO
 
@@ -38,9 +39,9 @@ def check_start(device: Device, slave: int, state: Path | None) -> None:
         check_output(state, "--state")
 
 
-def _open_log(path: Path | None, verbose: bool) -> tuple[list[TextIO], list[TextIO]]:
+def _open_log(path: Path | None, echo: TextIO | None) -> tuple[list[TextIO], list[TextIO]]:
     """The streams the request log writes to, and those of them this function opened."""
-    streams: list[TextIO] = [sys.stderr] if verbose else []
+    streams: list[TextIO] = [echo] if echo is not None else []
     opened: list[TextIO] = []
     if path is not None:
         try:
@@ -81,6 +82,17 @@ def _firmware_text(simulator: Simulator) -> str:
     return f", firmware {version}{where}{lacking}"
 
 
+@dataclass(frozen=True)
+class Listening:
+    """Where the simulator serves, for the line that says so."""
+
+    model: str
+    slave: int
+    where: str
+    framing: str  # RTU or Modbus TCP
+    playing: str  # the firmware played and the quirks, as a clause (may be empty)
+
+
 def run(
     device: Device,
     *,
@@ -92,14 +104,16 @@ def run(
     faults: FaultPlan,
     rtu_over_tcp: bool = False,
     log: Path | None = None,
-    verbose: bool = False,
+    echo: TextIO | None = None,
     rtu_gap_s: float | None = None,
     quirks: Quirks | None = None,
-) -> int:
-    """Serve until Ctrl-C or SIGTERM; returns the exit status."""
+    listening: Callable[[Listening], None] | None = None,
+) -> str:
+    """Serve until Ctrl-C or SIGTERM; `listening` is told once the port is open, `echo` gets the request
+    log as well as `log`. Returns what was served (the request counts)."""
     check_start(device, slave, state)
     host, port = parse_endpoint(tcp or "127.0.0.1:5020") if not serial else ("", 0)
-    streams, opened = _open_log(log, verbose)
+    streams, opened = _open_log(log, echo)
     request_log = RequestLog(device, streams) if streams else None
     simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s, quirks=quirks)
 
@@ -117,13 +131,12 @@ def run(
             except OSError as exc:
                 raise _listen_error(where, exc) from None
         framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP"
-        playing = _firmware_text(simulator) + _quirks_text(quirks)
-        print(f"regmap simulate: {device.info.model} (slave {slave}) on {where} ({framing}){playing}; Ctrl-C stops", flush=True)
+        if listening is not None:
+            listening(Listening(device.info.model, slave, where, framing, _firmware_text(simulator) + _quirks_text(quirks)))
         await simulator.stopped.wait()
         await simulator.stop()
         if simulator.failure is not None:
             raise UsageError(f"stopped serving: {simulator.failure}")
-        print(f"regmap simulate: stopped after {simulator.stats.summary()}", flush=True)
 
     try:
         asyncio.run(main())
@@ -131,4 +144,4 @@ def run(
         for handle in opened:
             with contextlib.suppress(OSError):
                 handle.close()
-    return 0
+    return simulator.stats.summary()
