@@ -48,6 +48,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.cli.live_output import print_values, print_words, read_status
     from regmap.diagnostics import ExitCode, LinkError
     from regmap.tools import live
+    from regmap.tools.frames import word_reads
     from regmap.tools.selectors import parse_items, say_notes
 
     space = space_from(args)
@@ -55,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     device = load_map(args.map)
     link, profile = link_from(args), profile_from(args, device)
     if args.words:
-        got = live.read_words(device, link, items, profile, space, modicon=args.modicon)
+        got = live.read_words(device, link, word_reads(device, items, space, modicon=args.modicon), profile)
         print_words(got.words, output_format(args))
         say_notes("read", got.notes)
         if got.error is not None:

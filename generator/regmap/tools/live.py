@@ -20,10 +20,10 @@ from regmap.runtime_bridge import documented_addresses, read_plan, runtime_devic
 from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
+    WordRead,
     command_words,
     parse_assignments,
     parse_word_writes,
-    word_reads,
     word_runs,
     write_blocks,
     write_function,
@@ -263,17 +263,35 @@ def read(
     the notes on how addresses were read."""
     regs = Registers(device, space, modicon=modicon)
     registers = regs.select(items)
+
+    def refuse_absent(known: Firmware) -> list[Register]:
+        known.refuse(registers, "read")
+        return registers
+
+    result = _read_as_the_drive_runs(device, link, registers, profile, refuse_absent)
+    result.notes = list(regs.notes)
+    return result
+
+
+def _read_as_the_drive_runs(
+    device: Device,
+    link: Link,
+    registers: list[Register],
+    profile: DeviceProfile | None,
+    on_firmware: Callable[[Firmware], list[Register]],
+    progress: Callable[[int, int], None] | None = None,
+) -> ReadResult:
+    """Connect, learn the word order and (where registers are gated) the firmware, then read what
+    `on_firmware` makes of `registers` for that firmware."""
     client = connect(device, link, reading=True, profile=profile)
     try:
         order = profiled_order(device, client, link, profile)
         known = firmware(device, client, registers, order)
         if known is not None:
-            known.refuse(registers, "read")
-        result = read_registers(client, device, registers, order=order, profile=profile, known=known)
+            registers = on_firmware(known)
+        return read_registers(client, device, registers, progress, order=order, profile=profile, known=known)
     finally:
         client.close()
-    result.notes = list(regs.notes)
-    return result
 
 
 @dataclass(frozen=True)
@@ -292,17 +310,8 @@ class WordsRead:
     error: str | None = None  # the bus failure that ended the reads
 
 
-def read_words(
-    device: Device,
-    link: Link,
-    items: Sequence[Item],
-    profile: DeviceProfile | None = None,
-    space: str | None = None,
-    *,
-    modicon: bool = False,
-) -> WordsRead:
-    """`read --words`: COUNT words (bits) at each address, documented or not, one request per ADDR [COUNT]."""
-    reads = word_reads(device, items, space, modicon=modicon)
+def read_words(device: Device, link: Link, reads: Sequence[WordRead], profile: DeviceProfile | None = None) -> WordsRead:
+    """`read --words` (`frames.word_reads`): COUNT words (bits) at each address, documented or not, one request per ADDR [COUNT]."""
     client = connect(device, link, reading=True, profile=profile)
     got = WordsRead([], [r.note for r in reads if r.note])
     try:
@@ -496,14 +505,10 @@ def dump(
     """Every readable register (or the `chosen` ones: -t, -r/-c) with the read plan. `progress` is told
     of each request done; `lacking` of a firmware that lacks some of the registers (left out), before they are read."""
     registers = [r for r in device.registers if r.access.readable] if chosen is None else list(chosen)
-    client = connect(device, link, reading=True, profile=profile)
-    try:
-        order = profiled_order(device, client, link, profile)
-        known = firmware(device, client, registers, order)
-        if known is not None and known.absent:
-            registers = [r for r in registers if r not in known.absent]
-            if lacking is not None:
-                lacking(known)
-        return read_registers(client, device, registers, progress, order=order, profile=profile, known=known)
-    finally:
-        client.close()
+
+    def leave_out_absent(known: Firmware) -> list[Register]:
+        if known.absent and lacking is not None:
+            lacking(known)
+        return [r for r in registers if r not in known.absent]
+
+    return _read_as_the_drive_runs(device, link, registers, profile, leave_out_absent, progress)
