@@ -99,11 +99,10 @@ FILTERS: dict[str, Callable[..., Any]] = {
 }
 
 
-@functools.cache
-def environment() -> jinja2.Environment:
-    """The shared environment: built once per process, so each template is compiled once, not once per device."""
+def environment(loader: jinja2.BaseLoader) -> jinja2.Environment:
+    """An environment with regmap's settings and filters that reads its templates from `loader`."""
     env = jinja2.Environment(
-        loader=jinja2.PackageLoader("regmap", "templates"),
+        loader=loader,
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
@@ -112,6 +111,14 @@ def environment() -> jinja2.Environment:
     )
     env.filters.update(FILTERS)
     return env
+
+
+@functools.cache
+def templates(package: str) -> jinja2.Environment:
+    """The environment of the back end `package` (its `__package__`): the templates in the `templates/`
+    folder beside its code, so a back end is one folder. Built once per process, so each template is
+    compiled once, not once per device."""
+    return environment(jinja2.PackageLoader(package, "templates"))
 
 
 def header_lines(device: Device, generator: str) -> list[str]:

@@ -19,7 +19,7 @@ from regmap.backends.st.views import DIALECTS
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.generate import Files, Target
 from regmap.model import Device
-from regmap.render import environment
+from regmap.render import templates
 
 FILES = ("types", "constants", "functions")
 
@@ -39,12 +39,12 @@ def render_device(device: Device) -> Files:
     views, problems = contexts(device)
     if problems:
         raise UsageError("\n".join(str(p) for p in problems))
-    env = environment()
+    env = templates(__name__)
     files: Files = {}
     for dialect, context in views.items():
         for name in FILES:
-            files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"st/{name}.st.jinja").render(**context)
-    files[f"{device.id}/README.md"] = env.get_template("st/README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
+            files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
     return files
 
 

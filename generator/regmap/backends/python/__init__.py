@@ -19,7 +19,7 @@ from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.generate import Files, Target
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
-from regmap.render import environment, header_lines, py_doc, py_str
+from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import device_extras, read_plan, spec_extras
 from regmap_runtime.spaces import DEFAULT_SPACE
 
@@ -506,11 +506,11 @@ def device_context(device: Device) -> dict[str, Any]:
 
 
 def render_device(device: Device) -> Files:
-    env = environment()
+    env = templates(__name__)
     context = device_context(device)
     package = device.id
     return {
-        f"{package}/__init__.py": env.get_template("python/client.py.jinja").render(**context),
+        f"{package}/__init__.py": env.get_template("client.py.jinja").render(**context),
         f"{package}/py.typed": "",
     }
 
