@@ -5,54 +5,35 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
 from pathlib import Path
 
-from regmap.diagnostics import Diagnostic, UsageError
+from regmap.diagnostics import Diagnostic, MapError, UsageError
 from regmap.model import Device
 
-Files = dict[str, str]  # relative path -> content
-TargetOptions = Mapping[str, str]  # `regmap generate` target options (e.g. `--select`) -> their text
-
-
-@dataclass(frozen=True)
-class Target:
-    name: str
-    subdir: str
-    per_device: Callable[[Device], Files]
-    shared: Callable[[Sequence[Device]], Files]
-    post: Callable[[Path], None] | None = None
-    check: Callable[[Device], list[Diagnostic]] | None = None  # the back end's own rules, run by `regmap validate`
-    # Target options: the names this target reads (`select`), and the target as given values make it.
-    # A target that declares none never sees them; an option no chosen target reads is refused.
-    options: tuple[str, ...] = ()
-    configure: Callable[[TargetOptions], Target] | None = None
-
-    def configured(self, options: TargetOptions) -> Target:
-        """This target with the options it reads applied (itself when none of them was given)."""
-        mine = {name: value for name, value in options.items() if name in self.options}
-        return self.configure(mine) if mine and self.configure is not None else self
+# The contract lives in regmap.target; these names stay importable from here for the runner's users.
+from regmap.target import TARGET_GROUP, reserved_id_problems
+from regmap.target import Files as Files
+from regmap.target import Target as Target
+from regmap.target import TargetOptions as TargetOptions
 
 
 def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
     """Every target's own checks on every device: what `generate` would refuse, found by `validate`."""
     known = _targets()
+    chosen = [known[name] for name in targets or list(known)]
     problems: list[Diagnostic] = []
-    for name in targets or list(known):
-        target = known[name]
+    for device in devices:
+        problems.extend(reserved_id_problems(device, chosen))
+    for target in chosen:
         if target.check is not None:
             for device in devices:
                 problems.extend(target.check(device))
     return problems
 
 
-BUILT_IN_ORDER = ("python", "c", "markdown", "st", "esphome", "homeassistant")
-TARGET_GROUP = "regmap.targets"  # entry-point group: a third-party back end registers itself here, as the built-in ones do
-
-
 def _targets() -> dict[str, Target]:
-    """Every back end registered under the `regmap.targets` entry points, built-in ones first."""
+    """Every back end registered under the `regmap.targets` entry points, in the order each declares (then by name)."""
     from importlib.metadata import entry_points
 
     found: dict[str, Target] = {}
@@ -64,8 +45,7 @@ def _targets() -> dict[str, Target]:
         if not isinstance(target, Target) or target.name != point.name:
             raise UsageError(f"entry point {point.name!r} ({point.value}) is not a regmap Target named {point.name!r}")
         found[point.name] = target
-    ordered = [name for name in BUILT_IN_ORDER if name in found] + sorted(n for n in found if n not in BUILT_IN_ORDER)
-    return {name: found[name] for name in ordered}
+    return {name: found[name] for name in sorted(found, key=lambda name: (found[name].order, name))}
 
 
 def target_names() -> list[str]:
@@ -84,6 +64,9 @@ def check_options(targets: Sequence[str], options: TargetOptions) -> None:
 def render(devices: Sequence[Device], targets: Sequence[str], options: TargetOptions | None = None) -> dict[str, Files]:
     """Every file each target produces, in memory, keyed by target subdir."""
     known = _targets()
+    problems = [p for device in devices for p in reserved_id_problems(device, [known[name] for name in targets])]
+    if problems:
+        raise MapError(problems)
     out: dict[str, Files] = {}
     for name in targets:
         target = known[name].configured(options or {})

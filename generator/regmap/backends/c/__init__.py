@@ -12,8 +12,9 @@ from regmap.backends.c.device import SHARED_HEADER, device_context, render_devic
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
 from regmap.backends.c.views import c_version
 from regmap.diagnostics import Diagnostic, at
-from regmap.generate import Target
+from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Device
+from regmap.target import ReservedWords, Target
 
 
 def check(device: Device) -> list[Diagnostic]:
@@ -30,7 +31,12 @@ def check(device: Device) -> list[Diagnostic]:
     return sorted(set(problems))
 
 
-TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared, check=check)
+# A device id prefixes every C name and names its header: `<id>.h` must not be the shared header either.
+RESERVED_WORDS = ReservedWords(
+    "a C/C++ keyword or the shared header's name", C_KEYWORDS | CPP_KEYWORDS | {SHARED_HEADER.removesuffix(".h")}
+)
+
+TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared, check=check, order=20, reserved_words=RESERVED_WORDS)
 
 __all__ = [
     "SHARED_HEADER",

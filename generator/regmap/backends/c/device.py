@@ -26,10 +26,10 @@ from regmap.backends.c.names import (
 from regmap.backends.c.views import Macro, command_view, enum_view, group_views, manual_sections, modern, sentences
 from regmap.backends.text import titled
 from regmap.diagnostics import UsageError
-from regmap.generate import Files
 from regmap.model import ByteOrder, Device, PollClass
 from regmap.render import templates
 from regmap.runtime_bridge import read_plan
+from regmap.target import Files
 from regmap_runtime.spaces import (
     BY_FUNCTION,
     COIL_OFF,

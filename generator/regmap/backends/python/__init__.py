@@ -17,10 +17,11 @@ from typing import Any
 
 from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
-from regmap.generate import Files, Target
+from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import device_extras, read_plan, spec_extras
+from regmap.target import Files, ReservedWords, Target
 from regmap_runtime.spaces import DEFAULT_SPACE
 
 RUNTIME_MODULES = (
@@ -563,4 +564,16 @@ def _post(directory: Path) -> None:
     ruff_format(directory, skip=runtime_package())
 
 
-TARGET = Target(name="python", subdir="python", per_device=render_device, shared=render_shared, post=_post, check=check)
+# A device id names the generated package: one of these would shadow a package its client imports (or the stdlib's `test`).
+SHADOWED_PACKAGES = frozenset({"regmap", "regmap_runtime", "pymodbus", "test", "tests"})
+
+TARGET = Target(
+    name="python",
+    subdir="python",
+    per_device=render_device,
+    shared=render_shared,
+    post=_post,
+    check=check,
+    order=10,
+    reserved_words=ReservedWords("a Python keyword or a package the client would shadow", PYTHON_KEYWORDS | SHADOWED_PACKAGES),
+)

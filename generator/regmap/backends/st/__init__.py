@@ -17,9 +17,10 @@ from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.views import DIALECTS
 from regmap.diagnostics import Diagnostic, UsageError
-from regmap.generate import Files, Target
+from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
 from regmap.render import templates
+from regmap.target import Files, ReservedWords, Target
 
 FILES = ("types", "constants", "functions")
 
@@ -60,6 +61,11 @@ def render_shared(devices: Sequence[Device]) -> Files:
     return {}
 
 
-TARGET = Target(name="st", subdir="st", per_device=render_device, shared=render_shared, check=check)
+# The device id prefixes the ST names; ST reads every name case-insensitively.
+RESERVED_WORDS = ReservedWords("an IEC 61131-3 or CODESYS reserved word", IEC_KEYWORDS, case_sensitive=False)
+
+TARGET = Target(
+    name="st", subdir="st", per_device=render_device, shared=render_shared, check=check, order=40, reserved_words=RESERVED_WORDS
+)
 
 __all__ = ["DIALECTS", "TARGET", "StIdentifier", "check", "contexts", "device_views", "render_device", "render_shared", "st_string"]
