@@ -98,7 +98,9 @@ class RegisterView:
     readable: bool
     writable: bool
     kwargs: tuple[tuple[str, str], ...]  # constructor keyword arguments, already literals
-    doc: str
+    doc: str  # the register's documentation, written once: under its constant
+    read_doc: str  # the methods' one line: the constant they use and the register's title
+    write_doc: str
 
 
 @dataclass(frozen=True)
@@ -241,11 +243,17 @@ def _register_doc(reg: Register) -> str:
     return py_doc(" ".join(parts))
 
 
+def _method_doc(verb: str, reg: Register, constant: str) -> str:
+    """A read/write method's docstring: what help() needs to pick the method, pointing to the full text at `constant`."""
+    return py_doc(f"{verb} {constant}: {titled(reg.title, reg.title_zh)}; documented at the constant.")
+
+
 def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
 
-def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
+def _register_view(reg: Register, attr: str | None = None, constant: str | None = None) -> RegisterView:
+    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
     kwargs: list[tuple[str, str]] = [
@@ -293,6 +301,8 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
         writable=_writable(reg),
         kwargs=tuple(kwargs),
         doc=_register_doc(reg),
+        read_doc=_method_doc("Read", reg, constant or const(reg.name)),
+        write_doc=_method_doc("Write", reg, constant or const(reg.name)),
     )
 
 
@@ -305,7 +315,8 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
             reg = by_name[f"{array.name}_{index}_{member.name}"]
             pairs.append((str(PythonIdentifier(member.name)), const(reg.name)))
             if member.name not in members:
-                members[member.name] = _register_view(reg, member.name)
+                attr = PythonIdentifier(member.name)
+                members[member.name] = _register_view(reg, attr, f"{const(array.name)}[n].{attr}")
         elements.append((index, tuple(pairs)))
     doc = (
         titled(array.title, array.title_zh)
