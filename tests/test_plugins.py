@@ -21,32 +21,14 @@ from conftest import ROOT
 BUILT_IN = "python, c, markdown, st, esphome, homeassistant"
 IEC_ID_MAP = ROOT / "tests" / "maps" / "invalid" / "device_id_iec_keyword.yaml"
 
-PLUGIN = '''
-"""A tiny regmap back end: one line per register (the example of docs/plugins.md)."""
-
-from regmap.diagnostics import at
-from regmap.target import ReservedWords, Target
+PLUGINS_DOC = ROOT / "docs" / "plugins.md"
 
 
-def per_device(device):
-    rows = [f"0x{r.address:04X},{r.name}" for r in device.registers]
-    return {f"{device.id}.csv": "address,name\\n" + "\\n".join(rows) + "\\n"}
-
-
-def check(device):
-    return [at(device.source_path, r.pos, f"{r.name}: the registers plugin refuses names over 30 characters") for r in device.registers if len(r.name) > 30]
-
-
-TARGET = Target(
-    name="registers",
-    subdir="registers",
-    per_device=per_device,
-    shared=lambda devices: {},
-    check=check,
-    order=5,
-    reserved_words=ReservedWords("a name the registers plugin keeps", frozenset({"C630S"}), case_sensitive=False),
-)
-'''
+def documented_plugin() -> str:
+    """The example plugin of docs/plugins.md, its first Python block: the test installs what the page shows."""
+    text = PLUGINS_DOC.read_text(encoding="utf-8")
+    start = text.index("```python\n") + len("```python\n")
+    return text[start : text.index("```", start)]
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +38,7 @@ def plugin_env(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
     tmp_path = tmp_path_factory.mktemp("plugin")
     source = tmp_path / "plugin"
     (source / "regmap_registers").mkdir(parents=True)
-    (source / "regmap_registers" / "__init__.py").write_text(PLUGIN, encoding="utf-8")
+    (source / "regmap_registers" / "__init__.py").write_text(documented_plugin(), encoding="utf-8")
     (source / "pyproject.toml").write_text(
         textwrap.dedent(
             """
