@@ -76,7 +76,8 @@ def plugin_env(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
         check=False,
     )
     assert installed.returncode == 0, installed.stderr
-    return {**os.environ, "PYTHONPATH": str(plugins)}
+    # Kept in front of any PYTHONPATH already set (the mutation gate points it at its mutated copy of regmap).
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (str(plugins), os.environ.get("PYTHONPATH")) if p)}
 
 
 def _regmap(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
