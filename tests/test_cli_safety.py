@@ -282,7 +282,8 @@ def test_decode_capture_formats_stdin_and_bad_lines() -> None:
     )
     assert result.returncode == ExitCode.BAD_FRAME
     frames = json.loads(result.stdout)
-    assert [f["line"] for f in frames] == [1, 2, 3, 4, 6]
+    assert [f["line"] for f in frames] == [1, 2, 3, 4, 5, 6]
+    assert frames[4]["ok"] is False and "not hex bytes" in frames[4]["error"]
     assert {v["param"]: v["value"] for v in frames[1]["values"]} == {"Pr5.00": 2.2}
     assert frames[1]["values"][0]["address"] == 0x0191 and frames[1]["values"][0]["address_hex"] == "0x0191"
     assert "-:5:" in result.stderr and "not hex bytes" in result.stderr

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+import re
 import shutil
 import subprocess
 import sys
@@ -219,11 +220,8 @@ def test_c630s_manual_table_reproduces_the_map(tmp_path: Path, capsys: pytest.Ca
 # -- update keeps the map's text --------------------------------------------------------------
 
 
-def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
-    original = ROOT / "maps" / "id243pro.yaml"
-    target = tmp_path / "id243pro.yaml"
-    shutil.copy(original, target)
-    device = load_map(original)
+def table_changing_a_default(device: Device, tmp_path: Path) -> tuple[Path, Register, int]:
+    """tmp_path/changed.csv: the device's table with one register's default raised by one; that register and its new default."""
     rows = list(csv.reader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
     reg = next(r for r in device.registers if isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max)
     assert isinstance(reg.default, int)
@@ -232,13 +230,21 @@ def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
     table = tmp_path / "changed.csv"
     with table.open("w", encoding="utf-8", newline="") as handle:
         csv.writer(handle).writerows(rows)
+    return table, reg, reg.default + 1
+
+
+def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
+    original = ROOT / "maps" / "id243pro.yaml"
+    target = tmp_path / "id243pro.yaml"
+    shutil.copy(original, target)
+    table, reg, default = table_changing_a_default(load_map(original), tmp_path)
     run = _regmap("import", str(table), "--into", str(target))
     assert run.returncode == 0, run.stderr
     assert "register_default_changed" in run.stdout and reg.name in run.stdout
     before, after = original.read_text(encoding="utf-8").splitlines(), target.read_text(encoding="utf-8").splitlines()
     assert len(before) == len(after)
     changed = [(a, b) for a, b in zip(before, after, strict=True) if a != b]
-    assert len(changed) == 1 and str(reg.default + 1) in changed[0][1]
+    assert len(changed) == 1 and str(default) in changed[0][1]
 
 
 def test_update_with_the_same_table_changes_nothing(tmp_path: Path) -> None:
@@ -540,3 +546,25 @@ def test_byte_orders_as_tables_print_them(text: str, value: tuple[str | None, st
 def test_unknown_spaces_are_reported(text: str) -> None:
     with pytest.raises(CellProblem):
         cells.space(text)
+
+
+NEW_REGISTER_TABLE = "Address,Name,Title,Range,Access\n0xFE00,added_setting,Added setting,0~100,RW\n"
+
+
+@pytest.mark.parametrize("path", [*MAPS, "groups at column 0"], ids=lambda p: p if isinstance(p, str) else p.name)
+def test_a_new_register_goes_into_an_existing_map(tmp_path: Path, path: Path | str) -> None:
+    """The appended group is indented as the map's own groups are, wherever their dashes stand."""
+    target = tmp_path / "device.yaml"
+    if isinstance(path, Path):
+        target.write_text(path.read_text(encoding="utf-8"), encoding="utf-8")
+    else:
+        text = (ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml").read_text(encoding="utf-8")
+        flush_left = re.sub(r"(?m)^  ", "", text[text.index("groups:") :])
+        target.write_text(text[: text.index("groups:")] + flush_left, encoding="utf-8")
+        assert "\n- id:" in target.read_text(encoding="utf-8")
+    table = tmp_path / "new.csv"
+    table.write_text(NEW_REGISTER_TABLE, encoding="utf-8")
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == ExitCode.OK, run.stderr
+    added = next(r for r in load_map(target).registers if r.name == "added_setting")
+    assert (added.address, added.min, added.max) == (0xFE00, 0, 100)

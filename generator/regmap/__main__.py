@@ -1,3 +1,3 @@
-from regmap.cli import main
+from regmap.entry import main
 
 raise SystemExit(main())

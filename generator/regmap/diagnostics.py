@@ -19,6 +19,7 @@ class ExitCode(enum.IntEnum):
     DIFF_BREAKING = 7  # `diff`: breaking differences
     PROBE_DISAGREES = 8  # `probe`: the drive and its map disagree
     INTERNAL = 70  # a bug in regmap (EX_SOFTWARE): please report it with REGMAP_DEBUG=1
+    OUTPUT = 74  # an output could not be written (EX_IOERR): disk full, read-only, permission
     INTERRUPTED = 130  # Ctrl-C
 
 
@@ -43,6 +44,10 @@ class MapError(Exception):
 
 class UsageError(Exception):
     """A bad command-line argument or runtime input (selector, value, frame); one line for the user."""
+
+
+class OutputError(Exception):
+    """An output could not be written (disk full, read-only, permission); one line naming it, nothing half-written."""
 
 
 class LinkError(Exception):

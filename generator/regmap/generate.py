@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from regmap.diagnostics import Diagnostic, MapError, UsageError
+from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
 from regmap.model import Device
 
 # The contract lives in regmap.target; these names stay importable from here for the runner's users.
@@ -93,34 +94,48 @@ def generate(
     rendered and post-processed."""
     known = _targets()
     rendered = render(devices, targets, options)
-    out_dir = out_dir.resolve()
-    out_dir.parent.mkdir(parents=True, exist_ok=True)
-    recover(out_dir)
-    staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir.parent))
+    given = out_dir
+    out_dir = out_dir.resolve()  # a symlink is followed: its target is swapped, the link stays
+    with _writing(given):
+        out_dir.parent.mkdir(parents=True, exist_ok=True)
+        recover(out_dir)
+        staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir.parent))
     try:
         tree = staging / "tree"
-        if out_dir.exists():
-            shutil.copytree(out_dir, tree, symlinks=True)
-        else:
-            tree.mkdir()
+        with _writing(given):
+            if out_dir.exists():
+                shutil.copytree(out_dir, tree, symlinks=True)
+            else:
+                tree.mkdir()
         written: list[Path] = []
         for name, files in rendered.items():
             target = known[name]
             sub = tree / target.subdir
-            if complete and sub.exists():
-                shutil.rmtree(sub)
-            for rel, content in sorted(files.items()):
-                _write(sub, rel, content)
-                written.append(out_dir / target.subdir / rel)
+            with _writing(given):
+                if complete and sub.exists():
+                    shutil.rmtree(sub)
+                for rel, content in sorted(files.items()):
+                    _write(sub, rel, content)
+                    written.append(out_dir / target.subdir / rel)
             if target.post is not None:
                 target.post(sub)
-        for rel, content in sorted((extra or {}).items()):
-            _write(tree, rel, content)
-            written.append(out_dir / rel)
-        _swap(tree, out_dir, staging)
+        with _writing(given):
+            for rel, content in sorted((extra or {}).items()):
+                _write(tree, rel, content)
+                written.append(out_dir / rel)
+            _swap(tree, out_dir, staging)
         return written
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def _writing(out_dir: Path) -> Iterator[None]:
+    """A full disk or a read-only directory is the user's situation (one line, exit 74), not a bug in regmap."""
+    try:
+        yield
+    except OSError as exc:
+        raise OutputError(f"cannot write {out_dir}: {exc.strerror or exc}") from None
 
 
 def _write(root: Path, rel: str, content: str) -> None:

@@ -10,6 +10,7 @@ from then on refuses registers that firmware lacks.
 from __future__ import annotations
 
 import dataclasses
+import re
 from collections.abc import Iterable, Mapping
 from typing import Any, TypeVar, cast
 
@@ -38,6 +39,18 @@ PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
     COIL.name: ("read_coils", "write_coil", "write_coils"),  # write_coil(True) sends FF 00, as 0x05 requires
     DISCRETE_INPUT.name: ("read_discrete_inputs", None, None),
 }
+
+
+def serial_settings(device: DeviceSpec, baud: int | None, parity: str | None, stop_bits: int | None) -> dict[str, Any]:
+    """pymodbus's serial settings: the map's where None is given (0 is no baud rate: termios's B0 hangs the line up)."""
+    if baud is not None and baud <= 0:
+        raise ValueError(f"baud {baud} is not a baud rate")
+    return {
+        "baudrate": device.baud if baud is None else baud,
+        "parity": PARITY[device.parity if parity is None else parity],
+        "bytesize": device.data_bits,
+        "stopbits": device.stop_bits if stop_bits is None else stop_bits,
+    }
 
 
 class LineWatch:
@@ -91,22 +104,36 @@ class _Core:
             self._firmware_spec = next(r for r in self.DEVICE.registers if r.name == name)
 
     def transport_error(self, exc: Exception) -> Exception:
-        """A typed error saying what happened on the line: silence, a bad CRC, another slave, or garbage."""
-        if isinstance(exc, ConnectionException):
-            return ConnectionLost(str(exc))
-        if not isinstance(exc, ModbusIOException):
-            return ProtocolError(str(exc))
+        """A typed error saying what happened on the line, in regmap's words (pymodbus's texts name its own
+        internals): silence, a lost connection, a bad CRC, another slave, or garbage."""
         seen = self.line.received
-        if "device id" in str(exc) and "received" in str(exc):
-            return WrongSlave(f"asked slave {self.slave}, {str(exc).split('but ')[-1].rstrip('.')}")
+        text = str(exc)
+        if isinstance(exc, ConnectionException):
+            if "unexpectedly closed" in text:
+                return ConnectionLost("the connection closed before the answer was complete")
+            return ConnectionLost("the connection could not be opened" if "connect" in text.lower() else "the connection was lost")
+        if not isinstance(exc, ModbusIOException):
+            return ProtocolError(f"unusable answer: {to_hex(seen)}" if seen else "unusable answer")
+        other = re.search(r"device id\S* but received (\d+)", text)
+        if other:
+            return WrongSlave(f"asked slave {self.slave}, the answer came from slave {other.group(1)}")
         if not seen:
             return DeviceTimeout(f"no answer from slave {self.slave} (after all retries)")
-        if self.line.rtu_framing:
-            if len(seen) >= 4 and seen[0] != self.slave:
-                return WrongSlave(f"asked slave {self.slave}, the answer came from slave {seen[0]}: {to_hex(seen)}")
-            if len(seen) >= 4 and not crc_ok(seen):
-                return CrcError(f"the answer's CRC does not match: {to_hex(seen)}")
+        # Where the answer's unit id is: RTU's first byte, the 7th of a Modbus TCP header.
+        unit, shortest = (0, 4) if self.line.rtu_framing else (6, 8)
+        if len(seen) >= shortest and seen[unit] != self.slave:
+            return WrongSlave(f"asked slave {self.slave}, the answer came from slave {seen[unit]}: {to_hex(seen)}")
+        if self.line.rtu_framing and len(seen) >= 4 and not crc_ok(seen):
+            return CrcError(f"the answer's CRC does not match: {to_hex(seen)}")
         return ProtocolError(f"unusable answer: {to_hex(seen)}")
+
+    @property
+    def where(self) -> str:
+        """The port or HOST:PORT, as the user gave it (pymodbus's str() starts with its class name)."""
+        params = getattr(self.modbus, "comm_params", None)
+        if params is None:  # a stand-in for pymodbus's client (a test double)
+            return str(self.modbus)
+        return str(params.host) if isinstance(self.modbus, ModbusSerialClient | AsyncModbusSerialClient) else f"{params.host}:{params.port}"
 
     @property
     def broadcast(self) -> bool:
@@ -321,10 +348,7 @@ class SyncClient(_Core):
         line = LineWatch(rtu_framing=True)
         modbus = ModbusSerialClient(
             port,
-            baudrate=baud or device.baud,
-            parity=PARITY[parity or device.parity],
-            bytesize=device.data_bits,
-            stopbits=stop_bits or device.stop_bits,
+            **serial_settings(device, baud, parity, stop_bits),
             timeout=timeout,
             retries=retries,
             trace_packet=line,
@@ -362,7 +386,7 @@ class SyncClient(_Core):
     def connect(self) -> None:
         """Open the port or socket; with check_firmware, read the firmware version too."""
         if not self.modbus.connect():
-            raise ConnectionLost(f"cannot connect to {self.modbus}")
+            raise ConnectionLost(f"cannot connect to {self.where}")
         if self.firmware_pending:
             self.detect_firmware()
 
@@ -497,10 +521,7 @@ class AsyncClient(_Core):
         line = LineWatch(rtu_framing=True)
         modbus = AsyncModbusSerialClient(
             port,
-            baudrate=baud or device.baud,
-            parity=PARITY[parity or device.parity],
-            bytesize=device.data_bits,
-            stopbits=stop_bits or device.stop_bits,
+            **serial_settings(device, baud, parity, stop_bits),
             timeout=timeout,
             retries=retries,
             trace_packet=line,
@@ -541,7 +562,7 @@ class AsyncClient(_Core):
 
     async def connect(self) -> None:
         if not await self.modbus.connect():
-            raise ConnectionLost(f"cannot connect to {self.modbus}")
+            raise ConnectionLost(f"cannot connect to {self.where}")
         if self.firmware_pending:
             await self.detect_firmware()
 

@@ -198,8 +198,8 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
         raise RangeError(f"{spec.label}: NaN is not a value")
     if not spec.raw_min <= raw <= spec.raw_max:
         low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
-        shown = _fmt(raw_to_value(spec, raw))
-        raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_fmt(low)}..{_fmt(high)}{_unit(spec)}")
+        shown = _exact(raw_to_value(spec, raw))
+        raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_exact(low)}..{_exact(high)}{_unit(spec)}")
     if not isinstance(raw, int):
         return
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
@@ -216,6 +216,12 @@ def _unit(spec: RegisterSpec[Any]) -> str:
 
 def _fmt(value: int | float) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _exact(value: int | float) -> str:
+    """Every digit that tells the number apart (3600.0001 is not 3600), none more: 3600, not 3600.0."""
+    text = repr(value)
+    return text[:-2] if text.endswith(".0") else text
 
 
 def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:

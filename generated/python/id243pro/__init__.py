@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_547d3d0b3a.bits import BitfieldValue
-from regmap_runtime_547d3d0b3a.client import AsyncClient, SyncClient
-from regmap_runtime_547d3d0b3a.errors import (
+from regmap_runtime_29e1009483.bits import BitfieldValue
+from regmap_runtime_29e1009483.client import AsyncClient, SyncClient
+from regmap_runtime_29e1009483.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,7 +21,7 @@ from regmap_runtime_547d3d0b3a.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_547d3d0b3a.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_29e1009483.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "30cbe83802b68f17"

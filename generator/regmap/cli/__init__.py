@@ -17,7 +17,8 @@ from collections.abc import Sequence
 from types import ModuleType
 
 from regmap import __version__
-from regmap.diagnostics import ExitCode, LinkError, MapError, UsageError
+from regmap.diagnostics import ExitCode, LinkError, MapError, OutputError, UsageError
+from regmap.tools.output import guarded_stdout
 
 SUBCOMMANDS = (
     "validate",
@@ -89,9 +90,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:
         return _exit_for(exc)
     args.command = command
+    with guarded_stdout():
+        return _run(command, args)
+
+
+def _run(command: str, args: argparse.Namespace) -> int:
     try:
-        result: int = _module(command).run(args)
-        return int(result)
+        result = int(_module(command).run(args))
+        sys.stdout.flush()  # here, not at exit: a full disk is reported like any other outcome
+        return result
     except MapError as exc:
         for diag in exc.diagnostics:
             print(diag, file=sys.stderr)
@@ -102,6 +109,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except LinkError as exc:
         print(f"regmap {command}: bus error: {exc}", file=sys.stderr)
         return ExitCode.BUS
+    except OutputError as exc:
+        print(f"regmap {command}: error: {exc}", file=sys.stderr)
+        return ExitCode.OUTPUT
     except KeyboardInterrupt:
         print(f"regmap {command}: interrupted", file=sys.stderr)
         return ExitCode.INTERRUPTED

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -18,6 +19,12 @@ VALUE_SYNTAX = (
     "VALUE is in engineering units (1.5 for 1.5 A), an enum member name (save_all_parameters), text for a string register "
     '(label=abc, or label="two words"), on/off (true/false, 1/0) for a coil, or for a bitfield register '
     "field:value,field:value (function:path_address_0,normally_closed:1), optionally after a base word (0x00A8,function:ctrg)"
+)
+
+SELECTOR_SYNTAX = (
+    "SELECTOR is a register name, the manual's parameter id (Pr5.00, P05-02, 0302) or a register's 0-based protocol address "
+    "(0x0191, 0191h, 401; mbpoll's -r 402, Modicon's 40402 with --modicon); a plain decimal number right after a SELECTOR "
+    "is its COUNT: that many of the map's readable registers from it on (with --words: words), as mbpoll's -c"
 )
 
 
@@ -57,13 +64,31 @@ def load_all(paths: Sequence[str]) -> list[Device]:
     return devices
 
 
-def positive_float(text: str) -> float:
+def _positive(text: str, unit: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
-    if not value > 0 or value != value or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"{text} must be a positive number of seconds")
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of {unit}") from None
+    if not 0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text} must be a positive number of {unit}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    return _positive(text, "seconds")
+
+
+def requests_per_second(text: str) -> float:
+    return _positive(text, "requests per second")
+
+
+def seconds_or_zero(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 <= value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text} is not a number of seconds, 0 or more")
     return value
 
 
@@ -75,6 +100,20 @@ def count(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"{text} must be 0 or more")
     return value
+
+
+def positive_count(text: str) -> int:
+    value = count(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError(f"{text} must be 1 or more")
+    return value
+
+
+def baud_rate(text: str) -> int:
+    """A baud rate as mbpoll's -b takes it: decimal, positive (whether the map's drive talks at it: `tools.link.serial_line`)."""
+    if not (text.isascii() and text.isdigit()) or int(text) == 0:
+        raise argparse.ArgumentTypeError(f"{text} is not a baud rate (a positive whole number: 9600, 38400 ...)")
+    return int(text)
 
 
 def slave_id(text: str) -> int:
@@ -113,6 +152,22 @@ def add_space(p: Any) -> None:
     p.add_argument("-t", "--space", metavar="SPACE", help=SPACE_HELP)
 
 
+MODICON_HELP = (
+    "decimal addresses are Modicon reference numbers, which name the space and count from 1: 0xxxx coils, 1xxxx discrete "
+    "inputs, 3xxxx input registers, 4xxxx holding registers (40402 and 400402 are holding register 401); hex ones stay addresses"
+)
+
+
+def add_addressing(p: Any, *, start: bool) -> None:
+    """--modicon, and where a command reads from a start: mbpoll's -r (1-based start reference) and -c (count)."""
+    if start:
+        p.add_argument("-r", dest="start", metavar="REF", help="mbpoll's -r: the start reference, counting from 1 (-r 402 is address 401)")
+        p.add_argument(
+            "-c", dest="count", metavar="N", help="mbpoll's -c: how many from the start (registers of the map; with --words, words)"
+        )
+    p.add_argument("--modicon", action="store_true", help=MODICON_HELP)
+
+
 def space_from(args: argparse.Namespace) -> str | None:
     """The data space -t/--space names (checked: a one-line error for a wrong one), or None."""
     from regmap.tools.selectors import parse_space
@@ -127,7 +182,7 @@ def add_link_options(p: argparse.ArgumentParser) -> None:
     bus = p.add_argument_group("bus settings")
     bus.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP connection (transparent serial servers)")
     bus.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
-    bus.add_argument("--baud", type=count, help="override the map's default baud rate")
+    bus.add_argument("--baud", type=baud_rate, help="override the map's default baud rate")
     bus.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity")
     bus.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
     bus.add_argument("--timeout", type=positive_float, default=1.0, help="seconds to wait for an answer (default 1)")
@@ -180,6 +235,14 @@ def add_profile(p: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="a device profile from `regmap probe --profile`: read with the limit and the gaps it proved (refused for another map)",
     )
+
+
+def add_read_options(p: argparse.ArgumentParser) -> None:
+    """What `read` and `dump` share: the space, mbpoll's -r/-c, --modicon, the output format, --profile."""
+    add_space(p)
+    add_addressing(p, start=True)
+    add_output(p)
+    add_profile(p)
 
 
 def profile_from(args: argparse.Namespace, device: Device) -> Any:

@@ -21,13 +21,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "frame is read in its function's data space (0x03 holding, 0x04 input registers, 0x01/0x05/0x0F coils, 0x02 "
             "discrete inputs: bit by bit, the padding of a response checked); floats, 64-bit values and text by the map's types.\n"
             "A capture (--file, - for stdin) has one frame per line, optionally after a timestamp and a TX/RX tag "
-            "(`12:00:00.001 TX: 01 03 ...`, `[2024-05-01 12:00:00.001] RX:`, `TX> ...`); # starts a comment; a response pairs with "
-            "the request before it. Exit status 3 when a frame has a CRC mismatch or another problem, or a line is not a frame."
+            "(`12:00:00.001 TX: 01 03 ...`, `[2024-05-01 12:00:00.001] RX:`, `TX> ...`), mbpoll -v's `[01][03]...` (sent) and "
+            "`<01><03>...` (received), or pymodbus's `send: 0x1 0x3 ...`/`recv:`/`Processing:`; # starts a comment; a response pairs with the request before it. UTF-8 or UTF-16 with a BOM; "
+            "a binary file is refused.\n"
+            "Exit status 3 when a frame (or its --request) has a CRC mismatch or another problem, a line is not a frame, or a "
+            "capture holds no frame; --json then lists the bad lines with an error member."
         ),
         epilog=examples(
             'regmap decode maps/idm_rs.yaml 01 03 02 00 16 39 8A --request "01 03 01 91 00 01 D4 1B"',
-            "regmap decode maps/idm_rs.yaml --file capture.log --json",
-            "cat capture.log | regmap decode maps/c630s.yaml --file -",
+            "regmap decode maps/idm_rs.yaml --file examples/capture.log --json",
+            "cat examples/capture.log | regmap decode maps/idm_rs.yaml --file -",
             'regmap decode tests/maps/fixtures/remote_io.yaml 01 01 03 CD 6B 05 42 82 --request "01 01 00 13 00 13 8C 02"',
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -42,41 +45,47 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
-def _capture_lines(name: str) -> list[str]:
+def _capture_bytes(name: str) -> bytes:
     try:
         if name == "-":
-            return sys.stdin.read().splitlines()
-        with open(name, encoding="utf-8") as handle:
-            return handle.read().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise UsageError(f"cannot read {name}: {exc}") from None
+            return sys.stdin.buffer.read()
+        with open(name, "rb") as handle:
+            return handle.read()
+    except OSError as exc:
+        raise UsageError(f"cannot read {name}: {exc.strerror or exc}") from None
 
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import decode
-    from regmap_runtime.rtu import FrameError, parse_frame, parse_hex
+    from regmap_runtime.rtu import FrameError, parse_hex
 
     device = load_map(args.map)
-    errors: list[str] = []
+    entries: list[decode.Decoded | decode.CaptureError]
     if args.file:
         if args.hex:
             raise UsageError("give HEX or --file, not both")
-        result = decode.decode_capture(device, _capture_lines(args.file), args.file, word_order=args.word_order)
-        decoded, errors = result.frames, result.errors
+        if args.request:
+            raise UsageError("--request goes with one HEX frame; a capture pairs each response with the request before it")
+        lines = decode.capture_lines(_capture_bytes(args.file), args.file)
+        result = decode.decode_capture(device, lines, args.file, word_order=args.word_order)
+        entries, decoded, errors = result.entries(), result.frames, result.errors
     else:
         if not args.hex:
             raise UsageError("give the frame as HEX (one argument or several) or --file CAPTURE")
         try:
             frame = parse_hex(" ".join(args.hex))
-            request = parse_frame(parse_hex(args.request), "request") if args.request else None
+            request = parse_hex(args.request) if args.request else None
         except FrameError as exc:
             raise UsageError(str(exc)) from None
-        direction = "response" if request is not None else args.direction
-        decoded = [decode.decode_frame(device, frame, direction=direction, request=request, word_order=args.word_order)]
+        if request is not None:
+            one = decode.decode_answer(device, frame, request, word_order=args.word_order)
+        else:
+            one = decode.decode_frame(device, frame, direction=args.direction, word_order=args.word_order)
+        entries, decoded, errors = [one], [one], []
     if args.json:
-        json.dump([d.as_json() for d in decoded], sys.stdout, ensure_ascii=False, indent=2)
+        json.dump([entry.as_json() for entry in entries], sys.stdout, ensure_ascii=False, indent=2)
         sys.stdout.write("\n")
-    else:
+    elif decoded:
         print("\n".join(decode.render_text(d) for d in decoded))
     for error in errors:
         print(f"regmap decode: {error}", file=sys.stderr)

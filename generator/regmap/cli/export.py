@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
-from pathlib import Path
 
 from regmap.cli.common import add_map, examples, load_map
 from regmap.diagnostics import ExitCode, UsageError
-from regmap.tools.atomic import write_atomic
+from regmap.tools.output import STDOUT, check_output, write_output
 
 HELP = "print the elaborated model of a map as JSON, or write it as CSV or XLSX"
 
@@ -30,13 +28,17 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     add_map(p)
     p.add_argument("--format", choices=["json", "csv", "xlsx"], default="json")
-    p.add_argument("--out", metavar="FILE", help="write to FILE (required for xlsx; json and csv go to stdout without it)")
+    p.add_argument(
+        "--out", metavar="FILE", help="write to FILE, or to stdout with - (required for xlsx; json and csv go to stdout without it)"
+    )
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     if args.format == "xlsx" and not args.out:
-        raise UsageError("--format xlsx writes a binary workbook: give --out FILE.xlsx")
+        raise UsageError("--format xlsx writes a binary workbook: give --out FILE.xlsx (or --out - for stdout)")
+    where = args.out or STDOUT
+    check_output(where, "--out", stdout=True, binary=args.format == "xlsx")
     device = load_map(args.map)
     data: bytes
     if args.format == "json":
@@ -51,10 +53,5 @@ def run(args: argparse.Namespace) -> int:
         from regmap.tools.spreadsheet.export import export_xlsx
 
         data = export_xlsx(device)
-    if args.out:
-        write_atomic(Path(args.out), data)
-    else:
-        sys.stdout.flush()
-        sys.stdout.buffer.write(data)
-        sys.stdout.buffer.flush()
+    write_output(where, data, "--out")
     return ExitCode.OK

@@ -3,9 +3,19 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
-from regmap.cli.common import VALUE_SYNTAX, add_map, add_space, add_word_order, examples, load_map, slave_id, space_from
+from regmap.cli.common import (
+    SELECTOR_SYNTAX,
+    VALUE_SYNTAX,
+    add_addressing,
+    add_map,
+    add_space,
+    add_word_order,
+    examples,
+    load_map,
+    slave_id,
+    space_from,
+)
 from regmap.diagnostics import ExitCode, UsageError
 
 HELP = "print a request frame as hex bytes"
@@ -17,9 +27,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help=HELP,
         description=(
             "Build the request frame a master sends.\n\n"
-            "SELECTOR is a register name, the manual's parameter id (Pr5.00, P05-02, 0302) or a register's address (0x0191, 0191h, 401).\n"
+            f"{SELECTOR_SYNTAX}.\n"
             f"{VALUE_SYNTAX}.\n"
-            "read SELECTOR COUNT reads COUNT of the map's readable registers from SELECTOR on (with the fewest requests).\n"
+            "read SELECTOR [COUNT] ... reads each register, or COUNT of the map's readable registers from SELECTOR on, with the "
+            "fewest requests (as `regmap read` does); -r REF [-c N] is mbpoll's start and count.\n"
             "Every data space has its functions: holding registers 0x03/0x06/0x10, input registers 0x04 (read-only), coils "
             "0x01/0x05/0x0F, discrete inputs 0x02 (read-only); contiguous coils share one 0x0F frame.\n"
             "--raw: values are raw register values (no scaling). --words: ADDR=WORD[,WORD...] writes 16-bit words at any Modbus "
@@ -31,6 +42,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         epilog=examples(
             "regmap frame maps/idm_rs.yaml write peak_current=1.5              # 01 06 01 91 00 0F 99 DF",
             "regmap frame maps/idm_rs.yaml read Pr5.22 3                       # three parameters, one request",
+            "regmap frame maps/idm_rs.yaml read -r 402                         # mbpoll's -r 402: address 401, Pr5.00",
+            "regmap frame maps/idm_rs.yaml read --modicon 40402                # Modicon 40402: holding register 401",
             "regmap frame maps/idm_rs.yaml write --words 0x6209=0xFFFC          # one word, as manual 7.4 prints it",
             "regmap frame maps/c630s.yaml read --words 0x0B11 2                 # a 32-bit parameter as '2 registers'",
             "regmap frame maps/idm_rs.yaml write Pr4.02=0x00A8,function:ctrg    # a base word and one field",
@@ -43,7 +56,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     add_map(p)
     p.add_argument("action", choices=["read", "write", "command"])
-    p.add_argument("items", nargs="*", metavar="ARG", help="read: SELECTOR [COUNT]; write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]")
+    p.add_argument(
+        "items",
+        nargs="*",
+        metavar="ARG",
+        help="read: SELECTOR [COUNT] ... (or -r REF [-c N]); write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]",
+    )
     p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
     p.add_argument("--raw", action="store_true", help="values are raw register integers")
     p.add_argument(
@@ -52,6 +70,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="addresses and 16-bit words (bits, in a bit space), documented or not (write ADDR=WORD,...; read ADDR COUNT)",
     )
     add_space(p)
+    add_addressing(p, start=True)
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 (replace the whole word)")
     add_word_order(p, live=False)
     return p
@@ -59,7 +78,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import frames
-    from regmap.tools.selectors import parse_int
+    from regmap.tools.selectors import Registers, parse_items, say_notes
     from regmap_runtime.rtu import to_hex
 
     space = space_from(args)
@@ -67,22 +86,33 @@ def run(args: argparse.Namespace) -> int:
     notes: list[str] = []
     if args.words and args.raw:
         raise UsageError("--words already means raw words; give one of --words and --raw")
+    if args.action != "read" and (args.start is not None or args.count is not None):
+        raise UsageError(f"-r and -c name what to read: `frame {args.action}` takes neither")
     if args.action == "read":
-        if not 1 <= len(args.items) <= 2:
-            raise UsageError("read wants SELECTOR [COUNT]" + (" (--words: ADDR COUNT)" if args.words else ""))
-        count = parse_int(args.items[1], "COUNT") if len(args.items) == 2 else None
+        items = parse_items(args.items, count=args.count, start=args.start, modicon=args.modicon, space=space)
         if args.words:
-            built = [frames.read_words_frame(device, args.items[0], 1 if count is None else count, args.slave, space or "holding")]
+            reads = frames.word_reads(device, items, space, modicon=args.modicon)
+            built = frames.word_read_frames(device, reads, args.slave)
+            notes = [r.note for r in reads if r.note]
         else:
-            if count is not None and count < 1:
-                raise UsageError(f"COUNT {count}: give at least 1 register")
-            built = frames.read_frames(device, args.items[0], count, args.slave, space)
+            regs = Registers(device, space, modicon=args.modicon)
+            built = frames.read_frames(device, regs, items, args.slave)
+            notes = regs.notes
     elif args.action == "write":
         if args.words:
-            built = frames.write_words_frames(device, args.items, args.slave, space or "holding")
+            writes = frames.parse_word_writes(args.items, space, modicon=args.modicon)
+            built = frames.word_write_frames(device, writes, args.slave)
+            notes = [w.located for w in writes if w.located]
         else:
             built, notes = frames.write_frames(
-                device, args.items, args.slave, args.raw, replace=args.replace, word_order=args.word_order, space=space
+                device,
+                args.items,
+                args.slave,
+                args.raw,
+                replace=args.replace,
+                word_order=args.word_order,
+                space=space,
+                modicon=args.modicon,
             )
     else:
         if not 1 <= len(args.items) <= 2:
@@ -90,6 +120,5 @@ def run(args: argparse.Namespace) -> int:
         built = frames.command_frames(device, args.items[0], args.items[1] if len(args.items) == 2 else None, args.slave, args.word_order)
     for frame in built:
         print(to_hex(frame))
-    for note in notes:
-        print(f"regmap frame: note: {note}", file=sys.stderr)
+    say_notes("frame", notes)
     return ExitCode.OK

@@ -12,7 +12,7 @@ import yaml
 
 from regmap.cli.common import examples
 from regmap.diagnostics import ExitCode, MapError, UsageError
-from regmap.tools.atomic import write_atomic
+from regmap.tools.output import check_output, write_output
 
 HELP = "make a map draft from a register table (CSV/XLSX), or update a map from one"
 
@@ -63,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools.spreadsheet.table import TableError, read_table
 
     into = Path(args.into)
+    if not args.dry_run:
+        check_output(args.into, "--into")  # a directory or an unwritable place: refused before the table is read
     mapping = load_mapping(args.columns) if args.columns else Mapping()
     device = load_map(into) if into.exists() else None
     rules = [*(_map_rules(into) if device is not None else []), *mapping.param_ids]
@@ -95,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
                 print(diag, file=sys.stderr)
             status = ExitCode.INVALID_MAP
         if not args.dry_run:
-            write_atomic(into, draft.text.encode())
+            write_output(into, draft.text.encode(), "--into")
         verdict = "valid" if status == ExitCode.OK else "written, but the front end rejects it (above): edit it"
         action = "would write" if args.dry_run else "wrote"
         print(f"{action} {into}: a new draft, {draft.registers} registers in {len(draft.groups)} group(s), {verdict}; {unread}")
@@ -117,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
         return ExitCode.INVALID_MAP
     sys.stdout.write(render_text(compare(device, new)))
     if not args.dry_run:
-        write_atomic(into, update.text.encode())
+        write_output(into, update.text.encode(), "--into")
     action = "would update" if args.dry_run else "updated"
     print(
         f"{action} {into}: {len(update.changed)} value(s) changed, {len(update.added)} register(s) added, "

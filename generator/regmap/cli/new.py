@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 from pathlib import Path
 
 from regmap.cli.common import examples
-from regmap.diagnostics import ExitCode, UsageError
-from regmap.tools.atomic import write_atomic
+from regmap.diagnostics import ExitCode, MapError, UsageError
+from regmap.tools.output import check_output, is_stdout, write_output
 
 HELP = "write a commented skeleton map for a new device"
 
@@ -29,8 +30,15 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("device_id", metavar="DEVICE_ID", help="snake_case id: prefix of generated files and C macros")
     p.add_argument("--vendor", required=True, help="vendor name (English)")
     p.add_argument("--model", required=True, help="model name as the manual prints it")
-    p.add_argument("--out", metavar="FILE", help="where to write (default maps/DEVICE_ID.yaml)")
+    p.add_argument("--out", metavar="FILE", help="where to write, - for stdout (default maps/DEVICE_ID.yaml)")
     return p
+
+
+def _argument_at(skeleton: str, line: int, args: argparse.Namespace) -> str:
+    """The command-line argument that wrote the skeleton's line `line` (its `vendor:`, `model:` or, else, the device id)."""
+    lines = skeleton.splitlines()
+    key = lines[line - 1].strip().partition(":")[0] if 0 < line <= len(lines) else ""
+    return {"vendor": f"--vendor {args.vendor!r}", "model": f"--model {args.model!r}"}.get(key, f"DEVICE_ID {args.device_id!r}")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -42,11 +50,20 @@ def run(args: argparse.Namespace) -> int:
     for name, value in (("--vendor", args.vendor), ("--model", args.model)):
         if not value.strip() or any(ch in value for ch in "\r\n"):
             raise UsageError(f"{name}: expected one line of text")
-    out = Path(args.out) if args.out else Path("maps") / f"{args.device_id}.yaml"
-    if out.exists():
+    out: str | Path = args.out or Path("maps") / f"{args.device_id}.yaml"
+    if not is_stdout(out) and Path(out).exists():
         raise UsageError(f"{out} exists: regmap new does not overwrite a map (use regmap import --into to update one)")
     text = skeleton(args.device_id, args.vendor.strip(), args.model.strip())
-    load_map_text(text, str(out))  # the skeleton validates (a device id that is a reserved word does not)
-    write_atomic(out, text.encode())
-    print(f"{out}: skeleton for {args.vendor.strip()} {args.model.strip()}; check every value marked 'check' against the manual")
+    try:
+        load_map_text(text, "skeleton")  # it validates (a device id that is a reserved word does not)
+    except MapError as exc:  # the skeleton differs only by the arguments: the problem is in one of them, not in a file
+        problems = "; ".join(f"{_argument_at(text, diag.line, args)}: {diag.message}" for diag in exc.diagnostics)
+        raise UsageError(f"{problems}; nothing written") from None
+    check_output(out, "--out", stdout=True)
+    write_output(out, text.encode(), "--out")
+    print(
+        f"{'stdout' if is_stdout(out) else out}: skeleton for {args.vendor.strip()} {args.model.strip()}; "
+        "check every value marked 'check' against the manual",
+        file=sys.stderr if is_stdout(out) else sys.stdout,
+    )
     return ExitCode.OK

@@ -7,9 +7,10 @@ import json
 import sys
 from pathlib import Path
 
-from regmap.cli.common import WHERE, link_from, live_parser, positive_float
+from regmap.cli.common import WHERE, link_from, live_parser, positive_float, requests_per_second
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map
+from regmap.tools.output import check_output
 
 HELP = "check a live drive against its map and learn its limits (reads only)"
 
@@ -43,7 +44,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="write these registers' current values back and read them; check an out-of-range value is refused",
     )
     p.add_argument("--budget", type=positive_float, default=300.0, metavar="SECONDS", help="stop after this long (default 300)")
-    p.add_argument("--rate", type=positive_float, metavar="REQ_PER_S", help="at most this many requests per second (default: no limit)")
+    p.add_argument(
+        "--rate", type=requests_per_second, metavar="REQ_PER_S", help="at most this many requests per second (default: no limit)"
+    )
     return p
 
 
@@ -59,8 +62,8 @@ def run(args: argparse.Namespace) -> int:
     if link.word_order not in (None, "auto"):
         raise UsageError("--word-order: the probe finds the word order itself")
     target = Path(args.profile) if args.profile else None
-    if target is not None and not target.parent.is_dir():
-        raise UsageError(f"--profile {target}: the directory {target.parent} does not exist")
+    if args.profile:
+        check_output(args.profile, "--profile")  # now: after the probe, a directory or a full disk would lose what was learned
     progress = None
     if sys.stderr.isatty() and not args.json:
 

@@ -5,10 +5,9 @@ from __future__ import annotations
 import argparse
 
 from regmap.cli.common import (
+    SELECTOR_SYNTAX,
     WHERE,
-    add_output,
-    add_profile,
-    add_space,
+    add_read_options,
     link_from,
     live_parser,
     load_map,
@@ -28,20 +27,30 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "Read registers by name, manual parameter id or address, with the fewest requests; values are shown with units, enum "
         "names and bitfields, in the order given; every data space with its own function (0x03 holding, 0x04 input, 0x01 "
         "coils, 0x02 discrete inputs). A value outside the map's range is marked OUTSIDE. JSON and CSV give floats as numbers, "
-        "text as text and bits as true/false.",
+        f"text as text and bits as true/false.\n{SELECTOR_SYNTAX}; the same grammar as `regmap frame MAP read`. --words: "
+        "ADDR [COUNT] reads COUNT 16-bit words (bits, in a bit space) at any address, documented or not.",
         f"regmap read maps/idm_rs.yaml peak_current Pr5.22 run_status {WHERE}",
+        f"regmap read maps/idm_rs.yaml Pr5.22 3 {WHERE}          # three parameters from Pr5.22 on, one request",
+        f"regmap read maps/idm_rs.yaml -r 402 -c 2 {WHERE}       # mbpoll's -r 402 -c 2: addresses 401 on",
+        f"regmap read maps/c630s.yaml --words 0x0B11 2 {WHERE}   # two words, documented or not",
         "regmap read maps/c630s.yaml P05-02 --tcp 127.0.0.1:5020 --word-order high_first",
         "regmap read tests/maps/fixtures/remote_io.yaml 0x13 -t 0 --json --tcp 127.0.0.1:5020     # the coil at 0x0013",
     )
-    p.add_argument("selectors", nargs="+", metavar="SELECTOR")
-    add_space(p)
-    add_output(p)
-    add_profile(p)
+    p.add_argument("selectors", nargs="*", metavar="SELECTOR [COUNT]")
+    p.add_argument(
+        "--words", action="store_true", help="ADDR [COUNT]: 16-bit words (bits, in a bit space) at any address, documented or not"
+    )
+    add_read_options(p)
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
+    from regmap.tools.selectors import parse_items
 
+    space = space_from(args)
+    items = parse_items(args.selectors, count=args.count, start=args.start, modicon=args.modicon, space=space)
     device = load_map(args.map)
-    return live.cmd_read(device, link_from(args), args.selectors, output_format(args), profile_from(args, device), space_from(args))
+    return live.cmd_read(
+        device, link_from(args), items, output_format(args), profile_from(args, device), space, modicon=args.modicon, words=args.words
+    )

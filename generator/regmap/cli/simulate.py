@@ -5,11 +5,30 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from regmap.cli.common import add_map, count, examples, load_map, slave_id
+from regmap.cli.common import add_map, baud_rate, count, examples, load_map, positive_count, seconds_or_zero, slave_id
 from regmap.diagnostics import UsageError
+from regmap.tools.link import serial_line
 
 HELP = "serve a simulated device (Modbus TCP or RTU on a serial port/pty)"
 FAULT_HELP = "inject a fault: no_answer, bad_crc, truncated, exception, wrong_slave, wrong_function, delay"
+
+
+def exception_code(text: str) -> int:
+    try:
+        code: int | None = int(text, 0)
+    except ValueError:
+        code = None
+    if code is None or not 1 <= code <= 0xFF:
+        shown = repr(text) if code is None else text
+        raise argparse.ArgumentTypeError(f"{shown} is not a Modbus exception code (1..255, 0x01..0xFF)")
+    return code
+
+
+def read_limit(text: str) -> int:
+    limit = count(text)
+    if not 1 <= limit <= 125:
+        raise argparse.ArgumentTypeError(f"{text} is outside 1..125")
+    return limit
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -34,6 +53,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     where.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020)")
     where.add_argument("--serial", metavar="DEVICE", help="serve RTU on a serial device or pseudo-terminal")
     p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
+    line = p.add_argument_group("the serial line (with --serial; default: the map's)")
+    line.add_argument("--baud", type=baud_rate, help="another of the baud rates the map lists")
+    line.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity (a pty may need none)")
+    line.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
     p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1; must be in the map's slave id range)")
     p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes; its directory must exist)")
     p.add_argument("--log", metavar="FILE", help="append every request and answer, decoded with the map's names, to FILE")
@@ -45,12 +68,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="silence that ends an RTU frame (default 3.5 characters at the baud; 20 ms on a pty, 50 ms over TCP)",
     )
     p.add_argument("--fault", default="none", metavar="KIND", help=FAULT_HELP)
-    p.add_argument("--fault-count", type=count, default=None, metavar="N", help="only the next N answers (default: all)")
+    p.add_argument("--fault-count", type=positive_count, default=None, metavar="N", help="only the next N answers (default: all)")
     p.add_argument("--fault-after", type=count, default=0, metavar="N", help="answer N requests normally before the faults start")
-    p.add_argument("--fault-delay", type=float, default=2.0, metavar="S", help="seconds for --fault delay")
-    p.add_argument("--fault-exception", type=lambda v: int(v, 0), default=0x04, metavar="CODE", help="code for --fault exception")
+    p.add_argument("--fault-delay", type=seconds_or_zero, default=2.0, metavar="S", help="seconds for --fault delay")
+    p.add_argument("--fault-exception", type=exception_code, default=0x04, metavar="CODE", help="code for --fault exception (1..255)")
     quirks = p.add_argument_group("a drive that departs from its map (what `regmap probe` finds)")
-    quirks.add_argument("--max-read", type=count, metavar="N", help="take reads of at most N registers (1..125), not the map's limit")
+    quirks.add_argument("--max-read", type=read_limit, metavar="N", help="take reads of at most N registers (1..125), not the map's limit")
     quirks.add_argument("--answer-gaps", action="store_true", help="answer reads over undocumented addresses (they read 0), not 0x02")
     quirks.add_argument(
         "--word-order",
@@ -78,6 +101,7 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise UsageError(f"--max-read/--word-order: {exc}") from None
     device = load_map(args.map)
+    line = serial_line(device, args.serial, args.baud, args.parity, args.stop_bits)
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
     )
@@ -85,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
         device,
         tcp=args.tcp,
         serial=args.serial,
+        line=line,
         slave=args.slave,
         state=Path(args.state) if args.state else None,
         faults=faults,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import VALUE_SYNTAX, WHERE, add_space, link_from, live_parser, load_map, space_from
+from regmap.cli.common import VALUE_SYNTAX, WHERE, add_addressing, add_space, link_from, live_parser, load_map, space_from
 
 HELP = "write registers, then read them back"
 
@@ -29,6 +29,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "--words", action="store_true", help="ADDR=WORD[,WORD...]: 16-bit words (bits 0/1 with -t 0) at any address (no read-back)"
     )
     add_space(p)
+    add_addressing(p, start=False)
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 instead of keeping the drive's")
     p.add_argument("--no-verify", action="store_true", help="skip the read-back")
     return p
@@ -47,4 +48,5 @@ def run(args: argparse.Namespace) -> int:
         replace=args.replace,
         words=args.words,
         space=space,
+        modicon=args.modicon,
     )

@@ -15,7 +15,7 @@ from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
 from regmap.tools.decode import FUNCTION_NAMES
-from regmap.tools.selectors import Registers, article, check_slave, parse_address, parse_int, space_label, suggest
+from regmap.tools.selectors import Item, Located, Registers, article, check_slave, locate, parse_int, space_label, suggest
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
 from regmap_runtime.rtu import FrameError, build_read, build_write_multiple, build_write_single
@@ -25,26 +25,11 @@ from regmap_runtime.spec import Raw, RegisterSpec
 # -- reads -------------------------------------------------------------------------------
 
 
-def read_frames(device: Device, selector: str, count: int | None, slave: int, space: str | None = None) -> list[bytes]:
-    """Read one register, or `count` of the map's readable registers of its space from it, with the fewest requests."""
+def read_frames(device: Device, regs: Registers, items: Sequence[Item], slave: int) -> list[bytes]:
+    """Read the registers the items name (a COUNT: that many of the map's readable registers of its space
+    from the selector on), with the fewest requests."""
     check_slave(device, slave, reading=True)
-    regs = Registers(device, space)
-    reg = regs.resolve(selector)
-    if not reg.access.readable:
-        raise UsageError(f"{reg.label} is write-only")
-    if count is None or count == 1:
-        chosen = [reg]
-    else:
-        readable = [
-            r
-            for r in sorted(device.registers, key=lambda r: r.address)
-            if r.space == reg.space and r.access.readable and r.address >= reg.address
-        ]
-        chosen = readable[:count]
-        if len(chosen) < count:
-            what = "registers" if reg.space == DEFAULT_SPACE else SPACES[reg.space].title
-            raise UsageError(f"only {len(chosen)} readable {what} from {reg.label} onwards, asked for {count}")
-    blocks = read_plan(device, chosen)
+    blocks = read_plan(device, regs.select(items))
     for block in blocks:
         _function(device, SPACES[block.space].read)
     return [build_read(slave, b.address, b.count, space=b.space) for b in blocks]
@@ -57,27 +42,51 @@ def _function(device: Device, function: int) -> None:
         raise UsageError(f"{device.info.model} has no function 0x{function:02X} ({FUNCTION_NAMES[function]}); its map lists {listed}")
 
 
+@dataclass(frozen=True)
+class WordRead:
+    """`read --words ADDR [COUNT]`: one read of COUNT words (bits, in a bit space) of `space`, documented or not."""
+
+    address: int
+    count: int
+    space: str = DEFAULT_SPACE
+    note: str | None = None  # how a -r or Modicon address was read
+
+
+def word_reads(device: Device, items: Sequence[Item], space: str | None = None, *, modicon: bool = False) -> list[WordRead]:
+    """One read per ADDR [COUNT] item (one word without a COUNT), in the item's space (Modicon's, -t's, else holding)."""
+    t = device.transport
+    reads = []
+    for item in items:
+        located = item.located or word_location(item.selector, modicon=modicon, space=space)
+        read = WordRead(located.address, 1 if item.count is None else item.count, located.space or space or DEFAULT_SPACE, located.note)
+        facts = SPACES[read.space]
+        _function(device, facts.read)
+        limit = t.max_read_coils if facts.bits else t.max_read_registers
+        unit = "bits" if facts.bits else "registers"
+        if not 1 <= read.count <= limit:
+            raise UsageError(f"COUNT {read.count} is outside 1..{limit} ({device.info.model} reads at most {limit} {unit} per request)")
+        if read.address + read.count > 0x10000:
+            raise UsageError(f"{read.count} {unit} from 0x{read.address:04X} run past 0xFFFF")
+        reads.append(read)
+    return reads
+
+
 def read_words_frame(device: Device, address_text: str, count: int, slave: int, space: str = DEFAULT_SPACE) -> bytes:
     """`read --words ADDR COUNT`: one read of COUNT words (bits, in a bit space) of `space`, documented or not."""
+    (built,) = word_read_frames(device, word_reads(device, [Item(address_text, count)], space), slave)
+    return built
+
+
+def word_read_frames(device: Device, reads: Sequence[WordRead], slave: int) -> list[bytes]:
     check_slave(device, slave, reading=True)
-    address = word_address(address_text)
-    facts = SPACES[space]
-    _function(device, facts.read)
-    t = device.transport
-    limit = t.max_read_coils if facts.bits else t.max_read_registers
-    unit = "bits" if facts.bits else "registers"
-    if not 1 <= count <= limit:
-        raise UsageError(f"COUNT {count} is outside 1..{limit} ({device.info.model} reads at most {limit} {unit} per request)")
-    if address + count > 0x10000:
-        raise UsageError(f"{count} {unit} from 0x{address:04X} run past 0xFFFF")
-    return build_read(slave, address, count, space=space)
+    return [build_read(slave, r.address, r.count, space=r.space) for r in reads]
 
 
-def word_address(text: str) -> int:
-    address = parse_address(text)
-    if address is None:
+def word_location(text: str, *, modicon: bool = False, space: str | None = None) -> Located:
+    located = locate(text, modicon=modicon, space=space)
+    if located is None:
         raise UsageError(f"{text!r} is not a Modbus address (0x0191, 0191h or decimal 401)")
-    return address
+    return located
 
 
 # -- writes ------------------------------------------------------------------------------
@@ -94,6 +103,7 @@ class Assignment:
     raw: Raw | None  # None until the named fields are merged into a base word
     fields: dict[str, int] | None = None  # named bitfields, when not every field is named
     note: str | None = None  # what the bits nobody named were set to
+    located: str | None = None  # how a Modicon address selector was read
 
     def with_base(self, base: int) -> Assignment:
         """The assignment with its named fields merged into `base` (every other bit kept), checked."""
@@ -114,6 +124,7 @@ class WordWrite:
     address: int
     words: tuple[int, ...]
     space: str = DEFAULT_SPACE
+    located: str | None = None  # how a Modicon address was read
 
 
 def _split(item: str) -> tuple[str, str]:
@@ -163,11 +174,13 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
     """Check one SELECTOR=VALUE through the runtime's one validation path (range, resolution, enum,
     bitfield widths and enums, text that fits, access) before anything is built or sent."""
     selector, value_text = _split(item)
+    said = len(regs.notes)
     reg = regs.resolve(selector)
     refused = read_only(reg)
     if refused is not None:
         raise UsageError(refused)
     spec = regs.spec(reg)
+    located = regs.notes[said] if len(regs.notes) > said else None
     try:
         if reg.bitfields and ":" in value_text:
             base, named = parse_fields(spec, value_text)
@@ -181,8 +194,8 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
                     else "every field not named, and every bit no field describes, is 0 (--replace)"
                 )
             else:
-                return Assignment(item, reg, spec, None, named)
-            return dataclasses.replace(Assignment(item, reg, spec, None, named).with_base(base or 0), note=note)
+                return Assignment(item, reg, spec, None, named, located=located)
+            return dataclasses.replace(Assignment(item, reg, spec, None, named).with_base(base or 0), note=note, located=located)
         if raw:
             number = parse_raw(spec, value_text, reg.label)
         else:
@@ -190,15 +203,16 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
         check_raw(spec, number)
     except RangeError as exc:
         raise UsageError(str(exc)) from None
-    return Assignment(item, reg, spec, number)
+    return Assignment(item, reg, spec, number, located=located)
 
 
 _BIT_WORDS = {"0": 0, "1": 1, "off": 0, "on": 1, "false": 0, "true": 1}
 
 
-def parse_word_write(item: str, space: str = DEFAULT_SPACE) -> WordWrite:
+def parse_word_write(item: str, space: str | None = DEFAULT_SPACE, *, modicon: bool = False) -> WordWrite:
     selector, value_text = _split(item)
-    address = word_address(selector)
+    located = word_location(selector, modicon=modicon, space=space)
+    address, space = located.address, located.space or DEFAULT_SPACE
     bits = SPACES[space].bits
     if bits:
         try:
@@ -211,7 +225,7 @@ def parse_word_write(item: str, space: str = DEFAULT_SPACE) -> WordWrite:
             raise UsageError(f"{item}: a word is 0..0xFFFF (0..65535)")
     if address + len(words) > 0x10000:
         raise UsageError(f"{item}: {len(words)} {'bits' if bits else 'words'} from 0x{address:04X} run past 0xFFFF")
-    return WordWrite(item, address, words, space)
+    return WordWrite(item, address, words, space, located.note)
 
 
 def _words_touched(item: Assignment | WordWrite) -> list[tuple[str, int]]:
@@ -235,25 +249,35 @@ def check_conflicts(items: Sequence[Assignment | WordWrite]) -> None:
 
 
 def parse_assignments(
-    device: Device, items: Sequence[str], raw: bool, *, replace: bool = False, space: str | None = None
+    device: Device, items: Sequence[str], raw: bool, *, replace: bool = False, space: str | None = None, modicon: bool = False
 ) -> list[Assignment]:
     if not items:
         raise UsageError("write wants SELECTOR=VALUE [SELECTOR=VALUE ...]")
-    regs = Registers(device, space)
+    regs = Registers(device, space, modicon=modicon)
     parsed = [parse_assignment(regs, item, raw, replace=replace) for item in items]
     check_conflicts(parsed)
     return parsed
 
 
-def parse_word_writes(items: Sequence[str], space: str = DEFAULT_SPACE) -> list[WordWrite]:
+def parse_word_writes(items: Sequence[str], space: str | None = DEFAULT_SPACE, *, modicon: bool = False) -> list[WordWrite]:
+    """`--words` writes of one space: -t's, or the one the Modicon numbers name (holding by default)."""
     if not items:
         raise UsageError("write --words wants ADDR=WORD[,WORD...] ...")
+    if space is not None:
+        _writable(space)
+    parsed = [parse_word_write(item, space, modicon=modicon) for item in items]
+    spaces = list(dict.fromkeys(w.space for w in parsed))
+    if len(spaces) > 1:
+        raise UsageError(f"--words writes one data space at a time; these name {' and '.join(SPACES[s].title for s in spaces)}")
+    _writable(spaces[0])
+    check_conflicts(parsed)
+    return parsed
+
+
+def _writable(space: str) -> None:
     facts = SPACES[space]
     if not facts.writable:
         raise UsageError(f"{facts.title} are read-only: no function writes them (function 0x{facts.read:02X} reads them)")
-    parsed = [parse_word_write(item, space) for item in items]
-    check_conflicts(parsed)
-    return parsed
 
 
 def write_function(device: Device, space: str, count: int) -> bool:
@@ -335,25 +359,32 @@ def write_frames(
     replace: bool = False,
     word_order: str | None = None,
     space: str | None = None,
+    modicon: bool = False,
 ) -> tuple[list[bytes], list[str]]:
     """Frames for SELECTOR=VALUE assignments (contiguous registers share one 0x10 frame, contiguous
-    coils one 0x0F), and notes that say what bits nobody named were set to."""
+    coils one 0x0F), and notes that say how Modicon addresses were read and what bits nobody named were set to."""
     check_slave(device, slave)
-    parsed = parse_assignments(device, items, raw, replace=replace, space=space)
+    parsed = parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
     for a in parsed:
         if a.raw is None:
             raise UsageError(
                 f"{a.argument}: `frame` has no drive to read the other fields from; name every field "
                 f"(missing: {', '.join(unnamed_fields(a))}), give a base word first ({a.register.name}=0x0000,...), or --replace (they become 0)"
             )
-    notes = [a.note for a in parsed if a.note]
+    notes = [n for a in parsed for n in (a.located, a.note) if n]
     blocks = write_blocks(device, parsed, word_order)
     return [block_frame(slave, b.address, b.words, write_function(device, b.space, len(b.words)), b.space) for b in blocks], notes
 
 
 def write_words_frames(device: Device, items: Sequence[str], slave: int, space: str = DEFAULT_SPACE) -> list[bytes]:
+    return word_write_frames(device, parse_word_writes(items, space), slave)
+
+
+def word_write_frames(device: Device, writes: Sequence[WordWrite], slave: int) -> list[bytes]:
+    """The frames of parsed `--words` writes (one space)."""
     check_slave(device, slave)
-    runs = word_runs(device, parse_word_writes(items, space))
+    space = writes[0].space
+    runs = word_runs(device, writes)
     return [block_frame(slave, address, run, write_function(device, space, len(run)), space) for address, run in runs]
 
 
@@ -371,6 +402,11 @@ def find_command(device: Device, name: str) -> Any:
 
 def command_words(device: Device, name: str, argument: str | None, word_order: str | None = None) -> tuple[Any, list[int]]:
     command = find_command(device, name)
+    takes = command.argument
+    if takes is None and argument is not None:
+        raise UsageError(f"command {command.name} takes no argument, got {argument!r}")
+    if takes is not None and argument is None:
+        raise UsageError(f"command {command.name} needs an argument: {takes.name} ({takes.min}..{takes.max})")
     try:
         raw = command.raw_value(None if argument is None else parse_int(argument, command.name))
     except ValueError as exc:

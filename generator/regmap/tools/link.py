@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from regmap.diagnostics import UsageError
+
+if TYPE_CHECKING:
+    from regmap.model import Device
 
 
 @dataclass(frozen=True)
@@ -10,7 +17,7 @@ class Link:
     tcp: str | None = None
     serial: str | None = None
     slave: int = 1
-    baud: int | None = None
+    baud: int | None = None  # None: the map's (never 0)
     parity: str | None = None
     stop_bits: int | None = None
     timeout: float = 1.0
@@ -21,3 +28,40 @@ class Link:
     @property
     def where(self) -> str:
         return self.serial or self.tcp or "?"
+
+
+@dataclass(frozen=True)
+class Line:
+    """A serial line's settings: the map's, where an option does not override them."""
+
+    baud: int
+    parity: str
+    stop_bits: int
+
+    def refused(self, reason: str) -> str:
+        """Why a port refused these settings (termios says only "Invalid argument"), for the one-line error."""
+        hint = " (a pseudo-terminal may refuse parity: try --parity none)" if self.parity != "none" else ""
+        return f"the port refuses {self.baud} baud, {self.parity} parity, {self.stop_bits} stop bit(s): {reason}{hint}"
+
+
+def serial_line(
+    device: Device, serial: str | None, baud: int | None = None, parity: str | None = None, stop_bits: int | None = None
+) -> Line:
+    """The line settings --baud/--parity/--stop-bits ask for, checked: only with a serial port (a TCP
+    gateway's line is set on the gateway), and only a baud rate the map lists (the drive talks at no other)."""
+    given = [option for option, value in (("--baud", baud), ("--parity", parity), ("--stop-bits", stop_bits)) if value is not None]
+    if given and serial is None:
+        raise UsageError(f"{', '.join(given)}: a serial line's settings, given without --serial (a TCP gateway's line is set on it)")
+    rates = device.transport.baud_rates
+    if baud is not None and rates and baud not in rates:
+        listed = ", ".join(str(rate) for rate in rates)
+        raise UsageError(f"--baud {baud} is not a baud rate of {device.info.model}: it talks at {listed}")
+    t = device.transport
+    return Line(t.baud if baud is None else baud, t.parity if parity is None else parity, t.stop_bits if stop_bits is None else stop_bits)
+
+
+def port_reason(exc: Exception) -> str:
+    """The operating system's words for why a port cannot be opened ("No such file or directory"),
+    not pyserial's "[Errno 2] could not open port X: [Errno 2] ..."."""
+    errno = getattr(exc, "errno", None)
+    return os.strerror(errno) if isinstance(errno, int) else str(exc)

@@ -25,15 +25,17 @@ from regmap.runtime_bridge import documented_addresses, read_plan, runtime_devic
 from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
+    WordRead,
     command_words,
     parse_assignments,
     parse_word_writes,
+    word_reads,
     word_runs,
     write_blocks,
     write_function,
 )
-from regmap.tools.link import Link
-from regmap.tools.selectors import Registers, check_slave
+from regmap.tools.link import Link, port_reason, serial_line
+from regmap.tools.selectors import Item, Registers, check_slave, say_notes, space_label
 from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import RegmapError
@@ -51,16 +53,15 @@ def _why_unreachable(link: Link, device: Device) -> str:
     if link.serial:
         import serial
 
-        t = device.transport
-        baud, parity, stop_bits = link.baud or t.baud, link.parity or t.parity, link.stop_bits or t.stop_bits
+        line = serial_line(device, link.serial, link.baud, link.parity, link.stop_bits)
         try:
-            serial.Serial(link.serial, baudrate=baud, parity=PARITY[parity], stopbits=stop_bits, bytesize=t.data_bits).close()
+            serial.Serial(
+                link.serial, baudrate=line.baud, parity=PARITY[line.parity], stopbits=line.stop_bits, bytesize=device.transport.data_bits
+            ).close()
         except (OSError, ValueError) as exc:  # the port itself: missing, busy, not a tty
-            return str(getattr(exc, "strerror", None) or exc).split(": ", 1)[-1]
+            return port_reason(exc)
         except Exception as exc:  # termios.error (no OSError): the port refuses the line settings
-            reason = str(exc.args[-1] if exc.args else exc)
-            hint = " (a pseudo-terminal may refuse parity: try --parity none)" if parity != "none" else ""
-            return f"the port refuses {baud} baud, {parity} parity, {stop_bits} stop bit(s): {reason}{hint}"
+            return line.refused(str(exc.args[-1] if exc.args else exc))
         return "the port opened, but the client could not use it"
     host, _, port = (link.tcp or "").rpartition(":")
     try:
@@ -72,6 +73,7 @@ def _why_unreachable(link: Link, device: Device) -> str:
 
 def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile | None = None) -> SyncClient:
     check_slave(device, link.slave, reading=reading)
+    serial_line(device, link.serial, link.baud, link.parity, link.stop_bits)
     client_class: type[SyncClient] = type(f"{device.id}_live", (SyncClient,), {"DEVICE": runtime_device(device)})
     if link.serial:
         client = client_class.rtu(
@@ -257,13 +259,22 @@ def profiled_order(device: Device, client: SyncClient, link: Link, profile: Devi
 
 
 def cmd_read(
-    device: Device, link: Link, selectors: Sequence[str], output: str, profile: DeviceProfile | None = None, space: str | None = None
+    device: Device,
+    link: Link,
+    items: Sequence[Item],
+    output: str,
+    profile: DeviceProfile | None = None,
+    space: str | None = None,
+    *,
+    modicon: bool = False,
+    words: bool = False,
 ) -> int:
-    regs = Registers(device, space)
-    registers = [regs.resolve(s) for s in selectors]
-    for reg in registers:
-        if not reg.access.readable:
-            raise UsageError(f"{reg.label} is write-only")
+    """Read what the items name (parse_items: SELECTOR [COUNT] ..., as `frame read` builds it); with
+    `words`, COUNT words (bits) at each address, documented or not."""
+    if words:
+        return _read_words(device, link, word_reads(device, items, space, modicon=modicon), output, profile)
+    regs = Registers(device, space, modicon=modicon)
+    registers = regs.select(items)
     client = connect(device, link, reading=True, profile=profile)
     try:
         order = profiled_order(device, client, link, profile)
@@ -274,7 +285,52 @@ def cmd_read(
     finally:
         client.close()
     print_values(result.values, output)
+    say_notes("read", regs.notes)
     return finish(result, "read")
+
+
+def _read_words(device: Device, link: Link, reads: Sequence[WordRead], output: str, profile: DeviceProfile | None) -> int:
+    """`read --words`: one request per ADDR [COUNT], every word shown as it came (hex, unsigned, signed; bits 0/1)."""
+    client = connect(device, link, reading=True, profile=profile)
+    rows: list[dict[str, Any]] = []
+    error = None
+    try:
+        for read in reads:
+            try:
+                got = client.read_raw(read.address, read.count, space=read.space)
+            except RegmapError as exc:
+                error = f"{_bus(exc)} (0x{read.address:04X} x {read.count})"
+                break
+            rows += [{"space": read.space, "address": read.address + i, "word": int(w)} for i, w in enumerate(got)]
+    finally:
+        client.close()
+    print_words(rows, output)
+    say_notes("read", [r.note for r in reads if r.note])
+    if error is not None:
+        raise LinkError(f"the bus failed after {len(rows)} word(s) were read: {error}")
+    return ExitCode.OK
+
+
+def print_words(rows: Sequence[dict[str, Any]], output: str) -> None:
+    if output == "json":
+        out = [{"address": r["address"], "address_hex": f"0x{r['address']:04X}", "space": r["space"], "word": r["word"]} for r in rows]
+        json.dump(out, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    elif output == "csv":
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=["space", "address", "address_hex", "word"], lineterminator="\n")
+        writer.writeheader()
+        writer.writerows({**r, "address_hex": f"0x{r['address']:04X}"} for r in rows)
+        sys.stdout.write(buffer.getvalue())
+    else:
+        for r in rows:
+            word = r["word"]
+            shown = (
+                str(word)
+                if SPACES[r["space"]].bits
+                else f"0x{word:04X} = {word} unsigned, {word - 0x10000 if word & 0x8000 else word} signed"
+            )
+            print(f"{space_label(r['space'])} 0x{r['address']:04X} = {shown}")
 
 
 @dataclass
@@ -310,6 +366,14 @@ def _as_written(a: Assignment) -> Raw | None:
     return words_to_raw(a.spec, raw_to_words(a.spec, a.raw))
 
 
+def _written_value(device: Device, a: Assignment, order: str | None) -> DecodedValue:
+    """What a write sent, decoded as `read` shows a value (for a register that cannot be read back)."""
+    assert a.raw is not None
+    words = raw_to_words(a.spec.in_word_order(order), a.raw)
+    decoded = decode_words(device, a.register.address, words, word_order=order, space=a.register.space)
+    return next(v for v in decoded if v.register == a.register.name)
+
+
 def cmd_write(
     device: Device,
     link: Link,
@@ -320,12 +384,14 @@ def cmd_write(
     replace: bool,
     words: bool,
     space: str | None = None,
+    modicon: bool = False,
 ) -> int:
     # Every value is parsed and checked (range, enum, fields, conflicts) before the port is opened.
-    word_space = space or DEFAULT_SPACE
-    word_writes = parse_word_writes(items, word_space) if words else []
+    word_writes = parse_word_writes(items, space, modicon=modicon) if words else []
+    word_space = word_writes[0].space if word_writes else DEFAULT_SPACE
     runs = word_runs(device, word_writes) if words else []
-    assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space)
+    assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
+    say_notes("write", [n for n in (*(w.located for w in word_writes), *(a.located for a in assignments)) if n])
     client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
     unit = "bit" if word_space != DEFAULT_SPACE and SPACES[word_space].bits else "word"
@@ -363,7 +429,13 @@ def cmd_write(
         client.close()
     expected = {a.register.name: _as_written(a) for a in complete}
     mismatches = [v for v in result.values if v.register in expected and v.raw != expected[v.register]]
-    for value in result.values:
+    read_back = {v.register: v for v in result.values}
+    for a in complete:  # in the order given
+        value = read_back.get(a.register.name)
+        if value is None:
+            if not a.register.access.readable:
+                print(f"{show_value(_written_value(device, a, order))}  (written; write-only, not read back)")
+            continue
         print(
             f"{show_value(value)}  (verified)"
             if value not in mismatches
@@ -394,8 +466,11 @@ def cmd_command(device: Device, link: Link, name: str, argument: str | None) -> 
     return ExitCode.OK
 
 
-def cmd_dump(device: Device, link: Link, output: str, profile: DeviceProfile | None = None) -> int:
-    registers = [r for r in device.registers if r.access.readable]
+def cmd_dump(
+    device: Device, link: Link, output: str, profile: DeviceProfile | None = None, chosen: Sequence[Register] | None = None
+) -> int:
+    """Every readable register (or the `chosen` ones: -t, -r/-c) with the read plan."""
+    registers = [r for r in device.registers if r.access.readable] if chosen is None else list(chosen)
     client = connect(device, link, reading=True, profile=profile)
     progress = _progress_bar if sys.stderr.isatty() else None
     try:

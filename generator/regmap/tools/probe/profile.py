@@ -7,7 +7,7 @@ from pathlib import Path
 
 from regmap.model import Device
 from regmap.runtime_bridge import documented_addresses
-from regmap.tools.atomic import write_atomic
+from regmap.tools.output import write_output
 from regmap_runtime.profile import DeviceProfile, ranges
 
 from .limits import Limit
@@ -30,4 +30,4 @@ def learned(device: Device, observed: set[int], limit: Limit | None, order: Word
 
 
 def save(path: Path, profile: DeviceProfile) -> None:
-    write_atomic(path, (json.dumps(profile.to_json(), indent=2) + "\n").encode("utf-8"))
+    write_output(path, (json.dumps(profile.to_json(), indent=2) + "\n").encode("utf-8"), "--profile")

@@ -12,6 +12,8 @@ from typing import TextIO
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device
+from regmap.tools.link import Line
+from regmap.tools.output import check_output
 
 from .faults import FaultPlan
 from .log import RequestLog
@@ -33,13 +35,7 @@ def check_start(device: Device, slave: int, state: Path | None) -> None:
         broadcast = f" ({t.broadcast_id} is the broadcast id)" if slave == t.broadcast_id else ""
         raise UsageError(f"--slave {slave} is outside {t.slave_min}..{t.slave_max}, the slave ids of {device.info.model}{broadcast}")
     if state is not None:
-        folder = state.parent
-        if not folder.is_dir():
-            raise UsageError(f"--state {state}: the directory {folder} does not exist")
-        if state.is_dir():
-            raise UsageError(f"--state {state} is a directory")
-        if not os.access(folder, os.W_OK):
-            raise UsageError(f"--state {state}: the directory {folder} is not writable")
+        check_output(state, "--state")
 
 
 def _open_log(path: Path | None, verbose: bool) -> tuple[list[TextIO], list[TextIO]]:
@@ -91,6 +87,7 @@ def run(
     tcp: str | None,
     serial: str | None,
     slave: int,
+    line: Line | None = None,
     state: Path | None,
     faults: FaultPlan,
     rtu_over_tcp: bool = False,
@@ -111,7 +108,7 @@ def run(
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.add_signal_handler(sig, simulator.stopped.set)
         if serial:
-            await simulator.start_serial(serial)
+            await simulator.start_serial(serial, line)
             where = serial
         else:
             where = f"{host}:{port}"

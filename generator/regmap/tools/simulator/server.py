@@ -17,6 +17,7 @@ from typing import Any
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device
+from regmap.tools.link import Line, port_reason
 from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
@@ -274,26 +275,29 @@ class Simulator:
         server = await loop.create_server(lambda: _Connection(self, rtu_over_tcp), host, port)
         self.servers.append(server)
 
-    async def start_serial(self, port: str, baud: int | None = None) -> None:
+    async def start_serial(self, port: str, line: Line | None = None) -> None:
+        """Open the port with the map's line settings, or `line` (`--baud`, `--parity`, `--stop-bits`)."""
         import serial
 
         t = self.device.transport
-        baud = baud or t.baud
+        line = line or Line(t.baud, t.parity, t.stop_bits)
         try:
             handle = serial.Serial(
                 port=port,
-                baudrate=baud,
+                baudrate=line.baud,
                 bytesize=t.data_bits,
-                parity={"none": "N", "even": "E", "odd": "O"}[t.parity],
-                stopbits=t.stop_bits,
+                parity={"none": "N", "even": "E", "odd": "O"}[line.parity],
+                stopbits=line.stop_bits,
                 timeout=0,
                 write_timeout=2,
             )
         except (serial.SerialException, ValueError) as exc:
-            raise UsageError(f"cannot open {port}: {exc}") from None
+            raise UsageError(f"cannot open {port}: {port_reason(exc)}") from None
+        except Exception as exc:  # termios.error (no OSError): the port refuses the line settings
+            raise UsageError(f"cannot open {port}: {line.refused(str(exc.args[-1] if exc.args else exc))}") from None
         self.serial = handle
-        bits = 1 + t.data_bits + (t.parity != "none") + t.stop_bits
-        gap = self.rtu_gap_override if self.rtu_gap_override is not None else PTY_GAP_S if is_pty(port) else rtu_gap_s(baud, bits)
+        bits = 1 + t.data_bits + (line.parity != "none") + line.stop_bits
+        gap = self.rtu_gap_override if self.rtu_gap_override is not None else PTY_GAP_S if is_pty(port) else rtu_gap_s(line.baud, bits)
         self.serial_receiver = RtuReceiver(
             asyncio.get_running_loop(),
             gap,
@@ -336,8 +340,8 @@ class Simulator:
         await self.start_tcp(host, port, rtu_over_tcp=rtu_over_tcp)
         await self.stopped.wait()
 
-    async def serve_serial(self, port: str, baud: int | None = None) -> None:
-        await self.start_serial(port, baud)
+    async def serve_serial(self, port: str, line: Line | None = None) -> None:
+        await self.start_serial(port, line)
         await self.stopped.wait()
 
     async def stop(self) -> None:

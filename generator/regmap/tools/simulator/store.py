@@ -22,7 +22,7 @@ from typing import Any
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_device, runtime_specs
-from regmap.tools.atomic import write_atomic
+from regmap.tools.output import write_output
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_raw
 from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import Raw, parse_version
@@ -136,7 +136,7 @@ class DeviceStore:
         text = json.dumps(
             {"device": self.device.id, "map_version": self.device.info.map_version, "registers": data}, indent=1, sort_keys=True
         )
-        write_atomic(self.state_file, text.encode("utf-8"))  # the state file is never left half-written
+        write_output(self.state_file, text.encode("utf-8"), "--state")  # the state file is never left half-written
 
     def load_state(self, path: Path) -> None:
         try:

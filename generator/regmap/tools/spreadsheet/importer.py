@@ -369,6 +369,12 @@ def _stored(key: str, value: Any) -> Any:
     return value
 
 
+def _dash_column(text: str, item: yaml.Node) -> int:
+    """The column of the `-` that opens a block sequence item (the item's own node starts after it)."""
+    dash = text.rfind("-", 0, item.start_mark.index)
+    return dash - (text.rfind("\n", 0, dash) + 1)
+
+
 def _append_group(text: str, table: Table, entries: list[Entry]) -> str:
     """A group `imported` at the end of `groups:`, before the next top-level key."""
     source = table_name(table)
@@ -382,8 +388,8 @@ def _append_group(text: str, table: Table, entries: list[Entry]) -> str:
     keys = [k for k, _ in root.value]
     groups_at = next(i for i, k in enumerate(keys) if k.value == "groups")
     group_items = root.value[groups_at][1]
-    indent = group_items.value[0].start_mark.column if isinstance(group_items, yaml.SequenceNode) and group_items.value else 2
-    lines = [(" " * (indent - 2) + line) if indent != 2 else line for line in lines]
+    dash = _dash_column(text, group_items.value[0]) if isinstance(group_items, yaml.SequenceNode) and group_items.value else 2
+    lines = [" " * dash + line[2:] for line in lines]  # the lines above put the group's dash in column 2
     at = keys[groups_at + 1].start_mark.index if groups_at + 1 < len(keys) else len(text)
     if at == len(text):
         return text.rstrip("\n") + "\n" + "\n".join(lines) + "\n"

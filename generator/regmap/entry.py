@@ -1,0 +1,44 @@
+"""The `regmap` command (console script and `python -m regmap`): Ctrl-C at any moment is one line and exit 130, also
+while the command line is still being imported. Only `sys`, which the interpreter always has, is imported outside the
+`try`: an import there could be interrupted with a traceback."""
+
+import sys
+
+
+def main() -> int:
+    try:
+        import signal
+
+        sys.unraisablehook = _interrupt_again
+        from regmap.cli import main as cli_main
+
+        status = cli_main()
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # done: a late Ctrl-C must not kill the interpreter's exit
+    except KeyboardInterrupt:
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        from regmap.diagnostics import ExitCode
+
+        print("regmap: interrupted", file=sys.stderr)
+        status = ExitCode.INTERRUPTED
+    _forget_the_interrupt()
+    return status
+
+
+def _interrupt_again(unraisable: "sys.UnraisableHookArgs") -> None:
+    """A Ctrl-C that lands in a callback (a weakref's, during an import) is dropped by Python with 'Exception ignored';
+    raised again, it lands in regmap's code and ends the run like any other."""
+    import signal
+
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):
+        signal.raise_signal(signal.SIGINT)
+    else:
+        sys.__unraisablehook__(unraisable)
+
+
+def _forget_the_interrupt() -> None:
+    """Under `python -m`, CPython ends by killing itself with SIGINT when a KeyboardInterrupt once left an exec() of a
+    string (a dataclass being made during an import), even one handled since; an exec() of a string that succeeds clears
+    that mark, so the status is the one returned."""
+    exec("")
