@@ -22,15 +22,20 @@ from regmap.target import TargetOptions as TargetOptions
 def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
     """Every target's own checks on every device: what `generate` would refuse, found by `validate`."""
     known = _targets()
-    chosen = [known[name] for name in targets or list(known)]
-    problems: list[Diagnostic] = []
-    for device in devices:
-        problems.extend(reserved_id_problems(device, chosen))
-    for target in chosen:
+    problems = reserved_ids(devices, targets)
+    for name in targets or list(known):
+        target = known[name]
         if target.check is not None:
             for device in devices:
                 problems.extend(target.check(device))
     return problems
+
+
+def reserved_ids(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
+    """Each device id that a chosen target (by default: any target) reserves, at its map line."""
+    known = _targets()
+    chosen = [known[name] for name in targets or list(known)]
+    return [problem for device in devices for problem in reserved_id_problems(device, chosen)]
 
 
 def _targets() -> dict[str, Target]:
@@ -65,7 +70,7 @@ def check_options(targets: Sequence[str], options: TargetOptions) -> None:
 def render(devices: Sequence[Device], targets: Sequence[str], options: TargetOptions | None = None) -> dict[str, Files]:
     """Every file each target produces, in memory, keyed by target subdir."""
     known = _targets()
-    problems = [p for device in devices for p in reserved_id_problems(device, [known[name] for name in targets])]
+    problems = reserved_ids(devices, targets)
     if problems:
         raise MapError(problems)
     out: dict[str, Files] = {}
