@@ -7,7 +7,7 @@ is generated into a temporary directory, then:
 - each header, alone (included twice, for the include guard) and all of them in one translation unit,
   compiles with gcc and clang as C99, g++ and clang++ as C++17, and arm-none-eabi-gcc for a Cortex-M0
   at -Os, under -Wall -Wextra -Wpedantic -Werror -Wconversion (plus a few stricter warnings);
-- the frames test program that `regmap.backends.c.render_frames_test` emits for the map (it rebuilds
+- the frames test program that `support.c_frames.render_frames_test` emits for the map (it rebuilds
   every request frame of the map's examples with the header's helpers and parses every response frame
   to the recorded values) is compiled and run with each host compiler, and with clang's sanitizers;
 - tests/c/rtu_selftest.c checks the shared regmap_rtu.h where the manuals' frames do not reach;
@@ -39,6 +39,7 @@ from regmap.model import Device, PollClass
 from regmap.runtime_bridge import read_plan
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT, SMALL_MAPS, require_tool
+from support.c_frames import render_frames_test
 
 C_TESTS = ROOT / "tests" / "c"
 EXAMPLE = ROOT / "examples" / "libmodbus" / "main.c"
@@ -139,7 +140,7 @@ def test_all_headers_in_one_unit(compiler: Compiler, out_dir: Path, tmp_path: Pa
 def _frames_program(map_path: Path, out_dir: Path, tmp_path: Path) -> Path:
     device = _device(map_path)
     source = tmp_path / f"{device.id}_frames_test.c"
-    source.write_text(c_backend.render_frames_test(device), encoding="utf-8")
+    source.write_text(render_frames_test(device), encoding="utf-8")
     return source
 
 
@@ -161,7 +162,7 @@ def test_frames_of_the_manual(compiler: Compiler, map_path: Path, out_dir: Path,
 def test_frames_program_covers_every_example() -> None:
     for path in ALL_MAPS:
         device = _device(path)
-        source = c_backend.render_frames_test(device)
+        source = render_frames_test(device)
         for ex in device.examples:
             assert f"/* {ex.id} (" in source, f"{device.id}: example {ex.id} has no case in the frames test"
 

@@ -150,9 +150,14 @@ def test_new_with_a_reserved_device_id_points_at_the_argument(tmp_path: Path) ->
     result = regmap("new", "class", "--vendor", "Acme", "--model", "X1", cwd=tmp_path)
     line = one_line_error(result, ExitCode.USAGE)
     assert line == (
-        "regmap new: error: DEVICE_ID 'class': device id 'class' is a reserved word in Python, C or regmap; "
-        "choose another (e.g. class_drive); nothing written"
+        "regmap new: error: DEVICE_ID 'class': device id 'class' is a reserved word of the python target (a Python keyword "
+        "or a package the client would shadow), the c target (a C/C++ keyword or the shared header's name) and the st target "
+        "(an IEC 61131-3 or CODESYS reserved word); choose another (e.g. class_drive); nothing written"
     )
+    assert not (tmp_path / "maps").exists()
+    # A word only Structured Text reserves is refused too: the skeleton must validate for every target.
+    iec = one_line_error(regmap("new", "end_if", "--vendor", "Acme", "--model", "X1", cwd=tmp_path), ExitCode.USAGE)
+    assert iec.startswith("regmap new: error: DEVICE_ID 'end_if': device id 'end_if' is a reserved word of the st target"), iec
     assert not (tmp_path / "maps").exists()
 
 

@@ -35,6 +35,7 @@ from regmap_runtime.spec import DeviceSpec, ReadOnly, ReadWrite, RegisterSpec
 
 from conftest import FIXTURE_MAPS, mypy_strict
 from libmodbus_ref import LibmodbusRef, LibmodbusServerFactory, Tables, libmodbus_ref_fixture, libmodbus_server_fixture  # noqa: F401
+from support import docstrings
 
 DEVICES: dict[str, Device] = {load_map(p).id: load_map(p) for p in FIXTURE_MAPS}
 POWER, REMOTE, SWAPPED = "fixture_power_meter", "fixture_remote_io", "fixture_swapped_drive"
@@ -901,24 +902,32 @@ def test_generated_accessors_are_typed_per_type_and_space() -> None:
 
 
 def test_generated_docstrings_say_space_order_gate_and_poll() -> None:
+    """A register is documented once, under its constant; each of its methods names the constant and the title."""
     generated_python()
     power, remote, swapped = (importlib.import_module(d) for d in (POWER, REMOTE, SWAPPED))
     docs = {
-        power.FixturePowerMeter.read_current_l1: ("input register, address 0x0002", "f32, byte order CDAB", "poll fast"),
-        power.FixturePowerMeter.read_thd_voltage_l1: ("byte order ABCD", "exists with firmware >= 2.00"),
-        power.FixturePowerMeter.read_active_energy: ("u64, byte order ABCDEFGH", "poll slow"),
-        power.FixturePowerMeter.read_serial_number: ("6 words (12 bytes of ascii, space padded)", "poll static"),
-        remote.FixtureRemoteIo.read_alarm_output: ("coil, address 0x00AC",),
-        remote.InputElement.read_active: ("discrete input",),
-        swapped.FixtureSwappedDrive.read_position: ("s32, byte order DCBA",),
-        swapped.FixtureSwappedDrive.read_gain: ("f32, byte order CDAB",),
-        swapped.FixtureSwappedDrive.read_speed: ("s16, byte order BA",),
-        swapped.FixtureSwappedDrive.read_label: ("bytes swapped in each word",),
-        swapped.FixtureSwappedDrive.read_legacy_mode: ("exists with firmware < 2.0",),
+        (power.FixturePowerMeter.read_current_l1, "CURRENT_L1"): ("input register, address 0x0002", "f32, byte order CDAB", "poll fast"),
+        (power.FixturePowerMeter.read_thd_voltage_l1, "THD_VOLTAGE_L1"): ("byte order ABCD", "exists with firmware >= 2.00"),
+        (power.FixturePowerMeter.read_active_energy, "ACTIVE_ENERGY"): ("u64, byte order ABCDEFGH", "poll slow"),
+        (power.FixturePowerMeter.read_serial_number, "SERIAL_NUMBER"): ("6 words (12 bytes of ascii, space padded)", "poll static"),
+        (remote.FixtureRemoteIo.read_alarm_output, "ALARM_OUTPUT"): ("coil, address 0x00AC",),
+        (remote.InputElement.read_active, "INPUT[n].active"): ("discrete input",),
+        (swapped.FixtureSwappedDrive.read_position, "POSITION"): ("s32, byte order DCBA",),
+        (swapped.FixtureSwappedDrive.read_gain, "GAIN"): ("f32, byte order CDAB",),
+        (swapped.FixtureSwappedDrive.read_speed, "SPEED"): ("s16, byte order BA",),
+        (swapped.FixtureSwappedDrive.read_label, "LABEL"): ("bytes swapped in each word",),
+        (swapped.FixtureSwappedDrive.read_legacy_mode, "LEGACY_MODE"): ("exists with firmware < 2.0",),
     }
-    for method, phrases in docs.items():
+    for (method, constant), phrases in docs.items():
+        module = sys.modules[method.__module__]
+        # An array member's constant is each element's own (INPUT[n].active is INPUT_<n>_ACTIVE); the first element's stands for them.
+        array, _, member = constant.partition("[n].")
+        defined = f"{array}_{min(getattr(module, array))}_{member.upper()}" if member else constant
+        text = docstrings.constant_docs(module)[defined]
         for phrase in phrases:
-            assert phrase in (method.__doc__ or ""), (method.__qualname__, phrase, method.__doc__)
+            assert phrase in text, (defined, phrase, text)
+        assert (method.__doc__ or "").startswith(f"Read {constant}: "), (method.__qualname__, method.__doc__)
+        assert phrases[0] not in (method.__doc__ or ""), f"{method.__qualname__} repeats its constant's docstring"
     assert "check_firmware=True" in (power.FixturePowerMeter.__doc__ or "")
     assert "check_firmware" not in (remote.FixtureRemoteIo.__doc__ or "")
 

@@ -10,6 +10,7 @@ from typing import Any
 import pytest
 
 from conftest import MAPS, ROOT, PtyPair, SimulatorFactory, generated_runtime, generated_runtime_name, mypy_strict
+from support import docstrings
 
 _errors = generated_runtime("errors")
 DeviceException = _errors.DeviceException
@@ -28,6 +29,23 @@ def test_generated_clients_pass_mypy_strict() -> None:
     packages = [p.stem for p in MAPS]
     result = mypy_strict(*(f"-p{p}" for p in packages), f"-p{generated_runtime_name()}")
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_each_register_is_documented_once_at_its_constant() -> None:
+    """A register's full text (address, type, range, source) is the docstring under its constant, nowhere else;
+    its sync and async methods carry one line that names the constant and the title, so help() still tells them apart."""
+    for path in MAPS:
+        module = client_module(path.stem)
+        under, written = docstrings.constant_docs(module), docstrings.written(module)
+        clients = [c for c in vars(module).values() if isinstance(c, type) and c.__module__ == module.__name__ and hasattr(c, "DEVICE")]
+        assert len(clients) == 2, clients  # the sync and the async client
+        for spec in module.DEVICE.registers:
+            constant = spec.name.upper()
+            assert written[under[constant]] == 1, f"{path.stem}: {constant}'s documentation is written {written[under[constant]]} times"
+            for client in clients:
+                method = getattr(client, f"read_{spec.name}", None)
+                if method is not None:
+                    assert method.__doc__.startswith(f"Read {constant}: "), (client.__name__, method.__doc__)
 
 
 def test_read_only_register_has_no_write_path_that_type_checks(tmp_path: Path) -> None:

@@ -6,40 +6,23 @@ import contextlib
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from regmap.diagnostics import Diagnostic, OutputError, UsageError
+from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
 from regmap.model import Device
 
-Files = dict[str, str]  # relative path -> content
-TargetOptions = Mapping[str, str]  # `regmap generate` target options (e.g. `--select`) -> their text
-
-
-@dataclass(frozen=True)
-class Target:
-    name: str
-    subdir: str
-    per_device: Callable[[Device], Files]
-    shared: Callable[[Sequence[Device]], Files]
-    post: Callable[[Path], None] | None = None
-    check: Callable[[Device], list[Diagnostic]] | None = None  # the back end's own rules, run by `regmap validate`
-    # Target options: the names this target reads (`select`), and the target as given values make it.
-    # A target that declares none never sees them; an option no chosen target reads is refused.
-    options: tuple[str, ...] = ()
-    configure: Callable[[TargetOptions], Target] | None = None
-
-    def configured(self, options: TargetOptions) -> Target:
-        """This target with the options it reads applied (itself when none of them was given)."""
-        mine = {name: value for name, value in options.items() if name in self.options}
-        return self.configure(mine) if mine and self.configure is not None else self
+# The contract lives in regmap.target; these names stay importable from here for the runner's users.
+from regmap.target import TARGET_GROUP, reserved_id_problems
+from regmap.target import Files as Files
+from regmap.target import Target as Target
+from regmap.target import TargetOptions as TargetOptions
 
 
 def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
     """Every target's own checks on every device: what `generate` would refuse, found by `validate`."""
     known = _targets()
-    problems: list[Diagnostic] = []
+    problems = reserved_ids(devices, targets)
     for name in targets or list(known):
         target = known[name]
         if target.check is not None:
@@ -48,12 +31,15 @@ def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> li
     return problems
 
 
-BUILT_IN_ORDER = ("python", "c", "markdown", "st", "esphome", "homeassistant")
-TARGET_GROUP = "regmap.targets"  # entry-point group: a third-party back end registers itself here, as the built-in ones do
+def reserved_ids(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:
+    """Each device id that a chosen target (by default: any target) reserves, at its map line."""
+    known = _targets()
+    chosen = [known[name] for name in targets or list(known)]
+    return [problem for device in devices for problem in reserved_id_problems(device, chosen)]
 
 
 def _targets() -> dict[str, Target]:
-    """Every back end registered under the `regmap.targets` entry points, built-in ones first."""
+    """Every back end registered under the `regmap.targets` entry points, in the order each declares (then by name)."""
     from importlib.metadata import entry_points
 
     found: dict[str, Target] = {}
@@ -65,8 +51,7 @@ def _targets() -> dict[str, Target]:
         if not isinstance(target, Target) or target.name != point.name:
             raise UsageError(f"entry point {point.name!r} ({point.value}) is not a regmap Target named {point.name!r}")
         found[point.name] = target
-    ordered = [name for name in BUILT_IN_ORDER if name in found] + sorted(n for n in found if n not in BUILT_IN_ORDER)
-    return {name: found[name] for name in ordered}
+    return {name: found[name] for name in sorted(found, key=lambda name: (found[name].order, name))}
 
 
 def target_names() -> list[str]:
@@ -85,6 +70,9 @@ def check_options(targets: Sequence[str], options: TargetOptions) -> None:
 def render(devices: Sequence[Device], targets: Sequence[str], options: TargetOptions | None = None) -> dict[str, Files]:
     """Every file each target produces, in memory, keyed by target subdir."""
     known = _targets()
+    problems = reserved_ids(devices, targets)
+    if problems:
+        raise MapError(problems)
     out: dict[str, Files] = {}
     for name in targets:
         target = known[name].configured(options or {})

@@ -1,4 +1,9 @@
-"""Reserved words of the languages regmap generates, shared by the front end (device ids) and the C back end."""
+"""Reserved words of the languages regmap generates: each back end declares the ones its language has
+(`Target.reserved_words`, checked against device ids) and keeps its generated names off them."""
+
+import keyword
+
+PYTHON_KEYWORDS = frozenset([*keyword.kwlist, *keyword.softkwlist])
 
 C_KEYWORDS = frozenset(
     [

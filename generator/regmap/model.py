@@ -524,6 +524,7 @@ class DeviceInfo:
     manual_language: str | None = None
     firmware: str | None = None
     firmware_register: FirmwareRegister | None = None
+    id_pos: SourcePos | None = field(default=None, compare=False, repr=False)  # where the map gives the id (targets' reserved words)
 
 
 @dataclass(frozen=True)

@@ -100,10 +100,12 @@ FILTERS: dict[str, Callable[..., Any]] = {
 
 
 @functools.cache
-def environment() -> jinja2.Environment:
-    """The shared environment: built once per process, so each template is compiled once, not once per device."""
+def templates(module: str) -> jinja2.Environment:
+    """The environment of the back end that `module` (a module's `__name__`) belongs to: the templates in
+    the `templates/` folder beside that module, so a back end is one folder. Built once per process, so
+    each template is compiled once, not once per device."""
     env = jinja2.Environment(
-        loader=jinja2.PackageLoader("regmap", "templates"),
+        loader=jinja2.PackageLoader(module, "templates"),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,

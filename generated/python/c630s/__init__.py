@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_fd4193d512.bits import BitfieldValue
-from regmap_runtime_fd4193d512.client import AsyncClient, SyncClient
-from regmap_runtime_fd4193d512.errors import (
+from regmap_runtime_63c5f1fa58.bits import BitfieldValue
+from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
+from regmap_runtime_63c5f1fa58.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,7 +21,8 @@ from regmap_runtime_fd4193d512.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_fd4193d512.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
+from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "c00a044d45903b2e"
@@ -35,6 +36,8 @@ __all__ = [
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "DeviceProfile",
+    "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
@@ -7381,2087 +7384,2087 @@ class C630s(SyncClient):
     DEVICE = DEVICE
 
     def read_mcu_software_version(self) -> int:
-        """MCU software version (MCU 软件版本号). Parameter P01-00, address 0x0100, u16, range 0..65535. Manual section 7.1."""
+        """Read MCU_SOFTWARE_VERSION: MCU software version (MCU 软件版本号); documented at the constant."""
         return self.read(MCU_SOFTWARE_VERSION)
 
     def read_servo_drive_number(self) -> int:
-        """Servo drive number (伺服驱动器编号). Parameter P01-02, address 0x0102, u16, range 0..65535, takes effect after restart. Manual section 7.1."""
+        """Read SERVO_DRIVE_NUMBER: Servo drive number (伺服驱动器编号); documented at the constant."""
         return self.read(SERVO_DRIVE_NUMBER)
 
     def write_servo_drive_number(self, value: int) -> None:
-        """Servo drive number (伺服驱动器编号). Parameter P01-02, address 0x0102, u16, range 0..65535, takes effect after restart. Manual section 7.1."""
+        """Write SERVO_DRIVE_NUMBER: Servo drive number (伺服驱动器编号); documented at the constant."""
         self.write(SERVO_DRIVE_NUMBER, value)
 
     def read_control_mode(self) -> ControlMode | int:
-        """Control mode (控制模式选择). Parameter P02-00, address 0x0200, u16, range 0..6, default 1, takes effect immediately. Manual section 7.2, 6.1.2, 6.2.2, 6.3.2."""
+        """Read CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         return self.read(CONTROL_MODE)
 
     def write_control_mode(self, value: ControlMode | int | str) -> None:
-        """Control mode (控制模式选择). Parameter P02-00, address 0x0200, u16, range 0..6, default 1, takes effect immediately. Manual section 7.2, 6.1.2, 6.2.2, 6.3.2."""
+        """Write CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         self.write(CONTROL_MODE, value)
 
     def read_encoder_type(self) -> EncoderType | int:
-        """Encoder type (编码器类型选择). Parameter P02-01, address 0x0201, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Read ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         return self.read(ENCODER_TYPE)
 
     def write_encoder_type(self, value: EncoderType | int | str) -> None:
-        """Encoder type (编码器类型选择). Parameter P02-01, address 0x0201, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Write ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         self.write(ENCODER_TYPE, value)
 
     def read_rotation_direction(self) -> RotationDirection | int:
-        """Rotation direction (旋转方向选择). Parameter P02-02, address 0x0202, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Read ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         return self.read(ROTATION_DIRECTION)
 
     def write_rotation_direction(self, value: RotationDirection | int | str) -> None:
-        """Rotation direction (旋转方向选择). Parameter P02-02, address 0x0202, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Write ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         self.write(ROTATION_DIRECTION, value)
 
     def read_output_pulse_phase(self) -> OutputPulsePhase | int:
-        """Output pulse phase (输出脉冲相位). Parameter P02-03, address 0x0203, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Read OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         return self.read(OUTPUT_PULSE_PHASE)
 
     def write_output_pulse_phase(self, value: OutputPulsePhase | int | str) -> None:
-        """Output pulse phase (输出脉冲相位). Parameter P02-03, address 0x0203, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Write OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         self.write(OUTPUT_PULSE_PHASE, value)
 
     def read_servo_off_stop_mode(self) -> StopMode | int:
-        """Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择). Parameter P02-05, address 0x0205, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Read SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         return self.read(SERVO_OFF_STOP_MODE)
 
     def write_servo_off_stop_mode(self, value: StopMode | int | str) -> None:
-        """Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择). Parameter P02-05, address 0x0205, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Write SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         self.write(SERVO_OFF_STOP_MODE, value)
 
     def read_fault_no2_stop_mode(self) -> StopMode | int:
-        """Stop mode at fault No.2 (故障 No.2 停机方式选择). Parameter P02-06, address 0x0206, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         return self.read(FAULT_NO2_STOP_MODE)
 
     def write_fault_no2_stop_mode(self, value: StopMode | int | str) -> None:
-        """Stop mode at fault No.2 (故障 No.2 停机方式选择). Parameter P02-06, address 0x0206, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         self.write(FAULT_NO2_STOP_MODE, value)
 
     def read_overtravel_stop_mode(self) -> OvertravelStopMode | int:
-        """Overtravel stop mode (超程停机方式选择). Parameter P02-07, address 0x0207, u16, range 0..2, default 1, takes effect immediately. Manual section 7.2."""
+        """Read OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         return self.read(OVERTRAVEL_STOP_MODE)
 
     def write_overtravel_stop_mode(self, value: OvertravelStopMode | int | str) -> None:
-        """Overtravel stop mode (超程停机方式选择). Parameter P02-07, address 0x0207, u16, range 0..2, default 1, takes effect immediately. Manual section 7.2."""
+        """Write OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         self.write(OVERTRAVEL_STOP_MODE, value)
 
     def read_fault_no1_stop_mode(self) -> FaultNo1StopMode | int:
-        """Stop mode at fault No.1 (故障 No.1 停机方式选择). Parameter P02-08, address 0x0208, u16, range 0..0, default 0, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         return self.read(FAULT_NO1_STOP_MODE)
 
     def write_fault_no1_stop_mode(self, value: FaultNo1StopMode | int | str) -> None:
-        """Stop mode at fault No.1 (故障 No.1 停机方式选择). Parameter P02-08, address 0x0208, u16, range 0..0, default 0, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         self.write(FAULT_NO1_STOP_MODE, value)
 
     def read_brake_on_to_command_delay(self) -> int:
-        """Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时). Parameter P02-09, address 0x0209, u16, unit ms, range 0..500, default 250, takes effect immediately. Manual section 7.2."""
+        """Read BRAKE_ON_TO_COMMAND_DELAY: Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时); documented at the constant."""
         return self.read(BRAKE_ON_TO_COMMAND_DELAY)
 
     def write_brake_on_to_command_delay(self, value: int) -> None:
-        """Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时). Parameter P02-09, address 0x0209, u16, unit ms, range 0..500, default 250, takes effect immediately. Manual section 7.2."""
+        """Write BRAKE_ON_TO_COMMAND_DELAY: Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时); documented at the constant."""
         self.write(BRAKE_ON_TO_COMMAND_DELAY, value)
 
     def read_brake_off_to_motor_off_delay(self) -> int:
-        """At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时). Parameter P02-10, address 0x020A, u16, unit ms, range 1..1000, default 150, takes effect immediately. Manual section 7.2."""
+        """Read BRAKE_OFF_TO_MOTOR_OFF_DELAY: At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时); documented at the constant."""
         return self.read(BRAKE_OFF_TO_MOTOR_OFF_DELAY)
 
     def write_brake_off_to_motor_off_delay(self, value: int) -> None:
-        """At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时). Parameter P02-10, address 0x020A, u16, unit ms, range 1..1000, default 150, takes effect immediately. Manual section 7.2."""
+        """Write BRAKE_OFF_TO_MOTOR_OFF_DELAY: At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时); documented at the constant."""
         self.write(BRAKE_OFF_TO_MOTOR_OFF_DELAY, value)
 
     def read_brake_off_speed_threshold(self) -> int:
-        """While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值). Parameter P02-11, address 0x020B, u16, unit rpm, range 0..3000, default 30, takes effect immediately. Manual section 7.2."""
+        """Read BRAKE_OFF_SPEED_THRESHOLD: While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值); documented at the constant."""
         return self.read(BRAKE_OFF_SPEED_THRESHOLD)
 
     def write_brake_off_speed_threshold(self, value: int) -> None:
-        """While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值). Parameter P02-11, address 0x020B, u16, unit rpm, range 0..3000, default 30, takes effect immediately. Manual section 7.2."""
+        """Write BRAKE_OFF_SPEED_THRESHOLD: While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值); documented at the constant."""
         self.write(BRAKE_OFF_SPEED_THRESHOLD, value)
 
     def read_servo_off_to_brake_off_delay(self) -> int:
-        """While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时). Parameter P02-12, address 0x020C, u16, unit ms, range 1..1000, default 500, takes effect immediately. Manual section 7.2."""
+        """Read SERVO_OFF_TO_BRAKE_OFF_DELAY: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时); documented at the constant."""
         return self.read(SERVO_OFF_TO_BRAKE_OFF_DELAY)
 
     def write_servo_off_to_brake_off_delay(self, value: int) -> None:
-        """While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时). Parameter P02-12, address 0x020C, u16, unit ms, range 1..1000, default 500, takes effect immediately. Manual section 7.2."""
+        """Write SERVO_OFF_TO_BRAKE_OFF_DELAY: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时); documented at the constant."""
         self.write(SERVO_OFF_TO_BRAKE_OFF_DELAY, value)
 
     def read_led_warning_display(self) -> LedWarningDisplay | int:
-        """LED warning display (LED 警告显示选择). Parameter P02-15, address 0x020F, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Read LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         return self.read(LED_WARNING_DISPLAY)
 
     def write_led_warning_display(self, value: LedWarningDisplay | int | str) -> None:
-        """LED warning display (LED 警告显示选择). Parameter P02-15, address 0x020F, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Write LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         self.write(LED_WARNING_DISPLAY, value)
 
     def read_servo_on_filter_time(self) -> int:
-        """Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数). Parameter P02-18, address 0x0212, u16, unit ms, range 0..64, default 0, takes effect immediately. Manual section 7.2."""
+        """Read SERVO_ON_FILTER_TIME: Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数); documented at the constant."""
         return self.read(SERVO_ON_FILTER_TIME)
 
     def write_servo_on_filter_time(self, value: int) -> None:
-        """Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数). Parameter P02-18, address 0x0212, u16, unit ms, range 0..64, default 0, takes effect immediately. Manual section 7.2."""
+        """Write SERVO_ON_FILTER_TIME: Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数); documented at the constant."""
         self.write(SERVO_ON_FILTER_TIME, value)
 
     def read_min_braking_resistance(self) -> int:
-        """Minimum braking resistance allowed by the drive (驱动器允许的制动电阻最小值). Parameter P02-21, address 0x0215, u16, unit Ω. Manual section 7.2."""
+        """Read MIN_BRAKING_RESISTANCE: Minimum braking resistance allowed by the drive (驱动器允许的制动电阻最小值); documented at the constant."""
         return self.read(MIN_BRAKING_RESISTANCE)
 
     def read_internal_braking_resistor_power(self) -> int:
-        """Internal braking resistor power (内置制动电阻功率). Parameter P02-22, address 0x0216, u16, unit W. Manual section 7.2."""
+        """Read INTERNAL_BRAKING_RESISTOR_POWER: Internal braking resistor power (内置制动电阻功率); documented at the constant."""
         return self.read(INTERNAL_BRAKING_RESISTOR_POWER)
 
     def read_internal_braking_resistor_resistance(self) -> int:
-        """Internal braking resistor resistance (内置制动电阻阻值). Parameter P02-23, address 0x0217, u16, unit Ω. Manual section 7.2."""
+        """Read INTERNAL_BRAKING_RESISTOR_RESISTANCE: Internal braking resistor resistance (内置制动电阻阻值); documented at the constant."""
         return self.read(INTERNAL_BRAKING_RESISTOR_RESISTANCE)
 
     def read_resistor_heat_dissipation_coefficient(self) -> int:
-        """Resistor heat dissipation coefficient (电阻散热系数). Parameter P02-24, address 0x0218, u16, unit %, range 10..100, default 30, takes effect immediately. Manual section 7.2."""
+        """Read RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Resistor heat dissipation coefficient (电阻散热系数); documented at the constant."""
         return self.read(RESISTOR_HEAT_DISSIPATION_COEFFICIENT)
 
     def write_resistor_heat_dissipation_coefficient(self, value: int) -> None:
-        """Resistor heat dissipation coefficient (电阻散热系数). Parameter P02-24, address 0x0218, u16, unit %, range 10..100, default 30, takes effect immediately. Manual section 7.2."""
+        """Write RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Resistor heat dissipation coefficient (电阻散热系数); documented at the constant."""
         self.write(RESISTOR_HEAT_DISSIPATION_COEFFICIENT, value)
 
     def read_braking_resistor_setting(self) -> BrakingResistorSetting | int:
-        """Braking resistor setting (制动电阻设置). Parameter P02-25, address 0x0219, u16, range 0..3, default 0, takes effect immediately. Manual section 7.2."""
+        """Read BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         return self.read(BRAKING_RESISTOR_SETTING)
 
     def write_braking_resistor_setting(self, value: BrakingResistorSetting | int | str) -> None:
-        """Braking resistor setting (制动电阻设置). Parameter P02-25, address 0x0219, u16, range 0..3, default 0, takes effect immediately. Manual section 7.2."""
+        """Write BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         self.write(BRAKING_RESISTOR_SETTING, value)
 
     def read_external_braking_resistor_power(self) -> int:
-        """External braking resistor power (外接制动电阻功率). Parameter P02-26, address 0x021A, u16, unit W, range 1..65535, takes effect immediately. Manual section 7.2."""
+        """Read EXTERNAL_BRAKING_RESISTOR_POWER: External braking resistor power (外接制动电阻功率); documented at the constant."""
         return self.read(EXTERNAL_BRAKING_RESISTOR_POWER)
 
     def write_external_braking_resistor_power(self, value: int) -> None:
-        """External braking resistor power (外接制动电阻功率). Parameter P02-26, address 0x021A, u16, unit W, range 1..65535, takes effect immediately. Manual section 7.2."""
+        """Write EXTERNAL_BRAKING_RESISTOR_POWER: External braking resistor power (外接制动电阻功率); documented at the constant."""
         self.write(EXTERNAL_BRAKING_RESISTOR_POWER, value)
 
     def read_external_braking_resistor_resistance(self) -> int:
-        """External braking resistor resistance (外接制动电阻阻值). Parameter P02-27, address 0x021B, u16, unit Ω, range 1..1000, takes effect immediately. Manual section 7.2."""
+        """Read EXTERNAL_BRAKING_RESISTOR_RESISTANCE: External braking resistor resistance (外接制动电阻阻值); documented at the constant."""
         return self.read(EXTERNAL_BRAKING_RESISTOR_RESISTANCE)
 
     def write_external_braking_resistor_resistance(self, value: int) -> None:
-        """External braking resistor resistance (外接制动电阻阻值). Parameter P02-27, address 0x021B, u16, unit Ω, range 1..1000, takes effect immediately. Manual section 7.2."""
+        """Write EXTERNAL_BRAKING_RESISTOR_RESISTANCE: External braking resistor resistance (外接制动电阻阻值); documented at the constant."""
         self.write(EXTERNAL_BRAKING_RESISTOR_RESISTANCE, value)
 
     def read_system_parameter_init(self) -> SystemInit | int:
-        """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
+        """Read SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         return self.read(SYSTEM_PARAMETER_INIT)
 
     def write_system_parameter_init(self, value: SystemInit | int | str) -> None:
-        """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
+        """Write SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         self.write(SYSTEM_PARAMETER_INIT, value)
 
     def read_panel_default_display(self) -> int:
-        """Panel default display (面板默认显示功能). Parameter P02-32, address 0x0220, u16, range 0..99, default 50, takes effect immediately. Manual section 7.2. Number of the P0B monitor parameter shown by default (0 = speed P0B-00, 13 = pulse counter P0B-13)."""
+        """Read PANEL_DEFAULT_DISPLAY: Panel default display (面板默认显示功能); documented at the constant."""
         return self.read(PANEL_DEFAULT_DISPLAY)
 
     def write_panel_default_display(self, value: int) -> None:
-        """Panel default display (面板默认显示功能). Parameter P02-32, address 0x0220, u16, range 0..99, default 50, takes effect immediately. Manual section 7.2. Number of the P0B monitor parameter shown by default (0 = speed P0B-00, 13 = pulse counter P0B-13)."""
+        """Write PANEL_DEFAULT_DISPLAY: Panel default display (面板默认显示功能); documented at the constant."""
         self.write(PANEL_DEFAULT_DISPLAY, value)
 
     def read_fault_short_circuit_braking_time(self) -> int:
-        """Fault short-circuit braking time (故障短路制动时间). Parameter P02-38, address 0x0226, u16, unit ms, range 0..30000, default 5000, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_SHORT_CIRCUIT_BRAKING_TIME: Fault short-circuit braking time (故障短路制动时间); documented at the constant."""
         return self.read(FAULT_SHORT_CIRCUIT_BRAKING_TIME)
 
     def write_fault_short_circuit_braking_time(self, value: int) -> None:
-        """Fault short-circuit braking time (故障短路制动时间). Parameter P02-38, address 0x0226, u16, unit ms, range 0..30000, default 5000, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_SHORT_CIRCUIT_BRAKING_TIME: Fault short-circuit braking time (故障短路制动时间); documented at the constant."""
         self.write(FAULT_SHORT_CIRCUIT_BRAKING_TIME, value)
 
     def read_fault_short_circuit_braking_threshold(self) -> float:
-        """Fault short-circuit braking threshold (故障短路制动阈值). Parameter P02-39, address 0x0227, u16, unit %, range 0..300, default 100, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD: Fault short-circuit braking threshold (故障短路制动阈值); documented at the constant."""
         return self.read(FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD)
 
     def write_fault_short_circuit_braking_threshold(self, value: float) -> None:
-        """Fault short-circuit braking threshold (故障短路制动阈值). Parameter P02-39, address 0x0227, u16, unit %, range 0..300, default 100, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD: Fault short-circuit braking threshold (故障短路制动阈值); documented at the constant."""
         self.write(FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD, value)
 
     def read_poweron_di_functions_1(self) -> PoweronDiFunctions1Bits:
-        """DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配). Parameter P03-00, address 0x0300, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.1+n (Bit0 = FunIN.1 ... Bit15 = FunIN.16)."""
+        """Read POWERON_DI_FUNCTIONS_1: DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配); documented at the constant."""
         return self.read(POWERON_DI_FUNCTIONS_1)
 
     def write_poweron_di_functions_1(self, value: PoweronDiFunctions1Bits) -> None:
-        """DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配). Parameter P03-00, address 0x0300, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.1+n (Bit0 = FunIN.1 ... Bit15 = FunIN.16)."""
+        """Write POWERON_DI_FUNCTIONS_1: DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配); documented at the constant."""
         self.write(POWERON_DI_FUNCTIONS_1, value)
 
     def read_poweron_di_functions_2(self) -> PoweronDiFunctions2Bits:
-        """DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配). Parameter P03-01, address 0x0301, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.17+n (Bit0 = FunIN.17 ... Bit15 = FunIN.32)."""
+        """Read POWERON_DI_FUNCTIONS_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配); documented at the constant."""
         return self.read(POWERON_DI_FUNCTIONS_2)
 
     def write_poweron_di_functions_2(self, value: PoweronDiFunctions2Bits) -> None:
-        """DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配). Parameter P03-01, address 0x0301, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.17+n (Bit0 = FunIN.17 ... Bit15 = FunIN.32)."""
+        """Write POWERON_DI_FUNCTIONS_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配); documented at the constant."""
         self.write(POWERON_DI_FUNCTIONS_2, value)
 
     def read_di1_function(self) -> DiFunction | int:
-        """DI1 terminal function (DI1 端子功能选择). Parameter P03-02, address 0x0302, u16, range 0..38, default 1, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         return self.read(DI1_FUNCTION)
 
     def write_di1_function(self, value: DiFunction | int | str) -> None:
-        """DI1 terminal function (DI1 端子功能选择). Parameter P03-02, address 0x0302, u16, range 0..38, default 1, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         self.write(DI1_FUNCTION, value)
 
     def read_di1_logic(self) -> DiLogic | int:
-        """DI1 terminal logic (DI1 端子逻辑选择). Parameter P03-03, address 0x0303, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1, 6.1.2, 5.2.2."""
+        """Read DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         return self.read(DI1_LOGIC)
 
     def write_di1_logic(self, value: DiLogic | int | str) -> None:
-        """DI1 terminal logic (DI1 端子逻辑选择). Parameter P03-03, address 0x0303, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1, 6.1.2, 5.2.2."""
+        """Write DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         self.write(DI1_LOGIC, value)
 
     def read_di2_function(self) -> DiFunction | int:
-        """DI2 terminal function (DI2 端子功能选择). Parameter P03-04, address 0x0304, u16, range 0..38, default 14, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         return self.read(DI2_FUNCTION)
 
     def write_di2_function(self, value: DiFunction | int | str) -> None:
-        """DI2 terminal function (DI2 端子功能选择). Parameter P03-04, address 0x0304, u16, range 0..38, default 14, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         self.write(DI2_FUNCTION, value)
 
     def read_di2_logic(self) -> DiLogic | int:
-        """DI2 terminal logic (DI2 端子逻辑选择). Parameter P03-05, address 0x0305, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         return self.read(DI2_LOGIC)
 
     def write_di2_logic(self, value: DiLogic | int | str) -> None:
-        """DI2 terminal logic (DI2 端子逻辑选择). Parameter P03-05, address 0x0305, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         self.write(DI2_LOGIC, value)
 
     def read_di3_function(self) -> DiFunction | int:
-        """DI3 terminal function (DI3 端子功能选择). Parameter P03-06, address 0x0306, u16, range 0..38, default 15, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         return self.read(DI3_FUNCTION)
 
     def write_di3_function(self, value: DiFunction | int | str) -> None:
-        """DI3 terminal function (DI3 端子功能选择). Parameter P03-06, address 0x0306, u16, range 0..38, default 15, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         self.write(DI3_FUNCTION, value)
 
     def read_di3_logic(self) -> DiLogic | int:
-        """DI3 terminal logic (DI3 端子逻辑选择). Parameter P03-07, address 0x0307, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         return self.read(DI3_LOGIC)
 
     def write_di3_logic(self, value: DiLogic | int | str) -> None:
-        """DI3 terminal logic (DI3 端子逻辑选择). Parameter P03-07, address 0x0307, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         self.write(DI3_LOGIC, value)
 
     def read_di4_function(self) -> DiFunction | int:
-        """DI4 terminal function (DI4 端子功能选择). Parameter P03-08, address 0x0308, u16, range 0..38, default 2, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         return self.read(DI4_FUNCTION)
 
     def write_di4_function(self, value: DiFunction | int | str) -> None:
-        """DI4 terminal function (DI4 端子功能选择). Parameter P03-08, address 0x0308, u16, range 0..38, default 2, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         self.write(DI4_FUNCTION, value)
 
     def read_di4_logic(self) -> DiLogic | int:
-        """DI4 terminal logic (DI4 端子逻辑选择). Parameter P03-09, address 0x0309, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         return self.read(DI4_LOGIC)
 
     def write_di4_logic(self, value: DiLogic | int | str) -> None:
-        """DI4 terminal logic (DI4 端子逻辑选择). Parameter P03-09, address 0x0309, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         self.write(DI4_LOGIC, value)
 
     def read_di5_function(self) -> DiFunction | int:
-        """DI5 terminal function (DI5 端子功能选择). Parameter P03-10, address 0x030A, u16, range 0..38, default 26, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         return self.read(DI5_FUNCTION)
 
     def write_di5_function(self, value: DiFunction | int | str) -> None:
-        """DI5 terminal function (DI5 端子功能选择). Parameter P03-10, address 0x030A, u16, range 0..38, default 26, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         self.write(DI5_FUNCTION, value)
 
     def read_di5_logic(self) -> DiLogic | int:
-        """DI5 terminal logic (DI5 端子逻辑选择). Parameter P03-11, address 0x030B, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         return self.read(DI5_LOGIC)
 
     def write_di5_logic(self, value: DiLogic | int | str) -> None:
-        """DI5 terminal logic (DI5 端子逻辑选择). Parameter P03-11, address 0x030B, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         self.write(DI5_LOGIC, value)
 
     def read_di6_function(self) -> DiFunction | int:
-        """DI6 terminal function (DI6 端子功能选择). Parameter P03-12, address 0x030C, u16, range 0..38, default 34, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         return self.read(DI6_FUNCTION)
 
     def write_di6_function(self, value: DiFunction | int | str) -> None:
-        """DI6 terminal function (DI6 端子功能选择). Parameter P03-12, address 0x030C, u16, range 0..38, default 34, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         self.write(DI6_FUNCTION, value)
 
     def read_di6_logic(self) -> DiLogic | int:
-        """DI6 terminal logic (DI6 端子逻辑选择). Parameter P03-13, address 0x030D, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         return self.read(DI6_LOGIC)
 
     def write_di6_logic(self, value: DiLogic | int | str) -> None:
-        """DI6 terminal logic (DI6 端子逻辑选择). Parameter P03-13, address 0x030D, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         self.write(DI6_LOGIC, value)
 
     def read_di7_function(self) -> DiFunction | int:
-        """DI7 terminal function (DI7 端子功能选择). Parameter P03-14, address 0x030E, u16, range 0..38, default 31, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         return self.read(DI7_FUNCTION)
 
     def write_di7_function(self, value: DiFunction | int | str) -> None:
-        """DI7 terminal function (DI7 端子功能选择). Parameter P03-14, address 0x030E, u16, range 0..38, default 31, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         self.write(DI7_FUNCTION, value)
 
     def read_di7_logic(self) -> DiLogic | int:
-        """DI7 terminal logic (DI7 端子逻辑选择). Parameter P03-15, address 0x030F, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         return self.read(DI7_LOGIC)
 
     def write_di7_logic(self, value: DiLogic | int | str) -> None:
-        """DI7 terminal logic (DI7 端子逻辑选择). Parameter P03-15, address 0x030F, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         self.write(DI7_LOGIC, value)
 
     def read_di8_function(self) -> DiFunction | int:
-        """DI8 terminal function (DI8 端子功能选择). Parameter P03-16, address 0x0310, u16, range 0..38, default 32, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         return self.read(DI8_FUNCTION)
 
     def write_di8_function(self, value: DiFunction | int | str) -> None:
-        """DI8 terminal function (DI8 端子功能选择). Parameter P03-16, address 0x0310, u16, range 0..38, default 32, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         self.write(DI8_FUNCTION, value)
 
     def read_di8_logic(self) -> DiLogic | int:
-        """DI8 terminal logic (DI8 端子逻辑选择). Parameter P03-17, address 0x0311, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         return self.read(DI8_LOGIC)
 
     def write_di8_logic(self, value: DiLogic | int | str) -> None:
-        """DI8 terminal logic (DI8 端子逻辑选择). Parameter P03-17, address 0x0311, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         self.write(DI8_LOGIC, value)
 
     def read_poweron_di_functions_3(self) -> PoweronDiFunctions3Bits:
-        """DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配). Parameter P03-34, address 0x0322, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.33+n (Bit0 = FunIN.33 ... Bit15 = FunIN.48)."""
+        """Read POWERON_DI_FUNCTIONS_3: DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配); documented at the constant."""
         return self.read(POWERON_DI_FUNCTIONS_3)
 
     def write_poweron_di_functions_3(self, value: PoweronDiFunctions3Bits) -> None:
-        """DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配). Parameter P03-34, address 0x0322, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.33+n (Bit0 = FunIN.33 ... Bit15 = FunIN.48)."""
+        """Write POWERON_DI_FUNCTIONS_3: DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配); documented at the constant."""
         self.write(POWERON_DI_FUNCTIONS_3, value)
 
     def read_poweron_di_functions_4(self) -> int:
-        """DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配). Parameter P03-35, address 0x0323, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.49+n (Bit0 = FunIN.49 ... Bit15 = FunIN.64)."""
+        """Read POWERON_DI_FUNCTIONS_4: DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配); documented at the constant."""
         return self.read(POWERON_DI_FUNCTIONS_4)
 
     def write_poweron_di_functions_4(self, value: int) -> None:
-        """DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配). Parameter P03-35, address 0x0323, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.49+n (Bit0 = FunIN.49 ... Bit15 = FunIN.64)."""
+        """Write POWERON_DI_FUNCTIONS_4: DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配); documented at the constant."""
         self.write(POWERON_DI_FUNCTIONS_4, value)
 
     def read_ai1_offset(self) -> int:
-        """AI1 offset (AI1 偏置). Parameter P03-36, address 0x0324, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_OFFSET: AI1 offset (AI1 偏置); documented at the constant."""
         return self.read(AI1_OFFSET)
 
     def write_ai1_offset(self, value: int) -> None:
-        """AI1 offset (AI1 偏置). Parameter P03-36, address 0x0324, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_OFFSET: AI1 offset (AI1 偏置); documented at the constant."""
         self.write(AI1_OFFSET, value)
 
     def read_ai1_filter_time(self) -> float:
-        """AI1 input filter time constant (AI1 输入滤波时间常数). Parameter P03-37, address 0x0325, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_FILTER_TIME: AI1 input filter time constant (AI1 输入滤波时间常数); documented at the constant."""
         return self.read(AI1_FILTER_TIME)
 
     def write_ai1_filter_time(self, value: float) -> None:
-        """AI1 input filter time constant (AI1 输入滤波时间常数). Parameter P03-37, address 0x0325, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_FILTER_TIME: AI1 input filter time constant (AI1 输入滤波时间常数); documented at the constant."""
         self.write(AI1_FILTER_TIME, value)
 
     def read_ai1_median_filter_enable(self) -> int:
-        """AI1 input median filter enable (AI1输入中值滤波使能). Parameter P03-38, address 0x0326, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Read AI1_MEDIAN_FILTER_ENABLE: AI1 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         return self.read(AI1_MEDIAN_FILTER_ENABLE)
 
     def write_ai1_median_filter_enable(self, value: int) -> None:
-        """AI1 input median filter enable (AI1输入中值滤波使能). Parameter P03-38, address 0x0326, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Write AI1_MEDIAN_FILTER_ENABLE: AI1 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         self.write(AI1_MEDIAN_FILTER_ENABLE, value)
 
     def read_ai1_dead_zone(self) -> float:
-        """AI1 dead zone (AI1 死区). Parameter P03-39, address 0x0327, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_DEAD_ZONE: AI1 dead zone (AI1 死区); documented at the constant."""
         return self.read(AI1_DEAD_ZONE)
 
     def write_ai1_dead_zone(self, value: float) -> None:
-        """AI1 dead zone (AI1 死区). Parameter P03-39, address 0x0327, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_DEAD_ZONE: AI1 dead zone (AI1 死区); documented at the constant."""
         self.write(AI1_DEAD_ZONE, value)
 
     def read_ai1_zero_drift(self) -> float:
-        """AI1 zero drift (AI1 零漂). Parameter P03-40, address 0x0328, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_ZERO_DRIFT: AI1 zero drift (AI1 零漂); documented at the constant."""
         return self.read(AI1_ZERO_DRIFT)
 
     def write_ai1_zero_drift(self, value: float) -> None:
-        """AI1 zero drift (AI1 零漂). Parameter P03-40, address 0x0328, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_ZERO_DRIFT: AI1 zero drift (AI1 零漂); documented at the constant."""
         self.write(AI1_ZERO_DRIFT, value)
 
     def read_ai2_offset(self) -> int:
-        """AI2 offset (AI2 偏置). Parameter P03-41, address 0x0329, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_OFFSET: AI2 offset (AI2 偏置); documented at the constant."""
         return self.read(AI2_OFFSET)
 
     def write_ai2_offset(self, value: int) -> None:
-        """AI2 offset (AI2 偏置). Parameter P03-41, address 0x0329, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_OFFSET: AI2 offset (AI2 偏置); documented at the constant."""
         self.write(AI2_OFFSET, value)
 
     def read_ai2_filter_time(self) -> float:
-        """AI2 input filter time constant (AI2 输入滤波时间常数). Parameter P03-42, address 0x032A, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_FILTER_TIME: AI2 input filter time constant (AI2 输入滤波时间常数); documented at the constant."""
         return self.read(AI2_FILTER_TIME)
 
     def write_ai2_filter_time(self, value: float) -> None:
-        """AI2 input filter time constant (AI2 输入滤波时间常数). Parameter P03-42, address 0x032A, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_FILTER_TIME: AI2 input filter time constant (AI2 输入滤波时间常数); documented at the constant."""
         self.write(AI2_FILTER_TIME, value)
 
     def read_ai2_median_filter_enable(self) -> int:
-        """AI2 input median filter enable (AI1输入中值滤波使能). Parameter P03-43, address 0x032B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Read AI2_MEDIAN_FILTER_ENABLE: AI2 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         return self.read(AI2_MEDIAN_FILTER_ENABLE)
 
     def write_ai2_median_filter_enable(self, value: int) -> None:
-        """AI2 input median filter enable (AI1输入中值滤波使能). Parameter P03-43, address 0x032B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Write AI2_MEDIAN_FILTER_ENABLE: AI2 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         self.write(AI2_MEDIAN_FILTER_ENABLE, value)
 
     def read_ai2_dead_zone(self) -> float:
-        """AI2 dead zone (AI2 死区). Parameter P03-44, address 0x032C, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_DEAD_ZONE: AI2 dead zone (AI2 死区); documented at the constant."""
         return self.read(AI2_DEAD_ZONE)
 
     def write_ai2_dead_zone(self, value: float) -> None:
-        """AI2 dead zone (AI2 死区). Parameter P03-44, address 0x032C, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_DEAD_ZONE: AI2 dead zone (AI2 死区); documented at the constant."""
         self.write(AI2_DEAD_ZONE, value)
 
     def read_ai2_zero_drift(self) -> float:
-        """AI2 zero drift (AI2 零漂). Parameter P03-45, address 0x032D, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_ZERO_DRIFT: AI2 zero drift (AI2 零漂); documented at the constant."""
         return self.read(AI2_ZERO_DRIFT)
 
     def write_ai2_zero_drift(self, value: float) -> None:
-        """AI2 zero drift (AI2 零漂). Parameter P03-45, address 0x032D, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_ZERO_DRIFT: AI2 zero drift (AI2 零漂); documented at the constant."""
         self.write(AI2_ZERO_DRIFT, value)
 
     def read_analog_10v_speed(self) -> int:
-        """Speed at 10 V analog input (模拟量 10V 对应速度值). Parameter P03-51, address 0x0333, u16, unit rpm, range 0..9000, default 3000, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read ANALOG_10V_SPEED: Speed at 10 V analog input (模拟量 10V 对应速度值); documented at the constant."""
         return self.read(ANALOG_10V_SPEED)
 
     def write_analog_10v_speed(self, value: int) -> None:
-        """Speed at 10 V analog input (模拟量 10V 对应速度值). Parameter P03-51, address 0x0333, u16, unit rpm, range 0..9000, default 3000, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write ANALOG_10V_SPEED: Speed at 10 V analog input (模拟量 10V 对应速度值); documented at the constant."""
         self.write(ANALOG_10V_SPEED, value)
 
     def read_analog_10v_torque(self) -> float:
-        """Torque at 10 V analog input (模拟量 10V 对应转矩值). Parameter P03-52, address 0x0334, u16, unit x rated torque, range 1..8, default 1, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read ANALOG_10V_TORQUE: Torque at 10 V analog input (模拟量 10V 对应转矩值); documented at the constant."""
         return self.read(ANALOG_10V_TORQUE)
 
     def write_analog_10v_torque(self, value: float) -> None:
-        """Torque at 10 V analog input (模拟量 10V 对应转矩值). Parameter P03-52, address 0x0334, u16, unit x rated torque, range 1..8, default 1, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write ANALOG_10V_TORQUE: Torque at 10 V analog input (模拟量 10V 对应转矩值); documented at the constant."""
         self.write(ANALOG_10V_TORQUE, value)
 
     def read_do1_function(self) -> DoFunction | int:
-        """DO1 terminal function (DO1 端子功能选择). Parameter P04-00, address 0x0400, u16, range 0..20, default 1, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         return self.read(DO1_FUNCTION)
 
     def write_do1_function(self, value: DoFunction | int | str) -> None:
-        """DO1 terminal function (DO1 端子功能选择). Parameter P04-00, address 0x0400, u16, range 0..20, default 1, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         self.write(DO1_FUNCTION, value)
 
     def read_do1_logic(self) -> DoLogic | int:
-        """DO1 terminal logic (DO1 端子逻辑选择). Parameter P04-01, address 0x0401, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         return self.read(DO1_LOGIC)
 
     def write_do1_logic(self, value: DoLogic | int | str) -> None:
-        """DO1 terminal logic (DO1 端子逻辑选择). Parameter P04-01, address 0x0401, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         self.write(DO1_LOGIC, value)
 
     def read_do2_function(self) -> DoFunction | int:
-        """DO2 terminal function (DO2 端子功能选择). Parameter P04-02, address 0x0402, u16, range 0..20, default 5, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         return self.read(DO2_FUNCTION)
 
     def write_do2_function(self, value: DoFunction | int | str) -> None:
-        """DO2 terminal function (DO2 端子功能选择). Parameter P04-02, address 0x0402, u16, range 0..20, default 5, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         self.write(DO2_FUNCTION, value)
 
     def read_do2_logic(self) -> DoLogic | int:
-        """DO2 terminal logic (DO2 端子逻辑选择). Parameter P04-03, address 0x0403, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         return self.read(DO2_LOGIC)
 
     def write_do2_logic(self, value: DoLogic | int | str) -> None:
-        """DO2 terminal logic (DO2 端子逻辑选择). Parameter P04-03, address 0x0403, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         self.write(DO2_LOGIC, value)
 
     def read_do3_function(self) -> DoFunction | int:
-        """DO3 terminal function (DO3 端子功能选择). Parameter P04-04, address 0x0404, u16, range 0..20, default 3, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         return self.read(DO3_FUNCTION)
 
     def write_do3_function(self, value: DoFunction | int | str) -> None:
-        """DO3 terminal function (DO3 端子功能选择). Parameter P04-04, address 0x0404, u16, range 0..20, default 3, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         self.write(DO3_FUNCTION, value)
 
     def read_do3_logic(self) -> DoLogic | int:
-        """DO3 terminal logic (DO3 端子逻辑选择). Parameter P04-05, address 0x0405, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         return self.read(DO3_LOGIC)
 
     def write_do3_logic(self, value: DoLogic | int | str) -> None:
-        """DO3 terminal logic (DO3 端子逻辑选择). Parameter P04-05, address 0x0405, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         self.write(DO3_LOGIC, value)
 
     def read_do4_function(self) -> DoFunction | int:
-        """DO4 terminal function (DO4 端子功能选择). Parameter P04-06, address 0x0406, u16, range 0..20, default 11, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         return self.read(DO4_FUNCTION)
 
     def write_do4_function(self, value: DoFunction | int | str) -> None:
-        """DO4 terminal function (DO4 端子功能选择). Parameter P04-06, address 0x0406, u16, range 0..20, default 11, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         self.write(DO4_FUNCTION, value)
 
     def read_do4_logic(self) -> DoLogic | int:
-        """DO4 terminal logic (DO4 端子逻辑选择). Parameter P04-07, address 0x0407, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         return self.read(DO4_LOGIC)
 
     def write_do4_logic(self, value: DoLogic | int | str) -> None:
-        """DO4 terminal logic (DO4 端子逻辑选择). Parameter P04-07, address 0x0407, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         self.write(DO4_LOGIC, value)
 
     def read_do5_function(self) -> DoFunction | int:
-        """DO5 terminal function (DO5 端子功能选择). Parameter P04-08, address 0x0408, u16, range 0..20, default 16, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         return self.read(DO5_FUNCTION)
 
     def write_do5_function(self, value: DoFunction | int | str) -> None:
-        """DO5 terminal function (DO5 端子功能选择). Parameter P04-08, address 0x0408, u16, range 0..20, default 16, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         self.write(DO5_FUNCTION, value)
 
     def read_do5_logic(self) -> DoLogic | int:
-        """DO5 terminal logic (DO5 端子逻辑选择). Parameter P04-09, address 0x0409, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         return self.read(DO5_LOGIC)
 
     def write_do5_logic(self, value: DoLogic | int | str) -> None:
-        """DO5 terminal logic (DO5 端子逻辑选择). Parameter P04-09, address 0x0409, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         self.write(DO5_LOGIC, value)
 
     def read_do6_function(self) -> DoFunction | int:
-        """DO6 terminal function (DO6端子功能选择). Parameter P04-10, address 0x040A, u16, range 0..20, default 9, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         return self.read(DO6_FUNCTION)
 
     def write_do6_function(self, value: DoFunction | int | str) -> None:
-        """DO6 terminal function (DO6端子功能选择). Parameter P04-10, address 0x040A, u16, range 0..20, default 9, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         self.write(DO6_FUNCTION, value)
 
     def read_do6_logic(self) -> DoLogic | int:
-        """DO6 terminal logic (DO6 端子逻辑选择). Parameter P04-11, address 0x040B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         return self.read(DO6_LOGIC)
 
     def write_do6_logic(self, value: DoLogic | int | str) -> None:
-        """DO6 terminal logic (DO6 端子逻辑选择). Parameter P04-11, address 0x040B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         self.write(DO6_LOGIC, value)
 
     def read_position_command_source(self) -> PositionCommandSource | int:
-        """Position command source (位置指令来源). Parameter P05-00, address 0x0500, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5, 6.1.2, 6.1.3."""
+        """Read POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         return self.read(POSITION_COMMAND_SOURCE)
 
     def write_position_command_source(self, value: PositionCommandSource | int | str) -> None:
-        """Position command source (位置指令来源). Parameter P05-00, address 0x0500, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5, 6.1.2, 6.1.3."""
+        """Write POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         self.write(POSITION_COMMAND_SOURCE, value)
 
     def read_pulses_per_revolution(self) -> int:
-        """Command pulses per motor revolution (电机每旋转1圈脉冲数). Parameter P05-02, address 0x0502, u32, unit P/r, range 0..1048576, default 10000, takes effect after restart. Manual section 7.5, 6.1.2, 5.1.5. Default 10000. To set 0 the leading 1 must be changed to 0 (panel, see 5.1.5). The electronic gear ratio is used only when P05-02 = 0."""
+        """Read PULSES_PER_REVOLUTION: Command pulses per motor revolution (电机每旋转1圈脉冲数); documented at the constant."""
         return self.read(PULSES_PER_REVOLUTION)
 
     def write_pulses_per_revolution(self, value: int) -> None:
-        """Command pulses per motor revolution (电机每旋转1圈脉冲数). Parameter P05-02, address 0x0502, u32, unit P/r, range 0..1048576, default 10000, takes effect after restart. Manual section 7.5, 6.1.2, 5.1.5. Default 10000. To set 0 the leading 1 must be changed to 0 (panel, see 5.1.5). The electronic gear ratio is used only when P05-02 = 0."""
+        """Write PULSES_PER_REVOLUTION: Command pulses per motor revolution (电机每旋转1圈脉冲数); documented at the constant."""
         self.write(PULSES_PER_REVOLUTION, value)
 
     def read_position_lowpass_filter_time(self) -> float:
-        """First-order low-pass filter time constant (一阶低通滤波时间常数). Parameter P05-04, address 0x0504, u16, unit ms, range 0..6553.5, default 0, takes effect immediately. Manual section 7.5."""
+        """Read POSITION_LOWPASS_FILTER_TIME: First-order low-pass filter time constant (一阶低通滤波时间常数); documented at the constant."""
         return self.read(POSITION_LOWPASS_FILTER_TIME)
 
     def write_position_lowpass_filter_time(self, value: float) -> None:
-        """First-order low-pass filter time constant (一阶低通滤波时间常数). Parameter P05-04, address 0x0504, u16, unit ms, range 0..6553.5, default 0, takes effect immediately. Manual section 7.5."""
+        """Write POSITION_LOWPASS_FILTER_TIME: First-order low-pass filter time constant (一阶低通滤波时间常数); documented at the constant."""
         self.write(POSITION_LOWPASS_FILTER_TIME, value)
 
     def read_step_amount(self) -> int:
-        """Step amount (步进量). Parameter P05-05, address 0x0505, s16, unit command unit, range -9999..9999, default 50, takes effect immediately. Manual section 7.5."""
+        """Read STEP_AMOUNT: Step amount (步进量); documented at the constant."""
         return self.read(STEP_AMOUNT)
 
     def write_step_amount(self, value: int) -> None:
-        """Step amount (步进量). Parameter P05-05, address 0x0505, s16, unit command unit, range -9999..9999, default 50, takes effect immediately. Manual section 7.5."""
+        """Write STEP_AMOUNT: Step amount (步进量); documented at the constant."""
         self.write(STEP_AMOUNT, value)
 
     def read_position_average_filter_time(self) -> float:
-        """Average filter time constant (平均值滤波时间常数). Parameter P05-06, address 0x0506, u16, unit ms, range 0..128, default 0, takes effect immediately. Manual section 7.5."""
+        """Read POSITION_AVERAGE_FILTER_TIME: Average filter time constant (平均值滤波时间常数); documented at the constant."""
         return self.read(POSITION_AVERAGE_FILTER_TIME)
 
     def write_position_average_filter_time(self, value: float) -> None:
-        """Average filter time constant (平均值滤波时间常数). Parameter P05-06, address 0x0506, u16, unit ms, range 0..128, default 0, takes effect immediately. Manual section 7.5."""
+        """Write POSITION_AVERAGE_FILTER_TIME: Average filter time constant (平均值滤波时间常数); documented at the constant."""
         self.write(POSITION_AVERAGE_FILTER_TIME, value)
 
     def read_gear1_numerator(self) -> int:
-        """Electronic gear ratio 1 numerator (电子齿数比 1(分子)). Parameter P05-07, address 0x0507, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Read GEAR1_NUMERATOR: Electronic gear ratio 1 numerator (电子齿数比 1(分子)); documented at the constant."""
         return self.read(GEAR1_NUMERATOR)
 
     def write_gear1_numerator(self, value: int) -> None:
-        """Electronic gear ratio 1 numerator (电子齿数比 1(分子)). Parameter P05-07, address 0x0507, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Write GEAR1_NUMERATOR: Electronic gear ratio 1 numerator (电子齿数比 1(分子)); documented at the constant."""
         self.write(GEAR1_NUMERATOR, value)
 
     def read_gear1_denominator(self) -> int:
-        """Electronic gear ratio 1 denominator (电子齿数比 1(分母)). Parameter P05-09, address 0x0509, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Read GEAR1_DENOMINATOR: Electronic gear ratio 1 denominator (电子齿数比 1(分母)); documented at the constant."""
         return self.read(GEAR1_DENOMINATOR)
 
     def write_gear1_denominator(self, value: int) -> None:
-        """Electronic gear ratio 1 denominator (电子齿数比 1(分母)). Parameter P05-09, address 0x0509, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Write GEAR1_DENOMINATOR: Electronic gear ratio 1 denominator (电子齿数比 1(分母)); documented at the constant."""
         self.write(GEAR1_DENOMINATOR, value)
 
     def read_gear2_numerator(self) -> int:
-        """Electronic gear ratio 2 numerator (电子齿数比 2(分子)). Parameter P05-11, address 0x050B, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5."""
+        """Read GEAR2_NUMERATOR: Electronic gear ratio 2 numerator (电子齿数比 2(分子)); documented at the constant."""
         return self.read(GEAR2_NUMERATOR)
 
     def write_gear2_numerator(self, value: int) -> None:
-        """Electronic gear ratio 2 numerator (电子齿数比 2(分子)). Parameter P05-11, address 0x050B, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5."""
+        """Write GEAR2_NUMERATOR: Electronic gear ratio 2 numerator (电子齿数比 2(分子)); documented at the constant."""
         self.write(GEAR2_NUMERATOR, value)
 
     def read_gear2_denominator(self) -> int:
-        """Electronic gear ratio 2 denominator (电子齿数比 2(分母)). Parameter P05-13, address 0x050D, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5."""
+        """Read GEAR2_DENOMINATOR: Electronic gear ratio 2 denominator (电子齿数比 2(分母)); documented at the constant."""
         return self.read(GEAR2_DENOMINATOR)
 
     def write_gear2_denominator(self, value: int) -> None:
-        """Electronic gear ratio 2 denominator (电子齿数比 2(分母)). Parameter P05-13, address 0x050D, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5."""
+        """Write GEAR2_DENOMINATOR: Electronic gear ratio 2 denominator (电子齿数比 2(分母)); documented at the constant."""
         self.write(GEAR2_DENOMINATOR, value)
 
     def read_pulse_input_form(self) -> PulseInputForm | int:
-        """Pulse command form (脉冲指令形态). Parameter P05-15, address 0x050F, u16, range 0..4, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Read PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         return self.read(PULSE_INPUT_FORM)
 
     def write_pulse_input_form(self, value: PulseInputForm | int | str) -> None:
-        """Pulse command form (脉冲指令形态). Parameter P05-15, address 0x050F, u16, range 0..4, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Write PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         self.write(PULSE_INPUT_FORM, value)
 
     def read_position_clear_action(self) -> PositionClearAction | int:
-        """Position deviation clear action (清除动作选择). Parameter P05-16, address 0x0510, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Read POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         return self.read(POSITION_CLEAR_ACTION)
 
     def write_position_clear_action(self, value: PositionClearAction | int | str) -> None:
-        """Position deviation clear action (清除动作选择). Parameter P05-16, address 0x0510, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Write POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         self.write(POSITION_CLEAR_ACTION, value)
 
     def read_encoder_divided_pulses(self) -> int:
-        """Encoder divided output pulses per revolution (编码器分频脉冲数). Parameter P05-17, address 0x0511, u16, unit P/r, range 35..32767, default 2500, takes effect after restart. Manual section 7.5, 6.1.2, 4.3.1."""
+        """Read ENCODER_DIVIDED_PULSES: Encoder divided output pulses per revolution (编码器分频脉冲数); documented at the constant."""
         return self.read(ENCODER_DIVIDED_PULSES)
 
     def write_encoder_divided_pulses(self, value: int) -> None:
-        """Encoder divided output pulses per revolution (编码器分频脉冲数). Parameter P05-17, address 0x0511, u16, unit P/r, range 35..32767, default 2500, takes effect after restart. Manual section 7.5, 6.1.2, 4.3.1."""
+        """Write ENCODER_DIVIDED_PULSES: Encoder divided output pulses per revolution (编码器分频脉冲数); documented at the constant."""
         self.write(ENCODER_DIVIDED_PULSES, value)
 
     def read_speed_feedforward_select(self) -> SpeedFeedforwardSelect | int:
-        """Speed feedforward select (速度前馈控制选择). Parameter P05-19, address 0x0513, u16, range 0..3, default 1, takes effect immediately. Manual section 7.5."""
+        """Read SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         return self.read(SPEED_FEEDFORWARD_SELECT)
 
     def write_speed_feedforward_select(self, value: SpeedFeedforwardSelect | int | str) -> None:
-        """Speed feedforward select (速度前馈控制选择). Parameter P05-19, address 0x0513, u16, range 0..3, default 1, takes effect immediately. Manual section 7.5."""
+        """Write SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         self.write(SPEED_FEEDFORWARD_SELECT, value)
 
     def read_coin_output_condition(self) -> CoinOutputCondition | int:
-        """Positioning complete output condition (定位完成输出条件). Parameter P05-20, address 0x0514, u16, range 0..3, default 0, takes effect immediately. Manual section 7.5."""
+        """Read COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         return self.read(COIN_OUTPUT_CONDITION)
 
     def write_coin_output_condition(self, value: CoinOutputCondition | int | str) -> None:
-        """Positioning complete output condition (定位完成输出条件). Parameter P05-20, address 0x0514, u16, range 0..3, default 0, takes effect immediately. Manual section 7.5."""
+        """Write COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         self.write(COIN_OUTPUT_CONDITION, value)
 
     def read_coin_threshold(self) -> int:
-        """Positioning complete threshold (定位完成阈值). Parameter P05-21, address 0x0515, u16, unit encoder unit, range 1..65535, default 734, takes effect immediately. Manual section 7.5."""
+        """Read COIN_THRESHOLD: Positioning complete threshold (定位完成阈值); documented at the constant."""
         return self.read(COIN_THRESHOLD)
 
     def write_coin_threshold(self, value: int) -> None:
-        """Positioning complete threshold (定位完成阈值). Parameter P05-21, address 0x0515, u16, unit encoder unit, range 1..65535, default 734, takes effect immediately. Manual section 7.5."""
+        """Write COIN_THRESHOLD: Positioning complete threshold (定位完成阈值); documented at the constant."""
         self.write(COIN_THRESHOLD, value)
 
     def read_near_threshold(self) -> int:
-        """Positioning near threshold (定位接近阈值). Parameter P05-22, address 0x0516, u16, unit encoder unit, range 1..65535, default 65535, takes effect immediately. Manual section 7.5."""
+        """Read NEAR_THRESHOLD: Positioning near threshold (定位接近阈值); documented at the constant."""
         return self.read(NEAR_THRESHOLD)
 
     def write_near_threshold(self, value: int) -> None:
-        """Positioning near threshold (定位接近阈值). Parameter P05-22, address 0x0516, u16, unit encoder unit, range 1..65535, default 65535, takes effect immediately. Manual section 7.5."""
+        """Write NEAR_THRESHOLD: Positioning near threshold (定位接近阈值); documented at the constant."""
         self.write(NEAR_THRESHOLD, value)
 
     def read_homing_enable(self) -> HomingEnable | int:
-        """Homing enable control (原点复归使能控制). Parameter P05-30, address 0x051E, u16, range 0..8, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         return self.read(HOMING_ENABLE)
 
     def write_homing_enable(self, value: HomingEnable | int | str) -> None:
-        """Homing enable control (原点复归使能控制). Parameter P05-30, address 0x051E, u16, range 0..8, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         self.write(HOMING_ENABLE, value)
 
     def read_homing_mode(self) -> HomingMode | int:
-        """Homing mode (原点复归模式). Parameter P05-31, address 0x051F, u16, range 0..9, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         return self.read(HOMING_MODE)
 
     def write_homing_mode(self, value: HomingMode | int | str) -> None:
-        """Homing mode (原点复归模式). Parameter P05-31, address 0x051F, u16, range 0..9, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         self.write(HOMING_MODE, value)
 
     def read_homing_high_speed(self) -> int:
-        """High speed searching the home switch (高速搜索原点开关信号的速度). Parameter P05-32, address 0x0520, u16, unit rpm, range 0..3000, default 100, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_HIGH_SPEED: High speed searching the home switch (高速搜索原点开关信号的速度); documented at the constant."""
         return self.read(HOMING_HIGH_SPEED)
 
     def write_homing_high_speed(self, value: int) -> None:
-        """High speed searching the home switch (高速搜索原点开关信号的速度). Parameter P05-32, address 0x0520, u16, unit rpm, range 0..3000, default 100, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_HIGH_SPEED: High speed searching the home switch (高速搜索原点开关信号的速度); documented at the constant."""
         self.write(HOMING_HIGH_SPEED, value)
 
     def read_homing_low_speed(self) -> int:
-        """Low speed searching the home switch (低速搜索原点开关信号的速度). Parameter P05-33, address 0x0521, u16, unit rpm, range 0..1000, default 10, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_LOW_SPEED: Low speed searching the home switch (低速搜索原点开关信号的速度); documented at the constant."""
         return self.read(HOMING_LOW_SPEED)
 
     def write_homing_low_speed(self, value: int) -> None:
-        """Low speed searching the home switch (低速搜索原点开关信号的速度). Parameter P05-33, address 0x0521, u16, unit rpm, range 0..1000, default 10, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_LOW_SPEED: Low speed searching the home switch (低速搜索原点开关信号的速度); documented at the constant."""
         self.write(HOMING_LOW_SPEED, value)
 
     def read_homing_accel_time(self) -> int:
-        """Acceleration/deceleration time while homing (搜索原点时的加减速时间). Parameter P05-34, address 0x0522, u16, unit ms, range 0..1000, default 1000, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_ACCEL_TIME: Acceleration/deceleration time while homing (搜索原点时的加减速时间); documented at the constant."""
         return self.read(HOMING_ACCEL_TIME)
 
     def write_homing_accel_time(self, value: int) -> None:
-        """Acceleration/deceleration time while homing (搜索原点时的加减速时间). Parameter P05-34, address 0x0522, u16, unit ms, range 0..1000, default 1000, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_ACCEL_TIME: Acceleration/deceleration time while homing (搜索原点时的加减速时间); documented at the constant."""
         self.write(HOMING_ACCEL_TIME, value)
 
     def read_homing_time_limit(self) -> int:
-        """Homing time limit (限定查找原点的时间). Parameter P05-35, address 0x0523, u16, range 0..65535, default 10000, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_TIME_LIMIT: Homing time limit (限定查找原点的时间); documented at the constant."""
         return self.read(HOMING_TIME_LIMIT)
 
     def write_homing_time_limit(self, value: int) -> None:
-        """Homing time limit (限定查找原点的时间). Parameter P05-35, address 0x0523, u16, range 0..65535, default 10000, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_TIME_LIMIT: Homing time limit (限定查找原点的时间); documented at the constant."""
         self.write(HOMING_TIME_LIMIT, value)
 
     def read_home_offset(self) -> int:
-        """Mechanical home offset (机械原点偏移量). Parameter P05-36, address 0x0524, s32, unit command unit, range -1073741824..1073741824, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOME_OFFSET: Mechanical home offset (机械原点偏移量); documented at the constant."""
         return self.read(HOME_OFFSET)
 
     def write_home_offset(self, value: int) -> None:
-        """Mechanical home offset (机械原点偏移量). Parameter P05-36, address 0x0524, s32, unit command unit, range -1073741824..1073741824, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOME_OFFSET: Mechanical home offset (机械原点偏移量); documented at the constant."""
         self.write(HOME_OFFSET, value)
 
     def read_pulse_output_source(self) -> PulseOutputSource | int:
-        """Servo pulse output source (伺服脉冲输出来源选择). Parameter P05-38, address 0x0526, u16, range 0..2, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Read PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         return self.read(PULSE_OUTPUT_SOURCE)
 
     def write_pulse_output_source(self, value: PulseOutputSource | int | str) -> None:
-        """Servo pulse output source (伺服脉冲输出来源选择). Parameter P05-38, address 0x0526, u16, range 0..2, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Write PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         self.write(PULSE_OUTPUT_SOURCE, value)
 
     def read_gear_switch_condition(self) -> GearSwitchCondition | int:
-        """Electronic gear switching condition (电子齿轮比切换条件). Parameter P05-39, address 0x0527, u16, range 0..1, default 0, takes effect immediately. Manual section 7.5."""
+        """Read GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         return self.read(GEAR_SWITCH_CONDITION)
 
     def write_gear_switch_condition(self, value: GearSwitchCondition | int | str) -> None:
-        """Electronic gear switching condition (电子齿轮比切换条件). Parameter P05-39, address 0x0527, u16, range 0..1, default 0, takes effect immediately. Manual section 7.5."""
+        """Write GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         self.write(GEAR_SWITCH_CONDITION, value)
 
     def read_pulse_edge(self) -> PulseEdge | int:
-        """Position pulse edge (位置脉冲沿选择). Parameter P05-43, address 0x052B, u16, range 0..1, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Read PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         return self.read(PULSE_EDGE)
 
     def write_pulse_edge(self, value: PulseEdge | int | str) -> None:
-        """Position pulse edge (位置脉冲沿选择). Parameter P05-43, address 0x052B, u16, range 0..1, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Write PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         self.write(PULSE_EDGE, value)
 
     def read_coin_window_time(self) -> int:
-        """Positioning complete window time (定位完成窗口时间). Parameter P05-59, address 0x053B, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Read COIN_WINDOW_TIME: Positioning complete window time (定位完成窗口时间); documented at the constant."""
         return self.read(COIN_WINDOW_TIME)
 
     def write_coin_window_time(self, value: int) -> None:
-        """Positioning complete window time (定位完成窗口时间). Parameter P05-59, address 0x053B, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Write COIN_WINDOW_TIME: Positioning complete window time (定位完成窗口时间); documented at the constant."""
         self.write(COIN_WINDOW_TIME, value)
 
     def read_coin_hold_time(self) -> int:
-        """Positioning complete hold time (定位完成保持时间). Parameter P05-60, address 0x053C, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Read COIN_HOLD_TIME: Positioning complete hold time (定位完成保持时间); documented at the constant."""
         return self.read(COIN_HOLD_TIME)
 
     def write_coin_hold_time(self, value: int) -> None:
-        """Positioning complete hold time (定位完成保持时间). Parameter P05-60, address 0x053C, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Write COIN_HOLD_TIME: Positioning complete hold time (定位完成保持时间); documented at the constant."""
         self.write(COIN_HOLD_TIME, value)
 
     def read_homing_time_unit(self) -> int:
-        """Homing time limit unit select (限定查找原点的时间单位选择). Parameter P05-61, address 0x053D, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_TIME_UNIT: Homing time limit unit select (限定查找原点的时间单位选择); documented at the constant."""
         return self.read(HOMING_TIME_UNIT)
 
     def write_homing_time_unit(self, value: int) -> None:
-        """Homing time limit unit select (限定查找原点的时间单位选择). Parameter P05-61, address 0x053D, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_TIME_UNIT: Homing time limit unit select (限定查找原点的时间单位选择); documented at the constant."""
         self.write(HOMING_TIME_UNIT, value)
 
     def read_speed_a_source(self) -> SpeedASource | int:
-        """Main speed command A source (主速度指令 A 来源). Parameter P06-00, address 0x0600, u16, range 0..2, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         return self.read(SPEED_A_SOURCE)
 
     def write_speed_a_source(self, value: SpeedASource | int | str) -> None:
-        """Main speed command A source (主速度指令 A 来源). Parameter P06-00, address 0x0600, u16, range 0..2, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         self.write(SPEED_A_SOURCE, value)
 
     def read_speed_b_source(self) -> SpeedBSource | int:
-        """Auxiliary speed command B source (辅助速度指令 B 来源). Parameter P06-01, address 0x0601, u16, range 0..5, default 1, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         return self.read(SPEED_B_SOURCE)
 
     def write_speed_b_source(self, value: SpeedBSource | int | str) -> None:
-        """Auxiliary speed command B source (辅助速度指令 B 来源). Parameter P06-01, address 0x0601, u16, range 0..5, default 1, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         self.write(SPEED_B_SOURCE, value)
 
     def read_speed_command_select(self) -> SpeedCommandSelect | int:
-        """Speed command select (速度指令选择). Parameter P06-02, address 0x0602, u16, range 0..3, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         return self.read(SPEED_COMMAND_SELECT)
 
     def write_speed_command_select(self, value: SpeedCommandSelect | int | str) -> None:
-        """Speed command select (速度指令选择). Parameter P06-02, address 0x0602, u16, range 0..3, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         self.write(SPEED_COMMAND_SELECT, value)
 
     def read_speed_keypad_setting(self) -> int:
-        """Speed command keypad setting (速度指令键盘设定值). Parameter P06-03, address 0x0603, s16, unit rpm, range -6000..6000, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_KEYPAD_SETTING: Speed command keypad setting (速度指令键盘设定值); documented at the constant."""
         return self.read(SPEED_KEYPAD_SETTING)
 
     def write_speed_keypad_setting(self, value: int) -> None:
-        """Speed command keypad setting (速度指令键盘设定值). Parameter P06-03, address 0x0603, s16, unit rpm, range -6000..6000, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_KEYPAD_SETTING: Speed command keypad setting (速度指令键盘设定值); documented at the constant."""
         self.write(SPEED_KEYPAD_SETTING, value)
 
     def read_jog_speed(self) -> int:
-        """Jog speed setting (点动速度设定值). Parameter P06-04, address 0x0604, u16, unit rpm, range 0..6000, default 100, takes effect immediately. Manual section 7.6."""
+        """Read JOG_SPEED: Jog speed setting (点动速度设定值); documented at the constant."""
         return self.read(JOG_SPEED)
 
     def write_jog_speed(self, value: int) -> None:
-        """Jog speed setting (点动速度设定值). Parameter P06-04, address 0x0604, u16, unit rpm, range 0..6000, default 100, takes effect immediately. Manual section 7.6."""
+        """Write JOG_SPEED: Jog speed setting (点动速度设定值); documented at the constant."""
         self.write(JOG_SPEED, value)
 
     def read_speed_accel_time(self) -> int:
-        """Speed command acceleration ramp time constant (速度指令加速斜坡时间常数). Parameter P06-05, address 0x0605, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_ACCEL_TIME: Speed command acceleration ramp time constant (速度指令加速斜坡时间常数); documented at the constant."""
         return self.read(SPEED_ACCEL_TIME)
 
     def write_speed_accel_time(self, value: int) -> None:
-        """Speed command acceleration ramp time constant (速度指令加速斜坡时间常数). Parameter P06-05, address 0x0605, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_ACCEL_TIME: Speed command acceleration ramp time constant (速度指令加速斜坡时间常数); documented at the constant."""
         self.write(SPEED_ACCEL_TIME, value)
 
     def read_speed_decel_time(self) -> int:
-        """Speed command deceleration ramp time constant (速度指令减速斜坡时间常数). Parameter P06-06, address 0x0606, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_DECEL_TIME: Speed command deceleration ramp time constant (速度指令减速斜坡时间常数); documented at the constant."""
         return self.read(SPEED_DECEL_TIME)
 
     def write_speed_decel_time(self, value: int) -> None:
-        """Speed command deceleration ramp time constant (速度指令减速斜坡时间常数). Parameter P06-06, address 0x0606, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_DECEL_TIME: Speed command deceleration ramp time constant (速度指令减速斜坡时间常数); documented at the constant."""
         self.write(SPEED_DECEL_TIME, value)
 
     def read_max_speed_threshold(self) -> int:
-        """Maximum speed threshold (最大转速阈值). Parameter P06-07, address 0x0607, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read MAX_SPEED_THRESHOLD: Maximum speed threshold (最大转速阈值); documented at the constant."""
         return self.read(MAX_SPEED_THRESHOLD)
 
     def write_max_speed_threshold(self, value: int) -> None:
-        """Maximum speed threshold (最大转速阈值). Parameter P06-07, address 0x0607, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write MAX_SPEED_THRESHOLD: Maximum speed threshold (最大转速阈值); documented at the constant."""
         self.write(MAX_SPEED_THRESHOLD, value)
 
     def read_forward_speed_threshold(self) -> int:
-        """Forward speed threshold (正向速度阈值). Parameter P06-08, address 0x0608, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read FORWARD_SPEED_THRESHOLD: Forward speed threshold (正向速度阈值); documented at the constant."""
         return self.read(FORWARD_SPEED_THRESHOLD)
 
     def write_forward_speed_threshold(self, value: int) -> None:
-        """Forward speed threshold (正向速度阈值). Parameter P06-08, address 0x0608, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write FORWARD_SPEED_THRESHOLD: Forward speed threshold (正向速度阈值); documented at the constant."""
         self.write(FORWARD_SPEED_THRESHOLD, value)
 
     def read_reverse_speed_threshold(self) -> int:
-        """Reverse speed threshold (反向速度阈值). Parameter P06-09, address 0x0609, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read REVERSE_SPEED_THRESHOLD: Reverse speed threshold (反向速度阈值); documented at the constant."""
         return self.read(REVERSE_SPEED_THRESHOLD)
 
     def write_reverse_speed_threshold(self, value: int) -> None:
-        """Reverse speed threshold (反向速度阈值). Parameter P06-09, address 0x0609, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write REVERSE_SPEED_THRESHOLD: Reverse speed threshold (反向速度阈值); documented at the constant."""
         self.write(REVERSE_SPEED_THRESHOLD, value)
 
     def read_torque_feedforward_select(self) -> TorqueFeedforwardSelect | int:
-        """Torque feedforward select (转矩前馈控制选择). Parameter P06-11, address 0x060B, u16, range 0..1, default 1, takes effect immediately. Manual section 7.6."""
+        """Read TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         return self.read(TORQUE_FEEDFORWARD_SELECT)
 
     def write_torque_feedforward_select(self, value: TorqueFeedforwardSelect | int | str) -> None:
-        """Torque feedforward select (转矩前馈控制选择). Parameter P06-11, address 0x060B, u16, range 0..1, default 1, takes effect immediately. Manual section 7.6."""
+        """Write TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         self.write(TORQUE_FEEDFORWARD_SELECT, value)
 
     def read_zero_clamp_speed_threshold(self) -> int:
-        """Zero clamp speed threshold (零位固定转速阈值). Parameter P06-15, address 0x060F, u16, unit rpm, range 0..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read ZERO_CLAMP_SPEED_THRESHOLD: Zero clamp speed threshold (零位固定转速阈值); documented at the constant."""
         return self.read(ZERO_CLAMP_SPEED_THRESHOLD)
 
     def write_zero_clamp_speed_threshold(self, value: int) -> None:
-        """Zero clamp speed threshold (零位固定转速阈值). Parameter P06-15, address 0x060F, u16, unit rpm, range 0..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write ZERO_CLAMP_SPEED_THRESHOLD: Zero clamp speed threshold (零位固定转速阈值); documented at the constant."""
         self.write(ZERO_CLAMP_SPEED_THRESHOLD, value)
 
     def read_rotation_detect_threshold(self) -> int:
-        """Motor rotation speed threshold (TGON) (电机旋转速度阈值). Parameter P06-16, address 0x0610, u16, unit rpm, range 0..1000, default 20, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read ROTATION_DETECT_THRESHOLD: Motor rotation speed threshold (TGON) (电机旋转速度阈值); documented at the constant."""
         return self.read(ROTATION_DETECT_THRESHOLD)
 
     def write_rotation_detect_threshold(self, value: int) -> None:
-        """Motor rotation speed threshold (TGON) (电机旋转速度阈值). Parameter P06-16, address 0x0610, u16, unit rpm, range 0..1000, default 20, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write ROTATION_DETECT_THRESHOLD: Motor rotation speed threshold (TGON) (电机旋转速度阈值); documented at the constant."""
         self.write(ROTATION_DETECT_THRESHOLD, value)
 
     def read_speed_coincidence_threshold(self) -> int:
-        """Speed coincidence threshold (V-CMP) (速度一致信号阈值). Parameter P06-17, address 0x0611, u16, unit rpm, range 0..100, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_COINCIDENCE_THRESHOLD: Speed coincidence threshold (V-CMP) (速度一致信号阈值); documented at the constant."""
         return self.read(SPEED_COINCIDENCE_THRESHOLD)
 
     def write_speed_coincidence_threshold(self, value: int) -> None:
-        """Speed coincidence threshold (V-CMP) (速度一致信号阈值). Parameter P06-17, address 0x0611, u16, unit rpm, range 0..100, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_COINCIDENCE_THRESHOLD: Speed coincidence threshold (V-CMP) (速度一致信号阈值); documented at the constant."""
         self.write(SPEED_COINCIDENCE_THRESHOLD, value)
 
     def read_speed_reached_threshold(self) -> int:
-        """Speed reached threshold (V-Arr) (速度到达信号阀值). Parameter P06-18, address 0x0612, u16, unit rpm, range 10..6000, default 1000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_REACHED_THRESHOLD: Speed reached threshold (V-Arr) (速度到达信号阀值); documented at the constant."""
         return self.read(SPEED_REACHED_THRESHOLD)
 
     def write_speed_reached_threshold(self, value: int) -> None:
-        """Speed reached threshold (V-Arr) (速度到达信号阀值). Parameter P06-18, address 0x0612, u16, unit rpm, range 10..6000, default 1000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_REACHED_THRESHOLD: Speed reached threshold (V-Arr) (速度到达信号阀值); documented at the constant."""
         self.write(SPEED_REACHED_THRESHOLD, value)
 
     def read_zero_speed_threshold(self) -> int:
-        """Zero speed output threshold (ZERO) (零速输出信号阀值). Parameter P06-19, address 0x0613, u16, unit rpm, range 1..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read ZERO_SPEED_THRESHOLD: Zero speed output threshold (ZERO) (零速输出信号阀值); documented at the constant."""
         return self.read(ZERO_SPEED_THRESHOLD)
 
     def write_zero_speed_threshold(self, value: int) -> None:
-        """Zero speed output threshold (ZERO) (零速输出信号阀值). Parameter P06-19, address 0x0613, u16, unit rpm, range 1..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write ZERO_SPEED_THRESHOLD: Zero speed output threshold (ZERO) (零速输出信号阀值); documented at the constant."""
         self.write(ZERO_SPEED_THRESHOLD, value)
 
     def read_torque_a_source(self) -> TorqueSource | int:
-        """Main torque command A source (主转矩指令 A 来源). Parameter P07-00, address 0x0700, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         return self.read(TORQUE_A_SOURCE)
 
     def write_torque_a_source(self, value: TorqueSource | int | str) -> None:
-        """Main torque command A source (主转矩指令 A 来源). Parameter P07-00, address 0x0700, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         self.write(TORQUE_A_SOURCE, value)
 
     def read_torque_b_source(self) -> TorqueSource | int:
-        """Auxiliary torque command B source (辅助转矩指令 B 来源). Parameter P07-01, address 0x0701, u16, range 0..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         return self.read(TORQUE_B_SOURCE)
 
     def write_torque_b_source(self, value: TorqueSource | int | str) -> None:
-        """Auxiliary torque command B source (辅助转矩指令 B 来源). Parameter P07-01, address 0x0701, u16, range 0..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         self.write(TORQUE_B_SOURCE, value)
 
     def read_torque_command_select(self) -> TorqueCommandSelect | int:
-        """Torque command select (转矩指令选择). Parameter P07-02, address 0x0702, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         return self.read(TORQUE_COMMAND_SELECT)
 
     def write_torque_command_select(self, value: TorqueCommandSelect | int | str) -> None:
-        """Torque command select (转矩指令选择). Parameter P07-02, address 0x0702, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         self.write(TORQUE_COMMAND_SELECT, value)
 
     def read_torque_keypad_setting(self) -> float:
-        """Torque command keypad setting (转矩指令键盘设定值). Parameter P07-03, address 0x0703, s16, unit %, range -300..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_KEYPAD_SETTING: Torque command keypad setting (转矩指令键盘设定值); documented at the constant."""
         return self.read(TORQUE_KEYPAD_SETTING)
 
     def write_torque_keypad_setting(self, value: float) -> None:
-        """Torque command keypad setting (转矩指令键盘设定值). Parameter P07-03, address 0x0703, s16, unit %, range -300..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_KEYPAD_SETTING: Torque command keypad setting (转矩指令键盘设定值); documented at the constant."""
         self.write(TORQUE_KEYPAD_SETTING, value)
 
     def read_torque_filter_time(self) -> float:
-        """Torque command filter time constant (转矩指令滤波时间常数). Parameter P07-05, address 0x0705, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Read TORQUE_FILTER_TIME: Torque command filter time constant (转矩指令滤波时间常数); documented at the constant."""
         return self.read(TORQUE_FILTER_TIME)
 
     def write_torque_filter_time(self, value: float) -> None:
-        """Torque command filter time constant (转矩指令滤波时间常数). Parameter P07-05, address 0x0705, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Write TORQUE_FILTER_TIME: Torque command filter time constant (转矩指令滤波时间常数); documented at the constant."""
         self.write(TORQUE_FILTER_TIME, value)
 
     def read_torque_filter_time_2(self) -> float:
-        """Second torque command filter time constant (第二转矩指令滤波时间常数). Parameter P07-06, address 0x0706, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Read TORQUE_FILTER_TIME_2: Second torque command filter time constant (第二转矩指令滤波时间常数); documented at the constant."""
         return self.read(TORQUE_FILTER_TIME_2)
 
     def write_torque_filter_time_2(self, value: float) -> None:
-        """Second torque command filter time constant (第二转矩指令滤波时间常数). Parameter P07-06, address 0x0706, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Write TORQUE_FILTER_TIME_2: Second torque command filter time constant (第二转矩指令滤波时间常数); documented at the constant."""
         self.write(TORQUE_FILTER_TIME_2, value)
 
     def read_torque_limit_source(self) -> TorqueLimitSource | int:
-        """Torque limit source (转矩限制来源). Parameter P07-07, address 0x0707, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         return self.read(TORQUE_LIMIT_SOURCE)
 
     def write_torque_limit_source(self, value: TorqueLimitSource | int | str) -> None:
-        """Torque limit source (转矩限制来源). Parameter P07-07, address 0x0707, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         self.write(TORQUE_LIMIT_SOURCE, value)
 
     def read_t_lmt_select(self) -> AiChannel | int:
-        """T-LMT analog channel (T-LMT 选择). Parameter P07-08, address 0x0708, u16, range 1..2, default 2, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         return self.read(T_LMT_SELECT)
 
     def write_t_lmt_select(self, value: AiChannel | int | str) -> None:
-        """T-LMT analog channel (T-LMT 选择). Parameter P07-08, address 0x0708, u16, range 1..2, default 2, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         self.write(T_LMT_SELECT, value)
 
     def read_positive_internal_torque_limit(self) -> float:
-        """Positive internal torque limit (正内部转矩限制). Parameter P07-09, address 0x0709, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read POSITIVE_INTERNAL_TORQUE_LIMIT: Positive internal torque limit (正内部转矩限制); documented at the constant."""
         return self.read(POSITIVE_INTERNAL_TORQUE_LIMIT)
 
     def write_positive_internal_torque_limit(self, value: float) -> None:
-        """Positive internal torque limit (正内部转矩限制). Parameter P07-09, address 0x0709, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write POSITIVE_INTERNAL_TORQUE_LIMIT: Positive internal torque limit (正内部转矩限制); documented at the constant."""
         self.write(POSITIVE_INTERNAL_TORQUE_LIMIT, value)
 
     def read_negative_internal_torque_limit(self) -> float:
-        """Negative internal torque limit (负内部转矩限制). Parameter P07-10, address 0x070A, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read NEGATIVE_INTERNAL_TORQUE_LIMIT: Negative internal torque limit (负内部转矩限制); documented at the constant."""
         return self.read(NEGATIVE_INTERNAL_TORQUE_LIMIT)
 
     def write_negative_internal_torque_limit(self, value: float) -> None:
-        """Negative internal torque limit (负内部转矩限制). Parameter P07-10, address 0x070A, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write NEGATIVE_INTERNAL_TORQUE_LIMIT: Negative internal torque limit (负内部转矩限制); documented at the constant."""
         self.write(NEGATIVE_INTERNAL_TORQUE_LIMIT, value)
 
     def read_positive_external_torque_limit(self) -> float:
-        """Positive external torque limit (正外部转矩限制). Parameter P07-11, address 0x070B, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read POSITIVE_EXTERNAL_TORQUE_LIMIT: Positive external torque limit (正外部转矩限制); documented at the constant."""
         return self.read(POSITIVE_EXTERNAL_TORQUE_LIMIT)
 
     def write_positive_external_torque_limit(self, value: float) -> None:
-        """Positive external torque limit (正外部转矩限制). Parameter P07-11, address 0x070B, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write POSITIVE_EXTERNAL_TORQUE_LIMIT: Positive external torque limit (正外部转矩限制); documented at the constant."""
         self.write(POSITIVE_EXTERNAL_TORQUE_LIMIT, value)
 
     def read_negative_external_torque_limit(self) -> float:
-        """Negative external torque limit (负外部转矩限制). Parameter P07-12, address 0x070C, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read NEGATIVE_EXTERNAL_TORQUE_LIMIT: Negative external torque limit (负外部转矩限制); documented at the constant."""
         return self.read(NEGATIVE_EXTERNAL_TORQUE_LIMIT)
 
     def write_negative_external_torque_limit(self, value: float) -> None:
-        """Negative external torque limit (负外部转矩限制). Parameter P07-12, address 0x070C, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write NEGATIVE_EXTERNAL_TORQUE_LIMIT: Negative external torque limit (负外部转矩限制); documented at the constant."""
         self.write(NEGATIVE_EXTERNAL_TORQUE_LIMIT, value)
 
     def read_speed_limit_source(self) -> SpeedLimitSource | int:
-        """Speed limit source (速度限制来源选择). Parameter P07-17, address 0x0711, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         return self.read(SPEED_LIMIT_SOURCE)
 
     def write_speed_limit_source(self, value: SpeedLimitSource | int | str) -> None:
-        """Speed limit source (速度限制来源选择). Parameter P07-17, address 0x0711, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         self.write(SPEED_LIMIT_SOURCE, value)
 
     def read_v_lmt_select(self) -> AiChannel | int:
-        """V-LMT analog channel (V-LMT 选择). Parameter P07-18, address 0x0712, u16, range 1..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         return self.read(V_LMT_SELECT)
 
     def write_v_lmt_select(self, value: AiChannel | int | str) -> None:
-        """V-LMT analog channel (V-LMT 选择). Parameter P07-18, address 0x0712, u16, range 1..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         self.write(V_LMT_SELECT, value)
 
     def read_torque_mode_speed_limit_1(self) -> int:
-        """Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1). Parameter P07-19, address 0x0713, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_MODE_SPEED_LIMIT_1: Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1); documented at the constant."""
         return self.read(TORQUE_MODE_SPEED_LIMIT_1)
 
     def write_torque_mode_speed_limit_1(self, value: int) -> None:
-        """Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1). Parameter P07-19, address 0x0713, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_MODE_SPEED_LIMIT_1: Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1); documented at the constant."""
         self.write(TORQUE_MODE_SPEED_LIMIT_1, value)
 
     def read_torque_mode_speed_limit_2(self) -> int:
-        """Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2). Parameter P07-20, address 0x0714, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_MODE_SPEED_LIMIT_2: Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2); documented at the constant."""
         return self.read(TORQUE_MODE_SPEED_LIMIT_2)
 
     def write_torque_mode_speed_limit_2(self, value: int) -> None:
-        """Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2). Parameter P07-20, address 0x0714, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_MODE_SPEED_LIMIT_2: Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2); documented at the constant."""
         self.write(TORQUE_MODE_SPEED_LIMIT_2, value)
 
     def read_torque_reached_reference(self) -> float:
-        """Torque reached reference value (转矩到达基准值). Parameter P07-21, address 0x0715, u16, unit %, range 0..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_REACHED_REFERENCE: Torque reached reference value (转矩到达基准值); documented at the constant."""
         return self.read(TORQUE_REACHED_REFERENCE)
 
     def write_torque_reached_reference(self, value: float) -> None:
-        """Torque reached reference value (转矩到达基准值). Parameter P07-21, address 0x0715, u16, unit %, range 0..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_REACHED_REFERENCE: Torque reached reference value (转矩到达基准值); documented at the constant."""
         self.write(TORQUE_REACHED_REFERENCE, value)
 
     def read_torque_reached_on(self) -> float:
-        """Torque reached valid value (转矩到达有效值). Parameter P07-22, address 0x0716, u16, unit %, range 0..300, default 20, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_REACHED_ON: Torque reached valid value (转矩到达有效值); documented at the constant."""
         return self.read(TORQUE_REACHED_ON)
 
     def write_torque_reached_on(self, value: float) -> None:
-        """Torque reached valid value (转矩到达有效值). Parameter P07-22, address 0x0716, u16, unit %, range 0..300, default 20, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_REACHED_ON: Torque reached valid value (转矩到达有效值); documented at the constant."""
         self.write(TORQUE_REACHED_ON, value)
 
     def read_torque_reached_off(self) -> float:
-        """Torque reached invalid value (转矩到达无效值). Parameter P07-23, address 0x0717, u16, unit %, range 0..300, default 10, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_REACHED_OFF: Torque reached invalid value (转矩到达无效值); documented at the constant."""
         return self.read(TORQUE_REACHED_OFF)
 
     def write_torque_reached_off(self, value: float) -> None:
-        """Torque reached invalid value (转矩到达无效值). Parameter P07-23, address 0x0717, u16, unit %, range 0..300, default 10, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_REACHED_OFF: Torque reached invalid value (转矩到达无效值); documented at the constant."""
         self.write(TORQUE_REACHED_OFF, value)
 
     def read_torque_mode_speed_limit_window(self) -> float:
-        """Speed-limited window in torque mode (转矩模式下速度受限窗口). Parameter P07-40, address 0x0728, u16, unit ms, range 0.5..30, default 1, takes effect immediately. Manual section 7.7."""
+        """Read TORQUE_MODE_SPEED_LIMIT_WINDOW: Speed-limited window in torque mode (转矩模式下速度受限窗口); documented at the constant."""
         return self.read(TORQUE_MODE_SPEED_LIMIT_WINDOW)
 
     def write_torque_mode_speed_limit_window(self, value: float) -> None:
-        """Speed-limited window in torque mode (转矩模式下速度受限窗口). Parameter P07-40, address 0x0728, u16, unit ms, range 0.5..30, default 1, takes effect immediately. Manual section 7.7."""
+        """Write TORQUE_MODE_SPEED_LIMIT_WINDOW: Speed-limited window in torque mode (转矩模式下速度受限窗口); documented at the constant."""
         self.write(TORQUE_MODE_SPEED_LIMIT_WINDOW, value)
 
     def read_speed_loop_gain(self) -> float:
-        """Speed loop gain (速度环增益). Parameter P08-00, address 0x0800, u16, unit Hz, range 0.1..2000, default 25, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_GAIN: Speed loop gain (速度环增益); documented at the constant."""
         return self.read(SPEED_LOOP_GAIN)
 
     def write_speed_loop_gain(self, value: float) -> None:
-        """Speed loop gain (速度环增益). Parameter P08-00, address 0x0800, u16, unit Hz, range 0.1..2000, default 25, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_GAIN: Speed loop gain (速度环增益); documented at the constant."""
         self.write(SPEED_LOOP_GAIN, value)
 
     def read_speed_loop_integral_time(self) -> float:
-        """Speed loop integral time constant (速度环积分时间常数). Parameter P08-01, address 0x0801, u16, unit ms, range 0.15..512, default 31.83, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_INTEGRAL_TIME: Speed loop integral time constant (速度环积分时间常数); documented at the constant."""
         return self.read(SPEED_LOOP_INTEGRAL_TIME)
 
     def write_speed_loop_integral_time(self, value: float) -> None:
-        """Speed loop integral time constant (速度环积分时间常数). Parameter P08-01, address 0x0801, u16, unit ms, range 0.15..512, default 31.83, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_INTEGRAL_TIME: Speed loop integral time constant (速度环积分时间常数); documented at the constant."""
         self.write(SPEED_LOOP_INTEGRAL_TIME, value)
 
     def read_position_loop_gain(self) -> float:
-        """Position loop gain (位置环增益). Parameter P08-02, address 0x0802, u16, unit Hz, range 0..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Read POSITION_LOOP_GAIN: Position loop gain (位置环增益); documented at the constant."""
         return self.read(POSITION_LOOP_GAIN)
 
     def write_position_loop_gain(self, value: float) -> None:
-        """Position loop gain (位置环增益). Parameter P08-02, address 0x0802, u16, unit Hz, range 0..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Write POSITION_LOOP_GAIN: Position loop gain (位置环增益); documented at the constant."""
         self.write(POSITION_LOOP_GAIN, value)
 
     def read_speed_loop_gain_2(self) -> float:
-        """Second speed loop gain (第 2 速度环增益). Parameter P08-03, address 0x0803, u16, unit Hz, range 0.1..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_GAIN_2: Second speed loop gain (第 2 速度环增益); documented at the constant."""
         return self.read(SPEED_LOOP_GAIN_2)
 
     def write_speed_loop_gain_2(self, value: float) -> None:
-        """Second speed loop gain (第 2 速度环增益). Parameter P08-03, address 0x0803, u16, unit Hz, range 0.1..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_GAIN_2: Second speed loop gain (第 2 速度环增益); documented at the constant."""
         self.write(SPEED_LOOP_GAIN_2, value)
 
     def read_speed_loop_integral_time_2(self) -> float:
-        """Second speed loop integral time constant (第 2 速度环积分时间常数). Parameter P08-04, address 0x0804, u16, unit ms, range 0.15..512, default 40, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_INTEGRAL_TIME_2: Second speed loop integral time constant (第 2 速度环积分时间常数); documented at the constant."""
         return self.read(SPEED_LOOP_INTEGRAL_TIME_2)
 
     def write_speed_loop_integral_time_2(self, value: float) -> None:
-        """Second speed loop integral time constant (第 2 速度环积分时间常数). Parameter P08-04, address 0x0804, u16, unit ms, range 0.15..512, default 40, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_INTEGRAL_TIME_2: Second speed loop integral time constant (第 2 速度环积分时间常数); documented at the constant."""
         self.write(SPEED_LOOP_INTEGRAL_TIME_2, value)
 
     def read_position_loop_gain_2(self) -> float:
-        """Second position loop gain (第 2 位置环增益). Parameter P08-05, address 0x0805, u16, unit Hz, range 0..2000, default 64, takes effect immediately. Manual section 7.8."""
+        """Read POSITION_LOOP_GAIN_2: Second position loop gain (第 2 位置环增益); documented at the constant."""
         return self.read(POSITION_LOOP_GAIN_2)
 
     def write_position_loop_gain_2(self, value: float) -> None:
-        """Second position loop gain (第 2 位置环增益). Parameter P08-05, address 0x0805, u16, unit Hz, range 0..2000, default 64, takes effect immediately. Manual section 7.8."""
+        """Write POSITION_LOOP_GAIN_2: Second position loop gain (第 2 位置环增益); documented at the constant."""
         self.write(POSITION_LOOP_GAIN_2, value)
 
     def read_second_gain_mode(self) -> SecondGainMode | int:
-        """Second gain mode (第二增益模式设置). Parameter P08-08, address 0x0808, u16, range 0..1, default 1, takes effect immediately. Manual section 7.8."""
+        """Read SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         return self.read(SECOND_GAIN_MODE)
 
     def write_second_gain_mode(self, value: SecondGainMode | int | str) -> None:
-        """Second gain mode (第二增益模式设置). Parameter P08-08, address 0x0808, u16, range 0..1, default 1, takes effect immediately. Manual section 7.8."""
+        """Write SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         self.write(SECOND_GAIN_MODE, value)
 
     def read_gain_switch_condition(self) -> GainSwitchCondition | int:
-        """Gain switching condition (增益切换条件选择). Parameter P08-09, address 0x0809, u16, range 0..10, default 0, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         return self.read(GAIN_SWITCH_CONDITION)
 
     def write_gain_switch_condition(self, value: GainSwitchCondition | int | str) -> None:
-        """Gain switching condition (增益切换条件选择). Parameter P08-09, address 0x0809, u16, range 0..10, default 0, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         self.write(GAIN_SWITCH_CONDITION, value)
 
     def read_gain_switch_delay(self) -> float:
-        """Gain switching delay time (增益切换延迟时间). Parameter P08-10, address 0x080A, u16, unit ms, range 0..1000, default 5, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_DELAY: Gain switching delay time (增益切换延迟时间); documented at the constant."""
         return self.read(GAIN_SWITCH_DELAY)
 
     def write_gain_switch_delay(self, value: float) -> None:
-        """Gain switching delay time (增益切换延迟时间). Parameter P08-10, address 0x080A, u16, unit ms, range 0..1000, default 5, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_DELAY: Gain switching delay time (增益切换延迟时间); documented at the constant."""
         self.write(GAIN_SWITCH_DELAY, value)
 
     def read_gain_switch_level(self) -> int:
-        """Gain switching level (增益切换等级). Parameter P08-11, address 0x080B, u16, range 0..20000, default 50, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_LEVEL: Gain switching level (增益切换等级); documented at the constant."""
         return self.read(GAIN_SWITCH_LEVEL)
 
     def write_gain_switch_level(self, value: int) -> None:
-        """Gain switching level (增益切换等级). Parameter P08-11, address 0x080B, u16, range 0..20000, default 50, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_LEVEL: Gain switching level (增益切换等级); documented at the constant."""
         self.write(GAIN_SWITCH_LEVEL, value)
 
     def read_gain_switch_hysteresis(self) -> int:
-        """Gain switching hysteresis (增益切换时滞). Parameter P08-12, address 0x080C, u16, range 0..20000, default 30, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_HYSTERESIS: Gain switching hysteresis (增益切换时滞); documented at the constant."""
         return self.read(GAIN_SWITCH_HYSTERESIS)
 
     def write_gain_switch_hysteresis(self, value: int) -> None:
-        """Gain switching hysteresis (增益切换时滞). Parameter P08-12, address 0x080C, u16, range 0..20000, default 30, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_HYSTERESIS: Gain switching hysteresis (增益切换时滞); documented at the constant."""
         self.write(GAIN_SWITCH_HYSTERESIS, value)
 
     def read_position_gain_switch_time(self) -> float:
-        """Position gain switching time (位置增益切换时间). Parameter P08-13, address 0x080D, u16, unit ms, range 0..1000, default 3, takes effect immediately. Manual section 7.8."""
+        """Read POSITION_GAIN_SWITCH_TIME: Position gain switching time (位置增益切换时间); documented at the constant."""
         return self.read(POSITION_GAIN_SWITCH_TIME)
 
     def write_position_gain_switch_time(self, value: float) -> None:
-        """Position gain switching time (位置增益切换时间). Parameter P08-13, address 0x080D, u16, unit ms, range 0..1000, default 3, takes effect immediately. Manual section 7.8."""
+        """Write POSITION_GAIN_SWITCH_TIME: Position gain switching time (位置增益切换时间); documented at the constant."""
         self.write(POSITION_GAIN_SWITCH_TIME, value)
 
     def read_load_inertia_ratio(self) -> float:
-        """Load inertia ratio (负载转动惯量比). Parameter P08-15, address 0x080F, u16, unit times, range 0..120, default 1, takes effect immediately. Manual section 7.8."""
+        """Read LOAD_INERTIA_RATIO: Load inertia ratio (负载转动惯量比); documented at the constant."""
         return self.read(LOAD_INERTIA_RATIO)
 
     def write_load_inertia_ratio(self, value: float) -> None:
-        """Load inertia ratio (负载转动惯量比). Parameter P08-15, address 0x080F, u16, unit times, range 0..120, default 1, takes effect immediately. Manual section 7.8."""
+        """Write LOAD_INERTIA_RATIO: Load inertia ratio (负载转动惯量比); documented at the constant."""
         self.write(LOAD_INERTIA_RATIO, value)
 
     def read_speed_ff_filter_time(self) -> float:
-        """Speed feedforward filter time constant (速度前馈滤波时间常数). Parameter P08-18, address 0x0812, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FF_FILTER_TIME: Speed feedforward filter time constant (速度前馈滤波时间常数); documented at the constant."""
         return self.read(SPEED_FF_FILTER_TIME)
 
     def write_speed_ff_filter_time(self, value: float) -> None:
-        """Speed feedforward filter time constant (速度前馈滤波时间常数). Parameter P08-18, address 0x0812, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FF_FILTER_TIME: Speed feedforward filter time constant (速度前馈滤波时间常数); documented at the constant."""
         self.write(SPEED_FF_FILTER_TIME, value)
 
     def read_speed_ff_gain(self) -> float:
-        """Speed feedforward gain (速度前馈增益). Parameter P08-19, address 0x0813, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FF_GAIN: Speed feedforward gain (速度前馈增益); documented at the constant."""
         return self.read(SPEED_FF_GAIN)
 
     def write_speed_ff_gain(self, value: float) -> None:
-        """Speed feedforward gain (速度前馈增益). Parameter P08-19, address 0x0813, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FF_GAIN: Speed feedforward gain (速度前馈增益); documented at the constant."""
         self.write(SPEED_FF_GAIN, value)
 
     def read_torque_ff_filter_time(self) -> float:
-        """Torque feedforward filter time constant (转矩前馈滤波时间常数). Parameter P08-20, address 0x0814, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Read TORQUE_FF_FILTER_TIME: Torque feedforward filter time constant (转矩前馈滤波时间常数); documented at the constant."""
         return self.read(TORQUE_FF_FILTER_TIME)
 
     def write_torque_ff_filter_time(self, value: float) -> None:
-        """Torque feedforward filter time constant (转矩前馈滤波时间常数). Parameter P08-20, address 0x0814, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Write TORQUE_FF_FILTER_TIME: Torque feedforward filter time constant (转矩前馈滤波时间常数); documented at the constant."""
         self.write(TORQUE_FF_FILTER_TIME, value)
 
     def read_torque_ff_gain(self) -> float:
-        """Torque feedforward gain (转矩前馈增益). Parameter P08-21, address 0x0815, u16, unit %, range 0..200, default 0, takes effect immediately. Manual section 7.8."""
+        """Read TORQUE_FF_GAIN: Torque feedforward gain (转矩前馈增益); documented at the constant."""
         return self.read(TORQUE_FF_GAIN)
 
     def write_torque_ff_gain(self, value: float) -> None:
-        """Torque feedforward gain (转矩前馈增益). Parameter P08-21, address 0x0815, u16, unit %, range 0..200, default 0, takes effect immediately. Manual section 7.8."""
+        """Write TORQUE_FF_GAIN: Torque feedforward gain (转矩前馈增益); documented at the constant."""
         self.write(TORQUE_FF_GAIN, value)
 
     def read_speed_feedback_filter(self) -> SpeedFeedbackFilter | int:
-        """Speed feedback filter option (速度反馈滤波选项). Parameter P08-22, address 0x0816, u16, range 0..4, default 0, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         return self.read(SPEED_FEEDBACK_FILTER)
 
     def write_speed_feedback_filter(self, value: SpeedFeedbackFilter | int | str) -> None:
-        """Speed feedback filter option (速度反馈滤波选项). Parameter P08-22, address 0x0816, u16, range 0..4, default 0, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         self.write(SPEED_FEEDBACK_FILTER, value)
 
     def read_speed_feedback_lowpass_cutoff(self) -> int:
-        """Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率). Parameter P08-23, address 0x0817, u16, unit Hz, range 100..4000, default 4000, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FEEDBACK_LOWPASS_CUTOFF: Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率); documented at the constant."""
         return self.read(SPEED_FEEDBACK_LOWPASS_CUTOFF)
 
     def write_speed_feedback_lowpass_cutoff(self, value: int) -> None:
-        """Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率). Parameter P08-23, address 0x0817, u16, unit Hz, range 100..4000, default 4000, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FEEDBACK_LOWPASS_CUTOFF: Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率); documented at the constant."""
         self.write(SPEED_FEEDBACK_LOWPASS_CUTOFF, value)
 
     def read_pdff_coefficient(self) -> float:
-        """Pseudo-derivative feedforward coefficient (伪微分前馈控制系数). Parameter P08-24, address 0x0818, u16, range 0..100, default 100, takes effect immediately. Manual section 7.8."""
+        """Read PDFF_COEFFICIENT: Pseudo-derivative feedforward coefficient (伪微分前馈控制系数); documented at the constant."""
         return self.read(PDFF_COEFFICIENT)
 
     def write_pdff_coefficient(self, value: float) -> None:
-        """Pseudo-derivative feedforward coefficient (伪微分前馈控制系数). Parameter P08-24, address 0x0818, u16, range 0..100, default 100, takes effect immediately. Manual section 7.8."""
+        """Write PDFF_COEFFICIENT: Pseudo-derivative feedforward coefficient (伪微分前馈控制系数); documented at the constant."""
         self.write(PDFF_COEFFICIENT, value)
 
     def read_stiffness_level(self) -> int:
-        """Stiffness level (刚性等级选择). Parameter P09-01, address 0x0901, u16, range 0..31, default 12, takes effect immediately. Manual section 7.9."""
+        """Read STIFFNESS_LEVEL: Stiffness level (刚性等级选择); documented at the constant."""
         return self.read(STIFFNESS_LEVEL)
 
     def write_stiffness_level(self, value: int) -> None:
-        """Stiffness level (刚性等级选择). Parameter P09-01, address 0x0901, u16, range 0..31, default 12, takes effect immediately. Manual section 7.9."""
+        """Write STIFFNESS_LEVEL: Stiffness level (刚性等级选择); documented at the constant."""
         self.write(STIFFNESS_LEVEL, value)
 
     def read_adaptive_notch_mode(self) -> AdaptiveNotchMode | int:
-        """Adaptive notch filter mode (自适应陷波器模式选择). Parameter P09-02, address 0x0902, u16, range 0..4, default 0, takes effect immediately. Manual section 7.9."""
+        """Read ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         return self.read(ADAPTIVE_NOTCH_MODE)
 
     def write_adaptive_notch_mode(self, value: AdaptiveNotchMode | int | str) -> None:
-        """Adaptive notch filter mode (自适应陷波器模式选择). Parameter P09-02, address 0x0902, u16, range 0..4, default 0, takes effect immediately. Manual section 7.9."""
+        """Write ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         self.write(ADAPTIVE_NOTCH_MODE, value)
 
     def read_low_freq_resonance_mode(self) -> LowFreqResonanceMode | int:
-        """Low-frequency resonance suppression mode (低频共振抑制模式选择). Parameter P09-04, address 0x0904, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Read LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         return self.read(LOW_FREQ_RESONANCE_MODE)
 
     def write_low_freq_resonance_mode(self, value: LowFreqResonanceMode | int | str) -> None:
-        """Low-frequency resonance suppression mode (低频共振抑制模式选择). Parameter P09-04, address 0x0904, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Write LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_MODE, value)
 
     def read_inertia_id_mode(self) -> InertiaIdMode | int:
-        """Offline inertia identification mode (离线惯量辨识模式选择). Parameter P09-05, address 0x0905, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         return self.read(INERTIA_ID_MODE)
 
     def write_inertia_id_mode(self, value: InertiaIdMode | int | str) -> None:
-        """Offline inertia identification mode (离线惯量辨识模式选择). Parameter P09-05, address 0x0905, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         self.write(INERTIA_ID_MODE, value)
 
     def read_inertia_id_max_speed(self) -> int:
-        """Inertia identification maximum speed (惯量辨识最大速度). Parameter P09-06, address 0x0906, u16, unit rpm, range 100..1000, default 500, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_MAX_SPEED: Inertia identification maximum speed (惯量辨识最大速度); documented at the constant."""
         return self.read(INERTIA_ID_MAX_SPEED)
 
     def write_inertia_id_max_speed(self, value: int) -> None:
-        """Inertia identification maximum speed (惯量辨识最大速度). Parameter P09-06, address 0x0906, u16, unit rpm, range 100..1000, default 500, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_MAX_SPEED: Inertia identification maximum speed (惯量辨识最大速度); documented at the constant."""
         self.write(INERTIA_ID_MAX_SPEED, value)
 
     def read_inertia_id_accel_time(self) -> int:
-        """Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数). Parameter P09-07, address 0x0907, u16, unit ms, range 20..800, default 125, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_ACCEL_TIME: Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数); documented at the constant."""
         return self.read(INERTIA_ID_ACCEL_TIME)
 
     def write_inertia_id_accel_time(self, value: int) -> None:
-        """Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数). Parameter P09-07, address 0x0907, u16, unit ms, range 20..800, default 125, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_ACCEL_TIME: Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数); documented at the constant."""
         self.write(INERTIA_ID_ACCEL_TIME, value)
 
     def read_inertia_id_wait_time(self) -> int:
-        """Wait time after one inertia identification (单次惯量辨识完成后等待时间). Parameter P09-08, address 0x0908, u16, unit ms, range 50..10000, default 800, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_WAIT_TIME: Wait time after one inertia identification (单次惯量辨识完成后等待时间); documented at the constant."""
         return self.read(INERTIA_ID_WAIT_TIME)
 
     def write_inertia_id_wait_time(self, value: int) -> None:
-        """Wait time after one inertia identification (单次惯量辨识完成后等待时间). Parameter P09-08, address 0x0908, u16, unit ms, range 50..10000, default 800, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_WAIT_TIME: Wait time after one inertia identification (单次惯量辨识完成后等待时间); documented at the constant."""
         self.write(INERTIA_ID_WAIT_TIME, value)
 
     def read_inertia_id_revolutions(self) -> float:
-        """Motor revolutions for one inertia identification (完成单次惯量辨识电机转动圈数). Parameter P09-09, address 0x0909, u16, unit r, range 0..2. Manual section 7.9."""
+        """Read INERTIA_ID_REVOLUTIONS: Motor revolutions for one inertia identification (完成单次惯量辨识电机转动圈数); documented at the constant."""
         return self.read(INERTIA_ID_REVOLUTIONS)
 
     def read_notch1_frequency(self) -> int:
-        """Notch filter 1 frequency (第 1 组陷波器频率). Parameter P09-12, address 0x090C, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH1_FREQUENCY: Notch filter 1 frequency (第 1 组陷波器频率); documented at the constant."""
         return self.read(NOTCH1_FREQUENCY)
 
     def write_notch1_frequency(self, value: int) -> None:
-        """Notch filter 1 frequency (第 1 组陷波器频率). Parameter P09-12, address 0x090C, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH1_FREQUENCY: Notch filter 1 frequency (第 1 组陷波器频率); documented at the constant."""
         self.write(NOTCH1_FREQUENCY, value)
 
     def read_notch1_width(self) -> int:
-        """Notch filter 1 width level (第 1 组陷波器宽度等级). Parameter P09-13, address 0x090D, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH1_WIDTH: Notch filter 1 width level (第 1 组陷波器宽度等级); documented at the constant."""
         return self.read(NOTCH1_WIDTH)
 
     def write_notch1_width(self, value: int) -> None:
-        """Notch filter 1 width level (第 1 组陷波器宽度等级). Parameter P09-13, address 0x090D, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH1_WIDTH: Notch filter 1 width level (第 1 组陷波器宽度等级); documented at the constant."""
         self.write(NOTCH1_WIDTH, value)
 
     def read_notch1_depth(self) -> int:
-        """Notch filter 1 depth level (第 1 组陷波器深度等级). Parameter P09-14, address 0x090E, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH1_DEPTH: Notch filter 1 depth level (第 1 组陷波器深度等级); documented at the constant."""
         return self.read(NOTCH1_DEPTH)
 
     def write_notch1_depth(self, value: int) -> None:
-        """Notch filter 1 depth level (第 1 组陷波器深度等级). Parameter P09-14, address 0x090E, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH1_DEPTH: Notch filter 1 depth level (第 1 组陷波器深度等级); documented at the constant."""
         self.write(NOTCH1_DEPTH, value)
 
     def read_notch2_frequency(self) -> int:
-        """Notch filter 2 frequency (第 2 组陷波器频率). Parameter P09-15, address 0x090F, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH2_FREQUENCY: Notch filter 2 frequency (第 2 组陷波器频率); documented at the constant."""
         return self.read(NOTCH2_FREQUENCY)
 
     def write_notch2_frequency(self, value: int) -> None:
-        """Notch filter 2 frequency (第 2 组陷波器频率). Parameter P09-15, address 0x090F, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH2_FREQUENCY: Notch filter 2 frequency (第 2 组陷波器频率); documented at the constant."""
         self.write(NOTCH2_FREQUENCY, value)
 
     def read_notch2_width(self) -> int:
-        """Notch filter 2 width level (第 2 组陷波器宽度等级). Parameter P09-16, address 0x0910, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH2_WIDTH: Notch filter 2 width level (第 2 组陷波器宽度等级); documented at the constant."""
         return self.read(NOTCH2_WIDTH)
 
     def write_notch2_width(self, value: int) -> None:
-        """Notch filter 2 width level (第 2 组陷波器宽度等级). Parameter P09-16, address 0x0910, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH2_WIDTH: Notch filter 2 width level (第 2 组陷波器宽度等级); documented at the constant."""
         self.write(NOTCH2_WIDTH, value)
 
     def read_notch2_depth(self) -> int:
-        """Notch filter 2 depth level (第 2 组陷波器深度等级). Parameter P09-17, address 0x0911, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH2_DEPTH: Notch filter 2 depth level (第 2 组陷波器深度等级); documented at the constant."""
         return self.read(NOTCH2_DEPTH)
 
     def write_notch2_depth(self, value: int) -> None:
-        """Notch filter 2 depth level (第 2 组陷波器深度等级). Parameter P09-17, address 0x0911, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH2_DEPTH: Notch filter 2 depth level (第 2 组陷波器深度等级); documented at the constant."""
         self.write(NOTCH2_DEPTH, value)
 
     def read_notch3_frequency(self) -> int:
-        """Notch filter 3 frequency (第3组陷波器频率). Parameter P09-18, address 0x0912, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH3_FREQUENCY: Notch filter 3 frequency (第3组陷波器频率); documented at the constant."""
         return self.read(NOTCH3_FREQUENCY)
 
     def write_notch3_frequency(self, value: int) -> None:
-        """Notch filter 3 frequency (第3组陷波器频率). Parameter P09-18, address 0x0912, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH3_FREQUENCY: Notch filter 3 frequency (第3组陷波器频率); documented at the constant."""
         self.write(NOTCH3_FREQUENCY, value)
 
     def read_notch3_width(self) -> int:
-        """Notch filter 3 width level (第3组陷波器宽度等级). Parameter P09-19, address 0x0913, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH3_WIDTH: Notch filter 3 width level (第3组陷波器宽度等级); documented at the constant."""
         return self.read(NOTCH3_WIDTH)
 
     def write_notch3_width(self, value: int) -> None:
-        """Notch filter 3 width level (第3组陷波器宽度等级). Parameter P09-19, address 0x0913, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH3_WIDTH: Notch filter 3 width level (第3组陷波器宽度等级); documented at the constant."""
         self.write(NOTCH3_WIDTH, value)
 
     def read_notch3_depth(self) -> int:
-        """Notch filter 3 depth level (第3组陷波器深度等级). Parameter P09-20, address 0x0914, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH3_DEPTH: Notch filter 3 depth level (第3组陷波器深度等级); documented at the constant."""
         return self.read(NOTCH3_DEPTH)
 
     def write_notch3_depth(self, value: int) -> None:
-        """Notch filter 3 depth level (第3组陷波器深度等级). Parameter P09-20, address 0x0914, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH3_DEPTH: Notch filter 3 depth level (第3组陷波器深度等级); documented at the constant."""
         self.write(NOTCH3_DEPTH, value)
 
     def read_notch4_frequency(self) -> int:
-        """Notch filter 4 frequency (第4组陷波器频率). Parameter P09-21, address 0x0915, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH4_FREQUENCY: Notch filter 4 frequency (第4组陷波器频率); documented at the constant."""
         return self.read(NOTCH4_FREQUENCY)
 
     def write_notch4_frequency(self, value: int) -> None:
-        """Notch filter 4 frequency (第4组陷波器频率). Parameter P09-21, address 0x0915, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH4_FREQUENCY: Notch filter 4 frequency (第4组陷波器频率); documented at the constant."""
         self.write(NOTCH4_FREQUENCY, value)
 
     def read_notch4_width(self) -> int:
-        """Notch filter 4 width level (第4组陷波器宽度等级). Parameter P09-22, address 0x0916, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH4_WIDTH: Notch filter 4 width level (第4组陷波器宽度等级); documented at the constant."""
         return self.read(NOTCH4_WIDTH)
 
     def write_notch4_width(self, value: int) -> None:
-        """Notch filter 4 width level (第4组陷波器宽度等级). Parameter P09-22, address 0x0916, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH4_WIDTH: Notch filter 4 width level (第4组陷波器宽度等级); documented at the constant."""
         self.write(NOTCH4_WIDTH, value)
 
     def read_notch4_depth(self) -> int:
-        """Notch filter 4 depth level (第4组陷波器深度等级). Parameter P09-23, address 0x0917, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH4_DEPTH: Notch filter 4 depth level (第4组陷波器深度等级); documented at the constant."""
         return self.read(NOTCH4_DEPTH)
 
     def write_notch4_depth(self, value: int) -> None:
-        """Notch filter 4 depth level (第4组陷波器深度等级). Parameter P09-23, address 0x0917, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH4_DEPTH: Notch filter 4 depth level (第4组陷波器深度等级); documented at the constant."""
         self.write(NOTCH4_DEPTH, value)
 
     def read_resonance_frequency_result(self) -> int:
-        """Resonance frequency identification result (共振频率辨识结果). Parameter P09-24, address 0x0918, u16, unit Hz, range 0..2, default 0. Manual section 7.9."""
+        """Read RESONANCE_FREQUENCY_RESULT: Resonance frequency identification result (共振频率辨识结果); documented at the constant."""
         return self.read(RESONANCE_FREQUENCY_RESULT)
 
     def read_disturbance_compensation_gain(self) -> float:
-        """Torque disturbance compensation gain (转矩扰动补偿增益). Parameter P09-30, address 0x091E, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.9."""
+        """Read DISTURBANCE_COMPENSATION_GAIN: Torque disturbance compensation gain (转矩扰动补偿增益); documented at the constant."""
         return self.read(DISTURBANCE_COMPENSATION_GAIN)
 
     def write_disturbance_compensation_gain(self, value: float) -> None:
-        """Torque disturbance compensation gain (转矩扰动补偿增益). Parameter P09-30, address 0x091E, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.9."""
+        """Write DISTURBANCE_COMPENSATION_GAIN: Torque disturbance compensation gain (转矩扰动补偿增益); documented at the constant."""
         self.write(DISTURBANCE_COMPENSATION_GAIN, value)
 
     def read_disturbance_observer_filter_time(self) -> float:
-        """Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数). Parameter P09-31, address 0x091F, u16, unit ms, range 0..25, default 0.5, takes effect immediately. Manual section 7.9."""
+        """Read DISTURBANCE_OBSERVER_FILTER_TIME: Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数); documented at the constant."""
         return self.read(DISTURBANCE_OBSERVER_FILTER_TIME)
 
     def write_disturbance_observer_filter_time(self, value: float) -> None:
-        """Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数). Parameter P09-31, address 0x091F, u16, unit ms, range 0..25, default 0.5, takes effect immediately. Manual section 7.9."""
+        """Write DISTURBANCE_OBSERVER_FILTER_TIME: Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数); documented at the constant."""
         self.write(DISTURBANCE_OBSERVER_FILTER_TIME, value)
 
     def read_low_freq_resonance_frequency(self) -> float:
-        """Low-frequency resonance frequency (低频共振频率). Parameter P09-38, address 0x0926, u16, unit Hz, range 1..100, default 100, takes effect immediately. Manual section 7.9."""
+        """Read LOW_FREQ_RESONANCE_FREQUENCY: Low-frequency resonance frequency (低频共振频率); documented at the constant."""
         return self.read(LOW_FREQ_RESONANCE_FREQUENCY)
 
     def write_low_freq_resonance_frequency(self, value: float) -> None:
-        """Low-frequency resonance frequency (低频共振频率). Parameter P09-38, address 0x0926, u16, unit Hz, range 1..100, default 100, takes effect immediately. Manual section 7.9."""
+        """Write LOW_FREQ_RESONANCE_FREQUENCY: Low-frequency resonance frequency (低频共振频率); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_FREQUENCY, value)
 
     def read_low_freq_resonance_filter(self) -> int:
-        """Low-frequency resonance frequency filter setting (低频共振频率滤波设定). Parameter P09-39, address 0x0927, u16, range 0..10, default 2, takes effect immediately. Manual section 7.9."""
+        """Read LOW_FREQ_RESONANCE_FILTER: Low-frequency resonance frequency filter setting (低频共振频率滤波设定); documented at the constant."""
         return self.read(LOW_FREQ_RESONANCE_FILTER)
 
     def write_low_freq_resonance_filter(self, value: int) -> None:
-        """Low-frequency resonance frequency filter setting (低频共振频率滤波设定). Parameter P09-39, address 0x0927, u16, range 0..10, default 2, takes effect immediately. Manual section 7.9."""
+        """Write LOW_FREQ_RESONANCE_FILTER: Low-frequency resonance frequency filter setting (低频共振频率滤波设定); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_FILTER, value)
 
     def read_phase_loss_protection(self) -> PhaseLossProtection | int:
-        """Input phase-loss protection (电源输入缺相保护选择). Parameter P0A-00, address 0x0A00, u16, range 0..2, default 0, takes effect immediately. Manual section 7.10."""
+        """Read PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         return self.read(PHASE_LOSS_PROTECTION)
 
     def write_phase_loss_protection(self, value: PhaseLossProtection | int | str) -> None:
-        """Input phase-loss protection (电源输入缺相保护选择). Parameter P0A-00, address 0x0A00, u16, range 0..2, default 0, takes effect immediately. Manual section 7.10."""
+        """Write PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         self.write(PHASE_LOSS_PROTECTION, value)
 
     def read_power_loss_save(self) -> PowerLossSave | int:
-        """Power-loss save enable (掉电保存功能使能选择). Parameter P0A-03, address 0x0A03, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         return self.read(POWER_LOSS_SAVE)
 
     def write_power_loss_save(self, value: PowerLossSave | int | str) -> None:
-        """Power-loss save enable (掉电保存功能使能选择). Parameter P0A-03, address 0x0A03, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         self.write(POWER_LOSS_SAVE, value)
 
     def read_motor_overload_gain(self) -> int:
-        """Motor overload protection gain (电机过载保护增益). Parameter P0A-04, address 0x0A04, u16, unit %, range 50..300, default 100, takes effect immediately. Manual section 7.10."""
+        """Read MOTOR_OVERLOAD_GAIN: Motor overload protection gain (电机过载保护增益); documented at the constant."""
         return self.read(MOTOR_OVERLOAD_GAIN)
 
     def write_motor_overload_gain(self, value: int) -> None:
-        """Motor overload protection gain (电机过载保护增益). Parameter P0A-04, address 0x0A04, u16, unit %, range 50..300, default 100, takes effect immediately. Manual section 7.10."""
+        """Write MOTOR_OVERLOAD_GAIN: Motor overload protection gain (电机过载保护增益); documented at the constant."""
         self.write(MOTOR_OVERLOAD_GAIN, value)
 
     def read_overspeed_threshold(self) -> int:
-        """Overspeed fault threshold (过速故障阀值). Parameter P0A-08, address 0x0A08, u16, unit rpm, range 0..10000, default 0, takes effect immediately. Manual section 7.10."""
+        """Read OVERSPEED_THRESHOLD: Overspeed fault threshold (过速故障阀值); documented at the constant."""
         return self.read(OVERSPEED_THRESHOLD)
 
     def write_overspeed_threshold(self, value: int) -> None:
-        """Overspeed fault threshold (过速故障阀值). Parameter P0A-08, address 0x0A08, u16, unit rpm, range 0..10000, default 0, takes effect immediately. Manual section 7.10."""
+        """Write OVERSPEED_THRESHOLD: Overspeed fault threshold (过速故障阀值); documented at the constant."""
         self.write(OVERSPEED_THRESHOLD, value)
 
     def read_max_pulse_frequency(self) -> int:
-        """Maximum position pulse frequency (最大位置脉冲频率). Parameter P0A-09, address 0x0A09, u16, unit kHz, range 100..4000, default 4000, takes effect immediately. Manual section 7.10."""
+        """Read MAX_PULSE_FREQUENCY: Maximum position pulse frequency (最大位置脉冲频率); documented at the constant."""
         return self.read(MAX_PULSE_FREQUENCY)
 
     def write_max_pulse_frequency(self, value: int) -> None:
-        """Maximum position pulse frequency (最大位置脉冲频率). Parameter P0A-09, address 0x0A09, u16, unit kHz, range 100..4000, default 4000, takes effect immediately. Manual section 7.10."""
+        """Write MAX_PULSE_FREQUENCY: Maximum position pulse frequency (最大位置脉冲频率); documented at the constant."""
         self.write(MAX_PULSE_FREQUENCY, value)
 
     def read_position_deviation_fault_threshold(self) -> int:
-        """Excessive position deviation fault threshold (位置偏差过大故障阈值). Parameter P0A-10, address 0x0A0A, u32, unit encoder/command unit, range 1..1073741824, default 3145728, takes effect immediately. Manual section 7.10."""
+        """Read POSITION_DEVIATION_FAULT_THRESHOLD: Excessive position deviation fault threshold (位置偏差过大故障阈值); documented at the constant."""
         return self.read(POSITION_DEVIATION_FAULT_THRESHOLD)
 
     def write_position_deviation_fault_threshold(self, value: int) -> None:
-        """Excessive position deviation fault threshold (位置偏差过大故障阈值). Parameter P0A-10, address 0x0A0A, u32, unit encoder/command unit, range 1..1073741824, default 3145728, takes effect immediately. Manual section 7.10."""
+        """Write POSITION_DEVIATION_FAULT_THRESHOLD: Excessive position deviation fault threshold (位置偏差过大故障阈值); documented at the constant."""
         self.write(POSITION_DEVIATION_FAULT_THRESHOLD, value)
 
     def read_runaway_protection(self) -> RunawayProtection | int:
-        """Runaway protection enable (飞车保护功能使能). Parameter P0A-12, address 0x0A0C, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Read RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         return self.read(RUNAWAY_PROTECTION)
 
     def write_runaway_protection(self, value: RunawayProtection | int | str) -> None:
-        """Runaway protection enable (飞车保护功能使能). Parameter P0A-12, address 0x0A0C, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Write RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         self.write(RUNAWAY_PROTECTION, value)
 
     def read_low_freq_resonance_deviation_threshold(self) -> int:
-        """Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值). Parameter P0A-16, address 0x0A10, u16, unit encoder unit, range 1..1000, default 5, takes effect immediately. Manual section 7.10."""
+        """Read LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值); documented at the constant."""
         return self.read(LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD)
 
     def write_low_freq_resonance_deviation_threshold(self, value: int) -> None:
-        """Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值). Parameter P0A-16, address 0x0A10, u16, unit encoder unit, range 1..1000, default 5, takes effect immediately. Manual section 7.10."""
+        """Write LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD, value)
 
     def read_position_unit_select(self) -> PositionUnitSelect | int:
-        """Position setting unit (位置设定单位选择). Parameter P0A-17, address 0x0A11, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         return self.read(POSITION_UNIT_SELECT)
 
     def write_position_unit_select(self, value: PositionUnitSelect | int | str) -> None:
-        """Position setting unit (位置设定单位选择). Parameter P0A-17, address 0x0A11, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         self.write(POSITION_UNIT_SELECT, value)
 
     def read_pulse_input_filter_time(self) -> float:
-        """Pulse input filter time constant (脉冲输入滤波时间常数). Parameter P0A-24, address 0x0A18, u16, unit ns, range 0..6375, default 0, takes effect after restart. Manual section 7.10, 6.1.2."""
+        """Read PULSE_INPUT_FILTER_TIME: Pulse input filter time constant (脉冲输入滤波时间常数); documented at the constant."""
         return self.read(PULSE_INPUT_FILTER_TIME)
 
     def write_pulse_input_filter_time(self, value: float) -> None:
-        """Pulse input filter time constant (脉冲输入滤波时间常数). Parameter P0A-24, address 0x0A18, u16, unit ns, range 0..6375, default 0, takes effect after restart. Manual section 7.10, 6.1.2."""
+        """Write PULSE_INPUT_FILTER_TIME: Pulse input filter time constant (脉冲输入滤波时间常数); documented at the constant."""
         self.write(PULSE_INPUT_FILTER_TIME, value)
 
     def read_speed_display_filter_time(self) -> int:
-        """Speed feedback display filter time constant (速度反馈显示值滤波时间常数). Parameter P0A-25, address 0x0A19, u16, unit ms, range 0..5000, default 50, takes effect immediately. Manual section 7.10."""
+        """Read SPEED_DISPLAY_FILTER_TIME: Speed feedback display filter time constant (速度反馈显示值滤波时间常数); documented at the constant."""
         return self.read(SPEED_DISPLAY_FILTER_TIME)
 
     def write_speed_display_filter_time(self, value: int) -> None:
-        """Speed feedback display filter time constant (速度反馈显示值滤波时间常数). Parameter P0A-25, address 0x0A19, u16, unit ms, range 0..5000, default 50, takes effect immediately. Manual section 7.10."""
+        """Write SPEED_DISPLAY_FILTER_TIME: Speed feedback display filter time constant (速度反馈显示值滤波时间常数); documented at the constant."""
         self.write(SPEED_DISPLAY_FILTER_TIME, value)
 
     def read_motor_overload_mask(self) -> MotorOverloadMask | int:
-        """Motor overload masking (电机过载屏蔽使能). Parameter P0A-26, address 0x0A1A, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         return self.read(MOTOR_OVERLOAD_MASK)
 
     def write_motor_overload_mask(self, value: MotorOverloadMask | int | str) -> None:
-        """Motor overload masking (电机过载屏蔽使能). Parameter P0A-26, address 0x0A1A, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         self.write(MOTOR_OVERLOAD_MASK, value)
 
     def read_speed_do_filter_time(self) -> int:
-        """Speed DO filter time constant (速度 DO 滤波时间常数). Parameter P0A-27, address 0x0A1B, u16, unit ms, range 0..5000, default 10, takes effect immediately. Manual section 7.10."""
+        """Read SPEED_DO_FILTER_TIME: Speed DO filter time constant (速度 DO 滤波时间常数); documented at the constant."""
         return self.read(SPEED_DO_FILTER_TIME)
 
     def write_speed_do_filter_time(self, value: int) -> None:
-        """Speed DO filter time constant (速度 DO 滤波时间常数). Parameter P0A-27, address 0x0A1B, u16, unit ms, range 0..5000, default 10, takes effect immediately. Manual section 7.10."""
+        """Write SPEED_DO_FILTER_TIME: Speed DO filter time constant (速度 DO 滤波时间常数); documented at the constant."""
         self.write(SPEED_DO_FILTER_TIME, value)
 
     def read_quadrature_encoder_filter_time(self) -> float:
-        """Quadrature encoder filter time constant (正交编码器滤波时间常数). Parameter P0A-28, address 0x0A1C, u16, unit ns, range 0..6375, default 750, takes effect after restart. Manual section 7.10."""
+        """Read QUADRATURE_ENCODER_FILTER_TIME: Quadrature encoder filter time constant (正交编码器滤波时间常数); documented at the constant."""
         return self.read(QUADRATURE_ENCODER_FILTER_TIME)
 
     def write_quadrature_encoder_filter_time(self, value: float) -> None:
-        """Quadrature encoder filter time constant (正交编码器滤波时间常数). Parameter P0A-28, address 0x0A1C, u16, unit ns, range 0..6375, default 750, takes effect after restart. Manual section 7.10."""
+        """Write QUADRATURE_ENCODER_FILTER_TIME: Quadrature encoder filter time constant (正交编码器滤波时间常数); documented at the constant."""
         self.write(QUADRATURE_ENCODER_FILTER_TIME, value)
 
     def read_high_speed_pulse_filter_time(self) -> float:
-        """High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数). Parameter P0A-30, address 0x0A1E, u16, unit ns, range 0..6375, default 75, takes effect after restart. Manual section 7.10."""
+        """Read HIGH_SPEED_PULSE_FILTER_TIME: High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数); documented at the constant."""
         return self.read(HIGH_SPEED_PULSE_FILTER_TIME)
 
     def write_high_speed_pulse_filter_time(self, value: float) -> None:
-        """High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数). Parameter P0A-30, address 0x0A1E, u16, unit ns, range 0..6375, default 75, takes effect after restart. Manual section 7.10."""
+        """Write HIGH_SPEED_PULSE_FILTER_TIME: High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数); documented at the constant."""
         self.write(HIGH_SPEED_PULSE_FILTER_TIME, value)
 
     def read_stall_protection_window(self) -> int:
-        """Stall over-temperature protection time window (堵转过温保护时间窗口). Parameter P0A-32, address 0x0A20, u16, unit ms, range 10..65535, default 200, takes effect immediately. Manual section 7.10, 8.1.1."""
+        """Read STALL_PROTECTION_WINDOW: Stall over-temperature protection time window (堵转过温保护时间窗口); documented at the constant."""
         return self.read(STALL_PROTECTION_WINDOW)
 
     def write_stall_protection_window(self, value: int) -> None:
-        """Stall over-temperature protection time window (堵转过温保护时间窗口). Parameter P0A-32, address 0x0A20, u16, unit ms, range 10..65535, default 200, takes effect immediately. Manual section 7.10, 8.1.1."""
+        """Write STALL_PROTECTION_WINDOW: Stall over-temperature protection time window (堵转过温保护时间窗口); documented at the constant."""
         self.write(STALL_PROTECTION_WINDOW, value)
 
     def read_stall_protection_enable(self) -> StallProtection | int:
-        """Stall over-temperature protection enable (堵转过温保护使能). Parameter P0A-33, address 0x0A21, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Read STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         return self.read(STALL_PROTECTION_ENABLE)
 
     def write_stall_protection_enable(self, value: StallProtection | int | str) -> None:
-        """Stall over-temperature protection enable (堵转过温保护使能). Parameter P0A-33, address 0x0A21, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Write STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         self.write(STALL_PROTECTION_ENABLE, value)
 
     def read_multiturn_overflow_fault(self) -> MultiturnOverflowFault | int:
-        """Encoder multi-turn overflow fault select (编码器多圈溢出故障选择). Parameter P0A-36, address 0x0A24, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         return self.read(MULTITURN_OVERFLOW_FAULT)
 
     def write_multiturn_overflow_fault(self, value: MultiturnOverflowFault | int | str) -> None:
-        """Encoder multi-turn overflow fault select (编码器多圈溢出故障选择). Parameter P0A-36, address 0x0A24, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         self.write(MULTITURN_OVERFLOW_FAULT, value)
 
     def read_actual_speed(self) -> int:
-        """Actual motor speed (实际电机转速). Parameter P0B-00, address 0x0B00, s16, unit rpm. Manual section 7.11, 5.1.6. Actual motor speed, rounded, 1 rpm resolution (§5.1.6)."""
+        """Read ACTUAL_SPEED: Actual motor speed (实际电机转速); documented at the constant."""
         return self.read(ACTUAL_SPEED)
 
     def read_speed_command(self) -> int:
-        """Speed command (速度指令). Parameter P0B-01, address 0x0B01, s16, unit rpm. Manual section 7.11, 5.1.6. Current speed command of the drive."""
+        """Read SPEED_COMMAND: Speed command (速度指令); documented at the constant."""
         return self.read(SPEED_COMMAND)
 
     def read_internal_torque_command(self) -> float:
-        """Internal torque command (relative to rated torque) (内部转矩指令 (相对于额定转矩)). Parameter P0B-02, address 0x0B02, s16, unit %. Manual section 7.11, 5.1.6. Actual output torque as a percentage of rated torque."""
+        """Read INTERNAL_TORQUE_COMMAND: Internal torque command (relative to rated torque) (内部转矩指令 (相对于额定转矩)); documented at the constant."""
         return self.read(INTERNAL_TORQUE_COMMAND)
 
     def read_di_status(self) -> int:
-        """Input signal (DI) monitor (输入信号(DI信号)监视). Parameter P0B-03, address 0x0B03, u16. Manual section 7.11, 5.1.6. Levels of the 4 DI terminals (panel: upper segment lit = high, lower = low). Bit assignment not printed."""
+        """Read DI_STATUS: Input signal (DI) monitor (输入信号(DI信号)监视); documented at the constant."""
         return self.read(DI_STATUS)
 
     def read_do_status(self) -> int:
-        """Output signal (DO) monitor (输出信号(DO信号)监视). Parameter P0B-05, address 0x0B05, u16. Manual section 7.11, 5.1.6. Levels of the 4 DO terminals. Bit assignment not printed."""
+        """Read DO_STATUS: Output signal (DO) monitor (输出信号(DO信号)监视); documented at the constant."""
         return self.read(DO_STATUS)
 
     def read_absolute_position_counter(self) -> int:
-        """Absolute position counter (绝对位置计数器 (32 位十进制显示)). Parameter P0B-07, address 0x0B07, s32, unit command unit. Manual section 7.11, 5.1.6. Current absolute motor position in command units."""
+        """Read ABSOLUTE_POSITION_COUNTER: Absolute position counter (绝对位置计数器 (32 位十进制显示)); documented at the constant."""
         return self.read(ABSOLUTE_POSITION_COUNTER)
 
     def read_mechanical_angle(self) -> int:
-        """Mechanical angle (pulses from origin) (机械角度 (始于原点的脉冲数)). Parameter P0B-09, address 0x0B09, u16, unit encoder unit. Manual section 7.11."""
+        """Read MECHANICAL_ANGLE: Mechanical angle (pulses from origin) (机械角度 (始于原点的脉冲数)); documented at the constant."""
         return self.read(MECHANICAL_ANGLE)
 
     def read_electrical_angle(self) -> int:
-        """Electrical angle (电气角度). Parameter P0B-10, address 0x0B0A, u16, unit °. Manual section 7.11."""
+        """Read ELECTRICAL_ANGLE: Electrical angle (电气角度); documented at the constant."""
         return self.read(ELECTRICAL_ANGLE)
 
     def read_position_command_speed(self) -> int:
-        """Speed corresponding to the input position command (输入位置指令对应速度信息). Parameter P0B-11, address 0x0B0B, s16, unit rpm. Manual section 7.11."""
+        """Read POSITION_COMMAND_SPEED: Speed corresponding to the input position command (输入位置指令对应速度信息); documented at the constant."""
         return self.read(POSITION_COMMAND_SPEED)
 
     def read_average_load_rate(self) -> int:
-        """Average load rate (平均负载率). Parameter P0B-12, address 0x0B0C, u16, unit %. Manual section 7.11."""
+        """Read AVERAGE_LOAD_RATE: Average load rate (平均负载率); documented at the constant."""
         return self.read(AVERAGE_LOAD_RATE)
 
     def read_input_pulse_counter(self) -> int:
-        """Input command pulse counter (输入指令脉冲计数器 (32 位十进制显示)). Parameter P0B-13, address 0x0B0D, s32, unit command unit. Manual section 7.11, 5.1.6. Number of input position command pulses."""
+        """Read INPUT_PULSE_COUNTER: Input command pulse counter (输入指令脉冲计数器 (32 位十进制显示)); documented at the constant."""
         return self.read(INPUT_PULSE_COUNTER)
 
     def read_encoder_position_deviation(self) -> int:
-        """Encoder position deviation counter (编码器位置偏差计数器(32 位十进制显示)). Parameter P0B-15, address 0x0B0F, s32, unit encoder unit. Manual section 7.11, 5.1.6. Encoder position deviation = total input position command - total encoder feedback pulses."""
+        """Read ENCODER_POSITION_DEVIATION: Encoder position deviation counter (编码器位置偏差计数器(32 位十进制显示)); documented at the constant."""
         return self.read(ENCODER_POSITION_DEVIATION)
 
     def read_feedback_pulse_counter(self) -> int:
-        """Feedback pulse counter (反馈脉冲计数器(32 位十进制显示)). Parameter P0B-17, address 0x0B11, s32, unit encoder unit. Manual section 7.11, 5.1.6. Counts the encoder feedback pulses of the motor (encoder units)."""
+        """Read FEEDBACK_PULSE_COUNTER: Feedback pulse counter (反馈脉冲计数器(32 位十进制显示)); documented at the constant."""
         return self.read(FEEDBACK_PULSE_COUNTER)
 
     def read_total_power_on_time(self) -> int:
-        """Total power-on time (总上电时间 (32 位十进制显示)). Parameter P0B-19, address 0x0B13, u32, unit s. Manual section 7.11."""
+        """Read TOTAL_POWER_ON_TIME: Total power-on time (总上电时间 (32 位十进制显示)); documented at the constant."""
         return self.read(TOTAL_POWER_ON_TIME)
 
     def read_ai1_voltage(self) -> float:
-        """AI1 sampled voltage (AI1 采样电压值). Parameter P0B-21, address 0x0B15, s16, unit V. Manual section 7.11, 5.1.6. Voltage at analog channel 1."""
+        """Read AI1_VOLTAGE: AI1 sampled voltage (AI1 采样电压值); documented at the constant."""
         return self.read(AI1_VOLTAGE)
 
     def read_ai2_voltage(self) -> float:
-        """AI2 sampled voltage (AI2 采样电压值). Parameter P0B-22, address 0x0B16, s16, unit V. Manual section 7.11, 5.1.6. Voltage at analog channel 2."""
+        """Read AI2_VOLTAGE: AI2 sampled voltage (AI2 采样电压值); documented at the constant."""
         return self.read(AI2_VOLTAGE)
 
     def read_phase_current_rms(self) -> float:
-        """Phase current RMS (相电流有效值). Parameter P0B-24, address 0x0B18, u16, unit A. Manual section 7.11, 5.1.6. RMS phase current of the motor."""
+        """Read PHASE_CURRENT_RMS: Phase current RMS (相电流有效值); documented at the constant."""
         return self.read(PHASE_CURRENT_RMS)
 
     def read_bus_voltage(self) -> float:
-        """DC bus voltage (母线电压值). Parameter P0B-26, address 0x0B1A, u16, unit V. Manual section 7.11, 5.1.6. Main circuit DC bus voltage."""
+        """Read BUS_VOLTAGE: DC bus voltage (母线电压值); documented at the constant."""
         return self.read(BUS_VOLTAGE)
 
     def read_module_temperature(self) -> int:
-        """Module temperature (模块温度值). Parameter P0B-27, address 0x0B1B, u16, unit °C. Manual section 7.11."""
+        """Read MODULE_TEMPERATURE: Module temperature (模块温度值); documented at the constant."""
         return self.read(MODULE_TEMPERATURE)
 
     def read_fault_record_select(self) -> int:
-        """Fault record select (故障记录). Parameter P0B-33, address 0x0B21, u16, range 0..9, default 0, takes effect immediately. Manual section 7.11, 5.1.6. Selects which fault record P0B-34...P0B-42 show: 0 = current fault, 1 = previous fault, ... 9 = 9th previous fault."""
+        """Read FAULT_RECORD_SELECT: Fault record select (故障记录); documented at the constant."""
         return self.read(FAULT_RECORD_SELECT)
 
     def write_fault_record_select(self, value: int) -> None:
-        """Fault record select (故障记录). Parameter P0B-33, address 0x0B21, u16, range 0..9, default 0, takes effect immediately. Manual section 7.11, 5.1.6. Selects which fault record P0B-34...P0B-42 show: 0 = current fault, 1 = previous fault, ... 9 = 9th previous fault."""
+        """Write FAULT_RECORD_SELECT: Fault record select (故障记录); documented at the constant."""
         self.write(FAULT_RECORD_SELECT, value)
 
     def read_selected_fault_code(self) -> int:
-        """Fault code of the selected record (所选次数故障码). Parameter P0B-34, address 0x0B22, u16. Manual section 7.11, 5.1.6. Fault code selected by P0B-33; shows Er.000 when no fault occurred."""
+        """Read SELECTED_FAULT_CODE: Fault code of the selected record (所选次数故障码); documented at the constant."""
         return self.read(SELECTED_FAULT_CODE)
 
     def read_selected_fault_timestamp(self) -> int:
-        """Time stamp of the selected fault (所选故障时间戳). Parameter P0B-35, address 0x0B23, u32, unit s. Manual section 7.11, 5.1.6. Total servo running time when the fault in P0B-34 occurred; 0 when no fault."""
+        """Read SELECTED_FAULT_TIMESTAMP: Time stamp of the selected fault (所选故障时间戳); documented at the constant."""
         return self.read(SELECTED_FAULT_TIMESTAMP)
 
     def read_selected_fault_speed(self) -> int:
-        """Motor speed at the selected fault (所选故障时电机转速). Parameter P0B-37, address 0x0B25, s16, unit rpm. Manual section 7.11, 5.1.6. 0 when no fault."""
+        """Read SELECTED_FAULT_SPEED: Motor speed at the selected fault (所选故障时电机转速); documented at the constant."""
         return self.read(SELECTED_FAULT_SPEED)
 
     def read_selected_fault_u_current(self) -> float:
-        """Motor U-phase current at the selected fault (所选故障时电机 U 相电流). Parameter P0B-38, address 0x0B26, u16, unit A. Manual section 7.11, 5.1.6. RMS U-phase winding current; 0 when no fault."""
+        """Read SELECTED_FAULT_U_CURRENT: Motor U-phase current at the selected fault (所选故障时电机 U 相电流); documented at the constant."""
         return self.read(SELECTED_FAULT_U_CURRENT)
 
     def read_selected_fault_v_current(self) -> float:
-        """Motor V-phase current at the selected fault (所选故障时电机 V 相电流). Parameter P0B-39, address 0x0B27, u16, unit A. Manual section 7.11, 5.1.6. RMS V-phase winding current; 0 when no fault."""
+        """Read SELECTED_FAULT_V_CURRENT: Motor V-phase current at the selected fault (所选故障时电机 V 相电流); documented at the constant."""
         return self.read(SELECTED_FAULT_V_CURRENT)
 
     def read_selected_fault_bus_voltage(self) -> int:
-        """Bus voltage at the selected fault (所选故障时母线电压). Parameter P0B-40, address 0x0B28, u16, unit V. Manual section 7.11, 5.1.6. Main circuit DC bus voltage; 0 when no fault."""
+        """Read SELECTED_FAULT_BUS_VOLTAGE: Bus voltage at the selected fault (所选故障时母线电压); documented at the constant."""
         return self.read(SELECTED_FAULT_BUS_VOLTAGE)
 
     def read_selected_fault_di_status(self) -> int:
-        """Input terminal status at the selected fault (所选故障时输入端子状态). Parameter P0B-41, address 0x0B29, u16. Manual section 7.11, 5.1.6. Levels of the 4 DI terminals at the fault, read like P0B-03; 0 when no fault."""
+        """Read SELECTED_FAULT_DI_STATUS: Input terminal status at the selected fault (所选故障时输入端子状态); documented at the constant."""
         return self.read(SELECTED_FAULT_DI_STATUS)
 
     def read_selected_fault_do_status(self) -> int:
-        """Output terminal status at the selected fault (所选故障时输出端子状态). Parameter P0B-42, address 0x0B2A, u16. Manual section 7.11, 5.1.6. Levels of the 4 DO terminals at the fault, read like P0B-05; 0 when no fault."""
+        """Read SELECTED_FAULT_DO_STATUS: Output terminal status at the selected fault (所选故障时输出端子状态); documented at the constant."""
         return self.read(SELECTED_FAULT_DO_STATUS)
 
     def read_position_deviation_counter(self) -> int:
-        """Position deviation counter (位置偏差计数器). Parameter P0B-53, address 0x0B35, s32, unit command unit. Manual section 7.11."""
+        """Read POSITION_DEVIATION_COUNTER: Position deviation counter (位置偏差计数器); documented at the constant."""
         return self.read(POSITION_DEVIATION_COUNTER)
 
     def read_actual_speed_0_1rpm(self) -> float:
-        """Actual motor speed (0.1 rpm) (实际电机转速). Parameter P0B-55, address 0x0B37, s32, unit rpm. Manual section 7.11, 5.1.6. Actual motor speed, 0.1 rpm resolution."""
+        """Read ACTUAL_SPEED_0_1RPM: Actual motor speed (0.1 rpm) (实际电机转速); documented at the constant."""
         return self.read(ACTUAL_SPEED_0_1RPM)
 
     def read_mechanical_abs_position_low(self) -> int:
-        """Mechanical absolute position (low 32 bits) (机械绝对位置 (低 32 位)). Parameter P0B-58, address 0x0B3A, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read MECHANICAL_ABS_POSITION_LOW: Mechanical absolute position (low 32 bits) (机械绝对位置 (低 32 位)); documented at the constant."""
         return self.read(MECHANICAL_ABS_POSITION_LOW)
 
     def read_mechanical_abs_position_high(self) -> int:
-        """Mechanical absolute position (high 32 bits) (机械绝对位置 (高 32 位)). Parameter P0B-60, address 0x0B3C, s32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read MECHANICAL_ABS_POSITION_HIGH: Mechanical absolute position (high 32 bits) (机械绝对位置 (高 32 位)); documented at the constant."""
         return self.read(MECHANICAL_ABS_POSITION_HIGH)
 
     def read_realtime_input_position_counter(self) -> int:
-        """Real-time input position command counter (实时输入位置指令计数器). Parameter P0B-64, address 0x0B40, s32, unit command unit. Manual section 7.11."""
+        """Read REALTIME_INPUT_POSITION_COUNTER: Real-time input position command counter (实时输入位置指令计数器); documented at the constant."""
         return self.read(REALTIME_INPUT_POSITION_COUNTER)
 
     def read_abs_encoder_turns(self) -> int:
-        """Absolute encoder multi-turn count (绝对值编码器旋转圈数数据). Parameter P0B-70, address 0x0B46, u16, unit r, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_TURNS: Absolute encoder multi-turn count (绝对值编码器旋转圈数数据); documented at the constant."""
         return self.read(ABS_ENCODER_TURNS)
 
     def read_abs_encoder_single_turn_position(self) -> int:
-        """Absolute encoder position within one turn (绝对值编码器的 1 圈内位置). Parameter P0B-71, address 0x0B47, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_SINGLE_TURN_POSITION: Absolute encoder position within one turn (绝对值编码器的 1 圈内位置); documented at the constant."""
         return self.read(ABS_ENCODER_SINGLE_TURN_POSITION)
 
     def read_abs_encoder_position_low(self) -> int:
-        """Absolute encoder absolute position (low 32 bits) (绝对值编码器绝对位置 (低 32 位)). Parameter P0B-77, address 0x0B4D, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_POSITION_LOW: Absolute encoder absolute position (low 32 bits) (绝对值编码器绝对位置 (低 32 位)); documented at the constant."""
         return self.read(ABS_ENCODER_POSITION_LOW)
 
     def read_abs_encoder_position_high(self) -> int:
-        """Absolute encoder absolute position (high 32 bits) (绝对值编码器绝对位置 (高 32 位)). Parameter P0B-79, address 0x0B4F, s32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_POSITION_HIGH: Absolute encoder absolute position (high 32 bits) (绝对值编码器绝对位置 (高 32 位)); documented at the constant."""
         return self.read(ABS_ENCODER_POSITION_HIGH)
 
     def read_load_single_turn_position_low(self) -> int:
-        """Rotating load single-turn position (low 32 bits) (旋转负载单圈位置 (低 32 位)). Parameter P0B-81, address 0x0B51, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read LOAD_SINGLE_TURN_POSITION_LOW: Rotating load single-turn position (low 32 bits) (旋转负载单圈位置 (低 32 位)); documented at the constant."""
         return self.read(LOAD_SINGLE_TURN_POSITION_LOW)
 
     def read_load_single_turn_position_high(self) -> int:
-        """Rotating load single-turn position (high 32 bits) (旋转负载单圈位置 (高 32 位)). Parameter P0B-83, address 0x0B53, s32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read LOAD_SINGLE_TURN_POSITION_HIGH: Rotating load single-turn position (high 32 bits) (旋转负载单圈位置 (高 32 位)); documented at the constant."""
         return self.read(LOAD_SINGLE_TURN_POSITION_HIGH)
 
     def read_load_single_turn_position(self) -> int:
-        """Rotating load single-turn position (command units) (旋转负载单圈位置). Parameter P0B-85, address 0x0B55, u32, unit command unit, default 0. Manual section 7.11."""
+        """Read LOAD_SINGLE_TURN_POSITION: Rotating load single-turn position (command units) (旋转负载单圈位置); documented at the constant."""
         return self.read(LOAD_SINGLE_TURN_POSITION)
 
     def read_slave_address(self) -> int:
-        """Servo axis (Modbus slave) address (伺服轴地址). Parameter P0C-00, address 0x0C00, u16, range 1..247, default 1, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Read SLAVE_ADDRESS: Servo axis (Modbus slave) address (伺服轴地址); documented at the constant."""
         return self.read(SLAVE_ADDRESS)
 
     def write_slave_address(self, value: int) -> None:
-        """Servo axis (Modbus slave) address (伺服轴地址). Parameter P0C-00, address 0x0C00, u16, range 1..247, default 1, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Write SLAVE_ADDRESS: Servo axis (Modbus slave) address (伺服轴地址); documented at the constant."""
         self.write(SLAVE_ADDRESS, value)
 
     def read_baud_rate(self) -> BaudRate | int:
-        """Serial baud rate (串口波特率设置). Parameter P0C-02, address 0x0C02, u16, range 0..5, default 5, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Read BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         return self.read(BAUD_RATE)
 
     def write_baud_rate(self, value: BaudRate | int | str) -> None:
-        """Serial baud rate (串口波特率设置). Parameter P0C-02, address 0x0C02, u16, range 0..5, default 5, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Write BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         self.write(BAUD_RATE, value)
 
     def read_modbus_data_format(self) -> ModbusDataFormat | int:
-        """Modbus data format (Moubus 数据格式). Parameter P0C-03, address 0x0C03, u16, range 0..3, default 0, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Read MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         return self.read(MODBUS_DATA_FORMAT)
 
     def write_modbus_data_format(self, value: ModbusDataFormat | int | str) -> None:
-        """Modbus data format (Moubus 数据格式). Parameter P0C-03, address 0x0C03, u16, range 0..3, default 0, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Write MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         self.write(MODBUS_DATA_FORMAT, value)
 
     def read_comm_vdi_enable(self) -> DisableEnable | int:
-        """Communication VDI (通信 VDI). Parameter P0C-09, address 0x0C09, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12, 6.1.3."""
+        """Read COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         return self.read(COMM_VDI_ENABLE)
 
     def write_comm_vdi_enable(self, value: DisableEnable | int | str) -> None:
-        """Communication VDI (通信 VDI). Parameter P0C-09, address 0x0C09, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12, 6.1.3."""
+        """Write COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         self.write(COMM_VDI_ENABLE, value)
 
     def read_vdi_poweron_default(self) -> VdiPoweronDefaultBits:
-        """VDI default values after power-on (上电后 VDI 默认值). Parameter P0C-10, address 0x0C0A, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.12."""
+        """Read VDI_POWERON_DEFAULT: VDI default values after power-on (上电后 VDI 默认值); documented at the constant."""
         return self.read(VDI_POWERON_DEFAULT)
 
     def write_vdi_poweron_default(self, value: VdiPoweronDefaultBits) -> None:
-        """VDI default values after power-on (上电后 VDI 默认值). Parameter P0C-10, address 0x0C0A, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.12."""
+        """Write VDI_POWERON_DEFAULT: VDI default values after power-on (上电后 VDI 默认值); documented at the constant."""
         self.write(VDI_POWERON_DEFAULT, value)
 
     def read_comm_vdo_enable(self) -> DisableEnable | int:
-        """Communication VDO (通信 VDO). Parameter P0C-11, address 0x0C0B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12."""
+        """Read COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         return self.read(COMM_VDO_ENABLE)
 
     def write_comm_vdo_enable(self, value: DisableEnable | int | str) -> None:
-        """Communication VDO (通信 VDO). Parameter P0C-11, address 0x0C0B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12."""
+        """Write COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         self.write(COMM_VDO_ENABLE, value)
 
     def read_vdo_default_level(self) -> VdoDefaultLevelBits:
-        """VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平). Parameter P0C-12, address 0x0C0C, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.12."""
+        """Read VDO_DEFAULT_LEVEL: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平); documented at the constant."""
         return self.read(VDO_DEFAULT_LEVEL)
 
     def write_vdo_default_level(self, value: VdoDefaultLevelBits) -> None:
-        """VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平). Parameter P0C-12, address 0x0C0C, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.12."""
+        """Write VDO_DEFAULT_LEVEL: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平); documented at the constant."""
         self.write(VDO_DEFAULT_LEVEL, value)
 
     def read_modbus_eeprom_update(self) -> EepromUpdate | int:
-        """Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM). Parameter P0C-13, address 0x0C0D, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.1.2, 8.1.2."""
+        """Read MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         return self.read(MODBUS_EEPROM_UPDATE)
 
     def write_modbus_eeprom_update(self, value: EepromUpdate | int | str) -> None:
-        """Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM). Parameter P0C-13, address 0x0C0D, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.1.2, 8.1.2."""
+        """Write MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         self.write(MODBUS_EEPROM_UPDATE, value)
 
     def read_modbus_error_code(self) -> ModbusError | int:
-        """Modbus error code (Moubus 错误码). Parameter P0C-14, address 0x0C0E, u16, range 1..4. Manual section 7.12."""
+        """Read MODBUS_ERROR_CODE: Modbus error code (Moubus 错误码); documented at the constant."""
         return self.read(MODBUS_ERROR_CODE)
 
     def read_modbus_response_delay(self) -> int:
-        """Modbus response delay (Moubus 指令应答延时). Parameter P0C-25, address 0x0C19, u16, unit ms, range 0..5000, default 1, takes effect immediately. Manual section 7.12."""
+        """Read MODBUS_RESPONSE_DELAY: Modbus response delay (Moubus 指令应答延时); documented at the constant."""
         return self.read(MODBUS_RESPONSE_DELAY)
 
     def write_modbus_response_delay(self, value: int) -> None:
-        """Modbus response delay (Moubus 指令应答延时). Parameter P0C-25, address 0x0C19, u16, unit ms, range 0..5000, default 1, takes effect immediately. Manual section 7.12."""
+        """Write MODBUS_RESPONSE_DELAY: Modbus response delay (Moubus 指令应答延时); documented at the constant."""
         self.write(MODBUS_RESPONSE_DELAY, value)
 
     def read_modbus_word_order(self) -> WordOrder | int:
-        """Modbus 32-bit word order (Moubus 通信数据高低位顺序). Parameter P0C-26, address 0x0C1A, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.1, 9.2.3. Word order of 32-bit parameters on the bus: 0 = high word first, 1 = low word first (default). transport.word_order_register points here."""
+        """Read MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         return self.read(MODBUS_WORD_ORDER)
 
     def write_modbus_word_order(self, value: WordOrder | int | str) -> None:
-        """Modbus 32-bit word order (Moubus 通信数据高低位顺序). Parameter P0C-26, address 0x0C1A, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.1, 9.2.3. Word order of 32-bit parameters on the bus: 0 = high word first, 1 = low word first (default). transport.word_order_register points here."""
+        """Write MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         self.write(MODBUS_WORD_ORDER, value)
 
     def read_modbus_error_frame_format(self) -> ErrorFrameFormat | int:
-        """Modbus error frame format (Moubus 错误帧格式选择). Parameter P0C-30, address 0x0C1E, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.4."""
+        """Read MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         return self.read(MODBUS_ERROR_FRAME_FORMAT)
 
     def write_modbus_error_frame_format(self, value: ErrorFrameFormat | int | str) -> None:
-        """Modbus error frame format (Moubus 错误帧格式选择). Parameter P0C-30, address 0x0C1E, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.4."""
+        """Write MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         self.write(MODBUS_ERROR_FRAME_FORMAT, value)
 
     def read_software_reset(self) -> NoOpEnable | int:
-        """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Read SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         return self.read(SOFTWARE_RESET)
 
     def write_software_reset(self, value: NoOpEnable | int | str) -> None:
-        """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Write SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         self.write(SOFTWARE_RESET, value)
 
     def read_fault_reset(self) -> NoOpEnable | int:
-        """Fault reset (故障复位). Parameter P0D-01, address 0x0D01, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Read FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         return self.read(FAULT_RESET)
 
     def write_fault_reset(self, value: NoOpEnable | int | str) -> None:
-        """Fault reset (故障复位). Parameter P0D-01, address 0x0D01, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Write FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         self.write(FAULT_RESET, value)
 
     def read_offline_inertia_identification(self) -> int:
-        """Offline inertia identification (离线惯量辨识功能). Parameter P0D-02, address 0x0D02, u16, takes effect immediately. Manual section 7.13."""
+        """Read OFFLINE_INERTIA_IDENTIFICATION: Offline inertia identification (离线惯量辨识功能); documented at the constant."""
         return self.read(OFFLINE_INERTIA_IDENTIFICATION)
 
     def write_offline_inertia_identification(self, value: int) -> None:
-        """Offline inertia identification (离线惯量辨识功能). Parameter P0D-02, address 0x0D02, u16, takes effect immediately. Manual section 7.13."""
+        """Write OFFLINE_INERTIA_IDENTIFICATION: Offline inertia identification (离线惯量辨识功能); documented at the constant."""
         self.write(OFFLINE_INERTIA_IDENTIFICATION, value)
 
     def read_initial_angle_identification(self) -> InitialAngleId | int:
-        """Initial angle identification (初始角度识别). Parameter P0D-03, address 0x0D03, u16, range 1..1. Manual section 7.13."""
+        """Read INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         return self.read(INITIAL_ANGLE_IDENTIFICATION)
 
     def write_initial_angle_identification(self, value: InitialAngleId | int | str) -> None:
-        """Initial angle identification (初始角度识别). Parameter P0D-03, address 0x0D03, u16, range 1..1. Manual section 7.13."""
+        """Write INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         self.write(INITIAL_ANGLE_IDENTIFICATION, value)
 
     def read_emergency_stop(self) -> EmergencyStopCmd | int:
-        """Emergency stop (紧急停机). Parameter P0D-05, address 0x0D05, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Read EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         return self.read(EMERGENCY_STOP)
 
     def write_emergency_stop(self, value: EmergencyStopCmd | int | str) -> None:
-        """Emergency stop (紧急停机). Parameter P0D-05, address 0x0D05, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Write EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         self.write(EMERGENCY_STOP, value)
 
     def read_reserved_p0d_10(self) -> int:
-        """Reserved (保留). Parameter P0D-10, address 0x0D0A, u16. Manual section 7.13."""
+        """Read RESERVED_P0D_10: Reserved (保留); documented at the constant."""
         return self.read(RESERVED_P0D_10)
 
     def read_jog_trial_run(self) -> int:
-        """JOG trial run (JOG 试运行功能). Parameter P0D-11, address 0x0D0B, u16. Manual section 7.13, 5.2.1."""
+        """Read JOG_TRIAL_RUN: JOG trial run (JOG 试运行功能); documented at the constant."""
         return self.read(JOG_TRIAL_RUN)
 
     def write_jog_trial_run(self, value: int) -> None:
-        """JOG trial run (JOG 试运行功能). Parameter P0D-11, address 0x0D0B, u16. Manual section 7.13, 5.2.1."""
+        """Write JOG_TRIAL_RUN: JOG trial run (JOG 试运行功能); documented at the constant."""
         self.write(JOG_TRIAL_RUN, value)
 
     def read_dido_force_enable(self) -> DidoForce | int:
-        """DI/DO forced input/output enable (DIDO 强制输入输出使能). Parameter P0D-17, address 0x0D11, u16, range 0..3, default 0, takes effect immediately. Manual section 7.13."""
+        """Read DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         return self.read(DIDO_FORCE_ENABLE)
 
     def write_dido_force_enable(self, value: DidoForce | int | str) -> None:
-        """DI/DO forced input/output enable (DIDO 强制输入输出使能). Parameter P0D-17, address 0x0D11, u16, range 0..3, default 0, takes effect immediately. Manual section 7.13."""
+        """Write DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         self.write(DIDO_FORCE_ENABLE, value)
 
     def read_di_force_value(self) -> int:
-        """DI forced input value (DI 强制输入给定). Parameter P0D-18, address 0x0D12, u16, range 0..511, default 511, takes effect immediately. Manual section 7.13."""
+        """Read DI_FORCE_VALUE: DI forced input value (DI 强制输入给定); documented at the constant."""
         return self.read(DI_FORCE_VALUE)
 
     def write_di_force_value(self, value: int) -> None:
-        """DI forced input value (DI 强制输入给定). Parameter P0D-18, address 0x0D12, u16, range 0..511, default 511, takes effect immediately. Manual section 7.13."""
+        """Write DI_FORCE_VALUE: DI forced input value (DI 强制输入给定); documented at the constant."""
         self.write(DI_FORCE_VALUE, value)
 
     def read_do_force_value(self) -> int:
-        """DO forced output value (DO 强制输出给定). Parameter P0D-19, address 0x0D13, u16, range 0..31, default 0, takes effect immediately. Manual section 7.13."""
+        """Read DO_FORCE_VALUE: DO forced output value (DO 强制输出给定); documented at the constant."""
         return self.read(DO_FORCE_VALUE)
 
     def write_do_force_value(self, value: int) -> None:
-        """DO forced output value (DO 强制输出给定). Parameter P0D-19, address 0x0D13, u16, range 0..31, default 0, takes effect immediately. Manual section 7.13."""
+        """Write DO_FORCE_VALUE: DO forced output value (DO 强制输出给定); documented at the constant."""
         self.write(DO_FORCE_VALUE, value)
 
     def read_abs_encoder_reset(self) -> AbsEncoderReset | int:
-        """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Read ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         return self.read(ABS_ENCODER_RESET)
 
     def write_abs_encoder_reset(self, value: AbsEncoderReset | int | str) -> None:
-        """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Write ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         self.write(ABS_ENCODER_RESET, value)
 
     def read_multi_position_run_mode(self) -> MultiPositionRunMode | int:
-        """Multi-segment position run mode (多段位置运行方式). Parameter P11-00, address 0x1100, u16, range 0..3, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         return self.read(MULTI_POSITION_RUN_MODE)
 
     def write_multi_position_run_mode(self, value: MultiPositionRunMode | int | str) -> None:
-        """Multi-segment position run mode (多段位置运行方式). Parameter P11-00, address 0x1100, u16, range 0..3, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         self.write(MULTI_POSITION_RUN_MODE, value)
 
     def read_multi_position_end_segment(self) -> int:
-        """Last displacement segment (位移指令终点段数). Parameter P11-01, address 0x1101, u16, range 1..16, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read MULTI_POSITION_END_SEGMENT: Last displacement segment (位移指令终点段数); documented at the constant."""
         return self.read(MULTI_POSITION_END_SEGMENT)
 
     def write_multi_position_end_segment(self, value: int) -> None:
-        """Last displacement segment (位移指令终点段数). Parameter P11-01, address 0x1101, u16, range 1..16, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write MULTI_POSITION_END_SEGMENT: Last displacement segment (位移指令终点段数); documented at the constant."""
         self.write(MULTI_POSITION_END_SEGMENT, value)
 
     def read_multi_position_remainder(self) -> RemainderHandling | int:
-        """Remaining-segment handling (余量处理方式). Parameter P11-02, address 0x1102, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         return self.read(MULTI_POSITION_REMAINDER)
 
     def write_multi_position_remainder(self, value: RemainderHandling | int | str) -> None:
-        """Remaining-segment handling (余量处理方式). Parameter P11-02, address 0x1102, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         self.write(MULTI_POSITION_REMAINDER, value)
 
     def read_multi_position_time_unit(self) -> TimeUnitMsS | int:
-        """Time unit (时间单位). Parameter P11-03, address 0x1103, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3. Unit of the segment acceleration/deceleration and wait times (P11-15, P11-16, ...)."""
+        """Read MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         return self.read(MULTI_POSITION_TIME_UNIT)
 
     def write_multi_position_time_unit(self, value: TimeUnitMsS | int | str) -> None:
-        """Time unit (时间单位). Parameter P11-03, address 0x1103, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3. Unit of the segment acceleration/deceleration and wait times (P11-15, P11-16, ...)."""
+        """Write MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         self.write(MULTI_POSITION_TIME_UNIT, value)
 
     def read_displacement_type(self) -> DisplacementType | int:
-        """Displacement command type (位移指令类型选择). Parameter P11-04, address 0x1104, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         return self.read(DISPLACEMENT_TYPE)
 
     def write_displacement_type(self, value: DisplacementType | int | str) -> None:
-        """Displacement command type (位移指令类型选择). Parameter P11-04, address 0x1104, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         self.write(DISPLACEMENT_TYPE, value)
 
     def read_sequential_start_segment(self) -> int:
-        """Sequential run start segment (顺序运行起始段选择). Parameter P11-05, address 0x1105, u16, range 0..16, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read SEQUENTIAL_START_SEGMENT: Sequential run start segment (顺序运行起始段选择); documented at the constant."""
         return self.read(SEQUENTIAL_START_SEGMENT)
 
     def write_sequential_start_segment(self, value: int) -> None:
-        """Sequential run start segment (顺序运行起始段选择). Parameter P11-05, address 0x1105, u16, range 0..16, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write SEQUENTIAL_START_SEGMENT: Sequential run start segment (顺序运行起始段选择); documented at the constant."""
         self.write(SEQUENTIAL_START_SEGMENT, value)
 
     def read_multi_speed_run_mode(self) -> MultiSpeedRunMode | int:
-        """Multi-segment speed run mode (多段速度指令运行方式). Parameter P12-00, address 0x1200, u16, range 0..2, default 1, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Read MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         return self.read(MULTI_SPEED_RUN_MODE)
 
     def write_multi_speed_run_mode(self, value: MultiSpeedRunMode | int | str) -> None:
-        """Multi-segment speed run mode (多段速度指令运行方式). Parameter P12-00, address 0x1200, u16, range 0..2, default 1, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Write MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         self.write(MULTI_SPEED_RUN_MODE, value)
 
     def read_multi_speed_end_segment(self) -> int:
-        """Last speed segment (速度指令终点段数选择). Parameter P12-01, address 0x1201, u16, range 1..16, default 16, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Read MULTI_SPEED_END_SEGMENT: Last speed segment (速度指令终点段数选择); documented at the constant."""
         return self.read(MULTI_SPEED_END_SEGMENT)
 
     def write_multi_speed_end_segment(self, value: int) -> None:
-        """Last speed segment (速度指令终点段数选择). Parameter P12-01, address 0x1201, u16, range 1..16, default 16, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Write MULTI_SPEED_END_SEGMENT: Last speed segment (速度指令终点段数选择); documented at the constant."""
         self.write(MULTI_SPEED_END_SEGMENT, value)
 
     def read_multi_speed_time_unit(self) -> TimeUnitSMin | int:
-        """Run time unit (运行时间单位选择). Parameter P12-02, address 0x1202, u16, range 0..1, default 0, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Read MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         return self.read(MULTI_SPEED_TIME_UNIT)
 
     def write_multi_speed_time_unit(self, value: TimeUnitSMin | int | str) -> None:
-        """Run time unit (运行时间单位选择). Parameter P12-02, address 0x1202, u16, range 0..1, default 0, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Write MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         self.write(MULTI_SPEED_TIME_UNIT, value)
 
     def read_multi_speed_accel_time_1(self) -> int:
-        """Acceleration time 1 (加速时间 1). Parameter P12-03, address 0x1203, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_1: Acceleration time 1 (加速时间 1); documented at the constant."""
         return self.read(MULTI_SPEED_ACCEL_TIME_1)
 
     def write_multi_speed_accel_time_1(self, value: int) -> None:
-        """Acceleration time 1 (加速时间 1). Parameter P12-03, address 0x1203, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_1: Acceleration time 1 (加速时间 1); documented at the constant."""
         self.write(MULTI_SPEED_ACCEL_TIME_1, value)
 
     def read_multi_speed_decel_time_1(self) -> int:
-        """Deceleration time 1 (减速时间 1). Parameter P12-04, address 0x1204, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_1: Deceleration time 1 (减速时间 1); documented at the constant."""
         return self.read(MULTI_SPEED_DECEL_TIME_1)
 
     def write_multi_speed_decel_time_1(self, value: int) -> None:
-        """Deceleration time 1 (减速时间 1). Parameter P12-04, address 0x1204, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_1: Deceleration time 1 (减速时间 1); documented at the constant."""
         self.write(MULTI_SPEED_DECEL_TIME_1, value)
 
     def read_multi_speed_accel_time_2(self) -> int:
-        """Acceleration time 2 (加速时间 2). Parameter P12-05, address 0x1205, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_2: Acceleration time 2 (加速时间 2); documented at the constant."""
         return self.read(MULTI_SPEED_ACCEL_TIME_2)
 
     def write_multi_speed_accel_time_2(self, value: int) -> None:
-        """Acceleration time 2 (加速时间 2). Parameter P12-05, address 0x1205, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_2: Acceleration time 2 (加速时间 2); documented at the constant."""
         self.write(MULTI_SPEED_ACCEL_TIME_2, value)
 
     def read_multi_speed_decel_time_2(self) -> int:
-        """Deceleration time 2 (减速时间 2). Parameter P12-06, address 0x1206, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_2: Deceleration time 2 (减速时间 2); documented at the constant."""
         return self.read(MULTI_SPEED_DECEL_TIME_2)
 
     def write_multi_speed_decel_time_2(self, value: int) -> None:
-        """Deceleration time 2 (减速时间 2). Parameter P12-06, address 0x1206, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_2: Deceleration time 2 (减速时间 2); documented at the constant."""
         self.write(MULTI_SPEED_DECEL_TIME_2, value)
 
     def read_multi_speed_accel_time_3(self) -> int:
-        """Acceleration time 3 (加速时间 3). Parameter P12-07, address 0x1207, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_3: Acceleration time 3 (加速时间 3); documented at the constant."""
         return self.read(MULTI_SPEED_ACCEL_TIME_3)
 
     def write_multi_speed_accel_time_3(self, value: int) -> None:
-        """Acceleration time 3 (加速时间 3). Parameter P12-07, address 0x1207, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_3: Acceleration time 3 (加速时间 3); documented at the constant."""
         self.write(MULTI_SPEED_ACCEL_TIME_3, value)
 
     def read_multi_speed_decel_time_3(self) -> int:
-        """Deceleration time 3 (减速时间 3). Parameter P12-08, address 0x1208, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_3: Deceleration time 3 (减速时间 3); documented at the constant."""
         return self.read(MULTI_SPEED_DECEL_TIME_3)
 
     def write_multi_speed_decel_time_3(self, value: int) -> None:
-        """Deceleration time 3 (减速时间 3). Parameter P12-08, address 0x1208, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_3: Deceleration time 3 (减速时间 3); documented at the constant."""
         self.write(MULTI_SPEED_DECEL_TIME_3, value)
 
     def read_multi_speed_accel_time_4(self) -> int:
-        """Acceleration time 4 (加速时间 4). Parameter P12-09, address 0x1209, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_4: Acceleration time 4 (加速时间 4); documented at the constant."""
         return self.read(MULTI_SPEED_ACCEL_TIME_4)
 
     def write_multi_speed_accel_time_4(self, value: int) -> None:
-        """Acceleration time 4 (加速时间 4). Parameter P12-09, address 0x1209, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_4: Acceleration time 4 (加速时间 4); documented at the constant."""
         self.write(MULTI_SPEED_ACCEL_TIME_4, value)
 
     def read_multi_speed_decel_time_4(self) -> int:
-        """Deceleration time 4 (减速时间 4). Parameter P12-10, address 0x120A, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_4: Deceleration time 4 (减速时间 4); documented at the constant."""
         return self.read(MULTI_SPEED_DECEL_TIME_4)
 
     def write_multi_speed_decel_time_4(self, value: int) -> None:
-        """Deceleration time 4 (减速时间 4). Parameter P12-10, address 0x120A, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_4: Deceleration time 4 (减速时间 4); documented at the constant."""
         self.write(MULTI_SPEED_DECEL_TIME_4, value)
 
     def read_vdo_virtual_level(self) -> int:
-        """VDO virtual level (VDO 虚拟电平). Parameter P17-32, address 0x1720, u16. Manual section 7.16."""
+        """Read VDO_VIRTUAL_LEVEL: VDO virtual level (VDO 虚拟电平); documented at the constant."""
         return self.read(VDO_VIRTUAL_LEVEL)
 
     def read_comm_servo_status(self) -> int:
-        """Servo status (read by communication) (通信读取伺服状态). Parameter P30-00, address 0x3000, u16. Manual section 7.17."""
+        """Read COMM_SERVO_STATUS: Servo status (read by communication) (通信读取伺服状态); documented at the constant."""
         return self.read(COMM_SERVO_STATUS)
 
     def read_comm_do_function_status_1(self) -> int:
-        """DO function status 1 (read by communication) (通信读取 DO 功能状态 1). Parameter P30-01, address 0x3001, u16. Manual section 7.17."""
+        """Read COMM_DO_FUNCTION_STATUS_1: DO function status 1 (read by communication) (通信读取 DO 功能状态 1); documented at the constant."""
         return self.read(COMM_DO_FUNCTION_STATUS_1)
 
     def read_comm_do_function_status_2(self) -> int:
-        """DO function status 2 (read by communication) (通信读取 DO 功能状态 2). Parameter P30-02, address 0x3002, u16. Manual section 7.17."""
+        """Read COMM_DO_FUNCTION_STATUS_2: DO function status 2 (read by communication) (通信读取 DO 功能状态 2); documented at the constant."""
         return self.read(COMM_DO_FUNCTION_STATUS_2)
 
     def read_comm_input_pulse_sample(self) -> int:
-        """Input pulse command sample value (通信读取输入脉冲指令采样值). Parameter P30-03, address 0x3003, u16. Manual section 7.17."""
+        """Read COMM_INPUT_PULSE_SAMPLE: Input pulse command sample value (通信读取输入脉冲指令采样值); documented at the constant."""
         return self.read(COMM_INPUT_PULSE_SAMPLE)
 
     def read_comm_di_status(self) -> int:
-        """DI conduction status (通信读取 DI 导通状态). Parameter P30-04, address 0x3004, u16, range 0..511. Manual section 7.17."""
+        """Read COMM_DI_STATUS: DI conduction status (通信读取 DI 导通状态); documented at the constant."""
         return self.read(COMM_DI_STATUS)
 
     def read_comm_vdi_level(self) -> int:
-        """VDI virtual level set by communication (通信给定 VDI 虚拟电平). Parameter P31-00, address 0x3100, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.18."""
+        """Read COMM_VDI_LEVEL: VDI virtual level set by communication (通信给定 VDI 虚拟电平); documented at the constant."""
         return self.read(COMM_VDI_LEVEL)
 
     def write_comm_vdi_level(self, value: int) -> None:
-        """VDI virtual level set by communication (通信给定 VDI 虚拟电平). Parameter P31-00, address 0x3100, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.18."""
+        """Write COMM_VDI_LEVEL: VDI virtual level set by communication (通信给定 VDI 虚拟电平); documented at the constant."""
         self.write(COMM_VDI_LEVEL, value)
 
     def read_comm_do_output(self) -> int:
-        """DO output state set by communication (通信给定 DO 输出状态). Parameter P31-04, address 0x3104, u16, range 0..31, default 0, takes effect immediately. Manual section 7.18."""
+        """Read COMM_DO_OUTPUT: DO output state set by communication (通信给定 DO 输出状态); documented at the constant."""
         return self.read(COMM_DO_OUTPUT)
 
     def write_comm_do_output(self, value: int) -> None:
-        """DO output state set by communication (通信给定 DO 输出状态). Parameter P31-04, address 0x3104, u16, range 0..31, default 0, takes effect immediately. Manual section 7.18."""
+        """Write COMM_DO_OUTPUT: DO output state set by communication (通信给定 DO 输出状态); documented at the constant."""
         self.write(COMM_DO_OUTPUT, value)
 
     def position_segment(self, n: int) -> PositionSegmentElement:
@@ -9511,2087 +9514,2087 @@ class AsyncC630s(AsyncClient):
     DEVICE = DEVICE
 
     async def read_mcu_software_version(self) -> int:
-        """MCU software version (MCU 软件版本号). Parameter P01-00, address 0x0100, u16, range 0..65535. Manual section 7.1."""
+        """Read MCU_SOFTWARE_VERSION: MCU software version (MCU 软件版本号); documented at the constant."""
         return await self.read(MCU_SOFTWARE_VERSION)
 
     async def read_servo_drive_number(self) -> int:
-        """Servo drive number (伺服驱动器编号). Parameter P01-02, address 0x0102, u16, range 0..65535, takes effect after restart. Manual section 7.1."""
+        """Read SERVO_DRIVE_NUMBER: Servo drive number (伺服驱动器编号); documented at the constant."""
         return await self.read(SERVO_DRIVE_NUMBER)
 
     async def write_servo_drive_number(self, value: int) -> None:
-        """Servo drive number (伺服驱动器编号). Parameter P01-02, address 0x0102, u16, range 0..65535, takes effect after restart. Manual section 7.1."""
+        """Write SERVO_DRIVE_NUMBER: Servo drive number (伺服驱动器编号); documented at the constant."""
         await self.write(SERVO_DRIVE_NUMBER, value)
 
     async def read_control_mode(self) -> ControlMode | int:
-        """Control mode (控制模式选择). Parameter P02-00, address 0x0200, u16, range 0..6, default 1, takes effect immediately. Manual section 7.2, 6.1.2, 6.2.2, 6.3.2."""
+        """Read CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         return await self.read(CONTROL_MODE)
 
     async def write_control_mode(self, value: ControlMode | int | str) -> None:
-        """Control mode (控制模式选择). Parameter P02-00, address 0x0200, u16, range 0..6, default 1, takes effect immediately. Manual section 7.2, 6.1.2, 6.2.2, 6.3.2."""
+        """Write CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         await self.write(CONTROL_MODE, value)
 
     async def read_encoder_type(self) -> EncoderType | int:
-        """Encoder type (编码器类型选择). Parameter P02-01, address 0x0201, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Read ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         return await self.read(ENCODER_TYPE)
 
     async def write_encoder_type(self, value: EncoderType | int | str) -> None:
-        """Encoder type (编码器类型选择). Parameter P02-01, address 0x0201, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Write ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         await self.write(ENCODER_TYPE, value)
 
     async def read_rotation_direction(self) -> RotationDirection | int:
-        """Rotation direction (旋转方向选择). Parameter P02-02, address 0x0202, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Read ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         return await self.read(ROTATION_DIRECTION)
 
     async def write_rotation_direction(self, value: RotationDirection | int | str) -> None:
-        """Rotation direction (旋转方向选择). Parameter P02-02, address 0x0202, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Write ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         await self.write(ROTATION_DIRECTION, value)
 
     async def read_output_pulse_phase(self) -> OutputPulsePhase | int:
-        """Output pulse phase (输出脉冲相位). Parameter P02-03, address 0x0203, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Read OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         return await self.read(OUTPUT_PULSE_PHASE)
 
     async def write_output_pulse_phase(self, value: OutputPulsePhase | int | str) -> None:
-        """Output pulse phase (输出脉冲相位). Parameter P02-03, address 0x0203, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
+        """Write OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         await self.write(OUTPUT_PULSE_PHASE, value)
 
     async def read_servo_off_stop_mode(self) -> StopMode | int:
-        """Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择). Parameter P02-05, address 0x0205, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Read SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         return await self.read(SERVO_OFF_STOP_MODE)
 
     async def write_servo_off_stop_mode(self, value: StopMode | int | str) -> None:
-        """Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择). Parameter P02-05, address 0x0205, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Write SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         await self.write(SERVO_OFF_STOP_MODE, value)
 
     async def read_fault_no2_stop_mode(self) -> StopMode | int:
-        """Stop mode at fault No.2 (故障 No.2 停机方式选择). Parameter P02-06, address 0x0206, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         return await self.read(FAULT_NO2_STOP_MODE)
 
     async def write_fault_no2_stop_mode(self, value: StopMode | int | str) -> None:
-        """Stop mode at fault No.2 (故障 No.2 停机方式选择). Parameter P02-06, address 0x0206, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         await self.write(FAULT_NO2_STOP_MODE, value)
 
     async def read_overtravel_stop_mode(self) -> OvertravelStopMode | int:
-        """Overtravel stop mode (超程停机方式选择). Parameter P02-07, address 0x0207, u16, range 0..2, default 1, takes effect immediately. Manual section 7.2."""
+        """Read OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         return await self.read(OVERTRAVEL_STOP_MODE)
 
     async def write_overtravel_stop_mode(self, value: OvertravelStopMode | int | str) -> None:
-        """Overtravel stop mode (超程停机方式选择). Parameter P02-07, address 0x0207, u16, range 0..2, default 1, takes effect immediately. Manual section 7.2."""
+        """Write OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         await self.write(OVERTRAVEL_STOP_MODE, value)
 
     async def read_fault_no1_stop_mode(self) -> FaultNo1StopMode | int:
-        """Stop mode at fault No.1 (故障 No.1 停机方式选择). Parameter P02-08, address 0x0208, u16, range 0..0, default 0, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         return await self.read(FAULT_NO1_STOP_MODE)
 
     async def write_fault_no1_stop_mode(self, value: FaultNo1StopMode | int | str) -> None:
-        """Stop mode at fault No.1 (故障 No.1 停机方式选择). Parameter P02-08, address 0x0208, u16, range 0..0, default 0, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         await self.write(FAULT_NO1_STOP_MODE, value)
 
     async def read_brake_on_to_command_delay(self) -> int:
-        """Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时). Parameter P02-09, address 0x0209, u16, unit ms, range 0..500, default 250, takes effect immediately. Manual section 7.2."""
+        """Read BRAKE_ON_TO_COMMAND_DELAY: Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时); documented at the constant."""
         return await self.read(BRAKE_ON_TO_COMMAND_DELAY)
 
     async def write_brake_on_to_command_delay(self, value: int) -> None:
-        """Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时). Parameter P02-09, address 0x0209, u16, unit ms, range 0..500, default 250, takes effect immediately. Manual section 7.2."""
+        """Write BRAKE_ON_TO_COMMAND_DELAY: Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时); documented at the constant."""
         await self.write(BRAKE_ON_TO_COMMAND_DELAY, value)
 
     async def read_brake_off_to_motor_off_delay(self) -> int:
-        """At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时). Parameter P02-10, address 0x020A, u16, unit ms, range 1..1000, default 150, takes effect immediately. Manual section 7.2."""
+        """Read BRAKE_OFF_TO_MOTOR_OFF_DELAY: At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时); documented at the constant."""
         return await self.read(BRAKE_OFF_TO_MOTOR_OFF_DELAY)
 
     async def write_brake_off_to_motor_off_delay(self, value: int) -> None:
-        """At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时). Parameter P02-10, address 0x020A, u16, unit ms, range 1..1000, default 150, takes effect immediately. Manual section 7.2."""
+        """Write BRAKE_OFF_TO_MOTOR_OFF_DELAY: At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时); documented at the constant."""
         await self.write(BRAKE_OFF_TO_MOTOR_OFF_DELAY, value)
 
     async def read_brake_off_speed_threshold(self) -> int:
-        """While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值). Parameter P02-11, address 0x020B, u16, unit rpm, range 0..3000, default 30, takes effect immediately. Manual section 7.2."""
+        """Read BRAKE_OFF_SPEED_THRESHOLD: While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值); documented at the constant."""
         return await self.read(BRAKE_OFF_SPEED_THRESHOLD)
 
     async def write_brake_off_speed_threshold(self, value: int) -> None:
-        """While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值). Parameter P02-11, address 0x020B, u16, unit rpm, range 0..3000, default 30, takes effect immediately. Manual section 7.2."""
+        """Write BRAKE_OFF_SPEED_THRESHOLD: While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值); documented at the constant."""
         await self.write(BRAKE_OFF_SPEED_THRESHOLD, value)
 
     async def read_servo_off_to_brake_off_delay(self) -> int:
-        """While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时). Parameter P02-12, address 0x020C, u16, unit ms, range 1..1000, default 500, takes effect immediately. Manual section 7.2."""
+        """Read SERVO_OFF_TO_BRAKE_OFF_DELAY: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时); documented at the constant."""
         return await self.read(SERVO_OFF_TO_BRAKE_OFF_DELAY)
 
     async def write_servo_off_to_brake_off_delay(self, value: int) -> None:
-        """While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时). Parameter P02-12, address 0x020C, u16, unit ms, range 1..1000, default 500, takes effect immediately. Manual section 7.2."""
+        """Write SERVO_OFF_TO_BRAKE_OFF_DELAY: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时); documented at the constant."""
         await self.write(SERVO_OFF_TO_BRAKE_OFF_DELAY, value)
 
     async def read_led_warning_display(self) -> LedWarningDisplay | int:
-        """LED warning display (LED 警告显示选择). Parameter P02-15, address 0x020F, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Read LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         return await self.read(LED_WARNING_DISPLAY)
 
     async def write_led_warning_display(self, value: LedWarningDisplay | int | str) -> None:
-        """LED warning display (LED 警告显示选择). Parameter P02-15, address 0x020F, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
+        """Write LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         await self.write(LED_WARNING_DISPLAY, value)
 
     async def read_servo_on_filter_time(self) -> int:
-        """Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数). Parameter P02-18, address 0x0212, u16, unit ms, range 0..64, default 0, takes effect immediately. Manual section 7.2."""
+        """Read SERVO_ON_FILTER_TIME: Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数); documented at the constant."""
         return await self.read(SERVO_ON_FILTER_TIME)
 
     async def write_servo_on_filter_time(self, value: int) -> None:
-        """Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数). Parameter P02-18, address 0x0212, u16, unit ms, range 0..64, default 0, takes effect immediately. Manual section 7.2."""
+        """Write SERVO_ON_FILTER_TIME: Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数); documented at the constant."""
         await self.write(SERVO_ON_FILTER_TIME, value)
 
     async def read_min_braking_resistance(self) -> int:
-        """Minimum braking resistance allowed by the drive (驱动器允许的制动电阻最小值). Parameter P02-21, address 0x0215, u16, unit Ω. Manual section 7.2."""
+        """Read MIN_BRAKING_RESISTANCE: Minimum braking resistance allowed by the drive (驱动器允许的制动电阻最小值); documented at the constant."""
         return await self.read(MIN_BRAKING_RESISTANCE)
 
     async def read_internal_braking_resistor_power(self) -> int:
-        """Internal braking resistor power (内置制动电阻功率). Parameter P02-22, address 0x0216, u16, unit W. Manual section 7.2."""
+        """Read INTERNAL_BRAKING_RESISTOR_POWER: Internal braking resistor power (内置制动电阻功率); documented at the constant."""
         return await self.read(INTERNAL_BRAKING_RESISTOR_POWER)
 
     async def read_internal_braking_resistor_resistance(self) -> int:
-        """Internal braking resistor resistance (内置制动电阻阻值). Parameter P02-23, address 0x0217, u16, unit Ω. Manual section 7.2."""
+        """Read INTERNAL_BRAKING_RESISTOR_RESISTANCE: Internal braking resistor resistance (内置制动电阻阻值); documented at the constant."""
         return await self.read(INTERNAL_BRAKING_RESISTOR_RESISTANCE)
 
     async def read_resistor_heat_dissipation_coefficient(self) -> int:
-        """Resistor heat dissipation coefficient (电阻散热系数). Parameter P02-24, address 0x0218, u16, unit %, range 10..100, default 30, takes effect immediately. Manual section 7.2."""
+        """Read RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Resistor heat dissipation coefficient (电阻散热系数); documented at the constant."""
         return await self.read(RESISTOR_HEAT_DISSIPATION_COEFFICIENT)
 
     async def write_resistor_heat_dissipation_coefficient(self, value: int) -> None:
-        """Resistor heat dissipation coefficient (电阻散热系数). Parameter P02-24, address 0x0218, u16, unit %, range 10..100, default 30, takes effect immediately. Manual section 7.2."""
+        """Write RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Resistor heat dissipation coefficient (电阻散热系数); documented at the constant."""
         await self.write(RESISTOR_HEAT_DISSIPATION_COEFFICIENT, value)
 
     async def read_braking_resistor_setting(self) -> BrakingResistorSetting | int:
-        """Braking resistor setting (制动电阻设置). Parameter P02-25, address 0x0219, u16, range 0..3, default 0, takes effect immediately. Manual section 7.2."""
+        """Read BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         return await self.read(BRAKING_RESISTOR_SETTING)
 
     async def write_braking_resistor_setting(self, value: BrakingResistorSetting | int | str) -> None:
-        """Braking resistor setting (制动电阻设置). Parameter P02-25, address 0x0219, u16, range 0..3, default 0, takes effect immediately. Manual section 7.2."""
+        """Write BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         await self.write(BRAKING_RESISTOR_SETTING, value)
 
     async def read_external_braking_resistor_power(self) -> int:
-        """External braking resistor power (外接制动电阻功率). Parameter P02-26, address 0x021A, u16, unit W, range 1..65535, takes effect immediately. Manual section 7.2."""
+        """Read EXTERNAL_BRAKING_RESISTOR_POWER: External braking resistor power (外接制动电阻功率); documented at the constant."""
         return await self.read(EXTERNAL_BRAKING_RESISTOR_POWER)
 
     async def write_external_braking_resistor_power(self, value: int) -> None:
-        """External braking resistor power (外接制动电阻功率). Parameter P02-26, address 0x021A, u16, unit W, range 1..65535, takes effect immediately. Manual section 7.2."""
+        """Write EXTERNAL_BRAKING_RESISTOR_POWER: External braking resistor power (外接制动电阻功率); documented at the constant."""
         await self.write(EXTERNAL_BRAKING_RESISTOR_POWER, value)
 
     async def read_external_braking_resistor_resistance(self) -> int:
-        """External braking resistor resistance (外接制动电阻阻值). Parameter P02-27, address 0x021B, u16, unit Ω, range 1..1000, takes effect immediately. Manual section 7.2."""
+        """Read EXTERNAL_BRAKING_RESISTOR_RESISTANCE: External braking resistor resistance (外接制动电阻阻值); documented at the constant."""
         return await self.read(EXTERNAL_BRAKING_RESISTOR_RESISTANCE)
 
     async def write_external_braking_resistor_resistance(self, value: int) -> None:
-        """External braking resistor resistance (外接制动电阻阻值). Parameter P02-27, address 0x021B, u16, unit Ω, range 1..1000, takes effect immediately. Manual section 7.2."""
+        """Write EXTERNAL_BRAKING_RESISTOR_RESISTANCE: External braking resistor resistance (外接制动电阻阻值); documented at the constant."""
         await self.write(EXTERNAL_BRAKING_RESISTOR_RESISTANCE, value)
 
     async def read_system_parameter_init(self) -> SystemInit | int:
-        """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
+        """Read SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         return await self.read(SYSTEM_PARAMETER_INIT)
 
     async def write_system_parameter_init(self, value: SystemInit | int | str) -> None:
-        """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
+        """Write SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         await self.write(SYSTEM_PARAMETER_INIT, value)
 
     async def read_panel_default_display(self) -> int:
-        """Panel default display (面板默认显示功能). Parameter P02-32, address 0x0220, u16, range 0..99, default 50, takes effect immediately. Manual section 7.2. Number of the P0B monitor parameter shown by default (0 = speed P0B-00, 13 = pulse counter P0B-13)."""
+        """Read PANEL_DEFAULT_DISPLAY: Panel default display (面板默认显示功能); documented at the constant."""
         return await self.read(PANEL_DEFAULT_DISPLAY)
 
     async def write_panel_default_display(self, value: int) -> None:
-        """Panel default display (面板默认显示功能). Parameter P02-32, address 0x0220, u16, range 0..99, default 50, takes effect immediately. Manual section 7.2. Number of the P0B monitor parameter shown by default (0 = speed P0B-00, 13 = pulse counter P0B-13)."""
+        """Write PANEL_DEFAULT_DISPLAY: Panel default display (面板默认显示功能); documented at the constant."""
         await self.write(PANEL_DEFAULT_DISPLAY, value)
 
     async def read_fault_short_circuit_braking_time(self) -> int:
-        """Fault short-circuit braking time (故障短路制动时间). Parameter P02-38, address 0x0226, u16, unit ms, range 0..30000, default 5000, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_SHORT_CIRCUIT_BRAKING_TIME: Fault short-circuit braking time (故障短路制动时间); documented at the constant."""
         return await self.read(FAULT_SHORT_CIRCUIT_BRAKING_TIME)
 
     async def write_fault_short_circuit_braking_time(self, value: int) -> None:
-        """Fault short-circuit braking time (故障短路制动时间). Parameter P02-38, address 0x0226, u16, unit ms, range 0..30000, default 5000, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_SHORT_CIRCUIT_BRAKING_TIME: Fault short-circuit braking time (故障短路制动时间); documented at the constant."""
         await self.write(FAULT_SHORT_CIRCUIT_BRAKING_TIME, value)
 
     async def read_fault_short_circuit_braking_threshold(self) -> float:
-        """Fault short-circuit braking threshold (故障短路制动阈值). Parameter P02-39, address 0x0227, u16, unit %, range 0..300, default 100, takes effect immediately. Manual section 7.2."""
+        """Read FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD: Fault short-circuit braking threshold (故障短路制动阈值); documented at the constant."""
         return await self.read(FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD)
 
     async def write_fault_short_circuit_braking_threshold(self, value: float) -> None:
-        """Fault short-circuit braking threshold (故障短路制动阈值). Parameter P02-39, address 0x0227, u16, unit %, range 0..300, default 100, takes effect immediately. Manual section 7.2."""
+        """Write FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD: Fault short-circuit braking threshold (故障短路制动阈值); documented at the constant."""
         await self.write(FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD, value)
 
     async def read_poweron_di_functions_1(self) -> PoweronDiFunctions1Bits:
-        """DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配). Parameter P03-00, address 0x0300, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.1+n (Bit0 = FunIN.1 ... Bit15 = FunIN.16)."""
+        """Read POWERON_DI_FUNCTIONS_1: DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配); documented at the constant."""
         return await self.read(POWERON_DI_FUNCTIONS_1)
 
     async def write_poweron_di_functions_1(self, value: PoweronDiFunctions1Bits) -> None:
-        """DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配). Parameter P03-00, address 0x0300, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.1+n (Bit0 = FunIN.1 ... Bit15 = FunIN.16)."""
+        """Write POWERON_DI_FUNCTIONS_1: DI functions valid at power-on, FunIN.1-16 (上电有效的 DI 功能分配); documented at the constant."""
         await self.write(POWERON_DI_FUNCTIONS_1, value)
 
     async def read_poweron_di_functions_2(self) -> PoweronDiFunctions2Bits:
-        """DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配). Parameter P03-01, address 0x0301, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.17+n (Bit0 = FunIN.17 ... Bit15 = FunIN.32)."""
+        """Read POWERON_DI_FUNCTIONS_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配); documented at the constant."""
         return await self.read(POWERON_DI_FUNCTIONS_2)
 
     async def write_poweron_di_functions_2(self, value: PoweronDiFunctions2Bits) -> None:
-        """DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配). Parameter P03-01, address 0x0301, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.17+n (Bit0 = FunIN.17 ... Bit15 = FunIN.32)."""
+        """Write POWERON_DI_FUNCTIONS_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配); documented at the constant."""
         await self.write(POWERON_DI_FUNCTIONS_2, value)
 
     async def read_di1_function(self) -> DiFunction | int:
-        """DI1 terminal function (DI1 端子功能选择). Parameter P03-02, address 0x0302, u16, range 0..38, default 1, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         return await self.read(DI1_FUNCTION)
 
     async def write_di1_function(self, value: DiFunction | int | str) -> None:
-        """DI1 terminal function (DI1 端子功能选择). Parameter P03-02, address 0x0302, u16, range 0..38, default 1, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         await self.write(DI1_FUNCTION, value)
 
     async def read_di1_logic(self) -> DiLogic | int:
-        """DI1 terminal logic (DI1 端子逻辑选择). Parameter P03-03, address 0x0303, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1, 6.1.2, 5.2.2."""
+        """Read DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         return await self.read(DI1_LOGIC)
 
     async def write_di1_logic(self, value: DiLogic | int | str) -> None:
-        """DI1 terminal logic (DI1 端子逻辑选择). Parameter P03-03, address 0x0303, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1, 6.1.2, 5.2.2."""
+        """Write DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         await self.write(DI1_LOGIC, value)
 
     async def read_di2_function(self) -> DiFunction | int:
-        """DI2 terminal function (DI2 端子功能选择). Parameter P03-04, address 0x0304, u16, range 0..38, default 14, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         return await self.read(DI2_FUNCTION)
 
     async def write_di2_function(self, value: DiFunction | int | str) -> None:
-        """DI2 terminal function (DI2 端子功能选择). Parameter P03-04, address 0x0304, u16, range 0..38, default 14, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         await self.write(DI2_FUNCTION, value)
 
     async def read_di2_logic(self) -> DiLogic | int:
-        """DI2 terminal logic (DI2 端子逻辑选择). Parameter P03-05, address 0x0305, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         return await self.read(DI2_LOGIC)
 
     async def write_di2_logic(self, value: DiLogic | int | str) -> None:
-        """DI2 terminal logic (DI2 端子逻辑选择). Parameter P03-05, address 0x0305, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         await self.write(DI2_LOGIC, value)
 
     async def read_di3_function(self) -> DiFunction | int:
-        """DI3 terminal function (DI3 端子功能选择). Parameter P03-06, address 0x0306, u16, range 0..38, default 15, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         return await self.read(DI3_FUNCTION)
 
     async def write_di3_function(self, value: DiFunction | int | str) -> None:
-        """DI3 terminal function (DI3 端子功能选择). Parameter P03-06, address 0x0306, u16, range 0..38, default 15, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         await self.write(DI3_FUNCTION, value)
 
     async def read_di3_logic(self) -> DiLogic | int:
-        """DI3 terminal logic (DI3 端子逻辑选择). Parameter P03-07, address 0x0307, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         return await self.read(DI3_LOGIC)
 
     async def write_di3_logic(self, value: DiLogic | int | str) -> None:
-        """DI3 terminal logic (DI3 端子逻辑选择). Parameter P03-07, address 0x0307, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         await self.write(DI3_LOGIC, value)
 
     async def read_di4_function(self) -> DiFunction | int:
-        """DI4 terminal function (DI4 端子功能选择). Parameter P03-08, address 0x0308, u16, range 0..38, default 2, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         return await self.read(DI4_FUNCTION)
 
     async def write_di4_function(self, value: DiFunction | int | str) -> None:
-        """DI4 terminal function (DI4 端子功能选择). Parameter P03-08, address 0x0308, u16, range 0..38, default 2, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         await self.write(DI4_FUNCTION, value)
 
     async def read_di4_logic(self) -> DiLogic | int:
-        """DI4 terminal logic (DI4 端子逻辑选择). Parameter P03-09, address 0x0309, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         return await self.read(DI4_LOGIC)
 
     async def write_di4_logic(self, value: DiLogic | int | str) -> None:
-        """DI4 terminal logic (DI4 端子逻辑选择). Parameter P03-09, address 0x0309, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         await self.write(DI4_LOGIC, value)
 
     async def read_di5_function(self) -> DiFunction | int:
-        """DI5 terminal function (DI5 端子功能选择). Parameter P03-10, address 0x030A, u16, range 0..38, default 26, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         return await self.read(DI5_FUNCTION)
 
     async def write_di5_function(self, value: DiFunction | int | str) -> None:
-        """DI5 terminal function (DI5 端子功能选择). Parameter P03-10, address 0x030A, u16, range 0..38, default 26, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         await self.write(DI5_FUNCTION, value)
 
     async def read_di5_logic(self) -> DiLogic | int:
-        """DI5 terminal logic (DI5 端子逻辑选择). Parameter P03-11, address 0x030B, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         return await self.read(DI5_LOGIC)
 
     async def write_di5_logic(self, value: DiLogic | int | str) -> None:
-        """DI5 terminal logic (DI5 端子逻辑选择). Parameter P03-11, address 0x030B, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         await self.write(DI5_LOGIC, value)
 
     async def read_di6_function(self) -> DiFunction | int:
-        """DI6 terminal function (DI6 端子功能选择). Parameter P03-12, address 0x030C, u16, range 0..38, default 34, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         return await self.read(DI6_FUNCTION)
 
     async def write_di6_function(self, value: DiFunction | int | str) -> None:
-        """DI6 terminal function (DI6 端子功能选择). Parameter P03-12, address 0x030C, u16, range 0..38, default 34, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         await self.write(DI6_FUNCTION, value)
 
     async def read_di6_logic(self) -> DiLogic | int:
-        """DI6 terminal logic (DI6 端子逻辑选择). Parameter P03-13, address 0x030D, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         return await self.read(DI6_LOGIC)
 
     async def write_di6_logic(self, value: DiLogic | int | str) -> None:
-        """DI6 terminal logic (DI6 端子逻辑选择). Parameter P03-13, address 0x030D, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         await self.write(DI6_LOGIC, value)
 
     async def read_di7_function(self) -> DiFunction | int:
-        """DI7 terminal function (DI7 端子功能选择). Parameter P03-14, address 0x030E, u16, range 0..38, default 31, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         return await self.read(DI7_FUNCTION)
 
     async def write_di7_function(self, value: DiFunction | int | str) -> None:
-        """DI7 terminal function (DI7 端子功能选择). Parameter P03-14, address 0x030E, u16, range 0..38, default 31, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         await self.write(DI7_FUNCTION, value)
 
     async def read_di7_logic(self) -> DiLogic | int:
-        """DI7 terminal logic (DI7 端子逻辑选择). Parameter P03-15, address 0x030F, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         return await self.read(DI7_LOGIC)
 
     async def write_di7_logic(self, value: DiLogic | int | str) -> None:
-        """DI7 terminal logic (DI7 端子逻辑选择). Parameter P03-15, address 0x030F, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         await self.write(DI7_LOGIC, value)
 
     async def read_di8_function(self) -> DiFunction | int:
-        """DI8 terminal function (DI8 端子功能选择). Parameter P03-16, address 0x0310, u16, range 0..38, default 32, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         return await self.read(DI8_FUNCTION)
 
     async def write_di8_function(self, value: DiFunction | int | str) -> None:
-        """DI8 terminal function (DI8 端子功能选择). Parameter P03-16, address 0x0310, u16, range 0..38, default 32, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         await self.write(DI8_FUNCTION, value)
 
     async def read_di8_logic(self) -> DiLogic | int:
-        """DI8 terminal logic (DI8 端子逻辑选择). Parameter P03-17, address 0x0311, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Read DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         return await self.read(DI8_LOGIC)
 
     async def write_di8_logic(self, value: DiLogic | int | str) -> None:
-        """DI8 terminal logic (DI8 端子逻辑选择). Parameter P03-17, address 0x0311, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
+        """Write DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         await self.write(DI8_LOGIC, value)
 
     async def read_poweron_di_functions_3(self) -> PoweronDiFunctions3Bits:
-        """DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配). Parameter P03-34, address 0x0322, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.33+n (Bit0 = FunIN.33 ... Bit15 = FunIN.48)."""
+        """Read POWERON_DI_FUNCTIONS_3: DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配); documented at the constant."""
         return await self.read(POWERON_DI_FUNCTIONS_3)
 
     async def write_poweron_di_functions_3(self, value: PoweronDiFunctions3Bits) -> None:
-        """DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配). Parameter P03-34, address 0x0322, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.33+n (Bit0 = FunIN.33 ... Bit15 = FunIN.48)."""
+        """Write POWERON_DI_FUNCTIONS_3: DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配); documented at the constant."""
         await self.write(POWERON_DI_FUNCTIONS_3, value)
 
     async def read_poweron_di_functions_4(self) -> int:
-        """DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配). Parameter P03-35, address 0x0323, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.49+n (Bit0 = FunIN.49 ... Bit15 = FunIN.64)."""
+        """Read POWERON_DI_FUNCTIONS_4: DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配); documented at the constant."""
         return await self.read(POWERON_DI_FUNCTIONS_4)
 
     async def write_poweron_di_functions_4(self, value: int) -> None:
-        """DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配). Parameter P03-35, address 0x0323, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.49+n (Bit0 = FunIN.49 ... Bit15 = FunIN.64)."""
+        """Write POWERON_DI_FUNCTIONS_4: DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配); documented at the constant."""
         await self.write(POWERON_DI_FUNCTIONS_4, value)
 
     async def read_ai1_offset(self) -> int:
-        """AI1 offset (AI1 偏置). Parameter P03-36, address 0x0324, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_OFFSET: AI1 offset (AI1 偏置); documented at the constant."""
         return await self.read(AI1_OFFSET)
 
     async def write_ai1_offset(self, value: int) -> None:
-        """AI1 offset (AI1 偏置). Parameter P03-36, address 0x0324, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_OFFSET: AI1 offset (AI1 偏置); documented at the constant."""
         await self.write(AI1_OFFSET, value)
 
     async def read_ai1_filter_time(self) -> float:
-        """AI1 input filter time constant (AI1 输入滤波时间常数). Parameter P03-37, address 0x0325, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_FILTER_TIME: AI1 input filter time constant (AI1 输入滤波时间常数); documented at the constant."""
         return await self.read(AI1_FILTER_TIME)
 
     async def write_ai1_filter_time(self, value: float) -> None:
-        """AI1 input filter time constant (AI1 输入滤波时间常数). Parameter P03-37, address 0x0325, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_FILTER_TIME: AI1 input filter time constant (AI1 输入滤波时间常数); documented at the constant."""
         await self.write(AI1_FILTER_TIME, value)
 
     async def read_ai1_median_filter_enable(self) -> int:
-        """AI1 input median filter enable (AI1输入中值滤波使能). Parameter P03-38, address 0x0326, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Read AI1_MEDIAN_FILTER_ENABLE: AI1 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         return await self.read(AI1_MEDIAN_FILTER_ENABLE)
 
     async def write_ai1_median_filter_enable(self, value: int) -> None:
-        """AI1 input median filter enable (AI1输入中值滤波使能). Parameter P03-38, address 0x0326, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Write AI1_MEDIAN_FILTER_ENABLE: AI1 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         await self.write(AI1_MEDIAN_FILTER_ENABLE, value)
 
     async def read_ai1_dead_zone(self) -> float:
-        """AI1 dead zone (AI1 死区). Parameter P03-39, address 0x0327, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_DEAD_ZONE: AI1 dead zone (AI1 死区); documented at the constant."""
         return await self.read(AI1_DEAD_ZONE)
 
     async def write_ai1_dead_zone(self, value: float) -> None:
-        """AI1 dead zone (AI1 死区). Parameter P03-39, address 0x0327, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_DEAD_ZONE: AI1 dead zone (AI1 死区); documented at the constant."""
         await self.write(AI1_DEAD_ZONE, value)
 
     async def read_ai1_zero_drift(self) -> float:
-        """AI1 zero drift (AI1 零漂). Parameter P03-40, address 0x0328, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI1_ZERO_DRIFT: AI1 zero drift (AI1 零漂); documented at the constant."""
         return await self.read(AI1_ZERO_DRIFT)
 
     async def write_ai1_zero_drift(self, value: float) -> None:
-        """AI1 zero drift (AI1 零漂). Parameter P03-40, address 0x0328, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI1_ZERO_DRIFT: AI1 zero drift (AI1 零漂); documented at the constant."""
         await self.write(AI1_ZERO_DRIFT, value)
 
     async def read_ai2_offset(self) -> int:
-        """AI2 offset (AI2 偏置). Parameter P03-41, address 0x0329, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_OFFSET: AI2 offset (AI2 偏置); documented at the constant."""
         return await self.read(AI2_OFFSET)
 
     async def write_ai2_offset(self, value: int) -> None:
-        """AI2 offset (AI2 偏置). Parameter P03-41, address 0x0329, s16, unit mV, range -5000..5000, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_OFFSET: AI2 offset (AI2 偏置); documented at the constant."""
         await self.write(AI2_OFFSET, value)
 
     async def read_ai2_filter_time(self) -> float:
-        """AI2 input filter time constant (AI2 输入滤波时间常数). Parameter P03-42, address 0x032A, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_FILTER_TIME: AI2 input filter time constant (AI2 输入滤波时间常数); documented at the constant."""
         return await self.read(AI2_FILTER_TIME)
 
     async def write_ai2_filter_time(self, value: float) -> None:
-        """AI2 input filter time constant (AI2 输入滤波时间常数). Parameter P03-42, address 0x032A, u16, unit ms, range 0..655.35, default 2, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_FILTER_TIME: AI2 input filter time constant (AI2 输入滤波时间常数); documented at the constant."""
         await self.write(AI2_FILTER_TIME, value)
 
     async def read_ai2_median_filter_enable(self) -> int:
-        """AI2 input median filter enable (AI1输入中值滤波使能). Parameter P03-43, address 0x032B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Read AI2_MEDIAN_FILTER_ENABLE: AI2 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         return await self.read(AI2_MEDIAN_FILTER_ENABLE)
 
     async def write_ai2_median_filter_enable(self, value: int) -> None:
-        """AI2 input median filter enable (AI1输入中值滤波使能). Parameter P03-43, address 0x032B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.3."""
+        """Write AI2_MEDIAN_FILTER_ENABLE: AI2 input median filter enable (AI1输入中值滤波使能); documented at the constant."""
         await self.write(AI2_MEDIAN_FILTER_ENABLE, value)
 
     async def read_ai2_dead_zone(self) -> float:
-        """AI2 dead zone (AI2 死区). Parameter P03-44, address 0x032C, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_DEAD_ZONE: AI2 dead zone (AI2 死区); documented at the constant."""
         return await self.read(AI2_DEAD_ZONE)
 
     async def write_ai2_dead_zone(self, value: float) -> None:
-        """AI2 dead zone (AI2 死区). Parameter P03-44, address 0x032C, u16, unit mV, range 0..1000, default 10, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_DEAD_ZONE: AI2 dead zone (AI2 死区); documented at the constant."""
         await self.write(AI2_DEAD_ZONE, value)
 
     async def read_ai2_zero_drift(self) -> float:
-        """AI2 zero drift (AI2 零漂). Parameter P03-45, address 0x032D, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read AI2_ZERO_DRIFT: AI2 zero drift (AI2 零漂); documented at the constant."""
         return await self.read(AI2_ZERO_DRIFT)
 
     async def write_ai2_zero_drift(self, value: float) -> None:
-        """AI2 zero drift (AI2 零漂). Parameter P03-45, address 0x032D, s16, unit mV, range -500..500, default 0, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write AI2_ZERO_DRIFT: AI2 zero drift (AI2 零漂); documented at the constant."""
         await self.write(AI2_ZERO_DRIFT, value)
 
     async def read_analog_10v_speed(self) -> int:
-        """Speed at 10 V analog input (模拟量 10V 对应速度值). Parameter P03-51, address 0x0333, u16, unit rpm, range 0..9000, default 3000, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read ANALOG_10V_SPEED: Speed at 10 V analog input (模拟量 10V 对应速度值); documented at the constant."""
         return await self.read(ANALOG_10V_SPEED)
 
     async def write_analog_10v_speed(self, value: int) -> None:
-        """Speed at 10 V analog input (模拟量 10V 对应速度值). Parameter P03-51, address 0x0333, u16, unit rpm, range 0..9000, default 3000, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write ANALOG_10V_SPEED: Speed at 10 V analog input (模拟量 10V 对应速度值); documented at the constant."""
         await self.write(ANALOG_10V_SPEED, value)
 
     async def read_analog_10v_torque(self) -> float:
-        """Torque at 10 V analog input (模拟量 10V 对应转矩值). Parameter P03-52, address 0x0334, u16, unit x rated torque, range 1..8, default 1, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Read ANALOG_10V_TORQUE: Torque at 10 V analog input (模拟量 10V 对应转矩值); documented at the constant."""
         return await self.read(ANALOG_10V_TORQUE)
 
     async def write_analog_10v_torque(self, value: float) -> None:
-        """Torque at 10 V analog input (模拟量 10V 对应转矩值). Parameter P03-52, address 0x0334, u16, unit x rated torque, range 1..8, default 1, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
+        """Write ANALOG_10V_TORQUE: Torque at 10 V analog input (模拟量 10V 对应转矩值); documented at the constant."""
         await self.write(ANALOG_10V_TORQUE, value)
 
     async def read_do1_function(self) -> DoFunction | int:
-        """DO1 terminal function (DO1 端子功能选择). Parameter P04-00, address 0x0400, u16, range 0..20, default 1, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         return await self.read(DO1_FUNCTION)
 
     async def write_do1_function(self, value: DoFunction | int | str) -> None:
-        """DO1 terminal function (DO1 端子功能选择). Parameter P04-00, address 0x0400, u16, range 0..20, default 1, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         await self.write(DO1_FUNCTION, value)
 
     async def read_do1_logic(self) -> DoLogic | int:
-        """DO1 terminal logic (DO1 端子逻辑选择). Parameter P04-01, address 0x0401, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         return await self.read(DO1_LOGIC)
 
     async def write_do1_logic(self, value: DoLogic | int | str) -> None:
-        """DO1 terminal logic (DO1 端子逻辑选择). Parameter P04-01, address 0x0401, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         await self.write(DO1_LOGIC, value)
 
     async def read_do2_function(self) -> DoFunction | int:
-        """DO2 terminal function (DO2 端子功能选择). Parameter P04-02, address 0x0402, u16, range 0..20, default 5, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         return await self.read(DO2_FUNCTION)
 
     async def write_do2_function(self, value: DoFunction | int | str) -> None:
-        """DO2 terminal function (DO2 端子功能选择). Parameter P04-02, address 0x0402, u16, range 0..20, default 5, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         await self.write(DO2_FUNCTION, value)
 
     async def read_do2_logic(self) -> DoLogic | int:
-        """DO2 terminal logic (DO2 端子逻辑选择). Parameter P04-03, address 0x0403, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         return await self.read(DO2_LOGIC)
 
     async def write_do2_logic(self, value: DoLogic | int | str) -> None:
-        """DO2 terminal logic (DO2 端子逻辑选择). Parameter P04-03, address 0x0403, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         await self.write(DO2_LOGIC, value)
 
     async def read_do3_function(self) -> DoFunction | int:
-        """DO3 terminal function (DO3 端子功能选择). Parameter P04-04, address 0x0404, u16, range 0..20, default 3, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         return await self.read(DO3_FUNCTION)
 
     async def write_do3_function(self, value: DoFunction | int | str) -> None:
-        """DO3 terminal function (DO3 端子功能选择). Parameter P04-04, address 0x0404, u16, range 0..20, default 3, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         await self.write(DO3_FUNCTION, value)
 
     async def read_do3_logic(self) -> DoLogic | int:
-        """DO3 terminal logic (DO3 端子逻辑选择). Parameter P04-05, address 0x0405, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         return await self.read(DO3_LOGIC)
 
     async def write_do3_logic(self, value: DoLogic | int | str) -> None:
-        """DO3 terminal logic (DO3 端子逻辑选择). Parameter P04-05, address 0x0405, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         await self.write(DO3_LOGIC, value)
 
     async def read_do4_function(self) -> DoFunction | int:
-        """DO4 terminal function (DO4 端子功能选择). Parameter P04-06, address 0x0406, u16, range 0..20, default 11, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         return await self.read(DO4_FUNCTION)
 
     async def write_do4_function(self, value: DoFunction | int | str) -> None:
-        """DO4 terminal function (DO4 端子功能选择). Parameter P04-06, address 0x0406, u16, range 0..20, default 11, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         await self.write(DO4_FUNCTION, value)
 
     async def read_do4_logic(self) -> DoLogic | int:
-        """DO4 terminal logic (DO4 端子逻辑选择). Parameter P04-07, address 0x0407, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         return await self.read(DO4_LOGIC)
 
     async def write_do4_logic(self, value: DoLogic | int | str) -> None:
-        """DO4 terminal logic (DO4 端子逻辑选择). Parameter P04-07, address 0x0407, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         await self.write(DO4_LOGIC, value)
 
     async def read_do5_function(self) -> DoFunction | int:
-        """DO5 terminal function (DO5 端子功能选择). Parameter P04-08, address 0x0408, u16, range 0..20, default 16, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         return await self.read(DO5_FUNCTION)
 
     async def write_do5_function(self, value: DoFunction | int | str) -> None:
-        """DO5 terminal function (DO5 端子功能选择). Parameter P04-08, address 0x0408, u16, range 0..20, default 16, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         await self.write(DO5_FUNCTION, value)
 
     async def read_do5_logic(self) -> DoLogic | int:
-        """DO5 terminal logic (DO5 端子逻辑选择). Parameter P04-09, address 0x0409, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         return await self.read(DO5_LOGIC)
 
     async def write_do5_logic(self, value: DoLogic | int | str) -> None:
-        """DO5 terminal logic (DO5 端子逻辑选择). Parameter P04-09, address 0x0409, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         await self.write(DO5_LOGIC, value)
 
     async def read_do6_function(self) -> DoFunction | int:
-        """DO6 terminal function (DO6端子功能选择). Parameter P04-10, address 0x040A, u16, range 0..20, default 9, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         return await self.read(DO6_FUNCTION)
 
     async def write_do6_function(self, value: DoFunction | int | str) -> None:
-        """DO6 terminal function (DO6端子功能选择). Parameter P04-10, address 0x040A, u16, range 0..20, default 9, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         await self.write(DO6_FUNCTION, value)
 
     async def read_do6_logic(self) -> DoLogic | int:
-        """DO6 terminal logic (DO6 端子逻辑选择). Parameter P04-11, address 0x040B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Read DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         return await self.read(DO6_LOGIC)
 
     async def write_do6_logic(self, value: DoLogic | int | str) -> None:
-        """DO6 terminal logic (DO6 端子逻辑选择). Parameter P04-11, address 0x040B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
+        """Write DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         await self.write(DO6_LOGIC, value)
 
     async def read_position_command_source(self) -> PositionCommandSource | int:
-        """Position command source (位置指令来源). Parameter P05-00, address 0x0500, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5, 6.1.2, 6.1.3."""
+        """Read POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         return await self.read(POSITION_COMMAND_SOURCE)
 
     async def write_position_command_source(self, value: PositionCommandSource | int | str) -> None:
-        """Position command source (位置指令来源). Parameter P05-00, address 0x0500, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5, 6.1.2, 6.1.3."""
+        """Write POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         await self.write(POSITION_COMMAND_SOURCE, value)
 
     async def read_pulses_per_revolution(self) -> int:
-        """Command pulses per motor revolution (电机每旋转1圈脉冲数). Parameter P05-02, address 0x0502, u32, unit P/r, range 0..1048576, default 10000, takes effect after restart. Manual section 7.5, 6.1.2, 5.1.5. Default 10000. To set 0 the leading 1 must be changed to 0 (panel, see 5.1.5). The electronic gear ratio is used only when P05-02 = 0."""
+        """Read PULSES_PER_REVOLUTION: Command pulses per motor revolution (电机每旋转1圈脉冲数); documented at the constant."""
         return await self.read(PULSES_PER_REVOLUTION)
 
     async def write_pulses_per_revolution(self, value: int) -> None:
-        """Command pulses per motor revolution (电机每旋转1圈脉冲数). Parameter P05-02, address 0x0502, u32, unit P/r, range 0..1048576, default 10000, takes effect after restart. Manual section 7.5, 6.1.2, 5.1.5. Default 10000. To set 0 the leading 1 must be changed to 0 (panel, see 5.1.5). The electronic gear ratio is used only when P05-02 = 0."""
+        """Write PULSES_PER_REVOLUTION: Command pulses per motor revolution (电机每旋转1圈脉冲数); documented at the constant."""
         await self.write(PULSES_PER_REVOLUTION, value)
 
     async def read_position_lowpass_filter_time(self) -> float:
-        """First-order low-pass filter time constant (一阶低通滤波时间常数). Parameter P05-04, address 0x0504, u16, unit ms, range 0..6553.5, default 0, takes effect immediately. Manual section 7.5."""
+        """Read POSITION_LOWPASS_FILTER_TIME: First-order low-pass filter time constant (一阶低通滤波时间常数); documented at the constant."""
         return await self.read(POSITION_LOWPASS_FILTER_TIME)
 
     async def write_position_lowpass_filter_time(self, value: float) -> None:
-        """First-order low-pass filter time constant (一阶低通滤波时间常数). Parameter P05-04, address 0x0504, u16, unit ms, range 0..6553.5, default 0, takes effect immediately. Manual section 7.5."""
+        """Write POSITION_LOWPASS_FILTER_TIME: First-order low-pass filter time constant (一阶低通滤波时间常数); documented at the constant."""
         await self.write(POSITION_LOWPASS_FILTER_TIME, value)
 
     async def read_step_amount(self) -> int:
-        """Step amount (步进量). Parameter P05-05, address 0x0505, s16, unit command unit, range -9999..9999, default 50, takes effect immediately. Manual section 7.5."""
+        """Read STEP_AMOUNT: Step amount (步进量); documented at the constant."""
         return await self.read(STEP_AMOUNT)
 
     async def write_step_amount(self, value: int) -> None:
-        """Step amount (步进量). Parameter P05-05, address 0x0505, s16, unit command unit, range -9999..9999, default 50, takes effect immediately. Manual section 7.5."""
+        """Write STEP_AMOUNT: Step amount (步进量); documented at the constant."""
         await self.write(STEP_AMOUNT, value)
 
     async def read_position_average_filter_time(self) -> float:
-        """Average filter time constant (平均值滤波时间常数). Parameter P05-06, address 0x0506, u16, unit ms, range 0..128, default 0, takes effect immediately. Manual section 7.5."""
+        """Read POSITION_AVERAGE_FILTER_TIME: Average filter time constant (平均值滤波时间常数); documented at the constant."""
         return await self.read(POSITION_AVERAGE_FILTER_TIME)
 
     async def write_position_average_filter_time(self, value: float) -> None:
-        """Average filter time constant (平均值滤波时间常数). Parameter P05-06, address 0x0506, u16, unit ms, range 0..128, default 0, takes effect immediately. Manual section 7.5."""
+        """Write POSITION_AVERAGE_FILTER_TIME: Average filter time constant (平均值滤波时间常数); documented at the constant."""
         await self.write(POSITION_AVERAGE_FILTER_TIME, value)
 
     async def read_gear1_numerator(self) -> int:
-        """Electronic gear ratio 1 numerator (电子齿数比 1(分子)). Parameter P05-07, address 0x0507, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Read GEAR1_NUMERATOR: Electronic gear ratio 1 numerator (电子齿数比 1(分子)); documented at the constant."""
         return await self.read(GEAR1_NUMERATOR)
 
     async def write_gear1_numerator(self, value: int) -> None:
-        """Electronic gear ratio 1 numerator (电子齿数比 1(分子)). Parameter P05-07, address 0x0507, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Write GEAR1_NUMERATOR: Electronic gear ratio 1 numerator (电子齿数比 1(分子)); documented at the constant."""
         await self.write(GEAR1_NUMERATOR, value)
 
     async def read_gear1_denominator(self) -> int:
-        """Electronic gear ratio 1 denominator (电子齿数比 1(分母)). Parameter P05-09, address 0x0509, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Read GEAR1_DENOMINATOR: Electronic gear ratio 1 denominator (电子齿数比 1(分母)); documented at the constant."""
         return await self.read(GEAR1_DENOMINATOR)
 
     async def write_gear1_denominator(self, value: int) -> None:
-        """Electronic gear ratio 1 denominator (电子齿数比 1(分母)). Parameter P05-09, address 0x0509, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5, 6.1.2."""
+        """Write GEAR1_DENOMINATOR: Electronic gear ratio 1 denominator (电子齿数比 1(分母)); documented at the constant."""
         await self.write(GEAR1_DENOMINATOR, value)
 
     async def read_gear2_numerator(self) -> int:
-        """Electronic gear ratio 2 numerator (电子齿数比 2(分子)). Parameter P05-11, address 0x050B, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5."""
+        """Read GEAR2_NUMERATOR: Electronic gear ratio 2 numerator (电子齿数比 2(分子)); documented at the constant."""
         return await self.read(GEAR2_NUMERATOR)
 
     async def write_gear2_numerator(self, value: int) -> None:
-        """Electronic gear ratio 2 numerator (电子齿数比 2(分子)). Parameter P05-11, address 0x050B, u32, range 1..1073741824, default 1048576, takes effect immediately. Manual section 7.5."""
+        """Write GEAR2_NUMERATOR: Electronic gear ratio 2 numerator (电子齿数比 2(分子)); documented at the constant."""
         await self.write(GEAR2_NUMERATOR, value)
 
     async def read_gear2_denominator(self) -> int:
-        """Electronic gear ratio 2 denominator (电子齿数比 2(分母)). Parameter P05-13, address 0x050D, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5."""
+        """Read GEAR2_DENOMINATOR: Electronic gear ratio 2 denominator (电子齿数比 2(分母)); documented at the constant."""
         return await self.read(GEAR2_DENOMINATOR)
 
     async def write_gear2_denominator(self, value: int) -> None:
-        """Electronic gear ratio 2 denominator (电子齿数比 2(分母)). Parameter P05-13, address 0x050D, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5."""
+        """Write GEAR2_DENOMINATOR: Electronic gear ratio 2 denominator (电子齿数比 2(分母)); documented at the constant."""
         await self.write(GEAR2_DENOMINATOR, value)
 
     async def read_pulse_input_form(self) -> PulseInputForm | int:
-        """Pulse command form (脉冲指令形态). Parameter P05-15, address 0x050F, u16, range 0..4, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Read PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         return await self.read(PULSE_INPUT_FORM)
 
     async def write_pulse_input_form(self, value: PulseInputForm | int | str) -> None:
-        """Pulse command form (脉冲指令形态). Parameter P05-15, address 0x050F, u16, range 0..4, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Write PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         await self.write(PULSE_INPUT_FORM, value)
 
     async def read_position_clear_action(self) -> PositionClearAction | int:
-        """Position deviation clear action (清除动作选择). Parameter P05-16, address 0x0510, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Read POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         return await self.read(POSITION_CLEAR_ACTION)
 
     async def write_position_clear_action(self, value: PositionClearAction | int | str) -> None:
-        """Position deviation clear action (清除动作选择). Parameter P05-16, address 0x0510, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Write POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         await self.write(POSITION_CLEAR_ACTION, value)
 
     async def read_encoder_divided_pulses(self) -> int:
-        """Encoder divided output pulses per revolution (编码器分频脉冲数). Parameter P05-17, address 0x0511, u16, unit P/r, range 35..32767, default 2500, takes effect after restart. Manual section 7.5, 6.1.2, 4.3.1."""
+        """Read ENCODER_DIVIDED_PULSES: Encoder divided output pulses per revolution (编码器分频脉冲数); documented at the constant."""
         return await self.read(ENCODER_DIVIDED_PULSES)
 
     async def write_encoder_divided_pulses(self, value: int) -> None:
-        """Encoder divided output pulses per revolution (编码器分频脉冲数). Parameter P05-17, address 0x0511, u16, unit P/r, range 35..32767, default 2500, takes effect after restart. Manual section 7.5, 6.1.2, 4.3.1."""
+        """Write ENCODER_DIVIDED_PULSES: Encoder divided output pulses per revolution (编码器分频脉冲数); documented at the constant."""
         await self.write(ENCODER_DIVIDED_PULSES, value)
 
     async def read_speed_feedforward_select(self) -> SpeedFeedforwardSelect | int:
-        """Speed feedforward select (速度前馈控制选择). Parameter P05-19, address 0x0513, u16, range 0..3, default 1, takes effect immediately. Manual section 7.5."""
+        """Read SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         return await self.read(SPEED_FEEDFORWARD_SELECT)
 
     async def write_speed_feedforward_select(self, value: SpeedFeedforwardSelect | int | str) -> None:
-        """Speed feedforward select (速度前馈控制选择). Parameter P05-19, address 0x0513, u16, range 0..3, default 1, takes effect immediately. Manual section 7.5."""
+        """Write SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         await self.write(SPEED_FEEDFORWARD_SELECT, value)
 
     async def read_coin_output_condition(self) -> CoinOutputCondition | int:
-        """Positioning complete output condition (定位完成输出条件). Parameter P05-20, address 0x0514, u16, range 0..3, default 0, takes effect immediately. Manual section 7.5."""
+        """Read COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         return await self.read(COIN_OUTPUT_CONDITION)
 
     async def write_coin_output_condition(self, value: CoinOutputCondition | int | str) -> None:
-        """Positioning complete output condition (定位完成输出条件). Parameter P05-20, address 0x0514, u16, range 0..3, default 0, takes effect immediately. Manual section 7.5."""
+        """Write COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         await self.write(COIN_OUTPUT_CONDITION, value)
 
     async def read_coin_threshold(self) -> int:
-        """Positioning complete threshold (定位完成阈值). Parameter P05-21, address 0x0515, u16, unit encoder unit, range 1..65535, default 734, takes effect immediately. Manual section 7.5."""
+        """Read COIN_THRESHOLD: Positioning complete threshold (定位完成阈值); documented at the constant."""
         return await self.read(COIN_THRESHOLD)
 
     async def write_coin_threshold(self, value: int) -> None:
-        """Positioning complete threshold (定位完成阈值). Parameter P05-21, address 0x0515, u16, unit encoder unit, range 1..65535, default 734, takes effect immediately. Manual section 7.5."""
+        """Write COIN_THRESHOLD: Positioning complete threshold (定位完成阈值); documented at the constant."""
         await self.write(COIN_THRESHOLD, value)
 
     async def read_near_threshold(self) -> int:
-        """Positioning near threshold (定位接近阈值). Parameter P05-22, address 0x0516, u16, unit encoder unit, range 1..65535, default 65535, takes effect immediately. Manual section 7.5."""
+        """Read NEAR_THRESHOLD: Positioning near threshold (定位接近阈值); documented at the constant."""
         return await self.read(NEAR_THRESHOLD)
 
     async def write_near_threshold(self, value: int) -> None:
-        """Positioning near threshold (定位接近阈值). Parameter P05-22, address 0x0516, u16, unit encoder unit, range 1..65535, default 65535, takes effect immediately. Manual section 7.5."""
+        """Write NEAR_THRESHOLD: Positioning near threshold (定位接近阈值); documented at the constant."""
         await self.write(NEAR_THRESHOLD, value)
 
     async def read_homing_enable(self) -> HomingEnable | int:
-        """Homing enable control (原点复归使能控制). Parameter P05-30, address 0x051E, u16, range 0..8, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         return await self.read(HOMING_ENABLE)
 
     async def write_homing_enable(self, value: HomingEnable | int | str) -> None:
-        """Homing enable control (原点复归使能控制). Parameter P05-30, address 0x051E, u16, range 0..8, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         await self.write(HOMING_ENABLE, value)
 
     async def read_homing_mode(self) -> HomingMode | int:
-        """Homing mode (原点复归模式). Parameter P05-31, address 0x051F, u16, range 0..9, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         return await self.read(HOMING_MODE)
 
     async def write_homing_mode(self, value: HomingMode | int | str) -> None:
-        """Homing mode (原点复归模式). Parameter P05-31, address 0x051F, u16, range 0..9, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         await self.write(HOMING_MODE, value)
 
     async def read_homing_high_speed(self) -> int:
-        """High speed searching the home switch (高速搜索原点开关信号的速度). Parameter P05-32, address 0x0520, u16, unit rpm, range 0..3000, default 100, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_HIGH_SPEED: High speed searching the home switch (高速搜索原点开关信号的速度); documented at the constant."""
         return await self.read(HOMING_HIGH_SPEED)
 
     async def write_homing_high_speed(self, value: int) -> None:
-        """High speed searching the home switch (高速搜索原点开关信号的速度). Parameter P05-32, address 0x0520, u16, unit rpm, range 0..3000, default 100, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_HIGH_SPEED: High speed searching the home switch (高速搜索原点开关信号的速度); documented at the constant."""
         await self.write(HOMING_HIGH_SPEED, value)
 
     async def read_homing_low_speed(self) -> int:
-        """Low speed searching the home switch (低速搜索原点开关信号的速度). Parameter P05-33, address 0x0521, u16, unit rpm, range 0..1000, default 10, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_LOW_SPEED: Low speed searching the home switch (低速搜索原点开关信号的速度); documented at the constant."""
         return await self.read(HOMING_LOW_SPEED)
 
     async def write_homing_low_speed(self, value: int) -> None:
-        """Low speed searching the home switch (低速搜索原点开关信号的速度). Parameter P05-33, address 0x0521, u16, unit rpm, range 0..1000, default 10, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_LOW_SPEED: Low speed searching the home switch (低速搜索原点开关信号的速度); documented at the constant."""
         await self.write(HOMING_LOW_SPEED, value)
 
     async def read_homing_accel_time(self) -> int:
-        """Acceleration/deceleration time while homing (搜索原点时的加减速时间). Parameter P05-34, address 0x0522, u16, unit ms, range 0..1000, default 1000, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_ACCEL_TIME: Acceleration/deceleration time while homing (搜索原点时的加减速时间); documented at the constant."""
         return await self.read(HOMING_ACCEL_TIME)
 
     async def write_homing_accel_time(self, value: int) -> None:
-        """Acceleration/deceleration time while homing (搜索原点时的加减速时间). Parameter P05-34, address 0x0522, u16, unit ms, range 0..1000, default 1000, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_ACCEL_TIME: Acceleration/deceleration time while homing (搜索原点时的加减速时间); documented at the constant."""
         await self.write(HOMING_ACCEL_TIME, value)
 
     async def read_homing_time_limit(self) -> int:
-        """Homing time limit (限定查找原点的时间). Parameter P05-35, address 0x0523, u16, range 0..65535, default 10000, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_TIME_LIMIT: Homing time limit (限定查找原点的时间); documented at the constant."""
         return await self.read(HOMING_TIME_LIMIT)
 
     async def write_homing_time_limit(self, value: int) -> None:
-        """Homing time limit (限定查找原点的时间). Parameter P05-35, address 0x0523, u16, range 0..65535, default 10000, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_TIME_LIMIT: Homing time limit (限定查找原点的时间); documented at the constant."""
         await self.write(HOMING_TIME_LIMIT, value)
 
     async def read_home_offset(self) -> int:
-        """Mechanical home offset (机械原点偏移量). Parameter P05-36, address 0x0524, s32, unit command unit, range -1073741824..1073741824, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOME_OFFSET: Mechanical home offset (机械原点偏移量); documented at the constant."""
         return await self.read(HOME_OFFSET)
 
     async def write_home_offset(self, value: int) -> None:
-        """Mechanical home offset (机械原点偏移量). Parameter P05-36, address 0x0524, s32, unit command unit, range -1073741824..1073741824, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOME_OFFSET: Mechanical home offset (机械原点偏移量); documented at the constant."""
         await self.write(HOME_OFFSET, value)
 
     async def read_pulse_output_source(self) -> PulseOutputSource | int:
-        """Servo pulse output source (伺服脉冲输出来源选择). Parameter P05-38, address 0x0526, u16, range 0..2, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Read PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         return await self.read(PULSE_OUTPUT_SOURCE)
 
     async def write_pulse_output_source(self, value: PulseOutputSource | int | str) -> None:
-        """Servo pulse output source (伺服脉冲输出来源选择). Parameter P05-38, address 0x0526, u16, range 0..2, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Write PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         await self.write(PULSE_OUTPUT_SOURCE, value)
 
     async def read_gear_switch_condition(self) -> GearSwitchCondition | int:
-        """Electronic gear switching condition (电子齿轮比切换条件). Parameter P05-39, address 0x0527, u16, range 0..1, default 0, takes effect immediately. Manual section 7.5."""
+        """Read GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         return await self.read(GEAR_SWITCH_CONDITION)
 
     async def write_gear_switch_condition(self, value: GearSwitchCondition | int | str) -> None:
-        """Electronic gear switching condition (电子齿轮比切换条件). Parameter P05-39, address 0x0527, u16, range 0..1, default 0, takes effect immediately. Manual section 7.5."""
+        """Write GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         await self.write(GEAR_SWITCH_CONDITION, value)
 
     async def read_pulse_edge(self) -> PulseEdge | int:
-        """Position pulse edge (位置脉冲沿选择). Parameter P05-43, address 0x052B, u16, range 0..1, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Read PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         return await self.read(PULSE_EDGE)
 
     async def write_pulse_edge(self, value: PulseEdge | int | str) -> None:
-        """Position pulse edge (位置脉冲沿选择). Parameter P05-43, address 0x052B, u16, range 0..1, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
+        """Write PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         await self.write(PULSE_EDGE, value)
 
     async def read_coin_window_time(self) -> int:
-        """Positioning complete window time (定位完成窗口时间). Parameter P05-59, address 0x053B, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Read COIN_WINDOW_TIME: Positioning complete window time (定位完成窗口时间); documented at the constant."""
         return await self.read(COIN_WINDOW_TIME)
 
     async def write_coin_window_time(self, value: int) -> None:
-        """Positioning complete window time (定位完成窗口时间). Parameter P05-59, address 0x053B, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Write COIN_WINDOW_TIME: Positioning complete window time (定位完成窗口时间); documented at the constant."""
         await self.write(COIN_WINDOW_TIME, value)
 
     async def read_coin_hold_time(self) -> int:
-        """Positioning complete hold time (定位完成保持时间). Parameter P05-60, address 0x053C, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Read COIN_HOLD_TIME: Positioning complete hold time (定位完成保持时间); documented at the constant."""
         return await self.read(COIN_HOLD_TIME)
 
     async def write_coin_hold_time(self, value: int) -> None:
-        """Positioning complete hold time (定位完成保持时间). Parameter P05-60, address 0x053C, u16, unit ms, range 0..30000, default 1, takes effect immediately. Manual section 7.5."""
+        """Write COIN_HOLD_TIME: Positioning complete hold time (定位完成保持时间); documented at the constant."""
         await self.write(COIN_HOLD_TIME, value)
 
     async def read_homing_time_unit(self) -> int:
-        """Homing time limit unit select (限定查找原点的时间单位选择). Parameter P05-61, address 0x053D, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Read HOMING_TIME_UNIT: Homing time limit unit select (限定查找原点的时间单位选择); documented at the constant."""
         return await self.read(HOMING_TIME_UNIT)
 
     async def write_homing_time_unit(self, value: int) -> None:
-        """Homing time limit unit select (限定查找原点的时间单位选择). Parameter P05-61, address 0x053D, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
+        """Write HOMING_TIME_UNIT: Homing time limit unit select (限定查找原点的时间单位选择); documented at the constant."""
         await self.write(HOMING_TIME_UNIT, value)
 
     async def read_speed_a_source(self) -> SpeedASource | int:
-        """Main speed command A source (主速度指令 A 来源). Parameter P06-00, address 0x0600, u16, range 0..2, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         return await self.read(SPEED_A_SOURCE)
 
     async def write_speed_a_source(self, value: SpeedASource | int | str) -> None:
-        """Main speed command A source (主速度指令 A 来源). Parameter P06-00, address 0x0600, u16, range 0..2, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         await self.write(SPEED_A_SOURCE, value)
 
     async def read_speed_b_source(self) -> SpeedBSource | int:
-        """Auxiliary speed command B source (辅助速度指令 B 来源). Parameter P06-01, address 0x0601, u16, range 0..5, default 1, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         return await self.read(SPEED_B_SOURCE)
 
     async def write_speed_b_source(self, value: SpeedBSource | int | str) -> None:
-        """Auxiliary speed command B source (辅助速度指令 B 来源). Parameter P06-01, address 0x0601, u16, range 0..5, default 1, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         await self.write(SPEED_B_SOURCE, value)
 
     async def read_speed_command_select(self) -> SpeedCommandSelect | int:
-        """Speed command select (速度指令选择). Parameter P06-02, address 0x0602, u16, range 0..3, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         return await self.read(SPEED_COMMAND_SELECT)
 
     async def write_speed_command_select(self, value: SpeedCommandSelect | int | str) -> None:
-        """Speed command select (速度指令选择). Parameter P06-02, address 0x0602, u16, range 0..3, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         await self.write(SPEED_COMMAND_SELECT, value)
 
     async def read_speed_keypad_setting(self) -> int:
-        """Speed command keypad setting (速度指令键盘设定值). Parameter P06-03, address 0x0603, s16, unit rpm, range -6000..6000, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_KEYPAD_SETTING: Speed command keypad setting (速度指令键盘设定值); documented at the constant."""
         return await self.read(SPEED_KEYPAD_SETTING)
 
     async def write_speed_keypad_setting(self, value: int) -> None:
-        """Speed command keypad setting (速度指令键盘设定值). Parameter P06-03, address 0x0603, s16, unit rpm, range -6000..6000, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_KEYPAD_SETTING: Speed command keypad setting (速度指令键盘设定值); documented at the constant."""
         await self.write(SPEED_KEYPAD_SETTING, value)
 
     async def read_jog_speed(self) -> int:
-        """Jog speed setting (点动速度设定值). Parameter P06-04, address 0x0604, u16, unit rpm, range 0..6000, default 100, takes effect immediately. Manual section 7.6."""
+        """Read JOG_SPEED: Jog speed setting (点动速度设定值); documented at the constant."""
         return await self.read(JOG_SPEED)
 
     async def write_jog_speed(self, value: int) -> None:
-        """Jog speed setting (点动速度设定值). Parameter P06-04, address 0x0604, u16, unit rpm, range 0..6000, default 100, takes effect immediately. Manual section 7.6."""
+        """Write JOG_SPEED: Jog speed setting (点动速度设定值); documented at the constant."""
         await self.write(JOG_SPEED, value)
 
     async def read_speed_accel_time(self) -> int:
-        """Speed command acceleration ramp time constant (速度指令加速斜坡时间常数). Parameter P06-05, address 0x0605, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_ACCEL_TIME: Speed command acceleration ramp time constant (速度指令加速斜坡时间常数); documented at the constant."""
         return await self.read(SPEED_ACCEL_TIME)
 
     async def write_speed_accel_time(self, value: int) -> None:
-        """Speed command acceleration ramp time constant (速度指令加速斜坡时间常数). Parameter P06-05, address 0x0605, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_ACCEL_TIME: Speed command acceleration ramp time constant (速度指令加速斜坡时间常数); documented at the constant."""
         await self.write(SPEED_ACCEL_TIME, value)
 
     async def read_speed_decel_time(self) -> int:
-        """Speed command deceleration ramp time constant (速度指令减速斜坡时间常数). Parameter P06-06, address 0x0606, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_DECEL_TIME: Speed command deceleration ramp time constant (速度指令减速斜坡时间常数); documented at the constant."""
         return await self.read(SPEED_DECEL_TIME)
 
     async def write_speed_decel_time(self, value: int) -> None:
-        """Speed command deceleration ramp time constant (速度指令减速斜坡时间常数). Parameter P06-06, address 0x0606, u16, unit ms, range 0..65535, default 200, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_DECEL_TIME: Speed command deceleration ramp time constant (速度指令减速斜坡时间常数); documented at the constant."""
         await self.write(SPEED_DECEL_TIME, value)
 
     async def read_max_speed_threshold(self) -> int:
-        """Maximum speed threshold (最大转速阈值). Parameter P06-07, address 0x0607, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read MAX_SPEED_THRESHOLD: Maximum speed threshold (最大转速阈值); documented at the constant."""
         return await self.read(MAX_SPEED_THRESHOLD)
 
     async def write_max_speed_threshold(self, value: int) -> None:
-        """Maximum speed threshold (最大转速阈值). Parameter P06-07, address 0x0607, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write MAX_SPEED_THRESHOLD: Maximum speed threshold (最大转速阈值); documented at the constant."""
         await self.write(MAX_SPEED_THRESHOLD, value)
 
     async def read_forward_speed_threshold(self) -> int:
-        """Forward speed threshold (正向速度阈值). Parameter P06-08, address 0x0608, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read FORWARD_SPEED_THRESHOLD: Forward speed threshold (正向速度阈值); documented at the constant."""
         return await self.read(FORWARD_SPEED_THRESHOLD)
 
     async def write_forward_speed_threshold(self, value: int) -> None:
-        """Forward speed threshold (正向速度阈值). Parameter P06-08, address 0x0608, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write FORWARD_SPEED_THRESHOLD: Forward speed threshold (正向速度阈值); documented at the constant."""
         await self.write(FORWARD_SPEED_THRESHOLD, value)
 
     async def read_reverse_speed_threshold(self) -> int:
-        """Reverse speed threshold (反向速度阈值). Parameter P06-09, address 0x0609, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read REVERSE_SPEED_THRESHOLD: Reverse speed threshold (反向速度阈值); documented at the constant."""
         return await self.read(REVERSE_SPEED_THRESHOLD)
 
     async def write_reverse_speed_threshold(self, value: int) -> None:
-        """Reverse speed threshold (反向速度阈值). Parameter P06-09, address 0x0609, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write REVERSE_SPEED_THRESHOLD: Reverse speed threshold (反向速度阈值); documented at the constant."""
         await self.write(REVERSE_SPEED_THRESHOLD, value)
 
     async def read_torque_feedforward_select(self) -> TorqueFeedforwardSelect | int:
-        """Torque feedforward select (转矩前馈控制选择). Parameter P06-11, address 0x060B, u16, range 0..1, default 1, takes effect immediately. Manual section 7.6."""
+        """Read TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         return await self.read(TORQUE_FEEDFORWARD_SELECT)
 
     async def write_torque_feedforward_select(self, value: TorqueFeedforwardSelect | int | str) -> None:
-        """Torque feedforward select (转矩前馈控制选择). Parameter P06-11, address 0x060B, u16, range 0..1, default 1, takes effect immediately. Manual section 7.6."""
+        """Write TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         await self.write(TORQUE_FEEDFORWARD_SELECT, value)
 
     async def read_zero_clamp_speed_threshold(self) -> int:
-        """Zero clamp speed threshold (零位固定转速阈值). Parameter P06-15, address 0x060F, u16, unit rpm, range 0..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read ZERO_CLAMP_SPEED_THRESHOLD: Zero clamp speed threshold (零位固定转速阈值); documented at the constant."""
         return await self.read(ZERO_CLAMP_SPEED_THRESHOLD)
 
     async def write_zero_clamp_speed_threshold(self, value: int) -> None:
-        """Zero clamp speed threshold (零位固定转速阈值). Parameter P06-15, address 0x060F, u16, unit rpm, range 0..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write ZERO_CLAMP_SPEED_THRESHOLD: Zero clamp speed threshold (零位固定转速阈值); documented at the constant."""
         await self.write(ZERO_CLAMP_SPEED_THRESHOLD, value)
 
     async def read_rotation_detect_threshold(self) -> int:
-        """Motor rotation speed threshold (TGON) (电机旋转速度阈值). Parameter P06-16, address 0x0610, u16, unit rpm, range 0..1000, default 20, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read ROTATION_DETECT_THRESHOLD: Motor rotation speed threshold (TGON) (电机旋转速度阈值); documented at the constant."""
         return await self.read(ROTATION_DETECT_THRESHOLD)
 
     async def write_rotation_detect_threshold(self, value: int) -> None:
-        """Motor rotation speed threshold (TGON) (电机旋转速度阈值). Parameter P06-16, address 0x0610, u16, unit rpm, range 0..1000, default 20, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write ROTATION_DETECT_THRESHOLD: Motor rotation speed threshold (TGON) (电机旋转速度阈值); documented at the constant."""
         await self.write(ROTATION_DETECT_THRESHOLD, value)
 
     async def read_speed_coincidence_threshold(self) -> int:
-        """Speed coincidence threshold (V-CMP) (速度一致信号阈值). Parameter P06-17, address 0x0611, u16, unit rpm, range 0..100, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_COINCIDENCE_THRESHOLD: Speed coincidence threshold (V-CMP) (速度一致信号阈值); documented at the constant."""
         return await self.read(SPEED_COINCIDENCE_THRESHOLD)
 
     async def write_speed_coincidence_threshold(self, value: int) -> None:
-        """Speed coincidence threshold (V-CMP) (速度一致信号阈值). Parameter P06-17, address 0x0611, u16, unit rpm, range 0..100, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_COINCIDENCE_THRESHOLD: Speed coincidence threshold (V-CMP) (速度一致信号阈值); documented at the constant."""
         await self.write(SPEED_COINCIDENCE_THRESHOLD, value)
 
     async def read_speed_reached_threshold(self) -> int:
-        """Speed reached threshold (V-Arr) (速度到达信号阀值). Parameter P06-18, address 0x0612, u16, unit rpm, range 10..6000, default 1000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read SPEED_REACHED_THRESHOLD: Speed reached threshold (V-Arr) (速度到达信号阀值); documented at the constant."""
         return await self.read(SPEED_REACHED_THRESHOLD)
 
     async def write_speed_reached_threshold(self, value: int) -> None:
-        """Speed reached threshold (V-Arr) (速度到达信号阀值). Parameter P06-18, address 0x0612, u16, unit rpm, range 10..6000, default 1000, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write SPEED_REACHED_THRESHOLD: Speed reached threshold (V-Arr) (速度到达信号阀值); documented at the constant."""
         await self.write(SPEED_REACHED_THRESHOLD, value)
 
     async def read_zero_speed_threshold(self) -> int:
-        """Zero speed output threshold (ZERO) (零速输出信号阀值). Parameter P06-19, address 0x0613, u16, unit rpm, range 1..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Read ZERO_SPEED_THRESHOLD: Zero speed output threshold (ZERO) (零速输出信号阀值); documented at the constant."""
         return await self.read(ZERO_SPEED_THRESHOLD)
 
     async def write_zero_speed_threshold(self, value: int) -> None:
-        """Zero speed output threshold (ZERO) (零速输出信号阀值). Parameter P06-19, address 0x0613, u16, unit rpm, range 1..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
+        """Write ZERO_SPEED_THRESHOLD: Zero speed output threshold (ZERO) (零速输出信号阀值); documented at the constant."""
         await self.write(ZERO_SPEED_THRESHOLD, value)
 
     async def read_torque_a_source(self) -> TorqueSource | int:
-        """Main torque command A source (主转矩指令 A 来源). Parameter P07-00, address 0x0700, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         return await self.read(TORQUE_A_SOURCE)
 
     async def write_torque_a_source(self, value: TorqueSource | int | str) -> None:
-        """Main torque command A source (主转矩指令 A 来源). Parameter P07-00, address 0x0700, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         await self.write(TORQUE_A_SOURCE, value)
 
     async def read_torque_b_source(self) -> TorqueSource | int:
-        """Auxiliary torque command B source (辅助转矩指令 B 来源). Parameter P07-01, address 0x0701, u16, range 0..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         return await self.read(TORQUE_B_SOURCE)
 
     async def write_torque_b_source(self, value: TorqueSource | int | str) -> None:
-        """Auxiliary torque command B source (辅助转矩指令 B 来源). Parameter P07-01, address 0x0701, u16, range 0..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         await self.write(TORQUE_B_SOURCE, value)
 
     async def read_torque_command_select(self) -> TorqueCommandSelect | int:
-        """Torque command select (转矩指令选择). Parameter P07-02, address 0x0702, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         return await self.read(TORQUE_COMMAND_SELECT)
 
     async def write_torque_command_select(self, value: TorqueCommandSelect | int | str) -> None:
-        """Torque command select (转矩指令选择). Parameter P07-02, address 0x0702, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         await self.write(TORQUE_COMMAND_SELECT, value)
 
     async def read_torque_keypad_setting(self) -> float:
-        """Torque command keypad setting (转矩指令键盘设定值). Parameter P07-03, address 0x0703, s16, unit %, range -300..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_KEYPAD_SETTING: Torque command keypad setting (转矩指令键盘设定值); documented at the constant."""
         return await self.read(TORQUE_KEYPAD_SETTING)
 
     async def write_torque_keypad_setting(self, value: float) -> None:
-        """Torque command keypad setting (转矩指令键盘设定值). Parameter P07-03, address 0x0703, s16, unit %, range -300..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_KEYPAD_SETTING: Torque command keypad setting (转矩指令键盘设定值); documented at the constant."""
         await self.write(TORQUE_KEYPAD_SETTING, value)
 
     async def read_torque_filter_time(self) -> float:
-        """Torque command filter time constant (转矩指令滤波时间常数). Parameter P07-05, address 0x0705, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Read TORQUE_FILTER_TIME: Torque command filter time constant (转矩指令滤波时间常数); documented at the constant."""
         return await self.read(TORQUE_FILTER_TIME)
 
     async def write_torque_filter_time(self, value: float) -> None:
-        """Torque command filter time constant (转矩指令滤波时间常数). Parameter P07-05, address 0x0705, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Write TORQUE_FILTER_TIME: Torque command filter time constant (转矩指令滤波时间常数); documented at the constant."""
         await self.write(TORQUE_FILTER_TIME, value)
 
     async def read_torque_filter_time_2(self) -> float:
-        """Second torque command filter time constant (第二转矩指令滤波时间常数). Parameter P07-06, address 0x0706, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Read TORQUE_FILTER_TIME_2: Second torque command filter time constant (第二转矩指令滤波时间常数); documented at the constant."""
         return await self.read(TORQUE_FILTER_TIME_2)
 
     async def write_torque_filter_time_2(self, value: float) -> None:
-        """Second torque command filter time constant (第二转矩指令滤波时间常数). Parameter P07-06, address 0x0706, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
+        """Write TORQUE_FILTER_TIME_2: Second torque command filter time constant (第二转矩指令滤波时间常数); documented at the constant."""
         await self.write(TORQUE_FILTER_TIME_2, value)
 
     async def read_torque_limit_source(self) -> TorqueLimitSource | int:
-        """Torque limit source (转矩限制来源). Parameter P07-07, address 0x0707, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         return await self.read(TORQUE_LIMIT_SOURCE)
 
     async def write_torque_limit_source(self, value: TorqueLimitSource | int | str) -> None:
-        """Torque limit source (转矩限制来源). Parameter P07-07, address 0x0707, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         await self.write(TORQUE_LIMIT_SOURCE, value)
 
     async def read_t_lmt_select(self) -> AiChannel | int:
-        """T-LMT analog channel (T-LMT 选择). Parameter P07-08, address 0x0708, u16, range 1..2, default 2, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         return await self.read(T_LMT_SELECT)
 
     async def write_t_lmt_select(self, value: AiChannel | int | str) -> None:
-        """T-LMT analog channel (T-LMT 选择). Parameter P07-08, address 0x0708, u16, range 1..2, default 2, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         await self.write(T_LMT_SELECT, value)
 
     async def read_positive_internal_torque_limit(self) -> float:
-        """Positive internal torque limit (正内部转矩限制). Parameter P07-09, address 0x0709, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read POSITIVE_INTERNAL_TORQUE_LIMIT: Positive internal torque limit (正内部转矩限制); documented at the constant."""
         return await self.read(POSITIVE_INTERNAL_TORQUE_LIMIT)
 
     async def write_positive_internal_torque_limit(self, value: float) -> None:
-        """Positive internal torque limit (正内部转矩限制). Parameter P07-09, address 0x0709, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write POSITIVE_INTERNAL_TORQUE_LIMIT: Positive internal torque limit (正内部转矩限制); documented at the constant."""
         await self.write(POSITIVE_INTERNAL_TORQUE_LIMIT, value)
 
     async def read_negative_internal_torque_limit(self) -> float:
-        """Negative internal torque limit (负内部转矩限制). Parameter P07-10, address 0x070A, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read NEGATIVE_INTERNAL_TORQUE_LIMIT: Negative internal torque limit (负内部转矩限制); documented at the constant."""
         return await self.read(NEGATIVE_INTERNAL_TORQUE_LIMIT)
 
     async def write_negative_internal_torque_limit(self, value: float) -> None:
-        """Negative internal torque limit (负内部转矩限制). Parameter P07-10, address 0x070A, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write NEGATIVE_INTERNAL_TORQUE_LIMIT: Negative internal torque limit (负内部转矩限制); documented at the constant."""
         await self.write(NEGATIVE_INTERNAL_TORQUE_LIMIT, value)
 
     async def read_positive_external_torque_limit(self) -> float:
-        """Positive external torque limit (正外部转矩限制). Parameter P07-11, address 0x070B, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read POSITIVE_EXTERNAL_TORQUE_LIMIT: Positive external torque limit (正外部转矩限制); documented at the constant."""
         return await self.read(POSITIVE_EXTERNAL_TORQUE_LIMIT)
 
     async def write_positive_external_torque_limit(self, value: float) -> None:
-        """Positive external torque limit (正外部转矩限制). Parameter P07-11, address 0x070B, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write POSITIVE_EXTERNAL_TORQUE_LIMIT: Positive external torque limit (正外部转矩限制); documented at the constant."""
         await self.write(POSITIVE_EXTERNAL_TORQUE_LIMIT, value)
 
     async def read_negative_external_torque_limit(self) -> float:
-        """Negative external torque limit (负外部转矩限制). Parameter P07-12, address 0x070C, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read NEGATIVE_EXTERNAL_TORQUE_LIMIT: Negative external torque limit (负外部转矩限制); documented at the constant."""
         return await self.read(NEGATIVE_EXTERNAL_TORQUE_LIMIT)
 
     async def write_negative_external_torque_limit(self, value: float) -> None:
-        """Negative external torque limit (负外部转矩限制). Parameter P07-12, address 0x070C, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write NEGATIVE_EXTERNAL_TORQUE_LIMIT: Negative external torque limit (负外部转矩限制); documented at the constant."""
         await self.write(NEGATIVE_EXTERNAL_TORQUE_LIMIT, value)
 
     async def read_speed_limit_source(self) -> SpeedLimitSource | int:
-        """Speed limit source (速度限制来源选择). Parameter P07-17, address 0x0711, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         return await self.read(SPEED_LIMIT_SOURCE)
 
     async def write_speed_limit_source(self, value: SpeedLimitSource | int | str) -> None:
-        """Speed limit source (速度限制来源选择). Parameter P07-17, address 0x0711, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         await self.write(SPEED_LIMIT_SOURCE, value)
 
     async def read_v_lmt_select(self) -> AiChannel | int:
-        """V-LMT analog channel (V-LMT 选择). Parameter P07-18, address 0x0712, u16, range 1..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         return await self.read(V_LMT_SELECT)
 
     async def write_v_lmt_select(self, value: AiChannel | int | str) -> None:
-        """V-LMT analog channel (V-LMT 选择). Parameter P07-18, address 0x0712, u16, range 1..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         await self.write(V_LMT_SELECT, value)
 
     async def read_torque_mode_speed_limit_1(self) -> int:
-        """Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1). Parameter P07-19, address 0x0713, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_MODE_SPEED_LIMIT_1: Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1); documented at the constant."""
         return await self.read(TORQUE_MODE_SPEED_LIMIT_1)
 
     async def write_torque_mode_speed_limit_1(self, value: int) -> None:
-        """Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1). Parameter P07-19, address 0x0713, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_MODE_SPEED_LIMIT_1: Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1); documented at the constant."""
         await self.write(TORQUE_MODE_SPEED_LIMIT_1, value)
 
     async def read_torque_mode_speed_limit_2(self) -> int:
-        """Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2). Parameter P07-20, address 0x0714, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_MODE_SPEED_LIMIT_2: Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2); documented at the constant."""
         return await self.read(TORQUE_MODE_SPEED_LIMIT_2)
 
     async def write_torque_mode_speed_limit_2(self, value: int) -> None:
-        """Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2). Parameter P07-20, address 0x0714, u16, unit rpm, range 0..6000, default 3000, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_MODE_SPEED_LIMIT_2: Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2); documented at the constant."""
         await self.write(TORQUE_MODE_SPEED_LIMIT_2, value)
 
     async def read_torque_reached_reference(self) -> float:
-        """Torque reached reference value (转矩到达基准值). Parameter P07-21, address 0x0715, u16, unit %, range 0..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_REACHED_REFERENCE: Torque reached reference value (转矩到达基准值); documented at the constant."""
         return await self.read(TORQUE_REACHED_REFERENCE)
 
     async def write_torque_reached_reference(self, value: float) -> None:
-        """Torque reached reference value (转矩到达基准值). Parameter P07-21, address 0x0715, u16, unit %, range 0..300, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_REACHED_REFERENCE: Torque reached reference value (转矩到达基准值); documented at the constant."""
         await self.write(TORQUE_REACHED_REFERENCE, value)
 
     async def read_torque_reached_on(self) -> float:
-        """Torque reached valid value (转矩到达有效值). Parameter P07-22, address 0x0716, u16, unit %, range 0..300, default 20, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_REACHED_ON: Torque reached valid value (转矩到达有效值); documented at the constant."""
         return await self.read(TORQUE_REACHED_ON)
 
     async def write_torque_reached_on(self, value: float) -> None:
-        """Torque reached valid value (转矩到达有效值). Parameter P07-22, address 0x0716, u16, unit %, range 0..300, default 20, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_REACHED_ON: Torque reached valid value (转矩到达有效值); documented at the constant."""
         await self.write(TORQUE_REACHED_ON, value)
 
     async def read_torque_reached_off(self) -> float:
-        """Torque reached invalid value (转矩到达无效值). Parameter P07-23, address 0x0717, u16, unit %, range 0..300, default 10, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Read TORQUE_REACHED_OFF: Torque reached invalid value (转矩到达无效值); documented at the constant."""
         return await self.read(TORQUE_REACHED_OFF)
 
     async def write_torque_reached_off(self, value: float) -> None:
-        """Torque reached invalid value (转矩到达无效值). Parameter P07-23, address 0x0717, u16, unit %, range 0..300, default 10, takes effect immediately. Manual section 7.7, 6.3.2."""
+        """Write TORQUE_REACHED_OFF: Torque reached invalid value (转矩到达无效值); documented at the constant."""
         await self.write(TORQUE_REACHED_OFF, value)
 
     async def read_torque_mode_speed_limit_window(self) -> float:
-        """Speed-limited window in torque mode (转矩模式下速度受限窗口). Parameter P07-40, address 0x0728, u16, unit ms, range 0.5..30, default 1, takes effect immediately. Manual section 7.7."""
+        """Read TORQUE_MODE_SPEED_LIMIT_WINDOW: Speed-limited window in torque mode (转矩模式下速度受限窗口); documented at the constant."""
         return await self.read(TORQUE_MODE_SPEED_LIMIT_WINDOW)
 
     async def write_torque_mode_speed_limit_window(self, value: float) -> None:
-        """Speed-limited window in torque mode (转矩模式下速度受限窗口). Parameter P07-40, address 0x0728, u16, unit ms, range 0.5..30, default 1, takes effect immediately. Manual section 7.7."""
+        """Write TORQUE_MODE_SPEED_LIMIT_WINDOW: Speed-limited window in torque mode (转矩模式下速度受限窗口); documented at the constant."""
         await self.write(TORQUE_MODE_SPEED_LIMIT_WINDOW, value)
 
     async def read_speed_loop_gain(self) -> float:
-        """Speed loop gain (速度环增益). Parameter P08-00, address 0x0800, u16, unit Hz, range 0.1..2000, default 25, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_GAIN: Speed loop gain (速度环增益); documented at the constant."""
         return await self.read(SPEED_LOOP_GAIN)
 
     async def write_speed_loop_gain(self, value: float) -> None:
-        """Speed loop gain (速度环增益). Parameter P08-00, address 0x0800, u16, unit Hz, range 0.1..2000, default 25, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_GAIN: Speed loop gain (速度环增益); documented at the constant."""
         await self.write(SPEED_LOOP_GAIN, value)
 
     async def read_speed_loop_integral_time(self) -> float:
-        """Speed loop integral time constant (速度环积分时间常数). Parameter P08-01, address 0x0801, u16, unit ms, range 0.15..512, default 31.83, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_INTEGRAL_TIME: Speed loop integral time constant (速度环积分时间常数); documented at the constant."""
         return await self.read(SPEED_LOOP_INTEGRAL_TIME)
 
     async def write_speed_loop_integral_time(self, value: float) -> None:
-        """Speed loop integral time constant (速度环积分时间常数). Parameter P08-01, address 0x0801, u16, unit ms, range 0.15..512, default 31.83, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_INTEGRAL_TIME: Speed loop integral time constant (速度环积分时间常数); documented at the constant."""
         await self.write(SPEED_LOOP_INTEGRAL_TIME, value)
 
     async def read_position_loop_gain(self) -> float:
-        """Position loop gain (位置环增益). Parameter P08-02, address 0x0802, u16, unit Hz, range 0..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Read POSITION_LOOP_GAIN: Position loop gain (位置环增益); documented at the constant."""
         return await self.read(POSITION_LOOP_GAIN)
 
     async def write_position_loop_gain(self, value: float) -> None:
-        """Position loop gain (位置环增益). Parameter P08-02, address 0x0802, u16, unit Hz, range 0..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Write POSITION_LOOP_GAIN: Position loop gain (位置环增益); documented at the constant."""
         await self.write(POSITION_LOOP_GAIN, value)
 
     async def read_speed_loop_gain_2(self) -> float:
-        """Second speed loop gain (第 2 速度环增益). Parameter P08-03, address 0x0803, u16, unit Hz, range 0.1..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_GAIN_2: Second speed loop gain (第 2 速度环增益); documented at the constant."""
         return await self.read(SPEED_LOOP_GAIN_2)
 
     async def write_speed_loop_gain_2(self, value: float) -> None:
-        """Second speed loop gain (第 2 速度环增益). Parameter P08-03, address 0x0803, u16, unit Hz, range 0.1..2000, default 40, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_GAIN_2: Second speed loop gain (第 2 速度环增益); documented at the constant."""
         await self.write(SPEED_LOOP_GAIN_2, value)
 
     async def read_speed_loop_integral_time_2(self) -> float:
-        """Second speed loop integral time constant (第 2 速度环积分时间常数). Parameter P08-04, address 0x0804, u16, unit ms, range 0.15..512, default 40, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_LOOP_INTEGRAL_TIME_2: Second speed loop integral time constant (第 2 速度环积分时间常数); documented at the constant."""
         return await self.read(SPEED_LOOP_INTEGRAL_TIME_2)
 
     async def write_speed_loop_integral_time_2(self, value: float) -> None:
-        """Second speed loop integral time constant (第 2 速度环积分时间常数). Parameter P08-04, address 0x0804, u16, unit ms, range 0.15..512, default 40, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_LOOP_INTEGRAL_TIME_2: Second speed loop integral time constant (第 2 速度环积分时间常数); documented at the constant."""
         await self.write(SPEED_LOOP_INTEGRAL_TIME_2, value)
 
     async def read_position_loop_gain_2(self) -> float:
-        """Second position loop gain (第 2 位置环增益). Parameter P08-05, address 0x0805, u16, unit Hz, range 0..2000, default 64, takes effect immediately. Manual section 7.8."""
+        """Read POSITION_LOOP_GAIN_2: Second position loop gain (第 2 位置环增益); documented at the constant."""
         return await self.read(POSITION_LOOP_GAIN_2)
 
     async def write_position_loop_gain_2(self, value: float) -> None:
-        """Second position loop gain (第 2 位置环增益). Parameter P08-05, address 0x0805, u16, unit Hz, range 0..2000, default 64, takes effect immediately. Manual section 7.8."""
+        """Write POSITION_LOOP_GAIN_2: Second position loop gain (第 2 位置环增益); documented at the constant."""
         await self.write(POSITION_LOOP_GAIN_2, value)
 
     async def read_second_gain_mode(self) -> SecondGainMode | int:
-        """Second gain mode (第二增益模式设置). Parameter P08-08, address 0x0808, u16, range 0..1, default 1, takes effect immediately. Manual section 7.8."""
+        """Read SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         return await self.read(SECOND_GAIN_MODE)
 
     async def write_second_gain_mode(self, value: SecondGainMode | int | str) -> None:
-        """Second gain mode (第二增益模式设置). Parameter P08-08, address 0x0808, u16, range 0..1, default 1, takes effect immediately. Manual section 7.8."""
+        """Write SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         await self.write(SECOND_GAIN_MODE, value)
 
     async def read_gain_switch_condition(self) -> GainSwitchCondition | int:
-        """Gain switching condition (增益切换条件选择). Parameter P08-09, address 0x0809, u16, range 0..10, default 0, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         return await self.read(GAIN_SWITCH_CONDITION)
 
     async def write_gain_switch_condition(self, value: GainSwitchCondition | int | str) -> None:
-        """Gain switching condition (增益切换条件选择). Parameter P08-09, address 0x0809, u16, range 0..10, default 0, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         await self.write(GAIN_SWITCH_CONDITION, value)
 
     async def read_gain_switch_delay(self) -> float:
-        """Gain switching delay time (增益切换延迟时间). Parameter P08-10, address 0x080A, u16, unit ms, range 0..1000, default 5, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_DELAY: Gain switching delay time (增益切换延迟时间); documented at the constant."""
         return await self.read(GAIN_SWITCH_DELAY)
 
     async def write_gain_switch_delay(self, value: float) -> None:
-        """Gain switching delay time (增益切换延迟时间). Parameter P08-10, address 0x080A, u16, unit ms, range 0..1000, default 5, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_DELAY: Gain switching delay time (增益切换延迟时间); documented at the constant."""
         await self.write(GAIN_SWITCH_DELAY, value)
 
     async def read_gain_switch_level(self) -> int:
-        """Gain switching level (增益切换等级). Parameter P08-11, address 0x080B, u16, range 0..20000, default 50, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_LEVEL: Gain switching level (增益切换等级); documented at the constant."""
         return await self.read(GAIN_SWITCH_LEVEL)
 
     async def write_gain_switch_level(self, value: int) -> None:
-        """Gain switching level (增益切换等级). Parameter P08-11, address 0x080B, u16, range 0..20000, default 50, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_LEVEL: Gain switching level (增益切换等级); documented at the constant."""
         await self.write(GAIN_SWITCH_LEVEL, value)
 
     async def read_gain_switch_hysteresis(self) -> int:
-        """Gain switching hysteresis (增益切换时滞). Parameter P08-12, address 0x080C, u16, range 0..20000, default 30, takes effect immediately. Manual section 7.8."""
+        """Read GAIN_SWITCH_HYSTERESIS: Gain switching hysteresis (增益切换时滞); documented at the constant."""
         return await self.read(GAIN_SWITCH_HYSTERESIS)
 
     async def write_gain_switch_hysteresis(self, value: int) -> None:
-        """Gain switching hysteresis (增益切换时滞). Parameter P08-12, address 0x080C, u16, range 0..20000, default 30, takes effect immediately. Manual section 7.8."""
+        """Write GAIN_SWITCH_HYSTERESIS: Gain switching hysteresis (增益切换时滞); documented at the constant."""
         await self.write(GAIN_SWITCH_HYSTERESIS, value)
 
     async def read_position_gain_switch_time(self) -> float:
-        """Position gain switching time (位置增益切换时间). Parameter P08-13, address 0x080D, u16, unit ms, range 0..1000, default 3, takes effect immediately. Manual section 7.8."""
+        """Read POSITION_GAIN_SWITCH_TIME: Position gain switching time (位置增益切换时间); documented at the constant."""
         return await self.read(POSITION_GAIN_SWITCH_TIME)
 
     async def write_position_gain_switch_time(self, value: float) -> None:
-        """Position gain switching time (位置增益切换时间). Parameter P08-13, address 0x080D, u16, unit ms, range 0..1000, default 3, takes effect immediately. Manual section 7.8."""
+        """Write POSITION_GAIN_SWITCH_TIME: Position gain switching time (位置增益切换时间); documented at the constant."""
         await self.write(POSITION_GAIN_SWITCH_TIME, value)
 
     async def read_load_inertia_ratio(self) -> float:
-        """Load inertia ratio (负载转动惯量比). Parameter P08-15, address 0x080F, u16, unit times, range 0..120, default 1, takes effect immediately. Manual section 7.8."""
+        """Read LOAD_INERTIA_RATIO: Load inertia ratio (负载转动惯量比); documented at the constant."""
         return await self.read(LOAD_INERTIA_RATIO)
 
     async def write_load_inertia_ratio(self, value: float) -> None:
-        """Load inertia ratio (负载转动惯量比). Parameter P08-15, address 0x080F, u16, unit times, range 0..120, default 1, takes effect immediately. Manual section 7.8."""
+        """Write LOAD_INERTIA_RATIO: Load inertia ratio (负载转动惯量比); documented at the constant."""
         await self.write(LOAD_INERTIA_RATIO, value)
 
     async def read_speed_ff_filter_time(self) -> float:
-        """Speed feedforward filter time constant (速度前馈滤波时间常数). Parameter P08-18, address 0x0812, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FF_FILTER_TIME: Speed feedforward filter time constant (速度前馈滤波时间常数); documented at the constant."""
         return await self.read(SPEED_FF_FILTER_TIME)
 
     async def write_speed_ff_filter_time(self, value: float) -> None:
-        """Speed feedforward filter time constant (速度前馈滤波时间常数). Parameter P08-18, address 0x0812, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FF_FILTER_TIME: Speed feedforward filter time constant (速度前馈滤波时间常数); documented at the constant."""
         await self.write(SPEED_FF_FILTER_TIME, value)
 
     async def read_speed_ff_gain(self) -> float:
-        """Speed feedforward gain (速度前馈增益). Parameter P08-19, address 0x0813, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FF_GAIN: Speed feedforward gain (速度前馈增益); documented at the constant."""
         return await self.read(SPEED_FF_GAIN)
 
     async def write_speed_ff_gain(self, value: float) -> None:
-        """Speed feedforward gain (速度前馈增益). Parameter P08-19, address 0x0813, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FF_GAIN: Speed feedforward gain (速度前馈增益); documented at the constant."""
         await self.write(SPEED_FF_GAIN, value)
 
     async def read_torque_ff_filter_time(self) -> float:
-        """Torque feedforward filter time constant (转矩前馈滤波时间常数). Parameter P08-20, address 0x0814, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Read TORQUE_FF_FILTER_TIME: Torque feedforward filter time constant (转矩前馈滤波时间常数); documented at the constant."""
         return await self.read(TORQUE_FF_FILTER_TIME)
 
     async def write_torque_ff_filter_time(self, value: float) -> None:
-        """Torque feedforward filter time constant (转矩前馈滤波时间常数). Parameter P08-20, address 0x0814, u16, unit ms, range 0..64, default 0.5, takes effect immediately. Manual section 7.8."""
+        """Write TORQUE_FF_FILTER_TIME: Torque feedforward filter time constant (转矩前馈滤波时间常数); documented at the constant."""
         await self.write(TORQUE_FF_FILTER_TIME, value)
 
     async def read_torque_ff_gain(self) -> float:
-        """Torque feedforward gain (转矩前馈增益). Parameter P08-21, address 0x0815, u16, unit %, range 0..200, default 0, takes effect immediately. Manual section 7.8."""
+        """Read TORQUE_FF_GAIN: Torque feedforward gain (转矩前馈增益); documented at the constant."""
         return await self.read(TORQUE_FF_GAIN)
 
     async def write_torque_ff_gain(self, value: float) -> None:
-        """Torque feedforward gain (转矩前馈增益). Parameter P08-21, address 0x0815, u16, unit %, range 0..200, default 0, takes effect immediately. Manual section 7.8."""
+        """Write TORQUE_FF_GAIN: Torque feedforward gain (转矩前馈增益); documented at the constant."""
         await self.write(TORQUE_FF_GAIN, value)
 
     async def read_speed_feedback_filter(self) -> SpeedFeedbackFilter | int:
-        """Speed feedback filter option (速度反馈滤波选项). Parameter P08-22, address 0x0816, u16, range 0..4, default 0, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         return await self.read(SPEED_FEEDBACK_FILTER)
 
     async def write_speed_feedback_filter(self, value: SpeedFeedbackFilter | int | str) -> None:
-        """Speed feedback filter option (速度反馈滤波选项). Parameter P08-22, address 0x0816, u16, range 0..4, default 0, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         await self.write(SPEED_FEEDBACK_FILTER, value)
 
     async def read_speed_feedback_lowpass_cutoff(self) -> int:
-        """Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率). Parameter P08-23, address 0x0817, u16, unit Hz, range 100..4000, default 4000, takes effect immediately. Manual section 7.8."""
+        """Read SPEED_FEEDBACK_LOWPASS_CUTOFF: Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率); documented at the constant."""
         return await self.read(SPEED_FEEDBACK_LOWPASS_CUTOFF)
 
     async def write_speed_feedback_lowpass_cutoff(self, value: int) -> None:
-        """Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率). Parameter P08-23, address 0x0817, u16, unit Hz, range 100..4000, default 4000, takes effect immediately. Manual section 7.8."""
+        """Write SPEED_FEEDBACK_LOWPASS_CUTOFF: Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率); documented at the constant."""
         await self.write(SPEED_FEEDBACK_LOWPASS_CUTOFF, value)
 
     async def read_pdff_coefficient(self) -> float:
-        """Pseudo-derivative feedforward coefficient (伪微分前馈控制系数). Parameter P08-24, address 0x0818, u16, range 0..100, default 100, takes effect immediately. Manual section 7.8."""
+        """Read PDFF_COEFFICIENT: Pseudo-derivative feedforward coefficient (伪微分前馈控制系数); documented at the constant."""
         return await self.read(PDFF_COEFFICIENT)
 
     async def write_pdff_coefficient(self, value: float) -> None:
-        """Pseudo-derivative feedforward coefficient (伪微分前馈控制系数). Parameter P08-24, address 0x0818, u16, range 0..100, default 100, takes effect immediately. Manual section 7.8."""
+        """Write PDFF_COEFFICIENT: Pseudo-derivative feedforward coefficient (伪微分前馈控制系数); documented at the constant."""
         await self.write(PDFF_COEFFICIENT, value)
 
     async def read_stiffness_level(self) -> int:
-        """Stiffness level (刚性等级选择). Parameter P09-01, address 0x0901, u16, range 0..31, default 12, takes effect immediately. Manual section 7.9."""
+        """Read STIFFNESS_LEVEL: Stiffness level (刚性等级选择); documented at the constant."""
         return await self.read(STIFFNESS_LEVEL)
 
     async def write_stiffness_level(self, value: int) -> None:
-        """Stiffness level (刚性等级选择). Parameter P09-01, address 0x0901, u16, range 0..31, default 12, takes effect immediately. Manual section 7.9."""
+        """Write STIFFNESS_LEVEL: Stiffness level (刚性等级选择); documented at the constant."""
         await self.write(STIFFNESS_LEVEL, value)
 
     async def read_adaptive_notch_mode(self) -> AdaptiveNotchMode | int:
-        """Adaptive notch filter mode (自适应陷波器模式选择). Parameter P09-02, address 0x0902, u16, range 0..4, default 0, takes effect immediately. Manual section 7.9."""
+        """Read ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         return await self.read(ADAPTIVE_NOTCH_MODE)
 
     async def write_adaptive_notch_mode(self, value: AdaptiveNotchMode | int | str) -> None:
-        """Adaptive notch filter mode (自适应陷波器模式选择). Parameter P09-02, address 0x0902, u16, range 0..4, default 0, takes effect immediately. Manual section 7.9."""
+        """Write ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         await self.write(ADAPTIVE_NOTCH_MODE, value)
 
     async def read_low_freq_resonance_mode(self) -> LowFreqResonanceMode | int:
-        """Low-frequency resonance suppression mode (低频共振抑制模式选择). Parameter P09-04, address 0x0904, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Read LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         return await self.read(LOW_FREQ_RESONANCE_MODE)
 
     async def write_low_freq_resonance_mode(self, value: LowFreqResonanceMode | int | str) -> None:
-        """Low-frequency resonance suppression mode (低频共振抑制模式选择). Parameter P09-04, address 0x0904, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Write LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_MODE, value)
 
     async def read_inertia_id_mode(self) -> InertiaIdMode | int:
-        """Offline inertia identification mode (离线惯量辨识模式选择). Parameter P09-05, address 0x0905, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         return await self.read(INERTIA_ID_MODE)
 
     async def write_inertia_id_mode(self, value: InertiaIdMode | int | str) -> None:
-        """Offline inertia identification mode (离线惯量辨识模式选择). Parameter P09-05, address 0x0905, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         await self.write(INERTIA_ID_MODE, value)
 
     async def read_inertia_id_max_speed(self) -> int:
-        """Inertia identification maximum speed (惯量辨识最大速度). Parameter P09-06, address 0x0906, u16, unit rpm, range 100..1000, default 500, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_MAX_SPEED: Inertia identification maximum speed (惯量辨识最大速度); documented at the constant."""
         return await self.read(INERTIA_ID_MAX_SPEED)
 
     async def write_inertia_id_max_speed(self, value: int) -> None:
-        """Inertia identification maximum speed (惯量辨识最大速度). Parameter P09-06, address 0x0906, u16, unit rpm, range 100..1000, default 500, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_MAX_SPEED: Inertia identification maximum speed (惯量辨识最大速度); documented at the constant."""
         await self.write(INERTIA_ID_MAX_SPEED, value)
 
     async def read_inertia_id_accel_time(self) -> int:
-        """Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数). Parameter P09-07, address 0x0907, u16, unit ms, range 20..800, default 125, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_ACCEL_TIME: Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数); documented at the constant."""
         return await self.read(INERTIA_ID_ACCEL_TIME)
 
     async def write_inertia_id_accel_time(self, value: int) -> None:
-        """Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数). Parameter P09-07, address 0x0907, u16, unit ms, range 20..800, default 125, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_ACCEL_TIME: Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数); documented at the constant."""
         await self.write(INERTIA_ID_ACCEL_TIME, value)
 
     async def read_inertia_id_wait_time(self) -> int:
-        """Wait time after one inertia identification (单次惯量辨识完成后等待时间). Parameter P09-08, address 0x0908, u16, unit ms, range 50..10000, default 800, takes effect immediately. Manual section 7.9."""
+        """Read INERTIA_ID_WAIT_TIME: Wait time after one inertia identification (单次惯量辨识完成后等待时间); documented at the constant."""
         return await self.read(INERTIA_ID_WAIT_TIME)
 
     async def write_inertia_id_wait_time(self, value: int) -> None:
-        """Wait time after one inertia identification (单次惯量辨识完成后等待时间). Parameter P09-08, address 0x0908, u16, unit ms, range 50..10000, default 800, takes effect immediately. Manual section 7.9."""
+        """Write INERTIA_ID_WAIT_TIME: Wait time after one inertia identification (单次惯量辨识完成后等待时间); documented at the constant."""
         await self.write(INERTIA_ID_WAIT_TIME, value)
 
     async def read_inertia_id_revolutions(self) -> float:
-        """Motor revolutions for one inertia identification (完成单次惯量辨识电机转动圈数). Parameter P09-09, address 0x0909, u16, unit r, range 0..2. Manual section 7.9."""
+        """Read INERTIA_ID_REVOLUTIONS: Motor revolutions for one inertia identification (完成单次惯量辨识电机转动圈数); documented at the constant."""
         return await self.read(INERTIA_ID_REVOLUTIONS)
 
     async def read_notch1_frequency(self) -> int:
-        """Notch filter 1 frequency (第 1 组陷波器频率). Parameter P09-12, address 0x090C, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH1_FREQUENCY: Notch filter 1 frequency (第 1 组陷波器频率); documented at the constant."""
         return await self.read(NOTCH1_FREQUENCY)
 
     async def write_notch1_frequency(self, value: int) -> None:
-        """Notch filter 1 frequency (第 1 组陷波器频率). Parameter P09-12, address 0x090C, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH1_FREQUENCY: Notch filter 1 frequency (第 1 组陷波器频率); documented at the constant."""
         await self.write(NOTCH1_FREQUENCY, value)
 
     async def read_notch1_width(self) -> int:
-        """Notch filter 1 width level (第 1 组陷波器宽度等级). Parameter P09-13, address 0x090D, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH1_WIDTH: Notch filter 1 width level (第 1 组陷波器宽度等级); documented at the constant."""
         return await self.read(NOTCH1_WIDTH)
 
     async def write_notch1_width(self, value: int) -> None:
-        """Notch filter 1 width level (第 1 组陷波器宽度等级). Parameter P09-13, address 0x090D, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH1_WIDTH: Notch filter 1 width level (第 1 组陷波器宽度等级); documented at the constant."""
         await self.write(NOTCH1_WIDTH, value)
 
     async def read_notch1_depth(self) -> int:
-        """Notch filter 1 depth level (第 1 组陷波器深度等级). Parameter P09-14, address 0x090E, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH1_DEPTH: Notch filter 1 depth level (第 1 组陷波器深度等级); documented at the constant."""
         return await self.read(NOTCH1_DEPTH)
 
     async def write_notch1_depth(self, value: int) -> None:
-        """Notch filter 1 depth level (第 1 组陷波器深度等级). Parameter P09-14, address 0x090E, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH1_DEPTH: Notch filter 1 depth level (第 1 组陷波器深度等级); documented at the constant."""
         await self.write(NOTCH1_DEPTH, value)
 
     async def read_notch2_frequency(self) -> int:
-        """Notch filter 2 frequency (第 2 组陷波器频率). Parameter P09-15, address 0x090F, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH2_FREQUENCY: Notch filter 2 frequency (第 2 组陷波器频率); documented at the constant."""
         return await self.read(NOTCH2_FREQUENCY)
 
     async def write_notch2_frequency(self, value: int) -> None:
-        """Notch filter 2 frequency (第 2 组陷波器频率). Parameter P09-15, address 0x090F, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH2_FREQUENCY: Notch filter 2 frequency (第 2 组陷波器频率); documented at the constant."""
         await self.write(NOTCH2_FREQUENCY, value)
 
     async def read_notch2_width(self) -> int:
-        """Notch filter 2 width level (第 2 组陷波器宽度等级). Parameter P09-16, address 0x0910, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH2_WIDTH: Notch filter 2 width level (第 2 组陷波器宽度等级); documented at the constant."""
         return await self.read(NOTCH2_WIDTH)
 
     async def write_notch2_width(self, value: int) -> None:
-        """Notch filter 2 width level (第 2 组陷波器宽度等级). Parameter P09-16, address 0x0910, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH2_WIDTH: Notch filter 2 width level (第 2 组陷波器宽度等级); documented at the constant."""
         await self.write(NOTCH2_WIDTH, value)
 
     async def read_notch2_depth(self) -> int:
-        """Notch filter 2 depth level (第 2 组陷波器深度等级). Parameter P09-17, address 0x0911, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH2_DEPTH: Notch filter 2 depth level (第 2 组陷波器深度等级); documented at the constant."""
         return await self.read(NOTCH2_DEPTH)
 
     async def write_notch2_depth(self, value: int) -> None:
-        """Notch filter 2 depth level (第 2 组陷波器深度等级). Parameter P09-17, address 0x0911, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH2_DEPTH: Notch filter 2 depth level (第 2 组陷波器深度等级); documented at the constant."""
         await self.write(NOTCH2_DEPTH, value)
 
     async def read_notch3_frequency(self) -> int:
-        """Notch filter 3 frequency (第3组陷波器频率). Parameter P09-18, address 0x0912, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH3_FREQUENCY: Notch filter 3 frequency (第3组陷波器频率); documented at the constant."""
         return await self.read(NOTCH3_FREQUENCY)
 
     async def write_notch3_frequency(self, value: int) -> None:
-        """Notch filter 3 frequency (第3组陷波器频率). Parameter P09-18, address 0x0912, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH3_FREQUENCY: Notch filter 3 frequency (第3组陷波器频率); documented at the constant."""
         await self.write(NOTCH3_FREQUENCY, value)
 
     async def read_notch3_width(self) -> int:
-        """Notch filter 3 width level (第3组陷波器宽度等级). Parameter P09-19, address 0x0913, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH3_WIDTH: Notch filter 3 width level (第3组陷波器宽度等级); documented at the constant."""
         return await self.read(NOTCH3_WIDTH)
 
     async def write_notch3_width(self, value: int) -> None:
-        """Notch filter 3 width level (第3组陷波器宽度等级). Parameter P09-19, address 0x0913, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH3_WIDTH: Notch filter 3 width level (第3组陷波器宽度等级); documented at the constant."""
         await self.write(NOTCH3_WIDTH, value)
 
     async def read_notch3_depth(self) -> int:
-        """Notch filter 3 depth level (第3组陷波器深度等级). Parameter P09-20, address 0x0914, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH3_DEPTH: Notch filter 3 depth level (第3组陷波器深度等级); documented at the constant."""
         return await self.read(NOTCH3_DEPTH)
 
     async def write_notch3_depth(self, value: int) -> None:
-        """Notch filter 3 depth level (第3组陷波器深度等级). Parameter P09-20, address 0x0914, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH3_DEPTH: Notch filter 3 depth level (第3组陷波器深度等级); documented at the constant."""
         await self.write(NOTCH3_DEPTH, value)
 
     async def read_notch4_frequency(self) -> int:
-        """Notch filter 4 frequency (第4组陷波器频率). Parameter P09-21, address 0x0915, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH4_FREQUENCY: Notch filter 4 frequency (第4组陷波器频率); documented at the constant."""
         return await self.read(NOTCH4_FREQUENCY)
 
     async def write_notch4_frequency(self, value: int) -> None:
-        """Notch filter 4 frequency (第4组陷波器频率). Parameter P09-21, address 0x0915, u16, unit Hz, range 50..4000, default 4000, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH4_FREQUENCY: Notch filter 4 frequency (第4组陷波器频率); documented at the constant."""
         await self.write(NOTCH4_FREQUENCY, value)
 
     async def read_notch4_width(self) -> int:
-        """Notch filter 4 width level (第4组陷波器宽度等级). Parameter P09-22, address 0x0916, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH4_WIDTH: Notch filter 4 width level (第4组陷波器宽度等级); documented at the constant."""
         return await self.read(NOTCH4_WIDTH)
 
     async def write_notch4_width(self, value: int) -> None:
-        """Notch filter 4 width level (第4组陷波器宽度等级). Parameter P09-22, address 0x0916, u16, range 0..20, default 2, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH4_WIDTH: Notch filter 4 width level (第4组陷波器宽度等级); documented at the constant."""
         await self.write(NOTCH4_WIDTH, value)
 
     async def read_notch4_depth(self) -> int:
-        """Notch filter 4 depth level (第4组陷波器深度等级). Parameter P09-23, address 0x0917, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Read NOTCH4_DEPTH: Notch filter 4 depth level (第4组陷波器深度等级); documented at the constant."""
         return await self.read(NOTCH4_DEPTH)
 
     async def write_notch4_depth(self, value: int) -> None:
-        """Notch filter 4 depth level (第4组陷波器深度等级). Parameter P09-23, address 0x0917, u16, range 0..99, default 0, takes effect immediately. Manual section 7.9."""
+        """Write NOTCH4_DEPTH: Notch filter 4 depth level (第4组陷波器深度等级); documented at the constant."""
         await self.write(NOTCH4_DEPTH, value)
 
     async def read_resonance_frequency_result(self) -> int:
-        """Resonance frequency identification result (共振频率辨识结果). Parameter P09-24, address 0x0918, u16, unit Hz, range 0..2, default 0. Manual section 7.9."""
+        """Read RESONANCE_FREQUENCY_RESULT: Resonance frequency identification result (共振频率辨识结果); documented at the constant."""
         return await self.read(RESONANCE_FREQUENCY_RESULT)
 
     async def read_disturbance_compensation_gain(self) -> float:
-        """Torque disturbance compensation gain (转矩扰动补偿增益). Parameter P09-30, address 0x091E, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.9."""
+        """Read DISTURBANCE_COMPENSATION_GAIN: Torque disturbance compensation gain (转矩扰动补偿增益); documented at the constant."""
         return await self.read(DISTURBANCE_COMPENSATION_GAIN)
 
     async def write_disturbance_compensation_gain(self, value: float) -> None:
-        """Torque disturbance compensation gain (转矩扰动补偿增益). Parameter P09-30, address 0x091E, u16, unit %, range 0..100, default 0, takes effect immediately. Manual section 7.9."""
+        """Write DISTURBANCE_COMPENSATION_GAIN: Torque disturbance compensation gain (转矩扰动补偿增益); documented at the constant."""
         await self.write(DISTURBANCE_COMPENSATION_GAIN, value)
 
     async def read_disturbance_observer_filter_time(self) -> float:
-        """Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数). Parameter P09-31, address 0x091F, u16, unit ms, range 0..25, default 0.5, takes effect immediately. Manual section 7.9."""
+        """Read DISTURBANCE_OBSERVER_FILTER_TIME: Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数); documented at the constant."""
         return await self.read(DISTURBANCE_OBSERVER_FILTER_TIME)
 
     async def write_disturbance_observer_filter_time(self, value: float) -> None:
-        """Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数). Parameter P09-31, address 0x091F, u16, unit ms, range 0..25, default 0.5, takes effect immediately. Manual section 7.9."""
+        """Write DISTURBANCE_OBSERVER_FILTER_TIME: Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数); documented at the constant."""
         await self.write(DISTURBANCE_OBSERVER_FILTER_TIME, value)
 
     async def read_low_freq_resonance_frequency(self) -> float:
-        """Low-frequency resonance frequency (低频共振频率). Parameter P09-38, address 0x0926, u16, unit Hz, range 1..100, default 100, takes effect immediately. Manual section 7.9."""
+        """Read LOW_FREQ_RESONANCE_FREQUENCY: Low-frequency resonance frequency (低频共振频率); documented at the constant."""
         return await self.read(LOW_FREQ_RESONANCE_FREQUENCY)
 
     async def write_low_freq_resonance_frequency(self, value: float) -> None:
-        """Low-frequency resonance frequency (低频共振频率). Parameter P09-38, address 0x0926, u16, unit Hz, range 1..100, default 100, takes effect immediately. Manual section 7.9."""
+        """Write LOW_FREQ_RESONANCE_FREQUENCY: Low-frequency resonance frequency (低频共振频率); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_FREQUENCY, value)
 
     async def read_low_freq_resonance_filter(self) -> int:
-        """Low-frequency resonance frequency filter setting (低频共振频率滤波设定). Parameter P09-39, address 0x0927, u16, range 0..10, default 2, takes effect immediately. Manual section 7.9."""
+        """Read LOW_FREQ_RESONANCE_FILTER: Low-frequency resonance frequency filter setting (低频共振频率滤波设定); documented at the constant."""
         return await self.read(LOW_FREQ_RESONANCE_FILTER)
 
     async def write_low_freq_resonance_filter(self, value: int) -> None:
-        """Low-frequency resonance frequency filter setting (低频共振频率滤波设定). Parameter P09-39, address 0x0927, u16, range 0..10, default 2, takes effect immediately. Manual section 7.9."""
+        """Write LOW_FREQ_RESONANCE_FILTER: Low-frequency resonance frequency filter setting (低频共振频率滤波设定); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_FILTER, value)
 
     async def read_phase_loss_protection(self) -> PhaseLossProtection | int:
-        """Input phase-loss protection (电源输入缺相保护选择). Parameter P0A-00, address 0x0A00, u16, range 0..2, default 0, takes effect immediately. Manual section 7.10."""
+        """Read PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         return await self.read(PHASE_LOSS_PROTECTION)
 
     async def write_phase_loss_protection(self, value: PhaseLossProtection | int | str) -> None:
-        """Input phase-loss protection (电源输入缺相保护选择). Parameter P0A-00, address 0x0A00, u16, range 0..2, default 0, takes effect immediately. Manual section 7.10."""
+        """Write PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         await self.write(PHASE_LOSS_PROTECTION, value)
 
     async def read_power_loss_save(self) -> PowerLossSave | int:
-        """Power-loss save enable (掉电保存功能使能选择). Parameter P0A-03, address 0x0A03, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         return await self.read(POWER_LOSS_SAVE)
 
     async def write_power_loss_save(self, value: PowerLossSave | int | str) -> None:
-        """Power-loss save enable (掉电保存功能使能选择). Parameter P0A-03, address 0x0A03, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         await self.write(POWER_LOSS_SAVE, value)
 
     async def read_motor_overload_gain(self) -> int:
-        """Motor overload protection gain (电机过载保护增益). Parameter P0A-04, address 0x0A04, u16, unit %, range 50..300, default 100, takes effect immediately. Manual section 7.10."""
+        """Read MOTOR_OVERLOAD_GAIN: Motor overload protection gain (电机过载保护增益); documented at the constant."""
         return await self.read(MOTOR_OVERLOAD_GAIN)
 
     async def write_motor_overload_gain(self, value: int) -> None:
-        """Motor overload protection gain (电机过载保护增益). Parameter P0A-04, address 0x0A04, u16, unit %, range 50..300, default 100, takes effect immediately. Manual section 7.10."""
+        """Write MOTOR_OVERLOAD_GAIN: Motor overload protection gain (电机过载保护增益); documented at the constant."""
         await self.write(MOTOR_OVERLOAD_GAIN, value)
 
     async def read_overspeed_threshold(self) -> int:
-        """Overspeed fault threshold (过速故障阀值). Parameter P0A-08, address 0x0A08, u16, unit rpm, range 0..10000, default 0, takes effect immediately. Manual section 7.10."""
+        """Read OVERSPEED_THRESHOLD: Overspeed fault threshold (过速故障阀值); documented at the constant."""
         return await self.read(OVERSPEED_THRESHOLD)
 
     async def write_overspeed_threshold(self, value: int) -> None:
-        """Overspeed fault threshold (过速故障阀值). Parameter P0A-08, address 0x0A08, u16, unit rpm, range 0..10000, default 0, takes effect immediately. Manual section 7.10."""
+        """Write OVERSPEED_THRESHOLD: Overspeed fault threshold (过速故障阀值); documented at the constant."""
         await self.write(OVERSPEED_THRESHOLD, value)
 
     async def read_max_pulse_frequency(self) -> int:
-        """Maximum position pulse frequency (最大位置脉冲频率). Parameter P0A-09, address 0x0A09, u16, unit kHz, range 100..4000, default 4000, takes effect immediately. Manual section 7.10."""
+        """Read MAX_PULSE_FREQUENCY: Maximum position pulse frequency (最大位置脉冲频率); documented at the constant."""
         return await self.read(MAX_PULSE_FREQUENCY)
 
     async def write_max_pulse_frequency(self, value: int) -> None:
-        """Maximum position pulse frequency (最大位置脉冲频率). Parameter P0A-09, address 0x0A09, u16, unit kHz, range 100..4000, default 4000, takes effect immediately. Manual section 7.10."""
+        """Write MAX_PULSE_FREQUENCY: Maximum position pulse frequency (最大位置脉冲频率); documented at the constant."""
         await self.write(MAX_PULSE_FREQUENCY, value)
 
     async def read_position_deviation_fault_threshold(self) -> int:
-        """Excessive position deviation fault threshold (位置偏差过大故障阈值). Parameter P0A-10, address 0x0A0A, u32, unit encoder/command unit, range 1..1073741824, default 3145728, takes effect immediately. Manual section 7.10."""
+        """Read POSITION_DEVIATION_FAULT_THRESHOLD: Excessive position deviation fault threshold (位置偏差过大故障阈值); documented at the constant."""
         return await self.read(POSITION_DEVIATION_FAULT_THRESHOLD)
 
     async def write_position_deviation_fault_threshold(self, value: int) -> None:
-        """Excessive position deviation fault threshold (位置偏差过大故障阈值). Parameter P0A-10, address 0x0A0A, u32, unit encoder/command unit, range 1..1073741824, default 3145728, takes effect immediately. Manual section 7.10."""
+        """Write POSITION_DEVIATION_FAULT_THRESHOLD: Excessive position deviation fault threshold (位置偏差过大故障阈值); documented at the constant."""
         await self.write(POSITION_DEVIATION_FAULT_THRESHOLD, value)
 
     async def read_runaway_protection(self) -> RunawayProtection | int:
-        """Runaway protection enable (飞车保护功能使能). Parameter P0A-12, address 0x0A0C, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Read RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         return await self.read(RUNAWAY_PROTECTION)
 
     async def write_runaway_protection(self, value: RunawayProtection | int | str) -> None:
-        """Runaway protection enable (飞车保护功能使能). Parameter P0A-12, address 0x0A0C, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Write RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         await self.write(RUNAWAY_PROTECTION, value)
 
     async def read_low_freq_resonance_deviation_threshold(self) -> int:
-        """Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值). Parameter P0A-16, address 0x0A10, u16, unit encoder unit, range 1..1000, default 5, takes effect immediately. Manual section 7.10."""
+        """Read LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值); documented at the constant."""
         return await self.read(LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD)
 
     async def write_low_freq_resonance_deviation_threshold(self, value: int) -> None:
-        """Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值). Parameter P0A-16, address 0x0A10, u16, unit encoder unit, range 1..1000, default 5, takes effect immediately. Manual section 7.10."""
+        """Write LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD, value)
 
     async def read_position_unit_select(self) -> PositionUnitSelect | int:
-        """Position setting unit (位置设定单位选择). Parameter P0A-17, address 0x0A11, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         return await self.read(POSITION_UNIT_SELECT)
 
     async def write_position_unit_select(self, value: PositionUnitSelect | int | str) -> None:
-        """Position setting unit (位置设定单位选择). Parameter P0A-17, address 0x0A11, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         await self.write(POSITION_UNIT_SELECT, value)
 
     async def read_pulse_input_filter_time(self) -> float:
-        """Pulse input filter time constant (脉冲输入滤波时间常数). Parameter P0A-24, address 0x0A18, u16, unit ns, range 0..6375, default 0, takes effect after restart. Manual section 7.10, 6.1.2."""
+        """Read PULSE_INPUT_FILTER_TIME: Pulse input filter time constant (脉冲输入滤波时间常数); documented at the constant."""
         return await self.read(PULSE_INPUT_FILTER_TIME)
 
     async def write_pulse_input_filter_time(self, value: float) -> None:
-        """Pulse input filter time constant (脉冲输入滤波时间常数). Parameter P0A-24, address 0x0A18, u16, unit ns, range 0..6375, default 0, takes effect after restart. Manual section 7.10, 6.1.2."""
+        """Write PULSE_INPUT_FILTER_TIME: Pulse input filter time constant (脉冲输入滤波时间常数); documented at the constant."""
         await self.write(PULSE_INPUT_FILTER_TIME, value)
 
     async def read_speed_display_filter_time(self) -> int:
-        """Speed feedback display filter time constant (速度反馈显示值滤波时间常数). Parameter P0A-25, address 0x0A19, u16, unit ms, range 0..5000, default 50, takes effect immediately. Manual section 7.10."""
+        """Read SPEED_DISPLAY_FILTER_TIME: Speed feedback display filter time constant (速度反馈显示值滤波时间常数); documented at the constant."""
         return await self.read(SPEED_DISPLAY_FILTER_TIME)
 
     async def write_speed_display_filter_time(self, value: int) -> None:
-        """Speed feedback display filter time constant (速度反馈显示值滤波时间常数). Parameter P0A-25, address 0x0A19, u16, unit ms, range 0..5000, default 50, takes effect immediately. Manual section 7.10."""
+        """Write SPEED_DISPLAY_FILTER_TIME: Speed feedback display filter time constant (速度反馈显示值滤波时间常数); documented at the constant."""
         await self.write(SPEED_DISPLAY_FILTER_TIME, value)
 
     async def read_motor_overload_mask(self) -> MotorOverloadMask | int:
-        """Motor overload masking (电机过载屏蔽使能). Parameter P0A-26, address 0x0A1A, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         return await self.read(MOTOR_OVERLOAD_MASK)
 
     async def write_motor_overload_mask(self, value: MotorOverloadMask | int | str) -> None:
-        """Motor overload masking (电机过载屏蔽使能). Parameter P0A-26, address 0x0A1A, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         await self.write(MOTOR_OVERLOAD_MASK, value)
 
     async def read_speed_do_filter_time(self) -> int:
-        """Speed DO filter time constant (速度 DO 滤波时间常数). Parameter P0A-27, address 0x0A1B, u16, unit ms, range 0..5000, default 10, takes effect immediately. Manual section 7.10."""
+        """Read SPEED_DO_FILTER_TIME: Speed DO filter time constant (速度 DO 滤波时间常数); documented at the constant."""
         return await self.read(SPEED_DO_FILTER_TIME)
 
     async def write_speed_do_filter_time(self, value: int) -> None:
-        """Speed DO filter time constant (速度 DO 滤波时间常数). Parameter P0A-27, address 0x0A1B, u16, unit ms, range 0..5000, default 10, takes effect immediately. Manual section 7.10."""
+        """Write SPEED_DO_FILTER_TIME: Speed DO filter time constant (速度 DO 滤波时间常数); documented at the constant."""
         await self.write(SPEED_DO_FILTER_TIME, value)
 
     async def read_quadrature_encoder_filter_time(self) -> float:
-        """Quadrature encoder filter time constant (正交编码器滤波时间常数). Parameter P0A-28, address 0x0A1C, u16, unit ns, range 0..6375, default 750, takes effect after restart. Manual section 7.10."""
+        """Read QUADRATURE_ENCODER_FILTER_TIME: Quadrature encoder filter time constant (正交编码器滤波时间常数); documented at the constant."""
         return await self.read(QUADRATURE_ENCODER_FILTER_TIME)
 
     async def write_quadrature_encoder_filter_time(self, value: float) -> None:
-        """Quadrature encoder filter time constant (正交编码器滤波时间常数). Parameter P0A-28, address 0x0A1C, u16, unit ns, range 0..6375, default 750, takes effect after restart. Manual section 7.10."""
+        """Write QUADRATURE_ENCODER_FILTER_TIME: Quadrature encoder filter time constant (正交编码器滤波时间常数); documented at the constant."""
         await self.write(QUADRATURE_ENCODER_FILTER_TIME, value)
 
     async def read_high_speed_pulse_filter_time(self) -> float:
-        """High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数). Parameter P0A-30, address 0x0A1E, u16, unit ns, range 0..6375, default 75, takes effect after restart. Manual section 7.10."""
+        """Read HIGH_SPEED_PULSE_FILTER_TIME: High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数); documented at the constant."""
         return await self.read(HIGH_SPEED_PULSE_FILTER_TIME)
 
     async def write_high_speed_pulse_filter_time(self, value: float) -> None:
-        """High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数). Parameter P0A-30, address 0x0A1E, u16, unit ns, range 0..6375, default 75, takes effect after restart. Manual section 7.10."""
+        """Write HIGH_SPEED_PULSE_FILTER_TIME: High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数); documented at the constant."""
         await self.write(HIGH_SPEED_PULSE_FILTER_TIME, value)
 
     async def read_stall_protection_window(self) -> int:
-        """Stall over-temperature protection time window (堵转过温保护时间窗口). Parameter P0A-32, address 0x0A20, u16, unit ms, range 10..65535, default 200, takes effect immediately. Manual section 7.10, 8.1.1."""
+        """Read STALL_PROTECTION_WINDOW: Stall over-temperature protection time window (堵转过温保护时间窗口); documented at the constant."""
         return await self.read(STALL_PROTECTION_WINDOW)
 
     async def write_stall_protection_window(self, value: int) -> None:
-        """Stall over-temperature protection time window (堵转过温保护时间窗口). Parameter P0A-32, address 0x0A20, u16, unit ms, range 10..65535, default 200, takes effect immediately. Manual section 7.10, 8.1.1."""
+        """Write STALL_PROTECTION_WINDOW: Stall over-temperature protection time window (堵转过温保护时间窗口); documented at the constant."""
         await self.write(STALL_PROTECTION_WINDOW, value)
 
     async def read_stall_protection_enable(self) -> StallProtection | int:
-        """Stall over-temperature protection enable (堵转过温保护使能). Parameter P0A-33, address 0x0A21, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Read STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         return await self.read(STALL_PROTECTION_ENABLE)
 
     async def write_stall_protection_enable(self, value: StallProtection | int | str) -> None:
-        """Stall over-temperature protection enable (堵转过温保护使能). Parameter P0A-33, address 0x0A21, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
+        """Write STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         await self.write(STALL_PROTECTION_ENABLE, value)
 
     async def read_multiturn_overflow_fault(self) -> MultiturnOverflowFault | int:
-        """Encoder multi-turn overflow fault select (编码器多圈溢出故障选择). Parameter P0A-36, address 0x0A24, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Read MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         return await self.read(MULTITURN_OVERFLOW_FAULT)
 
     async def write_multiturn_overflow_fault(self, value: MultiturnOverflowFault | int | str) -> None:
-        """Encoder multi-turn overflow fault select (编码器多圈溢出故障选择). Parameter P0A-36, address 0x0A24, u16, range 0..1, default 0, takes effect immediately. Manual section 7.10."""
+        """Write MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         await self.write(MULTITURN_OVERFLOW_FAULT, value)
 
     async def read_actual_speed(self) -> int:
-        """Actual motor speed (实际电机转速). Parameter P0B-00, address 0x0B00, s16, unit rpm. Manual section 7.11, 5.1.6. Actual motor speed, rounded, 1 rpm resolution (§5.1.6)."""
+        """Read ACTUAL_SPEED: Actual motor speed (实际电机转速); documented at the constant."""
         return await self.read(ACTUAL_SPEED)
 
     async def read_speed_command(self) -> int:
-        """Speed command (速度指令). Parameter P0B-01, address 0x0B01, s16, unit rpm. Manual section 7.11, 5.1.6. Current speed command of the drive."""
+        """Read SPEED_COMMAND: Speed command (速度指令); documented at the constant."""
         return await self.read(SPEED_COMMAND)
 
     async def read_internal_torque_command(self) -> float:
-        """Internal torque command (relative to rated torque) (内部转矩指令 (相对于额定转矩)). Parameter P0B-02, address 0x0B02, s16, unit %. Manual section 7.11, 5.1.6. Actual output torque as a percentage of rated torque."""
+        """Read INTERNAL_TORQUE_COMMAND: Internal torque command (relative to rated torque) (内部转矩指令 (相对于额定转矩)); documented at the constant."""
         return await self.read(INTERNAL_TORQUE_COMMAND)
 
     async def read_di_status(self) -> int:
-        """Input signal (DI) monitor (输入信号(DI信号)监视). Parameter P0B-03, address 0x0B03, u16. Manual section 7.11, 5.1.6. Levels of the 4 DI terminals (panel: upper segment lit = high, lower = low). Bit assignment not printed."""
+        """Read DI_STATUS: Input signal (DI) monitor (输入信号(DI信号)监视); documented at the constant."""
         return await self.read(DI_STATUS)
 
     async def read_do_status(self) -> int:
-        """Output signal (DO) monitor (输出信号(DO信号)监视). Parameter P0B-05, address 0x0B05, u16. Manual section 7.11, 5.1.6. Levels of the 4 DO terminals. Bit assignment not printed."""
+        """Read DO_STATUS: Output signal (DO) monitor (输出信号(DO信号)监视); documented at the constant."""
         return await self.read(DO_STATUS)
 
     async def read_absolute_position_counter(self) -> int:
-        """Absolute position counter (绝对位置计数器 (32 位十进制显示)). Parameter P0B-07, address 0x0B07, s32, unit command unit. Manual section 7.11, 5.1.6. Current absolute motor position in command units."""
+        """Read ABSOLUTE_POSITION_COUNTER: Absolute position counter (绝对位置计数器 (32 位十进制显示)); documented at the constant."""
         return await self.read(ABSOLUTE_POSITION_COUNTER)
 
     async def read_mechanical_angle(self) -> int:
-        """Mechanical angle (pulses from origin) (机械角度 (始于原点的脉冲数)). Parameter P0B-09, address 0x0B09, u16, unit encoder unit. Manual section 7.11."""
+        """Read MECHANICAL_ANGLE: Mechanical angle (pulses from origin) (机械角度 (始于原点的脉冲数)); documented at the constant."""
         return await self.read(MECHANICAL_ANGLE)
 
     async def read_electrical_angle(self) -> int:
-        """Electrical angle (电气角度). Parameter P0B-10, address 0x0B0A, u16, unit °. Manual section 7.11."""
+        """Read ELECTRICAL_ANGLE: Electrical angle (电气角度); documented at the constant."""
         return await self.read(ELECTRICAL_ANGLE)
 
     async def read_position_command_speed(self) -> int:
-        """Speed corresponding to the input position command (输入位置指令对应速度信息). Parameter P0B-11, address 0x0B0B, s16, unit rpm. Manual section 7.11."""
+        """Read POSITION_COMMAND_SPEED: Speed corresponding to the input position command (输入位置指令对应速度信息); documented at the constant."""
         return await self.read(POSITION_COMMAND_SPEED)
 
     async def read_average_load_rate(self) -> int:
-        """Average load rate (平均负载率). Parameter P0B-12, address 0x0B0C, u16, unit %. Manual section 7.11."""
+        """Read AVERAGE_LOAD_RATE: Average load rate (平均负载率); documented at the constant."""
         return await self.read(AVERAGE_LOAD_RATE)
 
     async def read_input_pulse_counter(self) -> int:
-        """Input command pulse counter (输入指令脉冲计数器 (32 位十进制显示)). Parameter P0B-13, address 0x0B0D, s32, unit command unit. Manual section 7.11, 5.1.6. Number of input position command pulses."""
+        """Read INPUT_PULSE_COUNTER: Input command pulse counter (输入指令脉冲计数器 (32 位十进制显示)); documented at the constant."""
         return await self.read(INPUT_PULSE_COUNTER)
 
     async def read_encoder_position_deviation(self) -> int:
-        """Encoder position deviation counter (编码器位置偏差计数器(32 位十进制显示)). Parameter P0B-15, address 0x0B0F, s32, unit encoder unit. Manual section 7.11, 5.1.6. Encoder position deviation = total input position command - total encoder feedback pulses."""
+        """Read ENCODER_POSITION_DEVIATION: Encoder position deviation counter (编码器位置偏差计数器(32 位十进制显示)); documented at the constant."""
         return await self.read(ENCODER_POSITION_DEVIATION)
 
     async def read_feedback_pulse_counter(self) -> int:
-        """Feedback pulse counter (反馈脉冲计数器(32 位十进制显示)). Parameter P0B-17, address 0x0B11, s32, unit encoder unit. Manual section 7.11, 5.1.6. Counts the encoder feedback pulses of the motor (encoder units)."""
+        """Read FEEDBACK_PULSE_COUNTER: Feedback pulse counter (反馈脉冲计数器(32 位十进制显示)); documented at the constant."""
         return await self.read(FEEDBACK_PULSE_COUNTER)
 
     async def read_total_power_on_time(self) -> int:
-        """Total power-on time (总上电时间 (32 位十进制显示)). Parameter P0B-19, address 0x0B13, u32, unit s. Manual section 7.11."""
+        """Read TOTAL_POWER_ON_TIME: Total power-on time (总上电时间 (32 位十进制显示)); documented at the constant."""
         return await self.read(TOTAL_POWER_ON_TIME)
 
     async def read_ai1_voltage(self) -> float:
-        """AI1 sampled voltage (AI1 采样电压值). Parameter P0B-21, address 0x0B15, s16, unit V. Manual section 7.11, 5.1.6. Voltage at analog channel 1."""
+        """Read AI1_VOLTAGE: AI1 sampled voltage (AI1 采样电压值); documented at the constant."""
         return await self.read(AI1_VOLTAGE)
 
     async def read_ai2_voltage(self) -> float:
-        """AI2 sampled voltage (AI2 采样电压值). Parameter P0B-22, address 0x0B16, s16, unit V. Manual section 7.11, 5.1.6. Voltage at analog channel 2."""
+        """Read AI2_VOLTAGE: AI2 sampled voltage (AI2 采样电压值); documented at the constant."""
         return await self.read(AI2_VOLTAGE)
 
     async def read_phase_current_rms(self) -> float:
-        """Phase current RMS (相电流有效值). Parameter P0B-24, address 0x0B18, u16, unit A. Manual section 7.11, 5.1.6. RMS phase current of the motor."""
+        """Read PHASE_CURRENT_RMS: Phase current RMS (相电流有效值); documented at the constant."""
         return await self.read(PHASE_CURRENT_RMS)
 
     async def read_bus_voltage(self) -> float:
-        """DC bus voltage (母线电压值). Parameter P0B-26, address 0x0B1A, u16, unit V. Manual section 7.11, 5.1.6. Main circuit DC bus voltage."""
+        """Read BUS_VOLTAGE: DC bus voltage (母线电压值); documented at the constant."""
         return await self.read(BUS_VOLTAGE)
 
     async def read_module_temperature(self) -> int:
-        """Module temperature (模块温度值). Parameter P0B-27, address 0x0B1B, u16, unit °C. Manual section 7.11."""
+        """Read MODULE_TEMPERATURE: Module temperature (模块温度值); documented at the constant."""
         return await self.read(MODULE_TEMPERATURE)
 
     async def read_fault_record_select(self) -> int:
-        """Fault record select (故障记录). Parameter P0B-33, address 0x0B21, u16, range 0..9, default 0, takes effect immediately. Manual section 7.11, 5.1.6. Selects which fault record P0B-34...P0B-42 show: 0 = current fault, 1 = previous fault, ... 9 = 9th previous fault."""
+        """Read FAULT_RECORD_SELECT: Fault record select (故障记录); documented at the constant."""
         return await self.read(FAULT_RECORD_SELECT)
 
     async def write_fault_record_select(self, value: int) -> None:
-        """Fault record select (故障记录). Parameter P0B-33, address 0x0B21, u16, range 0..9, default 0, takes effect immediately. Manual section 7.11, 5.1.6. Selects which fault record P0B-34...P0B-42 show: 0 = current fault, 1 = previous fault, ... 9 = 9th previous fault."""
+        """Write FAULT_RECORD_SELECT: Fault record select (故障记录); documented at the constant."""
         await self.write(FAULT_RECORD_SELECT, value)
 
     async def read_selected_fault_code(self) -> int:
-        """Fault code of the selected record (所选次数故障码). Parameter P0B-34, address 0x0B22, u16. Manual section 7.11, 5.1.6. Fault code selected by P0B-33; shows Er.000 when no fault occurred."""
+        """Read SELECTED_FAULT_CODE: Fault code of the selected record (所选次数故障码); documented at the constant."""
         return await self.read(SELECTED_FAULT_CODE)
 
     async def read_selected_fault_timestamp(self) -> int:
-        """Time stamp of the selected fault (所选故障时间戳). Parameter P0B-35, address 0x0B23, u32, unit s. Manual section 7.11, 5.1.6. Total servo running time when the fault in P0B-34 occurred; 0 when no fault."""
+        """Read SELECTED_FAULT_TIMESTAMP: Time stamp of the selected fault (所选故障时间戳); documented at the constant."""
         return await self.read(SELECTED_FAULT_TIMESTAMP)
 
     async def read_selected_fault_speed(self) -> int:
-        """Motor speed at the selected fault (所选故障时电机转速). Parameter P0B-37, address 0x0B25, s16, unit rpm. Manual section 7.11, 5.1.6. 0 when no fault."""
+        """Read SELECTED_FAULT_SPEED: Motor speed at the selected fault (所选故障时电机转速); documented at the constant."""
         return await self.read(SELECTED_FAULT_SPEED)
 
     async def read_selected_fault_u_current(self) -> float:
-        """Motor U-phase current at the selected fault (所选故障时电机 U 相电流). Parameter P0B-38, address 0x0B26, u16, unit A. Manual section 7.11, 5.1.6. RMS U-phase winding current; 0 when no fault."""
+        """Read SELECTED_FAULT_U_CURRENT: Motor U-phase current at the selected fault (所选故障时电机 U 相电流); documented at the constant."""
         return await self.read(SELECTED_FAULT_U_CURRENT)
 
     async def read_selected_fault_v_current(self) -> float:
-        """Motor V-phase current at the selected fault (所选故障时电机 V 相电流). Parameter P0B-39, address 0x0B27, u16, unit A. Manual section 7.11, 5.1.6. RMS V-phase winding current; 0 when no fault."""
+        """Read SELECTED_FAULT_V_CURRENT: Motor V-phase current at the selected fault (所选故障时电机 V 相电流); documented at the constant."""
         return await self.read(SELECTED_FAULT_V_CURRENT)
 
     async def read_selected_fault_bus_voltage(self) -> int:
-        """Bus voltage at the selected fault (所选故障时母线电压). Parameter P0B-40, address 0x0B28, u16, unit V. Manual section 7.11, 5.1.6. Main circuit DC bus voltage; 0 when no fault."""
+        """Read SELECTED_FAULT_BUS_VOLTAGE: Bus voltage at the selected fault (所选故障时母线电压); documented at the constant."""
         return await self.read(SELECTED_FAULT_BUS_VOLTAGE)
 
     async def read_selected_fault_di_status(self) -> int:
-        """Input terminal status at the selected fault (所选故障时输入端子状态). Parameter P0B-41, address 0x0B29, u16. Manual section 7.11, 5.1.6. Levels of the 4 DI terminals at the fault, read like P0B-03; 0 when no fault."""
+        """Read SELECTED_FAULT_DI_STATUS: Input terminal status at the selected fault (所选故障时输入端子状态); documented at the constant."""
         return await self.read(SELECTED_FAULT_DI_STATUS)
 
     async def read_selected_fault_do_status(self) -> int:
-        """Output terminal status at the selected fault (所选故障时输出端子状态). Parameter P0B-42, address 0x0B2A, u16. Manual section 7.11, 5.1.6. Levels of the 4 DO terminals at the fault, read like P0B-05; 0 when no fault."""
+        """Read SELECTED_FAULT_DO_STATUS: Output terminal status at the selected fault (所选故障时输出端子状态); documented at the constant."""
         return await self.read(SELECTED_FAULT_DO_STATUS)
 
     async def read_position_deviation_counter(self) -> int:
-        """Position deviation counter (位置偏差计数器). Parameter P0B-53, address 0x0B35, s32, unit command unit. Manual section 7.11."""
+        """Read POSITION_DEVIATION_COUNTER: Position deviation counter (位置偏差计数器); documented at the constant."""
         return await self.read(POSITION_DEVIATION_COUNTER)
 
     async def read_actual_speed_0_1rpm(self) -> float:
-        """Actual motor speed (0.1 rpm) (实际电机转速). Parameter P0B-55, address 0x0B37, s32, unit rpm. Manual section 7.11, 5.1.6. Actual motor speed, 0.1 rpm resolution."""
+        """Read ACTUAL_SPEED_0_1RPM: Actual motor speed (0.1 rpm) (实际电机转速); documented at the constant."""
         return await self.read(ACTUAL_SPEED_0_1RPM)
 
     async def read_mechanical_abs_position_low(self) -> int:
-        """Mechanical absolute position (low 32 bits) (机械绝对位置 (低 32 位)). Parameter P0B-58, address 0x0B3A, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read MECHANICAL_ABS_POSITION_LOW: Mechanical absolute position (low 32 bits) (机械绝对位置 (低 32 位)); documented at the constant."""
         return await self.read(MECHANICAL_ABS_POSITION_LOW)
 
     async def read_mechanical_abs_position_high(self) -> int:
-        """Mechanical absolute position (high 32 bits) (机械绝对位置 (高 32 位)). Parameter P0B-60, address 0x0B3C, s32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read MECHANICAL_ABS_POSITION_HIGH: Mechanical absolute position (high 32 bits) (机械绝对位置 (高 32 位)); documented at the constant."""
         return await self.read(MECHANICAL_ABS_POSITION_HIGH)
 
     async def read_realtime_input_position_counter(self) -> int:
-        """Real-time input position command counter (实时输入位置指令计数器). Parameter P0B-64, address 0x0B40, s32, unit command unit. Manual section 7.11."""
+        """Read REALTIME_INPUT_POSITION_COUNTER: Real-time input position command counter (实时输入位置指令计数器); documented at the constant."""
         return await self.read(REALTIME_INPUT_POSITION_COUNTER)
 
     async def read_abs_encoder_turns(self) -> int:
-        """Absolute encoder multi-turn count (绝对值编码器旋转圈数数据). Parameter P0B-70, address 0x0B46, u16, unit r, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_TURNS: Absolute encoder multi-turn count (绝对值编码器旋转圈数数据); documented at the constant."""
         return await self.read(ABS_ENCODER_TURNS)
 
     async def read_abs_encoder_single_turn_position(self) -> int:
-        """Absolute encoder position within one turn (绝对值编码器的 1 圈内位置). Parameter P0B-71, address 0x0B47, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_SINGLE_TURN_POSITION: Absolute encoder position within one turn (绝对值编码器的 1 圈内位置); documented at the constant."""
         return await self.read(ABS_ENCODER_SINGLE_TURN_POSITION)
 
     async def read_abs_encoder_position_low(self) -> int:
-        """Absolute encoder absolute position (low 32 bits) (绝对值编码器绝对位置 (低 32 位)). Parameter P0B-77, address 0x0B4D, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_POSITION_LOW: Absolute encoder absolute position (low 32 bits) (绝对值编码器绝对位置 (低 32 位)); documented at the constant."""
         return await self.read(ABS_ENCODER_POSITION_LOW)
 
     async def read_abs_encoder_position_high(self) -> int:
-        """Absolute encoder absolute position (high 32 bits) (绝对值编码器绝对位置 (高 32 位)). Parameter P0B-79, address 0x0B4F, s32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read ABS_ENCODER_POSITION_HIGH: Absolute encoder absolute position (high 32 bits) (绝对值编码器绝对位置 (高 32 位)); documented at the constant."""
         return await self.read(ABS_ENCODER_POSITION_HIGH)
 
     async def read_load_single_turn_position_low(self) -> int:
-        """Rotating load single-turn position (low 32 bits) (旋转负载单圈位置 (低 32 位)). Parameter P0B-81, address 0x0B51, u32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read LOAD_SINGLE_TURN_POSITION_LOW: Rotating load single-turn position (low 32 bits) (旋转负载单圈位置 (低 32 位)); documented at the constant."""
         return await self.read(LOAD_SINGLE_TURN_POSITION_LOW)
 
     async def read_load_single_turn_position_high(self) -> int:
-        """Rotating load single-turn position (high 32 bits) (旋转负载单圈位置 (高 32 位)). Parameter P0B-83, address 0x0B53, s32, unit encoder unit, default 0. Manual section 7.11."""
+        """Read LOAD_SINGLE_TURN_POSITION_HIGH: Rotating load single-turn position (high 32 bits) (旋转负载单圈位置 (高 32 位)); documented at the constant."""
         return await self.read(LOAD_SINGLE_TURN_POSITION_HIGH)
 
     async def read_load_single_turn_position(self) -> int:
-        """Rotating load single-turn position (command units) (旋转负载单圈位置). Parameter P0B-85, address 0x0B55, u32, unit command unit, default 0. Manual section 7.11."""
+        """Read LOAD_SINGLE_TURN_POSITION: Rotating load single-turn position (command units) (旋转负载单圈位置); documented at the constant."""
         return await self.read(LOAD_SINGLE_TURN_POSITION)
 
     async def read_slave_address(self) -> int:
-        """Servo axis (Modbus slave) address (伺服轴地址). Parameter P0C-00, address 0x0C00, u16, range 1..247, default 1, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Read SLAVE_ADDRESS: Servo axis (Modbus slave) address (伺服轴地址); documented at the constant."""
         return await self.read(SLAVE_ADDRESS)
 
     async def write_slave_address(self, value: int) -> None:
-        """Servo axis (Modbus slave) address (伺服轴地址). Parameter P0C-00, address 0x0C00, u16, range 1..247, default 1, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Write SLAVE_ADDRESS: Servo axis (Modbus slave) address (伺服轴地址); documented at the constant."""
         await self.write(SLAVE_ADDRESS, value)
 
     async def read_baud_rate(self) -> BaudRate | int:
-        """Serial baud rate (串口波特率设置). Parameter P0C-02, address 0x0C02, u16, range 0..5, default 5, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Read BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         return await self.read(BAUD_RATE)
 
     async def write_baud_rate(self, value: BaudRate | int | str) -> None:
-        """Serial baud rate (串口波特率设置). Parameter P0C-02, address 0x0C02, u16, range 0..5, default 5, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Write BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         await self.write(BAUD_RATE, value)
 
     async def read_modbus_data_format(self) -> ModbusDataFormat | int:
-        """Modbus data format (Moubus 数据格式). Parameter P0C-03, address 0x0C03, u16, range 0..3, default 0, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Read MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         return await self.read(MODBUS_DATA_FORMAT)
 
     async def write_modbus_data_format(self, value: ModbusDataFormat | int | str) -> None:
-        """Modbus data format (Moubus 数据格式). Parameter P0C-03, address 0x0C03, u16, range 0..3, default 0, takes effect immediately. Manual section 7.12, 9.1.2."""
+        """Write MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         await self.write(MODBUS_DATA_FORMAT, value)
 
     async def read_comm_vdi_enable(self) -> DisableEnable | int:
-        """Communication VDI (通信 VDI). Parameter P0C-09, address 0x0C09, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12, 6.1.3."""
+        """Read COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         return await self.read(COMM_VDI_ENABLE)
 
     async def write_comm_vdi_enable(self, value: DisableEnable | int | str) -> None:
-        """Communication VDI (通信 VDI). Parameter P0C-09, address 0x0C09, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12, 6.1.3."""
+        """Write COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         await self.write(COMM_VDI_ENABLE, value)
 
     async def read_vdi_poweron_default(self) -> VdiPoweronDefaultBits:
-        """VDI default values after power-on (上电后 VDI 默认值). Parameter P0C-10, address 0x0C0A, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.12."""
+        """Read VDI_POWERON_DEFAULT: VDI default values after power-on (上电后 VDI 默认值); documented at the constant."""
         return await self.read(VDI_POWERON_DEFAULT)
 
     async def write_vdi_poweron_default(self, value: VdiPoweronDefaultBits) -> None:
-        """VDI default values after power-on (上电后 VDI 默认值). Parameter P0C-10, address 0x0C0A, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.12."""
+        """Write VDI_POWERON_DEFAULT: VDI default values after power-on (上电后 VDI 默认值); documented at the constant."""
         await self.write(VDI_POWERON_DEFAULT, value)
 
     async def read_comm_vdo_enable(self) -> DisableEnable | int:
-        """Communication VDO (通信 VDO). Parameter P0C-11, address 0x0C0B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12."""
+        """Read COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         return await self.read(COMM_VDO_ENABLE)
 
     async def write_comm_vdo_enable(self, value: DisableEnable | int | str) -> None:
-        """Communication VDO (通信 VDO). Parameter P0C-11, address 0x0C0B, u16, range 0..1, default 0, takes effect immediately. Manual section 7.12."""
+        """Write COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         await self.write(COMM_VDO_ENABLE, value)
 
     async def read_vdo_default_level(self) -> VdoDefaultLevelBits:
-        """VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平). Parameter P0C-12, address 0x0C0C, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.12."""
+        """Read VDO_DEFAULT_LEVEL: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平); documented at the constant."""
         return await self.read(VDO_DEFAULT_LEVEL)
 
     async def write_vdo_default_level(self, value: VdoDefaultLevelBits) -> None:
-        """VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平). Parameter P0C-12, address 0x0C0C, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.12."""
+        """Write VDO_DEFAULT_LEVEL: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平); documented at the constant."""
         await self.write(VDO_DEFAULT_LEVEL, value)
 
     async def read_modbus_eeprom_update(self) -> EepromUpdate | int:
-        """Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM). Parameter P0C-13, address 0x0C0D, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.1.2, 8.1.2."""
+        """Read MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         return await self.read(MODBUS_EEPROM_UPDATE)
 
     async def write_modbus_eeprom_update(self, value: EepromUpdate | int | str) -> None:
-        """Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM). Parameter P0C-13, address 0x0C0D, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.1.2, 8.1.2."""
+        """Write MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         await self.write(MODBUS_EEPROM_UPDATE, value)
 
     async def read_modbus_error_code(self) -> ModbusError | int:
-        """Modbus error code (Moubus 错误码). Parameter P0C-14, address 0x0C0E, u16, range 1..4. Manual section 7.12."""
+        """Read MODBUS_ERROR_CODE: Modbus error code (Moubus 错误码); documented at the constant."""
         return await self.read(MODBUS_ERROR_CODE)
 
     async def read_modbus_response_delay(self) -> int:
-        """Modbus response delay (Moubus 指令应答延时). Parameter P0C-25, address 0x0C19, u16, unit ms, range 0..5000, default 1, takes effect immediately. Manual section 7.12."""
+        """Read MODBUS_RESPONSE_DELAY: Modbus response delay (Moubus 指令应答延时); documented at the constant."""
         return await self.read(MODBUS_RESPONSE_DELAY)
 
     async def write_modbus_response_delay(self, value: int) -> None:
-        """Modbus response delay (Moubus 指令应答延时). Parameter P0C-25, address 0x0C19, u16, unit ms, range 0..5000, default 1, takes effect immediately. Manual section 7.12."""
+        """Write MODBUS_RESPONSE_DELAY: Modbus response delay (Moubus 指令应答延时); documented at the constant."""
         await self.write(MODBUS_RESPONSE_DELAY, value)
 
     async def read_modbus_word_order(self) -> WordOrder | int:
-        """Modbus 32-bit word order (Moubus 通信数据高低位顺序). Parameter P0C-26, address 0x0C1A, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.1, 9.2.3. Word order of 32-bit parameters on the bus: 0 = high word first, 1 = low word first (default). transport.word_order_register points here."""
+        """Read MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         return await self.read(MODBUS_WORD_ORDER)
 
     async def write_modbus_word_order(self, value: WordOrder | int | str) -> None:
-        """Modbus 32-bit word order (Moubus 通信数据高低位顺序). Parameter P0C-26, address 0x0C1A, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.1, 9.2.3. Word order of 32-bit parameters on the bus: 0 = high word first, 1 = low word first (default). transport.word_order_register points here."""
+        """Write MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         await self.write(MODBUS_WORD_ORDER, value)
 
     async def read_modbus_error_frame_format(self) -> ErrorFrameFormat | int:
-        """Modbus error frame format (Moubus 错误帧格式选择). Parameter P0C-30, address 0x0C1E, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.4."""
+        """Read MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         return await self.read(MODBUS_ERROR_FRAME_FORMAT)
 
     async def write_modbus_error_frame_format(self, value: ErrorFrameFormat | int | str) -> None:
-        """Modbus error frame format (Moubus 错误帧格式选择). Parameter P0C-30, address 0x0C1E, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.4."""
+        """Write MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         await self.write(MODBUS_ERROR_FRAME_FORMAT, value)
 
     async def read_software_reset(self) -> NoOpEnable | int:
-        """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Read SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         return await self.read(SOFTWARE_RESET)
 
     async def write_software_reset(self, value: NoOpEnable | int | str) -> None:
-        """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Write SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         await self.write(SOFTWARE_RESET, value)
 
     async def read_fault_reset(self) -> NoOpEnable | int:
-        """Fault reset (故障复位). Parameter P0D-01, address 0x0D01, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Read FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         return await self.read(FAULT_RESET)
 
     async def write_fault_reset(self, value: NoOpEnable | int | str) -> None:
-        """Fault reset (故障复位). Parameter P0D-01, address 0x0D01, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Write FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         await self.write(FAULT_RESET, value)
 
     async def read_offline_inertia_identification(self) -> int:
-        """Offline inertia identification (离线惯量辨识功能). Parameter P0D-02, address 0x0D02, u16, takes effect immediately. Manual section 7.13."""
+        """Read OFFLINE_INERTIA_IDENTIFICATION: Offline inertia identification (离线惯量辨识功能); documented at the constant."""
         return await self.read(OFFLINE_INERTIA_IDENTIFICATION)
 
     async def write_offline_inertia_identification(self, value: int) -> None:
-        """Offline inertia identification (离线惯量辨识功能). Parameter P0D-02, address 0x0D02, u16, takes effect immediately. Manual section 7.13."""
+        """Write OFFLINE_INERTIA_IDENTIFICATION: Offline inertia identification (离线惯量辨识功能); documented at the constant."""
         await self.write(OFFLINE_INERTIA_IDENTIFICATION, value)
 
     async def read_initial_angle_identification(self) -> InitialAngleId | int:
-        """Initial angle identification (初始角度识别). Parameter P0D-03, address 0x0D03, u16, range 1..1. Manual section 7.13."""
+        """Read INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         return await self.read(INITIAL_ANGLE_IDENTIFICATION)
 
     async def write_initial_angle_identification(self, value: InitialAngleId | int | str) -> None:
-        """Initial angle identification (初始角度识别). Parameter P0D-03, address 0x0D03, u16, range 1..1. Manual section 7.13."""
+        """Write INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         await self.write(INITIAL_ANGLE_IDENTIFICATION, value)
 
     async def read_emergency_stop(self) -> EmergencyStopCmd | int:
-        """Emergency stop (紧急停机). Parameter P0D-05, address 0x0D05, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Read EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         return await self.read(EMERGENCY_STOP)
 
     async def write_emergency_stop(self, value: EmergencyStopCmd | int | str) -> None:
-        """Emergency stop (紧急停机). Parameter P0D-05, address 0x0D05, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
+        """Write EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         await self.write(EMERGENCY_STOP, value)
 
     async def read_reserved_p0d_10(self) -> int:
-        """Reserved (保留). Parameter P0D-10, address 0x0D0A, u16. Manual section 7.13."""
+        """Read RESERVED_P0D_10: Reserved (保留); documented at the constant."""
         return await self.read(RESERVED_P0D_10)
 
     async def read_jog_trial_run(self) -> int:
-        """JOG trial run (JOG 试运行功能). Parameter P0D-11, address 0x0D0B, u16. Manual section 7.13, 5.2.1."""
+        """Read JOG_TRIAL_RUN: JOG trial run (JOG 试运行功能); documented at the constant."""
         return await self.read(JOG_TRIAL_RUN)
 
     async def write_jog_trial_run(self, value: int) -> None:
-        """JOG trial run (JOG 试运行功能). Parameter P0D-11, address 0x0D0B, u16. Manual section 7.13, 5.2.1."""
+        """Write JOG_TRIAL_RUN: JOG trial run (JOG 试运行功能); documented at the constant."""
         await self.write(JOG_TRIAL_RUN, value)
 
     async def read_dido_force_enable(self) -> DidoForce | int:
-        """DI/DO forced input/output enable (DIDO 强制输入输出使能). Parameter P0D-17, address 0x0D11, u16, range 0..3, default 0, takes effect immediately. Manual section 7.13."""
+        """Read DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         return await self.read(DIDO_FORCE_ENABLE)
 
     async def write_dido_force_enable(self, value: DidoForce | int | str) -> None:
-        """DI/DO forced input/output enable (DIDO 强制输入输出使能). Parameter P0D-17, address 0x0D11, u16, range 0..3, default 0, takes effect immediately. Manual section 7.13."""
+        """Write DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         await self.write(DIDO_FORCE_ENABLE, value)
 
     async def read_di_force_value(self) -> int:
-        """DI forced input value (DI 强制输入给定). Parameter P0D-18, address 0x0D12, u16, range 0..511, default 511, takes effect immediately. Manual section 7.13."""
+        """Read DI_FORCE_VALUE: DI forced input value (DI 强制输入给定); documented at the constant."""
         return await self.read(DI_FORCE_VALUE)
 
     async def write_di_force_value(self, value: int) -> None:
-        """DI forced input value (DI 强制输入给定). Parameter P0D-18, address 0x0D12, u16, range 0..511, default 511, takes effect immediately. Manual section 7.13."""
+        """Write DI_FORCE_VALUE: DI forced input value (DI 强制输入给定); documented at the constant."""
         await self.write(DI_FORCE_VALUE, value)
 
     async def read_do_force_value(self) -> int:
-        """DO forced output value (DO 强制输出给定). Parameter P0D-19, address 0x0D13, u16, range 0..31, default 0, takes effect immediately. Manual section 7.13."""
+        """Read DO_FORCE_VALUE: DO forced output value (DO 强制输出给定); documented at the constant."""
         return await self.read(DO_FORCE_VALUE)
 
     async def write_do_force_value(self, value: int) -> None:
-        """DO forced output value (DO 强制输出给定). Parameter P0D-19, address 0x0D13, u16, range 0..31, default 0, takes effect immediately. Manual section 7.13."""
+        """Write DO_FORCE_VALUE: DO forced output value (DO 强制输出给定); documented at the constant."""
         await self.write(DO_FORCE_VALUE, value)
 
     async def read_abs_encoder_reset(self) -> AbsEncoderReset | int:
-        """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Read ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         return await self.read(ABS_ENCODER_RESET)
 
     async def write_abs_encoder_reset(self, value: AbsEncoderReset | int | str) -> None:
-        """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
+        """Write ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         await self.write(ABS_ENCODER_RESET, value)
 
     async def read_multi_position_run_mode(self) -> MultiPositionRunMode | int:
-        """Multi-segment position run mode (多段位置运行方式). Parameter P11-00, address 0x1100, u16, range 0..3, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         return await self.read(MULTI_POSITION_RUN_MODE)
 
     async def write_multi_position_run_mode(self, value: MultiPositionRunMode | int | str) -> None:
-        """Multi-segment position run mode (多段位置运行方式). Parameter P11-00, address 0x1100, u16, range 0..3, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         await self.write(MULTI_POSITION_RUN_MODE, value)
 
     async def read_multi_position_end_segment(self) -> int:
-        """Last displacement segment (位移指令终点段数). Parameter P11-01, address 0x1101, u16, range 1..16, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read MULTI_POSITION_END_SEGMENT: Last displacement segment (位移指令终点段数); documented at the constant."""
         return await self.read(MULTI_POSITION_END_SEGMENT)
 
     async def write_multi_position_end_segment(self, value: int) -> None:
-        """Last displacement segment (位移指令终点段数). Parameter P11-01, address 0x1101, u16, range 1..16, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write MULTI_POSITION_END_SEGMENT: Last displacement segment (位移指令终点段数); documented at the constant."""
         await self.write(MULTI_POSITION_END_SEGMENT, value)
 
     async def read_multi_position_remainder(self) -> RemainderHandling | int:
-        """Remaining-segment handling (余量处理方式). Parameter P11-02, address 0x1102, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         return await self.read(MULTI_POSITION_REMAINDER)
 
     async def write_multi_position_remainder(self, value: RemainderHandling | int | str) -> None:
-        """Remaining-segment handling (余量处理方式). Parameter P11-02, address 0x1102, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         await self.write(MULTI_POSITION_REMAINDER, value)
 
     async def read_multi_position_time_unit(self) -> TimeUnitMsS | int:
-        """Time unit (时间单位). Parameter P11-03, address 0x1103, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3. Unit of the segment acceleration/deceleration and wait times (P11-15, P11-16, ...)."""
+        """Read MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         return await self.read(MULTI_POSITION_TIME_UNIT)
 
     async def write_multi_position_time_unit(self, value: TimeUnitMsS | int | str) -> None:
-        """Time unit (时间单位). Parameter P11-03, address 0x1103, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3. Unit of the segment acceleration/deceleration and wait times (P11-15, P11-16, ...)."""
+        """Write MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         await self.write(MULTI_POSITION_TIME_UNIT, value)
 
     async def read_displacement_type(self) -> DisplacementType | int:
-        """Displacement command type (位移指令类型选择). Parameter P11-04, address 0x1104, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         return await self.read(DISPLACEMENT_TYPE)
 
     async def write_displacement_type(self, value: DisplacementType | int | str) -> None:
-        """Displacement command type (位移指令类型选择). Parameter P11-04, address 0x1104, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         await self.write(DISPLACEMENT_TYPE, value)
 
     async def read_sequential_start_segment(self) -> int:
-        """Sequential run start segment (顺序运行起始段选择). Parameter P11-05, address 0x1105, u16, range 0..16, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Read SEQUENTIAL_START_SEGMENT: Sequential run start segment (顺序运行起始段选择); documented at the constant."""
         return await self.read(SEQUENTIAL_START_SEGMENT)
 
     async def write_sequential_start_segment(self, value: int) -> None:
-        """Sequential run start segment (顺序运行起始段选择). Parameter P11-05, address 0x1105, u16, range 0..16, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
+        """Write SEQUENTIAL_START_SEGMENT: Sequential run start segment (顺序运行起始段选择); documented at the constant."""
         await self.write(SEQUENTIAL_START_SEGMENT, value)
 
     async def read_multi_speed_run_mode(self) -> MultiSpeedRunMode | int:
-        """Multi-segment speed run mode (多段速度指令运行方式). Parameter P12-00, address 0x1200, u16, range 0..2, default 1, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Read MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         return await self.read(MULTI_SPEED_RUN_MODE)
 
     async def write_multi_speed_run_mode(self, value: MultiSpeedRunMode | int | str) -> None:
-        """Multi-segment speed run mode (多段速度指令运行方式). Parameter P12-00, address 0x1200, u16, range 0..2, default 1, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Write MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         await self.write(MULTI_SPEED_RUN_MODE, value)
 
     async def read_multi_speed_end_segment(self) -> int:
-        """Last speed segment (速度指令终点段数选择). Parameter P12-01, address 0x1201, u16, range 1..16, default 16, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Read MULTI_SPEED_END_SEGMENT: Last speed segment (速度指令终点段数选择); documented at the constant."""
         return await self.read(MULTI_SPEED_END_SEGMENT)
 
     async def write_multi_speed_end_segment(self, value: int) -> None:
-        """Last speed segment (速度指令终点段数选择). Parameter P12-01, address 0x1201, u16, range 1..16, default 16, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Write MULTI_SPEED_END_SEGMENT: Last speed segment (速度指令终点段数选择); documented at the constant."""
         await self.write(MULTI_SPEED_END_SEGMENT, value)
 
     async def read_multi_speed_time_unit(self) -> TimeUnitSMin | int:
-        """Run time unit (运行时间单位选择). Parameter P12-02, address 0x1202, u16, range 0..1, default 0, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Read MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         return await self.read(MULTI_SPEED_TIME_UNIT)
 
     async def write_multi_speed_time_unit(self, value: TimeUnitSMin | int | str) -> None:
-        """Run time unit (运行时间单位选择). Parameter P12-02, address 0x1202, u16, range 0..1, default 0, takes effect immediately. Manual section 7.15, 6.2.3."""
+        """Write MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         await self.write(MULTI_SPEED_TIME_UNIT, value)
 
     async def read_multi_speed_accel_time_1(self) -> int:
-        """Acceleration time 1 (加速时间 1). Parameter P12-03, address 0x1203, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_1: Acceleration time 1 (加速时间 1); documented at the constant."""
         return await self.read(MULTI_SPEED_ACCEL_TIME_1)
 
     async def write_multi_speed_accel_time_1(self, value: int) -> None:
-        """Acceleration time 1 (加速时间 1). Parameter P12-03, address 0x1203, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_1: Acceleration time 1 (加速时间 1); documented at the constant."""
         await self.write(MULTI_SPEED_ACCEL_TIME_1, value)
 
     async def read_multi_speed_decel_time_1(self) -> int:
-        """Deceleration time 1 (减速时间 1). Parameter P12-04, address 0x1204, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_1: Deceleration time 1 (减速时间 1); documented at the constant."""
         return await self.read(MULTI_SPEED_DECEL_TIME_1)
 
     async def write_multi_speed_decel_time_1(self, value: int) -> None:
-        """Deceleration time 1 (减速时间 1). Parameter P12-04, address 0x1204, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_1: Deceleration time 1 (减速时间 1); documented at the constant."""
         await self.write(MULTI_SPEED_DECEL_TIME_1, value)
 
     async def read_multi_speed_accel_time_2(self) -> int:
-        """Acceleration time 2 (加速时间 2). Parameter P12-05, address 0x1205, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_2: Acceleration time 2 (加速时间 2); documented at the constant."""
         return await self.read(MULTI_SPEED_ACCEL_TIME_2)
 
     async def write_multi_speed_accel_time_2(self, value: int) -> None:
-        """Acceleration time 2 (加速时间 2). Parameter P12-05, address 0x1205, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_2: Acceleration time 2 (加速时间 2); documented at the constant."""
         await self.write(MULTI_SPEED_ACCEL_TIME_2, value)
 
     async def read_multi_speed_decel_time_2(self) -> int:
-        """Deceleration time 2 (减速时间 2). Parameter P12-06, address 0x1206, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_2: Deceleration time 2 (减速时间 2); documented at the constant."""
         return await self.read(MULTI_SPEED_DECEL_TIME_2)
 
     async def write_multi_speed_decel_time_2(self, value: int) -> None:
-        """Deceleration time 2 (减速时间 2). Parameter P12-06, address 0x1206, u16, unit ms, range 0..65535, default 50, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_2: Deceleration time 2 (减速时间 2); documented at the constant."""
         await self.write(MULTI_SPEED_DECEL_TIME_2, value)
 
     async def read_multi_speed_accel_time_3(self) -> int:
-        """Acceleration time 3 (加速时间 3). Parameter P12-07, address 0x1207, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_3: Acceleration time 3 (加速时间 3); documented at the constant."""
         return await self.read(MULTI_SPEED_ACCEL_TIME_3)
 
     async def write_multi_speed_accel_time_3(self, value: int) -> None:
-        """Acceleration time 3 (加速时间 3). Parameter P12-07, address 0x1207, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_3: Acceleration time 3 (加速时间 3); documented at the constant."""
         await self.write(MULTI_SPEED_ACCEL_TIME_3, value)
 
     async def read_multi_speed_decel_time_3(self) -> int:
-        """Deceleration time 3 (减速时间 3). Parameter P12-08, address 0x1208, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_3: Deceleration time 3 (减速时间 3); documented at the constant."""
         return await self.read(MULTI_SPEED_DECEL_TIME_3)
 
     async def write_multi_speed_decel_time_3(self, value: int) -> None:
-        """Deceleration time 3 (减速时间 3). Parameter P12-08, address 0x1208, u16, unit ms, range 0..65535, default 100, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_3: Deceleration time 3 (减速时间 3); documented at the constant."""
         await self.write(MULTI_SPEED_DECEL_TIME_3, value)
 
     async def read_multi_speed_accel_time_4(self) -> int:
-        """Acceleration time 4 (加速时间 4). Parameter P12-09, address 0x1209, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_ACCEL_TIME_4: Acceleration time 4 (加速时间 4); documented at the constant."""
         return await self.read(MULTI_SPEED_ACCEL_TIME_4)
 
     async def write_multi_speed_accel_time_4(self, value: int) -> None:
-        """Acceleration time 4 (加速时间 4). Parameter P12-09, address 0x1209, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_ACCEL_TIME_4: Acceleration time 4 (加速时间 4); documented at the constant."""
         await self.write(MULTI_SPEED_ACCEL_TIME_4, value)
 
     async def read_multi_speed_decel_time_4(self) -> int:
-        """Deceleration time 4 (减速时间 4). Parameter P12-10, address 0x120A, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Read MULTI_SPEED_DECEL_TIME_4: Deceleration time 4 (减速时间 4); documented at the constant."""
         return await self.read(MULTI_SPEED_DECEL_TIME_4)
 
     async def write_multi_speed_decel_time_4(self, value: int) -> None:
-        """Deceleration time 4 (减速时间 4). Parameter P12-10, address 0x120A, u16, unit ms, range 0..65535, default 150, takes effect immediately. Manual section 7.15."""
+        """Write MULTI_SPEED_DECEL_TIME_4: Deceleration time 4 (减速时间 4); documented at the constant."""
         await self.write(MULTI_SPEED_DECEL_TIME_4, value)
 
     async def read_vdo_virtual_level(self) -> int:
-        """VDO virtual level (VDO 虚拟电平). Parameter P17-32, address 0x1720, u16. Manual section 7.16."""
+        """Read VDO_VIRTUAL_LEVEL: VDO virtual level (VDO 虚拟电平); documented at the constant."""
         return await self.read(VDO_VIRTUAL_LEVEL)
 
     async def read_comm_servo_status(self) -> int:
-        """Servo status (read by communication) (通信读取伺服状态). Parameter P30-00, address 0x3000, u16. Manual section 7.17."""
+        """Read COMM_SERVO_STATUS: Servo status (read by communication) (通信读取伺服状态); documented at the constant."""
         return await self.read(COMM_SERVO_STATUS)
 
     async def read_comm_do_function_status_1(self) -> int:
-        """DO function status 1 (read by communication) (通信读取 DO 功能状态 1). Parameter P30-01, address 0x3001, u16. Manual section 7.17."""
+        """Read COMM_DO_FUNCTION_STATUS_1: DO function status 1 (read by communication) (通信读取 DO 功能状态 1); documented at the constant."""
         return await self.read(COMM_DO_FUNCTION_STATUS_1)
 
     async def read_comm_do_function_status_2(self) -> int:
-        """DO function status 2 (read by communication) (通信读取 DO 功能状态 2). Parameter P30-02, address 0x3002, u16. Manual section 7.17."""
+        """Read COMM_DO_FUNCTION_STATUS_2: DO function status 2 (read by communication) (通信读取 DO 功能状态 2); documented at the constant."""
         return await self.read(COMM_DO_FUNCTION_STATUS_2)
 
     async def read_comm_input_pulse_sample(self) -> int:
-        """Input pulse command sample value (通信读取输入脉冲指令采样值). Parameter P30-03, address 0x3003, u16. Manual section 7.17."""
+        """Read COMM_INPUT_PULSE_SAMPLE: Input pulse command sample value (通信读取输入脉冲指令采样值); documented at the constant."""
         return await self.read(COMM_INPUT_PULSE_SAMPLE)
 
     async def read_comm_di_status(self) -> int:
-        """DI conduction status (通信读取 DI 导通状态). Parameter P30-04, address 0x3004, u16, range 0..511. Manual section 7.17."""
+        """Read COMM_DI_STATUS: DI conduction status (通信读取 DI 导通状态); documented at the constant."""
         return await self.read(COMM_DI_STATUS)
 
     async def read_comm_vdi_level(self) -> int:
-        """VDI virtual level set by communication (通信给定 VDI 虚拟电平). Parameter P31-00, address 0x3100, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.18."""
+        """Read COMM_VDI_LEVEL: VDI virtual level set by communication (通信给定 VDI 虚拟电平); documented at the constant."""
         return await self.read(COMM_VDI_LEVEL)
 
     async def write_comm_vdi_level(self, value: int) -> None:
-        """VDI virtual level set by communication (通信给定 VDI 虚拟电平). Parameter P31-00, address 0x3100, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.18."""
+        """Write COMM_VDI_LEVEL: VDI virtual level set by communication (通信给定 VDI 虚拟电平); documented at the constant."""
         await self.write(COMM_VDI_LEVEL, value)
 
     async def read_comm_do_output(self) -> int:
-        """DO output state set by communication (通信给定 DO 输出状态). Parameter P31-04, address 0x3104, u16, range 0..31, default 0, takes effect immediately. Manual section 7.18."""
+        """Read COMM_DO_OUTPUT: DO output state set by communication (通信给定 DO 输出状态); documented at the constant."""
         return await self.read(COMM_DO_OUTPUT)
 
     async def write_comm_do_output(self, value: int) -> None:
-        """DO output state set by communication (通信给定 DO 输出状态). Parameter P31-04, address 0x3104, u16, range 0..31, default 0, takes effect immediately. Manual section 7.18."""
+        """Write COMM_DO_OUTPUT: DO output state set by communication (通信给定 DO 输出状态); documented at the constant."""
         await self.write(COMM_DO_OUTPUT, value)
 
     def position_segment(self, n: int) -> AsyncPositionSegmentElement:
@@ -11646,35 +11649,35 @@ class PositionSegmentElement:
         self.registers = POSITION_SEGMENT[n]
 
     def read_displacement(self) -> int:
-        """Segment displacement (第 n 段移动位移). Parameter P11-12, address 0x110C, s32, unit command unit, range -1073741824..1073741824, default 10000, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].displacement: Segment displacement (第 n 段移动位移); documented at the constant."""
         return self.client.read(self.registers.displacement)
 
     def write_displacement(self, value: int) -> None:
-        """Segment displacement (第 n 段移动位移). Parameter P11-12, address 0x110C, s32, unit command unit, range -1073741824..1073741824, default 10000, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].displacement: Segment displacement (第 n 段移动位移); documented at the constant."""
         self.client.write(self.registers.displacement, value)
 
     def read_max_speed(self) -> int:
-        """Segment maximum speed (第 n 段位移最大运行速度). Parameter P11-14, address 0x110E, u16, unit rpm, range 1..6000, default 200, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].max_speed: Segment maximum speed (第 n 段位移最大运行速度); documented at the constant."""
         return self.client.read(self.registers.max_speed)
 
     def write_max_speed(self, value: int) -> None:
-        """Segment maximum speed (第 n 段位移最大运行速度). Parameter P11-14, address 0x110E, u16, unit rpm, range 1..6000, default 200, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].max_speed: Segment maximum speed (第 n 段位移最大运行速度); documented at the constant."""
         self.client.write(self.registers.max_speed, value)
 
     def read_accel_time(self) -> int:
-        """Segment acceleration/deceleration time (第 n 段位移加减速时间). Parameter P11-15, address 0x110F, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].accel_time: Segment acceleration/deceleration time (第 n 段位移加减速时间); documented at the constant."""
         return self.client.read(self.registers.accel_time)
 
     def write_accel_time(self, value: int) -> None:
-        """Segment acceleration/deceleration time (第 n 段位移加减速时间). Parameter P11-15, address 0x110F, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].accel_time: Segment acceleration/deceleration time (第 n 段位移加减速时间); documented at the constant."""
         self.client.write(self.registers.accel_time, value)
 
     def read_wait_time(self) -> int:
-        """Wait time after the segment (第 n 段位移完成后等待时间). Parameter P11-16, address 0x1110, u16, unit ms, range 0..10000, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].wait_time: Wait time after the segment (第 n 段位移完成后等待时间); documented at the constant."""
         return self.client.read(self.registers.wait_time)
 
     def write_wait_time(self, value: int) -> None:
-        """Wait time after the segment (第 n 段位移完成后等待时间). Parameter P11-16, address 0x1110, u16, unit ms, range 0..10000, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].wait_time: Wait time after the segment (第 n 段位移完成后等待时间); documented at the constant."""
         self.client.write(self.registers.wait_time, value)
 
 
@@ -11689,27 +11692,27 @@ class SpeedSegmentElement:
         self.registers = SPEED_SEGMENT[n]
 
     def read_speed(self) -> int:
-        """Segment speed command (第 n 段速度指令). Parameter P12-20, address 0x1214, s16, unit rpm, range -6000..6000, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Read SPEED_SEGMENT[n].speed: Segment speed command (第 n 段速度指令); documented at the constant."""
         return self.client.read(self.registers.speed)
 
     def write_speed(self, value: int) -> None:
-        """Segment speed command (第 n 段速度指令). Parameter P12-20, address 0x1214, s16, unit rpm, range -6000..6000, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Write SPEED_SEGMENT[n].speed: Segment speed command (第 n 段速度指令); documented at the constant."""
         self.client.write(self.registers.speed, value)
 
     def read_run_time(self) -> float:
-        """Segment run time (第 n 段指令运行时间). Parameter P12-21, address 0x1215, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Read SPEED_SEGMENT[n].run_time: Segment run time (第 n 段指令运行时间); documented at the constant."""
         return self.client.read(self.registers.run_time)
 
     def write_run_time(self, value: float) -> None:
-        """Segment run time (第 n 段指令运行时间). Parameter P12-21, address 0x1215, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Write SPEED_SEGMENT[n].run_time: Segment run time (第 n 段指令运行时间); documented at the constant."""
         self.client.write(self.registers.run_time, value)
 
     def read_ramp(self) -> RampSelect | int:
-        """Segment acceleration/deceleration time select (第 n 段加减速时间). Parameter P12-22, address 0x1216, u16, range 0..4, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Read SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         return self.client.read(self.registers.ramp)
 
     def write_ramp(self, value: RampSelect | int | str) -> None:
-        """Segment acceleration/deceleration time select (第 n 段加减速时间). Parameter P12-22, address 0x1216, u16, range 0..4, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Write SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         self.client.write(self.registers.ramp, value)
 
 
@@ -11724,19 +11727,19 @@ class VdiElement:
         self.registers = VDI[n]
 
     def read_function(self) -> DiFunction | int:
-        """VDI terminal function (VDIn 端子功能选择). Parameter P17-00, address 0x1700, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         return self.client.read(self.registers.function)
 
     def write_function(self, value: DiFunction | int | str) -> None:
-        """VDI terminal function (VDIn 端子功能选择). Parameter P17-00, address 0x1700, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         self.client.write(self.registers.function, value)
 
     def read_logic(self) -> VdiLogic | int:
-        """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-01, address 0x1701, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         return self.client.read(self.registers.logic)
 
     def write_logic(self, value: VdiLogic | int | str) -> None:
-        """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-01, address 0x1701, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         self.client.write(self.registers.logic, value)
 
 
@@ -11751,19 +11754,19 @@ class VdoElement:
         self.registers = VDO[n]
 
     def read_function(self) -> DoFunction | int:
-        """VDO terminal function (VDOn 端子功能选择). Parameter P17-33, address 0x1721, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         return self.client.read(self.registers.function)
 
     def write_function(self, value: DoFunction | int | str) -> None:
-        """VDO terminal function (VDOn 端子功能选择). Parameter P17-33, address 0x1721, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         self.client.write(self.registers.function, value)
 
     def read_logic(self) -> VdoLogic | int:
-        """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-34, address 0x1722, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         return self.client.read(self.registers.logic)
 
     def write_logic(self, value: VdoLogic | int | str) -> None:
-        """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-34, address 0x1722, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         self.client.write(self.registers.logic, value)
 
 
@@ -11778,35 +11781,35 @@ class AsyncPositionSegmentElement:
         self.registers = POSITION_SEGMENT[n]
 
     async def read_displacement(self) -> int:
-        """Segment displacement (第 n 段移动位移). Parameter P11-12, address 0x110C, s32, unit command unit, range -1073741824..1073741824, default 10000, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].displacement: Segment displacement (第 n 段移动位移); documented at the constant."""
         return await self.client.read(self.registers.displacement)
 
     async def write_displacement(self, value: int) -> None:
-        """Segment displacement (第 n 段移动位移). Parameter P11-12, address 0x110C, s32, unit command unit, range -1073741824..1073741824, default 10000, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].displacement: Segment displacement (第 n 段移动位移); documented at the constant."""
         await self.client.write(self.registers.displacement, value)
 
     async def read_max_speed(self) -> int:
-        """Segment maximum speed (第 n 段位移最大运行速度). Parameter P11-14, address 0x110E, u16, unit rpm, range 1..6000, default 200, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].max_speed: Segment maximum speed (第 n 段位移最大运行速度); documented at the constant."""
         return await self.client.read(self.registers.max_speed)
 
     async def write_max_speed(self, value: int) -> None:
-        """Segment maximum speed (第 n 段位移最大运行速度). Parameter P11-14, address 0x110E, u16, unit rpm, range 1..6000, default 200, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].max_speed: Segment maximum speed (第 n 段位移最大运行速度); documented at the constant."""
         await self.client.write(self.registers.max_speed, value)
 
     async def read_accel_time(self) -> int:
-        """Segment acceleration/deceleration time (第 n 段位移加减速时间). Parameter P11-15, address 0x110F, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].accel_time: Segment acceleration/deceleration time (第 n 段位移加减速时间); documented at the constant."""
         return await self.client.read(self.registers.accel_time)
 
     async def write_accel_time(self, value: int) -> None:
-        """Segment acceleration/deceleration time (第 n 段位移加减速时间). Parameter P11-15, address 0x110F, u16, unit ms, range 0..65535, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].accel_time: Segment acceleration/deceleration time (第 n 段位移加减速时间); documented at the constant."""
         await self.client.write(self.registers.accel_time, value)
 
     async def read_wait_time(self) -> int:
-        """Wait time after the segment (第 n 段位移完成后等待时间). Parameter P11-16, address 0x1110, u16, unit ms, range 0..10000, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Read POSITION_SEGMENT[n].wait_time: Wait time after the segment (第 n 段位移完成后等待时间); documented at the constant."""
         return await self.client.read(self.registers.wait_time)
 
     async def write_wait_time(self, value: int) -> None:
-        """Wait time after the segment (第 n 段位移完成后等待时间). Parameter P11-16, address 0x1110, u16, unit ms, range 0..10000, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
+        """Write POSITION_SEGMENT[n].wait_time: Wait time after the segment (第 n 段位移完成后等待时间); documented at the constant."""
         await self.client.write(self.registers.wait_time, value)
 
 
@@ -11821,27 +11824,27 @@ class AsyncSpeedSegmentElement:
         self.registers = SPEED_SEGMENT[n]
 
     async def read_speed(self) -> int:
-        """Segment speed command (第 n 段速度指令). Parameter P12-20, address 0x1214, s16, unit rpm, range -6000..6000, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Read SPEED_SEGMENT[n].speed: Segment speed command (第 n 段速度指令); documented at the constant."""
         return await self.client.read(self.registers.speed)
 
     async def write_speed(self, value: int) -> None:
-        """Segment speed command (第 n 段速度指令). Parameter P12-20, address 0x1214, s16, unit rpm, range -6000..6000, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Write SPEED_SEGMENT[n].speed: Segment speed command (第 n 段速度指令); documented at the constant."""
         await self.client.write(self.registers.speed, value)
 
     async def read_run_time(self) -> float:
-        """Segment run time (第 n 段指令运行时间). Parameter P12-21, address 0x1215, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Read SPEED_SEGMENT[n].run_time: Segment run time (第 n 段指令运行时间); documented at the constant."""
         return await self.client.read(self.registers.run_time)
 
     async def write_run_time(self, value: float) -> None:
-        """Segment run time (第 n 段指令运行时间). Parameter P12-21, address 0x1215, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Write SPEED_SEGMENT[n].run_time: Segment run time (第 n 段指令运行时间); documented at the constant."""
         await self.client.write(self.registers.run_time, value)
 
     async def read_ramp(self) -> RampSelect | int:
-        """Segment acceleration/deceleration time select (第 n 段加减速时间). Parameter P12-22, address 0x1216, u16, range 0..4, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Read SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         return await self.client.read(self.registers.ramp)
 
     async def write_ramp(self, value: RampSelect | int | str) -> None:
-        """Segment acceleration/deceleration time select (第 n 段加减速时间). Parameter P12-22, address 0x1216, u16, range 0..4, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
+        """Write SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         await self.client.write(self.registers.ramp, value)
 
 
@@ -11856,19 +11859,19 @@ class AsyncVdiElement:
         self.registers = VDI[n]
 
     async def read_function(self) -> DiFunction | int:
-        """VDI terminal function (VDIn 端子功能选择). Parameter P17-00, address 0x1700, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         return await self.client.read(self.registers.function)
 
     async def write_function(self, value: DiFunction | int | str) -> None:
-        """VDI terminal function (VDIn 端子功能选择). Parameter P17-00, address 0x1700, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         await self.client.write(self.registers.function, value)
 
     async def read_logic(self) -> VdiLogic | int:
-        """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-01, address 0x1701, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         return await self.client.read(self.registers.logic)
 
     async def write_logic(self, value: VdiLogic | int | str) -> None:
-        """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-01, address 0x1701, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         await self.client.write(self.registers.logic, value)
 
 
@@ -11883,17 +11886,17 @@ class AsyncVdoElement:
         self.registers = VDO[n]
 
     async def read_function(self) -> DoFunction | int:
-        """VDO terminal function (VDOn 端子功能选择). Parameter P17-33, address 0x1721, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         return await self.client.read(self.registers.function)
 
     async def write_function(self, value: DoFunction | int | str) -> None:
-        """VDO terminal function (VDOn 端子功能选择). Parameter P17-33, address 0x1721, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         await self.client.write(self.registers.function, value)
 
     async def read_logic(self) -> VdoLogic | int:
-        """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-34, address 0x1722, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Read VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         return await self.client.read(self.registers.logic)
 
     async def write_logic(self, value: VdoLogic | int | str) -> None:
-        """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-34, address 0x1722, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
+        """Write VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         await self.client.write(self.registers.logic, value)

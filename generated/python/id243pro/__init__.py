@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_fd4193d512.bits import BitfieldValue
-from regmap_runtime_fd4193d512.client import AsyncClient, SyncClient
-from regmap_runtime_fd4193d512.errors import (
+from regmap_runtime_63c5f1fa58.bits import BitfieldValue
+from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
+from regmap_runtime_63c5f1fa58.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,7 +21,8 @@ from regmap_runtime_fd4193d512.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_fd4193d512.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
+from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "30cbe83802b68f17"
@@ -35,6 +36,8 @@ __all__ = [
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "DeviceProfile",
+    "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
@@ -804,339 +807,339 @@ class Id243pro(SyncClient):
     DEVICE = DEVICE
 
     def read_motor_current(self) -> float:
-        """Motor current (电机电流). Parameter 0100, address 0x0064, u16, unit A. Manual section 1.1. Real-time motor current (电机实时电流值)."""
+        """Read MOTOR_CURRENT: Motor current (电机电流); documented at the constant."""
         return self.read(MOTOR_CURRENT)
 
     def read_input_voltage(self) -> int:
-        """Input voltage (输入电压). Parameter 0101, address 0x0065, u16, unit V. Manual section 1.1. Present supply voltage (当前输入电压)."""
+        """Read INPUT_VOLTAGE: Input voltage (输入电压); documented at the constant."""
         return self.read(INPUT_VOLTAGE)
 
     def read_microstep_status(self) -> int:
-        """Microstep setting (pulses per revolution) (设置细分). Parameter 0104, address 0x0068, u32, unit ppr. Manual section 1.1. Microstep value (设置细分值), pulses per revolution."""
+        """Read MICROSTEP_STATUS: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         return self.read(MICROSTEP_STATUS)
 
     def read_pulse_mode_status(self) -> PulseMode | int:
-        """Pulse mode (脉冲方式). Parameter 0106, address 0x006A, u16, range 1..2. Manual section 1.1. 1 = pulse + direction, 2 = double pulse."""
+        """Read PULSE_MODE_STATUS: Pulse mode (脉冲方式); documented at the constant."""
         return self.read(PULSE_MODE_STATUS)
 
     def read_fault_code(self) -> int:
-        """Fault code (故障代码). Parameter 0108, address 0x006C, u16. Manual section 1.1. Code while in alarm; the content follows the alarm LED flash description (see faults); 0 means no fault (报警时代码，内容指示灯闪烁描述，显示“0”为无故障)."""
+        """Read FAULT_CODE: Fault code (故障代码); documented at the constant."""
         return self.read(FAULT_CODE)
 
     def read_run_status(self) -> int:
-        """Run status (运行状态). Parameter 0109, address 0x006D, u16. Manual section 1.1. Driver run state; content follows the LED flash description (驱动器运行状态，内容指示灯闪烁描述)."""
+        """Read RUN_STATUS: Run status (运行状态); documented at the constant."""
         return self.read(RUN_STATUS)
 
     def read_hardware_version(self) -> int:
-        """Hardware version (硬件版本). Parameter 0110, address 0x006E, u16. Manual section 1.1."""
+        """Read HARDWARE_VERSION: Hardware version (硬件版本); documented at the constant."""
         return self.read(HARDWARE_VERSION)
 
     def read_software_version(self) -> int:
-        """Software version (软件版本). Parameter 0111, address 0x006F, u16. Manual section 1.1."""
+        """Read SOFTWARE_VERSION: Software version (软件版本); documented at the constant."""
         return self.read(SOFTWARE_VERSION)
 
     def read_current_position(self) -> int:
-        """Current position (当前位置). Parameter 0117, address 0x0075, s32, unit pulse. Manual section 1.1, 1.3. Detail column in both sections reads "目标位置" (target position)."""
+        """Read CURRENT_POSITION: Current position (当前位置); documented at the constant."""
         return self.read(CURRENT_POSITION)
 
     def read_actual_speed(self) -> float:
-        """Actual speed (实际转速显示). Parameter 0119, address 0x0077, s16, unit rps. Manual section 1.1, 1.3. Actual speed; the value divided by 100 is the speed in rps (数据缩小 100 倍后为实际转速显示)."""
+        """Read ACTUAL_SPEED: Actual speed (实际转速显示); documented at the constant."""
         return self.read(ACTUAL_SPEED)
 
     def read_motor_direction(self) -> int:
-        """Motor direction switch (电机方向切换). Parameter 0201, address 0x00C9, u16, range 0..1. Manual section 1.2. Selects the motor running direction (选择电机运行方向)."""
+        """Read MOTOR_DIRECTION: Motor direction switch (电机方向切换); documented at the constant."""
         return self.read(MOTOR_DIRECTION)
 
     def write_motor_direction(self, value: int) -> None:
-        """Motor direction switch (电机方向切换). Parameter 0201, address 0x00C9, u16, range 0..1. Manual section 1.2. Selects the motor running direction (选择电机运行方向)."""
+        """Write MOTOR_DIRECTION: Motor direction switch (电机方向切换); documented at the constant."""
         self.write(MOTOR_DIRECTION, value)
 
     def read_user_command(self) -> UserCommand | int:
-        """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
+        """Read USER_COMMAND: User command (用户指令); documented at the constant."""
         return self.read(USER_COMMAND)
 
     def write_user_command(self, value: UserCommand | int | str) -> None:
-        """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
+        """Write USER_COMMAND: User command (用户指令); documented at the constant."""
         self.write(USER_COMMAND, value)
 
     def read_standstill_current_ratio(self) -> int:
-        """Standstill (half) current ratio (半流比例). Parameter 0213, address 0x00D5, u16, unit %, range 10..120. Manual section 1.2. Standstill current ratio (停止电流比例)."""
+        """Read STANDSTILL_CURRENT_RATIO: Standstill (half) current ratio (半流比例); documented at the constant."""
         return self.read(STANDSTILL_CURRENT_RATIO)
 
     def write_standstill_current_ratio(self, value: int) -> None:
-        """Standstill (half) current ratio (半流比例). Parameter 0213, address 0x00D5, u16, unit %, range 10..120. Manual section 1.2. Standstill current ratio (停止电流比例)."""
+        """Write STANDSTILL_CURRENT_RATIO: Standstill (half) current ratio (半流比例); documented at the constant."""
         self.write(STANDSTILL_CURRENT_RATIO, value)
 
     def read_angle_filter(self) -> int:
-        """Angle filter (角度滤波). Parameter 0224, address 0x00E0, u16, range 1..700. Manual section 1.2. Smaller values run the motor more smoothly but with more delay (值越小，电机运行越平滑，但延迟也越高)."""
+        """Read ANGLE_FILTER: Angle filter (角度滤波); documented at the constant."""
         return self.read(ANGLE_FILTER)
 
     def write_angle_filter(self, value: int) -> None:
-        """Angle filter (角度滤波). Parameter 0224, address 0x00E0, u16, range 1..700. Manual section 1.2. Smaller values run the motor more smoothly but with more delay (值越小，电机运行越平滑，但延迟也越高)."""
+        """Write ANGLE_FILTER: Angle filter (角度滤波); documented at the constant."""
         self.write(ANGLE_FILTER, value)
 
     def read_digital_filter(self) -> int:
-        """Digital input filter (数字滤波). Parameter 0234, address 0x00EA, u16, range 1..15. Manual section 1.2. Input pulse filter coefficient; larger values lower the input frequency response (输入脉冲的滤波系数，值越大输入频响越低)."""
+        """Read DIGITAL_FILTER: Digital input filter (数字滤波); documented at the constant."""
         return self.read(DIGITAL_FILTER)
 
     def write_digital_filter(self, value: int) -> None:
-        """Digital input filter (数字滤波). Parameter 0234, address 0x00EA, u16, range 1..15. Manual section 1.2. Input pulse filter coefficient; larger values lower the input frequency response (输入脉冲的滤波系数，值越大输入频响越低)."""
+        """Write DIGITAL_FILTER: Digital input filter (数字滤波); documented at the constant."""
         self.write(DIGITAL_FILTER, value)
 
     def read_input_current(self) -> float:
-        """Motor current setting (输入电流). Parameter 0241, address 0x00F1, u16, unit A, range 0.1..3.2. Manual section 1.2. Sets the current (设置电流)."""
+        """Read INPUT_CURRENT: Motor current setting (输入电流); documented at the constant."""
         return self.read(INPUT_CURRENT)
 
     def write_input_current(self, value: float) -> None:
-        """Motor current setting (输入电流). Parameter 0241, address 0x00F1, u16, unit A, range 0.1..3.2. Manual section 1.2. Sets the current (设置电流)."""
+        """Write INPUT_CURRENT: Motor current setting (输入电流); documented at the constant."""
         self.write(INPUT_CURRENT, value)
 
     def read_microstep(self) -> int:
-        """Microstep setting (pulses per revolution) (设置细分). Parameter 0242, address 0x00F2, u32, unit ppr, range 200..102400. Manual section 1.2. Pulses per revolution (每圈脉冲数)."""
+        """Read MICROSTEP: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         return self.read(MICROSTEP)
 
     def write_microstep(self, value: int) -> None:
-        """Microstep setting (pulses per revolution) (设置细分). Parameter 0242, address 0x00F2, u32, unit ppr, range 200..102400. Manual section 1.2. Pulses per revolution (每圈脉冲数)."""
+        """Write MICROSTEP: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         self.write(MICROSTEP, value)
 
     def read_pulse_mode(self) -> PulseMode | int:
-        """Pulse mode (脉冲方式). Parameter 0244, address 0x00F4, u16, range 1..2. Manual section 1.2. 1 pulse + direction, 2 double pulse."""
+        """Read PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         return self.read(PULSE_MODE)
 
     def write_pulse_mode(self, value: PulseMode | int | str) -> None:
-        """Pulse mode (脉冲方式). Parameter 0244, address 0x00F4, u16, range 1..2. Manual section 1.2. 1 pulse + direction, 2 double pulse."""
+        """Write PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         self.write(PULSE_MODE, value)
 
     def read_standstill_current_delay(self) -> int:
-        """Standstill (half) current delay (半流时间). Parameter 0245, address 0x00F5, u16, unit ms, range 1..32767. Manual section 1.2. Delay after the motor stops before it enters standstill (half) current (电机停止运行后进入半流状态的延时时间)."""
+        """Read STANDSTILL_CURRENT_DELAY: Standstill (half) current delay (半流时间); documented at the constant."""
         return self.read(STANDSTILL_CURRENT_DELAY)
 
     def write_standstill_current_delay(self, value: int) -> None:
-        """Standstill (half) current delay (半流时间). Parameter 0245, address 0x00F5, u16, unit ms, range 1..32767. Manual section 1.2. Delay after the motor stops before it enters standstill (half) current (电机停止运行后进入半流状态的延时时间)."""
+        """Write STANDSTILL_CURRENT_DELAY: Standstill (half) current delay (半流时间); documented at the constant."""
         self.write(STANDSTILL_CURRENT_DELAY, value)
 
     def read_run_mode(self) -> RunMode | int:
-        """Run mode selection (运行模式选择). Parameter 0296, address 0x0128, u16, range 0..1, default 0, takes effect after restart. Manual section 1.2, 1.3. 0 external pulse, 1 internal pulse; a change needs a power cycle (注：功能修改后需断电重启)."""
+        """Read RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         return self.read(RUN_MODE)
 
     def write_run_mode(self, value: RunMode | int | str) -> None:
-        """Run mode selection (运行模式选择). Parameter 0296, address 0x0128, u16, range 0..1, default 0, takes effect after restart. Manual section 1.2, 1.3. 0 external pulse, 1 internal pulse; a change needs a power cycle (注：功能修改后需断电重启)."""
+        """Write RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         self.write(RUN_MODE, value)
 
     def read_slave_address(self) -> int:
-        """Communication (slave) address (通讯地址). Parameter 0298, address 0x012A, u16, range 1..255, default 1. Manual section 1.2, 1.3."""
+        """Read SLAVE_ADDRESS: Communication (slave) address (通讯地址); documented at the constant."""
         return self.read(SLAVE_ADDRESS)
 
     def write_slave_address(self, value: int) -> None:
-        """Communication (slave) address (通讯地址). Parameter 0298, address 0x012A, u16, range 1..255, default 1. Manual section 1.2, 1.3."""
+        """Write SLAVE_ADDRESS: Communication (slave) address (通讯地址); documented at the constant."""
         self.write(SLAVE_ADDRESS, value)
 
     def read_baud_rate(self) -> int:
-        """Baud rate (通讯波特率). Parameter 0299, address 0x012B, u32, unit bps, range 1600..115200, default 19200. Manual section 1.2."""
+        """Read BAUD_RATE: Baud rate (通讯波特率); documented at the constant."""
         return self.read(BAUD_RATE)
 
     def write_baud_rate(self, value: int) -> None:
-        """Baud rate (通讯波特率). Parameter 0299, address 0x012B, u32, unit bps, range 1600..115200, default 19200. Manual section 1.2."""
+        """Write BAUD_RATE: Baud rate (通讯波特率); documented at the constant."""
         self.write(BAUD_RATE, value)
 
     def read_start_frequency(self) -> float:
-        """Start frequency (启动频率). Parameter 0301, address 0x012D, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Read START_FREQUENCY: Start frequency (启动频率); documented at the constant."""
         return self.read(START_FREQUENCY)
 
     def write_start_frequency(self, value: float) -> None:
-        """Start frequency (启动频率). Parameter 0301, address 0x012D, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Write START_FREQUENCY: Start frequency (启动频率); documented at the constant."""
         self.write(START_FREQUENCY, value)
 
     def read_stop_frequency(self) -> float:
-        """Stop frequency (停止频率). Parameter 0302, address 0x012E, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Read STOP_FREQUENCY: Stop frequency (停止频率); documented at the constant."""
         return self.read(STOP_FREQUENCY)
 
     def write_stop_frequency(self, value: float) -> None:
-        """Stop frequency (停止频率). Parameter 0302, address 0x012E, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Write STOP_FREQUENCY: Stop frequency (停止频率); documented at the constant."""
         self.write(STOP_FREQUENCY, value)
 
     def read_acceleration(self) -> int:
-        """Acceleration (加速度). Parameter 0303, address 0x012F, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Read ACCELERATION: Acceleration (加速度); documented at the constant."""
         return self.read(ACCELERATION)
 
     def write_acceleration(self, value: int) -> None:
-        """Acceleration (加速度). Parameter 0303, address 0x012F, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Write ACCELERATION: Acceleration (加速度); documented at the constant."""
         self.write(ACCELERATION, value)
 
     def read_deceleration(self) -> int:
-        """Deceleration (减速度). Parameter 0304, address 0x0130, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Read DECELERATION: Deceleration (减速度); documented at the constant."""
         return self.read(DECELERATION)
 
     def write_deceleration(self, value: int) -> None:
-        """Deceleration (减速度). Parameter 0304, address 0x0130, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Write DECELERATION: Deceleration (减速度); documented at the constant."""
         self.write(DECELERATION, value)
 
     def read_homing_mode(self) -> HomingMode | int:
-        """Homing mode (回原点模式). Parameter 0305, address 0x0131, u16, range 0..1. Manual section 1.3. 0 home clockwise, 1 home counter-clockwise."""
+        """Read HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         return self.read(HOMING_MODE)
 
     def write_homing_mode(self, value: HomingMode | int | str) -> None:
-        """Homing mode (回原点模式). Parameter 0305, address 0x0131, u16, range 0..1. Manual section 1.3. 0 home clockwise, 1 home counter-clockwise."""
+        """Write HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         self.write(HOMING_MODE, value)
 
     def read_move_speed(self) -> float:
-        """Fixed-length move speed (定长运行速度). Parameter 0306, address 0x0132, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Read MOVE_SPEED: Fixed-length move speed (定长运行速度); documented at the constant."""
         return self.read(MOVE_SPEED)
 
     def write_move_speed(self, value: float) -> None:
-        """Fixed-length move speed (定长运行速度). Parameter 0306, address 0x0132, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Write MOVE_SPEED: Fixed-length move speed (定长运行速度); documented at the constant."""
         self.write(MOVE_SPEED, value)
 
     def read_speed_mode_speed(self) -> float:
-        """Speed mode speed (速度模式运行速度). Parameter 0307, address 0x0133, s16, unit rps, range -50..50, default 10. Manual section 1.3. In speed mode the running direction follows the sign of the speed (速度模式时，运行方向与速度方向一致)."""
+        """Read SPEED_MODE_SPEED: Speed mode speed (速度模式运行速度); documented at the constant."""
         return self.read(SPEED_MODE_SPEED)
 
     def write_speed_mode_speed(self, value: float) -> None:
-        """Speed mode speed (速度模式运行速度). Parameter 0307, address 0x0133, s16, unit rps, range -50..50, default 10. Manual section 1.3. In speed mode the running direction follows the sign of the speed (速度模式时，运行方向与速度方向一致)."""
+        """Write SPEED_MODE_SPEED: Speed mode speed (速度模式运行速度); documented at the constant."""
         self.write(SPEED_MODE_SPEED, value)
 
     def read_jog_speed(self) -> float:
-        """Jog speed (点动运行速度). Parameter 0308, address 0x0134, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Read JOG_SPEED: Jog speed (点动运行速度); documented at the constant."""
         return self.read(JOG_SPEED)
 
     def write_jog_speed(self, value: float) -> None:
-        """Jog speed (点动运行速度). Parameter 0308, address 0x0134, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Write JOG_SPEED: Jog speed (点动运行速度); documented at the constant."""
         self.write(JOG_SPEED, value)
 
     def read_homing_speed(self) -> float:
-        """Homing speed (回原点运行速度). Parameter 0309, address 0x0135, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Read HOMING_SPEED: Homing speed (回原点运行速度); documented at the constant."""
         return self.read(HOMING_SPEED)
 
     def write_homing_speed(self, value: float) -> None:
-        """Homing speed (回原点运行速度). Parameter 0309, address 0x0135, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Write HOMING_SPEED: Homing speed (回原点运行速度); documented at the constant."""
         self.write(HOMING_SPEED, value)
 
     def read_homing_creep_speed(self) -> float:
-        """Homing creep speed (回原点蠕动速度). Parameter 0310, address 0x0136, u16, unit rps, range 0.01..50, default 10. Manual section 1.3. Speed after reaching the home signal (碰到原点后运行速度)."""
+        """Read HOMING_CREEP_SPEED: Homing creep speed (回原点蠕动速度); documented at the constant."""
         return self.read(HOMING_CREEP_SPEED)
 
     def write_homing_creep_speed(self, value: float) -> None:
-        """Homing creep speed (回原点蠕动速度). Parameter 0310, address 0x0136, u16, unit rps, range 0.01..50, default 10. Manual section 1.3. Speed after reaching the home signal (碰到原点后运行速度)."""
+        """Write HOMING_CREEP_SPEED: Homing creep speed (回原点蠕动速度); documented at the constant."""
         self.write(HOMING_CREEP_SPEED, value)
 
     def read_homing_offset(self) -> int:
-        """Homing offset (回原点偏移量). Parameter 0311, address 0x0137, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3."""
+        """Read HOMING_OFFSET: Homing offset (回原点偏移量); documented at the constant."""
         return self.read(HOMING_OFFSET)
 
     def write_homing_offset(self, value: int) -> None:
-        """Homing offset (回原点偏移量). Parameter 0311, address 0x0137, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3."""
+        """Write HOMING_OFFSET: Homing offset (回原点偏移量); documented at the constant."""
         self.write(HOMING_OFFSET, value)
 
     def read_target_distance(self) -> int:
-        """Move distance (output pulses) (输出脉冲). Parameter 0313, address 0x0139, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Travel (运行行程): absolute mode moves to this position (绝对位置模式：运行到指定位置); relative mode moves by this offset (相对位置模式：运行设定偏移量行程)."""
+        """Read TARGET_DISTANCE: Move distance (output pulses) (输出脉冲); documented at the constant."""
         return self.read(TARGET_DISTANCE)
 
     def write_target_distance(self, value: int) -> None:
-        """Move distance (output pulses) (输出脉冲). Parameter 0313, address 0x0139, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Travel (运行行程): absolute mode moves to this position (绝对位置模式：运行到指定位置); relative mode moves by this offset (相对位置模式：运行设定偏移量行程)."""
+        """Write TARGET_DISTANCE: Move distance (output pulses) (输出脉冲); documented at the constant."""
         self.write(TARGET_DISTANCE, value)
 
     def read_in_position_width(self) -> int:
-        """In-position width (到位脉冲宽度). Parameter 0315, address 0x013B, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Distance from the target at which the in-position signal is output (到达目标位置接近距离，输出到位信号)."""
+        """Read IN_POSITION_WIDTH: In-position width (到位脉冲宽度); documented at the constant."""
         return self.read(IN_POSITION_WIDTH)
 
     def write_in_position_width(self, value: int) -> None:
-        """In-position width (到位脉冲宽度). Parameter 0315, address 0x013B, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Distance from the target at which the in-position signal is output (到达目标位置接近距离，输出到位信号)."""
+        """Write IN_POSITION_WIDTH: In-position width (到位脉冲宽度); documented at the constant."""
         self.write(IN_POSITION_WIDTH, value)
 
     def read_positive_soft_limit(self) -> int:
-        """Positive software limit (正软限位). Parameter 0317, address 0x013D, s32, unit pulse, range -2000000000..2000000000, default 2000000000. Manual section 1.3."""
+        """Read POSITIVE_SOFT_LIMIT: Positive software limit (正软限位); documented at the constant."""
         return self.read(POSITIVE_SOFT_LIMIT)
 
     def write_positive_soft_limit(self, value: int) -> None:
-        """Positive software limit (正软限位). Parameter 0317, address 0x013D, s32, unit pulse, range -2000000000..2000000000, default 2000000000. Manual section 1.3."""
+        """Write POSITIVE_SOFT_LIMIT: Positive software limit (正软限位); documented at the constant."""
         self.write(POSITIVE_SOFT_LIMIT, value)
 
     def read_negative_soft_limit(self) -> int:
-        """Negative software limit (负软限位). Parameter 0319, address 0x013F, s32, unit pulse, range -2000000000..2000000000, default -2000000000. Manual section 1.3."""
+        """Read NEGATIVE_SOFT_LIMIT: Negative software limit (负软限位); documented at the constant."""
         return self.read(NEGATIVE_SOFT_LIMIT)
 
     def write_negative_soft_limit(self, value: int) -> None:
-        """Negative software limit (负软限位). Parameter 0319, address 0x013F, s32, unit pulse, range -2000000000..2000000000, default -2000000000. Manual section 1.3."""
+        """Write NEGATIVE_SOFT_LIMIT: Negative software limit (负软限位); documented at the constant."""
         self.write(NEGATIVE_SOFT_LIMIT, value)
 
     def read_set_position_value(self) -> int:
-        """Current position preset (设置当前位置). Parameter 0321, address 0x0141, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Position loaded by control command 8 (设定当前位置)."""
+        """Read SET_POSITION_VALUE: Current position preset (设置当前位置); documented at the constant."""
         return self.read(SET_POSITION_VALUE)
 
     def write_set_position_value(self, value: int) -> None:
-        """Current position preset (设置当前位置). Parameter 0321, address 0x0141, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Position loaded by control command 8 (设定当前位置)."""
+        """Write SET_POSITION_VALUE: Current position preset (设置当前位置); documented at the constant."""
         self.write(SET_POSITION_VALUE, value)
 
     def read_control_command(self) -> ControlCommand | int:
-        """Control command (控制命令). Parameter 0323, address 0x0143, u16, range 0..29, default 0. Manual section 1.3. Motion command; see enum control_command."""
+        """Read CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         return self.read(CONTROL_COMMAND)
 
     def write_control_command(self, value: ControlCommand | int | str) -> None:
-        """Control command (控制命令). Parameter 0323, address 0x0143, u16, range 0..29, default 0. Manual section 1.3. Motion command; see enum control_command."""
+        """Write CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         self.write(CONTROL_COMMAND, value)
 
     def read_in1_function(self) -> InputFunction | int:
-        """IN1 function (IN1 功能选择). Parameter 0400, address 0x0190, u16, range 0..30, default 0. Manual section 1.4."""
+        """Read IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         return self.read(IN1_FUNCTION)
 
     def write_in1_function(self, value: InputFunction | int | str) -> None:
-        """IN1 function (IN1 功能选择). Parameter 0400, address 0x0190, u16, range 0..30, default 0. Manual section 1.4."""
+        """Write IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         self.write(IN1_FUNCTION, value)
 
     def read_in2_function(self) -> InputFunction | int:
-        """IN2 function (IN2 功能选择). Parameter 0401, address 0x0191, u16, range 0..30, default 0. Manual section 1.4. Same settings as IN1 (设置内容同 IN1)."""
+        """Read IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         return self.read(IN2_FUNCTION)
 
     def write_in2_function(self, value: InputFunction | int | str) -> None:
-        """IN2 function (IN2 功能选择). Parameter 0401, address 0x0191, u16, range 0..30, default 0. Manual section 1.4. Same settings as IN1 (设置内容同 IN1)."""
+        """Write IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         self.write(IN2_FUNCTION, value)
 
     def read_virtual_in1(self) -> VirtualInput | int:
-        """Pseudo-communication input IN1 (伪通讯设定 IN1). Parameter 0410, address 0x019A, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN1)."""
+        """Read VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         return self.read(VIRTUAL_IN1)
 
     def write_virtual_in1(self, value: VirtualInput | int | str) -> None:
-        """Pseudo-communication input IN1 (伪通讯设定 IN1). Parameter 0410, address 0x019A, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN1)."""
+        """Write VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         self.write(VIRTUAL_IN1, value)
 
     def read_virtual_in2(self) -> VirtualInput | int:
-        """Pseudo-communication input IN2 (伪通讯设定 IN2). Parameter 0411, address 0x019B, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN2)."""
+        """Read VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         return self.read(VIRTUAL_IN2)
 
     def write_virtual_in2(self, value: VirtualInput | int | str) -> None:
-        """Pseudo-communication input IN2 (伪通讯设定 IN2). Parameter 0411, address 0x019B, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN2)."""
+        """Write VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         self.write(VIRTUAL_IN2, value)
 
     def read_out1_function(self) -> OutputFunction | int:
-        """OUT1 function (OUT1 功能选择). Parameter 0420, address 0x01A4, u16, range 100..104, default 101. Manual section 1.5."""
+        """Read OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         return self.read(OUT1_FUNCTION)
 
     def write_out1_function(self, value: OutputFunction | int | str) -> None:
-        """OUT1 function (OUT1 功能选择). Parameter 0420, address 0x01A4, u16, range 100..104, default 101. Manual section 1.5."""
+        """Write OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         self.write(OUT1_FUNCTION, value)
 
     def read_digital_output_control(self) -> int:
-        """General digital output control (通用数字输出控制). Parameter 0428, address 0x01AC, u16. Manual section 1.5."""
+        """Read DIGITAL_OUTPUT_CONTROL: General digital output control (通用数字输出控制); documented at the constant."""
         return self.read(DIGITAL_OUTPUT_CONTROL)
 
     def write_digital_output_control(self, value: int) -> None:
-        """General digital output control (通用数字输出控制). Parameter 0428, address 0x01AC, u16. Manual section 1.5."""
+        """Write DIGITAL_OUTPUT_CONTROL: General digital output control (通用数字输出控制); documented at the constant."""
         self.write(DIGITAL_OUTPUT_CONTROL, value)
 
     def read_digital_input_logic(self) -> int:
-        """General digital input logic (通用数字输入逻辑). Parameter 0429, address 0x01AD, u16. Manual section 1.4."""
+        """Read DIGITAL_INPUT_LOGIC: General digital input logic (通用数字输入逻辑); documented at the constant."""
         return self.read(DIGITAL_INPUT_LOGIC)
 
     def write_digital_input_logic(self, value: int) -> None:
-        """General digital input logic (通用数字输入逻辑). Parameter 0429, address 0x01AD, u16. Manual section 1.4."""
+        """Write DIGITAL_INPUT_LOGIC: General digital input logic (通用数字输入逻辑); documented at the constant."""
         self.write(DIGITAL_INPUT_LOGIC, value)
 
     def read_digital_output_logic(self) -> int:
-        """General digital output logic (通用数字输出逻辑). Parameter 0430, address 0x01AE, u16. Manual section 1.5."""
+        """Read DIGITAL_OUTPUT_LOGIC: General digital output logic (通用数字输出逻辑); documented at the constant."""
         return self.read(DIGITAL_OUTPUT_LOGIC)
 
     def write_digital_output_logic(self, value: int) -> None:
-        """General digital output logic (通用数字输出逻辑). Parameter 0430, address 0x01AE, u16. Manual section 1.5."""
+        """Write DIGITAL_OUTPUT_LOGIC: General digital output logic (通用数字输出逻辑); documented at the constant."""
         self.write(DIGITAL_OUTPUT_LOGIC, value)
 
     def absolute_move(self) -> None:
@@ -1202,339 +1205,339 @@ class AsyncId243pro(AsyncClient):
     DEVICE = DEVICE
 
     async def read_motor_current(self) -> float:
-        """Motor current (电机电流). Parameter 0100, address 0x0064, u16, unit A. Manual section 1.1. Real-time motor current (电机实时电流值)."""
+        """Read MOTOR_CURRENT: Motor current (电机电流); documented at the constant."""
         return await self.read(MOTOR_CURRENT)
 
     async def read_input_voltage(self) -> int:
-        """Input voltage (输入电压). Parameter 0101, address 0x0065, u16, unit V. Manual section 1.1. Present supply voltage (当前输入电压)."""
+        """Read INPUT_VOLTAGE: Input voltage (输入电压); documented at the constant."""
         return await self.read(INPUT_VOLTAGE)
 
     async def read_microstep_status(self) -> int:
-        """Microstep setting (pulses per revolution) (设置细分). Parameter 0104, address 0x0068, u32, unit ppr. Manual section 1.1. Microstep value (设置细分值), pulses per revolution."""
+        """Read MICROSTEP_STATUS: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         return await self.read(MICROSTEP_STATUS)
 
     async def read_pulse_mode_status(self) -> PulseMode | int:
-        """Pulse mode (脉冲方式). Parameter 0106, address 0x006A, u16, range 1..2. Manual section 1.1. 1 = pulse + direction, 2 = double pulse."""
+        """Read PULSE_MODE_STATUS: Pulse mode (脉冲方式); documented at the constant."""
         return await self.read(PULSE_MODE_STATUS)
 
     async def read_fault_code(self) -> int:
-        """Fault code (故障代码). Parameter 0108, address 0x006C, u16. Manual section 1.1. Code while in alarm; the content follows the alarm LED flash description (see faults); 0 means no fault (报警时代码，内容指示灯闪烁描述，显示“0”为无故障)."""
+        """Read FAULT_CODE: Fault code (故障代码); documented at the constant."""
         return await self.read(FAULT_CODE)
 
     async def read_run_status(self) -> int:
-        """Run status (运行状态). Parameter 0109, address 0x006D, u16. Manual section 1.1. Driver run state; content follows the LED flash description (驱动器运行状态，内容指示灯闪烁描述)."""
+        """Read RUN_STATUS: Run status (运行状态); documented at the constant."""
         return await self.read(RUN_STATUS)
 
     async def read_hardware_version(self) -> int:
-        """Hardware version (硬件版本). Parameter 0110, address 0x006E, u16. Manual section 1.1."""
+        """Read HARDWARE_VERSION: Hardware version (硬件版本); documented at the constant."""
         return await self.read(HARDWARE_VERSION)
 
     async def read_software_version(self) -> int:
-        """Software version (软件版本). Parameter 0111, address 0x006F, u16. Manual section 1.1."""
+        """Read SOFTWARE_VERSION: Software version (软件版本); documented at the constant."""
         return await self.read(SOFTWARE_VERSION)
 
     async def read_current_position(self) -> int:
-        """Current position (当前位置). Parameter 0117, address 0x0075, s32, unit pulse. Manual section 1.1, 1.3. Detail column in both sections reads "目标位置" (target position)."""
+        """Read CURRENT_POSITION: Current position (当前位置); documented at the constant."""
         return await self.read(CURRENT_POSITION)
 
     async def read_actual_speed(self) -> float:
-        """Actual speed (实际转速显示). Parameter 0119, address 0x0077, s16, unit rps. Manual section 1.1, 1.3. Actual speed; the value divided by 100 is the speed in rps (数据缩小 100 倍后为实际转速显示)."""
+        """Read ACTUAL_SPEED: Actual speed (实际转速显示); documented at the constant."""
         return await self.read(ACTUAL_SPEED)
 
     async def read_motor_direction(self) -> int:
-        """Motor direction switch (电机方向切换). Parameter 0201, address 0x00C9, u16, range 0..1. Manual section 1.2. Selects the motor running direction (选择电机运行方向)."""
+        """Read MOTOR_DIRECTION: Motor direction switch (电机方向切换); documented at the constant."""
         return await self.read(MOTOR_DIRECTION)
 
     async def write_motor_direction(self, value: int) -> None:
-        """Motor direction switch (电机方向切换). Parameter 0201, address 0x00C9, u16, range 0..1. Manual section 1.2. Selects the motor running direction (选择电机运行方向)."""
+        """Write MOTOR_DIRECTION: Motor direction switch (电机方向切换); documented at the constant."""
         await self.write(MOTOR_DIRECTION, value)
 
     async def read_user_command(self) -> UserCommand | int:
-        """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
+        """Read USER_COMMAND: User command (用户指令); documented at the constant."""
         return await self.read(USER_COMMAND)
 
     async def write_user_command(self, value: UserCommand | int | str) -> None:
-        """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
+        """Write USER_COMMAND: User command (用户指令); documented at the constant."""
         await self.write(USER_COMMAND, value)
 
     async def read_standstill_current_ratio(self) -> int:
-        """Standstill (half) current ratio (半流比例). Parameter 0213, address 0x00D5, u16, unit %, range 10..120. Manual section 1.2. Standstill current ratio (停止电流比例)."""
+        """Read STANDSTILL_CURRENT_RATIO: Standstill (half) current ratio (半流比例); documented at the constant."""
         return await self.read(STANDSTILL_CURRENT_RATIO)
 
     async def write_standstill_current_ratio(self, value: int) -> None:
-        """Standstill (half) current ratio (半流比例). Parameter 0213, address 0x00D5, u16, unit %, range 10..120. Manual section 1.2. Standstill current ratio (停止电流比例)."""
+        """Write STANDSTILL_CURRENT_RATIO: Standstill (half) current ratio (半流比例); documented at the constant."""
         await self.write(STANDSTILL_CURRENT_RATIO, value)
 
     async def read_angle_filter(self) -> int:
-        """Angle filter (角度滤波). Parameter 0224, address 0x00E0, u16, range 1..700. Manual section 1.2. Smaller values run the motor more smoothly but with more delay (值越小，电机运行越平滑，但延迟也越高)."""
+        """Read ANGLE_FILTER: Angle filter (角度滤波); documented at the constant."""
         return await self.read(ANGLE_FILTER)
 
     async def write_angle_filter(self, value: int) -> None:
-        """Angle filter (角度滤波). Parameter 0224, address 0x00E0, u16, range 1..700. Manual section 1.2. Smaller values run the motor more smoothly but with more delay (值越小，电机运行越平滑，但延迟也越高)."""
+        """Write ANGLE_FILTER: Angle filter (角度滤波); documented at the constant."""
         await self.write(ANGLE_FILTER, value)
 
     async def read_digital_filter(self) -> int:
-        """Digital input filter (数字滤波). Parameter 0234, address 0x00EA, u16, range 1..15. Manual section 1.2. Input pulse filter coefficient; larger values lower the input frequency response (输入脉冲的滤波系数，值越大输入频响越低)."""
+        """Read DIGITAL_FILTER: Digital input filter (数字滤波); documented at the constant."""
         return await self.read(DIGITAL_FILTER)
 
     async def write_digital_filter(self, value: int) -> None:
-        """Digital input filter (数字滤波). Parameter 0234, address 0x00EA, u16, range 1..15. Manual section 1.2. Input pulse filter coefficient; larger values lower the input frequency response (输入脉冲的滤波系数，值越大输入频响越低)."""
+        """Write DIGITAL_FILTER: Digital input filter (数字滤波); documented at the constant."""
         await self.write(DIGITAL_FILTER, value)
 
     async def read_input_current(self) -> float:
-        """Motor current setting (输入电流). Parameter 0241, address 0x00F1, u16, unit A, range 0.1..3.2. Manual section 1.2. Sets the current (设置电流)."""
+        """Read INPUT_CURRENT: Motor current setting (输入电流); documented at the constant."""
         return await self.read(INPUT_CURRENT)
 
     async def write_input_current(self, value: float) -> None:
-        """Motor current setting (输入电流). Parameter 0241, address 0x00F1, u16, unit A, range 0.1..3.2. Manual section 1.2. Sets the current (设置电流)."""
+        """Write INPUT_CURRENT: Motor current setting (输入电流); documented at the constant."""
         await self.write(INPUT_CURRENT, value)
 
     async def read_microstep(self) -> int:
-        """Microstep setting (pulses per revolution) (设置细分). Parameter 0242, address 0x00F2, u32, unit ppr, range 200..102400. Manual section 1.2. Pulses per revolution (每圈脉冲数)."""
+        """Read MICROSTEP: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         return await self.read(MICROSTEP)
 
     async def write_microstep(self, value: int) -> None:
-        """Microstep setting (pulses per revolution) (设置细分). Parameter 0242, address 0x00F2, u32, unit ppr, range 200..102400. Manual section 1.2. Pulses per revolution (每圈脉冲数)."""
+        """Write MICROSTEP: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         await self.write(MICROSTEP, value)
 
     async def read_pulse_mode(self) -> PulseMode | int:
-        """Pulse mode (脉冲方式). Parameter 0244, address 0x00F4, u16, range 1..2. Manual section 1.2. 1 pulse + direction, 2 double pulse."""
+        """Read PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         return await self.read(PULSE_MODE)
 
     async def write_pulse_mode(self, value: PulseMode | int | str) -> None:
-        """Pulse mode (脉冲方式). Parameter 0244, address 0x00F4, u16, range 1..2. Manual section 1.2. 1 pulse + direction, 2 double pulse."""
+        """Write PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         await self.write(PULSE_MODE, value)
 
     async def read_standstill_current_delay(self) -> int:
-        """Standstill (half) current delay (半流时间). Parameter 0245, address 0x00F5, u16, unit ms, range 1..32767. Manual section 1.2. Delay after the motor stops before it enters standstill (half) current (电机停止运行后进入半流状态的延时时间)."""
+        """Read STANDSTILL_CURRENT_DELAY: Standstill (half) current delay (半流时间); documented at the constant."""
         return await self.read(STANDSTILL_CURRENT_DELAY)
 
     async def write_standstill_current_delay(self, value: int) -> None:
-        """Standstill (half) current delay (半流时间). Parameter 0245, address 0x00F5, u16, unit ms, range 1..32767. Manual section 1.2. Delay after the motor stops before it enters standstill (half) current (电机停止运行后进入半流状态的延时时间)."""
+        """Write STANDSTILL_CURRENT_DELAY: Standstill (half) current delay (半流时间); documented at the constant."""
         await self.write(STANDSTILL_CURRENT_DELAY, value)
 
     async def read_run_mode(self) -> RunMode | int:
-        """Run mode selection (运行模式选择). Parameter 0296, address 0x0128, u16, range 0..1, default 0, takes effect after restart. Manual section 1.2, 1.3. 0 external pulse, 1 internal pulse; a change needs a power cycle (注：功能修改后需断电重启)."""
+        """Read RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         return await self.read(RUN_MODE)
 
     async def write_run_mode(self, value: RunMode | int | str) -> None:
-        """Run mode selection (运行模式选择). Parameter 0296, address 0x0128, u16, range 0..1, default 0, takes effect after restart. Manual section 1.2, 1.3. 0 external pulse, 1 internal pulse; a change needs a power cycle (注：功能修改后需断电重启)."""
+        """Write RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         await self.write(RUN_MODE, value)
 
     async def read_slave_address(self) -> int:
-        """Communication (slave) address (通讯地址). Parameter 0298, address 0x012A, u16, range 1..255, default 1. Manual section 1.2, 1.3."""
+        """Read SLAVE_ADDRESS: Communication (slave) address (通讯地址); documented at the constant."""
         return await self.read(SLAVE_ADDRESS)
 
     async def write_slave_address(self, value: int) -> None:
-        """Communication (slave) address (通讯地址). Parameter 0298, address 0x012A, u16, range 1..255, default 1. Manual section 1.2, 1.3."""
+        """Write SLAVE_ADDRESS: Communication (slave) address (通讯地址); documented at the constant."""
         await self.write(SLAVE_ADDRESS, value)
 
     async def read_baud_rate(self) -> int:
-        """Baud rate (通讯波特率). Parameter 0299, address 0x012B, u32, unit bps, range 1600..115200, default 19200. Manual section 1.2."""
+        """Read BAUD_RATE: Baud rate (通讯波特率); documented at the constant."""
         return await self.read(BAUD_RATE)
 
     async def write_baud_rate(self, value: int) -> None:
-        """Baud rate (通讯波特率). Parameter 0299, address 0x012B, u32, unit bps, range 1600..115200, default 19200. Manual section 1.2."""
+        """Write BAUD_RATE: Baud rate (通讯波特率); documented at the constant."""
         await self.write(BAUD_RATE, value)
 
     async def read_start_frequency(self) -> float:
-        """Start frequency (启动频率). Parameter 0301, address 0x012D, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Read START_FREQUENCY: Start frequency (启动频率); documented at the constant."""
         return await self.read(START_FREQUENCY)
 
     async def write_start_frequency(self, value: float) -> None:
-        """Start frequency (启动频率). Parameter 0301, address 0x012D, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Write START_FREQUENCY: Start frequency (启动频率); documented at the constant."""
         await self.write(START_FREQUENCY, value)
 
     async def read_stop_frequency(self) -> float:
-        """Stop frequency (停止频率). Parameter 0302, address 0x012E, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Read STOP_FREQUENCY: Stop frequency (停止频率); documented at the constant."""
         return await self.read(STOP_FREQUENCY)
 
     async def write_stop_frequency(self, value: float) -> None:
-        """Stop frequency (停止频率). Parameter 0302, address 0x012E, u16, unit rps, range 0.01..20, default 1. Manual section 1.3."""
+        """Write STOP_FREQUENCY: Stop frequency (停止频率); documented at the constant."""
         await self.write(STOP_FREQUENCY, value)
 
     async def read_acceleration(self) -> int:
-        """Acceleration (加速度). Parameter 0303, address 0x012F, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Read ACCELERATION: Acceleration (加速度); documented at the constant."""
         return await self.read(ACCELERATION)
 
     async def write_acceleration(self, value: int) -> None:
-        """Acceleration (加速度). Parameter 0303, address 0x012F, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Write ACCELERATION: Acceleration (加速度); documented at the constant."""
         await self.write(ACCELERATION, value)
 
     async def read_deceleration(self) -> int:
-        """Deceleration (减速度). Parameter 0304, address 0x0130, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Read DECELERATION: Deceleration (减速度); documented at the constant."""
         return await self.read(DECELERATION)
 
     async def write_deceleration(self, value: int) -> None:
-        """Deceleration (减速度). Parameter 0304, address 0x0130, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
+        """Write DECELERATION: Deceleration (减速度); documented at the constant."""
         await self.write(DECELERATION, value)
 
     async def read_homing_mode(self) -> HomingMode | int:
-        """Homing mode (回原点模式). Parameter 0305, address 0x0131, u16, range 0..1. Manual section 1.3. 0 home clockwise, 1 home counter-clockwise."""
+        """Read HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         return await self.read(HOMING_MODE)
 
     async def write_homing_mode(self, value: HomingMode | int | str) -> None:
-        """Homing mode (回原点模式). Parameter 0305, address 0x0131, u16, range 0..1. Manual section 1.3. 0 home clockwise, 1 home counter-clockwise."""
+        """Write HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         await self.write(HOMING_MODE, value)
 
     async def read_move_speed(self) -> float:
-        """Fixed-length move speed (定长运行速度). Parameter 0306, address 0x0132, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Read MOVE_SPEED: Fixed-length move speed (定长运行速度); documented at the constant."""
         return await self.read(MOVE_SPEED)
 
     async def write_move_speed(self, value: float) -> None:
-        """Fixed-length move speed (定长运行速度). Parameter 0306, address 0x0132, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Write MOVE_SPEED: Fixed-length move speed (定长运行速度); documented at the constant."""
         await self.write(MOVE_SPEED, value)
 
     async def read_speed_mode_speed(self) -> float:
-        """Speed mode speed (速度模式运行速度). Parameter 0307, address 0x0133, s16, unit rps, range -50..50, default 10. Manual section 1.3. In speed mode the running direction follows the sign of the speed (速度模式时，运行方向与速度方向一致)."""
+        """Read SPEED_MODE_SPEED: Speed mode speed (速度模式运行速度); documented at the constant."""
         return await self.read(SPEED_MODE_SPEED)
 
     async def write_speed_mode_speed(self, value: float) -> None:
-        """Speed mode speed (速度模式运行速度). Parameter 0307, address 0x0133, s16, unit rps, range -50..50, default 10. Manual section 1.3. In speed mode the running direction follows the sign of the speed (速度模式时，运行方向与速度方向一致)."""
+        """Write SPEED_MODE_SPEED: Speed mode speed (速度模式运行速度); documented at the constant."""
         await self.write(SPEED_MODE_SPEED, value)
 
     async def read_jog_speed(self) -> float:
-        """Jog speed (点动运行速度). Parameter 0308, address 0x0134, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Read JOG_SPEED: Jog speed (点动运行速度); documented at the constant."""
         return await self.read(JOG_SPEED)
 
     async def write_jog_speed(self, value: float) -> None:
-        """Jog speed (点动运行速度). Parameter 0308, address 0x0134, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Write JOG_SPEED: Jog speed (点动运行速度); documented at the constant."""
         await self.write(JOG_SPEED, value)
 
     async def read_homing_speed(self) -> float:
-        """Homing speed (回原点运行速度). Parameter 0309, address 0x0135, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Read HOMING_SPEED: Homing speed (回原点运行速度); documented at the constant."""
         return await self.read(HOMING_SPEED)
 
     async def write_homing_speed(self, value: float) -> None:
-        """Homing speed (回原点运行速度). Parameter 0309, address 0x0135, u16, unit rps, range 0.01..50, default 10. Manual section 1.3."""
+        """Write HOMING_SPEED: Homing speed (回原点运行速度); documented at the constant."""
         await self.write(HOMING_SPEED, value)
 
     async def read_homing_creep_speed(self) -> float:
-        """Homing creep speed (回原点蠕动速度). Parameter 0310, address 0x0136, u16, unit rps, range 0.01..50, default 10. Manual section 1.3. Speed after reaching the home signal (碰到原点后运行速度)."""
+        """Read HOMING_CREEP_SPEED: Homing creep speed (回原点蠕动速度); documented at the constant."""
         return await self.read(HOMING_CREEP_SPEED)
 
     async def write_homing_creep_speed(self, value: float) -> None:
-        """Homing creep speed (回原点蠕动速度). Parameter 0310, address 0x0136, u16, unit rps, range 0.01..50, default 10. Manual section 1.3. Speed after reaching the home signal (碰到原点后运行速度)."""
+        """Write HOMING_CREEP_SPEED: Homing creep speed (回原点蠕动速度); documented at the constant."""
         await self.write(HOMING_CREEP_SPEED, value)
 
     async def read_homing_offset(self) -> int:
-        """Homing offset (回原点偏移量). Parameter 0311, address 0x0137, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3."""
+        """Read HOMING_OFFSET: Homing offset (回原点偏移量); documented at the constant."""
         return await self.read(HOMING_OFFSET)
 
     async def write_homing_offset(self, value: int) -> None:
-        """Homing offset (回原点偏移量). Parameter 0311, address 0x0137, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3."""
+        """Write HOMING_OFFSET: Homing offset (回原点偏移量); documented at the constant."""
         await self.write(HOMING_OFFSET, value)
 
     async def read_target_distance(self) -> int:
-        """Move distance (output pulses) (输出脉冲). Parameter 0313, address 0x0139, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Travel (运行行程): absolute mode moves to this position (绝对位置模式：运行到指定位置); relative mode moves by this offset (相对位置模式：运行设定偏移量行程)."""
+        """Read TARGET_DISTANCE: Move distance (output pulses) (输出脉冲); documented at the constant."""
         return await self.read(TARGET_DISTANCE)
 
     async def write_target_distance(self, value: int) -> None:
-        """Move distance (output pulses) (输出脉冲). Parameter 0313, address 0x0139, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Travel (运行行程): absolute mode moves to this position (绝对位置模式：运行到指定位置); relative mode moves by this offset (相对位置模式：运行设定偏移量行程)."""
+        """Write TARGET_DISTANCE: Move distance (output pulses) (输出脉冲); documented at the constant."""
         await self.write(TARGET_DISTANCE, value)
 
     async def read_in_position_width(self) -> int:
-        """In-position width (到位脉冲宽度). Parameter 0315, address 0x013B, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Distance from the target at which the in-position signal is output (到达目标位置接近距离，输出到位信号)."""
+        """Read IN_POSITION_WIDTH: In-position width (到位脉冲宽度); documented at the constant."""
         return await self.read(IN_POSITION_WIDTH)
 
     async def write_in_position_width(self, value: int) -> None:
-        """In-position width (到位脉冲宽度). Parameter 0315, address 0x013B, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Distance from the target at which the in-position signal is output (到达目标位置接近距离，输出到位信号)."""
+        """Write IN_POSITION_WIDTH: In-position width (到位脉冲宽度); documented at the constant."""
         await self.write(IN_POSITION_WIDTH, value)
 
     async def read_positive_soft_limit(self) -> int:
-        """Positive software limit (正软限位). Parameter 0317, address 0x013D, s32, unit pulse, range -2000000000..2000000000, default 2000000000. Manual section 1.3."""
+        """Read POSITIVE_SOFT_LIMIT: Positive software limit (正软限位); documented at the constant."""
         return await self.read(POSITIVE_SOFT_LIMIT)
 
     async def write_positive_soft_limit(self, value: int) -> None:
-        """Positive software limit (正软限位). Parameter 0317, address 0x013D, s32, unit pulse, range -2000000000..2000000000, default 2000000000. Manual section 1.3."""
+        """Write POSITIVE_SOFT_LIMIT: Positive software limit (正软限位); documented at the constant."""
         await self.write(POSITIVE_SOFT_LIMIT, value)
 
     async def read_negative_soft_limit(self) -> int:
-        """Negative software limit (负软限位). Parameter 0319, address 0x013F, s32, unit pulse, range -2000000000..2000000000, default -2000000000. Manual section 1.3."""
+        """Read NEGATIVE_SOFT_LIMIT: Negative software limit (负软限位); documented at the constant."""
         return await self.read(NEGATIVE_SOFT_LIMIT)
 
     async def write_negative_soft_limit(self, value: int) -> None:
-        """Negative software limit (负软限位). Parameter 0319, address 0x013F, s32, unit pulse, range -2000000000..2000000000, default -2000000000. Manual section 1.3."""
+        """Write NEGATIVE_SOFT_LIMIT: Negative software limit (负软限位); documented at the constant."""
         await self.write(NEGATIVE_SOFT_LIMIT, value)
 
     async def read_set_position_value(self) -> int:
-        """Current position preset (设置当前位置). Parameter 0321, address 0x0141, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Position loaded by control command 8 (设定当前位置)."""
+        """Read SET_POSITION_VALUE: Current position preset (设置当前位置); documented at the constant."""
         return await self.read(SET_POSITION_VALUE)
 
     async def write_set_position_value(self, value: int) -> None:
-        """Current position preset (设置当前位置). Parameter 0321, address 0x0141, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Position loaded by control command 8 (设定当前位置)."""
+        """Write SET_POSITION_VALUE: Current position preset (设置当前位置); documented at the constant."""
         await self.write(SET_POSITION_VALUE, value)
 
     async def read_control_command(self) -> ControlCommand | int:
-        """Control command (控制命令). Parameter 0323, address 0x0143, u16, range 0..29, default 0. Manual section 1.3. Motion command; see enum control_command."""
+        """Read CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         return await self.read(CONTROL_COMMAND)
 
     async def write_control_command(self, value: ControlCommand | int | str) -> None:
-        """Control command (控制命令). Parameter 0323, address 0x0143, u16, range 0..29, default 0. Manual section 1.3. Motion command; see enum control_command."""
+        """Write CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         await self.write(CONTROL_COMMAND, value)
 
     async def read_in1_function(self) -> InputFunction | int:
-        """IN1 function (IN1 功能选择). Parameter 0400, address 0x0190, u16, range 0..30, default 0. Manual section 1.4."""
+        """Read IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         return await self.read(IN1_FUNCTION)
 
     async def write_in1_function(self, value: InputFunction | int | str) -> None:
-        """IN1 function (IN1 功能选择). Parameter 0400, address 0x0190, u16, range 0..30, default 0. Manual section 1.4."""
+        """Write IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         await self.write(IN1_FUNCTION, value)
 
     async def read_in2_function(self) -> InputFunction | int:
-        """IN2 function (IN2 功能选择). Parameter 0401, address 0x0191, u16, range 0..30, default 0. Manual section 1.4. Same settings as IN1 (设置内容同 IN1)."""
+        """Read IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         return await self.read(IN2_FUNCTION)
 
     async def write_in2_function(self, value: InputFunction | int | str) -> None:
-        """IN2 function (IN2 功能选择). Parameter 0401, address 0x0191, u16, range 0..30, default 0. Manual section 1.4. Same settings as IN1 (设置内容同 IN1)."""
+        """Write IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         await self.write(IN2_FUNCTION, value)
 
     async def read_virtual_in1(self) -> VirtualInput | int:
-        """Pseudo-communication input IN1 (伪通讯设定 IN1). Parameter 0410, address 0x019A, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN1)."""
+        """Read VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         return await self.read(VIRTUAL_IN1)
 
     async def write_virtual_in1(self, value: VirtualInput | int | str) -> None:
-        """Pseudo-communication input IN1 (伪通讯设定 IN1). Parameter 0410, address 0x019A, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN1)."""
+        """Write VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         await self.write(VIRTUAL_IN1, value)
 
     async def read_virtual_in2(self) -> VirtualInput | int:
-        """Pseudo-communication input IN2 (伪通讯设定 IN2). Parameter 0411, address 0x019B, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN2)."""
+        """Read VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         return await self.read(VIRTUAL_IN2)
 
     async def write_virtual_in2(self, value: VirtualInput | int | str) -> None:
-        """Pseudo-communication input IN2 (伪通讯设定 IN2). Parameter 0411, address 0x019B, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN2)."""
+        """Write VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         await self.write(VIRTUAL_IN2, value)
 
     async def read_out1_function(self) -> OutputFunction | int:
-        """OUT1 function (OUT1 功能选择). Parameter 0420, address 0x01A4, u16, range 100..104, default 101. Manual section 1.5."""
+        """Read OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         return await self.read(OUT1_FUNCTION)
 
     async def write_out1_function(self, value: OutputFunction | int | str) -> None:
-        """OUT1 function (OUT1 功能选择). Parameter 0420, address 0x01A4, u16, range 100..104, default 101. Manual section 1.5."""
+        """Write OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         await self.write(OUT1_FUNCTION, value)
 
     async def read_digital_output_control(self) -> int:
-        """General digital output control (通用数字输出控制). Parameter 0428, address 0x01AC, u16. Manual section 1.5."""
+        """Read DIGITAL_OUTPUT_CONTROL: General digital output control (通用数字输出控制); documented at the constant."""
         return await self.read(DIGITAL_OUTPUT_CONTROL)
 
     async def write_digital_output_control(self, value: int) -> None:
-        """General digital output control (通用数字输出控制). Parameter 0428, address 0x01AC, u16. Manual section 1.5."""
+        """Write DIGITAL_OUTPUT_CONTROL: General digital output control (通用数字输出控制); documented at the constant."""
         await self.write(DIGITAL_OUTPUT_CONTROL, value)
 
     async def read_digital_input_logic(self) -> int:
-        """General digital input logic (通用数字输入逻辑). Parameter 0429, address 0x01AD, u16. Manual section 1.4."""
+        """Read DIGITAL_INPUT_LOGIC: General digital input logic (通用数字输入逻辑); documented at the constant."""
         return await self.read(DIGITAL_INPUT_LOGIC)
 
     async def write_digital_input_logic(self, value: int) -> None:
-        """General digital input logic (通用数字输入逻辑). Parameter 0429, address 0x01AD, u16. Manual section 1.4."""
+        """Write DIGITAL_INPUT_LOGIC: General digital input logic (通用数字输入逻辑); documented at the constant."""
         await self.write(DIGITAL_INPUT_LOGIC, value)
 
     async def read_digital_output_logic(self) -> int:
-        """General digital output logic (通用数字输出逻辑). Parameter 0430, address 0x01AE, u16. Manual section 1.5."""
+        """Read DIGITAL_OUTPUT_LOGIC: General digital output logic (通用数字输出逻辑); documented at the constant."""
         return await self.read(DIGITAL_OUTPUT_LOGIC)
 
     async def write_digital_output_logic(self, value: int) -> None:
-        """General digital output logic (通用数字输出逻辑). Parameter 0430, address 0x01AE, u16. Manual section 1.5."""
+        """Write DIGITAL_OUTPUT_LOGIC: General digital output logic (通用数字输出逻辑); documented at the constant."""
         await self.write(DIGITAL_OUTPUT_LOGIC, value)
 
     async def absolute_move(self) -> None:

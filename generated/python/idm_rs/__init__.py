@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_fd4193d512.bits import BitfieldValue
-from regmap_runtime_fd4193d512.client import AsyncClient, SyncClient
-from regmap_runtime_fd4193d512.errors import (
+from regmap_runtime_63c5f1fa58.bits import BitfieldValue
+from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
+from regmap_runtime_63c5f1fa58.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,7 +21,8 @@ from regmap_runtime_fd4193d512.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_fd4193d512.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
+from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "92c108f4257fe7c3"
@@ -35,6 +36,8 @@ __all__ = [
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "DeviceProfile",
+    "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
@@ -4353,799 +4356,799 @@ class IdmRs(SyncClient):
     DEVICE = DEVICE
 
     def read_pulses_per_revolution(self) -> int:
-        """Command pulses per revolution (指令脉冲数/转). Parameter Pr0.00, address 0x0001 (low word of a 32-bit pair), u16, unit P/R, range 200..51200, default 10000. Manual section 5.3.1, 附录4, 4.12."""
+        """Read PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         return self.read(PULSES_PER_REVOLUTION)
 
     def write_pulses_per_revolution(self, value: int) -> None:
-        """Command pulses per revolution (指令脉冲数/转). Parameter Pr0.00, address 0x0001 (low word of a 32-bit pair), u16, unit P/R, range 200..51200, default 10000. Manual section 5.3.1, 附录4, 4.12."""
+        """Write PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         self.write(PULSES_PER_REVOLUTION, value)
 
     def read_loop_mode(self) -> LoopMode | int:
-        """Open/closed loop mode (开闭环模式选择). Parameter Pr0.01, address 0x0003 (low word of a 32-bit pair), u16, range 0..255, default 2. Manual section 5.3.1."""
+        """Read LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         return self.read(LOOP_MODE)
 
     def write_loop_mode(self, value: LoopMode | int | str) -> None:
-        """Open/closed loop mode (开闭环模式选择). Parameter Pr0.01, address 0x0003 (low word of a 32-bit pair), u16, range 0..255, default 2. Manual section 5.3.1."""
+        """Write LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         self.write(LOOP_MODE, value)
 
     def read_control_mode(self) -> int:
-        """Control mode and command source (no effect) (控制模式及指令来源). Parameter Pr0.02, address 0x0005 (low word of a 32-bit pair), u16, range 0..10, default 1. Manual section 5.3.1, 附录4."""
+        """Read CONTROL_MODE: Control mode and command source (no effect) (控制模式及指令来源); documented at the constant."""
         return self.read(CONTROL_MODE)
 
     def write_control_mode(self, value: int) -> None:
-        """Control mode and command source (no effect) (控制模式及指令来源). Parameter Pr0.02, address 0x0005 (low word of a 32-bit pair), u16, range 0..10, default 1. Manual section 5.3.1, 附录4."""
+        """Write CONTROL_MODE: Control mode and command source (no effect) (控制模式及指令来源); documented at the constant."""
         self.write(CONTROL_MODE, value)
 
     def read_motor_direction(self) -> MotorDirection | int:
-        """Motor running direction (电机运行方向). Parameter Pr0.03, address 0x0007 (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1, 附录4."""
+        """Read MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         return self.read(MOTOR_DIRECTION)
 
     def write_motor_direction(self, value: MotorDirection | int | str) -> None:
-        """Motor running direction (电机运行方向). Parameter Pr0.03, address 0x0007 (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1, 附录4."""
+        """Write MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         self.write(MOTOR_DIRECTION, value)
 
     def read_motor_inductance(self) -> float:
-        """Motor inductance (电机电感值). Parameter Pr0.04, address 0x0009 (low word of a 32-bit pair), u16, unit mH, range 0..10, default 1.499. Manual section 5.3.1, 附录4, 4.12."""
+        """Read MOTOR_INDUCTANCE: Motor inductance (电机电感值); documented at the constant."""
         return self.read(MOTOR_INDUCTANCE)
 
     def write_motor_inductance(self, value: float) -> None:
-        """Motor inductance (电机电感值). Parameter Pr0.04, address 0x0009 (low word of a 32-bit pair), u16, unit mH, range 0..10, default 1.499. Manual section 5.3.1, 附录4, 4.12."""
+        """Write MOTOR_INDUCTANCE: Motor inductance (电机电感值); documented at the constant."""
         self.write(MOTOR_INDUCTANCE, value)
 
     def read_following_error_limit(self) -> int:
-        """Maximum tracking error (跟踪误差最大值). Parameter Pr0.05, address 0x000B (low word of a 32-bit pair), u16, unit encoder units, range 9..65535, default 65535. Manual section 5.3.1."""
+        """Read FOLLOWING_ERROR_LIMIT: Maximum tracking error (跟踪误差最大值); documented at the constant."""
         return self.read(FOLLOWING_ERROR_LIMIT)
 
     def write_following_error_limit(self, value: int) -> None:
-        """Maximum tracking error (跟踪误差最大值). Parameter Pr0.05, address 0x000B (low word of a 32-bit pair), u16, unit encoder units, range 9..65535, default 65535. Manual section 5.3.1."""
+        """Write FOLLOWING_ERROR_LIMIT: Maximum tracking error (跟踪误差最大值); documented at the constant."""
         self.write(FOLLOWING_ERROR_LIMIT, value)
 
     def read_force_enable(self) -> ForceEnable | int:
-        """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
+        """Read FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         return self.read(FORCE_ENABLE)
 
     def write_force_enable(self, value: ForceEnable | int | str) -> None:
-        """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
+        """Write FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         self.write(FORCE_ENABLE, value)
 
     def read_position_loop_kp(self) -> int:
-        """Position loop Kp (位置环 Kp). Parameter Pr1.00, address 0x0051 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Read POSITION_LOOP_KP: Position loop Kp (位置环 Kp); documented at the constant."""
         return self.read(POSITION_LOOP_KP)
 
     def write_position_loop_kp(self, value: int) -> None:
-        """Position loop Kp (位置环 Kp). Parameter Pr1.00, address 0x0051 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Write POSITION_LOOP_KP: Position loop Kp (位置环 Kp); documented at the constant."""
         self.write(POSITION_LOOP_KP, value)
 
     def read_speed_loop_ki(self) -> int:
-        """Speed loop Ki (速度环 KI). Parameter Pr1.01, address 0x0053 (low word of a 32-bit pair), u16, range 0..3000, default 0. Manual section 5.3.1."""
+        """Read SPEED_LOOP_KI: Speed loop Ki (速度环 KI); documented at the constant."""
         return self.read(SPEED_LOOP_KI)
 
     def write_speed_loop_ki(self, value: int) -> None:
-        """Speed loop Ki (速度环 KI). Parameter Pr1.01, address 0x0053 (low word of a 32-bit pair), u16, range 0..3000, default 0. Manual section 5.3.1."""
+        """Write SPEED_LOOP_KI: Speed loop Ki (速度环 KI); documented at the constant."""
         self.write(SPEED_LOOP_KI, value)
 
     def read_speed_loop_kp(self) -> int:
-        """Speed loop Kp (速度环 Kp). Parameter Pr1.02, address 0x0055 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Read SPEED_LOOP_KP: Speed loop Kp (速度环 Kp); documented at the constant."""
         return self.read(SPEED_LOOP_KP)
 
     def write_speed_loop_kp(self, value: int) -> None:
-        """Speed loop Kp (速度环 Kp). Parameter Pr1.02, address 0x0055 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Write SPEED_LOOP_KP: Speed loop Kp (速度环 Kp); documented at the constant."""
         self.write(SPEED_LOOP_KP, value)
 
     def read_torque_feedforward(self) -> int:
-        """Torque feedforward (转矩前馈). Parameter Pr1.03, address 0x0057 (low word of a 32-bit pair), u16, unit %, range 0..10000, default 50. Manual section 5.3.1."""
+        """Read TORQUE_FEEDFORWARD: Torque feedforward (转矩前馈); documented at the constant."""
         return self.read(TORQUE_FEEDFORWARD)
 
     def write_torque_feedforward(self, value: int) -> None:
-        """Torque feedforward (转矩前馈). Parameter Pr1.03, address 0x0057 (low word of a 32-bit pair), u16, unit %, range 0..10000, default 50. Manual section 5.3.1."""
+        """Write TORQUE_FEEDFORWARD: Torque feedforward (转矩前馈); documented at the constant."""
         self.write(TORQUE_FEEDFORWARD, value)
 
     def read_position_loop_filter(self) -> int:
-        """Position loop filter frequency (位置环滤波频率). Parameter Pr1.07, address 0x005F (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 3000. Manual section 5.3.1."""
+        """Read POSITION_LOOP_FILTER: Position loop filter frequency (位置环滤波频率); documented at the constant."""
         return self.read(POSITION_LOOP_FILTER)
 
     def write_position_loop_filter(self, value: int) -> None:
-        """Position loop filter frequency (位置环滤波频率). Parameter Pr1.07, address 0x005F (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 3000. Manual section 5.3.1."""
+        """Write POSITION_LOOP_FILTER: Position loop filter frequency (位置环滤波频率); documented at the constant."""
         self.write(POSITION_LOOP_FILTER, value)
 
     def read_speed_loop_filter(self) -> int:
-        """Speed loop filter frequency (速度环滤波频率). Parameter Pr1.08, address 0x0061 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 300. Manual section 5.3.1."""
+        """Read SPEED_LOOP_FILTER: Speed loop filter frequency (速度环滤波频率); documented at the constant."""
         return self.read(SPEED_LOOP_FILTER)
 
     def write_speed_loop_filter(self, value: int) -> None:
-        """Speed loop filter frequency (速度环滤波频率). Parameter Pr1.08, address 0x0061 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 300. Manual section 5.3.1."""
+        """Write SPEED_LOOP_FILTER: Speed loop filter frequency (速度环滤波频率); documented at the constant."""
         self.write(SPEED_LOOP_FILTER, value)
 
     def read_command_filter_time(self) -> float:
-        """Command pulse FIR filter time (指令脉冲FIR滤波时间). Parameter Pr2.00, address 0x00A1 (low word of a 32-bit pair), u16, unit ms, range 0..51.2, default 10. Manual section 5.3.1, 附录4, 4.12."""
+        """Read COMMAND_FILTER_TIME: Command pulse FIR filter time (指令脉冲FIR滤波时间); documented at the constant."""
         return self.read(COMMAND_FILTER_TIME)
 
     def write_command_filter_time(self, value: float) -> None:
-        """Command pulse FIR filter time (指令脉冲FIR滤波时间). Parameter Pr2.00, address 0x00A1 (low word of a 32-bit pair), u16, unit ms, range 0..51.2, default 10. Manual section 5.3.1, 附录4, 4.12."""
+        """Write COMMAND_FILTER_TIME: Command pulse FIR filter time (指令脉冲FIR滤波时间); documented at the constant."""
         self.write(COMMAND_FILTER_TIME, value)
 
     def read_closed_to_open_speed(self) -> float:
-        """Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值). Parameter Pr2.05, address 0x00AB (low word of a 32-bit pair), u16, unit r/s, range 0..20, default 5. Manual section 5.3.1."""
+        """Read CLOSED_TO_OPEN_SPEED: Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值); documented at the constant."""
         return self.read(CLOSED_TO_OPEN_SPEED)
 
     def write_closed_to_open_speed(self, value: float) -> None:
-        """Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值). Parameter Pr2.05, address 0x00AB (low word of a 32-bit pair), u16, unit r/s, range 0..20, default 5. Manual section 5.3.1."""
+        """Write CLOSED_TO_OPEN_SPEED: Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值); documented at the constant."""
         self.write(CLOSED_TO_OPEN_SPEED, value)
 
     def read_standstill_lead_angle_switch(self) -> int:
-        """Lead angle switch at standstill (静止时超前角切换). Parameter Pr2.06, address 0x00AD (low word of a 32-bit pair), u16, unit ms, range 0..65535, default 500. Manual section 5.3.1."""
+        """Read STANDSTILL_LEAD_ANGLE_SWITCH: Lead angle switch at standstill (静止时超前角切换); documented at the constant."""
         return self.read(STANDSTILL_LEAD_ANGLE_SWITCH)
 
     def write_standstill_lead_angle_switch(self, value: int) -> None:
-        """Lead angle switch at standstill (静止时超前角切换). Parameter Pr2.06, address 0x00AD (low word of a 32-bit pair), u16, unit ms, range 0..65535, default 500. Manual section 5.3.1."""
+        """Write STANDSTILL_LEAD_ANGLE_SWITCH: Lead angle switch at standstill (静止时超前角切换); documented at the constant."""
         self.write(STANDSTILL_LEAD_ANGLE_SWITCH, value)
 
     def read_position_integral_delay(self) -> float:
-        """Position loop integral engage delay (位置环积分切入延时). Parameter Pr2.07, address 0x00AF (low word of a 32-bit pair), u16, unit ms, range 0..3276.75, default 100. Manual section 5.3.1."""
+        """Read POSITION_INTEGRAL_DELAY: Position loop integral engage delay (位置环积分切入延时); documented at the constant."""
         return self.read(POSITION_INTEGRAL_DELAY)
 
     def write_position_integral_delay(self, value: float) -> None:
-        """Position loop integral engage delay (位置环积分切入延时). Parameter Pr2.07, address 0x00AF (low word of a 32-bit pair), u16, unit ms, range 0..3276.75, default 100. Manual section 5.3.1."""
+        """Write POSITION_INTEGRAL_DELAY: Position loop integral engage delay (位置环积分切入延时); documented at the constant."""
         self.write(POSITION_INTEGRAL_DELAY, value)
 
     def read_command_iir_bandwidth(self) -> int:
-        """Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽). Parameter Pr2.08, address 0x00B1 (low word of a 32-bit pair), u16, unit Hz, range 1..3000, default 320. Manual section 5.3.1."""
+        """Read COMMAND_IIR_BANDWIDTH: Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽); documented at the constant."""
         return self.read(COMMAND_IIR_BANDWIDTH)
 
     def write_command_iir_bandwidth(self, value: int) -> None:
-        """Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽). Parameter Pr2.08, address 0x00B1 (low word of a 32-bit pair), u16, unit Hz, range 1..3000, default 320. Manual section 5.3.1."""
+        """Write COMMAND_IIR_BANDWIDTH: Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽); documented at the constant."""
         self.write(COMMAND_IIR_BANDWIDTH, value)
 
     def read_position_integral_deadband(self) -> int:
-        """Position loop integral dead band (位置环积分死区). Parameter Pr2.09, address 0x00B3 (low word of a 32-bit pair), u16, unit pulse, range 0..65535, default 1. Manual section 5.3.1."""
+        """Read POSITION_INTEGRAL_DEADBAND: Position loop integral dead band (位置环积分死区); documented at the constant."""
         return self.read(POSITION_INTEGRAL_DEADBAND)
 
     def write_position_integral_deadband(self, value: int) -> None:
-        """Position loop integral dead band (位置环积分死区). Parameter Pr2.09, address 0x00B3 (low word of a 32-bit pair), u16, unit pulse, range 0..65535, default 1. Manual section 5.3.1."""
+        """Write POSITION_INTEGRAL_DEADBAND: Position loop integral dead band (位置环积分死区); documented at the constant."""
         self.write(POSITION_INTEGRAL_DEADBAND, value)
 
     def read_vbs_enable(self) -> OffOn | int:
-        """VBS enable (VBS开启). Parameter Pr2.13, address 0x00BB (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1."""
+        """Read VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         return self.read(VBS_ENABLE)
 
     def write_vbs_enable(self, value: OffOn | int | str) -> None:
-        """VBS enable (VBS开启). Parameter Pr2.13, address 0x00BB (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1."""
+        """Write VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         self.write(VBS_ENABLE, value)
 
     def read_vbs_phase(self) -> int:
-        """VBS compensation phase (VBS 补偿相位). Parameter Pr2.14, address 0x00BD (low word of a 32-bit pair), u16, unit deg, range 0..360, default 50. Manual section 5.3.1."""
+        """Read VBS_PHASE: VBS compensation phase (VBS 补偿相位); documented at the constant."""
         return self.read(VBS_PHASE)
 
     def write_vbs_phase(self, value: int) -> None:
-        """VBS compensation phase (VBS 补偿相位). Parameter Pr2.14, address 0x00BD (low word of a 32-bit pair), u16, unit deg, range 0..360, default 50. Manual section 5.3.1."""
+        """Write VBS_PHASE: VBS compensation phase (VBS 补偿相位); documented at the constant."""
         self.write(VBS_PHASE, value)
 
     def read_vbs_gain(self) -> int:
-        """VBS gain (VBS增益). Parameter Pr2.15, address 0x00BF (low word of a 32-bit pair), u16, range 0..1000, default 125. Manual section 5.3.1."""
+        """Read VBS_GAIN: VBS gain (VBS增益); documented at the constant."""
         return self.read(VBS_GAIN)
 
     def write_vbs_gain(self, value: int) -> None:
-        """VBS gain (VBS增益). Parameter Pr2.15, address 0x00BF (low word of a 32-bit pair), u16, range 0..1000, default 125. Manual section 5.3.1."""
+        """Write VBS_GAIN: VBS gain (VBS增益); documented at the constant."""
         self.write(VBS_GAIN, value)
 
     def read_vbs_speed_max(self) -> float:
-        """VBS speed upper limit (VBS速度上限值). Parameter Pr2.16, address 0x00C1 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 2. Manual section 5.3.1."""
+        """Read VBS_SPEED_MAX: VBS speed upper limit (VBS速度上限值); documented at the constant."""
         return self.read(VBS_SPEED_MAX)
 
     def write_vbs_speed_max(self, value: float) -> None:
-        """VBS speed upper limit (VBS速度上限值). Parameter Pr2.16, address 0x00C1 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 2. Manual section 5.3.1."""
+        """Write VBS_SPEED_MAX: VBS speed upper limit (VBS速度上限值); documented at the constant."""
         self.write(VBS_SPEED_MAX, value)
 
     def read_vbs_speed_min(self) -> float:
-        """VBS speed lower limit (VBS速度下限值). Parameter Pr2.17, address 0x00C3 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 0.49. Manual section 5.3.1."""
+        """Read VBS_SPEED_MIN: VBS speed lower limit (VBS速度下限值); documented at the constant."""
         return self.read(VBS_SPEED_MIN)
 
     def write_vbs_speed_min(self, value: float) -> None:
-        """VBS speed lower limit (VBS速度下限值). Parameter Pr2.17, address 0x00C3 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 0.49. Manual section 5.3.1."""
+        """Write VBS_SPEED_MIN: VBS speed lower limit (VBS速度下限值); documented at the constant."""
         self.write(VBS_SPEED_MIN, value)
 
     def read_vbs_current_limit(self) -> float:
-        """VBS current limit (VBS电流限幅值). Parameter Pr2.18, address 0x00C5 (low word of a 32-bit pair), u16, unit A, range 0..2, default 1. Manual section 5.3.1."""
+        """Read VBS_CURRENT_LIMIT: VBS current limit (VBS电流限幅值); documented at the constant."""
         return self.read(VBS_CURRENT_LIMIT)
 
     def write_vbs_current_limit(self, value: float) -> None:
-        """VBS current limit (VBS电流限幅值). Parameter Pr2.18, address 0x00C5 (low word of a 32-bit pair), u16, unit A, range 0..2, default 1. Manual section 5.3.1."""
+        """Write VBS_CURRENT_LIMIT: VBS current limit (VBS电流限幅值); documented at the constant."""
         self.write(VBS_CURRENT_LIMIT, value)
 
     def read_accel_hp_bandwidth(self) -> int:
-        """Acceleration high-pass filter bandwidth (加速度 HP滤波带宽). Parameter Pr2.19, address 0x00C7 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Read ACCEL_HP_BANDWIDTH: Acceleration high-pass filter bandwidth (加速度 HP滤波带宽); documented at the constant."""
         return self.read(ACCEL_HP_BANDWIDTH)
 
     def write_accel_hp_bandwidth(self, value: int) -> None:
-        """Acceleration high-pass filter bandwidth (加速度 HP滤波带宽). Parameter Pr2.19, address 0x00C7 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Write ACCEL_HP_BANDWIDTH: Acceleration high-pass filter bandwidth (加速度 HP滤波带宽); documented at the constant."""
         self.write(ACCEL_HP_BANDWIDTH, value)
 
     def read_accel_lp_bandwidth(self) -> int:
-        """Acceleration low-pass filter bandwidth (加速度 LP滤波带宽). Parameter Pr2.20, address 0x00C9 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Read ACCEL_LP_BANDWIDTH: Acceleration low-pass filter bandwidth (加速度 LP滤波带宽); documented at the constant."""
         return self.read(ACCEL_LP_BANDWIDTH)
 
     def write_accel_lp_bandwidth(self, value: int) -> None:
-        """Acceleration low-pass filter bandwidth (加速度 LP滤波带宽). Parameter Pr2.20, address 0x00C9 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Write ACCEL_LP_BANDWIDTH: Acceleration low-pass filter bandwidth (加速度 LP滤波带宽); documented at the constant."""
         self.write(ACCEL_LP_BANDWIDTH, value)
 
     def read_accel_coefficient(self) -> int:
-        """Acceleration coefficient (加速度系数). Parameter Pr2.21, address 0x00CB (low word of a 32-bit pair), u16, range 0..5000, default 1000. Manual section 5.3.1."""
+        """Read ACCEL_COEFFICIENT: Acceleration coefficient (加速度系数); documented at the constant."""
         return self.read(ACCEL_COEFFICIENT)
 
     def write_accel_coefficient(self, value: int) -> None:
-        """Acceleration coefficient (加速度系数). Parameter Pr2.21, address 0x00CB (low word of a 32-bit pair), u16, range 0..5000, default 1000. Manual section 5.3.1."""
+        """Write ACCEL_COEFFICIENT: Acceleration coefficient (加速度系数); documented at the constant."""
         self.write(ACCEL_COEFFICIENT, value)
 
     def read_accel_feedforward_angle_limit(self) -> int:
-        """Acceleration feedforward angle limit (加速度前馈角限幅值). Parameter Pr2.22, address 0x00CD (low word of a 32-bit pair), u16, unit deg, range 0..180, default 58. Manual section 5.3.1."""
+        """Read ACCEL_FEEDFORWARD_ANGLE_LIMIT: Acceleration feedforward angle limit (加速度前馈角限幅值); documented at the constant."""
         return self.read(ACCEL_FEEDFORWARD_ANGLE_LIMIT)
 
     def write_accel_feedforward_angle_limit(self, value: int) -> None:
-        """Acceleration feedforward angle limit (加速度前馈角限幅值). Parameter Pr2.22, address 0x00CD (low word of a 32-bit pair), u16, unit deg, range 0..180, default 58. Manual section 5.3.1."""
+        """Write ACCEL_FEEDFORWARD_ANGLE_LIMIT: Acceleration feedforward angle limit (加速度前馈角限幅值); documented at the constant."""
         self.write(ACCEL_FEEDFORWARD_ANGLE_LIMIT, value)
 
     def read_di1_function(self) -> Di1FunctionBits:
-        """DI1 input function (DI1 输入口 1). Parameter Pr4.02, address 0x0145 (low word of a 32-bit pair), u16, range 0..65535, default 136, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI1_FUNCTION: DI1 input function (DI1 输入口 1); documented at the constant."""
         return self.read(DI1_FUNCTION)
 
     def write_di1_function(self, value: Di1FunctionBits) -> None:
-        """DI1 input function (DI1 输入口 1). Parameter Pr4.02, address 0x0145 (low word of a 32-bit pair), u16, range 0..65535, default 136, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI1_FUNCTION: DI1 input function (DI1 输入口 1); documented at the constant."""
         self.write(DI1_FUNCTION, value)
 
     def read_di2_function(self) -> Di2FunctionBits:
-        """DI2 input function (DI2 输入口 2). Parameter Pr4.03, address 0x0147 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Read DI2_FUNCTION: DI2 input function (DI2 输入口 2); documented at the constant."""
         return self.read(DI2_FUNCTION)
 
     def write_di2_function(self, value: Di2FunctionBits) -> None:
-        """DI2 input function (DI2 输入口 2). Parameter Pr4.03, address 0x0147 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Write DI2_FUNCTION: DI2 input function (DI2 输入口 2); documented at the constant."""
         self.write(DI2_FUNCTION, value)
 
     def read_di3_function(self) -> Di3FunctionBits:
-        """DI3 input function (DI3 输入口 3). Parameter Pr4.04, address 0x0149 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Read DI3_FUNCTION: DI3 input function (DI3 输入口 3); documented at the constant."""
         return self.read(DI3_FUNCTION)
 
     def write_di3_function(self, value: Di3FunctionBits) -> None:
-        """DI3 input function (DI3 输入口 3). Parameter Pr4.04, address 0x0149 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Write DI3_FUNCTION: DI3 input function (DI3 输入口 3); documented at the constant."""
         self.write(DI3_FUNCTION, value)
 
     def read_di4_function(self) -> Di4FunctionBits:
-        """DI4 input function (DI4输入口 4). Parameter Pr4.05, address 0x014B (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI4_FUNCTION: DI4 input function (DI4输入口 4); documented at the constant."""
         return self.read(DI4_FUNCTION)
 
     def write_di4_function(self, value: Di4FunctionBits) -> None:
-        """DI4 input function (DI4输入口 4). Parameter Pr4.05, address 0x014B (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI4_FUNCTION: DI4 input function (DI4输入口 4); documented at the constant."""
         self.write(DI4_FUNCTION, value)
 
     def read_di5_function(self) -> Di5FunctionBits:
-        """DI5 input function (DI5输入口 5). Parameter Pr4.06, address 0x014D (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI5_FUNCTION: DI5 input function (DI5输入口 5); documented at the constant."""
         return self.read(DI5_FUNCTION)
 
     def write_di5_function(self, value: Di5FunctionBits) -> None:
-        """DI5 input function (DI5输入口 5). Parameter Pr4.06, address 0x014D (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI5_FUNCTION: DI5 input function (DI5输入口 5); documented at the constant."""
         self.write(DI5_FUNCTION, value)
 
     def read_di6_function(self) -> Di6FunctionBits:
-        """DI6 input function (DI6输入口 6). Parameter Pr4.07, address 0x014F (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI6_FUNCTION: DI6 input function (DI6输入口 6); documented at the constant."""
         return self.read(DI6_FUNCTION)
 
     def write_di6_function(self, value: Di6FunctionBits) -> None:
-        """DI6 input function (DI6输入口 6). Parameter Pr4.07, address 0x014F (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI6_FUNCTION: DI6 input function (DI6输入口 6); documented at the constant."""
         self.write(DI6_FUNCTION, value)
 
     def read_di7_function(self) -> Di7FunctionBits:
-        """DI7 input function (DI7输入口 7). Parameter Pr4.08, address 0x0151 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI7_FUNCTION: DI7 input function (DI7输入口 7); documented at the constant."""
         return self.read(DI7_FUNCTION)
 
     def write_di7_function(self, value: Di7FunctionBits) -> None:
-        """DI7 input function (DI7输入口 7). Parameter Pr4.08, address 0x0151 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI7_FUNCTION: DI7 input function (DI7输入口 7); documented at the constant."""
         self.write(DI7_FUNCTION, value)
 
     def read_do1_function(self) -> Do1FunctionBits:
-        """DO1 output function (DO1 输出口 1). Parameter Pr4.11, address 0x0157 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Read DO1_FUNCTION: DO1 output function (DO1 输出口 1); documented at the constant."""
         return self.read(DO1_FUNCTION)
 
     def write_do1_function(self, value: Do1FunctionBits) -> None:
-        """DO1 output function (DO1 输出口 1). Parameter Pr4.11, address 0x0157 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Write DO1_FUNCTION: DO1 output function (DO1 输出口 1); documented at the constant."""
         self.write(DO1_FUNCTION, value)
 
     def read_do2_function(self) -> Do2FunctionBits:
-        """DO2 output function (DO2 输出口 2). Parameter Pr4.12, address 0x0159 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Read DO2_FUNCTION: DO2 output function (DO2 输出口 2); documented at the constant."""
         return self.read(DO2_FUNCTION)
 
     def write_do2_function(self, value: Do2FunctionBits) -> None:
-        """DO2 output function (DO2 输出口 2). Parameter Pr4.12, address 0x0159 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Write DO2_FUNCTION: DO2 output function (DO2 输出口 2); documented at the constant."""
         self.write(DO2_FUNCTION, value)
 
     def read_do3_function(self) -> Do3FunctionBits:
-        """DO3 output function (DO3输出口 3). Parameter Pr4.13, address 0x015B (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Read DO3_FUNCTION: DO3 output function (DO3输出口 3); documented at the constant."""
         return self.read(DO3_FUNCTION)
 
     def write_do3_function(self, value: Do3FunctionBits) -> None:
-        """DO3 output function (DO3输出口 3). Parameter Pr4.13, address 0x015B (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Write DO3_FUNCTION: DO3 output function (DO3输出口 3); documented at the constant."""
         self.write(DO3_FUNCTION, value)
 
     def read_brake_release_delay(self) -> int:
-        """Brake release delay (抱闸松开延时). Parameter Pr4.19, address 0x0167 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Read BRAKE_RELEASE_DELAY: Brake release delay (抱闸松开延时); documented at the constant."""
         return self.read(BRAKE_RELEASE_DELAY)
 
     def write_brake_release_delay(self, value: int) -> None:
-        """Brake release delay (抱闸松开延时). Parameter Pr4.19, address 0x0167 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Write BRAKE_RELEASE_DELAY: Brake release delay (抱闸松开延时); documented at the constant."""
         self.write(BRAKE_RELEASE_DELAY, value)
 
     def read_fault_detection_mask(self) -> FaultDetectionMaskBits:
-        """Fault detection selection (故障检测选择). Parameter Pr4.22, address 0x016D (low word of a 32-bit pair), u16, range 0..65535, default 65535. Manual section 5.3.1, 附录4."""
+        """Read FAULT_DETECTION_MASK: Fault detection selection (故障检测选择); documented at the constant."""
         return self.read(FAULT_DETECTION_MASK)
 
     def write_fault_detection_mask(self, value: FaultDetectionMaskBits) -> None:
-        """Fault detection selection (故障检测选择). Parameter Pr4.22, address 0x016D (low word of a 32-bit pair), u16, range 0..65535, default 65535. Manual section 5.3.1, 附录4."""
+        """Write FAULT_DETECTION_MASK: Fault detection selection (故障检测选择); documented at the constant."""
         self.write(FAULT_DETECTION_MASK, value)
 
     def read_in_position_error(self) -> int:
-        """Position error for in-position (到位时位置误差设定). Parameter Pr4.24, address 0x0171 (low word of a 32-bit pair), u16, range 0..1500, default 800. Manual section 5.3.1."""
+        """Read IN_POSITION_ERROR: Position error for in-position (到位时位置误差设定); documented at the constant."""
         return self.read(IN_POSITION_ERROR)
 
     def write_in_position_error(self, value: int) -> None:
-        """Position error for in-position (到位时位置误差设定). Parameter Pr4.24, address 0x0171 (low word of a 32-bit pair), u16, range 0..1500, default 800. Manual section 5.3.1."""
+        """Write IN_POSITION_ERROR: Position error for in-position (到位时位置误差设定); documented at the constant."""
         self.write(IN_POSITION_ERROR, value)
 
     def read_in_position_debounce(self) -> int:
-        """In-position error software debounce delay (到位时位置误差软件消抖延时). Parameter Pr4.25, address 0x0173 (low word of a 32-bit pair), u16, unit ms, range 0..100, default 3. Manual section 5.3.1, 4.12."""
+        """Read IN_POSITION_DEBOUNCE: In-position error software debounce delay (到位时位置误差软件消抖延时); documented at the constant."""
         return self.read(IN_POSITION_DEBOUNCE)
 
     def write_in_position_debounce(self, value: int) -> None:
-        """In-position error software debounce delay (到位时位置误差软件消抖延时). Parameter Pr4.25, address 0x0173 (low word of a 32-bit pair), u16, unit ms, range 0..100, default 3. Manual section 5.3.1, 4.12."""
+        """Write IN_POSITION_DEBOUNCE: In-position error software debounce delay (到位时位置误差软件消抖延时); documented at the constant."""
         self.write(IN_POSITION_DEBOUNCE, value)
 
     def read_zero_speed_threshold(self) -> int:
-        """Zero speed threshold (零速度阀值). Parameter Pr4.26, address 0x0175 (low word of a 32-bit pair), u16, unit r/min, range 0..500, default 10. Manual section 5.3.1."""
+        """Read ZERO_SPEED_THRESHOLD: Zero speed threshold (零速度阀值); documented at the constant."""
         return self.read(ZERO_SPEED_THRESHOLD)
 
     def write_zero_speed_threshold(self, value: int) -> None:
-        """Zero speed threshold (零速度阀值). Parameter Pr4.26, address 0x0175 (low word of a 32-bit pair), u16, unit r/min, range 0..500, default 10. Manual section 5.3.1."""
+        """Write ZERO_SPEED_THRESHOLD: Zero speed threshold (零速度阀值); documented at the constant."""
         self.write(ZERO_SPEED_THRESHOLD, value)
 
     def read_bus_voltage(self) -> float:
-        """DC bus voltage (母线电压). Parameter Pr4.27, address 0x0177 (low word of a 32-bit pair), u16, unit V, range 0..6553.5, default 0. Manual section 5.3.1, 附录4."""
+        """Read BUS_VOLTAGE: DC bus voltage (母线电压); documented at the constant."""
         return self.read(BUS_VOLTAGE)
 
     def read_input_io_state(self) -> InputIoStateBits:
-        """Input IO state (输入 IO状态). Parameter Pr4.28, address 0x0179 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read INPUT_IO_STATE: Input IO state (输入 IO状态); documented at the constant."""
         return self.read(INPUT_IO_STATE)
 
     def read_output_io_state(self) -> OutputIoStateBits:
-        """Output IO state (输出 IO状态). Parameter Pr4.29, address 0x017B (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read OUTPUT_IO_STATE: Output IO state (输出 IO状态); documented at the constant."""
         return self.read(OUTPUT_IO_STATE)
 
     def read_dip_switch_state(self) -> int:
-        """DIP switch state (拨码状态). Parameter Pr4.35, address 0x0187 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read DIP_SWITCH_STATE: DIP switch state (拨码状态); documented at the constant."""
         return self.read(DIP_SWITCH_STATE)
 
     def read_peak_current(self) -> float:
-        """Motor peak current (电机峰值电流). Parameter Pr5.00, address 0x0191 (low word of a 32-bit pair), u16, unit A, range 0..8, default 2.2. Manual section 5.3.1, 附录4, 4.12, 4.15, 5.2.1, 5.2.2."""
+        """Read PEAK_CURRENT: Motor peak current (电机峰值电流); documented at the constant."""
         return self.read(PEAK_CURRENT)
 
     def write_peak_current(self, value: float) -> None:
-        """Motor peak current (电机峰值电流). Parameter Pr5.00, address 0x0191 (low word of a 32-bit pair), u16, unit A, range 0..8, default 2.2. Manual section 5.3.1, 附录4, 4.12, 4.15, 5.2.1, 5.2.2."""
+        """Write PEAK_CURRENT: Motor peak current (电机峰值电流); documented at the constant."""
         self.write(PEAK_CURRENT, value)
 
     def read_open_loop_hold_current(self) -> int:
-        """Open-loop holding current percentage (开环保持电流百分比). Parameter Pr5.02, address 0x0195 (low word of a 32-bit pair), u16, unit %, range 0..50, default 50. Manual section 5.3.1."""
+        """Read OPEN_LOOP_HOLD_CURRENT: Open-loop holding current percentage (开环保持电流百分比); documented at the constant."""
         return self.read(OPEN_LOOP_HOLD_CURRENT)
 
     def write_open_loop_hold_current(self, value: int) -> None:
-        """Open-loop holding current percentage (开环保持电流百分比). Parameter Pr5.02, address 0x0195 (low word of a 32-bit pair), u16, unit %, range 0..50, default 50. Manual section 5.3.1."""
+        """Write OPEN_LOOP_HOLD_CURRENT: Open-loop holding current percentage (开环保持电流百分比); documented at the constant."""
         self.write(OPEN_LOOP_HOLD_CURRENT, value)
 
     def read_lock_current_percent(self) -> int:
-        """Shaft-lock current percentage at power-up (上电锁轴电流百分比). Parameter Pr5.03, address 0x0197 (low word of a 32-bit pair), u16, unit %, range 0..100, default 100. Manual section 5.3.1, 附录4."""
+        """Read LOCK_CURRENT_PERCENT: Shaft-lock current percentage at power-up (上电锁轴电流百分比); documented at the constant."""
         return self.read(LOCK_CURRENT_PERCENT)
 
     def write_lock_current_percent(self, value: int) -> None:
-        """Shaft-lock current percentage at power-up (上电锁轴电流百分比). Parameter Pr5.03, address 0x0197 (low word of a 32-bit pair), u16, unit %, range 0..100, default 100. Manual section 5.3.1, 附录4."""
+        """Write LOCK_CURRENT_PERCENT: Shaft-lock current percentage at power-up (上电锁轴电流百分比); documented at the constant."""
         self.write(LOCK_CURRENT_PERCENT, value)
 
     def read_lock_duration(self) -> int:
-        """Shaft-lock duration (锁轴持续时间). Parameter Pr5.04, address 0x0199 (low word of a 32-bit pair), u16, unit ms, range 0..1500, default 200. Manual section 5.3.1, 附录4."""
+        """Read LOCK_DURATION: Shaft-lock duration (锁轴持续时间); documented at the constant."""
         return self.read(LOCK_DURATION)
 
     def write_lock_duration(self, value: int) -> None:
-        """Shaft-lock duration (锁轴持续时间). Parameter Pr5.04, address 0x0199 (low word of a 32-bit pair), u16, unit ms, range 0..1500, default 200. Manual section 5.3.1, 附录4."""
+        """Write LOCK_DURATION: Shaft-lock duration (锁轴持续时间); documented at the constant."""
         self.write(LOCK_DURATION, value)
 
     def read_lock_current_rise_time(self) -> float:
-        """Shaft-lock current rise time at power-up (上电锁轴电流上升时间). Parameter Pr5.07, address 0x019F (low word of a 32-bit pair), u16, unit ms, range 100..6000, default 100. Manual section 5.3.1, 附录4."""
+        """Read LOCK_CURRENT_RISE_TIME: Shaft-lock current rise time at power-up (上电锁轴电流上升时间); documented at the constant."""
         return self.read(LOCK_CURRENT_RISE_TIME)
 
     def write_lock_current_rise_time(self, value: float) -> None:
-        """Shaft-lock current rise time at power-up (上电锁轴电流上升时间). Parameter Pr5.07, address 0x019F (low word of a 32-bit pair), u16, unit ms, range 100..6000, default 100. Manual section 5.3.1, 附录4."""
+        """Write LOCK_CURRENT_RISE_TIME: Shaft-lock current rise time at power-up (上电锁轴电流上升时间); documented at the constant."""
         self.write(LOCK_CURRENT_RISE_TIME, value)
 
     def read_max_stop_time(self) -> int:
-        """Maximum stopping time (停车最长时间). Parameter Pr5.10, address 0x01A5 (low word of a 32-bit pair), u16, unit ms, range 100..1000, default 1000. Manual section 5.3.1, 附录4."""
+        """Read MAX_STOP_TIME: Maximum stopping time (停车最长时间); documented at the constant."""
         return self.read(MAX_STOP_TIME)
 
     def write_max_stop_time(self, value: int) -> None:
-        """Maximum stopping time (停车最长时间). Parameter Pr5.10, address 0x01A5 (low word of a 32-bit pair), u16, unit ms, range 100..1000, default 1000. Manual section 5.3.1, 附录4."""
+        """Write MAX_STOP_TIME: Maximum stopping time (停车最长时间); documented at the constant."""
         self.write(MAX_STOP_TIME, value)
 
     def read_current_autotune(self) -> CurrentAutotune | int:
-        """Current loop auto-tuning at power-up (电流环上电自整定). Parameter Pr5.13, address 0x01AB (low word of a 32-bit pair), u16, range 0..1, default 1. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         return self.read(CURRENT_AUTOTUNE)
 
     def write_current_autotune(self, value: CurrentAutotune | int | str) -> None:
-        """Current loop auto-tuning at power-up (电流环上电自整定). Parameter Pr5.13, address 0x01AB (low word of a 32-bit pair), u16, range 0..1, default 1. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         self.write(CURRENT_AUTOTUNE, value)
 
     def read_baud_rate(self) -> BaudRate | int:
-        """RS-485 baud rate (485 波特率). Parameter Pr5.22, address 0x01BD (low word of a 32-bit pair), u16, range 0..6, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Read BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         return self.read(BAUD_RATE)
 
     def write_baud_rate(self, value: BaudRate | int | str) -> None:
-        """RS-485 baud rate (485 波特率). Parameter Pr5.22, address 0x01BD (low word of a 32-bit pair), u16, range 0..6, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Write BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         self.write(BAUD_RATE, value)
 
     def read_slave_id(self) -> int:
-        """RS-485 slave ID (485 ID). Parameter Pr5.23, address 0x01BF (low word of a 32-bit pair), u16, range 0..127, default 1. Manual section 5.3.1, 附录4, 3.2.5, 5.2.1."""
+        """Read SLAVE_ID: RS-485 slave ID (485 ID); documented at the constant."""
         return self.read(SLAVE_ID)
 
     def write_slave_id(self, value: int) -> None:
-        """RS-485 slave ID (485 ID). Parameter Pr5.23, address 0x01BF (low word of a 32-bit pair), u16, range 0..127, default 1. Manual section 5.3.1, 附录4, 3.2.5, 5.2.1."""
+        """Write SLAVE_ID: RS-485 slave ID (485 ID); documented at the constant."""
         self.write(SLAVE_ID, value)
 
     def read_data_format(self) -> DataFormat | int:
-        """RS-485 data format (485数据类型选择). Parameter Pr5.24, address 0x01C1 (low word of a 32-bit pair), u16, range 0..11, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Read DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         return self.read(DATA_FORMAT)
 
     def write_data_format(self, value: DataFormat | int | str) -> None:
-        """RS-485 data format (485数据类型选择). Parameter Pr5.24, address 0x01C1 (low word of a 32-bit pair), u16, range 0..11, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Write DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         self.write(DATA_FORMAT, value)
 
     def read_response_bit_delay(self) -> int:
-        """RS-485 communication bit delay (485通讯位延迟). Parameter Pr5.26, address 0x01C5 (low word of a 32-bit pair), u16, unit bit, range 15..100, default 35. Manual section 5.3.1, 附录4."""
+        """Read RESPONSE_BIT_DELAY: RS-485 communication bit delay (485通讯位延迟); documented at the constant."""
         return self.read(RESPONSE_BIT_DELAY)
 
     def write_response_bit_delay(self, value: int) -> None:
-        """RS-485 communication bit delay (485通讯位延迟). Parameter Pr5.26, address 0x01C5 (low word of a 32-bit pair), u16, unit bit, range 15..100, default 35. Manual section 5.3.1, 附录4."""
+        """Write RESPONSE_BIT_DELAY: RS-485 communication bit delay (485通讯位延迟); documented at the constant."""
         self.write(RESPONSE_BIT_DELAY, value)
 
     def read_standby_time(self) -> int:
-        """Standby (idle current) delay (待机时间). Parameter Pr5.32, address 0x01D1 (low word of a 32-bit pair), u16, unit ms, range 10..65535, default 200. Manual section 5.3.1, 附录4."""
+        """Read STANDBY_TIME: Standby (idle current) delay (待机时间); documented at the constant."""
         return self.read(STANDBY_TIME)
 
     def write_standby_time(self, value: int) -> None:
-        """Standby (idle current) delay (待机时间). Parameter Pr5.32, address 0x01D1 (low word of a 32-bit pair), u16, unit ms, range 10..65535, default 200. Manual section 5.3.1, 附录4."""
+        """Write STANDBY_TIME: Standby (idle current) delay (待机时间); documented at the constant."""
         self.write(STANDBY_TIME, value)
 
     def read_standby_current_percent(self) -> int:
-        """Standby current percentage (待机电流百分比). Parameter Pr5.33, address 0x01D3 (low word of a 32-bit pair), u16, unit %, range 0..100, default 50. Manual section 5.3.1, 附录4."""
+        """Read STANDBY_CURRENT_PERCENT: Standby current percentage (待机电流百分比); documented at the constant."""
         return self.read(STANDBY_CURRENT_PERCENT)
 
     def write_standby_current_percent(self, value: int) -> None:
-        """Standby current percentage (待机电流百分比). Parameter Pr5.33, address 0x01D3 (low word of a 32-bit pair), u16, unit %, range 0..100, default 50. Manual section 5.3.1, 附录4."""
+        """Write STANDBY_CURRENT_PERCENT: Standby current percentage (待机电流百分比); documented at the constant."""
         self.write(STANDBY_CURRENT_PERCENT, value)
 
     def read_jog_speed(self) -> int:
-        """Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令). Parameter Pr6.00, address 0x01E1 (low word of a 32-bit pair), u16, unit r/min, range 0..5000, default 60. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Read JOG_SPEED: Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令); documented at the constant."""
         return self.read(JOG_SPEED)
 
     def write_jog_speed(self, value: int) -> None:
-        """Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令). Parameter Pr6.00, address 0x01E1 (low word of a 32-bit pair), u16, unit r/min, range 0..5000, default 60. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Write JOG_SPEED: Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令); documented at the constant."""
         self.write(JOG_SPEED, value)
 
     def read_jog_interval(self) -> int:
-        """Trial run (JOG) waiting interval (试运行（JOG）等待间隔). Parameter Pr6.01, address 0x01E3 (low word of a 32-bit pair), u16, unit ms, range 0..10000, default 100. Manual section 5.3.1, 附录4, 6.3."""
+        """Read JOG_INTERVAL: Trial run (JOG) waiting interval (试运行（JOG）等待间隔); documented at the constant."""
         return self.read(JOG_INTERVAL)
 
     def write_jog_interval(self, value: int) -> None:
-        """Trial run (JOG) waiting interval (试运行（JOG）等待间隔). Parameter Pr6.01, address 0x01E3 (low word of a 32-bit pair), u16, unit ms, range 0..10000, default 100. Manual section 5.3.1, 附录4, 6.3."""
+        """Write JOG_INTERVAL: Trial run (JOG) waiting interval (试运行（JOG）等待间隔); documented at the constant."""
         self.write(JOG_INTERVAL, value)
 
     def read_jog_cycles(self) -> int:
-        """Trial run cycle count (试运行循环次数). Parameter Pr6.02, address 0x01E5 (low word of a 32-bit pair), u16, range 0..30000, default 1. Manual section 5.3.1, 附录4, 6.3."""
+        """Read JOG_CYCLES: Trial run cycle count (试运行循环次数); documented at the constant."""
         return self.read(JOG_CYCLES)
 
     def write_jog_cycles(self, value: int) -> None:
-        """Trial run cycle count (试运行循环次数). Parameter Pr6.02, address 0x01E5 (low word of a 32-bit pair), u16, range 0..30000, default 1. Manual section 5.3.1, 附录4, 6.3."""
+        """Write JOG_CYCLES: Trial run cycle count (试运行循环次数); documented at the constant."""
         self.write(JOG_CYCLES, value)
 
     def read_jog_accel_time(self) -> int:
-        """Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间). Parameter Pr6.03, address 0x01E7 (low word of a 32-bit pair), u16, unit ms, range 10..10000, default 200. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Read JOG_ACCEL_TIME: Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间); documented at the constant."""
         return self.read(JOG_ACCEL_TIME)
 
     def write_jog_accel_time(self, value: int) -> None:
-        """Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间). Parameter Pr6.03, address 0x01E7 (low word of a 32-bit pair), u16, unit ms, range 10..10000, default 200. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Write JOG_ACCEL_TIME: Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间); documented at the constant."""
         self.write(JOG_ACCEL_TIME, value)
 
     def read_version_info_1(self) -> int:
-        """Version information (版本信息). Parameter Pr6.15, address 0x01FF (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read VERSION_INFO_1: Version information (版本信息); documented at the constant."""
         return self.read(VERSION_INFO_1)
 
     def read_version_info_2(self) -> int:
-        """Version information (版本信息). Parameter Pr6.16, address 0x0201 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1."""
+        """Read VERSION_INFO_2: Version information (版本信息); documented at the constant."""
         return self.read(VERSION_INFO_2)
 
     def read_r4d_status_word(self) -> int:
-        """R4D status word (R4D 状态字). Parameter Pr6.20, address 0x0209 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1."""
+        """Read R4D_STATUS_WORD: R4D status word (R4D 状态字); documented at the constant."""
         return self.read(R4D_STATUS_WORD)
 
     def read_encoder_resolution(self) -> int:
-        """Encoder resolution (编码器分辨率). Parameter Pr7.01, address 0x0233 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Read ENCODER_RESOLUTION: Encoder resolution (编码器分辨率); documented at the constant."""
         return self.read(ENCODER_RESOLUTION)
 
     def write_encoder_resolution(self, value: int) -> None:
-        """Encoder resolution (编码器分辨率). Parameter Pr7.01, address 0x0233 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Write ENCODER_RESOLUTION: Encoder resolution (编码器分辨率); documented at the constant."""
         self.write(ENCODER_RESOLUTION, value)
 
     def read_back_emf_coefficient(self) -> int:
-        """Back-EMF coefficient (反电势系数). Parameter Pr7.02, address 0x0235 (low word of a 32-bit pair), u16, unit ms, range 0..32767, default 100. Manual section 5.3.1, 附录4."""
+        """Read BACK_EMF_COEFFICIENT: Back-EMF coefficient (反电势系数); documented at the constant."""
         return self.read(BACK_EMF_COEFFICIENT)
 
     def write_back_emf_coefficient(self, value: int) -> None:
-        """Back-EMF coefficient (反电势系数). Parameter Pr7.02, address 0x0235 (low word of a 32-bit pair), u16, unit ms, range 0..32767, default 100. Manual section 5.3.1, 附录4."""
+        """Write BACK_EMF_COEFFICIENT: Back-EMF coefficient (反电势系数); documented at the constant."""
         self.write(BACK_EMF_COEFFICIENT, value)
 
     def read_current_loop_kp(self) -> int:
-        """Current loop proportional gain P (电流环比例增益 P). Parameter Pr7.03, address 0x0237 (low word of a 32-bit pair), u16, range 0..3000, default 1500. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_LOOP_KP: Current loop proportional gain P (电流环比例增益 P); documented at the constant."""
         return self.read(CURRENT_LOOP_KP)
 
     def write_current_loop_kp(self, value: int) -> None:
-        """Current loop proportional gain P (电流环比例增益 P). Parameter Pr7.03, address 0x0237 (low word of a 32-bit pair), u16, range 0..3000, default 1500. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_LOOP_KP: Current loop proportional gain P (电流环比例增益 P); documented at the constant."""
         self.write(CURRENT_LOOP_KP, value)
 
     def read_current_loop_ki(self) -> int:
-        """Current loop integral gain I (电流环积分增益 I). Parameter Pr7.04, address 0x0239 (low word of a 32-bit pair), u16, range 0..1500, default 300. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_LOOP_KI: Current loop integral gain I (电流环积分增益 I); documented at the constant."""
         return self.read(CURRENT_LOOP_KI)
 
     def write_current_loop_ki(self, value: int) -> None:
-        """Current loop integral gain I (电流环积分增益 I). Parameter Pr7.04, address 0x0239 (low word of a 32-bit pair), u16, range 0..1500, default 300. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_LOOP_KI: Current loop integral gain I (电流环积分增益 I); documented at the constant."""
         self.write(CURRENT_LOOP_KI, value)
 
     def read_current_loop_gain_ratio(self) -> int:
-        """Current loop gain adjustment ratio (电流环增益调整比例). Parameter Pr7.05, address 0x023B (low word of a 32-bit pair), u16, range 0..1024, default 100. Manual section 附录4."""
+        """Read CURRENT_LOOP_GAIN_RATIO: Current loop gain adjustment ratio (电流环增益调整比例); documented at the constant."""
         return self.read(CURRENT_LOOP_GAIN_RATIO)
 
     def write_current_loop_gain_ratio(self, value: int) -> None:
-        """Current loop gain adjustment ratio (电流环增益调整比例). Parameter Pr7.05, address 0x023B (low word of a 32-bit pair), u16, range 0..1024, default 100. Manual section 附录4."""
+        """Write CURRENT_LOOP_GAIN_RATIO: Current loop gain adjustment ratio (电流环增益调整比例); documented at the constant."""
         self.write(CURRENT_LOOP_GAIN_RATIO, value)
 
     def read_current_loop_kc(self) -> int:
-        """Current loop Kc (电流环 Kc). Parameter Pr7.06, address 0x023D (low word of a 32-bit pair), u16, range 0..32767, default 300. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_LOOP_KC: Current loop Kc (电流环 Kc); documented at the constant."""
         return self.read(CURRENT_LOOP_KC)
 
     def write_current_loop_kc(self, value: int) -> None:
-        """Current loop Kc (电流环 Kc). Parameter Pr7.06, address 0x023D (low word of a 32-bit pair), u16, range 0..32767, default 300. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_LOOP_KC: Current loop Kc (电流环 Kc); documented at the constant."""
         self.write(CURRENT_LOOP_KC, value)
 
     def read_overvoltage_threshold(self) -> int:
-        """Overvoltage threshold (过压阈值). Parameter Pr7.09, address 0x0243 (low word of a 32-bit pair), u16, unit V, range 0..1000, default 90. Manual section 5.3.1, 附录4, 4.12."""
+        """Read OVERVOLTAGE_THRESHOLD: Overvoltage threshold (过压阈值); documented at the constant."""
         return self.read(OVERVOLTAGE_THRESHOLD)
 
     def write_overvoltage_threshold(self, value: int) -> None:
-        """Overvoltage threshold (过压阈值). Parameter Pr7.09, address 0x0243 (low word of a 32-bit pair), u16, unit V, range 0..1000, default 90. Manual section 5.3.1, 附录4, 4.12."""
+        """Write OVERVOLTAGE_THRESHOLD: Overvoltage threshold (过压阈值); documented at the constant."""
         self.write(OVERVOLTAGE_THRESHOLD, value)
 
     def read_run_status(self) -> RunStatusBits:
-        """Run status (运行状态). address 0x1003, u16. Manual section 4.1, 5.3.2, 附录4."""
+        """Read RUN_STATUS: Run status (运行状态); documented at the constant."""
         return self.read(RUN_STATUS)
 
     def write_control_word(self, value: ControlWord | int | str) -> None:
-        """Auxiliary control word (控制字). address 0x1801, u16. Manual section 4.4, 4.5, 4.7, 5.3.3, 附录4."""
+        """Write CONTROL_WORD: Auxiliary control word (控制字); documented at the constant."""
         self.write(CONTROL_WORD, value)
 
     def read_save_status(self) -> SaveStatus | int:
-        """Parameter save status word (保存参数状态字). address 0x1901, u16, default 4369. Manual section 5.3.3, 附录4."""
+        """Read SAVE_STATUS: Parameter save status word (保存参数状态字); documented at the constant."""
         return self.read(SAVE_STATUS)
 
     def read_current_alarm(self) -> AlarmCode | int:
-        """Current alarm (当前报警). address 0x2203, u16. Manual section 4.2, 5.4.2, 附录4."""
+        """Read CURRENT_ALARM: Current alarm (当前报警); documented at the constant."""
         return self.read(CURRENT_ALARM)
 
     def read_pr_control(self) -> PrControlBits:
-        """PR control settings (PR 控制设置). Parameter Pr8.00, address 0x6000, u16, default 0. Manual section 5.3.1, 6.3, 6.4, 附录4."""
+        """Read PR_CONTROL: PR control settings (PR 控制设置); documented at the constant."""
         return self.read(PR_CONTROL)
 
     def write_pr_control(self, value: PrControlBits) -> None:
-        """PR control settings (PR 控制设置). Parameter Pr8.00, address 0x6000, u16, default 0. Manual section 5.3.1, 6.3, 6.4, 附录4."""
+        """Write PR_CONTROL: PR control settings (PR 控制设置); documented at the constant."""
         self.write(PR_CONTROL, value)
 
     def read_pr_trigger(self) -> PrTrigger | int:
-        """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
+        """Read PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         return self.read(PR_TRIGGER)
 
     def write_pr_trigger(self, value: PrTrigger | int | str) -> None:
-        """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
+        """Write PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         self.write(PR_TRIGGER, value)
 
     def read_positive_soft_limit(self) -> int:
-        """Positive software limit (正软件限位). Parameter Pr8.06, address 0x6006, s32, unit pulse, range -2147483648..2147483647, default 2147483647. Manual section 5.3.1, 6.3, 附录4."""
+        """Read POSITIVE_SOFT_LIMIT: Positive software limit (正软件限位); documented at the constant."""
         return self.read(POSITIVE_SOFT_LIMIT)
 
     def write_positive_soft_limit(self, value: int) -> None:
-        """Positive software limit (正软件限位). Parameter Pr8.06, address 0x6006, s32, unit pulse, range -2147483648..2147483647, default 2147483647. Manual section 5.3.1, 6.3, 附录4."""
+        """Write POSITIVE_SOFT_LIMIT: Positive software limit (正软件限位); documented at the constant."""
         self.write(POSITIVE_SOFT_LIMIT, value)
 
     def read_negative_soft_limit(self) -> int:
-        """Negative software limit (负软件限位). Parameter Pr8.08, address 0x6008, s32, unit pulse, range -2147483648..2147483647, default -2147483648. Manual section 5.3.1, 6.3, 附录4."""
+        """Read NEGATIVE_SOFT_LIMIT: Negative software limit (负软件限位); documented at the constant."""
         return self.read(NEGATIVE_SOFT_LIMIT)
 
     def write_negative_soft_limit(self, value: int) -> None:
-        """Negative software limit (负软件限位). Parameter Pr8.08, address 0x6008, s32, unit pulse, range -2147483648..2147483647, default -2147483648. Manual section 5.3.1, 6.3, 附录4."""
+        """Write NEGATIVE_SOFT_LIMIT: Negative software limit (负软件限位); documented at the constant."""
         self.write(NEGATIVE_SOFT_LIMIT, value)
 
     def read_homing_mode(self) -> HomingModeBits:
-        """Homing mode (回零模式). Parameter Pr8.10, address 0x600A, u16, default 0. Manual section 4.13, 5.3.1, 6.2, 附录4, 7.4."""
+        """Read HOMING_MODE: Homing mode (回零模式); documented at the constant."""
         return self.read(HOMING_MODE)
 
     def write_homing_mode(self, value: HomingModeBits) -> None:
-        """Homing mode (回零模式). Parameter Pr8.10, address 0x600A, u16, default 0. Manual section 4.13, 5.3.1, 6.2, 附录4, 7.4."""
+        """Write HOMING_MODE: Homing mode (回零模式); documented at the constant."""
         self.write(HOMING_MODE, value)
 
     def read_home_offset(self) -> int:
-        """Zero position (origin signal position on the axis) (零位位置). Parameter Pr8.11, address 0x600B, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOME_OFFSET: Zero position (origin signal position on the axis) (零位位置); documented at the constant."""
         return self.read(HOME_OFFSET)
 
     def write_home_offset(self, value: int) -> None:
-        """Zero position (origin signal position on the axis) (零位位置). Parameter Pr8.11, address 0x600B, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOME_OFFSET: Zero position (origin signal position on the axis) (零位位置); documented at the constant."""
         self.write(HOME_OFFSET, value)
 
     def read_home_stop_position(self) -> int:
-        """Homing stop position (回零停止位置). Parameter Pr8.13, address 0x600D, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOME_STOP_POSITION: Homing stop position (回零停止位置); documented at the constant."""
         return self.read(HOME_STOP_POSITION)
 
     def write_home_stop_position(self, value: int) -> None:
-        """Homing stop position (回零停止位置). Parameter Pr8.13, address 0x600D, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOME_STOP_POSITION: Homing stop position (回零停止位置); documented at the constant."""
         self.write(HOME_STOP_POSITION, value)
 
     def read_homing_high_speed(self) -> int:
-        """Homing high speed (first stage) (回零高速). Parameter Pr8.15, address 0x600F, u16, unit rpm, range 1..6000, default 200. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Read HOMING_HIGH_SPEED: Homing high speed (first stage) (回零高速); documented at the constant."""
         return self.read(HOMING_HIGH_SPEED)
 
     def write_homing_high_speed(self, value: int) -> None:
-        """Homing high speed (first stage) (回零高速). Parameter Pr8.15, address 0x600F, u16, unit rpm, range 1..6000, default 200. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Write HOMING_HIGH_SPEED: Homing high speed (first stage) (回零高速); documented at the constant."""
         self.write(HOMING_HIGH_SPEED, value)
 
     def read_homing_low_speed(self) -> int:
-        """Homing low speed (second stage) (回零低速). Parameter Pr8.16, address 0x6010, u16, unit rpm, range 1..6000, default 50. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Read HOMING_LOW_SPEED: Homing low speed (second stage) (回零低速); documented at the constant."""
         return self.read(HOMING_LOW_SPEED)
 
     def write_homing_low_speed(self, value: int) -> None:
-        """Homing low speed (second stage) (回零低速). Parameter Pr8.16, address 0x6010, u16, unit rpm, range 1..6000, default 50. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Write HOMING_LOW_SPEED: Homing low speed (second stage) (回零低速); documented at the constant."""
         self.write(HOMING_LOW_SPEED, value)
 
     def read_homing_accel(self) -> int:
-        """Homing acceleration time (回零加速时间). Parameter Pr8.17, address 0x6011, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOMING_ACCEL: Homing acceleration time (回零加速时间); documented at the constant."""
         return self.read(HOMING_ACCEL)
 
     def write_homing_accel(self, value: int) -> None:
-        """Homing acceleration time (回零加速时间). Parameter Pr8.17, address 0x6011, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOMING_ACCEL: Homing acceleration time (回零加速时间); documented at the constant."""
         self.write(HOMING_ACCEL, value)
 
     def read_homing_decel(self) -> int:
-        """Homing deceleration time (回零减速时间). Parameter Pr8.18, address 0x6012, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOMING_DECEL: Homing deceleration time (回零减速时间); documented at the constant."""
         return self.read(HOMING_DECEL)
 
     def write_homing_decel(self, value: int) -> None:
-        """Homing deceleration time (回零减速时间). Parameter Pr8.18, address 0x6012, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOMING_DECEL: Homing deceleration time (回零减速时间); documented at the constant."""
         self.write(HOMING_DECEL, value)
 
     def read_torque_homing_time(self) -> int:
-        """Torque homing hold time (力矩回零时间). Parameter Pr8.19, address 0x6013, u16, unit ms, range 0..32767, default 100. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Read TORQUE_HOMING_TIME: Torque homing hold time (力矩回零时间); documented at the constant."""
         return self.read(TORQUE_HOMING_TIME)
 
     def write_torque_homing_time(self, value: int) -> None:
-        """Torque homing hold time (力矩回零时间). Parameter Pr8.19, address 0x6013, u16, unit ms, range 0..32767, default 100. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Write TORQUE_HOMING_TIME: Torque homing hold time (力矩回零时间); documented at the constant."""
         self.write(TORQUE_HOMING_TIME, value)
 
     def read_torque_homing_level(self) -> int:
-        """Torque homing force (percentage of the set current) (力矩回零值). Parameter Pr8.20, address 0x6014, u16, unit %, range 0..32767, default 50. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Read TORQUE_HOMING_LEVEL: Torque homing force (percentage of the set current) (力矩回零值); documented at the constant."""
         return self.read(TORQUE_HOMING_LEVEL)
 
     def write_torque_homing_level(self, value: int) -> None:
-        """Torque homing force (percentage of the set current) (力矩回零值). Parameter Pr8.20, address 0x6014, u16, unit %, range 0..32767, default 50. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Write TORQUE_HOMING_LEVEL: Torque homing force (percentage of the set current) (力矩回零值); documented at the constant."""
         self.write(TORQUE_HOMING_LEVEL, value)
 
     def read_homing_overtravel(self) -> float:
-        """Homing overtravel distance (回零超程). Parameter Pr8.21, address 0x6015, u16, unit r, range 0..3276.7, default 0. Manual section 5.3.1, 附录4."""
+        """Read HOMING_OVERTRAVEL: Homing overtravel distance (回零超程); documented at the constant."""
         return self.read(HOMING_OVERTRAVEL)
 
     def write_homing_overtravel(self, value: float) -> None:
-        """Homing overtravel distance (回零超程). Parameter Pr8.21, address 0x6015, u16, unit r, range 0..3276.7, default 0. Manual section 5.3.1, 附录4."""
+        """Write HOMING_OVERTRAVEL: Homing overtravel distance (回零超程); documented at the constant."""
         self.write(HOMING_OVERTRAVEL, value)
 
     def read_limit_stop_decel(self) -> int:
-        """Deceleration after a limit (limit emergency stop) (限位急停减速度). Parameter Pr8.22, address 0x6016, u16, unit ms/Krpm, range 1..32767, default 10. Manual section 5.3.1, 6.3, 附录4."""
+        """Read LIMIT_STOP_DECEL: Deceleration after a limit (limit emergency stop) (限位急停减速度); documented at the constant."""
         return self.read(LIMIT_STOP_DECEL)
 
     def write_limit_stop_decel(self, value: int) -> None:
-        """Deceleration after a limit (limit emergency stop) (限位急停减速度). Parameter Pr8.22, address 0x6016, u16, unit ms/Krpm, range 1..32767, default 10. Manual section 5.3.1, 6.3, 附录4."""
+        """Write LIMIT_STOP_DECEL: Deceleration after a limit (limit emergency stop) (限位急停减速度); documented at the constant."""
         self.write(LIMIT_STOP_DECEL, value)
 
     def read_stop_decel(self) -> int:
-        """Deceleration after an emergency stop (STP) (STP 急停减速度). Parameter Pr8.23, address 0x6017, u16, unit ms/Krpm, range 1..32767, default 50. Manual section 5.3.1, 6.3, 附录4."""
+        """Read STOP_DECEL: Deceleration after an emergency stop (STP) (STP 急停减速度); documented at the constant."""
         return self.read(STOP_DECEL)
 
     def write_stop_decel(self, value: int) -> None:
-        """Deceleration after an emergency stop (STP) (STP 急停减速度). Parameter Pr8.23, address 0x6017, u16, unit ms/Krpm, range 1..32767, default 50. Manual section 5.3.1, 6.3, 附录4."""
+        """Write STOP_DECEL: Deceleration after an emergency stop (STP) (STP 急停减速度); documented at the constant."""
         self.write(STOP_DECEL, value)
 
     def read_encoder_memory_value(self) -> int:
-        """Encoder memory value (编码器记忆值). Parameter Pr8.24, address 0x6018, s32. Manual section 附录4."""
+        """Read ENCODER_MEMORY_VALUE: Encoder memory value (编码器记忆值); documented at the constant."""
         return self.read(ENCODER_MEMORY_VALUE)
 
     def write_encoder_memory_value(self, value: int) -> None:
-        """Encoder memory value (编码器记忆值). Parameter Pr8.24, address 0x6018, s32. Manual section 附录4."""
+        """Write ENCODER_MEMORY_VALUE: Encoder memory value (编码器记忆值); documented at the constant."""
         self.write(ENCODER_MEMORY_VALUE, value)
 
     def read_io_combination_mode(self) -> IoCombinationMode | int:
-        """IO combination trigger mode (IO 组合触发模式). Parameter Pr8.26, address 0x601A, u16, range 0..65535, default 0. Manual section 4.8, 4.9, 5.3.1, 6.4, 附录4."""
+        """Read IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         return self.read(IO_COMBINATION_MODE)
 
     def write_io_combination_mode(self, value: IoCombinationMode | int | str) -> None:
-        """IO combination trigger mode (IO 组合触发模式). Parameter Pr8.26, address 0x601A, u16, range 0..65535, default 0. Manual section 4.8, 4.9, 5.3.1, 6.4, 附录4."""
+        """Write IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         self.write(IO_COMBINATION_MODE, value)
 
     def read_io_combination_filter(self) -> int:
-        """IO combination filter time (IO 组合滤波). Parameter Pr8.27, address 0x601B, u16, unit ms, range 0..32767, default 0. Manual section 5.3.1, 附录4."""
+        """Read IO_COMBINATION_FILTER: IO combination filter time (IO 组合滤波); documented at the constant."""
         return self.read(IO_COMBINATION_FILTER)
 
     def write_io_combination_filter(self, value: int) -> None:
-        """IO combination filter time (IO 组合滤波). Parameter Pr8.27, address 0x601B, u16, unit ms, range 0..32767, default 0. Manual section 5.3.1, 附录4."""
+        """Write IO_COMBINATION_FILTER: IO combination filter time (IO 组合滤波); documented at the constant."""
         self.write(IO_COMBINATION_FILTER, value)
 
     def read_s_code_output(self) -> SCodeOutputBits:
-        """Current S-code output value (S 码当前输出值). Parameter Pr8.28, address 0x601C, u16, range 0..32767, default 0. Manual section 4.11, 5.3.1, 附录4."""
+        """Read S_CODE_OUTPUT: Current S-code output value (S 码当前输出值); documented at the constant."""
         return self.read(S_CODE_OUTPUT)
 
     def read_pr_warning(self) -> PrWarning | int:
-        """PR warning (PR 警告). Parameter Pr8.29, address 0x601D, u16, range 0..32767, default 0. Manual section 5.3.1, 附录4."""
+        """Read PR_WARNING: PR warning (PR 警告); documented at the constant."""
         return self.read(PR_WARNING)
 
     def read_jog_speed_2(self) -> int:
-        """JOG speed 2 (IO JOG) (JOG2 速度). Parameter Pr8.38, address 0x6026, s16, unit rpm, range -2500..2500, default 50. Manual section 4.10, 5.3.1, 6.3, 附录4."""
+        """Read JOG_SPEED_2: JOG speed 2 (IO JOG) (JOG2 速度); documented at the constant."""
         return self.read(JOG_SPEED_2)
 
     def write_jog_speed_2(self, value: int) -> None:
-        """JOG speed 2 (IO JOG) (JOG2 速度). Parameter Pr8.38, address 0x6026, s16, unit rpm, range -2500..2500, default 50. Manual section 4.10, 5.3.1, 6.3, 附录4."""
+        """Write JOG_SPEED_2: JOG speed 2 (IO JOG) (JOG2 速度); documented at the constant."""
         self.write(JOG_SPEED_2, value)
 
     def read_jog_speed_1(self) -> int:
-        """JOG speed (IO JOG) (JOG1 速度). Parameter Pr8.39, address 0x6027, s16, unit rpm, range -2500..2500, default 200. Manual section 4.7, 4.10, 5.3.1, 6.3, 附录4."""
+        """Read JOG_SPEED_1: JOG speed (IO JOG) (JOG1 速度); documented at the constant."""
         return self.read(JOG_SPEED_1)
 
     def write_jog_speed_1(self, value: int) -> None:
-        """JOG speed (IO JOG) (JOG1 速度). Parameter Pr8.39, address 0x6027, s16, unit rpm, range -2500..2500, default 200. Manual section 4.7, 4.10, 5.3.1, 6.3, 附录4."""
+        """Write JOG_SPEED_1: JOG speed (IO JOG) (JOG1 速度); documented at the constant."""
         self.write(JOG_SPEED_1, value)
 
     def read_jog_accel(self) -> int:
-        """JOG acceleration time (IO JOG) (JOG 加速度). Parameter Pr8.40, address 0x6028, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Read JOG_ACCEL: JOG acceleration time (IO JOG) (JOG 加速度); documented at the constant."""
         return self.read(JOG_ACCEL)
 
     def write_jog_accel(self, value: int) -> None:
-        """JOG acceleration time (IO JOG) (JOG 加速度). Parameter Pr8.40, address 0x6028, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Write JOG_ACCEL: JOG acceleration time (IO JOG) (JOG 加速度); documented at the constant."""
         self.write(JOG_ACCEL, value)
 
     def read_jog_decel(self) -> int:
-        """JOG deceleration time (IO JOG) (JOG 减速度). Parameter Pr8.41, address 0x6029, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Read JOG_DECEL: JOG deceleration time (IO JOG) (JOG 减速度); documented at the constant."""
         return self.read(JOG_DECEL)
 
     def write_jog_decel(self, value: int) -> None:
-        """JOG deceleration time (IO JOG) (JOG 减速度). Parameter Pr8.41, address 0x6029, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Write JOG_DECEL: JOG deceleration time (IO JOG) (JOG 减速度); documented at the constant."""
         self.write(JOG_DECEL, value)
 
     def read_command_position(self) -> int:
-        """Command position (命令位置). Parameter Pr8.42, address 0x602A, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.3, 附录4."""
+        """Read COMMAND_POSITION: Command position (命令位置); documented at the constant."""
         return self.read(COMMAND_POSITION)
 
     def read_motor_position(self) -> int:
-        """Motor (actual) position (电机位置). Parameter Pr8.44, address 0x602C, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.3, 附录4."""
+        """Read MOTOR_POSITION: Motor (actual) position (电机位置); documented at the constant."""
         return self.read(MOTOR_POSITION)
 
     def read_input_io(self) -> int:
-        """Input IO (输入 IO). Parameter Pr8.46, address 0x602E, u16, default 0. Manual section 5.3.1, 4.12."""
+        """Read INPUT_IO: Input IO (输入 IO); documented at the constant."""
         return self.read(INPUT_IO)
 
     def read_output_io(self) -> int:
-        """Output IO (输出 IO). Parameter Pr8.47, address 0x602F, u16, default 0. Manual section 5.3.1."""
+        """Read OUTPUT_IO: Output IO (输出 IO); documented at the constant."""
         return self.read(OUTPUT_IO)
 
     def mapping_window(self, n: int) -> MappingWindowElement:
@@ -5229,799 +5232,799 @@ class AsyncIdmRs(AsyncClient):
     DEVICE = DEVICE
 
     async def read_pulses_per_revolution(self) -> int:
-        """Command pulses per revolution (指令脉冲数/转). Parameter Pr0.00, address 0x0001 (low word of a 32-bit pair), u16, unit P/R, range 200..51200, default 10000. Manual section 5.3.1, 附录4, 4.12."""
+        """Read PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         return await self.read(PULSES_PER_REVOLUTION)
 
     async def write_pulses_per_revolution(self, value: int) -> None:
-        """Command pulses per revolution (指令脉冲数/转). Parameter Pr0.00, address 0x0001 (low word of a 32-bit pair), u16, unit P/R, range 200..51200, default 10000. Manual section 5.3.1, 附录4, 4.12."""
+        """Write PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         await self.write(PULSES_PER_REVOLUTION, value)
 
     async def read_loop_mode(self) -> LoopMode | int:
-        """Open/closed loop mode (开闭环模式选择). Parameter Pr0.01, address 0x0003 (low word of a 32-bit pair), u16, range 0..255, default 2. Manual section 5.3.1."""
+        """Read LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         return await self.read(LOOP_MODE)
 
     async def write_loop_mode(self, value: LoopMode | int | str) -> None:
-        """Open/closed loop mode (开闭环模式选择). Parameter Pr0.01, address 0x0003 (low word of a 32-bit pair), u16, range 0..255, default 2. Manual section 5.3.1."""
+        """Write LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         await self.write(LOOP_MODE, value)
 
     async def read_control_mode(self) -> int:
-        """Control mode and command source (no effect) (控制模式及指令来源). Parameter Pr0.02, address 0x0005 (low word of a 32-bit pair), u16, range 0..10, default 1. Manual section 5.3.1, 附录4."""
+        """Read CONTROL_MODE: Control mode and command source (no effect) (控制模式及指令来源); documented at the constant."""
         return await self.read(CONTROL_MODE)
 
     async def write_control_mode(self, value: int) -> None:
-        """Control mode and command source (no effect) (控制模式及指令来源). Parameter Pr0.02, address 0x0005 (low word of a 32-bit pair), u16, range 0..10, default 1. Manual section 5.3.1, 附录4."""
+        """Write CONTROL_MODE: Control mode and command source (no effect) (控制模式及指令来源); documented at the constant."""
         await self.write(CONTROL_MODE, value)
 
     async def read_motor_direction(self) -> MotorDirection | int:
-        """Motor running direction (电机运行方向). Parameter Pr0.03, address 0x0007 (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1, 附录4."""
+        """Read MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         return await self.read(MOTOR_DIRECTION)
 
     async def write_motor_direction(self, value: MotorDirection | int | str) -> None:
-        """Motor running direction (电机运行方向). Parameter Pr0.03, address 0x0007 (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1, 附录4."""
+        """Write MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         await self.write(MOTOR_DIRECTION, value)
 
     async def read_motor_inductance(self) -> float:
-        """Motor inductance (电机电感值). Parameter Pr0.04, address 0x0009 (low word of a 32-bit pair), u16, unit mH, range 0..10, default 1.499. Manual section 5.3.1, 附录4, 4.12."""
+        """Read MOTOR_INDUCTANCE: Motor inductance (电机电感值); documented at the constant."""
         return await self.read(MOTOR_INDUCTANCE)
 
     async def write_motor_inductance(self, value: float) -> None:
-        """Motor inductance (电机电感值). Parameter Pr0.04, address 0x0009 (low word of a 32-bit pair), u16, unit mH, range 0..10, default 1.499. Manual section 5.3.1, 附录4, 4.12."""
+        """Write MOTOR_INDUCTANCE: Motor inductance (电机电感值); documented at the constant."""
         await self.write(MOTOR_INDUCTANCE, value)
 
     async def read_following_error_limit(self) -> int:
-        """Maximum tracking error (跟踪误差最大值). Parameter Pr0.05, address 0x000B (low word of a 32-bit pair), u16, unit encoder units, range 9..65535, default 65535. Manual section 5.3.1."""
+        """Read FOLLOWING_ERROR_LIMIT: Maximum tracking error (跟踪误差最大值); documented at the constant."""
         return await self.read(FOLLOWING_ERROR_LIMIT)
 
     async def write_following_error_limit(self, value: int) -> None:
-        """Maximum tracking error (跟踪误差最大值). Parameter Pr0.05, address 0x000B (low word of a 32-bit pair), u16, unit encoder units, range 9..65535, default 65535. Manual section 5.3.1."""
+        """Write FOLLOWING_ERROR_LIMIT: Maximum tracking error (跟踪误差最大值); documented at the constant."""
         await self.write(FOLLOWING_ERROR_LIMIT, value)
 
     async def read_force_enable(self) -> ForceEnable | int:
-        """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
+        """Read FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         return await self.read(FORCE_ENABLE)
 
     async def write_force_enable(self, value: ForceEnable | int | str) -> None:
-        """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
+        """Write FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         await self.write(FORCE_ENABLE, value)
 
     async def read_position_loop_kp(self) -> int:
-        """Position loop Kp (位置环 Kp). Parameter Pr1.00, address 0x0051 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Read POSITION_LOOP_KP: Position loop Kp (位置环 Kp); documented at the constant."""
         return await self.read(POSITION_LOOP_KP)
 
     async def write_position_loop_kp(self, value: int) -> None:
-        """Position loop Kp (位置环 Kp). Parameter Pr1.00, address 0x0051 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Write POSITION_LOOP_KP: Position loop Kp (位置环 Kp); documented at the constant."""
         await self.write(POSITION_LOOP_KP, value)
 
     async def read_speed_loop_ki(self) -> int:
-        """Speed loop Ki (速度环 KI). Parameter Pr1.01, address 0x0053 (low word of a 32-bit pair), u16, range 0..3000, default 0. Manual section 5.3.1."""
+        """Read SPEED_LOOP_KI: Speed loop Ki (速度环 KI); documented at the constant."""
         return await self.read(SPEED_LOOP_KI)
 
     async def write_speed_loop_ki(self, value: int) -> None:
-        """Speed loop Ki (速度环 KI). Parameter Pr1.01, address 0x0053 (low word of a 32-bit pair), u16, range 0..3000, default 0. Manual section 5.3.1."""
+        """Write SPEED_LOOP_KI: Speed loop Ki (速度环 KI); documented at the constant."""
         await self.write(SPEED_LOOP_KI, value)
 
     async def read_speed_loop_kp(self) -> int:
-        """Speed loop Kp (速度环 Kp). Parameter Pr1.02, address 0x0055 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Read SPEED_LOOP_KP: Speed loop Kp (速度环 Kp); documented at the constant."""
         return await self.read(SPEED_LOOP_KP)
 
     async def write_speed_loop_kp(self, value: int) -> None:
-        """Speed loop Kp (速度环 Kp). Parameter Pr1.02, address 0x0055 (low word of a 32-bit pair), u16, range 0..3000, default 25. Manual section 5.3.1."""
+        """Write SPEED_LOOP_KP: Speed loop Kp (速度环 Kp); documented at the constant."""
         await self.write(SPEED_LOOP_KP, value)
 
     async def read_torque_feedforward(self) -> int:
-        """Torque feedforward (转矩前馈). Parameter Pr1.03, address 0x0057 (low word of a 32-bit pair), u16, unit %, range 0..10000, default 50. Manual section 5.3.1."""
+        """Read TORQUE_FEEDFORWARD: Torque feedforward (转矩前馈); documented at the constant."""
         return await self.read(TORQUE_FEEDFORWARD)
 
     async def write_torque_feedforward(self, value: int) -> None:
-        """Torque feedforward (转矩前馈). Parameter Pr1.03, address 0x0057 (low word of a 32-bit pair), u16, unit %, range 0..10000, default 50. Manual section 5.3.1."""
+        """Write TORQUE_FEEDFORWARD: Torque feedforward (转矩前馈); documented at the constant."""
         await self.write(TORQUE_FEEDFORWARD, value)
 
     async def read_position_loop_filter(self) -> int:
-        """Position loop filter frequency (位置环滤波频率). Parameter Pr1.07, address 0x005F (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 3000. Manual section 5.3.1."""
+        """Read POSITION_LOOP_FILTER: Position loop filter frequency (位置环滤波频率); documented at the constant."""
         return await self.read(POSITION_LOOP_FILTER)
 
     async def write_position_loop_filter(self, value: int) -> None:
-        """Position loop filter frequency (位置环滤波频率). Parameter Pr1.07, address 0x005F (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 3000. Manual section 5.3.1."""
+        """Write POSITION_LOOP_FILTER: Position loop filter frequency (位置环滤波频率); documented at the constant."""
         await self.write(POSITION_LOOP_FILTER, value)
 
     async def read_speed_loop_filter(self) -> int:
-        """Speed loop filter frequency (速度环滤波频率). Parameter Pr1.08, address 0x0061 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 300. Manual section 5.3.1."""
+        """Read SPEED_LOOP_FILTER: Speed loop filter frequency (速度环滤波频率); documented at the constant."""
         return await self.read(SPEED_LOOP_FILTER)
 
     async def write_speed_loop_filter(self, value: int) -> None:
-        """Speed loop filter frequency (速度环滤波频率). Parameter Pr1.08, address 0x0061 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 300. Manual section 5.3.1."""
+        """Write SPEED_LOOP_FILTER: Speed loop filter frequency (速度环滤波频率); documented at the constant."""
         await self.write(SPEED_LOOP_FILTER, value)
 
     async def read_command_filter_time(self) -> float:
-        """Command pulse FIR filter time (指令脉冲FIR滤波时间). Parameter Pr2.00, address 0x00A1 (low word of a 32-bit pair), u16, unit ms, range 0..51.2, default 10. Manual section 5.3.1, 附录4, 4.12."""
+        """Read COMMAND_FILTER_TIME: Command pulse FIR filter time (指令脉冲FIR滤波时间); documented at the constant."""
         return await self.read(COMMAND_FILTER_TIME)
 
     async def write_command_filter_time(self, value: float) -> None:
-        """Command pulse FIR filter time (指令脉冲FIR滤波时间). Parameter Pr2.00, address 0x00A1 (low word of a 32-bit pair), u16, unit ms, range 0..51.2, default 10. Manual section 5.3.1, 附录4, 4.12."""
+        """Write COMMAND_FILTER_TIME: Command pulse FIR filter time (指令脉冲FIR滤波时间); documented at the constant."""
         await self.write(COMMAND_FILTER_TIME, value)
 
     async def read_closed_to_open_speed(self) -> float:
-        """Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值). Parameter Pr2.05, address 0x00AB (low word of a 32-bit pair), u16, unit r/s, range 0..20, default 5. Manual section 5.3.1."""
+        """Read CLOSED_TO_OPEN_SPEED: Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值); documented at the constant."""
         return await self.read(CLOSED_TO_OPEN_SPEED)
 
     async def write_closed_to_open_speed(self, value: float) -> None:
-        """Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值). Parameter Pr2.05, address 0x00AB (low word of a 32-bit pair), u16, unit r/s, range 0..20, default 5. Manual section 5.3.1."""
+        """Write CLOSED_TO_OPEN_SPEED: Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值); documented at the constant."""
         await self.write(CLOSED_TO_OPEN_SPEED, value)
 
     async def read_standstill_lead_angle_switch(self) -> int:
-        """Lead angle switch at standstill (静止时超前角切换). Parameter Pr2.06, address 0x00AD (low word of a 32-bit pair), u16, unit ms, range 0..65535, default 500. Manual section 5.3.1."""
+        """Read STANDSTILL_LEAD_ANGLE_SWITCH: Lead angle switch at standstill (静止时超前角切换); documented at the constant."""
         return await self.read(STANDSTILL_LEAD_ANGLE_SWITCH)
 
     async def write_standstill_lead_angle_switch(self, value: int) -> None:
-        """Lead angle switch at standstill (静止时超前角切换). Parameter Pr2.06, address 0x00AD (low word of a 32-bit pair), u16, unit ms, range 0..65535, default 500. Manual section 5.3.1."""
+        """Write STANDSTILL_LEAD_ANGLE_SWITCH: Lead angle switch at standstill (静止时超前角切换); documented at the constant."""
         await self.write(STANDSTILL_LEAD_ANGLE_SWITCH, value)
 
     async def read_position_integral_delay(self) -> float:
-        """Position loop integral engage delay (位置环积分切入延时). Parameter Pr2.07, address 0x00AF (low word of a 32-bit pair), u16, unit ms, range 0..3276.75, default 100. Manual section 5.3.1."""
+        """Read POSITION_INTEGRAL_DELAY: Position loop integral engage delay (位置环积分切入延时); documented at the constant."""
         return await self.read(POSITION_INTEGRAL_DELAY)
 
     async def write_position_integral_delay(self, value: float) -> None:
-        """Position loop integral engage delay (位置环积分切入延时). Parameter Pr2.07, address 0x00AF (low word of a 32-bit pair), u16, unit ms, range 0..3276.75, default 100. Manual section 5.3.1."""
+        """Write POSITION_INTEGRAL_DELAY: Position loop integral engage delay (位置环积分切入延时); documented at the constant."""
         await self.write(POSITION_INTEGRAL_DELAY, value)
 
     async def read_command_iir_bandwidth(self) -> int:
-        """Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽). Parameter Pr2.08, address 0x00B1 (low word of a 32-bit pair), u16, unit Hz, range 1..3000, default 320. Manual section 5.3.1."""
+        """Read COMMAND_IIR_BANDWIDTH: Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽); documented at the constant."""
         return await self.read(COMMAND_IIR_BANDWIDTH)
 
     async def write_command_iir_bandwidth(self, value: int) -> None:
-        """Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽). Parameter Pr2.08, address 0x00B1 (low word of a 32-bit pair), u16, unit Hz, range 1..3000, default 320. Manual section 5.3.1."""
+        """Write COMMAND_IIR_BANDWIDTH: Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽); documented at the constant."""
         await self.write(COMMAND_IIR_BANDWIDTH, value)
 
     async def read_position_integral_deadband(self) -> int:
-        """Position loop integral dead band (位置环积分死区). Parameter Pr2.09, address 0x00B3 (low word of a 32-bit pair), u16, unit pulse, range 0..65535, default 1. Manual section 5.3.1."""
+        """Read POSITION_INTEGRAL_DEADBAND: Position loop integral dead band (位置环积分死区); documented at the constant."""
         return await self.read(POSITION_INTEGRAL_DEADBAND)
 
     async def write_position_integral_deadband(self, value: int) -> None:
-        """Position loop integral dead band (位置环积分死区). Parameter Pr2.09, address 0x00B3 (low word of a 32-bit pair), u16, unit pulse, range 0..65535, default 1. Manual section 5.3.1."""
+        """Write POSITION_INTEGRAL_DEADBAND: Position loop integral dead band (位置环积分死区); documented at the constant."""
         await self.write(POSITION_INTEGRAL_DEADBAND, value)
 
     async def read_vbs_enable(self) -> OffOn | int:
-        """VBS enable (VBS开启). Parameter Pr2.13, address 0x00BB (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1."""
+        """Read VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         return await self.read(VBS_ENABLE)
 
     async def write_vbs_enable(self, value: OffOn | int | str) -> None:
-        """VBS enable (VBS开启). Parameter Pr2.13, address 0x00BB (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 5.3.1."""
+        """Write VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         await self.write(VBS_ENABLE, value)
 
     async def read_vbs_phase(self) -> int:
-        """VBS compensation phase (VBS 补偿相位). Parameter Pr2.14, address 0x00BD (low word of a 32-bit pair), u16, unit deg, range 0..360, default 50. Manual section 5.3.1."""
+        """Read VBS_PHASE: VBS compensation phase (VBS 补偿相位); documented at the constant."""
         return await self.read(VBS_PHASE)
 
     async def write_vbs_phase(self, value: int) -> None:
-        """VBS compensation phase (VBS 补偿相位). Parameter Pr2.14, address 0x00BD (low word of a 32-bit pair), u16, unit deg, range 0..360, default 50. Manual section 5.3.1."""
+        """Write VBS_PHASE: VBS compensation phase (VBS 补偿相位); documented at the constant."""
         await self.write(VBS_PHASE, value)
 
     async def read_vbs_gain(self) -> int:
-        """VBS gain (VBS增益). Parameter Pr2.15, address 0x00BF (low word of a 32-bit pair), u16, range 0..1000, default 125. Manual section 5.3.1."""
+        """Read VBS_GAIN: VBS gain (VBS增益); documented at the constant."""
         return await self.read(VBS_GAIN)
 
     async def write_vbs_gain(self, value: int) -> None:
-        """VBS gain (VBS增益). Parameter Pr2.15, address 0x00BF (low word of a 32-bit pair), u16, range 0..1000, default 125. Manual section 5.3.1."""
+        """Write VBS_GAIN: VBS gain (VBS增益); documented at the constant."""
         await self.write(VBS_GAIN, value)
 
     async def read_vbs_speed_max(self) -> float:
-        """VBS speed upper limit (VBS速度上限值). Parameter Pr2.16, address 0x00C1 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 2. Manual section 5.3.1."""
+        """Read VBS_SPEED_MAX: VBS speed upper limit (VBS速度上限值); documented at the constant."""
         return await self.read(VBS_SPEED_MAX)
 
     async def write_vbs_speed_max(self, value: float) -> None:
-        """VBS speed upper limit (VBS速度上限值). Parameter Pr2.16, address 0x00C1 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 2. Manual section 5.3.1."""
+        """Write VBS_SPEED_MAX: VBS speed upper limit (VBS速度上限值); documented at the constant."""
         await self.write(VBS_SPEED_MAX, value)
 
     async def read_vbs_speed_min(self) -> float:
-        """VBS speed lower limit (VBS速度下限值). Parameter Pr2.17, address 0x00C3 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 0.49. Manual section 5.3.1."""
+        """Read VBS_SPEED_MIN: VBS speed lower limit (VBS速度下限值); documented at the constant."""
         return await self.read(VBS_SPEED_MIN)
 
     async def write_vbs_speed_min(self, value: float) -> None:
-        """VBS speed lower limit (VBS速度下限值). Parameter Pr2.17, address 0x00C3 (low word of a 32-bit pair), u16, unit r/s, range 0..5, default 0.49. Manual section 5.3.1."""
+        """Write VBS_SPEED_MIN: VBS speed lower limit (VBS速度下限值); documented at the constant."""
         await self.write(VBS_SPEED_MIN, value)
 
     async def read_vbs_current_limit(self) -> float:
-        """VBS current limit (VBS电流限幅值). Parameter Pr2.18, address 0x00C5 (low word of a 32-bit pair), u16, unit A, range 0..2, default 1. Manual section 5.3.1."""
+        """Read VBS_CURRENT_LIMIT: VBS current limit (VBS电流限幅值); documented at the constant."""
         return await self.read(VBS_CURRENT_LIMIT)
 
     async def write_vbs_current_limit(self, value: float) -> None:
-        """VBS current limit (VBS电流限幅值). Parameter Pr2.18, address 0x00C5 (low word of a 32-bit pair), u16, unit A, range 0..2, default 1. Manual section 5.3.1."""
+        """Write VBS_CURRENT_LIMIT: VBS current limit (VBS电流限幅值); documented at the constant."""
         await self.write(VBS_CURRENT_LIMIT, value)
 
     async def read_accel_hp_bandwidth(self) -> int:
-        """Acceleration high-pass filter bandwidth (加速度 HP滤波带宽). Parameter Pr2.19, address 0x00C7 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Read ACCEL_HP_BANDWIDTH: Acceleration high-pass filter bandwidth (加速度 HP滤波带宽); documented at the constant."""
         return await self.read(ACCEL_HP_BANDWIDTH)
 
     async def write_accel_hp_bandwidth(self, value: int) -> None:
-        """Acceleration high-pass filter bandwidth (加速度 HP滤波带宽). Parameter Pr2.19, address 0x00C7 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Write ACCEL_HP_BANDWIDTH: Acceleration high-pass filter bandwidth (加速度 HP滤波带宽); documented at the constant."""
         await self.write(ACCEL_HP_BANDWIDTH, value)
 
     async def read_accel_lp_bandwidth(self) -> int:
-        """Acceleration low-pass filter bandwidth (加速度 LP滤波带宽). Parameter Pr2.20, address 0x00C9 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Read ACCEL_LP_BANDWIDTH: Acceleration low-pass filter bandwidth (加速度 LP滤波带宽); documented at the constant."""
         return await self.read(ACCEL_LP_BANDWIDTH)
 
     async def write_accel_lp_bandwidth(self, value: int) -> None:
-        """Acceleration low-pass filter bandwidth (加速度 LP滤波带宽). Parameter Pr2.20, address 0x00C9 (low word of a 32-bit pair), u16, unit Hz, range 0..3000, default 320. Manual section 5.3.1."""
+        """Write ACCEL_LP_BANDWIDTH: Acceleration low-pass filter bandwidth (加速度 LP滤波带宽); documented at the constant."""
         await self.write(ACCEL_LP_BANDWIDTH, value)
 
     async def read_accel_coefficient(self) -> int:
-        """Acceleration coefficient (加速度系数). Parameter Pr2.21, address 0x00CB (low word of a 32-bit pair), u16, range 0..5000, default 1000. Manual section 5.3.1."""
+        """Read ACCEL_COEFFICIENT: Acceleration coefficient (加速度系数); documented at the constant."""
         return await self.read(ACCEL_COEFFICIENT)
 
     async def write_accel_coefficient(self, value: int) -> None:
-        """Acceleration coefficient (加速度系数). Parameter Pr2.21, address 0x00CB (low word of a 32-bit pair), u16, range 0..5000, default 1000. Manual section 5.3.1."""
+        """Write ACCEL_COEFFICIENT: Acceleration coefficient (加速度系数); documented at the constant."""
         await self.write(ACCEL_COEFFICIENT, value)
 
     async def read_accel_feedforward_angle_limit(self) -> int:
-        """Acceleration feedforward angle limit (加速度前馈角限幅值). Parameter Pr2.22, address 0x00CD (low word of a 32-bit pair), u16, unit deg, range 0..180, default 58. Manual section 5.3.1."""
+        """Read ACCEL_FEEDFORWARD_ANGLE_LIMIT: Acceleration feedforward angle limit (加速度前馈角限幅值); documented at the constant."""
         return await self.read(ACCEL_FEEDFORWARD_ANGLE_LIMIT)
 
     async def write_accel_feedforward_angle_limit(self, value: int) -> None:
-        """Acceleration feedforward angle limit (加速度前馈角限幅值). Parameter Pr2.22, address 0x00CD (low word of a 32-bit pair), u16, unit deg, range 0..180, default 58. Manual section 5.3.1."""
+        """Write ACCEL_FEEDFORWARD_ANGLE_LIMIT: Acceleration feedforward angle limit (加速度前馈角限幅值); documented at the constant."""
         await self.write(ACCEL_FEEDFORWARD_ANGLE_LIMIT, value)
 
     async def read_di1_function(self) -> Di1FunctionBits:
-        """DI1 input function (DI1 输入口 1). Parameter Pr4.02, address 0x0145 (low word of a 32-bit pair), u16, range 0..65535, default 136, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI1_FUNCTION: DI1 input function (DI1 输入口 1); documented at the constant."""
         return await self.read(DI1_FUNCTION)
 
     async def write_di1_function(self, value: Di1FunctionBits) -> None:
-        """DI1 input function (DI1 输入口 1). Parameter Pr4.02, address 0x0145 (low word of a 32-bit pair), u16, range 0..65535, default 136, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI1_FUNCTION: DI1 input function (DI1 输入口 1); documented at the constant."""
         await self.write(DI1_FUNCTION, value)
 
     async def read_di2_function(self) -> Di2FunctionBits:
-        """DI2 input function (DI2 输入口 2). Parameter Pr4.03, address 0x0147 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Read DI2_FUNCTION: DI2 input function (DI2 输入口 2); documented at the constant."""
         return await self.read(DI2_FUNCTION)
 
     async def write_di2_function(self, value: Di2FunctionBits) -> None:
-        """DI2 input function (DI2 输入口 2). Parameter Pr4.03, address 0x0147 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Write DI2_FUNCTION: DI2 input function (DI2 输入口 2); documented at the constant."""
         await self.write(DI2_FUNCTION, value)
 
     async def read_di3_function(self) -> Di3FunctionBits:
-        """DI3 input function (DI3 输入口 3). Parameter Pr4.04, address 0x0149 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Read DI3_FUNCTION: DI3 input function (DI3 输入口 3); documented at the constant."""
         return await self.read(DI3_FUNCTION)
 
     async def write_di3_function(self, value: Di3FunctionBits) -> None:
-        """DI3 input function (DI3 输入口 3). Parameter Pr4.04, address 0x0149 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3."""
+        """Write DI3_FUNCTION: DI3 input function (DI3 输入口 3); documented at the constant."""
         await self.write(DI3_FUNCTION, value)
 
     async def read_di4_function(self) -> Di4FunctionBits:
-        """DI4 input function (DI4输入口 4). Parameter Pr4.05, address 0x014B (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI4_FUNCTION: DI4 input function (DI4输入口 4); documented at the constant."""
         return await self.read(DI4_FUNCTION)
 
     async def write_di4_function(self, value: Di4FunctionBits) -> None:
-        """DI4 input function (DI4输入口 4). Parameter Pr4.05, address 0x014B (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI4_FUNCTION: DI4 input function (DI4输入口 4); documented at the constant."""
         await self.write(DI4_FUNCTION, value)
 
     async def read_di5_function(self) -> Di5FunctionBits:
-        """DI5 input function (DI5输入口 5). Parameter Pr4.06, address 0x014D (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI5_FUNCTION: DI5 input function (DI5输入口 5); documented at the constant."""
         return await self.read(DI5_FUNCTION)
 
     async def write_di5_function(self, value: Di5FunctionBits) -> None:
-        """DI5 input function (DI5输入口 5). Parameter Pr4.06, address 0x014D (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI5_FUNCTION: DI5 input function (DI5输入口 5); documented at the constant."""
         await self.write(DI5_FUNCTION, value)
 
     async def read_di6_function(self) -> Di6FunctionBits:
-        """DI6 input function (DI6输入口 6). Parameter Pr4.07, address 0x014F (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI6_FUNCTION: DI6 input function (DI6输入口 6); documented at the constant."""
         return await self.read(DI6_FUNCTION)
 
     async def write_di6_function(self, value: Di6FunctionBits) -> None:
-        """DI6 input function (DI6输入口 6). Parameter Pr4.07, address 0x014F (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI6_FUNCTION: DI6 input function (DI6输入口 6); documented at the constant."""
         await self.write(DI6_FUNCTION, value)
 
     async def read_di7_function(self) -> Di7FunctionBits:
-        """DI7 input function (DI7输入口 7). Parameter Pr4.08, address 0x0151 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Read DI7_FUNCTION: DI7 input function (DI7输入口 7); documented at the constant."""
         return await self.read(DI7_FUNCTION)
 
     async def write_di7_function(self, value: Di7FunctionBits) -> None:
-        """DI7 input function (DI7输入口 7). Parameter Pr4.08, address 0x0151 (low word of a 32-bit pair), u16, range 0..65535, default 0, takes effect after restart. Manual section 5.3.1, 5.3.4, 6.3, 附录4."""
+        """Write DI7_FUNCTION: DI7 input function (DI7输入口 7); documented at the constant."""
         await self.write(DI7_FUNCTION, value)
 
     async def read_do1_function(self) -> Do1FunctionBits:
-        """DO1 output function (DO1 输出口 1). Parameter Pr4.11, address 0x0157 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Read DO1_FUNCTION: DO1 output function (DO1 输出口 1); documented at the constant."""
         return await self.read(DO1_FUNCTION)
 
     async def write_do1_function(self, value: Do1FunctionBits) -> None:
-        """DO1 output function (DO1 输出口 1). Parameter Pr4.11, address 0x0157 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Write DO1_FUNCTION: DO1 output function (DO1 输出口 1); documented at the constant."""
         await self.write(DO1_FUNCTION, value)
 
     async def read_do2_function(self) -> Do2FunctionBits:
-        """DO2 output function (DO2 输出口 2). Parameter Pr4.12, address 0x0159 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Read DO2_FUNCTION: DO2 output function (DO2 输出口 2); documented at the constant."""
         return await self.read(DO2_FUNCTION)
 
     async def write_do2_function(self, value: Do2FunctionBits) -> None:
-        """DO2 output function (DO2 输出口 2). Parameter Pr4.12, address 0x0159 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Write DO2_FUNCTION: DO2 output function (DO2 输出口 2); documented at the constant."""
         await self.write(DO2_FUNCTION, value)
 
     async def read_do3_function(self) -> Do3FunctionBits:
-        """DO3 output function (DO3输出口 3). Parameter Pr4.13, address 0x015B (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Read DO3_FUNCTION: DO3 output function (DO3输出口 3); documented at the constant."""
         return await self.read(DO3_FUNCTION)
 
     async def write_do3_function(self, value: Do3FunctionBits) -> None:
-        """DO3 output function (DO3输出口 3). Parameter Pr4.13, address 0x015B (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 5.3.4, 附录4."""
+        """Write DO3_FUNCTION: DO3 output function (DO3输出口 3); documented at the constant."""
         await self.write(DO3_FUNCTION, value)
 
     async def read_brake_release_delay(self) -> int:
-        """Brake release delay (抱闸松开延时). Parameter Pr4.19, address 0x0167 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Read BRAKE_RELEASE_DELAY: Brake release delay (抱闸松开延时); documented at the constant."""
         return await self.read(BRAKE_RELEASE_DELAY)
 
     async def write_brake_release_delay(self, value: int) -> None:
-        """Brake release delay (抱闸松开延时). Parameter Pr4.19, address 0x0167 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Write BRAKE_RELEASE_DELAY: Brake release delay (抱闸松开延时); documented at the constant."""
         await self.write(BRAKE_RELEASE_DELAY, value)
 
     async def read_fault_detection_mask(self) -> FaultDetectionMaskBits:
-        """Fault detection selection (故障检测选择). Parameter Pr4.22, address 0x016D (low word of a 32-bit pair), u16, range 0..65535, default 65535. Manual section 5.3.1, 附录4."""
+        """Read FAULT_DETECTION_MASK: Fault detection selection (故障检测选择); documented at the constant."""
         return await self.read(FAULT_DETECTION_MASK)
 
     async def write_fault_detection_mask(self, value: FaultDetectionMaskBits) -> None:
-        """Fault detection selection (故障检测选择). Parameter Pr4.22, address 0x016D (low word of a 32-bit pair), u16, range 0..65535, default 65535. Manual section 5.3.1, 附录4."""
+        """Write FAULT_DETECTION_MASK: Fault detection selection (故障检测选择); documented at the constant."""
         await self.write(FAULT_DETECTION_MASK, value)
 
     async def read_in_position_error(self) -> int:
-        """Position error for in-position (到位时位置误差设定). Parameter Pr4.24, address 0x0171 (low word of a 32-bit pair), u16, range 0..1500, default 800. Manual section 5.3.1."""
+        """Read IN_POSITION_ERROR: Position error for in-position (到位时位置误差设定); documented at the constant."""
         return await self.read(IN_POSITION_ERROR)
 
     async def write_in_position_error(self, value: int) -> None:
-        """Position error for in-position (到位时位置误差设定). Parameter Pr4.24, address 0x0171 (low word of a 32-bit pair), u16, range 0..1500, default 800. Manual section 5.3.1."""
+        """Write IN_POSITION_ERROR: Position error for in-position (到位时位置误差设定); documented at the constant."""
         await self.write(IN_POSITION_ERROR, value)
 
     async def read_in_position_debounce(self) -> int:
-        """In-position error software debounce delay (到位时位置误差软件消抖延时). Parameter Pr4.25, address 0x0173 (low word of a 32-bit pair), u16, unit ms, range 0..100, default 3. Manual section 5.3.1, 4.12."""
+        """Read IN_POSITION_DEBOUNCE: In-position error software debounce delay (到位时位置误差软件消抖延时); documented at the constant."""
         return await self.read(IN_POSITION_DEBOUNCE)
 
     async def write_in_position_debounce(self, value: int) -> None:
-        """In-position error software debounce delay (到位时位置误差软件消抖延时). Parameter Pr4.25, address 0x0173 (low word of a 32-bit pair), u16, unit ms, range 0..100, default 3. Manual section 5.3.1, 4.12."""
+        """Write IN_POSITION_DEBOUNCE: In-position error software debounce delay (到位时位置误差软件消抖延时); documented at the constant."""
         await self.write(IN_POSITION_DEBOUNCE, value)
 
     async def read_zero_speed_threshold(self) -> int:
-        """Zero speed threshold (零速度阀值). Parameter Pr4.26, address 0x0175 (low word of a 32-bit pair), u16, unit r/min, range 0..500, default 10. Manual section 5.3.1."""
+        """Read ZERO_SPEED_THRESHOLD: Zero speed threshold (零速度阀值); documented at the constant."""
         return await self.read(ZERO_SPEED_THRESHOLD)
 
     async def write_zero_speed_threshold(self, value: int) -> None:
-        """Zero speed threshold (零速度阀值). Parameter Pr4.26, address 0x0175 (low word of a 32-bit pair), u16, unit r/min, range 0..500, default 10. Manual section 5.3.1."""
+        """Write ZERO_SPEED_THRESHOLD: Zero speed threshold (零速度阀值); documented at the constant."""
         await self.write(ZERO_SPEED_THRESHOLD, value)
 
     async def read_bus_voltage(self) -> float:
-        """DC bus voltage (母线电压). Parameter Pr4.27, address 0x0177 (low word of a 32-bit pair), u16, unit V, range 0..6553.5, default 0. Manual section 5.3.1, 附录4."""
+        """Read BUS_VOLTAGE: DC bus voltage (母线电压); documented at the constant."""
         return await self.read(BUS_VOLTAGE)
 
     async def read_input_io_state(self) -> InputIoStateBits:
-        """Input IO state (输入 IO状态). Parameter Pr4.28, address 0x0179 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read INPUT_IO_STATE: Input IO state (输入 IO状态); documented at the constant."""
         return await self.read(INPUT_IO_STATE)
 
     async def read_output_io_state(self) -> OutputIoStateBits:
-        """Output IO state (输出 IO状态). Parameter Pr4.29, address 0x017B (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read OUTPUT_IO_STATE: Output IO state (输出 IO状态); documented at the constant."""
         return await self.read(OUTPUT_IO_STATE)
 
     async def read_dip_switch_state(self) -> int:
-        """DIP switch state (拨码状态). Parameter Pr4.35, address 0x0187 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read DIP_SWITCH_STATE: DIP switch state (拨码状态); documented at the constant."""
         return await self.read(DIP_SWITCH_STATE)
 
     async def read_peak_current(self) -> float:
-        """Motor peak current (电机峰值电流). Parameter Pr5.00, address 0x0191 (low word of a 32-bit pair), u16, unit A, range 0..8, default 2.2. Manual section 5.3.1, 附录4, 4.12, 4.15, 5.2.1, 5.2.2."""
+        """Read PEAK_CURRENT: Motor peak current (电机峰值电流); documented at the constant."""
         return await self.read(PEAK_CURRENT)
 
     async def write_peak_current(self, value: float) -> None:
-        """Motor peak current (电机峰值电流). Parameter Pr5.00, address 0x0191 (low word of a 32-bit pair), u16, unit A, range 0..8, default 2.2. Manual section 5.3.1, 附录4, 4.12, 4.15, 5.2.1, 5.2.2."""
+        """Write PEAK_CURRENT: Motor peak current (电机峰值电流); documented at the constant."""
         await self.write(PEAK_CURRENT, value)
 
     async def read_open_loop_hold_current(self) -> int:
-        """Open-loop holding current percentage (开环保持电流百分比). Parameter Pr5.02, address 0x0195 (low word of a 32-bit pair), u16, unit %, range 0..50, default 50. Manual section 5.3.1."""
+        """Read OPEN_LOOP_HOLD_CURRENT: Open-loop holding current percentage (开环保持电流百分比); documented at the constant."""
         return await self.read(OPEN_LOOP_HOLD_CURRENT)
 
     async def write_open_loop_hold_current(self, value: int) -> None:
-        """Open-loop holding current percentage (开环保持电流百分比). Parameter Pr5.02, address 0x0195 (low word of a 32-bit pair), u16, unit %, range 0..50, default 50. Manual section 5.3.1."""
+        """Write OPEN_LOOP_HOLD_CURRENT: Open-loop holding current percentage (开环保持电流百分比); documented at the constant."""
         await self.write(OPEN_LOOP_HOLD_CURRENT, value)
 
     async def read_lock_current_percent(self) -> int:
-        """Shaft-lock current percentage at power-up (上电锁轴电流百分比). Parameter Pr5.03, address 0x0197 (low word of a 32-bit pair), u16, unit %, range 0..100, default 100. Manual section 5.3.1, 附录4."""
+        """Read LOCK_CURRENT_PERCENT: Shaft-lock current percentage at power-up (上电锁轴电流百分比); documented at the constant."""
         return await self.read(LOCK_CURRENT_PERCENT)
 
     async def write_lock_current_percent(self, value: int) -> None:
-        """Shaft-lock current percentage at power-up (上电锁轴电流百分比). Parameter Pr5.03, address 0x0197 (low word of a 32-bit pair), u16, unit %, range 0..100, default 100. Manual section 5.3.1, 附录4."""
+        """Write LOCK_CURRENT_PERCENT: Shaft-lock current percentage at power-up (上电锁轴电流百分比); documented at the constant."""
         await self.write(LOCK_CURRENT_PERCENT, value)
 
     async def read_lock_duration(self) -> int:
-        """Shaft-lock duration (锁轴持续时间). Parameter Pr5.04, address 0x0199 (low word of a 32-bit pair), u16, unit ms, range 0..1500, default 200. Manual section 5.3.1, 附录4."""
+        """Read LOCK_DURATION: Shaft-lock duration (锁轴持续时间); documented at the constant."""
         return await self.read(LOCK_DURATION)
 
     async def write_lock_duration(self, value: int) -> None:
-        """Shaft-lock duration (锁轴持续时间). Parameter Pr5.04, address 0x0199 (low word of a 32-bit pair), u16, unit ms, range 0..1500, default 200. Manual section 5.3.1, 附录4."""
+        """Write LOCK_DURATION: Shaft-lock duration (锁轴持续时间); documented at the constant."""
         await self.write(LOCK_DURATION, value)
 
     async def read_lock_current_rise_time(self) -> float:
-        """Shaft-lock current rise time at power-up (上电锁轴电流上升时间). Parameter Pr5.07, address 0x019F (low word of a 32-bit pair), u16, unit ms, range 100..6000, default 100. Manual section 5.3.1, 附录4."""
+        """Read LOCK_CURRENT_RISE_TIME: Shaft-lock current rise time at power-up (上电锁轴电流上升时间); documented at the constant."""
         return await self.read(LOCK_CURRENT_RISE_TIME)
 
     async def write_lock_current_rise_time(self, value: float) -> None:
-        """Shaft-lock current rise time at power-up (上电锁轴电流上升时间). Parameter Pr5.07, address 0x019F (low word of a 32-bit pair), u16, unit ms, range 100..6000, default 100. Manual section 5.3.1, 附录4."""
+        """Write LOCK_CURRENT_RISE_TIME: Shaft-lock current rise time at power-up (上电锁轴电流上升时间); documented at the constant."""
         await self.write(LOCK_CURRENT_RISE_TIME, value)
 
     async def read_max_stop_time(self) -> int:
-        """Maximum stopping time (停车最长时间). Parameter Pr5.10, address 0x01A5 (low word of a 32-bit pair), u16, unit ms, range 100..1000, default 1000. Manual section 5.3.1, 附录4."""
+        """Read MAX_STOP_TIME: Maximum stopping time (停车最长时间); documented at the constant."""
         return await self.read(MAX_STOP_TIME)
 
     async def write_max_stop_time(self, value: int) -> None:
-        """Maximum stopping time (停车最长时间). Parameter Pr5.10, address 0x01A5 (low word of a 32-bit pair), u16, unit ms, range 100..1000, default 1000. Manual section 5.3.1, 附录4."""
+        """Write MAX_STOP_TIME: Maximum stopping time (停车最长时间); documented at the constant."""
         await self.write(MAX_STOP_TIME, value)
 
     async def read_current_autotune(self) -> CurrentAutotune | int:
-        """Current loop auto-tuning at power-up (电流环上电自整定). Parameter Pr5.13, address 0x01AB (low word of a 32-bit pair), u16, range 0..1, default 1. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         return await self.read(CURRENT_AUTOTUNE)
 
     async def write_current_autotune(self, value: CurrentAutotune | int | str) -> None:
-        """Current loop auto-tuning at power-up (电流环上电自整定). Parameter Pr5.13, address 0x01AB (low word of a 32-bit pair), u16, range 0..1, default 1. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         await self.write(CURRENT_AUTOTUNE, value)
 
     async def read_baud_rate(self) -> BaudRate | int:
-        """RS-485 baud rate (485 波特率). Parameter Pr5.22, address 0x01BD (low word of a 32-bit pair), u16, range 0..6, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Read BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         return await self.read(BAUD_RATE)
 
     async def write_baud_rate(self, value: BaudRate | int | str) -> None:
-        """RS-485 baud rate (485 波特率). Parameter Pr5.22, address 0x01BD (low word of a 32-bit pair), u16, range 0..6, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Write BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         await self.write(BAUD_RATE, value)
 
     async def read_slave_id(self) -> int:
-        """RS-485 slave ID (485 ID). Parameter Pr5.23, address 0x01BF (low word of a 32-bit pair), u16, range 0..127, default 1. Manual section 5.3.1, 附录4, 3.2.5, 5.2.1."""
+        """Read SLAVE_ID: RS-485 slave ID (485 ID); documented at the constant."""
         return await self.read(SLAVE_ID)
 
     async def write_slave_id(self, value: int) -> None:
-        """RS-485 slave ID (485 ID). Parameter Pr5.23, address 0x01BF (low word of a 32-bit pair), u16, range 0..127, default 1. Manual section 5.3.1, 附录4, 3.2.5, 5.2.1."""
+        """Write SLAVE_ID: RS-485 slave ID (485 ID); documented at the constant."""
         await self.write(SLAVE_ID, value)
 
     async def read_data_format(self) -> DataFormat | int:
-        """RS-485 data format (485数据类型选择). Parameter Pr5.24, address 0x01C1 (low word of a 32-bit pair), u16, range 0..11, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Read DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         return await self.read(DATA_FORMAT)
 
     async def write_data_format(self, value: DataFormat | int | str) -> None:
-        """RS-485 data format (485数据类型选择). Parameter Pr5.24, address 0x01C1 (low word of a 32-bit pair), u16, range 0..11, default 4. Manual section 5.3.1, 附录4, 5.2.1."""
+        """Write DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         await self.write(DATA_FORMAT, value)
 
     async def read_response_bit_delay(self) -> int:
-        """RS-485 communication bit delay (485通讯位延迟). Parameter Pr5.26, address 0x01C5 (low word of a 32-bit pair), u16, unit bit, range 15..100, default 35. Manual section 5.3.1, 附录4."""
+        """Read RESPONSE_BIT_DELAY: RS-485 communication bit delay (485通讯位延迟); documented at the constant."""
         return await self.read(RESPONSE_BIT_DELAY)
 
     async def write_response_bit_delay(self, value: int) -> None:
-        """RS-485 communication bit delay (485通讯位延迟). Parameter Pr5.26, address 0x01C5 (low word of a 32-bit pair), u16, unit bit, range 15..100, default 35. Manual section 5.3.1, 附录4."""
+        """Write RESPONSE_BIT_DELAY: RS-485 communication bit delay (485通讯位延迟); documented at the constant."""
         await self.write(RESPONSE_BIT_DELAY, value)
 
     async def read_standby_time(self) -> int:
-        """Standby (idle current) delay (待机时间). Parameter Pr5.32, address 0x01D1 (low word of a 32-bit pair), u16, unit ms, range 10..65535, default 200. Manual section 5.3.1, 附录4."""
+        """Read STANDBY_TIME: Standby (idle current) delay (待机时间); documented at the constant."""
         return await self.read(STANDBY_TIME)
 
     async def write_standby_time(self, value: int) -> None:
-        """Standby (idle current) delay (待机时间). Parameter Pr5.32, address 0x01D1 (low word of a 32-bit pair), u16, unit ms, range 10..65535, default 200. Manual section 5.3.1, 附录4."""
+        """Write STANDBY_TIME: Standby (idle current) delay (待机时间); documented at the constant."""
         await self.write(STANDBY_TIME, value)
 
     async def read_standby_current_percent(self) -> int:
-        """Standby current percentage (待机电流百分比). Parameter Pr5.33, address 0x01D3 (low word of a 32-bit pair), u16, unit %, range 0..100, default 50. Manual section 5.3.1, 附录4."""
+        """Read STANDBY_CURRENT_PERCENT: Standby current percentage (待机电流百分比); documented at the constant."""
         return await self.read(STANDBY_CURRENT_PERCENT)
 
     async def write_standby_current_percent(self, value: int) -> None:
-        """Standby current percentage (待机电流百分比). Parameter Pr5.33, address 0x01D3 (low word of a 32-bit pair), u16, unit %, range 0..100, default 50. Manual section 5.3.1, 附录4."""
+        """Write STANDBY_CURRENT_PERCENT: Standby current percentage (待机电流百分比); documented at the constant."""
         await self.write(STANDBY_CURRENT_PERCENT, value)
 
     async def read_jog_speed(self) -> int:
-        """Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令). Parameter Pr6.00, address 0x01E1 (low word of a 32-bit pair), u16, unit r/min, range 0..5000, default 60. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Read JOG_SPEED: Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令); documented at the constant."""
         return await self.read(JOG_SPEED)
 
     async def write_jog_speed(self, value: int) -> None:
-        """Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令). Parameter Pr6.00, address 0x01E1 (low word of a 32-bit pair), u16, unit r/min, range 0..5000, default 60. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Write JOG_SPEED: Trial run (JOG) speed for RS-485 JOG (试运行（JOG）速度指令); documented at the constant."""
         await self.write(JOG_SPEED, value)
 
     async def read_jog_interval(self) -> int:
-        """Trial run (JOG) waiting interval (试运行（JOG）等待间隔). Parameter Pr6.01, address 0x01E3 (low word of a 32-bit pair), u16, unit ms, range 0..10000, default 100. Manual section 5.3.1, 附录4, 6.3."""
+        """Read JOG_INTERVAL: Trial run (JOG) waiting interval (试运行（JOG）等待间隔); documented at the constant."""
         return await self.read(JOG_INTERVAL)
 
     async def write_jog_interval(self, value: int) -> None:
-        """Trial run (JOG) waiting interval (试运行（JOG）等待间隔). Parameter Pr6.01, address 0x01E3 (low word of a 32-bit pair), u16, unit ms, range 0..10000, default 100. Manual section 5.3.1, 附录4, 6.3."""
+        """Write JOG_INTERVAL: Trial run (JOG) waiting interval (试运行（JOG）等待间隔); documented at the constant."""
         await self.write(JOG_INTERVAL, value)
 
     async def read_jog_cycles(self) -> int:
-        """Trial run cycle count (试运行循环次数). Parameter Pr6.02, address 0x01E5 (low word of a 32-bit pair), u16, range 0..30000, default 1. Manual section 5.3.1, 附录4, 6.3."""
+        """Read JOG_CYCLES: Trial run cycle count (试运行循环次数); documented at the constant."""
         return await self.read(JOG_CYCLES)
 
     async def write_jog_cycles(self, value: int) -> None:
-        """Trial run cycle count (试运行循环次数). Parameter Pr6.02, address 0x01E5 (low word of a 32-bit pair), u16, range 0..30000, default 1. Manual section 5.3.1, 附录4, 6.3."""
+        """Write JOG_CYCLES: Trial run cycle count (试运行循环次数); documented at the constant."""
         await self.write(JOG_CYCLES, value)
 
     async def read_jog_accel_time(self) -> int:
-        """Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间). Parameter Pr6.03, address 0x01E7 (low word of a 32-bit pair), u16, unit ms, range 10..10000, default 200. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Read JOG_ACCEL_TIME: Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间); documented at the constant."""
         return await self.read(JOG_ACCEL_TIME)
 
     async def write_jog_accel_time(self, value: int) -> None:
-        """Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间). Parameter Pr6.03, address 0x01E7 (low word of a 32-bit pair), u16, unit ms, range 10..10000, default 200. Manual section 5.3.1, 附录4, 4.7, 6.3."""
+        """Write JOG_ACCEL_TIME: Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间); documented at the constant."""
         await self.write(JOG_ACCEL_TIME, value)
 
     async def read_version_info_1(self) -> int:
-        """Version information (版本信息). Parameter Pr6.15, address 0x01FF (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1, 附录4."""
+        """Read VERSION_INFO_1: Version information (版本信息); documented at the constant."""
         return await self.read(VERSION_INFO_1)
 
     async def read_version_info_2(self) -> int:
-        """Version information (版本信息). Parameter Pr6.16, address 0x0201 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1."""
+        """Read VERSION_INFO_2: Version information (版本信息); documented at the constant."""
         return await self.read(VERSION_INFO_2)
 
     async def read_r4d_status_word(self) -> int:
-        """R4D status word (R4D 状态字). Parameter Pr6.20, address 0x0209 (low word of a 32-bit pair), u16, range 0..65535, default 0. Manual section 5.3.1."""
+        """Read R4D_STATUS_WORD: R4D status word (R4D 状态字); documented at the constant."""
         return await self.read(R4D_STATUS_WORD)
 
     async def read_encoder_resolution(self) -> int:
-        """Encoder resolution (编码器分辨率). Parameter Pr7.01, address 0x0233 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Read ENCODER_RESOLUTION: Encoder resolution (编码器分辨率); documented at the constant."""
         return await self.read(ENCODER_RESOLUTION)
 
     async def write_encoder_resolution(self, value: int) -> None:
-        """Encoder resolution (编码器分辨率). Parameter Pr7.01, address 0x0233 (low word of a 32-bit pair), u16. Manual section 4.12."""
+        """Write ENCODER_RESOLUTION: Encoder resolution (编码器分辨率); documented at the constant."""
         await self.write(ENCODER_RESOLUTION, value)
 
     async def read_back_emf_coefficient(self) -> int:
-        """Back-EMF coefficient (反电势系数). Parameter Pr7.02, address 0x0235 (low word of a 32-bit pair), u16, unit ms, range 0..32767, default 100. Manual section 5.3.1, 附录4."""
+        """Read BACK_EMF_COEFFICIENT: Back-EMF coefficient (反电势系数); documented at the constant."""
         return await self.read(BACK_EMF_COEFFICIENT)
 
     async def write_back_emf_coefficient(self, value: int) -> None:
-        """Back-EMF coefficient (反电势系数). Parameter Pr7.02, address 0x0235 (low word of a 32-bit pair), u16, unit ms, range 0..32767, default 100. Manual section 5.3.1, 附录4."""
+        """Write BACK_EMF_COEFFICIENT: Back-EMF coefficient (反电势系数); documented at the constant."""
         await self.write(BACK_EMF_COEFFICIENT, value)
 
     async def read_current_loop_kp(self) -> int:
-        """Current loop proportional gain P (电流环比例增益 P). Parameter Pr7.03, address 0x0237 (low word of a 32-bit pair), u16, range 0..3000, default 1500. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_LOOP_KP: Current loop proportional gain P (电流环比例增益 P); documented at the constant."""
         return await self.read(CURRENT_LOOP_KP)
 
     async def write_current_loop_kp(self, value: int) -> None:
-        """Current loop proportional gain P (电流环比例增益 P). Parameter Pr7.03, address 0x0237 (low word of a 32-bit pair), u16, range 0..3000, default 1500. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_LOOP_KP: Current loop proportional gain P (电流环比例增益 P); documented at the constant."""
         await self.write(CURRENT_LOOP_KP, value)
 
     async def read_current_loop_ki(self) -> int:
-        """Current loop integral gain I (电流环积分增益 I). Parameter Pr7.04, address 0x0239 (low word of a 32-bit pair), u16, range 0..1500, default 300. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_LOOP_KI: Current loop integral gain I (电流环积分增益 I); documented at the constant."""
         return await self.read(CURRENT_LOOP_KI)
 
     async def write_current_loop_ki(self, value: int) -> None:
-        """Current loop integral gain I (电流环积分增益 I). Parameter Pr7.04, address 0x0239 (low word of a 32-bit pair), u16, range 0..1500, default 300. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_LOOP_KI: Current loop integral gain I (电流环积分增益 I); documented at the constant."""
         await self.write(CURRENT_LOOP_KI, value)
 
     async def read_current_loop_gain_ratio(self) -> int:
-        """Current loop gain adjustment ratio (电流环增益调整比例). Parameter Pr7.05, address 0x023B (low word of a 32-bit pair), u16, range 0..1024, default 100. Manual section 附录4."""
+        """Read CURRENT_LOOP_GAIN_RATIO: Current loop gain adjustment ratio (电流环增益调整比例); documented at the constant."""
         return await self.read(CURRENT_LOOP_GAIN_RATIO)
 
     async def write_current_loop_gain_ratio(self, value: int) -> None:
-        """Current loop gain adjustment ratio (电流环增益调整比例). Parameter Pr7.05, address 0x023B (low word of a 32-bit pair), u16, range 0..1024, default 100. Manual section 附录4."""
+        """Write CURRENT_LOOP_GAIN_RATIO: Current loop gain adjustment ratio (电流环增益调整比例); documented at the constant."""
         await self.write(CURRENT_LOOP_GAIN_RATIO, value)
 
     async def read_current_loop_kc(self) -> int:
-        """Current loop Kc (电流环 Kc). Parameter Pr7.06, address 0x023D (low word of a 32-bit pair), u16, range 0..32767, default 300. Manual section 5.3.1, 附录4."""
+        """Read CURRENT_LOOP_KC: Current loop Kc (电流环 Kc); documented at the constant."""
         return await self.read(CURRENT_LOOP_KC)
 
     async def write_current_loop_kc(self, value: int) -> None:
-        """Current loop Kc (电流环 Kc). Parameter Pr7.06, address 0x023D (low word of a 32-bit pair), u16, range 0..32767, default 300. Manual section 5.3.1, 附录4."""
+        """Write CURRENT_LOOP_KC: Current loop Kc (电流环 Kc); documented at the constant."""
         await self.write(CURRENT_LOOP_KC, value)
 
     async def read_overvoltage_threshold(self) -> int:
-        """Overvoltage threshold (过压阈值). Parameter Pr7.09, address 0x0243 (low word of a 32-bit pair), u16, unit V, range 0..1000, default 90. Manual section 5.3.1, 附录4, 4.12."""
+        """Read OVERVOLTAGE_THRESHOLD: Overvoltage threshold (过压阈值); documented at the constant."""
         return await self.read(OVERVOLTAGE_THRESHOLD)
 
     async def write_overvoltage_threshold(self, value: int) -> None:
-        """Overvoltage threshold (过压阈值). Parameter Pr7.09, address 0x0243 (low word of a 32-bit pair), u16, unit V, range 0..1000, default 90. Manual section 5.3.1, 附录4, 4.12."""
+        """Write OVERVOLTAGE_THRESHOLD: Overvoltage threshold (过压阈值); documented at the constant."""
         await self.write(OVERVOLTAGE_THRESHOLD, value)
 
     async def read_run_status(self) -> RunStatusBits:
-        """Run status (运行状态). address 0x1003, u16. Manual section 4.1, 5.3.2, 附录4."""
+        """Read RUN_STATUS: Run status (运行状态); documented at the constant."""
         return await self.read(RUN_STATUS)
 
     async def write_control_word(self, value: ControlWord | int | str) -> None:
-        """Auxiliary control word (控制字). address 0x1801, u16. Manual section 4.4, 4.5, 4.7, 5.3.3, 附录4."""
+        """Write CONTROL_WORD: Auxiliary control word (控制字); documented at the constant."""
         await self.write(CONTROL_WORD, value)
 
     async def read_save_status(self) -> SaveStatus | int:
-        """Parameter save status word (保存参数状态字). address 0x1901, u16, default 4369. Manual section 5.3.3, 附录4."""
+        """Read SAVE_STATUS: Parameter save status word (保存参数状态字); documented at the constant."""
         return await self.read(SAVE_STATUS)
 
     async def read_current_alarm(self) -> AlarmCode | int:
-        """Current alarm (当前报警). address 0x2203, u16. Manual section 4.2, 5.4.2, 附录4."""
+        """Read CURRENT_ALARM: Current alarm (当前报警); documented at the constant."""
         return await self.read(CURRENT_ALARM)
 
     async def read_pr_control(self) -> PrControlBits:
-        """PR control settings (PR 控制设置). Parameter Pr8.00, address 0x6000, u16, default 0. Manual section 5.3.1, 6.3, 6.4, 附录4."""
+        """Read PR_CONTROL: PR control settings (PR 控制设置); documented at the constant."""
         return await self.read(PR_CONTROL)
 
     async def write_pr_control(self, value: PrControlBits) -> None:
-        """PR control settings (PR 控制设置). Parameter Pr8.00, address 0x6000, u16, default 0. Manual section 5.3.1, 6.3, 6.4, 附录4."""
+        """Write PR_CONTROL: PR control settings (PR 控制设置); documented at the constant."""
         await self.write(PR_CONTROL, value)
 
     async def read_pr_trigger(self) -> PrTrigger | int:
-        """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
+        """Read PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         return await self.read(PR_TRIGGER)
 
     async def write_pr_trigger(self, value: PrTrigger | int | str) -> None:
-        """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
+        """Write PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         await self.write(PR_TRIGGER, value)
 
     async def read_positive_soft_limit(self) -> int:
-        """Positive software limit (正软件限位). Parameter Pr8.06, address 0x6006, s32, unit pulse, range -2147483648..2147483647, default 2147483647. Manual section 5.3.1, 6.3, 附录4."""
+        """Read POSITIVE_SOFT_LIMIT: Positive software limit (正软件限位); documented at the constant."""
         return await self.read(POSITIVE_SOFT_LIMIT)
 
     async def write_positive_soft_limit(self, value: int) -> None:
-        """Positive software limit (正软件限位). Parameter Pr8.06, address 0x6006, s32, unit pulse, range -2147483648..2147483647, default 2147483647. Manual section 5.3.1, 6.3, 附录4."""
+        """Write POSITIVE_SOFT_LIMIT: Positive software limit (正软件限位); documented at the constant."""
         await self.write(POSITIVE_SOFT_LIMIT, value)
 
     async def read_negative_soft_limit(self) -> int:
-        """Negative software limit (负软件限位). Parameter Pr8.08, address 0x6008, s32, unit pulse, range -2147483648..2147483647, default -2147483648. Manual section 5.3.1, 6.3, 附录4."""
+        """Read NEGATIVE_SOFT_LIMIT: Negative software limit (负软件限位); documented at the constant."""
         return await self.read(NEGATIVE_SOFT_LIMIT)
 
     async def write_negative_soft_limit(self, value: int) -> None:
-        """Negative software limit (负软件限位). Parameter Pr8.08, address 0x6008, s32, unit pulse, range -2147483648..2147483647, default -2147483648. Manual section 5.3.1, 6.3, 附录4."""
+        """Write NEGATIVE_SOFT_LIMIT: Negative software limit (负软件限位); documented at the constant."""
         await self.write(NEGATIVE_SOFT_LIMIT, value)
 
     async def read_homing_mode(self) -> HomingModeBits:
-        """Homing mode (回零模式). Parameter Pr8.10, address 0x600A, u16, default 0. Manual section 4.13, 5.3.1, 6.2, 附录4, 7.4."""
+        """Read HOMING_MODE: Homing mode (回零模式); documented at the constant."""
         return await self.read(HOMING_MODE)
 
     async def write_homing_mode(self, value: HomingModeBits) -> None:
-        """Homing mode (回零模式). Parameter Pr8.10, address 0x600A, u16, default 0. Manual section 4.13, 5.3.1, 6.2, 附录4, 7.4."""
+        """Write HOMING_MODE: Homing mode (回零模式); documented at the constant."""
         await self.write(HOMING_MODE, value)
 
     async def read_home_offset(self) -> int:
-        """Zero position (origin signal position on the axis) (零位位置). Parameter Pr8.11, address 0x600B, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOME_OFFSET: Zero position (origin signal position on the axis) (零位位置); documented at the constant."""
         return await self.read(HOME_OFFSET)
 
     async def write_home_offset(self, value: int) -> None:
-        """Zero position (origin signal position on the axis) (零位位置). Parameter Pr8.11, address 0x600B, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOME_OFFSET: Zero position (origin signal position on the axis) (零位位置); documented at the constant."""
         await self.write(HOME_OFFSET, value)
 
     async def read_home_stop_position(self) -> int:
-        """Homing stop position (回零停止位置). Parameter Pr8.13, address 0x600D, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOME_STOP_POSITION: Homing stop position (回零停止位置); documented at the constant."""
         return await self.read(HOME_STOP_POSITION)
 
     async def write_home_stop_position(self, value: int) -> None:
-        """Homing stop position (回零停止位置). Parameter Pr8.13, address 0x600D, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOME_STOP_POSITION: Homing stop position (回零停止位置); documented at the constant."""
         await self.write(HOME_STOP_POSITION, value)
 
     async def read_homing_high_speed(self) -> int:
-        """Homing high speed (first stage) (回零高速). Parameter Pr8.15, address 0x600F, u16, unit rpm, range 1..6000, default 200. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Read HOMING_HIGH_SPEED: Homing high speed (first stage) (回零高速); documented at the constant."""
         return await self.read(HOMING_HIGH_SPEED)
 
     async def write_homing_high_speed(self, value: int) -> None:
-        """Homing high speed (first stage) (回零高速). Parameter Pr8.15, address 0x600F, u16, unit rpm, range 1..6000, default 200. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Write HOMING_HIGH_SPEED: Homing high speed (first stage) (回零高速); documented at the constant."""
         await self.write(HOMING_HIGH_SPEED, value)
 
     async def read_homing_low_speed(self) -> int:
-        """Homing low speed (second stage) (回零低速). Parameter Pr8.16, address 0x6010, u16, unit rpm, range 1..6000, default 50. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Read HOMING_LOW_SPEED: Homing low speed (second stage) (回零低速); documented at the constant."""
         return await self.read(HOMING_LOW_SPEED)
 
     async def write_homing_low_speed(self, value: int) -> None:
-        """Homing low speed (second stage) (回零低速). Parameter Pr8.16, address 0x6010, u16, unit rpm, range 1..6000, default 50. Manual section 5.3.1, 6.2, 附录4, 7.4."""
+        """Write HOMING_LOW_SPEED: Homing low speed (second stage) (回零低速); documented at the constant."""
         await self.write(HOMING_LOW_SPEED, value)
 
     async def read_homing_accel(self) -> int:
-        """Homing acceleration time (回零加速时间). Parameter Pr8.17, address 0x6011, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOMING_ACCEL: Homing acceleration time (回零加速时间); documented at the constant."""
         return await self.read(HOMING_ACCEL)
 
     async def write_homing_accel(self, value: int) -> None:
-        """Homing acceleration time (回零加速时间). Parameter Pr8.17, address 0x6011, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOMING_ACCEL: Homing acceleration time (回零加速时间); documented at the constant."""
         await self.write(HOMING_ACCEL, value)
 
     async def read_homing_decel(self) -> int:
-        """Homing deceleration time (回零减速时间). Parameter Pr8.18, address 0x6012, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Read HOMING_DECEL: Homing deceleration time (回零减速时间); documented at the constant."""
         return await self.read(HOMING_DECEL)
 
     async def write_homing_decel(self, value: int) -> None:
-        """Homing deceleration time (回零减速时间). Parameter Pr8.18, address 0x6012, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 5.3.1, 6.2, 附录4."""
+        """Write HOMING_DECEL: Homing deceleration time (回零减速时间); documented at the constant."""
         await self.write(HOMING_DECEL, value)
 
     async def read_torque_homing_time(self) -> int:
-        """Torque homing hold time (力矩回零时间). Parameter Pr8.19, address 0x6013, u16, unit ms, range 0..32767, default 100. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Read TORQUE_HOMING_TIME: Torque homing hold time (力矩回零时间); documented at the constant."""
         return await self.read(TORQUE_HOMING_TIME)
 
     async def write_torque_homing_time(self, value: int) -> None:
-        """Torque homing hold time (力矩回零时间). Parameter Pr8.19, address 0x6013, u16, unit ms, range 0..32767, default 100. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Write TORQUE_HOMING_TIME: Torque homing hold time (力矩回零时间); documented at the constant."""
         await self.write(TORQUE_HOMING_TIME, value)
 
     async def read_torque_homing_level(self) -> int:
-        """Torque homing force (percentage of the set current) (力矩回零值). Parameter Pr8.20, address 0x6014, u16, unit %, range 0..32767, default 50. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Read TORQUE_HOMING_LEVEL: Torque homing force (percentage of the set current) (力矩回零值); documented at the constant."""
         return await self.read(TORQUE_HOMING_LEVEL)
 
     async def write_torque_homing_level(self, value: int) -> None:
-        """Torque homing force (percentage of the set current) (力矩回零值). Parameter Pr8.20, address 0x6014, u16, unit %, range 0..32767, default 50. Manual section 4.13, 5.3.1, 6.2, 6.2.3, 附录4."""
+        """Write TORQUE_HOMING_LEVEL: Torque homing force (percentage of the set current) (力矩回零值); documented at the constant."""
         await self.write(TORQUE_HOMING_LEVEL, value)
 
     async def read_homing_overtravel(self) -> float:
-        """Homing overtravel distance (回零超程). Parameter Pr8.21, address 0x6015, u16, unit r, range 0..3276.7, default 0. Manual section 5.3.1, 附录4."""
+        """Read HOMING_OVERTRAVEL: Homing overtravel distance (回零超程); documented at the constant."""
         return await self.read(HOMING_OVERTRAVEL)
 
     async def write_homing_overtravel(self, value: float) -> None:
-        """Homing overtravel distance (回零超程). Parameter Pr8.21, address 0x6015, u16, unit r, range 0..3276.7, default 0. Manual section 5.3.1, 附录4."""
+        """Write HOMING_OVERTRAVEL: Homing overtravel distance (回零超程); documented at the constant."""
         await self.write(HOMING_OVERTRAVEL, value)
 
     async def read_limit_stop_decel(self) -> int:
-        """Deceleration after a limit (limit emergency stop) (限位急停减速度). Parameter Pr8.22, address 0x6016, u16, unit ms/Krpm, range 1..32767, default 10. Manual section 5.3.1, 6.3, 附录4."""
+        """Read LIMIT_STOP_DECEL: Deceleration after a limit (limit emergency stop) (限位急停减速度); documented at the constant."""
         return await self.read(LIMIT_STOP_DECEL)
 
     async def write_limit_stop_decel(self, value: int) -> None:
-        """Deceleration after a limit (limit emergency stop) (限位急停减速度). Parameter Pr8.22, address 0x6016, u16, unit ms/Krpm, range 1..32767, default 10. Manual section 5.3.1, 6.3, 附录4."""
+        """Write LIMIT_STOP_DECEL: Deceleration after a limit (limit emergency stop) (限位急停减速度); documented at the constant."""
         await self.write(LIMIT_STOP_DECEL, value)
 
     async def read_stop_decel(self) -> int:
-        """Deceleration after an emergency stop (STP) (STP 急停减速度). Parameter Pr8.23, address 0x6017, u16, unit ms/Krpm, range 1..32767, default 50. Manual section 5.3.1, 6.3, 附录4."""
+        """Read STOP_DECEL: Deceleration after an emergency stop (STP) (STP 急停减速度); documented at the constant."""
         return await self.read(STOP_DECEL)
 
     async def write_stop_decel(self, value: int) -> None:
-        """Deceleration after an emergency stop (STP) (STP 急停减速度). Parameter Pr8.23, address 0x6017, u16, unit ms/Krpm, range 1..32767, default 50. Manual section 5.3.1, 6.3, 附录4."""
+        """Write STOP_DECEL: Deceleration after an emergency stop (STP) (STP 急停减速度); documented at the constant."""
         await self.write(STOP_DECEL, value)
 
     async def read_encoder_memory_value(self) -> int:
-        """Encoder memory value (编码器记忆值). Parameter Pr8.24, address 0x6018, s32. Manual section 附录4."""
+        """Read ENCODER_MEMORY_VALUE: Encoder memory value (编码器记忆值); documented at the constant."""
         return await self.read(ENCODER_MEMORY_VALUE)
 
     async def write_encoder_memory_value(self, value: int) -> None:
-        """Encoder memory value (编码器记忆值). Parameter Pr8.24, address 0x6018, s32. Manual section 附录4."""
+        """Write ENCODER_MEMORY_VALUE: Encoder memory value (编码器记忆值); documented at the constant."""
         await self.write(ENCODER_MEMORY_VALUE, value)
 
     async def read_io_combination_mode(self) -> IoCombinationMode | int:
-        """IO combination trigger mode (IO 组合触发模式). Parameter Pr8.26, address 0x601A, u16, range 0..65535, default 0. Manual section 4.8, 4.9, 5.3.1, 6.4, 附录4."""
+        """Read IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         return await self.read(IO_COMBINATION_MODE)
 
     async def write_io_combination_mode(self, value: IoCombinationMode | int | str) -> None:
-        """IO combination trigger mode (IO 组合触发模式). Parameter Pr8.26, address 0x601A, u16, range 0..65535, default 0. Manual section 4.8, 4.9, 5.3.1, 6.4, 附录4."""
+        """Write IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         await self.write(IO_COMBINATION_MODE, value)
 
     async def read_io_combination_filter(self) -> int:
-        """IO combination filter time (IO 组合滤波). Parameter Pr8.27, address 0x601B, u16, unit ms, range 0..32767, default 0. Manual section 5.3.1, 附录4."""
+        """Read IO_COMBINATION_FILTER: IO combination filter time (IO 组合滤波); documented at the constant."""
         return await self.read(IO_COMBINATION_FILTER)
 
     async def write_io_combination_filter(self, value: int) -> None:
-        """IO combination filter time (IO 组合滤波). Parameter Pr8.27, address 0x601B, u16, unit ms, range 0..32767, default 0. Manual section 5.3.1, 附录4."""
+        """Write IO_COMBINATION_FILTER: IO combination filter time (IO 组合滤波); documented at the constant."""
         await self.write(IO_COMBINATION_FILTER, value)
 
     async def read_s_code_output(self) -> SCodeOutputBits:
-        """Current S-code output value (S 码当前输出值). Parameter Pr8.28, address 0x601C, u16, range 0..32767, default 0. Manual section 4.11, 5.3.1, 附录4."""
+        """Read S_CODE_OUTPUT: Current S-code output value (S 码当前输出值); documented at the constant."""
         return await self.read(S_CODE_OUTPUT)
 
     async def read_pr_warning(self) -> PrWarning | int:
-        """PR warning (PR 警告). Parameter Pr8.29, address 0x601D, u16, range 0..32767, default 0. Manual section 5.3.1, 附录4."""
+        """Read PR_WARNING: PR warning (PR 警告); documented at the constant."""
         return await self.read(PR_WARNING)
 
     async def read_jog_speed_2(self) -> int:
-        """JOG speed 2 (IO JOG) (JOG2 速度). Parameter Pr8.38, address 0x6026, s16, unit rpm, range -2500..2500, default 50. Manual section 4.10, 5.3.1, 6.3, 附录4."""
+        """Read JOG_SPEED_2: JOG speed 2 (IO JOG) (JOG2 速度); documented at the constant."""
         return await self.read(JOG_SPEED_2)
 
     async def write_jog_speed_2(self, value: int) -> None:
-        """JOG speed 2 (IO JOG) (JOG2 速度). Parameter Pr8.38, address 0x6026, s16, unit rpm, range -2500..2500, default 50. Manual section 4.10, 5.3.1, 6.3, 附录4."""
+        """Write JOG_SPEED_2: JOG speed 2 (IO JOG) (JOG2 速度); documented at the constant."""
         await self.write(JOG_SPEED_2, value)
 
     async def read_jog_speed_1(self) -> int:
-        """JOG speed (IO JOG) (JOG1 速度). Parameter Pr8.39, address 0x6027, s16, unit rpm, range -2500..2500, default 200. Manual section 4.7, 4.10, 5.3.1, 6.3, 附录4."""
+        """Read JOG_SPEED_1: JOG speed (IO JOG) (JOG1 速度); documented at the constant."""
         return await self.read(JOG_SPEED_1)
 
     async def write_jog_speed_1(self, value: int) -> None:
-        """JOG speed (IO JOG) (JOG1 速度). Parameter Pr8.39, address 0x6027, s16, unit rpm, range -2500..2500, default 200. Manual section 4.7, 4.10, 5.3.1, 6.3, 附录4."""
+        """Write JOG_SPEED_1: JOG speed (IO JOG) (JOG1 速度); documented at the constant."""
         await self.write(JOG_SPEED_1, value)
 
     async def read_jog_accel(self) -> int:
-        """JOG acceleration time (IO JOG) (JOG 加速度). Parameter Pr8.40, address 0x6028, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Read JOG_ACCEL: JOG acceleration time (IO JOG) (JOG 加速度); documented at the constant."""
         return await self.read(JOG_ACCEL)
 
     async def write_jog_accel(self, value: int) -> None:
-        """JOG acceleration time (IO JOG) (JOG 加速度). Parameter Pr8.40, address 0x6028, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Write JOG_ACCEL: JOG acceleration time (IO JOG) (JOG 加速度); documented at the constant."""
         await self.write(JOG_ACCEL, value)
 
     async def read_jog_decel(self) -> int:
-        """JOG deceleration time (IO JOG) (JOG 减速度). Parameter Pr8.41, address 0x6029, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Read JOG_DECEL: JOG deceleration time (IO JOG) (JOG 减速度); documented at the constant."""
         return await self.read(JOG_DECEL)
 
     async def write_jog_decel(self, value: int) -> None:
-        """JOG deceleration time (IO JOG) (JOG 减速度). Parameter Pr8.41, address 0x6029, u16, unit ms/Krpm, range 0..32767, default 1000. Manual section 4.7, 5.3.1, 6.3, 附录4."""
+        """Write JOG_DECEL: JOG deceleration time (IO JOG) (JOG 减速度); documented at the constant."""
         await self.write(JOG_DECEL, value)
 
     async def read_command_position(self) -> int:
-        """Command position (命令位置). Parameter Pr8.42, address 0x602A, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.3, 附录4."""
+        """Read COMMAND_POSITION: Command position (命令位置); documented at the constant."""
         return await self.read(COMMAND_POSITION)
 
     async def read_motor_position(self) -> int:
-        """Motor (actual) position (电机位置). Parameter Pr8.44, address 0x602C, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 5.3.1, 6.3, 附录4."""
+        """Read MOTOR_POSITION: Motor (actual) position (电机位置); documented at the constant."""
         return await self.read(MOTOR_POSITION)
 
     async def read_input_io(self) -> int:
-        """Input IO (输入 IO). Parameter Pr8.46, address 0x602E, u16, default 0. Manual section 5.3.1, 4.12."""
+        """Read INPUT_IO: Input IO (输入 IO); documented at the constant."""
         return await self.read(INPUT_IO)
 
     async def read_output_io(self) -> int:
-        """Output IO (输出 IO). Parameter Pr8.47, address 0x602F, u16, default 0. Manual section 5.3.1."""
+        """Read OUTPUT_IO: Output IO (输出 IO); documented at the constant."""
         return await self.read(OUTPUT_IO)
 
     def mapping_window(self, n: int) -> AsyncMappingWindowElement:
@@ -6110,11 +6113,11 @@ class MappingWindowElement:
         self.registers = MAPPING_WINDOW[n]
 
     def read_value(self) -> int:
-        """Value of the register whose address is in mapping_setup_n (映射地址). address 0x0F00, u16. Manual section 4.12."""
+        """Read MAPPING_WINDOW[n].value: Value of the register whose address is in mapping_setup_n (映射地址); documented at the constant."""
         return self.client.read(self.registers.value)
 
     def write_value(self, value: int) -> None:
-        """Value of the register whose address is in mapping_setup_n (映射地址). address 0x0F00, u16. Manual section 4.12."""
+        """Write MAPPING_WINDOW[n].value: Value of the register whose address is in mapping_setup_n (映射地址); documented at the constant."""
         self.client.write(self.registers.value, value)
 
 
@@ -6129,11 +6132,11 @@ class MappingSetupElement:
         self.registers = MAPPING_SETUP[n]
 
     def read_address(self) -> int:
-        """Address of the register mapped to 0x0F00 + n (参数原地址). address 0x0F10, u16. Manual section 4.12."""
+        """Read MAPPING_SETUP[n].address: Address of the register mapped to 0x0F00 + n (参数原地址); documented at the constant."""
         return self.client.read(self.registers.address)
 
     def write_address(self, value: int) -> None:
-        """Address of the register mapped to 0x0F00 + n (参数原地址). address 0x0F10, u16. Manual section 4.12."""
+        """Write MAPPING_SETUP[n].address: Address of the register mapped to 0x0F00 + n (参数原地址); documented at the constant."""
         self.client.write(self.registers.address, value)
 
 
@@ -6148,11 +6151,11 @@ class SCodeElement:
         self.registers = S_CODE[n]
 
     def read_setting(self) -> SCodeSettingBits:
-        """S-code setting (S 码设置). Parameter Pr8.48, address 0x6030, u16, default 0. Manual section 4.11, 5.3.1, 附录4."""
+        """Read S_CODE[n].setting: S-code setting (S 码设置); documented at the constant."""
         return self.client.read(self.registers.setting)
 
     def write_setting(self, value: SCodeSettingBits) -> None:
-        """S-code setting (S 码设置). Parameter Pr8.48, address 0x6030, u16, default 0. Manual section 4.11, 5.3.1, 附录4."""
+        """Write S_CODE[n].setting: S-code setting (S 码设置); documented at the constant."""
         self.client.write(self.registers.setting, value)
 
 
@@ -6167,59 +6170,59 @@ class PrPathElement:
         self.registers = PR_PATH[n]
 
     def read_mode(self) -> PrPathModeBits:
-        """Path mode (运动模式). Parameter Pr9.00, address 0x6200, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].mode: Path mode (运动模式); documented at the constant."""
         return self.client.read(self.registers.mode)
 
     def write_mode(self, value: PrPathModeBits) -> None:
-        """Path mode (运动模式). Parameter Pr9.00, address 0x6200, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].mode: Path mode (运动模式); documented at the constant."""
         self.client.write(self.registers.mode, value)
 
     def read_position(self) -> int:
-        """Target position (or distance) (位置). Parameter Pr9.01, address 0x6201, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].position: Target position (or distance) (位置); documented at the constant."""
         return self.client.read(self.registers.position)
 
     def write_position(self, value: int) -> None:
-        """Target position (or distance) (位置). Parameter Pr9.01, address 0x6201, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].position: Target position (or distance) (位置); documented at the constant."""
         self.client.write(self.registers.position, value)
 
     def read_speed(self) -> int:
-        """Running speed (运行速度). Parameter Pr9.03, address 0x6203, s16, unit rpm, range -6000..6000, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].speed: Running speed (运行速度); documented at the constant."""
         return self.client.read(self.registers.speed)
 
     def write_speed(self, value: int) -> None:
-        """Running speed (运行速度). Parameter Pr9.03, address 0x6203, s16, unit rpm, range -6000..6000, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].speed: Running speed (运行速度); documented at the constant."""
         self.client.write(self.registers.speed, value)
 
     def read_acceleration(self) -> int:
-        """Acceleration time (加速时间). Parameter Pr9.04, address 0x6204, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].acceleration: Acceleration time (加速时间); documented at the constant."""
         return self.client.read(self.registers.acceleration)
 
     def write_acceleration(self, value: int) -> None:
-        """Acceleration time (加速时间). Parameter Pr9.04, address 0x6204, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].acceleration: Acceleration time (加速时间); documented at the constant."""
         self.client.write(self.registers.acceleration, value)
 
     def read_deceleration(self) -> int:
-        """Deceleration time (减速时间). Parameter Pr9.05, address 0x6205, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].deceleration: Deceleration time (减速时间); documented at the constant."""
         return self.client.read(self.registers.deceleration)
 
     def write_deceleration(self, value: int) -> None:
-        """Deceleration time (减速时间). Parameter Pr9.05, address 0x6205, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].deceleration: Deceleration time (减速时间); documented at the constant."""
         self.client.write(self.registers.deceleration, value)
 
     def read_dwell(self) -> int:
-        """Dwell time after the command stops (停顿时间). Parameter Pr9.06, address 0x6206, s16, unit ms, range -32768..32767, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].dwell: Dwell time after the command stops (停顿时间); documented at the constant."""
         return self.client.read(self.registers.dwell)
 
     def write_dwell(self, value: int) -> None:
-        """Dwell time after the command stops (停顿时间). Parameter Pr9.06, address 0x6206, s16, unit ms, range -32768..32767, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].dwell: Dwell time after the command stops (停顿时间); documented at the constant."""
         self.client.write(self.registers.dwell, value)
 
     def read_special(self) -> int:
-        """Special parameter (特殊参数). Parameter Pr9.07, address 0x6207, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].special: Special parameter (特殊参数); documented at the constant."""
         return self.client.read(self.registers.special)
 
     def write_special(self, value: int) -> None:
-        """Special parameter (特殊参数). Parameter Pr9.07, address 0x6207, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].special: Special parameter (特殊参数); documented at the constant."""
         self.client.write(self.registers.special, value)
 
 
@@ -6234,11 +6237,11 @@ class AsyncMappingWindowElement:
         self.registers = MAPPING_WINDOW[n]
 
     async def read_value(self) -> int:
-        """Value of the register whose address is in mapping_setup_n (映射地址). address 0x0F00, u16. Manual section 4.12."""
+        """Read MAPPING_WINDOW[n].value: Value of the register whose address is in mapping_setup_n (映射地址); documented at the constant."""
         return await self.client.read(self.registers.value)
 
     async def write_value(self, value: int) -> None:
-        """Value of the register whose address is in mapping_setup_n (映射地址). address 0x0F00, u16. Manual section 4.12."""
+        """Write MAPPING_WINDOW[n].value: Value of the register whose address is in mapping_setup_n (映射地址); documented at the constant."""
         await self.client.write(self.registers.value, value)
 
 
@@ -6253,11 +6256,11 @@ class AsyncMappingSetupElement:
         self.registers = MAPPING_SETUP[n]
 
     async def read_address(self) -> int:
-        """Address of the register mapped to 0x0F00 + n (参数原地址). address 0x0F10, u16. Manual section 4.12."""
+        """Read MAPPING_SETUP[n].address: Address of the register mapped to 0x0F00 + n (参数原地址); documented at the constant."""
         return await self.client.read(self.registers.address)
 
     async def write_address(self, value: int) -> None:
-        """Address of the register mapped to 0x0F00 + n (参数原地址). address 0x0F10, u16. Manual section 4.12."""
+        """Write MAPPING_SETUP[n].address: Address of the register mapped to 0x0F00 + n (参数原地址); documented at the constant."""
         await self.client.write(self.registers.address, value)
 
 
@@ -6272,11 +6275,11 @@ class AsyncSCodeElement:
         self.registers = S_CODE[n]
 
     async def read_setting(self) -> SCodeSettingBits:
-        """S-code setting (S 码设置). Parameter Pr8.48, address 0x6030, u16, default 0. Manual section 4.11, 5.3.1, 附录4."""
+        """Read S_CODE[n].setting: S-code setting (S 码设置); documented at the constant."""
         return await self.client.read(self.registers.setting)
 
     async def write_setting(self, value: SCodeSettingBits) -> None:
-        """S-code setting (S 码设置). Parameter Pr8.48, address 0x6030, u16, default 0. Manual section 4.11, 5.3.1, 附录4."""
+        """Write S_CODE[n].setting: S-code setting (S 码设置); documented at the constant."""
         await self.client.write(self.registers.setting, value)
 
 
@@ -6291,57 +6294,57 @@ class AsyncPrPathElement:
         self.registers = PR_PATH[n]
 
     async def read_mode(self) -> PrPathModeBits:
-        """Path mode (运动模式). Parameter Pr9.00, address 0x6200, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].mode: Path mode (运动模式); documented at the constant."""
         return await self.client.read(self.registers.mode)
 
     async def write_mode(self, value: PrPathModeBits) -> None:
-        """Path mode (运动模式). Parameter Pr9.00, address 0x6200, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].mode: Path mode (运动模式); documented at the constant."""
         await self.client.write(self.registers.mode, value)
 
     async def read_position(self) -> int:
-        """Target position (or distance) (位置). Parameter Pr9.01, address 0x6201, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].position: Target position (or distance) (位置); documented at the constant."""
         return await self.client.read(self.registers.position)
 
     async def write_position(self, value: int) -> None:
-        """Target position (or distance) (位置). Parameter Pr9.01, address 0x6201, s32, unit pulse, range -2147483648..2147483647, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].position: Target position (or distance) (位置); documented at the constant."""
         await self.client.write(self.registers.position, value)
 
     async def read_speed(self) -> int:
-        """Running speed (运行速度). Parameter Pr9.03, address 0x6203, s16, unit rpm, range -6000..6000, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].speed: Running speed (运行速度); documented at the constant."""
         return await self.client.read(self.registers.speed)
 
     async def write_speed(self, value: int) -> None:
-        """Running speed (运行速度). Parameter Pr9.03, address 0x6203, s16, unit rpm, range -6000..6000, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].speed: Running speed (运行速度); documented at the constant."""
         await self.client.write(self.registers.speed, value)
 
     async def read_acceleration(self) -> int:
-        """Acceleration time (加速时间). Parameter Pr9.04, address 0x6204, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].acceleration: Acceleration time (加速时间); documented at the constant."""
         return await self.client.read(self.registers.acceleration)
 
     async def write_acceleration(self, value: int) -> None:
-        """Acceleration time (加速时间). Parameter Pr9.04, address 0x6204, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].acceleration: Acceleration time (加速时间); documented at the constant."""
         await self.client.write(self.registers.acceleration, value)
 
     async def read_deceleration(self) -> int:
-        """Deceleration time (减速时间). Parameter Pr9.05, address 0x6205, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].deceleration: Deceleration time (减速时间); documented at the constant."""
         return await self.client.read(self.registers.deceleration)
 
     async def write_deceleration(self, value: int) -> None:
-        """Deceleration time (减速时间). Parameter Pr9.05, address 0x6205, u16, unit ms/Krpm, range 1..32767, default 100. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].deceleration: Deceleration time (减速时间); documented at the constant."""
         await self.client.write(self.registers.deceleration, value)
 
     async def read_dwell(self) -> int:
-        """Dwell time after the command stops (停顿时间). Parameter Pr9.06, address 0x6206, s16, unit ms, range -32768..32767, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].dwell: Dwell time after the command stops (停顿时间); documented at the constant."""
         return await self.client.read(self.registers.dwell)
 
     async def write_dwell(self, value: int) -> None:
-        """Dwell time after the command stops (停顿时间). Parameter Pr9.06, address 0x6206, s16, unit ms, range -32768..32767, default 0. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].dwell: Dwell time after the command stops (停顿时间); documented at the constant."""
         await self.client.write(self.registers.dwell, value)
 
     async def read_special(self) -> int:
-        """Special parameter (特殊参数). Parameter Pr9.07, address 0x6207, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Read PR_PATH[n].special: Special parameter (特殊参数); documented at the constant."""
         return await self.client.read(self.registers.special)
 
     async def write_special(self, value: int) -> None:
-        """Special parameter (特殊参数). Parameter Pr9.07, address 0x6207, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
+        """Write PR_PATH[n].special: Special parameter (特殊参数); documented at the constant."""
         await self.client.write(self.registers.special, value)

@@ -72,7 +72,7 @@ def register_json(r: Register) -> dict[str, Any]:
         "source": list(r.source),
         "notes": r.notes,
         "errata": list(r.errata),
-        # issue #19 (appended: the shape only grows)
+        # appended, never inserted: a reader of the older shape still finds every key it knew
         "space": r.space,
         "byte_order": r.byte_order.value if r.type.info.has_byte_order else None,
         "offset": _scale(r.offset),

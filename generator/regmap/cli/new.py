@@ -43,6 +43,7 @@ def _argument_at(skeleton: str, line: int, args: argparse.Namespace) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from regmap.frontend import load_map_text
+    from regmap.generate import reserved_ids
     from regmap.tools.spreadsheet.skeleton import skeleton
 
     if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", args.device_id):
@@ -55,7 +56,10 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"{out} exists: regmap new does not overwrite a map (use regmap import --into to update one)")
     text = skeleton(args.device_id, args.vendor.strip(), args.model.strip())
     try:
-        load_map_text(text, "skeleton")  # it validates (a device id that is a reserved word does not)
+        # It validates, for every target it may be generated for (a device id that one reserves does not).
+        reserved = reserved_ids([load_map_text(text, "skeleton")])
+        if reserved:
+            raise MapError(reserved)
     except MapError as exc:  # the skeleton differs only by the arguments: the problem is in one of them, not in a file
         problems = "; ".join(f"{_argument_at(text, diag.line, args)}: {diag.message}" for diag in exc.diagnostics)
         raise UsageError(f"{problems}; nothing written") from None

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import keyword
 import re
 import string
 from dataclasses import replace
@@ -12,7 +11,6 @@ from regmap.diagnostics import MapError
 from regmap.frontend.crossrefs import _References
 from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source
 from regmap.frontend.yamlsource import Path
-from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import (
     Access,
     ArrayDef,
@@ -35,8 +33,6 @@ from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 from regmap_runtime.spec import parse_version
 
 GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its registers inherit
-
-RESERVED_IDS = frozenset({"regmap", "regmap_runtime", "regmap_rtu", "pymodbus", "test", "tests"})
 
 
 def _article(word: str) -> str:
@@ -68,7 +64,6 @@ class _Elaborator(_References):
         commands = self._commands(raw.get("commands", []), by_selector)
         faults = self._faults(raw.get("faults", []))
         examples = self._examples(raw.get("examples", []), by_selector, {e.id for e in errata})
-        self._check_device_id(raw["device"]["id"])
         if self.problems:
             raise MapError(self.problems)
         info = replace(self._device_info(raw["device"]), firmware_register=self._firmware_register(raw["device"], by_selector))
@@ -88,20 +83,6 @@ class _Elaborator(_References):
             registers=tuple(sorted(self.registers, key=lambda r: (r.address, r.name))),
         )
 
-    def _check_device_id(self, device_id: str) -> None:
-        """The id names a Python package and prefixes every C name: it must be usable as both."""
-        if (
-            keyword.iskeyword(device_id)
-            or keyword.issoftkeyword(device_id)
-            or device_id in C_KEYWORDS
-            or device_id in CPP_KEYWORDS
-            or device_id in RESERVED_IDS
-        ):
-            self.problem(
-                ("device", "id"),
-                f"device id {device_id!r} is a reserved word in Python, C or regmap; choose another (e.g. {device_id}_drive)",
-            )
-
     def _device_info(self, d: dict[str, Any]) -> DeviceInfo:
         manual = d["manual"]
         return DeviceInfo(
@@ -116,6 +97,7 @@ class _Elaborator(_References):
             manual_language=manual.get("language"),
             firmware=d.get("firmware"),
             map_version=d["map_version"],
+            id_pos=self.positions.locate(("device", "id")),
         )
 
     # -- parameter-id rules ----------------------------------------------------------------

@@ -3,19 +3,18 @@
 The views compute every identifier, literal and expression; the templates only print, and escape
 map text with `c_comment` / `c_str`. The headers are C99 and C++ (include and `extern "C"` guards),
 static inline, allocation- and stdio-free. `names` holds the identifier and literal rules, `views`
-the items of a header, `device` the header's context, and `frames_test` the C program that checks
-a header against every frame of its map's examples (the tests compile and run it).
+the items of a header, `device` the header's context; `templates/` the header templates.
 """
 
 from __future__ import annotations
 
 from regmap.backends.c.device import SHARED_HEADER, device_context, render_device, render_shared
-from regmap.backends.c.frames_test import frames_test_context, render_frames_test
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
 from regmap.backends.c.views import c_version
 from regmap.diagnostics import Diagnostic, at
-from regmap.generate import Target
+from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Device
+from regmap.target import ReservedWords, Target
 
 
 def check(device: Device) -> list[Diagnostic]:
@@ -32,7 +31,12 @@ def check(device: Device) -> list[Diagnostic]:
     return sorted(set(problems))
 
 
-TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared, check=check)
+# A device id prefixes every C name and names its header: `<id>.h` must not be the shared header either.
+RESERVED_WORDS = ReservedWords(
+    "a C/C++ keyword or the shared header's name", C_KEYWORDS | CPP_KEYWORDS | {SHARED_HEADER.removesuffix(".h")}
+)
+
+TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared, check=check, order=20, reserved_words=RESERVED_WORDS)
 
 __all__ = [
     "SHARED_HEADER",
@@ -46,8 +50,6 @@ __all__ = [
     "c_unsigned",
     "check",
     "device_context",
-    "frames_test_context",
     "render_device",
-    "render_frames_test",
     "render_shared",
 ]

@@ -271,7 +271,7 @@ BUILDERS = {
         "read": Builder("regmap_rtu_build_read_discrete_inputs", "build_read_discrete_inputs", "uint16_t count", "count", "read")
     },
 }
-# The shared parser of each space's operations (frames_test and the tests call them).
+# The shared parser of each space's operations (the tests' frames program calls them).
 PARSERS = {
     HOLDING.name: {
         "read": "regmap_rtu_parse_read_response",

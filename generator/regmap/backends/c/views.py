@@ -65,7 +65,7 @@ class BitfieldView:
 class CodecView:
     """A register's own value helpers: its words on the wire <-> its raw value, in its word and byte order."""
 
-    template: str  # c/codec_word.h.jinja (one word), c/codec_words.h.jinja (wide), c/codec_string.h.jinja
+    template: str  # codec_word.h.jinja (one word), codec_words.h.jinja (wide), codec_string.h.jinja
     value_type: str
     from_wire: str
     to_wire: str
@@ -329,11 +329,11 @@ def _codec_view(ctx: Context, reg: Register, owner: str) -> CodecView | None:
         return None
     shared_from, shared_to = WIRE_FUNCTIONS[reg.type]
     if reg.type.is_string:
-        template, value_type = "c/codec_string.h.jinja", "char"
+        template, value_type = "codec_string.h.jinja", "char"
     elif reg.words == 1:
-        template, value_type = "c/codec_word.h.jinja", C_TYPES[reg.type].value
+        template, value_type = "codec_word.h.jinja", C_TYPES[reg.type].value
     else:
-        template, value_type = "c/codec_words.h.jinja", C_TYPES[reg.type].value
+        template, value_type = "codec_words.h.jinja", C_TYPES[reg.type].value
     return CodecView(
         template=template,
         value_type=value_type,
@@ -387,7 +387,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
     if reg.paired:
         macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
     return RegisterView(
-        template="c/register.h.jinja",
+        template="register.h.jinja",
         comment=_register_comment(reg, reg.label, (reg,)),
         description=reg.description,
         macros=tuple(macros),
@@ -436,7 +436,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         manual_sections(array.source),
     )
     return ArrayView(
-        template="c/array.h.jinja",
+        template="array.h.jinja",
         comment=comment,
         base=base.name,
         first=first.name,

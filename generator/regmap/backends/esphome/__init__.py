@@ -8,11 +8,12 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 from regmap.backends.esphome.package import VALUE_TYPE, esp_text, hexbytes, package, render_package
 from regmap.backends.selection import parse_patterns, select
-from regmap.generate import Files, Target, TargetOptions
 from regmap.model import Device
+from regmap.target import Files, Target, TargetOptions
 
 
 def render_device(device: Device, patterns: tuple[str, ...] | None = None) -> Files:
@@ -25,9 +26,11 @@ def render_shared(devices: Sequence[Device]) -> Files:
 
 def _configure(options: TargetOptions) -> Target:
     patterns = parse_patterns(options["select"])
-    return Target(name="esphome", subdir="esphome", per_device=lambda d: render_device(d, patterns), shared=render_shared)
+    return replace(TARGET, per_device=lambda d: render_device(d, patterns))
 
 
-TARGET = Target(name="esphome", subdir="esphome", per_device=render_device, shared=render_shared, options=("select",), configure=_configure)
+TARGET = Target(
+    name="esphome", subdir="esphome", per_device=render_device, shared=render_shared, options=("select",), configure=_configure, order=50
+)
 
 __all__ = ["TARGET", "VALUE_TYPE", "esp_text", "hexbytes", "package", "render_device"]

@@ -52,9 +52,9 @@ from regmap.backends.homeauto import (
     unit_text,
 )
 from regmap.backends.selection import Selection
-from regmap.generate import Files
 from regmap.model import Command, DataType, Device, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_specs
+from regmap.target import Files
 from regmap_runtime.codec import raw_to_words
 
 # ESPHome's spelling of a register's type: (type, word order) -> value_type.

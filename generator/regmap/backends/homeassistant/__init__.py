@@ -7,11 +7,12 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 from regmap.backends.homeassistant.hub import DATA_TYPE, hub, render_hub
 from regmap.backends.selection import parse_patterns, select
-from regmap.generate import Files, Target, TargetOptions
 from regmap.model import Device
+from regmap.target import Files, Target, TargetOptions
 
 
 def render_device(device: Device, patterns: tuple[str, ...] | None = None) -> Files:
@@ -24,11 +25,17 @@ def render_shared(devices: Sequence[Device]) -> Files:
 
 def _configure(options: TargetOptions) -> Target:
     patterns = parse_patterns(options["select"])
-    return Target(name="homeassistant", subdir="homeassistant", per_device=lambda d: render_device(d, patterns), shared=render_shared)
+    return replace(TARGET, per_device=lambda d: render_device(d, patterns))
 
 
 TARGET = Target(
-    name="homeassistant", subdir="homeassistant", per_device=render_device, shared=render_shared, options=("select",), configure=_configure
+    name="homeassistant",
+    subdir="homeassistant",
+    per_device=render_device,
+    shared=render_shared,
+    options=("select",),
+    configure=_configure,
+    order=60,
 )
 
 __all__ = ["DATA_TYPE", "TARGET", "hub", "render_device"]

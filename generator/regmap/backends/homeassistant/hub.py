@@ -38,8 +38,8 @@ from regmap.backends.homeauto import (
     unit_text,
 )
 from regmap.backends.selection import Selection
-from regmap.generate import Files
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
+from regmap.target import Files
 
 DATA_TYPE = {
     DataType.U16: "uint16",

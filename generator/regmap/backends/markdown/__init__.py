@@ -16,8 +16,8 @@ from __future__ import annotations
 
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
 from regmap.backends.markdown.page import INDEX_PAGE, device_page, render_device, render_shared
-from regmap.generate import Target
+from regmap.target import Target
 
-TARGET = Target(name="markdown", subdir="docs", per_device=render_device, shared=render_shared)
+TARGET = Target(name="markdown", subdir="docs", per_device=render_device, shared=render_shared, order=30)
 
 __all__ = ["INDEX_PAGE", "TARGET", "bitfield_svg", "device_page", "diagram_path", "render_device", "render_shared"]

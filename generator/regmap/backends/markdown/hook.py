@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING
 
-from regmap.render import environment
+from regmap.render import templates
 
 if TYPE_CHECKING:
     from mkdocs.config.defaults import MkDocsConfig
@@ -45,7 +45,9 @@ def on_files(files: MkDocsFiles, config: MkDocsConfig) -> MkDocsFiles:
     # The Structured Text READMEs (generated/st/<device>/README.md) join the site as st/<device>.md.
     for readme in sorted((Path(config.docs_dir).parent / "st").glob(f"*/{ST_README}")):
         files.append(File.generated(config, f"st/{readme.parent.name}.md", abs_src_path=str(readme)))
-    files.append(File.generated(config, SITE_CSS, content=environment().get_template("docs/regmap.css.jinja").render()))
+    # By package name, not __name__: mkdocs loads this file by its path, as a module named `hook`.
+    css = templates("regmap.backends.markdown").get_template("regmap.css.jinja").render()
+    files.append(File.generated(config, SITE_CSS, content=css))
     return files
 
 

@@ -78,7 +78,7 @@ class BitfieldView:
 
 @dataclass(frozen=True)
 class RegisterView:
-    template: ClassVar[str] = "docs/_register.md.jinja"
+    template: ClassVar[str] = "_register.md.jinja"
     level: str  # heading marker: a register is a level-4 heading, an array member level 5
     anchor: str
     heading: Md
@@ -107,7 +107,7 @@ class MemberRow:
 
 @dataclass(frozen=True)
 class ArrayView:
-    template: ClassVar[str] = "docs/_array.md.jinja"
+    template: ClassVar[str] = "_array.md.jinja"
     anchor: str
     heading: Md
     summary: Md

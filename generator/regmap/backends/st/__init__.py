@@ -17,9 +17,10 @@ from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.views import DIALECTS
 from regmap.diagnostics import Diagnostic, UsageError
-from regmap.generate import Files, Target
+from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
-from regmap.render import environment
+from regmap.render import templates
+from regmap.target import Files, ReservedWords, Target
 
 FILES = ("types", "constants", "functions")
 
@@ -39,12 +40,12 @@ def render_device(device: Device) -> Files:
     views, problems = contexts(device)
     if problems:
         raise UsageError("\n".join(str(p) for p in problems))
-    env = environment()
+    env = templates(__name__)
     files: Files = {}
     for dialect, context in views.items():
         for name in FILES:
-            files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"st/{name}.st.jinja").render(**context)
-    files[f"{device.id}/README.md"] = env.get_template("st/README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
+            files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
     return files
 
 
@@ -60,6 +61,11 @@ def render_shared(devices: Sequence[Device]) -> Files:
     return {}
 
 
-TARGET = Target(name="st", subdir="st", per_device=render_device, shared=render_shared, check=check)
+# The device id prefixes the ST names; ST reads every name case-insensitively.
+RESERVED_WORDS = ReservedWords("an IEC 61131-3 or CODESYS reserved word", IEC_KEYWORDS, case_sensitive=False)
+
+TARGET = Target(
+    name="st", subdir="st", per_device=render_device, shared=render_shared, check=check, order=40, reserved_words=RESERVED_WORDS
+)
 
 __all__ = ["DIALECTS", "TARGET", "StIdentifier", "check", "contexts", "device_views", "render_device", "render_shared", "st_string"]

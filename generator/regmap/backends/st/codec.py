@@ -52,10 +52,6 @@ def swapped(reg: Register) -> bool:
     return reg.byte_order is ByteOrder.LOW_FIRST and not reg.type.is_bool
 
 
-def wide64(reg: Register) -> bool:
-    return reg.type.words == 4 and not reg.type.is_string
-
-
 def value_type(reg: Register) -> str:
     """The decoded value's ST type: scaled (or offset) numbers become REAL, 64-bit ones LREAL."""
     if reg.type.numeric and (reg.scaled or reg.offset_set):

@@ -130,7 +130,7 @@ HEADERS: dict[str, str] = {
     "说明": "description",
     "备注": "notes",
     "分组": "group",
-    # issue #19: spaces, orders, offsets, strings, firmware gates, poll classes
+    # spaces, orders, offsets, strings, firmware gates, poll classes
     "register type": "space",
     "table": "space",
     "modbus table": "space",

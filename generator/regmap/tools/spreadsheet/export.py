@@ -50,7 +50,7 @@ REGISTER_COLUMNS = (
     "source",
     "errata",
     "notes",
-    # issue #19, appended so that every column before keeps its place
+    # Spaces, orders, offsets, strings, gates: appended, so that every column before keeps its place in old sheets
     "space",
     "byte_order",
     "offset",

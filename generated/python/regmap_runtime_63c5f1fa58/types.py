@@ -119,9 +119,6 @@ TYPES: dict[str, TypeInfo] = {
     )
 }
 
-STRING_ENCODINGS = ("ascii", "latin-1", "utf-8", "gbk")
-"""Text encodings a string register may use (Python codec names). gbk covers GB2312 nameplates."""
-
 
 def swap_bytes(words: list[int] | tuple[int, ...]) -> list[int]:
     """Each word with its two bytes exchanged (a device whose byte_order is low_first)."""

@@ -17,10 +17,11 @@ from typing import Any
 
 from regmap.backends.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
-from regmap.generate import Files, Target
+from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
-from regmap.render import environment, header_lines, py_doc, py_str
+from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import device_extras, read_plan, spec_extras
+from regmap.target import Files, ReservedWords, Target
 from regmap_runtime.spaces import DEFAULT_SPACE
 
 RUNTIME_MODULES = (
@@ -97,7 +98,9 @@ class RegisterView:
     readable: bool
     writable: bool
     kwargs: tuple[tuple[str, str], ...]  # constructor keyword arguments, already literals
-    doc: str
+    doc: str  # the register's documentation, written once: under its constant
+    read_doc: str  # the methods' one line: the constant they use and the register's title
+    write_doc: str
 
 
 @dataclass(frozen=True)
@@ -240,11 +243,17 @@ def _register_doc(reg: Register) -> str:
     return py_doc(" ".join(parts))
 
 
+def _method_doc(verb: str, reg: Register, constant: str) -> str:
+    """A read/write method's docstring: what help() needs to pick the method, pointing to the full text at `constant`."""
+    return py_doc(f"{verb} {constant}: {titled(reg.title, reg.title_zh)}; documented at the constant.")
+
+
 def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
 
-def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
+def _register_view(reg: Register, attr: str | None = None, constant: str | None = None) -> RegisterView:
+    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
     kwargs: list[tuple[str, str]] = [
@@ -292,6 +301,8 @@ def _register_view(reg: Register, attr: str | None = None) -> RegisterView:
         writable=_writable(reg),
         kwargs=tuple(kwargs),
         doc=_register_doc(reg),
+        read_doc=_method_doc("Read", reg, constant or const(reg.name)),
+        write_doc=_method_doc("Write", reg, constant or const(reg.name)),
     )
 
 
@@ -304,7 +315,8 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
             reg = by_name[f"{array.name}_{index}_{member.name}"]
             pairs.append((str(PythonIdentifier(member.name)), const(reg.name)))
             if member.name not in members:
-                members[member.name] = _register_view(reg, member.name)
+                attr = PythonIdentifier(member.name)
+                members[member.name] = _register_view(reg, attr, f"{const(array.name)}[n].{attr}")
         elements.append((index, tuple(pairs)))
     doc = (
         titled(array.title, array.title_zh)
@@ -506,11 +518,11 @@ def device_context(device: Device) -> dict[str, Any]:
 
 
 def render_device(device: Device) -> Files:
-    env = environment()
+    env = templates(__name__)
     context = device_context(device)
     package = device.id
     return {
-        f"{package}/__init__.py": env.get_template("python/client.py.jinja").render(**context),
+        f"{package}/__init__.py": env.get_template("client.py.jinja").render(**context),
         f"{package}/py.typed": "",
     }
 
@@ -563,4 +575,16 @@ def _post(directory: Path) -> None:
     ruff_format(directory, skip=runtime_package())
 
 
-TARGET = Target(name="python", subdir="python", per_device=render_device, shared=render_shared, post=_post, check=check)
+# A device id names the generated package: one of these would shadow a package its client imports (or the stdlib's `test`).
+SHADOWED_PACKAGES = frozenset({"regmap", "regmap_runtime", "pymodbus", "test", "tests"})
+
+TARGET = Target(
+    name="python",
+    subdir="python",
+    per_device=render_device,
+    shared=render_shared,
+    post=_post,
+    check=check,
+    order=10,
+    reserved_words=ReservedWords("a Python keyword or a package the client would shadow", PYTHON_KEYWORDS | SHADOWED_PACKAGES),
+)

@@ -31,7 +31,7 @@ from regmap.backends.c.names import (
 from regmap.backends.c.views import modern
 from regmap.diagnostics import UsageError
 from regmap.model import DataType, Device, Example, ExampleValue, Register
-from regmap.render import c_str, environment
+from regmap.render import c_str, templates
 from regmap_runtime.rtu import EXCEPTION_FLAG, crc_ok, parse_frame
 from regmap_runtime.spaces import BY_FUNCTION, COIL_OFF, COIL_ON, DEFAULT_SPACE, HOLDING, SPACES
 
@@ -211,7 +211,7 @@ class _Frames:
         space = known[0].name if known else DEFAULT_SPACE
         if parsed.address is not None and parsed.kind != "unknown":
             self.check_values_inside(ex, parsed.address, parsed.count or 1, space)
-        base = self._base(ex, "c/case_request.c.jinja")
+        base = self._base(ex, "case_request.c.jinja")
         slave = base["slave"]
         if parsed.kind == "read_request" and parsed.address is not None and parsed.count is not None:
             self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
@@ -241,7 +241,7 @@ class _Frames:
             build = self._device_builder(space, "write_multiple")
             address = self.address(parsed.address, space)
             call = f"{build}(buf, sizeof buf, {slave}, {address}, b, {self.count(parsed.address, parsed.count, space)})"
-            base["template"] = "c/case_request_multiple.c.jinja"
+            base["template"] = "case_request_multiple.c.jinja"
             frame_bits = _unpack(frame[7:-2], parsed.count)
             statements = self.multiple_bits(ex, parsed.address, frame_bits, space)
             return FrameCase(**base, call=call, words=statements, word_count=parsed.count, bits=True)
@@ -249,7 +249,7 @@ class _Frames:
             self.requests[ex.id] = _Request(parsed.function, parsed.address, parsed.count, ex)
             build = self.ctx.symbol_ref("build_write_multiple")
             call = f"{build}(buf, sizeof buf, {slave}, {self.address(parsed.address)}, w, {c_unsigned(parsed.count)})"
-            base["template"] = "c/case_request_multiple.c.jinja"
+            base["template"] = "case_request_multiple.c.jinja"
             words = self.multiple_words(ex, parsed.address, parsed.words)
             return FrameCase(**base, call=call, words=words, word_count=len(parsed.words))
         body = frame[2:-2]
@@ -371,7 +371,7 @@ class _Frames:
 
     def response(self, ex: Example) -> FrameCase:
         frame = ex.wire_frame
-        base = self._base(ex, "c/case_response.c.jinja")
+        base = self._base(ex, "case_response.c.jinja")
         slave = base["slave"]
         request = self.requests.get(ex.request) if ex.request else None
         if request is None:
@@ -554,4 +554,4 @@ def frames_test_context(device: Device) -> dict[str, Any]:
 
 def render_frames_test(device: Device) -> str:
     """A host C program (it uses stdio) that checks the header against every frame of the map's examples."""
-    return environment().get_template("c/frames_test.c.jinja").render(**frames_test_context(device))
+    return templates(__name__).get_template("frames_test.c.jinja").render(**frames_test_context(device))
