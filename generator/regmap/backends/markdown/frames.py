@@ -27,11 +27,10 @@ from regmap.backends.markdown.text import (
     _unit_suffix,
 )
 from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
-from regmap.backends.text import eng, number
+from regmap.core.decoding import FUNCTION_NAMES, carried, decode_words, trim_bits
+from regmap.core.text import eng, number, number_text, space_label
 from regmap.model import Device, Example, ExampleValue, Register, WordOrder
 from regmap.render import hex2, md_text
-from regmap.tools.decode import FUNCTION_NAMES, carried, decode_words, number_text, trim_bits
-from regmap.tools.selectors import space_label
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex, unpack_bits
 from regmap_runtime.spaces import COIL_OFF, COIL_ON, DEFAULT_SPACE, SPACES

@@ -37,13 +37,13 @@ from regmap.backends.markdown.views import (
     TimingView,
 )
 from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, uses
-from regmap.backends.text import number
+from regmap.core.decoding import FUNCTION_NAMES
+from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Command, Device, Erratum, PollClass, WordOrder
 from regmap.render import header_lines, hex2, md_text, templates
 from regmap.runtime_bridge import read_plan
 from regmap.target import Files
-from regmap.tools.decode import FUNCTION_NAMES
 from regmap_runtime.codec import raw_to_words
 from regmap_runtime.rtu import build_write_multiple, build_write_single, to_hex
 from regmap_runtime.spaces import SPACES

@@ -49,7 +49,7 @@ from regmap.backends.markdown.wire import (
     space_fact,
     type_fact,
 )
-from regmap.backends.text import eng, number
+from regmap.core.text import eng, number
 from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, FirmwareGate, Group, PollClass, Register
 from regmap.render import hex2, md_text
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES

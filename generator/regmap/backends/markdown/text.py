@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Sequence
 
-from regmap.backends.text import number
+from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import EnumType, Register
 from regmap.render import md_text

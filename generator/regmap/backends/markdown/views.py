@@ -9,8 +9,8 @@ from typing import ClassVar
 
 from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
 from regmap.backends.markdown.wire import uses
+from regmap.core.decoding import RegisterSpecs
 from regmap.model import Device
-from regmap.tools.selectors import Registers
 
 
 @dataclass(frozen=True)
@@ -256,7 +256,7 @@ class Context:
     def __init__(self, device: Device) -> None:
         self.device = device
         self.uses = uses(device)
-        self.registers = Registers(device)
+        self.registers = RegisterSpecs(device)
         self.examples_by_register: dict[str, list[str]] = {}
         self.responses: dict[str, list[str]] = {}
         self.enum_users: dict[str, list[Md]] = {}
