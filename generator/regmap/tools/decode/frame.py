@@ -267,5 +267,3 @@ def _registers_in(device: Device, start: int, count: int, space: str) -> list[De
             seen.add(reg.name)
             out.append(DecodedValue(reg.address, reg.name, reg.param, None, [], unit=reg.unit, text=reg.title, space=space))
     return out
-
-
