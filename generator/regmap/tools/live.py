@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from regmap.core.decoding import DecodedValue, decode_words
+from regmap.core.text import space_label
 from regmap.diagnostics import ExitCode, LinkError, UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import documented_addresses, read_plan, runtime_device, runtime_specs
@@ -35,7 +36,7 @@ from regmap.tools.frames import (
     write_function,
 )
 from regmap.tools.link import Link, port_reason, serial_line
-from regmap.tools.selectors import Item, Registers, check_slave, say_notes, space_label
+from regmap.tools.selectors import Item, Registers, check_slave, say_notes
 from regmap_runtime.client import PARITY, SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import RegmapError
