@@ -99,10 +99,13 @@ FILTERS: dict[str, Callable[..., Any]] = {
 }
 
 
-def environment(loader: jinja2.BaseLoader) -> jinja2.Environment:
-    """An environment with regmap's settings and filters that reads its templates from `loader`."""
+@functools.cache
+def templates(module: str) -> jinja2.Environment:
+    """The environment of the back end that `module` (a module's `__name__`) belongs to: the templates in
+    the `templates/` folder beside that module, so a back end is one folder. Built once per process, so
+    each template is compiled once, not once per device."""
     env = jinja2.Environment(
-        loader=loader,
+        loader=jinja2.PackageLoader(module, "templates"),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
@@ -111,14 +114,6 @@ def environment(loader: jinja2.BaseLoader) -> jinja2.Environment:
     )
     env.filters.update(FILTERS)
     return env
-
-
-@functools.cache
-def templates(package: str) -> jinja2.Environment:
-    """The environment of the back end `package` (its `__package__`): the templates in the `templates/`
-    folder beside its code, so a back end is one folder. Built once per process, so each template is
-    compiled once, not once per device."""
-    return environment(jinja2.PackageLoader(package, "templates"))
 
 
 def header_lines(device: Device, generator: str) -> list[str]:

@@ -21,6 +21,7 @@ from regmap_runtime_29e1009483.errors import (
     RegmapError,
     WrongSlave,
 )
+from regmap_runtime_29e1009483.profile import DeviceProfile, load_profile
 from regmap_runtime_29e1009483.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
@@ -35,6 +36,8 @@ __all__ = [
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "DeviceProfile",
+    "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
