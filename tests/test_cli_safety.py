@@ -15,9 +15,9 @@ from pathlib import Path
 
 import pytest
 
+from regmap.core.decoding import carried
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
-from regmap.tools.decode import carried
 from regmap.tools.frames import read_words_frame, write_words_frames
 from regmap_runtime.rtu import parse_frame, to_hex, with_crc
 from regmap_runtime.spaces import SPACES

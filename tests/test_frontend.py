@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from regmap.backends.export import export_json
 from regmap.cli import main
+from regmap.core.contract import export_json
 from regmap.diagnostics import Diagnostic, MapError
 from regmap.frontend import load_map, load_map_text
 from regmap.frontend.load import MAX_MAP_BYTES, load_map_bytes

@@ -25,8 +25,8 @@ from pymodbus.client.mixin import ModbusClientMixin
 
 from regmap.backends.esphome import render_device as esphome_files
 from regmap.backends.homeassistant import render_device as hass_files
-from regmap.backends.homeauto import planned
 from regmap.frontend import load_map
+from regmap.homeauto.entities import planned
 from regmap.model import ByteOrder, DataType, Device, Register, WordOrder
 from regmap.runtime_bridge import documented_addresses, read_plan
 

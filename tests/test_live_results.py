@@ -9,10 +9,10 @@ import pytest
 
 from regmap.cli.live_output import read_status, write_status
 from regmap.cli.probe import probe_status
+from regmap.core.decoding import decode_words
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
 from regmap.tools import live
-from regmap.tools.decode import decode_words
 from regmap.tools.link import Link
 from regmap.tools.probe.report import Findings, Note
 from regmap.tools.selectors import parse_items

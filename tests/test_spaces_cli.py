@@ -20,7 +20,7 @@ from pymodbus.client import ModbusTcpClient
 from pymodbus.client.mixin import ModbusClientMixin
 from pymodbus.framer import FramerRTU
 
-from regmap.backends.markdown.frames import _example_view
+from regmap.backends.markdown.frames import example_view
 from regmap.backends.markdown.views import Context
 from regmap.frontend import load_map
 
@@ -290,7 +290,7 @@ def test_show_every_type_and_space() -> None:
 def example_rows(map_path: str, example_id: str) -> tuple[list[str], list[str]]:
     """(the byte table's meanings, the decoded table's registers and values) of one example in the docs."""
     device = load_map(map_path)
-    view = _example_view(Context(device), device.example(example_id))
+    view = example_view(Context(device), device.example(example_id))
     meanings = [f"{row.field}: {row.meaning}" for frame in view.frames for row in frame.rows]
     return meanings, [f"{d.register} = {d.value} / {d.recorded}" for d in view.decoded]
 

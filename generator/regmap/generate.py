@@ -58,6 +58,11 @@ def target_names() -> list[str]:
     return list(_targets())
 
 
+def target(name: str) -> Target:
+    """The registered back end of that name (the tools find a target here, never by importing it)."""
+    return _targets()[name]
+
+
 def check_options(targets: Sequence[str], options: TargetOptions) -> None:
     """Refuse a target option that none of the chosen targets reads (it would silently do nothing)."""
     known = _targets()

@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     device = load_map(args.map)
     data: bytes
     if args.format == "json":
-        from regmap.backends.export import export_json
+        from regmap.core.contract import export_json
 
         data = (json.dumps(export_json(device), ensure_ascii=False, indent=2) + "\n").encode()
     elif args.format == "csv":

@@ -9,10 +9,10 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
+from regmap.core.decoding import DecodedValue
+from regmap.core.text import space_label
 from regmap.diagnostics import ExitCode, LinkError
-from regmap.tools.decode import DecodedValue
 from regmap.tools.live import Checked, ReadResult, Word, Written
-from regmap.tools.selectors import space_label
 from regmap_runtime.spaces import SPACES
 
 CSV_COLUMNS = ["register", "param", "address", "address_hex", "raw", "value", "unit", "in_range", "text", "space"]

@@ -11,11 +11,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from regmap.core.decoding import FUNCTION_NAMES
+from regmap.core.text import article, space_label
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
-from regmap.tools.decode import FUNCTION_NAMES
-from regmap.tools.selectors import Item, Located, Registers, article, check_slave, locate, parse_int, space_label, suggest
+from regmap.tools.selectors import Item, Located, Registers, check_slave, locate, parse_int, suggest
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
 from regmap_runtime.rtu import FrameError, build_read, build_write_multiple, build_write_single

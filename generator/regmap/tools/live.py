@@ -14,10 +14,10 @@ import socket
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+from regmap.core.decoding import DecodedValue, decode_words
 from regmap.diagnostics import LinkError, UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import documented_addresses, read_plan, runtime_device, runtime_specs
-from regmap.tools.decode import DecodedValue, decode_words
 from regmap.tools.frames import (
     Assignment,
     WordRead,

@@ -20,6 +20,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from regmap.core.text import article, space_label
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
@@ -36,16 +37,6 @@ def parse_space(text: str) -> str:
     if name is None:
         raise UsageError(f"--space {text!r}: one of {', '.join(SPACES)}, or mbpoll's 0 (coil), 1 (discrete_input), 3 (input), 4 (holding)")
     return name
-
-
-def article(noun: str) -> str:
-    """`an input register`, `a coil`."""
-    return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
-
-
-def space_label(space: str) -> str:
-    """`coil`, `input register`: how a message names one address of a space."""
-    return {"holding": "holding register", "input": "input register", "coil": "coil", "discrete_input": "discrete input"}[space]
 
 
 def _number_shape(text: str) -> tuple[tuple[str, ...], tuple[int, ...]] | None:

@@ -2,45 +2,16 @@
 
 from __future__ import annotations
 
-from fractions import Fraction
-
-from regmap.backends.text import titled
+from regmap.core.text import eng, number_text, titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Command, Device, EnumType, PollClass, Register
-from regmap.tools.decode import BIT_NAMES, number_text
 from regmap.tools.selectors import Registers, suggest
 from regmap_runtime.spaces import DEFAULT_SPACE
 
 
 def _eng(reg: Register, raw: int | float | str | None) -> str:
-    """A raw value as the engineering value people read: scaled and offset, text quoted, a bit on/off."""
-    if raw is None:
-        return "?"
-    if isinstance(raw, str):
-        return '"' + raw + '"'
-    if reg.type.is_bool:
-        return BIT_NAMES[1 if raw else 0]
-    if isinstance(raw, float):
-        value = raw * float(reg.scale) + float(reg.offset) if reg.scaled or reg.offset_set else raw
-        return number_text(value, None if reg.scaled or reg.offset_set else reg.type.value)
-    return _fraction_text(Fraction(raw) * reg.scale + reg.offset)
-
-
-def _fraction_text(exact: Fraction) -> str:
-    """An exact value in decimals where it has them (scale 0.001 of a u64: 18446744073709551.615), else the nearest float."""
-    den = exact.denominator
-    twos_fives = den
-    for prime in (2, 5):
-        while twos_fives % prime == 0:
-            twos_fives //= prime
-    if twos_fives != 1:
-        return number_text(float(exact))
-    places = 0
-    while (10**places) % den:
-        places += 1
-    digits = str(abs(exact.numerator) * (10**places // den)).rjust(places + 1, "0")
-    whole, frac = (digits[:-places] or "0", digits[-places:]) if places else (digits, "")
-    return ("-" if exact < 0 else "") + whole + (f".{frac}" if frac else "")
+    """A raw value as the engineering value people read, every digit it has; `?` when the map gives none."""
+    return "?" if raw is None else eng(reg, raw, every_digit=True)
 
 
 def _range(reg: Register, unit: str) -> str:

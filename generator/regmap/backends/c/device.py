@@ -24,7 +24,7 @@ from regmap.backends.c.names import (
     file_header,
 )
 from regmap.backends.c.views import Macro, command_view, enum_view, group_views, manual_sections, modern, sentences
-from regmap.backends.text import titled
+from regmap.core.text import titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, PollClass
 from regmap.render import templates

@@ -28,7 +28,7 @@ from regmap.backends.c.names import (
     c_unsigned,
     c_value,
 )
-from regmap.backends.text import eng, number, titled
+from regmap.core.text import eng, number, titled
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.render import c_str

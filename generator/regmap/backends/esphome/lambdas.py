@@ -2,7 +2,7 @@
 type), IEEE doubles (no FP64 type), text as the Python client reads it, and writes of byte-swapped words.
 
 Each lambda is written from integers and the register's type alone, never from map text (see
-`homeauto.Lambda`). They read the register's bytes from `data` at `item->offset` (the byte offset
+`homeauto.entities.Lambda`). They read the register's bytes from `data` at `item->offset` (the byte offset
 ESPHome gives the item within its range's response), check the response is long enough, and convert
 without undefined behaviour: bytes are assembled into an unsigned integer and reinterpreted with
 `std::memcpy`; a double beyond float's range becomes an infinity rather than an out-of-range cast.

@@ -1,6 +1,6 @@
 """The ESPHome package of one map: `modbus_controller` on a UART, an entity per selected register, a button per command.
 
-Everything is computed here as plain data and dumped by `homeauto.dump`; map text only ever lands in
+Everything is computed here as plain data and dumped by `homeauto.entities.dump`; map text only ever lands in
 string values (`name`, units, option labels), with `$` replaced so ESPHome's substitution and Jinja
 pass cannot evaluate it.
 
@@ -34,7 +34,7 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.esphome import lambdas
-from regmap.backends.homeauto import (
+from regmap.homeauto.entities import (
     DEVICE_CLASS,
     Hex,
     Lambda,
@@ -51,7 +51,7 @@ from regmap.backends.homeauto import (
     swapped,
     unit_text,
 )
-from regmap.backends.selection import Selection
+from regmap.homeauto.selection import Selection
 from regmap.model import Command, DataType, Device, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_specs
 from regmap.target import Files

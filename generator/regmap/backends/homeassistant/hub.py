@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from regmap.backends.homeauto import (
+from regmap.homeauto.entities import (
     DEVICE_CLASS,
     Hex,
     Names,
@@ -37,7 +37,7 @@ from regmap.backends.homeauto import (
     swapped,
     unit_text,
 )
-from regmap.backends.selection import Selection
+from regmap.homeauto.selection import Selection
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
 from regmap.target import Files
 

@@ -8,7 +8,8 @@ import json
 import re
 from typing import Any
 
-from regmap.backends.markdown.text import DocId, _html_comment
+from regmap.backends.markdown import text as md
+from regmap.backends.markdown.text import DocId
 from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.render import header_lines
@@ -56,7 +57,7 @@ def bitfield_svg(device: Device, reg: Register) -> str:
     source = {"reg": fields, "config": {"bits": reg.type.bits, "lanes": reg.type.bits // LANE_BITS, "hspace": DIAGRAM_WIDTH, "vspace": 110}}
     owner = f"{reg.array.array} member {reg.array.member}" if reg.array else reg.name
     svg = _drawing(json.dumps(source, sort_keys=True)).replace(_TITLE_SLOT, f"Bit layout of {owner}", 1)
-    header = "".join(f"<!-- {_html_comment(line)} -->\n" for line in header_lines(device, "regmap generate"))
+    header = "".join(f"<!-- {md.html_comment(line)} -->\n" for line in header_lines(device, "regmap generate"))
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + header + svg + "\n"
 
 

@@ -7,31 +7,13 @@ functions (0x01/0x02/0x05/0x0F) are annotated bit by bit, the first bit in the l
 
 from __future__ import annotations
 
-from regmap.backends.markdown.text import (
-    DASH,
-    DocId,
-    Md,
-    _address,
-    _anchor,
-    _code,
-    _enum_label,
-    _errata_links,
-    _hex,
-    _join,
-    _link,
-    _md,
-    _paragraph,
-    _raw_literal,
-    _reg_link,
-    _sources,
-    _unit_suffix,
-)
+from regmap.backends.markdown import text as md
+from regmap.backends.markdown.text import DocId, Md
 from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
-from regmap.backends.text import eng, number
+from regmap.core.decoding import FUNCTION_NAMES, carried, decode_words, trim_bits
+from regmap.core.text import eng, number, number_text, space_label
 from regmap.model import Device, Example, ExampleValue, Register, WordOrder
 from regmap.render import hex2, md_text
-from regmap.tools.decode import FUNCTION_NAMES, carried, decode_words, number_text, trim_bits
-from regmap.tools.selectors import space_label
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex, unpack_bits
 from regmap_runtime.spaces import COIL_OFF, COIL_ON, DEFAULT_SPACE, SPACES
@@ -75,7 +57,7 @@ def _word_owner(device: Device, address: int, space: str = DEFAULT_SPACE) -> Md:
         if not any(r.space == space for r in device.registers):
             return Md(f"{space_label(space)}; the map has no {SPACES[space].title}")
         return Md(f"no documented {space_label(space)}")
-    link = _reg_link(reg)
+    link = md.reg_link(reg)
     if reg.paired and address < reg.address:
         return Md(f"unused high word of {link}")
     index = address - reg.address
@@ -93,21 +75,21 @@ def _word_owner(device: Device, address: int, space: str = DEFAULT_SPACE) -> Md:
 
 def _value_text(reg: Register, raw: int | float | str) -> Md:
     if isinstance(raw, str) or reg.type.is_bool or isinstance(raw, float):
-        return Md(md_text(eng(reg, raw)) + _unit_suffix(reg))
+        return Md(md_text(eng(reg, raw)) + md.unit_suffix(reg))
     if reg.bitfields:
         parts = []
         covered = 0
         for b in sorted(reg.bitfields, key=lambda b: b.lsb):
             covered |= b.mask
             field = (raw & b.mask) >> b.lsb
-            label = _enum_label(b.enum, field) if b.enum is not None else None
+            label = md.enum_label(b.enum, field) if b.enum is not None else None
             parts.append(f"{DocId(b.name)} = {label or field}")
         rest = raw & ~covered & ((1 << reg.type.bits) - 1)
         if rest:
-            parts.append(f"undefined bits {_hex(rest, reg.words)}")
+            parts.append(f"undefined bits {md.hex_value(rest, reg.words)}")
         return Md(", ".join(parts))
-    text = eng(reg, raw) + _unit_suffix(reg)
-    label = _enum_label(reg.enum, raw) if reg.enum is not None else None
+    text = eng(reg, raw) + md.unit_suffix(reg)
+    label = md.enum_label(reg.enum, raw) if reg.enum is not None else None
     if reg.enum is not None:
         return Md(f"{text} = {label}" if label else f"{text} (not a listed value)")
     return Md(text)
@@ -115,13 +97,13 @@ def _value_text(reg: Register, raw: int | float | str) -> Md:
 
 def _word_meaning(ctx: Context, address: int | None, word: int, space: str = DEFAULT_SPACE) -> tuple[Md, Md]:
     if address is None:
-        return Md("Data word"), Md(f"{word} ({_hex(word)}); address unknown")
+        return Md("Data word"), Md(f"{word} ({md.hex_value(word)}); address unknown")
     owner = _word_owner(ctx.device, address, space)
     reg = ctx.device.covering(address, space)
-    value = f"{word} ({_hex(word)})"
+    value = f"{word} ({md.hex_value(word)})"
     if reg is not None and reg.words == 1 and address == reg.address:
-        value = f"{_hex(word)} → {_value_text(reg, words_to_raw(ctx.registers.spec(reg), [word]))}"
-    return Md(f"Register {_address(address)}"), Md(f"{owner}: {value}")
+        value = f"{md.hex_value(word)} → {_value_text(reg, words_to_raw(ctx.registers.spec(reg), [word]))}"
+    return Md(f"Register {md.address(address)}"), Md(f"{owner}: {value}")
 
 
 def _bit_meaning(ctx: Context, first: int | None, byte: int, bits: int, space: str) -> tuple[Md, Md]:
@@ -131,11 +113,11 @@ def _bit_meaning(ctx: Context, first: int | None, byte: int, bits: int, space: s
     if first is None:
         return Md("Data byte"), Md(f"`0x{byte:02X}` = {pattern}; addresses unknown")
     last = first + bits - 1
-    field = Md(f"{SPACES[space].title.capitalize()} {_address(first)}" + (f" … {_address(last)}" if bits > 1 else ""))
+    field = Md(f"{SPACES[space].title.capitalize()} {md.address(first)}" + (f" … {md.address(last)}" if bits > 1 else ""))
     parts = []
     for i, bit in enumerate(values):
         reg = ctx.device.covering(first + i, space)
-        parts.append(f"{_reg_link(reg) if reg is not None else _address(first + i)} = {bit}")
+        parts.append(f"{md.reg_link(reg) if reg is not None else md.address(first + i)} = {bit}")
     return field, Md(f"{pattern} (lowest bit first): " + ", ".join(parts))
 
 
@@ -183,9 +165,9 @@ def _frame_view(
     take(1, "Function", _function_meaning(device, parsed.function))
     address, count = parsed.address, parsed.count
     if parsed.kind in ("read_request", "write_multiple_response", "write_multiple_request") and address is not None and count is not None:
-        take(2, "Start address", Md(f"{_address(address)} ({address}): {_word_owner(device, address, space)}"))
+        take(2, "Start address", Md(f"{md.address(address)} ({address}): {_word_owner(device, address, space)}"))
         last = address + count - 1
-        take(2, _COUNTED[space], Md(f"{_plural(count, space)}: {_address(address)} … {_address(last)}"))
+        take(2, _COUNTED[space], Md(f"{_plural(count, space)}: {md.address(address)} … {md.address(last)}"))
         if parsed.kind == "write_multiple_request" and parsed.byte_count is not None:
             take(1, "Byte count", Md(f"{parsed.byte_count} bytes"))
             if bits:
@@ -204,11 +186,15 @@ def _frame_view(
             )
             data_words(start, end)
     elif parsed.kind == "write_single" and address is not None:
-        take(2, "Address", Md(f"{_address(address)} ({address}): {_word_owner(device, address, space)}"))
+        take(2, "Address", Md(f"{md.address(address)} ({address}): {_word_owner(device, address, space)}"))
         if pos + 2 <= end and bits:
             word = int.from_bytes(frame[pos : pos + 2], "big")
             state = {COIL_ON: "on", COIL_OFF: "off"}.get(word)
-            meaning = f"{_hex(word)}: {state}" if state else f"{_hex(word)}: **not a coil state** (0x05 takes 0xFF00 on or 0x0000 off)"
+            meaning = (
+                f"{md.hex_value(word)}: {state}"
+                if state
+                else f"{md.hex_value(word)}: **not a coil state** (0x05 takes 0xFF00 on or 0x0000 off)"
+            )
             take(2, "Value", Md(meaning))
         elif pos + 2 <= end:
             take(2, "Value", _word_meaning(ctx, address, int.from_bytes(frame[pos : pos + 2], "big"))[1])
@@ -225,9 +211,9 @@ def _frame_view(
         take(end - pos, "Data", Md("not decoded" if parsed.kind == "unknown" else "bytes the frame layout does not account for"))
     crc = int.from_bytes(frame[-2:], "little")
     if crc_ok(frame):
-        crc_text = f"`{_hex(crc)}`, sent low byte first: valid"
+        crc_text = f"`{md.hex_value(crc)}`, sent low byte first: valid"
     else:
-        crc_text = f"`{_hex(crc)}`: **wrong**, the CRC of the preceding bytes is `{to_hex(crc_bytes(frame[:-2]))}`"
+        crc_text = f"`{md.hex_value(crc)}`: **wrong**, the CRC of the preceding bytes is `{to_hex(crc_bytes(frame[:-2]))}`"
     take(2, "CRC", Md(crc_text))
     return FrameView(label=label, hex=to_hex(frame), rows=tuple(rows), problems=parsed.problems), parsed
 
@@ -242,12 +228,12 @@ def _span(parsed: Frame, start: int | None) -> range:
 
 
 def _raw_shown(reg: Register, raw: int | float | str) -> str:
-    """A raw value in the decoded table: text quoted, a float in its shortest form, an integer as `_raw_literal` writes it."""
+    """A raw value in the decoded table: text quoted, a float in its shortest form, an integer as `md.raw_literal` writes it."""
     if isinstance(raw, str):
         return f"“{md_text(raw)}”"
     if isinstance(raw, float):
         return number_text(raw, reg.type.value)
-    return _raw_literal(reg, raw)
+    return md.raw_literal(reg, raw)
 
 
 def _recorded(reg: Register, record: ExampleValue) -> Md:
@@ -255,13 +241,13 @@ def _recorded(reg: Register, record: ExampleValue) -> Md:
     if record.raw is not None:
         parts.append("raw " + _raw_shown(reg, record.raw))
     if record.words is not None:
-        parts.append("words " + ", ".join(_hex(w) for w in record.words))
+        parts.append("words " + ", ".join(md.hex_value(w) for w in record.words))
     value = record.value
     if isinstance(value, str):
         parts.append(f"“{md_text(value)}”")
     elif value is not None:
-        parts.append(number(value) + _unit_suffix(reg))
-    return Md("; ".join(parts) if parts else DASH)
+        parts.append(number(value) + md.unit_suffix(reg))
+    return Md("; ".join(parts) if parts else md.DASH)
 
 
 def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | None) -> list[DecodedRow]:
@@ -289,23 +275,23 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
             raw_text, value = _raw_shown(reg, decoded_raw), _value_text(reg, decoded_raw)
         elif has_data and any(a in words for a in own):
             present = [a for a in own if a in words]
-            raw_text = ", ".join(_hex(words[a]) for a in present)
+            raw_text = ", ".join(md.hex_value(words[a]) for a in present)
             value = Md(f"{len(present)} of {reg.words} words in this frame")
         else:
-            raw_text, value = DASH, Md("read" if parsed.kind == "read_request" else DASH)
+            raw_text, value = md.DASH, Md("read" if parsed.kind == "read_request" else md.DASH)
         record = next((v for v in example.values if v.register == reg), None)
-        recorded = _recorded(reg, record) if record is not None else Md(DASH)
+        recorded = _recorded(reg, record) if record is not None else Md(md.DASH)
         if record is not None and record.raw is not None and decoded_raw is not None:
             recorded = Md(recorded + (" ✓" if record.raw == decoded_raw else " — **differs from the frame**"))
-        where = Md(f"{_address(reg.address)}–{_address(reg.last_address)}") if reg.wide else _address(reg.address)
-        rows.append(DecodedRow(register=_reg_link(reg), address=where, raw=raw_text, value=value, recorded=recorded))
+        where = Md(f"{md.address(reg.address)}–{md.address(reg.last_address)}") if reg.wide else md.address(reg.address)
+        rows.append(DecodedRow(register=md.reg_link(reg), address=where, raw=raw_text, value=value, recorded=recorded))
         ctx.examples_by_register.setdefault(reg.name, [])
         if example.id not in ctx.examples_by_register[reg.name]:
             ctx.examples_by_register[reg.name].append(example.id)
     return rows
 
 
-def _example_view(ctx: Context, example: Example) -> ExampleView:
+def example_view(ctx: Context, example: Example) -> ExampleView:
     device = ctx.device
     start: int | None = None
     request: Example | None = None
@@ -321,22 +307,22 @@ def _example_view(ctx: Context, example: Example) -> ExampleView:
     if example.corrected_frame is not None:
         corrected, parsed = _frame_view(ctx, "Frame regmap sends (corrected)", example.corrected_frame, example.direction, start, asked)
         frames.append(corrected)
-    facts = [Fact("Direction", Md(example.direction)), Fact("Source", _md(_sources(example.source)))]
+    facts = [Fact("Direction", Md(example.direction)), Fact("Source", md.escaped(md.sources(example.source)))]
     if request is not None:
-        facts.append(Fact("Answers", _link(_code(request.id), _anchor("example", request.id))))
+        facts.append(Fact("Answers", md.link(md.code(request.id), md.anchor("example", request.id))))
     answers = ctx.responses.get(example.id, [])
     if answers:
-        facts.append(Fact("Answered by", _join(_link(_code(a), _anchor("example", a)) for a in answers)))
+        facts.append(Fact("Answered by", md.join(md.link(md.code(a), md.anchor("example", a)) for a in answers)))
     if example.erratum is not None:
-        facts.append(Fact("Erratum", _errata_links([example.erratum])))
+        facts.append(Fact("Erratum", md.errata_links([example.erratum])))
     direction = "request" if example.direction == "request" else "response"
     return ExampleView(
-        anchor=_anchor("example", example.id),
-        heading=Md(f"{_code(example.id)} — {direction}, {md_text(_sources(example.source))}"),
-        meaning=_paragraph(example.meaning),
+        anchor=md.anchor("example", example.id),
+        heading=Md(f"{md.code(example.id)} — {direction}, {md_text(md.sources(example.source))}"),
+        meaning=md.paragraph(example.meaning),
         meaning_zh=example.meaning_zh or "",
         facts=tuple(facts),
         frames=tuple(frames),
         decoded=tuple(_decoded_rows(ctx, example, parsed, start)),
-        notes=_paragraph(example.notes),
+        notes=md.paragraph(example.notes),
     )

@@ -5,26 +5,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from regmap.backends.markdown import text as md
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
-from regmap.backends.markdown.frames import _example_view
-from regmap.backends.markdown.registers import _enum_view, _group_view, extra_headers
-from regmap.backends.markdown.text import (
-    DASH,
-    DocId,
-    Md,
-    _address,
-    _anchor,
-    _code,
-    _enum_label,
-    _hex,
-    _html_comment,
-    _join,
-    _link,
-    _md,
-    _paragraph,
-    _reg_link,
-    _sources,
-)
+from regmap.backends.markdown.frames import example_view
+from regmap.backends.markdown.registers import enum_view, extra_headers, group_view
+from regmap.backends.markdown.text import DocId, Md
 from regmap.backends.markdown.views import (
     CommandView,
     Context,
@@ -37,13 +22,13 @@ from regmap.backends.markdown.views import (
     TimingView,
 )
 from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, uses
-from regmap.backends.text import number
+from regmap.core.decoding import FUNCTION_NAMES
+from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Command, Device, Erratum, PollClass, WordOrder
 from regmap.render import header_lines, hex2, md_text, templates
 from regmap.runtime_bridge import read_plan
 from regmap.target import Files
-from regmap.tools.decode import FUNCTION_NAMES
 from regmap_runtime.codec import raw_to_words
 from regmap_runtime.rtu import build_write_multiple, build_write_single, to_hex
 from regmap_runtime.spaces import SPACES
@@ -63,23 +48,23 @@ def _command_frame(ctx: Context, cmd: Command) -> Md:
 
 def _command_view(ctx: Context, cmd: Command) -> CommandView:
     reg = cmd.register
-    writes = f"`{_hex(cmd.value, reg.words)}`"
-    label = _enum_label(reg.enum, cmd.value) if reg.enum is not None else None
+    writes = f"`{md.hex_value(cmd.value, reg.words)}`"
+    label = md.enum_label(reg.enum, cmd.value) if reg.enum is not None else None
     if label:
         writes += f" = {label}"
     if cmd.argument is not None:
         arg = cmd.argument
-        writes += f" + {_code(arg.name)} ({arg.min} … {arg.max}{', ' + md_text(arg.title) if arg.title else ''})"
+        writes += f" + {md.code(arg.name)} ({arg.min} … {arg.max}{', ' + md_text(arg.title) if arg.title else ''})"
     return CommandView(
-        anchor=_anchor("command", cmd.name),
-        name=_code(cmd.name),
+        anchor=md.anchor("command", cmd.name),
+        name=md.code(cmd.name),
         title=cmd.title,
-        title_zh=cmd.title_zh or DASH,
-        register=Md(f"{_reg_link(reg, param=False)} {_address(reg.address)}"),
+        title_zh=cmd.title_zh or md.DASH,
+        register=Md(f"{md.reg_link(reg, param=False)} {md.address(reg.address)}"),
         writes=Md(writes),
         frame=_command_frame(ctx, cmd),
-        description=cmd.description or DASH,
-        source=_sources(cmd.source),
+        description=cmd.description or md.DASH,
+        source=md.sources(cmd.source),
     )
 
 
@@ -87,16 +72,16 @@ def _erratum_view(ctx: Context, erratum: Erratum) -> ErratumView:
     device = ctx.device
     links: list[Fact] = []
     if erratum.registers:
-        links.append(Fact("Registers", _join(_reg_link(device.register(n)) for n in erratum.registers)))
+        links.append(Fact("Registers", md.join(md.reg_link(device.register(n)) for n in erratum.registers)))
     examples = [ex.id for ex in device.examples if ex.erratum == erratum.id]
     if examples:
-        links.append(Fact("Examples", _join(_link(_code(i), _anchor("example", i)) for i in examples)))
+        links.append(Fact("Examples", md.join(md.link(md.code(i), md.anchor("example", i)) for i in examples)))
     return ErratumView(
-        anchor=_anchor("erratum", erratum.id),
+        anchor=md.anchor("erratum", erratum.id),
         heading=Md(f"{md_text(erratum.id)} — {md_text(erratum.title)}"),
-        readings=tuple(ReadingView(source=_sources(r.source), says=r.says) for r in erratum.readings),
-        choice=_paragraph(erratum.choice),
-        reason=_paragraph(erratum.reason),
+        readings=tuple(ReadingView(source=md.sources(r.source), says=r.says) for r in erratum.readings),
+        choice=md.paragraph(erratum.choice),
+        reason=md.paragraph(erratum.reason),
         links=tuple(links),
     )
 
@@ -122,9 +107,9 @@ def _overview(device: Device) -> tuple[Fact, ...]:
     order = "high word first (at the lower address)" if t.word_order is WordOrder.HIGH_FIRST else "low word first (at the lower address)"
     facts = [
         Fact("Vendor", Md(vendor)),
-        Fact("Model", _md(info.model)),
+        Fact("Model", md.escaped(info.model)),
         Fact("Manual", Md(", ".join(manual))),
-        Fact("Firmware", _md(info.firmware) if info.firmware else Md("not named by the manual")),
+        Fact("Firmware", md.escaped(info.firmware) if info.firmware else Md("not named by the manual")),
         *_firmware_facts(device, used),
         Fact(
             "Map",
@@ -152,7 +137,7 @@ def _overview(device: Device) -> tuple[Fact, ...]:
     if t.word_order_register is not None:
         w = t.word_order_register
         facts.append(
-            Fact("Word-order register", Md(f"{_reg_link(w.register)}: {w.high_first} = high word first, {w.low_first} = low word first"))
+            Fact("Word-order register", Md(f"{md.reg_link(w.register)}: {w.high_first} = high word first, {w.low_first} = low word first"))
         )
     paired = [r for r in device.registers if r.paired]
     if paired:
@@ -176,7 +161,7 @@ def _overview(device: Device) -> tuple[Fact, ...]:
         classes = [p for p in PollClass if any(r.poll is p and r.access.readable for r in device.registers)]
         reading += "; by poll class: " + ", ".join(f"{p.value} {len(read_plan(device, poll=p))}" for p in classes)
     facts.append(Fact("Reading everything", Md(reading)))
-    facts.append(Fact("Source", _md(_sources(t.source))))
+    facts.append(Fact("Source", md.escaped(md.sources(t.source))))
     return tuple(facts)
 
 
@@ -186,7 +171,7 @@ def _firmware_facts(device: Device, used: Uses) -> list[Fact]:
     fw = device.info.firmware_register
     text = firmware_register_text(device)
     if fw is not None and text is not None:
-        facts.append(Fact("Firmware register", Md(f"{_reg_link(fw.register)} at {_address(fw.register.address)}: {md_text(text)}")))
+        facts.append(Fact("Firmware register", Md(f"{md.reg_link(fw.register)} at {md.address(fw.register.address)}: {md_text(text)}")))
     if used.gates:
         gated = sum(1 for r in device.registers if r.firmware is not None)
         facts.append(
@@ -218,7 +203,7 @@ def _space_facts(device: Device, used: Uses) -> list[Fact]:
 
 def _timing(device: Device) -> tuple[TimingView, ...]:
     def ms(value: float | None) -> str:
-        return DASH if value is None else number(value)
+        return md.DASH if value is None else number(value)
 
     return tuple(
         TimingView(
@@ -238,10 +223,10 @@ def device_page(device: Device) -> DevicePage:
         raise UsageError(f"{device.source_path}: a device cannot be called {device.id!r}: its page would replace the docs index")
     ctx = Context(device)
     used = ctx.uses
-    examples = tuple(_example_view(ctx, ex) for ex in device.examples)  # first: registers link to them
+    examples = tuple(example_view(ctx, ex) for ex in device.examples)  # first: registers link to them
     t = device.transport
     exceptions = tuple(
-        ExceptionView(code=hex2(e.code), name=_code(e.name), title=e.title, title_zh=e.title_zh or DASH, source=_sources(e.source))
+        ExceptionView(code=hex2(e.code), name=md.code(e.name), title=e.title, title_zh=e.title_zh or md.DASH, source=md.sources(e.source))
         for e in t.exceptions
     )
     note = (
@@ -250,29 +235,29 @@ def device_page(device: Device) -> DevicePage:
         else Md("The manual lists no exception codes; a device may still answer with the standard Modbus codes 0x01 … 0x04.")
     )
     return DevicePage(
-        header=tuple(_html_comment(line) for line in header_lines(device, "regmap generate")),
+        header=tuple(md.html_comment(line) for line in header_lines(device, "regmap generate")),
         title=Md(f"{md_text(device.info.vendor)} {md_text(device.info.model)}"),
-        description=_paragraph(device.info.description),
+        description=md.paragraph(device.info.description),
         overview=_overview(device),
-        transport_notes=_paragraph(t.notes),
+        transport_notes=md.paragraph(t.notes),
         timing=_timing(device),
         quick_note=Md("raw × scale + offset" if used.offsets else "raw × scale"),
         extra_headers=extra_headers(used),
-        groups=tuple(_group_view(ctx, g) for g in device.groups),
-        enums=tuple(_enum_view(ctx, e) for e in device.enums),
+        groups=tuple(group_view(ctx, g) for g in device.groups),
+        enums=tuple(enum_view(ctx, e) for e in device.enums),
         commands=tuple(_command_view(ctx, c) for c in device.commands),
         faults=tuple(
             FaultView(
-                anchor=_anchor("fault", f.name),
+                anchor=md.anchor("fault", f.name),
                 code=f.code,
-                value=_hex(f.value) if f.value is not None else DASH,
-                name=_code(f.name),
+                value=md.hex_value(f.value) if f.value is not None else md.DASH,
+                name=md.code(f.name),
                 title=f.title,
-                title_zh=f.title_zh or DASH,
+                title_zh=f.title_zh or md.DASH,
                 kind=f.kind,
                 resettable={True: "yes", False: "no", None: "not stated"}[f.resettable],
-                description=f.description or DASH,
-                source=_sources(f.source),
+                description=f.description or md.DASH,
+                source=md.sources(f.source),
             )
             for f in device.faults
         ),
@@ -318,7 +303,7 @@ def render_shared(devices: Sequence[Device]) -> Files:
             IndexRow(
                 page=f"{DocId(d.id)}.md",
                 id=DocId(d.id),
-                device=_code(d.id),
+                device=md.code(d.id),
                 vendor=Md(md_text(info.vendor) + (f" ({md_text(info.vendor_zh)})" if info.vendor_zh else "")),
                 model=info.model,
                 manual=Md(manual),
@@ -330,5 +315,5 @@ def render_shared(devices: Sequence[Device]) -> Files:
             )
         )
     header = ["Generated by regmap from the maps listed below - do not edit.", "Regenerate with `regmap generate`."]
-    text = templates(__name__).get_template("index.md.jinja").render(header=[_html_comment(h) for h in header], devices=rows)
+    text = templates(__name__).get_template("index.md.jinja").render(header=[md.html_comment(h) for h in header], devices=rows)
     return {INDEX_PAGE: text}

@@ -4,24 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from regmap.backends.markdown import text as md
 from regmap.backends.markdown.diagrams import diagram_path
-from regmap.backends.markdown.text import (
-    DASH,
-    DocId,
-    Md,
-    _address,
-    _anchor,
-    _code,
-    _enum_label,
-    _errata_links,
-    _hex,
-    _join,
-    _link,
-    _md,
-    _paragraph,
-    _sources,
-    _unit_suffix,
-)
+from regmap.backends.markdown.text import DocId, Md
 from regmap.backends.markdown.views import (
     ArrayView,
     BitfieldView,
@@ -49,7 +34,7 @@ from regmap.backends.markdown.wire import (
     space_fact,
     type_fact,
 )
-from regmap.backends.text import eng, number
+from regmap.core.text import eng, number
 from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, FirmwareGate, Group, PollClass, Register
 from regmap.render import hex2, md_text
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
@@ -73,41 +58,41 @@ def _raw(value: int | float) -> str:
 def _range(reg: Register, *, full: bool) -> Md:
     """Engineering range; `full` adds the unit and the raw values (the quick reference has a unit column)."""
     if reg.min is None and reg.max is None:
-        return _md(reg.range_text) if reg.range_text and not full else Md(DASH)
+        return md.escaped(reg.range_text) if reg.range_text and not full else Md(md.DASH)
     low, high = reg.raw_min, reg.raw_max
     text = f"{eng(reg, low)} … {eng(reg, high)}"
     if full:
-        text += _unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else "")
+        text += md.unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else "")
     return Md(text)
 
 
 def _default(reg: Register, *, full: bool) -> Md:
     if reg.default is None:
-        return Md(DASH)
+        return Md(md.DASH)
     value = reg.default
     if isinstance(value, str):
         return Md(md_text(eng(reg, value)))  # text: quoted, escaped
     if reg.bitfields and isinstance(value, int):
-        return Md(f"{_hex(value, reg.words)} ({value})" if full else _hex(value, reg.words))
+        return Md(f"{md.hex_value(value, reg.words)} ({value})" if full else md.hex_value(value, reg.words))
     text = eng(reg, value)
     if full:
-        text += _unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
-    label = _enum_label(reg.enum, value) if reg.enum is not None and isinstance(value, int) else None
+        text += md.unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
+    label = md.enum_label(reg.enum, value) if reg.enum is not None and isinstance(value, int) else None
     return Md(f"{text} = {label}" if label else text)
 
 
 def _addresses(reg: Register) -> str:
     """The register's address (first and last, for more than one word) in hex, then in decimal."""
     if reg.words > 1:
-        return f"{_address(reg.address)}–{_address(reg.last_address)} ({reg.address}–{reg.last_address})"
-    return f"{_address(reg.address)} ({reg.address})"
+        return f"{md.address(reg.address)}–{md.address(reg.last_address)} ({reg.address}–{reg.last_address})"
+    return f"{md.address(reg.address)} ({reg.address})"
 
 
 def _address_facts(reg: Register) -> Md:
     text = _addresses(reg)
     if reg.paired:
         text += (
-            f"; low word of a 32-bit pair whose unused high word is {_address(reg.first_address)}:"
+            f"; low word of a 32-bit pair whose unused high word is {md.address(reg.first_address)}:"
             " single writes (0x06) go to the listed address, block reads and writes start at the high word"
         )
     return Md(text)
@@ -119,7 +104,7 @@ def _extra_cells(uses: Uses, reg: Register) -> tuple[Md, ...]:
     if uses.other_spaces:
         cells.append(Md(space_cell(reg)))
     if uses.gates:
-        cells.append(Md(gate_text(reg.firmware) if reg.firmware is not None else DASH))
+        cells.append(Md(gate_text(reg.firmware) if reg.firmware is not None else md.DASH))
     if uses.poll:
         cells.append(Md(reg.poll.value))
     return tuple(cells)
@@ -138,22 +123,22 @@ def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -
         address=address,
         name=name,
         title=reg.title,
-        title_zh=reg.title_zh or DASH,
+        title_zh=reg.title_zh or md.DASH,
         access=ACCESS_SHORT[reg.access],
         type=_type_text(reg),
         range=_range(reg, full=False),
         default=_default(reg, full=False),
-        unit=reg.unit or DASH,
-        takes_effect=reg.takes_effect.replace("_", " ") if reg.takes_effect else DASH,
+        unit=reg.unit or md.DASH,
+        takes_effect=reg.takes_effect.replace("_", " ") if reg.takes_effect else md.DASH,
     )
 
 
-def _enum_view(ctx: Context, e: EnumType) -> EnumView:
+def enum_view(ctx: Context, e: EnumType) -> EnumView:
     rows = tuple(
         EnumRow(
             value=str(m.value),
-            hex=hex2(m.value) if 0 <= m.value <= 0xFF else _hex(m.value) if m.value >= 0 else DASH,
-            name=_code(m.name),
+            hex=hex2(m.value) if 0 <= m.value <= 0xFF else md.hex_value(m.value) if m.value >= 0 else md.DASH,
+            name=md.code(m.name),
             symbol=m.symbol or "",
             title=m.title,
             title_zh=m.title_zh or "",
@@ -162,20 +147,20 @@ def _enum_view(ctx: Context, e: EnumType) -> EnumView:
         for m in e.members
     )
     return EnumView(
-        anchor=_anchor("enum", e.name),
-        heading=Md(f"{_code(e.name)} — {md_text(e.title)}"),
+        anchor=md.anchor("enum", e.name),
+        heading=Md(f"{md.code(e.name)} — {md_text(e.title)}"),
         title=e.title,
         title_zh=e.title_zh or "",
-        description=_paragraph(e.description),
-        source=_sources(e.source),
+        description=md.paragraph(e.description),
+        source=md.sources(e.source),
         rows=rows,
-        used_by=_join(ctx.enum_users.get(e.name, [])),
+        used_by=md.join(ctx.enum_users.get(e.name, [])),
     )
 
 
 def _bit_values(b: Bitfield) -> Md:
     if b.enum is not None:
-        return Md(f"{_link(_code(b.enum.name), _anchor('enum', b.enum.name))} ({md_text(b.enum.title)})")
+        return Md(f"{md.link(md.code(b.enum.name), md.anchor('enum', b.enum.name))} ({md_text(b.enum.title)})")
     if b.width == 1:
         return Md("0 / 1")
     return Md(f"0 … {b.max_value}")
@@ -185,8 +170,8 @@ def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
     rows = tuple(
         BitRow(
             bits=b.bits_text,
-            mask=_hex(b.mask, reg.words),
-            name=_code(b.name),
+            mask=md.hex_value(b.mask, reg.words),
+            name=md.code(b.name),
             title=b.title,
             title_zh=b.title_zh or "",
             values=_bit_values(b),
@@ -201,38 +186,38 @@ def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
 def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[Fact, ...]:
     facts = [Fact("Address", _address_facts(reg))]
     if reg.param:
-        facts.append(Fact("Parameter", _md(reg.param)))
+        facts.append(Fact("Parameter", md.escaped(reg.param)))
     if ctx.uses.other_spaces:
         facts.append(Fact("Space", Md(space_fact(reg))))
-    facts.append(Fact("Type", _md(type_fact(reg))))
+    facts.append(Fact("Type", md.escaped(type_fact(reg))))
     if reg.type.info.has_byte_order and (ctx.uses.byte_order or reg.type in NEW_WIDE):
         facts.append(Fact("Word and byte order", Md(order_fact(reg))))
     facts.append(Fact("Access", Md(ACCESS_LONG[reg.access])))
     if reg.min is not None or reg.max is not None:
         facts.append(Fact("Range", _range(reg, full=True)))
     if reg.range_text:
-        facts.append(Fact("Range as printed", _md(reg.range_text)))
+        facts.append(Fact("Range as printed", md.escaped(reg.range_text)))
     facts.append(Fact("Default", _default(reg, full=True)))
     if has_conversion(reg):
         label = "Scale and offset" if reg.offset_set else "Scale"
         facts.append(Fact(label, Md(scale_fact(reg, md_text(reg.unit) if reg.unit else ""))))
     if reg.unit:
-        facts.append(Fact("Unit", _md(reg.unit)))
+        facts.append(Fact("Unit", md.escaped(reg.unit)))
     if reg.enum is not None:
-        facts.append(Fact("Values", _link(_code(reg.enum.name), _anchor("enum", reg.enum.name))))
+        facts.append(Fact("Values", md.link(md.code(reg.enum.name), md.anchor("enum", reg.enum.name))))
     if reg.takes_effect:
         facts.append(Fact("Takes effect", Md(reg.takes_effect.replace("_", " "))))
     if reg.settable:
         facts.append(Fact("Settable", Md(reg.settable.replace("_", " "))))
     if reg.modes:
-        facts.append(Fact("Control modes", _md(", ".join(reg.modes))))
+        facts.append(Fact("Control modes", md.escaped(", ".join(reg.modes))))
     if reg.firmware is not None:
         facts.append(Fact("Firmware", Md(gate_fact(reg.firmware))))
     if ctx.uses.poll:
         facts.append(Fact("Poll class", Md(POLL_MEANING[reg.poll])))
-    facts.append(Fact("Source", _md(_sources(reg.source))))
+    facts.append(Fact("Source", md.escaped(md.sources(reg.source))))
     if errata:
-        facts.append(Fact("Errata", _errata_links(errata)))
+        facts.append(Fact("Errata", md.errata_links(errata)))
     links = ctx.example_links(example_names)
     if links:
         facts.append(Fact("Examples", links))
@@ -242,7 +227,7 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
 def _heading(reg: Register) -> Md:
     param = f"{md_text(reg.param)} " if reg.param else ""
     zh = f" ({md_text(reg.title_zh)})" if reg.title_zh else ""
-    return Md(f"{param}{_code(reg.name)} — {md_text(reg.title)}{zh}")
+    return Md(f"{param}{md.code(reg.name)} — {md_text(reg.title)}{zh}")
 
 
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
@@ -251,9 +236,9 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         anchor=DocId(reg.name),
         heading=_heading(reg),
         facts=_register_facts(ctx, reg, reg.errata, [reg.name]),
-        description=_paragraph(reg.description),
-        notes=_paragraph(reg.notes),
-        enum=_enum_view(ctx, reg.enum) if reg.enum is not None else None,
+        description=md.paragraph(reg.description),
+        notes=md.paragraph(reg.notes),
+        enum=enum_view(ctx, reg.enum) if reg.enum is not None else None,
         bitfields=_bitfield_view(ctx, reg) if reg.bitfields else None,
     )
 
@@ -263,7 +248,7 @@ def _formula(array: ArrayDef, first: int) -> tuple[str, str]:
     step = "n" if array.stride == 1 else f"{array.stride}n"
     if array.index_base:
         step = f"(n − {array.index_base})" if array.stride == 1 else f"{array.stride}(n − {array.index_base})"
-    return f"{_hex(first)} + {step}", f"{first} + {step}"
+    return f"{md.hex_value(first)} + {step}", f"{first} + {step}"
 
 
 def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
@@ -283,33 +268,33 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 extra=_extra_cells(ctx.uses, first),
                 offset=m.offset,
                 address=address,
-                name=_code(m.name),
+                name=md.code(m.name),
                 registers=Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"),
                 title=first.title,
-                title_zh=first.title_zh or DASH,
+                title_zh=first.title_zh or md.DASH,
                 type=_type_text(first),
                 access=ACCESS_SHORT[first.access],
                 range=_range(first, full=False),
                 default=_default(first, full=False),
-                unit=first.unit or DASH,
+                unit=first.unit or md.DASH,
             )
         )
         if first.enum is not None or first.bitfields or first.description or first.notes or errata:
             facts = [Fact("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
             if first.param and regs[-1].param:
-                facts.append(Fact("Parameter", _md(f"{first.param} … {regs[-1].param}")))
+                facts.append(Fact("Parameter", md.escaped(f"{first.param} … {regs[-1].param}")))
             facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f.label not in ("Address", "Parameter")]
             details.append(
                 RegisterView(
                     level="#####",
-                    anchor=_anchor("array", array.name, m.name),
+                    anchor=md.anchor("array", array.name, m.name),
                     heading=Md(
-                        f"Member {_code(m.name)} — {md_text(first.title)}" + (f" ({md_text(first.title_zh)})" if first.title_zh else "")
+                        f"Member {md.code(m.name)} — {md_text(first.title)}" + (f" ({md_text(first.title_zh)})" if first.title_zh else "")
                     ),
                     facts=tuple(facts),
-                    description=_paragraph(first.description),
-                    notes=_paragraph(first.notes),
-                    enum=_enum_view(ctx, first.enum) if first.enum is not None else None,
+                    description=md.paragraph(first.description),
+                    notes=md.paragraph(first.notes),
+                    enum=enum_view(ctx, first.enum) if first.enum is not None else None,
                     bitfields=_bitfield_view(ctx, first) if first.bitfields else None,
                 )
             )
@@ -317,9 +302,9 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
     for i, n in enumerate(indexes):
         regs = [by_member[m.name][i] for m in array.members]
         params = [r.param for r in regs if r.param]
-        param_text = md_text(f"{params[0]} … {params[-1]}" if len(params) > 1 else params[0]) if params else DASH
-        title = md_text(array.element_title.replace("{n}", str(n))) if array.element_title else DASH
-        elements.append((Md(str(n)), Md(title), Md(param_text), *(_address(r.address) for r in regs)))
+        param_text = md_text(f"{params[0]} … {params[-1]}" if len(params) > 1 else params[0]) if params else md.DASH
+        title = md_text(array.element_title.replace("{n}", str(n))) if array.element_title else md.DASH
+        elements.append((Md(str(n)), Md(title), Md(param_text), *(md.address(r.address) for r in regs)))
     last = device.register(f"{array.name}_{array.last_index}_{array.members[-1].name}")
     hex_formula, dec_formula = _formula(array, array.base)
     unit = "bit" if SPACES[last.space].bits else "word"  # a coil or discrete input array counts bit addresses
@@ -329,24 +314,24 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         f"Element registers are named `{DocId(array.name)}_<n>_<member>`."
     )
     facts = [
-        Fact("Addresses", Md(f"{_address(array.base)} … {_address(last.last_address)} ({array.base} … {last.last_address})")),
+        Fact("Addresses", Md(f"{md.address(array.base)} … {md.address(last.last_address)} ({array.base} … {last.last_address})")),
         Fact("Stride", Md(f"{array.stride} {unit}{'s' if array.stride != 1 else ''} per element")),
         Fact("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
     ]
     if array.element_title:
-        facts.append(Fact("Element title", _md(array.element_title)))
-    facts.append(Fact("Source", _md(_sources(array.source))))
+        facts.append(Fact("Element title", md.escaped(array.element_title)))
+    facts.append(Fact("Source", md.escaped(md.sources(array.source))))
     zh = f" ({md_text(array.title_zh)})" if array.title_zh else ""
     return ArrayView(
-        anchor=_anchor("array", array.name),
-        heading=Md(f"Array {_code(array.name)} — {md_text(array.title)}{zh}"),
+        anchor=md.anchor("array", array.name),
+        heading=Md(f"Array {md.code(array.name)} — {md_text(array.title)}{zh}"),
         summary=summary,
         facts=tuple(facts),
-        description=_paragraph(array.description),
-        notes=_paragraph(array.notes),
+        description=md.paragraph(array.description),
+        notes=md.paragraph(array.notes),
         members=tuple(rows),
         details=tuple(details),
-        element_header=(Md("n"), Md("Element"), Md("Parameters"), *(_code(m.name) for m in array.members)),
+        element_header=(Md("n"), Md("Element"), Md("Parameters"), *(md.code(m.name) for m in array.members)),
         elements=tuple(elements),
     )
 
@@ -357,20 +342,20 @@ def _array_quick_rows(ctx: Context, array: ArrayDef) -> list[QuickRow]:
         first = ctx.device.register(f"{array.name}_{array.first_index}_{m.name}")
         last = ctx.device.register(f"{array.name}_{array.last_index}_{m.name}")
         hex_formula, dec_formula = _formula(array, first.address)
-        params = f"{first.param} … {last.param}" if first.param and last.param else DASH
-        name = _link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), _anchor("array", array.name))
+        params = f"{first.param} … {last.param}" if first.param and last.param else md.DASH
+        name = md.link(Md(f"`{DocId(array.name)}_<n>_{DocId(m.name)}`"), md.anchor("array", array.name))
         out.append(_quick_row(ctx, first, params, Md(f"`{hex_formula}` ({dec_formula})"), name))
     return out
 
 
-def _group_view(ctx: Context, group: Group) -> GroupView:
+def group_view(ctx: Context, group: Group) -> GroupView:
     arrays = {a.name: a for a in group.arrays}
     quick: list[QuickRow] = []
     items: list[RegisterView | ArrayView] = []
     done: set[str] = set()
     for reg in group.registers:
         if reg.array is None:
-            quick.append(_quick_row(ctx, reg, reg.param or DASH, Md(_addresses(reg)), _link(_code(reg.name), DocId(reg.name))))
+            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(_addresses(reg)), md.link(md.code(reg.name), DocId(reg.name))))
             items.append(_register_view(ctx, reg))
         elif reg.array.array not in done:
             done.add(reg.array.array)
@@ -379,11 +364,11 @@ def _group_view(ctx: Context, group: Group) -> GroupView:
             items.append(_array_view(ctx, array))
     zh = f" ({md_text(group.title_zh)})" if group.title_zh else ""
     return GroupView(
-        anchor=_anchor("group", group.id),
-        ref_anchor=_anchor("ref", group.id),
-        heading=Md(f"{md_text(group.title)}{zh} — group {_code(group.id)}"),
-        description=_paragraph(group.description),
-        source=_sources(group.source),
+        anchor=md.anchor("group", group.id),
+        ref_anchor=md.anchor("ref", group.id),
+        heading=Md(f"{md_text(group.title)}{zh} — group {md.code(group.id)}"),
+        description=md.paragraph(group.description),
+        source=md.sources(group.source),
         shared=_group_facts(ctx, group),
         quick=tuple(quick),
         items=tuple(items),

@@ -1,12 +1,16 @@
 """Markdown text types and helpers: validated identifiers (`DocId`), assembled Markdown (`Md`),
-escaping, links, anchors and the spelling of numbers in the docs."""
+escaping, links, anchors and the spelling of numbers in the docs.
+
+The views use it as one module (`from regmap.backends.markdown import text as md`: `md.code(name)`,
+`md.link(...)`, `md.escaped(text)`), so the helpers a view needs are not an import list to keep in step.
+"""
 
 from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Sequence
 
-from regmap.backends.text import number
+from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import EnumType, Register
 from regmap.render import md_text
@@ -32,67 +36,67 @@ class Md(str):
     """Markdown a view assembled from escaped map text and validated identifiers: printed as is."""
 
 
-def _md(text: str | None) -> Md:
+def escaped(text: str | None) -> Md:
     return Md(md_text(text))
 
 
-def _code(name: str) -> Md:
+def code(name: str) -> Md:
     return Md(f"`{DocId(name)}`")
 
 
-def _link(label: str, anchor: str, page: str = "") -> Md:
+def link(label: str, anchor: str, page: str = "") -> Md:
     return Md(f"[{label}]({page}#{anchor})")
 
 
-def _anchor(prefix: str, *names: str) -> str:
+def anchor(prefix: str, *names: str) -> str:
     return "-".join([prefix, *(DocId(n) for n in names)])
 
 
 _BLOCK_START = re.compile(r"^(?:[#>+\-]|\d+[.)])")
 
 
-def _paragraph(text: str | None) -> Md:
+def paragraph(text: str | None) -> Md:
     """Escaped text that stays one paragraph: a leading `#`, `>`, `-`, `+`, `1.` or `~~~` would start
     a block (`md_text` already folds the text onto one line and escapes everything inline)."""
-    escaped = md_text(text)
-    match = _BLOCK_START.match(escaped)
+    inline = md_text(text)
+    match = _BLOCK_START.match(inline)
     if match:
         marker = match.group(0)
-        escaped = (marker[:-1] + "\\" + marker[-1] if marker[0].isdigit() else "\\" + marker) + escaped[len(marker) :]
-    elif escaped.startswith("~"):
-        escaped = "&#126;" + escaped[1:]
-    return Md(escaped)
+        inline = (marker[:-1] + "\\" + marker[-1] if marker[0].isdigit() else "\\" + marker) + inline[len(marker) :]
+    elif inline.startswith("~"):
+        inline = "&#126;" + inline[1:]
+    return Md(inline)
 
 
-def _html_comment(line: str) -> str:
+def html_comment(line: str) -> str:
     """A header line that cannot end the HTML comment it sits in."""
     return line.replace("--", "- -").replace(">", "&gt;")
 
 
-def _sources(source: Sequence[str]) -> str:
+def sources(source: Sequence[str]) -> str:
     return ", ".join(source) if source else DASH
 
 
-def _join(parts: Iterable[str], sep: str = ", ") -> Md:
+def join(parts: Iterable[str], sep: str = ", ") -> Md:
     return Md(sep.join(parts))
 
 
 # ---------------------------------------------------------------------------------------------- numbers
 
 
-def _hex(value: int, words: int = 1) -> str:
+def hex_value(value: int, words: int = 1) -> str:
     return f"0x{value:0{4 * words}X}"
 
 
-def _address(address: int) -> Md:
-    return Md(f"`{_hex(address)}`")
+def address(value: int) -> Md:
+    return Md(f"`{hex_value(value)}`")
 
 
-def _unit_suffix(reg: Register) -> Md:
+def unit_suffix(reg: Register) -> Md:
     return Md(f" {md_text(reg.unit)}") if reg.unit else Md("")
 
 
-def _raw_literal(reg: Register, raw: int | float | str) -> str:
+def raw_literal(reg: Register, raw: int | float | str) -> str:
     """Bit words read best in hex, integers in decimal, floats as the docs print numbers, text quoted
     (and escaped: it came from a frame or a map)."""
     if isinstance(raw, str):
@@ -100,32 +104,32 @@ def _raw_literal(reg: Register, raw: int | float | str) -> str:
     if isinstance(raw, float):
         return number(raw)
     if reg.bitfields and raw >= 0:
-        return _hex(raw, reg.words)
+        return hex_value(raw, reg.words)
     return str(raw)
 
 
-def _enum_label(e: EnumType, raw: int) -> Md | None:
+def enum_label(e: EnumType, raw: int) -> Md | None:
     member = e.by_value(raw)
-    return None if member is None else _code(member.name)
+    return None if member is None else code(member.name)
 
 
 # ---------------------------------------------------------------------------------------------- links
 
 
 def _reg_anchor(reg: Register) -> str:
-    return _anchor("array", reg.array.array) if reg.array is not None else DocId(reg.name)
+    return anchor("array", reg.array.array) if reg.array is not None else DocId(reg.name)
 
 
-def _reg_link(reg: Register, *, param: bool = True) -> Md:
-    label = _link(_code(reg.name), _reg_anchor(reg))
+def reg_link(reg: Register, *, param: bool = True) -> Md:
+    label = link(code(reg.name), _reg_anchor(reg))
     if param and reg.param:
         return Md(f"{label} ({md_text(reg.param)})")
     return label
 
 
-def _errata_links(ids: Iterable[str]) -> Md:
+def errata_links(ids: Iterable[str]) -> Md:
     unique: list[str] = []
     for i in ids:
         if i not in unique:
             unique.append(i)
-    return _join(_link(md_text(i), _anchor("erratum", i)) for i in unique)
+    return join(link(md_text(i), anchor("erratum", i)) for i in unique)

@@ -7,10 +7,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import ClassVar
 
-from regmap.backends.markdown.text import DocId, Md, _anchor, _code, _join, _link
+from regmap.backends.markdown import text as md
+from regmap.backends.markdown.text import DocId, Md
 from regmap.backends.markdown.wire import uses
+from regmap.core.decoding import RegisterSpecs
 from regmap.model import Device
-from regmap.tools.selectors import Registers
 
 
 @dataclass(frozen=True)
@@ -256,7 +257,7 @@ class Context:
     def __init__(self, device: Device) -> None:
         self.device = device
         self.uses = uses(device)
-        self.registers = Registers(device)
+        self.registers = RegisterSpecs(device)
         self.examples_by_register: dict[str, list[str]] = {}
         self.responses: dict[str, list[str]] = {}
         self.enum_users: dict[str, list[Md]] = {}
@@ -269,9 +270,9 @@ class Context:
         for reg in device.registers:
             owner = reg.array.array + "." + reg.array.member if reg.array else reg.name
             label = (
-                Md(f"{_link(_code(reg.array.array), _anchor('array', reg.array.array))} member {_code(reg.array.member)}")
+                Md(f"{md.link(md.code(reg.array.array), md.anchor('array', reg.array.array))} member {md.code(reg.array.member)}")
                 if reg.array
-                else _link(_code(reg.name), DocId(reg.name))
+                else md.link(md.code(reg.name), DocId(reg.name))
             )
             if reg.enum is not None and (reg.enum.name, owner) not in seen:
                 seen.add((reg.enum.name, owner))
@@ -279,7 +280,7 @@ class Context:
             for b in reg.bitfields:
                 if b.enum is not None and (b.enum.name, owner + ":" + b.name) not in seen:
                     seen.add((b.enum.name, owner + ":" + b.name))
-                    self.enum_users[b.enum.name].append(Md(f"{label} bits {b.bits_text} ({_code(b.name)})"))
+                    self.enum_users[b.enum.name].append(Md(f"{label} bits {b.bits_text} ({md.code(b.name)})"))
 
     def example_links(self, names: Iterable[str]) -> Md:
         ids: list[str] = []
@@ -287,4 +288,4 @@ class Context:
             for ex in self.examples_by_register.get(name, []):
                 if ex not in ids:
                     ids.append(ex)
-        return _join(_link(_code(i), _anchor("example", i)) for i in ids)
+        return md.join(md.link(md.code(i), md.anchor("example", i)) for i in ids)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from regmap.backends.text import number
+from regmap.core.text import number
 from regmap.model import ByteOrder, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space

@@ -15,7 +15,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from regmap.backends.text import eng, titled
+from regmap.core.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder

@@ -22,7 +22,7 @@ from regmap.backends.st.views import (
     owner,
     sentences,
 )
-from regmap.backends.text import eng
+from regmap.core.text import eng
 from regmap.model import Command, Device, Register, WordOrder
 
 

@@ -10,7 +10,7 @@ from typing import Any
 
 from regmap.backends.st.codec import NATURAL, st_type, swapped
 from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_real, st_string
-from regmap.backends.text import number, titled
+from regmap.core.text import number, titled
 from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device

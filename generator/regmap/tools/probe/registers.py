@@ -8,9 +8,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from regmap.core.decoding import describe_value
 from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
-from regmap.tools.decode import describe_value
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS

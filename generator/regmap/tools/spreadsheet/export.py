@@ -1,7 +1,7 @@
 """`regmap export --format csv|xlsx`: one row per register (every field of the JSON contract), and for
 xlsx one sheet each for groups, enums, commands, faults and errata.
 
-The rows are built from `regmap.backends.export` (the JSON contract), so the three formats agree.
+The rows are built from `regmap.core.contract` (the JSON contract), so the three formats agree.
 Output is deterministic: the same map gives the same bytes (the xlsx carries fixed timestamps).
 """
 
@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from regmap.backends.export import export_json, register_json
+from regmap.core.contract import export_json, register_json
 from regmap.model import Device, Register
 
 REGISTER_COLUMNS = (

@@ -1,0 +1,201 @@
+"""Words read from (or written to) a device, named with the map's registers: the decoder `regmap decode`,
+`regmap read` and the manual's annotated frames share.
+
+The words go through the runtime's codec (`words_to_raw`, `raw_to_value`), the same code that
+decodes what the generated clients read. The bit functions (0x01/0x02/0x05/0x0F) carry bits
+(`carried`), a bit response as many as its request asked for (`trim_bits`: the rest of its last
+byte is padding, which must be zero).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from regmap.core.text import BIT_NAMES, number_text
+from regmap.model import Device, Register
+from regmap.runtime_bridge import runtime_specs
+from regmap_runtime.codec import raw_to_value, words_to_raw
+from regmap_runtime.rtu import Frame
+from regmap_runtime.spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, SPACES
+from regmap_runtime.spec import Raw, RegisterSpec
+
+# The Modbus names of the public function codes; the data spaces' codes come from the space table.
+FUNCTION_NAMES = {
+    COIL.read: "read coils",
+    DISCRETE_INPUT.read: "read discrete inputs",
+    HOLDING.read: "read holding registers",
+    INPUT.read: "read input registers",
+    COIL.write_single: "write single coil",
+    HOLDING.write_single: "write single register",
+    0x08: "diagnostics",
+    COIL.write_multiple: "write multiple coils",
+    HOLDING.write_multiple: "write multiple registers",
+    0x17: "read/write multiple registers",
+}
+
+
+def carried(frame: Frame) -> tuple[int, ...]:
+    """The values a frame carries, one per address: register words, or in a bit space its bits."""
+    return frame.bits if frame.space is not None and SPACES[frame.space].bits else frame.words
+
+
+def trim_bits(frame: Frame, count: int) -> Frame:
+    """A bit read response cut to the `count` bits its request asked for. A byte count other than
+    ceil(count/8), or padding bits that are not zero (§6.1, §6.2 pad with zeros), is a problem."""
+    if frame.kind != "read_response" or frame.space is None or not SPACES[frame.space].bits:
+        return frame
+    problems = list(frame.problems)
+    need = (count + 7) // 8
+    if frame.byte_count is not None and frame.byte_count != need:
+        problems.append(f"{count} bits take {need} data byte(s), the byte count says {frame.byte_count}")
+    if any(frame.bits[count:]):
+        problems.append(f"the bits after the last of {count} are not zero (a response pads with zeros)")
+    return dataclasses.replace(frame, bits=frame.bits[:count], problems=tuple(problems))
+
+
+class SpecSource(Protocol):
+    """Anything that gives a register's runtime spec (`RegisterSpecs`, the tools' `Registers`)."""
+
+    def spec(self, reg: Register) -> RegisterSpec[Any]: ...
+
+
+class RegisterSpecs:
+    """Every register's runtime spec by name, built once per device."""
+
+    def __init__(self, device: Device) -> None:
+        self.specs: dict[str, RegisterSpec[Any]] = {s.name: s for s in runtime_specs(device)}
+
+    def spec(self, reg: Register) -> RegisterSpec[Any]:
+        return self.specs[reg.name]
+
+
+def _json_number(value: Any) -> Any:
+    """JSON has no NaN or infinity: a float that is not finite becomes null (its text still says it)."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+@dataclass
+class DecodedValue:
+    address: int
+    register: str | None
+    param: str | None
+    raw: Raw | None  # an integer, a float, text, or 0/1 for a bit
+    words: list[int]  # register words, or for a coil or discrete input its one bit
+    value: Any = None  # engineering value: number, enum member name, text, True/False
+    unit: str | None = None
+    text: str = ""
+    in_range: bool = True
+    fields: dict[str, Any] | None = None  # a bitfield register's fields (enum fields by member name)
+    space: str = DEFAULT_SPACE
+
+    def as_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "address": self.address,
+            "address_hex": f"0x{self.address:04X}",
+            "space": self.space,
+            "register": self.register,
+            "param": self.param,
+            "words": self.words,
+            "raw": _json_number(self.raw),
+            "value": _json_number(self.value),
+            "unit": self.unit,
+            "text": self.text,
+            "in_range": self.in_range,
+        }
+        if self.fields is not None:
+            out["fields"] = self.fields
+        return out
+
+
+def _eng_text(reg: Register, spec: RegisterSpec[Any], raw: int | float) -> str:
+    number = raw_to_value(spec, raw)
+    return number_text(number, None if reg.scaled or reg.offset_set else reg.type.value)
+
+
+def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | None = None) -> tuple[Any, str, bool, dict[str, Any] | None]:
+    """Engineering value, a human text (`2.2 A`, `save_ok (0x5555)`, `fault=0 enabled=1 ...`, `"PM-3000"`,
+    `on`), whether the map's range and enum admit it, and a bitfield register's fields."""
+    regs = regs or RegisterSpecs(device)
+    spec = regs.spec(reg)
+    if isinstance(raw, str):
+        readable = "\ufffd" not in raw
+        quoted = '"' + raw.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return raw, quoted + ("" if readable else f"  [NOT valid {reg.encoding}: unreadable bytes shown as U+FFFD]"), readable, None
+    if reg.type.is_bool:
+        return bool(raw), BIT_NAMES[1 if raw else 0], True, None
+    if isinstance(raw, float) and math.isnan(raw):
+        return raw, "NaN  [NOT a number: no value the map admits]", False, None
+    in_range = reg.raw_min <= raw <= reg.raw_max
+    outside = "" if in_range else f"  [OUTSIDE the map's range {_eng_text(reg, spec, reg.raw_min)}..{_eng_text(reg, spec, reg.raw_max)}]"
+    if reg.bitfields and isinstance(raw, int):
+        parts = []
+        fields: dict[str, Any] = {}
+        for b in reg.bitfields:
+            field_value = (raw & b.mask) >> b.lsb
+            member = b.enum.by_value(field_value) if b.enum else None
+            if b.enum is not None and member is None:
+                in_range = False
+            shown: Any = member.name if member else field_value
+            fields[b.name] = shown
+            parts.append(f"{b.name}={shown}")
+        return raw, f"0x{raw:04X}: " + " ".join(parts) + outside, in_range, fields
+    if reg.enum is not None and isinstance(raw, int):
+        member = reg.enum.by_value(raw)
+        if member is None:
+            return raw, f"{raw} = 0x{raw & 0xFFFFFFFF:X}  [NOT a value of {reg.enum.name}]", False, None
+        return member.name, f"{member.name} ({raw} = 0x{raw & 0xFFFFFFFF:X})" + outside, in_range, None
+    number = raw_to_value(spec, raw)
+    unit = f" {reg.unit}" if reg.unit else ""
+    scaled = reg.scaled or reg.offset_set
+    shown_number = number_text(number, None if scaled else reg.type.value)
+    raw_text = f" (raw {number_text(raw, reg.type.value)})" if scaled else ""
+    return number, f"{shown_number}{unit}" + raw_text + outside, in_range, None
+
+
+def decode_words(
+    device: Device, start: int, words: Sequence[int], *, word_order: str | None = None, space: str = DEFAULT_SPACE
+) -> list[DecodedValue]:
+    """Split words read from (or written to) `start` of `space` into the registers they carry
+    (for coils and discrete inputs: bits, one per address)."""
+    out: list[DecodedValue] = []
+    regs = RegisterSpecs(device)
+    address = start
+    end = start + len(words)
+    bits = SPACES[space].bits
+
+    def one(text: str, reg: Register | None = None) -> None:
+        word = words[address - start]
+        shown = str(word) if bits else f"0x{word:04X}"
+        name, param = (reg.name, reg.param) if reg is not None else (None, None)
+        out.append(DecodedValue(address, name, param, None, [word], text=f"{shown}, {text}", space=space))
+
+    while address < end:
+        reg = device.covering(address, space)
+        if reg is None:
+            one("not documented in the map" if space == DEFAULT_SPACE else f"not documented in the map's {SPACES[space].title}")
+            address += 1
+            continue
+        if reg.paired and address == reg.first_address:
+            one(f"the unused high word of {reg.label}", reg)
+            address += 1
+            continue
+        own = list(range(reg.address, reg.last_address + 1))
+        if own[0] < start or own[-1] >= end:
+            one(f"part of {reg.label} (not all of its words are here)", reg)
+            address += 1
+            continue
+        own_words = [words[a - start] for a in own]
+        try:
+            raw = words_to_raw(regs.spec(reg).in_word_order(word_order), own_words)
+        except ValueError as exc:  # a bit that is neither 0 nor 1: the frame is wrong, not the decoder
+            one(f"not a value of {reg.label} ({exc})", reg)
+            address = reg.last_address + 1
+            continue
+        value, text, in_range, fields = describe_value(device, reg, raw, regs)
+        out.append(DecodedValue(reg.address, reg.name, reg.param, raw, own_words, value, reg.unit, text, in_range, fields, space))
+        address = reg.last_address + 1
+    return out

@@ -1,0 +1,113 @@
+"""Plain-text spellings back ends and tools share: a title with its Chinese title, numbers, engineering
+values, articles.
+
+Each back end escapes the result for its own target (`py_doc`, `c_comment`, `md_text`) and keeps its
+own spelling where the targets truly differ (C number literals, the manual-section sentence ...).
+Two spellings of a number exist on purpose: the documents print 10 significant digits (`number`),
+the field tools print every digit a value has (`number_text`, `eng(..., every_digit=True)`).
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+from fractions import Fraction
+
+from regmap.model import Register
+from regmap_runtime.spaces import SPACES
+
+BIT_NAMES = {0: "off", 1: "on"}
+
+
+def titled(title: str, title_zh: str | None) -> str:
+    """`Peak current (峰值电流)`: the manual's title, with the Chinese one when the map gives it."""
+    return f"{title} ({title_zh})" if title_zh else title
+
+
+def article(noun: str) -> str:
+    """`an input register`, `a coil`."""
+    return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
+
+
+def space_label(space: str) -> str:
+    """`coil`, `input register`: how a message names one address of a space (its title, singular)."""
+    return SPACES[space].title.removesuffix("s")
+
+
+def number(value: Fraction | int | float) -> str:
+    """A number as the docs and comments print it: integers exactly, anything else to 10 significant digits
+    (an exact decimal of more digits in full)."""
+    if isinstance(value, Fraction) and value.denominator == 1:
+        return str(value.numerator)
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, Fraction):
+        exact = exact_decimal(value) or ""
+        if len(exact.lstrip("-0").replace(".", "")) > 10:
+            return exact  # an exact decimal of more digits than 10 (a counter x 0.001): 123456789.012, not 123456789
+    return f"{float(value):.10g}"
+
+
+def number_text(value: int | float, data_type: str | None = None) -> str:
+    """A number as people write it: integers as they are, floats in the fewest digits that give the
+    same value back (an f32 in the fewest that give the same 32 bits: 0.1, not 0.10000000149011612)."""
+    if not isinstance(value, float):
+        return str(value)
+    if not math.isfinite(value):
+        return str(value)
+    text = repr(value)
+    if data_type == "f32":
+        bits = struct.pack(">f", value)
+        for digits in range(1, 10):
+            short = f"{value:.{digits}g}"
+            try:
+                same = struct.pack(">f", float(short)) == bits
+            except OverflowError:  # rounded past float32's largest value
+                continue
+            if same:
+                text = repr(float(short))
+                break
+    if "e" in text:
+        mantissa, _, exponent = text.partition("e")
+        return f"{mantissa}e{int(exponent)}"
+    return text[:-2] if text.endswith(".0") else text
+
+
+def exact_decimal(value: Fraction) -> str | None:
+    """`18446744073709551.615`: a fraction written exactly in decimals, or None when no finite decimal
+    writes it (1/3)."""
+    places = _decimal_places(value.denominator)
+    if places is None:
+        return None
+    digits = str(abs(value.numerator * 10**places // value.denominator)).rjust(places + 1, "0")
+    sign = "-" if value < 0 else ""
+    return sign + (f"{digits[:-places]}.{digits[-places:]}" if places else digits)
+
+
+def _decimal_places(denominator: int) -> int | None:
+    """How many decimals write 1/denominator exactly (2**a * 5**b needs max(a, b)), or None when no finite decimal does."""
+    twos = fives = 0
+    while denominator % 2 == 0:
+        denominator, twos = denominator // 2, twos + 1
+    while denominator % 5 == 0:
+        denominator, fives = denominator // 5, fives + 1
+    return max(twos, fives) if denominator == 1 else None
+
+
+def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> str:
+    """The engineering value of a raw register value (raw x scale + offset); text as a quoted
+    string, a coil as on/off. A float raw is scaled as a float (it is no exact fraction).
+
+    The documents round to 10 significant digits; `every_digit` (the field tools) prints an exact
+    decimal in full, and a float in the fewest digits that give it back."""
+    if isinstance(raw, str):
+        return '"' + raw + '"'
+    if reg.type.is_bool:
+        return BIT_NAMES[1 if raw else 0]
+    if not every_digit:
+        return number(raw * float(reg.scale) + float(reg.offset) if isinstance(raw, float) else raw * reg.scale + reg.offset)
+    if isinstance(raw, float):
+        scaled = reg.scaled or reg.offset_set
+        return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)
+    exact = Fraction(raw) * reg.scale + reg.offset
+    return exact_decimal(exact) or number_text(float(exact))
