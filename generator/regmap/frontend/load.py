@@ -1,4 +1,4 @@
-"""Map file -> `Device`: safe YAML, JSON Schema, semantic checks, elaboration.
+"""Map file -> `Device`: safe YAML, JSON Schema, elaboration, cross-reference checks, each a stage of its own.
 
 Every problem in a file is collected (errors are values here) and raised together as one
 `MapError`, each as `file:line:col: message`.
@@ -10,12 +10,12 @@ import hashlib
 from pathlib import Path as FsPath
 
 from regmap.diagnostics import Diagnostic, MapError
-from regmap.frontend.elaborate import _Elaborator
+from regmap.frontend.crossrefs import check_references
+from regmap.frontend.elaborate import elaborate
 from regmap.frontend.schema import _kind, _schema_problems
+from regmap.frontend.stages import MapSource
 from regmap.frontend.yamlsource import YamlProblem, read_yaml
-from regmap.model import (
-    Device,
-)
+from regmap.model import Device
 
 MAX_MAP_BYTES = 8 * 1024 * 1024
 
@@ -59,4 +59,4 @@ def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Devic
     problems = _schema_problems(raw, positions, name)
     if problems:
         raise MapError(problems)
-    return _Elaborator(raw, positions, name, fingerprint).run()
+    return check_references(elaborate(MapSource(raw, positions, name, fingerprint)))
