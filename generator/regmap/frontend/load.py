@@ -47,8 +47,14 @@ def load_map_bytes(data: bytes, name: str) -> Device:
 
 
 def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Device:
+    """The stages in turn: YAML and schema, elaboration, cross-reference checks; raises MapError listing every problem."""
     if fingerprint is None:
         fingerprint = hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+    return check_references(elaborate(read_source(text, name, fingerprint)))
+
+
+def read_source(text: str, name: str, fingerprint: str) -> MapSource:
+    """The YAML and schema stages: the map's data with its positions, or a MapError."""
     try:
         raw, positions = read_yaml(text)
     except YamlProblem as exc:
@@ -59,4 +65,4 @@ def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Devic
     problems = _schema_problems(raw, positions, name)
     if problems:
         raise MapError(problems)
-    return check_references(elaborate(MapSource(raw, positions, name, fingerprint)))
+    return MapSource(raw, positions, name, fingerprint)
