@@ -1,8 +1,9 @@
 """What one front-end stage hands the next, and the problem list each stage keeps.
 
 yamlsource + schema -> `MapSource` -> elaborate -> `Elaborated` -> crossrefs -> `model.Device`.
-A stage never stops at its first problem: it hands its problems on with its result, and the last
-stage raises them all together as one `MapError`.
+A map the YAML or schema stage refuses goes no further (elaboration relies on its structure). After
+that no stage stops at its first problem: elaboration hands its problems on with its result, and the
+cross-reference stage raises them with its own as one `MapError`.
 """
 
 from __future__ import annotations
