@@ -6,6 +6,7 @@ import re
 import string
 from typing import Any
 
+from regmap.core.text import article
 from regmap.frontend.stages import Elaborated, MapSource, Problems
 from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source
 from regmap.frontend.yamlsource import Path
@@ -29,13 +30,6 @@ from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 from regmap_runtime.spec import parse_version
 
 GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its registers inherit
-
-
-def _article(word: str) -> str:
-    """`an f32`, `an s16`, `a u16`, `a string`: as the type's name is read aloud."""
-    if word[1:2].isdigit():  # f32, s16, u64: the letter is read by its name ("ef", "ess", "you")
-        return "an" if word[:1] in "fs" else "a"
-    return "an" if word[:1] in "aeiou" else "a"
 
 
 def elaborate(source: MapSource) -> Elaborated:
@@ -340,7 +334,7 @@ class _Elaboration:
         inherited = self._defaults_keys(path)
         for key, (refused, needs) in not_for.items():
             if refused and key in r and key not in inherited and r[key] is not None:
-                what = f"a {space.name.replace('_', ' ')}" if space.bits else f"{_article(dtype.value)} {dtype.value} register"
+                what = f"a {space.name.replace('_', ' ')}" if space.bits else article(f"{dtype.value} register")
                 self.problems.add((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
 
     def _words(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> int:
