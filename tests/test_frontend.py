@@ -16,7 +16,10 @@ from regmap.cli import main
 from regmap.core.contract import export_json
 from regmap.diagnostics import Diagnostic, MapError
 from regmap.frontend import load_map, load_map_text
-from regmap.frontend.load import MAX_MAP_BYTES, load_map_bytes
+from regmap.frontend.crossrefs import check_references
+from regmap.frontend.elaborate import elaborate
+from regmap.frontend.load import MAX_MAP_BYTES, load_map_bytes, read_source
+from regmap.frontend.stages import MapSource
 from regmap.frontend.yamlsource import MAX_DEPTH, MAX_INT_CHARS, MAX_NODES, YamlProblem, read_yaml
 from regmap.model import Access, DataType, Device, WordOrder
 
@@ -310,6 +313,64 @@ def test_every_problem_is_reported_in_one_run() -> None:
         "peak_current: default 22 is outside min..max (0..8)",
         "example read_current_req: CRC D4 1C does not match the frame (expected D4 1B); fix the transcription or declare an erratum",
     ]
+
+
+# -- the stages and their hand-over ------------------------------------------------------------------
+
+
+PEAK_CURRENT_TOO_LOW = ("max: 80, default: 22", "max: 8, default: 22")  # an elaboration problem
+EXAMPLE_CRC_WRONG = ("D4 1B", "D4 1C")  # a cross-reference problem
+
+
+def source_of(text: str) -> MapSource:
+    return read_source(text, "m.yaml", "0" * 16)
+
+
+def test_the_stages_in_turn_build_what_load_map_text_builds() -> None:
+    elaborated = elaborate(source_of(small_text()))
+    assert elaborated.problems == ()
+    assert check_references(elaborated) == load_map_text(small_text(), "m.yaml", fingerprint="0" * 16)
+
+
+def test_elaboration_locates_every_register_it_builds() -> None:
+    source = source_of(small_text())
+    elaborated = elaborate(source)
+    assert len(elaborated.registers) == len(elaborated.register_paths) > 0
+    for register, path in zip(elaborated.registers, elaborated.register_paths, strict=True):
+        assert register.pos == source.positions.locate(path)
+    declared = [r.name for g in elaborated.groups for r in g.registers]
+    assert declared == [r.name for r in elaborated.registers]  # in declaration order, not yet sorted by address
+
+
+def test_elaboration_hands_its_problems_over_instead_of_raising() -> None:
+    text = small_text().replace(*PEAK_CURRENT_TOO_LOW)
+    elaborated = elaborate(source_of(text))
+    line = next(n for n, row in enumerate(text.splitlines(), 1) if "name: peak_current" in row)
+    assert [(d.line, d.message) for d in elaborated.problems] == [(line, "peak_current: default 22 is outside min..max (0..8)")]
+
+
+def test_the_cross_reference_stage_refuses_a_map_whose_elaboration_found_problems() -> None:
+    elaborated = elaborate(source_of(small_text().replace(*PEAK_CURRENT_TOO_LOW)))
+    with pytest.raises(MapError) as info:
+        check_references(elaborated)
+    assert info.value.diagnostics == list(elaborated.problems)
+
+
+def test_the_cross_reference_stage_adds_its_problems_to_the_elaborations() -> None:
+    elaborated = elaborate(source_of(small_text().replace(*PEAK_CURRENT_TOO_LOW).replace(*EXAMPLE_CRC_WRONG)))
+    with pytest.raises(MapError) as info:
+        check_references(elaborated)
+    found = info.value.diagnostics
+    assert set(elaborated.problems) < set(found)
+    assert [d.message for d in found if d not in elaborated.problems] == [
+        "example read_current_req: CRC D4 1C does not match the frame (expected D4 1B); fix the transcription or declare an erratum"
+    ]
+
+
+def test_the_schema_stage_refuses_before_elaboration() -> None:
+    with pytest.raises(MapError) as info:
+        source_of(small_text().replace("  max_read_registers:", "  max_read_register:"))
+    assert any("unknown key 'max_read_register'" in d.message for d in info.value.diagnostics)
 
 
 # -- JSON export contract ------------------------------------------------------------------------------------

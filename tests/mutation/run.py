@@ -69,8 +69,15 @@ def _regenerate(scratch: Path) -> bool:
 
 
 def main(argv: list[str]) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="tests/mutation/run.py", description=__doc__.split("\n\n")[0])
+    parser.add_argument("ids", nargs="*", metavar="ID", help="the mutants to run (default: all of tests/mutation/mutants.yaml)")
+    wanted = set(parser.parse_args(argv).ids)
     mutants = load()
-    wanted = set(argv)
+    unknown = wanted - {m.id for m in mutants}
+    if unknown:
+        parser.error(f"no mutant named {', '.join(sorted(unknown))}")
     if wanted:
         mutants = [m for m in mutants if m.id in wanted]
     with tempfile.TemporaryDirectory(prefix="regmap-mutate-") as tmp:

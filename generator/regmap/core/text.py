@@ -25,7 +25,9 @@ def titled(title: str, title_zh: str | None) -> str:
 
 
 def article(noun: str) -> str:
-    """`an input register`, `a coil`."""
+    """`an input register`, `a coil`, `an f32 register`, `a u16 register`: as the noun is read aloud."""
+    if noun[1:2].isdigit():  # f32, s16, u64: the letter is read by its name ("ef", "ess", "you")
+        return f"{'an' if noun[:1] in 'aefhilmnorsx' else 'a'} {noun}"
     return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
 
 

@@ -1,17 +1,21 @@
-"""The cross-reference pass: uniqueness, overlaps, and what refers to registers (transport, commands, faults, errata, examples)."""
+"""The cross-reference stage: uniqueness, overlaps, and what refers to registers (transport, commands, faults, errata,
+examples), checked on the elaborated objects; its result is the one frozen `Device`."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 from typing import Any
 
-from regmap.frontend.values import _source, _Walk
+from regmap.frontend.stages import Elaborated, Problems
+from regmap.frontend.values import _source
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
     BadCrc,
     Command,
     CommandArgument,
     CommandEffect,
+    Device,
+    DeviceInfo,
     Erratum,
     Example,
     ExampleValue,
@@ -29,7 +33,67 @@ from regmap_runtime.rtu import FrameError, crc_bytes, crc_ok, parse_hex, to_hex
 from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 
 
-class _References(_Walk):
+def check_references(elaborated: Elaborated) -> Device:
+    """The frozen device, or a MapError with the elaboration's problems and these together."""
+    return _CrossReferences(elaborated).run()
+
+
+class _CrossReferences:
+    def __init__(self, elaborated: Elaborated) -> None:
+        self.elaborated = elaborated
+        self.raw = elaborated.source.raw
+        self.positions = elaborated.source.positions
+        self.problems = Problems(elaborated.source, elaborated.problems)
+        self.registers = list(elaborated.registers)  # errata are added to them here
+        self.register_paths = elaborated.register_paths
+
+    def run(self) -> Device:
+        raw = self.raw
+        self._check_unique_groups_and_arrays()
+        self._check_unique_registers()
+        self._check_overlaps()
+        errata = self._errata(raw.get("errata", []), self._selector_index())
+        final = {r.name: r for r in self.registers}
+        groups = tuple(replace(g, registers=tuple(final[r.name] for r in g.registers)) for g in self.elaborated.groups)
+        by_selector = self._selector_index()
+        transport = self._transport(raw["transport"], by_selector)
+        commands = self._commands(raw.get("commands", []), by_selector)
+        faults = self._faults(raw.get("faults", []))
+        examples = self._examples(raw.get("examples", []), by_selector, {e.id for e in errata})
+        self.problems.raise_any()
+        info = replace(self._device_info(raw["device"]), firmware_register=self._firmware_register(raw["device"], by_selector))
+        self.problems.raise_any()
+        return Device(
+            info=info,
+            transport=transport,
+            groups=groups,
+            enums=tuple(self.elaborated.enums.values()),
+            commands=commands,
+            faults=faults,
+            examples=examples,
+            errata=errata,
+            source_path=self.elaborated.source.name,
+            fingerprint=self.elaborated.source.fingerprint,
+            registers=tuple(sorted(self.registers, key=lambda r: (r.address, r.name))),
+        )
+
+    def _device_info(self, d: dict[str, Any]) -> DeviceInfo:
+        manual = d["manual"]
+        return DeviceInfo(
+            id=d["id"],
+            vendor=d["vendor"],
+            vendor_zh=d.get("vendor_zh"),
+            model=d["model"],
+            description=d.get("description", ""),
+            manual_title=manual["title"],
+            manual_version=manual.get("version"),
+            manual_file=manual["file"],
+            manual_language=manual.get("language"),
+            firmware=d.get("firmware"),
+            map_version=d["map_version"],
+            id_pos=self.positions.locate(("device", "id")),
+        )
+
     def _check_unique_groups_and_arrays(self) -> None:
         """Group ids and array names name things in generated code, so each must be unique."""
         first: dict[tuple[str, str], Path] = {}
@@ -41,7 +105,7 @@ class _References(_Walk):
             for what, value, path in keyed:
                 seen = first.setdefault((what, value), path)
                 if seen != path:
-                    self.problem(path, f"duplicate {what} {value!r} (first declared on line {self.positions.locate(seen)[0]})")
+                    self.problems.add(path, f"duplicate {what} {value!r} (first declared on line {self.positions.locate(seen)[0]})")
 
     def _check_unique_registers(self) -> None:
         """Report each repeat where it is declared, naming the line of the first; an array member once, not per element."""
@@ -54,12 +118,12 @@ class _References(_Walk):
                 names[reg.name] = path
             elif (path, first) not in reported:
                 reported.add((path, first))
-                self.problem(path, f"duplicate register name {reg.name!r} (first declared on line {self.positions.locate(first)[0]})")
+                self.problems.add(path, f"duplicate register name {reg.name!r} (first declared on line {self.positions.locate(first)[0]})")
             if reg.param is not None:
                 other, other_path = params.setdefault(reg.param, (reg, path))
                 if other.name != reg.name and (path, other_path) not in reported:
                     reported.add((path, other_path))
-                    self.problem(
+                    self.problems.add(
                         (*path, "param"),
                         f"{reg.name}: parameter id {reg.param} is already used by {other.name} (line {self.positions.locate(other_path)[0]})",
                     )
@@ -75,7 +139,7 @@ class _References(_Walk):
                 other, other_path = owner.setdefault((reg.space, address), (reg, path))
                 if other.name != reg.name and (other_path, path) not in reported:
                     reported.add((other_path, path))
-                    self.problem(
+                    self.problems.add(
                         (*path, "address"),
                         f"{reg.name} (0x{reg.first_address:04X}..0x{reg.last_address:04X}) overlaps {other.name} (0x{other.first_address:04X}..0x{other.last_address:04X}) at 0x{address:04X}",
                     )
@@ -92,7 +156,7 @@ class _References(_Walk):
     def _ref(self, selector: str, by_selector: dict[str, Register], path: Path, what: str) -> Register | None:
         reg = by_selector.get(selector)
         if reg is None:
-            self.problem(path, f"{what}: unknown register {selector!r}")
+            self.problems.add(path, f"{what}: unknown register {selector!r}")
         return reg
 
     # -- transport ---------------------------------------------------------------------------
@@ -102,10 +166,10 @@ class _References(_Walk):
         serial = t["serial"]
         rates = tuple(serial.get("baud_rates", ()))
         if rates and serial["baud"] not in rates:
-            self.problem((*path, "serial", "baud"), f"default baud {serial['baud']} is not among baud_rates {list(rates)}")
+            self.problems.add((*path, "serial", "baud"), f"default baud {serial['baud']} is not among baud_rates {list(rates)}")
         ids = t["slave_ids"]
         if ids["min"] > ids["max"]:
-            self.problem((*path, "slave_ids", "min"), f"slave id min {ids['min']} is greater than max {ids['max']}")
+            self.problems.add((*path, "slave_ids", "min"), f"slave id min {ids['min']} is greater than max {ids['max']}")
         word_order_register = None
         if "word_order_register" in t:
             w = t["word_order_register"]
@@ -113,26 +177,26 @@ class _References(_Walk):
             if reg is not None:
                 word_order_register = WordOrderRegister(register=reg, high_first=w["high_first"], low_first=w["low_first"])
                 if reg.default is not None and reg.default not in (w["high_first"], w["low_first"]):
-                    self.problem(
+                    self.problems.add(
                         (*path, "word_order_register"),
                         f"word_order_register: the default {reg.default} of {reg.name} is neither the high_first value {w['high_first']} nor the low_first value {w['low_first']}",
                     )
                 elif reg.default is not None:
                     configured = "high_first" if reg.default == w["high_first"] else "low_first"
                     if configured != t["word_order"]:
-                        self.problem(
+                        self.problems.add(
                             (*path, "word_order"),
                             f"word_order {t['word_order']} disagrees with the default of {reg.name} ({reg.default} = {configured})",
                         )
         max_bytes = t.get("max_message_bytes")
         if max_bytes is not None:
             if 5 + 2 * t["max_read_registers"] > max_bytes:
-                self.problem(
+                self.problems.add(
                     (*path, "max_read_registers"),
                     f"a read response of {t['max_read_registers']} registers is {5 + 2 * t['max_read_registers']} bytes, more than max_message_bytes {max_bytes}",
                 )
             if 9 + 2 * t["max_write_registers"] > max_bytes:
-                self.problem(
+                self.problems.add(
                     (*path, "max_write_registers"),
                     f"a write request of {t['max_write_registers']} registers is {9 + 2 * t['max_write_registers']} bytes, more than max_message_bytes {max_bytes}",
                 )
@@ -140,11 +204,11 @@ class _References(_Walk):
         codes = [e["code"] for e in t.get("exceptions", [])]
         for i, code in enumerate(codes):
             if code in codes[:i]:
-                self.problem((*path, "exceptions", i, "code"), f"duplicate exception code 0x{code:02X}")
+                self.problems.add((*path, "exceptions", i, "code"), f"duplicate exception code 0x{code:02X}")
         crc = t.get("bad_crc", {"reply": "silent"})
         if crc["reply"] == "exception" and crc["code"] not in codes:
             listed = ", ".join(f"0x{c:02X}" for c in codes) or "none"
-            self.problem(
+            self.problems.add(
                 (*path, "bad_crc", "code"),
                 f"bad_crc answers exception 0x{crc['code']:02X}, which transport.exceptions does not list (listed: {listed})",
             )
@@ -197,13 +261,13 @@ class _References(_Walk):
                 writers.setdefault(codes, reg)
         for code, reg in sorted(needed.items()):
             if code not in listed:
-                self.problem(
+                self.problems.add(
                     (*path, "function_codes"),
                     f"{reg.name} is in {SPACES[reg.space].title}, which are read with function 0x{code:02X}; function_codes does not list it",
                 )
         for codes, reg in sorted(writers.items()):
             either = " or ".join(f"0x{c:02X}" for c in codes)
-            self.problem(
+            self.problems.add(
                 (*path, "function_codes"),
                 f"{reg.name} is writable (access {reg.access.value}) in {SPACES[reg.space].title}, which are written with {either}; function_codes lists neither",
             )
@@ -211,7 +275,7 @@ class _References(_Walk):
             return
         for key, fixed, what in (("max_read_coils", 5, "a read response"), ("max_write_coils", 9, "a write request")):
             if key in t and fixed + (t[key] + 7) // 8 > max_bytes:
-                self.problem(
+                self.problems.add(
                     (*path, key),
                     f"{what} of {t[key]} coils is {fixed + (t[key] + 7) // 8} bytes, more than max_message_bytes {max_bytes}",
                 )
@@ -226,19 +290,23 @@ class _References(_Walk):
             return None
         form = spec["format"]
         if form == "string" and not reg.type.is_string:
-            self.problem((*path, "format"), f"firmware_register: format string needs a string register; {reg.name} is {reg.type.value}")
+            self.problems.add(
+                (*path, "format"), f"firmware_register: format string needs a string register; {reg.name} is {reg.type.value}"
+            )
         elif form != "string" and reg.type.kind != "int":
-            self.problem((*path, "format"), f"firmware_register: format {form} needs an integer register; {reg.name} is {reg.type.value}")
+            self.problems.add(
+                (*path, "format"), f"firmware_register: format {form} needs an integer register; {reg.name} is {reg.type.value}"
+            )
         elif form == "major_minor" and reg.type.words != 1:
-            self.problem(
+            self.problems.add(
                 (*path, "format"), f"firmware_register: major_minor reads the two bytes of one word; {reg.name} is {reg.type.value}"
             )
         if "decimals" in spec and form != "decimal":
-            self.problem((*path, "decimals"), f"firmware_register: decimals applies to format decimal, not {form}")
+            self.problems.add((*path, "decimals"), f"firmware_register: decimals applies to format decimal, not {form}")
         if not reg.access.readable:
-            self.problem((*path, "register"), f"firmware_register: {reg.name} is write-only")
+            self.problems.add((*path, "register"), f"firmware_register: {reg.name} is write-only")
         if reg.firmware is not None:
-            self.problem((*path, "register"), f"firmware_register: {reg.name} is itself gated by firmware ({reg.firmware.text})")
+            self.problems.add((*path, "register"), f"firmware_register: {reg.name} is itself gated by firmware ({reg.firmware.text})")
         firmware = FirmwareRegister(register=reg, format=form, decimals=spec.get("decimals", 0), source=_source(spec.get("source")))
         self._check_gate_versions(firmware)
         return firmware
@@ -275,7 +343,7 @@ class _References(_Walk):
                     if firmware.decimals and len(numbers) == 2 and len(numbers[1]) < firmware.decimals:
                         padded = numbers[1].ljust(firmware.decimals, "0")
                         hint = f"; write {numbers[0]}.{padded} (as written it means {numbers[0]}.{numbers[1].zfill(firmware.decimals)})"
-                    self.problem(where, f"{reg.name}: firmware {key} {version}: {rule}{hint}")
+                    self.problems.add(where, f"{reg.name}: firmware {key} {version}: {rule}{hint}")
 
     def _gate_owner(self, path: Path) -> Path:
         """Where a register's `firmware` is written: the register (or array member), its array, or its group (or the group's defaults)."""
@@ -304,21 +372,23 @@ class _References(_Walk):
         for i, c in enumerate(specs):
             path: Path = ("commands", i)
             if c["name"] in names:
-                self.problem((*path, "name"), f"duplicate command name {c['name']!r}")
+                self.problems.add((*path, "name"), f"duplicate command name {c['name']!r}")
             names.add(c["name"])
             reg = self._ref(c["register"], by_selector, (*path, "register"), f"command {c['name']}")
             if reg is None:
                 continue
             if not reg.access.writable:
-                self.problem((*path, "register"), f"command {c['name']}: register {reg.name} is read-only")
+                self.problems.add((*path, "register"), f"command {c['name']}: register {reg.name} is read-only")
             value = c["value"]
             if isinstance(value, str):
                 if reg.enum is None:
-                    self.problem((*path, "value"), f"command {c['name']}: register {reg.name} has no enum; give the value as an integer")
+                    self.problems.add(
+                        (*path, "value"), f"command {c['name']}: register {reg.name} has no enum; give the value as an integer"
+                    )
                     continue
                 member = reg.enum.member(value)
                 if member is None:
-                    self.problem(
+                    self.problems.add(
                         (*path, "value"), f"command {c['name']}: {value!r} is not a member of enum {reg.enum.name} (the enum of {reg.name})"
                     )
                     continue
@@ -327,12 +397,16 @@ class _References(_Walk):
             if "argument" in c:
                 arg = c["argument"]
                 if arg["min"] > arg["max"]:
-                    self.problem((*path, "argument"), f"command {c['name']}: argument min {arg['min']} is greater than max {arg['max']}")
+                    self.problems.add(
+                        (*path, "argument"), f"command {c['name']}: argument min {arg['min']} is greater than max {arg['max']}"
+                    )
                 argument = CommandArgument(name=arg["name"], min=arg["min"], max=arg["max"], title=arg.get("title", ""))
             effect = self._effect(c, path, by_selector)
             top = value + (argument.max if argument else 0)
             if not reg.type.raw_min <= value <= reg.type.raw_max or not reg.type.raw_min <= top <= reg.type.raw_max:
-                self.problem((*path, "value"), f"command {c['name']}: value {value} does not fit register {reg.name} ({reg.type.value})")
+                self.problems.add(
+                    (*path, "value"), f"command {c['name']}: value {value} does not fit register {reg.name} ({reg.type.value})"
+                )
             commands.append(
                 Command(
                     name=c["name"],
@@ -357,7 +431,7 @@ class _References(_Walk):
         if "register" in spec:
             target = self._ref(spec["register"], by_selector, (*path, "effect", "register"), f"command {c['name']} effect")
         elif spec["kind"] == "clear":
-            self.problem((*path, "effect"), f"command {c['name']}: a clear effect names the register it clears")
+            self.problems.add((*path, "effect"), f"command {c['name']}: a clear effect names the register it clears")
         return CommandEffect(kind=spec["kind"], register=target, value=spec.get("value", 0), after_read=spec.get("after_read"))
 
     def _faults(self, specs: list[dict[str, Any]]) -> tuple[Fault, ...]:
@@ -367,9 +441,9 @@ class _References(_Walk):
         for i, f in enumerate(specs):
             path: Path = ("faults", i)
             if f["name"] in names:
-                self.problem((*path, "name"), f"duplicate fault name {f['name']!r}")
+                self.problems.add((*path, "name"), f"duplicate fault name {f['name']!r}")
             if f["code"] in codes:
-                self.problem((*path, "code"), f"duplicate fault code {f['code']!r}")
+                self.problems.add((*path, "code"), f"duplicate fault code {f['code']!r}")
             names.add(f["name"])
             codes.add(f["code"])
             faults.append(
@@ -393,7 +467,7 @@ class _References(_Walk):
         for i, e in enumerate(specs):
             path: Path = ("errata", i)
             if e["id"] in ids:
-                self.problem((*path, "id"), f"duplicate erratum id {e['id']!r}")
+                self.problems.add((*path, "id"), f"duplicate erratum id {e['id']!r}")
             ids.add(e["id"])
             names = []
             for j, selector in enumerate(e.get("registers", [])):
@@ -423,7 +497,7 @@ class _References(_Walk):
         for i, x in enumerate(specs):
             path: Path = ("examples", i)
             if x["id"] in ids:
-                self.problem((*path, "id"), f"duplicate example id {x['id']!r}")
+                self.problems.add((*path, "id"), f"duplicate example id {x['id']!r}")
             ids[x["id"]] = x["direction"]
         for i, x in enumerate(specs):
             path = ("examples", i)
@@ -431,36 +505,36 @@ class _References(_Walk):
                 frame = parse_hex(x["frame"])
                 corrected = parse_hex(x["corrected_frame"]) if "corrected_frame" in x else None
             except FrameError as exc:
-                self.problem((*path, "frame"), f"example {x['id']}: {exc}")
+                self.problems.add((*path, "frame"), f"example {x['id']}: {exc}")
                 continue
             erratum = x.get("erratum")
             if erratum is not None and erratum not in erratum_ids:
-                self.problem((*path, "erratum"), f"example {x['id']}: unknown erratum {erratum!r}")
+                self.problems.add((*path, "erratum"), f"example {x['id']}: unknown erratum {erratum!r}")
             if len(frame) < 4:
-                self.problem((*path, "frame"), f"example {x['id']}: a frame has at least 4 bytes")
+                self.problems.add((*path, "frame"), f"example {x['id']}: a frame has at least 4 bytes")
             elif not crc_ok(frame) and erratum is None:
-                self.problem(
+                self.problems.add(
                     (*path, "frame"),
                     f"example {x['id']}: CRC {to_hex(frame[-2:])} does not match the frame (expected {to_hex(crc_bytes(frame[:-2]))}); fix the transcription or declare an erratum",
                 )
             if corrected is not None:
                 if erratum is None:
-                    self.problem(
+                    self.problems.add(
                         (*path, "corrected_frame"), f"example {x['id']}: corrected_frame needs an erratum explaining the correction"
                     )
                 if not crc_ok(corrected):
-                    self.problem(
+                    self.problems.add(
                         (*path, "corrected_frame"),
                         f"example {x['id']}: the corrected frame's CRC is wrong (expected {to_hex(crc_bytes(corrected[:-2]))})",
                     )
             request = x.get("request")
             if request is not None:
                 if x["direction"] != "response":
-                    self.problem((*path, "request"), f"example {x['id']}: only a response names the request it answers")
+                    self.problems.add((*path, "request"), f"example {x['id']}: only a response names the request it answers")
                 elif request not in ids:
-                    self.problem((*path, "request"), f"example {x['id']}: unknown request example {request!r}")
+                    self.problems.add((*path, "request"), f"example {x['id']}: unknown request example {request!r}")
                 elif ids[request] != "request":
-                    self.problem((*path, "request"), f"example {x['id']}: {request!r} is a response, not a request example")
+                    self.problems.add((*path, "request"), f"example {x['id']}: {request!r} is a response, not a request example")
             values = []
             for j, v in enumerate(x.get("values", [])):
                 reg = self._ref(v["register"], by_selector, (*path, "values", j, "register"), f"example {x['id']}")
@@ -469,7 +543,7 @@ class _References(_Walk):
                 raw = v.get("raw")
                 words = tuple(raw) if isinstance(raw, list) else None
                 if words is not None and len(words) > reg.words:
-                    self.problem(
+                    self.problems.add(
                         (*path, "values", j, "raw"), f"example {x['id']}: {len(words)} words for {reg.name}, which has {reg.words}"
                     )
                 if isinstance(raw, bool):

@@ -1,14 +1,13 @@
-"""The elaboration pass: groups, registers, arrays and enums into the frozen model, checked as they are built."""
+"""The elaboration stage: groups, registers, arrays and enums into model objects, checked as they are built."""
 
 from __future__ import annotations
 
 import re
 import string
-from dataclasses import replace
 from typing import Any
 
-from regmap.diagnostics import MapError
-from regmap.frontend.crossrefs import _References
+from regmap.core.text import article
+from regmap.frontend.stages import Elaborated, MapSource, Problems
 from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
@@ -19,8 +18,6 @@ from regmap.model import (
     Bitfield,
     ByteOrder,
     DataType,
-    Device,
-    DeviceInfo,
     EnumMember,
     EnumType,
     FirmwareGate,
@@ -35,69 +32,37 @@ from regmap_runtime.spec import parse_version
 GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its registers inherit
 
 
-def _article(word: str) -> str:
-    """`an f32`, `an s16`, `a u16`, `a string`: as the type's name is read aloud."""
-    if word[1:2].isdigit():  # f32, s16, u64: the letter is read by its name ("ef", "ess", "you")
-        return "an" if word[:1] in "fs" else "a"
-    return "an" if word[:1] in "aeiou" else "a"
+def elaborate(source: MapSource) -> Elaborated:
+    """The map's enums, groups, registers and arrays as model objects, each checked on its own."""
+    return _Elaboration(source).run()
 
 
-class _Elaborator(_References):
-    """Semantic checks and model building in one walk (the passes live in their own modules)."""
+class _Elaboration:
+    """One walk over the map's declarations; what refers to what is the cross-reference stage's."""
 
-    # -- top level -------------------------------------------------------------------------
+    def __init__(self, source: MapSource) -> None:
+        self.raw = source.raw
+        self.positions = source.positions
+        self.source = source
+        self.problems = Problems(source)
+        self.enums: dict[str, EnumType] = {}
+        self.rules: list[_ParamRule] = []
+        self.registers: list[Register] = []
+        self.register_paths: list[Path] = []  # where each of self.registers is declared, in step with it
 
-    def run(self) -> Device:
+    def run(self) -> Elaborated:
         raw = self.raw
         self._param_rules(raw.get("param_ids", []))
         self._enums(raw.get("enums", {}))
         word_order = WordOrder(raw["transport"]["word_order"])
         groups = [self._group(g, ("groups", i), word_order) for i, g in enumerate(raw["groups"])]
-        self._check_unique_groups_and_arrays()
-        self._check_unique_registers()
-        self._check_overlaps()
-        errata = self._errata(raw.get("errata", []), self._selector_index())
-        final = {r.name: r for r in self.registers}
-        groups = [replace(g, registers=tuple(final[r.name] for r in g.registers)) for g in groups]
-        by_selector = self._selector_index()
-        transport = self._transport(raw["transport"], by_selector)
-        commands = self._commands(raw.get("commands", []), by_selector)
-        faults = self._faults(raw.get("faults", []))
-        examples = self._examples(raw.get("examples", []), by_selector, {e.id for e in errata})
-        if self.problems:
-            raise MapError(self.problems)
-        info = replace(self._device_info(raw["device"]), firmware_register=self._firmware_register(raw["device"], by_selector))
-        if self.problems:
-            raise MapError(self.problems)
-        return Device(
-            info=info,
-            transport=transport,
+        return Elaborated(
+            source=self.source,
+            enums=self.enums,
             groups=tuple(groups),
-            enums=tuple(self.enums.values()),
-            commands=commands,
-            faults=faults,
-            examples=examples,
-            errata=errata,
-            source_path=self.name,
-            fingerprint=self.fingerprint,
-            registers=tuple(sorted(self.registers, key=lambda r: (r.address, r.name))),
-        )
-
-    def _device_info(self, d: dict[str, Any]) -> DeviceInfo:
-        manual = d["manual"]
-        return DeviceInfo(
-            id=d["id"],
-            vendor=d["vendor"],
-            vendor_zh=d.get("vendor_zh"),
-            model=d["model"],
-            description=d.get("description", ""),
-            manual_title=manual["title"],
-            manual_version=manual.get("version"),
-            manual_file=manual["file"],
-            manual_language=manual.get("language"),
-            firmware=d.get("firmware"),
-            map_version=d["map_version"],
-            id_pos=self.positions.locate(("device", "id")),
+            registers=tuple(self.registers),
+            register_paths=tuple(self.register_paths),
+            problems=self.problems.found(),
         )
 
     # -- parameter-id rules ----------------------------------------------------------------
@@ -108,10 +73,10 @@ class _Elaborator(_References):
             try:
                 regex = re.compile(rule["regex"])
             except re.error as exc:
-                self.problem((*path, "regex"), f"invalid regular expression: {exc}")
+                self.problems.add((*path, "regex"), f"invalid regular expression: {exc}")
                 continue
             if "index" not in regex.groupindex:
-                self.problem((*path, "regex"), "the regex needs a named group `index`")
+                self.problems.add((*path, "regex"), "the regex needs a named group `index`")
                 continue
             fields = set()
             specs = set()
@@ -121,19 +86,19 @@ class _Elaborator(_References):
                         fields.add(field_name)
                         specs.add(f"{'!' + conversion if conversion else ''}{':' + spec if spec else ''}")
             except ValueError as exc:
-                self.problem((*path, "format"), f"invalid format pattern: {exc}")
+                self.problems.add((*path, "format"), f"invalid format pattern: {exc}")
                 continue
             bad_field = next((f for f in sorted(fields) if f not in ("group", "index")), None)
             if bad_field is not None:
-                self.problem((*path, "format"), f"format field {{{bad_field}}} is not allowed; use only {{group}} and {{index}}")
+                self.problems.add((*path, "format"), f"format field {{{bad_field}}} is not allowed; use only {{group}} and {{index}}")
                 continue
             if "index" not in fields:
-                self.problem((*path, "format"), "the format must use the field {index}")
+                self.problems.add((*path, "format"), "the format must use the field {index}")
                 continue
             bad_spec = next((spec for spec in sorted(specs) if not _FORMAT_SPEC.match(spec)), None)
             if bad_spec is not None:
                 # Only a width and a base: anything else could pad a parameter id to gigabytes.
-                self.problem(
+                self.problems.add(
                     (*path, "format"),
                     f"format spec {bad_spec!r} is not supported; use a width of at most 9 and d, x or X, as in {{index:02d}}",
                 )
@@ -141,7 +106,7 @@ class _Elaborator(_References):
             try:
                 rule["format"].format(group=0, index=0)
             except (ValueError, KeyError, IndexError) as exc:
-                self.problem((*path, "format"), f"invalid format pattern: {exc}")
+                self.problems.add((*path, "format"), f"invalid format pattern: {exc}")
                 continue
             self.rules.append(
                 _ParamRule(
@@ -180,9 +145,11 @@ class _Elaborator(_References):
             for j, v in enumerate(spec["values"]):
                 vpath: Path = (*path, "values", j)
                 if v["name"] in seen_names:
-                    self.problem((*vpath, "name"), f"enum {enum_name}: duplicate member name {v['name']!r}")
+                    self.problems.add((*vpath, "name"), f"enum {enum_name}: duplicate member name {v['name']!r}")
                 if v["value"] in seen_values:
-                    self.problem((*vpath, "value"), f"enum {enum_name}: value {v['value']} is already used by {seen_values[v['value']]!r}")
+                    self.problems.add(
+                        (*vpath, "value"), f"enum {enum_name}: value {v['value']} is already used by {seen_values[v['value']]!r}"
+                    )
                 seen_names.add(v["name"])
                 seen_values.setdefault(v["value"], v["name"])
                 members.append(
@@ -211,7 +178,9 @@ class _Elaborator(_References):
             return None
         found = self.enums.get(name)
         if found is None:
-            self.problem(path, f"{owner}: unknown enum {name!r}" + (f" (known: {', '.join(sorted(self.enums))})" if self.enums else ""))
+            self.problems.add(
+                path, f"{owner}: unknown enum {name!r}" + (f" (known: {', '.join(sorted(self.enums))})" if self.enums else "")
+            )
         return found
 
     # -- groups, registers, arrays -----------------------------------------------------------
@@ -266,17 +235,17 @@ class _Elaborator(_References):
         self._check_type_in_space(r, path, name, dtype, space)
         words = self._words(r, path, name, dtype)
         if address + words - 1 > 0xFFFF:
-            self.problem((*path, "address"), f"{name}: a {words}-word register at 0x{address:04X} runs past address 0xFFFF")
+            self.problems.add((*path, "address"), f"{name}: a {words}-word register at 0x{address:04X} runs past address 0xFFFF")
         paired = bool(r.get("paired", False))
         if paired and (dtype.words != 1 or not dtype.numeric or dtype.is_float):
-            self.problem(
+            self.problems.add(
                 (*path, "paired"),
                 f"{name}: `paired` describes a 16-bit value in the low word of a 32-bit pair; type {dtype.value} is not a 16-bit integer",
             )
         if paired and address == 0:
-            self.problem((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
+            self.problems.add((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
         if "word_order" in r and not dtype.wide and "word_order" not in self._defaults_keys(path):
-            self.problem((*path, "word_order"), f"{name}: word_order applies only to values wider than 16 bits; type is {dtype.value}")
+            self.problems.add((*path, "word_order"), f"{name}: word_order applies only to values wider than 16 bits; type is {dtype.value}")
         order = WordOrder(r["word_order"]) if "word_order" in r and dtype.wide else word_order
         byte_order = ByteOrder(r.get("byte_order", self.raw["transport"].get("byte_order", "high_first")))
         if not dtype.info.has_byte_order:
@@ -288,14 +257,14 @@ class _Elaborator(_References):
         if enum_type is not None and dtype.kind == "int":
             for member in enum_type.members:
                 if not dtype.raw_min <= member.value <= dtype.raw_max:
-                    self.problem(
+                    self.problems.add(
                         (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}"
                     )
         if not r.get("source"):
-            self.problem(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
+            self.problems.add(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
         access = Access(r.get("access", "rw" if space.writable else "r"))
         if access.writable and not space.writable:
-            self.problem(
+            self.problems.add(
                 (*path, "access"),
                 f"{name}: {space.title} are read-only (function 0x{space.read:02X}); access {access.value} is not possible",
             )
@@ -342,9 +311,11 @@ class _Elaborator(_References):
     def _check_type_in_space(self, r: dict[str, Any], path: Path, name: str, dtype: DataType, space: Space) -> None:
         """A coil or discrete input is one bit (bool) and nothing else; every other type lives in register words."""
         if space.bits and not dtype.is_bool:
-            self.problem((*path, "type"), f"{name}: a {space.name.replace('_', ' ')} is one bit, so its type is bool, not {dtype.value}")
+            self.problems.add(
+                (*path, "type"), f"{name}: a {space.name.replace('_', ' ')} is one bit, so its type is bool, not {dtype.value}"
+            )
         if dtype.is_bool and not space.bits:
-            self.problem(
+            self.problems.add(
                 (*path, "type"),
                 f"{name}: bool is the type of coils and discrete inputs; {space.title} hold numbers (a u16 with a bitfield for flags, or `space: coil`)",
             )
@@ -363,18 +334,18 @@ class _Elaborator(_References):
         inherited = self._defaults_keys(path)
         for key, (refused, needs) in not_for.items():
             if refused and key in r and key not in inherited and r[key] is not None:
-                what = f"a {space.name.replace('_', ' ')}" if space.bits else f"{_article(dtype.value)} {dtype.value} register"
-                self.problem((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
+                what = f"a {space.name.replace('_', ' ')}" if space.bits else article(f"{dtype.value} register")
+                self.problems.add((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
 
     def _words(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> int:
         if dtype.is_string:
             if "words" not in r:
-                self.problem(path, f"{name}: a string register needs `words` (its length in registers, two characters each)")
+                self.problems.add(path, f"{name}: a string register needs `words` (its length in registers, two characters each)")
                 return 1
             words: int = r["words"]
             return words
         if "words" in r and r["words"] != dtype.words:
-            self.problem(
+            self.problems.add(
                 (*path, "words"),
                 f"{name}: words {r['words']} does not match type {dtype.value} ({dtype.words} word{'s' if dtype.words > 1 else ''})",
             )
@@ -391,46 +362,48 @@ class _Elaborator(_References):
                 continue
             if dtype.is_bool:
                 if key == "default" and not isinstance(value, bool):
-                    self.problem((*path, key), f"{name}: the default of a bit is true or false, not {value!r}")
+                    self.problems.add((*path, key), f"{name}: the default of a bit is true or false, not {value!r}")
                 continue
             if isinstance(value, bool | str) or (dtype.kind == "int" and not isinstance(value, int)):
                 kind = "an integer" if dtype.kind == "int" else "a number"
-                self.problem((*path, key), f"{name}: {key} of a {dtype.value} register is {kind} (a raw value), not {value!r}")
+                self.problems.add((*path, key), f"{name}: {key} of a {dtype.value} register is {kind} (a raw value), not {value!r}")
                 continue
             if not dtype.raw_min <= value <= dtype.raw_max:
-                self.problem(
+                self.problems.add(
                     (*path, key), f"{name}: {key} {value} is outside the range of {dtype.value} ({dtype.raw_min:g}..{dtype.raw_max:g})"
                 )
         if not dtype.numeric or any(isinstance(v, bool | str) for v in (low, high, default)):
             return
         if low is not None and high is not None and low > high:
-            self.problem((*path, "min"), f"{name}: min {low} is greater than max {high}")
+            self.problems.add((*path, "min"), f"{name}: min {low} is greater than max {high}")
         if default is not None:
             if (low is not None and default < low) or (high is not None and default > high):
-                self.problem((*path, "default"), f"{name}: default {default} is outside min..max ({low}..{high})")
+                self.problems.add((*path, "default"), f"{name}: default {default} is outside min..max ({low}..{high})")
             enum_type = self.enums.get(r.get("enum", ""))
             if enum_type is not None and enum_type.by_value(default) is None:
-                self.problem((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
+                self.problems.add((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
 
     def _check_string_default(self, path: Path, name: str, value: Any, r: dict[str, Any]) -> None:
         if not isinstance(value, str):
-            self.problem((*path, "default"), f"{name}: the default of a string register is text, not {value!r}")
+            self.problems.add((*path, "default"), f"{name}: the default of a string register is text, not {value!r}")
             return
         encoding = r.get("encoding", "ascii")
         try:
             size = len(value.encode(encoding))
         except UnicodeEncodeError:
-            self.problem((*path, "default"), f"{name}: the default {value!r} cannot be written in {encoding}")
+            self.problems.add((*path, "default"), f"{name}: the default {value!r} cannot be written in {encoding}")
             return
         if isinstance(r.get("words"), int) and size > 2 * r["words"]:
-            self.problem((*path, "default"), f"{name}: the default {value!r} is {size} bytes; {r['words']} words hold {2 * r['words']}")
+            self.problems.add(
+                (*path, "default"), f"{name}: the default {value!r} is {size} bytes; {r['words']} words hold {2 * r['words']}"
+            )
 
     def _firmware_gate(self, spec: dict[str, str] | None, path: Path, name: str) -> FirmwareGate | None:
         if spec is None:
             return None
         gate = FirmwareGate(first=spec.get("from"), until=spec.get("until"))
         if gate.first is not None and gate.until is not None and parse_version(gate.first) >= parse_version(gate.until):
-            self.problem(
+            self.problems.add(
                 (*path, "until"), f"{name}: firmware from {gate.first} until {gate.until} is empty; `until` is the first version without it"
             )
         return gate
@@ -450,24 +423,24 @@ class _Elaborator(_References):
             fpath: Path = (*path, i)
             lsb, msb = _bits(spec["bits"])
             if lsb > msb:
-                self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bit range {spec['bits']} runs backwards; write low-high")
+                self.problems.add((*fpath, "bits"), f"{name}.{spec['name']}: bit range {spec['bits']} runs backwards; write low-high")
                 continue
             if msb >= dtype.bits:
-                self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bits {spec['bits']} lie beyond the {dtype.bits}-bit register")
+                self.problems.add((*fpath, "bits"), f"{name}.{spec['name']}: bits {spec['bits']} lie beyond the {dtype.bits}-bit register")
                 continue
             if spec["name"] in names:
-                self.problem((*fpath, "name"), f"{name}: duplicate bitfield name {spec['name']!r}")
+                self.problems.add((*fpath, "name"), f"{name}: duplicate bitfield name {spec['name']!r}")
             names.add(spec["name"])
             for bit in range(lsb, msb + 1):
                 if bit in used:
-                    self.problem((*fpath, "bits"), f"{name}.{spec['name']}: bit {bit} overlaps bitfield {used[bit]}")
+                    self.problems.add((*fpath, "bits"), f"{name}.{spec['name']}: bit {bit} overlaps bitfield {used[bit]}")
                     break
                 used[bit] = spec["name"]
             enum_type = self._enum_ref(spec.get("enum"), (*fpath, "enum"), f"{name}.{spec['name']}")
             if enum_type is not None:
                 for member in enum_type.members:
                     if not 0 <= member.value < (1 << (msb - lsb + 1)):
-                        self.problem(
+                        self.problems.add(
                             (*fpath, "enum"),
                             f"{name}.{spec['name']}: enum {enum_type.name} member {member.name} = {member.value} does not fit in {msb - lsb + 1} bit(s)",
                         )
@@ -498,7 +471,7 @@ class _Elaborator(_References):
         for j, m in enumerate(a["members"]):
             mpath: Path = (*path, "members", j)
             if m["name"] in member_names:
-                self.problem((*mpath, "name"), f"array {a['array']}: duplicate member {m['name']!r}")
+                self.problems.add((*mpath, "name"), f"array {a['array']}: duplicate member {m['name']!r}")
                 repeated.add(j)
             member_names.add(m["name"])
             member_space = SPACES[m.get("space", defaults.get("space", DEFAULT_SPACE))]
@@ -509,12 +482,12 @@ class _Elaborator(_References):
                 hint = (
                     "; `offset` is now the value offset beside `scale`, so rename this member's `offset` to `word_offset`" if moved else ""
                 )
-                self.problem(mpath, f"array {a['array']}: member {m['name']} needs `word_offset` (its position in the element){hint}")
+                self.problems.add(mpath, f"array {a['array']}: member {m['name']} needs `word_offset` (its position in the element){hint}")
                 repeated.add(j)
                 members.append(ArrayMember(name=m["name"], offset=0, words=words, title=m["title"]))
                 continue
             if m["word_offset"] + words > a["stride"]:
-                self.problem(
+                self.problems.add(
                     (*mpath, "word_offset"),
                     f"array {a['array']}: member {m['name']} (word_offset {m['word_offset']}, {words} words) does not fit in the stride {a['stride']}",
                 )
@@ -536,12 +509,12 @@ class _Elaborator(_References):
         )
         last = array.base + (array.count - 1) * array.stride + max((m.offset + m.words for m in members), default=1) - 1
         if last > 0xFFFF:
-            self.problem((*path, "count"), f"array {array.name}: its last element ends at 0x{last:X}, past address 0xFFFF")
+            self.problems.add((*path, "count"), f"array {array.name}: its last element ends at 0x{last:X}, past address 0xFFFF")
             return array, []
         inherited = {**defaults, "source": a.get("source", defaults.get("source"))}
         for j, spec in enumerate(a["members"]):
             if isinstance(spec.get("default"), list) and len(spec["default"]) != array.count:
-                self.problem(
+                self.problems.add(
                     (*path, "members", j, "default"),
                     f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements",
                 )
@@ -566,7 +539,7 @@ class _Elaborator(_References):
                 if reg is not None:
                     expanded.append((reg, (*path, "members", j)))
         # Report per-member problems once, not once per element.
-        self.problems = list(dict.fromkeys(self.problems))
+        self.problems.forget_repeats()
         return array, expanded
 
     def _check_param(self, reg: Register, path: Path) -> None:
@@ -575,10 +548,10 @@ class _Elaborator(_References):
         try:
             expected = self._rule_address(reg.param)
         except ValueError as exc:
-            self.problem((*path, "param"), f"{reg.name}: parameter {reg.param} matches a param_ids regex, but {exc}")
+            self.problems.add((*path, "param"), f"{reg.name}: parameter {reg.param} matches a param_ids regex, but {exc}")
             return
         if expected is not None and expected != reg.address:
-            self.problem(
+            self.problems.add(
                 (*path, "address"),
                 f"{reg.name}: parameter {reg.param} is at 0x{expected:04X} by the param_ids rule, but the address is 0x{reg.address:04X}",
             )

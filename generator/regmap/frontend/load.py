@@ -1,4 +1,4 @@
-"""Map file -> `Device`: safe YAML, JSON Schema, semantic checks, elaboration.
+"""Map file -> `Device`: safe YAML, JSON Schema, elaboration, cross-reference checks, each a stage of its own.
 
 Every problem in a file is collected (errors are values here) and raised together as one
 `MapError`, each as `file:line:col: message`.
@@ -10,12 +10,12 @@ import hashlib
 from pathlib import Path as FsPath
 
 from regmap.diagnostics import Diagnostic, MapError
-from regmap.frontend.elaborate import _Elaborator
+from regmap.frontend.crossrefs import check_references
+from regmap.frontend.elaborate import elaborate
 from regmap.frontend.schema import _kind, _schema_problems
+from regmap.frontend.stages import MapSource
 from regmap.frontend.yamlsource import YamlProblem, read_yaml
-from regmap.model import (
-    Device,
-)
+from regmap.model import Device
 
 MAX_MAP_BYTES = 8 * 1024 * 1024
 
@@ -47,8 +47,14 @@ def load_map_bytes(data: bytes, name: str) -> Device:
 
 
 def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Device:
+    """The stages in turn: YAML and schema, elaboration, cross-reference checks; raises MapError listing every problem."""
     if fingerprint is None:
         fingerprint = hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+    return check_references(elaborate(read_source(text, name, fingerprint)))
+
+
+def read_source(text: str, name: str, fingerprint: str) -> MapSource:
+    """The YAML and schema stages: the map's data with its positions, or a MapError."""
     try:
         raw, positions = read_yaml(text)
     except YamlProblem as exc:
@@ -59,4 +65,4 @@ def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Devic
     problems = _schema_problems(raw, positions, name)
     if problems:
         raise MapError(problems)
-    return _Elaborator(raw, positions, name, fingerprint).run()
+    return MapSource(raw, positions, name, fingerprint)

@@ -1,4 +1,4 @@
-"""How the map's text values read: sources, scales, bit ranges, parameter-id rules; and the walk's shared state."""
+"""How the map's text values read: sources, scales, bit ranges, parameter-id rules."""
 
 from __future__ import annotations
 
@@ -7,13 +7,6 @@ from dataclasses import dataclass
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
-
-from regmap.diagnostics import Diagnostic
-from regmap.frontend.yamlsource import Path, Positions
-from regmap.model import (
-    EnumType,
-    Register,
-)
 
 
 def _source(value: Any) -> tuple[str, ...]:
@@ -79,22 +72,3 @@ def _number(text: str | None, radix: int, what: str) -> int:
         return int(text or "", radix)
     except ValueError:
         raise ValueError(f"its {what} {text!r} is not a base-{radix} number") from None
-
-
-class _Walk:
-    """State shared by the passes of one walk over a map; problems accumulate in `self.problems`."""
-
-    def __init__(self, raw: dict[str, Any], positions: Positions, name: str, fingerprint: str) -> None:
-        self.raw = raw
-        self.positions = positions
-        self.name = name
-        self.fingerprint = fingerprint
-        self.problems: list[Diagnostic] = []
-        self.enums: dict[str, EnumType] = {}
-        self.rules: list[_ParamRule] = []
-        self.registers: list[Register] = []
-        self.register_paths: list[Path] = []  # where each of self.registers is declared, in step with it
-
-    def problem(self, path: Path, message: str) -> None:
-        line, col = self.positions.locate(path)
-        self.problems.append(Diagnostic(self.name, line, col, message))
