@@ -73,3 +73,23 @@ def test_backends_holds_only_back_ends() -> None:
         if path.name != "__init__.py" and (path.suffix == ".py" or (path / "__init__.py").exists())
     }
     assert present == registered
+
+
+MAX_FILE_LINES = 600
+MAX_FUNCTION_LINES = 100
+
+
+def test_no_product_file_or_function_grows_past_what_a_reader_takes_in() -> None:
+    """Files ≤ 600 lines, functions ≤ 100: past that a module or a function does more than one thing."""
+    too_long = []
+    for path in sorted((ROOT / "generator").rglob("*.py")):
+        source = path.read_text(encoding="utf-8")
+        where = path.relative_to(ROOT)
+        if len(source.splitlines()) > MAX_FILE_LINES:
+            too_long.append(f"{where}: {len(source.splitlines())} lines")
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.end_lineno is not None:
+                length = node.end_lineno - node.lineno + 1
+                if length > MAX_FUNCTION_LINES:
+                    too_long.append(f"{where}:{node.lineno}: {node.name}() is {length} lines")
+    assert too_long == []
