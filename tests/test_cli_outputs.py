@@ -270,14 +270,8 @@ def test_a_closed_pipe_stays_quiet() -> None:
 IMPORTED = re.compile(rb"^import time:.*\|\s*(\S+)$")  # PYTHONPROFILEIMPORTTIME: one line per module imported
 
 
-@pytest.mark.parametrize("launcher", ["python -m regmap", "console script"])
-@pytest.mark.parametrize("delay", [0.0, 0.01, 0.03, 0.06, 0.1, 0.2, 0.3, 0.5])
-def test_ctrl_c_at_any_moment_is_exit_130(launcher: str, delay: float) -> None:
-    # Counted from the first import after regmap.entry's, the first of regmap's own `main`. Before it the interpreter
-    # is starting (site, runpy, finding the package, the console script's own lines; some 20-40 ms), no line of regmap
-    # has run, and SIGINT ends it as it ends any Python program that has not started. The ~0.3 s of imports after it
-    # are what issue 28 found.
-    command = [sys.executable, "-m", "regmap"] if launcher == "python -m regmap" else [str(CONSOLE_SCRIPT)]
+def _interrupt(command: list[str], delay: float) -> tuple[int, list[str]]:
+    """Start `command`, send SIGINT `delay` seconds after regmap's first own import; its status and stderr lines."""
     environment = {**os.environ, "PYTHONPROFILEIMPORTTIME": "1"}
     with subprocess.Popen([*command, "show", IDM], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=environment) as process:
         assert process.stderr is not None
@@ -290,9 +284,25 @@ def test_ctrl_c_at_any_moment_is_exit_130(launcher: str, delay: float) -> None:
         time.sleep(delay)
         process.send_signal(signal.SIGINT)
         rest = process.stderr.read()
-    said = [line for line in rest.decode().splitlines() if not line.startswith("import time:")]
-    if process.returncode == ExitCode.OK:  # `show` had finished: a Ctrl-C after the work changes nothing
-        assert said == [] and delay >= 0.2
-        return
-    assert process.returncode == ExitCode.INTERRUPTED, said
+    return process.returncode, [line for line in rest.decode().splitlines() if not line.startswith("import time:")]
+
+
+@pytest.mark.parametrize("launcher", ["python -m regmap", "console script"])
+@pytest.mark.parametrize("delay", [0.0, 0.01, 0.03, 0.06, 0.1, 0.2, 0.3, 0.5])
+def test_ctrl_c_at_any_moment_is_exit_130(launcher: str, delay: float) -> None:
+    # Counted from the first import after regmap.entry's, the first of regmap's own `main`. Before it the interpreter
+    # is starting (site, runpy, finding the package, the console script's own lines; some 20-40 ms), no line of regmap
+    # has run, and SIGINT ends it as it ends any Python program that has not started. The ~0.3 s of imports after it
+    # are the moment a Ctrl-C used to print a traceback.
+    command = [sys.executable, "-m", "regmap"] if launcher == "python -m regmap" else [str(CONSOLE_SCRIPT)]
+    # On a busy machine this process may be scheduled again only after `show` has finished: a Ctrl-C after the work
+    # changes nothing (exit 0, silent). Such a try proves nothing, so an early delay is tried again until one lands.
+    for _attempt in range(5):
+        status, said = _interrupt(command, delay)
+        if status != ExitCode.OK:
+            break
+        assert said == []
+        if delay >= 0.2:  # late enough that `show` may well have finished: exit 0 is a right answer
+            return
+    assert status == ExitCode.INTERRUPTED, said
     assert len(said) == 1 and re.fullmatch(r"regmap( show)?: interrupted", said[0]), said
