@@ -142,6 +142,15 @@ class EnumMember:
     symbol: str | None = None
     description: str = ""
     source: tuple[str, ...] = ()
+    access: Access = Access.READ_WRITE  # READ: a state the device only reports, never written
+
+    @property
+    def writable(self) -> bool:
+        return self.access.writable
+
+    @property
+    def readable(self) -> bool:
+        return self.access.readable
 
 
 @dataclass(frozen=True)
@@ -272,6 +281,7 @@ class Register:
     padding: str = "nul"  # what fills a string register after its text: nul or space
     firmware: FirmwareGate | None = None
     poll: PollClass = PollClass.NORMAL
+    trigger: bool = False  # a write makes the device act: sent once, never retried (see Device.is_trigger)
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -368,6 +378,7 @@ class Command:
     title_zh: str | None = None
     description: str = ""
     source: tuple[str, ...] = ()
+    destructive: bool = False  # loses data or state: one deliberate step away in every artefact
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     def raw_value(self, argument: int | None = None) -> int:
@@ -571,6 +582,14 @@ class Device:
             if ex.id == example_id:
                 return ex
         raise KeyError(example_id)
+
+    @cached_property
+    def _trigger_names(self) -> frozenset[str]:
+        return frozenset(reg.name for reg in self.registers if reg.trigger) | {c.register.name for c in self.commands}
+
+    def is_trigger(self, reg: Register) -> bool:
+        """A write to `reg` makes the device act (the map says so, or a command writes it): never retried."""
+        return reg.name in self._trigger_names
 
     def enum(self, name: str) -> EnumType:
         for en in self.enums:

@@ -403,6 +403,12 @@ class _CrossReferences:
                 argument = CommandArgument(name=arg["name"], min=arg["min"], max=arg["max"], title=arg.get("title", ""))
             effect = self._effect(c, path, by_selector)
             top = value + (argument.max if argument else 0)
+            reported = [m for m in (reg.enum.members if reg.enum else ()) if not m.writable and value <= m.value <= top]
+            if reported:
+                self.problems.add(
+                    (*path, "value"),
+                    f"command {c['name']}: {reported[0].name} ({reported[0].value:#06x}) is a state {reg.name} only reports (access: r); it is never written",
+                )
             if not reg.type.raw_min <= value <= reg.type.raw_max or not reg.type.raw_min <= top <= reg.type.raw_max:
                 self.problems.add(
                     (*path, "value"), f"command {c['name']}: value {value} does not fit register {reg.name} ({reg.type.value})"
@@ -417,6 +423,7 @@ class _CrossReferences:
                     value=value,
                     argument=argument,
                     effect=effect,
+                    destructive=c.get("destructive", effect is not None and effect.kind == "restore_defaults"),
                     source=_source(c["source"]),
                     pos=self.positions.locate(path),
                 )

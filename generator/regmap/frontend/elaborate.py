@@ -161,6 +161,7 @@ class _Elaboration:
                         symbol=v.get("symbol"),
                         description=v.get("description", ""),
                         source=_source(v.get("source")),
+                        access=Access(v.get("access", "rw")),
                     )
                 )
             self.enums[enum_name] = EnumType(
@@ -305,6 +306,7 @@ class _Elaboration:
             padding=r.get("padding", "nul"),
             firmware=self._firmware_gate(r.get("firmware"), (*path, "firmware"), name),
             poll=PollClass(r.get("poll", "normal")),
+            trigger=bool(r.get("trigger", False)),
             pos=self.positions.locate(path),
         )
 
