@@ -119,7 +119,7 @@ def test_mbpoll_over_rtu_pty(simulator: SimulatorFactory, pty_pair: PtyPair) -> 
 
 def test_broadcast_write_applies_without_a_reply(simulator: SimulatorFactory) -> None:
     idm = client_module("idm_rs")
-    sim = simulator(IDM)
+    sim = simulator(IDM, "--gateway")  # a device addressed directly over TCP answers unit 0; a gateway broadcasts it
     assert sim.port is not None
     with idm.IdmRs.tcp("127.0.0.1", sim.port, slave=0, timeout=1) as everyone:
         everyone.write_peak_current(1.1)  # no answer is expected, none comes

@@ -342,8 +342,8 @@ def test_firmware_sets_the_register_and_hides_what_it_lacks(
 @pytest.mark.parametrize(
     ("map_path", "cases", "banner"),
     [
-        # PM-3000: the newest gate is "from 2.00": 2.00 is played, reported as 200, and has every register.
-        (POWER_METER, [("03 01 10 00 01", "03 02 00 C8"), ("04 00 40 00 02", "04 04 00 00 00 00")], "firmware 2.00"),
+        # PM-3000: its firmware register's default (125) is played: 1.25, without the power-quality registers of 2.00.
+        (POWER_METER, [("03 01 10 00 01", "03 02 00 7D"), ("04 00 40 00 02", "84 02")], "firmware 1.25"),
         # SW-2: gates from 2.0, until 2.0, from 2.5: 2.5 (0x0205, bytes swapped) has no legacy_mode.
         (SWAPPED, [("03 00 00 00 01", "03 02 05 02"), ("03 00 11 00 01", "83 02"), ("03 00 20 00 04", "03 08" + "00" * 8)], "firmware 2.5"),
         # No gates, no firmware register: no firmware in particular.
@@ -351,7 +351,7 @@ def test_firmware_sets_the_register_and_hides_what_it_lacks(
     ],
     ids=["meter", "sw2", "remote-io"],
 )
-def test_without_firmware_the_newest_the_map_names_is_played(
+def test_without_firmware_the_register_default_or_else_the_newest_gate_is_played(
     simulator: SimulatorFactory, map_path: Path, cases: list[tuple[str, str]], banner: str
 ) -> None:
     sim = simulator(map_path)

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from regmap.cli.common import add_map, baud_rate, count, examples, load_map, positive_count, seconds_or_zero, slave_id
 from regmap.diagnostics import ExitCode, UsageError
 from regmap.tools.link import serial_line
+from regmap.tools.simulator.policy import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CONNECTIONS
 
 if TYPE_CHECKING:
     from regmap.tools.simulator.run import Listening
@@ -58,6 +59,28 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     where.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020)")
     where.add_argument("--serial", metavar="DEVICE", help="serve RTU on a serial device or pseudo-terminal")
     p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
+    tcp = p.add_argument_group("Modbus TCP connections (with --tcp)")
+    tcp.add_argument(
+        "--gateway",
+        action="store_true",
+        help="play a TCP-to-serial gateway with the device behind it: unit 0 is a broadcast, other units answer 0x0B "
+        "(default: the device is addressed by its IP address and also answers units 0xFF and 0)",
+    )
+    tcp.add_argument(
+        "--idle-timeout",
+        type=seconds_or_zero,
+        default=DEFAULT_IDLE_TIMEOUT_S,
+        metavar="S",
+        help=f"close a connection that sends nothing for S seconds (default {DEFAULT_IDLE_TIMEOUT_S:g}; 0: never)",
+    )
+    tcp.add_argument(
+        "--max-connections",
+        type=positive_count,
+        default=DEFAULT_MAX_CONNECTIONS,
+        metavar="N",
+        help=f"at most N connections; a new one closes the one idle the longest (default {DEFAULT_MAX_CONNECTIONS}, "
+        "fewer if the descriptor limit is lower)",
+    )
     line = p.add_argument_group("the serial line (with --serial; default: the map's)")
     line.add_argument("--baud", type=baud_rate, help="another of the baud rates the map lists")
     line.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity (a pty may need none)")
@@ -100,6 +123,7 @@ def _say_listening(at: Listening) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools.simulator import FAULT_KINDS, FaultPlan, Quirks, run
+    from regmap.tools.simulator.policy import TcpPolicy
 
     if args.fault not in FAULT_KINDS:
         raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
@@ -128,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
         rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
         quirks=quirks,
         listening=_say_listening,
+        tcp_policy=TcpPolicy(gateway=args.gateway, idle_timeout_s=args.idle_timeout or None, max_connections=args.max_connections),
     )
     print(f"regmap simulate: stopped after {served}", flush=True)
     return ExitCode.OK

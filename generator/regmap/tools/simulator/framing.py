@@ -106,7 +106,7 @@ class RtuReceiver:
         self.timer = None
         frame = bytes(self.buffer)
         self.buffer.clear()
-        if len(frame) < 4:
+        if len(frame) < 4 or len(frame) > RTU_MAX_FRAME:  # no RTU frame is that short, or that long
             self.on_dropped(frame)
         elif crc_ok(frame):
             self.on_frame(frame)

@@ -18,6 +18,7 @@ from regmap.tools.output import check_output
 
 from .faults import FaultPlan
 from .log import RequestLog
+from .policy import TcpPolicy
 from .quirks import Quirks
 from .server import Simulator
 
@@ -82,6 +83,12 @@ def _firmware_text(simulator: Simulator) -> str:
     return f", firmware {version}{where}{lacking}"
 
 
+def _tcp_framing(policy: TcpPolicy, slave: int) -> str:
+    if policy.gateway:
+        return f"Modbus TCP, as a gateway with slave {slave} behind it"
+    return f"Modbus TCP, units {slave}, 0xFF and 0"
+
+
 @dataclass(frozen=True)
 class Listening:
     """Where the simulator serves, for the line that says so."""
@@ -108,6 +115,7 @@ def run(
     rtu_gap_s: float | None = None,
     quirks: Quirks | None = None,
     listening: Callable[[Listening], None] | None = None,
+    tcp_policy: TcpPolicy | None = None,
 ) -> str:
     """Serve until Ctrl-C or SIGTERM; `listening` is told once the port is open, `echo` gets the request
     log as well as `log`. Returns what was served (the request counts)."""
@@ -115,7 +123,7 @@ def run(
     host, port = parse_endpoint(tcp or "127.0.0.1:5020") if not serial else ("", 0)
     streams, opened = _open_log(log, echo)
     request_log = RequestLog(device, streams) if streams else None
-    simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s, quirks=quirks)
+    simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s, quirks=quirks, tcp_policy=tcp_policy)
 
     async def main() -> None:
         loop = asyncio.get_running_loop()
@@ -130,7 +138,7 @@ def run(
                 await simulator.start_tcp(host, port, rtu_over_tcp=rtu_over_tcp)
             except OSError as exc:
                 raise _listen_error(where, exc) from None
-        framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP"
+        framing = "RTU" if serial or rtu_over_tcp else _tcp_framing(tcp_policy or TcpPolicy(), slave)
         if listening is not None:
             listening(Listening(device.info.model, slave, where, framing, _firmware_text(simulator) + _quirks_text(quirks)))
         await simulator.stopped.wait()

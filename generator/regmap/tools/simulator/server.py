@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import os
+import sys
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -23,10 +24,12 @@ from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
 from .framing import TCP_PARTIAL_TIMEOUT_S, MbapError, MbapReceiver, RtuReceiver, mbap, rtu_gap_s
 from .log import RequestLog
-from .pdu import Dispatcher
+from .pdu import Dispatcher, exception_pdu
+from .policy import DIRECT_UNITS, TcpPolicy
 from .quirks import Quirks
 from .store import DeviceStore
 
+GATEWAY_TARGET_FAILED = 0x0B  # exception: a gateway found no answer from the addressed device
 PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
 TCP_RTU_GAP_S = 0.05
 KEEP_REQUESTS = 64
@@ -47,6 +50,8 @@ class Stats:
     bytes_dropped: int = 0
     connections: int = 0
     connections_refused: int = 0  # closed on an MBAP header that cannot be in step
+    connections_idle_closed: int = 0  # closed after --idle-timeout without a request
+    connections_evicted: int = 0  # closed, oldest idle first, to make room for a new one (--max-connections)
     keep: int = KEEP_REQUESTS
     requests: deque[bytes] = field(init=False)
 
@@ -57,6 +62,8 @@ class Stats:
         return (
             f"{self.frames_received} requests, {self.frames_sent} answers ({self.exceptions_sent} exceptions), "
             f"{self.bad_crc_frames} bad CRC, {self.bytes_dropped} bytes dropped, {self.connections_refused} connections closed on bad headers"
+            + (f", {self.connections_idle_closed} closed idle" if self.connections_idle_closed else "")
+            + (f", {self.connections_evicted} closed to make room" if self.connections_evicted else "")
         )
 
 
@@ -79,14 +86,19 @@ class _Connection(asyncio.Protocol):
         self.rtu: RtuReceiver | None = None
         self.mbap = MbapReceiver()
         self.partial_timer: asyncio.TimerHandle | None = None
+        self.idle_timer: asyncio.TimerHandle | None = None
+        self.last_heard = 0.0
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
         self.transport = transport
         peer = transport.get_extra_info("peername")
         self.peer = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else "tcp"
+        self.last_heard = asyncio.get_running_loop().time()
+        self.sim.make_room(self.peer)
         self.sim.connections.add(self)
         self.sim.stats.connections += 1
+        self._arm_idle_timer(self.sim.tcp_policy.idle_timeout_s)
         if self.rtu_framing:
             sim = self.sim
             self.rtu = RtuReceiver(
@@ -99,6 +111,7 @@ class _Connection(asyncio.Protocol):
             )
 
     def data_received(self, data: bytes) -> None:
+        self.last_heard = asyncio.get_running_loop().time()
         if self.rtu is not None:
             self.rtu.feed(data)
             return
@@ -118,6 +131,23 @@ class _Connection(asyncio.Protocol):
     def _partial_expired(self) -> None:
         self.partial_timer = None
         self.sim.refuse_connection(self.peer, f"request incomplete for {TCP_PARTIAL_TIMEOUT_S:g} s", len(self.mbap.buffer))
+        self.close()
+
+    def _arm_idle_timer(self, delay: float | None) -> None:
+        if delay is not None:
+            self.idle_timer = asyncio.get_running_loop().call_later(delay, self._idle_check)
+
+    def _idle_check(self) -> None:
+        """Close the connection if it has been silent for the idle timeout; else look again when it could be."""
+        self.idle_timer = None
+        timeout = self.sim.tcp_policy.idle_timeout_s
+        assert timeout is not None
+        silent = asyncio.get_running_loop().time() - self.last_heard
+        if silent < timeout:
+            self._arm_idle_timer(timeout - silent)
+            return
+        self.sim.stats.connections_idle_closed += 1
+        self.sim.connection_event(self.peer, f"closing the connection: no request for {timeout:g} s (--idle-timeout)")
         self.close()
 
     def _cancel_partial(self) -> None:
@@ -143,6 +173,9 @@ class _Connection(asyncio.Protocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         self._cancel_partial()
+        if self.idle_timer is not None:
+            self.idle_timer.cancel()
+            self.idle_timer = None
         if self.rtu is not None:
             self.rtu.close()
         self.sim.connections.discard(self)
@@ -162,8 +195,10 @@ class Simulator:
         keep_requests: int = KEEP_REQUESTS,
         rtu_gap_s: float | None = None,
         quirks: Quirks | None = None,
+        tcp_policy: TcpPolicy | None = None,
     ) -> None:
         self.device = device
+        self.tcp_policy = tcp_policy or TcpPolicy()
         self.slave = slave
         self.broadcast = device.transport.broadcast_id
         self.quirks = quirks or Quirks()
@@ -199,6 +234,18 @@ class Simulator:
             return None, "broadcast of a request that is not a write: ignored"
         return None, f"not for slave {self.slave}"
 
+    def _tcp_answer(self, unit: int, pdu: bytes) -> tuple[bytes | None, str]:
+        """Modbus TCP: the device addressed by its IP address, or a gateway with the device behind it."""
+        if self.tcp_policy.gateway:
+            if unit == self.slave or unit == self.broadcast:
+                return self._answer(unit, pdu)
+            if not pdu:
+                return None, "empty request"
+            return exception_pdu(pdu[0], GATEWAY_TARGET_FAILED), f"no device {unit} behind this gateway"
+        if unit == self.slave or unit in DIRECT_UNITS:
+            return self.dispatcher.answer(pdu), "" if unit == self.slave else f"unit {unit:#04x}: the device addressed directly"
+        return None, f"not for slave {self.slave}"
+
     def _received(self, frame: bytes) -> None:
         self.stats.frames_received += 1
         self.stats.bytes_received += len(frame)
@@ -228,7 +275,7 @@ class Simulator:
 
     def tcp_request(self, transaction: int, unit: int, pdu: bytes, send: Send, peer: str) -> None:
         self._received(mbap(transaction, unit, pdu))
-        answer, note = self._answer(unit, pdu)
+        answer, note = self._tcp_answer(unit, pdu)
         if self.log is not None:
             self.log.tcp(peer, transaction, unit, pdu, answer, note)
         if answer is not None:
@@ -246,6 +293,31 @@ class Simulator:
         self.stats.bytes_dropped += buffered
         if self.log is not None:
             self.log.event(peer, f"closing the connection: {reason}")
+
+    def connection_event(self, peer: str, text: str) -> None:
+        """One line per connection refused or closed by the server, in the log (or on stderr without one)."""
+        if self.log is not None:
+            self.log.event(peer, text)
+        else:
+            print(f"regmap simulate: {peer}: {text}", file=sys.stderr, flush=True)
+
+    def make_room(self, peer: str) -> None:
+        """At the connection cap, close the connections idle the longest until the new one fits."""
+        cap = self.tcp_policy.connection_cap()
+        while len(self.connections) >= cap:
+            oldest = min(self.connections, key=lambda c: c.last_heard)
+            self.connections.discard(oldest)
+            self.stats.connections_evicted += 1
+            self.connection_event(oldest.peer, f"closing the connection to make room for {peer} (at most {cap} connections)")
+            oldest.close()
+
+    def _loop_exception(self, loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
+        """Out of descriptors while accepting: one line, no traceback (asyncio retries the accept itself)."""
+        exc = context.get("exception")
+        if isinstance(exc, OSError) and "accept" in str(context.get("message", "")):
+            self.connection_event("tcp", f"cannot accept a connection: {exc.strerror or exc} (try a lower --max-connections)")
+            return
+        loop.default_exception_handler(context)
 
     # -- what goes out -----------------------------------------------------------------------
 
@@ -272,6 +344,7 @@ class Simulator:
     async def start_tcp(self, host: str, port: int, *, rtu_over_tcp: bool = False) -> None:
         """Listen (raises OSError when the address cannot be had); requests are answered from now on."""
         loop = asyncio.get_running_loop()
+        loop.set_exception_handler(self._loop_exception)
         server = await loop.create_server(lambda: _Connection(self, rtu_over_tcp), host, port)
         self.servers.append(server)
 
