@@ -486,6 +486,29 @@ class WordOrderRegister:
 
 
 @dataclass(frozen=True)
+class DeviceIdentification:
+    """The objects of read device identification (0x2B/0x0E), by object id: 0x00-0x02 basic, 0x03-0x06 regular."""
+
+    objects: tuple[tuple[int, str], ...]
+    source: tuple[str, ...] = ()
+
+    @property
+    def conformity_level(self) -> int:
+        """0x81 basic or 0x82 regular, both with individual access (0x04)."""
+        return 0x82 if any(object_id > 0x02 for object_id, _ in self.objects) else 0x81
+
+
+@dataclass(frozen=True)
+class ServerId:
+    """What report server id (0x11) answers: the id bytes, the run indicator, additional data."""
+
+    id: bytes
+    running: bool = True
+    additional_data: str = ""
+    source: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
 class Transport:
     baud: int
     parity: str
@@ -510,6 +533,8 @@ class Transport:
     response_delay_ms: float | None = None
     timing: tuple[TimingRow, ...] = ()
     exceptions: tuple[ModbusException, ...] = ()
+    identification: DeviceIdentification | None = None
+    server_id: ServerId | None = None
     source: tuple[str, ...] = ()
     notes: str = ""
 

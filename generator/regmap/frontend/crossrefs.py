@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
+from regmap.frontend.functions import identification, served_function_problems, server_id
 from regmap.frontend.stages import Elaborated, Problems
 from regmap.frontend.values import _source
 from regmap.frontend.yamlsource import Path
@@ -201,6 +202,8 @@ class _CrossReferences:
                     f"a write request of {t['max_write_registers']} registers is {9 + 2 * t['max_write_registers']} bytes, more than max_message_bytes {max_bytes}",
                 )
         self._check_space_limits(t, max_bytes)
+        for where, message in served_function_problems(t):
+            self.problems.add(where, message)
         codes = [e["code"] for e in t.get("exceptions", [])]
         for i, code in enumerate(codes):
             if code in codes[:i]:
@@ -242,6 +245,8 @@ class _CrossReferences:
                 )
                 for e in t.get("exceptions", [])
             ),
+            identification=identification(t.get("identification")),
+            server_id=server_id(t.get("server_id")),
             source=_source(t.get("source")) + _source(serial.get("source")),
             notes="\n".join(x for x in (t.get("notes", ""), serial.get("notes", "")) if x),
         )

@@ -16,15 +16,30 @@ from __future__ import annotations
 import struct
 
 from regmap.model import Device
-from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE, pack_bits, unpack_bits
+from regmap_runtime.rtu import (
+    DIAGNOSTICS,
+    ENCAPSULATED_INTERFACE,
+    EXCEPTION_FLAG,
+    READ_DEVICE_ID,
+    READ_WRITE_MULTIPLE,
+    READS,
+    REPORT_SERVER_ID,
+    WRITES_MULTIPLE,
+    WRITES_SINGLE,
+    pack_bits,
+    unpack_bits,
+)
 from regmap_runtime.spaces import COIL_OFF, COIL_ON, MAX_READ_BITS, MAX_WRITE_BITS, Space
 
 from .quirks import Quirks
 from .store import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, DeviceStore
 
-IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE)
+IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE, DIAGNOSTICS, REPORT_SERVER_ID, READ_WRITE_MULTIPLE, ENCAPSULATED_INTERFACE)
 SPEC_MAX_READ = 125  # §6.3
 SPEC_MAX_WRITE = 123  # §6.12
+SPEC_MAX_RW_WRITE = 121  # §6.17: the write part of read/write multiple registers
+RETURN_QUERY_DATA = 0x0000  # §6.8.1, the one diagnostics sub-function served
+MAX_PDU = 253
 RTU_OVERHEAD = 3  # slave id + CRC around a PDU; a map's max_message_bytes counts the RTU frame
 
 # Request length of an RTU frame by function code, for the public functions of §5.1 whose request
@@ -70,6 +85,14 @@ class Dispatcher:
         self.max_read_bits = min(MAX_READ_BITS, t.max_read_coils)
         self.max_write_bits = min(MAX_WRITE_BITS, t.max_write_coils)
         self.max_bytes = t.max_message_bytes
+        self.identification = t.identification
+        self.server_id = t.server_id
+        self._other_functions = {
+            DIAGNOSTICS: self._diagnostics,
+            REPORT_SERVER_ID: self._report_server_id,
+            READ_WRITE_MULTIPLE: self._read_write_multiple,
+            ENCAPSULATED_INTERFACE: self._encapsulated,
+        }
 
     def answer(self, pdu: bytes) -> bytes:
         """The answer PDU (a normal response or `function | 0x80, code`)."""
@@ -81,6 +104,9 @@ class Dispatcher:
             # every such request of these functions asks for more registers than the map allows, so
             # it is the quantity error (0x03), as a request of that quantity is.
             return exception_pdu(function, ILLEGAL_VALUE)
+        other = self._other_functions.get(function)
+        if other is not None:
+            return other(pdu)
         if function in READS:
             space = READS[function]
             return self._read_bits(pdu, space) if space.bits else self._read(pdu, space)
@@ -165,6 +191,79 @@ class Dispatcher:
             return exception_pdu(function, ILLEGAL_ADDRESS)
         refused = self.store.write(address, list(unpack_bits(pdu[6:], count)), space.name)
         return pdu[:5] if refused is None else exception_pdu(function, refused)
+
+    # -- 0x08 diagnostics (§6.8), 0x11 report server id (§6.13) ---------------------------
+
+    def _diagnostics(self, pdu: bytes) -> bytes:
+        if len(pdu) < 3:
+            return exception_pdu(pdu[0], ILLEGAL_VALUE)
+        if struct.unpack(">H", pdu[1:3])[0] != RETURN_QUERY_DATA:
+            return exception_pdu(pdu[0], ILLEGAL_FUNCTION)  # a sub-function the device does not have
+        return pdu  # the query data echoed
+
+    def _report_server_id(self, pdu: bytes) -> bytes:
+        if len(pdu) != 1 or self.server_id is None:
+            return exception_pdu(pdu[0], ILLEGAL_VALUE)
+        s = self.server_id
+        data = s.id + bytes([0xFF if s.running else 0x00]) + s.additional_data.encode("ascii")
+        return bytes([pdu[0], len(data)]) + data
+
+    # -- 0x17 read/write multiple registers (§6.17): the write is done before the read -------
+
+    def _read_write_multiple(self, pdu: bytes) -> bytes:
+        function = pdu[0]
+        if len(pdu) < 10:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        read_at, read_count, write_at, write_count, byte_count = struct.unpack(">HHHHB", pdu[1:10])
+        if (
+            not 1 <= read_count <= self.max_read
+            or not 1 <= write_count <= min(SPEC_MAX_RW_WRITE, self.max_write)
+            or byte_count != 2 * write_count
+            or len(pdu) != 10 + byte_count
+        ):
+            return exception_pdu(function, ILLEGAL_VALUE)
+        if read_at + read_count > 0x10000 or write_at + write_count > 0x10000:
+            return exception_pdu(function, ILLEGAL_ADDRESS)
+        refused = self.store.unreadable(read_at, read_count, "holding")  # checked first: nothing written for a read refused
+        if refused is None:
+            refused = self.store.write(write_at, list(struct.unpack(f">{write_count}H", pdu[10:])), "holding")
+        if refused is not None:
+            return exception_pdu(function, refused)
+        words = self.store.read(read_at, read_count, "holding")
+        if isinstance(words, int):
+            return exception_pdu(function, words)
+        return bytes([function, 2 * read_count]) + struct.pack(f">{read_count}H", *words)
+
+    # -- 0x2B / 0x0E read device identification (§6.21) ------------------------------------
+
+    def _encapsulated(self, pdu: bytes) -> bytes:
+        function = pdu[0]
+        if len(pdu) < 2 or pdu[1] != READ_DEVICE_ID or self.identification is None:
+            return exception_pdu(function, ILLEGAL_FUNCTION)  # an MEI type the device does not implement
+        if len(pdu) != 4 or not 1 <= pdu[2] <= 4:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        access, wanted = pdu[2], pdu[3]
+        objects = dict(self.identification.objects)
+        level = self.identification.conformity_level
+        if access == 4:  # one object, individually
+            if wanted not in objects:
+                return exception_pdu(function, ILLEGAL_ADDRESS)
+            chosen = [wanted]
+        else:  # a stream: basic (1), regular (2), extended (3); an unknown start restarts at object 0
+            last = {1: 0x02, 2: 0x7F, 3: 0xFF}[access]
+            ids = [i for i in sorted(objects) if i <= last]
+            chosen = [i for i in ids if i >= wanted] if wanted in objects else ids
+        header = bytes([function, READ_DEVICE_ID, access, level])
+        body, more, next_id, count = b"", 0x00, 0x00, 0
+        for object_id in chosen:
+            value = objects[object_id].encode("ascii", "replace")
+            item = bytes([object_id, len(value)]) + value
+            if len(header) + 3 + len(body) + len(item) > MAX_PDU and count:  # the rest in the next answer
+                more, next_id = 0xFF, object_id
+                break
+            body += item
+            count += 1
+        return header + bytes([more, next_id, count]) + body
 
     @staticmethod
     def writes(pdu: bytes) -> bool:

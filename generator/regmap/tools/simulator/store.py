@@ -176,17 +176,23 @@ class DeviceStore:
 
     # -- the rules ---------------------------------------------------------------------------
 
-    def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> list[int] | int:
-        """The words at `address` of `space`, or the exception code the device answers."""
-        if self.faults.take(("exception",)) == "exception":
-            return self.faults.exception_code
+    def unreadable(self, address: int, count: int, space: str = DEFAULT_SPACE) -> int | None:
+        """The exception code a read of these addresses gets (an undocumented or write-only one), or None."""
         gaps = self.device.transport.tolerates_gaps or self.quirks.answer_gaps
-        values = []
         for a in range(address, address + count):
             reg = self.covering(a, space)
             if (reg is None and not gaps) or (reg is not None and not reg.access.readable):
                 return ILLEGAL_ADDRESS
-            values.append(self.words.get((space, a), 0))
+        return None
+
+    def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> list[int] | int:
+        """The words at `address` of `space`, or the exception code the device answers."""
+        if self.faults.take(("exception",)) == "exception":
+            return self.faults.exception_code
+        refused = self.unreadable(address, count, space)
+        if refused is not None:
+            return refused
+        values = [self.words.get((space, a), 0) for a in range(address, address + count)]
         if self.pending_after_read:
             for a in range(address, address + count):
                 if (space, a) in self.pending_after_read:
