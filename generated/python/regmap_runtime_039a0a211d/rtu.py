@@ -24,6 +24,15 @@ EXCEPTION_FLAG = 0x80
 READS = {s.read: s for s in SPACES.values()}
 WRITES_SINGLE = {s.write_single: s for s in SPACES.values() if s.write_single is not None}
 WRITES_MULTIPLE = {s.write_multiple: s for s in SPACES.values() if s.write_multiple is not None}
+DIAGNOSTICS = 0x08  # sub-function 0x0000, return query data
+REPORT_SERVER_ID = 0x11
+READ_WRITE_MULTIPLE = 0x17
+ENCAPSULATED_INTERFACE = 0x2B  # with MEI type 0x0E: read device identification
+READ_DEVICE_ID = 0x0E
+# Every function a map may list: what the simulator serves and the tools build and decode.
+SERVED_FUNCTIONS = frozenset(
+    {*READS, *WRITES_SINGLE, *WRITES_MULTIPLE, DIAGNOSTICS, REPORT_SERVER_ID, READ_WRITE_MULTIPLE, ENCAPSULATED_INTERFACE}
+)
 
 STANDARD_EXCEPTIONS = {
     0x01: "illegal function",
