@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_63c5f1fa58.bits import BitfieldValue
-from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
-from regmap_runtime_63c5f1fa58.errors import (
+from regmap_runtime_ba626e5f5d.bits import BitfieldValue
+from regmap_runtime_ba626e5f5d.client import AsyncClient, SyncClient
+from regmap_runtime_ba626e5f5d.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,8 +21,8 @@ from regmap_runtime_63c5f1fa58.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
-from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_ba626e5f5d.profile import DeviceProfile, load_profile
+from regmap_runtime_ba626e5f5d.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "b1ca4a5b2a91e7d6"

@@ -10,9 +10,9 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_63c5f1fa58.bits import BitfieldValue
-from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
-from regmap_runtime_63c5f1fa58.errors import (
+from regmap_runtime_ba626e5f5d.bits import BitfieldValue
+from regmap_runtime_ba626e5f5d.client import AsyncClient, SyncClient
+from regmap_runtime_ba626e5f5d.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -21,8 +21,8 @@ from regmap_runtime_63c5f1fa58.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
-from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_ba626e5f5d.profile import DeviceProfile, load_profile
+from regmap_runtime_ba626e5f5d.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "561d37cf9177d969"
@@ -2020,6 +2020,7 @@ PR_TRIGGER: Final = ReadWrite[PrTrigger | int](
     access="rw",
     param="Pr8.02",
     enum=PrTrigger,
+    reported=((0, 15), (256, 271), (512, 527)),
 )
 """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
 
