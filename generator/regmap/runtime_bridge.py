@@ -89,7 +89,7 @@ def spec_extras(r: Register) -> dict[str, Any]:
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported
-    fields = tuple((b.name, reported_values(b.enum)) for b in r.bitfields if b.enum is not None and reported_values(b.enum))
+    fields = tuple((b.name, runs) for b in r.bitfields if b.enum is not None and (runs := reported_values(b.enum)))
     if fields:
         extras["reported_fields"] = fields
     return extras
