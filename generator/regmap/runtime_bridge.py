@@ -86,7 +86,25 @@ def spec_extras(r: Register) -> dict[str, Any]:
             extras["firmware_until"] = r.firmware.until
     if r.poll is not PollClass.NORMAL:
         extras["poll"] = r.poll.value
+    reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
+    if reported:
+        extras["reported"] = reported
+    fields = tuple((b.name, runs) for b in r.bitfields if b.enum is not None and (runs := reported_values(b.enum)))
+    if fields:
+        extras["reported_fields"] = fields
     return extras
+
+
+def reported_values(e: EnumType) -> tuple[tuple[int, int], ...]:
+    """The members the device only reports (access r: read, never written) as runs (first, last) of
+    consecutive raw values, so that a register with 55 such states declares three runs."""
+    runs: list[tuple[int, int]] = []
+    for value in sorted(m.value for m in e.members if not m.writable):
+        if runs and runs[-1][1] + 1 == value:
+            runs[-1] = (runs[-1][0], value)
+        elif not runs or runs[-1][1] != value:
+            runs.append((value, value))
+    return tuple(runs)
 
 
 def device_extras(device: Device) -> dict[str, Any]:

@@ -14,7 +14,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         sub,
         "write",
         HELP,
-        "Every value is checked (range, resolution, enum, bitfield widths, access, two values for one word) before the port "
+        "Every value is checked (range, resolution, enum, bitfield widths, access, two values for one word; never a state the "
+        "drive only reports, such as a read-back value of a trigger register, even with --raw) before the port "
         f"is opened, then written and read back.\n{VALUE_SYNTAX}. Naming some fields of a bitfield register reads the register "
         "first and changes only those fields (read-modify-write); --replace writes the whole word with the unnamed fields 0.",
         f"regmap write maps/idm_rs.yaml Pr5.00=1.5 {WHERE}",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from regmap.core.text import eng, number_text, titled
 from regmap.diagnostics import UsageError
-from regmap.model import ByteOrder, Command, Device, EnumType, PollClass, Register
+from regmap.model import Access, ByteOrder, Command, Device, EnumType, PollClass, Register
 from regmap.tools.selectors import Registers, suggest
 from regmap_runtime.spaces import DEFAULT_SPACE
 
@@ -36,9 +36,12 @@ def _register_line(reg: Register) -> str:
     )
 
 
+_DIRECTION = {Access.READ: " [read only: never written]", Access.WRITE: " [write only]", Access.READ_WRITE: ""}
+
+
 def _enum_lines(e: EnumType) -> list[str]:
     return [f"enum {e.name}: {titled(e.title, e.title_zh)}"] + [
-        f"  {m.value:>6} {m.name:<28} {titled(m.title, m.title_zh)}" for m in e.members
+        f"  {m.value:>6} {m.name:<28} {titled(m.title, m.title_zh)}{_DIRECTION[m.access]}" for m in e.members
     ]
 
 

@@ -65,6 +65,7 @@ def _command_view(ctx: Context, cmd: Command) -> CommandView:
         frame=_command_frame(ctx, cmd),
         description=cmd.description or md.DASH,
         source=md.sources(cmd.source),
+        destructive=cmd.destructive,
     )
 
 
@@ -246,6 +247,7 @@ def device_page(device: Device) -> DevicePage:
         groups=tuple(group_view(ctx, g) for g in device.groups),
         enums=tuple(enum_view(ctx, e) for e in device.enums),
         commands=tuple(_command_view(ctx, c) for c in device.commands),
+        any_destructive=any(c.destructive for c in device.commands),
         faults=tuple(
             FaultView(
                 anchor=md.anchor("fault", f.name),

@@ -134,6 +134,7 @@ def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -
 
 
 def enum_view(ctx: Context, e: EnumType) -> EnumView:
+    directed = any(m.access is not Access.READ_WRITE for m in e.members)
     rows = tuple(
         EnumRow(
             value=str(m.value),
@@ -143,6 +144,7 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
             title=m.title,
             title_zh=m.title_zh or "",
             description=m.description,
+            direction=ACCESS_LONG[m.access] if directed else "",
         )
         for m in e.members
     )
@@ -155,6 +157,7 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
         source=md.sources(e.source),
         rows=rows,
         used_by=md.join(ctx.enum_users.get(e.name, [])),
+        directed=directed,
     )
 
 
@@ -193,6 +196,8 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
     if reg.type.info.has_byte_order and (ctx.uses.byte_order or reg.type in NEW_WIDE):
         facts.append(Fact("Word and byte order", Md(order_fact(reg))))
     facts.append(Fact("Access", Md(ACCESS_LONG[reg.access])))
+    if ctx.device.is_trigger(reg):
+        facts.append(Fact("Trigger", Md("a write makes the device act: sent once, never retried")))
     if reg.min is not None or reg.max is not None:
         facts.append(Fact("Range", _range(reg, full=True)))
     if reg.range_text:

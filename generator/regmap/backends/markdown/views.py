@@ -45,6 +45,7 @@ class EnumRow:
     title: str
     title_zh: str
     description: str
+    direction: str  # "read only" (a state the device reports), "write only" (a command), "read/write"; "" when the enum has no directions
 
 
 @dataclass(frozen=True)
@@ -57,6 +58,7 @@ class EnumView:
     source: str
     rows: tuple[EnumRow, ...]
     used_by: Md
+    directed: bool  # some member goes one way only: the table has a Direction column
 
 
 @dataclass(frozen=True)
@@ -153,6 +155,7 @@ class CommandView:
     frame: Md
     description: str
     source: str
+    destructive: bool  # loses data or state (factory defaults, initialisation, encoder reset, software reset, forced enable)
 
 
 @dataclass(frozen=True)
@@ -244,6 +247,7 @@ class DevicePage:
     groups: tuple[GroupView, ...]
     enums: tuple[EnumView, ...]
     commands: tuple[CommandView, ...]
+    any_destructive: bool  # some command is destructive: the table is followed by what that means
     faults: tuple[FaultView, ...]
     exceptions: tuple[ExceptionView, ...]
     exceptions_note: Md

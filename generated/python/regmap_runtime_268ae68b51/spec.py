@@ -99,6 +99,10 @@ class RegisterSpec(Generic[T]):
     firmware_from: str | None = None  # first firmware version that has the register
     firmware_until: str | None = None  # first firmware version that no longer has it
     poll: str = "normal"  # static, fast, normal, slow
+    # Enum members the device only reports (access r: read, never written), as runs (first, last) of raw values;
+    # reported_fields: the same per bitfield, (field name, runs).
+    reported: tuple[tuple[int, int], ...] = ()
+    reported_fields: tuple[tuple[str, tuple[tuple[int, int], ...]], ...] = ()
 
     @cached_property
     def type_info(self) -> TypeInfo:
@@ -170,6 +174,10 @@ class RegisterSpec(Generic[T]):
     @property
     def raw_max(self) -> int | float:
         return self.type_max if self.max is None else self.max
+
+    def reported_in(self, field: str) -> tuple[tuple[int, int], ...]:
+        """The runs of values of bitfield `field` that the device only reports (never written)."""
+        return next((runs for name, runs in self.reported_fields if name == field), ())
 
     @property
     def label(self) -> str:

@@ -15,6 +15,10 @@ class RangeError(ValueError):
     """A value outside the register's range; nothing was sent."""
 
 
+class ReportedStateError(RangeError):
+    """A write of a state the device only reports (an enum member with access r); nothing was sent."""
+
+
 def _wire_order(spec: RegisterSpec[Any], words: list[int]) -> list[int]:
     """Words high word first, high byte first <-> the register's order on the wire (the swap is its own inverse)."""
     if spec.byte_order != HIGH_FIRST:
@@ -126,7 +130,7 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
         try:
             number = Decimal(value) if any(c in value for c in ".eEnN") else int(value, 0)
         except (ValueError, ArithmeticError):
-            names = f"; one of {enum_names(spec.enum)}" if spec.enum is not None else ""
+            names = f"; one of {enum_names(spec.enum, spec.reported)}" if spec.enum is not None else ""
             raise RangeError(f"{spec.label}: {value!r} is not a number{names}") from None
     elif isinstance(value, enum.IntEnum | bool):
         number = int(value)
@@ -175,13 +179,30 @@ def enum_member(enum_type: type[enum.IntEnum], text: str) -> enum.IntEnum | None
     return None
 
 
-def enum_names(enum_type: type[enum.IntEnum]) -> str:
-    return ", ".join(f"{m.name.lower()}={m.value}" for m in enum_type)
+def enum_names(enum_type: type[enum.IntEnum], reported: tuple[tuple[int, int], ...] = ()) -> str:
+    """The members as `name=value`; those in `reported` (states the device only reports) left out: the values one may write."""
+    return ", ".join(f"{m.name.lower()}={m.value}" for m in enum_type if not in_runs(m.value, reported))
+
+
+def in_runs(raw: int, runs: tuple[tuple[int, int], ...]) -> bool:
+    """Whether `raw` lies in one of the runs (first, last), both ends included."""
+    return any(first <= raw <= last for first, last in runs)
+
+
+def _refuse_reported(label: str, enum_type: type[enum.IntEnum] | None, reported: tuple[tuple[int, int], ...], raw: int) -> None:
+    """A state the device only reports is read, never written: refused with its name and the values that may be written."""
+    if not in_runs(raw, reported):
+        return
+    member = enum_type._value2member_map_.get(raw) if enum_type is not None else None
+    name = member.name.lower() if isinstance(member, enum.IntEnum) else str(raw)
+    choices = f"; write one of {enum_names(enum_type, reported)}" if enum_type is not None else ""
+    raise ReportedStateError(f"{label}: {name} ({raw}) is a state the device only reports (access: r), never written{choices}")
 
 
 def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
     """The one check every raw value passes before it is sent or stored: the register's range,
-    membership of its enum, the fit of its text, 0/1 for a bit."""
+    membership of its enum and never a state the device only reports (ReportedStateError), the fit
+    of its text, 0/1 for a bit. A read decodes every member; only writes come through here."""
     info = spec.type_info
     if info.is_string:
         if not isinstance(raw, str):
@@ -203,11 +224,14 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
     if not isinstance(raw, int):
         return
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
-        raise RangeError(f"{spec.label}: {raw} is not one of {enum_names(spec.enum)}")
+        raise RangeError(f"{spec.label}: {raw} is not one of {enum_names(spec.enum, spec.reported)}")
+    _refuse_reported(spec.label, spec.enum, spec.reported, raw)
     for field in spec.bitfields:
         value = (raw & field.mask) >> field.lsb
+        reported = spec.reported_in(field.name)
         if field.enum is not None and value not in field.enum._value2member_map_:
-            raise RangeError(f"{spec.label}.{field.name}: {value} is not one of {enum_names(field.enum)}")
+            raise RangeError(f"{spec.label}.{field.name}: {value} is not one of {enum_names(field.enum, reported)}")
+        _refuse_reported(f"{spec.label}.{field.name}", field.enum, reported, value)
 
 
 def _unit(spec: RegisterSpec[Any]) -> str:
@@ -251,7 +275,7 @@ def field_value(spec: RegisterSpec[Any], field: BitfieldSpec, text: str) -> int:
     try:
         value = int(text, 0)
     except ValueError:
-        names = f"; one of {enum_names(field.enum)}" if field.enum is not None else ""
+        names = f"; one of {enum_names(field.enum, spec.reported_in(field.name))}" if field.enum is not None else ""
         raise RangeError(f"{spec.label}.{field.name}: {text!r} is not a number{names}") from None
     if not 0 <= value <= field.mask >> field.lsb:
         raise RangeError(f"{spec.label}.{field.name}: {value} does not fit in {field.width} bit(s)")
