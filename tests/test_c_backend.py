@@ -160,7 +160,7 @@ def test_headers_link_from_two_units(compiler: Compiler, out_dir: Path, tmp_path
         objects.append(tmp_path / f"{source.stem}.o")
         _compile(compiler, source, out_dir, objects[-1])
     program = tmp_path / "two_units"
-    linked = _run([require_tool(compiler.tool), *objects, "-o", str(program)])
+    linked = _run([require_tool(compiler.tool), *map(str, objects), "-o", str(program)])
     assert linked.returncode == 0, f"{compiler.id} could not link two units:\n{linked.stderr}"
     assert _run([str(program)]).returncode == 0, "the two units see different tables"
 

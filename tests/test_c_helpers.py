@@ -107,7 +107,9 @@ def _bitfield_cases(device: Device, ctx: Context) -> list[str]:
             if b.enum is not None:
                 refused += [v for v in range(widest + 1) if b.enum.by_value(v) is None][:2]
             for v in refused:
-                out.append(f"        w = 0x1234u; EXPECT(!{put}(&w, {_field_value(ctx, b, v)}) && w == 0x1234u);  /* refused, the word unchanged */")
+                out.append(
+                    f"        w = 0x1234u; EXPECT(!{put}(&w, {_field_value(ctx, b, v)}) && w == 0x1234u);  /* refused, the word unchanged */"
+                )
             out += [f"        EXPECT({get}(0x{full:X}u) == {widest}u);", f"        EXPECT({get}(0x{full & ~b.mask:X}u) == 0u);"]
         out.append("    }")
     return out

@@ -23,6 +23,7 @@ from regmap.backends.c.names import (
     c_unsigned,
     file_header,
 )
+from regmap.backends.c.values import configurable
 from regmap.backends.c.views import (
     ArrayView,
     GroupView,
@@ -34,7 +35,6 @@ from regmap.backends.c.views import (
     modern,
     sentences,
 )
-from regmap.backends.c.values import configurable
 from regmap.core.text import titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, PollClass

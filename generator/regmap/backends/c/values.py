@@ -10,7 +10,18 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-from regmap.backends.c.names import C_TYPES, FLOAT_GUARD, WORD_ORDER_MACRO, CIdentifier, Context, c_double, c_float_literal, c_hex, c_raw, c_signed
+from regmap.backends.c.names import (
+    C_TYPES,
+    FLOAT_GUARD,
+    WORD_ORDER_MACRO,
+    CIdentifier,
+    Context,
+    c_double,
+    c_float_literal,
+    c_hex,
+    c_raw,
+    c_signed,
+)
 from regmap.core.text import eng, number
 from regmap.model import EnumType, Register
 
@@ -254,11 +265,20 @@ def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple
         value_type,
         (f"return {' && '.join(conditions)};",),
         (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})value"), "return true;"),
-        (f"{raw_type} raw = {_from_wire(ctx, reg)};", f"if (!{member}(raw)) {{", "    return false;", "}", f"*out = {cast};", "return true;"),
+        (
+            f"{raw_type} raw = {_from_wire(ctx, reg)};",
+            f"if (!{member}(raw)) {{",
+            "    return false;",
+            "}",
+            f"*out = {cast};",
+            "return true;",
+        ),
     )
 
 
-def _bitfield_bodies(ctx: Context, reg: Register, label: str, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+def _bitfield_bodies(
+    ctx: Context, reg: Register, label: str, in_range: str
+) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     """A bitfield register's value is its whole word (built with the field setters); a write refuses a
     field whose enum does not have the value, or has it as a state the device only reports."""
     bits_type = C_TYPES[reg.type].bits
