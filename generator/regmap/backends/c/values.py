@@ -7,6 +7,7 @@ a member the device only reports (EnumMember.writable), NaN. Every line of C is 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -21,6 +22,7 @@ from regmap.backends.c.names import (
     c_hex,
     c_raw,
     c_signed,
+    c_unsigned,
 )
 from regmap.core.text import eng, number
 from regmap.model import EnumType, Register
@@ -316,3 +318,22 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
         (*_refused_when_not(in_range), _to_wire(ctx, reg, "value"), "return true;"),
         (f"*out = {_from_wire(ctx, reg)};", "return true;"),
     )
+
+
+def register_values(ctx: Context, reg: Register, label: str = "") -> tuple[ValueView, ...]:
+    view = value_view(ctx, reg, label or reg.name)
+    return (view,) if view is not None else ()
+
+
+def member_values(ctx: Context, elements: Sequence[Register], owner: str) -> tuple[ValueView, ...]:
+    """One set of value helpers for an array member whose elements share their range, else one per element (named as the element)."""
+    if len({(r.raw_min, r.raw_max) for r in elements}) == 1:
+        return register_values(ctx, elements[0], owner)
+    return tuple(v for r in elements for v in register_values(ctx, r))
+
+
+def ratio_literal(reg: Register, part: int, ratio: Fraction) -> str:
+    """A numerator or denominator of a scale or offset, of the essential type of the raw value it multiplies
+    (MISRA C:2012 10.4): unsigned (`u`) beside an unsigned raw value, signed beside a signed one or when
+    the ratio is negative, so `raw * NUM / DEN` never turns a negative raw value into a huge unsigned one."""
+    return c_signed(part) if reg.signed or ratio < 0 else c_unsigned(part)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from fractions import Fraction
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
@@ -30,7 +29,7 @@ from regmap.backends.c.names import (
     c_unsigned,
     c_value,
 )
-from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, value_view
+from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
 from regmap.core.text import eng, number, titled
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
@@ -285,13 +284,6 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
     return macros, tables
 
 
-def ratio_literal(reg: Register, part: int, ratio: Fraction) -> str:
-    """A numerator or denominator of a scale or offset, of the essential type of the raw value it multiplies
-    (MISRA C:2012 10.4): unsigned (`u`) beside an unsigned raw value, signed beside a signed one or when
-    the ratio is negative, so `raw * NUM / DEN` never turns a negative raw value into a huge unsigned one."""
-    return c_signed(part) if reg.signed or ratio < 0 else c_unsigned(part)
-
-
 def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
     """The macros of the features beyond the first maps' (space, type, byte order, offset, text, poll class, firmware gate)."""
     space = reg.space_info
@@ -412,18 +404,6 @@ def _bitfield_comment(b: Bitfield) -> str:
     return sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description)
 
 
-def _values(ctx: Context, reg: Register, label: str) -> tuple[ValueView, ...]:
-    view = value_view(ctx, reg, label)
-    return (view,) if view is not None else ()
-
-
-def _member_values(ctx: Context, elements: Sequence[Register], owner: str) -> tuple[ValueView, ...]:
-    """One set of value helpers for an array member whose elements share their range, else one per element (named as the element)."""
-    if len({(r.raw_min, r.raw_max) for r in elements}) == 1:
-        return _values(ctx, elements[0], owner)
-    return tuple(v for r in elements for v in _values(ctx, r, r.name))
-
-
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
     values, _ = _value_macros(ctx, reg, reg.name, (reg,))
     macros = [Macro(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
@@ -437,7 +417,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name),
         gate=_gate_view(ctx, reg, reg.name),
-        values=_values(ctx, reg, reg.name),
+        values=register_values(ctx, reg),
     )
 
 
@@ -470,7 +450,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 bitfields=_bitfield_views(ctx, reg, owner),
                 codec=_codec_view(ctx, reg, owner),
                 gate=_gate_view(ctx, reg, owner),
-                values=_member_values(ctx, elements, owner),
+                values=member_values(ctx, elements, owner),
             )
         )
     comment = sentences(
