@@ -7,8 +7,9 @@
  *
  * Register macros: <NAME>_ADDR (listed address), _WORDS, _ACCESS (REGMAP_ACCESS_*), _SIGNED,
  * _WORD_ORDER (32-bit registers), raw _MIN/_MAX/_DEFAULT where the manual gives them, _SCALE
- * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN), _PAIRED and _PAIR_ADDR (the unused
- * high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
+ * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN; unsigned literals beside an unsigned
+ * raw value, signed beside a signed one, so the product keeps the raw value's type), _PAIRED and
+ * _PAIR_ADDR (the unused high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
  * the bounds-checked <array>_<member>_addr(n, &address) for any n.
  *
  * Values (as the Python client and the Structured Text encoders check them): every numeric register
