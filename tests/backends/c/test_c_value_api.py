@@ -455,6 +455,20 @@ def test_the_program_covers_what_the_brief_names() -> None:
                     assert f"/* raw {v.raw!r}" in text, f"{device.id}: example {ex.id} {reg.name} = {v.raw} has no case"
 
 
+@pytest.mark.parametrize("map_path", ALL, ids=lambda p: p.stem)
+def test_a_read_only_register_has_no_encoder(map_path: Path, headers: Path) -> None:
+    """A register a write cannot reach has no _encode or _is_in_range (a call to one does not compile); one a read
+    cannot reach has no _decode; every other numeric register has each helper its access allows."""
+    device = _device(map_path)
+    header = (headers / f"{device.id}.h").read_text(encoding="utf-8")
+    for label, reg in _owners(device):
+        if not reg.type.numeric or reg.type.is_bool:
+            continue
+        for suffix, present in (("encode", reg.access.writable), ("is_in_range", reg.access.writable), ("decode", reg.access.readable)):
+            name = CSymbol(device.id, label, suffix)
+            assert (f" {name}(" in header) == present, f"{name}: access {reg.access.value}"
+
+
 def test_cpp_refuses_an_int_where_a_setter_takes_its_enum(headers: Path, tmp_path: Path) -> None:
     """In C++ the enum parameter is a type: `_set_function(&raw, 0x80)` does not compile (in C it compiles and is refused)."""
     source = tmp_path / "wide.cpp"
