@@ -134,6 +134,37 @@ def test_all_headers_in_one_unit(compiler: Compiler, out_dir: Path, tmp_path: Pa
     _compile(compiler, source, out_dir, tmp_path / "all.o")
 
 
+@pytest.mark.parametrize("compiler", [c for c in COMPILERS if c.host], ids=lambda c: c.id)
+def test_headers_link_from_two_units(compiler: Compiler, out_dir: Path, tmp_path: Path) -> None:
+    """Every header included by two translation units, one of which defines <DEVICE>_IMPLEMENTATION (and
+    includes the header once before defining it): each table is defined once, so the program links, and
+    both units see the same tables; no unit warns (an unused table, a duplicate definition)."""
+    devices = [_device(p) for p in ALL_MAPS]
+    suffix = ".c" if "c++" not in compiler.flags else ".cpp"
+    first, second = tmp_path / f"first{suffix}", tmp_path / f"second{suffix}"
+    first.write_text(
+        "".join(f'#include "{d.id}.h"\n#define {d.id.upper()}_IMPLEMENTATION\n#include "{d.id}.h"\n' for d in devices)
+        + "const regmap_read_block *first_plan(void);\n"
+        + f"const regmap_read_block *first_plan(void) {{ return {devices[0].id}_read_plan; }}\n",
+        encoding="utf-8",
+    )
+    sums = " + ".join(f"(unsigned long){d.id}_read_plan[0].address" for d in devices if read_plan(d))
+    second.write_text(
+        "".join(f'#include "{d.id}.h"\n' for d in devices)
+        + "const regmap_read_block *first_plan(void);\n"
+        + f"int main(void) {{ unsigned long sum = {sums}; return first_plan() == {devices[0].id}_read_plan && sum == {sum(read_plan(d)[0].address for d in devices if read_plan(d))}ul ? 0 : 1; }}\n",
+        encoding="utf-8",
+    )
+    objects = []
+    for source in (first, second):
+        objects.append(tmp_path / f"{source.stem}.o")
+        _compile(compiler, source, out_dir, objects[-1])
+    program = tmp_path / "two_units"
+    linked = _run([require_tool(compiler.tool), *map(str, objects), "-o", str(program)])
+    assert linked.returncode == 0, f"{compiler.id} could not link two units:\n{linked.stderr}"
+    assert _run([str(program)]).returncode == 0, "the two units see different tables"
+
+
 # -- the manuals' frames ---------------------------------------------------------------------------
 
 
@@ -297,11 +328,18 @@ def test_cortex_m0_code_size(extra: tuple[str, ...], out_dir: Path, tmp_path: Pa
 # -- what the Python side computes ------------------------------------------------------------------
 
 
+def _definition(header: str, name: str) -> str:
+    """The initialiser of table `name` where the header defines it (behind <DEVICE>_IMPLEMENTATION)."""
+    match = re.search(rf"^const \w+ {name}\[\w+\] = \{{\n(.*?)^\}};", header, flags=re.M | re.S)
+    assert match is not None, f"no definition of {name}"
+    return match.group(1)
+
+
 @pytest.mark.parametrize("map_path", _map_params())
 def test_read_plan_table_is_the_clients_plan(map_path: Path, out_dir: Path) -> None:
     device = _device(map_path)
     header = (out_dir / f"{device.id}.h").read_text(encoding="utf-8")
-    table = header.split(f"{device.id}_read_plan[", 1)[1].split("};", 1)[0] if read_plan(device) else ""
+    table = _definition(header, f"{device.id}_read_plan") if read_plan(device) else ""
     rows = [(int(a, 16), int(n)) for a, n in re.findall(r"\{ (0x[0-9A-F]+)u, (\d+)u \}", table)]
     assert rows == [(b.address, b.count) for b in read_plan(device)]
     assert f"#define {device.id.upper()}_READ_PLAN_LEN {len(rows)}u" in header
@@ -319,7 +357,7 @@ def test_plans_per_space_and_poll_class_are_the_clients(map_path: Path, out_dir:
     header = (out_dir / f"{device.id}.h").read_text(encoding="utf-8")
 
     def table(name: str) -> str:
-        return header.split(f"{name}[", 1)[1].split("};", 1)[0]
+        return _definition(header, name)
 
     plans = [("read_plan", read_plan(device))]
     classes = sorted({r.poll for r in device.registers}, key=list(PollClass).index)

@@ -30,11 +30,11 @@ from pymodbus.pdu.bit_message import (
 )
 from pymodbus.pdu.register_message import ReadInputRegistersRequest, ReadInputRegistersResponse
 
-from regmap.backends.c.names import Context, c_raw
+from regmap.backends.c.names import C_TYPES, CIdentifier, Context, c_raw
 from regmap.backends.c.views import modern
 from regmap.frontend import load_map
 from regmap.generate import render
-from regmap.model import ByteOrder, DataType, Device, Register, WordOrder
+from regmap.model import Bitfield, ByteOrder, DataType, Device, Register, WordOrder
 from regmap_runtime.rtu import with_crc
 
 from conftest import FIXTURE_MAPS, MAPS, require_tool
@@ -72,7 +72,17 @@ EPILOGUE = """\
 """
 
 
+def _field_value(ctx: Context, b: Bitfield, value: int) -> str:
+    """A field value as the setter's parameter takes it: the enum's constant for a member, else the number (cast to the enum)."""
+    member = b.enum.by_value(value) if b.enum is not None else None
+    if member is not None and b.enum is not None:
+        return CIdentifier(ctx.prefix, b.enum.name, member.name)
+    return f"({ctx.symbol_ref(b.enum.name)}){value}u" if b.enum is not None else f"{value}u"
+
+
 def _bitfield_cases(device: Device, ctx: Context) -> list[str]:
+    """Each setter replaces only its field (never ORs) with a value it accepts, and refuses (false, the
+    word unchanged) a value wider than the field or one its enum lacks; each getter reads its field."""
     out: list[str] = []
     seen: set[str] = set()
     for reg in device.registers:
@@ -81,19 +91,27 @@ def _bitfield_cases(device: Device, ctx: Context) -> list[str]:
             continue
         seen.add(owner)
         full = (1 << (16 * reg.words)) - 1
+        out.append(f"    {{ {C_TYPES[reg.type].bits} w;")
         for b in reg.bitfields:
             get, put = ctx.symbol_ref(owner, "get", b.name), ctx.symbol_ref(owner, "set", b.name)
             widest = b.max_value
-            middle = widest // 2 + (1 if widest > 1 else 0)
-            out += [
-                f"    EXPECT({put}(0x{full:X}u, 0u) == 0x{full & ~b.mask:X}u);  /* clears only its field */",
-                f"    EXPECT({put}(0u, {widest}u) == 0x{b.mask:X}u);",
-                f"    EXPECT({put}(0x{full:X}u, {middle}u) == 0x{(full & ~b.mask) | (middle << b.lsb):X}u);",
-                f"    EXPECT({put}(0x{b.mask:X}u, {middle}u) == 0x{middle << b.lsb:X}u);  /* replaces, never ORs */",
-                f"    EXPECT({get}(0x{full:X}u) == {widest}u);",
-                f"    EXPECT({get}(0x{full & ~b.mask:X}u) == 0u);",
-                f"    EXPECT({get}(0x{middle << b.lsb:X}u) == {middle}u);",
-            ]
+            values = sorted({m.value for m in b.enum.members}) if b.enum else [0, widest // 2 + (1 if widest > 1 else 0), widest]
+            for v in (values[0], values[len(values) // 2], values[-1]):
+                out += [
+                    f"        w = 0x{full:X}u; EXPECT({put}(&w, {_field_value(ctx, b, v)}) && w == 0x{(full & ~b.mask) | (v << b.lsb):X}u);"
+                    "  /* clears only its field */",
+                    f"        w = 0x{b.mask:X}u; EXPECT({put}(&w, {_field_value(ctx, b, v)}) && w == 0x{v << b.lsb:X}u);  /* replaces, never ORs */",
+                    f"        EXPECT({get}(0x{(full & ~b.mask) | (v << b.lsb):X}u) == {v}u);",
+                ]
+            refused = [widest + 1] if b.width < 16 * reg.words else []
+            if b.enum is not None:
+                refused += [v for v in range(widest + 1) if b.enum.by_value(v) is None][:2]
+            for v in refused:
+                out.append(
+                    f"        w = 0x1234u; EXPECT(!{put}(&w, {_field_value(ctx, b, v)}) && w == 0x1234u);  /* refused, the word unchanged */"
+                )
+            out += [f"        EXPECT({get}(0x{full:X}u) == {widest}u);", f"        EXPECT({get}(0x{full & ~b.mask:X}u) == 0u);"]
+        out.append("    }")
     return out
 
 
@@ -451,7 +469,7 @@ def test_a_setter_that_does_not_clear_its_field_is_caught(tmp_path: Path, header
     cc = require_tool("gcc")
     device = load_map(MAPS[[p.stem for p in MAPS].index("idm_rs")])
     header = (headers / "idm_rs.h").read_text(encoding="utf-8")
-    broken = header.replace("((uint32_t)raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_FUNCTION_MASK) |", "((uint32_t)raw) |", 1)
+    broken = header.replace("((uint32_t)*raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_FUNCTION_MASK) |", "((uint32_t)*raw) |", 1)
     assert broken != header
     (tmp_path / "idm_rs.h").write_text(broken, encoding="utf-8")
     (tmp_path / "regmap_rtu.h").write_text((headers / "regmap_rtu.h").read_text(encoding="utf-8"), encoding="utf-8")
@@ -462,4 +480,4 @@ def test_a_setter_that_does_not_clear_its_field_is_caught(tmp_path: Path, header
     )
     assert built.returncode == 0, built.stderr[-2000:]
     run = subprocess.run([str(tmp_path / "helpers")], capture_output=True, text=True, check=False, timeout=60)
-    assert run.returncode == 1 and "idm_rs_di2_function_set_function(0xFFFFu, 0u)" in run.stdout
+    assert run.returncode == 1 and "idm_rs_di2_function_set_function(&w, IDM_RS_DI_FUNCTION_" in run.stdout

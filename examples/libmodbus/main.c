@@ -13,6 +13,8 @@
 
 #include <modbus.h>
 
+/* This file defines the header's tables (the read plan); other files of a program include it without the macro. */
+#define IDM_RS_IMPLEMENTATION
 #include "idm_rs.h"
 
 static int read_words(modbus_t *ctx, uint16_t address, uint16_t count, uint16_t *words)

@@ -7,9 +7,34 @@
  *
  * Register macros: <NAME>_ADDR (listed address), _WORDS, _ACCESS (REGMAP_ACCESS_*), _SIGNED,
  * _WORD_ORDER (32-bit registers), raw _MIN/_MAX/_DEFAULT where the manual gives them, _SCALE
- * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN), _PAIRED and _PAIR_ADDR (the unused
- * high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
+ * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN; unsigned literals beside an unsigned
+ * raw value, signed beside a signed one, so the product keeps the raw value's type), _PAIRED and
+ * _PAIR_ADDR (the unused high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
  * the bounds-checked <array>_<member>_addr(n, &address) for any n.
+ *
+ * Values (as the Python client and the Structured Text encoders check them): every numeric register
+ * has <name>_decode(words, &value) when it can be read and <name>_is_in_range(value) and
+ * <name>_encode(value, words) when it can be written; an array member whose elements share their
+ * range has one set, <array>_<member>_*. `words` are the register's own words from its _ADDR on, in
+ * its word and byte order. _encode returns false and writes nothing for a value outside _MIN/_MAX,
+ * not a multiple of the resolution, not a member of the register's enum or a member the device only
+ * reports (<enum>_is_writable), and for a bitfield register a field value its enum lacks or only
+ * reports; _decode returns false, *out unchanged, for an enum value the map does not list.
+ * Engineering values: a register with a scale or an offset takes and gives a double, value = raw *
+ * _SCALE_NUM / _SCALE_DEN (+ offset), and _encode refuses a value more than a thousandth of a step
+ * from a whole raw value; an enum register takes its enum; a bitfield register its whole word, built
+ * with <name>_set_<field>(&word, value), which refuses (false, the word unchanged) a value wider than
+ * the field or not a member of its enum; any other register its C type.
+ *
+ * The device's word order is a parameter (P0C-26 modbus_word_order): the _encode and
+ * _decode of a 32/64-bit register that follows it take `word_order`, REGMAP_HIGH_FIRST or
+ * REGMAP_LOW_FIRST as the device is set (C630S_WORD_ORDER is its default); a register whose
+ * order the map fixes uses its _WORD_ORDER.
+ *
+ * Tables (the read plan) are declared here and defined in exactly one .c file of the program:
+ *     #define C630S_IMPLEMENTATION
+ *     #include "c630s.h"
+ * Every other file includes the header without the macro.
  */
 #ifndef REGMAP_C630S_H
 #define REGMAP_C630S_H
@@ -106,6 +131,56 @@ typedef enum c630s_di_function {
     C630S_DI_FUNCTION_PULSE_INHIBIT = 0x25, /* Pulse command inhibit (脉冲指令禁止) [PulseInhibit]. In position mode with pulse command source (P05-00=0): inactive: pulse commands accepted; active: ignored. (FunIN.37). */
     C630S_DI_FUNCTION_SET_CURRENT_AS_HOME = 0x26 /* Set current position as home enable (以当前位置为原点使能) [HomingStart]. Inactive: disabled; active: enabled. Edge-active recommended. Symbol printed HomingStart, the same as FunIN.32 (erratum E12). Used with P05-30=8. (FunIN.38). */
 } c630s_di_function;
+/* Whether `value` is a member of c630s_di_function, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_di_function_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DI_FUNCTION_NONE:
+    case C630S_DI_FUNCTION_S_ON:
+    case C630S_DI_FUNCTION_ALM_RST:
+    case C630S_DI_FUNCTION_GAIN_SEL:
+    case C630S_DI_FUNCTION_CMD_SEL:
+    case C630S_DI_FUNCTION_DIR_SEL:
+    case C630S_DI_FUNCTION_CMD1:
+    case C630S_DI_FUNCTION_CMD2:
+    case C630S_DI_FUNCTION_CMD3:
+    case C630S_DI_FUNCTION_CMD4:
+    case C630S_DI_FUNCTION_M1_SEL:
+    case C630S_DI_FUNCTION_M2_SEL:
+    case C630S_DI_FUNCTION_ZCLAMP:
+    case C630S_DI_FUNCTION_INHIBIT:
+    case C630S_DI_FUNCTION_P_OT:
+    case C630S_DI_FUNCTION_N_OT:
+    case C630S_DI_FUNCTION_P_CL:
+    case C630S_DI_FUNCTION_N_CL:
+    case C630S_DI_FUNCTION_JOG_PLUS:
+    case C630S_DI_FUNCTION_JOG_MINUS:
+    case C630S_DI_FUNCTION_POSSTEP:
+    case C630S_DI_FUNCTION_HX1:
+    case C630S_DI_FUNCTION_HX2:
+    case C630S_DI_FUNCTION_HX_EN:
+    case C630S_DI_FUNCTION_GEAR_SEL:
+    case C630S_DI_FUNCTION_TOQ_DIR_SEL:
+    case C630S_DI_FUNCTION_SPD_DIR_SEL:
+    case C630S_DI_FUNCTION_POS_DIR_SEL:
+    case C630S_DI_FUNCTION_POS_IN_SEN:
+    case C630S_DI_FUNCTION_HOME_SWITCH:
+    case C630S_DI_FUNCTION_HOMING_START:
+    case C630S_DI_FUNCTION_XINT_INHIBIT:
+    case C630S_DI_FUNCTION_EMERGENCY_STOP:
+    case C630S_DI_FUNCTION_CLR_POS_ERR:
+    case C630S_DI_FUNCTION_V_LMT_SEL:
+    case C630S_DI_FUNCTION_PULSE_INHIBIT:
+    case C630S_DI_FUNCTION_SET_CURRENT_AS_HOME:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_di_function_is_writable(long long value)
+{
+    return c630s_di_function_is_member(value);
+}
 
 /* DO function code (FunOUT.x) (输出端子功能 (DO 口功能命令表)). Value n = FunOUT.n. Code 15 is not documented; P17 VDO ranges go to 22 but codes 21 and 22 are not documented. Manual 6.4.2. */
 typedef enum c630s_do_function {
@@ -130,6 +205,39 @@ typedef enum c630s_do_function {
     C630S_DO_FUNCTION_V_ARR = 0x13, /* Speed reached output (速度到达输出) [V-Arr]. Active: speed feedback reached the set value; inactive: not reached. (FunOUT.19). */
     C630S_DO_FUNCTION_ANG_INT_RDY = 0x14 /* Angle identification output (角度辨识输出) [AngIntRdy]. Active: angle identification complete; inactive: not complete. (FunOUT.20). */
 } c630s_do_function;
+/* Whether `value` is a member of c630s_do_function, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_do_function_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DO_FUNCTION_NONE:
+    case C630S_DO_FUNCTION_S_RDY:
+    case C630S_DO_FUNCTION_TGON:
+    case C630S_DO_FUNCTION_ZERO:
+    case C630S_DO_FUNCTION_V_CMP:
+    case C630S_DO_FUNCTION_COIN:
+    case C630S_DO_FUNCTION_NEAR:
+    case C630S_DO_FUNCTION_C_LT:
+    case C630S_DO_FUNCTION_V_LT:
+    case C630S_DO_FUNCTION_BK:
+    case C630S_DO_FUNCTION_WARN:
+    case C630S_DO_FUNCTION_ALM:
+    case C630S_DO_FUNCTION_ALMO1:
+    case C630S_DO_FUNCTION_ALMO2:
+    case C630S_DO_FUNCTION_ALMO3:
+    case C630S_DO_FUNCTION_HOME_ATTAIN:
+    case C630S_DO_FUNCTION_ELEC_HOME_ATTAIN:
+    case C630S_DO_FUNCTION_TOQ_REACH:
+    case C630S_DO_FUNCTION_V_ARR:
+    case C630S_DO_FUNCTION_ANG_INT_RDY:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_do_function_is_writable(long long value)
+{
+    return c630s_do_function_is_member(value);
+}
 
 /* DI terminal logic (输入极性). Manual 7.3. */
 typedef enum c630s_di_logic {
@@ -139,24 +247,87 @@ typedef enum c630s_di_logic {
     C630S_DI_LOGIC_FALLING_EDGE = 3, /* Falling edge active (表示下降沿有效). */
     C630S_DI_LOGIC_BOTH_EDGES = 4 /* Rising and falling edge active (表示上升下降沿均有效). */
 } c630s_di_logic;
+/* Whether `value` is a member of c630s_di_logic, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_di_logic_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DI_LOGIC_LOW_LEVEL:
+    case C630S_DI_LOGIC_HIGH_LEVEL:
+    case C630S_DI_LOGIC_RISING_EDGE:
+    case C630S_DI_LOGIC_FALLING_EDGE:
+    case C630S_DI_LOGIC_BOTH_EDGES:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_di_logic_is_writable(long long value)
+{
+    return c630s_di_logic_is_member(value);
+}
 
 /* DO terminal logic (output polarity) (输出极性反转设定). Manual 7.4. */
 typedef enum c630s_do_logic {
     C630S_DO_LOGIC_LOW_WHEN_ACTIVE = 0, /* Output L (low, optocoupler on) when active (表示有效时输出L低电平(光耦导通)). */
     C630S_DO_LOGIC_HIGH_WHEN_ACTIVE = 1 /* Output H (high, optocoupler off) when active (表示有效时输出H高电平(光耦关断)). */
 } c630s_do_logic;
+/* Whether `value` is a member of c630s_do_logic, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_do_logic_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DO_LOGIC_LOW_WHEN_ACTIVE:
+    case C630S_DO_LOGIC_HIGH_WHEN_ACTIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_do_logic_is_writable(long long value)
+{
+    return c630s_do_logic_is_member(value);
+}
 
 /* VDI terminal logic (VDI 端子逻辑). Printed per VDI as "0- 表示 VDIn 写入 1 有效 1- 表示 VDIn 写入值由 0 变为 1 时有效" (P17-25 prints "VD13" for VDI13). Manual 7.16. */
 typedef enum c630s_vdi_logic {
     C630S_VDI_LOGIC_WRITE_1_ACTIVE = 0, /* Active when 1 is written (写入 1 有效). */
     C630S_VDI_LOGIC_WRITE_0_TO_1_ACTIVE = 1 /* Active when the written value changes from 0 to 1 (写入值由 0 变为 1 时有效). */
 } c630s_vdi_logic;
+/* Whether `value` is a member of c630s_vdi_logic, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_vdi_logic_is_member(long long value)
+{
+    switch (value) {
+    case C630S_VDI_LOGIC_WRITE_1_ACTIVE:
+    case C630S_VDI_LOGIC_WRITE_0_TO_1_ACTIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_vdi_logic_is_writable(long long value)
+{
+    return c630s_vdi_logic_is_member(value);
+}
 
 /* VDO terminal logic (VDO 端子逻辑). Manual 7.16. */
 typedef enum c630s_vdo_logic {
     C630S_VDO_LOGIC_OUTPUT_1_WHEN_ACTIVE = 0, /* Output 1 when active (表示有效时输出 1). */
     C630S_VDO_LOGIC_OUTPUT_0_WHEN_ACTIVE = 1 /* Output 0 when active (表示有效时输出 0). */
 } c630s_vdo_logic;
+/* Whether `value` is a member of c630s_vdo_logic, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_vdo_logic_is_member(long long value)
+{
+    switch (value) {
+    case C630S_VDO_LOGIC_OUTPUT_1_WHEN_ACTIVE:
+    case C630S_VDO_LOGIC_OUTPUT_0_WHEN_ACTIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_vdo_logic_is_writable(long long value)
+{
+    return c630s_vdo_logic_is_member(value);
+}
 
 /* Control mode (控制模式选择). Manual 7.2, 6.1.2, 6.2.2, 6.3.2. */
 typedef enum c630s_control_mode {
@@ -168,30 +339,110 @@ typedef enum c630s_control_mode {
     C630S_CONTROL_MODE_TORQUE_POSITION = 5, /* Torque <-> position mode (转矩模式↔位置模式). */
     C630S_CONTROL_MODE_TORQUE_SPEED_POSITION = 6 /* Torque <-> speed <-> position mixed mode (转矩↔速度↔位置混合模式). */
 } c630s_control_mode;
+/* Whether `value` is a member of c630s_control_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_control_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_CONTROL_MODE_SPEED:
+    case C630S_CONTROL_MODE_POSITION:
+    case C630S_CONTROL_MODE_TORQUE:
+    case C630S_CONTROL_MODE_TORQUE_SPEED:
+    case C630S_CONTROL_MODE_SPEED_POSITION:
+    case C630S_CONTROL_MODE_TORQUE_POSITION:
+    case C630S_CONTROL_MODE_TORQUE_SPEED_POSITION:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_control_mode_is_writable(long long value)
+{
+    return c630s_control_mode_is_member(value);
+}
 
 /* Encoder type (编码器类型选择). Manual 7.2. */
 typedef enum c630s_encoder_type {
     C630S_ENCODER_TYPE_INCREMENTAL = 0, /* Incremental encoder (增量式编码器). */
     C630S_ENCODER_TYPE_ABSOLUTE = 1 /* Absolute encoder (绝对值编码器). */
 } c630s_encoder_type;
+/* Whether `value` is a member of c630s_encoder_type, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_encoder_type_is_member(long long value)
+{
+    switch (value) {
+    case C630S_ENCODER_TYPE_INCREMENTAL:
+    case C630S_ENCODER_TYPE_ABSOLUTE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_encoder_type_is_writable(long long value)
+{
+    return c630s_encoder_type_is_member(value);
+}
 
 /* Rotation direction (旋转方向选择). Manual 7.2. */
 typedef enum c630s_rotation_direction {
     C630S_ROTATION_DIRECTION_CCW_POSITIVE = 0, /* CCW is forward (A leads B) (以CCW方向为正转方向(A超前B)). */
     C630S_ROTATION_DIRECTION_CW_POSITIVE = 1 /* CW is forward (A lags B) (以CW方向为正转方向(A滞后B)). */
 } c630s_rotation_direction;
+/* Whether `value` is a member of c630s_rotation_direction, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_rotation_direction_is_member(long long value)
+{
+    switch (value) {
+    case C630S_ROTATION_DIRECTION_CCW_POSITIVE:
+    case C630S_ROTATION_DIRECTION_CW_POSITIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_rotation_direction_is_writable(long long value)
+{
+    return c630s_rotation_direction_is_member(value);
+}
 
 /* Output pulse phase (输出脉冲相位). Manual 7.2. */
 typedef enum c630s_output_pulse_phase {
     C630S_OUTPUT_PULSE_PHASE_CCW_POSITIVE = 0, /* CCW is forward (A leads B) (以CCW方向为正转方向(A超前B)). */
     C630S_OUTPUT_PULSE_PHASE_CW_POSITIVE = 1 /* CW is forward (reverse mode, A lags B) (以CW方向为正转方向(反转模式, A滞后B)). */
 } c630s_output_pulse_phase;
+/* Whether `value` is a member of c630s_output_pulse_phase, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_output_pulse_phase_is_member(long long value)
+{
+    switch (value) {
+    case C630S_OUTPUT_PULSE_PHASE_CCW_POSITIVE:
+    case C630S_OUTPUT_PULSE_PHASE_CW_POSITIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_output_pulse_phase_is_writable(long long value)
+{
+    return c630s_output_pulse_phase_is_member(value);
+}
 
 /* Stop mode (servo off / fault No.2) (停机方式选择). Manual 7.2. */
 typedef enum c630s_stop_mode {
     C630S_STOP_MODE_COAST = 0, /* Coast to stop, keep free-running (自由停机, 保持自由运行状态). */
     C630S_STOP_MODE_ZERO_SPEED_THEN_FREE = 1 /* Zero-speed stop, keep free-running (零速停机, 保持自由运行状态). */
 } c630s_stop_mode;
+/* Whether `value` is a member of c630s_stop_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_stop_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_STOP_MODE_COAST:
+    case C630S_STOP_MODE_ZERO_SPEED_THEN_FREE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_stop_mode_is_writable(long long value)
+{
+    return c630s_stop_mode_is_member(value);
+}
 
 /* Overtravel stop mode (超程停机方式选择). Manual 7.2. */
 typedef enum c630s_overtravel_stop_mode {
@@ -199,17 +450,62 @@ typedef enum c630s_overtravel_stop_mode {
     C630S_OVERTRAVEL_STOP_MODE_ZERO_SPEED_POSITION_LOCK = 1, /* Zero-speed stop, position locked (零速停机, 位置保持锁定状态). */
     C630S_OVERTRAVEL_STOP_MODE_ZERO_SPEED_THEN_FREE = 2 /* Zero-speed stop, keep free-running (零速停机, 保持自由运行状态). */
 } c630s_overtravel_stop_mode;
+/* Whether `value` is a member of c630s_overtravel_stop_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_overtravel_stop_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_OVERTRAVEL_STOP_MODE_COAST:
+    case C630S_OVERTRAVEL_STOP_MODE_ZERO_SPEED_POSITION_LOCK:
+    case C630S_OVERTRAVEL_STOP_MODE_ZERO_SPEED_THEN_FREE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_overtravel_stop_mode_is_writable(long long value)
+{
+    return c630s_overtravel_stop_mode_is_member(value);
+}
 
 /* Fault No.1 stop mode (故障 No.1 停机方式选择). Manual 7.2. */
 typedef enum c630s_fault_no1_stop_mode {
     C630S_FAULT_NO1_STOP_MODE_COAST = 0 /* Coast to stop, keep free-running (自由停机, 保持自由运行状态). */
 } c630s_fault_no1_stop_mode;
+/* Whether `value` is a member of c630s_fault_no1_stop_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_fault_no1_stop_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_FAULT_NO1_STOP_MODE_COAST:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_fault_no1_stop_mode_is_writable(long long value)
+{
+    return c630s_fault_no1_stop_mode_is_member(value);
+}
 
 /* LED warning display (LED 警告显示选择). Manual 7.2. */
 typedef enum c630s_led_warning_display {
     C630S_LED_WARNING_DISPLAY_OUTPUT_IMMEDIATELY = 0, /* Show warnings immediately (立即输出警告信息). */
     C630S_LED_WARNING_DISPLAY_NO_OUTPUT = 1 /* Do not show warnings (不输出警告信息). */
 } c630s_led_warning_display;
+/* Whether `value` is a member of c630s_led_warning_display, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_led_warning_display_is_member(long long value)
+{
+    switch (value) {
+    case C630S_LED_WARNING_DISPLAY_OUTPUT_IMMEDIATELY:
+    case C630S_LED_WARNING_DISPLAY_NO_OUTPUT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_led_warning_display_is_writable(long long value)
+{
+    return c630s_led_warning_display_is_member(value);
+}
 
 /* Braking resistor setting (制动电阻设置). Manual 7.2. */
 typedef enum c630s_braking_resistor_setting {
@@ -218,6 +514,23 @@ typedef enum c630s_braking_resistor_setting {
     C630S_BRAKING_RESISTOR_SETTING_EXTERNAL_FORCED_AIR = 2, /* External braking resistor, forced air cooling (使用外接制动电阻, 强迫风冷). */
     C630S_BRAKING_RESISTOR_SETTING_NONE_CAPACITOR_ONLY = 3 /* No braking resistor, capacitor absorption only (不用制动电阻, 全靠电容吸收). */
 } c630s_braking_resistor_setting;
+/* Whether `value` is a member of c630s_braking_resistor_setting, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_braking_resistor_setting_is_member(long long value)
+{
+    switch (value) {
+    case C630S_BRAKING_RESISTOR_SETTING_INTERNAL:
+    case C630S_BRAKING_RESISTOR_SETTING_EXTERNAL_NATURAL_COOLING:
+    case C630S_BRAKING_RESISTOR_SETTING_EXTERNAL_FORCED_AIR:
+    case C630S_BRAKING_RESISTOR_SETTING_NONE_CAPACITOR_ONLY:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_braking_resistor_setting_is_writable(long long value)
+{
+    return c630s_braking_resistor_setting_is_member(value);
+}
 
 /* System parameter initialisation (系统参数初始化). Values 1 and 2 are actions (§7.2, §5.2.3); the manual does not say whether the register returns to 0 (no operation) once they have run, so no member is marked read-only (access: r) or write-only (access: w). Manual 7.2, 5.2.3. */
 typedef enum c630s_system_init {
@@ -225,6 +538,22 @@ typedef enum c630s_system_init {
     C630S_SYSTEM_INIT_RESTORE_FACTORY_DEFAULTS = 1, /* Restore factory defaults (except groups P00/P01) (恢复出厂设定值(P00/P01组除外)). */
     C630S_SYSTEM_INIT_CLEAR_FAULT_RECORDS = 2 /* Clear fault records (清除故障记录). */
 } c630s_system_init;
+/* Whether `value` is a member of c630s_system_init, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_system_init_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SYSTEM_INIT_NO_OPERATION:
+    case C630S_SYSTEM_INIT_RESTORE_FACTORY_DEFAULTS:
+    case C630S_SYSTEM_INIT_CLEAR_FAULT_RECORDS:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_system_init_is_writable(long long value)
+{
+    return c630s_system_init_is_member(value);
+}
 
 /* Position command source (位置指令来源). Manual 7.5, 6.1.2, 6.1.3. */
 typedef enum c630s_position_command_source {
@@ -232,6 +561,22 @@ typedef enum c630s_position_command_source {
     C630S_POSITION_COMMAND_SOURCE_STEP_AMOUNT = 1, /* Step amount (步进量给定). */
     C630S_POSITION_COMMAND_SOURCE_MULTI_SEGMENT = 2 /* Multi-segment position command (多段位置指令给定). */
 } c630s_position_command_source;
+/* Whether `value` is a member of c630s_position_command_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_position_command_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_POSITION_COMMAND_SOURCE_PULSE:
+    case C630S_POSITION_COMMAND_SOURCE_STEP_AMOUNT:
+    case C630S_POSITION_COMMAND_SOURCE_MULTI_SEGMENT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_position_command_source_is_writable(long long value)
+{
+    return c630s_position_command_source_is_member(value);
+}
 
 /* Pulse command form (脉冲指令形态). Code 3 is not listed in §7.5; §6.1.2 lists 0, 1, 3, 4. Manual 7.5, 6.1.2. */
 typedef enum c630s_pulse_input_form {
@@ -240,6 +585,23 @@ typedef enum c630s_pulse_input_form {
     C630S_PULSE_INPUT_FORM_AB_QUADRATURE_X4 = 2, /* A/B quadrature pulses, x4 (A+B 相正交脉冲, 4 倍频). §7.5 gives code 2; §6.1.2 gives code 3 for "A 相 +B 相正交脉冲，4 倍频" (erratum E3). Verify on the drive before relying on it. */
     C630S_PULSE_INPUT_FORM_CW_CCW = 4 /* CW + CCW (CW+CCW). */
 } c630s_pulse_input_form;
+/* Whether `value` is a member of c630s_pulse_input_form, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_pulse_input_form_is_member(long long value)
+{
+    switch (value) {
+    case C630S_PULSE_INPUT_FORM_PULSE_DIR_POSITIVE:
+    case C630S_PULSE_INPUT_FORM_PULSE_DIR_NEGATIVE:
+    case C630S_PULSE_INPUT_FORM_AB_QUADRATURE_X4:
+    case C630S_PULSE_INPUT_FORM_CW_CCW:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_pulse_input_form_is_writable(long long value)
+{
+    return c630s_pulse_input_form_is_member(value);
+}
 
 /* Position deviation clear action (清除动作选择). Manual 7.5. */
 typedef enum c630s_position_clear_action {
@@ -247,6 +609,22 @@ typedef enum c630s_position_clear_action {
     C630S_POSITION_CLEAR_ACTION_FAULT_OR_WARNING = 1, /* Clear position deviation pulses on fault or warning (发生故障或警告时清除位置偏差脉冲). */
     C630S_POSITION_CLEAR_ACTION_SERVO_OFF_OR_DI = 2 /* Clear on servo off and by the ClrPosErr DI signal (发生使能 OFF 及通过 DI 输入的 ClrPosErr 信号清除位置偏差). */
 } c630s_position_clear_action;
+/* Whether `value` is a member of c630s_position_clear_action, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_position_clear_action_is_member(long long value)
+{
+    switch (value) {
+    case C630S_POSITION_CLEAR_ACTION_SERVO_OFF_OR_FAULT:
+    case C630S_POSITION_CLEAR_ACTION_FAULT_OR_WARNING:
+    case C630S_POSITION_CLEAR_ACTION_SERVO_OFF_OR_DI:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_position_clear_action_is_writable(long long value)
+{
+    return c630s_position_clear_action_is_member(value);
+}
 
 /* Speed feedforward select (速度前馈控制选择). Manual 7.5. */
 typedef enum c630s_speed_feedforward_select {
@@ -255,6 +633,23 @@ typedef enum c630s_speed_feedforward_select {
     C630S_SPEED_FEEDFORWARD_SELECT_AI1 = 2, /* AI1 as speed feedforward input (将 AI1 用作速度前馈输入). */
     C630S_SPEED_FEEDFORWARD_SELECT_AI2 = 3 /* AI2 as speed feedforward input (将 AI2 用作速度前馈输入). */
 } c630s_speed_feedforward_select;
+/* Whether `value` is a member of c630s_speed_feedforward_select, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_speed_feedforward_select_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SPEED_FEEDFORWARD_SELECT_NONE:
+    case C630S_SPEED_FEEDFORWARD_SELECT_INTERNAL:
+    case C630S_SPEED_FEEDFORWARD_SELECT_AI1:
+    case C630S_SPEED_FEEDFORWARD_SELECT_AI2:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_speed_feedforward_select_is_writable(long long value)
+{
+    return c630s_speed_feedforward_select_is_member(value);
+}
 
 /* Positioning complete output condition (定位完成输出条件). Manual 7.5. */
 typedef enum c630s_coin_output_condition {
@@ -263,6 +658,23 @@ typedef enum c630s_coin_output_condition {
     C630S_COIN_OUTPUT_CONDITION_DEVIATION_BELOW_UNFILTERED_CMD_ZERO = 2, /* Output when |deviation| < P05-21 and the unfiltered position command is 0 (位置偏差绝对值小于 P05-21 且滤波前的位置指令为 0 时输出). */
     C630S_COIN_OUTPUT_CONDITION_DEVIATION_BELOW_HOLD = 3 /* Output when |deviation| < the complete/near threshold and the filtered command is 0, held at least P05-60 (位置偏差绝对值小于定位完成 / 接近阈值, 且位置指令滤波为 0 时输出, 至少保持 P05-60 设置的时间有效). */
 } c630s_coin_output_condition;
+/* Whether `value` is a member of c630s_coin_output_condition, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_coin_output_condition_is_member(long long value)
+{
+    switch (value) {
+    case C630S_COIN_OUTPUT_CONDITION_DEVIATION_BELOW:
+    case C630S_COIN_OUTPUT_CONDITION_DEVIATION_BELOW_FILTERED_CMD_ZERO:
+    case C630S_COIN_OUTPUT_CONDITION_DEVIATION_BELOW_UNFILTERED_CMD_ZERO:
+    case C630S_COIN_OUTPUT_CONDITION_DEVIATION_BELOW_HOLD:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_coin_output_condition_is_writable(long long value)
+{
+    return c630s_coin_output_condition_is_member(value);
+}
 
 /* Homing enable control (原点复归使能控制). Code 7 is not listed. Manual 7.5. */
 typedef enum c630s_homing_enable {
@@ -275,6 +687,27 @@ typedef enum c630s_homing_enable {
     C630S_HOMING_ENABLE_SET_CURRENT_AS_HOME = 6, /* Current position becomes home (以当前位置为原点). */
     C630S_HOMING_ENABLE_DI_SET_CURRENT_AS_HOME = 8 /* Current position becomes home by DI signal (DI configured as FunIN.38) (通过 DI 输入信号，使能当前位置为原点功能 (DI口配置为FunIN.38)). */
 } c630s_homing_enable;
+/* Whether `value` is a member of c630s_homing_enable, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_homing_enable_is_member(long long value)
+{
+    switch (value) {
+    case C630S_HOMING_ENABLE_OFF:
+    case C630S_HOMING_ENABLE_DI_HOMING:
+    case C630S_HOMING_ENABLE_DI_ELECTRICAL_HOMING:
+    case C630S_HOMING_ENABLE_HOMING_AT_POWER_ON:
+    case C630S_HOMING_ENABLE_HOMING_NOW:
+    case C630S_HOMING_ENABLE_ELECTRICAL_HOMING:
+    case C630S_HOMING_ENABLE_SET_CURRENT_AS_HOME:
+    case C630S_HOMING_ENABLE_DI_SET_CURRENT_AS_HOME:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_homing_enable_is_writable(long long value)
+{
+    return c630s_homing_enable_is_member(value);
+}
 
 /* Homing mode (原点复归模式). Manual 7.5. */
 typedef enum c630s_homing_mode {
@@ -289,6 +722,29 @@ typedef enum c630s_homing_mode {
     C630S_HOMING_MODE_FWD_P_OT_THEN_Z = 8, /* Forward; deceleration point = positive overtravel switch, home = motor Z signal (正向回零，减速点为正向超程开关，原点为电机 Z 信号). */
     C630S_HOMING_MODE_REV_N_OT_THEN_Z = 9 /* Reverse; deceleration point = negative overtravel switch, home = motor Z signal (反向回零，减速点为反向超程开关，原点为电机 Z 信号). */
 } c630s_homing_mode;
+/* Whether `value` is a member of c630s_homing_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_homing_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_HOMING_MODE_FWD_HOME_SWITCH:
+    case C630S_HOMING_MODE_REV_HOME_SWITCH:
+    case C630S_HOMING_MODE_FWD_MOTOR_Z:
+    case C630S_HOMING_MODE_REV_MOTOR_Z:
+    case C630S_HOMING_MODE_FWD_HOME_SWITCH_THEN_Z:
+    case C630S_HOMING_MODE_REV_HOME_SWITCH_THEN_Z:
+    case C630S_HOMING_MODE_FWD_P_OT:
+    case C630S_HOMING_MODE_REV_N_OT:
+    case C630S_HOMING_MODE_FWD_P_OT_THEN_Z:
+    case C630S_HOMING_MODE_REV_N_OT_THEN_Z:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_homing_mode_is_writable(long long value)
+{
+    return c630s_homing_mode_is_member(value);
+}
 
 /* Servo pulse output source (伺服脉冲输出来源选择). Manual 7.5, 6.1.2. */
 typedef enum c630s_pulse_output_source {
@@ -296,18 +752,64 @@ typedef enum c630s_pulse_output_source {
     C630S_PULSE_OUTPUT_SOURCE_COMMAND_SYNC = 1, /* Pulse command synchronous output (脉冲指令同步输出). */
     C630S_PULSE_OUTPUT_SOURCE_DISABLED = 2 /* Divided or synchronous output disabled (分频或同步输出禁止). */
 } c630s_pulse_output_source;
+/* Whether `value` is a member of c630s_pulse_output_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_pulse_output_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_PULSE_OUTPUT_SOURCE_ENCODER_DIVIDED:
+    case C630S_PULSE_OUTPUT_SOURCE_COMMAND_SYNC:
+    case C630S_PULSE_OUTPUT_SOURCE_DISABLED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_pulse_output_source_is_writable(long long value)
+{
+    return c630s_pulse_output_source_is_member(value);
+}
 
 /* Electronic gear switching condition (电子齿轮比切换条件). Manual 7.5. */
 typedef enum c630s_gear_switch_condition {
     C630S_GEAR_SWITCH_CONDITION_COMMAND_ZERO_2_5MS = 0, /* Switch after the position command is 0 for 2.5 ms (位置指令(指仅单位)为 0，且持续 2.5ms 后切换). */
     C630S_GEAR_SWITCH_CONDITION_REALTIME = 1 /* Switch immediately (实时切换). */
 } c630s_gear_switch_condition;
+/* Whether `value` is a member of c630s_gear_switch_condition, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_gear_switch_condition_is_member(long long value)
+{
+    switch (value) {
+    case C630S_GEAR_SWITCH_CONDITION_COMMAND_ZERO_2_5MS:
+    case C630S_GEAR_SWITCH_CONDITION_REALTIME:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_gear_switch_condition_is_writable(long long value)
+{
+    return c630s_gear_switch_condition_is_member(value);
+}
 
 /* Position pulse edge (位置脉冲沿选择). Manual 7.5, 6.1.2. */
 typedef enum c630s_pulse_edge {
     C630S_PULSE_EDGE_FALLING = 0, /* Falling edge active (下降沿有效). */
     C630S_PULSE_EDGE_RISING = 1 /* Rising edge active (上升沿有效). */
 } c630s_pulse_edge;
+/* Whether `value` is a member of c630s_pulse_edge, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_pulse_edge_is_member(long long value)
+{
+    switch (value) {
+    case C630S_PULSE_EDGE_FALLING:
+    case C630S_PULSE_EDGE_RISING:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_pulse_edge_is_writable(long long value)
+{
+    return c630s_pulse_edge_is_member(value);
+}
 
 /* Main speed command A source (主速度指令 A 来源). Manual 7.6, 6.2.2. */
 typedef enum c630s_speed_a_source {
@@ -315,6 +817,22 @@ typedef enum c630s_speed_a_source {
     C630S_SPEED_A_SOURCE_AI1 = 1, /* AI1 (AI1). */
     C630S_SPEED_A_SOURCE_AI2 = 2 /* AI2 (AI2). */
 } c630s_speed_a_source;
+/* Whether `value` is a member of c630s_speed_a_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_speed_a_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SPEED_A_SOURCE_DIGITAL:
+    case C630S_SPEED_A_SOURCE_AI1:
+    case C630S_SPEED_A_SOURCE_AI2:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_speed_a_source_is_writable(long long value)
+{
+    return c630s_speed_a_source_is_member(value);
+}
 
 /* Auxiliary speed command B source (辅助速度指令 B 来源). Codes 3 and 4 are not listed (range 0~5 in §6.2.2). Manual 7.6, 6.2.2. */
 typedef enum c630s_speed_b_source {
@@ -323,6 +841,23 @@ typedef enum c630s_speed_b_source {
     C630S_SPEED_B_SOURCE_AI2 = 2, /* AI2 (AI2). */
     C630S_SPEED_B_SOURCE_MULTI_SEGMENT = 5 /* Multi-segment speed command (多段速度指令). */
 } c630s_speed_b_source;
+/* Whether `value` is a member of c630s_speed_b_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_speed_b_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SPEED_B_SOURCE_DIGITAL:
+    case C630S_SPEED_B_SOURCE_AI1:
+    case C630S_SPEED_B_SOURCE_AI2:
+    case C630S_SPEED_B_SOURCE_MULTI_SEGMENT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_speed_b_source_is_writable(long long value)
+{
+    return c630s_speed_b_source_is_member(value);
+}
 
 /* Speed command select (速度指令选择). §6.2.2 prints the range 0~4; value 4 is not described (erratum E9). Manual 7.6. */
 typedef enum c630s_speed_command_select {
@@ -331,12 +866,44 @@ typedef enum c630s_speed_command_select {
     C630S_SPEED_COMMAND_SELECT_A_PLUS_B = 2, /* A + B (A+B). */
     C630S_SPEED_COMMAND_SELECT_A_B_SWITCH = 3 /* A/B switching (A/B 切换). */
 } c630s_speed_command_select;
+/* Whether `value` is a member of c630s_speed_command_select, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_speed_command_select_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SPEED_COMMAND_SELECT_A:
+    case C630S_SPEED_COMMAND_SELECT_B:
+    case C630S_SPEED_COMMAND_SELECT_A_PLUS_B:
+    case C630S_SPEED_COMMAND_SELECT_A_B_SWITCH:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_speed_command_select_is_writable(long long value)
+{
+    return c630s_speed_command_select_is_member(value);
+}
 
 /* Torque feedforward select (转矩前馈控制选择). Manual 7.6. */
 typedef enum c630s_torque_feedforward_select {
     C630S_TORQUE_FEEDFORWARD_SELECT_NONE = 0, /* No torque feedforward (无转矩前馈). */
     C630S_TORQUE_FEEDFORWARD_SELECT_INTERNAL = 1 /* Internal torque feedforward (内部转矩前馈). */
 } c630s_torque_feedforward_select;
+/* Whether `value` is a member of c630s_torque_feedforward_select, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_torque_feedforward_select_is_member(long long value)
+{
+    switch (value) {
+    case C630S_TORQUE_FEEDFORWARD_SELECT_NONE:
+    case C630S_TORQUE_FEEDFORWARD_SELECT_INTERNAL:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_torque_feedforward_select_is_writable(long long value)
+{
+    return c630s_torque_feedforward_select_is_member(value);
+}
 
 /* Torque command source (A or B) (转矩指令来源). Manual 7.7. */
 typedef enum c630s_torque_source {
@@ -344,6 +911,22 @@ typedef enum c630s_torque_source {
     C630S_TORQUE_SOURCE_AI1 = 1, /* AI1 (AI1). */
     C630S_TORQUE_SOURCE_AI2 = 2 /* AI2 (AI2). */
 } c630s_torque_source;
+/* Whether `value` is a member of c630s_torque_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_torque_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_TORQUE_SOURCE_DIGITAL:
+    case C630S_TORQUE_SOURCE_AI1:
+    case C630S_TORQUE_SOURCE_AI2:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_torque_source_is_writable(long long value)
+{
+    return c630s_torque_source_is_member(value);
+}
 
 /* Torque command select (转矩指令选择). Manual 7.7. */
 typedef enum c630s_torque_command_select {
@@ -353,6 +936,24 @@ typedef enum c630s_torque_command_select {
     C630S_TORQUE_COMMAND_SELECT_A_B_SWITCH = 3, /* Main A / auxiliary B switching (主指令 A 来源 / 辅助指令 B 来源切换). */
     C630S_TORQUE_COMMAND_SELECT_COMMUNICATION = 4 /* Communication setting (通信给定). */
 } c630s_torque_command_select;
+/* Whether `value` is a member of c630s_torque_command_select, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_torque_command_select_is_member(long long value)
+{
+    switch (value) {
+    case C630S_TORQUE_COMMAND_SELECT_A:
+    case C630S_TORQUE_COMMAND_SELECT_B:
+    case C630S_TORQUE_COMMAND_SELECT_A_PLUS_B:
+    case C630S_TORQUE_COMMAND_SELECT_A_B_SWITCH:
+    case C630S_TORQUE_COMMAND_SELECT_COMMUNICATION:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_torque_command_select_is_writable(long long value)
+{
+    return c630s_torque_command_select_is_member(value);
+}
 
 /* Torque limit source (转矩限制来源). Manual 7.7. */
 typedef enum c630s_torque_limit_source {
@@ -362,12 +963,45 @@ typedef enum c630s_torque_limit_source {
     C630S_TORQUE_LIMIT_SOURCE_MIN_EXTERNAL_T_LMT = 3, /* Minimum of external limits and T-LMT (selected by P-CL, N-CL) (以正负外部转矩和外部T-LMT 的最小值为转矩限制(利用 P-CL, N-CL 选择)). */
     C630S_TORQUE_LIMIT_SOURCE_INTERNAL_T_LMT_SWITCH = 4 /* Switch between internal limits and T-LMT (selected by P-CL, N-CL) (正负内部转矩限制和T-LMT 转矩限制之间切换(利用 P-CL, N-CL 选择)). */
 } c630s_torque_limit_source;
+/* Whether `value` is a member of c630s_torque_limit_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_torque_limit_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_TORQUE_LIMIT_SOURCE_INTERNAL:
+    case C630S_TORQUE_LIMIT_SOURCE_EXTERNAL:
+    case C630S_TORQUE_LIMIT_SOURCE_T_LMT:
+    case C630S_TORQUE_LIMIT_SOURCE_MIN_EXTERNAL_T_LMT:
+    case C630S_TORQUE_LIMIT_SOURCE_INTERNAL_T_LMT_SWITCH:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_torque_limit_source_is_writable(long long value)
+{
+    return c630s_torque_limit_source_is_member(value);
+}
 
 /* Analog input channel (模拟量输入通道). Manual 7.7. */
 typedef enum c630s_ai_channel {
     C630S_AI_CHANNEL_AI1 = 1, /* AI1 (AI1). */
     C630S_AI_CHANNEL_AI2 = 2 /* AI2 (AI2). */
 } c630s_ai_channel;
+/* Whether `value` is a member of c630s_ai_channel, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_ai_channel_is_member(long long value)
+{
+    switch (value) {
+    case C630S_AI_CHANNEL_AI1:
+    case C630S_AI_CHANNEL_AI2:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_ai_channel_is_writable(long long value)
+{
+    return c630s_ai_channel_is_member(value);
+}
 
 /* Speed limit source (torque mode) (速度限制来源选择). Manual 7.7. */
 typedef enum c630s_speed_limit_source {
@@ -375,12 +1009,43 @@ typedef enum c630s_speed_limit_source {
     C630S_SPEED_LIMIT_SOURCE_V_LMT = 1, /* V-LMT as external speed limit input (将 V-LMT 用作外部速度限制输入). */
     C630S_SPEED_LIMIT_SOURCE_FUNIN36_SELECT = 2 /* Select P07-19/P07-20 as internal speed limit via FunIN.36 (V-SEL) (通过 FunIN.36(V-SEL) 选 择 P07-19/P07-20 作为内部速度限制). */
 } c630s_speed_limit_source;
+/* Whether `value` is a member of c630s_speed_limit_source, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_speed_limit_source_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SPEED_LIMIT_SOURCE_INTERNAL:
+    case C630S_SPEED_LIMIT_SOURCE_V_LMT:
+    case C630S_SPEED_LIMIT_SOURCE_FUNIN36_SELECT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_speed_limit_source_is_writable(long long value)
+{
+    return c630s_speed_limit_source_is_member(value);
+}
 
 /* Second gain mode (第二增益模式设置). Manual 7.8. */
 typedef enum c630s_second_gain_mode {
     C630S_SECOND_GAIN_MODE_FIRST_GAIN_DI_P_PI = 0, /* First gain fixed, P/PI switching by external DI (第一增益固定， 使用外部DI 进行P/PI 切换). */
     C630S_SECOND_GAIN_MODE_SWITCH_PER_P08_09 = 1 /* Gain switching per the condition of P08-09 (根据 P08-09 的条件设置使用增益切换). */
 } c630s_second_gain_mode;
+/* Whether `value` is a member of c630s_second_gain_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_second_gain_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SECOND_GAIN_MODE_FIRST_GAIN_DI_P_PI:
+    case C630S_SECOND_GAIN_MODE_SWITCH_PER_P08_09:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_second_gain_mode_is_writable(long long value)
+{
+    return c630s_second_gain_mode_is_member(value);
+}
 
 /* Gain switching condition (增益切换条件选择). Manual 7.8. */
 typedef enum c630s_gain_switch_condition {
@@ -396,6 +1061,30 @@ typedef enum c630s_gain_switch_condition {
     C630S_GAIN_SWITCH_CONDITION_ACTUAL_SPEED_LARGE = 9, /* Large actual speed (P) (实际速度大 (P)). */
     C630S_GAIN_SWITCH_CONDITION_POSITION_COMMAND_AND_SPEED = 10 /* Position command + actual speed (P) (有位置指令 + 实际速度(P)). */
 } c630s_gain_switch_condition;
+/* Whether `value` is a member of c630s_gain_switch_condition, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_gain_switch_condition_is_member(long long value)
+{
+    switch (value) {
+    case C630S_GAIN_SWITCH_CONDITION_FIRST_GAIN_FIXED:
+    case C630S_GAIN_SWITCH_CONDITION_EXTERNAL_DI:
+    case C630S_GAIN_SWITCH_CONDITION_TORQUE_COMMAND_LARGE:
+    case C630S_GAIN_SWITCH_CONDITION_SPEED_COMMAND_LARGE:
+    case C630S_GAIN_SWITCH_CONDITION_SPEED_COMMAND_RATE_LARGE:
+    case C630S_GAIN_SWITCH_CONDITION_SPEED_COMMAND_HIGH_LOW:
+    case C630S_GAIN_SWITCH_CONDITION_POSITION_DEVIATION_LARGE:
+    case C630S_GAIN_SWITCH_CONDITION_POSITION_COMMAND_PRESENT:
+    case C630S_GAIN_SWITCH_CONDITION_POSITIONING_COMPLETE:
+    case C630S_GAIN_SWITCH_CONDITION_ACTUAL_SPEED_LARGE:
+    case C630S_GAIN_SWITCH_CONDITION_POSITION_COMMAND_AND_SPEED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_gain_switch_condition_is_writable(long long value)
+{
+    return c630s_gain_switch_condition_is_member(value);
+}
 
 /* Speed feedback filter (速度反馈滤波选项). Manual 7.8. */
 typedef enum c630s_speed_feedback_filter {
@@ -405,6 +1094,24 @@ typedef enum c630s_speed_feedback_filter {
     C630S_SPEED_FEEDBACK_FILTER_AVG_8 = 3, /* Speed feedback 8-sample average (速度反馈 8 次平均滤波). */
     C630S_SPEED_FEEDBACK_FILTER_AVG_16 = 4 /* Speed feedback 16-sample average (速度反馈 16 次平均滤波). */
 } c630s_speed_feedback_filter;
+/* Whether `value` is a member of c630s_speed_feedback_filter, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_speed_feedback_filter_is_member(long long value)
+{
+    switch (value) {
+    case C630S_SPEED_FEEDBACK_FILTER_OFF:
+    case C630S_SPEED_FEEDBACK_FILTER_AVG_2:
+    case C630S_SPEED_FEEDBACK_FILTER_AVG_4:
+    case C630S_SPEED_FEEDBACK_FILTER_AVG_8:
+    case C630S_SPEED_FEEDBACK_FILTER_AVG_16:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_speed_feedback_filter_is_writable(long long value)
+{
+    return c630s_speed_feedback_filter_is_member(value);
+}
 
 /* Adaptive notch filter mode (自适应陷波器模式选择). Manual 7.9. */
 typedef enum c630s_adaptive_notch_mode {
@@ -414,18 +1121,66 @@ typedef enum c630s_adaptive_notch_mode {
     C630S_ADAPTIVE_NOTCH_MODE_TEST_ONLY = 3, /* Only measure the resonance point, shown in P09-24 (只测试共振点, 在 P09-24 显示). */
     C630S_ADAPTIVE_NOTCH_MODE_RESTORE_NOTCH_3_4 = 4 /* Restore notch sets 3 and 4 to factory values (恢复第 3 组和第 4 组陷波器的值到出厂状态). */
 } c630s_adaptive_notch_mode;
+/* Whether `value` is a member of c630s_adaptive_notch_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_adaptive_notch_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_ADAPTIVE_NOTCH_MODE_NO_UPDATE:
+    case C630S_ADAPTIVE_NOTCH_MODE_ONE_NOTCH:
+    case C630S_ADAPTIVE_NOTCH_MODE_TWO_NOTCHES:
+    case C630S_ADAPTIVE_NOTCH_MODE_TEST_ONLY:
+    case C630S_ADAPTIVE_NOTCH_MODE_RESTORE_NOTCH_3_4:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_adaptive_notch_mode_is_writable(long long value)
+{
+    return c630s_adaptive_notch_mode_is_member(value);
+}
 
 /* Low-frequency resonance suppression mode (低频共振抑制模式选择). Manual 7.9. */
 typedef enum c630s_low_freq_resonance_mode {
     C630S_LOW_FREQ_RESONANCE_MODE_MANUAL = 0, /* Set vibration frequency manually (手动设置振动频率). */
     C630S_LOW_FREQ_RESONANCE_MODE_AUTO = 1 /* Identify vibration frequency automatically (自动辨识振动频率). */
 } c630s_low_freq_resonance_mode;
+/* Whether `value` is a member of c630s_low_freq_resonance_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_low_freq_resonance_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_LOW_FREQ_RESONANCE_MODE_MANUAL:
+    case C630S_LOW_FREQ_RESONANCE_MODE_AUTO:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_low_freq_resonance_mode_is_writable(long long value)
+{
+    return c630s_low_freq_resonance_mode_is_member(value);
+}
 
 /* Offline inertia identification mode (离线惯量辨识模式选择). Manual 7.9. */
 typedef enum c630s_inertia_id_mode {
     C630S_INERTIA_ID_MODE_TRIANGLE = 0, /* Forward/reverse triangle-wave mode (正反三角波模式). */
     C630S_INERTIA_ID_MODE_JOG = 1 /* JOG mode (JOG 点动模式). */
 } c630s_inertia_id_mode;
+/* Whether `value` is a member of c630s_inertia_id_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_inertia_id_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_INERTIA_ID_MODE_TRIANGLE:
+    case C630S_INERTIA_ID_MODE_JOG:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_inertia_id_mode_is_writable(long long value)
+{
+    return c630s_inertia_id_mode_is_member(value);
+}
 
 /* Input phase-loss protection (电源输入缺相保护选择). Manual 7.10. */
 typedef enum c630s_phase_loss_protection {
@@ -433,42 +1188,148 @@ typedef enum c630s_phase_loss_protection {
     C630S_PHASE_LOSS_PROTECTION_FAULT_AND_WARNING = 1, /* Fault and warning enabled (使能故障和警告). */
     C630S_PHASE_LOSS_PROTECTION_DISABLED = 2 /* Fault and warning disabled (禁止故障和警告). */
 } c630s_phase_loss_protection;
+/* Whether `value` is a member of c630s_phase_loss_protection, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_phase_loss_protection_is_member(long long value)
+{
+    switch (value) {
+    case C630S_PHASE_LOSS_PROTECTION_FAULT_ONLY:
+    case C630S_PHASE_LOSS_PROTECTION_FAULT_AND_WARNING:
+    case C630S_PHASE_LOSS_PROTECTION_DISABLED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_phase_loss_protection_is_writable(long long value)
+{
+    return c630s_phase_loss_protection_is_member(value);
+}
 
 /* Power-loss save (掉电保存功能使能选择). Manual 7.10. */
 typedef enum c630s_power_loss_save {
     C630S_POWER_LOSS_SAVE_OFF = 0, /* Do not save at power loss (不执行掉电保存). */
     C630S_POWER_LOSS_SAVE_ON = 1 /* Save at power loss (执行掉电保存). */
 } c630s_power_loss_save;
+/* Whether `value` is a member of c630s_power_loss_save, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_power_loss_save_is_member(long long value)
+{
+    switch (value) {
+    case C630S_POWER_LOSS_SAVE_OFF:
+    case C630S_POWER_LOSS_SAVE_ON:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_power_loss_save_is_writable(long long value)
+{
+    return c630s_power_loss_save_is_member(value);
+}
 
 /* Runaway protection (飞车保护功能使能). Manual 7.10. */
 typedef enum c630s_runaway_protection {
     C630S_RUNAWAY_PROTECTION_OFF = 0, /* No runaway protection (不作飞车保护). */
     C630S_RUNAWAY_PROTECTION_ON = 1 /* Runaway protection on (开启飞车保护). */
 } c630s_runaway_protection;
+/* Whether `value` is a member of c630s_runaway_protection, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_runaway_protection_is_member(long long value)
+{
+    switch (value) {
+    case C630S_RUNAWAY_PROTECTION_OFF:
+    case C630S_RUNAWAY_PROTECTION_ON:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_runaway_protection_is_writable(long long value)
+{
+    return c630s_runaway_protection_is_member(value);
+}
 
 /* Position setting unit (位置设定单位选择). Manual 7.10. */
 typedef enum c630s_position_unit_select {
     C630S_POSITION_UNIT_SELECT_ENCODER_UNIT = 0, /* Encoder units (编码器单位). */
     C630S_POSITION_UNIT_SELECT_COMMAND_UNIT = 1 /* Command units (指令单位). */
 } c630s_position_unit_select;
+/* Whether `value` is a member of c630s_position_unit_select, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_position_unit_select_is_member(long long value)
+{
+    switch (value) {
+    case C630S_POSITION_UNIT_SELECT_ENCODER_UNIT:
+    case C630S_POSITION_UNIT_SELECT_COMMAND_UNIT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_position_unit_select_is_writable(long long value)
+{
+    return c630s_position_unit_select_is_member(value);
+}
 
 /* Motor overload masking (电机过载屏蔽使能). Manual 7.10. */
 typedef enum c630s_motor_overload_mask {
     C630S_MOTOR_OVERLOAD_MASK_DETECT = 0, /* Motor overload detection on (开放电机过载检测). */
     C630S_MOTOR_OVERLOAD_MASK_MASKED = 1 /* Motor overload warning and fault masked (屏蔽电机过载警告和故障检测). */
 } c630s_motor_overload_mask;
+/* Whether `value` is a member of c630s_motor_overload_mask, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_motor_overload_mask_is_member(long long value)
+{
+    switch (value) {
+    case C630S_MOTOR_OVERLOAD_MASK_DETECT:
+    case C630S_MOTOR_OVERLOAD_MASK_MASKED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_motor_overload_mask_is_writable(long long value)
+{
+    return c630s_motor_overload_mask_is_member(value);
+}
 
 /* Stall over-temperature protection (堵转过温保护使能). Manual 7.10. */
 typedef enum c630s_stall_protection {
     C630S_STALL_PROTECTION_MASKED = 0, /* Stall over-temperature detection masked (屏蔽电机堵转过温保护检测). */
     C630S_STALL_PROTECTION_ENABLED = 1 /* Stall over-temperature detection enabled (使能电机堵转过温保护检测). */
 } c630s_stall_protection;
+/* Whether `value` is a member of c630s_stall_protection, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_stall_protection_is_member(long long value)
+{
+    switch (value) {
+    case C630S_STALL_PROTECTION_MASKED:
+    case C630S_STALL_PROTECTION_ENABLED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_stall_protection_is_writable(long long value)
+{
+    return c630s_stall_protection_is_member(value);
+}
 
 /* Encoder multi-turn overflow fault (编码器多圈溢出故障选择). Manual 7.10. */
 typedef enum c630s_multiturn_overflow_fault {
     C630S_MULTITURN_OVERFLOW_FAULT_NOT_MASKED = 0, /* Not masked (不屏蔽). */
     C630S_MULTITURN_OVERFLOW_FAULT_MASKED = 1 /* Masked (屏蔽). */
 } c630s_multiturn_overflow_fault;
+/* Whether `value` is a member of c630s_multiturn_overflow_fault, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_multiturn_overflow_fault_is_member(long long value)
+{
+    switch (value) {
+    case C630S_MULTITURN_OVERFLOW_FAULT_NOT_MASKED:
+    case C630S_MULTITURN_OVERFLOW_FAULT_MASKED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_multiturn_overflow_fault_is_writable(long long value)
+{
+    return c630s_multiturn_overflow_fault_is_member(value);
+}
 
 /* Serial baud rate (串口波特率设置). Manual 7.12, 9.1.2. */
 typedef enum c630s_baud_rate {
@@ -479,6 +1340,25 @@ typedef enum c630s_baud_rate {
     C630S_BAUD_RATE_B38400 = 4, /* 38400 bit/s (38400bps). */
     C630S_BAUD_RATE_B57600 = 5 /* 57600 bit/s (57600bps). */
 } c630s_baud_rate;
+/* Whether `value` is a member of c630s_baud_rate, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_baud_rate_is_member(long long value)
+{
+    switch (value) {
+    case C630S_BAUD_RATE_B2400:
+    case C630S_BAUD_RATE_B4800:
+    case C630S_BAUD_RATE_B9600:
+    case C630S_BAUD_RATE_B19200:
+    case C630S_BAUD_RATE_B38400:
+    case C630S_BAUD_RATE_B57600:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_baud_rate_is_writable(long long value)
+{
+    return c630s_baud_rate_is_member(value);
+}
 
 /* Modbus data format (Moubus 数据格式). Manual 7.12, 9.1.2. */
 typedef enum c630s_modbus_data_format {
@@ -487,18 +1367,65 @@ typedef enum c630s_modbus_data_format {
     C630S_MODBUS_DATA_FORMAT_ODD_1_STOP = 2, /* Odd parity, 1 stop bit (奇校验, 1个结束位). */
     C630S_MODBUS_DATA_FORMAT_NONE_1_STOP = 3 /* No parity, 1 stop bit (无校验, 1个结束位). */
 } c630s_modbus_data_format;
+/* Whether `value` is a member of c630s_modbus_data_format, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_modbus_data_format_is_member(long long value)
+{
+    switch (value) {
+    case C630S_MODBUS_DATA_FORMAT_NONE_2_STOP:
+    case C630S_MODBUS_DATA_FORMAT_EVEN_1_STOP:
+    case C630S_MODBUS_DATA_FORMAT_ODD_1_STOP:
+    case C630S_MODBUS_DATA_FORMAT_NONE_1_STOP:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_modbus_data_format_is_writable(long long value)
+{
+    return c630s_modbus_data_format_is_member(value);
+}
 
 /* Disable / enable (禁止 / 使能). Manual 7.12. */
 typedef enum c630s_disable_enable {
     C630S_DISABLE_ENABLE_DISABLED = 0, /* Disabled (禁止). */
     C630S_DISABLE_ENABLE_ENABLED = 1 /* Enabled (使能). */
 } c630s_disable_enable;
+/* Whether `value` is a member of c630s_disable_enable, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_disable_enable_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DISABLE_ENABLE_DISABLED:
+    case C630S_DISABLE_ENABLE_ENABLED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_disable_enable_is_writable(long long value)
+{
+    return c630s_disable_enable_is_member(value);
+}
 
 /* Update EEPROM on Modbus writes (通信写入功能码是否更新到 EEPROM). Manual 7.12, 9.1.2. */
 typedef enum c630s_eeprom_update {
     C630S_EEPROM_UPDATE_NO_UPDATE = 0, /* Do not update EEPROM (不更新 EEPROM). */
     C630S_EEPROM_UPDATE_UPDATE_EXCEPT_P0B_P0D = 1 /* Update EEPROM, except groups P0B and P0D (除P0B组和 P0D组外, 更新EEPROM). */
 } c630s_eeprom_update;
+/* Whether `value` is a member of c630s_eeprom_update, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_eeprom_update_is_member(long long value)
+{
+    switch (value) {
+    case C630S_EEPROM_UPDATE_NO_UPDATE:
+    case C630S_EEPROM_UPDATE_UPDATE_EXCEPT_P0B_P0D:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_eeprom_update_is_writable(long long value)
+{
+    return c630s_eeprom_update_is_member(value);
+}
 
 /* Modbus error code (Moubus 错误码). Manual 7.12, 9.2.4. */
 typedef enum c630s_modbus_error {
@@ -507,35 +1434,126 @@ typedef enum c630s_modbus_error {
     C630S_MODBUS_ERROR_ILLEGAL_DATA_VALUE = 3, /* Illegal data (非法数据). */
     C630S_MODBUS_ERROR_SLAVE_DEVICE_FAILURE = 4 /* Slave device failure (§9.2.4: refused to execute) (从站设备故障). §9.2.4 calls exception 0x04 拒绝执行 (erratum E16). */
 } c630s_modbus_error;
+/* Whether `value` is a member of c630s_modbus_error, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_modbus_error_is_member(long long value)
+{
+    switch (value) {
+    case C630S_MODBUS_ERROR_ILLEGAL_FUNCTION:
+    case C630S_MODBUS_ERROR_ILLEGAL_DATA_ADDRESS:
+    case C630S_MODBUS_ERROR_ILLEGAL_DATA_VALUE:
+    case C630S_MODBUS_ERROR_SLAVE_DEVICE_FAILURE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_modbus_error_is_writable(long long value)
+{
+    return c630s_modbus_error_is_member(value);
+}
 
 /* 32-bit word order (Moubus 通信数据高低位顺序). Manual 7.12. */
 typedef enum c630s_word_order {
     C630S_WORD_ORDER_HIGH_FIRST = 0, /* High 16 bits first, low 16 bits last (高 16 位在前, 低 16 位在后). */
     C630S_WORD_ORDER_LOW_FIRST = 1 /* Low 16 bits first, high 16 bits last (低 16 位在前, 高 16 位在后). */
 } c630s_word_order;
+/* Whether `value` is a member of c630s_word_order, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_word_order_is_member(long long value)
+{
+    switch (value) {
+    case C630S_WORD_ORDER_HIGH_FIRST:
+    case C630S_WORD_ORDER_LOW_FIRST:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_word_order_is_writable(long long value)
+{
+    return c630s_word_order_is_member(value);
+}
 
 /* Modbus error frame format (Moubus 错误帧格式选择). Manual 7.12. */
 typedef enum c630s_error_frame_format {
     C630S_ERROR_FRAME_FORMAT_OLD = 0, /* Old protocol (老协议). */
     C630S_ERROR_FRAME_FORMAT_STANDARD = 1 /* New protocol (standard) (新协议 (标准协议)). */
 } c630s_error_frame_format;
+/* Whether `value` is a member of c630s_error_frame_format, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_error_frame_format_is_member(long long value)
+{
+    switch (value) {
+    case C630S_ERROR_FRAME_FORMAT_OLD:
+    case C630S_ERROR_FRAME_FORMAT_STANDARD:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_error_frame_format_is_writable(long long value)
+{
+    return c630s_error_frame_format_is_member(value);
+}
 
 /* No operation / enable (无操作 / 使能). Every value is an action or its absence (§7.13 prints no read column); the manual does not say what the register reads once the action has run, so no member is marked read-only (access: r) or write-only (access: w). Manual 7.13. */
 typedef enum c630s_no_op_enable {
     C630S_NO_OP_ENABLE_NO_OPERATION = 0, /* No operation (无操作). */
     C630S_NO_OP_ENABLE_ENABLE = 1 /* Enable (使能). */
 } c630s_no_op_enable;
+/* Whether `value` is a member of c630s_no_op_enable, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_no_op_enable_is_member(long long value)
+{
+    switch (value) {
+    case C630S_NO_OP_ENABLE_NO_OPERATION:
+    case C630S_NO_OP_ENABLE_ENABLE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_no_op_enable_is_writable(long long value)
+{
+    return c630s_no_op_enable_is_member(value);
+}
 
 /* Initial angle identification (初始角度识别). Every value is an action or its absence (§7.13 prints no read column); the manual does not say what the register reads once the action has run, so no member is marked read-only (access: r) or write-only (access: w). Manual 7.13. */
 typedef enum c630s_initial_angle_id {
     C630S_INITIAL_ANGLE_ID_ENABLE = 1 /* Enable (使能). */
 } c630s_initial_angle_id;
+/* Whether `value` is a member of c630s_initial_angle_id, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_initial_angle_id_is_member(long long value)
+{
+    switch (value) {
+    case C630S_INITIAL_ANGLE_ID_ENABLE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_initial_angle_id_is_writable(long long value)
+{
+    return c630s_initial_angle_id_is_member(value);
+}
 
 /* Emergency stop (紧急停机). Every value is an action or its absence (§7.13 prints no read column); the manual does not say what the register reads once the action has run, so no member is marked read-only (access: r) or write-only (access: w). Manual 7.13. */
 typedef enum c630s_emergency_stop_cmd {
     C630S_EMERGENCY_STOP_CMD_NO_OPERATION = 0, /* No operation (无操作). */
     C630S_EMERGENCY_STOP_CMD_EMERGENCY_STOP = 1 /* Enable emergency stop (使能紧急停机). */
 } c630s_emergency_stop_cmd;
+/* Whether `value` is a member of c630s_emergency_stop_cmd, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_emergency_stop_cmd_is_member(long long value)
+{
+    switch (value) {
+    case C630S_EMERGENCY_STOP_CMD_NO_OPERATION:
+    case C630S_EMERGENCY_STOP_CMD_EMERGENCY_STOP:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_emergency_stop_cmd_is_writable(long long value)
+{
+    return c630s_emergency_stop_cmd_is_member(value);
+}
 
 /* DI/DO forced input/output enable (DIDO 强制输入输出使能). Manual 7.13. */
 typedef enum c630s_dido_force {
@@ -544,6 +1562,23 @@ typedef enum c630s_dido_force {
     C630S_DIDO_FORCE_FORCE_DO = 2, /* Forced DO enabled, forced DI disabled (强制 DO 使能, 强制 DI 不使能). */
     C630S_DIDO_FORCE_FORCE_DI_DO = 3 /* Forced DI and DO both enabled (强制 DI/DO 都使能). */
 } c630s_dido_force;
+/* Whether `value` is a member of c630s_dido_force, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_dido_force_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DIDO_FORCE_NO_OPERATION:
+    case C630S_DIDO_FORCE_FORCE_DI:
+    case C630S_DIDO_FORCE_FORCE_DO:
+    case C630S_DIDO_FORCE_FORCE_DI_DO:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_dido_force_is_writable(long long value)
+{
+    return c630s_dido_force_is_member(value);
+}
 
 /* Absolute encoder reset (绝对编码器复位使能). Every value is an action or its absence (§7.13 prints no read column); the manual does not say what the register reads once the action has run, so no member is marked read-only (access: r) or write-only (access: w). Manual 7.13, 5.2.4. */
 typedef enum c630s_abs_encoder_reset {
@@ -551,6 +1586,22 @@ typedef enum c630s_abs_encoder_reset {
     C630S_ABS_ENCODER_RESET_RESET_OPTION_1 = 1, /* Reset fault and multi-turn data (printed identically to value 2) (复位故障和多圈数据). §7.13 prints the same text for 1 and 2 (erratum E14); §5.2.4 and Er.731/Er.733/Er.735 use value 2 to clear the multi-turn data. */
     C630S_ABS_ENCODER_RESET_RESET_FAULT_AND_MULTITURN = 2 /* Reset fault and multi-turn data (复位故障和多圈数据). */
 } c630s_abs_encoder_reset;
+/* Whether `value` is a member of c630s_abs_encoder_reset, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_abs_encoder_reset_is_member(long long value)
+{
+    switch (value) {
+    case C630S_ABS_ENCODER_RESET_NO_OPERATION:
+    case C630S_ABS_ENCODER_RESET_RESET_OPTION_1:
+    case C630S_ABS_ENCODER_RESET_RESET_FAULT_AND_MULTITURN:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_abs_encoder_reset_is_writable(long long value)
+{
+    return c630s_abs_encoder_reset_is_member(value);
+}
 
 /* Multi-segment position run mode (多段位置运行方式). Manual 7.14, 6.1.3. */
 typedef enum c630s_multi_position_run_mode {
@@ -559,24 +1610,86 @@ typedef enum c630s_multi_position_run_mode {
     C630S_MULTI_POSITION_RUN_MODE_DI_SWITCH = 2, /* DI-switched run (segment selected by DI) (DI 切换运行; (通过DI来选择)). */
     C630S_MULTI_POSITION_RUN_MODE_SEQUENTIAL = 3 /* Sequential run (segment count in P11-01) (顺序运行; (P11-01进行段数选择)). */
 } c630s_multi_position_run_mode;
+/* Whether `value` is a member of c630s_multi_position_run_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_multi_position_run_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_MULTI_POSITION_RUN_MODE_SINGLE:
+    case C630S_MULTI_POSITION_RUN_MODE_CYCLE:
+    case C630S_MULTI_POSITION_RUN_MODE_DI_SWITCH:
+    case C630S_MULTI_POSITION_RUN_MODE_SEQUENTIAL:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_multi_position_run_mode_is_writable(long long value)
+{
+    return c630s_multi_position_run_mode_is_member(value);
+}
 
 /* Remaining-segment handling (余量处理方式). Valid in the three modes other than DI mode. Manual 7.14, 6.1.3. */
 typedef enum c630s_remainder_handling {
     C630S_REMAINDER_HANDLING_CONTINUE = 0, /* Continue the unfinished segments (继续运行没走完的段). */
     C630S_REMAINDER_HANDLING_RESTART = 1 /* Restart from segment 1 (从第 1 段重新开始运行). */
 } c630s_remainder_handling;
+/* Whether `value` is a member of c630s_remainder_handling, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_remainder_handling_is_member(long long value)
+{
+    switch (value) {
+    case C630S_REMAINDER_HANDLING_CONTINUE:
+    case C630S_REMAINDER_HANDLING_RESTART:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_remainder_handling_is_writable(long long value)
+{
+    return c630s_remainder_handling_is_member(value);
+}
 
 /* Time unit (ms / s) (时间单位). Manual 7.14, 6.1.3. */
 typedef enum c630s_time_unit_ms_s {
     C630S_TIME_UNIT_MS_S_MS = 0, /* Milliseconds (ms). */
     C630S_TIME_UNIT_MS_S_S = 1 /* Seconds (s). */
 } c630s_time_unit_ms_s;
+/* Whether `value` is a member of c630s_time_unit_ms_s, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_time_unit_ms_s_is_member(long long value)
+{
+    switch (value) {
+    case C630S_TIME_UNIT_MS_S_MS:
+    case C630S_TIME_UNIT_MS_S_S:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_time_unit_ms_s_is_writable(long long value)
+{
+    return c630s_time_unit_ms_s_is_member(value);
+}
 
 /* Displacement command type (位移指令类型选择). Manual 7.14, 6.1.3. */
 typedef enum c630s_displacement_type {
     C630S_DISPLACEMENT_TYPE_RELATIVE = 0, /* Relative displacement command (相对位移指令). */
     C630S_DISPLACEMENT_TYPE_ABSOLUTE = 1 /* Absolute displacement command (绝对位移指令). */
 } c630s_displacement_type;
+/* Whether `value` is a member of c630s_displacement_type, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_displacement_type_is_member(long long value)
+{
+    switch (value) {
+    case C630S_DISPLACEMENT_TYPE_RELATIVE:
+    case C630S_DISPLACEMENT_TYPE_ABSOLUTE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_displacement_type_is_writable(long long value)
+{
+    return c630s_displacement_type_is_member(value);
+}
 
 /* Multi-segment speed run mode (多段速度指令运行方式). Manual 7.15, 6.2.3. */
 typedef enum c630s_multi_speed_run_mode {
@@ -584,12 +1697,43 @@ typedef enum c630s_multi_speed_run_mode {
     C630S_MULTI_SPEED_RUN_MODE_CYCLE = 1, /* Cyclic run (segment count in P12-01) (循环运行(P12-01进行段数选择)). */
     C630S_MULTI_SPEED_RUN_MODE_DI_SWITCH = 2 /* Switched by external DI (通过外部 DI 进行切换). */
 } c630s_multi_speed_run_mode;
+/* Whether `value` is a member of c630s_multi_speed_run_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_multi_speed_run_mode_is_member(long long value)
+{
+    switch (value) {
+    case C630S_MULTI_SPEED_RUN_MODE_SINGLE:
+    case C630S_MULTI_SPEED_RUN_MODE_CYCLE:
+    case C630S_MULTI_SPEED_RUN_MODE_DI_SWITCH:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_multi_speed_run_mode_is_writable(long long value)
+{
+    return c630s_multi_speed_run_mode_is_member(value);
+}
 
 /* Run time unit (s / min) (运行时间单位选择). Manual 7.15, 6.2.3. */
 typedef enum c630s_time_unit_s_min {
     C630S_TIME_UNIT_S_MIN_SEC = 0, /* Seconds (sec). */
     C630S_TIME_UNIT_S_MIN_MIN = 1 /* Minutes (min). */
 } c630s_time_unit_s_min;
+/* Whether `value` is a member of c630s_time_unit_s_min, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_time_unit_s_min_is_member(long long value)
+{
+    switch (value) {
+    case C630S_TIME_UNIT_S_MIN_SEC:
+    case C630S_TIME_UNIT_S_MIN_MIN:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_time_unit_s_min_is_writable(long long value)
+{
+    return c630s_time_unit_s_min_is_member(value);
+}
 
 /* Segment acceleration/deceleration time select (加减速时间选择). Manual 7.15, 6.2.3. */
 typedef enum c630s_ramp_select {
@@ -599,6 +1743,24 @@ typedef enum c630s_ramp_select {
     C630S_RAMP_SELECT_RAMP_3 = 3, /* Acceleration/deceleration time 3 (P12-07/P12-08) (加减速时间 3). */
     C630S_RAMP_SELECT_RAMP_4 = 4 /* Acceleration/deceleration time 4 (P12-09/P12-10) (加减速时间 4). */
 } c630s_ramp_select;
+/* Whether `value` is a member of c630s_ramp_select, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool c630s_ramp_select_is_member(long long value)
+{
+    switch (value) {
+    case C630S_RAMP_SELECT_NONE:
+    case C630S_RAMP_SELECT_RAMP_1:
+    case C630S_RAMP_SELECT_RAMP_2:
+    case C630S_RAMP_SELECT_RAMP_3:
+    case C630S_RAMP_SELECT_RAMP_4:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool c630s_ramp_select_is_writable(long long value)
+{
+    return c630s_ramp_select_is_member(value);
+}
 
 /* ==== P01 drive parameters (P01 组驱动器参数). Manual 7.1. ==== */
 
@@ -610,9 +1772,15 @@ typedef enum c630s_ramp_select {
 #define C630S_MCU_SOFTWARE_VERSION_MIN                   0u
 #define C630S_MCU_SOFTWARE_VERSION_MAX                   65535u
 #define C630S_MCU_SOFTWARE_VERSION_SCALE                 1.0f
-#define C630S_MCU_SOFTWARE_VERSION_SCALE_NUM             1
-#define C630S_MCU_SOFTWARE_VERSION_SCALE_DEN             1
+#define C630S_MCU_SOFTWARE_VERSION_SCALE_NUM             1u
+#define C630S_MCU_SOFTWARE_VERSION_SCALE_DEN             1u
 #define C630S_MCU_SOFTWARE_VERSION_PAIRED                0
+/* Value of mcu_software_version. */
+static inline bool c630s_mcu_software_version_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P01-02 servo_drive_number: Servo drive number (伺服驱动器编号). u16 rw, raw 0..65535, takes effect after restart. Manual 7.1. */
 #define C630S_SERVO_DRIVE_NUMBER_ADDR                    0x0102u
@@ -622,9 +1790,28 @@ typedef enum c630s_ramp_select {
 #define C630S_SERVO_DRIVE_NUMBER_MIN                     0u
 #define C630S_SERVO_DRIVE_NUMBER_MAX                     65535u
 #define C630S_SERVO_DRIVE_NUMBER_SCALE                   1.0f
-#define C630S_SERVO_DRIVE_NUMBER_SCALE_NUM               1
-#define C630S_SERVO_DRIVE_NUMBER_SCALE_DEN               1
+#define C630S_SERVO_DRIVE_NUMBER_SCALE_NUM               1u
+#define C630S_SERVO_DRIVE_NUMBER_SCALE_DEN               1u
 #define C630S_SERVO_DRIVE_NUMBER_PAIRED                  0
+/* Values of servo_drive_number: 0..65535. */
+static inline bool c630s_servo_drive_number_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_servo_drive_number_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_servo_drive_number_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_servo_drive_number_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== P02 basic control parameters (P02 组基本控制参数). Manual 7.2. ==== */
 
@@ -637,9 +1824,31 @@ typedef enum c630s_ramp_select {
 #define C630S_CONTROL_MODE_MAX                           6u
 #define C630S_CONTROL_MODE_DEFAULT                       1u
 #define C630S_CONTROL_MODE_SCALE                         1.0f
-#define C630S_CONTROL_MODE_SCALE_NUM                     1
-#define C630S_CONTROL_MODE_SCALE_DEN                     1
+#define C630S_CONTROL_MODE_SCALE_NUM                     1u
+#define C630S_CONTROL_MODE_SCALE_DEN                     1u
 #define C630S_CONTROL_MODE_PAIRED                        0
+/* Values of control_mode: the members of control_mode a write may send. */
+static inline bool c630s_control_mode_is_in_range(c630s_control_mode value)
+{
+    return c630s_control_mode_is_writable(value);
+}
+static inline bool c630s_control_mode_encode(c630s_control_mode value, uint16_t words[1])
+{
+    if (!c630s_control_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_control_mode_decode(const uint16_t words[1], c630s_control_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_control_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_control_mode)raw;
+    return true;
+}
 
 /* P02-01 encoder_type: Encoder type (编码器类型选择). u16 rw, raw 0..1, default 0, values: enum encoder_type, takes effect after restart, errata E8. Manual 7.2, 6.1.2. */
 #define C630S_ENCODER_TYPE_ADDR                          0x0201u
@@ -650,9 +1859,31 @@ typedef enum c630s_ramp_select {
 #define C630S_ENCODER_TYPE_MAX                           1u
 #define C630S_ENCODER_TYPE_DEFAULT                       0u
 #define C630S_ENCODER_TYPE_SCALE                         1.0f
-#define C630S_ENCODER_TYPE_SCALE_NUM                     1
-#define C630S_ENCODER_TYPE_SCALE_DEN                     1
+#define C630S_ENCODER_TYPE_SCALE_NUM                     1u
+#define C630S_ENCODER_TYPE_SCALE_DEN                     1u
 #define C630S_ENCODER_TYPE_PAIRED                        0
+/* Values of encoder_type: the members of encoder_type a write may send. */
+static inline bool c630s_encoder_type_is_in_range(c630s_encoder_type value)
+{
+    return c630s_encoder_type_is_writable(value);
+}
+static inline bool c630s_encoder_type_encode(c630s_encoder_type value, uint16_t words[1])
+{
+    if (!c630s_encoder_type_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_encoder_type_decode(const uint16_t words[1], c630s_encoder_type *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_encoder_type_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_encoder_type)raw;
+    return true;
+}
 
 /* P02-02 rotation_direction: Rotation direction (旋转方向选择). u16 rw, raw 0..1, default 0, values: enum rotation_direction, takes effect after restart. Manual 7.2, 6.1.2. */
 #define C630S_ROTATION_DIRECTION_ADDR                    0x0202u
@@ -663,9 +1894,31 @@ typedef enum c630s_ramp_select {
 #define C630S_ROTATION_DIRECTION_MAX                     1u
 #define C630S_ROTATION_DIRECTION_DEFAULT                 0u
 #define C630S_ROTATION_DIRECTION_SCALE                   1.0f
-#define C630S_ROTATION_DIRECTION_SCALE_NUM               1
-#define C630S_ROTATION_DIRECTION_SCALE_DEN               1
+#define C630S_ROTATION_DIRECTION_SCALE_NUM               1u
+#define C630S_ROTATION_DIRECTION_SCALE_DEN               1u
 #define C630S_ROTATION_DIRECTION_PAIRED                  0
+/* Values of rotation_direction: the members of rotation_direction a write may send. */
+static inline bool c630s_rotation_direction_is_in_range(c630s_rotation_direction value)
+{
+    return c630s_rotation_direction_is_writable(value);
+}
+static inline bool c630s_rotation_direction_encode(c630s_rotation_direction value, uint16_t words[1])
+{
+    if (!c630s_rotation_direction_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_rotation_direction_decode(const uint16_t words[1], c630s_rotation_direction *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_rotation_direction_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_rotation_direction)raw;
+    return true;
+}
 
 /* P02-03 output_pulse_phase: Output pulse phase (输出脉冲相位). u16 rw, raw 0..1, default 0, values: enum output_pulse_phase, takes effect after restart. Manual 7.2, 6.1.2. */
 #define C630S_OUTPUT_PULSE_PHASE_ADDR                    0x0203u
@@ -676,9 +1929,31 @@ typedef enum c630s_ramp_select {
 #define C630S_OUTPUT_PULSE_PHASE_MAX                     1u
 #define C630S_OUTPUT_PULSE_PHASE_DEFAULT                 0u
 #define C630S_OUTPUT_PULSE_PHASE_SCALE                   1.0f
-#define C630S_OUTPUT_PULSE_PHASE_SCALE_NUM               1
-#define C630S_OUTPUT_PULSE_PHASE_SCALE_DEN               1
+#define C630S_OUTPUT_PULSE_PHASE_SCALE_NUM               1u
+#define C630S_OUTPUT_PULSE_PHASE_SCALE_DEN               1u
 #define C630S_OUTPUT_PULSE_PHASE_PAIRED                  0
+/* Values of output_pulse_phase: the members of output_pulse_phase a write may send. */
+static inline bool c630s_output_pulse_phase_is_in_range(c630s_output_pulse_phase value)
+{
+    return c630s_output_pulse_phase_is_writable(value);
+}
+static inline bool c630s_output_pulse_phase_encode(c630s_output_pulse_phase value, uint16_t words[1])
+{
+    if (!c630s_output_pulse_phase_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_output_pulse_phase_decode(const uint16_t words[1], c630s_output_pulse_phase *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_output_pulse_phase_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_output_pulse_phase)raw;
+    return true;
+}
 
 /* P02-05 servo_off_stop_mode: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择). u16 rw, raw 0..1, default 0, values: enum stop_mode, takes effect immediately. Manual 7.2. */
 #define C630S_SERVO_OFF_STOP_MODE_ADDR                   0x0205u
@@ -689,9 +1964,31 @@ typedef enum c630s_ramp_select {
 #define C630S_SERVO_OFF_STOP_MODE_MAX                    1u
 #define C630S_SERVO_OFF_STOP_MODE_DEFAULT                0u
 #define C630S_SERVO_OFF_STOP_MODE_SCALE                  1.0f
-#define C630S_SERVO_OFF_STOP_MODE_SCALE_NUM              1
-#define C630S_SERVO_OFF_STOP_MODE_SCALE_DEN              1
+#define C630S_SERVO_OFF_STOP_MODE_SCALE_NUM              1u
+#define C630S_SERVO_OFF_STOP_MODE_SCALE_DEN              1u
 #define C630S_SERVO_OFF_STOP_MODE_PAIRED                 0
+/* Values of servo_off_stop_mode: the members of stop_mode a write may send. */
+static inline bool c630s_servo_off_stop_mode_is_in_range(c630s_stop_mode value)
+{
+    return c630s_stop_mode_is_writable(value);
+}
+static inline bool c630s_servo_off_stop_mode_encode(c630s_stop_mode value, uint16_t words[1])
+{
+    if (!c630s_servo_off_stop_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_servo_off_stop_mode_decode(const uint16_t words[1], c630s_stop_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_stop_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_stop_mode)raw;
+    return true;
+}
 
 /* P02-06 fault_no2_stop_mode: Stop mode at fault No.2 (故障 No.2 停机方式选择). u16 rw, raw 0..1, default 0, values: enum stop_mode, takes effect immediately. Manual 7.2. */
 #define C630S_FAULT_NO2_STOP_MODE_ADDR                   0x0206u
@@ -702,9 +1999,31 @@ typedef enum c630s_ramp_select {
 #define C630S_FAULT_NO2_STOP_MODE_MAX                    1u
 #define C630S_FAULT_NO2_STOP_MODE_DEFAULT                0u
 #define C630S_FAULT_NO2_STOP_MODE_SCALE                  1.0f
-#define C630S_FAULT_NO2_STOP_MODE_SCALE_NUM              1
-#define C630S_FAULT_NO2_STOP_MODE_SCALE_DEN              1
+#define C630S_FAULT_NO2_STOP_MODE_SCALE_NUM              1u
+#define C630S_FAULT_NO2_STOP_MODE_SCALE_DEN              1u
 #define C630S_FAULT_NO2_STOP_MODE_PAIRED                 0
+/* Values of fault_no2_stop_mode: the members of stop_mode a write may send. */
+static inline bool c630s_fault_no2_stop_mode_is_in_range(c630s_stop_mode value)
+{
+    return c630s_stop_mode_is_writable(value);
+}
+static inline bool c630s_fault_no2_stop_mode_encode(c630s_stop_mode value, uint16_t words[1])
+{
+    if (!c630s_fault_no2_stop_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_fault_no2_stop_mode_decode(const uint16_t words[1], c630s_stop_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_stop_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_stop_mode)raw;
+    return true;
+}
 
 /* P02-07 overtravel_stop_mode: Overtravel stop mode (超程停机方式选择). u16 rw, raw 0..2, default 1, values: enum overtravel_stop_mode, takes effect immediately. Manual 7.2. */
 #define C630S_OVERTRAVEL_STOP_MODE_ADDR                  0x0207u
@@ -715,9 +2034,31 @@ typedef enum c630s_ramp_select {
 #define C630S_OVERTRAVEL_STOP_MODE_MAX                   2u
 #define C630S_OVERTRAVEL_STOP_MODE_DEFAULT               1u
 #define C630S_OVERTRAVEL_STOP_MODE_SCALE                 1.0f
-#define C630S_OVERTRAVEL_STOP_MODE_SCALE_NUM             1
-#define C630S_OVERTRAVEL_STOP_MODE_SCALE_DEN             1
+#define C630S_OVERTRAVEL_STOP_MODE_SCALE_NUM             1u
+#define C630S_OVERTRAVEL_STOP_MODE_SCALE_DEN             1u
 #define C630S_OVERTRAVEL_STOP_MODE_PAIRED                0
+/* Values of overtravel_stop_mode: the members of overtravel_stop_mode a write may send. */
+static inline bool c630s_overtravel_stop_mode_is_in_range(c630s_overtravel_stop_mode value)
+{
+    return c630s_overtravel_stop_mode_is_writable(value);
+}
+static inline bool c630s_overtravel_stop_mode_encode(c630s_overtravel_stop_mode value, uint16_t words[1])
+{
+    if (!c630s_overtravel_stop_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_overtravel_stop_mode_decode(const uint16_t words[1], c630s_overtravel_stop_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_overtravel_stop_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_overtravel_stop_mode)raw;
+    return true;
+}
 
 /* P02-08 fault_no1_stop_mode: Stop mode at fault No.1 (故障 No.1 停机方式选择). u16 rw, raw 0..0, default 0, values: enum fault_no1_stop_mode, takes effect immediately. Manual 7.2. */
 #define C630S_FAULT_NO1_STOP_MODE_ADDR                   0x0208u
@@ -728,9 +2069,31 @@ typedef enum c630s_ramp_select {
 #define C630S_FAULT_NO1_STOP_MODE_MAX                    0u
 #define C630S_FAULT_NO1_STOP_MODE_DEFAULT                0u
 #define C630S_FAULT_NO1_STOP_MODE_SCALE                  1.0f
-#define C630S_FAULT_NO1_STOP_MODE_SCALE_NUM              1
-#define C630S_FAULT_NO1_STOP_MODE_SCALE_DEN              1
+#define C630S_FAULT_NO1_STOP_MODE_SCALE_NUM              1u
+#define C630S_FAULT_NO1_STOP_MODE_SCALE_DEN              1u
 #define C630S_FAULT_NO1_STOP_MODE_PAIRED                 0
+/* Values of fault_no1_stop_mode: the members of fault_no1_stop_mode a write may send. */
+static inline bool c630s_fault_no1_stop_mode_is_in_range(c630s_fault_no1_stop_mode value)
+{
+    return c630s_fault_no1_stop_mode_is_writable(value);
+}
+static inline bool c630s_fault_no1_stop_mode_encode(c630s_fault_no1_stop_mode value, uint16_t words[1])
+{
+    if (!c630s_fault_no1_stop_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_fault_no1_stop_mode_decode(const uint16_t words[1], c630s_fault_no1_stop_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_fault_no1_stop_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_fault_no1_stop_mode)raw;
+    return true;
+}
 
 /* P02-09 brake_on_to_command_delay: Delay from brake output ON to command acceptance (抱闸输出 ON 至指令接收延时). u16 rw, unit ms, raw 0..500, default 250, takes effect immediately. Manual 7.2. */
 #define C630S_BRAKE_ON_TO_COMMAND_DELAY_ADDR             0x0209u
@@ -741,9 +2104,27 @@ typedef enum c630s_ramp_select {
 #define C630S_BRAKE_ON_TO_COMMAND_DELAY_MAX              500u
 #define C630S_BRAKE_ON_TO_COMMAND_DELAY_DEFAULT          250u
 #define C630S_BRAKE_ON_TO_COMMAND_DELAY_SCALE            1.0f
-#define C630S_BRAKE_ON_TO_COMMAND_DELAY_SCALE_NUM        1
-#define C630S_BRAKE_ON_TO_COMMAND_DELAY_SCALE_DEN        1
+#define C630S_BRAKE_ON_TO_COMMAND_DELAY_SCALE_NUM        1u
+#define C630S_BRAKE_ON_TO_COMMAND_DELAY_SCALE_DEN        1u
 #define C630S_BRAKE_ON_TO_COMMAND_DELAY_PAIRED           0
+/* Values of brake_on_to_command_delay: 0..500 ms. */
+static inline bool c630s_brake_on_to_command_delay_is_in_range(uint16_t value)
+{
+    return value <= 500u;
+}
+static inline bool c630s_brake_on_to_command_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_brake_on_to_command_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_brake_on_to_command_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-10 brake_off_to_motor_off_delay: At standstill: delay from brake output OFF to motor de-energised (静止状态, 抱闸输出 OFF 至电机不通电延时). u16 rw, unit ms, raw 1..1000, default 150, takes effect immediately. Manual 7.2. */
 #define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_ADDR          0x020Au
@@ -754,9 +2135,27 @@ typedef enum c630s_ramp_select {
 #define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_MAX           1000u
 #define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_DEFAULT       150u
 #define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_SCALE         1.0f
-#define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_SCALE_NUM     1
-#define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_SCALE_DEN     1
+#define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_SCALE_NUM     1u
+#define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_SCALE_DEN     1u
 #define C630S_BRAKE_OFF_TO_MOTOR_OFF_DELAY_PAIRED        0
+/* Values of brake_off_to_motor_off_delay: 1..1000 ms. */
+static inline bool c630s_brake_off_to_motor_off_delay_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 1000u;
+}
+static inline bool c630s_brake_off_to_motor_off_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_brake_off_to_motor_off_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_brake_off_to_motor_off_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-11 brake_off_speed_threshold: While rotating: speed threshold for brake output OFF (旋转状态, 抱闸输出 OFF 时 转速阈值). u16 rw, unit rpm, raw 0..3000, default 30, takes effect immediately. Manual 7.2. */
 #define C630S_BRAKE_OFF_SPEED_THRESHOLD_ADDR             0x020Bu
@@ -767,9 +2166,27 @@ typedef enum c630s_ramp_select {
 #define C630S_BRAKE_OFF_SPEED_THRESHOLD_MAX              3000u
 #define C630S_BRAKE_OFF_SPEED_THRESHOLD_DEFAULT          30u
 #define C630S_BRAKE_OFF_SPEED_THRESHOLD_SCALE            1.0f
-#define C630S_BRAKE_OFF_SPEED_THRESHOLD_SCALE_NUM        1
-#define C630S_BRAKE_OFF_SPEED_THRESHOLD_SCALE_DEN        1
+#define C630S_BRAKE_OFF_SPEED_THRESHOLD_SCALE_NUM        1u
+#define C630S_BRAKE_OFF_SPEED_THRESHOLD_SCALE_DEN        1u
 #define C630S_BRAKE_OFF_SPEED_THRESHOLD_PAIRED           0
+/* Values of brake_off_speed_threshold: 0..3000 rpm. */
+static inline bool c630s_brake_off_speed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool c630s_brake_off_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_brake_off_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_brake_off_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-12 servo_off_to_brake_off_delay: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时). u16 rw, unit ms, raw 1..1000, default 500, takes effect immediately. Manual 7.2. */
 #define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_ADDR          0x020Cu
@@ -780,9 +2197,27 @@ typedef enum c630s_ramp_select {
 #define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_MAX           1000u
 #define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_DEFAULT       500u
 #define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_SCALE         1.0f
-#define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_SCALE_NUM     1
-#define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_SCALE_DEN     1
+#define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_SCALE_NUM     1u
+#define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_SCALE_DEN     1u
 #define C630S_SERVO_OFF_TO_BRAKE_OFF_DELAY_PAIRED        0
+/* Values of servo_off_to_brake_off_delay: 1..1000 ms. */
+static inline bool c630s_servo_off_to_brake_off_delay_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 1000u;
+}
+static inline bool c630s_servo_off_to_brake_off_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_servo_off_to_brake_off_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_servo_off_to_brake_off_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-15 led_warning_display: LED warning display (LED 警告显示选择). u16 rw, raw 0..1, default 0, values: enum led_warning_display, takes effect immediately. Manual 7.2. */
 #define C630S_LED_WARNING_DISPLAY_ADDR                   0x020Fu
@@ -793,9 +2228,31 @@ typedef enum c630s_ramp_select {
 #define C630S_LED_WARNING_DISPLAY_MAX                    1u
 #define C630S_LED_WARNING_DISPLAY_DEFAULT                0u
 #define C630S_LED_WARNING_DISPLAY_SCALE                  1.0f
-#define C630S_LED_WARNING_DISPLAY_SCALE_NUM              1
-#define C630S_LED_WARNING_DISPLAY_SCALE_DEN              1
+#define C630S_LED_WARNING_DISPLAY_SCALE_NUM              1u
+#define C630S_LED_WARNING_DISPLAY_SCALE_DEN              1u
 #define C630S_LED_WARNING_DISPLAY_PAIRED                 0
+/* Values of led_warning_display: the members of led_warning_display a write may send. */
+static inline bool c630s_led_warning_display_is_in_range(c630s_led_warning_display value)
+{
+    return c630s_led_warning_display_is_writable(value);
+}
+static inline bool c630s_led_warning_display_encode(c630s_led_warning_display value, uint16_t words[1])
+{
+    if (!c630s_led_warning_display_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_led_warning_display_decode(const uint16_t words[1], c630s_led_warning_display *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_led_warning_display_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_led_warning_display)raw;
+    return true;
+}
 
 /* P02-18 servo_on_filter_time: Servo enable (S-ON) filter time constant (伺服使能 (S-ON) 滤波时间常数). u16 rw, unit ms, raw 0..64, default 0, takes effect immediately. Manual 7.2. */
 #define C630S_SERVO_ON_FILTER_TIME_ADDR                  0x0212u
@@ -806,9 +2263,27 @@ typedef enum c630s_ramp_select {
 #define C630S_SERVO_ON_FILTER_TIME_MAX                   64u
 #define C630S_SERVO_ON_FILTER_TIME_DEFAULT               0u
 #define C630S_SERVO_ON_FILTER_TIME_SCALE                 1.0f
-#define C630S_SERVO_ON_FILTER_TIME_SCALE_NUM             1
-#define C630S_SERVO_ON_FILTER_TIME_SCALE_DEN             1
+#define C630S_SERVO_ON_FILTER_TIME_SCALE_NUM             1u
+#define C630S_SERVO_ON_FILTER_TIME_SCALE_DEN             1u
 #define C630S_SERVO_ON_FILTER_TIME_PAIRED                0
+/* Values of servo_on_filter_time: 0..64 ms. */
+static inline bool c630s_servo_on_filter_time_is_in_range(uint16_t value)
+{
+    return value <= 64u;
+}
+static inline bool c630s_servo_on_filter_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_servo_on_filter_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_servo_on_filter_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-21 min_braking_resistance: Minimum braking resistance allowed by the drive (驱动器允许的制动电阻最小值). u16 r, unit Ω. Manual 7.2. */
 #define C630S_MIN_BRAKING_RESISTANCE_ADDR                0x0215u
@@ -816,9 +2291,15 @@ typedef enum c630s_ramp_select {
 #define C630S_MIN_BRAKING_RESISTANCE_ACCESS              REGMAP_ACCESS_R
 #define C630S_MIN_BRAKING_RESISTANCE_SIGNED              0
 #define C630S_MIN_BRAKING_RESISTANCE_SCALE               1.0f
-#define C630S_MIN_BRAKING_RESISTANCE_SCALE_NUM           1
-#define C630S_MIN_BRAKING_RESISTANCE_SCALE_DEN           1
+#define C630S_MIN_BRAKING_RESISTANCE_SCALE_NUM           1u
+#define C630S_MIN_BRAKING_RESISTANCE_SCALE_DEN           1u
 #define C630S_MIN_BRAKING_RESISTANCE_PAIRED              0
+/* Value of min_braking_resistance. */
+static inline bool c630s_min_braking_resistance_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-22 internal_braking_resistor_power: Internal braking resistor power (内置制动电阻功率). u16 r, unit W. Manual 7.2. */
 #define C630S_INTERNAL_BRAKING_RESISTOR_POWER_ADDR       0x0216u
@@ -826,9 +2307,15 @@ typedef enum c630s_ramp_select {
 #define C630S_INTERNAL_BRAKING_RESISTOR_POWER_ACCESS     REGMAP_ACCESS_R
 #define C630S_INTERNAL_BRAKING_RESISTOR_POWER_SIGNED     0
 #define C630S_INTERNAL_BRAKING_RESISTOR_POWER_SCALE      1.0f
-#define C630S_INTERNAL_BRAKING_RESISTOR_POWER_SCALE_NUM  1
-#define C630S_INTERNAL_BRAKING_RESISTOR_POWER_SCALE_DEN  1
+#define C630S_INTERNAL_BRAKING_RESISTOR_POWER_SCALE_NUM  1u
+#define C630S_INTERNAL_BRAKING_RESISTOR_POWER_SCALE_DEN  1u
 #define C630S_INTERNAL_BRAKING_RESISTOR_POWER_PAIRED     0
+/* Value of internal_braking_resistor_power. */
+static inline bool c630s_internal_braking_resistor_power_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-23 internal_braking_resistor_resistance: Internal braking resistor resistance (内置制动电阻阻值). u16 r, unit Ω. Manual 7.2. */
 #define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_ADDR  0x0217u
@@ -836,9 +2323,15 @@ typedef enum c630s_ramp_select {
 #define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_ACCESS REGMAP_ACCESS_R
 #define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_SIGNED 0
 #define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE 1.0f
-#define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_NUM 1
-#define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_DEN 1
+#define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_NUM 1u
+#define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_DEN 1u
 #define C630S_INTERNAL_BRAKING_RESISTOR_RESISTANCE_PAIRED 0
+/* Value of internal_braking_resistor_resistance. */
+static inline bool c630s_internal_braking_resistor_resistance_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-24 resistor_heat_dissipation_coefficient: Resistor heat dissipation coefficient (电阻散热系数). u16 rw, unit %, raw 10..100, default 30, takes effect immediately. Manual 7.2. */
 #define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_ADDR 0x0218u
@@ -849,9 +2342,27 @@ typedef enum c630s_ramp_select {
 #define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_MAX  100u
 #define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_DEFAULT 30u
 #define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_SCALE 1.0f
-#define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_SCALE_NUM 1
-#define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_SCALE_DEN 1
+#define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_SCALE_NUM 1u
+#define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_SCALE_DEN 1u
 #define C630S_RESISTOR_HEAT_DISSIPATION_COEFFICIENT_PAIRED 0
+/* Values of resistor_heat_dissipation_coefficient: 10..100 %. */
+static inline bool c630s_resistor_heat_dissipation_coefficient_is_in_range(uint16_t value)
+{
+    return value >= 10u && value <= 100u;
+}
+static inline bool c630s_resistor_heat_dissipation_coefficient_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_resistor_heat_dissipation_coefficient_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_resistor_heat_dissipation_coefficient_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-25 braking_resistor_setting: Braking resistor setting (制动电阻设置). u16 rw, raw 0..3, default 0, values: enum braking_resistor_setting, takes effect immediately. Manual 7.2. */
 #define C630S_BRAKING_RESISTOR_SETTING_ADDR              0x0219u
@@ -862,9 +2373,31 @@ typedef enum c630s_ramp_select {
 #define C630S_BRAKING_RESISTOR_SETTING_MAX               3u
 #define C630S_BRAKING_RESISTOR_SETTING_DEFAULT           0u
 #define C630S_BRAKING_RESISTOR_SETTING_SCALE             1.0f
-#define C630S_BRAKING_RESISTOR_SETTING_SCALE_NUM         1
-#define C630S_BRAKING_RESISTOR_SETTING_SCALE_DEN         1
+#define C630S_BRAKING_RESISTOR_SETTING_SCALE_NUM         1u
+#define C630S_BRAKING_RESISTOR_SETTING_SCALE_DEN         1u
 #define C630S_BRAKING_RESISTOR_SETTING_PAIRED            0
+/* Values of braking_resistor_setting: the members of braking_resistor_setting a write may send. */
+static inline bool c630s_braking_resistor_setting_is_in_range(c630s_braking_resistor_setting value)
+{
+    return c630s_braking_resistor_setting_is_writable(value);
+}
+static inline bool c630s_braking_resistor_setting_encode(c630s_braking_resistor_setting value, uint16_t words[1])
+{
+    if (!c630s_braking_resistor_setting_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_braking_resistor_setting_decode(const uint16_t words[1], c630s_braking_resistor_setting *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_braking_resistor_setting_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_braking_resistor_setting)raw;
+    return true;
+}
 
 /* P02-26 external_braking_resistor_power: External braking resistor power (外接制动电阻功率). u16 rw, unit W, raw 1..65535, takes effect immediately. Manual 7.2. */
 #define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_ADDR       0x021Au
@@ -874,9 +2407,27 @@ typedef enum c630s_ramp_select {
 #define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_MIN        1u
 #define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_MAX        65535u
 #define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_SCALE      1.0f
-#define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_SCALE_NUM  1
-#define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_SCALE_DEN  1
+#define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_SCALE_NUM  1u
+#define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_SCALE_DEN  1u
 #define C630S_EXTERNAL_BRAKING_RESISTOR_POWER_PAIRED     0
+/* Values of external_braking_resistor_power: 1..65535 W. */
+static inline bool c630s_external_braking_resistor_power_is_in_range(uint16_t value)
+{
+    return value >= 1u;
+}
+static inline bool c630s_external_braking_resistor_power_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_external_braking_resistor_power_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_external_braking_resistor_power_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-27 external_braking_resistor_resistance: External braking resistor resistance (外接制动电阻阻值). u16 rw, unit Ω, raw 1..1000, takes effect immediately. Manual 7.2. */
 #define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_ADDR  0x021Bu
@@ -886,9 +2437,27 @@ typedef enum c630s_ramp_select {
 #define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_MIN   1u
 #define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_MAX   1000u
 #define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE 1.0f
-#define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_NUM 1
-#define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_DEN 1
+#define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_NUM 1u
+#define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_SCALE_DEN 1u
 #define C630S_EXTERNAL_BRAKING_RESISTOR_RESISTANCE_PAIRED 0
+/* Values of external_braking_resistor_resistance: 1..1000 Ω. */
+static inline bool c630s_external_braking_resistor_resistance_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 1000u;
+}
+static inline bool c630s_external_braking_resistor_resistance_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_external_braking_resistor_resistance_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_external_braking_resistor_resistance_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-31 system_parameter_init: System parameter initialisation (系统参数初始化). u16 rw, raw 0..2, default 0, values: enum system_init, takes effect immediately. Manual 7.2, 5.2.3. */
 #define C630S_SYSTEM_PARAMETER_INIT_ADDR                 0x021Fu
@@ -899,9 +2468,31 @@ typedef enum c630s_ramp_select {
 #define C630S_SYSTEM_PARAMETER_INIT_MAX                  2u
 #define C630S_SYSTEM_PARAMETER_INIT_DEFAULT              0u
 #define C630S_SYSTEM_PARAMETER_INIT_SCALE                1.0f
-#define C630S_SYSTEM_PARAMETER_INIT_SCALE_NUM            1
-#define C630S_SYSTEM_PARAMETER_INIT_SCALE_DEN            1
+#define C630S_SYSTEM_PARAMETER_INIT_SCALE_NUM            1u
+#define C630S_SYSTEM_PARAMETER_INIT_SCALE_DEN            1u
 #define C630S_SYSTEM_PARAMETER_INIT_PAIRED               0
+/* Values of system_parameter_init: the members of system_init a write may send. */
+static inline bool c630s_system_parameter_init_is_in_range(c630s_system_init value)
+{
+    return c630s_system_init_is_writable(value);
+}
+static inline bool c630s_system_parameter_init_encode(c630s_system_init value, uint16_t words[1])
+{
+    if (!c630s_system_parameter_init_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_system_parameter_init_decode(const uint16_t words[1], c630s_system_init *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_system_init_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_system_init)raw;
+    return true;
+}
 
 /* P02-32 panel_default_display: Panel default display (面板默认显示功能). u16 rw, raw 0..99, printed range 0~99, 对应PB组参数号, 设位0对应转速监控, 设位13对应脉冲监控, default 50, takes effect immediately. Manual 7.2. */
 /* Number of the P0B monitor parameter shown by default (0 = speed P0B-00, 13 = pulse counter P0B-13). */
@@ -913,9 +2504,27 @@ typedef enum c630s_ramp_select {
 #define C630S_PANEL_DEFAULT_DISPLAY_MAX                  99u
 #define C630S_PANEL_DEFAULT_DISPLAY_DEFAULT              50u
 #define C630S_PANEL_DEFAULT_DISPLAY_SCALE                1.0f
-#define C630S_PANEL_DEFAULT_DISPLAY_SCALE_NUM            1
-#define C630S_PANEL_DEFAULT_DISPLAY_SCALE_DEN            1
+#define C630S_PANEL_DEFAULT_DISPLAY_SCALE_NUM            1u
+#define C630S_PANEL_DEFAULT_DISPLAY_SCALE_DEN            1u
 #define C630S_PANEL_DEFAULT_DISPLAY_PAIRED               0
+/* Values of panel_default_display: 0..99. */
+static inline bool c630s_panel_default_display_is_in_range(uint16_t value)
+{
+    return value <= 99u;
+}
+static inline bool c630s_panel_default_display_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_panel_default_display_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_panel_default_display_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-38 fault_short_circuit_braking_time: Fault short-circuit braking time (故障短路制动时间). u16 rw, unit ms, raw 0..30000, default 5000, takes effect immediately. Manual 7.2. */
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_ADDR      0x0226u
@@ -926,9 +2535,27 @@ typedef enum c630s_ramp_select {
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_MAX       30000u
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_DEFAULT   5000u
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_SCALE     1.0f
-#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_SCALE_NUM 1
-#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_SCALE_DEN 1
+#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_SCALE_NUM 1u
+#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_SCALE_DEN 1u
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_TIME_PAIRED    0
+/* Values of fault_short_circuit_braking_time: 0..30000 ms. */
+static inline bool c630s_fault_short_circuit_braking_time_is_in_range(uint16_t value)
+{
+    return value <= 30000u;
+}
+static inline bool c630s_fault_short_circuit_braking_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_fault_short_circuit_braking_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_fault_short_circuit_braking_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P02-39 fault_short_circuit_braking_threshold: Fault short-circuit braking threshold (故障短路制动阈值). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0~3000 (单位 0.1%), default 1000 (100), takes effect immediately. Manual 7.2. */
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_ADDR 0x0227u
@@ -939,9 +2566,29 @@ typedef enum c630s_ramp_select {
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_MAX  3000u
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_DEFAULT 1000u
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_SCALE 0.1f
-#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_SCALE_NUM 1
-#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_SCALE_DEN 10
+#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_SCALE_NUM 1u
+#define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_SCALE_DEN 10u
 #define C630S_FAULT_SHORT_CIRCUIT_BRAKING_THRESHOLD_PAIRED 0
+/* Values of fault_short_circuit_braking_threshold: 0..300 % in steps of 0.1. */
+static inline bool c630s_fault_short_circuit_braking_threshold_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_fault_short_circuit_braking_threshold_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_fault_short_circuit_braking_threshold_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* ==== P03 terminal input parameters (P03 组端子输入参数). Manual 7.3. ==== */
 
@@ -955,8 +2602,8 @@ typedef enum c630s_ramp_select {
 #define C630S_POWERON_DI_FUNCTIONS_1_MAX                 65535u
 #define C630S_POWERON_DI_FUNCTIONS_1_DEFAULT             0u
 #define C630S_POWERON_DI_FUNCTIONS_1_SCALE               1.0f
-#define C630S_POWERON_DI_FUNCTIONS_1_SCALE_NUM           1
-#define C630S_POWERON_DI_FUNCTIONS_1_SCALE_DEN           1
+#define C630S_POWERON_DI_FUNCTIONS_1_SCALE_NUM           1u
+#define C630S_POWERON_DI_FUNCTIONS_1_SCALE_DEN           1u
 #define C630S_POWERON_DI_FUNCTIONS_1_PAIRED              0
 /* bit 0 s_on: Servo enable (FunIN.1) valid at power-on (伺服使能). */
 #define C630S_POWERON_DI_FUNCTIONS_1_S_ON_MASK           0x0001u
@@ -965,9 +2612,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_s_on(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_S_ON_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_S_ON_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_s_on(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_s_on(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_S_ON_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_S_ON_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_S_ON_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_S_ON_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_S_ON_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_S_ON_MASK));
+    return true;
 }
 /* bit 1 alm_rst: Fault and warning reset (edge-active) (FunIN.2) valid at power-on (故障与警告复位(沿有效功能)). */
 #define C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_MASK        0x0002u
@@ -976,9 +2628,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_alm_rst(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_alm_rst(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_alm_rst(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_ALM_RST_MASK));
+    return true;
 }
 /* bit 2 gain_sel: Gain switching (FunIN.3) valid at power-on (增益切换). */
 #define C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_MASK       0x0004u
@@ -987,9 +2644,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_gain_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_gain_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_gain_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_GAIN_SEL_MASK));
+    return true;
 }
 /* bit 3 cmd_sel: Main/auxiliary command switch (FunIN.4) valid at power-on (主辅运行指令切换). */
 #define C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_MASK        0x0008u
@@ -998,9 +2660,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_cmd_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_cmd_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_cmd_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD_SEL_MASK));
+    return true;
 }
 /* bit 4 dir_sel: Multi-segment speed DI direction select (FunIN.5) valid at power-on (多段速度DI切换运行方向设置). */
 #define C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_MASK        0x0010u
@@ -1009,9 +2676,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_dir_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_dir_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_dir_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_DIR_SEL_MASK));
+    return true;
 }
 /* bit 5 cmd1: Multi-segment command select 1 (FunIN.6) valid at power-on (多段运行指令切换 1). */
 #define C630S_POWERON_DI_FUNCTIONS_1_CMD1_MASK           0x0020u
@@ -1020,9 +2692,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_cmd1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_CMD1_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_CMD1_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_cmd1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_cmd1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD1_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD1_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD1_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD1_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD1_MASK));
+    return true;
 }
 /* bit 6 cmd2: Multi-segment command select 2 (FunIN.7) valid at power-on (多段运行指令切换 2). */
 #define C630S_POWERON_DI_FUNCTIONS_1_CMD2_MASK           0x0040u
@@ -1031,9 +2708,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_cmd2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_CMD2_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_CMD2_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_cmd2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_cmd2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD2_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD2_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD2_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD2_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD2_MASK));
+    return true;
 }
 /* bit 7 cmd3: Multi-segment command select 3 (FunIN.8) valid at power-on (多段运行指令切换 3). */
 #define C630S_POWERON_DI_FUNCTIONS_1_CMD3_MASK           0x0080u
@@ -1042,9 +2724,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_cmd3(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_CMD3_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_CMD3_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_cmd3(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_cmd3(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD3_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD3_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD3_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD3_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD3_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD3_MASK));
+    return true;
 }
 /* bit 8 cmd4: Multi-segment command select 4 (FunIN.9) valid at power-on (多段运行指令切换 4). */
 #define C630S_POWERON_DI_FUNCTIONS_1_CMD4_MASK           0x0100u
@@ -1053,9 +2740,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_cmd4(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_CMD4_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_CMD4_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_cmd4(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_cmd4(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD4_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD4_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD4_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_CMD4_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_CMD4_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_CMD4_MASK));
+    return true;
 }
 /* bit 9 m1_sel: Mode switch 1 (FunIN.10) valid at power-on (模式切换 1). */
 #define C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_MASK         0x0200u
@@ -1064,9 +2756,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_m1_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_m1_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_m1_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_M1_SEL_MASK));
+    return true;
 }
 /* bit 10 m2_sel: Mode switch 2 (FunIN.11) valid at power-on (模式切换 2). */
 #define C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_MASK         0x0400u
@@ -1075,9 +2772,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_m2_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_m2_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_m2_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_M2_SEL_MASK));
+    return true;
 }
 /* bit 11 zclamp: Zero clamp enable (FunIN.12) valid at power-on (零位固定使能). */
 #define C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_MASK         0x0800u
@@ -1086,9 +2788,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_zclamp(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_zclamp(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_zclamp(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_ZCLAMP_MASK));
+    return true;
 }
 /* bit 12 inhibit: Position command inhibit (FunIN.13) valid at power-on (位置指令禁止). */
 #define C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_MASK        0x1000u
@@ -1097,9 +2804,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_inhibit(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_inhibit(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_inhibit(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_INHIBIT_MASK));
+    return true;
 }
 /* bit 13 p_ot: Positive overtravel switch (FunIN.14) valid at power-on (正向超程开关). */
 #define C630S_POWERON_DI_FUNCTIONS_1_P_OT_MASK           0x2000u
@@ -1108,9 +2820,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_p_ot(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_P_OT_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_P_OT_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_p_ot(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_p_ot(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_P_OT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_P_OT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_P_OT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_P_OT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_P_OT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_P_OT_MASK));
+    return true;
 }
 /* bit 14 n_ot: Negative overtravel switch (FunIN.15) valid at power-on (反向超程开关). */
 #define C630S_POWERON_DI_FUNCTIONS_1_N_OT_MASK           0x4000u
@@ -1119,9 +2836,14 @@ static inline uint16_t c630s_poweron_di_functions_1_get_n_ot(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_N_OT_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_N_OT_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_n_ot(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_n_ot(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_N_OT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_N_OT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_N_OT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_N_OT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_N_OT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_N_OT_MASK));
+    return true;
 }
 /* bit 15 p_cl: Positive external torque limit (FunIN.16) valid at power-on (正外部转矩限制). */
 #define C630S_POWERON_DI_FUNCTIONS_1_P_CL_MASK           0x8000u
@@ -1130,9 +2852,33 @@ static inline uint16_t c630s_poweron_di_functions_1_get_p_cl(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_1_P_CL_MASK) >> C630S_POWERON_DI_FUNCTIONS_1_P_CL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_1_set_p_cl(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_1_set_p_cl(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_P_CL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_P_CL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_P_CL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_1_P_CL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_1_P_CL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_1_P_CL_MASK));
+    return true;
+}
+/* Values of poweron_di_functions_1: its whole word, the fields set with the setters above. */
+static inline bool c630s_poweron_di_functions_1_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_poweron_di_functions_1_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_poweron_di_functions_1_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_poweron_di_functions_1_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* P03-01 poweron_di_functions_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配). u16 rw, raw 0..65535, printed range 0~0xFFFF, default 0, takes effect after restart. Manual 7.3. */
@@ -1145,8 +2891,8 @@ static inline uint16_t c630s_poweron_di_functions_1_set_p_cl(uint16_t raw, uint1
 #define C630S_POWERON_DI_FUNCTIONS_2_MAX                 65535u
 #define C630S_POWERON_DI_FUNCTIONS_2_DEFAULT             0u
 #define C630S_POWERON_DI_FUNCTIONS_2_SCALE               1.0f
-#define C630S_POWERON_DI_FUNCTIONS_2_SCALE_NUM           1
-#define C630S_POWERON_DI_FUNCTIONS_2_SCALE_DEN           1
+#define C630S_POWERON_DI_FUNCTIONS_2_SCALE_NUM           1u
+#define C630S_POWERON_DI_FUNCTIONS_2_SCALE_DEN           1u
 #define C630S_POWERON_DI_FUNCTIONS_2_PAIRED              0
 /* bit 0 n_cl: Negative external torque limit (FunIN.17) valid at power-on (负外部转矩限制). */
 #define C630S_POWERON_DI_FUNCTIONS_2_N_CL_MASK           0x0001u
@@ -1155,9 +2901,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_n_cl(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_N_CL_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_N_CL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_n_cl(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_n_cl(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_N_CL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_N_CL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_N_CL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_N_CL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_N_CL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_N_CL_MASK));
+    return true;
 }
 /* bit 1 jog_plus: Forward jog (FunIN.18) valid at power-on (正向点动). */
 #define C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_MASK       0x0002u
@@ -1166,9 +2917,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_jog_plus(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_jog_plus(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_jog_plus(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_JOG_PLUS_MASK));
+    return true;
 }
 /* bit 2 jog_minus: Reverse jog (FunIN.19) valid at power-on (负向点动). */
 #define C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_MASK      0x0004u
@@ -1177,9 +2933,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_jog_minus(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_jog_minus(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_jog_minus(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_JOG_MINUS_MASK));
+    return true;
 }
 /* bit 3 posstep: Step amount enable (FunIN.20) valid at power-on (步进量使能). */
 #define C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_MASK        0x0008u
@@ -1188,9 +2949,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_posstep(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_posstep(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_posstep(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_POSSTEP_MASK));
+    return true;
 }
 /* bit 4 hx1: Handwheel multiplier signal 1 (FunIN.21) valid at power-on (手轮倍率信号1). */
 #define C630S_POWERON_DI_FUNCTIONS_2_HX1_MASK            0x0010u
@@ -1199,9 +2965,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_hx1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_HX1_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_HX1_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_hx1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_hx1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HX1_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HX1_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HX1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HX1_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HX1_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HX1_MASK));
+    return true;
 }
 /* bit 5 hx2: Handwheel multiplier signal 2 (FunIN.22) valid at power-on (手轮倍率信号2). */
 #define C630S_POWERON_DI_FUNCTIONS_2_HX2_MASK            0x0020u
@@ -1210,9 +2981,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_hx2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_HX2_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_HX2_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_hx2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_hx2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HX2_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HX2_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HX2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HX2_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HX2_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HX2_MASK));
+    return true;
 }
 /* bit 6 hx_en: Handwheel enable (FunIN.23) valid at power-on (手轮使能信号). */
 #define C630S_POWERON_DI_FUNCTIONS_2_HX_EN_MASK          0x0040u
@@ -1221,9 +2997,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_hx_en(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_HX_EN_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_HX_EN_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_hx_en(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_hx_en(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HX_EN_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HX_EN_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HX_EN_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HX_EN_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HX_EN_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HX_EN_MASK));
+    return true;
 }
 /* bit 7 gear_sel: Electronic gear select (FunIN.24) valid at power-on (电子齿轮选择). */
 #define C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_MASK       0x0080u
@@ -1232,9 +3013,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_gear_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_gear_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_gear_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_GEAR_SEL_MASK));
+    return true;
 }
 /* bit 8 toq_dir_sel: Torque command direction (FunIN.25) valid at power-on (转矩指令方向设定). */
 #define C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_MASK    0x0100u
@@ -1243,9 +3029,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_toq_dir_sel(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_toq_dir_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_toq_dir_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_TOQ_DIR_SEL_MASK));
+    return true;
 }
 /* bit 9 spd_dir_sel: Speed command direction (FunIN.26) valid at power-on (速度指令方向设定). */
 #define C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_MASK    0x0200u
@@ -1254,9 +3045,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_spd_dir_sel(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_spd_dir_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_spd_dir_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_SPD_DIR_SEL_MASK));
+    return true;
 }
 /* bit 10 pos_dir_sel: Position command direction (FunIN.27) valid at power-on (位置指令方向设定). */
 #define C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_MASK    0x0400u
@@ -1265,9 +3061,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_pos_dir_sel(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_pos_dir_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_pos_dir_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_POS_DIR_SEL_MASK));
+    return true;
 }
 /* bit 11 pos_in_sen: Multi-segment position command enable (FunIN.28) valid at power-on (多段位置指令使能). */
 #define C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_MASK     0x0800u
@@ -1276,9 +3077,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_pos_in_sen(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_pos_in_sen(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_pos_in_sen(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_POS_IN_SEN_MASK));
+    return true;
 }
 /* bit 14 home_switch: Home switch (FunIN.31) valid at power-on (原点开关). */
 #define C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_MASK    0x4000u
@@ -1287,9 +3093,14 @@ static inline uint16_t c630s_poweron_di_functions_2_get_home_switch(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_home_switch(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_home_switch(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HOME_SWITCH_MASK));
+    return true;
 }
 /* bit 15 homing_start: Homing enable (FunIN.32) valid at power-on (原点复归使能). */
 #define C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_MASK   0x8000u
@@ -1298,9 +3109,33 @@ static inline uint16_t c630s_poweron_di_functions_2_get_homing_start(uint16_t ra
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_MASK) >> C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_2_set_homing_start(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_SHIFT) & C630S_POWERON_DI_FUNCTIONS_2_HOMING_START_MASK));
+    return true;
+}
+/* Values of poweron_di_functions_2: its whole word, the fields set with the setters above. */
+static inline bool c630s_poweron_di_functions_2_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_poweron_di_functions_2_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_poweron_di_functions_2_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_poweron_di_functions_2_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* P03-02 di1_function: DI1 terminal function (DI1 端子功能选择). u16 rw, raw 0..38, default 1, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
@@ -1312,9 +3147,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI1_FUNCTION_MAX                           38u
 #define C630S_DI1_FUNCTION_DEFAULT                       1u
 #define C630S_DI1_FUNCTION_SCALE                         1.0f
-#define C630S_DI1_FUNCTION_SCALE_NUM                     1
-#define C630S_DI1_FUNCTION_SCALE_DEN                     1
+#define C630S_DI1_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI1_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI1_FUNCTION_PAIRED                        0
+/* Values of di1_function: the members of di_function a write may send. */
+static inline bool c630s_di1_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di1_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di1_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di1_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-03 di1_logic: DI1 terminal logic (DI1 端子逻辑选择). u16 rw, raw 0..4, printed range 输入极性: 0~4, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1, 6.1.2, 5.2.2. */
 #define C630S_DI1_LOGIC_ADDR                             0x0303u
@@ -1325,9 +3182,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI1_LOGIC_MAX                              4u
 #define C630S_DI1_LOGIC_DEFAULT                          0u
 #define C630S_DI1_LOGIC_SCALE                            1.0f
-#define C630S_DI1_LOGIC_SCALE_NUM                        1
-#define C630S_DI1_LOGIC_SCALE_DEN                        1
+#define C630S_DI1_LOGIC_SCALE_NUM                        1u
+#define C630S_DI1_LOGIC_SCALE_DEN                        1u
 #define C630S_DI1_LOGIC_PAIRED                           0
+/* Values of di1_logic: the members of di_logic a write may send. */
+static inline bool c630s_di1_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di1_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di1_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di1_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-04 di2_function: DI2 terminal function (DI2 端子功能选择). u16 rw, raw 0..38, default 14, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
 #define C630S_DI2_FUNCTION_ADDR                          0x0304u
@@ -1338,9 +3217,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI2_FUNCTION_MAX                           38u
 #define C630S_DI2_FUNCTION_DEFAULT                       14u
 #define C630S_DI2_FUNCTION_SCALE                         1.0f
-#define C630S_DI2_FUNCTION_SCALE_NUM                     1
-#define C630S_DI2_FUNCTION_SCALE_DEN                     1
+#define C630S_DI2_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI2_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI2_FUNCTION_PAIRED                        0
+/* Values of di2_function: the members of di_function a write may send. */
+static inline bool c630s_di2_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di2_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di2_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di2_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-05 di2_logic: DI2 terminal logic (DI2 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI2_LOGIC_ADDR                             0x0305u
@@ -1351,9 +3252,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI2_LOGIC_MAX                              4u
 #define C630S_DI2_LOGIC_DEFAULT                          0u
 #define C630S_DI2_LOGIC_SCALE                            1.0f
-#define C630S_DI2_LOGIC_SCALE_NUM                        1
-#define C630S_DI2_LOGIC_SCALE_DEN                        1
+#define C630S_DI2_LOGIC_SCALE_NUM                        1u
+#define C630S_DI2_LOGIC_SCALE_DEN                        1u
 #define C630S_DI2_LOGIC_PAIRED                           0
+/* Values of di2_logic: the members of di_logic a write may send. */
+static inline bool c630s_di2_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di2_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di2_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di2_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-06 di3_function: DI3 terminal function (DI3 端子功能选择). u16 rw, raw 0..38, default 15, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
 #define C630S_DI3_FUNCTION_ADDR                          0x0306u
@@ -1364,9 +3287,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI3_FUNCTION_MAX                           38u
 #define C630S_DI3_FUNCTION_DEFAULT                       15u
 #define C630S_DI3_FUNCTION_SCALE                         1.0f
-#define C630S_DI3_FUNCTION_SCALE_NUM                     1
-#define C630S_DI3_FUNCTION_SCALE_DEN                     1
+#define C630S_DI3_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI3_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI3_FUNCTION_PAIRED                        0
+/* Values of di3_function: the members of di_function a write may send. */
+static inline bool c630s_di3_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di3_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di3_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di3_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-07 di3_logic: DI3 terminal logic (DI3 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI3_LOGIC_ADDR                             0x0307u
@@ -1377,9 +3322,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI3_LOGIC_MAX                              4u
 #define C630S_DI3_LOGIC_DEFAULT                          0u
 #define C630S_DI3_LOGIC_SCALE                            1.0f
-#define C630S_DI3_LOGIC_SCALE_NUM                        1
-#define C630S_DI3_LOGIC_SCALE_DEN                        1
+#define C630S_DI3_LOGIC_SCALE_NUM                        1u
+#define C630S_DI3_LOGIC_SCALE_DEN                        1u
 #define C630S_DI3_LOGIC_PAIRED                           0
+/* Values of di3_logic: the members of di_logic a write may send. */
+static inline bool c630s_di3_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di3_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di3_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di3_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-08 di4_function: DI4 terminal function (DI4 端子功能选择). u16 rw, raw 0..38, default 2, values: enum di_function, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI4_FUNCTION_ADDR                          0x0308u
@@ -1390,9 +3357,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI4_FUNCTION_MAX                           38u
 #define C630S_DI4_FUNCTION_DEFAULT                       2u
 #define C630S_DI4_FUNCTION_SCALE                         1.0f
-#define C630S_DI4_FUNCTION_SCALE_NUM                     1
-#define C630S_DI4_FUNCTION_SCALE_DEN                     1
+#define C630S_DI4_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI4_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI4_FUNCTION_PAIRED                        0
+/* Values of di4_function: the members of di_function a write may send. */
+static inline bool c630s_di4_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di4_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di4_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di4_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-09 di4_logic: DI4 terminal logic (DI4 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI4_LOGIC_ADDR                             0x0309u
@@ -1403,9 +3392,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI4_LOGIC_MAX                              4u
 #define C630S_DI4_LOGIC_DEFAULT                          0u
 #define C630S_DI4_LOGIC_SCALE                            1.0f
-#define C630S_DI4_LOGIC_SCALE_NUM                        1
-#define C630S_DI4_LOGIC_SCALE_DEN                        1
+#define C630S_DI4_LOGIC_SCALE_NUM                        1u
+#define C630S_DI4_LOGIC_SCALE_DEN                        1u
 #define C630S_DI4_LOGIC_PAIRED                           0
+/* Values of di4_logic: the members of di_logic a write may send. */
+static inline bool c630s_di4_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di4_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di4_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di4_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-10 di5_function: DI5 terminal function (DI5 端子功能选择). u16 rw, raw 0..38, default 26, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
 #define C630S_DI5_FUNCTION_ADDR                          0x030Au
@@ -1416,9 +3427,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI5_FUNCTION_MAX                           38u
 #define C630S_DI5_FUNCTION_DEFAULT                       26u
 #define C630S_DI5_FUNCTION_SCALE                         1.0f
-#define C630S_DI5_FUNCTION_SCALE_NUM                     1
-#define C630S_DI5_FUNCTION_SCALE_DEN                     1
+#define C630S_DI5_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI5_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI5_FUNCTION_PAIRED                        0
+/* Values of di5_function: the members of di_function a write may send. */
+static inline bool c630s_di5_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di5_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di5_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di5_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-11 di5_logic: DI5 terminal logic (DI5 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI5_LOGIC_ADDR                             0x030Bu
@@ -1429,9 +3462,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI5_LOGIC_MAX                              4u
 #define C630S_DI5_LOGIC_DEFAULT                          0u
 #define C630S_DI5_LOGIC_SCALE                            1.0f
-#define C630S_DI5_LOGIC_SCALE_NUM                        1
-#define C630S_DI5_LOGIC_SCALE_DEN                        1
+#define C630S_DI5_LOGIC_SCALE_NUM                        1u
+#define C630S_DI5_LOGIC_SCALE_DEN                        1u
 #define C630S_DI5_LOGIC_PAIRED                           0
+/* Values of di5_logic: the members of di_logic a write may send. */
+static inline bool c630s_di5_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di5_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di5_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di5_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-12 di6_function: DI6 terminal function (DI6 端子功能选择). u16 rw, raw 0..38, default 34, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
 #define C630S_DI6_FUNCTION_ADDR                          0x030Cu
@@ -1442,9 +3497,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI6_FUNCTION_MAX                           38u
 #define C630S_DI6_FUNCTION_DEFAULT                       34u
 #define C630S_DI6_FUNCTION_SCALE                         1.0f
-#define C630S_DI6_FUNCTION_SCALE_NUM                     1
-#define C630S_DI6_FUNCTION_SCALE_DEN                     1
+#define C630S_DI6_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI6_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI6_FUNCTION_PAIRED                        0
+/* Values of di6_function: the members of di_function a write may send. */
+static inline bool c630s_di6_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di6_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di6_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di6_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-13 di6_logic: DI6 terminal logic (DI6 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI6_LOGIC_ADDR                             0x030Du
@@ -1455,9 +3532,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI6_LOGIC_MAX                              4u
 #define C630S_DI6_LOGIC_DEFAULT                          0u
 #define C630S_DI6_LOGIC_SCALE                            1.0f
-#define C630S_DI6_LOGIC_SCALE_NUM                        1
-#define C630S_DI6_LOGIC_SCALE_DEN                        1
+#define C630S_DI6_LOGIC_SCALE_NUM                        1u
+#define C630S_DI6_LOGIC_SCALE_DEN                        1u
 #define C630S_DI6_LOGIC_PAIRED                           0
+/* Values of di6_logic: the members of di_logic a write may send. */
+static inline bool c630s_di6_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di6_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di6_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di6_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-14 di7_function: DI7 terminal function (DI7 端子功能选择). u16 rw, raw 0..38, default 31, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
 #define C630S_DI7_FUNCTION_ADDR                          0x030Eu
@@ -1468,9 +3567,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI7_FUNCTION_MAX                           38u
 #define C630S_DI7_FUNCTION_DEFAULT                       31u
 #define C630S_DI7_FUNCTION_SCALE                         1.0f
-#define C630S_DI7_FUNCTION_SCALE_NUM                     1
-#define C630S_DI7_FUNCTION_SCALE_DEN                     1
+#define C630S_DI7_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI7_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI7_FUNCTION_PAIRED                        0
+/* Values of di7_function: the members of di_function a write may send. */
+static inline bool c630s_di7_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di7_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di7_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di7_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-15 di7_logic: DI7 terminal logic (DI7 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI7_LOGIC_ADDR                             0x030Fu
@@ -1481,9 +3602,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI7_LOGIC_MAX                              4u
 #define C630S_DI7_LOGIC_DEFAULT                          0u
 #define C630S_DI7_LOGIC_SCALE                            1.0f
-#define C630S_DI7_LOGIC_SCALE_NUM                        1
-#define C630S_DI7_LOGIC_SCALE_DEN                        1
+#define C630S_DI7_LOGIC_SCALE_NUM                        1u
+#define C630S_DI7_LOGIC_SCALE_DEN                        1u
 #define C630S_DI7_LOGIC_PAIRED                           0
+/* Values of di7_logic: the members of di_logic a write may send. */
+static inline bool c630s_di7_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di7_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di7_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di7_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-16 di8_function: DI8 terminal function (DI8 端子功能选择). u16 rw, raw 0..38, default 32, values: enum di_function, takes effect when stopped, errata E1, E19. Manual 7.3, 6.4.1. */
 #define C630S_DI8_FUNCTION_ADDR                          0x0310u
@@ -1494,9 +3637,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI8_FUNCTION_MAX                           38u
 #define C630S_DI8_FUNCTION_DEFAULT                       32u
 #define C630S_DI8_FUNCTION_SCALE                         1.0f
-#define C630S_DI8_FUNCTION_SCALE_NUM                     1
-#define C630S_DI8_FUNCTION_SCALE_DEN                     1
+#define C630S_DI8_FUNCTION_SCALE_NUM                     1u
+#define C630S_DI8_FUNCTION_SCALE_DEN                     1u
 #define C630S_DI8_FUNCTION_PAIRED                        0
+/* Values of di8_function: the members of di_function a write may send. */
+static inline bool c630s_di8_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value);
+}
+static inline bool c630s_di8_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_di8_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di8_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
+    return true;
+}
 
 /* P03-17 di8_logic: DI8 terminal logic (DI8 端子逻辑选择). u16 rw, raw 0..4, printed range 参考P03-03说明, default 0, values: enum di_logic, takes effect when stopped, errata E19. Manual 7.3, 6.4.1. */
 #define C630S_DI8_LOGIC_ADDR                             0x0311u
@@ -1507,9 +3672,31 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_DI8_LOGIC_MAX                              4u
 #define C630S_DI8_LOGIC_DEFAULT                          0u
 #define C630S_DI8_LOGIC_SCALE                            1.0f
-#define C630S_DI8_LOGIC_SCALE_NUM                        1
-#define C630S_DI8_LOGIC_SCALE_DEN                        1
+#define C630S_DI8_LOGIC_SCALE_NUM                        1u
+#define C630S_DI8_LOGIC_SCALE_DEN                        1u
 #define C630S_DI8_LOGIC_PAIRED                           0
+/* Values of di8_logic: the members of di_logic a write may send. */
+static inline bool c630s_di8_logic_is_in_range(c630s_di_logic value)
+{
+    return c630s_di_logic_is_writable(value);
+}
+static inline bool c630s_di8_logic_encode(c630s_di_logic value, uint16_t words[1])
+{
+    if (!c630s_di8_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di8_logic_decode(const uint16_t words[1], c630s_di_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_logic)raw;
+    return true;
+}
 
 /* P03-34 poweron_di_functions_3: DI functions valid at power-on, FunIN.33-48 (上电有效的 DI 功能分配). u16 rw, raw 0..65535, printed range 0~0xFFFF, default 0, takes effect after restart. Manual 7.3. */
 /* Bit n = FunIN.33+n (Bit0 = FunIN.33 ... Bit15 = FunIN.48). */
@@ -1521,8 +3708,8 @@ static inline uint16_t c630s_poweron_di_functions_2_set_homing_start(uint16_t ra
 #define C630S_POWERON_DI_FUNCTIONS_3_MAX                 65535u
 #define C630S_POWERON_DI_FUNCTIONS_3_DEFAULT             0u
 #define C630S_POWERON_DI_FUNCTIONS_3_SCALE               1.0f
-#define C630S_POWERON_DI_FUNCTIONS_3_SCALE_NUM           1
-#define C630S_POWERON_DI_FUNCTIONS_3_SCALE_DEN           1
+#define C630S_POWERON_DI_FUNCTIONS_3_SCALE_NUM           1u
+#define C630S_POWERON_DI_FUNCTIONS_3_SCALE_DEN           1u
 #define C630S_POWERON_DI_FUNCTIONS_3_PAIRED              0
 /* bit 0 xint_inhibit: Interrupt fixed-length inhibit (FunIN.33) valid at power-on (中断定长禁止). */
 #define C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_MASK   0x0001u
@@ -1531,9 +3718,14 @@ static inline uint16_t c630s_poweron_di_functions_3_get_xint_inhibit(uint16_t ra
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_MASK) >> C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_3_set_xint_inhibit(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_3_set_xint_inhibit(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_XINT_INHIBIT_MASK));
+    return true;
 }
 /* bit 1 emergency_stop: Emergency stop (FunIN.34) valid at power-on (紧急停机). */
 #define C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_MASK 0x0002u
@@ -1542,9 +3734,14 @@ static inline uint16_t c630s_poweron_di_functions_3_get_emergency_stop(uint16_t 
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_MASK) >> C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_3_set_emergency_stop(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_3_set_emergency_stop(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_EMERGENCY_STOP_MASK));
+    return true;
 }
 /* bit 2 clr_pos_err: Clear position deviation (FunIN.35) valid at power-on (清除位置偏差). */
 #define C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_MASK    0x0004u
@@ -1553,9 +3750,14 @@ static inline uint16_t c630s_poweron_di_functions_3_get_clr_pos_err(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_MASK) >> C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_3_set_clr_pos_err(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_3_set_clr_pos_err(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_CLR_POS_ERR_MASK));
+    return true;
 }
 /* bit 3 v_lmt_sel: Internal speed limit source (FunIN.36) valid at power-on (内部速度限制源). */
 #define C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_MASK      0x0008u
@@ -1564,9 +3766,14 @@ static inline uint16_t c630s_poweron_di_functions_3_get_v_lmt_sel(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_MASK) >> C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_3_set_v_lmt_sel(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_3_set_v_lmt_sel(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_V_LMT_SEL_MASK));
+    return true;
 }
 /* bit 4 pulse_inhibit: Pulse command inhibit (FunIN.37) valid at power-on (脉冲指令禁止). */
 #define C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_MASK  0x0010u
@@ -1575,9 +3782,14 @@ static inline uint16_t c630s_poweron_di_functions_3_get_pulse_inhibit(uint16_t r
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_MASK) >> C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_3_set_pulse_inhibit(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_3_set_pulse_inhibit(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_PULSE_INHIBIT_MASK));
+    return true;
 }
 /* bit 5 set_current_as_home: Set current position as home enable (FunIN.38) valid at power-on (以当前位置为原点使能). */
 #define C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_MASK 0x0020u
@@ -1586,9 +3798,33 @@ static inline uint16_t c630s_poweron_di_functions_3_get_set_current_as_home(uint
 {
     return (uint16_t)(((uint32_t)raw & C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_MASK) >> C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_SHIFT);
 }
-static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_poweron_di_functions_3_set_set_current_as_home(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_MASK) | (((uint32_t)value << C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_SHIFT) & C630S_POWERON_DI_FUNCTIONS_3_SET_CURRENT_AS_HOME_MASK));
+    return true;
+}
+/* Values of poweron_di_functions_3: its whole word, the fields set with the setters above. */
+static inline bool c630s_poweron_di_functions_3_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_poweron_di_functions_3_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_poweron_di_functions_3_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_poweron_di_functions_3_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* P03-35 poweron_di_functions_4: DI functions valid at power-on, FunIN.49-64 (上电有效的 DI 功能分配). u16 rw, raw 0..65535, printed range 0~0xFFFF, default 0, takes effect after restart. Manual 7.3. */
@@ -1601,9 +3837,28 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POWERON_DI_FUNCTIONS_4_MAX                 65535u
 #define C630S_POWERON_DI_FUNCTIONS_4_DEFAULT             0u
 #define C630S_POWERON_DI_FUNCTIONS_4_SCALE               1.0f
-#define C630S_POWERON_DI_FUNCTIONS_4_SCALE_NUM           1
-#define C630S_POWERON_DI_FUNCTIONS_4_SCALE_DEN           1
+#define C630S_POWERON_DI_FUNCTIONS_4_SCALE_NUM           1u
+#define C630S_POWERON_DI_FUNCTIONS_4_SCALE_DEN           1u
 #define C630S_POWERON_DI_FUNCTIONS_4_PAIRED              0
+/* Values of poweron_di_functions_4: 0..65535. */
+static inline bool c630s_poweron_di_functions_4_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_poweron_di_functions_4_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_poweron_di_functions_4_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_poweron_di_functions_4_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P03-36 ai1_offset: AI1 offset (AI1 偏置). s16 rw, unit mV, raw -5000..5000, default 0, takes effect immediately. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI1_OFFSET_ADDR                            0x0324u
@@ -1617,6 +3872,24 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI1_OFFSET_SCALE_NUM                       1
 #define C630S_AI1_OFFSET_SCALE_DEN                       1
 #define C630S_AI1_OFFSET_PAIRED                          0
+/* Values of ai1_offset: -5000..5000 mV. */
+static inline bool c630s_ai1_offset_is_in_range(int16_t value)
+{
+    return value >= (-5000) && value <= 5000;
+}
+static inline bool c630s_ai1_offset_encode(int16_t value, uint16_t words[1])
+{
+    if (!c630s_ai1_offset_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai1_offset_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P03-37 ai1_filter_time: AI1 input filter time constant (AI1 输入滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..65535 (0..655.35 ms), printed range 0~655.35, default 200 (2), takes effect immediately. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI1_FILTER_TIME_ADDR                       0x0325u
@@ -1627,9 +3900,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI1_FILTER_TIME_MAX                        65535u
 #define C630S_AI1_FILTER_TIME_DEFAULT                    200u
 #define C630S_AI1_FILTER_TIME_SCALE                      0.01f
-#define C630S_AI1_FILTER_TIME_SCALE_NUM                  1
-#define C630S_AI1_FILTER_TIME_SCALE_DEN                  100
+#define C630S_AI1_FILTER_TIME_SCALE_NUM                  1u
+#define C630S_AI1_FILTER_TIME_SCALE_DEN                  100u
 #define C630S_AI1_FILTER_TIME_PAIRED                     0
+/* Values of ai1_filter_time: 0..655.35 ms in steps of 0.01. */
+static inline bool c630s_ai1_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 65535.0, &raw);
+}
+static inline bool c630s_ai1_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 65535.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai1_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P03-38 ai1_median_filter_enable: AI1 input median filter enable (AI1输入中值滤波使能). u16 rw, raw 0..1, default 0, takes effect immediately. Manual 7.3. */
 #define C630S_AI1_MEDIAN_FILTER_ENABLE_ADDR              0x0326u
@@ -1640,9 +3933,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI1_MEDIAN_FILTER_ENABLE_MAX               1u
 #define C630S_AI1_MEDIAN_FILTER_ENABLE_DEFAULT           0u
 #define C630S_AI1_MEDIAN_FILTER_ENABLE_SCALE             1.0f
-#define C630S_AI1_MEDIAN_FILTER_ENABLE_SCALE_NUM         1
-#define C630S_AI1_MEDIAN_FILTER_ENABLE_SCALE_DEN         1
+#define C630S_AI1_MEDIAN_FILTER_ENABLE_SCALE_NUM         1u
+#define C630S_AI1_MEDIAN_FILTER_ENABLE_SCALE_DEN         1u
 #define C630S_AI1_MEDIAN_FILTER_ENABLE_PAIRED            0
+/* Values of ai1_median_filter_enable: 0..1. */
+static inline bool c630s_ai1_median_filter_enable_is_in_range(uint16_t value)
+{
+    return value <= 1u;
+}
+static inline bool c630s_ai1_median_filter_enable_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_ai1_median_filter_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai1_median_filter_enable_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P03-39 ai1_dead_zone: AI1 dead zone (AI1 死区). u16 rw, unit mV, scale 0.1, raw 0..10000 (0..1000 mV), printed range 0~1000.0, default 100 (10), takes effect immediately. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI1_DEAD_ZONE_ADDR                         0x0327u
@@ -1653,9 +3964,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI1_DEAD_ZONE_MAX                          10000u
 #define C630S_AI1_DEAD_ZONE_DEFAULT                      100u
 #define C630S_AI1_DEAD_ZONE_SCALE                        0.1f
-#define C630S_AI1_DEAD_ZONE_SCALE_NUM                    1
-#define C630S_AI1_DEAD_ZONE_SCALE_DEN                    10
+#define C630S_AI1_DEAD_ZONE_SCALE_NUM                    1u
+#define C630S_AI1_DEAD_ZONE_SCALE_DEN                    10u
 #define C630S_AI1_DEAD_ZONE_PAIRED                       0
+/* Values of ai1_dead_zone: 0..1000 mV in steps of 0.1. */
+static inline bool c630s_ai1_dead_zone_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw);
+}
+static inline bool c630s_ai1_dead_zone_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai1_dead_zone_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P03-40 ai1_zero_drift: AI1 zero drift (AI1 零漂). s16 rw, unit mV, scale 0.1, raw -5000..5000 (-500..500 mV), printed range -500.0~500.0, default 0 (0), takes effect immediately. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI1_ZERO_DRIFT_ADDR                        0x0328u
@@ -1669,6 +4000,26 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI1_ZERO_DRIFT_SCALE_NUM                   1
 #define C630S_AI1_ZERO_DRIFT_SCALE_DEN                   10
 #define C630S_AI1_ZERO_DRIFT_PAIRED                      0
+/* Values of ai1_zero_drift: -500..500 mV in steps of 0.1. */
+static inline bool c630s_ai1_zero_drift_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, (-5000.0), 5000.0, &raw);
+}
+static inline bool c630s_ai1_zero_drift_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, (-5000.0), 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire((int16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai1_zero_drift_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P03-41 ai2_offset: AI2 offset (AI2 偏置). s16 rw, unit mV, raw -5000..5000, default 0, takes effect immediately, errata E11. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI2_OFFSET_ADDR                            0x0329u
@@ -1682,6 +4033,24 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI2_OFFSET_SCALE_NUM                       1
 #define C630S_AI2_OFFSET_SCALE_DEN                       1
 #define C630S_AI2_OFFSET_PAIRED                          0
+/* Values of ai2_offset: -5000..5000 mV. */
+static inline bool c630s_ai2_offset_is_in_range(int16_t value)
+{
+    return value >= (-5000) && value <= 5000;
+}
+static inline bool c630s_ai2_offset_encode(int16_t value, uint16_t words[1])
+{
+    if (!c630s_ai2_offset_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai2_offset_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P03-42 ai2_filter_time: AI2 input filter time constant (AI2 输入滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..65535 (0..655.35 ms), printed range 0~655.35, default 200 (2), takes effect immediately, errata E11. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI2_FILTER_TIME_ADDR                       0x032Au
@@ -1692,9 +4061,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI2_FILTER_TIME_MAX                        65535u
 #define C630S_AI2_FILTER_TIME_DEFAULT                    200u
 #define C630S_AI2_FILTER_TIME_SCALE                      0.01f
-#define C630S_AI2_FILTER_TIME_SCALE_NUM                  1
-#define C630S_AI2_FILTER_TIME_SCALE_DEN                  100
+#define C630S_AI2_FILTER_TIME_SCALE_NUM                  1u
+#define C630S_AI2_FILTER_TIME_SCALE_DEN                  100u
 #define C630S_AI2_FILTER_TIME_PAIRED                     0
+/* Values of ai2_filter_time: 0..655.35 ms in steps of 0.01. */
+static inline bool c630s_ai2_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 65535.0, &raw);
+}
+static inline bool c630s_ai2_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 65535.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai2_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P03-43 ai2_median_filter_enable: AI2 input median filter enable (AI1输入中值滤波使能). u16 rw, raw 0..1, default 0, takes effect immediately, errata E10. Manual 7.3. */
 #define C630S_AI2_MEDIAN_FILTER_ENABLE_ADDR              0x032Bu
@@ -1705,9 +4094,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI2_MEDIAN_FILTER_ENABLE_MAX               1u
 #define C630S_AI2_MEDIAN_FILTER_ENABLE_DEFAULT           0u
 #define C630S_AI2_MEDIAN_FILTER_ENABLE_SCALE             1.0f
-#define C630S_AI2_MEDIAN_FILTER_ENABLE_SCALE_NUM         1
-#define C630S_AI2_MEDIAN_FILTER_ENABLE_SCALE_DEN         1
+#define C630S_AI2_MEDIAN_FILTER_ENABLE_SCALE_NUM         1u
+#define C630S_AI2_MEDIAN_FILTER_ENABLE_SCALE_DEN         1u
 #define C630S_AI2_MEDIAN_FILTER_ENABLE_PAIRED            0
+/* Values of ai2_median_filter_enable: 0..1. */
+static inline bool c630s_ai2_median_filter_enable_is_in_range(uint16_t value)
+{
+    return value <= 1u;
+}
+static inline bool c630s_ai2_median_filter_enable_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_ai2_median_filter_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai2_median_filter_enable_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P03-44 ai2_dead_zone: AI2 dead zone (AI2 死区). u16 rw, unit mV, scale 0.1, raw 0..10000 (0..1000 mV), printed range 0~1000.0, default 100 (10), takes effect immediately, errata E11. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI2_DEAD_ZONE_ADDR                         0x032Cu
@@ -1718,9 +4125,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI2_DEAD_ZONE_MAX                          10000u
 #define C630S_AI2_DEAD_ZONE_DEFAULT                      100u
 #define C630S_AI2_DEAD_ZONE_SCALE                        0.1f
-#define C630S_AI2_DEAD_ZONE_SCALE_NUM                    1
-#define C630S_AI2_DEAD_ZONE_SCALE_DEN                    10
+#define C630S_AI2_DEAD_ZONE_SCALE_NUM                    1u
+#define C630S_AI2_DEAD_ZONE_SCALE_DEN                    10u
 #define C630S_AI2_DEAD_ZONE_PAIRED                       0
+/* Values of ai2_dead_zone: 0..1000 mV in steps of 0.1. */
+static inline bool c630s_ai2_dead_zone_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw);
+}
+static inline bool c630s_ai2_dead_zone_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai2_dead_zone_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P03-45 ai2_zero_drift: AI2 zero drift (AI2 零漂). s16 rw, unit mV, scale 0.1, raw -5000..5000 (-500..500 mV), printed range -500.0~500.0, default 0 (0), takes effect immediately, errata E11. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_AI2_ZERO_DRIFT_ADDR                        0x032Du
@@ -1734,6 +4161,26 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI2_ZERO_DRIFT_SCALE_NUM                   1
 #define C630S_AI2_ZERO_DRIFT_SCALE_DEN                   10
 #define C630S_AI2_ZERO_DRIFT_PAIRED                      0
+/* Values of ai2_zero_drift: -500..500 mV in steps of 0.1. */
+static inline bool c630s_ai2_zero_drift_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, (-5000.0), 5000.0, &raw);
+}
+static inline bool c630s_ai2_zero_drift_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, (-5000.0), 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire((int16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_ai2_zero_drift_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P03-51 analog_10v_speed: Speed at 10 V analog input (模拟量 10V 对应速度值). u16 rw, unit rpm, raw 0..9000, printed range 0rpm~9000rpm, default 3000, takes effect immediately. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_ANALOG_10V_SPEED_ADDR                      0x0333u
@@ -1744,9 +4191,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ANALOG_10V_SPEED_MAX                       9000u
 #define C630S_ANALOG_10V_SPEED_DEFAULT                   3000u
 #define C630S_ANALOG_10V_SPEED_SCALE                     1.0f
-#define C630S_ANALOG_10V_SPEED_SCALE_NUM                 1
-#define C630S_ANALOG_10V_SPEED_SCALE_DEN                 1
+#define C630S_ANALOG_10V_SPEED_SCALE_NUM                 1u
+#define C630S_ANALOG_10V_SPEED_SCALE_DEN                 1u
 #define C630S_ANALOG_10V_SPEED_PAIRED                    0
+/* Values of analog_10v_speed: 0..9000 rpm. */
+static inline bool c630s_analog_10v_speed_is_in_range(uint16_t value)
+{
+    return value <= 9000u;
+}
+static inline bool c630s_analog_10v_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_analog_10v_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_analog_10v_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P03-52 analog_10v_torque: Torque at 10 V analog input (模拟量 10V 对应转矩值). u16 rw, unit x rated torque, scale 0.01, raw 100..800 (1..8 x rated torque), printed range 1.00 倍 ~8.00 倍额定转矩, default 100 (1), takes effect immediately. Manual 7.3, 6.2.2, 6.3.2. */
 #define C630S_ANALOG_10V_TORQUE_ADDR                     0x0334u
@@ -1757,9 +4222,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ANALOG_10V_TORQUE_MAX                      800u
 #define C630S_ANALOG_10V_TORQUE_DEFAULT                  100u
 #define C630S_ANALOG_10V_TORQUE_SCALE                    0.01f
-#define C630S_ANALOG_10V_TORQUE_SCALE_NUM                1
-#define C630S_ANALOG_10V_TORQUE_SCALE_DEN                100
+#define C630S_ANALOG_10V_TORQUE_SCALE_NUM                1u
+#define C630S_ANALOG_10V_TORQUE_SCALE_DEN                100u
 #define C630S_ANALOG_10V_TORQUE_PAIRED                   0
+/* Values of analog_10v_torque: 1..8 x rated torque in steps of 0.01. */
+static inline bool c630s_analog_10v_torque_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 100.0, 800.0, &raw);
+}
+static inline bool c630s_analog_10v_torque_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 100.0, 800.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_analog_10v_torque_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* ==== P04 terminal output parameters (P04 组端子输出参数). Manual 7.4. ==== */
 
@@ -1772,9 +4257,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO1_FUNCTION_MAX                           20u
 #define C630S_DO1_FUNCTION_DEFAULT                       1u
 #define C630S_DO1_FUNCTION_SCALE                         1.0f
-#define C630S_DO1_FUNCTION_SCALE_NUM                     1
-#define C630S_DO1_FUNCTION_SCALE_DEN                     1
+#define C630S_DO1_FUNCTION_SCALE_NUM                     1u
+#define C630S_DO1_FUNCTION_SCALE_DEN                     1u
 #define C630S_DO1_FUNCTION_PAIRED                        0
+/* Values of do1_function: the members of do_function a write may send. */
+static inline bool c630s_do1_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_do1_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_do1_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do1_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
+    return true;
+}
 
 /* P04-01 do1_logic: DO1 terminal logic (DO1 端子逻辑选择). u16 rw, raw 0..1, printed range 输出极性反转设定：0~1, default 0, values: enum do_logic, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO1_LOGIC_ADDR                             0x0401u
@@ -1785,9 +4292,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO1_LOGIC_MAX                              1u
 #define C630S_DO1_LOGIC_DEFAULT                          0u
 #define C630S_DO1_LOGIC_SCALE                            1.0f
-#define C630S_DO1_LOGIC_SCALE_NUM                        1
-#define C630S_DO1_LOGIC_SCALE_DEN                        1
+#define C630S_DO1_LOGIC_SCALE_NUM                        1u
+#define C630S_DO1_LOGIC_SCALE_DEN                        1u
 #define C630S_DO1_LOGIC_PAIRED                           0
+/* Values of do1_logic: the members of do_logic a write may send. */
+static inline bool c630s_do1_logic_is_in_range(c630s_do_logic value)
+{
+    return c630s_do_logic_is_writable(value);
+}
+static inline bool c630s_do1_logic_encode(c630s_do_logic value, uint16_t words[1])
+{
+    if (!c630s_do1_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do1_logic_decode(const uint16_t words[1], c630s_do_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_logic)raw;
+    return true;
+}
 
 /* P04-02 do2_function: DO2 terminal function (DO2 端子功能选择). u16 rw, raw 0..20, default 5, values: enum do_function, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO2_FUNCTION_ADDR                          0x0402u
@@ -1798,9 +4327,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO2_FUNCTION_MAX                           20u
 #define C630S_DO2_FUNCTION_DEFAULT                       5u
 #define C630S_DO2_FUNCTION_SCALE                         1.0f
-#define C630S_DO2_FUNCTION_SCALE_NUM                     1
-#define C630S_DO2_FUNCTION_SCALE_DEN                     1
+#define C630S_DO2_FUNCTION_SCALE_NUM                     1u
+#define C630S_DO2_FUNCTION_SCALE_DEN                     1u
 #define C630S_DO2_FUNCTION_PAIRED                        0
+/* Values of do2_function: the members of do_function a write may send. */
+static inline bool c630s_do2_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_do2_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_do2_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do2_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
+    return true;
+}
 
 /* P04-03 do2_logic: DO2 terminal logic (DO2 端子逻辑选择). u16 rw, raw 0..1, printed range 参考P04-01说明, default 0, values: enum do_logic, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO2_LOGIC_ADDR                             0x0403u
@@ -1811,9 +4362,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO2_LOGIC_MAX                              1u
 #define C630S_DO2_LOGIC_DEFAULT                          0u
 #define C630S_DO2_LOGIC_SCALE                            1.0f
-#define C630S_DO2_LOGIC_SCALE_NUM                        1
-#define C630S_DO2_LOGIC_SCALE_DEN                        1
+#define C630S_DO2_LOGIC_SCALE_NUM                        1u
+#define C630S_DO2_LOGIC_SCALE_DEN                        1u
 #define C630S_DO2_LOGIC_PAIRED                           0
+/* Values of do2_logic: the members of do_logic a write may send. */
+static inline bool c630s_do2_logic_is_in_range(c630s_do_logic value)
+{
+    return c630s_do_logic_is_writable(value);
+}
+static inline bool c630s_do2_logic_encode(c630s_do_logic value, uint16_t words[1])
+{
+    if (!c630s_do2_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do2_logic_decode(const uint16_t words[1], c630s_do_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_logic)raw;
+    return true;
+}
 
 /* P04-04 do3_function: DO3 terminal function (DO3 端子功能选择). u16 rw, raw 0..20, default 3, values: enum do_function, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO3_FUNCTION_ADDR                          0x0404u
@@ -1824,9 +4397,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO3_FUNCTION_MAX                           20u
 #define C630S_DO3_FUNCTION_DEFAULT                       3u
 #define C630S_DO3_FUNCTION_SCALE                         1.0f
-#define C630S_DO3_FUNCTION_SCALE_NUM                     1
-#define C630S_DO3_FUNCTION_SCALE_DEN                     1
+#define C630S_DO3_FUNCTION_SCALE_NUM                     1u
+#define C630S_DO3_FUNCTION_SCALE_DEN                     1u
 #define C630S_DO3_FUNCTION_PAIRED                        0
+/* Values of do3_function: the members of do_function a write may send. */
+static inline bool c630s_do3_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_do3_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_do3_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do3_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
+    return true;
+}
 
 /* P04-05 do3_logic: DO3 terminal logic (DO3 端子逻辑选择). u16 rw, raw 0..1, printed range 参考P04-01说明, default 0, values: enum do_logic, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO3_LOGIC_ADDR                             0x0405u
@@ -1837,9 +4432,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO3_LOGIC_MAX                              1u
 #define C630S_DO3_LOGIC_DEFAULT                          0u
 #define C630S_DO3_LOGIC_SCALE                            1.0f
-#define C630S_DO3_LOGIC_SCALE_NUM                        1
-#define C630S_DO3_LOGIC_SCALE_DEN                        1
+#define C630S_DO3_LOGIC_SCALE_NUM                        1u
+#define C630S_DO3_LOGIC_SCALE_DEN                        1u
 #define C630S_DO3_LOGIC_PAIRED                           0
+/* Values of do3_logic: the members of do_logic a write may send. */
+static inline bool c630s_do3_logic_is_in_range(c630s_do_logic value)
+{
+    return c630s_do_logic_is_writable(value);
+}
+static inline bool c630s_do3_logic_encode(c630s_do_logic value, uint16_t words[1])
+{
+    if (!c630s_do3_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do3_logic_decode(const uint16_t words[1], c630s_do_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_logic)raw;
+    return true;
+}
 
 /* P04-06 do4_function: DO4 terminal function (DO4 端子功能选择). u16 rw, raw 0..20, default 11, values: enum do_function, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO4_FUNCTION_ADDR                          0x0406u
@@ -1850,9 +4467,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO4_FUNCTION_MAX                           20u
 #define C630S_DO4_FUNCTION_DEFAULT                       11u
 #define C630S_DO4_FUNCTION_SCALE                         1.0f
-#define C630S_DO4_FUNCTION_SCALE_NUM                     1
-#define C630S_DO4_FUNCTION_SCALE_DEN                     1
+#define C630S_DO4_FUNCTION_SCALE_NUM                     1u
+#define C630S_DO4_FUNCTION_SCALE_DEN                     1u
 #define C630S_DO4_FUNCTION_PAIRED                        0
+/* Values of do4_function: the members of do_function a write may send. */
+static inline bool c630s_do4_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_do4_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_do4_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do4_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
+    return true;
+}
 
 /* P04-07 do4_logic: DO4 terminal logic (DO4 端子逻辑选择). u16 rw, raw 0..1, printed range 参考P04-01说明, default 0, values: enum do_logic, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO4_LOGIC_ADDR                             0x0407u
@@ -1863,9 +4502,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO4_LOGIC_MAX                              1u
 #define C630S_DO4_LOGIC_DEFAULT                          0u
 #define C630S_DO4_LOGIC_SCALE                            1.0f
-#define C630S_DO4_LOGIC_SCALE_NUM                        1
-#define C630S_DO4_LOGIC_SCALE_DEN                        1
+#define C630S_DO4_LOGIC_SCALE_NUM                        1u
+#define C630S_DO4_LOGIC_SCALE_DEN                        1u
 #define C630S_DO4_LOGIC_PAIRED                           0
+/* Values of do4_logic: the members of do_logic a write may send. */
+static inline bool c630s_do4_logic_is_in_range(c630s_do_logic value)
+{
+    return c630s_do_logic_is_writable(value);
+}
+static inline bool c630s_do4_logic_encode(c630s_do_logic value, uint16_t words[1])
+{
+    if (!c630s_do4_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do4_logic_decode(const uint16_t words[1], c630s_do_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_logic)raw;
+    return true;
+}
 
 /* P04-08 do5_function: DO5 terminal function (DO5 端子功能选择). u16 rw, raw 0..20, default 16, values: enum do_function, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO5_FUNCTION_ADDR                          0x0408u
@@ -1876,9 +4537,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO5_FUNCTION_MAX                           20u
 #define C630S_DO5_FUNCTION_DEFAULT                       16u
 #define C630S_DO5_FUNCTION_SCALE                         1.0f
-#define C630S_DO5_FUNCTION_SCALE_NUM                     1
-#define C630S_DO5_FUNCTION_SCALE_DEN                     1
+#define C630S_DO5_FUNCTION_SCALE_NUM                     1u
+#define C630S_DO5_FUNCTION_SCALE_DEN                     1u
 #define C630S_DO5_FUNCTION_PAIRED                        0
+/* Values of do5_function: the members of do_function a write may send. */
+static inline bool c630s_do5_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_do5_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_do5_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do5_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
+    return true;
+}
 
 /* P04-09 do5_logic: DO5 terminal logic (DO5 端子逻辑选择). u16 rw, raw 0..1, printed range 参考P04-01说明, default 0, values: enum do_logic, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO5_LOGIC_ADDR                             0x0409u
@@ -1889,9 +4572,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO5_LOGIC_MAX                              1u
 #define C630S_DO5_LOGIC_DEFAULT                          0u
 #define C630S_DO5_LOGIC_SCALE                            1.0f
-#define C630S_DO5_LOGIC_SCALE_NUM                        1
-#define C630S_DO5_LOGIC_SCALE_DEN                        1
+#define C630S_DO5_LOGIC_SCALE_NUM                        1u
+#define C630S_DO5_LOGIC_SCALE_DEN                        1u
 #define C630S_DO5_LOGIC_PAIRED                           0
+/* Values of do5_logic: the members of do_logic a write may send. */
+static inline bool c630s_do5_logic_is_in_range(c630s_do_logic value)
+{
+    return c630s_do_logic_is_writable(value);
+}
+static inline bool c630s_do5_logic_encode(c630s_do_logic value, uint16_t words[1])
+{
+    if (!c630s_do5_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do5_logic_decode(const uint16_t words[1], c630s_do_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_logic)raw;
+    return true;
+}
 
 /* P04-10 do6_function: DO6 terminal function (DO6端子功能选择). u16 rw, raw 0..20, default 9, values: enum do_function, takes effect when stopped, errata E2. Manual 7.4, 6.4.2. */
 #define C630S_DO6_FUNCTION_ADDR                          0x040Au
@@ -1902,9 +4607,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO6_FUNCTION_MAX                           20u
 #define C630S_DO6_FUNCTION_DEFAULT                       9u
 #define C630S_DO6_FUNCTION_SCALE                         1.0f
-#define C630S_DO6_FUNCTION_SCALE_NUM                     1
-#define C630S_DO6_FUNCTION_SCALE_DEN                     1
+#define C630S_DO6_FUNCTION_SCALE_NUM                     1u
+#define C630S_DO6_FUNCTION_SCALE_DEN                     1u
 #define C630S_DO6_FUNCTION_PAIRED                        0
+/* Values of do6_function: the members of do_function a write may send. */
+static inline bool c630s_do6_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_do6_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_do6_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do6_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
+    return true;
+}
 
 /* P04-11 do6_logic: DO6 terminal logic (DO6 端子逻辑选择). u16 rw, raw 0..1, printed range 参考P04-01说明, default 0, values: enum do_logic, takes effect when stopped. Manual 7.4, 6.4.2. */
 #define C630S_DO6_LOGIC_ADDR                             0x040Bu
@@ -1915,9 +4642,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO6_LOGIC_MAX                              1u
 #define C630S_DO6_LOGIC_DEFAULT                          0u
 #define C630S_DO6_LOGIC_SCALE                            1.0f
-#define C630S_DO6_LOGIC_SCALE_NUM                        1
-#define C630S_DO6_LOGIC_SCALE_DEN                        1
+#define C630S_DO6_LOGIC_SCALE_NUM                        1u
+#define C630S_DO6_LOGIC_SCALE_DEN                        1u
 #define C630S_DO6_LOGIC_PAIRED                           0
+/* Values of do6_logic: the members of do_logic a write may send. */
+static inline bool c630s_do6_logic_is_in_range(c630s_do_logic value)
+{
+    return c630s_do_logic_is_writable(value);
+}
+static inline bool c630s_do6_logic_encode(c630s_do_logic value, uint16_t words[1])
+{
+    if (!c630s_do6_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do6_logic_decode(const uint16_t words[1], c630s_do_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_logic)raw;
+    return true;
+}
 
 /* ==== P05 position control parameters (P05 组位置控制参数). Manual 7.5. ==== */
 
@@ -1930,9 +4679,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_COMMAND_SOURCE_MAX                2u
 #define C630S_POSITION_COMMAND_SOURCE_DEFAULT            0u
 #define C630S_POSITION_COMMAND_SOURCE_SCALE              1.0f
-#define C630S_POSITION_COMMAND_SOURCE_SCALE_NUM          1
-#define C630S_POSITION_COMMAND_SOURCE_SCALE_DEN          1
+#define C630S_POSITION_COMMAND_SOURCE_SCALE_NUM          1u
+#define C630S_POSITION_COMMAND_SOURCE_SCALE_DEN          1u
 #define C630S_POSITION_COMMAND_SOURCE_PAIRED             0
+/* Values of position_command_source: the members of position_command_source a write may send. */
+static inline bool c630s_position_command_source_is_in_range(c630s_position_command_source value)
+{
+    return c630s_position_command_source_is_writable(value);
+}
+static inline bool c630s_position_command_source_encode(c630s_position_command_source value, uint16_t words[1])
+{
+    if (!c630s_position_command_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_command_source_decode(const uint16_t words[1], c630s_position_command_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_position_command_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_position_command_source)raw;
+    return true;
+}
 
 /* P05-02 pulses_per_revolution: Command pulses per motor revolution (电机每旋转1圈脉冲数). u32 rw, unit P/r, raw 0..1048576, printed range 0 ~1048576, default 10000, takes effect after restart, errata E17. Manual 7.5, 6.1.2, 5.1.5. */
 /* Default 10000. To set 0 the leading 1 must be changed to 0 (panel, see 5.1.5). The electronic gear ratio is used only when P05-02 = 0. */
@@ -1945,9 +4716,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PULSES_PER_REVOLUTION_MAX                  1048576ul
 #define C630S_PULSES_PER_REVOLUTION_DEFAULT              10000u
 #define C630S_PULSES_PER_REVOLUTION_SCALE                1.0f
-#define C630S_PULSES_PER_REVOLUTION_SCALE_NUM            1
-#define C630S_PULSES_PER_REVOLUTION_SCALE_DEN            1
+#define C630S_PULSES_PER_REVOLUTION_SCALE_NUM            1u
+#define C630S_PULSES_PER_REVOLUTION_SCALE_DEN            1u
 #define C630S_PULSES_PER_REVOLUTION_PAIRED               0
+/* Values of pulses_per_revolution: 0..1048576 P/r; word_order as the device is set. */
+static inline bool c630s_pulses_per_revolution_is_in_range(uint32_t value)
+{
+    return value <= 1048576ul;
+}
+static inline bool c630s_pulses_per_revolution_encode(uint32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_pulses_per_revolution_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_pulses_per_revolution_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-04 position_lowpass_filter_time: First-order low-pass filter time constant (一阶低通滤波时间常数). u16 rw, unit ms, scale 0.1, raw 0..65535 (0..6553.5 ms), printed range 0~6553.5, default 0 (0), takes effect immediately. Manual 7.5. */
 #define C630S_POSITION_LOWPASS_FILTER_TIME_ADDR          0x0504u
@@ -1958,9 +4747,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_LOWPASS_FILTER_TIME_MAX           65535u
 #define C630S_POSITION_LOWPASS_FILTER_TIME_DEFAULT       0u
 #define C630S_POSITION_LOWPASS_FILTER_TIME_SCALE         0.1f
-#define C630S_POSITION_LOWPASS_FILTER_TIME_SCALE_NUM     1
-#define C630S_POSITION_LOWPASS_FILTER_TIME_SCALE_DEN     10
+#define C630S_POSITION_LOWPASS_FILTER_TIME_SCALE_NUM     1u
+#define C630S_POSITION_LOWPASS_FILTER_TIME_SCALE_DEN     10u
 #define C630S_POSITION_LOWPASS_FILTER_TIME_PAIRED        0
+/* Values of position_lowpass_filter_time: 0..6553.5 ms in steps of 0.1. */
+static inline bool c630s_position_lowpass_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 65535.0, &raw);
+}
+static inline bool c630s_position_lowpass_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 65535.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_lowpass_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P05-05 step_amount: Step amount (步进量). s16 rw, unit command unit, raw -9999..9999, default 50, takes effect immediately. Manual 7.5. */
 #define C630S_STEP_AMOUNT_ADDR                           0x0505u
@@ -1974,6 +4783,24 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_STEP_AMOUNT_SCALE_NUM                      1
 #define C630S_STEP_AMOUNT_SCALE_DEN                      1
 #define C630S_STEP_AMOUNT_PAIRED                         0
+/* Values of step_amount: -9999..9999 command unit. */
+static inline bool c630s_step_amount_is_in_range(int16_t value)
+{
+    return value >= (-9999) && value <= 9999;
+}
+static inline bool c630s_step_amount_encode(int16_t value, uint16_t words[1])
+{
+    if (!c630s_step_amount_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_step_amount_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-06 position_average_filter_time: Average filter time constant (平均值滤波时间常数). u16 rw, unit ms, scale 0.1, raw 0..1280 (0..128 ms), printed range 0.0~128.0, default 0 (0), takes effect immediately. Manual 7.5. */
 #define C630S_POSITION_AVERAGE_FILTER_TIME_ADDR          0x0506u
@@ -1984,9 +4811,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_AVERAGE_FILTER_TIME_MAX           1280u
 #define C630S_POSITION_AVERAGE_FILTER_TIME_DEFAULT       0u
 #define C630S_POSITION_AVERAGE_FILTER_TIME_SCALE         0.1f
-#define C630S_POSITION_AVERAGE_FILTER_TIME_SCALE_NUM     1
-#define C630S_POSITION_AVERAGE_FILTER_TIME_SCALE_DEN     10
+#define C630S_POSITION_AVERAGE_FILTER_TIME_SCALE_NUM     1u
+#define C630S_POSITION_AVERAGE_FILTER_TIME_SCALE_DEN     10u
 #define C630S_POSITION_AVERAGE_FILTER_TIME_PAIRED        0
+/* Values of position_average_filter_time: 0..128 ms in steps of 0.1. */
+static inline bool c630s_position_average_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1280.0, &raw);
+}
+static inline bool c630s_position_average_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1280.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_average_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P05-07 gear1_numerator: Electronic gear ratio 1 numerator (电子齿数比 1(分子)). u32 rw, raw 1..1073741824, default 1048576, takes effect immediately. Manual 7.5, 6.1.2. */
 #define C630S_GEAR1_NUMERATOR_ADDR                       0x0507u
@@ -1998,9 +4845,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GEAR1_NUMERATOR_MAX                        1073741824ul
 #define C630S_GEAR1_NUMERATOR_DEFAULT                    1048576ul
 #define C630S_GEAR1_NUMERATOR_SCALE                      1.0f
-#define C630S_GEAR1_NUMERATOR_SCALE_NUM                  1
-#define C630S_GEAR1_NUMERATOR_SCALE_DEN                  1
+#define C630S_GEAR1_NUMERATOR_SCALE_NUM                  1u
+#define C630S_GEAR1_NUMERATOR_SCALE_DEN                  1u
 #define C630S_GEAR1_NUMERATOR_PAIRED                     0
+/* Values of gear1_numerator: 1..1073741824; word_order as the device is set. */
+static inline bool c630s_gear1_numerator_is_in_range(uint32_t value)
+{
+    return value >= 1u && value <= 1073741824ul;
+}
+static inline bool c630s_gear1_numerator_encode(uint32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_gear1_numerator_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_gear1_numerator_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-09 gear1_denominator: Electronic gear ratio 1 denominator (电子齿数比 1(分母)). u32 rw, raw 1..1073741824, default 10000, takes effect immediately. Manual 7.5, 6.1.2. */
 #define C630S_GEAR1_DENOMINATOR_ADDR                     0x0509u
@@ -2012,9 +4877,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GEAR1_DENOMINATOR_MAX                      1073741824ul
 #define C630S_GEAR1_DENOMINATOR_DEFAULT                  10000u
 #define C630S_GEAR1_DENOMINATOR_SCALE                    1.0f
-#define C630S_GEAR1_DENOMINATOR_SCALE_NUM                1
-#define C630S_GEAR1_DENOMINATOR_SCALE_DEN                1
+#define C630S_GEAR1_DENOMINATOR_SCALE_NUM                1u
+#define C630S_GEAR1_DENOMINATOR_SCALE_DEN                1u
 #define C630S_GEAR1_DENOMINATOR_PAIRED                   0
+/* Values of gear1_denominator: 1..1073741824; word_order as the device is set. */
+static inline bool c630s_gear1_denominator_is_in_range(uint32_t value)
+{
+    return value >= 1u && value <= 1073741824ul;
+}
+static inline bool c630s_gear1_denominator_encode(uint32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_gear1_denominator_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_gear1_denominator_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-11 gear2_numerator: Electronic gear ratio 2 numerator (电子齿数比 2(分子)). u32 rw, raw 1..1073741824, default 1048576, takes effect immediately. Manual 7.5. */
 #define C630S_GEAR2_NUMERATOR_ADDR                       0x050Bu
@@ -2026,9 +4909,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GEAR2_NUMERATOR_MAX                        1073741824ul
 #define C630S_GEAR2_NUMERATOR_DEFAULT                    1048576ul
 #define C630S_GEAR2_NUMERATOR_SCALE                      1.0f
-#define C630S_GEAR2_NUMERATOR_SCALE_NUM                  1
-#define C630S_GEAR2_NUMERATOR_SCALE_DEN                  1
+#define C630S_GEAR2_NUMERATOR_SCALE_NUM                  1u
+#define C630S_GEAR2_NUMERATOR_SCALE_DEN                  1u
 #define C630S_GEAR2_NUMERATOR_PAIRED                     0
+/* Values of gear2_numerator: 1..1073741824; word_order as the device is set. */
+static inline bool c630s_gear2_numerator_is_in_range(uint32_t value)
+{
+    return value >= 1u && value <= 1073741824ul;
+}
+static inline bool c630s_gear2_numerator_encode(uint32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_gear2_numerator_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_gear2_numerator_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-13 gear2_denominator: Electronic gear ratio 2 denominator (电子齿数比 2(分母)). u32 rw, raw 1..1073741824, default 10000, takes effect immediately. Manual 7.5. */
 #define C630S_GEAR2_DENOMINATOR_ADDR                     0x050Du
@@ -2040,9 +4941,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GEAR2_DENOMINATOR_MAX                      1073741824ul
 #define C630S_GEAR2_DENOMINATOR_DEFAULT                  10000u
 #define C630S_GEAR2_DENOMINATOR_SCALE                    1.0f
-#define C630S_GEAR2_DENOMINATOR_SCALE_NUM                1
-#define C630S_GEAR2_DENOMINATOR_SCALE_DEN                1
+#define C630S_GEAR2_DENOMINATOR_SCALE_NUM                1u
+#define C630S_GEAR2_DENOMINATOR_SCALE_DEN                1u
 #define C630S_GEAR2_DENOMINATOR_PAIRED                   0
+/* Values of gear2_denominator: 1..1073741824; word_order as the device is set. */
+static inline bool c630s_gear2_denominator_is_in_range(uint32_t value)
+{
+    return value >= 1u && value <= 1073741824ul;
+}
+static inline bool c630s_gear2_denominator_encode(uint32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_gear2_denominator_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_gear2_denominator_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-15 pulse_input_form: Pulse command form (脉冲指令形态). u16 rw, raw 0..4, default 0, values: enum pulse_input_form, takes effect after restart, errata E3. Manual 7.5, 6.1.2. */
 #define C630S_PULSE_INPUT_FORM_ADDR                      0x050Fu
@@ -2053,9 +4972,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PULSE_INPUT_FORM_MAX                       4u
 #define C630S_PULSE_INPUT_FORM_DEFAULT                   0u
 #define C630S_PULSE_INPUT_FORM_SCALE                     1.0f
-#define C630S_PULSE_INPUT_FORM_SCALE_NUM                 1
-#define C630S_PULSE_INPUT_FORM_SCALE_DEN                 1
+#define C630S_PULSE_INPUT_FORM_SCALE_NUM                 1u
+#define C630S_PULSE_INPUT_FORM_SCALE_DEN                 1u
 #define C630S_PULSE_INPUT_FORM_PAIRED                    0
+/* Values of pulse_input_form: the members of pulse_input_form a write may send. */
+static inline bool c630s_pulse_input_form_is_in_range(c630s_pulse_input_form value)
+{
+    return c630s_pulse_input_form_is_writable(value);
+}
+static inline bool c630s_pulse_input_form_encode(c630s_pulse_input_form value, uint16_t words[1])
+{
+    if (!c630s_pulse_input_form_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_pulse_input_form_decode(const uint16_t words[1], c630s_pulse_input_form *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_pulse_input_form_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_pulse_input_form)raw;
+    return true;
+}
 
 /* P05-16 position_clear_action: Position deviation clear action (清除动作选择). u16 rw, raw 0..2, default 0, values: enum position_clear_action, takes effect immediately. Manual 7.5. */
 #define C630S_POSITION_CLEAR_ACTION_ADDR                 0x0510u
@@ -2066,9 +5007,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_CLEAR_ACTION_MAX                  2u
 #define C630S_POSITION_CLEAR_ACTION_DEFAULT              0u
 #define C630S_POSITION_CLEAR_ACTION_SCALE                1.0f
-#define C630S_POSITION_CLEAR_ACTION_SCALE_NUM            1
-#define C630S_POSITION_CLEAR_ACTION_SCALE_DEN            1
+#define C630S_POSITION_CLEAR_ACTION_SCALE_NUM            1u
+#define C630S_POSITION_CLEAR_ACTION_SCALE_DEN            1u
 #define C630S_POSITION_CLEAR_ACTION_PAIRED               0
+/* Values of position_clear_action: the members of position_clear_action a write may send. */
+static inline bool c630s_position_clear_action_is_in_range(c630s_position_clear_action value)
+{
+    return c630s_position_clear_action_is_writable(value);
+}
+static inline bool c630s_position_clear_action_encode(c630s_position_clear_action value, uint16_t words[1])
+{
+    if (!c630s_position_clear_action_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_clear_action_decode(const uint16_t words[1], c630s_position_clear_action *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_position_clear_action_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_position_clear_action)raw;
+    return true;
+}
 
 /* P05-17 encoder_divided_pulses: Encoder divided output pulses per revolution (编码器分频脉冲数). u16 rw, unit P/r, raw 35..32767, default 2500, takes effect after restart. Manual 7.5, 6.1.2, 4.3.1. */
 #define C630S_ENCODER_DIVIDED_PULSES_ADDR                0x0511u
@@ -2079,9 +5042,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ENCODER_DIVIDED_PULSES_MAX                 32767u
 #define C630S_ENCODER_DIVIDED_PULSES_DEFAULT             2500u
 #define C630S_ENCODER_DIVIDED_PULSES_SCALE               1.0f
-#define C630S_ENCODER_DIVIDED_PULSES_SCALE_NUM           1
-#define C630S_ENCODER_DIVIDED_PULSES_SCALE_DEN           1
+#define C630S_ENCODER_DIVIDED_PULSES_SCALE_NUM           1u
+#define C630S_ENCODER_DIVIDED_PULSES_SCALE_DEN           1u
 #define C630S_ENCODER_DIVIDED_PULSES_PAIRED              0
+/* Values of encoder_divided_pulses: 35..32767 P/r. */
+static inline bool c630s_encoder_divided_pulses_is_in_range(uint16_t value)
+{
+    return value >= 35u && value <= 32767u;
+}
+static inline bool c630s_encoder_divided_pulses_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_encoder_divided_pulses_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_encoder_divided_pulses_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-19 speed_feedforward_select: Speed feedforward select (速度前馈控制选择). u16 rw, raw 0..3, default 1, values: enum speed_feedforward_select, takes effect immediately. Manual 7.5. */
 #define C630S_SPEED_FEEDFORWARD_SELECT_ADDR              0x0513u
@@ -2092,9 +5073,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_FEEDFORWARD_SELECT_MAX               3u
 #define C630S_SPEED_FEEDFORWARD_SELECT_DEFAULT           1u
 #define C630S_SPEED_FEEDFORWARD_SELECT_SCALE             1.0f
-#define C630S_SPEED_FEEDFORWARD_SELECT_SCALE_NUM         1
-#define C630S_SPEED_FEEDFORWARD_SELECT_SCALE_DEN         1
+#define C630S_SPEED_FEEDFORWARD_SELECT_SCALE_NUM         1u
+#define C630S_SPEED_FEEDFORWARD_SELECT_SCALE_DEN         1u
 #define C630S_SPEED_FEEDFORWARD_SELECT_PAIRED            0
+/* Values of speed_feedforward_select: the members of speed_feedforward_select a write may send. */
+static inline bool c630s_speed_feedforward_select_is_in_range(c630s_speed_feedforward_select value)
+{
+    return c630s_speed_feedforward_select_is_writable(value);
+}
+static inline bool c630s_speed_feedforward_select_encode(c630s_speed_feedforward_select value, uint16_t words[1])
+{
+    if (!c630s_speed_feedforward_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_feedforward_select_decode(const uint16_t words[1], c630s_speed_feedforward_select *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_speed_feedforward_select_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_speed_feedforward_select)raw;
+    return true;
+}
 
 /* P05-20 coin_output_condition: Positioning complete output condition (定位完成输出条件). u16 rw, raw 0..3, default 0, values: enum coin_output_condition, takes effect immediately. Manual 7.5. */
 #define C630S_COIN_OUTPUT_CONDITION_ADDR                 0x0514u
@@ -2105,9 +5108,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_COIN_OUTPUT_CONDITION_MAX                  3u
 #define C630S_COIN_OUTPUT_CONDITION_DEFAULT              0u
 #define C630S_COIN_OUTPUT_CONDITION_SCALE                1.0f
-#define C630S_COIN_OUTPUT_CONDITION_SCALE_NUM            1
-#define C630S_COIN_OUTPUT_CONDITION_SCALE_DEN            1
+#define C630S_COIN_OUTPUT_CONDITION_SCALE_NUM            1u
+#define C630S_COIN_OUTPUT_CONDITION_SCALE_DEN            1u
 #define C630S_COIN_OUTPUT_CONDITION_PAIRED               0
+/* Values of coin_output_condition: the members of coin_output_condition a write may send. */
+static inline bool c630s_coin_output_condition_is_in_range(c630s_coin_output_condition value)
+{
+    return c630s_coin_output_condition_is_writable(value);
+}
+static inline bool c630s_coin_output_condition_encode(c630s_coin_output_condition value, uint16_t words[1])
+{
+    if (!c630s_coin_output_condition_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_coin_output_condition_decode(const uint16_t words[1], c630s_coin_output_condition *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_coin_output_condition_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_coin_output_condition)raw;
+    return true;
+}
 
 /* P05-21 coin_threshold: Positioning complete threshold (定位完成阈值). u16 rw, unit encoder unit, raw 1..65535, default 734, takes effect immediately. Manual 7.5. */
 #define C630S_COIN_THRESHOLD_ADDR                        0x0515u
@@ -2118,9 +5143,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_COIN_THRESHOLD_MAX                         65535u
 #define C630S_COIN_THRESHOLD_DEFAULT                     734u
 #define C630S_COIN_THRESHOLD_SCALE                       1.0f
-#define C630S_COIN_THRESHOLD_SCALE_NUM                   1
-#define C630S_COIN_THRESHOLD_SCALE_DEN                   1
+#define C630S_COIN_THRESHOLD_SCALE_NUM                   1u
+#define C630S_COIN_THRESHOLD_SCALE_DEN                   1u
 #define C630S_COIN_THRESHOLD_PAIRED                      0
+/* Values of coin_threshold: 1..65535 encoder unit. */
+static inline bool c630s_coin_threshold_is_in_range(uint16_t value)
+{
+    return value >= 1u;
+}
+static inline bool c630s_coin_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_coin_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_coin_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-22 near_threshold: Positioning near threshold (定位接近阈值). u16 rw, unit encoder unit, raw 1..65535, default 65535, takes effect immediately. Manual 7.5. */
 #define C630S_NEAR_THRESHOLD_ADDR                        0x0516u
@@ -2131,9 +5174,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NEAR_THRESHOLD_MAX                         65535u
 #define C630S_NEAR_THRESHOLD_DEFAULT                     65535u
 #define C630S_NEAR_THRESHOLD_SCALE                       1.0f
-#define C630S_NEAR_THRESHOLD_SCALE_NUM                   1
-#define C630S_NEAR_THRESHOLD_SCALE_DEN                   1
+#define C630S_NEAR_THRESHOLD_SCALE_NUM                   1u
+#define C630S_NEAR_THRESHOLD_SCALE_DEN                   1u
 #define C630S_NEAR_THRESHOLD_PAIRED                      0
+/* Values of near_threshold: 1..65535 encoder unit. */
+static inline bool c630s_near_threshold_is_in_range(uint16_t value)
+{
+    return value >= 1u;
+}
+static inline bool c630s_near_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_near_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_near_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-30 homing_enable: Homing enable control (原点复归使能控制). u16 rw, raw 0..8, default 0, values: enum homing_enable, takes effect immediately. Manual 7.5. */
 #define C630S_HOMING_ENABLE_ADDR                         0x051Eu
@@ -2144,9 +5205,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_ENABLE_MAX                          8u
 #define C630S_HOMING_ENABLE_DEFAULT                      0u
 #define C630S_HOMING_ENABLE_SCALE                        1.0f
-#define C630S_HOMING_ENABLE_SCALE_NUM                    1
-#define C630S_HOMING_ENABLE_SCALE_DEN                    1
+#define C630S_HOMING_ENABLE_SCALE_NUM                    1u
+#define C630S_HOMING_ENABLE_SCALE_DEN                    1u
 #define C630S_HOMING_ENABLE_PAIRED                       0
+/* Values of homing_enable: the members of homing_enable a write may send. */
+static inline bool c630s_homing_enable_is_in_range(c630s_homing_enable value)
+{
+    return c630s_homing_enable_is_writable(value);
+}
+static inline bool c630s_homing_enable_encode(c630s_homing_enable value, uint16_t words[1])
+{
+    if (!c630s_homing_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_enable_decode(const uint16_t words[1], c630s_homing_enable *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_homing_enable_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_homing_enable)raw;
+    return true;
+}
 
 /* P05-31 homing_mode: Homing mode (原点复归模式). u16 rw, raw 0..9, default 0, values: enum homing_mode, takes effect immediately. Manual 7.5. */
 #define C630S_HOMING_MODE_ADDR                           0x051Fu
@@ -2157,9 +5240,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_MODE_MAX                            9u
 #define C630S_HOMING_MODE_DEFAULT                        0u
 #define C630S_HOMING_MODE_SCALE                          1.0f
-#define C630S_HOMING_MODE_SCALE_NUM                      1
-#define C630S_HOMING_MODE_SCALE_DEN                      1
+#define C630S_HOMING_MODE_SCALE_NUM                      1u
+#define C630S_HOMING_MODE_SCALE_DEN                      1u
 #define C630S_HOMING_MODE_PAIRED                         0
+/* Values of homing_mode: the members of homing_mode a write may send. */
+static inline bool c630s_homing_mode_is_in_range(c630s_homing_mode value)
+{
+    return c630s_homing_mode_is_writable(value);
+}
+static inline bool c630s_homing_mode_encode(c630s_homing_mode value, uint16_t words[1])
+{
+    if (!c630s_homing_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_mode_decode(const uint16_t words[1], c630s_homing_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_homing_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_homing_mode)raw;
+    return true;
+}
 
 /* P05-32 homing_high_speed: High speed searching the home switch (高速搜索原点开关信号的速度). u16 rw, unit rpm, raw 0..3000, default 100, takes effect immediately. Manual 7.5. */
 #define C630S_HOMING_HIGH_SPEED_ADDR                     0x0520u
@@ -2170,9 +5275,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_HIGH_SPEED_MAX                      3000u
 #define C630S_HOMING_HIGH_SPEED_DEFAULT                  100u
 #define C630S_HOMING_HIGH_SPEED_SCALE                    1.0f
-#define C630S_HOMING_HIGH_SPEED_SCALE_NUM                1
-#define C630S_HOMING_HIGH_SPEED_SCALE_DEN                1
+#define C630S_HOMING_HIGH_SPEED_SCALE_NUM                1u
+#define C630S_HOMING_HIGH_SPEED_SCALE_DEN                1u
 #define C630S_HOMING_HIGH_SPEED_PAIRED                   0
+/* Values of homing_high_speed: 0..3000 rpm. */
+static inline bool c630s_homing_high_speed_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool c630s_homing_high_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_homing_high_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_high_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-33 homing_low_speed: Low speed searching the home switch (低速搜索原点开关信号的速度). u16 rw, unit rpm, raw 0..1000, default 10, takes effect immediately. Manual 7.5. */
 #define C630S_HOMING_LOW_SPEED_ADDR                      0x0521u
@@ -2183,9 +5306,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_LOW_SPEED_MAX                       1000u
 #define C630S_HOMING_LOW_SPEED_DEFAULT                   10u
 #define C630S_HOMING_LOW_SPEED_SCALE                     1.0f
-#define C630S_HOMING_LOW_SPEED_SCALE_NUM                 1
-#define C630S_HOMING_LOW_SPEED_SCALE_DEN                 1
+#define C630S_HOMING_LOW_SPEED_SCALE_NUM                 1u
+#define C630S_HOMING_LOW_SPEED_SCALE_DEN                 1u
 #define C630S_HOMING_LOW_SPEED_PAIRED                    0
+/* Values of homing_low_speed: 0..1000 rpm. */
+static inline bool c630s_homing_low_speed_is_in_range(uint16_t value)
+{
+    return value <= 1000u;
+}
+static inline bool c630s_homing_low_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_homing_low_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_low_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-34 homing_accel_time: Acceleration/deceleration time while homing (搜索原点时的加减速时间). u16 rw, unit ms, raw 0..1000, default 1000, takes effect immediately, errata E20. Manual 7.5. */
 #define C630S_HOMING_ACCEL_TIME_ADDR                     0x0522u
@@ -2196,9 +5337,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_ACCEL_TIME_MAX                      1000u
 #define C630S_HOMING_ACCEL_TIME_DEFAULT                  1000u
 #define C630S_HOMING_ACCEL_TIME_SCALE                    1.0f
-#define C630S_HOMING_ACCEL_TIME_SCALE_NUM                1
-#define C630S_HOMING_ACCEL_TIME_SCALE_DEN                1
+#define C630S_HOMING_ACCEL_TIME_SCALE_NUM                1u
+#define C630S_HOMING_ACCEL_TIME_SCALE_DEN                1u
 #define C630S_HOMING_ACCEL_TIME_PAIRED                   0
+/* Values of homing_accel_time: 0..1000 ms. */
+static inline bool c630s_homing_accel_time_is_in_range(uint16_t value)
+{
+    return value <= 1000u;
+}
+static inline bool c630s_homing_accel_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_homing_accel_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_accel_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-35 homing_time_limit: Homing time limit (限定查找原点的时间). u16 rw, raw 0..65535, default 10000, takes effect immediately, errata E20. Manual 7.5. */
 #define C630S_HOMING_TIME_LIMIT_ADDR                     0x0523u
@@ -2209,9 +5368,28 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_TIME_LIMIT_MAX                      65535u
 #define C630S_HOMING_TIME_LIMIT_DEFAULT                  10000u
 #define C630S_HOMING_TIME_LIMIT_SCALE                    1.0f
-#define C630S_HOMING_TIME_LIMIT_SCALE_NUM                1
-#define C630S_HOMING_TIME_LIMIT_SCALE_DEN                1
+#define C630S_HOMING_TIME_LIMIT_SCALE_NUM                1u
+#define C630S_HOMING_TIME_LIMIT_SCALE_DEN                1u
 #define C630S_HOMING_TIME_LIMIT_PAIRED                   0
+/* Values of homing_time_limit: 0..65535. */
+static inline bool c630s_homing_time_limit_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_homing_time_limit_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_homing_time_limit_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_time_limit_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-36 home_offset: Mechanical home offset (机械原点偏移量). s32 rw, unit command unit, raw -1073741824..1073741824, default 0, takes effect immediately. Manual 7.5. */
 #define C630S_HOME_OFFSET_ADDR                           0x0524u
@@ -2226,6 +5404,24 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOME_OFFSET_SCALE_NUM                      1
 #define C630S_HOME_OFFSET_SCALE_DEN                      1
 #define C630S_HOME_OFFSET_PAIRED                         0
+/* Values of home_offset: -1073741824..1073741824 command unit; word_order as the device is set. */
+static inline bool c630s_home_offset_is_in_range(int32_t value)
+{
+    return value >= (-1073741824) && value <= 1073741824;
+}
+static inline bool c630s_home_offset_encode(int32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_home_offset_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_home_offset_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-38 pulse_output_source: Servo pulse output source (伺服脉冲输出来源选择). u16 rw, raw 0..2, default 0, values: enum pulse_output_source, takes effect after restart. Manual 7.5, 6.1.2. */
 #define C630S_PULSE_OUTPUT_SOURCE_ADDR                   0x0526u
@@ -2236,9 +5432,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PULSE_OUTPUT_SOURCE_MAX                    2u
 #define C630S_PULSE_OUTPUT_SOURCE_DEFAULT                0u
 #define C630S_PULSE_OUTPUT_SOURCE_SCALE                  1.0f
-#define C630S_PULSE_OUTPUT_SOURCE_SCALE_NUM              1
-#define C630S_PULSE_OUTPUT_SOURCE_SCALE_DEN              1
+#define C630S_PULSE_OUTPUT_SOURCE_SCALE_NUM              1u
+#define C630S_PULSE_OUTPUT_SOURCE_SCALE_DEN              1u
 #define C630S_PULSE_OUTPUT_SOURCE_PAIRED                 0
+/* Values of pulse_output_source: the members of pulse_output_source a write may send. */
+static inline bool c630s_pulse_output_source_is_in_range(c630s_pulse_output_source value)
+{
+    return c630s_pulse_output_source_is_writable(value);
+}
+static inline bool c630s_pulse_output_source_encode(c630s_pulse_output_source value, uint16_t words[1])
+{
+    if (!c630s_pulse_output_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_pulse_output_source_decode(const uint16_t words[1], c630s_pulse_output_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_pulse_output_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_pulse_output_source)raw;
+    return true;
+}
 
 /* P05-39 gear_switch_condition: Electronic gear switching condition (电子齿轮比切换条件). u16 rw, raw 0..1, default 0, values: enum gear_switch_condition, takes effect immediately. Manual 7.5. */
 #define C630S_GEAR_SWITCH_CONDITION_ADDR                 0x0527u
@@ -2249,9 +5467,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GEAR_SWITCH_CONDITION_MAX                  1u
 #define C630S_GEAR_SWITCH_CONDITION_DEFAULT              0u
 #define C630S_GEAR_SWITCH_CONDITION_SCALE                1.0f
-#define C630S_GEAR_SWITCH_CONDITION_SCALE_NUM            1
-#define C630S_GEAR_SWITCH_CONDITION_SCALE_DEN            1
+#define C630S_GEAR_SWITCH_CONDITION_SCALE_NUM            1u
+#define C630S_GEAR_SWITCH_CONDITION_SCALE_DEN            1u
 #define C630S_GEAR_SWITCH_CONDITION_PAIRED               0
+/* Values of gear_switch_condition: the members of gear_switch_condition a write may send. */
+static inline bool c630s_gear_switch_condition_is_in_range(c630s_gear_switch_condition value)
+{
+    return c630s_gear_switch_condition_is_writable(value);
+}
+static inline bool c630s_gear_switch_condition_encode(c630s_gear_switch_condition value, uint16_t words[1])
+{
+    if (!c630s_gear_switch_condition_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_gear_switch_condition_decode(const uint16_t words[1], c630s_gear_switch_condition *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_gear_switch_condition_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_gear_switch_condition)raw;
+    return true;
+}
 
 /* P05-43 pulse_edge: Position pulse edge (位置脉冲沿选择). u16 rw, raw 0..1, default 0, values: enum pulse_edge, takes effect after restart. Manual 7.5, 6.1.2. */
 #define C630S_PULSE_EDGE_ADDR                            0x052Bu
@@ -2262,9 +5502,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PULSE_EDGE_MAX                             1u
 #define C630S_PULSE_EDGE_DEFAULT                         0u
 #define C630S_PULSE_EDGE_SCALE                           1.0f
-#define C630S_PULSE_EDGE_SCALE_NUM                       1
-#define C630S_PULSE_EDGE_SCALE_DEN                       1
+#define C630S_PULSE_EDGE_SCALE_NUM                       1u
+#define C630S_PULSE_EDGE_SCALE_DEN                       1u
 #define C630S_PULSE_EDGE_PAIRED                          0
+/* Values of pulse_edge: the members of pulse_edge a write may send. */
+static inline bool c630s_pulse_edge_is_in_range(c630s_pulse_edge value)
+{
+    return c630s_pulse_edge_is_writable(value);
+}
+static inline bool c630s_pulse_edge_encode(c630s_pulse_edge value, uint16_t words[1])
+{
+    if (!c630s_pulse_edge_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_pulse_edge_decode(const uint16_t words[1], c630s_pulse_edge *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_pulse_edge_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_pulse_edge)raw;
+    return true;
+}
 
 /* P05-59 coin_window_time: Positioning complete window time (定位完成窗口时间). u16 rw, unit ms, raw 0..30000, default 1, takes effect immediately. Manual 7.5. */
 #define C630S_COIN_WINDOW_TIME_ADDR                      0x053Bu
@@ -2275,9 +5537,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_COIN_WINDOW_TIME_MAX                       30000u
 #define C630S_COIN_WINDOW_TIME_DEFAULT                   1u
 #define C630S_COIN_WINDOW_TIME_SCALE                     1.0f
-#define C630S_COIN_WINDOW_TIME_SCALE_NUM                 1
-#define C630S_COIN_WINDOW_TIME_SCALE_DEN                 1
+#define C630S_COIN_WINDOW_TIME_SCALE_NUM                 1u
+#define C630S_COIN_WINDOW_TIME_SCALE_DEN                 1u
 #define C630S_COIN_WINDOW_TIME_PAIRED                    0
+/* Values of coin_window_time: 0..30000 ms. */
+static inline bool c630s_coin_window_time_is_in_range(uint16_t value)
+{
+    return value <= 30000u;
+}
+static inline bool c630s_coin_window_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_coin_window_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_coin_window_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-60 coin_hold_time: Positioning complete hold time (定位完成保持时间). u16 rw, unit ms, raw 0..30000, default 1, takes effect immediately. Manual 7.5. */
 #define C630S_COIN_HOLD_TIME_ADDR                        0x053Cu
@@ -2288,9 +5568,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_COIN_HOLD_TIME_MAX                         30000u
 #define C630S_COIN_HOLD_TIME_DEFAULT                     1u
 #define C630S_COIN_HOLD_TIME_SCALE                       1.0f
-#define C630S_COIN_HOLD_TIME_SCALE_NUM                   1
-#define C630S_COIN_HOLD_TIME_SCALE_DEN                   1
+#define C630S_COIN_HOLD_TIME_SCALE_NUM                   1u
+#define C630S_COIN_HOLD_TIME_SCALE_DEN                   1u
 #define C630S_COIN_HOLD_TIME_PAIRED                      0
+/* Values of coin_hold_time: 0..30000 ms. */
+static inline bool c630s_coin_hold_time_is_in_range(uint16_t value)
+{
+    return value <= 30000u;
+}
+static inline bool c630s_coin_hold_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_coin_hold_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_coin_hold_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P05-61 homing_time_unit: Homing time limit unit select (限定查找原点的时间单位选择). u16 rw, raw 0..2, default 0, takes effect immediately. Manual 7.5. */
 #define C630S_HOMING_TIME_UNIT_ADDR                      0x053Du
@@ -2301,9 +5599,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HOMING_TIME_UNIT_MAX                       2u
 #define C630S_HOMING_TIME_UNIT_DEFAULT                   0u
 #define C630S_HOMING_TIME_UNIT_SCALE                     1.0f
-#define C630S_HOMING_TIME_UNIT_SCALE_NUM                 1
-#define C630S_HOMING_TIME_UNIT_SCALE_DEN                 1
+#define C630S_HOMING_TIME_UNIT_SCALE_NUM                 1u
+#define C630S_HOMING_TIME_UNIT_SCALE_DEN                 1u
 #define C630S_HOMING_TIME_UNIT_PAIRED                    0
+/* Values of homing_time_unit: 0..2. */
+static inline bool c630s_homing_time_unit_is_in_range(uint16_t value)
+{
+    return value <= 2u;
+}
+static inline bool c630s_homing_time_unit_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_homing_time_unit_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_homing_time_unit_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== P06 speed control parameters (P06 组速度控制参数). Manual 7.6. ==== */
 
@@ -2316,9 +5632,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_A_SOURCE_MAX                         2u
 #define C630S_SPEED_A_SOURCE_DEFAULT                     0u
 #define C630S_SPEED_A_SOURCE_SCALE                       1.0f
-#define C630S_SPEED_A_SOURCE_SCALE_NUM                   1
-#define C630S_SPEED_A_SOURCE_SCALE_DEN                   1
+#define C630S_SPEED_A_SOURCE_SCALE_NUM                   1u
+#define C630S_SPEED_A_SOURCE_SCALE_DEN                   1u
 #define C630S_SPEED_A_SOURCE_PAIRED                      0
+/* Values of speed_a_source: the members of speed_a_source a write may send. */
+static inline bool c630s_speed_a_source_is_in_range(c630s_speed_a_source value)
+{
+    return c630s_speed_a_source_is_writable(value);
+}
+static inline bool c630s_speed_a_source_encode(c630s_speed_a_source value, uint16_t words[1])
+{
+    if (!c630s_speed_a_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_a_source_decode(const uint16_t words[1], c630s_speed_a_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_speed_a_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_speed_a_source)raw;
+    return true;
+}
 
 /* P06-01 speed_b_source: Auxiliary speed command B source (辅助速度指令 B 来源). u16 rw, raw 0..5, default 1, values: enum speed_b_source, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_B_SOURCE_ADDR                        0x0601u
@@ -2329,9 +5667,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_B_SOURCE_MAX                         5u
 #define C630S_SPEED_B_SOURCE_DEFAULT                     1u
 #define C630S_SPEED_B_SOURCE_SCALE                       1.0f
-#define C630S_SPEED_B_SOURCE_SCALE_NUM                   1
-#define C630S_SPEED_B_SOURCE_SCALE_DEN                   1
+#define C630S_SPEED_B_SOURCE_SCALE_NUM                   1u
+#define C630S_SPEED_B_SOURCE_SCALE_DEN                   1u
 #define C630S_SPEED_B_SOURCE_PAIRED                      0
+/* Values of speed_b_source: the members of speed_b_source a write may send. */
+static inline bool c630s_speed_b_source_is_in_range(c630s_speed_b_source value)
+{
+    return c630s_speed_b_source_is_writable(value);
+}
+static inline bool c630s_speed_b_source_encode(c630s_speed_b_source value, uint16_t words[1])
+{
+    if (!c630s_speed_b_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_b_source_decode(const uint16_t words[1], c630s_speed_b_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_speed_b_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_speed_b_source)raw;
+    return true;
+}
 
 /* P06-02 speed_command_select: Speed command select (速度指令选择). u16 rw, raw 0..3, default 0, values: enum speed_command_select, takes effect immediately, errata E9. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_COMMAND_SELECT_ADDR                  0x0602u
@@ -2342,9 +5702,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_COMMAND_SELECT_MAX                   3u
 #define C630S_SPEED_COMMAND_SELECT_DEFAULT               0u
 #define C630S_SPEED_COMMAND_SELECT_SCALE                 1.0f
-#define C630S_SPEED_COMMAND_SELECT_SCALE_NUM             1
-#define C630S_SPEED_COMMAND_SELECT_SCALE_DEN             1
+#define C630S_SPEED_COMMAND_SELECT_SCALE_NUM             1u
+#define C630S_SPEED_COMMAND_SELECT_SCALE_DEN             1u
 #define C630S_SPEED_COMMAND_SELECT_PAIRED                0
+/* Values of speed_command_select: the members of speed_command_select a write may send. */
+static inline bool c630s_speed_command_select_is_in_range(c630s_speed_command_select value)
+{
+    return c630s_speed_command_select_is_writable(value);
+}
+static inline bool c630s_speed_command_select_encode(c630s_speed_command_select value, uint16_t words[1])
+{
+    if (!c630s_speed_command_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_command_select_decode(const uint16_t words[1], c630s_speed_command_select *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_speed_command_select_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_speed_command_select)raw;
+    return true;
+}
 
 /* P06-03 speed_keypad_setting: Speed command keypad setting (速度指令键盘设定值). s16 rw, unit rpm, raw -6000..6000, default 200, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_KEYPAD_SETTING_ADDR                  0x0603u
@@ -2358,6 +5740,24 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_KEYPAD_SETTING_SCALE_NUM             1
 #define C630S_SPEED_KEYPAD_SETTING_SCALE_DEN             1
 #define C630S_SPEED_KEYPAD_SETTING_PAIRED                0
+/* Values of speed_keypad_setting: -6000..6000 rpm. */
+static inline bool c630s_speed_keypad_setting_is_in_range(int16_t value)
+{
+    return value >= (-6000) && value <= 6000;
+}
+static inline bool c630s_speed_keypad_setting_encode(int16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_keypad_setting_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_keypad_setting_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-04 jog_speed: Jog speed setting (点动速度设定值). u16 rw, unit rpm, raw 0..6000, default 100, takes effect immediately. Manual 7.6. */
 #define C630S_JOG_SPEED_ADDR                             0x0604u
@@ -2368,9 +5768,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_JOG_SPEED_MAX                              6000u
 #define C630S_JOG_SPEED_DEFAULT                          100u
 #define C630S_JOG_SPEED_SCALE                            1.0f
-#define C630S_JOG_SPEED_SCALE_NUM                        1
-#define C630S_JOG_SPEED_SCALE_DEN                        1
+#define C630S_JOG_SPEED_SCALE_NUM                        1u
+#define C630S_JOG_SPEED_SCALE_DEN                        1u
 #define C630S_JOG_SPEED_PAIRED                           0
+/* Values of jog_speed: 0..6000 rpm. */
+static inline bool c630s_jog_speed_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_jog_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_jog_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_jog_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-05 speed_accel_time: Speed command acceleration ramp time constant (速度指令加速斜坡时间常数). u16 rw, unit ms, raw 0..65535, default 200, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_ACCEL_TIME_ADDR                      0x0605u
@@ -2381,9 +5799,28 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_ACCEL_TIME_MAX                       65535u
 #define C630S_SPEED_ACCEL_TIME_DEFAULT                   200u
 #define C630S_SPEED_ACCEL_TIME_SCALE                     1.0f
-#define C630S_SPEED_ACCEL_TIME_SCALE_NUM                 1
-#define C630S_SPEED_ACCEL_TIME_SCALE_DEN                 1
+#define C630S_SPEED_ACCEL_TIME_SCALE_NUM                 1u
+#define C630S_SPEED_ACCEL_TIME_SCALE_DEN                 1u
 #define C630S_SPEED_ACCEL_TIME_PAIRED                    0
+/* Values of speed_accel_time: 0..65535 ms. */
+static inline bool c630s_speed_accel_time_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_speed_accel_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_accel_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_accel_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-06 speed_decel_time: Speed command deceleration ramp time constant (速度指令减速斜坡时间常数). u16 rw, unit ms, raw 0..65535, default 200, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_DECEL_TIME_ADDR                      0x0606u
@@ -2394,9 +5831,28 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_DECEL_TIME_MAX                       65535u
 #define C630S_SPEED_DECEL_TIME_DEFAULT                   200u
 #define C630S_SPEED_DECEL_TIME_SCALE                     1.0f
-#define C630S_SPEED_DECEL_TIME_SCALE_NUM                 1
-#define C630S_SPEED_DECEL_TIME_SCALE_DEN                 1
+#define C630S_SPEED_DECEL_TIME_SCALE_NUM                 1u
+#define C630S_SPEED_DECEL_TIME_SCALE_DEN                 1u
 #define C630S_SPEED_DECEL_TIME_PAIRED                    0
+/* Values of speed_decel_time: 0..65535 ms. */
+static inline bool c630s_speed_decel_time_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_speed_decel_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_decel_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_decel_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-07 max_speed_threshold: Maximum speed threshold (最大转速阈值). u16 rw, unit rpm, raw 0..6000, default 5000, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_MAX_SPEED_THRESHOLD_ADDR                   0x0607u
@@ -2407,9 +5863,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MAX_SPEED_THRESHOLD_MAX                    6000u
 #define C630S_MAX_SPEED_THRESHOLD_DEFAULT                5000u
 #define C630S_MAX_SPEED_THRESHOLD_SCALE                  1.0f
-#define C630S_MAX_SPEED_THRESHOLD_SCALE_NUM              1
-#define C630S_MAX_SPEED_THRESHOLD_SCALE_DEN              1
+#define C630S_MAX_SPEED_THRESHOLD_SCALE_NUM              1u
+#define C630S_MAX_SPEED_THRESHOLD_SCALE_DEN              1u
 #define C630S_MAX_SPEED_THRESHOLD_PAIRED                 0
+/* Values of max_speed_threshold: 0..6000 rpm. */
+static inline bool c630s_max_speed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_max_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_max_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_max_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-08 forward_speed_threshold: Forward speed threshold (正向速度阈值). u16 rw, unit rpm, raw 0..6000, default 5000, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_FORWARD_SPEED_THRESHOLD_ADDR               0x0608u
@@ -2420,9 +5894,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_FORWARD_SPEED_THRESHOLD_MAX                6000u
 #define C630S_FORWARD_SPEED_THRESHOLD_DEFAULT            5000u
 #define C630S_FORWARD_SPEED_THRESHOLD_SCALE              1.0f
-#define C630S_FORWARD_SPEED_THRESHOLD_SCALE_NUM          1
-#define C630S_FORWARD_SPEED_THRESHOLD_SCALE_DEN          1
+#define C630S_FORWARD_SPEED_THRESHOLD_SCALE_NUM          1u
+#define C630S_FORWARD_SPEED_THRESHOLD_SCALE_DEN          1u
 #define C630S_FORWARD_SPEED_THRESHOLD_PAIRED             0
+/* Values of forward_speed_threshold: 0..6000 rpm. */
+static inline bool c630s_forward_speed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_forward_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_forward_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_forward_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-09 reverse_speed_threshold: Reverse speed threshold (反向速度阈值). u16 rw, unit rpm, raw 0..6000, default 5000, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_REVERSE_SPEED_THRESHOLD_ADDR               0x0609u
@@ -2433,9 +5925,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_REVERSE_SPEED_THRESHOLD_MAX                6000u
 #define C630S_REVERSE_SPEED_THRESHOLD_DEFAULT            5000u
 #define C630S_REVERSE_SPEED_THRESHOLD_SCALE              1.0f
-#define C630S_REVERSE_SPEED_THRESHOLD_SCALE_NUM          1
-#define C630S_REVERSE_SPEED_THRESHOLD_SCALE_DEN          1
+#define C630S_REVERSE_SPEED_THRESHOLD_SCALE_NUM          1u
+#define C630S_REVERSE_SPEED_THRESHOLD_SCALE_DEN          1u
 #define C630S_REVERSE_SPEED_THRESHOLD_PAIRED             0
+/* Values of reverse_speed_threshold: 0..6000 rpm. */
+static inline bool c630s_reverse_speed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_reverse_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_reverse_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_reverse_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-11 torque_feedforward_select: Torque feedforward select (转矩前馈控制选择). u16 rw, raw 0..1, default 1, values: enum torque_feedforward_select, takes effect immediately. Manual 7.6. */
 #define C630S_TORQUE_FEEDFORWARD_SELECT_ADDR             0x060Bu
@@ -2446,9 +5956,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_FEEDFORWARD_SELECT_MAX              1u
 #define C630S_TORQUE_FEEDFORWARD_SELECT_DEFAULT          1u
 #define C630S_TORQUE_FEEDFORWARD_SELECT_SCALE            1.0f
-#define C630S_TORQUE_FEEDFORWARD_SELECT_SCALE_NUM        1
-#define C630S_TORQUE_FEEDFORWARD_SELECT_SCALE_DEN        1
+#define C630S_TORQUE_FEEDFORWARD_SELECT_SCALE_NUM        1u
+#define C630S_TORQUE_FEEDFORWARD_SELECT_SCALE_DEN        1u
 #define C630S_TORQUE_FEEDFORWARD_SELECT_PAIRED           0
+/* Values of torque_feedforward_select: the members of torque_feedforward_select a write may send. */
+static inline bool c630s_torque_feedforward_select_is_in_range(c630s_torque_feedforward_select value)
+{
+    return c630s_torque_feedforward_select_is_writable(value);
+}
+static inline bool c630s_torque_feedforward_select_encode(c630s_torque_feedforward_select value, uint16_t words[1])
+{
+    if (!c630s_torque_feedforward_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_feedforward_select_decode(const uint16_t words[1], c630s_torque_feedforward_select *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_torque_feedforward_select_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_torque_feedforward_select)raw;
+    return true;
+}
 
 /* P06-15 zero_clamp_speed_threshold: Zero clamp speed threshold (零位固定转速阈值). u16 rw, unit rpm, raw 0..6000, default 10, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_ZERO_CLAMP_SPEED_THRESHOLD_ADDR            0x060Fu
@@ -2459,9 +5991,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ZERO_CLAMP_SPEED_THRESHOLD_MAX             6000u
 #define C630S_ZERO_CLAMP_SPEED_THRESHOLD_DEFAULT         10u
 #define C630S_ZERO_CLAMP_SPEED_THRESHOLD_SCALE           1.0f
-#define C630S_ZERO_CLAMP_SPEED_THRESHOLD_SCALE_NUM       1
-#define C630S_ZERO_CLAMP_SPEED_THRESHOLD_SCALE_DEN       1
+#define C630S_ZERO_CLAMP_SPEED_THRESHOLD_SCALE_NUM       1u
+#define C630S_ZERO_CLAMP_SPEED_THRESHOLD_SCALE_DEN       1u
 #define C630S_ZERO_CLAMP_SPEED_THRESHOLD_PAIRED          0
+/* Values of zero_clamp_speed_threshold: 0..6000 rpm. */
+static inline bool c630s_zero_clamp_speed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_zero_clamp_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_zero_clamp_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_zero_clamp_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-16 rotation_detect_threshold: Motor rotation speed threshold (TGON) (电机旋转速度阈值). u16 rw, unit rpm, raw 0..1000, default 20, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_ROTATION_DETECT_THRESHOLD_ADDR             0x0610u
@@ -2472,9 +6022,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ROTATION_DETECT_THRESHOLD_MAX              1000u
 #define C630S_ROTATION_DETECT_THRESHOLD_DEFAULT          20u
 #define C630S_ROTATION_DETECT_THRESHOLD_SCALE            1.0f
-#define C630S_ROTATION_DETECT_THRESHOLD_SCALE_NUM        1
-#define C630S_ROTATION_DETECT_THRESHOLD_SCALE_DEN        1
+#define C630S_ROTATION_DETECT_THRESHOLD_SCALE_NUM        1u
+#define C630S_ROTATION_DETECT_THRESHOLD_SCALE_DEN        1u
 #define C630S_ROTATION_DETECT_THRESHOLD_PAIRED           0
+/* Values of rotation_detect_threshold: 0..1000 rpm. */
+static inline bool c630s_rotation_detect_threshold_is_in_range(uint16_t value)
+{
+    return value <= 1000u;
+}
+static inline bool c630s_rotation_detect_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_rotation_detect_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_rotation_detect_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-17 speed_coincidence_threshold: Speed coincidence threshold (V-CMP) (速度一致信号阈值). u16 rw, unit rpm, raw 0..100, default 10, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_COINCIDENCE_THRESHOLD_ADDR           0x0611u
@@ -2485,9 +6053,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_COINCIDENCE_THRESHOLD_MAX            100u
 #define C630S_SPEED_COINCIDENCE_THRESHOLD_DEFAULT        10u
 #define C630S_SPEED_COINCIDENCE_THRESHOLD_SCALE          1.0f
-#define C630S_SPEED_COINCIDENCE_THRESHOLD_SCALE_NUM      1
-#define C630S_SPEED_COINCIDENCE_THRESHOLD_SCALE_DEN      1
+#define C630S_SPEED_COINCIDENCE_THRESHOLD_SCALE_NUM      1u
+#define C630S_SPEED_COINCIDENCE_THRESHOLD_SCALE_DEN      1u
 #define C630S_SPEED_COINCIDENCE_THRESHOLD_PAIRED         0
+/* Values of speed_coincidence_threshold: 0..100 rpm. */
+static inline bool c630s_speed_coincidence_threshold_is_in_range(uint16_t value)
+{
+    return value <= 100u;
+}
+static inline bool c630s_speed_coincidence_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_coincidence_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_coincidence_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-18 speed_reached_threshold: Speed reached threshold (V-Arr) (速度到达信号阀值). u16 rw, unit rpm, raw 10..6000, default 1000, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_SPEED_REACHED_THRESHOLD_ADDR               0x0612u
@@ -2498,9 +6084,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_REACHED_THRESHOLD_MAX                6000u
 #define C630S_SPEED_REACHED_THRESHOLD_DEFAULT            1000u
 #define C630S_SPEED_REACHED_THRESHOLD_SCALE              1.0f
-#define C630S_SPEED_REACHED_THRESHOLD_SCALE_NUM          1
-#define C630S_SPEED_REACHED_THRESHOLD_SCALE_DEN          1
+#define C630S_SPEED_REACHED_THRESHOLD_SCALE_NUM          1u
+#define C630S_SPEED_REACHED_THRESHOLD_SCALE_DEN          1u
 #define C630S_SPEED_REACHED_THRESHOLD_PAIRED             0
+/* Values of speed_reached_threshold: 10..6000 rpm. */
+static inline bool c630s_speed_reached_threshold_is_in_range(uint16_t value)
+{
+    return value >= 10u && value <= 6000u;
+}
+static inline bool c630s_speed_reached_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_reached_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_reached_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P06-19 zero_speed_threshold: Zero speed output threshold (ZERO) (零速输出信号阀值). u16 rw, unit rpm, raw 1..6000, default 10, takes effect immediately. Manual 7.6, 6.2.2. */
 #define C630S_ZERO_SPEED_THRESHOLD_ADDR                  0x0613u
@@ -2511,9 +6115,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ZERO_SPEED_THRESHOLD_MAX                   6000u
 #define C630S_ZERO_SPEED_THRESHOLD_DEFAULT               10u
 #define C630S_ZERO_SPEED_THRESHOLD_SCALE                 1.0f
-#define C630S_ZERO_SPEED_THRESHOLD_SCALE_NUM             1
-#define C630S_ZERO_SPEED_THRESHOLD_SCALE_DEN             1
+#define C630S_ZERO_SPEED_THRESHOLD_SCALE_NUM             1u
+#define C630S_ZERO_SPEED_THRESHOLD_SCALE_DEN             1u
 #define C630S_ZERO_SPEED_THRESHOLD_PAIRED                0
+/* Values of zero_speed_threshold: 1..6000 rpm. */
+static inline bool c630s_zero_speed_threshold_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 6000u;
+}
+static inline bool c630s_zero_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_zero_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_zero_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== P07 torque control parameters (P07 组转矩控制参数). Manual 7.7. ==== */
 
@@ -2526,9 +6148,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_A_SOURCE_MAX                        2u
 #define C630S_TORQUE_A_SOURCE_DEFAULT                    0u
 #define C630S_TORQUE_A_SOURCE_SCALE                      1.0f
-#define C630S_TORQUE_A_SOURCE_SCALE_NUM                  1
-#define C630S_TORQUE_A_SOURCE_SCALE_DEN                  1
+#define C630S_TORQUE_A_SOURCE_SCALE_NUM                  1u
+#define C630S_TORQUE_A_SOURCE_SCALE_DEN                  1u
 #define C630S_TORQUE_A_SOURCE_PAIRED                     0
+/* Values of torque_a_source: the members of torque_source a write may send. */
+static inline bool c630s_torque_a_source_is_in_range(c630s_torque_source value)
+{
+    return c630s_torque_source_is_writable(value);
+}
+static inline bool c630s_torque_a_source_encode(c630s_torque_source value, uint16_t words[1])
+{
+    if (!c630s_torque_a_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_a_source_decode(const uint16_t words[1], c630s_torque_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_torque_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_torque_source)raw;
+    return true;
+}
 
 /* P07-01 torque_b_source: Auxiliary torque command B source (辅助转矩指令 B 来源). u16 rw, raw 0..2, default 1, values: enum torque_source, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_B_SOURCE_ADDR                       0x0701u
@@ -2539,9 +6183,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_B_SOURCE_MAX                        2u
 #define C630S_TORQUE_B_SOURCE_DEFAULT                    1u
 #define C630S_TORQUE_B_SOURCE_SCALE                      1.0f
-#define C630S_TORQUE_B_SOURCE_SCALE_NUM                  1
-#define C630S_TORQUE_B_SOURCE_SCALE_DEN                  1
+#define C630S_TORQUE_B_SOURCE_SCALE_NUM                  1u
+#define C630S_TORQUE_B_SOURCE_SCALE_DEN                  1u
 #define C630S_TORQUE_B_SOURCE_PAIRED                     0
+/* Values of torque_b_source: the members of torque_source a write may send. */
+static inline bool c630s_torque_b_source_is_in_range(c630s_torque_source value)
+{
+    return c630s_torque_source_is_writable(value);
+}
+static inline bool c630s_torque_b_source_encode(c630s_torque_source value, uint16_t words[1])
+{
+    if (!c630s_torque_b_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_b_source_decode(const uint16_t words[1], c630s_torque_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_torque_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_torque_source)raw;
+    return true;
+}
 
 /* P07-02 torque_command_select: Torque command select (转矩指令选择). u16 rw, raw 0..4, default 0, values: enum torque_command_select, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_COMMAND_SELECT_ADDR                 0x0702u
@@ -2552,9 +6218,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_COMMAND_SELECT_MAX                  4u
 #define C630S_TORQUE_COMMAND_SELECT_DEFAULT              0u
 #define C630S_TORQUE_COMMAND_SELECT_SCALE                1.0f
-#define C630S_TORQUE_COMMAND_SELECT_SCALE_NUM            1
-#define C630S_TORQUE_COMMAND_SELECT_SCALE_DEN            1
+#define C630S_TORQUE_COMMAND_SELECT_SCALE_NUM            1u
+#define C630S_TORQUE_COMMAND_SELECT_SCALE_DEN            1u
 #define C630S_TORQUE_COMMAND_SELECT_PAIRED               0
+/* Values of torque_command_select: the members of torque_command_select a write may send. */
+static inline bool c630s_torque_command_select_is_in_range(c630s_torque_command_select value)
+{
+    return c630s_torque_command_select_is_writable(value);
+}
+static inline bool c630s_torque_command_select_encode(c630s_torque_command_select value, uint16_t words[1])
+{
+    if (!c630s_torque_command_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_command_select_decode(const uint16_t words[1], c630s_torque_command_select *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_torque_command_select_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_torque_command_select)raw;
+    return true;
+}
 
 /* P07-03 torque_keypad_setting: Torque command keypad setting (转矩指令键盘设定值). s16 rw, unit %, scale 0.1, raw -3000..3000 (-300..300 %), printed range -300.0~300.0, default 0 (0), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_KEYPAD_SETTING_ADDR                 0x0703u
@@ -2568,6 +6256,26 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_KEYPAD_SETTING_SCALE_NUM            1
 #define C630S_TORQUE_KEYPAD_SETTING_SCALE_DEN            10
 #define C630S_TORQUE_KEYPAD_SETTING_PAIRED               0
+/* Values of torque_keypad_setting: -300..300 % in steps of 0.1. */
+static inline bool c630s_torque_keypad_setting_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, (-3000.0), 3000.0, &raw);
+}
+static inline bool c630s_torque_keypad_setting_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, (-3000.0), 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire((int16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_keypad_setting_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-05 torque_filter_time: Torque command filter time constant (转矩指令滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..3000 (0..30 ms), printed range 0~30.00, default 79 (0.79), takes effect immediately. Manual 7.7. */
 #define C630S_TORQUE_FILTER_TIME_ADDR                    0x0705u
@@ -2578,9 +6286,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_FILTER_TIME_MAX                     3000u
 #define C630S_TORQUE_FILTER_TIME_DEFAULT                 79u
 #define C630S_TORQUE_FILTER_TIME_SCALE                   0.01f
-#define C630S_TORQUE_FILTER_TIME_SCALE_NUM               1
-#define C630S_TORQUE_FILTER_TIME_SCALE_DEN               100
+#define C630S_TORQUE_FILTER_TIME_SCALE_NUM               1u
+#define C630S_TORQUE_FILTER_TIME_SCALE_DEN               100u
 #define C630S_TORQUE_FILTER_TIME_PAIRED                  0
+/* Values of torque_filter_time: 0..30 ms in steps of 0.01. */
+static inline bool c630s_torque_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_torque_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P07-06 torque_filter_time_2: Second torque command filter time constant (第二转矩指令滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..3000 (0..30 ms), printed range 0~30.00, default 79 (0.79), takes effect immediately. Manual 7.7. */
 #define C630S_TORQUE_FILTER_TIME_2_ADDR                  0x0706u
@@ -2591,9 +6319,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_FILTER_TIME_2_MAX                   3000u
 #define C630S_TORQUE_FILTER_TIME_2_DEFAULT               79u
 #define C630S_TORQUE_FILTER_TIME_2_SCALE                 0.01f
-#define C630S_TORQUE_FILTER_TIME_2_SCALE_NUM             1
-#define C630S_TORQUE_FILTER_TIME_2_SCALE_DEN             100
+#define C630S_TORQUE_FILTER_TIME_2_SCALE_NUM             1u
+#define C630S_TORQUE_FILTER_TIME_2_SCALE_DEN             100u
 #define C630S_TORQUE_FILTER_TIME_2_PAIRED                0
+/* Values of torque_filter_time_2: 0..30 ms in steps of 0.01. */
+static inline bool c630s_torque_filter_time_2_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_torque_filter_time_2_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_filter_time_2_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P07-07 torque_limit_source: Torque limit source (转矩限制来源). u16 rw, raw 0..4, default 0, values: enum torque_limit_source, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_LIMIT_SOURCE_ADDR                   0x0707u
@@ -2604,9 +6352,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_LIMIT_SOURCE_MAX                    4u
 #define C630S_TORQUE_LIMIT_SOURCE_DEFAULT                0u
 #define C630S_TORQUE_LIMIT_SOURCE_SCALE                  1.0f
-#define C630S_TORQUE_LIMIT_SOURCE_SCALE_NUM              1
-#define C630S_TORQUE_LIMIT_SOURCE_SCALE_DEN              1
+#define C630S_TORQUE_LIMIT_SOURCE_SCALE_NUM              1u
+#define C630S_TORQUE_LIMIT_SOURCE_SCALE_DEN              1u
 #define C630S_TORQUE_LIMIT_SOURCE_PAIRED                 0
+/* Values of torque_limit_source: the members of torque_limit_source a write may send. */
+static inline bool c630s_torque_limit_source_is_in_range(c630s_torque_limit_source value)
+{
+    return c630s_torque_limit_source_is_writable(value);
+}
+static inline bool c630s_torque_limit_source_encode(c630s_torque_limit_source value, uint16_t words[1])
+{
+    if (!c630s_torque_limit_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_limit_source_decode(const uint16_t words[1], c630s_torque_limit_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_torque_limit_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_torque_limit_source)raw;
+    return true;
+}
 
 /* P07-08 t_lmt_select: T-LMT analog channel (T-LMT 选择). u16 rw, raw 1..2, default 2, values: enum ai_channel, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_T_LMT_SELECT_ADDR                          0x0708u
@@ -2617,9 +6387,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_T_LMT_SELECT_MAX                           2u
 #define C630S_T_LMT_SELECT_DEFAULT                       2u
 #define C630S_T_LMT_SELECT_SCALE                         1.0f
-#define C630S_T_LMT_SELECT_SCALE_NUM                     1
-#define C630S_T_LMT_SELECT_SCALE_DEN                     1
+#define C630S_T_LMT_SELECT_SCALE_NUM                     1u
+#define C630S_T_LMT_SELECT_SCALE_DEN                     1u
 #define C630S_T_LMT_SELECT_PAIRED                        0
+/* Values of t_lmt_select: the members of ai_channel a write may send. */
+static inline bool c630s_t_lmt_select_is_in_range(c630s_ai_channel value)
+{
+    return c630s_ai_channel_is_writable(value);
+}
+static inline bool c630s_t_lmt_select_encode(c630s_ai_channel value, uint16_t words[1])
+{
+    if (!c630s_t_lmt_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_t_lmt_select_decode(const uint16_t words[1], c630s_ai_channel *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_ai_channel_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_ai_channel)raw;
+    return true;
+}
 
 /* P07-09 positive_internal_torque_limit: Positive internal torque limit (正内部转矩限制). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 3000 (300), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_ADDR        0x0709u
@@ -2630,9 +6422,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_MAX         3000u
 #define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_DEFAULT     3000u
 #define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_SCALE       0.1f
-#define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_SCALE_NUM   1
-#define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_SCALE_DEN   10
+#define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_SCALE_NUM   1u
+#define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_SCALE_DEN   10u
 #define C630S_POSITIVE_INTERNAL_TORQUE_LIMIT_PAIRED      0
+/* Values of positive_internal_torque_limit: 0..300 % in steps of 0.1. */
+static inline bool c630s_positive_internal_torque_limit_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_positive_internal_torque_limit_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_positive_internal_torque_limit_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-10 negative_internal_torque_limit: Negative internal torque limit (负内部转矩限制). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 3000 (300), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_ADDR        0x070Au
@@ -2643,9 +6455,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_MAX         3000u
 #define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_DEFAULT     3000u
 #define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_SCALE       0.1f
-#define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_SCALE_NUM   1
-#define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_SCALE_DEN   10
+#define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_SCALE_NUM   1u
+#define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_SCALE_DEN   10u
 #define C630S_NEGATIVE_INTERNAL_TORQUE_LIMIT_PAIRED      0
+/* Values of negative_internal_torque_limit: 0..300 % in steps of 0.1. */
+static inline bool c630s_negative_internal_torque_limit_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_negative_internal_torque_limit_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_negative_internal_torque_limit_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-11 positive_external_torque_limit: Positive external torque limit (正外部转矩限制). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 3000 (300), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_ADDR        0x070Bu
@@ -2656,9 +6488,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_MAX         3000u
 #define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_DEFAULT     3000u
 #define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_SCALE       0.1f
-#define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_SCALE_NUM   1
-#define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_SCALE_DEN   10
+#define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_SCALE_NUM   1u
+#define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_SCALE_DEN   10u
 #define C630S_POSITIVE_EXTERNAL_TORQUE_LIMIT_PAIRED      0
+/* Values of positive_external_torque_limit: 0..300 % in steps of 0.1. */
+static inline bool c630s_positive_external_torque_limit_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_positive_external_torque_limit_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_positive_external_torque_limit_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-12 negative_external_torque_limit: Negative external torque limit (负外部转矩限制). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 3000 (300), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_ADDR        0x070Cu
@@ -2669,9 +6521,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_MAX         3000u
 #define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_DEFAULT     3000u
 #define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_SCALE       0.1f
-#define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_SCALE_NUM   1
-#define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_SCALE_DEN   10
+#define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_SCALE_NUM   1u
+#define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_SCALE_DEN   10u
 #define C630S_NEGATIVE_EXTERNAL_TORQUE_LIMIT_PAIRED      0
+/* Values of negative_external_torque_limit: 0..300 % in steps of 0.1. */
+static inline bool c630s_negative_external_torque_limit_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_negative_external_torque_limit_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_negative_external_torque_limit_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-17 speed_limit_source: Speed limit source (速度限制来源选择). u16 rw, raw 0..2, default 0, values: enum speed_limit_source, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_SPEED_LIMIT_SOURCE_ADDR                    0x0711u
@@ -2682,9 +6554,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_LIMIT_SOURCE_MAX                     2u
 #define C630S_SPEED_LIMIT_SOURCE_DEFAULT                 0u
 #define C630S_SPEED_LIMIT_SOURCE_SCALE                   1.0f
-#define C630S_SPEED_LIMIT_SOURCE_SCALE_NUM               1
-#define C630S_SPEED_LIMIT_SOURCE_SCALE_DEN               1
+#define C630S_SPEED_LIMIT_SOURCE_SCALE_NUM               1u
+#define C630S_SPEED_LIMIT_SOURCE_SCALE_DEN               1u
 #define C630S_SPEED_LIMIT_SOURCE_PAIRED                  0
+/* Values of speed_limit_source: the members of speed_limit_source a write may send. */
+static inline bool c630s_speed_limit_source_is_in_range(c630s_speed_limit_source value)
+{
+    return c630s_speed_limit_source_is_writable(value);
+}
+static inline bool c630s_speed_limit_source_encode(c630s_speed_limit_source value, uint16_t words[1])
+{
+    if (!c630s_speed_limit_source_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_limit_source_decode(const uint16_t words[1], c630s_speed_limit_source *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_speed_limit_source_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_speed_limit_source)raw;
+    return true;
+}
 
 /* P07-18 v_lmt_select: V-LMT analog channel (V-LMT 选择). u16 rw, raw 1..2, default 1, values: enum ai_channel, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_V_LMT_SELECT_ADDR                          0x0712u
@@ -2695,9 +6589,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_V_LMT_SELECT_MAX                           2u
 #define C630S_V_LMT_SELECT_DEFAULT                       1u
 #define C630S_V_LMT_SELECT_SCALE                         1.0f
-#define C630S_V_LMT_SELECT_SCALE_NUM                     1
-#define C630S_V_LMT_SELECT_SCALE_DEN                     1
+#define C630S_V_LMT_SELECT_SCALE_NUM                     1u
+#define C630S_V_LMT_SELECT_SCALE_DEN                     1u
 #define C630S_V_LMT_SELECT_PAIRED                        0
+/* Values of v_lmt_select: the members of ai_channel a write may send. */
+static inline bool c630s_v_lmt_select_is_in_range(c630s_ai_channel value)
+{
+    return c630s_ai_channel_is_writable(value);
+}
+static inline bool c630s_v_lmt_select_encode(c630s_ai_channel value, uint16_t words[1])
+{
+    if (!c630s_v_lmt_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_v_lmt_select_decode(const uint16_t words[1], c630s_ai_channel *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_ai_channel_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_ai_channel)raw;
+    return true;
+}
 
 /* P07-19 torque_mode_speed_limit_1: Torque control forward speed limit / speed limit 1 (转矩控制正向速度限制 / 转矩控制速度限制1). u16 rw, unit rpm, raw 0..6000, default 3000, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_MODE_SPEED_LIMIT_1_ADDR             0x0713u
@@ -2708,9 +6624,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_MODE_SPEED_LIMIT_1_MAX              6000u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_1_DEFAULT          3000u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_1_SCALE            1.0f
-#define C630S_TORQUE_MODE_SPEED_LIMIT_1_SCALE_NUM        1
-#define C630S_TORQUE_MODE_SPEED_LIMIT_1_SCALE_DEN        1
+#define C630S_TORQUE_MODE_SPEED_LIMIT_1_SCALE_NUM        1u
+#define C630S_TORQUE_MODE_SPEED_LIMIT_1_SCALE_DEN        1u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_1_PAIRED           0
+/* Values of torque_mode_speed_limit_1: 0..6000 rpm. */
+static inline bool c630s_torque_mode_speed_limit_1_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_torque_mode_speed_limit_1_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_torque_mode_speed_limit_1_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_mode_speed_limit_1_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P07-20 torque_mode_speed_limit_2: Torque control reverse speed limit / speed limit 2 (转矩控制负向速度限制 / 转矩控制速度限制2). u16 rw, unit rpm, raw 0..6000, default 3000, takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_MODE_SPEED_LIMIT_2_ADDR             0x0714u
@@ -2721,9 +6655,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_MODE_SPEED_LIMIT_2_MAX              6000u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_2_DEFAULT          3000u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_2_SCALE            1.0f
-#define C630S_TORQUE_MODE_SPEED_LIMIT_2_SCALE_NUM        1
-#define C630S_TORQUE_MODE_SPEED_LIMIT_2_SCALE_DEN        1
+#define C630S_TORQUE_MODE_SPEED_LIMIT_2_SCALE_NUM        1u
+#define C630S_TORQUE_MODE_SPEED_LIMIT_2_SCALE_DEN        1u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_2_PAIRED           0
+/* Values of torque_mode_speed_limit_2: 0..6000 rpm. */
+static inline bool c630s_torque_mode_speed_limit_2_is_in_range(uint16_t value)
+{
+    return value <= 6000u;
+}
+static inline bool c630s_torque_mode_speed_limit_2_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_torque_mode_speed_limit_2_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_mode_speed_limit_2_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P07-21 torque_reached_reference: Torque reached reference value (转矩到达基准值). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 0 (0), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_REACHED_REFERENCE_ADDR              0x0715u
@@ -2734,9 +6686,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_REACHED_REFERENCE_MAX               3000u
 #define C630S_TORQUE_REACHED_REFERENCE_DEFAULT           0u
 #define C630S_TORQUE_REACHED_REFERENCE_SCALE             0.1f
-#define C630S_TORQUE_REACHED_REFERENCE_SCALE_NUM         1
-#define C630S_TORQUE_REACHED_REFERENCE_SCALE_DEN         10
+#define C630S_TORQUE_REACHED_REFERENCE_SCALE_NUM         1u
+#define C630S_TORQUE_REACHED_REFERENCE_SCALE_DEN         10u
 #define C630S_TORQUE_REACHED_REFERENCE_PAIRED            0
+/* Values of torque_reached_reference: 0..300 % in steps of 0.1. */
+static inline bool c630s_torque_reached_reference_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_torque_reached_reference_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_reached_reference_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-22 torque_reached_on: Torque reached valid value (转矩到达有效值). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 200 (20), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_REACHED_ON_ADDR                     0x0716u
@@ -2747,9 +6719,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_REACHED_ON_MAX                      3000u
 #define C630S_TORQUE_REACHED_ON_DEFAULT                  200u
 #define C630S_TORQUE_REACHED_ON_SCALE                    0.1f
-#define C630S_TORQUE_REACHED_ON_SCALE_NUM                1
-#define C630S_TORQUE_REACHED_ON_SCALE_DEN                10
+#define C630S_TORQUE_REACHED_ON_SCALE_NUM                1u
+#define C630S_TORQUE_REACHED_ON_SCALE_DEN                10u
 #define C630S_TORQUE_REACHED_ON_PAIRED                   0
+/* Values of torque_reached_on: 0..300 % in steps of 0.1. */
+static inline bool c630s_torque_reached_on_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_torque_reached_on_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_reached_on_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-23 torque_reached_off: Torque reached invalid value (转矩到达无效值). u16 rw, unit %, scale 0.1, raw 0..3000 (0..300 %), printed range 0.0~300.0, default 100 (10), takes effect immediately. Manual 7.7, 6.3.2. */
 #define C630S_TORQUE_REACHED_OFF_ADDR                    0x0717u
@@ -2760,9 +6752,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_REACHED_OFF_MAX                     3000u
 #define C630S_TORQUE_REACHED_OFF_DEFAULT                 100u
 #define C630S_TORQUE_REACHED_OFF_SCALE                   0.1f
-#define C630S_TORQUE_REACHED_OFF_SCALE_NUM               1
-#define C630S_TORQUE_REACHED_OFF_SCALE_DEN               10
+#define C630S_TORQUE_REACHED_OFF_SCALE_NUM               1u
+#define C630S_TORQUE_REACHED_OFF_SCALE_DEN               10u
 #define C630S_TORQUE_REACHED_OFF_PAIRED                  0
+/* Values of torque_reached_off: 0..300 % in steps of 0.1. */
+static inline bool c630s_torque_reached_off_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw);
+}
+static inline bool c630s_torque_reached_off_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 3000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_reached_off_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P07-40 torque_mode_speed_limit_window: Speed-limited window in torque mode (转矩模式下速度受限窗口). u16 rw, unit ms, scale 0.1, raw 5..300 (0.5..30 ms), printed range 0.5~30.0, default 10 (1), takes effect immediately. Manual 7.7. */
 #define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_ADDR        0x0728u
@@ -2773,9 +6785,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_MAX         300u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_DEFAULT     10u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_SCALE       0.1f
-#define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_SCALE_NUM   1
-#define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_SCALE_DEN   10
+#define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_SCALE_NUM   1u
+#define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_SCALE_DEN   10u
 #define C630S_TORQUE_MODE_SPEED_LIMIT_WINDOW_PAIRED      0
+/* Values of torque_mode_speed_limit_window: 0.5..30 ms in steps of 0.1. */
+static inline bool c630s_torque_mode_speed_limit_window_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 5.0, 300.0, &raw);
+}
+static inline bool c630s_torque_mode_speed_limit_window_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 5.0, 300.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_mode_speed_limit_window_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* ==== P08 gain parameters (P08 组增益类参数). Manual 7.8. ==== */
 
@@ -2788,9 +6820,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_LOOP_GAIN_MAX                        20000u
 #define C630S_SPEED_LOOP_GAIN_DEFAULT                    250u
 #define C630S_SPEED_LOOP_GAIN_SCALE                      0.1f
-#define C630S_SPEED_LOOP_GAIN_SCALE_NUM                  1
-#define C630S_SPEED_LOOP_GAIN_SCALE_DEN                  10
+#define C630S_SPEED_LOOP_GAIN_SCALE_NUM                  1u
+#define C630S_SPEED_LOOP_GAIN_SCALE_DEN                  10u
 #define C630S_SPEED_LOOP_GAIN_PAIRED                     0
+/* Values of speed_loop_gain: 0.1..2000 Hz in steps of 0.1. */
+static inline bool c630s_speed_loop_gain_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 1.0, 20000.0, &raw);
+}
+static inline bool c630s_speed_loop_gain_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 1.0, 20000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_loop_gain_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-01 speed_loop_integral_time: Speed loop integral time constant (速度环积分时间常数). u16 rw, unit ms, scale 0.01, raw 15..51200 (0.15..512 ms), printed range 0.15~512.00, default 3183 (31.83), takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_ADDR              0x0801u
@@ -2801,9 +6853,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_MAX               51200u
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_DEFAULT           3183u
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_SCALE             0.01f
-#define C630S_SPEED_LOOP_INTEGRAL_TIME_SCALE_NUM         1
-#define C630S_SPEED_LOOP_INTEGRAL_TIME_SCALE_DEN         100
+#define C630S_SPEED_LOOP_INTEGRAL_TIME_SCALE_NUM         1u
+#define C630S_SPEED_LOOP_INTEGRAL_TIME_SCALE_DEN         100u
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_PAIRED            0
+/* Values of speed_loop_integral_time: 0.15..512 ms in steps of 0.01. */
+static inline bool c630s_speed_loop_integral_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 15.0, 51200.0, &raw);
+}
+static inline bool c630s_speed_loop_integral_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 15.0, 51200.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_loop_integral_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P08-02 position_loop_gain: Position loop gain (位置环增益). u16 rw, unit Hz, scale 0.1, raw 0..20000 (0..2000 Hz), printed range 0.0~2000.0, default 400 (40), takes effect immediately. Manual 7.8. */
 #define C630S_POSITION_LOOP_GAIN_ADDR                    0x0802u
@@ -2814,9 +6886,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_LOOP_GAIN_MAX                     20000u
 #define C630S_POSITION_LOOP_GAIN_DEFAULT                 400u
 #define C630S_POSITION_LOOP_GAIN_SCALE                   0.1f
-#define C630S_POSITION_LOOP_GAIN_SCALE_NUM               1
-#define C630S_POSITION_LOOP_GAIN_SCALE_DEN               10
+#define C630S_POSITION_LOOP_GAIN_SCALE_NUM               1u
+#define C630S_POSITION_LOOP_GAIN_SCALE_DEN               10u
 #define C630S_POSITION_LOOP_GAIN_PAIRED                  0
+/* Values of position_loop_gain: 0..2000 Hz in steps of 0.1. */
+static inline bool c630s_position_loop_gain_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 20000.0, &raw);
+}
+static inline bool c630s_position_loop_gain_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 20000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_loop_gain_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-03 speed_loop_gain_2: Second speed loop gain (第 2 速度环增益). u16 rw, unit Hz, scale 0.1, raw 1..20000 (0.1..2000 Hz), printed range 0.1~2000.0, default 400 (40), takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_LOOP_GAIN_2_ADDR                     0x0803u
@@ -2827,9 +6919,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_LOOP_GAIN_2_MAX                      20000u
 #define C630S_SPEED_LOOP_GAIN_2_DEFAULT                  400u
 #define C630S_SPEED_LOOP_GAIN_2_SCALE                    0.1f
-#define C630S_SPEED_LOOP_GAIN_2_SCALE_NUM                1
-#define C630S_SPEED_LOOP_GAIN_2_SCALE_DEN                10
+#define C630S_SPEED_LOOP_GAIN_2_SCALE_NUM                1u
+#define C630S_SPEED_LOOP_GAIN_2_SCALE_DEN                10u
 #define C630S_SPEED_LOOP_GAIN_2_PAIRED                   0
+/* Values of speed_loop_gain_2: 0.1..2000 Hz in steps of 0.1. */
+static inline bool c630s_speed_loop_gain_2_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 1.0, 20000.0, &raw);
+}
+static inline bool c630s_speed_loop_gain_2_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 1.0, 20000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_loop_gain_2_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-04 speed_loop_integral_time_2: Second speed loop integral time constant (第 2 速度环积分时间常数). u16 rw, unit ms, scale 0.01, raw 15..51200 (0.15..512 ms), printed range 0.15~512.00, default 4000 (40), takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_2_ADDR            0x0804u
@@ -2840,9 +6952,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_2_MAX             51200u
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_2_DEFAULT         4000u
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_2_SCALE           0.01f
-#define C630S_SPEED_LOOP_INTEGRAL_TIME_2_SCALE_NUM       1
-#define C630S_SPEED_LOOP_INTEGRAL_TIME_2_SCALE_DEN       100
+#define C630S_SPEED_LOOP_INTEGRAL_TIME_2_SCALE_NUM       1u
+#define C630S_SPEED_LOOP_INTEGRAL_TIME_2_SCALE_DEN       100u
 #define C630S_SPEED_LOOP_INTEGRAL_TIME_2_PAIRED          0
+/* Values of speed_loop_integral_time_2: 0.15..512 ms in steps of 0.01. */
+static inline bool c630s_speed_loop_integral_time_2_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 15.0, 51200.0, &raw);
+}
+static inline bool c630s_speed_loop_integral_time_2_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 15.0, 51200.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_loop_integral_time_2_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P08-05 position_loop_gain_2: Second position loop gain (第 2 位置环增益). u16 rw, unit Hz, scale 0.1, raw 0..20000 (0..2000 Hz), printed range 0.0~2000.0, default 640 (64), takes effect immediately. Manual 7.8. */
 #define C630S_POSITION_LOOP_GAIN_2_ADDR                  0x0805u
@@ -2853,9 +6985,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_LOOP_GAIN_2_MAX                   20000u
 #define C630S_POSITION_LOOP_GAIN_2_DEFAULT               640u
 #define C630S_POSITION_LOOP_GAIN_2_SCALE                 0.1f
-#define C630S_POSITION_LOOP_GAIN_2_SCALE_NUM             1
-#define C630S_POSITION_LOOP_GAIN_2_SCALE_DEN             10
+#define C630S_POSITION_LOOP_GAIN_2_SCALE_NUM             1u
+#define C630S_POSITION_LOOP_GAIN_2_SCALE_DEN             10u
 #define C630S_POSITION_LOOP_GAIN_2_PAIRED                0
+/* Values of position_loop_gain_2: 0..2000 Hz in steps of 0.1. */
+static inline bool c630s_position_loop_gain_2_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 20000.0, &raw);
+}
+static inline bool c630s_position_loop_gain_2_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 20000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_loop_gain_2_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-08 second_gain_mode: Second gain mode (第二增益模式设置). u16 rw, raw 0..1, default 1, values: enum second_gain_mode, takes effect immediately, errata E13. Manual 7.8. */
 #define C630S_SECOND_GAIN_MODE_ADDR                      0x0808u
@@ -2866,9 +7018,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SECOND_GAIN_MODE_MAX                       1u
 #define C630S_SECOND_GAIN_MODE_DEFAULT                   1u
 #define C630S_SECOND_GAIN_MODE_SCALE                     1.0f
-#define C630S_SECOND_GAIN_MODE_SCALE_NUM                 1
-#define C630S_SECOND_GAIN_MODE_SCALE_DEN                 1
+#define C630S_SECOND_GAIN_MODE_SCALE_NUM                 1u
+#define C630S_SECOND_GAIN_MODE_SCALE_DEN                 1u
 #define C630S_SECOND_GAIN_MODE_PAIRED                    0
+/* Values of second_gain_mode: the members of second_gain_mode a write may send. */
+static inline bool c630s_second_gain_mode_is_in_range(c630s_second_gain_mode value)
+{
+    return c630s_second_gain_mode_is_writable(value);
+}
+static inline bool c630s_second_gain_mode_encode(c630s_second_gain_mode value, uint16_t words[1])
+{
+    if (!c630s_second_gain_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_second_gain_mode_decode(const uint16_t words[1], c630s_second_gain_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_second_gain_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_second_gain_mode)raw;
+    return true;
+}
 
 /* P08-09 gain_switch_condition: Gain switching condition (增益切换条件选择). u16 rw, raw 0..10, default 0, values: enum gain_switch_condition, takes effect immediately, errata E13. Manual 7.8. */
 #define C630S_GAIN_SWITCH_CONDITION_ADDR                 0x0809u
@@ -2879,9 +7053,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GAIN_SWITCH_CONDITION_MAX                  10u
 #define C630S_GAIN_SWITCH_CONDITION_DEFAULT              0u
 #define C630S_GAIN_SWITCH_CONDITION_SCALE                1.0f
-#define C630S_GAIN_SWITCH_CONDITION_SCALE_NUM            1
-#define C630S_GAIN_SWITCH_CONDITION_SCALE_DEN            1
+#define C630S_GAIN_SWITCH_CONDITION_SCALE_NUM            1u
+#define C630S_GAIN_SWITCH_CONDITION_SCALE_DEN            1u
 #define C630S_GAIN_SWITCH_CONDITION_PAIRED               0
+/* Values of gain_switch_condition: the members of gain_switch_condition a write may send. */
+static inline bool c630s_gain_switch_condition_is_in_range(c630s_gain_switch_condition value)
+{
+    return c630s_gain_switch_condition_is_writable(value);
+}
+static inline bool c630s_gain_switch_condition_encode(c630s_gain_switch_condition value, uint16_t words[1])
+{
+    if (!c630s_gain_switch_condition_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_gain_switch_condition_decode(const uint16_t words[1], c630s_gain_switch_condition *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_gain_switch_condition_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_gain_switch_condition)raw;
+    return true;
+}
 
 /* P08-10 gain_switch_delay: Gain switching delay time (增益切换延迟时间). u16 rw, unit ms, scale 0.1, raw 0..10000 (0..1000 ms), printed range 0.0~1000.0, default 50 (5), takes effect immediately. Manual 7.8. */
 #define C630S_GAIN_SWITCH_DELAY_ADDR                     0x080Au
@@ -2892,9 +7088,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GAIN_SWITCH_DELAY_MAX                      10000u
 #define C630S_GAIN_SWITCH_DELAY_DEFAULT                  50u
 #define C630S_GAIN_SWITCH_DELAY_SCALE                    0.1f
-#define C630S_GAIN_SWITCH_DELAY_SCALE_NUM                1
-#define C630S_GAIN_SWITCH_DELAY_SCALE_DEN                10
+#define C630S_GAIN_SWITCH_DELAY_SCALE_NUM                1u
+#define C630S_GAIN_SWITCH_DELAY_SCALE_DEN                10u
 #define C630S_GAIN_SWITCH_DELAY_PAIRED                   0
+/* Values of gain_switch_delay: 0..1000 ms in steps of 0.1. */
+static inline bool c630s_gain_switch_delay_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw);
+}
+static inline bool c630s_gain_switch_delay_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_gain_switch_delay_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-11 gain_switch_level: Gain switching level (增益切换等级). u16 rw, raw 0..20000, default 50, takes effect immediately. Manual 7.8. */
 #define C630S_GAIN_SWITCH_LEVEL_ADDR                     0x080Bu
@@ -2905,9 +7121,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GAIN_SWITCH_LEVEL_MAX                      20000u
 #define C630S_GAIN_SWITCH_LEVEL_DEFAULT                  50u
 #define C630S_GAIN_SWITCH_LEVEL_SCALE                    1.0f
-#define C630S_GAIN_SWITCH_LEVEL_SCALE_NUM                1
-#define C630S_GAIN_SWITCH_LEVEL_SCALE_DEN                1
+#define C630S_GAIN_SWITCH_LEVEL_SCALE_NUM                1u
+#define C630S_GAIN_SWITCH_LEVEL_SCALE_DEN                1u
 #define C630S_GAIN_SWITCH_LEVEL_PAIRED                   0
+/* Values of gain_switch_level: 0..20000. */
+static inline bool c630s_gain_switch_level_is_in_range(uint16_t value)
+{
+    return value <= 20000u;
+}
+static inline bool c630s_gain_switch_level_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_gain_switch_level_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_gain_switch_level_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P08-12 gain_switch_hysteresis: Gain switching hysteresis (增益切换时滞). u16 rw, raw 0..20000, default 30, takes effect immediately. Manual 7.8. */
 #define C630S_GAIN_SWITCH_HYSTERESIS_ADDR                0x080Cu
@@ -2918,9 +7152,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_GAIN_SWITCH_HYSTERESIS_MAX                 20000u
 #define C630S_GAIN_SWITCH_HYSTERESIS_DEFAULT             30u
 #define C630S_GAIN_SWITCH_HYSTERESIS_SCALE               1.0f
-#define C630S_GAIN_SWITCH_HYSTERESIS_SCALE_NUM           1
-#define C630S_GAIN_SWITCH_HYSTERESIS_SCALE_DEN           1
+#define C630S_GAIN_SWITCH_HYSTERESIS_SCALE_NUM           1u
+#define C630S_GAIN_SWITCH_HYSTERESIS_SCALE_DEN           1u
 #define C630S_GAIN_SWITCH_HYSTERESIS_PAIRED              0
+/* Values of gain_switch_hysteresis: 0..20000. */
+static inline bool c630s_gain_switch_hysteresis_is_in_range(uint16_t value)
+{
+    return value <= 20000u;
+}
+static inline bool c630s_gain_switch_hysteresis_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_gain_switch_hysteresis_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_gain_switch_hysteresis_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P08-13 position_gain_switch_time: Position gain switching time (位置增益切换时间). u16 rw, unit ms, scale 0.1, raw 0..10000 (0..1000 ms), printed range 0.0~1000.0, default 30 (3), takes effect immediately. Manual 7.8. */
 #define C630S_POSITION_GAIN_SWITCH_TIME_ADDR             0x080Du
@@ -2931,9 +7183,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_GAIN_SWITCH_TIME_MAX              10000u
 #define C630S_POSITION_GAIN_SWITCH_TIME_DEFAULT          30u
 #define C630S_POSITION_GAIN_SWITCH_TIME_SCALE            0.1f
-#define C630S_POSITION_GAIN_SWITCH_TIME_SCALE_NUM        1
-#define C630S_POSITION_GAIN_SWITCH_TIME_SCALE_DEN        10
+#define C630S_POSITION_GAIN_SWITCH_TIME_SCALE_NUM        1u
+#define C630S_POSITION_GAIN_SWITCH_TIME_SCALE_DEN        10u
 #define C630S_POSITION_GAIN_SWITCH_TIME_PAIRED           0
+/* Values of position_gain_switch_time: 0..1000 ms in steps of 0.1. */
+static inline bool c630s_position_gain_switch_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw);
+}
+static inline bool c630s_position_gain_switch_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 10000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_gain_switch_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-15 load_inertia_ratio: Load inertia ratio (负载转动惯量比). u16 rw, unit times, scale 0.01, raw 0..12000 (0..120 times), printed range 0.00~120.00, default 100 (1), takes effect immediately. Manual 7.8. */
 #define C630S_LOAD_INERTIA_RATIO_ADDR                    0x080Fu
@@ -2944,9 +7216,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOAD_INERTIA_RATIO_MAX                     12000u
 #define C630S_LOAD_INERTIA_RATIO_DEFAULT                 100u
 #define C630S_LOAD_INERTIA_RATIO_SCALE                   0.01f
-#define C630S_LOAD_INERTIA_RATIO_SCALE_NUM               1
-#define C630S_LOAD_INERTIA_RATIO_SCALE_DEN               100
+#define C630S_LOAD_INERTIA_RATIO_SCALE_NUM               1u
+#define C630S_LOAD_INERTIA_RATIO_SCALE_DEN               100u
 #define C630S_LOAD_INERTIA_RATIO_PAIRED                  0
+/* Values of load_inertia_ratio: 0..120 times in steps of 0.01. */
+static inline bool c630s_load_inertia_ratio_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 12000.0, &raw);
+}
+static inline bool c630s_load_inertia_ratio_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 12000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_load_inertia_ratio_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P08-18 speed_ff_filter_time: Speed feedforward filter time constant (速度前馈滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..6400 (0..64 ms), printed range 0.00~64.00, default 50 (0.5), takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_FF_FILTER_TIME_ADDR                  0x0812u
@@ -2957,9 +7249,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_FF_FILTER_TIME_MAX                   6400u
 #define C630S_SPEED_FF_FILTER_TIME_DEFAULT               50u
 #define C630S_SPEED_FF_FILTER_TIME_SCALE                 0.01f
-#define C630S_SPEED_FF_FILTER_TIME_SCALE_NUM             1
-#define C630S_SPEED_FF_FILTER_TIME_SCALE_DEN             100
+#define C630S_SPEED_FF_FILTER_TIME_SCALE_NUM             1u
+#define C630S_SPEED_FF_FILTER_TIME_SCALE_DEN             100u
 #define C630S_SPEED_FF_FILTER_TIME_PAIRED                0
+/* Values of speed_ff_filter_time: 0..64 ms in steps of 0.01. */
+static inline bool c630s_speed_ff_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 6400.0, &raw);
+}
+static inline bool c630s_speed_ff_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 6400.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_ff_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P08-19 speed_ff_gain: Speed feedforward gain (速度前馈增益). u16 rw, unit %, scale 0.1, raw 0..1000 (0..100 %), printed range 0.0~100.0, default 0 (0), takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_FF_GAIN_ADDR                         0x0813u
@@ -2970,9 +7282,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_FF_GAIN_MAX                          1000u
 #define C630S_SPEED_FF_GAIN_DEFAULT                      0u
 #define C630S_SPEED_FF_GAIN_SCALE                        0.1f
-#define C630S_SPEED_FF_GAIN_SCALE_NUM                    1
-#define C630S_SPEED_FF_GAIN_SCALE_DEN                    10
+#define C630S_SPEED_FF_GAIN_SCALE_NUM                    1u
+#define C630S_SPEED_FF_GAIN_SCALE_DEN                    10u
 #define C630S_SPEED_FF_GAIN_PAIRED                       0
+/* Values of speed_ff_gain: 0..100 % in steps of 0.1. */
+static inline bool c630s_speed_ff_gain_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1000.0, &raw);
+}
+static inline bool c630s_speed_ff_gain_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_ff_gain_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-20 torque_ff_filter_time: Torque feedforward filter time constant (转矩前馈滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..6400 (0..64 ms), printed range 0.00~64.00, default 50 (0.5), takes effect immediately. Manual 7.8. */
 #define C630S_TORQUE_FF_FILTER_TIME_ADDR                 0x0814u
@@ -2983,9 +7315,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_FF_FILTER_TIME_MAX                  6400u
 #define C630S_TORQUE_FF_FILTER_TIME_DEFAULT              50u
 #define C630S_TORQUE_FF_FILTER_TIME_SCALE                0.01f
-#define C630S_TORQUE_FF_FILTER_TIME_SCALE_NUM            1
-#define C630S_TORQUE_FF_FILTER_TIME_SCALE_DEN            100
+#define C630S_TORQUE_FF_FILTER_TIME_SCALE_NUM            1u
+#define C630S_TORQUE_FF_FILTER_TIME_SCALE_DEN            100u
 #define C630S_TORQUE_FF_FILTER_TIME_PAIRED               0
+/* Values of torque_ff_filter_time: 0..64 ms in steps of 0.01. */
+static inline bool c630s_torque_ff_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 6400.0, &raw);
+}
+static inline bool c630s_torque_ff_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 6400.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_ff_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P08-21 torque_ff_gain: Torque feedforward gain (转矩前馈增益). u16 rw, unit %, scale 0.1, raw 0..2000 (0..200 %), printed range 0.0~200.0, default 0 (0), takes effect immediately. Manual 7.8. */
 #define C630S_TORQUE_FF_GAIN_ADDR                        0x0815u
@@ -2996,9 +7348,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TORQUE_FF_GAIN_MAX                         2000u
 #define C630S_TORQUE_FF_GAIN_DEFAULT                     0u
 #define C630S_TORQUE_FF_GAIN_SCALE                       0.1f
-#define C630S_TORQUE_FF_GAIN_SCALE_NUM                   1
-#define C630S_TORQUE_FF_GAIN_SCALE_DEN                   10
+#define C630S_TORQUE_FF_GAIN_SCALE_NUM                   1u
+#define C630S_TORQUE_FF_GAIN_SCALE_DEN                   10u
 #define C630S_TORQUE_FF_GAIN_PAIRED                      0
+/* Values of torque_ff_gain: 0..200 % in steps of 0.1. */
+static inline bool c630s_torque_ff_gain_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 2000.0, &raw);
+}
+static inline bool c630s_torque_ff_gain_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 2000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_torque_ff_gain_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P08-22 speed_feedback_filter: Speed feedback filter option (速度反馈滤波选项). u16 rw, raw 0..4, default 0, values: enum speed_feedback_filter, takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_FEEDBACK_FILTER_ADDR                 0x0816u
@@ -3009,9 +7381,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_FEEDBACK_FILTER_MAX                  4u
 #define C630S_SPEED_FEEDBACK_FILTER_DEFAULT              0u
 #define C630S_SPEED_FEEDBACK_FILTER_SCALE                1.0f
-#define C630S_SPEED_FEEDBACK_FILTER_SCALE_NUM            1
-#define C630S_SPEED_FEEDBACK_FILTER_SCALE_DEN            1
+#define C630S_SPEED_FEEDBACK_FILTER_SCALE_NUM            1u
+#define C630S_SPEED_FEEDBACK_FILTER_SCALE_DEN            1u
 #define C630S_SPEED_FEEDBACK_FILTER_PAIRED               0
+/* Values of speed_feedback_filter: the members of speed_feedback_filter a write may send. */
+static inline bool c630s_speed_feedback_filter_is_in_range(c630s_speed_feedback_filter value)
+{
+    return c630s_speed_feedback_filter_is_writable(value);
+}
+static inline bool c630s_speed_feedback_filter_encode(c630s_speed_feedback_filter value, uint16_t words[1])
+{
+    if (!c630s_speed_feedback_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_feedback_filter_decode(const uint16_t words[1], c630s_speed_feedback_filter *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_speed_feedback_filter_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_speed_feedback_filter)raw;
+    return true;
+}
 
 /* P08-23 speed_feedback_lowpass_cutoff: Speed feedback low-pass cut-off frequency (速度反馈低通滤波截止频率). u16 rw, unit Hz, raw 100..4000, default 4000, takes effect immediately. Manual 7.8. */
 #define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_ADDR         0x0817u
@@ -3022,9 +7416,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_MAX          4000u
 #define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_DEFAULT      4000u
 #define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_SCALE        1.0f
-#define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_SCALE_NUM    1
-#define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_SCALE_DEN    1
+#define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_SCALE_NUM    1u
+#define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_SCALE_DEN    1u
 #define C630S_SPEED_FEEDBACK_LOWPASS_CUTOFF_PAIRED       0
+/* Values of speed_feedback_lowpass_cutoff: 100..4000 Hz. */
+static inline bool c630s_speed_feedback_lowpass_cutoff_is_in_range(uint16_t value)
+{
+    return value >= 100u && value <= 4000u;
+}
+static inline bool c630s_speed_feedback_lowpass_cutoff_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_feedback_lowpass_cutoff_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_feedback_lowpass_cutoff_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P08-24 pdff_coefficient: Pseudo-derivative feedforward coefficient (伪微分前馈控制系数). u16 rw, scale 0.1, raw 0..1000 (0..100), printed range 0.0~100.0, default 1000 (100), takes effect immediately. Manual 7.8. */
 #define C630S_PDFF_COEFFICIENT_ADDR                      0x0818u
@@ -3035,9 +7447,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PDFF_COEFFICIENT_MAX                       1000u
 #define C630S_PDFF_COEFFICIENT_DEFAULT                   1000u
 #define C630S_PDFF_COEFFICIENT_SCALE                     0.1f
-#define C630S_PDFF_COEFFICIENT_SCALE_NUM                 1
-#define C630S_PDFF_COEFFICIENT_SCALE_DEN                 10
+#define C630S_PDFF_COEFFICIENT_SCALE_NUM                 1u
+#define C630S_PDFF_COEFFICIENT_SCALE_DEN                 10u
 #define C630S_PDFF_COEFFICIENT_PAIRED                    0
+/* Values of pdff_coefficient: 0..100 in steps of 0.1. */
+static inline bool c630s_pdff_coefficient_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1000.0, &raw);
+}
+static inline bool c630s_pdff_coefficient_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_pdff_coefficient_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* ==== P09 auto-tuning parameters (P09 组自调整参数). Manual 7.9. ==== */
 
@@ -3050,9 +7482,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_STIFFNESS_LEVEL_MAX                        31u
 #define C630S_STIFFNESS_LEVEL_DEFAULT                    12u
 #define C630S_STIFFNESS_LEVEL_SCALE                      1.0f
-#define C630S_STIFFNESS_LEVEL_SCALE_NUM                  1
-#define C630S_STIFFNESS_LEVEL_SCALE_DEN                  1
+#define C630S_STIFFNESS_LEVEL_SCALE_NUM                  1u
+#define C630S_STIFFNESS_LEVEL_SCALE_DEN                  1u
 #define C630S_STIFFNESS_LEVEL_PAIRED                     0
+/* Values of stiffness_level: 0..31. */
+static inline bool c630s_stiffness_level_is_in_range(uint16_t value)
+{
+    return value <= 31u;
+}
+static inline bool c630s_stiffness_level_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_stiffness_level_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_stiffness_level_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-02 adaptive_notch_mode: Adaptive notch filter mode (自适应陷波器模式选择). u16 rw, raw 0..4, default 0, values: enum adaptive_notch_mode, takes effect immediately. Manual 7.9. */
 #define C630S_ADAPTIVE_NOTCH_MODE_ADDR                   0x0902u
@@ -3063,9 +7513,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ADAPTIVE_NOTCH_MODE_MAX                    4u
 #define C630S_ADAPTIVE_NOTCH_MODE_DEFAULT                0u
 #define C630S_ADAPTIVE_NOTCH_MODE_SCALE                  1.0f
-#define C630S_ADAPTIVE_NOTCH_MODE_SCALE_NUM              1
-#define C630S_ADAPTIVE_NOTCH_MODE_SCALE_DEN              1
+#define C630S_ADAPTIVE_NOTCH_MODE_SCALE_NUM              1u
+#define C630S_ADAPTIVE_NOTCH_MODE_SCALE_DEN              1u
 #define C630S_ADAPTIVE_NOTCH_MODE_PAIRED                 0
+/* Values of adaptive_notch_mode: the members of adaptive_notch_mode a write may send. */
+static inline bool c630s_adaptive_notch_mode_is_in_range(c630s_adaptive_notch_mode value)
+{
+    return c630s_adaptive_notch_mode_is_writable(value);
+}
+static inline bool c630s_adaptive_notch_mode_encode(c630s_adaptive_notch_mode value, uint16_t words[1])
+{
+    if (!c630s_adaptive_notch_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_adaptive_notch_mode_decode(const uint16_t words[1], c630s_adaptive_notch_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_adaptive_notch_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_adaptive_notch_mode)raw;
+    return true;
+}
 
 /* P09-04 low_freq_resonance_mode: Low-frequency resonance suppression mode (低频共振抑制模式选择). u16 rw, raw 0..1, default 0, values: enum low_freq_resonance_mode, takes effect immediately. Manual 7.9. */
 #define C630S_LOW_FREQ_RESONANCE_MODE_ADDR               0x0904u
@@ -3076,9 +7548,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOW_FREQ_RESONANCE_MODE_MAX                1u
 #define C630S_LOW_FREQ_RESONANCE_MODE_DEFAULT            0u
 #define C630S_LOW_FREQ_RESONANCE_MODE_SCALE              1.0f
-#define C630S_LOW_FREQ_RESONANCE_MODE_SCALE_NUM          1
-#define C630S_LOW_FREQ_RESONANCE_MODE_SCALE_DEN          1
+#define C630S_LOW_FREQ_RESONANCE_MODE_SCALE_NUM          1u
+#define C630S_LOW_FREQ_RESONANCE_MODE_SCALE_DEN          1u
 #define C630S_LOW_FREQ_RESONANCE_MODE_PAIRED             0
+/* Values of low_freq_resonance_mode: the members of low_freq_resonance_mode a write may send. */
+static inline bool c630s_low_freq_resonance_mode_is_in_range(c630s_low_freq_resonance_mode value)
+{
+    return c630s_low_freq_resonance_mode_is_writable(value);
+}
+static inline bool c630s_low_freq_resonance_mode_encode(c630s_low_freq_resonance_mode value, uint16_t words[1])
+{
+    if (!c630s_low_freq_resonance_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_low_freq_resonance_mode_decode(const uint16_t words[1], c630s_low_freq_resonance_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_low_freq_resonance_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_low_freq_resonance_mode)raw;
+    return true;
+}
 
 /* P09-05 inertia_id_mode: Offline inertia identification mode (离线惯量辨识模式选择). u16 rw, raw 0..1, default 0, values: enum inertia_id_mode, takes effect immediately. Manual 7.9. */
 #define C630S_INERTIA_ID_MODE_ADDR                       0x0905u
@@ -3089,9 +7583,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INERTIA_ID_MODE_MAX                        1u
 #define C630S_INERTIA_ID_MODE_DEFAULT                    0u
 #define C630S_INERTIA_ID_MODE_SCALE                      1.0f
-#define C630S_INERTIA_ID_MODE_SCALE_NUM                  1
-#define C630S_INERTIA_ID_MODE_SCALE_DEN                  1
+#define C630S_INERTIA_ID_MODE_SCALE_NUM                  1u
+#define C630S_INERTIA_ID_MODE_SCALE_DEN                  1u
 #define C630S_INERTIA_ID_MODE_PAIRED                     0
+/* Values of inertia_id_mode: the members of inertia_id_mode a write may send. */
+static inline bool c630s_inertia_id_mode_is_in_range(c630s_inertia_id_mode value)
+{
+    return c630s_inertia_id_mode_is_writable(value);
+}
+static inline bool c630s_inertia_id_mode_encode(c630s_inertia_id_mode value, uint16_t words[1])
+{
+    if (!c630s_inertia_id_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_inertia_id_mode_decode(const uint16_t words[1], c630s_inertia_id_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_inertia_id_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_inertia_id_mode)raw;
+    return true;
+}
 
 /* P09-06 inertia_id_max_speed: Inertia identification maximum speed (惯量辨识最大速度). u16 rw, unit rpm, raw 100..1000, default 500, takes effect immediately. Manual 7.9. */
 #define C630S_INERTIA_ID_MAX_SPEED_ADDR                  0x0906u
@@ -3102,9 +7618,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INERTIA_ID_MAX_SPEED_MAX                   1000u
 #define C630S_INERTIA_ID_MAX_SPEED_DEFAULT               500u
 #define C630S_INERTIA_ID_MAX_SPEED_SCALE                 1.0f
-#define C630S_INERTIA_ID_MAX_SPEED_SCALE_NUM             1
-#define C630S_INERTIA_ID_MAX_SPEED_SCALE_DEN             1
+#define C630S_INERTIA_ID_MAX_SPEED_SCALE_NUM             1u
+#define C630S_INERTIA_ID_MAX_SPEED_SCALE_DEN             1u
 #define C630S_INERTIA_ID_MAX_SPEED_PAIRED                0
+/* Values of inertia_id_max_speed: 100..1000 rpm. */
+static inline bool c630s_inertia_id_max_speed_is_in_range(uint16_t value)
+{
+    return value >= 100u && value <= 1000u;
+}
+static inline bool c630s_inertia_id_max_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_inertia_id_max_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_inertia_id_max_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-07 inertia_id_accel_time: Inertia identification acceleration time constant to maximum speed (惯量辨识时加速至最大速度时间常数). u16 rw, unit ms, raw 20..800, default 125, takes effect immediately. Manual 7.9. */
 #define C630S_INERTIA_ID_ACCEL_TIME_ADDR                 0x0907u
@@ -3115,9 +7649,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INERTIA_ID_ACCEL_TIME_MAX                  800u
 #define C630S_INERTIA_ID_ACCEL_TIME_DEFAULT              125u
 #define C630S_INERTIA_ID_ACCEL_TIME_SCALE                1.0f
-#define C630S_INERTIA_ID_ACCEL_TIME_SCALE_NUM            1
-#define C630S_INERTIA_ID_ACCEL_TIME_SCALE_DEN            1
+#define C630S_INERTIA_ID_ACCEL_TIME_SCALE_NUM            1u
+#define C630S_INERTIA_ID_ACCEL_TIME_SCALE_DEN            1u
 #define C630S_INERTIA_ID_ACCEL_TIME_PAIRED               0
+/* Values of inertia_id_accel_time: 20..800 ms. */
+static inline bool c630s_inertia_id_accel_time_is_in_range(uint16_t value)
+{
+    return value >= 20u && value <= 800u;
+}
+static inline bool c630s_inertia_id_accel_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_inertia_id_accel_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_inertia_id_accel_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-08 inertia_id_wait_time: Wait time after one inertia identification (单次惯量辨识完成后等待时间). u16 rw, unit ms, raw 50..10000, default 800, takes effect immediately. Manual 7.9. */
 #define C630S_INERTIA_ID_WAIT_TIME_ADDR                  0x0908u
@@ -3128,9 +7680,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INERTIA_ID_WAIT_TIME_MAX                   10000u
 #define C630S_INERTIA_ID_WAIT_TIME_DEFAULT               800u
 #define C630S_INERTIA_ID_WAIT_TIME_SCALE                 1.0f
-#define C630S_INERTIA_ID_WAIT_TIME_SCALE_NUM             1
-#define C630S_INERTIA_ID_WAIT_TIME_SCALE_DEN             1
+#define C630S_INERTIA_ID_WAIT_TIME_SCALE_NUM             1u
+#define C630S_INERTIA_ID_WAIT_TIME_SCALE_DEN             1u
 #define C630S_INERTIA_ID_WAIT_TIME_PAIRED                0
+/* Values of inertia_id_wait_time: 50..10000 ms. */
+static inline bool c630s_inertia_id_wait_time_is_in_range(uint16_t value)
+{
+    return value >= 50u && value <= 10000u;
+}
+static inline bool c630s_inertia_id_wait_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_inertia_id_wait_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_inertia_id_wait_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-09 inertia_id_revolutions: Motor revolutions for one inertia identification (完成单次惯量辨识电机转动圈数). u16 r, unit r, scale 0.01, raw 0..200 (0..2 r), printed range 0.00~2.00. Manual 7.9. */
 #define C630S_INERTIA_ID_REVOLUTIONS_ADDR                0x0909u
@@ -3140,9 +7710,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INERTIA_ID_REVOLUTIONS_MIN                 0u
 #define C630S_INERTIA_ID_REVOLUTIONS_MAX                 200u
 #define C630S_INERTIA_ID_REVOLUTIONS_SCALE               0.01f
-#define C630S_INERTIA_ID_REVOLUTIONS_SCALE_NUM           1
-#define C630S_INERTIA_ID_REVOLUTIONS_SCALE_DEN           100
+#define C630S_INERTIA_ID_REVOLUTIONS_SCALE_NUM           1u
+#define C630S_INERTIA_ID_REVOLUTIONS_SCALE_DEN           100u
 #define C630S_INERTIA_ID_REVOLUTIONS_PAIRED              0
+/* Value of inertia_id_revolutions. */
+static inline bool c630s_inertia_id_revolutions_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P09-12 notch1_frequency: Notch filter 1 frequency (第 1 组陷波器频率). u16 rw, unit Hz, raw 50..4000, default 4000, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH1_FREQUENCY_ADDR                      0x090Cu
@@ -3153,9 +7729,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH1_FREQUENCY_MAX                       4000u
 #define C630S_NOTCH1_FREQUENCY_DEFAULT                   4000u
 #define C630S_NOTCH1_FREQUENCY_SCALE                     1.0f
-#define C630S_NOTCH1_FREQUENCY_SCALE_NUM                 1
-#define C630S_NOTCH1_FREQUENCY_SCALE_DEN                 1
+#define C630S_NOTCH1_FREQUENCY_SCALE_NUM                 1u
+#define C630S_NOTCH1_FREQUENCY_SCALE_DEN                 1u
 #define C630S_NOTCH1_FREQUENCY_PAIRED                    0
+/* Values of notch1_frequency: 50..4000 Hz. */
+static inline bool c630s_notch1_frequency_is_in_range(uint16_t value)
+{
+    return value >= 50u && value <= 4000u;
+}
+static inline bool c630s_notch1_frequency_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch1_frequency_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch1_frequency_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-13 notch1_width: Notch filter 1 width level (第 1 组陷波器宽度等级). u16 rw, raw 0..20, default 2, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH1_WIDTH_ADDR                          0x090Du
@@ -3166,9 +7760,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH1_WIDTH_MAX                           20u
 #define C630S_NOTCH1_WIDTH_DEFAULT                       2u
 #define C630S_NOTCH1_WIDTH_SCALE                         1.0f
-#define C630S_NOTCH1_WIDTH_SCALE_NUM                     1
-#define C630S_NOTCH1_WIDTH_SCALE_DEN                     1
+#define C630S_NOTCH1_WIDTH_SCALE_NUM                     1u
+#define C630S_NOTCH1_WIDTH_SCALE_DEN                     1u
 #define C630S_NOTCH1_WIDTH_PAIRED                        0
+/* Values of notch1_width: 0..20. */
+static inline bool c630s_notch1_width_is_in_range(uint16_t value)
+{
+    return value <= 20u;
+}
+static inline bool c630s_notch1_width_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch1_width_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch1_width_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-14 notch1_depth: Notch filter 1 depth level (第 1 组陷波器深度等级). u16 rw, raw 0..99, default 0, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH1_DEPTH_ADDR                          0x090Eu
@@ -3179,9 +7791,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH1_DEPTH_MAX                           99u
 #define C630S_NOTCH1_DEPTH_DEFAULT                       0u
 #define C630S_NOTCH1_DEPTH_SCALE                         1.0f
-#define C630S_NOTCH1_DEPTH_SCALE_NUM                     1
-#define C630S_NOTCH1_DEPTH_SCALE_DEN                     1
+#define C630S_NOTCH1_DEPTH_SCALE_NUM                     1u
+#define C630S_NOTCH1_DEPTH_SCALE_DEN                     1u
 #define C630S_NOTCH1_DEPTH_PAIRED                        0
+/* Values of notch1_depth: 0..99. */
+static inline bool c630s_notch1_depth_is_in_range(uint16_t value)
+{
+    return value <= 99u;
+}
+static inline bool c630s_notch1_depth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch1_depth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch1_depth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-15 notch2_frequency: Notch filter 2 frequency (第 2 组陷波器频率). u16 rw, unit Hz, raw 50..4000, default 4000, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH2_FREQUENCY_ADDR                      0x090Fu
@@ -3192,9 +7822,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH2_FREQUENCY_MAX                       4000u
 #define C630S_NOTCH2_FREQUENCY_DEFAULT                   4000u
 #define C630S_NOTCH2_FREQUENCY_SCALE                     1.0f
-#define C630S_NOTCH2_FREQUENCY_SCALE_NUM                 1
-#define C630S_NOTCH2_FREQUENCY_SCALE_DEN                 1
+#define C630S_NOTCH2_FREQUENCY_SCALE_NUM                 1u
+#define C630S_NOTCH2_FREQUENCY_SCALE_DEN                 1u
 #define C630S_NOTCH2_FREQUENCY_PAIRED                    0
+/* Values of notch2_frequency: 50..4000 Hz. */
+static inline bool c630s_notch2_frequency_is_in_range(uint16_t value)
+{
+    return value >= 50u && value <= 4000u;
+}
+static inline bool c630s_notch2_frequency_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch2_frequency_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch2_frequency_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-16 notch2_width: Notch filter 2 width level (第 2 组陷波器宽度等级). u16 rw, raw 0..20, default 2, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH2_WIDTH_ADDR                          0x0910u
@@ -3205,9 +7853,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH2_WIDTH_MAX                           20u
 #define C630S_NOTCH2_WIDTH_DEFAULT                       2u
 #define C630S_NOTCH2_WIDTH_SCALE                         1.0f
-#define C630S_NOTCH2_WIDTH_SCALE_NUM                     1
-#define C630S_NOTCH2_WIDTH_SCALE_DEN                     1
+#define C630S_NOTCH2_WIDTH_SCALE_NUM                     1u
+#define C630S_NOTCH2_WIDTH_SCALE_DEN                     1u
 #define C630S_NOTCH2_WIDTH_PAIRED                        0
+/* Values of notch2_width: 0..20. */
+static inline bool c630s_notch2_width_is_in_range(uint16_t value)
+{
+    return value <= 20u;
+}
+static inline bool c630s_notch2_width_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch2_width_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch2_width_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-17 notch2_depth: Notch filter 2 depth level (第 2 组陷波器深度等级). u16 rw, raw 0..99, default 0, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH2_DEPTH_ADDR                          0x0911u
@@ -3218,9 +7884,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH2_DEPTH_MAX                           99u
 #define C630S_NOTCH2_DEPTH_DEFAULT                       0u
 #define C630S_NOTCH2_DEPTH_SCALE                         1.0f
-#define C630S_NOTCH2_DEPTH_SCALE_NUM                     1
-#define C630S_NOTCH2_DEPTH_SCALE_DEN                     1
+#define C630S_NOTCH2_DEPTH_SCALE_NUM                     1u
+#define C630S_NOTCH2_DEPTH_SCALE_DEN                     1u
 #define C630S_NOTCH2_DEPTH_PAIRED                        0
+/* Values of notch2_depth: 0..99. */
+static inline bool c630s_notch2_depth_is_in_range(uint16_t value)
+{
+    return value <= 99u;
+}
+static inline bool c630s_notch2_depth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch2_depth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch2_depth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-18 notch3_frequency: Notch filter 3 frequency (第3组陷波器频率). u16 rw, unit Hz, raw 50..4000, default 4000, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH3_FREQUENCY_ADDR                      0x0912u
@@ -3231,9 +7915,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH3_FREQUENCY_MAX                       4000u
 #define C630S_NOTCH3_FREQUENCY_DEFAULT                   4000u
 #define C630S_NOTCH3_FREQUENCY_SCALE                     1.0f
-#define C630S_NOTCH3_FREQUENCY_SCALE_NUM                 1
-#define C630S_NOTCH3_FREQUENCY_SCALE_DEN                 1
+#define C630S_NOTCH3_FREQUENCY_SCALE_NUM                 1u
+#define C630S_NOTCH3_FREQUENCY_SCALE_DEN                 1u
 #define C630S_NOTCH3_FREQUENCY_PAIRED                    0
+/* Values of notch3_frequency: 50..4000 Hz. */
+static inline bool c630s_notch3_frequency_is_in_range(uint16_t value)
+{
+    return value >= 50u && value <= 4000u;
+}
+static inline bool c630s_notch3_frequency_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch3_frequency_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch3_frequency_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-19 notch3_width: Notch filter 3 width level (第3组陷波器宽度等级). u16 rw, raw 0..20, default 2, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH3_WIDTH_ADDR                          0x0913u
@@ -3244,9 +7946,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH3_WIDTH_MAX                           20u
 #define C630S_NOTCH3_WIDTH_DEFAULT                       2u
 #define C630S_NOTCH3_WIDTH_SCALE                         1.0f
-#define C630S_NOTCH3_WIDTH_SCALE_NUM                     1
-#define C630S_NOTCH3_WIDTH_SCALE_DEN                     1
+#define C630S_NOTCH3_WIDTH_SCALE_NUM                     1u
+#define C630S_NOTCH3_WIDTH_SCALE_DEN                     1u
 #define C630S_NOTCH3_WIDTH_PAIRED                        0
+/* Values of notch3_width: 0..20. */
+static inline bool c630s_notch3_width_is_in_range(uint16_t value)
+{
+    return value <= 20u;
+}
+static inline bool c630s_notch3_width_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch3_width_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch3_width_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-20 notch3_depth: Notch filter 3 depth level (第3组陷波器深度等级). u16 rw, raw 0..99, default 0, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH3_DEPTH_ADDR                          0x0914u
@@ -3257,9 +7977,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH3_DEPTH_MAX                           99u
 #define C630S_NOTCH3_DEPTH_DEFAULT                       0u
 #define C630S_NOTCH3_DEPTH_SCALE                         1.0f
-#define C630S_NOTCH3_DEPTH_SCALE_NUM                     1
-#define C630S_NOTCH3_DEPTH_SCALE_DEN                     1
+#define C630S_NOTCH3_DEPTH_SCALE_NUM                     1u
+#define C630S_NOTCH3_DEPTH_SCALE_DEN                     1u
 #define C630S_NOTCH3_DEPTH_PAIRED                        0
+/* Values of notch3_depth: 0..99. */
+static inline bool c630s_notch3_depth_is_in_range(uint16_t value)
+{
+    return value <= 99u;
+}
+static inline bool c630s_notch3_depth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch3_depth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch3_depth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-21 notch4_frequency: Notch filter 4 frequency (第4组陷波器频率). u16 rw, unit Hz, raw 50..4000, default 4000, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH4_FREQUENCY_ADDR                      0x0915u
@@ -3270,9 +8008,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH4_FREQUENCY_MAX                       4000u
 #define C630S_NOTCH4_FREQUENCY_DEFAULT                   4000u
 #define C630S_NOTCH4_FREQUENCY_SCALE                     1.0f
-#define C630S_NOTCH4_FREQUENCY_SCALE_NUM                 1
-#define C630S_NOTCH4_FREQUENCY_SCALE_DEN                 1
+#define C630S_NOTCH4_FREQUENCY_SCALE_NUM                 1u
+#define C630S_NOTCH4_FREQUENCY_SCALE_DEN                 1u
 #define C630S_NOTCH4_FREQUENCY_PAIRED                    0
+/* Values of notch4_frequency: 50..4000 Hz. */
+static inline bool c630s_notch4_frequency_is_in_range(uint16_t value)
+{
+    return value >= 50u && value <= 4000u;
+}
+static inline bool c630s_notch4_frequency_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch4_frequency_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch4_frequency_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-22 notch4_width: Notch filter 4 width level (第4组陷波器宽度等级). u16 rw, raw 0..20, default 2, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH4_WIDTH_ADDR                          0x0916u
@@ -3283,9 +8039,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH4_WIDTH_MAX                           20u
 #define C630S_NOTCH4_WIDTH_DEFAULT                       2u
 #define C630S_NOTCH4_WIDTH_SCALE                         1.0f
-#define C630S_NOTCH4_WIDTH_SCALE_NUM                     1
-#define C630S_NOTCH4_WIDTH_SCALE_DEN                     1
+#define C630S_NOTCH4_WIDTH_SCALE_NUM                     1u
+#define C630S_NOTCH4_WIDTH_SCALE_DEN                     1u
 #define C630S_NOTCH4_WIDTH_PAIRED                        0
+/* Values of notch4_width: 0..20. */
+static inline bool c630s_notch4_width_is_in_range(uint16_t value)
+{
+    return value <= 20u;
+}
+static inline bool c630s_notch4_width_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch4_width_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch4_width_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-23 notch4_depth: Notch filter 4 depth level (第4组陷波器深度等级). u16 rw, raw 0..99, default 0, takes effect immediately. Manual 7.9. */
 #define C630S_NOTCH4_DEPTH_ADDR                          0x0917u
@@ -3296,9 +8070,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_NOTCH4_DEPTH_MAX                           99u
 #define C630S_NOTCH4_DEPTH_DEFAULT                       0u
 #define C630S_NOTCH4_DEPTH_SCALE                         1.0f
-#define C630S_NOTCH4_DEPTH_SCALE_NUM                     1
-#define C630S_NOTCH4_DEPTH_SCALE_DEN                     1
+#define C630S_NOTCH4_DEPTH_SCALE_NUM                     1u
+#define C630S_NOTCH4_DEPTH_SCALE_DEN                     1u
 #define C630S_NOTCH4_DEPTH_PAIRED                        0
+/* Values of notch4_depth: 0..99. */
+static inline bool c630s_notch4_depth_is_in_range(uint16_t value)
+{
+    return value <= 99u;
+}
+static inline bool c630s_notch4_depth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_notch4_depth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_notch4_depth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-24 resonance_frequency_result: Resonance frequency identification result (共振频率辨识结果). u16 r, unit Hz, raw 0..2, default 0. Manual 7.9. */
 #define C630S_RESONANCE_FREQUENCY_RESULT_ADDR            0x0918u
@@ -3309,9 +8101,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_RESONANCE_FREQUENCY_RESULT_MAX             2u
 #define C630S_RESONANCE_FREQUENCY_RESULT_DEFAULT         0u
 #define C630S_RESONANCE_FREQUENCY_RESULT_SCALE           1.0f
-#define C630S_RESONANCE_FREQUENCY_RESULT_SCALE_NUM       1
-#define C630S_RESONANCE_FREQUENCY_RESULT_SCALE_DEN       1
+#define C630S_RESONANCE_FREQUENCY_RESULT_SCALE_NUM       1u
+#define C630S_RESONANCE_FREQUENCY_RESULT_SCALE_DEN       1u
 #define C630S_RESONANCE_FREQUENCY_RESULT_PAIRED          0
+/* Value of resonance_frequency_result. */
+static inline bool c630s_resonance_frequency_result_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P09-30 disturbance_compensation_gain: Torque disturbance compensation gain (转矩扰动补偿增益). u16 rw, unit %, scale 0.1, raw 0..1000 (0..100 %), printed range 0.0~100.0, default 0 (0), takes effect immediately. Manual 7.9. */
 #define C630S_DISTURBANCE_COMPENSATION_GAIN_ADDR         0x091Eu
@@ -3322,9 +8120,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DISTURBANCE_COMPENSATION_GAIN_MAX          1000u
 #define C630S_DISTURBANCE_COMPENSATION_GAIN_DEFAULT      0u
 #define C630S_DISTURBANCE_COMPENSATION_GAIN_SCALE        0.1f
-#define C630S_DISTURBANCE_COMPENSATION_GAIN_SCALE_NUM    1
-#define C630S_DISTURBANCE_COMPENSATION_GAIN_SCALE_DEN    10
+#define C630S_DISTURBANCE_COMPENSATION_GAIN_SCALE_NUM    1u
+#define C630S_DISTURBANCE_COMPENSATION_GAIN_SCALE_DEN    10u
 #define C630S_DISTURBANCE_COMPENSATION_GAIN_PAIRED       0
+/* Values of disturbance_compensation_gain: 0..100 % in steps of 0.1. */
+static inline bool c630s_disturbance_compensation_gain_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1000.0, &raw);
+}
+static inline bool c630s_disturbance_compensation_gain_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 1000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_disturbance_compensation_gain_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P09-31 disturbance_observer_filter_time: Torque disturbance observer filter time constant (转矩扰动观测器滤波时间常数). u16 rw, unit ms, scale 0.01, raw 0..2500 (0..25 ms), printed range 0.00~25.00, default 50 (0.5), takes effect immediately. Manual 7.9. */
 #define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_ADDR      0x091Fu
@@ -3335,9 +8153,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_MAX       2500u
 #define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_DEFAULT   50u
 #define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_SCALE     0.01f
-#define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_SCALE_NUM 1
-#define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_SCALE_DEN 100
+#define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_SCALE_NUM 1u
+#define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_SCALE_DEN 100u
 #define C630S_DISTURBANCE_OBSERVER_FILTER_TIME_PAIRED    0
+/* Values of disturbance_observer_filter_time: 0..25 ms in steps of 0.01. */
+static inline bool c630s_disturbance_observer_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 2500.0, &raw);
+}
+static inline bool c630s_disturbance_observer_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 2500.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_disturbance_observer_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P09-38 low_freq_resonance_frequency: Low-frequency resonance frequency (低频共振频率). u16 rw, unit Hz, scale 0.1, raw 10..1000 (1..100 Hz), printed range 1.0~100.0, default 1000 (100), takes effect immediately. Manual 7.9. */
 #define C630S_LOW_FREQ_RESONANCE_FREQUENCY_ADDR          0x0926u
@@ -3348,9 +8186,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOW_FREQ_RESONANCE_FREQUENCY_MAX           1000u
 #define C630S_LOW_FREQ_RESONANCE_FREQUENCY_DEFAULT       1000u
 #define C630S_LOW_FREQ_RESONANCE_FREQUENCY_SCALE         0.1f
-#define C630S_LOW_FREQ_RESONANCE_FREQUENCY_SCALE_NUM     1
-#define C630S_LOW_FREQ_RESONANCE_FREQUENCY_SCALE_DEN     10
+#define C630S_LOW_FREQ_RESONANCE_FREQUENCY_SCALE_NUM     1u
+#define C630S_LOW_FREQ_RESONANCE_FREQUENCY_SCALE_DEN     10u
 #define C630S_LOW_FREQ_RESONANCE_FREQUENCY_PAIRED        0
+/* Values of low_freq_resonance_frequency: 1..100 Hz in steps of 0.1. */
+static inline bool c630s_low_freq_resonance_frequency_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 10.0, 1000.0, &raw);
+}
+static inline bool c630s_low_freq_resonance_frequency_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 10.0, 1000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_low_freq_resonance_frequency_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P09-39 low_freq_resonance_filter: Low-frequency resonance frequency filter setting (低频共振频率滤波设定). u16 rw, raw 0..10, default 2, takes effect immediately. Manual 7.9. */
 #define C630S_LOW_FREQ_RESONANCE_FILTER_ADDR             0x0927u
@@ -3361,9 +8219,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOW_FREQ_RESONANCE_FILTER_MAX              10u
 #define C630S_LOW_FREQ_RESONANCE_FILTER_DEFAULT          2u
 #define C630S_LOW_FREQ_RESONANCE_FILTER_SCALE            1.0f
-#define C630S_LOW_FREQ_RESONANCE_FILTER_SCALE_NUM        1
-#define C630S_LOW_FREQ_RESONANCE_FILTER_SCALE_DEN        1
+#define C630S_LOW_FREQ_RESONANCE_FILTER_SCALE_NUM        1u
+#define C630S_LOW_FREQ_RESONANCE_FILTER_SCALE_DEN        1u
 #define C630S_LOW_FREQ_RESONANCE_FILTER_PAIRED           0
+/* Values of low_freq_resonance_filter: 0..10. */
+static inline bool c630s_low_freq_resonance_filter_is_in_range(uint16_t value)
+{
+    return value <= 10u;
+}
+static inline bool c630s_low_freq_resonance_filter_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_low_freq_resonance_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_low_freq_resonance_filter_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== P0A fault and protection parameters (P0A 组故障与保护参数). Manual 7.10. ==== */
 
@@ -3376,9 +8252,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PHASE_LOSS_PROTECTION_MAX                  2u
 #define C630S_PHASE_LOSS_PROTECTION_DEFAULT              0u
 #define C630S_PHASE_LOSS_PROTECTION_SCALE                1.0f
-#define C630S_PHASE_LOSS_PROTECTION_SCALE_NUM            1
-#define C630S_PHASE_LOSS_PROTECTION_SCALE_DEN            1
+#define C630S_PHASE_LOSS_PROTECTION_SCALE_NUM            1u
+#define C630S_PHASE_LOSS_PROTECTION_SCALE_DEN            1u
 #define C630S_PHASE_LOSS_PROTECTION_PAIRED               0
+/* Values of phase_loss_protection: the members of phase_loss_protection a write may send. */
+static inline bool c630s_phase_loss_protection_is_in_range(c630s_phase_loss_protection value)
+{
+    return c630s_phase_loss_protection_is_writable(value);
+}
+static inline bool c630s_phase_loss_protection_encode(c630s_phase_loss_protection value, uint16_t words[1])
+{
+    if (!c630s_phase_loss_protection_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_phase_loss_protection_decode(const uint16_t words[1], c630s_phase_loss_protection *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_phase_loss_protection_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_phase_loss_protection)raw;
+    return true;
+}
 
 /* P0A-03 power_loss_save: Power-loss save enable (掉电保存功能使能选择). u16 rw, raw 0..1, default 0, values: enum power_loss_save, takes effect immediately. Manual 7.10. */
 #define C630S_POWER_LOSS_SAVE_ADDR                       0x0A03u
@@ -3389,9 +8287,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POWER_LOSS_SAVE_MAX                        1u
 #define C630S_POWER_LOSS_SAVE_DEFAULT                    0u
 #define C630S_POWER_LOSS_SAVE_SCALE                      1.0f
-#define C630S_POWER_LOSS_SAVE_SCALE_NUM                  1
-#define C630S_POWER_LOSS_SAVE_SCALE_DEN                  1
+#define C630S_POWER_LOSS_SAVE_SCALE_NUM                  1u
+#define C630S_POWER_LOSS_SAVE_SCALE_DEN                  1u
 #define C630S_POWER_LOSS_SAVE_PAIRED                     0
+/* Values of power_loss_save: the members of power_loss_save a write may send. */
+static inline bool c630s_power_loss_save_is_in_range(c630s_power_loss_save value)
+{
+    return c630s_power_loss_save_is_writable(value);
+}
+static inline bool c630s_power_loss_save_encode(c630s_power_loss_save value, uint16_t words[1])
+{
+    if (!c630s_power_loss_save_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_power_loss_save_decode(const uint16_t words[1], c630s_power_loss_save *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_power_loss_save_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_power_loss_save)raw;
+    return true;
+}
 
 /* P0A-04 motor_overload_gain: Motor overload protection gain (电机过载保护增益). u16 rw, unit %, raw 50..300, default 100, takes effect immediately. Manual 7.10. */
 #define C630S_MOTOR_OVERLOAD_GAIN_ADDR                   0x0A04u
@@ -3402,9 +8322,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MOTOR_OVERLOAD_GAIN_MAX                    300u
 #define C630S_MOTOR_OVERLOAD_GAIN_DEFAULT                100u
 #define C630S_MOTOR_OVERLOAD_GAIN_SCALE                  1.0f
-#define C630S_MOTOR_OVERLOAD_GAIN_SCALE_NUM              1
-#define C630S_MOTOR_OVERLOAD_GAIN_SCALE_DEN              1
+#define C630S_MOTOR_OVERLOAD_GAIN_SCALE_NUM              1u
+#define C630S_MOTOR_OVERLOAD_GAIN_SCALE_DEN              1u
 #define C630S_MOTOR_OVERLOAD_GAIN_PAIRED                 0
+/* Values of motor_overload_gain: 50..300 %. */
+static inline bool c630s_motor_overload_gain_is_in_range(uint16_t value)
+{
+    return value >= 50u && value <= 300u;
+}
+static inline bool c630s_motor_overload_gain_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_motor_overload_gain_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_motor_overload_gain_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-08 overspeed_threshold: Overspeed fault threshold (过速故障阀值). u16 rw, unit rpm, raw 0..10000, default 0, takes effect immediately. Manual 7.10. */
 #define C630S_OVERSPEED_THRESHOLD_ADDR                   0x0A08u
@@ -3415,9 +8353,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_OVERSPEED_THRESHOLD_MAX                    10000u
 #define C630S_OVERSPEED_THRESHOLD_DEFAULT                0u
 #define C630S_OVERSPEED_THRESHOLD_SCALE                  1.0f
-#define C630S_OVERSPEED_THRESHOLD_SCALE_NUM              1
-#define C630S_OVERSPEED_THRESHOLD_SCALE_DEN              1
+#define C630S_OVERSPEED_THRESHOLD_SCALE_NUM              1u
+#define C630S_OVERSPEED_THRESHOLD_SCALE_DEN              1u
 #define C630S_OVERSPEED_THRESHOLD_PAIRED                 0
+/* Values of overspeed_threshold: 0..10000 rpm. */
+static inline bool c630s_overspeed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 10000u;
+}
+static inline bool c630s_overspeed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_overspeed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_overspeed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-09 max_pulse_frequency: Maximum position pulse frequency (最大位置脉冲频率). u16 rw, unit kHz, raw 100..4000, default 4000, takes effect immediately. Manual 7.10. */
 #define C630S_MAX_PULSE_FREQUENCY_ADDR                   0x0A09u
@@ -3428,9 +8384,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MAX_PULSE_FREQUENCY_MAX                    4000u
 #define C630S_MAX_PULSE_FREQUENCY_DEFAULT                4000u
 #define C630S_MAX_PULSE_FREQUENCY_SCALE                  1.0f
-#define C630S_MAX_PULSE_FREQUENCY_SCALE_NUM              1
-#define C630S_MAX_PULSE_FREQUENCY_SCALE_DEN              1
+#define C630S_MAX_PULSE_FREQUENCY_SCALE_NUM              1u
+#define C630S_MAX_PULSE_FREQUENCY_SCALE_DEN              1u
 #define C630S_MAX_PULSE_FREQUENCY_PAIRED                 0
+/* Values of max_pulse_frequency: 100..4000 kHz. */
+static inline bool c630s_max_pulse_frequency_is_in_range(uint16_t value)
+{
+    return value >= 100u && value <= 4000u;
+}
+static inline bool c630s_max_pulse_frequency_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_max_pulse_frequency_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_max_pulse_frequency_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-10 position_deviation_fault_threshold: Excessive position deviation fault threshold (位置偏差过大故障阈值). u32 rw, unit encoder/command unit, raw 1..1073741824, default 3145728, takes effect immediately. Manual 7.10. */
 #define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_ADDR    0x0A0Au
@@ -3442,9 +8416,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_MAX     1073741824ul
 #define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_DEFAULT 3145728ul
 #define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_SCALE   1.0f
-#define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_SCALE_NUM 1
-#define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_SCALE_DEN 1
+#define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_SCALE_NUM 1u
+#define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_SCALE_DEN 1u
 #define C630S_POSITION_DEVIATION_FAULT_THRESHOLD_PAIRED  0
+/* Values of position_deviation_fault_threshold: 1..1073741824 encoder/command unit; word_order as the device is set. */
+static inline bool c630s_position_deviation_fault_threshold_is_in_range(uint32_t value)
+{
+    return value >= 1u && value <= 1073741824ul;
+}
+static inline bool c630s_position_deviation_fault_threshold_encode(uint32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_position_deviation_fault_threshold_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_position_deviation_fault_threshold_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-12 runaway_protection: Runaway protection enable (飞车保护功能使能). u16 rw, raw 0..1, default 1, values: enum runaway_protection, takes effect immediately. Manual 7.10. */
 #define C630S_RUNAWAY_PROTECTION_ADDR                    0x0A0Cu
@@ -3455,9 +8447,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_RUNAWAY_PROTECTION_MAX                     1u
 #define C630S_RUNAWAY_PROTECTION_DEFAULT                 1u
 #define C630S_RUNAWAY_PROTECTION_SCALE                   1.0f
-#define C630S_RUNAWAY_PROTECTION_SCALE_NUM               1
-#define C630S_RUNAWAY_PROTECTION_SCALE_DEN               1
+#define C630S_RUNAWAY_PROTECTION_SCALE_NUM               1u
+#define C630S_RUNAWAY_PROTECTION_SCALE_DEN               1u
 #define C630S_RUNAWAY_PROTECTION_PAIRED                  0
+/* Values of runaway_protection: the members of runaway_protection a write may send. */
+static inline bool c630s_runaway_protection_is_in_range(c630s_runaway_protection value)
+{
+    return c630s_runaway_protection_is_writable(value);
+}
+static inline bool c630s_runaway_protection_encode(c630s_runaway_protection value, uint16_t words[1])
+{
+    if (!c630s_runaway_protection_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_runaway_protection_decode(const uint16_t words[1], c630s_runaway_protection *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_runaway_protection_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_runaway_protection)raw;
+    return true;
+}
 
 /* P0A-16 low_freq_resonance_deviation_threshold: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值). u16 rw, unit encoder unit, raw 1..1000, default 5, takes effect immediately. Manual 7.10. */
 #define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_ADDR 0x0A10u
@@ -3468,9 +8482,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_MAX 1000u
 #define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_DEFAULT 5u
 #define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_SCALE 1.0f
-#define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_SCALE_NUM 1
-#define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_SCALE_DEN 1
+#define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_SCALE_NUM 1u
+#define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_SCALE_DEN 1u
 #define C630S_LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD_PAIRED 0
+/* Values of low_freq_resonance_deviation_threshold: 1..1000 encoder unit. */
+static inline bool c630s_low_freq_resonance_deviation_threshold_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 1000u;
+}
+static inline bool c630s_low_freq_resonance_deviation_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_low_freq_resonance_deviation_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_low_freq_resonance_deviation_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-17 position_unit_select: Position setting unit (位置设定单位选择). u16 rw, raw 0..1, default 0, values: enum position_unit_select, takes effect immediately. Manual 7.10. */
 #define C630S_POSITION_UNIT_SELECT_ADDR                  0x0A11u
@@ -3481,9 +8513,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_UNIT_SELECT_MAX                   1u
 #define C630S_POSITION_UNIT_SELECT_DEFAULT               0u
 #define C630S_POSITION_UNIT_SELECT_SCALE                 1.0f
-#define C630S_POSITION_UNIT_SELECT_SCALE_NUM             1
-#define C630S_POSITION_UNIT_SELECT_SCALE_DEN             1
+#define C630S_POSITION_UNIT_SELECT_SCALE_NUM             1u
+#define C630S_POSITION_UNIT_SELECT_SCALE_DEN             1u
 #define C630S_POSITION_UNIT_SELECT_PAIRED                0
+/* Values of position_unit_select: the members of position_unit_select a write may send. */
+static inline bool c630s_position_unit_select_is_in_range(c630s_position_unit_select value)
+{
+    return c630s_position_unit_select_is_writable(value);
+}
+static inline bool c630s_position_unit_select_encode(c630s_position_unit_select value, uint16_t words[1])
+{
+    if (!c630s_position_unit_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_unit_select_decode(const uint16_t words[1], c630s_position_unit_select *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_position_unit_select_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_position_unit_select)raw;
+    return true;
+}
 
 /* P0A-24 pulse_input_filter_time: Pulse input filter time constant (脉冲输入滤波时间常数). u16 rw, unit ns, scale 25, raw 0..255 (0..6375 ns), printed range 0~255, 设置越大抗干扰能力越强, 设置为40时对应200KHz脉冲频率输入, default 0 (0), takes effect after restart. Manual 7.10, 6.1.2. */
 #define C630S_PULSE_INPUT_FILTER_TIME_ADDR               0x0A18u
@@ -3494,9 +8548,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PULSE_INPUT_FILTER_TIME_MAX                255u
 #define C630S_PULSE_INPUT_FILTER_TIME_DEFAULT            0u
 #define C630S_PULSE_INPUT_FILTER_TIME_SCALE              25.0f
-#define C630S_PULSE_INPUT_FILTER_TIME_SCALE_NUM          25
-#define C630S_PULSE_INPUT_FILTER_TIME_SCALE_DEN          1
+#define C630S_PULSE_INPUT_FILTER_TIME_SCALE_NUM          25u
+#define C630S_PULSE_INPUT_FILTER_TIME_SCALE_DEN          1u
 #define C630S_PULSE_INPUT_FILTER_TIME_PAIRED             0
+/* Values of pulse_input_filter_time: 0..6375 ns in steps of 25. */
+static inline bool c630s_pulse_input_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 25.0, 1.0, 0.0, 255.0, &raw);
+}
+static inline bool c630s_pulse_input_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 25.0, 1.0, 0.0, 255.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_pulse_input_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 25.0 / 1.0;
+    return true;
+}
 
 /* P0A-25 speed_display_filter_time: Speed feedback display filter time constant (速度反馈显示值滤波时间常数). u16 rw, unit ms, raw 0..5000, default 50, takes effect immediately. Manual 7.10. */
 #define C630S_SPEED_DISPLAY_FILTER_TIME_ADDR             0x0A19u
@@ -3507,9 +8581,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_DISPLAY_FILTER_TIME_MAX              5000u
 #define C630S_SPEED_DISPLAY_FILTER_TIME_DEFAULT          50u
 #define C630S_SPEED_DISPLAY_FILTER_TIME_SCALE            1.0f
-#define C630S_SPEED_DISPLAY_FILTER_TIME_SCALE_NUM        1
-#define C630S_SPEED_DISPLAY_FILTER_TIME_SCALE_DEN        1
+#define C630S_SPEED_DISPLAY_FILTER_TIME_SCALE_NUM        1u
+#define C630S_SPEED_DISPLAY_FILTER_TIME_SCALE_DEN        1u
 #define C630S_SPEED_DISPLAY_FILTER_TIME_PAIRED           0
+/* Values of speed_display_filter_time: 0..5000 ms. */
+static inline bool c630s_speed_display_filter_time_is_in_range(uint16_t value)
+{
+    return value <= 5000u;
+}
+static inline bool c630s_speed_display_filter_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_display_filter_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_display_filter_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-26 motor_overload_mask: Motor overload masking (电机过载屏蔽使能). u16 rw, raw 0..1, default 0, values: enum motor_overload_mask, takes effect immediately. Manual 7.10. */
 #define C630S_MOTOR_OVERLOAD_MASK_ADDR                   0x0A1Au
@@ -3520,9 +8612,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MOTOR_OVERLOAD_MASK_MAX                    1u
 #define C630S_MOTOR_OVERLOAD_MASK_DEFAULT                0u
 #define C630S_MOTOR_OVERLOAD_MASK_SCALE                  1.0f
-#define C630S_MOTOR_OVERLOAD_MASK_SCALE_NUM              1
-#define C630S_MOTOR_OVERLOAD_MASK_SCALE_DEN              1
+#define C630S_MOTOR_OVERLOAD_MASK_SCALE_NUM              1u
+#define C630S_MOTOR_OVERLOAD_MASK_SCALE_DEN              1u
 #define C630S_MOTOR_OVERLOAD_MASK_PAIRED                 0
+/* Values of motor_overload_mask: the members of motor_overload_mask a write may send. */
+static inline bool c630s_motor_overload_mask_is_in_range(c630s_motor_overload_mask value)
+{
+    return c630s_motor_overload_mask_is_writable(value);
+}
+static inline bool c630s_motor_overload_mask_encode(c630s_motor_overload_mask value, uint16_t words[1])
+{
+    if (!c630s_motor_overload_mask_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_motor_overload_mask_decode(const uint16_t words[1], c630s_motor_overload_mask *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_motor_overload_mask_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_motor_overload_mask)raw;
+    return true;
+}
 
 /* P0A-27 speed_do_filter_time: Speed DO filter time constant (速度 DO 滤波时间常数). u16 rw, unit ms, raw 0..5000, default 10, takes effect immediately. Manual 7.10. */
 #define C630S_SPEED_DO_FILTER_TIME_ADDR                  0x0A1Bu
@@ -3533,9 +8647,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_DO_FILTER_TIME_MAX                   5000u
 #define C630S_SPEED_DO_FILTER_TIME_DEFAULT               10u
 #define C630S_SPEED_DO_FILTER_TIME_SCALE                 1.0f
-#define C630S_SPEED_DO_FILTER_TIME_SCALE_NUM             1
-#define C630S_SPEED_DO_FILTER_TIME_SCALE_DEN             1
+#define C630S_SPEED_DO_FILTER_TIME_SCALE_NUM             1u
+#define C630S_SPEED_DO_FILTER_TIME_SCALE_DEN             1u
 #define C630S_SPEED_DO_FILTER_TIME_PAIRED                0
+/* Values of speed_do_filter_time: 0..5000 ms. */
+static inline bool c630s_speed_do_filter_time_is_in_range(uint16_t value)
+{
+    return value <= 5000u;
+}
+static inline bool c630s_speed_do_filter_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_do_filter_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_do_filter_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-28 quadrature_encoder_filter_time: Quadrature encoder filter time constant (正交编码器滤波时间常数). u16 rw, unit ns, scale 25, raw 0..255 (0..6375 ns), default 30 (750), takes effect after restart. Manual 7.10. */
 #define C630S_QUADRATURE_ENCODER_FILTER_TIME_ADDR        0x0A1Cu
@@ -3546,9 +8678,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_QUADRATURE_ENCODER_FILTER_TIME_MAX         255u
 #define C630S_QUADRATURE_ENCODER_FILTER_TIME_DEFAULT     30u
 #define C630S_QUADRATURE_ENCODER_FILTER_TIME_SCALE       25.0f
-#define C630S_QUADRATURE_ENCODER_FILTER_TIME_SCALE_NUM   25
-#define C630S_QUADRATURE_ENCODER_FILTER_TIME_SCALE_DEN   1
+#define C630S_QUADRATURE_ENCODER_FILTER_TIME_SCALE_NUM   25u
+#define C630S_QUADRATURE_ENCODER_FILTER_TIME_SCALE_DEN   1u
 #define C630S_QUADRATURE_ENCODER_FILTER_TIME_PAIRED      0
+/* Values of quadrature_encoder_filter_time: 0..6375 ns in steps of 25. */
+static inline bool c630s_quadrature_encoder_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 25.0, 1.0, 0.0, 255.0, &raw);
+}
+static inline bool c630s_quadrature_encoder_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 25.0, 1.0, 0.0, 255.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_quadrature_encoder_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 25.0 / 1.0;
+    return true;
+}
 
 /* P0A-30 high_speed_pulse_filter_time: High-speed pulse input pin filter time constant (高速脉冲输入管脚滤波时间常数). u16 rw, unit ns, scale 25, raw 0..255 (0..6375 ns), default 3 (75), takes effect after restart. Manual 7.10. */
 #define C630S_HIGH_SPEED_PULSE_FILTER_TIME_ADDR          0x0A1Eu
@@ -3559,9 +8711,29 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_HIGH_SPEED_PULSE_FILTER_TIME_MAX           255u
 #define C630S_HIGH_SPEED_PULSE_FILTER_TIME_DEFAULT       3u
 #define C630S_HIGH_SPEED_PULSE_FILTER_TIME_SCALE         25.0f
-#define C630S_HIGH_SPEED_PULSE_FILTER_TIME_SCALE_NUM     25
-#define C630S_HIGH_SPEED_PULSE_FILTER_TIME_SCALE_DEN     1
+#define C630S_HIGH_SPEED_PULSE_FILTER_TIME_SCALE_NUM     25u
+#define C630S_HIGH_SPEED_PULSE_FILTER_TIME_SCALE_DEN     1u
 #define C630S_HIGH_SPEED_PULSE_FILTER_TIME_PAIRED        0
+/* Values of high_speed_pulse_filter_time: 0..6375 ns in steps of 25. */
+static inline bool c630s_high_speed_pulse_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 25.0, 1.0, 0.0, 255.0, &raw);
+}
+static inline bool c630s_high_speed_pulse_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 25.0, 1.0, 0.0, 255.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_high_speed_pulse_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 25.0 / 1.0;
+    return true;
+}
 
 /* P0A-32 stall_protection_window: Stall over-temperature protection time window (堵转过温保护时间窗口). u16 rw, unit ms, raw 10..65535, default 200, takes effect immediately. Manual 7.10, 8.1.1. */
 #define C630S_STALL_PROTECTION_WINDOW_ADDR               0x0A20u
@@ -3572,9 +8744,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_STALL_PROTECTION_WINDOW_MAX                65535u
 #define C630S_STALL_PROTECTION_WINDOW_DEFAULT            200u
 #define C630S_STALL_PROTECTION_WINDOW_SCALE              1.0f
-#define C630S_STALL_PROTECTION_WINDOW_SCALE_NUM          1
-#define C630S_STALL_PROTECTION_WINDOW_SCALE_DEN          1
+#define C630S_STALL_PROTECTION_WINDOW_SCALE_NUM          1u
+#define C630S_STALL_PROTECTION_WINDOW_SCALE_DEN          1u
 #define C630S_STALL_PROTECTION_WINDOW_PAIRED             0
+/* Values of stall_protection_window: 10..65535 ms. */
+static inline bool c630s_stall_protection_window_is_in_range(uint16_t value)
+{
+    return value >= 10u;
+}
+static inline bool c630s_stall_protection_window_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_stall_protection_window_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_stall_protection_window_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0A-33 stall_protection_enable: Stall over-temperature protection enable (堵转过温保护使能). u16 rw, raw 0..1, default 1, values: enum stall_protection, takes effect immediately. Manual 7.10. */
 #define C630S_STALL_PROTECTION_ENABLE_ADDR               0x0A21u
@@ -3585,9 +8775,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_STALL_PROTECTION_ENABLE_MAX                1u
 #define C630S_STALL_PROTECTION_ENABLE_DEFAULT            1u
 #define C630S_STALL_PROTECTION_ENABLE_SCALE              1.0f
-#define C630S_STALL_PROTECTION_ENABLE_SCALE_NUM          1
-#define C630S_STALL_PROTECTION_ENABLE_SCALE_DEN          1
+#define C630S_STALL_PROTECTION_ENABLE_SCALE_NUM          1u
+#define C630S_STALL_PROTECTION_ENABLE_SCALE_DEN          1u
 #define C630S_STALL_PROTECTION_ENABLE_PAIRED             0
+/* Values of stall_protection_enable: the members of stall_protection a write may send. */
+static inline bool c630s_stall_protection_enable_is_in_range(c630s_stall_protection value)
+{
+    return c630s_stall_protection_is_writable(value);
+}
+static inline bool c630s_stall_protection_enable_encode(c630s_stall_protection value, uint16_t words[1])
+{
+    if (!c630s_stall_protection_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_stall_protection_enable_decode(const uint16_t words[1], c630s_stall_protection *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_stall_protection_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_stall_protection)raw;
+    return true;
+}
 
 /* P0A-36 multiturn_overflow_fault: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择). u16 rw, raw 0..1, default 0, values: enum multiturn_overflow_fault, takes effect immediately. Manual 7.10. */
 #define C630S_MULTITURN_OVERFLOW_FAULT_ADDR              0x0A24u
@@ -3598,9 +8810,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MULTITURN_OVERFLOW_FAULT_MAX               1u
 #define C630S_MULTITURN_OVERFLOW_FAULT_DEFAULT           0u
 #define C630S_MULTITURN_OVERFLOW_FAULT_SCALE             1.0f
-#define C630S_MULTITURN_OVERFLOW_FAULT_SCALE_NUM         1
-#define C630S_MULTITURN_OVERFLOW_FAULT_SCALE_DEN         1
+#define C630S_MULTITURN_OVERFLOW_FAULT_SCALE_NUM         1u
+#define C630S_MULTITURN_OVERFLOW_FAULT_SCALE_DEN         1u
 #define C630S_MULTITURN_OVERFLOW_FAULT_PAIRED            0
+/* Values of multiturn_overflow_fault: the members of multiturn_overflow_fault a write may send. */
+static inline bool c630s_multiturn_overflow_fault_is_in_range(c630s_multiturn_overflow_fault value)
+{
+    return c630s_multiturn_overflow_fault_is_writable(value);
+}
+static inline bool c630s_multiturn_overflow_fault_encode(c630s_multiturn_overflow_fault value, uint16_t words[1])
+{
+    if (!c630s_multiturn_overflow_fault_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multiturn_overflow_fault_decode(const uint16_t words[1], c630s_multiturn_overflow_fault *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_multiturn_overflow_fault_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_multiturn_overflow_fault)raw;
+    return true;
+}
 
 /* ==== P0B monitoring parameters (P0B 组监控参数). Manual 7.11. ==== */
 
@@ -3614,6 +8848,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ACTUAL_SPEED_SCALE_NUM                     1
 #define C630S_ACTUAL_SPEED_SCALE_DEN                     1
 #define C630S_ACTUAL_SPEED_PAIRED                        0
+/* Value of actual_speed. */
+static inline bool c630s_actual_speed_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-01 speed_command: Speed command (速度指令). s16 r, unit rpm. Manual 7.11, 5.1.6. */
 /* Current speed command of the drive. */
@@ -3625,6 +8865,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SPEED_COMMAND_SCALE_NUM                    1
 #define C630S_SPEED_COMMAND_SCALE_DEN                    1
 #define C630S_SPEED_COMMAND_PAIRED                       0
+/* Value of speed_command. */
+static inline bool c630s_speed_command_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-02 internal_torque_command: Internal torque command (relative to rated torque) (内部转矩指令 (相对于额定转矩)). s16 r, unit %, scale 0.1, errata E15, E21. Manual 7.11, 5.1.6. */
 /* Actual output torque as a percentage of rated torque. */
@@ -3636,6 +8882,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INTERNAL_TORQUE_COMMAND_SCALE_NUM          1
 #define C630S_INTERNAL_TORQUE_COMMAND_SCALE_DEN          10
 #define C630S_INTERNAL_TORQUE_COMMAND_PAIRED             0
+/* Value of internal_torque_command. */
+static inline bool c630s_internal_torque_command_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P0B-03 di_status: Input signal (DI) monitor (输入信号(DI信号)监视). u16 r. Manual 7.11, 5.1.6. */
 /* Levels of the 4 DI terminals (panel: upper segment lit = high, lower = low). Bit assignment not printed. */
@@ -3644,9 +8896,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DI_STATUS_ACCESS                           REGMAP_ACCESS_R
 #define C630S_DI_STATUS_SIGNED                           0
 #define C630S_DI_STATUS_SCALE                            1.0f
-#define C630S_DI_STATUS_SCALE_NUM                        1
-#define C630S_DI_STATUS_SCALE_DEN                        1
+#define C630S_DI_STATUS_SCALE_NUM                        1u
+#define C630S_DI_STATUS_SCALE_DEN                        1u
 #define C630S_DI_STATUS_PAIRED                           0
+/* Value of di_status. */
+static inline bool c630s_di_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-05 do_status: Output signal (DO) monitor (输出信号(DO信号)监视). u16 r. Manual 7.11, 5.1.6. */
 /* Levels of the 4 DO terminals. Bit assignment not printed. */
@@ -3655,9 +8913,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_DO_STATUS_ACCESS                           REGMAP_ACCESS_R
 #define C630S_DO_STATUS_SIGNED                           0
 #define C630S_DO_STATUS_SCALE                            1.0f
-#define C630S_DO_STATUS_SCALE_NUM                        1
-#define C630S_DO_STATUS_SCALE_DEN                        1
+#define C630S_DO_STATUS_SCALE_NUM                        1u
+#define C630S_DO_STATUS_SCALE_DEN                        1u
 #define C630S_DO_STATUS_PAIRED                           0
+/* Value of do_status. */
+static inline bool c630s_do_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-07 absolute_position_counter: Absolute position counter (绝对位置计数器 (32 位十进制显示)). s32 r, unit command unit. Manual 7.11, 5.1.6. */
 /* Current absolute motor position in command units. */
@@ -3670,6 +8934,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ABSOLUTE_POSITION_COUNTER_SCALE_NUM        1
 #define C630S_ABSOLUTE_POSITION_COUNTER_SCALE_DEN        1
 #define C630S_ABSOLUTE_POSITION_COUNTER_PAIRED           0
+/* Value of absolute_position_counter; word_order as the device is set. */
+static inline bool c630s_absolute_position_counter_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-09 mechanical_angle: Mechanical angle (pulses from origin) (机械角度 (始于原点的脉冲数)). u16 r, unit encoder unit. Manual 7.11. */
 #define C630S_MECHANICAL_ANGLE_ADDR                      0x0B09u
@@ -3677,9 +8947,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MECHANICAL_ANGLE_ACCESS                    REGMAP_ACCESS_R
 #define C630S_MECHANICAL_ANGLE_SIGNED                    0
 #define C630S_MECHANICAL_ANGLE_SCALE                     1.0f
-#define C630S_MECHANICAL_ANGLE_SCALE_NUM                 1
-#define C630S_MECHANICAL_ANGLE_SCALE_DEN                 1
+#define C630S_MECHANICAL_ANGLE_SCALE_NUM                 1u
+#define C630S_MECHANICAL_ANGLE_SCALE_DEN                 1u
 #define C630S_MECHANICAL_ANGLE_PAIRED                    0
+/* Value of mechanical_angle. */
+static inline bool c630s_mechanical_angle_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-10 electrical_angle: Electrical angle (电气角度). u16 r, unit °. Manual 7.11. */
 #define C630S_ELECTRICAL_ANGLE_ADDR                      0x0B0Au
@@ -3687,9 +8963,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ELECTRICAL_ANGLE_ACCESS                    REGMAP_ACCESS_R
 #define C630S_ELECTRICAL_ANGLE_SIGNED                    0
 #define C630S_ELECTRICAL_ANGLE_SCALE                     1.0f
-#define C630S_ELECTRICAL_ANGLE_SCALE_NUM                 1
-#define C630S_ELECTRICAL_ANGLE_SCALE_DEN                 1
+#define C630S_ELECTRICAL_ANGLE_SCALE_NUM                 1u
+#define C630S_ELECTRICAL_ANGLE_SCALE_DEN                 1u
 #define C630S_ELECTRICAL_ANGLE_PAIRED                    0
+/* Value of electrical_angle. */
+static inline bool c630s_electrical_angle_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-11 position_command_speed: Speed corresponding to the input position command (输入位置指令对应速度信息). s16 r, unit rpm. Manual 7.11. */
 #define C630S_POSITION_COMMAND_SPEED_ADDR                0x0B0Bu
@@ -3700,6 +8982,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_COMMAND_SPEED_SCALE_NUM           1
 #define C630S_POSITION_COMMAND_SPEED_SCALE_DEN           1
 #define C630S_POSITION_COMMAND_SPEED_PAIRED              0
+/* Value of position_command_speed. */
+static inline bool c630s_position_command_speed_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-12 average_load_rate: Average load rate (平均负载率). u16 r, unit %, errata E21. Manual 7.11. */
 #define C630S_AVERAGE_LOAD_RATE_ADDR                     0x0B0Cu
@@ -3707,9 +8995,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AVERAGE_LOAD_RATE_ACCESS                   REGMAP_ACCESS_R
 #define C630S_AVERAGE_LOAD_RATE_SIGNED                   0
 #define C630S_AVERAGE_LOAD_RATE_SCALE                    1.0f
-#define C630S_AVERAGE_LOAD_RATE_SCALE_NUM                1
-#define C630S_AVERAGE_LOAD_RATE_SCALE_DEN                1
+#define C630S_AVERAGE_LOAD_RATE_SCALE_NUM                1u
+#define C630S_AVERAGE_LOAD_RATE_SCALE_DEN                1u
 #define C630S_AVERAGE_LOAD_RATE_PAIRED                   0
+/* Value of average_load_rate. */
+static inline bool c630s_average_load_rate_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-13 input_pulse_counter: Input command pulse counter (输入指令脉冲计数器 (32 位十进制显示)). s32 r, unit command unit. Manual 7.11, 5.1.6. */
 /* Number of input position command pulses. */
@@ -3722,6 +9016,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_INPUT_PULSE_COUNTER_SCALE_NUM              1
 #define C630S_INPUT_PULSE_COUNTER_SCALE_DEN              1
 #define C630S_INPUT_PULSE_COUNTER_PAIRED                 0
+/* Value of input_pulse_counter; word_order as the device is set. */
+static inline bool c630s_input_pulse_counter_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-15 encoder_position_deviation: Encoder position deviation counter (编码器位置偏差计数器(32 位十进制显示)). s32 r, unit encoder unit. Manual 7.11, 5.1.6. */
 /* Encoder position deviation = total input position command - total encoder feedback pulses. */
@@ -3734,6 +9034,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ENCODER_POSITION_DEVIATION_SCALE_NUM       1
 #define C630S_ENCODER_POSITION_DEVIATION_SCALE_DEN       1
 #define C630S_ENCODER_POSITION_DEVIATION_PAIRED          0
+/* Value of encoder_position_deviation; word_order as the device is set. */
+static inline bool c630s_encoder_position_deviation_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-17 feedback_pulse_counter: Feedback pulse counter (反馈脉冲计数器(32 位十进制显示)). s32 r, unit encoder unit. Manual 7.11, 5.1.6. */
 /* Counts the encoder feedback pulses of the motor (encoder units). */
@@ -3746,6 +9052,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_FEEDBACK_PULSE_COUNTER_SCALE_NUM           1
 #define C630S_FEEDBACK_PULSE_COUNTER_SCALE_DEN           1
 #define C630S_FEEDBACK_PULSE_COUNTER_PAIRED              0
+/* Value of feedback_pulse_counter; word_order as the device is set. */
+static inline bool c630s_feedback_pulse_counter_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-19 total_power_on_time: Total power-on time (总上电时间 (32 位十进制显示)). u32 r, unit s. Manual 7.11. */
 #define C630S_TOTAL_POWER_ON_TIME_ADDR                   0x0B13u
@@ -3754,9 +9066,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_TOTAL_POWER_ON_TIME_SIGNED                 0
 #define C630S_TOTAL_POWER_ON_TIME_WORD_ORDER             REGMAP_LOW_FIRST
 #define C630S_TOTAL_POWER_ON_TIME_SCALE                  1.0f
-#define C630S_TOTAL_POWER_ON_TIME_SCALE_NUM              1
-#define C630S_TOTAL_POWER_ON_TIME_SCALE_DEN              1
+#define C630S_TOTAL_POWER_ON_TIME_SCALE_NUM              1u
+#define C630S_TOTAL_POWER_ON_TIME_SCALE_DEN              1u
 #define C630S_TOTAL_POWER_ON_TIME_PAIRED                 0
+/* Value of total_power_on_time; word_order as the device is set. */
+static inline bool c630s_total_power_on_time_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-21 ai1_voltage: AI1 sampled voltage (AI1 采样电压值). s16 r, unit V, scale 0.01, errata E15, E18. Manual 7.11, 5.1.6. */
 /* Voltage at analog channel 1. */
@@ -3768,6 +9086,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI1_VOLTAGE_SCALE_NUM                      1
 #define C630S_AI1_VOLTAGE_SCALE_DEN                      100
 #define C630S_AI1_VOLTAGE_PAIRED                         0
+/* Value of ai1_voltage. */
+static inline bool c630s_ai1_voltage_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P0B-22 ai2_voltage: AI2 sampled voltage (AI2 采样电压值). s16 r, unit V, scale 0.01, errata E15, E18. Manual 7.11, 5.1.6. */
 /* Voltage at analog channel 2. */
@@ -3779,6 +9103,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_AI2_VOLTAGE_SCALE_NUM                      1
 #define C630S_AI2_VOLTAGE_SCALE_DEN                      100
 #define C630S_AI2_VOLTAGE_PAIRED                         0
+/* Value of ai2_voltage. */
+static inline bool c630s_ai2_voltage_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P0B-24 phase_current_rms: Phase current RMS (相电流有效值). u16 r, unit A, scale 0.01, errata E15. Manual 7.11, 5.1.6. */
 /* RMS phase current of the motor. */
@@ -3787,9 +9117,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_PHASE_CURRENT_RMS_ACCESS                   REGMAP_ACCESS_R
 #define C630S_PHASE_CURRENT_RMS_SIGNED                   0
 #define C630S_PHASE_CURRENT_RMS_SCALE                    0.01f
-#define C630S_PHASE_CURRENT_RMS_SCALE_NUM                1
-#define C630S_PHASE_CURRENT_RMS_SCALE_DEN                100
+#define C630S_PHASE_CURRENT_RMS_SCALE_NUM                1u
+#define C630S_PHASE_CURRENT_RMS_SCALE_DEN                100u
 #define C630S_PHASE_CURRENT_RMS_PAIRED                   0
+/* Value of phase_current_rms. */
+static inline bool c630s_phase_current_rms_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P0B-26 bus_voltage: DC bus voltage (母线电压值). u16 r, unit V, scale 0.1, errata E15. Manual 7.11, 5.1.6. */
 /* Main circuit DC bus voltage. */
@@ -3798,9 +9134,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_BUS_VOLTAGE_ACCESS                         REGMAP_ACCESS_R
 #define C630S_BUS_VOLTAGE_SIGNED                         0
 #define C630S_BUS_VOLTAGE_SCALE                          0.1f
-#define C630S_BUS_VOLTAGE_SCALE_NUM                      1
-#define C630S_BUS_VOLTAGE_SCALE_DEN                      10
+#define C630S_BUS_VOLTAGE_SCALE_NUM                      1u
+#define C630S_BUS_VOLTAGE_SCALE_DEN                      10u
 #define C630S_BUS_VOLTAGE_PAIRED                         0
+/* Value of bus_voltage. */
+static inline bool c630s_bus_voltage_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P0B-27 module_temperature: Module temperature (模块温度值). u16 r, unit °C. Manual 7.11. */
 #define C630S_MODULE_TEMPERATURE_ADDR                    0x0B1Bu
@@ -3808,9 +9150,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MODULE_TEMPERATURE_ACCESS                  REGMAP_ACCESS_R
 #define C630S_MODULE_TEMPERATURE_SIGNED                  0
 #define C630S_MODULE_TEMPERATURE_SCALE                   1.0f
-#define C630S_MODULE_TEMPERATURE_SCALE_NUM               1
-#define C630S_MODULE_TEMPERATURE_SCALE_DEN               1
+#define C630S_MODULE_TEMPERATURE_SCALE_NUM               1u
+#define C630S_MODULE_TEMPERATURE_SCALE_DEN               1u
 #define C630S_MODULE_TEMPERATURE_PAIRED                  0
+/* Value of module_temperature. */
+static inline bool c630s_module_temperature_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-33 fault_record_select: Fault record select (故障记录). u16 rw, raw 0..9, printed range 0- 当前故障 1- 上 1 次故障 2- 上 2 次故障 9- 上 9 次故障, default 0, takes effect immediately. Manual 7.11, 5.1.6. */
 /* Selects which fault record P0B-34...P0B-42 show: 0 = current fault, 1 = previous fault, ... 9 = 9th previous fault. */
@@ -3822,9 +9170,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_FAULT_RECORD_SELECT_MAX                    9u
 #define C630S_FAULT_RECORD_SELECT_DEFAULT                0u
 #define C630S_FAULT_RECORD_SELECT_SCALE                  1.0f
-#define C630S_FAULT_RECORD_SELECT_SCALE_NUM              1
-#define C630S_FAULT_RECORD_SELECT_SCALE_DEN              1
+#define C630S_FAULT_RECORD_SELECT_SCALE_NUM              1u
+#define C630S_FAULT_RECORD_SELECT_SCALE_DEN              1u
 #define C630S_FAULT_RECORD_SELECT_PAIRED                 0
+/* Values of fault_record_select: 0..9. */
+static inline bool c630s_fault_record_select_is_in_range(uint16_t value)
+{
+    return value <= 9u;
+}
+static inline bool c630s_fault_record_select_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_fault_record_select_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_fault_record_select_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-34 selected_fault_code: Fault code of the selected record (所选次数故障码). u16 r. Manual 7.11, 5.1.6. */
 /* Fault code selected by P0B-33; shows Er.000 when no fault occurred. */
@@ -3833,9 +9199,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_CODE_ACCESS                 REGMAP_ACCESS_R
 #define C630S_SELECTED_FAULT_CODE_SIGNED                 0
 #define C630S_SELECTED_FAULT_CODE_SCALE                  1.0f
-#define C630S_SELECTED_FAULT_CODE_SCALE_NUM              1
-#define C630S_SELECTED_FAULT_CODE_SCALE_DEN              1
+#define C630S_SELECTED_FAULT_CODE_SCALE_NUM              1u
+#define C630S_SELECTED_FAULT_CODE_SCALE_DEN              1u
 #define C630S_SELECTED_FAULT_CODE_PAIRED                 0
+/* Value of selected_fault_code. */
+static inline bool c630s_selected_fault_code_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-35 selected_fault_timestamp: Time stamp of the selected fault (所选故障时间戳). u32 r, unit s. Manual 7.11, 5.1.6. */
 /* Total servo running time when the fault in P0B-34 occurred; 0 when no fault. */
@@ -3845,9 +9217,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_TIMESTAMP_SIGNED            0
 #define C630S_SELECTED_FAULT_TIMESTAMP_WORD_ORDER        REGMAP_LOW_FIRST
 #define C630S_SELECTED_FAULT_TIMESTAMP_SCALE             1.0f
-#define C630S_SELECTED_FAULT_TIMESTAMP_SCALE_NUM         1
-#define C630S_SELECTED_FAULT_TIMESTAMP_SCALE_DEN         1
+#define C630S_SELECTED_FAULT_TIMESTAMP_SCALE_NUM         1u
+#define C630S_SELECTED_FAULT_TIMESTAMP_SCALE_DEN         1u
 #define C630S_SELECTED_FAULT_TIMESTAMP_PAIRED            0
+/* Value of selected_fault_timestamp; word_order as the device is set. */
+static inline bool c630s_selected_fault_timestamp_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-37 selected_fault_speed: Motor speed at the selected fault (所选故障时电机转速). s16 r, unit rpm. Manual 7.11, 5.1.6. */
 /* 0 when no fault. */
@@ -3859,6 +9237,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_SPEED_SCALE_NUM             1
 #define C630S_SELECTED_FAULT_SPEED_SCALE_DEN             1
 #define C630S_SELECTED_FAULT_SPEED_PAIRED                0
+/* Value of selected_fault_speed. */
+static inline bool c630s_selected_fault_speed_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-38 selected_fault_u_current: Motor U-phase current at the selected fault (所选故障时电机 U 相电流). u16 r, unit A, scale 0.01, errata E15. Manual 7.11, 5.1.6. */
 /* RMS U-phase winding current; 0 when no fault. */
@@ -3867,9 +9251,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_U_CURRENT_ACCESS            REGMAP_ACCESS_R
 #define C630S_SELECTED_FAULT_U_CURRENT_SIGNED            0
 #define C630S_SELECTED_FAULT_U_CURRENT_SCALE             0.01f
-#define C630S_SELECTED_FAULT_U_CURRENT_SCALE_NUM         1
-#define C630S_SELECTED_FAULT_U_CURRENT_SCALE_DEN         100
+#define C630S_SELECTED_FAULT_U_CURRENT_SCALE_NUM         1u
+#define C630S_SELECTED_FAULT_U_CURRENT_SCALE_DEN         100u
 #define C630S_SELECTED_FAULT_U_CURRENT_PAIRED            0
+/* Value of selected_fault_u_current. */
+static inline bool c630s_selected_fault_u_current_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P0B-39 selected_fault_v_current: Motor V-phase current at the selected fault (所选故障时电机 V 相电流). u16 r, unit A, scale 0.01, errata E15. Manual 7.11, 5.1.6. */
 /* RMS V-phase winding current; 0 when no fault. */
@@ -3878,9 +9268,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_V_CURRENT_ACCESS            REGMAP_ACCESS_R
 #define C630S_SELECTED_FAULT_V_CURRENT_SIGNED            0
 #define C630S_SELECTED_FAULT_V_CURRENT_SCALE             0.01f
-#define C630S_SELECTED_FAULT_V_CURRENT_SCALE_NUM         1
-#define C630S_SELECTED_FAULT_V_CURRENT_SCALE_DEN         100
+#define C630S_SELECTED_FAULT_V_CURRENT_SCALE_NUM         1u
+#define C630S_SELECTED_FAULT_V_CURRENT_SCALE_DEN         100u
 #define C630S_SELECTED_FAULT_V_CURRENT_PAIRED            0
+/* Value of selected_fault_v_current. */
+static inline bool c630s_selected_fault_v_current_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* P0B-40 selected_fault_bus_voltage: Bus voltage at the selected fault (所选故障时母线电压). u16 r, unit V. Manual 7.11, 5.1.6. */
 /* Main circuit DC bus voltage; 0 when no fault. */
@@ -3889,9 +9285,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_BUS_VOLTAGE_ACCESS          REGMAP_ACCESS_R
 #define C630S_SELECTED_FAULT_BUS_VOLTAGE_SIGNED          0
 #define C630S_SELECTED_FAULT_BUS_VOLTAGE_SCALE           1.0f
-#define C630S_SELECTED_FAULT_BUS_VOLTAGE_SCALE_NUM       1
-#define C630S_SELECTED_FAULT_BUS_VOLTAGE_SCALE_DEN       1
+#define C630S_SELECTED_FAULT_BUS_VOLTAGE_SCALE_NUM       1u
+#define C630S_SELECTED_FAULT_BUS_VOLTAGE_SCALE_DEN       1u
 #define C630S_SELECTED_FAULT_BUS_VOLTAGE_PAIRED          0
+/* Value of selected_fault_bus_voltage. */
+static inline bool c630s_selected_fault_bus_voltage_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-41 selected_fault_di_status: Input terminal status at the selected fault (所选故障时输入端子状态). u16 r. Manual 7.11, 5.1.6. */
 /* Levels of the 4 DI terminals at the fault, read like P0B-03; 0 when no fault. */
@@ -3900,9 +9302,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_DI_STATUS_ACCESS            REGMAP_ACCESS_R
 #define C630S_SELECTED_FAULT_DI_STATUS_SIGNED            0
 #define C630S_SELECTED_FAULT_DI_STATUS_SCALE             1.0f
-#define C630S_SELECTED_FAULT_DI_STATUS_SCALE_NUM         1
-#define C630S_SELECTED_FAULT_DI_STATUS_SCALE_DEN         1
+#define C630S_SELECTED_FAULT_DI_STATUS_SCALE_NUM         1u
+#define C630S_SELECTED_FAULT_DI_STATUS_SCALE_DEN         1u
 #define C630S_SELECTED_FAULT_DI_STATUS_PAIRED            0
+/* Value of selected_fault_di_status. */
+static inline bool c630s_selected_fault_di_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-42 selected_fault_do_status: Output terminal status at the selected fault (所选故障时输出端子状态). u16 r. Manual 7.11, 5.1.6. */
 /* Levels of the 4 DO terminals at the fault, read like P0B-05; 0 when no fault. */
@@ -3911,9 +9319,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SELECTED_FAULT_DO_STATUS_ACCESS            REGMAP_ACCESS_R
 #define C630S_SELECTED_FAULT_DO_STATUS_SIGNED            0
 #define C630S_SELECTED_FAULT_DO_STATUS_SCALE             1.0f
-#define C630S_SELECTED_FAULT_DO_STATUS_SCALE_NUM         1
-#define C630S_SELECTED_FAULT_DO_STATUS_SCALE_DEN         1
+#define C630S_SELECTED_FAULT_DO_STATUS_SCALE_NUM         1u
+#define C630S_SELECTED_FAULT_DO_STATUS_SCALE_DEN         1u
 #define C630S_SELECTED_FAULT_DO_STATUS_PAIRED            0
+/* Value of selected_fault_do_status. */
+static inline bool c630s_selected_fault_do_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-53 position_deviation_counter: Position deviation counter (位置偏差计数器). s32 r, unit command unit. Manual 7.11. */
 #define C630S_POSITION_DEVIATION_COUNTER_ADDR            0x0B35u
@@ -3925,6 +9339,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_POSITION_DEVIATION_COUNTER_SCALE_NUM       1
 #define C630S_POSITION_DEVIATION_COUNTER_SCALE_DEN       1
 #define C630S_POSITION_DEVIATION_COUNTER_PAIRED          0
+/* Value of position_deviation_counter; word_order as the device is set. */
+static inline bool c630s_position_deviation_counter_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-55 actual_speed_0_1rpm: Actual motor speed (0.1 rpm) (实际电机转速). s32 r, unit rpm, scale 0.1, printed range 0.1rpm, errata E15. Manual 7.11, 5.1.6. */
 /* Actual motor speed, 0.1 rpm resolution. */
@@ -3937,6 +9357,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ACTUAL_SPEED_0_1RPM_SCALE_NUM              1
 #define C630S_ACTUAL_SPEED_0_1RPM_SCALE_DEN              10
 #define C630S_ACTUAL_SPEED_0_1RPM_PAIRED                 0
+/* Value of actual_speed_0_1rpm; word_order as the device is set. */
+static inline bool c630s_actual_speed_0_1rpm_decode(const uint16_t words[2], regmap_word_order word_order, double *out)
+{
+    *out = (double)regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* P0B-58 mechanical_abs_position_low: Mechanical absolute position (low 32 bits) (机械绝对位置 (低 32 位)). u32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_MECHANICAL_ABS_POSITION_LOW_ADDR           0x0B3Au
@@ -3946,9 +9372,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MECHANICAL_ABS_POSITION_LOW_WORD_ORDER     REGMAP_LOW_FIRST
 #define C630S_MECHANICAL_ABS_POSITION_LOW_DEFAULT        0u
 #define C630S_MECHANICAL_ABS_POSITION_LOW_SCALE          1.0f
-#define C630S_MECHANICAL_ABS_POSITION_LOW_SCALE_NUM      1
-#define C630S_MECHANICAL_ABS_POSITION_LOW_SCALE_DEN      1
+#define C630S_MECHANICAL_ABS_POSITION_LOW_SCALE_NUM      1u
+#define C630S_MECHANICAL_ABS_POSITION_LOW_SCALE_DEN      1u
 #define C630S_MECHANICAL_ABS_POSITION_LOW_PAIRED         0
+/* Value of mechanical_abs_position_low; word_order as the device is set. */
+static inline bool c630s_mechanical_abs_position_low_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-60 mechanical_abs_position_high: Mechanical absolute position (high 32 bits) (机械绝对位置 (高 32 位)). s32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_MECHANICAL_ABS_POSITION_HIGH_ADDR          0x0B3Cu
@@ -3961,6 +9393,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MECHANICAL_ABS_POSITION_HIGH_SCALE_NUM     1
 #define C630S_MECHANICAL_ABS_POSITION_HIGH_SCALE_DEN     1
 #define C630S_MECHANICAL_ABS_POSITION_HIGH_PAIRED        0
+/* Value of mechanical_abs_position_high; word_order as the device is set. */
+static inline bool c630s_mechanical_abs_position_high_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-64 realtime_input_position_counter: Real-time input position command counter (实时输入位置指令计数器). s32 r, unit command unit. Manual 7.11. */
 #define C630S_REALTIME_INPUT_POSITION_COUNTER_ADDR       0x0B40u
@@ -3972,6 +9410,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_REALTIME_INPUT_POSITION_COUNTER_SCALE_NUM  1
 #define C630S_REALTIME_INPUT_POSITION_COUNTER_SCALE_DEN  1
 #define C630S_REALTIME_INPUT_POSITION_COUNTER_PAIRED     0
+/* Value of realtime_input_position_counter; word_order as the device is set. */
+static inline bool c630s_realtime_input_position_counter_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-70 abs_encoder_turns: Absolute encoder multi-turn count (绝对值编码器旋转圈数数据). u16 r, unit r, default 0. Manual 7.11. */
 #define C630S_ABS_ENCODER_TURNS_ADDR                     0x0B46u
@@ -3980,9 +9424,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ABS_ENCODER_TURNS_SIGNED                   0
 #define C630S_ABS_ENCODER_TURNS_DEFAULT                  0u
 #define C630S_ABS_ENCODER_TURNS_SCALE                    1.0f
-#define C630S_ABS_ENCODER_TURNS_SCALE_NUM                1
-#define C630S_ABS_ENCODER_TURNS_SCALE_DEN                1
+#define C630S_ABS_ENCODER_TURNS_SCALE_NUM                1u
+#define C630S_ABS_ENCODER_TURNS_SCALE_DEN                1u
 #define C630S_ABS_ENCODER_TURNS_PAIRED                   0
+/* Value of abs_encoder_turns. */
+static inline bool c630s_abs_encoder_turns_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-71 abs_encoder_single_turn_position: Absolute encoder position within one turn (绝对值编码器的 1 圈内位置). u32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_ADDR      0x0B47u
@@ -3992,9 +9442,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_WORD_ORDER REGMAP_LOW_FIRST
 #define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_DEFAULT   0u
 #define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_SCALE     1.0f
-#define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_SCALE_NUM 1
-#define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_SCALE_DEN 1
+#define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_SCALE_NUM 1u
+#define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_SCALE_DEN 1u
 #define C630S_ABS_ENCODER_SINGLE_TURN_POSITION_PAIRED    0
+/* Value of abs_encoder_single_turn_position; word_order as the device is set. */
+static inline bool c630s_abs_encoder_single_turn_position_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-77 abs_encoder_position_low: Absolute encoder absolute position (low 32 bits) (绝对值编码器绝对位置 (低 32 位)). u32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_ABS_ENCODER_POSITION_LOW_ADDR              0x0B4Du
@@ -4004,9 +9460,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ABS_ENCODER_POSITION_LOW_WORD_ORDER        REGMAP_LOW_FIRST
 #define C630S_ABS_ENCODER_POSITION_LOW_DEFAULT           0u
 #define C630S_ABS_ENCODER_POSITION_LOW_SCALE             1.0f
-#define C630S_ABS_ENCODER_POSITION_LOW_SCALE_NUM         1
-#define C630S_ABS_ENCODER_POSITION_LOW_SCALE_DEN         1
+#define C630S_ABS_ENCODER_POSITION_LOW_SCALE_NUM         1u
+#define C630S_ABS_ENCODER_POSITION_LOW_SCALE_DEN         1u
 #define C630S_ABS_ENCODER_POSITION_LOW_PAIRED            0
+/* Value of abs_encoder_position_low; word_order as the device is set. */
+static inline bool c630s_abs_encoder_position_low_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-79 abs_encoder_position_high: Absolute encoder absolute position (high 32 bits) (绝对值编码器绝对位置 (高 32 位)). s32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_ABS_ENCODER_POSITION_HIGH_ADDR             0x0B4Fu
@@ -4019,6 +9481,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_ABS_ENCODER_POSITION_HIGH_SCALE_NUM        1
 #define C630S_ABS_ENCODER_POSITION_HIGH_SCALE_DEN        1
 #define C630S_ABS_ENCODER_POSITION_HIGH_PAIRED           0
+/* Value of abs_encoder_position_high; word_order as the device is set. */
+static inline bool c630s_abs_encoder_position_high_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-81 load_single_turn_position_low: Rotating load single-turn position (low 32 bits) (旋转负载单圈位置 (低 32 位)). u32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_LOAD_SINGLE_TURN_POSITION_LOW_ADDR         0x0B51u
@@ -4028,9 +9496,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOAD_SINGLE_TURN_POSITION_LOW_WORD_ORDER   REGMAP_LOW_FIRST
 #define C630S_LOAD_SINGLE_TURN_POSITION_LOW_DEFAULT      0u
 #define C630S_LOAD_SINGLE_TURN_POSITION_LOW_SCALE        1.0f
-#define C630S_LOAD_SINGLE_TURN_POSITION_LOW_SCALE_NUM    1
-#define C630S_LOAD_SINGLE_TURN_POSITION_LOW_SCALE_DEN    1
+#define C630S_LOAD_SINGLE_TURN_POSITION_LOW_SCALE_NUM    1u
+#define C630S_LOAD_SINGLE_TURN_POSITION_LOW_SCALE_DEN    1u
 #define C630S_LOAD_SINGLE_TURN_POSITION_LOW_PAIRED       0
+/* Value of load_single_turn_position_low; word_order as the device is set. */
+static inline bool c630s_load_single_turn_position_low_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-83 load_single_turn_position_high: Rotating load single-turn position (high 32 bits) (旋转负载单圈位置 (高 32 位)). s32 r, unit encoder unit, default 0. Manual 7.11. */
 #define C630S_LOAD_SINGLE_TURN_POSITION_HIGH_ADDR        0x0B53u
@@ -4043,6 +9517,12 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOAD_SINGLE_TURN_POSITION_HIGH_SCALE_NUM   1
 #define C630S_LOAD_SINGLE_TURN_POSITION_HIGH_SCALE_DEN   1
 #define C630S_LOAD_SINGLE_TURN_POSITION_HIGH_PAIRED      0
+/* Value of load_single_turn_position_high; word_order as the device is set. */
+static inline bool c630s_load_single_turn_position_high_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0B-85 load_single_turn_position: Rotating load single-turn position (command units) (旋转负载单圈位置). u32 r, unit command unit, default 0. Manual 7.11. */
 #define C630S_LOAD_SINGLE_TURN_POSITION_ADDR             0x0B55u
@@ -4052,9 +9532,15 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_LOAD_SINGLE_TURN_POSITION_WORD_ORDER       REGMAP_LOW_FIRST
 #define C630S_LOAD_SINGLE_TURN_POSITION_DEFAULT          0u
 #define C630S_LOAD_SINGLE_TURN_POSITION_SCALE            1.0f
-#define C630S_LOAD_SINGLE_TURN_POSITION_SCALE_NUM        1
-#define C630S_LOAD_SINGLE_TURN_POSITION_SCALE_DEN        1
+#define C630S_LOAD_SINGLE_TURN_POSITION_SCALE_NUM        1u
+#define C630S_LOAD_SINGLE_TURN_POSITION_SCALE_DEN        1u
 #define C630S_LOAD_SINGLE_TURN_POSITION_PAIRED           0
+/* Value of load_single_turn_position; word_order as the device is set. */
+static inline bool c630s_load_single_turn_position_decode(const uint16_t words[2], regmap_word_order word_order, uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== P0C communication parameters (P0C 组通信参数). Manual 7.12. ==== */
 
@@ -4067,9 +9553,27 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_SLAVE_ADDRESS_MAX                          247u
 #define C630S_SLAVE_ADDRESS_DEFAULT                      1u
 #define C630S_SLAVE_ADDRESS_SCALE                        1.0f
-#define C630S_SLAVE_ADDRESS_SCALE_NUM                    1
-#define C630S_SLAVE_ADDRESS_SCALE_DEN                    1
+#define C630S_SLAVE_ADDRESS_SCALE_NUM                    1u
+#define C630S_SLAVE_ADDRESS_SCALE_DEN                    1u
 #define C630S_SLAVE_ADDRESS_PAIRED                       0
+/* Values of slave_address: 1..247. */
+static inline bool c630s_slave_address_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 247u;
+}
+static inline bool c630s_slave_address_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_slave_address_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_slave_address_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0C-02 baud_rate: Serial baud rate (串口波特率设置). u16 rw, raw 0..5, default 5, values: enum baud_rate, takes effect immediately. Manual 7.12, 9.1.2. */
 #define C630S_BAUD_RATE_ADDR                             0x0C02u
@@ -4080,9 +9584,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_BAUD_RATE_MAX                              5u
 #define C630S_BAUD_RATE_DEFAULT                          5u
 #define C630S_BAUD_RATE_SCALE                            1.0f
-#define C630S_BAUD_RATE_SCALE_NUM                        1
-#define C630S_BAUD_RATE_SCALE_DEN                        1
+#define C630S_BAUD_RATE_SCALE_NUM                        1u
+#define C630S_BAUD_RATE_SCALE_DEN                        1u
 #define C630S_BAUD_RATE_PAIRED                           0
+/* Values of baud_rate: the members of baud_rate a write may send. */
+static inline bool c630s_baud_rate_is_in_range(c630s_baud_rate value)
+{
+    return c630s_baud_rate_is_writable(value);
+}
+static inline bool c630s_baud_rate_encode(c630s_baud_rate value, uint16_t words[1])
+{
+    if (!c630s_baud_rate_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_baud_rate_decode(const uint16_t words[1], c630s_baud_rate *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_baud_rate_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_baud_rate)raw;
+    return true;
+}
 
 /* P0C-03 modbus_data_format: Modbus data format (Moubus 数据格式). u16 rw, raw 0..3, default 0, values: enum modbus_data_format, takes effect immediately. Manual 7.12, 9.1.2. */
 #define C630S_MODBUS_DATA_FORMAT_ADDR                    0x0C03u
@@ -4093,9 +9619,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_MODBUS_DATA_FORMAT_MAX                     3u
 #define C630S_MODBUS_DATA_FORMAT_DEFAULT                 0u
 #define C630S_MODBUS_DATA_FORMAT_SCALE                   1.0f
-#define C630S_MODBUS_DATA_FORMAT_SCALE_NUM               1
-#define C630S_MODBUS_DATA_FORMAT_SCALE_DEN               1
+#define C630S_MODBUS_DATA_FORMAT_SCALE_NUM               1u
+#define C630S_MODBUS_DATA_FORMAT_SCALE_DEN               1u
 #define C630S_MODBUS_DATA_FORMAT_PAIRED                  0
+/* Values of modbus_data_format: the members of modbus_data_format a write may send. */
+static inline bool c630s_modbus_data_format_is_in_range(c630s_modbus_data_format value)
+{
+    return c630s_modbus_data_format_is_writable(value);
+}
+static inline bool c630s_modbus_data_format_encode(c630s_modbus_data_format value, uint16_t words[1])
+{
+    if (!c630s_modbus_data_format_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_modbus_data_format_decode(const uint16_t words[1], c630s_modbus_data_format *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_modbus_data_format_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_modbus_data_format)raw;
+    return true;
+}
 
 /* P0C-09 comm_vdi_enable: Communication VDI (通信 VDI). u16 rw, raw 0..1, default 0, values: enum disable_enable, takes effect immediately. Manual 7.12, 6.1.3. */
 #define C630S_COMM_VDI_ENABLE_ADDR                       0x0C09u
@@ -4106,9 +9654,31 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_COMM_VDI_ENABLE_MAX                        1u
 #define C630S_COMM_VDI_ENABLE_DEFAULT                    0u
 #define C630S_COMM_VDI_ENABLE_SCALE                      1.0f
-#define C630S_COMM_VDI_ENABLE_SCALE_NUM                  1
-#define C630S_COMM_VDI_ENABLE_SCALE_DEN                  1
+#define C630S_COMM_VDI_ENABLE_SCALE_NUM                  1u
+#define C630S_COMM_VDI_ENABLE_SCALE_DEN                  1u
 #define C630S_COMM_VDI_ENABLE_PAIRED                     0
+/* Values of comm_vdi_enable: the members of disable_enable a write may send. */
+static inline bool c630s_comm_vdi_enable_is_in_range(c630s_disable_enable value)
+{
+    return c630s_disable_enable_is_writable(value);
+}
+static inline bool c630s_comm_vdi_enable_encode(c630s_disable_enable value, uint16_t words[1])
+{
+    if (!c630s_comm_vdi_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_comm_vdi_enable_decode(const uint16_t words[1], c630s_disable_enable *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_disable_enable_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_disable_enable)raw;
+    return true;
+}
 
 /* P0C-10 vdi_poweron_default: VDI default values after power-on (上电后 VDI 默认值). u16 rw, raw 0..65535, printed range Bit0-VDI1 默认值 ... Bit15-VDI16 默认值, default 0, takes effect after restart. Manual 7.12. */
 #define C630S_VDI_POWERON_DEFAULT_ADDR                   0x0C0Au
@@ -4119,8 +9689,8 @@ static inline uint16_t c630s_poweron_di_functions_3_set_set_current_as_home(uint
 #define C630S_VDI_POWERON_DEFAULT_MAX                    65535u
 #define C630S_VDI_POWERON_DEFAULT_DEFAULT                0u
 #define C630S_VDI_POWERON_DEFAULT_SCALE                  1.0f
-#define C630S_VDI_POWERON_DEFAULT_SCALE_NUM              1
-#define C630S_VDI_POWERON_DEFAULT_SCALE_DEN              1
+#define C630S_VDI_POWERON_DEFAULT_SCALE_NUM              1u
+#define C630S_VDI_POWERON_DEFAULT_SCALE_DEN              1u
 #define C630S_VDI_POWERON_DEFAULT_PAIRED                 0
 /* bit 0 vdi1: VDI1 default value (VDI1 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI1_MASK              0x0001u
@@ -4129,9 +9699,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI1_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI1_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI1_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI1_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI1_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI1_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI1_MASK));
+    return true;
 }
 /* bit 1 vdi2: VDI2 default value (VDI2 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI2_MASK              0x0002u
@@ -4140,9 +9715,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI2_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI2_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI2_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI2_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI2_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI2_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI2_MASK));
+    return true;
 }
 /* bit 2 vdi3: VDI3 default value (VDI3 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI3_MASK              0x0004u
@@ -4151,9 +9731,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi3(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI3_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI3_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi3(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi3(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI3_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI3_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI3_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI3_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI3_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI3_MASK));
+    return true;
 }
 /* bit 3 vdi4: VDI4 default value (VDI4 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI4_MASK              0x0008u
@@ -4162,9 +9747,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi4(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI4_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI4_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi4(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi4(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI4_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI4_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI4_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI4_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI4_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI4_MASK));
+    return true;
 }
 /* bit 4 vdi5: VDI5 default value (VDI5 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI5_MASK              0x0010u
@@ -4173,9 +9763,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi5(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI5_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI5_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi5(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi5(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI5_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI5_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI5_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI5_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI5_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI5_MASK));
+    return true;
 }
 /* bit 5 vdi6: VDI6 default value (VDI6 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI6_MASK              0x0020u
@@ -4184,9 +9779,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi6(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI6_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI6_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi6(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi6(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI6_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI6_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI6_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI6_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI6_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI6_MASK));
+    return true;
 }
 /* bit 6 vdi7: VDI7 default value (VDI7 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI7_MASK              0x0040u
@@ -4195,9 +9795,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi7(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI7_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI7_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi7(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi7(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI7_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI7_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI7_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI7_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI7_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI7_MASK));
+    return true;
 }
 /* bit 7 vdi8: VDI8 default value (VDI8 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI8_MASK              0x0080u
@@ -4206,9 +9811,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi8(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI8_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI8_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi8(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi8(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI8_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI8_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI8_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI8_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI8_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI8_MASK));
+    return true;
 }
 /* bit 8 vdi9: VDI9 default value (VDI9 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI9_MASK              0x0100u
@@ -4217,9 +9827,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi9(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI9_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI9_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi9(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi9(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI9_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI9_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI9_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI9_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI9_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI9_MASK));
+    return true;
 }
 /* bit 9 vdi10: VDI10 default value (VDI10 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI10_MASK             0x0200u
@@ -4228,9 +9843,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi10(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI10_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI10_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi10(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi10(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI10_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI10_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI10_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI10_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI10_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI10_MASK));
+    return true;
 }
 /* bit 10 vdi11: VDI11 default value (VDI11 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI11_MASK             0x0400u
@@ -4239,9 +9859,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi11(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI11_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI11_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi11(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi11(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI11_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI11_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI11_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI11_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI11_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI11_MASK));
+    return true;
 }
 /* bit 11 vdi12: VDI12 default value (VDI12 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI12_MASK             0x0800u
@@ -4250,9 +9875,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi12(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI12_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI12_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi12(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi12(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI12_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI12_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI12_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI12_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI12_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI12_MASK));
+    return true;
 }
 /* bit 12 vdi13: VDI13 default value (VDI13 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI13_MASK             0x1000u
@@ -4261,9 +9891,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi13(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI13_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI13_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi13(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi13(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI13_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI13_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI13_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI13_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI13_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI13_MASK));
+    return true;
 }
 /* bit 13 vdi14: VDI14 default value (VDI14 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI14_MASK             0x2000u
@@ -4272,9 +9907,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi14(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI14_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI14_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi14(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi14(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI14_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI14_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI14_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI14_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI14_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI14_MASK));
+    return true;
 }
 /* bit 14 vdi15: VDI15 default value (VDI15 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI15_MASK             0x4000u
@@ -4283,9 +9923,14 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi15(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI15_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI15_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi15(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi15(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI15_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI15_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI15_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI15_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI15_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI15_MASK));
+    return true;
 }
 /* bit 15 vdi16: VDI16 default value (VDI16 默认值). */
 #define C630S_VDI_POWERON_DEFAULT_VDI16_MASK             0x8000u
@@ -4294,9 +9939,33 @@ static inline uint16_t c630s_vdi_poweron_default_get_vdi16(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDI_POWERON_DEFAULT_VDI16_MASK) >> C630S_VDI_POWERON_DEFAULT_VDI16_SHIFT);
 }
-static inline uint16_t c630s_vdi_poweron_default_set_vdi16(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdi_poweron_default_set_vdi16(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI16_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI16_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI16_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDI_POWERON_DEFAULT_VDI16_MASK) | (((uint32_t)value << C630S_VDI_POWERON_DEFAULT_VDI16_SHIFT) & C630S_VDI_POWERON_DEFAULT_VDI16_MASK));
+    return true;
+}
+/* Values of vdi_poweron_default: its whole word, the fields set with the setters above. */
+static inline bool c630s_vdi_poweron_default_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_vdi_poweron_default_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_vdi_poweron_default_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_vdi_poweron_default_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* P0C-11 comm_vdo_enable: Communication VDO (通信 VDO). u16 rw, raw 0..1, default 0, values: enum disable_enable, takes effect immediately. Manual 7.12. */
@@ -4308,9 +9977,31 @@ static inline uint16_t c630s_vdi_poweron_default_set_vdi16(uint16_t raw, uint16_
 #define C630S_COMM_VDO_ENABLE_MAX                        1u
 #define C630S_COMM_VDO_ENABLE_DEFAULT                    0u
 #define C630S_COMM_VDO_ENABLE_SCALE                      1.0f
-#define C630S_COMM_VDO_ENABLE_SCALE_NUM                  1
-#define C630S_COMM_VDO_ENABLE_SCALE_DEN                  1
+#define C630S_COMM_VDO_ENABLE_SCALE_NUM                  1u
+#define C630S_COMM_VDO_ENABLE_SCALE_DEN                  1u
 #define C630S_COMM_VDO_ENABLE_PAIRED                     0
+/* Values of comm_vdo_enable: the members of disable_enable a write may send. */
+static inline bool c630s_comm_vdo_enable_is_in_range(c630s_disable_enable value)
+{
+    return c630s_disable_enable_is_writable(value);
+}
+static inline bool c630s_comm_vdo_enable_encode(c630s_disable_enable value, uint16_t words[1])
+{
+    if (!c630s_comm_vdo_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_comm_vdo_enable_decode(const uint16_t words[1], c630s_disable_enable *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_disable_enable_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_disable_enable)raw;
+    return true;
+}
 
 /* P0C-12 vdo_default_level: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平). u16 rw, raw 0..65535, printed range Bit0-VDO1 默认值 Bit15-VDO16 默认值, default 0, takes effect immediately. Manual 7.12. */
 #define C630S_VDO_DEFAULT_LEVEL_ADDR                     0x0C0Cu
@@ -4321,8 +10012,8 @@ static inline uint16_t c630s_vdi_poweron_default_set_vdi16(uint16_t raw, uint16_
 #define C630S_VDO_DEFAULT_LEVEL_MAX                      65535u
 #define C630S_VDO_DEFAULT_LEVEL_DEFAULT                  0u
 #define C630S_VDO_DEFAULT_LEVEL_SCALE                    1.0f
-#define C630S_VDO_DEFAULT_LEVEL_SCALE_NUM                1
-#define C630S_VDO_DEFAULT_LEVEL_SCALE_DEN                1
+#define C630S_VDO_DEFAULT_LEVEL_SCALE_NUM                1u
+#define C630S_VDO_DEFAULT_LEVEL_SCALE_DEN                1u
 #define C630S_VDO_DEFAULT_LEVEL_PAIRED                   0
 /* bit 0 vdo1: VDO1 default value (VDO1 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO1_MASK                0x0001u
@@ -4331,9 +10022,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO1_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO1_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO1_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO1_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO1_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO1_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO1_MASK));
+    return true;
 }
 /* bit 1 vdo2: VDO2 default value (VDO2 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO2_MASK                0x0002u
@@ -4342,9 +10038,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO2_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO2_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO2_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO2_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO2_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO2_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO2_MASK));
+    return true;
 }
 /* bit 2 vdo3: VDO3 default value (VDO3 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO3_MASK                0x0004u
@@ -4353,9 +10054,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo3(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO3_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO3_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo3(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo3(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO3_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO3_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO3_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO3_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO3_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO3_MASK));
+    return true;
 }
 /* bit 3 vdo4: VDO4 default value (VDO4 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO4_MASK                0x0008u
@@ -4364,9 +10070,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo4(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO4_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO4_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo4(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo4(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO4_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO4_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO4_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO4_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO4_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO4_MASK));
+    return true;
 }
 /* bit 4 vdo5: VDO5 default value (VDO5 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO5_MASK                0x0010u
@@ -4375,9 +10086,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo5(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO5_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO5_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo5(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo5(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO5_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO5_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO5_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO5_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO5_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO5_MASK));
+    return true;
 }
 /* bit 5 vdo6: VDO6 default value (VDO6 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO6_MASK                0x0020u
@@ -4386,9 +10102,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo6(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO6_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO6_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo6(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo6(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO6_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO6_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO6_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO6_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO6_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO6_MASK));
+    return true;
 }
 /* bit 6 vdo7: VDO7 default value (VDO7 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO7_MASK                0x0040u
@@ -4397,9 +10118,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo7(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO7_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO7_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo7(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo7(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO7_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO7_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO7_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO7_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO7_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO7_MASK));
+    return true;
 }
 /* bit 7 vdo8: VDO8 default value (VDO8 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO8_MASK                0x0080u
@@ -4408,9 +10134,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo8(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO8_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO8_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo8(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo8(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO8_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO8_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO8_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO8_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO8_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO8_MASK));
+    return true;
 }
 /* bit 8 vdo9: VDO9 default value (VDO9 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO9_MASK                0x0100u
@@ -4419,9 +10150,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo9(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO9_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO9_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo9(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo9(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO9_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO9_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO9_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO9_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO9_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO9_MASK));
+    return true;
 }
 /* bit 9 vdo10: VDO10 default value (VDO10 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO10_MASK               0x0200u
@@ -4430,9 +10166,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo10(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO10_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO10_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo10(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo10(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO10_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO10_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO10_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO10_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO10_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO10_MASK));
+    return true;
 }
 /* bit 10 vdo11: VDO11 default value (VDO11 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO11_MASK               0x0400u
@@ -4441,9 +10182,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo11(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO11_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO11_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo11(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo11(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO11_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO11_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO11_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO11_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO11_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO11_MASK));
+    return true;
 }
 /* bit 11 vdo12: VDO12 default value (VDO12 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO12_MASK               0x0800u
@@ -4452,9 +10198,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo12(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO12_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO12_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo12(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo12(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO12_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO12_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO12_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO12_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO12_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO12_MASK));
+    return true;
 }
 /* bit 12 vdo13: VDO13 default value (VDO13 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO13_MASK               0x1000u
@@ -4463,9 +10214,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo13(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO13_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO13_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo13(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo13(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO13_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO13_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO13_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO13_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO13_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO13_MASK));
+    return true;
 }
 /* bit 13 vdo14: VDO14 default value (VDO14 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO14_MASK               0x2000u
@@ -4474,9 +10230,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo14(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO14_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO14_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo14(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo14(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO14_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO14_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO14_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO14_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO14_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO14_MASK));
+    return true;
 }
 /* bit 14 vdo15: VDO15 default value (VDO15 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO15_MASK               0x4000u
@@ -4485,9 +10246,14 @@ static inline uint16_t c630s_vdo_default_level_get_vdo15(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO15_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO15_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo15(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo15(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO15_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO15_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO15_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO15_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO15_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO15_MASK));
+    return true;
 }
 /* bit 15 vdo16: VDO16 default value (VDO16 默认值). */
 #define C630S_VDO_DEFAULT_LEVEL_VDO16_MASK               0x8000u
@@ -4496,9 +10262,33 @@ static inline uint16_t c630s_vdo_default_level_get_vdo16(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & C630S_VDO_DEFAULT_LEVEL_VDO16_MASK) >> C630S_VDO_DEFAULT_LEVEL_VDO16_SHIFT);
 }
-static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool c630s_vdo_default_level_set_vdo16(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO16_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO16_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO16_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)C630S_VDO_DEFAULT_LEVEL_VDO16_MASK) | (((uint32_t)value << C630S_VDO_DEFAULT_LEVEL_VDO16_SHIFT) & C630S_VDO_DEFAULT_LEVEL_VDO16_MASK));
+    return true;
+}
+/* Values of vdo_default_level: its whole word, the fields set with the setters above. */
+static inline bool c630s_vdo_default_level_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_vdo_default_level_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_vdo_default_level_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_vdo_default_level_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* P0C-13 modbus_eeprom_update: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM). u16 rw, raw 0..1, default 1, values: enum eeprom_update, takes effect immediately. Manual 7.12, 9.1.2, 8.1.2. */
@@ -4510,9 +10300,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MODBUS_EEPROM_UPDATE_MAX                   1u
 #define C630S_MODBUS_EEPROM_UPDATE_DEFAULT               1u
 #define C630S_MODBUS_EEPROM_UPDATE_SCALE                 1.0f
-#define C630S_MODBUS_EEPROM_UPDATE_SCALE_NUM             1
-#define C630S_MODBUS_EEPROM_UPDATE_SCALE_DEN             1
+#define C630S_MODBUS_EEPROM_UPDATE_SCALE_NUM             1u
+#define C630S_MODBUS_EEPROM_UPDATE_SCALE_DEN             1u
 #define C630S_MODBUS_EEPROM_UPDATE_PAIRED                0
+/* Values of modbus_eeprom_update: the members of eeprom_update a write may send. */
+static inline bool c630s_modbus_eeprom_update_is_in_range(c630s_eeprom_update value)
+{
+    return c630s_eeprom_update_is_writable(value);
+}
+static inline bool c630s_modbus_eeprom_update_encode(c630s_eeprom_update value, uint16_t words[1])
+{
+    if (!c630s_modbus_eeprom_update_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_modbus_eeprom_update_decode(const uint16_t words[1], c630s_eeprom_update *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_eeprom_update_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_eeprom_update)raw;
+    return true;
+}
 
 /* P0C-14 modbus_error_code: Modbus error code (Moubus 错误码). u16 r, raw 1..4, printed range 0x0001~0x0004, values: enum modbus_error, errata E16. Manual 7.12. */
 #define C630S_MODBUS_ERROR_CODE_ADDR                     0x0C0Eu
@@ -4522,9 +10334,19 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MODBUS_ERROR_CODE_MIN                      1u
 #define C630S_MODBUS_ERROR_CODE_MAX                      4u
 #define C630S_MODBUS_ERROR_CODE_SCALE                    1.0f
-#define C630S_MODBUS_ERROR_CODE_SCALE_NUM                1
-#define C630S_MODBUS_ERROR_CODE_SCALE_DEN                1
+#define C630S_MODBUS_ERROR_CODE_SCALE_NUM                1u
+#define C630S_MODBUS_ERROR_CODE_SCALE_DEN                1u
 #define C630S_MODBUS_ERROR_CODE_PAIRED                   0
+/* Value of modbus_error_code. */
+static inline bool c630s_modbus_error_code_decode(const uint16_t words[1], c630s_modbus_error *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_modbus_error_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_modbus_error)raw;
+    return true;
+}
 
 /* P0C-25 modbus_response_delay: Modbus response delay (Moubus 指令应答延时). u16 rw, unit ms, raw 0..5000, default 1, takes effect immediately. Manual 7.12. */
 #define C630S_MODBUS_RESPONSE_DELAY_ADDR                 0x0C19u
@@ -4535,9 +10357,27 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MODBUS_RESPONSE_DELAY_MAX                  5000u
 #define C630S_MODBUS_RESPONSE_DELAY_DEFAULT              1u
 #define C630S_MODBUS_RESPONSE_DELAY_SCALE                1.0f
-#define C630S_MODBUS_RESPONSE_DELAY_SCALE_NUM            1
-#define C630S_MODBUS_RESPONSE_DELAY_SCALE_DEN            1
+#define C630S_MODBUS_RESPONSE_DELAY_SCALE_NUM            1u
+#define C630S_MODBUS_RESPONSE_DELAY_SCALE_DEN            1u
 #define C630S_MODBUS_RESPONSE_DELAY_PAIRED               0
+/* Values of modbus_response_delay: 0..5000 ms. */
+static inline bool c630s_modbus_response_delay_is_in_range(uint16_t value)
+{
+    return value <= 5000u;
+}
+static inline bool c630s_modbus_response_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_modbus_response_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_modbus_response_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0C-26 modbus_word_order: Modbus 32-bit word order (Moubus 通信数据高低位顺序). u16 rw, raw 0..1, default 1, values: enum word_order, takes effect immediately. Manual 7.12, 9.2.1, 9.2.3. */
 /* Word order of 32-bit parameters on the bus: 0 = high word first, 1 = low word first (default). transport.word_order_register points here. */
@@ -4549,9 +10389,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MODBUS_WORD_ORDER_MAX                      1u
 #define C630S_MODBUS_WORD_ORDER_DEFAULT                  1u
 #define C630S_MODBUS_WORD_ORDER_SCALE                    1.0f
-#define C630S_MODBUS_WORD_ORDER_SCALE_NUM                1
-#define C630S_MODBUS_WORD_ORDER_SCALE_DEN                1
+#define C630S_MODBUS_WORD_ORDER_SCALE_NUM                1u
+#define C630S_MODBUS_WORD_ORDER_SCALE_DEN                1u
 #define C630S_MODBUS_WORD_ORDER_PAIRED                   0
+/* Values of modbus_word_order: the members of word_order a write may send. */
+static inline bool c630s_modbus_word_order_is_in_range(c630s_word_order value)
+{
+    return c630s_word_order_is_writable(value);
+}
+static inline bool c630s_modbus_word_order_encode(c630s_word_order value, uint16_t words[1])
+{
+    if (!c630s_modbus_word_order_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_modbus_word_order_decode(const uint16_t words[1], c630s_word_order *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_word_order_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_word_order)raw;
+    return true;
+}
 
 /* P0C-30 modbus_error_frame_format: Modbus error frame format (Moubus 错误帧格式选择). u16 rw, raw 0..1, default 1, values: enum error_frame_format, takes effect immediately. Manual 7.12, 9.2.4. */
 #define C630S_MODBUS_ERROR_FRAME_FORMAT_ADDR             0x0C1Eu
@@ -4562,9 +10424,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MODBUS_ERROR_FRAME_FORMAT_MAX              1u
 #define C630S_MODBUS_ERROR_FRAME_FORMAT_DEFAULT          1u
 #define C630S_MODBUS_ERROR_FRAME_FORMAT_SCALE            1.0f
-#define C630S_MODBUS_ERROR_FRAME_FORMAT_SCALE_NUM        1
-#define C630S_MODBUS_ERROR_FRAME_FORMAT_SCALE_DEN        1
+#define C630S_MODBUS_ERROR_FRAME_FORMAT_SCALE_NUM        1u
+#define C630S_MODBUS_ERROR_FRAME_FORMAT_SCALE_DEN        1u
 #define C630S_MODBUS_ERROR_FRAME_FORMAT_PAIRED           0
+/* Values of modbus_error_frame_format: the members of error_frame_format a write may send. */
+static inline bool c630s_modbus_error_frame_format_is_in_range(c630s_error_frame_format value)
+{
+    return c630s_error_frame_format_is_writable(value);
+}
+static inline bool c630s_modbus_error_frame_format_encode(c630s_error_frame_format value, uint16_t words[1])
+{
+    if (!c630s_modbus_error_frame_format_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_modbus_error_frame_format_decode(const uint16_t words[1], c630s_error_frame_format *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_error_frame_format_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_error_frame_format)raw;
+    return true;
+}
 
 /* ==== P0D auxiliary function parameters (P0D 组辅助功能参数). Manual 7.13. ==== */
 
@@ -4577,9 +10461,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_SOFTWARE_RESET_MAX                         1u
 #define C630S_SOFTWARE_RESET_DEFAULT                     0u
 #define C630S_SOFTWARE_RESET_SCALE                       1.0f
-#define C630S_SOFTWARE_RESET_SCALE_NUM                   1
-#define C630S_SOFTWARE_RESET_SCALE_DEN                   1
+#define C630S_SOFTWARE_RESET_SCALE_NUM                   1u
+#define C630S_SOFTWARE_RESET_SCALE_DEN                   1u
 #define C630S_SOFTWARE_RESET_PAIRED                      0
+/* Values of software_reset: the members of no_op_enable a write may send. */
+static inline bool c630s_software_reset_is_in_range(c630s_no_op_enable value)
+{
+    return c630s_no_op_enable_is_writable(value);
+}
+static inline bool c630s_software_reset_encode(c630s_no_op_enable value, uint16_t words[1])
+{
+    if (!c630s_software_reset_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_software_reset_decode(const uint16_t words[1], c630s_no_op_enable *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_no_op_enable_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_no_op_enable)raw;
+    return true;
+}
 
 /* P0D-01 fault_reset: Fault reset (故障复位). u16 rw, raw 0..1, default 0, values: enum no_op_enable, takes effect immediately. Manual 7.13, 5.2.4, 8.1.1. */
 #define C630S_FAULT_RESET_ADDR                           0x0D01u
@@ -4590,9 +10496,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_FAULT_RESET_MAX                            1u
 #define C630S_FAULT_RESET_DEFAULT                        0u
 #define C630S_FAULT_RESET_SCALE                          1.0f
-#define C630S_FAULT_RESET_SCALE_NUM                      1
-#define C630S_FAULT_RESET_SCALE_DEN                      1
+#define C630S_FAULT_RESET_SCALE_NUM                      1u
+#define C630S_FAULT_RESET_SCALE_DEN                      1u
 #define C630S_FAULT_RESET_PAIRED                         0
+/* Values of fault_reset: the members of no_op_enable a write may send. */
+static inline bool c630s_fault_reset_is_in_range(c630s_no_op_enable value)
+{
+    return c630s_no_op_enable_is_writable(value);
+}
+static inline bool c630s_fault_reset_encode(c630s_no_op_enable value, uint16_t words[1])
+{
+    if (!c630s_fault_reset_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_fault_reset_decode(const uint16_t words[1], c630s_no_op_enable *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_no_op_enable_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_no_op_enable)raw;
+    return true;
+}
 
 /* P0D-02 offline_inertia_identification: Offline inertia identification (离线惯量辨识功能). u16 rw, takes effect immediately. Manual 7.13. */
 #define C630S_OFFLINE_INERTIA_IDENTIFICATION_ADDR        0x0D02u
@@ -4600,9 +10528,28 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_OFFLINE_INERTIA_IDENTIFICATION_ACCESS      REGMAP_ACCESS_RW
 #define C630S_OFFLINE_INERTIA_IDENTIFICATION_SIGNED      0
 #define C630S_OFFLINE_INERTIA_IDENTIFICATION_SCALE       1.0f
-#define C630S_OFFLINE_INERTIA_IDENTIFICATION_SCALE_NUM   1
-#define C630S_OFFLINE_INERTIA_IDENTIFICATION_SCALE_DEN   1
+#define C630S_OFFLINE_INERTIA_IDENTIFICATION_SCALE_NUM   1u
+#define C630S_OFFLINE_INERTIA_IDENTIFICATION_SCALE_DEN   1u
 #define C630S_OFFLINE_INERTIA_IDENTIFICATION_PAIRED      0
+/* Values of offline_inertia_identification: 0..65535. */
+static inline bool c630s_offline_inertia_identification_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_offline_inertia_identification_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_offline_inertia_identification_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_offline_inertia_identification_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0D-03 initial_angle_identification: Initial angle identification (初始角度识别). u16 rw, raw 1..1, values: enum initial_angle_id. Manual 7.13. */
 #define C630S_INITIAL_ANGLE_IDENTIFICATION_ADDR          0x0D03u
@@ -4612,9 +10559,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_INITIAL_ANGLE_IDENTIFICATION_MIN           1u
 #define C630S_INITIAL_ANGLE_IDENTIFICATION_MAX           1u
 #define C630S_INITIAL_ANGLE_IDENTIFICATION_SCALE         1.0f
-#define C630S_INITIAL_ANGLE_IDENTIFICATION_SCALE_NUM     1
-#define C630S_INITIAL_ANGLE_IDENTIFICATION_SCALE_DEN     1
+#define C630S_INITIAL_ANGLE_IDENTIFICATION_SCALE_NUM     1u
+#define C630S_INITIAL_ANGLE_IDENTIFICATION_SCALE_DEN     1u
 #define C630S_INITIAL_ANGLE_IDENTIFICATION_PAIRED        0
+/* Values of initial_angle_identification: the members of initial_angle_id a write may send. */
+static inline bool c630s_initial_angle_identification_is_in_range(c630s_initial_angle_id value)
+{
+    return c630s_initial_angle_id_is_writable(value);
+}
+static inline bool c630s_initial_angle_identification_encode(c630s_initial_angle_id value, uint16_t words[1])
+{
+    if (!c630s_initial_angle_identification_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_initial_angle_identification_decode(const uint16_t words[1], c630s_initial_angle_id *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_initial_angle_id_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_initial_angle_id)raw;
+    return true;
+}
 
 /* P0D-05 emergency_stop: Emergency stop (紧急停机). u16 rw, raw 0..1, default 0, values: enum emergency_stop_cmd, takes effect immediately. Manual 7.13. */
 #define C630S_EMERGENCY_STOP_ADDR                        0x0D05u
@@ -4625,9 +10594,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_EMERGENCY_STOP_MAX                         1u
 #define C630S_EMERGENCY_STOP_DEFAULT                     0u
 #define C630S_EMERGENCY_STOP_SCALE                       1.0f
-#define C630S_EMERGENCY_STOP_SCALE_NUM                   1
-#define C630S_EMERGENCY_STOP_SCALE_DEN                   1
+#define C630S_EMERGENCY_STOP_SCALE_NUM                   1u
+#define C630S_EMERGENCY_STOP_SCALE_DEN                   1u
 #define C630S_EMERGENCY_STOP_PAIRED                      0
+/* Values of emergency_stop: the members of emergency_stop_cmd a write may send. */
+static inline bool c630s_emergency_stop_is_in_range(c630s_emergency_stop_cmd value)
+{
+    return c630s_emergency_stop_cmd_is_writable(value);
+}
+static inline bool c630s_emergency_stop_encode(c630s_emergency_stop_cmd value, uint16_t words[1])
+{
+    if (!c630s_emergency_stop_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_emergency_stop_decode(const uint16_t words[1], c630s_emergency_stop_cmd *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_emergency_stop_cmd_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_emergency_stop_cmd)raw;
+    return true;
+}
 
 /* P0D-10 reserved_p0d_10: Reserved (保留). u16 r. Manual 7.13. */
 #define C630S_RESERVED_P0D_10_ADDR                       0x0D0Au
@@ -4635,9 +10626,15 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_RESERVED_P0D_10_ACCESS                     REGMAP_ACCESS_R
 #define C630S_RESERVED_P0D_10_SIGNED                     0
 #define C630S_RESERVED_P0D_10_SCALE                      1.0f
-#define C630S_RESERVED_P0D_10_SCALE_NUM                  1
-#define C630S_RESERVED_P0D_10_SCALE_DEN                  1
+#define C630S_RESERVED_P0D_10_SCALE_NUM                  1u
+#define C630S_RESERVED_P0D_10_SCALE_DEN                  1u
 #define C630S_RESERVED_P0D_10_PAIRED                     0
+/* Value of reserved_p0d_10. */
+static inline bool c630s_reserved_p0d_10_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0D-11 jog_trial_run: JOG trial run (JOG 试运行功能). u16 rw, printed range (自带滤波). Manual 7.13, 5.2.1. */
 #define C630S_JOG_TRIAL_RUN_ADDR                         0x0D0Bu
@@ -4645,9 +10642,28 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_JOG_TRIAL_RUN_ACCESS                       REGMAP_ACCESS_RW
 #define C630S_JOG_TRIAL_RUN_SIGNED                       0
 #define C630S_JOG_TRIAL_RUN_SCALE                        1.0f
-#define C630S_JOG_TRIAL_RUN_SCALE_NUM                    1
-#define C630S_JOG_TRIAL_RUN_SCALE_DEN                    1
+#define C630S_JOG_TRIAL_RUN_SCALE_NUM                    1u
+#define C630S_JOG_TRIAL_RUN_SCALE_DEN                    1u
 #define C630S_JOG_TRIAL_RUN_PAIRED                       0
+/* Values of jog_trial_run: 0..65535. */
+static inline bool c630s_jog_trial_run_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_jog_trial_run_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_jog_trial_run_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_jog_trial_run_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0D-17 dido_force_enable: DI/DO forced input/output enable (DIDO 强制输入输出使能). u16 rw, raw 0..3, default 0, values: enum dido_force, takes effect immediately. Manual 7.13. */
 #define C630S_DIDO_FORCE_ENABLE_ADDR                     0x0D11u
@@ -4658,9 +10674,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_DIDO_FORCE_ENABLE_MAX                      3u
 #define C630S_DIDO_FORCE_ENABLE_DEFAULT                  0u
 #define C630S_DIDO_FORCE_ENABLE_SCALE                    1.0f
-#define C630S_DIDO_FORCE_ENABLE_SCALE_NUM                1
-#define C630S_DIDO_FORCE_ENABLE_SCALE_DEN                1
+#define C630S_DIDO_FORCE_ENABLE_SCALE_NUM                1u
+#define C630S_DIDO_FORCE_ENABLE_SCALE_DEN                1u
 #define C630S_DIDO_FORCE_ENABLE_PAIRED                   0
+/* Values of dido_force_enable: the members of dido_force a write may send. */
+static inline bool c630s_dido_force_enable_is_in_range(c630s_dido_force value)
+{
+    return c630s_dido_force_is_writable(value);
+}
+static inline bool c630s_dido_force_enable_encode(c630s_dido_force value, uint16_t words[1])
+{
+    if (!c630s_dido_force_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_dido_force_enable_decode(const uint16_t words[1], c630s_dido_force *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_dido_force_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_dido_force)raw;
+    return true;
+}
 
 /* P0D-18 di_force_value: DI forced input value (DI 强制输入给定). u16 rw, raw 0..511, printed range 0~0x01FF, default 511, takes effect immediately. Manual 7.13. */
 #define C630S_DI_FORCE_VALUE_ADDR                        0x0D12u
@@ -4671,9 +10709,27 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_DI_FORCE_VALUE_MAX                         511u
 #define C630S_DI_FORCE_VALUE_DEFAULT                     511u
 #define C630S_DI_FORCE_VALUE_SCALE                       1.0f
-#define C630S_DI_FORCE_VALUE_SCALE_NUM                   1
-#define C630S_DI_FORCE_VALUE_SCALE_DEN                   1
+#define C630S_DI_FORCE_VALUE_SCALE_NUM                   1u
+#define C630S_DI_FORCE_VALUE_SCALE_DEN                   1u
 #define C630S_DI_FORCE_VALUE_PAIRED                      0
+/* Values of di_force_value: 0..511. */
+static inline bool c630s_di_force_value_is_in_range(uint16_t value)
+{
+    return value <= 511u;
+}
+static inline bool c630s_di_force_value_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_di_force_value_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_di_force_value_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0D-19 do_force_value: DO forced output value (DO 强制输出给定). u16 rw, raw 0..31, printed range 0~0x001F, default 0, takes effect immediately. Manual 7.13. */
 #define C630S_DO_FORCE_VALUE_ADDR                        0x0D13u
@@ -4684,9 +10740,27 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_DO_FORCE_VALUE_MAX                         31u
 #define C630S_DO_FORCE_VALUE_DEFAULT                     0u
 #define C630S_DO_FORCE_VALUE_SCALE                       1.0f
-#define C630S_DO_FORCE_VALUE_SCALE_NUM                   1
-#define C630S_DO_FORCE_VALUE_SCALE_DEN                   1
+#define C630S_DO_FORCE_VALUE_SCALE_NUM                   1u
+#define C630S_DO_FORCE_VALUE_SCALE_DEN                   1u
 #define C630S_DO_FORCE_VALUE_PAIRED                      0
+/* Values of do_force_value: 0..31. */
+static inline bool c630s_do_force_value_is_in_range(uint16_t value)
+{
+    return value <= 31u;
+}
+static inline bool c630s_do_force_value_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_do_force_value_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_do_force_value_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P0D-20 abs_encoder_reset: Absolute encoder reset (绝对编码器复位使能). u16 rw, raw 0..2, default 0, values: enum abs_encoder_reset, takes effect immediately, errata E14. Manual 7.13, 5.2.4, 8.1.1. */
 #define C630S_ABS_ENCODER_RESET_ADDR                     0x0D14u
@@ -4697,9 +10771,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_ABS_ENCODER_RESET_MAX                      2u
 #define C630S_ABS_ENCODER_RESET_DEFAULT                  0u
 #define C630S_ABS_ENCODER_RESET_SCALE                    1.0f
-#define C630S_ABS_ENCODER_RESET_SCALE_NUM                1
-#define C630S_ABS_ENCODER_RESET_SCALE_DEN                1
+#define C630S_ABS_ENCODER_RESET_SCALE_NUM                1u
+#define C630S_ABS_ENCODER_RESET_SCALE_DEN                1u
 #define C630S_ABS_ENCODER_RESET_PAIRED                   0
+/* Values of abs_encoder_reset: the members of abs_encoder_reset a write may send. */
+static inline bool c630s_abs_encoder_reset_is_in_range(c630s_abs_encoder_reset value)
+{
+    return c630s_abs_encoder_reset_is_writable(value);
+}
+static inline bool c630s_abs_encoder_reset_encode(c630s_abs_encoder_reset value, uint16_t words[1])
+{
+    if (!c630s_abs_encoder_reset_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_abs_encoder_reset_decode(const uint16_t words[1], c630s_abs_encoder_reset *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_abs_encoder_reset_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_abs_encoder_reset)raw;
+    return true;
+}
 
 /* ==== P11 multi-segment position parameters (P11 组多段位置功能参数). Manual 7.14. ==== */
 
@@ -4712,9 +10808,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MULTI_POSITION_RUN_MODE_MAX                3u
 #define C630S_MULTI_POSITION_RUN_MODE_DEFAULT            1u
 #define C630S_MULTI_POSITION_RUN_MODE_SCALE              1.0f
-#define C630S_MULTI_POSITION_RUN_MODE_SCALE_NUM          1
-#define C630S_MULTI_POSITION_RUN_MODE_SCALE_DEN          1
+#define C630S_MULTI_POSITION_RUN_MODE_SCALE_NUM          1u
+#define C630S_MULTI_POSITION_RUN_MODE_SCALE_DEN          1u
 #define C630S_MULTI_POSITION_RUN_MODE_PAIRED             0
+/* Values of multi_position_run_mode: the members of multi_position_run_mode a write may send. */
+static inline bool c630s_multi_position_run_mode_is_in_range(c630s_multi_position_run_mode value)
+{
+    return c630s_multi_position_run_mode_is_writable(value);
+}
+static inline bool c630s_multi_position_run_mode_encode(c630s_multi_position_run_mode value, uint16_t words[1])
+{
+    if (!c630s_multi_position_run_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_position_run_mode_decode(const uint16_t words[1], c630s_multi_position_run_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_multi_position_run_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_multi_position_run_mode)raw;
+    return true;
+}
 
 /* P11-01 multi_position_end_segment: Last displacement segment (位移指令终点段数). u16 rw, raw 1..16, default 1, takes effect immediately. Manual 7.14, 6.1.3. */
 #define C630S_MULTI_POSITION_END_SEGMENT_ADDR            0x1101u
@@ -4725,9 +10843,27 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MULTI_POSITION_END_SEGMENT_MAX             16u
 #define C630S_MULTI_POSITION_END_SEGMENT_DEFAULT         1u
 #define C630S_MULTI_POSITION_END_SEGMENT_SCALE           1.0f
-#define C630S_MULTI_POSITION_END_SEGMENT_SCALE_NUM       1
-#define C630S_MULTI_POSITION_END_SEGMENT_SCALE_DEN       1
+#define C630S_MULTI_POSITION_END_SEGMENT_SCALE_NUM       1u
+#define C630S_MULTI_POSITION_END_SEGMENT_SCALE_DEN       1u
 #define C630S_MULTI_POSITION_END_SEGMENT_PAIRED          0
+/* Values of multi_position_end_segment: 1..16. */
+static inline bool c630s_multi_position_end_segment_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 16u;
+}
+static inline bool c630s_multi_position_end_segment_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_position_end_segment_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_position_end_segment_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P11-02 multi_position_remainder: Remaining-segment handling (余量处理方式). u16 rw, raw 0..1, default 0, values: enum remainder_handling, takes effect immediately. Manual 7.14, 6.1.3. */
 #define C630S_MULTI_POSITION_REMAINDER_ADDR              0x1102u
@@ -4738,9 +10874,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MULTI_POSITION_REMAINDER_MAX               1u
 #define C630S_MULTI_POSITION_REMAINDER_DEFAULT           0u
 #define C630S_MULTI_POSITION_REMAINDER_SCALE             1.0f
-#define C630S_MULTI_POSITION_REMAINDER_SCALE_NUM         1
-#define C630S_MULTI_POSITION_REMAINDER_SCALE_DEN         1
+#define C630S_MULTI_POSITION_REMAINDER_SCALE_NUM         1u
+#define C630S_MULTI_POSITION_REMAINDER_SCALE_DEN         1u
 #define C630S_MULTI_POSITION_REMAINDER_PAIRED            0
+/* Values of multi_position_remainder: the members of remainder_handling a write may send. */
+static inline bool c630s_multi_position_remainder_is_in_range(c630s_remainder_handling value)
+{
+    return c630s_remainder_handling_is_writable(value);
+}
+static inline bool c630s_multi_position_remainder_encode(c630s_remainder_handling value, uint16_t words[1])
+{
+    if (!c630s_multi_position_remainder_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_position_remainder_decode(const uint16_t words[1], c630s_remainder_handling *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_remainder_handling_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_remainder_handling)raw;
+    return true;
+}
 
 /* P11-03 multi_position_time_unit: Time unit (时间单位). u16 rw, raw 0..1, default 0, values: enum time_unit_ms_s, takes effect immediately. Manual 7.14, 6.1.3. */
 /* Unit of the segment acceleration/deceleration and wait times (P11-15, P11-16, ...). */
@@ -4752,9 +10910,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_MULTI_POSITION_TIME_UNIT_MAX               1u
 #define C630S_MULTI_POSITION_TIME_UNIT_DEFAULT           0u
 #define C630S_MULTI_POSITION_TIME_UNIT_SCALE             1.0f
-#define C630S_MULTI_POSITION_TIME_UNIT_SCALE_NUM         1
-#define C630S_MULTI_POSITION_TIME_UNIT_SCALE_DEN         1
+#define C630S_MULTI_POSITION_TIME_UNIT_SCALE_NUM         1u
+#define C630S_MULTI_POSITION_TIME_UNIT_SCALE_DEN         1u
 #define C630S_MULTI_POSITION_TIME_UNIT_PAIRED            0
+/* Values of multi_position_time_unit: the members of time_unit_ms_s a write may send. */
+static inline bool c630s_multi_position_time_unit_is_in_range(c630s_time_unit_ms_s value)
+{
+    return c630s_time_unit_ms_s_is_writable(value);
+}
+static inline bool c630s_multi_position_time_unit_encode(c630s_time_unit_ms_s value, uint16_t words[1])
+{
+    if (!c630s_multi_position_time_unit_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_position_time_unit_decode(const uint16_t words[1], c630s_time_unit_ms_s *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_time_unit_ms_s_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_time_unit_ms_s)raw;
+    return true;
+}
 
 /* P11-04 displacement_type: Displacement command type (位移指令类型选择). u16 rw, raw 0..1, default 0, values: enum displacement_type, takes effect immediately. Manual 7.14, 6.1.3. */
 #define C630S_DISPLACEMENT_TYPE_ADDR                     0x1104u
@@ -4765,9 +10945,31 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_DISPLACEMENT_TYPE_MAX                      1u
 #define C630S_DISPLACEMENT_TYPE_DEFAULT                  0u
 #define C630S_DISPLACEMENT_TYPE_SCALE                    1.0f
-#define C630S_DISPLACEMENT_TYPE_SCALE_NUM                1
-#define C630S_DISPLACEMENT_TYPE_SCALE_DEN                1
+#define C630S_DISPLACEMENT_TYPE_SCALE_NUM                1u
+#define C630S_DISPLACEMENT_TYPE_SCALE_DEN                1u
 #define C630S_DISPLACEMENT_TYPE_PAIRED                   0
+/* Values of displacement_type: the members of displacement_type a write may send. */
+static inline bool c630s_displacement_type_is_in_range(c630s_displacement_type value)
+{
+    return c630s_displacement_type_is_writable(value);
+}
+static inline bool c630s_displacement_type_encode(c630s_displacement_type value, uint16_t words[1])
+{
+    if (!c630s_displacement_type_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_displacement_type_decode(const uint16_t words[1], c630s_displacement_type *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_displacement_type_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_displacement_type)raw;
+    return true;
+}
 
 /* P11-05 sequential_start_segment: Sequential run start segment (顺序运行起始段选择). u16 rw, raw 0..16, default 0, takes effect immediately. Manual 7.14, 6.1.3. */
 #define C630S_SEQUENTIAL_START_SEGMENT_ADDR              0x1105u
@@ -4778,9 +10980,27 @@ static inline uint16_t c630s_vdo_default_level_set_vdo16(uint16_t raw, uint16_t 
 #define C630S_SEQUENTIAL_START_SEGMENT_MAX               16u
 #define C630S_SEQUENTIAL_START_SEGMENT_DEFAULT           0u
 #define C630S_SEQUENTIAL_START_SEGMENT_SCALE             1.0f
-#define C630S_SEQUENTIAL_START_SEGMENT_SCALE_NUM         1
-#define C630S_SEQUENTIAL_START_SEGMENT_SCALE_DEN         1
+#define C630S_SEQUENTIAL_START_SEGMENT_SCALE_NUM         1u
+#define C630S_SEQUENTIAL_START_SEGMENT_SCALE_DEN         1u
 #define C630S_SEQUENTIAL_START_SEGMENT_PAIRED            0
+/* Values of sequential_start_segment: 0..16. */
+static inline bool c630s_sequential_start_segment_is_in_range(uint16_t value)
+{
+    return value <= 16u;
+}
+static inline bool c630s_sequential_start_segment_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_sequential_start_segment_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_sequential_start_segment_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Multi-segment position segment (多段位置段): 16 elements 1..16; member m of element n is at BASE 0x110C + 5 x (n - 1) + offset of m. Manual 7.14, 6.1.3, 9.2.3. */
 #define C630S_POSITION_SEGMENT_BASE                      0x110Cu
@@ -4810,6 +11030,24 @@ static inline bool c630s_position_segment_displacement_addr(unsigned n, uint16_t
     *address = C630S_POSITION_SEGMENT_DISPLACEMENT_ADDR(n);
     return true;
 }
+/* Values of position_segment_displacement: -1073741824..1073741824 command unit; word_order as the device is set. */
+static inline bool c630s_position_segment_displacement_is_in_range(int32_t value)
+{
+    return value >= (-1073741824) && value <= 1073741824;
+}
+static inline bool c630s_position_segment_displacement_encode(int32_t value, regmap_word_order word_order, uint16_t words[2])
+{
+    if (!c630s_position_segment_displacement_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, word_order, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool c630s_position_segment_displacement_decode(const uint16_t words[2], regmap_word_order word_order, int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, word_order, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* position_segment_max_speed (element 1: P11-14 position_segment_1_max_speed): Segment maximum speed (第 n 段位移最大运行速度). u16 rw, unit rpm, raw 1..6000, default 200, takes effect immediately. Manual 7.14, 6.1.3, 9.2.3. */
 #define C630S_POSITION_SEGMENT_MAX_SPEED_ADDR(n) ((uint16_t)(C630S_POSITION_SEGMENT_BASE + ((unsigned)(n) - C630S_POSITION_SEGMENT_FIRST) * C630S_POSITION_SEGMENT_STRIDE + 2u))
@@ -4820,8 +11058,8 @@ static inline bool c630s_position_segment_displacement_addr(unsigned n, uint16_t
 #define C630S_POSITION_SEGMENT_MAX_SPEED_MAX             6000u
 #define C630S_POSITION_SEGMENT_MAX_SPEED_DEFAULT         200u
 #define C630S_POSITION_SEGMENT_MAX_SPEED_SCALE           1.0f
-#define C630S_POSITION_SEGMENT_MAX_SPEED_SCALE_NUM       1
-#define C630S_POSITION_SEGMENT_MAX_SPEED_SCALE_DEN       1
+#define C630S_POSITION_SEGMENT_MAX_SPEED_SCALE_NUM       1u
+#define C630S_POSITION_SEGMENT_MAX_SPEED_SCALE_DEN       1u
 #define C630S_POSITION_SEGMENT_MAX_SPEED_PAIRED          0
 static inline bool c630s_position_segment_max_speed_addr(unsigned n, uint16_t *address)
 {
@@ -4829,6 +11067,24 @@ static inline bool c630s_position_segment_max_speed_addr(unsigned n, uint16_t *a
         return false;
     }
     *address = C630S_POSITION_SEGMENT_MAX_SPEED_ADDR(n);
+    return true;
+}
+/* Values of position_segment_max_speed: 1..6000 rpm. */
+static inline bool c630s_position_segment_max_speed_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 6000u;
+}
+static inline bool c630s_position_segment_max_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_position_segment_max_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_segment_max_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -4841,8 +11097,8 @@ static inline bool c630s_position_segment_max_speed_addr(unsigned n, uint16_t *a
 #define C630S_POSITION_SEGMENT_ACCEL_TIME_MAX            65535u
 #define C630S_POSITION_SEGMENT_ACCEL_TIME_DEFAULT        10u
 #define C630S_POSITION_SEGMENT_ACCEL_TIME_SCALE          1.0f
-#define C630S_POSITION_SEGMENT_ACCEL_TIME_SCALE_NUM      1
-#define C630S_POSITION_SEGMENT_ACCEL_TIME_SCALE_DEN      1
+#define C630S_POSITION_SEGMENT_ACCEL_TIME_SCALE_NUM      1u
+#define C630S_POSITION_SEGMENT_ACCEL_TIME_SCALE_DEN      1u
 #define C630S_POSITION_SEGMENT_ACCEL_TIME_PAIRED         0
 static inline bool c630s_position_segment_accel_time_addr(unsigned n, uint16_t *address)
 {
@@ -4850,6 +11106,25 @@ static inline bool c630s_position_segment_accel_time_addr(unsigned n, uint16_t *
         return false;
     }
     *address = C630S_POSITION_SEGMENT_ACCEL_TIME_ADDR(n);
+    return true;
+}
+/* Values of position_segment_accel_time: 0..65535 ms. */
+static inline bool c630s_position_segment_accel_time_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_position_segment_accel_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_position_segment_accel_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_segment_accel_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -4862,8 +11137,8 @@ static inline bool c630s_position_segment_accel_time_addr(unsigned n, uint16_t *
 #define C630S_POSITION_SEGMENT_WAIT_TIME_MAX             10000u
 #define C630S_POSITION_SEGMENT_WAIT_TIME_DEFAULT         10u
 #define C630S_POSITION_SEGMENT_WAIT_TIME_SCALE           1.0f
-#define C630S_POSITION_SEGMENT_WAIT_TIME_SCALE_NUM       1
-#define C630S_POSITION_SEGMENT_WAIT_TIME_SCALE_DEN       1
+#define C630S_POSITION_SEGMENT_WAIT_TIME_SCALE_NUM       1u
+#define C630S_POSITION_SEGMENT_WAIT_TIME_SCALE_DEN       1u
 #define C630S_POSITION_SEGMENT_WAIT_TIME_PAIRED          0
 static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *address)
 {
@@ -4871,6 +11146,24 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
         return false;
     }
     *address = C630S_POSITION_SEGMENT_WAIT_TIME_ADDR(n);
+    return true;
+}
+/* Values of position_segment_wait_time: 0..10000 ms. */
+static inline bool c630s_position_segment_wait_time_is_in_range(uint16_t value)
+{
+    return value <= 10000u;
+}
+static inline bool c630s_position_segment_wait_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_position_segment_wait_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_position_segment_wait_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -4885,9 +11178,31 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_RUN_MODE_MAX                   2u
 #define C630S_MULTI_SPEED_RUN_MODE_DEFAULT               1u
 #define C630S_MULTI_SPEED_RUN_MODE_SCALE                 1.0f
-#define C630S_MULTI_SPEED_RUN_MODE_SCALE_NUM             1
-#define C630S_MULTI_SPEED_RUN_MODE_SCALE_DEN             1
+#define C630S_MULTI_SPEED_RUN_MODE_SCALE_NUM             1u
+#define C630S_MULTI_SPEED_RUN_MODE_SCALE_DEN             1u
 #define C630S_MULTI_SPEED_RUN_MODE_PAIRED                0
+/* Values of multi_speed_run_mode: the members of multi_speed_run_mode a write may send. */
+static inline bool c630s_multi_speed_run_mode_is_in_range(c630s_multi_speed_run_mode value)
+{
+    return c630s_multi_speed_run_mode_is_writable(value);
+}
+static inline bool c630s_multi_speed_run_mode_encode(c630s_multi_speed_run_mode value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_run_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_run_mode_decode(const uint16_t words[1], c630s_multi_speed_run_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_multi_speed_run_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_multi_speed_run_mode)raw;
+    return true;
+}
 
 /* P12-01 multi_speed_end_segment: Last speed segment (速度指令终点段数选择). u16 rw, raw 1..16, default 16, takes effect immediately. Manual 7.15, 6.2.3. */
 #define C630S_MULTI_SPEED_END_SEGMENT_ADDR               0x1201u
@@ -4898,9 +11213,27 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_END_SEGMENT_MAX                16u
 #define C630S_MULTI_SPEED_END_SEGMENT_DEFAULT            16u
 #define C630S_MULTI_SPEED_END_SEGMENT_SCALE              1.0f
-#define C630S_MULTI_SPEED_END_SEGMENT_SCALE_NUM          1
-#define C630S_MULTI_SPEED_END_SEGMENT_SCALE_DEN          1
+#define C630S_MULTI_SPEED_END_SEGMENT_SCALE_NUM          1u
+#define C630S_MULTI_SPEED_END_SEGMENT_SCALE_DEN          1u
 #define C630S_MULTI_SPEED_END_SEGMENT_PAIRED             0
+/* Values of multi_speed_end_segment: 1..16. */
+static inline bool c630s_multi_speed_end_segment_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 16u;
+}
+static inline bool c630s_multi_speed_end_segment_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_end_segment_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_end_segment_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-02 multi_speed_time_unit: Run time unit (运行时间单位选择). u16 rw, raw 0..1, default 0, values: enum time_unit_s_min, takes effect immediately. Manual 7.15, 6.2.3. */
 #define C630S_MULTI_SPEED_TIME_UNIT_ADDR                 0x1202u
@@ -4911,9 +11244,31 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_TIME_UNIT_MAX                  1u
 #define C630S_MULTI_SPEED_TIME_UNIT_DEFAULT              0u
 #define C630S_MULTI_SPEED_TIME_UNIT_SCALE                1.0f
-#define C630S_MULTI_SPEED_TIME_UNIT_SCALE_NUM            1
-#define C630S_MULTI_SPEED_TIME_UNIT_SCALE_DEN            1
+#define C630S_MULTI_SPEED_TIME_UNIT_SCALE_NUM            1u
+#define C630S_MULTI_SPEED_TIME_UNIT_SCALE_DEN            1u
 #define C630S_MULTI_SPEED_TIME_UNIT_PAIRED               0
+/* Values of multi_speed_time_unit: the members of time_unit_s_min a write may send. */
+static inline bool c630s_multi_speed_time_unit_is_in_range(c630s_time_unit_s_min value)
+{
+    return c630s_time_unit_s_min_is_writable(value);
+}
+static inline bool c630s_multi_speed_time_unit_encode(c630s_time_unit_s_min value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_time_unit_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_time_unit_decode(const uint16_t words[1], c630s_time_unit_s_min *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_time_unit_s_min_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_time_unit_s_min)raw;
+    return true;
+}
 
 /* P12-03 multi_speed_accel_time_1: Acceleration time 1 (加速时间 1). u16 rw, unit ms, raw 0..65535, default 10, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_ACCEL_TIME_1_ADDR              0x1203u
@@ -4924,9 +11279,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_ACCEL_TIME_1_MAX               65535u
 #define C630S_MULTI_SPEED_ACCEL_TIME_1_DEFAULT           10u
 #define C630S_MULTI_SPEED_ACCEL_TIME_1_SCALE             1.0f
-#define C630S_MULTI_SPEED_ACCEL_TIME_1_SCALE_NUM         1
-#define C630S_MULTI_SPEED_ACCEL_TIME_1_SCALE_DEN         1
+#define C630S_MULTI_SPEED_ACCEL_TIME_1_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_ACCEL_TIME_1_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_ACCEL_TIME_1_PAIRED            0
+/* Values of multi_speed_accel_time_1: 0..65535 ms. */
+static inline bool c630s_multi_speed_accel_time_1_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_1_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_accel_time_1_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_1_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-04 multi_speed_decel_time_1: Deceleration time 1 (减速时间 1). u16 rw, unit ms, raw 0..65535, default 10, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_DECEL_TIME_1_ADDR              0x1204u
@@ -4937,9 +11311,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_DECEL_TIME_1_MAX               65535u
 #define C630S_MULTI_SPEED_DECEL_TIME_1_DEFAULT           10u
 #define C630S_MULTI_SPEED_DECEL_TIME_1_SCALE             1.0f
-#define C630S_MULTI_SPEED_DECEL_TIME_1_SCALE_NUM         1
-#define C630S_MULTI_SPEED_DECEL_TIME_1_SCALE_DEN         1
+#define C630S_MULTI_SPEED_DECEL_TIME_1_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_DECEL_TIME_1_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_DECEL_TIME_1_PAIRED            0
+/* Values of multi_speed_decel_time_1: 0..65535 ms. */
+static inline bool c630s_multi_speed_decel_time_1_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_1_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_decel_time_1_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_1_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-05 multi_speed_accel_time_2: Acceleration time 2 (加速时间 2). u16 rw, unit ms, raw 0..65535, default 50, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_ACCEL_TIME_2_ADDR              0x1205u
@@ -4950,9 +11343,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_ACCEL_TIME_2_MAX               65535u
 #define C630S_MULTI_SPEED_ACCEL_TIME_2_DEFAULT           50u
 #define C630S_MULTI_SPEED_ACCEL_TIME_2_SCALE             1.0f
-#define C630S_MULTI_SPEED_ACCEL_TIME_2_SCALE_NUM         1
-#define C630S_MULTI_SPEED_ACCEL_TIME_2_SCALE_DEN         1
+#define C630S_MULTI_SPEED_ACCEL_TIME_2_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_ACCEL_TIME_2_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_ACCEL_TIME_2_PAIRED            0
+/* Values of multi_speed_accel_time_2: 0..65535 ms. */
+static inline bool c630s_multi_speed_accel_time_2_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_2_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_accel_time_2_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_2_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-06 multi_speed_decel_time_2: Deceleration time 2 (减速时间 2). u16 rw, unit ms, raw 0..65535, default 50, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_DECEL_TIME_2_ADDR              0x1206u
@@ -4963,9 +11375,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_DECEL_TIME_2_MAX               65535u
 #define C630S_MULTI_SPEED_DECEL_TIME_2_DEFAULT           50u
 #define C630S_MULTI_SPEED_DECEL_TIME_2_SCALE             1.0f
-#define C630S_MULTI_SPEED_DECEL_TIME_2_SCALE_NUM         1
-#define C630S_MULTI_SPEED_DECEL_TIME_2_SCALE_DEN         1
+#define C630S_MULTI_SPEED_DECEL_TIME_2_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_DECEL_TIME_2_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_DECEL_TIME_2_PAIRED            0
+/* Values of multi_speed_decel_time_2: 0..65535 ms. */
+static inline bool c630s_multi_speed_decel_time_2_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_2_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_decel_time_2_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_2_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-07 multi_speed_accel_time_3: Acceleration time 3 (加速时间 3). u16 rw, unit ms, raw 0..65535, default 100, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_ACCEL_TIME_3_ADDR              0x1207u
@@ -4976,9 +11407,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_ACCEL_TIME_3_MAX               65535u
 #define C630S_MULTI_SPEED_ACCEL_TIME_3_DEFAULT           100u
 #define C630S_MULTI_SPEED_ACCEL_TIME_3_SCALE             1.0f
-#define C630S_MULTI_SPEED_ACCEL_TIME_3_SCALE_NUM         1
-#define C630S_MULTI_SPEED_ACCEL_TIME_3_SCALE_DEN         1
+#define C630S_MULTI_SPEED_ACCEL_TIME_3_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_ACCEL_TIME_3_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_ACCEL_TIME_3_PAIRED            0
+/* Values of multi_speed_accel_time_3: 0..65535 ms. */
+static inline bool c630s_multi_speed_accel_time_3_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_3_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_accel_time_3_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_3_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-08 multi_speed_decel_time_3: Deceleration time 3 (减速时间 3). u16 rw, unit ms, raw 0..65535, default 100, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_DECEL_TIME_3_ADDR              0x1208u
@@ -4989,9 +11439,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_DECEL_TIME_3_MAX               65535u
 #define C630S_MULTI_SPEED_DECEL_TIME_3_DEFAULT           100u
 #define C630S_MULTI_SPEED_DECEL_TIME_3_SCALE             1.0f
-#define C630S_MULTI_SPEED_DECEL_TIME_3_SCALE_NUM         1
-#define C630S_MULTI_SPEED_DECEL_TIME_3_SCALE_DEN         1
+#define C630S_MULTI_SPEED_DECEL_TIME_3_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_DECEL_TIME_3_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_DECEL_TIME_3_PAIRED            0
+/* Values of multi_speed_decel_time_3: 0..65535 ms. */
+static inline bool c630s_multi_speed_decel_time_3_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_3_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_decel_time_3_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_3_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-09 multi_speed_accel_time_4: Acceleration time 4 (加速时间 4). u16 rw, unit ms, raw 0..65535, default 150, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_ACCEL_TIME_4_ADDR              0x1209u
@@ -5002,9 +11471,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_ACCEL_TIME_4_MAX               65535u
 #define C630S_MULTI_SPEED_ACCEL_TIME_4_DEFAULT           150u
 #define C630S_MULTI_SPEED_ACCEL_TIME_4_SCALE             1.0f
-#define C630S_MULTI_SPEED_ACCEL_TIME_4_SCALE_NUM         1
-#define C630S_MULTI_SPEED_ACCEL_TIME_4_SCALE_DEN         1
+#define C630S_MULTI_SPEED_ACCEL_TIME_4_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_ACCEL_TIME_4_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_ACCEL_TIME_4_PAIRED            0
+/* Values of multi_speed_accel_time_4: 0..65535 ms. */
+static inline bool c630s_multi_speed_accel_time_4_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_4_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_accel_time_4_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_accel_time_4_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P12-10 multi_speed_decel_time_4: Deceleration time 4 (减速时间 4). u16 rw, unit ms, raw 0..65535, default 150, takes effect immediately. Manual 7.15. */
 #define C630S_MULTI_SPEED_DECEL_TIME_4_ADDR              0x120Au
@@ -5015,9 +11503,28 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_MULTI_SPEED_DECEL_TIME_4_MAX               65535u
 #define C630S_MULTI_SPEED_DECEL_TIME_4_DEFAULT           150u
 #define C630S_MULTI_SPEED_DECEL_TIME_4_SCALE             1.0f
-#define C630S_MULTI_SPEED_DECEL_TIME_4_SCALE_NUM         1
-#define C630S_MULTI_SPEED_DECEL_TIME_4_SCALE_DEN         1
+#define C630S_MULTI_SPEED_DECEL_TIME_4_SCALE_NUM         1u
+#define C630S_MULTI_SPEED_DECEL_TIME_4_SCALE_DEN         1u
 #define C630S_MULTI_SPEED_DECEL_TIME_4_PAIRED            0
+/* Values of multi_speed_decel_time_4: 0..65535 ms. */
+static inline bool c630s_multi_speed_decel_time_4_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_4_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_multi_speed_decel_time_4_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_multi_speed_decel_time_4_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Multi-segment speed segment (多段速度段): 16 elements 1..16; member m of element n is at BASE 0x1214 + 3 x (n - 1) + offset of m. Manual 7.15, 6.2.3, 9.2.2. */
 #define C630S_SPEED_SEGMENT_BASE                         0x1214u
@@ -5037,13 +11544,31 @@ static inline bool c630s_position_segment_wait_time_addr(unsigned n, uint16_t *a
 #define C630S_SPEED_SEGMENT_SPEED_SCALE_NUM              1
 #define C630S_SPEED_SEGMENT_SPEED_SCALE_DEN              1
 #define C630S_SPEED_SEGMENT_SPEED_PAIRED                 0
-static const int16_t c630s_speed_segment_speed_default[C630S_SPEED_SEGMENT_COUNT] = { 0, 100, 300, 500, 700, 900, 600, 300, 100, (-100), (-300), (-500), (-700), (-900), (-600), (-300) }; /* per element, index n - C630S_SPEED_SEGMENT_FIRST */
+extern const int16_t c630s_speed_segment_speed_default[C630S_SPEED_SEGMENT_COUNT]; /* per element, index n - C630S_SPEED_SEGMENT_FIRST */
 static inline bool c630s_speed_segment_speed_addr(unsigned n, uint16_t *address)
 {
     if (!(n - C630S_SPEED_SEGMENT_FIRST < C630S_SPEED_SEGMENT_COUNT)) {
         return false;
     }
     *address = C630S_SPEED_SEGMENT_SPEED_ADDR(n);
+    return true;
+}
+/* Values of speed_segment_speed: -6000..6000 rpm. */
+static inline bool c630s_speed_segment_speed_is_in_range(int16_t value)
+{
+    return value >= (-6000) && value <= 6000;
+}
+static inline bool c630s_speed_segment_speed_encode(int16_t value, uint16_t words[1])
+{
+    if (!c630s_speed_segment_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_segment_speed_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -5056,8 +11581,8 @@ static inline bool c630s_speed_segment_speed_addr(unsigned n, uint16_t *address)
 #define C630S_SPEED_SEGMENT_RUN_TIME_MAX                 65535u
 #define C630S_SPEED_SEGMENT_RUN_TIME_DEFAULT             50u
 #define C630S_SPEED_SEGMENT_RUN_TIME_SCALE               0.1f
-#define C630S_SPEED_SEGMENT_RUN_TIME_SCALE_NUM           1
-#define C630S_SPEED_SEGMENT_RUN_TIME_SCALE_DEN           10
+#define C630S_SPEED_SEGMENT_RUN_TIME_SCALE_NUM           1u
+#define C630S_SPEED_SEGMENT_RUN_TIME_SCALE_DEN           10u
 #define C630S_SPEED_SEGMENT_RUN_TIME_PAIRED              0
 static inline bool c630s_speed_segment_run_time_addr(unsigned n, uint16_t *address)
 {
@@ -5065,6 +11590,26 @@ static inline bool c630s_speed_segment_run_time_addr(unsigned n, uint16_t *addre
         return false;
     }
     *address = C630S_SPEED_SEGMENT_RUN_TIME_ADDR(n);
+    return true;
+}
+/* Values of speed_segment_run_time: 0..6553.5 s in steps of 0.1. */
+static inline bool c630s_speed_segment_run_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 65535.0, &raw);
+}
+static inline bool c630s_speed_segment_run_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 65535.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_segment_run_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
     return true;
 }
 
@@ -5077,8 +11622,8 @@ static inline bool c630s_speed_segment_run_time_addr(unsigned n, uint16_t *addre
 #define C630S_SPEED_SEGMENT_RAMP_MAX                     4u
 #define C630S_SPEED_SEGMENT_RAMP_DEFAULT                 0u
 #define C630S_SPEED_SEGMENT_RAMP_SCALE                   1.0f
-#define C630S_SPEED_SEGMENT_RAMP_SCALE_NUM               1
-#define C630S_SPEED_SEGMENT_RAMP_SCALE_DEN               1
+#define C630S_SPEED_SEGMENT_RAMP_SCALE_NUM               1u
+#define C630S_SPEED_SEGMENT_RAMP_SCALE_DEN               1u
 #define C630S_SPEED_SEGMENT_RAMP_PAIRED                  0
 static inline bool c630s_speed_segment_ramp_addr(unsigned n, uint16_t *address)
 {
@@ -5086,6 +11631,28 @@ static inline bool c630s_speed_segment_ramp_addr(unsigned n, uint16_t *address)
         return false;
     }
     *address = C630S_SPEED_SEGMENT_RAMP_ADDR(n);
+    return true;
+}
+/* Values of speed_segment_ramp: the members of ramp_select a write may send. */
+static inline bool c630s_speed_segment_ramp_is_in_range(c630s_ramp_select value)
+{
+    return c630s_ramp_select_is_writable(value);
+}
+static inline bool c630s_speed_segment_ramp_encode(c630s_ramp_select value, uint16_t words[1])
+{
+    if (!c630s_speed_segment_ramp_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_speed_segment_ramp_decode(const uint16_t words[1], c630s_ramp_select *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_ramp_select_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_ramp_select)raw;
     return true;
 }
 
@@ -5107,8 +11674,8 @@ static inline bool c630s_speed_segment_ramp_addr(unsigned n, uint16_t *address)
 #define C630S_VDI_FUNCTION_MAX                           37u
 #define C630S_VDI_FUNCTION_DEFAULT                       0u
 #define C630S_VDI_FUNCTION_SCALE                         1.0f
-#define C630S_VDI_FUNCTION_SCALE_NUM                     1
-#define C630S_VDI_FUNCTION_SCALE_DEN                     1
+#define C630S_VDI_FUNCTION_SCALE_NUM                     1u
+#define C630S_VDI_FUNCTION_SCALE_DEN                     1u
 #define C630S_VDI_FUNCTION_PAIRED                        0
 static inline bool c630s_vdi_function_addr(unsigned n, uint16_t *address)
 {
@@ -5116,6 +11683,28 @@ static inline bool c630s_vdi_function_addr(unsigned n, uint16_t *address)
         return false;
     }
     *address = C630S_VDI_FUNCTION_ADDR(n);
+    return true;
+}
+/* Values of vdi_function: the members of di_function a write may send. */
+static inline bool c630s_vdi_function_is_in_range(c630s_di_function value)
+{
+    return c630s_di_function_is_writable(value) && (long long)value <= (long long)37;
+}
+static inline bool c630s_vdi_function_encode(c630s_di_function value, uint16_t words[1])
+{
+    if (!c630s_vdi_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_vdi_function_decode(const uint16_t words[1], c630s_di_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_di_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_di_function)raw;
     return true;
 }
 
@@ -5128,8 +11717,8 @@ static inline bool c630s_vdi_function_addr(unsigned n, uint16_t *address)
 #define C630S_VDI_LOGIC_MAX                              1u
 #define C630S_VDI_LOGIC_DEFAULT                          0u
 #define C630S_VDI_LOGIC_SCALE                            1.0f
-#define C630S_VDI_LOGIC_SCALE_NUM                        1
-#define C630S_VDI_LOGIC_SCALE_DEN                        1
+#define C630S_VDI_LOGIC_SCALE_NUM                        1u
+#define C630S_VDI_LOGIC_SCALE_DEN                        1u
 #define C630S_VDI_LOGIC_PAIRED                           0
 static inline bool c630s_vdi_logic_addr(unsigned n, uint16_t *address)
 {
@@ -5139,6 +11728,28 @@ static inline bool c630s_vdi_logic_addr(unsigned n, uint16_t *address)
     *address = C630S_VDI_LOGIC_ADDR(n);
     return true;
 }
+/* Values of vdi_logic: the members of vdi_logic a write may send. */
+static inline bool c630s_vdi_logic_is_in_range(c630s_vdi_logic value)
+{
+    return c630s_vdi_logic_is_writable(value);
+}
+static inline bool c630s_vdi_logic_encode(c630s_vdi_logic value, uint16_t words[1])
+{
+    if (!c630s_vdi_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_vdi_logic_decode(const uint16_t words[1], c630s_vdi_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_vdi_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_vdi_logic)raw;
+    return true;
+}
 
 /* P17-32 vdo_virtual_level: VDO virtual level (VDO 虚拟电平). u16 r. Manual 7.16. */
 #define C630S_VDO_VIRTUAL_LEVEL_ADDR                     0x1720u
@@ -5146,9 +11757,15 @@ static inline bool c630s_vdi_logic_addr(unsigned n, uint16_t *address)
 #define C630S_VDO_VIRTUAL_LEVEL_ACCESS                   REGMAP_ACCESS_R
 #define C630S_VDO_VIRTUAL_LEVEL_SIGNED                   0
 #define C630S_VDO_VIRTUAL_LEVEL_SCALE                    1.0f
-#define C630S_VDO_VIRTUAL_LEVEL_SCALE_NUM                1
-#define C630S_VDO_VIRTUAL_LEVEL_SCALE_DEN                1
+#define C630S_VDO_VIRTUAL_LEVEL_SCALE_NUM                1u
+#define C630S_VDO_VIRTUAL_LEVEL_SCALE_DEN                1u
 #define C630S_VDO_VIRTUAL_LEVEL_PAIRED                   0
+/* Value of vdo_virtual_level. */
+static inline bool c630s_vdo_virtual_level_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Virtual DO (虚拟 DO): 16 elements 1..16; member m of element n is at BASE 0x1721 + 2 x (n - 1) + offset of m. Manual 7.16. */
 #define C630S_VDO_BASE                                   0x1721u
@@ -5166,8 +11783,8 @@ static inline bool c630s_vdi_logic_addr(unsigned n, uint16_t *address)
 #define C630S_VDO_FUNCTION_MAX                           22u
 #define C630S_VDO_FUNCTION_DEFAULT                       0u
 #define C630S_VDO_FUNCTION_SCALE                         1.0f
-#define C630S_VDO_FUNCTION_SCALE_NUM                     1
-#define C630S_VDO_FUNCTION_SCALE_DEN                     1
+#define C630S_VDO_FUNCTION_SCALE_NUM                     1u
+#define C630S_VDO_FUNCTION_SCALE_DEN                     1u
 #define C630S_VDO_FUNCTION_PAIRED                        0
 static inline bool c630s_vdo_function_addr(unsigned n, uint16_t *address)
 {
@@ -5175,6 +11792,28 @@ static inline bool c630s_vdo_function_addr(unsigned n, uint16_t *address)
         return false;
     }
     *address = C630S_VDO_FUNCTION_ADDR(n);
+    return true;
+}
+/* Values of vdo_function: the members of do_function a write may send. */
+static inline bool c630s_vdo_function_is_in_range(c630s_do_function value)
+{
+    return c630s_do_function_is_writable(value);
+}
+static inline bool c630s_vdo_function_encode(c630s_do_function value, uint16_t words[1])
+{
+    if (!c630s_vdo_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_vdo_function_decode(const uint16_t words[1], c630s_do_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_do_function_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_do_function)raw;
     return true;
 }
 
@@ -5187,8 +11826,8 @@ static inline bool c630s_vdo_function_addr(unsigned n, uint16_t *address)
 #define C630S_VDO_LOGIC_MAX                              1u
 #define C630S_VDO_LOGIC_DEFAULT                          0u
 #define C630S_VDO_LOGIC_SCALE                            1.0f
-#define C630S_VDO_LOGIC_SCALE_NUM                        1
-#define C630S_VDO_LOGIC_SCALE_DEN                        1
+#define C630S_VDO_LOGIC_SCALE_NUM                        1u
+#define C630S_VDO_LOGIC_SCALE_DEN                        1u
 #define C630S_VDO_LOGIC_PAIRED                           0
 static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 {
@@ -5196,6 +11835,28 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
         return false;
     }
     *address = C630S_VDO_LOGIC_ADDR(n);
+    return true;
+}
+/* Values of vdo_logic: the members of vdo_logic a write may send. */
+static inline bool c630s_vdo_logic_is_in_range(c630s_vdo_logic value)
+{
+    return c630s_vdo_logic_is_writable(value);
+}
+static inline bool c630s_vdo_logic_encode(c630s_vdo_logic value, uint16_t words[1])
+{
+    if (!c630s_vdo_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_vdo_logic_decode(const uint16_t words[1], c630s_vdo_logic *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!c630s_vdo_logic_is_member(raw)) {
+        return false;
+    }
+    *out = (c630s_vdo_logic)raw;
     return true;
 }
 
@@ -5207,9 +11868,15 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_SERVO_STATUS_ACCESS                   REGMAP_ACCESS_R
 #define C630S_COMM_SERVO_STATUS_SIGNED                   0
 #define C630S_COMM_SERVO_STATUS_SCALE                    1.0f
-#define C630S_COMM_SERVO_STATUS_SCALE_NUM                1
-#define C630S_COMM_SERVO_STATUS_SCALE_DEN                1
+#define C630S_COMM_SERVO_STATUS_SCALE_NUM                1u
+#define C630S_COMM_SERVO_STATUS_SCALE_DEN                1u
 #define C630S_COMM_SERVO_STATUS_PAIRED                   0
+/* Value of comm_servo_status. */
+static inline bool c630s_comm_servo_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P30-01 comm_do_function_status_1: DO function status 1 (read by communication) (通信读取 DO 功能状态 1). u16 r. Manual 7.17. */
 #define C630S_COMM_DO_FUNCTION_STATUS_1_ADDR             0x3001u
@@ -5217,9 +11884,15 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_DO_FUNCTION_STATUS_1_ACCESS           REGMAP_ACCESS_R
 #define C630S_COMM_DO_FUNCTION_STATUS_1_SIGNED           0
 #define C630S_COMM_DO_FUNCTION_STATUS_1_SCALE            1.0f
-#define C630S_COMM_DO_FUNCTION_STATUS_1_SCALE_NUM        1
-#define C630S_COMM_DO_FUNCTION_STATUS_1_SCALE_DEN        1
+#define C630S_COMM_DO_FUNCTION_STATUS_1_SCALE_NUM        1u
+#define C630S_COMM_DO_FUNCTION_STATUS_1_SCALE_DEN        1u
 #define C630S_COMM_DO_FUNCTION_STATUS_1_PAIRED           0
+/* Value of comm_do_function_status_1. */
+static inline bool c630s_comm_do_function_status_1_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P30-02 comm_do_function_status_2: DO function status 2 (read by communication) (通信读取 DO 功能状态 2). u16 r. Manual 7.17. */
 #define C630S_COMM_DO_FUNCTION_STATUS_2_ADDR             0x3002u
@@ -5227,9 +11900,15 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_DO_FUNCTION_STATUS_2_ACCESS           REGMAP_ACCESS_R
 #define C630S_COMM_DO_FUNCTION_STATUS_2_SIGNED           0
 #define C630S_COMM_DO_FUNCTION_STATUS_2_SCALE            1.0f
-#define C630S_COMM_DO_FUNCTION_STATUS_2_SCALE_NUM        1
-#define C630S_COMM_DO_FUNCTION_STATUS_2_SCALE_DEN        1
+#define C630S_COMM_DO_FUNCTION_STATUS_2_SCALE_NUM        1u
+#define C630S_COMM_DO_FUNCTION_STATUS_2_SCALE_DEN        1u
 #define C630S_COMM_DO_FUNCTION_STATUS_2_PAIRED           0
+/* Value of comm_do_function_status_2. */
+static inline bool c630s_comm_do_function_status_2_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P30-03 comm_input_pulse_sample: Input pulse command sample value (通信读取输入脉冲指令采样值). u16 r. Manual 7.17. */
 #define C630S_COMM_INPUT_PULSE_SAMPLE_ADDR               0x3003u
@@ -5237,9 +11916,15 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_INPUT_PULSE_SAMPLE_ACCESS             REGMAP_ACCESS_R
 #define C630S_COMM_INPUT_PULSE_SAMPLE_SIGNED             0
 #define C630S_COMM_INPUT_PULSE_SAMPLE_SCALE              1.0f
-#define C630S_COMM_INPUT_PULSE_SAMPLE_SCALE_NUM          1
-#define C630S_COMM_INPUT_PULSE_SAMPLE_SCALE_DEN          1
+#define C630S_COMM_INPUT_PULSE_SAMPLE_SCALE_NUM          1u
+#define C630S_COMM_INPUT_PULSE_SAMPLE_SCALE_DEN          1u
 #define C630S_COMM_INPUT_PULSE_SAMPLE_PAIRED             0
+/* Value of comm_input_pulse_sample. */
+static inline bool c630s_comm_input_pulse_sample_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P30-04 comm_di_status: DI conduction status (通信读取 DI 导通状态). u16 r, raw 0..511. Manual 7.17. */
 #define C630S_COMM_DI_STATUS_ADDR                        0x3004u
@@ -5249,9 +11934,15 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_DI_STATUS_MIN                         0u
 #define C630S_COMM_DI_STATUS_MAX                         511u
 #define C630S_COMM_DI_STATUS_SCALE                       1.0f
-#define C630S_COMM_DI_STATUS_SCALE_NUM                   1
-#define C630S_COMM_DI_STATUS_SCALE_DEN                   1
+#define C630S_COMM_DI_STATUS_SCALE_NUM                   1u
+#define C630S_COMM_DI_STATUS_SCALE_DEN                   1u
 #define C630S_COMM_DI_STATUS_PAIRED                      0
+/* Value of comm_di_status. */
+static inline bool c630s_comm_di_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== P31 servo variables set by communication (P31 组通信给定伺服相关变量). Manual 7.18. ==== */
 
@@ -5264,9 +11955,28 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_VDI_LEVEL_MAX                         65535u
 #define C630S_COMM_VDI_LEVEL_DEFAULT                     0u
 #define C630S_COMM_VDI_LEVEL_SCALE                       1.0f
-#define C630S_COMM_VDI_LEVEL_SCALE_NUM                   1
-#define C630S_COMM_VDI_LEVEL_SCALE_DEN                   1
+#define C630S_COMM_VDI_LEVEL_SCALE_NUM                   1u
+#define C630S_COMM_VDI_LEVEL_SCALE_DEN                   1u
 #define C630S_COMM_VDI_LEVEL_PAIRED                      0
+/* Values of comm_vdi_level: 0..65535. */
+static inline bool c630s_comm_vdi_level_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool c630s_comm_vdi_level_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_comm_vdi_level_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_comm_vdi_level_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* P31-04 comm_do_output: DO output state set by communication (通信给定 DO 输出状态). u16 rw, raw 0..31, default 0, takes effect immediately. Manual 7.18. */
 #define C630S_COMM_DO_OUTPUT_ADDR                        0x3104u
@@ -5277,9 +11987,27 @@ static inline bool c630s_vdo_logic_addr(unsigned n, uint16_t *address)
 #define C630S_COMM_DO_OUTPUT_MAX                         31u
 #define C630S_COMM_DO_OUTPUT_DEFAULT                     0u
 #define C630S_COMM_DO_OUTPUT_SCALE                       1.0f
-#define C630S_COMM_DO_OUTPUT_SCALE_NUM                   1
-#define C630S_COMM_DO_OUTPUT_SCALE_DEN                   1
+#define C630S_COMM_DO_OUTPUT_SCALE_NUM                   1u
+#define C630S_COMM_DO_OUTPUT_SCALE_DEN                   1u
 #define C630S_COMM_DO_OUTPUT_PAIRED                      0
+/* Values of comm_do_output: 0..31. */
+static inline bool c630s_comm_do_output_is_in_range(uint16_t value)
+{
+    return value <= 31u;
+}
+static inline bool c630s_comm_do_output_encode(uint16_t value, uint16_t words[1])
+{
+    if (!c630s_comm_do_output_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool c630s_comm_do_output_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Commands: a fixed value written to a register ==== */
 
@@ -5333,7 +12061,22 @@ static inline size_t c630s_build_reset_abs_encoder_multiturn(uint8_t *buf, size_
 
 /* ==== Read plan: the requests that read every readable register (as the Python client's read_all) ==== */
 #define C630S_READ_PLAN_LEN 71u
-static const regmap_read_block c630s_read_plan[C630S_READ_PLAN_LEN] = {
+extern const regmap_read_block c630s_read_plan[C630S_READ_PLAN_LEN];
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* REGMAP_C630S_H */
+
+/* The tables' definitions: in the one .c file that defines C630S_IMPLEMENTATION before it includes this header. */
+#if defined(C630S_IMPLEMENTATION) && !defined(REGMAP_C630S_IMPLEMENTED)
+#define REGMAP_C630S_IMPLEMENTED
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+const regmap_read_block c630s_read_plan[C630S_READ_PLAN_LEN] = {
     { 0x0100u, 1u }, /* P01-00 */
     { 0x0102u, 1u }, /* P01-02 */
     { 0x0200u, 4u }, /* P02-00 .. P02-03 (4 registers) */
@@ -5407,8 +12150,26 @@ static const regmap_read_block c630s_read_plan[C630S_READ_PLAN_LEN] = {
     { 0x3104u, 1u } /* P31-04 */
 };
 
+const int16_t c630s_speed_segment_speed_default[C630S_SPEED_SEGMENT_COUNT] = {
+    0,
+    100,
+    300,
+    500,
+    700,
+    900,
+    600,
+    300,
+    100,
+    (-100),
+    (-300),
+    (-500),
+    (-700),
+    (-900),
+    (-600),
+    (-300)
+};
+
 #ifdef __cplusplus
 }
 #endif
-
-#endif /* REGMAP_C630S_H */
+#endif /* C630S_IMPLEMENTATION */

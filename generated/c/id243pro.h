@@ -8,9 +8,29 @@
  *
  * Register macros: <NAME>_ADDR (listed address), _WORDS, _ACCESS (REGMAP_ACCESS_*), _SIGNED,
  * _WORD_ORDER (32-bit registers), raw _MIN/_MAX/_DEFAULT where the manual gives them, _SCALE
- * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN), _PAIRED and _PAIR_ADDR (the unused
- * high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
+ * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN; unsigned literals beside an unsigned
+ * raw value, signed beside a signed one, so the product keeps the raw value's type), _PAIRED and
+ * _PAIR_ADDR (the unused high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
  * the bounds-checked <array>_<member>_addr(n, &address) for any n.
+ *
+ * Values (as the Python client and the Structured Text encoders check them): every numeric register
+ * has <name>_decode(words, &value) when it can be read and <name>_is_in_range(value) and
+ * <name>_encode(value, words) when it can be written; an array member whose elements share their
+ * range has one set, <array>_<member>_*. `words` are the register's own words from its _ADDR on, in
+ * its word and byte order. _encode returns false and writes nothing for a value outside _MIN/_MAX,
+ * not a multiple of the resolution, not a member of the register's enum or a member the device only
+ * reports (<enum>_is_writable), and for a bitfield register a field value its enum lacks or only
+ * reports; _decode returns false, *out unchanged, for an enum value the map does not list.
+ * Engineering values: a register with a scale or an offset takes and gives a double, value = raw *
+ * _SCALE_NUM / _SCALE_DEN (+ offset), and _encode refuses a value more than a thousandth of a step
+ * from a whole raw value; an enum register takes its enum; a bitfield register its whole word, built
+ * with <name>_set_<field>(&word, value), which refuses (false, the word unchanged) a value wider than
+ * the field or not a member of its enum; any other register its C type.
+ *
+ * Tables (the read plan) are declared here and defined in exactly one .c file of the program:
+ *     #define ID243PRO_IMPLEMENTATION
+ *     #include "id243pro.h"
+ * Every other file includes the header without the macro.
  */
 #ifndef REGMAP_ID243PRO_H
 #define REGMAP_ID243PRO_H
@@ -63,12 +83,42 @@ typedef enum id243pro_pulse_mode {
     ID243PRO_PULSE_MODE_PULSE_DIRECTION = 1, /* Pulse + direction (脉冲+方向模式). */
     ID243PRO_PULSE_MODE_DOUBLE_PULSE = 2 /* Double pulse (CW/CCW) (双脉冲模式). */
 } id243pro_pulse_mode;
+/* Whether `value` is a member of id243pro_pulse_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_pulse_mode_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_PULSE_MODE_PULSE_DIRECTION:
+    case ID243PRO_PULSE_MODE_DOUBLE_PULSE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_pulse_mode_is_writable(long long value)
+{
+    return id243pro_pulse_mode_is_member(value);
+}
 
 /* Run mode (运行模式选择). Manual 1.2, 1.3. */
 typedef enum id243pro_run_mode {
     ID243PRO_RUN_MODE_EXTERNAL_PULSE = 0, /* External pulse (STEP/DIR inputs) (外部脉冲). */
     ID243PRO_RUN_MODE_INTERNAL_PULSE = 1 /* Internal pulse (IN1/IN2 inputs, Modbus motion) (内部脉冲). */
 } id243pro_run_mode;
+/* Whether `value` is a member of id243pro_run_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_run_mode_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_RUN_MODE_EXTERNAL_PULSE:
+    case ID243PRO_RUN_MODE_INTERNAL_PULSE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_run_mode_is_writable(long long value)
+{
+    return id243pro_run_mode_is_member(value);
+}
 
 /* User command (用户指令). Range printed 0~5; only 1-3 are described. Set only while the motor is stopped. Every value described is a command; the manual does not say what the register reads once it has run, so no member is marked read-only (access: r) or write-only (access: w). Manual 1.2. */
 typedef enum id243pro_user_command {
@@ -76,12 +126,43 @@ typedef enum id243pro_user_command {
     ID243PRO_USER_COMMAND_CLEAR_ALARM = 2, /* Clear alarm (except some hardware fault alarms) (清除报警（除部分硬件故障报警）). */
     ID243PRO_USER_COMMAND_RESTART = 3 /* Restart driver (驱动器重启). */
 } id243pro_user_command;
+/* Whether `value` is a member of id243pro_user_command, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_user_command_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_USER_COMMAND_RESET_USER_PARAMETERS:
+    case ID243PRO_USER_COMMAND_CLEAR_ALARM:
+    case ID243PRO_USER_COMMAND_RESTART:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_user_command_is_writable(long long value)
+{
+    return id243pro_user_command_is_member(value);
+}
 
 /* Homing mode (回原点模式). Manual 1.3. */
 typedef enum id243pro_homing_mode {
     ID243PRO_HOMING_MODE_CLOCKWISE = 0, /* Home clockwise (顺时针回原点). */
     ID243PRO_HOMING_MODE_COUNTERCLOCKWISE = 1 /* Home counter-clockwise (逆时针回原点). */
 } id243pro_homing_mode;
+/* Whether `value` is a member of id243pro_homing_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_homing_mode_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_HOMING_MODE_CLOCKWISE:
+    case ID243PRO_HOMING_MODE_COUNTERCLOCKWISE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_homing_mode_is_writable(long long value)
+{
+    return id243pro_homing_mode_is_member(value);
+}
 
 /* Control command (控制命令). Range printed 0~29; only the values below are described. Every value is a command (0: none); the manual does not say what the register reads once a command has run, so no member is marked read-only (access: r) or write-only (access: w). Manual 1.3. */
 typedef enum id243pro_control_command {
@@ -98,6 +179,31 @@ typedef enum id243pro_control_command {
     ID243PRO_CONTROL_COMMAND_CLEAR_ALARM = 13, /* Clear alarm (报警清除). */
     ID243PRO_CONTROL_COMMAND_ENABLE = 0x14 /* Enable (使能). */
 } id243pro_control_command;
+/* Whether `value` is a member of id243pro_control_command, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_control_command_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_CONTROL_COMMAND_NONE:
+    case ID243PRO_CONTROL_COMMAND_ABSOLUTE_MOVE:
+    case ID243PRO_CONTROL_COMMAND_RELATIVE_MOVE:
+    case ID243PRO_CONTROL_COMMAND_SPEED_MODE:
+    case ID243PRO_CONTROL_COMMAND_JOG_FORWARD:
+    case ID243PRO_CONTROL_COMMAND_JOG_REVERSE:
+    case ID243PRO_CONTROL_COMMAND_DECELERATE_STOP:
+    case ID243PRO_CONTROL_COMMAND_EMERGENCY_STOP:
+    case ID243PRO_CONTROL_COMMAND_SET_POSITION:
+    case ID243PRO_CONTROL_COMMAND_HOMING:
+    case ID243PRO_CONTROL_COMMAND_CLEAR_ALARM:
+    case ID243PRO_CONTROL_COMMAND_ENABLE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_control_command_is_writable(long long value)
+{
+    return id243pro_control_command_is_member(value);
+}
 
 /* Input function (IN1 功能选择). Range printed 0~30; only the values below are described. IN2 uses the same table ("设置内容同 IN1"). Manual 1.4. */
 typedef enum id243pro_input_function {
@@ -117,12 +223,55 @@ typedef enum id243pro_input_function {
     ID243PRO_INPUT_FUNCTION_CLEAR_ALARM = 13, /* Clear alarm (报警清除). */
     ID243PRO_INPUT_FUNCTION_ENABLE = 0x14 /* Enable (使能). */
 } id243pro_input_function;
+/* Whether `value` is a member of id243pro_input_function, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_input_function_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_INPUT_FUNCTION_NONE:
+    case ID243PRO_INPUT_FUNCTION_ABSOLUTE_MOVE:
+    case ID243PRO_INPUT_FUNCTION_RELATIVE_MOVE:
+    case ID243PRO_INPUT_FUNCTION_SPEED_MODE:
+    case ID243PRO_INPUT_FUNCTION_JOG_FORWARD:
+    case ID243PRO_INPUT_FUNCTION_JOG_REVERSE:
+    case ID243PRO_INPUT_FUNCTION_DECELERATE_STOP:
+    case ID243PRO_INPUT_FUNCTION_EMERGENCY_STOP:
+    case ID243PRO_INPUT_FUNCTION_SET_POSITION:
+    case ID243PRO_INPUT_FUNCTION_POSITIVE_LIMIT:
+    case ID243PRO_INPUT_FUNCTION_NEGATIVE_LIMIT:
+    case ID243PRO_INPUT_FUNCTION_HOME_SIGNAL:
+    case ID243PRO_INPUT_FUNCTION_HOMING:
+    case ID243PRO_INPUT_FUNCTION_CLEAR_ALARM:
+    case ID243PRO_INPUT_FUNCTION_ENABLE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_input_function_is_writable(long long value)
+{
+    return id243pro_input_function_is_member(value);
+}
 
 /* Pseudo-communication input state (伪通讯设定). Manual 1.4. */
 typedef enum id243pro_virtual_input {
     ID243PRO_VIRTUAL_INPUT_OFF = 0, /* Off (initial value) (OFF（初始值 0）). */
     ID243PRO_VIRTUAL_INPUT_ON = 1 /* On (triggers the action configured for the input) (ON（触发 IN1 配置的动作）). */
 } id243pro_virtual_input;
+/* Whether `value` is a member of id243pro_virtual_input, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_virtual_input_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_VIRTUAL_INPUT_OFF:
+    case ID243PRO_VIRTUAL_INPUT_ON:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_virtual_input_is_writable(long long value)
+{
+    return id243pro_virtual_input_is_member(value);
+}
 
 /* OUT1 function (OUT1 功能选择). Range printed 100~104; 102 and 104 are not described. Manual 1.5. */
 typedef enum id243pro_output_function {
@@ -130,6 +279,22 @@ typedef enum id243pro_output_function {
     ID243PRO_OUTPUT_FUNCTION_ALARM_OUTPUT = 0x65, /* Alarm output (报警输出功能). Output on while there is no alarm, off on alarm; usable as brake control through an external relay (brake on the normally-open contact, energised while there is no alarm). 无报警时有输出信号，有报警时无输出信号。 */
     ID243PRO_OUTPUT_FUNCTION_ENABLE_OUTPUT = 0x67 /* Enable state output (使能控制输出). Output on while the motor is released (脱机), off while enabled. 脱机时有输出信号，使能时无输出信号。 */
 } id243pro_output_function;
+/* Whether `value` is a member of id243pro_output_function, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool id243pro_output_function_is_member(long long value)
+{
+    switch (value) {
+    case ID243PRO_OUTPUT_FUNCTION_DISABLED:
+    case ID243PRO_OUTPUT_FUNCTION_ALARM_OUTPUT:
+    case ID243PRO_OUTPUT_FUNCTION_ENABLE_OUTPUT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool id243pro_output_function_is_writable(long long value)
+{
+    return id243pro_output_function_is_member(value);
+}
 
 /* ==== Controller basic status (class 01) (控制器基本状态). Manual 1.1. ==== */
 
@@ -140,9 +305,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_MOTOR_CURRENT_ACCESS                    REGMAP_ACCESS_R
 #define ID243PRO_MOTOR_CURRENT_SIGNED                    0
 #define ID243PRO_MOTOR_CURRENT_SCALE                     0.1f
-#define ID243PRO_MOTOR_CURRENT_SCALE_NUM                 1
-#define ID243PRO_MOTOR_CURRENT_SCALE_DEN                 10
+#define ID243PRO_MOTOR_CURRENT_SCALE_NUM                 1u
+#define ID243PRO_MOTOR_CURRENT_SCALE_DEN                 10u
 #define ID243PRO_MOTOR_CURRENT_PAIRED                    0
+/* Value of motor_current. */
+static inline bool id243pro_motor_current_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* 0101 input_voltage: Input voltage (输入电压). u16 r, unit V, printed range 1%V, errata E19. Manual 1.1. */
 /* Present supply voltage (当前输入电压). */
@@ -151,9 +322,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_INPUT_VOLTAGE_ACCESS                    REGMAP_ACCESS_R
 #define ID243PRO_INPUT_VOLTAGE_SIGNED                    0
 #define ID243PRO_INPUT_VOLTAGE_SCALE                     1.0f
-#define ID243PRO_INPUT_VOLTAGE_SCALE_NUM                 1
-#define ID243PRO_INPUT_VOLTAGE_SCALE_DEN                 1
+#define ID243PRO_INPUT_VOLTAGE_SCALE_NUM                 1u
+#define ID243PRO_INPUT_VOLTAGE_SCALE_DEN                 1u
 #define ID243PRO_INPUT_VOLTAGE_PAIRED                    0
+/* Value of input_voltage. */
+static inline bool id243pro_input_voltage_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0104 microstep_status: Microstep setting (pulses per revolution) (设置细分). u32 r, unit ppr, errata E12. Manual 1.1. */
 /* Microstep value (设置细分值), pulses per revolution. */
@@ -163,9 +340,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_MICROSTEP_STATUS_SIGNED                 0
 #define ID243PRO_MICROSTEP_STATUS_WORD_ORDER             REGMAP_LOW_FIRST
 #define ID243PRO_MICROSTEP_STATUS_SCALE                  1.0f
-#define ID243PRO_MICROSTEP_STATUS_SCALE_NUM              1
-#define ID243PRO_MICROSTEP_STATUS_SCALE_DEN              1
+#define ID243PRO_MICROSTEP_STATUS_SCALE_NUM              1u
+#define ID243PRO_MICROSTEP_STATUS_SCALE_DEN              1u
 #define ID243PRO_MICROSTEP_STATUS_PAIRED                 0
+/* Value of microstep_status. */
+static inline bool id243pro_microstep_status_decode(const uint16_t words[2], uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0106 pulse_mode_status: Pulse mode (脉冲方式). u16 r, raw 1..2, values: enum pulse_mode, errata E13. Manual 1.1. */
 /* 1 = pulse + direction, 2 = double pulse. */
@@ -176,9 +359,19 @@ typedef enum id243pro_output_function {
 #define ID243PRO_PULSE_MODE_STATUS_MIN                   1u
 #define ID243PRO_PULSE_MODE_STATUS_MAX                   2u
 #define ID243PRO_PULSE_MODE_STATUS_SCALE                 1.0f
-#define ID243PRO_PULSE_MODE_STATUS_SCALE_NUM             1
-#define ID243PRO_PULSE_MODE_STATUS_SCALE_DEN             1
+#define ID243PRO_PULSE_MODE_STATUS_SCALE_NUM             1u
+#define ID243PRO_PULSE_MODE_STATUS_SCALE_DEN             1u
 #define ID243PRO_PULSE_MODE_STATUS_PAIRED                0
+/* Value of pulse_mode_status. */
+static inline bool id243pro_pulse_mode_status_decode(const uint16_t words[1], id243pro_pulse_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_pulse_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_pulse_mode)raw;
+    return true;
+}
 
 /* 0108 fault_code: Fault code (故障代码). u16 r. Manual 1.1. */
 /* Code while in alarm; the content follows the alarm LED flash description (see faults); 0 means no fault (报警时代码，内容指示灯闪烁描述，显示“0”为无故障). */
@@ -187,9 +380,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_FAULT_CODE_ACCESS                       REGMAP_ACCESS_R
 #define ID243PRO_FAULT_CODE_SIGNED                       0
 #define ID243PRO_FAULT_CODE_SCALE                        1.0f
-#define ID243PRO_FAULT_CODE_SCALE_NUM                    1
-#define ID243PRO_FAULT_CODE_SCALE_DEN                    1
+#define ID243PRO_FAULT_CODE_SCALE_NUM                    1u
+#define ID243PRO_FAULT_CODE_SCALE_DEN                    1u
 #define ID243PRO_FAULT_CODE_PAIRED                       0
+/* Value of fault_code. */
+static inline bool id243pro_fault_code_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0109 run_status: Run status (运行状态). u16 r. Manual 1.1. */
 /* Driver run state; content follows the LED flash description (驱动器运行状态，内容指示灯闪烁描述). */
@@ -198,9 +397,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_RUN_STATUS_ACCESS                       REGMAP_ACCESS_R
 #define ID243PRO_RUN_STATUS_SIGNED                       0
 #define ID243PRO_RUN_STATUS_SCALE                        1.0f
-#define ID243PRO_RUN_STATUS_SCALE_NUM                    1
-#define ID243PRO_RUN_STATUS_SCALE_DEN                    1
+#define ID243PRO_RUN_STATUS_SCALE_NUM                    1u
+#define ID243PRO_RUN_STATUS_SCALE_DEN                    1u
 #define ID243PRO_RUN_STATUS_PAIRED                       0
+/* Value of run_status. */
+static inline bool id243pro_run_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0110 hardware_version: Hardware version (硬件版本). u16 r. Manual 1.1. */
 #define ID243PRO_HARDWARE_VERSION_ADDR                   0x006Eu
@@ -208,9 +413,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_HARDWARE_VERSION_ACCESS                 REGMAP_ACCESS_R
 #define ID243PRO_HARDWARE_VERSION_SIGNED                 0
 #define ID243PRO_HARDWARE_VERSION_SCALE                  1.0f
-#define ID243PRO_HARDWARE_VERSION_SCALE_NUM              1
-#define ID243PRO_HARDWARE_VERSION_SCALE_DEN              1
+#define ID243PRO_HARDWARE_VERSION_SCALE_NUM              1u
+#define ID243PRO_HARDWARE_VERSION_SCALE_DEN              1u
 #define ID243PRO_HARDWARE_VERSION_PAIRED                 0
+/* Value of hardware_version. */
+static inline bool id243pro_hardware_version_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0111 software_version: Software version (软件版本). u16 r. Manual 1.1. */
 #define ID243PRO_SOFTWARE_VERSION_ADDR                   0x006Fu
@@ -218,9 +429,15 @@ typedef enum id243pro_output_function {
 #define ID243PRO_SOFTWARE_VERSION_ACCESS                 REGMAP_ACCESS_R
 #define ID243PRO_SOFTWARE_VERSION_SIGNED                 0
 #define ID243PRO_SOFTWARE_VERSION_SCALE                  1.0f
-#define ID243PRO_SOFTWARE_VERSION_SCALE_NUM              1
-#define ID243PRO_SOFTWARE_VERSION_SCALE_DEN              1
+#define ID243PRO_SOFTWARE_VERSION_SCALE_NUM              1u
+#define ID243PRO_SOFTWARE_VERSION_SCALE_DEN              1u
 #define ID243PRO_SOFTWARE_VERSION_PAIRED                 0
+/* Value of software_version. */
+static inline bool id243pro_software_version_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0117 current_position: Current position (当前位置). s32 r, unit pulse, errata E11. Manual 1.1, 1.3. */
 /* Detail column in both sections reads "目标位置" (target position). */
@@ -233,6 +450,12 @@ typedef enum id243pro_output_function {
 #define ID243PRO_CURRENT_POSITION_SCALE_NUM              1
 #define ID243PRO_CURRENT_POSITION_SCALE_DEN              1
 #define ID243PRO_CURRENT_POSITION_PAIRED                 0
+/* Value of current_position. */
+static inline bool id243pro_current_position_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0119 actual_speed: Actual speed (实际转速显示). s16 r, unit rps, scale 0.01, errata E11. Manual 1.1, 1.3. */
 /* Actual speed; the value divided by 100 is the speed in rps (数据缩小 100 倍后为实际转速显示). */
@@ -244,6 +467,12 @@ typedef enum id243pro_output_function {
 #define ID243PRO_ACTUAL_SPEED_SCALE_NUM                  1
 #define ID243PRO_ACTUAL_SPEED_SCALE_DEN                  100
 #define ID243PRO_ACTUAL_SPEED_PAIRED                     0
+/* Value of actual_speed. */
+static inline bool id243pro_actual_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* ==== Basic parameter settings (class 02) (基本参数设置). Manual 1.2. ==== */
 
@@ -256,9 +485,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_MOTOR_DIRECTION_MIN                     0u
 #define ID243PRO_MOTOR_DIRECTION_MAX                     1u
 #define ID243PRO_MOTOR_DIRECTION_SCALE                   1.0f
-#define ID243PRO_MOTOR_DIRECTION_SCALE_NUM               1
-#define ID243PRO_MOTOR_DIRECTION_SCALE_DEN               1
+#define ID243PRO_MOTOR_DIRECTION_SCALE_NUM               1u
+#define ID243PRO_MOTOR_DIRECTION_SCALE_DEN               1u
 #define ID243PRO_MOTOR_DIRECTION_PAIRED                  0
+/* Values of motor_direction: 0..1. */
+static inline bool id243pro_motor_direction_is_in_range(uint16_t value)
+{
+    return value <= 1u;
+}
+static inline bool id243pro_motor_direction_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_motor_direction_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_motor_direction_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0206 user_command: User command (用户指令). u16 rw, raw 0..5, values: enum user_command. Manual 1.2. */
 /* Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart. */
@@ -269,9 +516,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_USER_COMMAND_MIN                        0u
 #define ID243PRO_USER_COMMAND_MAX                        5u
 #define ID243PRO_USER_COMMAND_SCALE                      1.0f
-#define ID243PRO_USER_COMMAND_SCALE_NUM                  1
-#define ID243PRO_USER_COMMAND_SCALE_DEN                  1
+#define ID243PRO_USER_COMMAND_SCALE_NUM                  1u
+#define ID243PRO_USER_COMMAND_SCALE_DEN                  1u
 #define ID243PRO_USER_COMMAND_PAIRED                     0
+/* Values of user_command: the members of user_command a write may send. */
+static inline bool id243pro_user_command_is_in_range(id243pro_user_command value)
+{
+    return id243pro_user_command_is_writable(value);
+}
+static inline bool id243pro_user_command_encode(id243pro_user_command value, uint16_t words[1])
+{
+    if (!id243pro_user_command_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_user_command_decode(const uint16_t words[1], id243pro_user_command *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_user_command_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_user_command)raw;
+    return true;
+}
 
 /* 0213 standstill_current_ratio: Standstill (half) current ratio (半流比例). u16 rw, unit %, raw 10..120, printed range 10%~120%, errata E15. Manual 1.2. */
 /* Standstill current ratio (停止电流比例). */
@@ -282,9 +551,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_STANDSTILL_CURRENT_RATIO_MIN            10u
 #define ID243PRO_STANDSTILL_CURRENT_RATIO_MAX            120u
 #define ID243PRO_STANDSTILL_CURRENT_RATIO_SCALE          1.0f
-#define ID243PRO_STANDSTILL_CURRENT_RATIO_SCALE_NUM      1
-#define ID243PRO_STANDSTILL_CURRENT_RATIO_SCALE_DEN      1
+#define ID243PRO_STANDSTILL_CURRENT_RATIO_SCALE_NUM      1u
+#define ID243PRO_STANDSTILL_CURRENT_RATIO_SCALE_DEN      1u
 #define ID243PRO_STANDSTILL_CURRENT_RATIO_PAIRED         0
+/* Values of standstill_current_ratio: 10..120 %. */
+static inline bool id243pro_standstill_current_ratio_is_in_range(uint16_t value)
+{
+    return value >= 10u && value <= 120u;
+}
+static inline bool id243pro_standstill_current_ratio_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_standstill_current_ratio_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_standstill_current_ratio_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0224 angle_filter: Angle filter (角度滤波). u16 rw, raw 1..700. Manual 1.2. */
 /* Smaller values run the motor more smoothly but with more delay (值越小，电机运行越平滑，但延迟也越高). */
@@ -295,9 +582,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_ANGLE_FILTER_MIN                        1u
 #define ID243PRO_ANGLE_FILTER_MAX                        700u
 #define ID243PRO_ANGLE_FILTER_SCALE                      1.0f
-#define ID243PRO_ANGLE_FILTER_SCALE_NUM                  1
-#define ID243PRO_ANGLE_FILTER_SCALE_DEN                  1
+#define ID243PRO_ANGLE_FILTER_SCALE_NUM                  1u
+#define ID243PRO_ANGLE_FILTER_SCALE_DEN                  1u
 #define ID243PRO_ANGLE_FILTER_PAIRED                     0
+/* Values of angle_filter: 1..700. */
+static inline bool id243pro_angle_filter_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 700u;
+}
+static inline bool id243pro_angle_filter_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_angle_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_angle_filter_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0234 digital_filter: Digital input filter (数字滤波). u16 rw, raw 1..15. Manual 1.2. */
 /* Input pulse filter coefficient; larger values lower the input frequency response (输入脉冲的滤波系数，值越大输入频响越低). */
@@ -308,9 +613,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_DIGITAL_FILTER_MIN                      1u
 #define ID243PRO_DIGITAL_FILTER_MAX                      15u
 #define ID243PRO_DIGITAL_FILTER_SCALE                    1.0f
-#define ID243PRO_DIGITAL_FILTER_SCALE_NUM                1
-#define ID243PRO_DIGITAL_FILTER_SCALE_DEN                1
+#define ID243PRO_DIGITAL_FILTER_SCALE_NUM                1u
+#define ID243PRO_DIGITAL_FILTER_SCALE_DEN                1u
 #define ID243PRO_DIGITAL_FILTER_PAIRED                   0
+/* Values of digital_filter: 1..15. */
+static inline bool id243pro_digital_filter_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 15u;
+}
+static inline bool id243pro_digital_filter_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_digital_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_digital_filter_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0241 input_current: Motor current setting (输入电流). u16 rw, unit A, scale 0.001, raw 100..3200 (0.1..3.2 A), printed range 100~3200 0.1A~-3.2A, errata E16. Manual 1.2. */
 /* Sets the current (设置电流). */
@@ -321,9 +644,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_INPUT_CURRENT_MIN                       100u
 #define ID243PRO_INPUT_CURRENT_MAX                       3200u
 #define ID243PRO_INPUT_CURRENT_SCALE                     0.001f
-#define ID243PRO_INPUT_CURRENT_SCALE_NUM                 1
-#define ID243PRO_INPUT_CURRENT_SCALE_DEN                 1000
+#define ID243PRO_INPUT_CURRENT_SCALE_NUM                 1u
+#define ID243PRO_INPUT_CURRENT_SCALE_DEN                 1000u
 #define ID243PRO_INPUT_CURRENT_PAIRED                    0
+/* Values of input_current: 0.1..3.2 A in steps of 0.001. */
+static inline bool id243pro_input_current_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 1000.0, 100.0, 3200.0, &raw);
+}
+static inline bool id243pro_input_current_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 1000.0, 100.0, 3200.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_input_current_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 1000.0;
+    return true;
+}
 
 /* 0242 microstep: Microstep setting (pulses per revolution) (设置细分). u32 rw, unit ppr, raw 200..102400, errata E12. Manual 1.2. */
 /* Pulses per revolution (每圈脉冲数). */
@@ -335,9 +678,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_MICROSTEP_MIN                           200u
 #define ID243PRO_MICROSTEP_MAX                           102400ul
 #define ID243PRO_MICROSTEP_SCALE                         1.0f
-#define ID243PRO_MICROSTEP_SCALE_NUM                     1
-#define ID243PRO_MICROSTEP_SCALE_DEN                     1
+#define ID243PRO_MICROSTEP_SCALE_NUM                     1u
+#define ID243PRO_MICROSTEP_SCALE_DEN                     1u
 #define ID243PRO_MICROSTEP_PAIRED                        0
+/* Values of microstep: 200..102400 ppr. */
+static inline bool id243pro_microstep_is_in_range(uint32_t value)
+{
+    return value >= 200u && value <= 102400ul;
+}
+static inline bool id243pro_microstep_encode(uint32_t value, uint16_t words[2])
+{
+    if (!id243pro_microstep_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_microstep_decode(const uint16_t words[2], uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0244 pulse_mode: Pulse mode (脉冲方式). u16 rw, raw 1..2, values: enum pulse_mode, errata E13. Manual 1.2. */
 /* 1 pulse + direction, 2 double pulse. */
@@ -348,9 +709,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_PULSE_MODE_MIN                          1u
 #define ID243PRO_PULSE_MODE_MAX                          2u
 #define ID243PRO_PULSE_MODE_SCALE                        1.0f
-#define ID243PRO_PULSE_MODE_SCALE_NUM                    1
-#define ID243PRO_PULSE_MODE_SCALE_DEN                    1
+#define ID243PRO_PULSE_MODE_SCALE_NUM                    1u
+#define ID243PRO_PULSE_MODE_SCALE_DEN                    1u
 #define ID243PRO_PULSE_MODE_PAIRED                       0
+/* Values of pulse_mode: the members of pulse_mode a write may send. */
+static inline bool id243pro_pulse_mode_is_in_range(id243pro_pulse_mode value)
+{
+    return id243pro_pulse_mode_is_writable(value);
+}
+static inline bool id243pro_pulse_mode_encode(id243pro_pulse_mode value, uint16_t words[1])
+{
+    if (!id243pro_pulse_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_pulse_mode_decode(const uint16_t words[1], id243pro_pulse_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_pulse_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_pulse_mode)raw;
+    return true;
+}
 
 /* 0245 standstill_current_delay: Standstill (half) current delay (半流时间). u16 rw, unit ms, raw 1..32767. Manual 1.2. */
 /* Delay after the motor stops before it enters standstill (half) current (电机停止运行后进入半流状态的延时时间). */
@@ -361,9 +744,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_STANDSTILL_CURRENT_DELAY_MIN            1u
 #define ID243PRO_STANDSTILL_CURRENT_DELAY_MAX            32767u
 #define ID243PRO_STANDSTILL_CURRENT_DELAY_SCALE          1.0f
-#define ID243PRO_STANDSTILL_CURRENT_DELAY_SCALE_NUM      1
-#define ID243PRO_STANDSTILL_CURRENT_DELAY_SCALE_DEN      1
+#define ID243PRO_STANDSTILL_CURRENT_DELAY_SCALE_NUM      1u
+#define ID243PRO_STANDSTILL_CURRENT_DELAY_SCALE_DEN      1u
 #define ID243PRO_STANDSTILL_CURRENT_DELAY_PAIRED         0
+/* Values of standstill_current_delay: 1..32767 ms. */
+static inline bool id243pro_standstill_current_delay_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool id243pro_standstill_current_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_standstill_current_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_standstill_current_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0296 run_mode: Run mode selection (运行模式选择). u16 rw, raw 0..1, default 0, values: enum run_mode, takes effect after restart, errata E20. Manual 1.2, 1.3. */
 /* 0 external pulse, 1 internal pulse; a change needs a power cycle (注：功能修改后需断电重启). */
@@ -375,9 +776,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_RUN_MODE_MAX                            1u
 #define ID243PRO_RUN_MODE_DEFAULT                        0u
 #define ID243PRO_RUN_MODE_SCALE                          1.0f
-#define ID243PRO_RUN_MODE_SCALE_NUM                      1
-#define ID243PRO_RUN_MODE_SCALE_DEN                      1
+#define ID243PRO_RUN_MODE_SCALE_NUM                      1u
+#define ID243PRO_RUN_MODE_SCALE_DEN                      1u
 #define ID243PRO_RUN_MODE_PAIRED                         0
+/* Values of run_mode: the members of run_mode a write may send. */
+static inline bool id243pro_run_mode_is_in_range(id243pro_run_mode value)
+{
+    return id243pro_run_mode_is_writable(value);
+}
+static inline bool id243pro_run_mode_encode(id243pro_run_mode value, uint16_t words[1])
+{
+    if (!id243pro_run_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_run_mode_decode(const uint16_t words[1], id243pro_run_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_run_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_run_mode)raw;
+    return true;
+}
 
 /* 0298 slave_address: Communication (slave) address (通讯地址). u16 rw, raw 1..255, default 1, errata E2. Manual 1.2, 1.3. */
 #define ID243PRO_SLAVE_ADDRESS_ADDR                      0x012Au
@@ -388,9 +811,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_SLAVE_ADDRESS_MAX                       255u
 #define ID243PRO_SLAVE_ADDRESS_DEFAULT                   1u
 #define ID243PRO_SLAVE_ADDRESS_SCALE                     1.0f
-#define ID243PRO_SLAVE_ADDRESS_SCALE_NUM                 1
-#define ID243PRO_SLAVE_ADDRESS_SCALE_DEN                 1
+#define ID243PRO_SLAVE_ADDRESS_SCALE_NUM                 1u
+#define ID243PRO_SLAVE_ADDRESS_SCALE_DEN                 1u
 #define ID243PRO_SLAVE_ADDRESS_PAIRED                    0
+/* Values of slave_address: 1..255. */
+static inline bool id243pro_slave_address_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 255u;
+}
+static inline bool id243pro_slave_address_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_slave_address_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_slave_address_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0299 baud_rate: Baud rate (通讯波特率). u32 rw, unit bps, raw 1600..115200, printed range 1600~115200, default 19200, errata E3, E4, E8. Manual 1.2. */
 #define ID243PRO_BAUD_RATE_ADDR                          0x012Bu
@@ -402,9 +843,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_BAUD_RATE_MAX                           115200ul
 #define ID243PRO_BAUD_RATE_DEFAULT                       19200u
 #define ID243PRO_BAUD_RATE_SCALE                         1.0f
-#define ID243PRO_BAUD_RATE_SCALE_NUM                     1
-#define ID243PRO_BAUD_RATE_SCALE_DEN                     1
+#define ID243PRO_BAUD_RATE_SCALE_NUM                     1u
+#define ID243PRO_BAUD_RATE_SCALE_DEN                     1u
 #define ID243PRO_BAUD_RATE_PAIRED                        0
+/* Values of baud_rate: 1600..115200 bps. */
+static inline bool id243pro_baud_rate_is_in_range(uint32_t value)
+{
+    return value >= 1600u && value <= 115200ul;
+}
+static inline bool id243pro_baud_rate_encode(uint32_t value, uint16_t words[2])
+{
+    if (!id243pro_baud_rate_is_in_range(value)) {
+        return false;
+    }
+    regmap_u32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_baud_rate_decode(const uint16_t words[2], uint32_t *out)
+{
+    *out = regmap_u32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Control parameters (class 05) (控制用参数). Manual 1.3. ==== */
 
@@ -417,9 +876,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_START_FREQUENCY_MAX                     2000u
 #define ID243PRO_START_FREQUENCY_DEFAULT                 100u
 #define ID243PRO_START_FREQUENCY_SCALE                   0.01f
-#define ID243PRO_START_FREQUENCY_SCALE_NUM               1
-#define ID243PRO_START_FREQUENCY_SCALE_DEN               100
+#define ID243PRO_START_FREQUENCY_SCALE_NUM               1u
+#define ID243PRO_START_FREQUENCY_SCALE_DEN               100u
 #define ID243PRO_START_FREQUENCY_PAIRED                  0
+/* Values of start_frequency: 0.01..20 rps in steps of 0.01. */
+static inline bool id243pro_start_frequency_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 2000.0, &raw);
+}
+static inline bool id243pro_start_frequency_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 2000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_start_frequency_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0302 stop_frequency: Stop frequency (停止频率). u16 rw, unit rps, scale 0.01, raw 1..2000 (0.01..20 rps), printed range 1~2000 0.01~20rps, default 100 (1), errata E7. Manual 1.3. */
 #define ID243PRO_STOP_FREQUENCY_ADDR                     0x012Eu
@@ -430,9 +909,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_STOP_FREQUENCY_MAX                      2000u
 #define ID243PRO_STOP_FREQUENCY_DEFAULT                  100u
 #define ID243PRO_STOP_FREQUENCY_SCALE                    0.01f
-#define ID243PRO_STOP_FREQUENCY_SCALE_NUM                1
-#define ID243PRO_STOP_FREQUENCY_SCALE_DEN                100
+#define ID243PRO_STOP_FREQUENCY_SCALE_NUM                1u
+#define ID243PRO_STOP_FREQUENCY_SCALE_DEN                100u
 #define ID243PRO_STOP_FREQUENCY_PAIRED                   0
+/* Values of stop_frequency: 0.01..20 rps in steps of 0.01. */
+static inline bool id243pro_stop_frequency_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 2000.0, &raw);
+}
+static inline bool id243pro_stop_frequency_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 2000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_stop_frequency_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0303 acceleration: Acceleration (加速度). u16 rw, unit rps/s, raw 5..10000, printed range 5~10000 rps2, default 500. Manual 1.3. */
 #define ID243PRO_ACCELERATION_ADDR                       0x012Fu
@@ -443,9 +942,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_ACCELERATION_MAX                        10000u
 #define ID243PRO_ACCELERATION_DEFAULT                    500u
 #define ID243PRO_ACCELERATION_SCALE                      1.0f
-#define ID243PRO_ACCELERATION_SCALE_NUM                  1
-#define ID243PRO_ACCELERATION_SCALE_DEN                  1
+#define ID243PRO_ACCELERATION_SCALE_NUM                  1u
+#define ID243PRO_ACCELERATION_SCALE_DEN                  1u
 #define ID243PRO_ACCELERATION_PAIRED                     0
+/* Values of acceleration: 5..10000 rps/s. */
+static inline bool id243pro_acceleration_is_in_range(uint16_t value)
+{
+    return value >= 5u && value <= 10000u;
+}
+static inline bool id243pro_acceleration_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_acceleration_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_acceleration_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0304 deceleration: Deceleration (减速度). u16 rw, unit rps/s, raw 5..10000, printed range 5~10000 rps2, default 500, errata E10. Manual 1.3. */
 #define ID243PRO_DECELERATION_ADDR                       0x0130u
@@ -456,9 +973,27 @@ typedef enum id243pro_output_function {
 #define ID243PRO_DECELERATION_MAX                        10000u
 #define ID243PRO_DECELERATION_DEFAULT                    500u
 #define ID243PRO_DECELERATION_SCALE                      1.0f
-#define ID243PRO_DECELERATION_SCALE_NUM                  1
-#define ID243PRO_DECELERATION_SCALE_DEN                  1
+#define ID243PRO_DECELERATION_SCALE_NUM                  1u
+#define ID243PRO_DECELERATION_SCALE_DEN                  1u
 #define ID243PRO_DECELERATION_PAIRED                     0
+/* Values of deceleration: 5..10000 rps/s. */
+static inline bool id243pro_deceleration_is_in_range(uint16_t value)
+{
+    return value >= 5u && value <= 10000u;
+}
+static inline bool id243pro_deceleration_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_deceleration_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_deceleration_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0305 homing_mode: Homing mode (回原点模式). u16 rw, raw 0..1, values: enum homing_mode, errata E10. Manual 1.3. */
 /* 0 home clockwise, 1 home counter-clockwise. */
@@ -469,9 +1004,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_HOMING_MODE_MIN                         0u
 #define ID243PRO_HOMING_MODE_MAX                         1u
 #define ID243PRO_HOMING_MODE_SCALE                       1.0f
-#define ID243PRO_HOMING_MODE_SCALE_NUM                   1
-#define ID243PRO_HOMING_MODE_SCALE_DEN                   1
+#define ID243PRO_HOMING_MODE_SCALE_NUM                   1u
+#define ID243PRO_HOMING_MODE_SCALE_DEN                   1u
 #define ID243PRO_HOMING_MODE_PAIRED                      0
+/* Values of homing_mode: the members of homing_mode a write may send. */
+static inline bool id243pro_homing_mode_is_in_range(id243pro_homing_mode value)
+{
+    return id243pro_homing_mode_is_writable(value);
+}
+static inline bool id243pro_homing_mode_encode(id243pro_homing_mode value, uint16_t words[1])
+{
+    if (!id243pro_homing_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_homing_mode_decode(const uint16_t words[1], id243pro_homing_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_homing_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_homing_mode)raw;
+    return true;
+}
 
 /* 0306 move_speed: Fixed-length move speed (定长运行速度). u16 rw, unit rps, scale 0.01, raw 1..5000 (0.01..50 rps), printed range 1~5000 0.01~50rps, default 1000 (10). Manual 1.3. */
 #define ID243PRO_MOVE_SPEED_ADDR                         0x0132u
@@ -482,9 +1039,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_MOVE_SPEED_MAX                          5000u
 #define ID243PRO_MOVE_SPEED_DEFAULT                      1000u
 #define ID243PRO_MOVE_SPEED_SCALE                        0.01f
-#define ID243PRO_MOVE_SPEED_SCALE_NUM                    1
-#define ID243PRO_MOVE_SPEED_SCALE_DEN                    100
+#define ID243PRO_MOVE_SPEED_SCALE_NUM                    1u
+#define ID243PRO_MOVE_SPEED_SCALE_DEN                    100u
 #define ID243PRO_MOVE_SPEED_PAIRED                       0
+/* Values of move_speed: 0.01..50 rps in steps of 0.01. */
+static inline bool id243pro_move_speed_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw);
+}
+static inline bool id243pro_move_speed_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_move_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0307 speed_mode_speed: Speed mode speed (速度模式运行速度). s16 rw, unit rps, scale 0.01, raw -5000..5000 (-50..50 rps), printed range -5000~5000 -50~50rps, default 1000 (10). Manual 1.3. */
 /* In speed mode the running direction follows the sign of the speed (速度模式时，运行方向与速度方向一致). */
@@ -499,6 +1076,26 @@ typedef enum id243pro_output_function {
 #define ID243PRO_SPEED_MODE_SPEED_SCALE_NUM              1
 #define ID243PRO_SPEED_MODE_SPEED_SCALE_DEN              100
 #define ID243PRO_SPEED_MODE_SPEED_PAIRED                 0
+/* Values of speed_mode_speed: -50..50 rps in steps of 0.01. */
+static inline bool id243pro_speed_mode_speed_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, (-5000.0), 5000.0, &raw);
+}
+static inline bool id243pro_speed_mode_speed_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, (-5000.0), 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire((int16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_speed_mode_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0308 jog_speed: Jog speed (点动运行速度). u16 rw, unit rps, scale 0.01, raw 1..5000 (0.01..50 rps), printed range 1~5000 0.01~50rps, default 1000 (10). Manual 1.3. */
 #define ID243PRO_JOG_SPEED_ADDR                          0x0134u
@@ -509,9 +1106,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_JOG_SPEED_MAX                           5000u
 #define ID243PRO_JOG_SPEED_DEFAULT                       1000u
 #define ID243PRO_JOG_SPEED_SCALE                         0.01f
-#define ID243PRO_JOG_SPEED_SCALE_NUM                     1
-#define ID243PRO_JOG_SPEED_SCALE_DEN                     100
+#define ID243PRO_JOG_SPEED_SCALE_NUM                     1u
+#define ID243PRO_JOG_SPEED_SCALE_DEN                     100u
 #define ID243PRO_JOG_SPEED_PAIRED                        0
+/* Values of jog_speed: 0.01..50 rps in steps of 0.01. */
+static inline bool id243pro_jog_speed_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw);
+}
+static inline bool id243pro_jog_speed_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_jog_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0309 homing_speed: Homing speed (回原点运行速度). u16 rw, unit rps, scale 0.01, raw 1..5000 (0.01..50 rps), printed range 1~5000 0.01~50rps, default 1000 (10). Manual 1.3. */
 #define ID243PRO_HOMING_SPEED_ADDR                       0x0135u
@@ -522,9 +1139,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_HOMING_SPEED_MAX                        5000u
 #define ID243PRO_HOMING_SPEED_DEFAULT                    1000u
 #define ID243PRO_HOMING_SPEED_SCALE                      0.01f
-#define ID243PRO_HOMING_SPEED_SCALE_NUM                  1
-#define ID243PRO_HOMING_SPEED_SCALE_DEN                  100
+#define ID243PRO_HOMING_SPEED_SCALE_NUM                  1u
+#define ID243PRO_HOMING_SPEED_SCALE_DEN                  100u
 #define ID243PRO_HOMING_SPEED_PAIRED                     0
+/* Values of homing_speed: 0.01..50 rps in steps of 0.01. */
+static inline bool id243pro_homing_speed_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw);
+}
+static inline bool id243pro_homing_speed_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_homing_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0310 homing_creep_speed: Homing creep speed (回原点蠕动速度). u16 rw, unit rps, scale 0.01, raw 1..5000 (0.01..50 rps), printed range 1~5000 0.01~50rps, default 1000 (10). Manual 1.3. */
 /* Speed after reaching the home signal (碰到原点后运行速度). */
@@ -536,9 +1173,29 @@ typedef enum id243pro_output_function {
 #define ID243PRO_HOMING_CREEP_SPEED_MAX                  5000u
 #define ID243PRO_HOMING_CREEP_SPEED_DEFAULT              1000u
 #define ID243PRO_HOMING_CREEP_SPEED_SCALE                0.01f
-#define ID243PRO_HOMING_CREEP_SPEED_SCALE_NUM            1
-#define ID243PRO_HOMING_CREEP_SPEED_SCALE_DEN            100
+#define ID243PRO_HOMING_CREEP_SPEED_SCALE_NUM            1u
+#define ID243PRO_HOMING_CREEP_SPEED_SCALE_DEN            100u
 #define ID243PRO_HOMING_CREEP_SPEED_PAIRED               0
+/* Values of homing_creep_speed: 0.01..50 rps in steps of 0.01. */
+static inline bool id243pro_homing_creep_speed_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw);
+}
+static inline bool id243pro_homing_creep_speed_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 1.0, 5000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_homing_creep_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* 0311 homing_offset: Homing offset (回原点偏移量). s32 rw, unit pulse, raw -2000000000..2000000000, default 0, errata E9. Manual 1.3. */
 #define ID243PRO_HOMING_OFFSET_ADDR                      0x0137u
@@ -553,6 +1210,24 @@ typedef enum id243pro_output_function {
 #define ID243PRO_HOMING_OFFSET_SCALE_NUM                 1
 #define ID243PRO_HOMING_OFFSET_SCALE_DEN                 1
 #define ID243PRO_HOMING_OFFSET_PAIRED                    0
+/* Values of homing_offset: -2000000000..2000000000 pulse. */
+static inline bool id243pro_homing_offset_is_in_range(int32_t value)
+{
+    return value >= (-2000000000) && value <= 2000000000;
+}
+static inline bool id243pro_homing_offset_encode(int32_t value, uint16_t words[2])
+{
+    if (!id243pro_homing_offset_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_homing_offset_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0313 target_distance: Move distance (output pulses) (输出脉冲). s32 rw, unit pulse, raw -2000000000..2000000000, default 0, errata E9. Manual 1.3. */
 /* Travel (运行行程): absolute mode moves to this position (绝对位置模式：运行到指定位置); relative mode moves by this offset (相对位置模式：运行设定偏移量行程). */
@@ -568,6 +1243,24 @@ typedef enum id243pro_output_function {
 #define ID243PRO_TARGET_DISTANCE_SCALE_NUM               1
 #define ID243PRO_TARGET_DISTANCE_SCALE_DEN               1
 #define ID243PRO_TARGET_DISTANCE_PAIRED                  0
+/* Values of target_distance: -2000000000..2000000000 pulse. */
+static inline bool id243pro_target_distance_is_in_range(int32_t value)
+{
+    return value >= (-2000000000) && value <= 2000000000;
+}
+static inline bool id243pro_target_distance_encode(int32_t value, uint16_t words[2])
+{
+    if (!id243pro_target_distance_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_target_distance_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0315 in_position_width: In-position width (到位脉冲宽度). s32 rw, unit pulse, raw -2000000000..2000000000, default 0. Manual 1.3. */
 /* Distance from the target at which the in-position signal is output (到达目标位置接近距离，输出到位信号). */
@@ -583,6 +1276,24 @@ typedef enum id243pro_output_function {
 #define ID243PRO_IN_POSITION_WIDTH_SCALE_NUM             1
 #define ID243PRO_IN_POSITION_WIDTH_SCALE_DEN             1
 #define ID243PRO_IN_POSITION_WIDTH_PAIRED                0
+/* Values of in_position_width: -2000000000..2000000000 pulse. */
+static inline bool id243pro_in_position_width_is_in_range(int32_t value)
+{
+    return value >= (-2000000000) && value <= 2000000000;
+}
+static inline bool id243pro_in_position_width_encode(int32_t value, uint16_t words[2])
+{
+    if (!id243pro_in_position_width_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_in_position_width_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0317 positive_soft_limit: Positive software limit (正软限位). s32 rw, unit pulse, raw -2000000000..2000000000, default 2000000000. Manual 1.3. */
 #define ID243PRO_POSITIVE_SOFT_LIMIT_ADDR                0x013Du
@@ -597,6 +1308,24 @@ typedef enum id243pro_output_function {
 #define ID243PRO_POSITIVE_SOFT_LIMIT_SCALE_NUM           1
 #define ID243PRO_POSITIVE_SOFT_LIMIT_SCALE_DEN           1
 #define ID243PRO_POSITIVE_SOFT_LIMIT_PAIRED              0
+/* Values of positive_soft_limit: -2000000000..2000000000 pulse. */
+static inline bool id243pro_positive_soft_limit_is_in_range(int32_t value)
+{
+    return value >= (-2000000000) && value <= 2000000000;
+}
+static inline bool id243pro_positive_soft_limit_encode(int32_t value, uint16_t words[2])
+{
+    if (!id243pro_positive_soft_limit_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_positive_soft_limit_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0319 negative_soft_limit: Negative software limit (负软限位). s32 rw, unit pulse, raw -2000000000..2000000000, default -2000000000. Manual 1.3. */
 #define ID243PRO_NEGATIVE_SOFT_LIMIT_ADDR                0x013Fu
@@ -611,6 +1340,24 @@ typedef enum id243pro_output_function {
 #define ID243PRO_NEGATIVE_SOFT_LIMIT_SCALE_NUM           1
 #define ID243PRO_NEGATIVE_SOFT_LIMIT_SCALE_DEN           1
 #define ID243PRO_NEGATIVE_SOFT_LIMIT_PAIRED              0
+/* Values of negative_soft_limit: -2000000000..2000000000 pulse. */
+static inline bool id243pro_negative_soft_limit_is_in_range(int32_t value)
+{
+    return value >= (-2000000000) && value <= 2000000000;
+}
+static inline bool id243pro_negative_soft_limit_encode(int32_t value, uint16_t words[2])
+{
+    if (!id243pro_negative_soft_limit_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_negative_soft_limit_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0321 set_position_value: Current position preset (设置当前位置). s32 rw, unit pulse, raw -2000000000..2000000000, default 0. Manual 1.3. */
 /* Position loaded by control command 8 (设定当前位置). */
@@ -626,6 +1373,24 @@ typedef enum id243pro_output_function {
 #define ID243PRO_SET_POSITION_VALUE_SCALE_NUM            1
 #define ID243PRO_SET_POSITION_VALUE_SCALE_DEN            1
 #define ID243PRO_SET_POSITION_VALUE_PAIRED               0
+/* Values of set_position_value: -2000000000..2000000000 pulse. */
+static inline bool id243pro_set_position_value_is_in_range(int32_t value)
+{
+    return value >= (-2000000000) && value <= 2000000000;
+}
+static inline bool id243pro_set_position_value_encode(int32_t value, uint16_t words[2])
+{
+    if (!id243pro_set_position_value_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool id243pro_set_position_value_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_LOW_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0323 control_command: Control command (控制命令). u16 rw, raw 0..29, default 0, values: enum control_command. Manual 1.3. */
 /* Motion command; see enum control_command. */
@@ -637,9 +1402,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_CONTROL_COMMAND_MAX                     29u
 #define ID243PRO_CONTROL_COMMAND_DEFAULT                 0u
 #define ID243PRO_CONTROL_COMMAND_SCALE                   1.0f
-#define ID243PRO_CONTROL_COMMAND_SCALE_NUM               1
-#define ID243PRO_CONTROL_COMMAND_SCALE_DEN               1
+#define ID243PRO_CONTROL_COMMAND_SCALE_NUM               1u
+#define ID243PRO_CONTROL_COMMAND_SCALE_DEN               1u
 #define ID243PRO_CONTROL_COMMAND_PAIRED                  0
+/* Values of control_command: the members of control_command a write may send. */
+static inline bool id243pro_control_command_is_in_range(id243pro_control_command value)
+{
+    return id243pro_control_command_is_writable(value);
+}
+static inline bool id243pro_control_command_encode(id243pro_control_command value, uint16_t words[1])
+{
+    if (!id243pro_control_command_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_control_command_decode(const uint16_t words[1], id243pro_control_command *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_control_command_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_control_command)raw;
+    return true;
+}
 
 /* ==== Input assignment (class 02) (输入块指定). Manual 1.4. ==== */
 
@@ -652,9 +1439,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_IN1_FUNCTION_MAX                        30u
 #define ID243PRO_IN1_FUNCTION_DEFAULT                    0u
 #define ID243PRO_IN1_FUNCTION_SCALE                      1.0f
-#define ID243PRO_IN1_FUNCTION_SCALE_NUM                  1
-#define ID243PRO_IN1_FUNCTION_SCALE_DEN                  1
+#define ID243PRO_IN1_FUNCTION_SCALE_NUM                  1u
+#define ID243PRO_IN1_FUNCTION_SCALE_DEN                  1u
 #define ID243PRO_IN1_FUNCTION_PAIRED                     0
+/* Values of in1_function: the members of input_function a write may send. */
+static inline bool id243pro_in1_function_is_in_range(id243pro_input_function value)
+{
+    return id243pro_input_function_is_writable(value);
+}
+static inline bool id243pro_in1_function_encode(id243pro_input_function value, uint16_t words[1])
+{
+    if (!id243pro_in1_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_in1_function_decode(const uint16_t words[1], id243pro_input_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_input_function_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_input_function)raw;
+    return true;
+}
 
 /* 0401 in2_function: IN2 function (IN2 功能选择). u16 rw, raw 0..30, default 0, values: enum input_function, errata E20. Manual 1.4. */
 /* Same settings as IN1 (设置内容同 IN1). */
@@ -666,9 +1475,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_IN2_FUNCTION_MAX                        30u
 #define ID243PRO_IN2_FUNCTION_DEFAULT                    0u
 #define ID243PRO_IN2_FUNCTION_SCALE                      1.0f
-#define ID243PRO_IN2_FUNCTION_SCALE_NUM                  1
-#define ID243PRO_IN2_FUNCTION_SCALE_DEN                  1
+#define ID243PRO_IN2_FUNCTION_SCALE_NUM                  1u
+#define ID243PRO_IN2_FUNCTION_SCALE_DEN                  1u
 #define ID243PRO_IN2_FUNCTION_PAIRED                     0
+/* Values of in2_function: the members of input_function a write may send. */
+static inline bool id243pro_in2_function_is_in_range(id243pro_input_function value)
+{
+    return id243pro_input_function_is_writable(value);
+}
+static inline bool id243pro_in2_function_encode(id243pro_input_function value, uint16_t words[1])
+{
+    if (!id243pro_in2_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_in2_function_decode(const uint16_t words[1], id243pro_input_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_input_function_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_input_function)raw;
+    return true;
+}
 
 /* 0410 virtual_in1: Pseudo-communication input IN1 (伪通讯设定 IN1). u16 rw, raw 0..1, default 0, values: enum virtual_input. Manual 1.4. */
 /* 0 OFF (initial value), 1 ON (triggers the action configured for IN1). */
@@ -680,9 +1511,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_VIRTUAL_IN1_MAX                         1u
 #define ID243PRO_VIRTUAL_IN1_DEFAULT                     0u
 #define ID243PRO_VIRTUAL_IN1_SCALE                       1.0f
-#define ID243PRO_VIRTUAL_IN1_SCALE_NUM                   1
-#define ID243PRO_VIRTUAL_IN1_SCALE_DEN                   1
+#define ID243PRO_VIRTUAL_IN1_SCALE_NUM                   1u
+#define ID243PRO_VIRTUAL_IN1_SCALE_DEN                   1u
 #define ID243PRO_VIRTUAL_IN1_PAIRED                      0
+/* Values of virtual_in1: the members of virtual_input a write may send. */
+static inline bool id243pro_virtual_in1_is_in_range(id243pro_virtual_input value)
+{
+    return id243pro_virtual_input_is_writable(value);
+}
+static inline bool id243pro_virtual_in1_encode(id243pro_virtual_input value, uint16_t words[1])
+{
+    if (!id243pro_virtual_in1_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_virtual_in1_decode(const uint16_t words[1], id243pro_virtual_input *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_virtual_input_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_virtual_input)raw;
+    return true;
+}
 
 /* 0411 virtual_in2: Pseudo-communication input IN2 (伪通讯设定 IN2). u16 rw, raw 0..1, default 0, values: enum virtual_input, errata E17. Manual 1.4. */
 /* 0 OFF (initial value), 1 ON (triggers the action configured for IN2). */
@@ -694,9 +1547,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_VIRTUAL_IN2_MAX                         1u
 #define ID243PRO_VIRTUAL_IN2_DEFAULT                     0u
 #define ID243PRO_VIRTUAL_IN2_SCALE                       1.0f
-#define ID243PRO_VIRTUAL_IN2_SCALE_NUM                   1
-#define ID243PRO_VIRTUAL_IN2_SCALE_DEN                   1
+#define ID243PRO_VIRTUAL_IN2_SCALE_NUM                   1u
+#define ID243PRO_VIRTUAL_IN2_SCALE_DEN                   1u
 #define ID243PRO_VIRTUAL_IN2_PAIRED                      0
+/* Values of virtual_in2: the members of virtual_input a write may send. */
+static inline bool id243pro_virtual_in2_is_in_range(id243pro_virtual_input value)
+{
+    return id243pro_virtual_input_is_writable(value);
+}
+static inline bool id243pro_virtual_in2_encode(id243pro_virtual_input value, uint16_t words[1])
+{
+    if (!id243pro_virtual_in2_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_virtual_in2_decode(const uint16_t words[1], id243pro_virtual_input *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_virtual_input_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_virtual_input)raw;
+    return true;
+}
 
 /* 0429 digital_input_logic: General digital input logic (通用数字输入逻辑). u16 rw, errata E14. Manual 1.4. */
 #define ID243PRO_DIGITAL_INPUT_LOGIC_ADDR                0x01ADu
@@ -704,9 +1579,28 @@ typedef enum id243pro_output_function {
 #define ID243PRO_DIGITAL_INPUT_LOGIC_ACCESS              REGMAP_ACCESS_RW
 #define ID243PRO_DIGITAL_INPUT_LOGIC_SIGNED              0
 #define ID243PRO_DIGITAL_INPUT_LOGIC_SCALE               1.0f
-#define ID243PRO_DIGITAL_INPUT_LOGIC_SCALE_NUM           1
-#define ID243PRO_DIGITAL_INPUT_LOGIC_SCALE_DEN           1
+#define ID243PRO_DIGITAL_INPUT_LOGIC_SCALE_NUM           1u
+#define ID243PRO_DIGITAL_INPUT_LOGIC_SCALE_DEN           1u
 #define ID243PRO_DIGITAL_INPUT_LOGIC_PAIRED              0
+/* Values of digital_input_logic: 0..65535. */
+static inline bool id243pro_digital_input_logic_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool id243pro_digital_input_logic_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_digital_input_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_digital_input_logic_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Output assignment (class 07) (输出块指定). Manual 1.5. ==== */
 
@@ -719,9 +1613,31 @@ typedef enum id243pro_output_function {
 #define ID243PRO_OUT1_FUNCTION_MAX                       104u
 #define ID243PRO_OUT1_FUNCTION_DEFAULT                   101u
 #define ID243PRO_OUT1_FUNCTION_SCALE                     1.0f
-#define ID243PRO_OUT1_FUNCTION_SCALE_NUM                 1
-#define ID243PRO_OUT1_FUNCTION_SCALE_DEN                 1
+#define ID243PRO_OUT1_FUNCTION_SCALE_NUM                 1u
+#define ID243PRO_OUT1_FUNCTION_SCALE_DEN                 1u
 #define ID243PRO_OUT1_FUNCTION_PAIRED                    0
+/* Values of out1_function: the members of output_function a write may send. */
+static inline bool id243pro_out1_function_is_in_range(id243pro_output_function value)
+{
+    return id243pro_output_function_is_writable(value);
+}
+static inline bool id243pro_out1_function_encode(id243pro_output_function value, uint16_t words[1])
+{
+    if (!id243pro_out1_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_out1_function_decode(const uint16_t words[1], id243pro_output_function *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!id243pro_output_function_is_member(raw)) {
+        return false;
+    }
+    *out = (id243pro_output_function)raw;
+    return true;
+}
 
 /* 0428 digital_output_control: General digital output control (通用数字输出控制). u16 rw, errata E14. Manual 1.5. */
 #define ID243PRO_DIGITAL_OUTPUT_CONTROL_ADDR             0x01ACu
@@ -729,9 +1645,28 @@ typedef enum id243pro_output_function {
 #define ID243PRO_DIGITAL_OUTPUT_CONTROL_ACCESS           REGMAP_ACCESS_RW
 #define ID243PRO_DIGITAL_OUTPUT_CONTROL_SIGNED           0
 #define ID243PRO_DIGITAL_OUTPUT_CONTROL_SCALE            1.0f
-#define ID243PRO_DIGITAL_OUTPUT_CONTROL_SCALE_NUM        1
-#define ID243PRO_DIGITAL_OUTPUT_CONTROL_SCALE_DEN        1
+#define ID243PRO_DIGITAL_OUTPUT_CONTROL_SCALE_NUM        1u
+#define ID243PRO_DIGITAL_OUTPUT_CONTROL_SCALE_DEN        1u
 #define ID243PRO_DIGITAL_OUTPUT_CONTROL_PAIRED           0
+/* Values of digital_output_control: 0..65535. */
+static inline bool id243pro_digital_output_control_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool id243pro_digital_output_control_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_digital_output_control_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_digital_output_control_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* 0430 digital_output_logic: General digital output logic (通用数字输出逻辑). u16 rw, errata E14. Manual 1.5. */
 #define ID243PRO_DIGITAL_OUTPUT_LOGIC_ADDR               0x01AEu
@@ -739,9 +1674,28 @@ typedef enum id243pro_output_function {
 #define ID243PRO_DIGITAL_OUTPUT_LOGIC_ACCESS             REGMAP_ACCESS_RW
 #define ID243PRO_DIGITAL_OUTPUT_LOGIC_SIGNED             0
 #define ID243PRO_DIGITAL_OUTPUT_LOGIC_SCALE              1.0f
-#define ID243PRO_DIGITAL_OUTPUT_LOGIC_SCALE_NUM          1
-#define ID243PRO_DIGITAL_OUTPUT_LOGIC_SCALE_DEN          1
+#define ID243PRO_DIGITAL_OUTPUT_LOGIC_SCALE_NUM          1u
+#define ID243PRO_DIGITAL_OUTPUT_LOGIC_SCALE_DEN          1u
 #define ID243PRO_DIGITAL_OUTPUT_LOGIC_PAIRED             0
+/* Values of digital_output_logic: 0..65535. */
+static inline bool id243pro_digital_output_logic_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool id243pro_digital_output_logic_encode(uint16_t value, uint16_t words[1])
+{
+    if (!id243pro_digital_output_logic_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool id243pro_digital_output_logic_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Commands: a fixed value written to a register ==== */
 
@@ -859,7 +1813,22 @@ static inline size_t id243pro_build_restart(uint8_t *buf, size_t cap, uint8_t sl
 
 /* ==== Read plan: the requests that read every readable register (as the Python client's read_all) ==== */
 #define ID243PRO_READ_PLAN_LEN 16u
-static const regmap_read_block id243pro_read_plan[ID243PRO_READ_PLAN_LEN] = {
+extern const regmap_read_block id243pro_read_plan[ID243PRO_READ_PLAN_LEN];
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* REGMAP_ID243PRO_H */
+
+/* The tables' definitions: in the one .c file that defines ID243PRO_IMPLEMENTATION before it includes this header. */
+#if defined(ID243PRO_IMPLEMENTATION) && !defined(REGMAP_ID243PRO_IMPLEMENTED)
+#define REGMAP_ID243PRO_IMPLEMENTED
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+const regmap_read_block id243pro_read_plan[ID243PRO_READ_PLAN_LEN] = {
     { 0x0064u, 2u }, /* 0100 .. 0101 (2 registers) */
     { 0x0068u, 3u }, /* 0104 .. 0106 (2 registers) */
     { 0x006Cu, 4u }, /* 0108 .. 0111 (4 registers) */
@@ -881,5 +1850,4 @@ static const regmap_read_block id243pro_read_plan[ID243PRO_READ_PLAN_LEN] = {
 #ifdef __cplusplus
 }
 #endif
-
-#endif /* REGMAP_ID243PRO_H */
+#endif /* ID243PRO_IMPLEMENTATION */

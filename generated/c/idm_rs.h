@@ -7,9 +7,29 @@
  *
  * Register macros: <NAME>_ADDR (listed address), _WORDS, _ACCESS (REGMAP_ACCESS_*), _SIGNED,
  * _WORD_ORDER (32-bit registers), raw _MIN/_MAX/_DEFAULT where the manual gives them, _SCALE
- * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN), _PAIRED and _PAIR_ADDR (the unused
- * high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
+ * (float) and _SCALE_NUM/_SCALE_DEN (value = raw * NUM / DEN; unsigned literals beside an unsigned
+ * raw value, signed beside a signed one, so the product keeps the raw value's type), _PAIRED and
+ * _PAIR_ADDR (the unused high word a block read or write starts at). Arrays: <ARRAY>_<MEMBER>_ADDR(n) for constant n and
  * the bounds-checked <array>_<member>_addr(n, &address) for any n.
+ *
+ * Values (as the Python client and the Structured Text encoders check them): every numeric register
+ * has <name>_decode(words, &value) when it can be read and <name>_is_in_range(value) and
+ * <name>_encode(value, words) when it can be written; an array member whose elements share their
+ * range has one set, <array>_<member>_*. `words` are the register's own words from its _ADDR on, in
+ * its word and byte order. _encode returns false and writes nothing for a value outside _MIN/_MAX,
+ * not a multiple of the resolution, not a member of the register's enum or a member the device only
+ * reports (<enum>_is_writable), and for a bitfield register a field value its enum lacks or only
+ * reports; _decode returns false, *out unchanged, for an enum value the map does not list.
+ * Engineering values: a register with a scale or an offset takes and gives a double, value = raw *
+ * _SCALE_NUM / _SCALE_DEN (+ offset), and _encode refuses a value more than a thousandth of a step
+ * from a whole raw value; an enum register takes its enum; a bitfield register its whole word, built
+ * with <name>_set_<field>(&word, value), which refuses (false, the word unchanged) a value wider than
+ * the field or not a member of its enum; any other register its C type.
+ *
+ * Tables (the read plan) are declared here and defined in exactly one .c file of the program:
+ *     #define IDM_RS_IMPLEMENTATION
+ *     #include "idm_rs.h"
+ * Every other file includes the header without the macro.
  */
 #ifndef REGMAP_IDM_RS_H
 #define REGMAP_IDM_RS_H
@@ -68,30 +88,105 @@ typedef enum idm_rs_loop_mode {
     IDM_RS_LOOP_MODE_OPEN_LOOP = 0, /* Open loop (开环模式). */
     IDM_RS_LOOP_MODE_CLOSED_LOOP = 2 /* Closed loop (闭环模式). */
 } idm_rs_loop_mode;
+/* Whether `value` is a member of idm_rs_loop_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_loop_mode_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_LOOP_MODE_OPEN_LOOP:
+    case IDM_RS_LOOP_MODE_CLOSED_LOOP:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_loop_mode_is_writable(long long value)
+{
+    return idm_rs_loop_mode_is_member(value);
+}
 
 /* Motor running direction (电机运行方向). Manual 5.3.1, 附录4. */
 typedef enum idm_rs_motor_direction {
     IDM_RS_MOTOR_DIRECTION_POSITIVE = 0, /* Positive direction (正方向). */
     IDM_RS_MOTOR_DIRECTION_NEGATIVE = 1 /* Negative direction (负方向). */
 } idm_rs_motor_direction;
+/* Whether `value` is a member of idm_rs_motor_direction, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_motor_direction_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_MOTOR_DIRECTION_POSITIVE:
+    case IDM_RS_MOTOR_DIRECTION_NEGATIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_motor_direction_is_writable(long long value)
+{
+    return idm_rs_motor_direction_is_member(value);
+}
 
 /* Forced enable by communication (强制使能). Manual 4.3, 5.3.1, 附录4. */
 typedef enum idm_rs_force_enable {
     IDM_RS_FORCE_ENABLE_IO_CONTROLLED = 0, /* Enable state controlled by the IO input (SRV-ON) (使能状态由 IO控制). */
     IDM_RS_FORCE_ENABLE_FORCED = 1 /* Forced enable (motor enabled whatever the IO enable state) (强制使能). */
 } idm_rs_force_enable;
+/* Whether `value` is a member of idm_rs_force_enable, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_force_enable_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_FORCE_ENABLE_IO_CONTROLLED:
+    case IDM_RS_FORCE_ENABLE_FORCED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_force_enable_is_writable(long long value)
+{
+    return idm_rs_force_enable_is_member(value);
+}
 
 /* Off / on. Manual 5.3.1. */
 typedef enum idm_rs_off_on {
     IDM_RS_OFF_ON_OFF = 0, /* Off. */
     IDM_RS_OFF_ON_ON = 1 /* On. */
 } idm_rs_off_on;
+/* Whether `value` is a member of idm_rs_off_on, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_off_on_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_OFF_ON_OFF:
+    case IDM_RS_OFF_ON_ON:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_off_on_is_writable(long long value)
+{
+    return idm_rs_off_on_is_member(value);
+}
 
 /* Current loop auto-tuning at power-up (电流环上电自整定). Manual 5.3.1, 附录4. */
 typedef enum idm_rs_current_autotune {
     IDM_RS_CURRENT_AUTOTUNE_DISABLED = 0, /* No auto-tuning (不自整定). */
     IDM_RS_CURRENT_AUTOTUNE_ENABLED = 1 /* Auto-tune (自整定). */
 } idm_rs_current_autotune;
+/* Whether `value` is a member of idm_rs_current_autotune, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_current_autotune_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_CURRENT_AUTOTUNE_DISABLED:
+    case IDM_RS_CURRENT_AUTOTUNE_ENABLED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_current_autotune_is_writable(long long value)
+{
+    return idm_rs_current_autotune_is_member(value);
+}
 
 /* RS-485 baud rate (485 波特率). The baud rate can only be changed online at 9600 (9600下才可在线修改波特率). Manual 5.3.1, 附录4. */
 typedef enum idm_rs_baud_rate {
@@ -103,6 +198,26 @@ typedef enum idm_rs_baud_rate {
     IDM_RS_BAUD_RATE_B57600 = 5, /* 57600 bit/s (57600). */
     IDM_RS_BAUD_RATE_B115200 = 6 /* 115200 bit/s (115200). */
 } idm_rs_baud_rate;
+/* Whether `value` is a member of idm_rs_baud_rate, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_baud_rate_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_BAUD_RATE_B2400:
+    case IDM_RS_BAUD_RATE_B4800:
+    case IDM_RS_BAUD_RATE_B9600:
+    case IDM_RS_BAUD_RATE_B19200:
+    case IDM_RS_BAUD_RATE_B38400:
+    case IDM_RS_BAUD_RATE_B57600:
+    case IDM_RS_BAUD_RATE_B115200:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_baud_rate_is_writable(long long value)
+{
+    return idm_rs_baud_rate_is_member(value);
+}
 
 /* RS-485 data format (485数据类型选择). Manual 5.3.1, 附录4. */
 typedef enum idm_rs_data_format {
@@ -113,6 +228,25 @@ typedef enum idm_rs_data_format {
     IDM_RS_DATA_FORMAT_N81 = 4, /* 8 data bits, no parity, 1 stop bit (8位数据，无校验，1个停止位). */
     IDM_RS_DATA_FORMAT_N82 = 5 /* 8 data bits, no parity, 2 stop bits (8位数据，无校验，2个停止位). */
 } idm_rs_data_format;
+/* Whether `value` is a member of idm_rs_data_format, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_data_format_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_DATA_FORMAT_E82:
+    case IDM_RS_DATA_FORMAT_O82:
+    case IDM_RS_DATA_FORMAT_E81:
+    case IDM_RS_DATA_FORMAT_O81:
+    case IDM_RS_DATA_FORMAT_N81:
+    case IDM_RS_DATA_FORMAT_N82:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_data_format_is_writable(long long value)
+{
+    return idm_rs_data_format_is_member(value);
+}
 
 /* DI (input terminal) function code (输入端子功能分配). Value of bits 0-6 of Pr4.02-Pr4.08; bit 7 set (value + 0x80) makes the input normally closed. See erratum E21 for the codes the three lists disagree on. Manual 5.3.1, 5.3.4, 附录4. */
 typedef enum idm_rs_di_function {
@@ -133,6 +267,35 @@ typedef enum idm_rs_di_function {
     IDM_RS_DI_FUNCTION_PATH_ADDRESS_3 = 0x2B, /* Path address bit 3 (路径地址 3) [ADDR3]. */
     IDM_RS_DI_FUNCTION_JOG_SPEED_2 = 0x2C /* JOG speed 2 (switch JOG to Pr8.38) (JOG速度 2). */
 } idm_rs_di_function;
+/* Whether `value` is a member of idm_rs_di_function, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_di_function_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_DI_FUNCTION_INVALID:
+    case IDM_RS_DI_FUNCTION_ALARM_CLEAR:
+    case IDM_RS_DI_FUNCTION_SERVO_ON:
+    case IDM_RS_DI_FUNCTION_CTRG:
+    case IDM_RS_DI_FUNCTION_HOME:
+    case IDM_RS_DI_FUNCTION_STOP:
+    case IDM_RS_DI_FUNCTION_PJOG:
+    case IDM_RS_DI_FUNCTION_NJOG:
+    case IDM_RS_DI_FUNCTION_POSITIVE_LIMIT:
+    case IDM_RS_DI_FUNCTION_NEGATIVE_LIMIT:
+    case IDM_RS_DI_FUNCTION_ORIGIN:
+    case IDM_RS_DI_FUNCTION_PATH_ADDRESS_0:
+    case IDM_RS_DI_FUNCTION_PATH_ADDRESS_1:
+    case IDM_RS_DI_FUNCTION_PATH_ADDRESS_2:
+    case IDM_RS_DI_FUNCTION_PATH_ADDRESS_3:
+    case IDM_RS_DI_FUNCTION_JOG_SPEED_2:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_di_function_is_writable(long long value)
+{
+    return idm_rs_di_function_is_member(value);
+}
 
 /* DO (output terminal) function code (输出端子功能分配). Value of bits 0-6 of Pr4.11-Pr4.13; bit 7 set (value + 0x80) makes the output normally closed. Manual 5.3.1, 5.3.4, 附录4. */
 typedef enum idm_rs_do_function {
@@ -144,6 +307,26 @@ typedef enum idm_rs_do_function {
     IDM_RS_DO_FUNCTION_BRAKE = 0x24, /* Brake output (抱闸输出) [BRK]. */
     IDM_RS_DO_FUNCTION_ALARM = 0x25 /* Alarm output (报警输出) [ALM]. */
 } idm_rs_do_function;
+/* Whether `value` is a member of idm_rs_do_function, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_do_function_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_DO_FUNCTION_INVALID:
+    case IDM_RS_DO_FUNCTION_COMMAND_DONE:
+    case IDM_RS_DO_FUNCTION_PATH_DONE:
+    case IDM_RS_DO_FUNCTION_HOMING_DONE:
+    case IDM_RS_DO_FUNCTION_IN_POSITION:
+    case IDM_RS_DO_FUNCTION_BRAKE:
+    case IDM_RS_DO_FUNCTION_ALARM:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_do_function_is_writable(long long value)
+{
+    return idm_rs_do_function_is_member(value);
+}
 
 /* Auxiliary control word value (控制字). Manual 4.4, 4.5, 4.7, 5.3.3, 附录4. */
 typedef enum idm_rs_control_word {
@@ -156,6 +339,27 @@ typedef enum idm_rs_control_word {
     IDM_RS_CONTROL_WORD_JOG_LEFT = 0x4001, /* JOG left / positive (counter-clockwise seen from the motor front); resend every <50 ms (JOG左（50ms发一次）). */
     IDM_RS_CONTROL_WORD_JOG_RIGHT = 0x4002 /* JOG right / negative (clockwise seen from the motor front); resend every <50 ms (JOG右（50ms发一次）). */
 } idm_rs_control_word;
+/* Whether `value` is a member of idm_rs_control_word, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_control_word_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_CONTROL_WORD_RESET_CURRENT_ALARM:
+    case IDM_RS_CONTROL_WORD_RESET_HISTORY_ALARMS:
+    case IDM_RS_CONTROL_WORD_SAVE_ALL_PARAMETERS:
+    case IDM_RS_CONTROL_WORD_INIT_PARAMETERS:
+    case IDM_RS_CONTROL_WORD_RESTORE_FACTORY_DEFAULTS:
+    case IDM_RS_CONTROL_WORD_SAVE_MAPPING:
+    case IDM_RS_CONTROL_WORD_JOG_LEFT:
+    case IDM_RS_CONTROL_WORD_JOG_RIGHT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_control_word_is_writable(long long value)
+{
+    return idm_rs_control_word_is_member(value);
+}
 
 /* Parameter save status word (保存参数状态字). Reading the status word returns it to its initial value: after power-up and before any save it reads 0x1111; the first read after a save gives 0x5555, later reads 0x1111 again. Manual 5.3.3, 附录4. */
 typedef enum idm_rs_save_status {
@@ -163,6 +367,22 @@ typedef enum idm_rs_save_status {
     IDM_RS_SAVE_STATUS_SAVED = 0x5555, /* Save succeeded (保存成功). */
     IDM_RS_SAVE_STATUS_SAVE_FAILED = 0xAAAA /* Save failed (保存失败). */
 } idm_rs_save_status;
+/* Whether `value` is a member of idm_rs_save_status, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_save_status_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_SAVE_STATUS_INITIAL:
+    case IDM_RS_SAVE_STATUS_SAVED:
+    case IDM_RS_SAVE_STATUS_SAVE_FAILED:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_save_status_is_writable(long long value)
+{
+    return idm_rs_save_status_is_member(value);
+}
 
 /* Current alarm code (报警代号). Codes as in 5.4.2 (see errata E9 and E10 for 4.2 and appendix 4). The red LED flash count is given per fault. Manual 4.2, 5.4.2. */
 typedef enum idm_rs_alarm_code {
@@ -177,12 +397,50 @@ typedef enum idm_rs_alarm_code {
     IDM_RS_ALARM_CODE_OVERTEMPERATURE = 0xF0, /* Overtemperature (ALM flashes 9) (过温). */
     IDM_RS_ALARM_CODE_INPUT_IO_DUPLICATE = 0x210 /* Input IO function assigned twice (ALM flashes 10) (输入 IO配置重复). */
 } idm_rs_alarm_code;
+/* Whether `value` is a member of idm_rs_alarm_code, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_alarm_code_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_ALARM_CODE_OVERCURRENT:
+    case IDM_RS_ALARM_CODE_OVERVOLTAGE:
+    case IDM_RS_ALARM_CODE_CURRENT_SAMPLING_FAULT:
+    case IDM_RS_ALARM_CODE_SHAFT_LOCK_FAULT:
+    case IDM_RS_ALARM_CODE_EEPROM_FAULT:
+    case IDM_RS_ALARM_CODE_AUTOTUNE_FAULT:
+    case IDM_RS_ALARM_CODE_FOLLOWING_ERROR:
+    case IDM_RS_ALARM_CODE_ENCODER_DISCONNECTED:
+    case IDM_RS_ALARM_CODE_OVERTEMPERATURE:
+    case IDM_RS_ALARM_CODE_INPUT_IO_DUPLICATE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_alarm_code_is_writable(long long value)
+{
+    return idm_rs_alarm_code_is_member(value);
+}
 
 /* CTRG trigger edge (CTRG 边沿选择). Manual 5.3.1, 6.4, 附录4. */
 typedef enum idm_rs_ctrg_edge {
     IDM_RS_CTRG_EDGE_RISING = 0, /* Rising edge (上升沿触发). */
     IDM_RS_CTRG_EDGE_BOTH = 1 /* Both edges (双边沿触发). */
 } idm_rs_ctrg_edge;
+/* Whether `value` is a member of idm_rs_ctrg_edge, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_ctrg_edge_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_CTRG_EDGE_RISING:
+    case IDM_RS_CTRG_EDGE_BOTH:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_ctrg_edge_is_writable(long long value)
+{
+    return idm_rs_ctrg_edge_is_member(value);
+}
 
 /* PR trigger register (Pr8.02) command / state (触发寄存器). Values 0x0010-0x0040 are written (commands); 0x0000-0x000F, 0x0100-0x010F, 0x0200 and 0x0201-0x020F are read back (state). 5.3.1 and 6.4 give completion as 0x0000 (6.4: every path currently reads 0x0000); appendix 4 gives 0x000P, so 0x0001-0x000F are kept as appendix-only readings. See erratum E12. Manual 4.8, 5.3.1, 6.4, 附录4. */
 typedef enum idm_rs_pr_trigger {
@@ -254,12 +512,130 @@ typedef enum idm_rs_pr_trigger {
     IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_14 = 0x20E, /* Read: following error in path 14 (appendix 4 only) (第P段路径中出现超差). */
     IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_15 = 0x20F /* Read: following error in path 15 (appendix 4 only) (第P段路径中出现超差). */
 } idm_rs_pr_trigger;
+/* Whether `value` is a member of idm_rs_pr_trigger, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_pr_trigger_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_PR_TRIGGER_DONE:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_1:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_2:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_3:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_4:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_5:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_6:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_7:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_8:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_9:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_10:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_11:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_12:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_13:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_14:
+    case IDM_RS_PR_TRIGGER_DONE_PATH_15:
+    case IDM_RS_PR_TRIGGER_START_PATH_0:
+    case IDM_RS_PR_TRIGGER_START_PATH_1:
+    case IDM_RS_PR_TRIGGER_START_PATH_2:
+    case IDM_RS_PR_TRIGGER_START_PATH_3:
+    case IDM_RS_PR_TRIGGER_START_PATH_4:
+    case IDM_RS_PR_TRIGGER_START_PATH_5:
+    case IDM_RS_PR_TRIGGER_START_PATH_6:
+    case IDM_RS_PR_TRIGGER_START_PATH_7:
+    case IDM_RS_PR_TRIGGER_START_PATH_8:
+    case IDM_RS_PR_TRIGGER_START_PATH_9:
+    case IDM_RS_PR_TRIGGER_START_PATH_10:
+    case IDM_RS_PR_TRIGGER_START_PATH_11:
+    case IDM_RS_PR_TRIGGER_START_PATH_12:
+    case IDM_RS_PR_TRIGGER_START_PATH_13:
+    case IDM_RS_PR_TRIGGER_START_PATH_14:
+    case IDM_RS_PR_TRIGGER_START_PATH_15:
+    case IDM_RS_PR_TRIGGER_HOME:
+    case IDM_RS_PR_TRIGGER_SET_ZERO:
+    case IDM_RS_PR_TRIGGER_EMERGENCY_STOP:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_0:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_1:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_2:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_3:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_4:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_5:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_6:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_7:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_8:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_9:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_10:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_11:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_12:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_13:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_14:
+    case IDM_RS_PR_TRIGGER_RUNNING_PATH_15:
+    case IDM_RS_PR_TRIGGER_COMMAND_DONE_WAITING:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_1:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_2:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_3:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_4:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_5:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_6:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_7:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_8:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_9:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_10:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_11:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_12:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_13:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_14:
+    case IDM_RS_PR_TRIGGER_FOLLOWING_ERROR_PATH_15:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_pr_trigger_is_writable(long long value)
+{
+    switch (value) {
+    case IDM_RS_PR_TRIGGER_START_PATH_0:
+    case IDM_RS_PR_TRIGGER_START_PATH_1:
+    case IDM_RS_PR_TRIGGER_START_PATH_2:
+    case IDM_RS_PR_TRIGGER_START_PATH_3:
+    case IDM_RS_PR_TRIGGER_START_PATH_4:
+    case IDM_RS_PR_TRIGGER_START_PATH_5:
+    case IDM_RS_PR_TRIGGER_START_PATH_6:
+    case IDM_RS_PR_TRIGGER_START_PATH_7:
+    case IDM_RS_PR_TRIGGER_START_PATH_8:
+    case IDM_RS_PR_TRIGGER_START_PATH_9:
+    case IDM_RS_PR_TRIGGER_START_PATH_10:
+    case IDM_RS_PR_TRIGGER_START_PATH_11:
+    case IDM_RS_PR_TRIGGER_START_PATH_12:
+    case IDM_RS_PR_TRIGGER_START_PATH_13:
+    case IDM_RS_PR_TRIGGER_START_PATH_14:
+    case IDM_RS_PR_TRIGGER_START_PATH_15:
+    case IDM_RS_PR_TRIGGER_HOME:
+    case IDM_RS_PR_TRIGGER_SET_ZERO:
+    case IDM_RS_PR_TRIGGER_EMERGENCY_STOP:
+        return true;
+    default:
+        return false;
+    }
+}
 
 /* Homing direction (回零方向). Manual 5.3.1, 6.2, 附录4. */
 typedef enum idm_rs_homing_direction {
     IDM_RS_HOMING_DIRECTION_NEGATIVE = 0, /* Negative (reverse) (反向). */
     IDM_RS_HOMING_DIRECTION_POSITIVE = 1 /* Positive (forward) (正向). */
 } idm_rs_homing_direction;
+/* Whether `value` is a member of idm_rs_homing_direction, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_homing_direction_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_HOMING_DIRECTION_NEGATIVE:
+    case IDM_RS_HOMING_DIRECTION_POSITIVE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_homing_direction_is_writable(long long value)
+{
+    return idm_rs_homing_direction_is_member(value);
+}
 
 /* Homing method (Pr8.10 bits 2-3) (回零方式). Manual 5.3.1, 6.2, 附录4. */
 typedef enum idm_rs_homing_method {
@@ -268,6 +644,23 @@ typedef enum idm_rs_homing_method {
     IDM_RS_HOMING_METHOD_SINGLE_TURN_Z = 2, /* Single-turn Z homing (5.3.1: not available) (单圈Z回零). */
     IDM_RS_HOMING_METHOD_TORQUE = 3 /* Torque (stall) homing (力矩回零). */
 } idm_rs_homing_method;
+/* Whether `value` is a member of idm_rs_homing_method, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_homing_method_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_HOMING_METHOD_LIMIT:
+    case IDM_RS_HOMING_METHOD_ORIGIN:
+    case IDM_RS_HOMING_METHOD_SINGLE_TURN_Z:
+    case IDM_RS_HOMING_METHOD_TORQUE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_homing_method_is_writable(long long value)
+{
+    return idm_rs_homing_method_is_member(value);
+}
 
 /* PR path type (类型). Manual 5.3.1, 6.5, 附录4. */
 typedef enum idm_rs_path_type {
@@ -276,12 +669,44 @@ typedef enum idm_rs_path_type {
     IDM_RS_PATH_TYPE_VELOCITY = 2, /* Velocity run (速度运行). */
     IDM_RS_PATH_TYPE_HOMING = 3 /* Homing (回零). */
 } idm_rs_path_type;
+/* Whether `value` is a member of idm_rs_path_type, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_path_type_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_PATH_TYPE_NONE:
+    case IDM_RS_PATH_TYPE_POSITION:
+    case IDM_RS_PATH_TYPE_VELOCITY:
+    case IDM_RS_PATH_TYPE_HOMING:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_path_type_is_writable(long long value)
+{
+    return idm_rs_path_type_is_member(value);
+}
 
 /* PR path interrupt (INS) (插断). Polarity as in 5.3.1 and 6.5; appendix 4 prints the opposite (erratum E15). Manual 5.3.1, 6.5. */
 typedef enum idm_rs_path_interrupt {
     IDM_RS_PATH_INTERRUPT_INTERRUPTIBLE = 0, /* Can interrupt the running path (default) (可插断（默认）). */
     IDM_RS_PATH_INTERRUPT_NOT_INTERRUPTIBLE = 1 /* Interrupt masked (屏蔽插断). */
 } idm_rs_path_interrupt;
+/* Whether `value` is a member of idm_rs_path_interrupt, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_path_interrupt_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_PATH_INTERRUPT_INTERRUPTIBLE:
+    case IDM_RS_PATH_INTERRUPT_NOT_INTERRUPTIBLE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_path_interrupt_is_writable(long long value)
+{
+    return idm_rs_path_interrupt_is_member(value);
+}
 
 /* PR path position reference (路径运动方式). Manual 5.3.1, 附录4. */
 typedef enum idm_rs_path_motion {
@@ -290,6 +715,23 @@ typedef enum idm_rs_path_motion {
     IDM_RS_PATH_MOTION_RELATIVE_MOTOR = 2, /* Relative to the motor position (相对电机). */
     IDM_RS_PATH_MOTION_RELATIVE_REFERENCE = 3 /* Relative to the reference value (相对参考值). */
 } idm_rs_path_motion;
+/* Whether `value` is a member of idm_rs_path_motion, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_path_motion_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_PATH_MOTION_ABSOLUTE:
+    case IDM_RS_PATH_MOTION_RELATIVE_COMMAND:
+    case IDM_RS_PATH_MOTION_RELATIVE_MOTOR:
+    case IDM_RS_PATH_MOTION_RELATIVE_REFERENCE:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_path_motion_is_writable(long long value)
+{
+    return idm_rs_path_motion_is_member(value);
+}
 
 /* IO combination trigger mode (IO 组合触发模式). Manual 4.8, 5.3.1, 6.4, 附录4. */
 typedef enum idm_rs_io_combination_mode {
@@ -297,6 +739,22 @@ typedef enum idm_rs_io_combination_mode {
     IDM_RS_IO_COMBINATION_MODE_AFTER_HOMING = 1, /* IO combination trigger on, valid only after homing (开启 IO组合触发，回零 OK才有效). */
     IDM_RS_IO_COMBINATION_MODE_WITHOUT_HOMING = 2 /* IO combination trigger on, no homing needed (recommended) (开启 IO组合触发，不用回零). */
 } idm_rs_io_combination_mode;
+/* Whether `value` is a member of idm_rs_io_combination_mode, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_io_combination_mode_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_IO_COMBINATION_MODE_OFF:
+    case IDM_RS_IO_COMBINATION_MODE_AFTER_HOMING:
+    case IDM_RS_IO_COMBINATION_MODE_WITHOUT_HOMING:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_io_combination_mode_is_writable(long long value)
+{
+    return idm_rs_io_combination_mode_is_member(value);
+}
 
 /* PR warning code (PR 警告). Path limit codes: 5.3.1 prints 0x002P, appendix 4 prints "0x20_" (0x020P in its three-digit notation). The register is read-only, so both sets are listed (erratum E19). Manual 5.3.1, 附录4. */
 typedef enum idm_rs_pr_warning {
@@ -336,6 +794,54 @@ typedef enum idm_rs_pr_warning {
     IDM_RS_PR_WARNING_LIMIT_PATH_14_ALT = 0x20E, /* Limit fault in path 14 (appendix 4 reading 0x020P) (路径_有限位故障). */
     IDM_RS_PR_WARNING_LIMIT_PATH_15_ALT = 0x20F /* Limit fault in path 15 (appendix 4 reading 0x020P) (路径_有限位故障). */
 } idm_rs_pr_warning;
+/* Whether `value` is a member of idm_rs_pr_warning, and whether a write may send it (a member the device only reports may not be written) */
+static inline bool idm_rs_pr_warning_is_member(long long value)
+{
+    switch (value) {
+    case IDM_RS_PR_WARNING_NONE:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_0:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_1:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_2:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_3:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_4:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_5:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_6:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_7:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_8:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_9:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_10:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_11:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_12:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_13:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_14:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_15:
+    case IDM_RS_PR_WARNING_HOMING_LIMIT_FAULT:
+    case IDM_RS_PR_WARNING_HOMING_OVERTRAVEL:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_0_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_1_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_2_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_3_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_4_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_5_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_6_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_7_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_8_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_9_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_10_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_11_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_12_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_13_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_14_ALT:
+    case IDM_RS_PR_WARNING_LIMIT_PATH_15_ALT:
+        return true;
+    default:
+        return false;
+    }
+}
+static inline bool idm_rs_pr_warning_is_writable(long long value)
+{
+    return idm_rs_pr_warning_is_member(value);
+}
 
 /* ==== Basic parameters, class 0 (basic settings) (驱动器基本参数). Manual 5.3.1, 附录4. ==== */
 
@@ -348,10 +854,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_PULSES_PER_REVOLUTION_MAX                 51200u
 #define IDM_RS_PULSES_PER_REVOLUTION_DEFAULT             10000u
 #define IDM_RS_PULSES_PER_REVOLUTION_SCALE               1.0f
-#define IDM_RS_PULSES_PER_REVOLUTION_SCALE_NUM           1
-#define IDM_RS_PULSES_PER_REVOLUTION_SCALE_DEN           1
+#define IDM_RS_PULSES_PER_REVOLUTION_SCALE_NUM           1u
+#define IDM_RS_PULSES_PER_REVOLUTION_SCALE_DEN           1u
 #define IDM_RS_PULSES_PER_REVOLUTION_PAIRED              1
 #define IDM_RS_PULSES_PER_REVOLUTION_PAIR_ADDR           0x0000u
+/* Values of pulses_per_revolution: 200..51200 P/R; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_pulses_per_revolution_is_in_range(uint16_t value)
+{
+    return value >= 200u && value <= 51200u;
+}
+static inline bool idm_rs_pulses_per_revolution_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pulses_per_revolution_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pulses_per_revolution_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr0.01 loop_mode: Open/closed loop mode (开闭环模式选择). u16 rw, raw 0..255, default 2, values: enum loop_mode, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_LOOP_MODE_ADDR                            0x0003u
@@ -362,10 +886,32 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_LOOP_MODE_MAX                             255u
 #define IDM_RS_LOOP_MODE_DEFAULT                         2u
 #define IDM_RS_LOOP_MODE_SCALE                           1.0f
-#define IDM_RS_LOOP_MODE_SCALE_NUM                       1
-#define IDM_RS_LOOP_MODE_SCALE_DEN                       1
+#define IDM_RS_LOOP_MODE_SCALE_NUM                       1u
+#define IDM_RS_LOOP_MODE_SCALE_DEN                       1u
 #define IDM_RS_LOOP_MODE_PAIRED                          1
 #define IDM_RS_LOOP_MODE_PAIR_ADDR                       0x0002u
+/* Values of loop_mode: the members of loop_mode a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_loop_mode_is_in_range(idm_rs_loop_mode value)
+{
+    return idm_rs_loop_mode_is_writable(value);
+}
+static inline bool idm_rs_loop_mode_encode(idm_rs_loop_mode value, uint16_t words[1])
+{
+    if (!idm_rs_loop_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_loop_mode_decode(const uint16_t words[1], idm_rs_loop_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_loop_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_loop_mode)raw;
+    return true;
+}
 
 /* Pr0.02 control_mode: Control mode and command source (no effect) (控制模式及指令来源). u16 rw, raw 0..10, default 1, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_CONTROL_MODE_ADDR                         0x0005u
@@ -376,10 +922,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_CONTROL_MODE_MAX                          10u
 #define IDM_RS_CONTROL_MODE_DEFAULT                      1u
 #define IDM_RS_CONTROL_MODE_SCALE                        1.0f
-#define IDM_RS_CONTROL_MODE_SCALE_NUM                    1
-#define IDM_RS_CONTROL_MODE_SCALE_DEN                    1
+#define IDM_RS_CONTROL_MODE_SCALE_NUM                    1u
+#define IDM_RS_CONTROL_MODE_SCALE_DEN                    1u
 #define IDM_RS_CONTROL_MODE_PAIRED                       1
 #define IDM_RS_CONTROL_MODE_PAIR_ADDR                    0x0004u
+/* Values of control_mode: 0..10; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_control_mode_is_in_range(uint16_t value)
+{
+    return value <= 10u;
+}
+static inline bool idm_rs_control_mode_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_control_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_control_mode_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr0.03 motor_direction: Motor running direction (电机运行方向). u16 rw, raw 0..1, default 0, values: enum motor_direction, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_MOTOR_DIRECTION_ADDR                      0x0007u
@@ -390,10 +954,32 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_MOTOR_DIRECTION_MAX                       1u
 #define IDM_RS_MOTOR_DIRECTION_DEFAULT                   0u
 #define IDM_RS_MOTOR_DIRECTION_SCALE                     1.0f
-#define IDM_RS_MOTOR_DIRECTION_SCALE_NUM                 1
-#define IDM_RS_MOTOR_DIRECTION_SCALE_DEN                 1
+#define IDM_RS_MOTOR_DIRECTION_SCALE_NUM                 1u
+#define IDM_RS_MOTOR_DIRECTION_SCALE_DEN                 1u
 #define IDM_RS_MOTOR_DIRECTION_PAIRED                    1
 #define IDM_RS_MOTOR_DIRECTION_PAIR_ADDR                 0x0006u
+/* Values of motor_direction: the members of motor_direction a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_motor_direction_is_in_range(idm_rs_motor_direction value)
+{
+    return idm_rs_motor_direction_is_writable(value);
+}
+static inline bool idm_rs_motor_direction_encode(idm_rs_motor_direction value, uint16_t words[1])
+{
+    if (!idm_rs_motor_direction_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_motor_direction_decode(const uint16_t words[1], idm_rs_motor_direction *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_motor_direction_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_motor_direction)raw;
+    return true;
+}
 
 /* Pr0.04 motor_inductance: Motor inductance (电机电感值). u16 rw, unit mH, scale 0.001, raw 0..10000 (0..10 mH), printed range 0~10000 (0.001 mH), default 1499 (1.499), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4, 4.12. */
 #define IDM_RS_MOTOR_INDUCTANCE_ADDR                     0x0009u
@@ -404,10 +990,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_MOTOR_INDUCTANCE_MAX                      10000u
 #define IDM_RS_MOTOR_INDUCTANCE_DEFAULT                  1499u
 #define IDM_RS_MOTOR_INDUCTANCE_SCALE                    0.001f
-#define IDM_RS_MOTOR_INDUCTANCE_SCALE_NUM                1
-#define IDM_RS_MOTOR_INDUCTANCE_SCALE_DEN                1000
+#define IDM_RS_MOTOR_INDUCTANCE_SCALE_NUM                1u
+#define IDM_RS_MOTOR_INDUCTANCE_SCALE_DEN                1000u
 #define IDM_RS_MOTOR_INDUCTANCE_PAIRED                   1
 #define IDM_RS_MOTOR_INDUCTANCE_PAIR_ADDR                0x0008u
+/* Values of motor_inductance: 0..10 mH in steps of 0.001; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_motor_inductance_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 1000.0, 0.0, 10000.0, &raw);
+}
+static inline bool idm_rs_motor_inductance_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 1000.0, 0.0, 10000.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_motor_inductance_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 1000.0;
+    return true;
+}
 
 /* Pr0.05 following_error_limit: Maximum tracking error (跟踪误差最大值). u16 rw, unit encoder units, raw 9..65535, default 65535, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_FOLLOWING_ERROR_LIMIT_ADDR                0x000Bu
@@ -418,10 +1024,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_FOLLOWING_ERROR_LIMIT_MAX                 65535u
 #define IDM_RS_FOLLOWING_ERROR_LIMIT_DEFAULT             65535u
 #define IDM_RS_FOLLOWING_ERROR_LIMIT_SCALE               1.0f
-#define IDM_RS_FOLLOWING_ERROR_LIMIT_SCALE_NUM           1
-#define IDM_RS_FOLLOWING_ERROR_LIMIT_SCALE_DEN           1
+#define IDM_RS_FOLLOWING_ERROR_LIMIT_SCALE_NUM           1u
+#define IDM_RS_FOLLOWING_ERROR_LIMIT_SCALE_DEN           1u
 #define IDM_RS_FOLLOWING_ERROR_LIMIT_PAIRED              1
 #define IDM_RS_FOLLOWING_ERROR_LIMIT_PAIR_ADDR           0x000Au
+/* Values of following_error_limit: 9..65535 encoder units; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_following_error_limit_is_in_range(uint16_t value)
+{
+    return value >= 9u;
+}
+static inline bool idm_rs_following_error_limit_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_following_error_limit_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_following_error_limit_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr0.07 force_enable: Forced enable (software enable) (强制使能). u16 rw, raw 0..1, default 0, values: enum force_enable, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E8. Manual 4.3, 5.3.1, 附录4. */
 #define IDM_RS_FORCE_ENABLE_ADDR                         0x000Fu
@@ -432,10 +1056,32 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_FORCE_ENABLE_MAX                          1u
 #define IDM_RS_FORCE_ENABLE_DEFAULT                      0u
 #define IDM_RS_FORCE_ENABLE_SCALE                        1.0f
-#define IDM_RS_FORCE_ENABLE_SCALE_NUM                    1
-#define IDM_RS_FORCE_ENABLE_SCALE_DEN                    1
+#define IDM_RS_FORCE_ENABLE_SCALE_NUM                    1u
+#define IDM_RS_FORCE_ENABLE_SCALE_DEN                    1u
 #define IDM_RS_FORCE_ENABLE_PAIRED                       1
 #define IDM_RS_FORCE_ENABLE_PAIR_ADDR                    0x000Eu
+/* Values of force_enable: the members of force_enable a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_force_enable_is_in_range(idm_rs_force_enable value)
+{
+    return idm_rs_force_enable_is_writable(value);
+}
+static inline bool idm_rs_force_enable_encode(idm_rs_force_enable value, uint16_t words[1])
+{
+    if (!idm_rs_force_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_force_enable_decode(const uint16_t words[1], idm_rs_force_enable *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_force_enable_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_force_enable)raw;
+    return true;
+}
 
 /* ==== Basic parameters, class 1 (gains) (驱动器基本参数). Manual 5.3.1. ==== */
 
@@ -448,10 +1094,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_POSITION_LOOP_KP_MAX                      3000u
 #define IDM_RS_POSITION_LOOP_KP_DEFAULT                  25u
 #define IDM_RS_POSITION_LOOP_KP_SCALE                    1.0f
-#define IDM_RS_POSITION_LOOP_KP_SCALE_NUM                1
-#define IDM_RS_POSITION_LOOP_KP_SCALE_DEN                1
+#define IDM_RS_POSITION_LOOP_KP_SCALE_NUM                1u
+#define IDM_RS_POSITION_LOOP_KP_SCALE_DEN                1u
 #define IDM_RS_POSITION_LOOP_KP_PAIRED                   1
 #define IDM_RS_POSITION_LOOP_KP_PAIR_ADDR                0x0050u
+/* Values of position_loop_kp: 0..3000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_position_loop_kp_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_position_loop_kp_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_position_loop_kp_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_position_loop_kp_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr1.01 speed_loop_ki: Speed loop Ki (速度环 KI). u16 rw, raw 0..3000, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_SPEED_LOOP_KI_ADDR                        0x0053u
@@ -462,10 +1126,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_SPEED_LOOP_KI_MAX                         3000u
 #define IDM_RS_SPEED_LOOP_KI_DEFAULT                     0u
 #define IDM_RS_SPEED_LOOP_KI_SCALE                       1.0f
-#define IDM_RS_SPEED_LOOP_KI_SCALE_NUM                   1
-#define IDM_RS_SPEED_LOOP_KI_SCALE_DEN                   1
+#define IDM_RS_SPEED_LOOP_KI_SCALE_NUM                   1u
+#define IDM_RS_SPEED_LOOP_KI_SCALE_DEN                   1u
 #define IDM_RS_SPEED_LOOP_KI_PAIRED                      1
 #define IDM_RS_SPEED_LOOP_KI_PAIR_ADDR                   0x0052u
+/* Values of speed_loop_ki: 0..3000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_speed_loop_ki_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_speed_loop_ki_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_speed_loop_ki_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_speed_loop_ki_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr1.02 speed_loop_kp: Speed loop Kp (速度环 Kp). u16 rw, raw 0..3000, default 25, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E1. Manual 5.3.1. */
 #define IDM_RS_SPEED_LOOP_KP_ADDR                        0x0055u
@@ -476,10 +1158,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_SPEED_LOOP_KP_MAX                         3000u
 #define IDM_RS_SPEED_LOOP_KP_DEFAULT                     25u
 #define IDM_RS_SPEED_LOOP_KP_SCALE                       1.0f
-#define IDM_RS_SPEED_LOOP_KP_SCALE_NUM                   1
-#define IDM_RS_SPEED_LOOP_KP_SCALE_DEN                   1
+#define IDM_RS_SPEED_LOOP_KP_SCALE_NUM                   1u
+#define IDM_RS_SPEED_LOOP_KP_SCALE_DEN                   1u
 #define IDM_RS_SPEED_LOOP_KP_PAIRED                      1
 #define IDM_RS_SPEED_LOOP_KP_PAIR_ADDR                   0x0054u
+/* Values of speed_loop_kp: 0..3000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_speed_loop_kp_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_speed_loop_kp_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_speed_loop_kp_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_speed_loop_kp_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr1.03 torque_feedforward: Torque feedforward (转矩前馈). u16 rw, unit %, raw 0..10000, default 50, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_TORQUE_FEEDFORWARD_ADDR                   0x0057u
@@ -490,10 +1190,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_TORQUE_FEEDFORWARD_MAX                    10000u
 #define IDM_RS_TORQUE_FEEDFORWARD_DEFAULT                50u
 #define IDM_RS_TORQUE_FEEDFORWARD_SCALE                  1.0f
-#define IDM_RS_TORQUE_FEEDFORWARD_SCALE_NUM              1
-#define IDM_RS_TORQUE_FEEDFORWARD_SCALE_DEN              1
+#define IDM_RS_TORQUE_FEEDFORWARD_SCALE_NUM              1u
+#define IDM_RS_TORQUE_FEEDFORWARD_SCALE_DEN              1u
 #define IDM_RS_TORQUE_FEEDFORWARD_PAIRED                 1
 #define IDM_RS_TORQUE_FEEDFORWARD_PAIR_ADDR              0x0056u
+/* Values of torque_feedforward: 0..10000 %; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_torque_feedforward_is_in_range(uint16_t value)
+{
+    return value <= 10000u;
+}
+static inline bool idm_rs_torque_feedforward_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_torque_feedforward_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_torque_feedforward_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr1.07 position_loop_filter: Position loop filter frequency (位置环滤波频率). u16 rw, unit Hz, raw 0..3000, default 3000, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_POSITION_LOOP_FILTER_ADDR                 0x005Fu
@@ -504,10 +1222,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_POSITION_LOOP_FILTER_MAX                  3000u
 #define IDM_RS_POSITION_LOOP_FILTER_DEFAULT              3000u
 #define IDM_RS_POSITION_LOOP_FILTER_SCALE                1.0f
-#define IDM_RS_POSITION_LOOP_FILTER_SCALE_NUM            1
-#define IDM_RS_POSITION_LOOP_FILTER_SCALE_DEN            1
+#define IDM_RS_POSITION_LOOP_FILTER_SCALE_NUM            1u
+#define IDM_RS_POSITION_LOOP_FILTER_SCALE_DEN            1u
 #define IDM_RS_POSITION_LOOP_FILTER_PAIRED               1
 #define IDM_RS_POSITION_LOOP_FILTER_PAIR_ADDR            0x005Eu
+/* Values of position_loop_filter: 0..3000 Hz; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_position_loop_filter_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_position_loop_filter_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_position_loop_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_position_loop_filter_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr1.08 speed_loop_filter: Speed loop filter frequency (速度环滤波频率). u16 rw, unit Hz, raw 0..3000, default 300, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_SPEED_LOOP_FILTER_ADDR                    0x0061u
@@ -518,10 +1254,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_SPEED_LOOP_FILTER_MAX                     3000u
 #define IDM_RS_SPEED_LOOP_FILTER_DEFAULT                 300u
 #define IDM_RS_SPEED_LOOP_FILTER_SCALE                   1.0f
-#define IDM_RS_SPEED_LOOP_FILTER_SCALE_NUM               1
-#define IDM_RS_SPEED_LOOP_FILTER_SCALE_DEN               1
+#define IDM_RS_SPEED_LOOP_FILTER_SCALE_NUM               1u
+#define IDM_RS_SPEED_LOOP_FILTER_SCALE_DEN               1u
 #define IDM_RS_SPEED_LOOP_FILTER_PAIRED                  1
 #define IDM_RS_SPEED_LOOP_FILTER_PAIR_ADDR               0x0060u
+/* Values of speed_loop_filter: 0..3000 Hz; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_speed_loop_filter_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_speed_loop_filter_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_speed_loop_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_speed_loop_filter_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Basic parameters, class 2 (filters, VBS) (驱动器基本参数). Manual 5.3.1. ==== */
 
@@ -534,10 +1288,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_COMMAND_FILTER_TIME_MAX                   512u
 #define IDM_RS_COMMAND_FILTER_TIME_DEFAULT               100u
 #define IDM_RS_COMMAND_FILTER_TIME_SCALE                 0.1f
-#define IDM_RS_COMMAND_FILTER_TIME_SCALE_NUM             1
-#define IDM_RS_COMMAND_FILTER_TIME_SCALE_DEN             10
+#define IDM_RS_COMMAND_FILTER_TIME_SCALE_NUM             1u
+#define IDM_RS_COMMAND_FILTER_TIME_SCALE_DEN             10u
 #define IDM_RS_COMMAND_FILTER_TIME_PAIRED                1
 #define IDM_RS_COMMAND_FILTER_TIME_PAIR_ADDR             0x00A0u
+/* Values of command_filter_time: 0..51.2 ms in steps of 0.1; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_command_filter_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 512.0, &raw);
+}
+static inline bool idm_rs_command_filter_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 512.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_command_filter_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* Pr2.05 closed_to_open_speed: Closed-to-open loop switch feedback speed threshold (闭切到开环反馈速度阀值). u16 rw, unit r/s, scale 0.1, raw 0..200 (0..20 r/s), printed range 0~200 (0.1r/s), default 50 (5), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_CLOSED_TO_OPEN_SPEED_ADDR                 0x00ABu
@@ -548,10 +1322,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_CLOSED_TO_OPEN_SPEED_MAX                  200u
 #define IDM_RS_CLOSED_TO_OPEN_SPEED_DEFAULT              50u
 #define IDM_RS_CLOSED_TO_OPEN_SPEED_SCALE                0.1f
-#define IDM_RS_CLOSED_TO_OPEN_SPEED_SCALE_NUM            1
-#define IDM_RS_CLOSED_TO_OPEN_SPEED_SCALE_DEN            10
+#define IDM_RS_CLOSED_TO_OPEN_SPEED_SCALE_NUM            1u
+#define IDM_RS_CLOSED_TO_OPEN_SPEED_SCALE_DEN            10u
 #define IDM_RS_CLOSED_TO_OPEN_SPEED_PAIRED               1
 #define IDM_RS_CLOSED_TO_OPEN_SPEED_PAIR_ADDR            0x00AAu
+/* Values of closed_to_open_speed: 0..20 r/s in steps of 0.1; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_closed_to_open_speed_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 200.0, &raw);
+}
+static inline bool idm_rs_closed_to_open_speed_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 200.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_closed_to_open_speed_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* Pr2.06 standstill_lead_angle_switch: Lead angle switch at standstill (静止时超前角切换). u16 rw, unit ms, raw 0..65535, default 500, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_ADDR         0x00ADu
@@ -562,10 +1356,29 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_MAX          65535u
 #define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_DEFAULT      500u
 #define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_SCALE        1.0f
-#define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_SCALE_NUM    1
-#define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_SCALE_DEN    1
+#define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_SCALE_NUM    1u
+#define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_SCALE_DEN    1u
 #define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_PAIRED       1
 #define IDM_RS_STANDSTILL_LEAD_ANGLE_SWITCH_PAIR_ADDR    0x00ACu
+/* Values of standstill_lead_angle_switch: 0..65535 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_standstill_lead_angle_switch_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_standstill_lead_angle_switch_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_standstill_lead_angle_switch_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_standstill_lead_angle_switch_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.07 position_integral_delay: Position loop integral engage delay (位置环积分切入延时). u16 rw, unit ms, scale 0.05, raw 0..65535 (0..3276.75 ms), printed range 0~65535 (0.05ms), default 2000 (100), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_POSITION_INTEGRAL_DELAY_ADDR              0x00AFu
@@ -576,10 +1389,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_POSITION_INTEGRAL_DELAY_MAX               65535u
 #define IDM_RS_POSITION_INTEGRAL_DELAY_DEFAULT           2000u
 #define IDM_RS_POSITION_INTEGRAL_DELAY_SCALE             0.05f
-#define IDM_RS_POSITION_INTEGRAL_DELAY_SCALE_NUM         1
-#define IDM_RS_POSITION_INTEGRAL_DELAY_SCALE_DEN         20
+#define IDM_RS_POSITION_INTEGRAL_DELAY_SCALE_NUM         1u
+#define IDM_RS_POSITION_INTEGRAL_DELAY_SCALE_DEN         20u
 #define IDM_RS_POSITION_INTEGRAL_DELAY_PAIRED            1
 #define IDM_RS_POSITION_INTEGRAL_DELAY_PAIR_ADDR         0x00AEu
+/* Values of position_integral_delay: 0..3276.75 ms in steps of 0.05; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_position_integral_delay_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 20.0, 0.0, 65535.0, &raw);
+}
+static inline bool idm_rs_position_integral_delay_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 20.0, 0.0, 65535.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_position_integral_delay_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 20.0;
+    return true;
+}
 
 /* Pr2.08 command_iir_bandwidth: Command pulse IIR filter bandwidth (指令脉冲 IIR滤波带宽). u16 rw, unit Hz, raw 1..3000, default 320, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_COMMAND_IIR_BANDWIDTH_ADDR                0x00B1u
@@ -590,10 +1423,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_COMMAND_IIR_BANDWIDTH_MAX                 3000u
 #define IDM_RS_COMMAND_IIR_BANDWIDTH_DEFAULT             320u
 #define IDM_RS_COMMAND_IIR_BANDWIDTH_SCALE               1.0f
-#define IDM_RS_COMMAND_IIR_BANDWIDTH_SCALE_NUM           1
-#define IDM_RS_COMMAND_IIR_BANDWIDTH_SCALE_DEN           1
+#define IDM_RS_COMMAND_IIR_BANDWIDTH_SCALE_NUM           1u
+#define IDM_RS_COMMAND_IIR_BANDWIDTH_SCALE_DEN           1u
 #define IDM_RS_COMMAND_IIR_BANDWIDTH_PAIRED              1
 #define IDM_RS_COMMAND_IIR_BANDWIDTH_PAIR_ADDR           0x00B0u
+/* Values of command_iir_bandwidth: 1..3000 Hz; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_command_iir_bandwidth_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 3000u;
+}
+static inline bool idm_rs_command_iir_bandwidth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_command_iir_bandwidth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_command_iir_bandwidth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.09 position_integral_deadband: Position loop integral dead band (位置环积分死区). u16 rw, unit pulse, raw 0..65535, default 1, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_POSITION_INTEGRAL_DEADBAND_ADDR           0x00B3u
@@ -604,10 +1455,29 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_POSITION_INTEGRAL_DEADBAND_MAX            65535u
 #define IDM_RS_POSITION_INTEGRAL_DEADBAND_DEFAULT        1u
 #define IDM_RS_POSITION_INTEGRAL_DEADBAND_SCALE          1.0f
-#define IDM_RS_POSITION_INTEGRAL_DEADBAND_SCALE_NUM      1
-#define IDM_RS_POSITION_INTEGRAL_DEADBAND_SCALE_DEN      1
+#define IDM_RS_POSITION_INTEGRAL_DEADBAND_SCALE_NUM      1u
+#define IDM_RS_POSITION_INTEGRAL_DEADBAND_SCALE_DEN      1u
 #define IDM_RS_POSITION_INTEGRAL_DEADBAND_PAIRED         1
 #define IDM_RS_POSITION_INTEGRAL_DEADBAND_PAIR_ADDR      0x00B2u
+/* Values of position_integral_deadband: 0..65535 pulse; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_position_integral_deadband_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_position_integral_deadband_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_position_integral_deadband_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_position_integral_deadband_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.13 vbs_enable: VBS enable (VBS开启). u16 rw, raw 0..1, default 0, values: enum off_on, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VBS_ENABLE_ADDR                           0x00BBu
@@ -618,10 +1488,32 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_VBS_ENABLE_MAX                            1u
 #define IDM_RS_VBS_ENABLE_DEFAULT                        0u
 #define IDM_RS_VBS_ENABLE_SCALE                          1.0f
-#define IDM_RS_VBS_ENABLE_SCALE_NUM                      1
-#define IDM_RS_VBS_ENABLE_SCALE_DEN                      1
+#define IDM_RS_VBS_ENABLE_SCALE_NUM                      1u
+#define IDM_RS_VBS_ENABLE_SCALE_DEN                      1u
 #define IDM_RS_VBS_ENABLE_PAIRED                         1
 #define IDM_RS_VBS_ENABLE_PAIR_ADDR                      0x00BAu
+/* Values of vbs_enable: the members of off_on a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_vbs_enable_is_in_range(idm_rs_off_on value)
+{
+    return idm_rs_off_on_is_writable(value);
+}
+static inline bool idm_rs_vbs_enable_encode(idm_rs_off_on value, uint16_t words[1])
+{
+    if (!idm_rs_vbs_enable_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_vbs_enable_decode(const uint16_t words[1], idm_rs_off_on *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_off_on_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_off_on)raw;
+    return true;
+}
 
 /* Pr2.14 vbs_phase: VBS compensation phase (VBS 补偿相位). u16 rw, unit deg, raw 0..360, default 50, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VBS_PHASE_ADDR                            0x00BDu
@@ -632,10 +1524,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_VBS_PHASE_MAX                             360u
 #define IDM_RS_VBS_PHASE_DEFAULT                         50u
 #define IDM_RS_VBS_PHASE_SCALE                           1.0f
-#define IDM_RS_VBS_PHASE_SCALE_NUM                       1
-#define IDM_RS_VBS_PHASE_SCALE_DEN                       1
+#define IDM_RS_VBS_PHASE_SCALE_NUM                       1u
+#define IDM_RS_VBS_PHASE_SCALE_DEN                       1u
 #define IDM_RS_VBS_PHASE_PAIRED                          1
 #define IDM_RS_VBS_PHASE_PAIR_ADDR                       0x00BCu
+/* Values of vbs_phase: 0..360 deg; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_vbs_phase_is_in_range(uint16_t value)
+{
+    return value <= 360u;
+}
+static inline bool idm_rs_vbs_phase_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_vbs_phase_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_vbs_phase_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.15 vbs_gain: VBS gain (VBS增益). u16 rw, raw 0..1000, default 125, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VBS_GAIN_ADDR                             0x00BFu
@@ -646,10 +1556,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_VBS_GAIN_MAX                              1000u
 #define IDM_RS_VBS_GAIN_DEFAULT                          125u
 #define IDM_RS_VBS_GAIN_SCALE                            1.0f
-#define IDM_RS_VBS_GAIN_SCALE_NUM                        1
-#define IDM_RS_VBS_GAIN_SCALE_DEN                        1
+#define IDM_RS_VBS_GAIN_SCALE_NUM                        1u
+#define IDM_RS_VBS_GAIN_SCALE_DEN                        1u
 #define IDM_RS_VBS_GAIN_PAIRED                           1
 #define IDM_RS_VBS_GAIN_PAIR_ADDR                        0x00BEu
+/* Values of vbs_gain: 0..1000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_vbs_gain_is_in_range(uint16_t value)
+{
+    return value <= 1000u;
+}
+static inline bool idm_rs_vbs_gain_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_vbs_gain_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_vbs_gain_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.16 vbs_speed_max: VBS speed upper limit (VBS速度上限值). u16 rw, unit r/s, scale 0.01, raw 0..500 (0..5 r/s), printed range 0~500 (0.01r/s), default 200 (2), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VBS_SPEED_MAX_ADDR                        0x00C1u
@@ -660,10 +1588,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_VBS_SPEED_MAX_MAX                         500u
 #define IDM_RS_VBS_SPEED_MAX_DEFAULT                     200u
 #define IDM_RS_VBS_SPEED_MAX_SCALE                       0.01f
-#define IDM_RS_VBS_SPEED_MAX_SCALE_NUM                   1
-#define IDM_RS_VBS_SPEED_MAX_SCALE_DEN                   100
+#define IDM_RS_VBS_SPEED_MAX_SCALE_NUM                   1u
+#define IDM_RS_VBS_SPEED_MAX_SCALE_DEN                   100u
 #define IDM_RS_VBS_SPEED_MAX_PAIRED                      1
 #define IDM_RS_VBS_SPEED_MAX_PAIR_ADDR                   0x00C0u
+/* Values of vbs_speed_max: 0..5 r/s in steps of 0.01; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_vbs_speed_max_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 500.0, &raw);
+}
+static inline bool idm_rs_vbs_speed_max_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 500.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_vbs_speed_max_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* Pr2.17 vbs_speed_min: VBS speed lower limit (VBS速度下限值). u16 rw, unit r/s, scale 0.01, raw 0..500 (0..5 r/s), printed range 0~500 (0.01r/s), default 49 (0.49), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VBS_SPEED_MIN_ADDR                        0x00C3u
@@ -674,10 +1622,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_VBS_SPEED_MIN_MAX                         500u
 #define IDM_RS_VBS_SPEED_MIN_DEFAULT                     49u
 #define IDM_RS_VBS_SPEED_MIN_SCALE                       0.01f
-#define IDM_RS_VBS_SPEED_MIN_SCALE_NUM                   1
-#define IDM_RS_VBS_SPEED_MIN_SCALE_DEN                   100
+#define IDM_RS_VBS_SPEED_MIN_SCALE_NUM                   1u
+#define IDM_RS_VBS_SPEED_MIN_SCALE_DEN                   100u
 #define IDM_RS_VBS_SPEED_MIN_PAIRED                      1
 #define IDM_RS_VBS_SPEED_MIN_PAIR_ADDR                   0x00C2u
+/* Values of vbs_speed_min: 0..5 r/s in steps of 0.01; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_vbs_speed_min_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 500.0, &raw);
+}
+static inline bool idm_rs_vbs_speed_min_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 100.0, 0.0, 500.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_vbs_speed_min_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 100.0;
+    return true;
+}
 
 /* Pr2.18 vbs_current_limit: VBS current limit (VBS电流限幅值). u16 rw, unit A, scale 0.1, raw 0..20 (0..2 A), printed range 0~20 (0.1A), default 10 (1), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VBS_CURRENT_LIMIT_ADDR                    0x00C5u
@@ -688,10 +1656,30 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_VBS_CURRENT_LIMIT_MAX                     20u
 #define IDM_RS_VBS_CURRENT_LIMIT_DEFAULT                 10u
 #define IDM_RS_VBS_CURRENT_LIMIT_SCALE                   0.1f
-#define IDM_RS_VBS_CURRENT_LIMIT_SCALE_NUM               1
-#define IDM_RS_VBS_CURRENT_LIMIT_SCALE_DEN               10
+#define IDM_RS_VBS_CURRENT_LIMIT_SCALE_NUM               1u
+#define IDM_RS_VBS_CURRENT_LIMIT_SCALE_DEN               10u
 #define IDM_RS_VBS_CURRENT_LIMIT_PAIRED                  1
 #define IDM_RS_VBS_CURRENT_LIMIT_PAIR_ADDR               0x00C4u
+/* Values of vbs_current_limit: 0..2 A in steps of 0.1; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_vbs_current_limit_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 20.0, &raw);
+}
+static inline bool idm_rs_vbs_current_limit_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 20.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_vbs_current_limit_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* Pr2.19 accel_hp_bandwidth: Acceleration high-pass filter bandwidth (加速度 HP滤波带宽). u16 rw, unit Hz, raw 0..3000, default 320, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_ACCEL_HP_BANDWIDTH_ADDR                   0x00C7u
@@ -702,10 +1690,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_ACCEL_HP_BANDWIDTH_MAX                    3000u
 #define IDM_RS_ACCEL_HP_BANDWIDTH_DEFAULT                320u
 #define IDM_RS_ACCEL_HP_BANDWIDTH_SCALE                  1.0f
-#define IDM_RS_ACCEL_HP_BANDWIDTH_SCALE_NUM              1
-#define IDM_RS_ACCEL_HP_BANDWIDTH_SCALE_DEN              1
+#define IDM_RS_ACCEL_HP_BANDWIDTH_SCALE_NUM              1u
+#define IDM_RS_ACCEL_HP_BANDWIDTH_SCALE_DEN              1u
 #define IDM_RS_ACCEL_HP_BANDWIDTH_PAIRED                 1
 #define IDM_RS_ACCEL_HP_BANDWIDTH_PAIR_ADDR              0x00C6u
+/* Values of accel_hp_bandwidth: 0..3000 Hz; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_accel_hp_bandwidth_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_accel_hp_bandwidth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_accel_hp_bandwidth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_accel_hp_bandwidth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.20 accel_lp_bandwidth: Acceleration low-pass filter bandwidth (加速度 LP滤波带宽). u16 rw, unit Hz, raw 0..3000, default 320, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_ACCEL_LP_BANDWIDTH_ADDR                   0x00C9u
@@ -716,10 +1722,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_ACCEL_LP_BANDWIDTH_MAX                    3000u
 #define IDM_RS_ACCEL_LP_BANDWIDTH_DEFAULT                320u
 #define IDM_RS_ACCEL_LP_BANDWIDTH_SCALE                  1.0f
-#define IDM_RS_ACCEL_LP_BANDWIDTH_SCALE_NUM              1
-#define IDM_RS_ACCEL_LP_BANDWIDTH_SCALE_DEN              1
+#define IDM_RS_ACCEL_LP_BANDWIDTH_SCALE_NUM              1u
+#define IDM_RS_ACCEL_LP_BANDWIDTH_SCALE_DEN              1u
 #define IDM_RS_ACCEL_LP_BANDWIDTH_PAIRED                 1
 #define IDM_RS_ACCEL_LP_BANDWIDTH_PAIR_ADDR              0x00C8u
+/* Values of accel_lp_bandwidth: 0..3000 Hz; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_accel_lp_bandwidth_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_accel_lp_bandwidth_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_accel_lp_bandwidth_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_accel_lp_bandwidth_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.21 accel_coefficient: Acceleration coefficient (加速度系数). u16 rw, raw 0..5000, default 1000, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_ACCEL_COEFFICIENT_ADDR                    0x00CBu
@@ -730,10 +1754,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_ACCEL_COEFFICIENT_MAX                     5000u
 #define IDM_RS_ACCEL_COEFFICIENT_DEFAULT                 1000u
 #define IDM_RS_ACCEL_COEFFICIENT_SCALE                   1.0f
-#define IDM_RS_ACCEL_COEFFICIENT_SCALE_NUM               1
-#define IDM_RS_ACCEL_COEFFICIENT_SCALE_DEN               1
+#define IDM_RS_ACCEL_COEFFICIENT_SCALE_NUM               1u
+#define IDM_RS_ACCEL_COEFFICIENT_SCALE_DEN               1u
 #define IDM_RS_ACCEL_COEFFICIENT_PAIRED                  1
 #define IDM_RS_ACCEL_COEFFICIENT_PAIR_ADDR               0x00CAu
+/* Values of accel_coefficient: 0..5000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_accel_coefficient_is_in_range(uint16_t value)
+{
+    return value <= 5000u;
+}
+static inline bool idm_rs_accel_coefficient_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_accel_coefficient_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_accel_coefficient_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr2.22 accel_feedforward_angle_limit: Acceleration feedforward angle limit (加速度前馈角限幅值). u16 rw, unit deg, raw 0..180, default 58, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_ADDR        0x00CDu
@@ -744,10 +1786,28 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_MAX         180u
 #define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_DEFAULT     58u
 #define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_SCALE       1.0f
-#define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_SCALE_NUM   1
-#define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_SCALE_DEN   1
+#define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_SCALE_NUM   1u
+#define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_SCALE_DEN   1u
 #define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_PAIRED      1
 #define IDM_RS_ACCEL_FEEDFORWARD_ANGLE_LIMIT_PAIR_ADDR   0x00CCu
+/* Values of accel_feedforward_angle_limit: 0..180 deg; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_accel_feedforward_angle_limit_is_in_range(uint16_t value)
+{
+    return value <= 180u;
+}
+static inline bool idm_rs_accel_feedforward_angle_limit_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_accel_feedforward_angle_limit_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_accel_feedforward_angle_limit_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Basic parameters, class 4 (IO, protection, status) (驱动器基本参数). Manual 5.3.1, 附录4. ==== */
 
@@ -760,8 +1820,8 @@ typedef enum idm_rs_pr_warning {
 #define IDM_RS_DI1_FUNCTION_MAX                          65535u
 #define IDM_RS_DI1_FUNCTION_DEFAULT                      136u
 #define IDM_RS_DI1_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI1_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI1_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI1_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI1_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI1_FUNCTION_PAIRED                       1
 #define IDM_RS_DI1_FUNCTION_PAIR_ADDR                    0x0144u
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -771,9 +1831,14 @@ static inline uint16_t idm_rs_di1_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI1_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI1_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di1_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di1_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI1_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI1_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI1_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI1_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI1_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI1_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -782,9 +1847,32 @@ static inline uint16_t idm_rs_di1_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di1_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di1_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI1_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di1_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di1_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di1_function_get_function(value));
+}
+static inline bool idm_rs_di1_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di1_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di1_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.03 di2_function: DI2 input function (DI2 输入口 2). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1, takes effect after restart, errata E21. Manual 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3. */
@@ -796,8 +1884,8 @@ static inline uint16_t idm_rs_di1_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DI2_FUNCTION_MAX                          65535u
 #define IDM_RS_DI2_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DI2_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI2_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI2_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI2_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI2_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI2_FUNCTION_PAIRED                       1
 #define IDM_RS_DI2_FUNCTION_PAIR_ADDR                    0x0146u
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -807,9 +1895,14 @@ static inline uint16_t idm_rs_di2_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI2_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI2_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di2_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di2_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI2_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI2_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI2_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI2_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -818,9 +1911,32 @@ static inline uint16_t idm_rs_di2_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di2_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di2_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI2_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di2_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di2_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di2_function_get_function(value));
+}
+static inline bool idm_rs_di2_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di2_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di2_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.04 di3_function: DI3 input function (DI3 输入口 3). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1, takes effect after restart, errata E21. Manual 5.3.1, 5.3.4, 6.3, 附录4, 5.2.3. */
@@ -832,8 +1948,8 @@ static inline uint16_t idm_rs_di2_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DI3_FUNCTION_MAX                          65535u
 #define IDM_RS_DI3_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DI3_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI3_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI3_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI3_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI3_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI3_FUNCTION_PAIRED                       1
 #define IDM_RS_DI3_FUNCTION_PAIR_ADDR                    0x0148u
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -843,9 +1959,14 @@ static inline uint16_t idm_rs_di3_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI3_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI3_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di3_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di3_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI3_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI3_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI3_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI3_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI3_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI3_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -854,9 +1975,32 @@ static inline uint16_t idm_rs_di3_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di3_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di3_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI3_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di3_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di3_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di3_function_get_function(value));
+}
+static inline bool idm_rs_di3_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di3_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di3_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.05 di4_function: DI4 input function (DI4输入口 4). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1, takes effect after restart, errata E21. Manual 5.3.1, 5.3.4, 6.3, 附录4. */
@@ -868,8 +2012,8 @@ static inline uint16_t idm_rs_di3_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DI4_FUNCTION_MAX                          65535u
 #define IDM_RS_DI4_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DI4_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI4_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI4_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI4_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI4_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI4_FUNCTION_PAIRED                       1
 #define IDM_RS_DI4_FUNCTION_PAIR_ADDR                    0x014Au
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -879,9 +2023,14 @@ static inline uint16_t idm_rs_di4_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI4_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI4_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di4_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di4_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI4_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI4_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI4_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI4_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI4_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI4_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -890,9 +2039,32 @@ static inline uint16_t idm_rs_di4_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di4_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di4_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI4_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di4_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di4_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di4_function_get_function(value));
+}
+static inline bool idm_rs_di4_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di4_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di4_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.06 di5_function: DI5 input function (DI5输入口 5). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1, takes effect after restart, errata E21. Manual 5.3.1, 5.3.4, 6.3, 附录4. */
@@ -904,8 +2076,8 @@ static inline uint16_t idm_rs_di4_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DI5_FUNCTION_MAX                          65535u
 #define IDM_RS_DI5_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DI5_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI5_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI5_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI5_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI5_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI5_FUNCTION_PAIRED                       1
 #define IDM_RS_DI5_FUNCTION_PAIR_ADDR                    0x014Cu
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -915,9 +2087,14 @@ static inline uint16_t idm_rs_di5_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI5_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI5_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di5_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di5_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI5_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI5_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI5_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI5_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI5_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI5_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -926,9 +2103,32 @@ static inline uint16_t idm_rs_di5_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di5_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di5_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI5_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di5_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di5_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di5_function_get_function(value));
+}
+static inline bool idm_rs_di5_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di5_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di5_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.07 di6_function: DI6 input function (DI6输入口 6). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1, takes effect after restart, errata E21. Manual 5.3.1, 5.3.4, 6.3, 附录4. */
@@ -940,8 +2140,8 @@ static inline uint16_t idm_rs_di5_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DI6_FUNCTION_MAX                          65535u
 #define IDM_RS_DI6_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DI6_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI6_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI6_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI6_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI6_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI6_FUNCTION_PAIRED                       1
 #define IDM_RS_DI6_FUNCTION_PAIR_ADDR                    0x014Eu
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -951,9 +2151,14 @@ static inline uint16_t idm_rs_di6_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI6_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI6_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di6_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di6_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI6_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI6_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI6_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI6_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI6_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI6_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -962,9 +2167,32 @@ static inline uint16_t idm_rs_di6_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di6_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di6_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI6_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di6_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di6_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di6_function_get_function(value));
+}
+static inline bool idm_rs_di6_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di6_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di6_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.08 di7_function: DI7 input function (DI7输入口 7). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1, takes effect after restart, errata E21. Manual 5.3.1, 5.3.4, 6.3, 附录4. */
@@ -976,8 +2204,8 @@ static inline uint16_t idm_rs_di6_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DI7_FUNCTION_MAX                          65535u
 #define IDM_RS_DI7_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DI7_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DI7_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DI7_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DI7_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DI7_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DI7_FUNCTION_PAIRED                       1
 #define IDM_RS_DI7_FUNCTION_PAIR_ADDR                    0x0150u
 /* bits 0-6 function: Input function (输入端子功能). Values: enum di_function. */
@@ -987,9 +2215,14 @@ static inline uint16_t idm_rs_di7_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI7_FUNCTION_FUNCTION_MASK) >> IDM_RS_DI7_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_di7_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_di7_function_set_function(uint16_t *raw, idm_rs_di_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI7_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI7_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI7_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_di_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI7_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DI7_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DI7_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -998,9 +2231,32 @@ static inline uint16_t idm_rs_di7_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_di7_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_di7_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DI7_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of di7_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_di7_function_is_in_range(uint16_t value)
+{
+    return idm_rs_di_function_is_writable(idm_rs_di7_function_get_function(value));
+}
+static inline bool idm_rs_di7_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_di7_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_di7_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.11 do1_function: DO1 output function (DO1 输出口 1). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 5.3.4, 附录4. */
@@ -1012,8 +2268,8 @@ static inline uint16_t idm_rs_di7_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DO1_FUNCTION_MAX                          65535u
 #define IDM_RS_DO1_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DO1_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DO1_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DO1_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DO1_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DO1_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DO1_FUNCTION_PAIRED                       1
 #define IDM_RS_DO1_FUNCTION_PAIR_ADDR                    0x0156u
 /* bits 0-6 function: Output function (输出端子功能). Values: enum do_function. */
@@ -1023,9 +2279,14 @@ static inline uint16_t idm_rs_do1_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DO1_FUNCTION_FUNCTION_MASK) >> IDM_RS_DO1_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_do1_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_do1_function_set_function(uint16_t *raw, idm_rs_do_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DO1_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DO1_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DO1_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_do_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DO1_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DO1_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DO1_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -1034,9 +2295,32 @@ static inline uint16_t idm_rs_do1_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_do1_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_do1_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DO1_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of do1_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_do1_function_is_in_range(uint16_t value)
+{
+    return idm_rs_do_function_is_writable(idm_rs_do1_function_get_function(value));
+}
+static inline bool idm_rs_do1_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_do1_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_do1_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.12 do2_function: DO2 output function (DO2 输出口 2). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 5.3.4, 附录4. */
@@ -1048,8 +2332,8 @@ static inline uint16_t idm_rs_do1_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DO2_FUNCTION_MAX                          65535u
 #define IDM_RS_DO2_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DO2_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DO2_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DO2_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DO2_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DO2_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DO2_FUNCTION_PAIRED                       1
 #define IDM_RS_DO2_FUNCTION_PAIR_ADDR                    0x0158u
 /* bits 0-6 function: Output function (输出端子功能). Values: enum do_function. */
@@ -1059,9 +2343,14 @@ static inline uint16_t idm_rs_do2_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DO2_FUNCTION_FUNCTION_MASK) >> IDM_RS_DO2_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_do2_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_do2_function_set_function(uint16_t *raw, idm_rs_do_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DO2_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DO2_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DO2_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_do_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DO2_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DO2_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DO2_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -1070,9 +2359,32 @@ static inline uint16_t idm_rs_do2_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_do2_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_do2_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DO2_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of do2_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_do2_function_is_in_range(uint16_t value)
+{
+    return idm_rs_do_function_is_writable(idm_rs_do2_function_get_function(value));
+}
+static inline bool idm_rs_do2_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_do2_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_do2_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.13 do3_function: DO3 output function (DO3输出口 3). u16 rw, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 5.3.4, 附录4. */
@@ -1084,8 +2396,8 @@ static inline uint16_t idm_rs_do2_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_DO3_FUNCTION_MAX                          65535u
 #define IDM_RS_DO3_FUNCTION_DEFAULT                      0u
 #define IDM_RS_DO3_FUNCTION_SCALE                        1.0f
-#define IDM_RS_DO3_FUNCTION_SCALE_NUM                    1
-#define IDM_RS_DO3_FUNCTION_SCALE_DEN                    1
+#define IDM_RS_DO3_FUNCTION_SCALE_NUM                    1u
+#define IDM_RS_DO3_FUNCTION_SCALE_DEN                    1u
 #define IDM_RS_DO3_FUNCTION_PAIRED                       1
 #define IDM_RS_DO3_FUNCTION_PAIR_ADDR                    0x015Au
 /* bits 0-6 function: Output function (输出端子功能). Values: enum do_function. */
@@ -1095,9 +2407,14 @@ static inline uint16_t idm_rs_do3_function_get_function(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DO3_FUNCTION_FUNCTION_MASK) >> IDM_RS_DO3_FUNCTION_FUNCTION_SHIFT);
 }
-static inline uint16_t idm_rs_do3_function_set_function(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_do3_function_set_function(uint16_t *raw, idm_rs_do_function value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DO3_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DO3_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DO3_FUNCTION_FUNCTION_MASK));
+    if (!idm_rs_do_function_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DO3_FUNCTION_FUNCTION_MASK) | (((uint32_t)value << IDM_RS_DO3_FUNCTION_FUNCTION_SHIFT) & IDM_RS_DO3_FUNCTION_FUNCTION_MASK));
+    return true;
 }
 /* bit 7 normally_closed: Normally closed (0: normally open, 1: normally closed) (常闭). */
 #define IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_MASK         0x0080u
@@ -1106,9 +2423,32 @@ static inline uint16_t idm_rs_do3_function_get_normally_closed(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_MASK) >> IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_SHIFT);
 }
-static inline uint16_t idm_rs_do3_function_set_normally_closed(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_do3_function_set_normally_closed(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_MASK) | (((uint32_t)value << IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_SHIFT) & IDM_RS_DO3_FUNCTION_NORMALLY_CLOSED_MASK));
+    return true;
+}
+/* Values of do3_function: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_do3_function_is_in_range(uint16_t value)
+{
+    return idm_rs_do_function_is_writable(idm_rs_do3_function_get_function(value));
+}
+static inline bool idm_rs_do3_function_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_do3_function_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_do3_function_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.19 brake_release_delay: Brake release delay (抱闸松开延时). u16 rw, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 4.12. */
@@ -1117,10 +2457,29 @@ static inline uint16_t idm_rs_do3_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_BRAKE_RELEASE_DELAY_ACCESS                REGMAP_ACCESS_RW
 #define IDM_RS_BRAKE_RELEASE_DELAY_SIGNED                0
 #define IDM_RS_BRAKE_RELEASE_DELAY_SCALE                 1.0f
-#define IDM_RS_BRAKE_RELEASE_DELAY_SCALE_NUM             1
-#define IDM_RS_BRAKE_RELEASE_DELAY_SCALE_DEN             1
+#define IDM_RS_BRAKE_RELEASE_DELAY_SCALE_NUM             1u
+#define IDM_RS_BRAKE_RELEASE_DELAY_SCALE_DEN             1u
 #define IDM_RS_BRAKE_RELEASE_DELAY_PAIRED                1
 #define IDM_RS_BRAKE_RELEASE_DELAY_PAIR_ADDR             0x0166u
+/* Values of brake_release_delay: 0..65535; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_brake_release_delay_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_brake_release_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_brake_release_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_brake_release_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr4.22 fault_detection_mask: Fault detection selection (故障检测选择). u16 rw, raw 0..65535, default 65535, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E3. Manual 5.3.1, 附录4. */
 #define IDM_RS_FAULT_DETECTION_MASK_ADDR                 0x016Du
@@ -1131,8 +2490,8 @@ static inline uint16_t idm_rs_do3_function_set_normally_closed(uint16_t raw, uin
 #define IDM_RS_FAULT_DETECTION_MASK_MAX                  65535u
 #define IDM_RS_FAULT_DETECTION_MASK_DEFAULT              65535u
 #define IDM_RS_FAULT_DETECTION_MASK_SCALE                1.0f
-#define IDM_RS_FAULT_DETECTION_MASK_SCALE_NUM            1
-#define IDM_RS_FAULT_DETECTION_MASK_SCALE_DEN            1
+#define IDM_RS_FAULT_DETECTION_MASK_SCALE_NUM            1u
+#define IDM_RS_FAULT_DETECTION_MASK_SCALE_DEN            1u
 #define IDM_RS_FAULT_DETECTION_MASK_PAIRED               1
 #define IDM_RS_FAULT_DETECTION_MASK_PAIR_ADDR            0x016Cu
 /* bit 0 overcurrent: Overcurrent alarm (过流报警). */
@@ -1142,9 +2501,14 @@ static inline uint16_t idm_rs_fault_detection_mask_get_overcurrent(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_MASK) >> IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_overcurrent(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_overcurrent(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_OVERCURRENT_MASK));
+    return true;
 }
 /* bit 1 overvoltage: Overvoltage fault (过压故障). */
 #define IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_MASK     0x0002u
@@ -1153,9 +2517,14 @@ static inline uint16_t idm_rs_fault_detection_mask_get_overvoltage(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_MASK) >> IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_overvoltage(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_overvoltage(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_OVERVOLTAGE_MASK));
+    return true;
 }
 /* bit 2 following_error: Following error alarm (closed loop) (超差报警（闭环）). */
 #define IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_MASK 0x0004u
@@ -1164,9 +2533,14 @@ static inline uint16_t idm_rs_fault_detection_mask_get_following_error(uint16_t 
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_MASK) >> IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_following_error(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_following_error(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_FOLLOWING_ERROR_MASK));
+    return true;
 }
 /* bit 3 adc_sampling: ADC sampling circuit fault (adc采样回路故障). */
 #define IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_MASK    0x0008u
@@ -1175,9 +2549,14 @@ static inline uint16_t idm_rs_fault_detection_mask_get_adc_sampling(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_MASK) >> IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_adc_sampling(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_adc_sampling(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_ADC_SAMPLING_MASK));
+    return true;
 }
 /* bit 4 shaft_lock: Shaft lock alarm (锁轴报警). */
 #define IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_MASK      0x0010u
@@ -1186,9 +2565,14 @@ static inline uint16_t idm_rs_fault_detection_mask_get_shaft_lock(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_MASK) >> IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_shaft_lock(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_shaft_lock(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_SHAFT_LOCK_MASK));
+    return true;
 }
 /* bit 5 eeprom: EEPROM alarm (EEPROM报警). */
 #define IDM_RS_FAULT_DETECTION_MASK_EEPROM_MASK          0x0020u
@@ -1197,9 +2581,14 @@ static inline uint16_t idm_rs_fault_detection_mask_get_eeprom(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_EEPROM_MASK) >> IDM_RS_FAULT_DETECTION_MASK_EEPROM_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_eeprom(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_eeprom(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_EEPROM_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_EEPROM_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_EEPROM_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_EEPROM_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_EEPROM_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_EEPROM_MASK));
+    return true;
 }
 /* bit 6 autotune: Parameter auto-tuning error (参数自整定错误). */
 #define IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_MASK        0x0040u
@@ -1208,9 +2597,33 @@ static inline uint16_t idm_rs_fault_detection_mask_get_autotune(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_MASK) >> IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_SHIFT);
 }
-static inline uint16_t idm_rs_fault_detection_mask_set_autotune(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_fault_detection_mask_set_autotune(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_MASK) | (((uint32_t)value << IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_SHIFT) & IDM_RS_FAULT_DETECTION_MASK_AUTOTUNE_MASK));
+    return true;
+}
+/* Values of fault_detection_mask: its whole word, the fields set with the setters above; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_fault_detection_mask_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_fault_detection_mask_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_fault_detection_mask_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_fault_detection_mask_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.24 in_position_error: Position error for in-position (到位时位置误差设定). u16 rw, raw 0..1500, default 800, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
@@ -1222,10 +2635,28 @@ static inline uint16_t idm_rs_fault_detection_mask_set_autotune(uint16_t raw, ui
 #define IDM_RS_IN_POSITION_ERROR_MAX                     1500u
 #define IDM_RS_IN_POSITION_ERROR_DEFAULT                 800u
 #define IDM_RS_IN_POSITION_ERROR_SCALE                   1.0f
-#define IDM_RS_IN_POSITION_ERROR_SCALE_NUM               1
-#define IDM_RS_IN_POSITION_ERROR_SCALE_DEN               1
+#define IDM_RS_IN_POSITION_ERROR_SCALE_NUM               1u
+#define IDM_RS_IN_POSITION_ERROR_SCALE_DEN               1u
 #define IDM_RS_IN_POSITION_ERROR_PAIRED                  1
 #define IDM_RS_IN_POSITION_ERROR_PAIR_ADDR               0x0170u
+/* Values of in_position_error: 0..1500; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_in_position_error_is_in_range(uint16_t value)
+{
+    return value <= 1500u;
+}
+static inline bool idm_rs_in_position_error_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_in_position_error_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_in_position_error_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr4.25 in_position_debounce: In-position error software debounce delay (到位时位置误差软件消抖延时). u16 rw, unit ms, raw 0..100, default 3, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 4.12. */
 #define IDM_RS_IN_POSITION_DEBOUNCE_ADDR                 0x0173u
@@ -1236,10 +2667,28 @@ static inline uint16_t idm_rs_fault_detection_mask_set_autotune(uint16_t raw, ui
 #define IDM_RS_IN_POSITION_DEBOUNCE_MAX                  100u
 #define IDM_RS_IN_POSITION_DEBOUNCE_DEFAULT              3u
 #define IDM_RS_IN_POSITION_DEBOUNCE_SCALE                1.0f
-#define IDM_RS_IN_POSITION_DEBOUNCE_SCALE_NUM            1
-#define IDM_RS_IN_POSITION_DEBOUNCE_SCALE_DEN            1
+#define IDM_RS_IN_POSITION_DEBOUNCE_SCALE_NUM            1u
+#define IDM_RS_IN_POSITION_DEBOUNCE_SCALE_DEN            1u
 #define IDM_RS_IN_POSITION_DEBOUNCE_PAIRED               1
 #define IDM_RS_IN_POSITION_DEBOUNCE_PAIR_ADDR            0x0172u
+/* Values of in_position_debounce: 0..100 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_in_position_debounce_is_in_range(uint16_t value)
+{
+    return value <= 100u;
+}
+static inline bool idm_rs_in_position_debounce_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_in_position_debounce_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_in_position_debounce_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr4.26 zero_speed_threshold: Zero speed threshold (零速度阀值). u16 rw, unit r/min, raw 0..500, default 10, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_ZERO_SPEED_THRESHOLD_ADDR                 0x0175u
@@ -1250,10 +2699,28 @@ static inline uint16_t idm_rs_fault_detection_mask_set_autotune(uint16_t raw, ui
 #define IDM_RS_ZERO_SPEED_THRESHOLD_MAX                  500u
 #define IDM_RS_ZERO_SPEED_THRESHOLD_DEFAULT              10u
 #define IDM_RS_ZERO_SPEED_THRESHOLD_SCALE                1.0f
-#define IDM_RS_ZERO_SPEED_THRESHOLD_SCALE_NUM            1
-#define IDM_RS_ZERO_SPEED_THRESHOLD_SCALE_DEN            1
+#define IDM_RS_ZERO_SPEED_THRESHOLD_SCALE_NUM            1u
+#define IDM_RS_ZERO_SPEED_THRESHOLD_SCALE_DEN            1u
 #define IDM_RS_ZERO_SPEED_THRESHOLD_PAIRED               1
 #define IDM_RS_ZERO_SPEED_THRESHOLD_PAIR_ADDR            0x0174u
+/* Values of zero_speed_threshold: 0..500 r/min; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_zero_speed_threshold_is_in_range(uint16_t value)
+{
+    return value <= 500u;
+}
+static inline bool idm_rs_zero_speed_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_zero_speed_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_zero_speed_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr4.27 bus_voltage: DC bus voltage (母线电压). u16 r, unit V, scale 0.1, raw 0..65535 (0..6553.5 V), printed range 0~65535 (0.1V), default 0 (0), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_BUS_VOLTAGE_ADDR                          0x0177u
@@ -1264,10 +2731,16 @@ static inline uint16_t idm_rs_fault_detection_mask_set_autotune(uint16_t raw, ui
 #define IDM_RS_BUS_VOLTAGE_MAX                           65535u
 #define IDM_RS_BUS_VOLTAGE_DEFAULT                       0u
 #define IDM_RS_BUS_VOLTAGE_SCALE                         0.1f
-#define IDM_RS_BUS_VOLTAGE_SCALE_NUM                     1
-#define IDM_RS_BUS_VOLTAGE_SCALE_DEN                     10
+#define IDM_RS_BUS_VOLTAGE_SCALE_NUM                     1u
+#define IDM_RS_BUS_VOLTAGE_SCALE_DEN                     10u
 #define IDM_RS_BUS_VOLTAGE_PAIRED                        1
 #define IDM_RS_BUS_VOLTAGE_PAIR_ADDR                     0x0176u
+/* Value of bus_voltage; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_bus_voltage_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* Pr4.28 input_io_state: Input IO state (输入 IO状态). u16 r, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_INPUT_IO_STATE_ADDR                       0x0179u
@@ -1278,8 +2751,8 @@ static inline uint16_t idm_rs_fault_detection_mask_set_autotune(uint16_t raw, ui
 #define IDM_RS_INPUT_IO_STATE_MAX                        65535u
 #define IDM_RS_INPUT_IO_STATE_DEFAULT                    0u
 #define IDM_RS_INPUT_IO_STATE_SCALE                      1.0f
-#define IDM_RS_INPUT_IO_STATE_SCALE_NUM                  1
-#define IDM_RS_INPUT_IO_STATE_SCALE_DEN                  1
+#define IDM_RS_INPUT_IO_STATE_SCALE_NUM                  1u
+#define IDM_RS_INPUT_IO_STATE_SCALE_DEN                  1u
 #define IDM_RS_INPUT_IO_STATE_PAIRED                     1
 #define IDM_RS_INPUT_IO_STATE_PAIR_ADDR                  0x0178u
 /* bit 0 di1: DI1 state. */
@@ -1289,9 +2762,14 @@ static inline uint16_t idm_rs_input_io_state_get_di1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI1_MASK) >> IDM_RS_INPUT_IO_STATE_DI1_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI1_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI1_SHIFT) & IDM_RS_INPUT_IO_STATE_DI1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI1_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI1_SHIFT) & IDM_RS_INPUT_IO_STATE_DI1_MASK));
+    return true;
 }
 /* bit 1 di2: DI2 state. */
 #define IDM_RS_INPUT_IO_STATE_DI2_MASK                   0x0002u
@@ -1300,9 +2778,14 @@ static inline uint16_t idm_rs_input_io_state_get_di2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI2_MASK) >> IDM_RS_INPUT_IO_STATE_DI2_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI2_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI2_SHIFT) & IDM_RS_INPUT_IO_STATE_DI2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI2_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI2_SHIFT) & IDM_RS_INPUT_IO_STATE_DI2_MASK));
+    return true;
 }
 /* bit 2 di3: DI3 state. */
 #define IDM_RS_INPUT_IO_STATE_DI3_MASK                   0x0004u
@@ -1311,9 +2794,14 @@ static inline uint16_t idm_rs_input_io_state_get_di3(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI3_MASK) >> IDM_RS_INPUT_IO_STATE_DI3_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di3(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di3(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI3_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI3_SHIFT) & IDM_RS_INPUT_IO_STATE_DI3_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI3_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI3_SHIFT) & IDM_RS_INPUT_IO_STATE_DI3_MASK));
+    return true;
 }
 /* bit 3 di4: DI4 state. */
 #define IDM_RS_INPUT_IO_STATE_DI4_MASK                   0x0008u
@@ -1322,9 +2810,14 @@ static inline uint16_t idm_rs_input_io_state_get_di4(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI4_MASK) >> IDM_RS_INPUT_IO_STATE_DI4_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di4(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di4(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI4_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI4_SHIFT) & IDM_RS_INPUT_IO_STATE_DI4_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI4_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI4_SHIFT) & IDM_RS_INPUT_IO_STATE_DI4_MASK));
+    return true;
 }
 /* bit 4 di5: DI5 state. */
 #define IDM_RS_INPUT_IO_STATE_DI5_MASK                   0x0010u
@@ -1333,9 +2826,14 @@ static inline uint16_t idm_rs_input_io_state_get_di5(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI5_MASK) >> IDM_RS_INPUT_IO_STATE_DI5_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di5(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di5(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI5_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI5_SHIFT) & IDM_RS_INPUT_IO_STATE_DI5_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI5_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI5_SHIFT) & IDM_RS_INPUT_IO_STATE_DI5_MASK));
+    return true;
 }
 /* bit 5 di6: DI6 state. */
 #define IDM_RS_INPUT_IO_STATE_DI6_MASK                   0x0020u
@@ -1344,9 +2842,14 @@ static inline uint16_t idm_rs_input_io_state_get_di6(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI6_MASK) >> IDM_RS_INPUT_IO_STATE_DI6_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di6(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di6(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI6_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI6_SHIFT) & IDM_RS_INPUT_IO_STATE_DI6_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI6_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI6_SHIFT) & IDM_RS_INPUT_IO_STATE_DI6_MASK));
+    return true;
 }
 /* bit 6 di7: DI7 state. */
 #define IDM_RS_INPUT_IO_STATE_DI7_MASK                   0x0040u
@@ -1355,9 +2858,20 @@ static inline uint16_t idm_rs_input_io_state_get_di7(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_INPUT_IO_STATE_DI7_MASK) >> IDM_RS_INPUT_IO_STATE_DI7_SHIFT);
 }
-static inline uint16_t idm_rs_input_io_state_set_di7(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_input_io_state_set_di7(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI7_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI7_SHIFT) & IDM_RS_INPUT_IO_STATE_DI7_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_INPUT_IO_STATE_DI7_MASK) | (((uint32_t)value << IDM_RS_INPUT_IO_STATE_DI7_SHIFT) & IDM_RS_INPUT_IO_STATE_DI7_MASK));
+    return true;
+}
+/* Value of input_io_state; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_input_io_state_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.29 output_io_state: Output IO state (输出 IO状态). u16 r, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
@@ -1369,8 +2883,8 @@ static inline uint16_t idm_rs_input_io_state_set_di7(uint16_t raw, uint16_t valu
 #define IDM_RS_OUTPUT_IO_STATE_MAX                       65535u
 #define IDM_RS_OUTPUT_IO_STATE_DEFAULT                   0u
 #define IDM_RS_OUTPUT_IO_STATE_SCALE                     1.0f
-#define IDM_RS_OUTPUT_IO_STATE_SCALE_NUM                 1
-#define IDM_RS_OUTPUT_IO_STATE_SCALE_DEN                 1
+#define IDM_RS_OUTPUT_IO_STATE_SCALE_NUM                 1u
+#define IDM_RS_OUTPUT_IO_STATE_SCALE_DEN                 1u
 #define IDM_RS_OUTPUT_IO_STATE_PAIRED                    1
 #define IDM_RS_OUTPUT_IO_STATE_PAIR_ADDR                 0x017Au
 /* bit 0 do1: DO1 state. */
@@ -1380,9 +2894,14 @@ static inline uint16_t idm_rs_output_io_state_get_do1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_OUTPUT_IO_STATE_DO1_MASK) >> IDM_RS_OUTPUT_IO_STATE_DO1_SHIFT);
 }
-static inline uint16_t idm_rs_output_io_state_set_do1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_output_io_state_set_do1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_OUTPUT_IO_STATE_DO1_MASK) | (((uint32_t)value << IDM_RS_OUTPUT_IO_STATE_DO1_SHIFT) & IDM_RS_OUTPUT_IO_STATE_DO1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_OUTPUT_IO_STATE_DO1_MASK) | (((uint32_t)value << IDM_RS_OUTPUT_IO_STATE_DO1_SHIFT) & IDM_RS_OUTPUT_IO_STATE_DO1_MASK));
+    return true;
 }
 /* bit 1 do2: DO2 state. */
 #define IDM_RS_OUTPUT_IO_STATE_DO2_MASK                  0x0002u
@@ -1391,9 +2910,14 @@ static inline uint16_t idm_rs_output_io_state_get_do2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_OUTPUT_IO_STATE_DO2_MASK) >> IDM_RS_OUTPUT_IO_STATE_DO2_SHIFT);
 }
-static inline uint16_t idm_rs_output_io_state_set_do2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_output_io_state_set_do2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_OUTPUT_IO_STATE_DO2_MASK) | (((uint32_t)value << IDM_RS_OUTPUT_IO_STATE_DO2_SHIFT) & IDM_RS_OUTPUT_IO_STATE_DO2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_OUTPUT_IO_STATE_DO2_MASK) | (((uint32_t)value << IDM_RS_OUTPUT_IO_STATE_DO2_SHIFT) & IDM_RS_OUTPUT_IO_STATE_DO2_MASK));
+    return true;
 }
 /* bit 2 do3: DO3 state. */
 #define IDM_RS_OUTPUT_IO_STATE_DO3_MASK                  0x0004u
@@ -1402,9 +2926,20 @@ static inline uint16_t idm_rs_output_io_state_get_do3(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_OUTPUT_IO_STATE_DO3_MASK) >> IDM_RS_OUTPUT_IO_STATE_DO3_SHIFT);
 }
-static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_output_io_state_set_do3(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_OUTPUT_IO_STATE_DO3_MASK) | (((uint32_t)value << IDM_RS_OUTPUT_IO_STATE_DO3_SHIFT) & IDM_RS_OUTPUT_IO_STATE_DO3_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_OUTPUT_IO_STATE_DO3_MASK) | (((uint32_t)value << IDM_RS_OUTPUT_IO_STATE_DO3_SHIFT) & IDM_RS_OUTPUT_IO_STATE_DO3_MASK));
+    return true;
+}
+/* Value of output_io_state; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_output_io_state_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr4.35 dip_switch_state: DIP switch state (拨码状态). u16 r, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
@@ -1416,10 +2951,16 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_DIP_SWITCH_STATE_MAX                      65535u
 #define IDM_RS_DIP_SWITCH_STATE_DEFAULT                  0u
 #define IDM_RS_DIP_SWITCH_STATE_SCALE                    1.0f
-#define IDM_RS_DIP_SWITCH_STATE_SCALE_NUM                1
-#define IDM_RS_DIP_SWITCH_STATE_SCALE_DEN                1
+#define IDM_RS_DIP_SWITCH_STATE_SCALE_NUM                1u
+#define IDM_RS_DIP_SWITCH_STATE_SCALE_DEN                1u
 #define IDM_RS_DIP_SWITCH_STATE_PAIRED                   1
 #define IDM_RS_DIP_SWITCH_STATE_PAIR_ADDR                0x0186u
+/* Value of dip_switch_state; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_dip_switch_state_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Basic parameters, class 5 (current, communication) (驱动器基本参数). Manual 5.3.1, 附录4. ==== */
 
@@ -1432,10 +2973,30 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_PEAK_CURRENT_MAX                          80u
 #define IDM_RS_PEAK_CURRENT_DEFAULT                      22u
 #define IDM_RS_PEAK_CURRENT_SCALE                        0.1f
-#define IDM_RS_PEAK_CURRENT_SCALE_NUM                    1
-#define IDM_RS_PEAK_CURRENT_SCALE_DEN                    10
+#define IDM_RS_PEAK_CURRENT_SCALE_NUM                    1u
+#define IDM_RS_PEAK_CURRENT_SCALE_DEN                    10u
 #define IDM_RS_PEAK_CURRENT_PAIRED                       1
 #define IDM_RS_PEAK_CURRENT_PAIR_ADDR                    0x0190u
+/* Values of peak_current: 0..8 A in steps of 0.1; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_peak_current_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 80.0, &raw);
+}
+static inline bool idm_rs_peak_current_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 80.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_peak_current_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* Pr5.02 open_loop_hold_current: Open-loop holding current percentage (开环保持电流百分比). u16 rw, unit %, raw 0..50, default 50, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_OPEN_LOOP_HOLD_CURRENT_ADDR               0x0195u
@@ -1446,10 +3007,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_OPEN_LOOP_HOLD_CURRENT_MAX                50u
 #define IDM_RS_OPEN_LOOP_HOLD_CURRENT_DEFAULT            50u
 #define IDM_RS_OPEN_LOOP_HOLD_CURRENT_SCALE              1.0f
-#define IDM_RS_OPEN_LOOP_HOLD_CURRENT_SCALE_NUM          1
-#define IDM_RS_OPEN_LOOP_HOLD_CURRENT_SCALE_DEN          1
+#define IDM_RS_OPEN_LOOP_HOLD_CURRENT_SCALE_NUM          1u
+#define IDM_RS_OPEN_LOOP_HOLD_CURRENT_SCALE_DEN          1u
 #define IDM_RS_OPEN_LOOP_HOLD_CURRENT_PAIRED             1
 #define IDM_RS_OPEN_LOOP_HOLD_CURRENT_PAIR_ADDR          0x0194u
+/* Values of open_loop_hold_current: 0..50 %; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_open_loop_hold_current_is_in_range(uint16_t value)
+{
+    return value <= 50u;
+}
+static inline bool idm_rs_open_loop_hold_current_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_open_loop_hold_current_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_open_loop_hold_current_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.03 lock_current_percent: Shaft-lock current percentage at power-up (上电锁轴电流百分比). u16 rw, unit %, raw 0..100, default 100, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_LOCK_CURRENT_PERCENT_ADDR                 0x0197u
@@ -1460,10 +3039,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_LOCK_CURRENT_PERCENT_MAX                  100u
 #define IDM_RS_LOCK_CURRENT_PERCENT_DEFAULT              100u
 #define IDM_RS_LOCK_CURRENT_PERCENT_SCALE                1.0f
-#define IDM_RS_LOCK_CURRENT_PERCENT_SCALE_NUM            1
-#define IDM_RS_LOCK_CURRENT_PERCENT_SCALE_DEN            1
+#define IDM_RS_LOCK_CURRENT_PERCENT_SCALE_NUM            1u
+#define IDM_RS_LOCK_CURRENT_PERCENT_SCALE_DEN            1u
 #define IDM_RS_LOCK_CURRENT_PERCENT_PAIRED               1
 #define IDM_RS_LOCK_CURRENT_PERCENT_PAIR_ADDR            0x0196u
+/* Values of lock_current_percent: 0..100 %; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_lock_current_percent_is_in_range(uint16_t value)
+{
+    return value <= 100u;
+}
+static inline bool idm_rs_lock_current_percent_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_lock_current_percent_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_lock_current_percent_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.04 lock_duration: Shaft-lock duration (锁轴持续时间). u16 rw, unit ms, raw 0..1500, default 200, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_LOCK_DURATION_ADDR                        0x0199u
@@ -1474,10 +3071,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_LOCK_DURATION_MAX                         1500u
 #define IDM_RS_LOCK_DURATION_DEFAULT                     200u
 #define IDM_RS_LOCK_DURATION_SCALE                       1.0f
-#define IDM_RS_LOCK_DURATION_SCALE_NUM                   1
-#define IDM_RS_LOCK_DURATION_SCALE_DEN                   1
+#define IDM_RS_LOCK_DURATION_SCALE_NUM                   1u
+#define IDM_RS_LOCK_DURATION_SCALE_DEN                   1u
 #define IDM_RS_LOCK_DURATION_PAIRED                      1
 #define IDM_RS_LOCK_DURATION_PAIR_ADDR                   0x0198u
+/* Values of lock_duration: 0..1500 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_lock_duration_is_in_range(uint16_t value)
+{
+    return value <= 1500u;
+}
+static inline bool idm_rs_lock_duration_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_lock_duration_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_lock_duration_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.07 lock_current_rise_time: Shaft-lock current rise time at power-up (上电锁轴电流上升时间). u16 rw, unit ms, scale 100, raw 1..60 (100..6000 ms), printed range 1~60 (100ms), default 1 (100), low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_LOCK_CURRENT_RISE_TIME_ADDR               0x019Fu
@@ -1488,10 +3103,30 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_LOCK_CURRENT_RISE_TIME_MAX                60u
 #define IDM_RS_LOCK_CURRENT_RISE_TIME_DEFAULT            1u
 #define IDM_RS_LOCK_CURRENT_RISE_TIME_SCALE              100.0f
-#define IDM_RS_LOCK_CURRENT_RISE_TIME_SCALE_NUM          100
-#define IDM_RS_LOCK_CURRENT_RISE_TIME_SCALE_DEN          1
+#define IDM_RS_LOCK_CURRENT_RISE_TIME_SCALE_NUM          100u
+#define IDM_RS_LOCK_CURRENT_RISE_TIME_SCALE_DEN          1u
 #define IDM_RS_LOCK_CURRENT_RISE_TIME_PAIRED             1
 #define IDM_RS_LOCK_CURRENT_RISE_TIME_PAIR_ADDR          0x019Eu
+/* Values of lock_current_rise_time: 100..6000 ms in steps of 100; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_lock_current_rise_time_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 100.0, 1.0, 1.0, 60.0, &raw);
+}
+static inline bool idm_rs_lock_current_rise_time_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 100.0, 1.0, 1.0, 60.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_lock_current_rise_time_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 100.0 / 1.0;
+    return true;
+}
 
 /* Pr5.10 max_stop_time: Maximum stopping time (停车最长时间). u16 rw, unit ms, raw 100..1000, default 1000, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_MAX_STOP_TIME_ADDR                        0x01A5u
@@ -1502,10 +3137,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_MAX_STOP_TIME_MAX                         1000u
 #define IDM_RS_MAX_STOP_TIME_DEFAULT                     1000u
 #define IDM_RS_MAX_STOP_TIME_SCALE                       1.0f
-#define IDM_RS_MAX_STOP_TIME_SCALE_NUM                   1
-#define IDM_RS_MAX_STOP_TIME_SCALE_DEN                   1
+#define IDM_RS_MAX_STOP_TIME_SCALE_NUM                   1u
+#define IDM_RS_MAX_STOP_TIME_SCALE_DEN                   1u
 #define IDM_RS_MAX_STOP_TIME_PAIRED                      1
 #define IDM_RS_MAX_STOP_TIME_PAIR_ADDR                   0x01A4u
+/* Values of max_stop_time: 100..1000 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_max_stop_time_is_in_range(uint16_t value)
+{
+    return value >= 100u && value <= 1000u;
+}
+static inline bool idm_rs_max_stop_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_max_stop_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_max_stop_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.13 current_autotune: Current loop auto-tuning at power-up (电流环上电自整定). u16 rw, raw 0..1, default 1, values: enum current_autotune, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_CURRENT_AUTOTUNE_ADDR                     0x01ABu
@@ -1516,10 +3169,32 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_CURRENT_AUTOTUNE_MAX                      1u
 #define IDM_RS_CURRENT_AUTOTUNE_DEFAULT                  1u
 #define IDM_RS_CURRENT_AUTOTUNE_SCALE                    1.0f
-#define IDM_RS_CURRENT_AUTOTUNE_SCALE_NUM                1
-#define IDM_RS_CURRENT_AUTOTUNE_SCALE_DEN                1
+#define IDM_RS_CURRENT_AUTOTUNE_SCALE_NUM                1u
+#define IDM_RS_CURRENT_AUTOTUNE_SCALE_DEN                1u
 #define IDM_RS_CURRENT_AUTOTUNE_PAIRED                   1
 #define IDM_RS_CURRENT_AUTOTUNE_PAIR_ADDR                0x01AAu
+/* Values of current_autotune: the members of current_autotune a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_current_autotune_is_in_range(idm_rs_current_autotune value)
+{
+    return idm_rs_current_autotune_is_writable(value);
+}
+static inline bool idm_rs_current_autotune_encode(idm_rs_current_autotune value, uint16_t words[1])
+{
+    if (!idm_rs_current_autotune_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_current_autotune_decode(const uint16_t words[1], idm_rs_current_autotune *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_current_autotune_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_current_autotune)raw;
+    return true;
+}
 
 /* Pr5.22 baud_rate: RS-485 baud rate (485 波特率). u16 rw, raw 0..6, default 4, values: enum baud_rate, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E25, E30. Manual 5.3.1, 附录4, 5.2.1. */
 #define IDM_RS_BAUD_RATE_ADDR                            0x01BDu
@@ -1530,10 +3205,32 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_BAUD_RATE_MAX                             6u
 #define IDM_RS_BAUD_RATE_DEFAULT                         4u
 #define IDM_RS_BAUD_RATE_SCALE                           1.0f
-#define IDM_RS_BAUD_RATE_SCALE_NUM                       1
-#define IDM_RS_BAUD_RATE_SCALE_DEN                       1
+#define IDM_RS_BAUD_RATE_SCALE_NUM                       1u
+#define IDM_RS_BAUD_RATE_SCALE_DEN                       1u
 #define IDM_RS_BAUD_RATE_PAIRED                          1
 #define IDM_RS_BAUD_RATE_PAIR_ADDR                       0x01BCu
+/* Values of baud_rate: the members of baud_rate a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_baud_rate_is_in_range(idm_rs_baud_rate value)
+{
+    return idm_rs_baud_rate_is_writable(value);
+}
+static inline bool idm_rs_baud_rate_encode(idm_rs_baud_rate value, uint16_t words[1])
+{
+    if (!idm_rs_baud_rate_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_baud_rate_decode(const uint16_t words[1], idm_rs_baud_rate *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_baud_rate_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_baud_rate)raw;
+    return true;
+}
 
 /* Pr5.23 slave_id: RS-485 slave ID (485 ID). u16 rw, raw 0..127, default 1, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E23. Manual 5.3.1, 附录4, 3.2.5, 5.2.1. */
 #define IDM_RS_SLAVE_ID_ADDR                             0x01BFu
@@ -1544,10 +3241,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_SLAVE_ID_MAX                              127u
 #define IDM_RS_SLAVE_ID_DEFAULT                          1u
 #define IDM_RS_SLAVE_ID_SCALE                            1.0f
-#define IDM_RS_SLAVE_ID_SCALE_NUM                        1
-#define IDM_RS_SLAVE_ID_SCALE_DEN                        1
+#define IDM_RS_SLAVE_ID_SCALE_NUM                        1u
+#define IDM_RS_SLAVE_ID_SCALE_DEN                        1u
 #define IDM_RS_SLAVE_ID_PAIRED                           1
 #define IDM_RS_SLAVE_ID_PAIR_ADDR                        0x01BEu
+/* Values of slave_id: 0..127; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_slave_id_is_in_range(uint16_t value)
+{
+    return value <= 127u;
+}
+static inline bool idm_rs_slave_id_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_slave_id_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_slave_id_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.24 data_format: RS-485 data format (485数据类型选择). u16 rw, raw 0..11, default 4, values: enum data_format, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E24. Manual 5.3.1, 附录4, 5.2.1. */
 #define IDM_RS_DATA_FORMAT_ADDR                          0x01C1u
@@ -1558,10 +3273,32 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_DATA_FORMAT_MAX                           11u
 #define IDM_RS_DATA_FORMAT_DEFAULT                       4u
 #define IDM_RS_DATA_FORMAT_SCALE                         1.0f
-#define IDM_RS_DATA_FORMAT_SCALE_NUM                     1
-#define IDM_RS_DATA_FORMAT_SCALE_DEN                     1
+#define IDM_RS_DATA_FORMAT_SCALE_NUM                     1u
+#define IDM_RS_DATA_FORMAT_SCALE_DEN                     1u
 #define IDM_RS_DATA_FORMAT_PAIRED                        1
 #define IDM_RS_DATA_FORMAT_PAIR_ADDR                     0x01C0u
+/* Values of data_format: the members of data_format a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_data_format_is_in_range(idm_rs_data_format value)
+{
+    return idm_rs_data_format_is_writable(value);
+}
+static inline bool idm_rs_data_format_encode(idm_rs_data_format value, uint16_t words[1])
+{
+    if (!idm_rs_data_format_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_data_format_decode(const uint16_t words[1], idm_rs_data_format *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_data_format_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_data_format)raw;
+    return true;
+}
 
 /* Pr5.26 response_bit_delay: RS-485 communication bit delay (485通讯位延迟). u16 rw, unit bit, raw 15..100, printed range 15~100 (5.3.1); 0-100 (附录4), default 35, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E5, E6. Manual 5.3.1, 附录4. */
 #define IDM_RS_RESPONSE_BIT_DELAY_ADDR                   0x01C5u
@@ -1572,10 +3309,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_RESPONSE_BIT_DELAY_MAX                    100u
 #define IDM_RS_RESPONSE_BIT_DELAY_DEFAULT                35u
 #define IDM_RS_RESPONSE_BIT_DELAY_SCALE                  1.0f
-#define IDM_RS_RESPONSE_BIT_DELAY_SCALE_NUM              1
-#define IDM_RS_RESPONSE_BIT_DELAY_SCALE_DEN              1
+#define IDM_RS_RESPONSE_BIT_DELAY_SCALE_NUM              1u
+#define IDM_RS_RESPONSE_BIT_DELAY_SCALE_DEN              1u
 #define IDM_RS_RESPONSE_BIT_DELAY_PAIRED                 1
 #define IDM_RS_RESPONSE_BIT_DELAY_PAIR_ADDR              0x01C4u
+/* Values of response_bit_delay: 15..100 bit; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_response_bit_delay_is_in_range(uint16_t value)
+{
+    return value >= 15u && value <= 100u;
+}
+static inline bool idm_rs_response_bit_delay_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_response_bit_delay_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_response_bit_delay_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.32 standby_time: Standby (idle current) delay (待机时间). u16 rw, unit ms, raw 10..65535, default 200, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_STANDBY_TIME_ADDR                         0x01D1u
@@ -1586,10 +3341,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_STANDBY_TIME_MAX                          65535u
 #define IDM_RS_STANDBY_TIME_DEFAULT                      200u
 #define IDM_RS_STANDBY_TIME_SCALE                        1.0f
-#define IDM_RS_STANDBY_TIME_SCALE_NUM                    1
-#define IDM_RS_STANDBY_TIME_SCALE_DEN                    1
+#define IDM_RS_STANDBY_TIME_SCALE_NUM                    1u
+#define IDM_RS_STANDBY_TIME_SCALE_DEN                    1u
 #define IDM_RS_STANDBY_TIME_PAIRED                       1
 #define IDM_RS_STANDBY_TIME_PAIR_ADDR                    0x01D0u
+/* Values of standby_time: 10..65535 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_standby_time_is_in_range(uint16_t value)
+{
+    return value >= 10u;
+}
+static inline bool idm_rs_standby_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_standby_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_standby_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr5.33 standby_current_percent: Standby current percentage (待机电流百分比). u16 rw, unit %, raw 0..100, default 50, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_STANDBY_CURRENT_PERCENT_ADDR              0x01D3u
@@ -1600,10 +3373,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_STANDBY_CURRENT_PERCENT_MAX               100u
 #define IDM_RS_STANDBY_CURRENT_PERCENT_DEFAULT           50u
 #define IDM_RS_STANDBY_CURRENT_PERCENT_SCALE             1.0f
-#define IDM_RS_STANDBY_CURRENT_PERCENT_SCALE_NUM         1
-#define IDM_RS_STANDBY_CURRENT_PERCENT_SCALE_DEN         1
+#define IDM_RS_STANDBY_CURRENT_PERCENT_SCALE_NUM         1u
+#define IDM_RS_STANDBY_CURRENT_PERCENT_SCALE_DEN         1u
 #define IDM_RS_STANDBY_CURRENT_PERCENT_PAIRED            1
 #define IDM_RS_STANDBY_CURRENT_PERCENT_PAIR_ADDR         0x01D2u
+/* Values of standby_current_percent: 0..100 %; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_standby_current_percent_is_in_range(uint16_t value)
+{
+    return value <= 100u;
+}
+static inline bool idm_rs_standby_current_percent_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_standby_current_percent_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_standby_current_percent_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Basic parameters, class 6 (trial run / JOG, information) (驱动器基本参数). Manual 5.3.1, 附录4. ==== */
 
@@ -1616,10 +3407,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_JOG_SPEED_MAX                             5000u
 #define IDM_RS_JOG_SPEED_DEFAULT                         60u
 #define IDM_RS_JOG_SPEED_SCALE                           1.0f
-#define IDM_RS_JOG_SPEED_SCALE_NUM                       1
-#define IDM_RS_JOG_SPEED_SCALE_DEN                       1
+#define IDM_RS_JOG_SPEED_SCALE_NUM                       1u
+#define IDM_RS_JOG_SPEED_SCALE_DEN                       1u
 #define IDM_RS_JOG_SPEED_PAIRED                          1
 #define IDM_RS_JOG_SPEED_PAIR_ADDR                       0x01E0u
+/* Values of jog_speed: 0..5000 r/min; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_jog_speed_is_in_range(uint16_t value)
+{
+    return value <= 5000u;
+}
+static inline bool idm_rs_jog_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr6.01 jog_interval: Trial run (JOG) waiting interval (试运行（JOG）等待间隔). u16 rw, unit ms, raw 0..10000, default 100, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4, 6.3. */
 #define IDM_RS_JOG_INTERVAL_ADDR                         0x01E3u
@@ -1630,10 +3439,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_JOG_INTERVAL_MAX                          10000u
 #define IDM_RS_JOG_INTERVAL_DEFAULT                      100u
 #define IDM_RS_JOG_INTERVAL_SCALE                        1.0f
-#define IDM_RS_JOG_INTERVAL_SCALE_NUM                    1
-#define IDM_RS_JOG_INTERVAL_SCALE_DEN                    1
+#define IDM_RS_JOG_INTERVAL_SCALE_NUM                    1u
+#define IDM_RS_JOG_INTERVAL_SCALE_DEN                    1u
 #define IDM_RS_JOG_INTERVAL_PAIRED                       1
 #define IDM_RS_JOG_INTERVAL_PAIR_ADDR                    0x01E2u
+/* Values of jog_interval: 0..10000 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_jog_interval_is_in_range(uint16_t value)
+{
+    return value <= 10000u;
+}
+static inline bool idm_rs_jog_interval_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_interval_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_interval_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr6.02 jog_cycles: Trial run cycle count (试运行循环次数). u16 rw, raw 0..30000, default 1, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4, 6.3. */
 #define IDM_RS_JOG_CYCLES_ADDR                           0x01E5u
@@ -1644,10 +3471,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_JOG_CYCLES_MAX                            30000u
 #define IDM_RS_JOG_CYCLES_DEFAULT                        1u
 #define IDM_RS_JOG_CYCLES_SCALE                          1.0f
-#define IDM_RS_JOG_CYCLES_SCALE_NUM                      1
-#define IDM_RS_JOG_CYCLES_SCALE_DEN                      1
+#define IDM_RS_JOG_CYCLES_SCALE_NUM                      1u
+#define IDM_RS_JOG_CYCLES_SCALE_DEN                      1u
 #define IDM_RS_JOG_CYCLES_PAIRED                         1
 #define IDM_RS_JOG_CYCLES_PAIR_ADDR                      0x01E4u
+/* Values of jog_cycles: 0..30000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_jog_cycles_is_in_range(uint16_t value)
+{
+    return value <= 30000u;
+}
+static inline bool idm_rs_jog_cycles_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_cycles_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_cycles_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr6.03 jog_accel_time: Trial run (JOG) acceleration/deceleration time (试运行（JOG）加减速时间). u16 rw, unit ms, raw 10..10000, printed range 10~10000 (5.3.1); 0-10000 (附录4), default 200, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E7. Manual 5.3.1, 附录4, 4.7, 6.3. */
 #define IDM_RS_JOG_ACCEL_TIME_ADDR                       0x01E7u
@@ -1658,10 +3503,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_JOG_ACCEL_TIME_MAX                        10000u
 #define IDM_RS_JOG_ACCEL_TIME_DEFAULT                    200u
 #define IDM_RS_JOG_ACCEL_TIME_SCALE                      1.0f
-#define IDM_RS_JOG_ACCEL_TIME_SCALE_NUM                  1
-#define IDM_RS_JOG_ACCEL_TIME_SCALE_DEN                  1
+#define IDM_RS_JOG_ACCEL_TIME_SCALE_NUM                  1u
+#define IDM_RS_JOG_ACCEL_TIME_SCALE_DEN                  1u
 #define IDM_RS_JOG_ACCEL_TIME_PAIRED                     1
 #define IDM_RS_JOG_ACCEL_TIME_PAIR_ADDR                  0x01E6u
+/* Values of jog_accel_time: 10..10000 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_jog_accel_time_is_in_range(uint16_t value)
+{
+    return value >= 10u && value <= 10000u;
+}
+static inline bool idm_rs_jog_accel_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_accel_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_accel_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr6.15 version_info_1: Version information (版本信息). u16 r, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_VERSION_INFO_1_ADDR                       0x01FFu
@@ -1672,10 +3535,16 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_VERSION_INFO_1_MAX                        65535u
 #define IDM_RS_VERSION_INFO_1_DEFAULT                    0u
 #define IDM_RS_VERSION_INFO_1_SCALE                      1.0f
-#define IDM_RS_VERSION_INFO_1_SCALE_NUM                  1
-#define IDM_RS_VERSION_INFO_1_SCALE_DEN                  1
+#define IDM_RS_VERSION_INFO_1_SCALE_NUM                  1u
+#define IDM_RS_VERSION_INFO_1_SCALE_DEN                  1u
 #define IDM_RS_VERSION_INFO_1_PAIRED                     1
 #define IDM_RS_VERSION_INFO_1_PAIR_ADDR                  0x01FEu
+/* Value of version_info_1; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_version_info_1_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr6.16 version_info_2: Version information (版本信息). u16 r, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_VERSION_INFO_2_ADDR                       0x0201u
@@ -1686,10 +3555,16 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_VERSION_INFO_2_MAX                        65535u
 #define IDM_RS_VERSION_INFO_2_DEFAULT                    0u
 #define IDM_RS_VERSION_INFO_2_SCALE                      1.0f
-#define IDM_RS_VERSION_INFO_2_SCALE_NUM                  1
-#define IDM_RS_VERSION_INFO_2_SCALE_DEN                  1
+#define IDM_RS_VERSION_INFO_2_SCALE_NUM                  1u
+#define IDM_RS_VERSION_INFO_2_SCALE_DEN                  1u
 #define IDM_RS_VERSION_INFO_2_PAIRED                     1
 #define IDM_RS_VERSION_INFO_2_PAIR_ADDR                  0x0200u
+/* Value of version_info_2; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_version_info_2_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr6.20 r4d_status_word: R4D status word (R4D 状态字). u16 r, raw 0..65535, default 0, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1. */
 #define IDM_RS_R4D_STATUS_WORD_ADDR                      0x0209u
@@ -1700,10 +3575,16 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_R4D_STATUS_WORD_MAX                       65535u
 #define IDM_RS_R4D_STATUS_WORD_DEFAULT                   0u
 #define IDM_RS_R4D_STATUS_WORD_SCALE                     1.0f
-#define IDM_RS_R4D_STATUS_WORD_SCALE_NUM                 1
-#define IDM_RS_R4D_STATUS_WORD_SCALE_DEN                 1
+#define IDM_RS_R4D_STATUS_WORD_SCALE_NUM                 1u
+#define IDM_RS_R4D_STATUS_WORD_SCALE_DEN                 1u
 #define IDM_RS_R4D_STATUS_WORD_PAIRED                    1
 #define IDM_RS_R4D_STATUS_WORD_PAIR_ADDR                 0x0208u
+/* Value of r4d_status_word; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_r4d_status_word_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Basic parameters, class 7 (motor, current loop) (驱动器基本参数). Manual 5.3.1, 附录4. ==== */
 
@@ -1713,10 +3594,29 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_ENCODER_RESOLUTION_ACCESS                 REGMAP_ACCESS_RW
 #define IDM_RS_ENCODER_RESOLUTION_SIGNED                 0
 #define IDM_RS_ENCODER_RESOLUTION_SCALE                  1.0f
-#define IDM_RS_ENCODER_RESOLUTION_SCALE_NUM              1
-#define IDM_RS_ENCODER_RESOLUTION_SCALE_DEN              1
+#define IDM_RS_ENCODER_RESOLUTION_SCALE_NUM              1u
+#define IDM_RS_ENCODER_RESOLUTION_SCALE_DEN              1u
 #define IDM_RS_ENCODER_RESOLUTION_PAIRED                 1
 #define IDM_RS_ENCODER_RESOLUTION_PAIR_ADDR              0x0232u
+/* Values of encoder_resolution: 0..65535; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_encoder_resolution_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_encoder_resolution_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_encoder_resolution_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_encoder_resolution_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr7.02 back_emf_coefficient: Back-EMF coefficient (反电势系数). u16 rw, unit ms, raw 0..32767, default 100, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_BACK_EMF_COEFFICIENT_ADDR                 0x0235u
@@ -1727,10 +3627,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_BACK_EMF_COEFFICIENT_MAX                  32767u
 #define IDM_RS_BACK_EMF_COEFFICIENT_DEFAULT              100u
 #define IDM_RS_BACK_EMF_COEFFICIENT_SCALE                1.0f
-#define IDM_RS_BACK_EMF_COEFFICIENT_SCALE_NUM            1
-#define IDM_RS_BACK_EMF_COEFFICIENT_SCALE_DEN            1
+#define IDM_RS_BACK_EMF_COEFFICIENT_SCALE_NUM            1u
+#define IDM_RS_BACK_EMF_COEFFICIENT_SCALE_DEN            1u
 #define IDM_RS_BACK_EMF_COEFFICIENT_PAIRED               1
 #define IDM_RS_BACK_EMF_COEFFICIENT_PAIR_ADDR            0x0234u
+/* Values of back_emf_coefficient: 0..32767 ms; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_back_emf_coefficient_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_back_emf_coefficient_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_back_emf_coefficient_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_back_emf_coefficient_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr7.03 current_loop_kp: Current loop proportional gain P (电流环比例增益 P). u16 rw, raw 0..3000, default 1500, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_CURRENT_LOOP_KP_ADDR                      0x0237u
@@ -1741,10 +3659,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_CURRENT_LOOP_KP_MAX                       3000u
 #define IDM_RS_CURRENT_LOOP_KP_DEFAULT                   1500u
 #define IDM_RS_CURRENT_LOOP_KP_SCALE                     1.0f
-#define IDM_RS_CURRENT_LOOP_KP_SCALE_NUM                 1
-#define IDM_RS_CURRENT_LOOP_KP_SCALE_DEN                 1
+#define IDM_RS_CURRENT_LOOP_KP_SCALE_NUM                 1u
+#define IDM_RS_CURRENT_LOOP_KP_SCALE_DEN                 1u
 #define IDM_RS_CURRENT_LOOP_KP_PAIRED                    1
 #define IDM_RS_CURRENT_LOOP_KP_PAIR_ADDR                 0x0236u
+/* Values of current_loop_kp: 0..3000; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_current_loop_kp_is_in_range(uint16_t value)
+{
+    return value <= 3000u;
+}
+static inline bool idm_rs_current_loop_kp_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_current_loop_kp_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_current_loop_kp_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr7.04 current_loop_ki: Current loop integral gain I (电流环积分增益 I). u16 rw, raw 0..1500, default 300, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_CURRENT_LOOP_KI_ADDR                      0x0239u
@@ -1755,10 +3691,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_CURRENT_LOOP_KI_MAX                       1500u
 #define IDM_RS_CURRENT_LOOP_KI_DEFAULT                   300u
 #define IDM_RS_CURRENT_LOOP_KI_SCALE                     1.0f
-#define IDM_RS_CURRENT_LOOP_KI_SCALE_NUM                 1
-#define IDM_RS_CURRENT_LOOP_KI_SCALE_DEN                 1
+#define IDM_RS_CURRENT_LOOP_KI_SCALE_NUM                 1u
+#define IDM_RS_CURRENT_LOOP_KI_SCALE_DEN                 1u
 #define IDM_RS_CURRENT_LOOP_KI_PAIRED                    1
 #define IDM_RS_CURRENT_LOOP_KI_PAIR_ADDR                 0x0238u
+/* Values of current_loop_ki: 0..1500; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_current_loop_ki_is_in_range(uint16_t value)
+{
+    return value <= 1500u;
+}
+static inline bool idm_rs_current_loop_ki_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_current_loop_ki_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_current_loop_ki_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr7.05 current_loop_gain_ratio: Current loop gain adjustment ratio (电流环增益调整比例). u16 rw, raw 0..1024, default 100, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 附录4. */
 #define IDM_RS_CURRENT_LOOP_GAIN_RATIO_ADDR              0x023Bu
@@ -1769,10 +3723,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_CURRENT_LOOP_GAIN_RATIO_MAX               1024u
 #define IDM_RS_CURRENT_LOOP_GAIN_RATIO_DEFAULT           100u
 #define IDM_RS_CURRENT_LOOP_GAIN_RATIO_SCALE             1.0f
-#define IDM_RS_CURRENT_LOOP_GAIN_RATIO_SCALE_NUM         1
-#define IDM_RS_CURRENT_LOOP_GAIN_RATIO_SCALE_DEN         1
+#define IDM_RS_CURRENT_LOOP_GAIN_RATIO_SCALE_NUM         1u
+#define IDM_RS_CURRENT_LOOP_GAIN_RATIO_SCALE_DEN         1u
 #define IDM_RS_CURRENT_LOOP_GAIN_RATIO_PAIRED            1
 #define IDM_RS_CURRENT_LOOP_GAIN_RATIO_PAIR_ADDR         0x023Au
+/* Values of current_loop_gain_ratio: 0..1024; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_current_loop_gain_ratio_is_in_range(uint16_t value)
+{
+    return value <= 1024u;
+}
+static inline bool idm_rs_current_loop_gain_ratio_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_current_loop_gain_ratio_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_current_loop_gain_ratio_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr7.06 current_loop_kc: Current loop Kc (电流环 Kc). u16 rw, raw 0..32767, default 300, low word of a 32-bit pair whose unused high word is at ADDR - 1. Manual 5.3.1, 附录4. */
 #define IDM_RS_CURRENT_LOOP_KC_ADDR                      0x023Du
@@ -1783,10 +3755,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_CURRENT_LOOP_KC_MAX                       32767u
 #define IDM_RS_CURRENT_LOOP_KC_DEFAULT                   300u
 #define IDM_RS_CURRENT_LOOP_KC_SCALE                     1.0f
-#define IDM_RS_CURRENT_LOOP_KC_SCALE_NUM                 1
-#define IDM_RS_CURRENT_LOOP_KC_SCALE_DEN                 1
+#define IDM_RS_CURRENT_LOOP_KC_SCALE_NUM                 1u
+#define IDM_RS_CURRENT_LOOP_KC_SCALE_DEN                 1u
 #define IDM_RS_CURRENT_LOOP_KC_PAIRED                    1
 #define IDM_RS_CURRENT_LOOP_KC_PAIR_ADDR                 0x023Cu
+/* Values of current_loop_kc: 0..32767; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_current_loop_kc_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_current_loop_kc_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_current_loop_kc_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_current_loop_kc_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr7.09 overvoltage_threshold: Overvoltage threshold (过压阈值). u16 rw, unit V, raw 0..1000, default 90, low word of a 32-bit pair whose unused high word is at ADDR - 1, errata E35. Manual 5.3.1, 附录4, 4.12. */
 #define IDM_RS_OVERVOLTAGE_THRESHOLD_ADDR                0x0243u
@@ -1797,10 +3787,28 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_OVERVOLTAGE_THRESHOLD_MAX                 1000u
 #define IDM_RS_OVERVOLTAGE_THRESHOLD_DEFAULT             90u
 #define IDM_RS_OVERVOLTAGE_THRESHOLD_SCALE               1.0f
-#define IDM_RS_OVERVOLTAGE_THRESHOLD_SCALE_NUM           1
-#define IDM_RS_OVERVOLTAGE_THRESHOLD_SCALE_DEN           1
+#define IDM_RS_OVERVOLTAGE_THRESHOLD_SCALE_NUM           1u
+#define IDM_RS_OVERVOLTAGE_THRESHOLD_SCALE_DEN           1u
 #define IDM_RS_OVERVOLTAGE_THRESHOLD_PAIRED              1
 #define IDM_RS_OVERVOLTAGE_THRESHOLD_PAIR_ADDR           0x0242u
+/* Values of overvoltage_threshold: 0..1000 V; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
+static inline bool idm_rs_overvoltage_threshold_is_in_range(uint16_t value)
+{
+    return value <= 1000u;
+}
+static inline bool idm_rs_overvoltage_threshold_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_overvoltage_threshold_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_overvoltage_threshold_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* ==== Register mapping (continuous read/write of scattered registers) (寄存器映射连续读写功能). Manual 4.12. ==== */
 
@@ -1817,8 +3825,8 @@ static inline uint16_t idm_rs_output_io_state_set_do3(uint16_t raw, uint16_t val
 #define IDM_RS_MAPPING_WINDOW_VALUE_ACCESS               REGMAP_ACCESS_RW
 #define IDM_RS_MAPPING_WINDOW_VALUE_SIGNED               0
 #define IDM_RS_MAPPING_WINDOW_VALUE_SCALE                1.0f
-#define IDM_RS_MAPPING_WINDOW_VALUE_SCALE_NUM            1
-#define IDM_RS_MAPPING_WINDOW_VALUE_SCALE_DEN            1
+#define IDM_RS_MAPPING_WINDOW_VALUE_SCALE_NUM            1u
+#define IDM_RS_MAPPING_WINDOW_VALUE_SCALE_DEN            1u
 #define IDM_RS_MAPPING_WINDOW_VALUE_PAIRED               0
 static inline bool idm_rs_mapping_window_value_addr(unsigned n, uint16_t *address)
 {
@@ -1826,6 +3834,25 @@ static inline bool idm_rs_mapping_window_value_addr(unsigned n, uint16_t *addres
         return false;
     }
     *address = IDM_RS_MAPPING_WINDOW_VALUE_ADDR(n);
+    return true;
+}
+/* Values of mapping_window_value: 0..65535. */
+static inline bool idm_rs_mapping_window_value_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_mapping_window_value_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_mapping_window_value_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_mapping_window_value_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -1842,8 +3869,8 @@ static inline bool idm_rs_mapping_window_value_addr(unsigned n, uint16_t *addres
 #define IDM_RS_MAPPING_SETUP_ADDRESS_ACCESS              REGMAP_ACCESS_RW
 #define IDM_RS_MAPPING_SETUP_ADDRESS_SIGNED              0
 #define IDM_RS_MAPPING_SETUP_ADDRESS_SCALE               1.0f
-#define IDM_RS_MAPPING_SETUP_ADDRESS_SCALE_NUM           1
-#define IDM_RS_MAPPING_SETUP_ADDRESS_SCALE_DEN           1
+#define IDM_RS_MAPPING_SETUP_ADDRESS_SCALE_NUM           1u
+#define IDM_RS_MAPPING_SETUP_ADDRESS_SCALE_DEN           1u
 #define IDM_RS_MAPPING_SETUP_ADDRESS_PAIRED              0
 static inline bool idm_rs_mapping_setup_address_addr(unsigned n, uint16_t *address)
 {
@@ -1851,6 +3878,25 @@ static inline bool idm_rs_mapping_setup_address_addr(unsigned n, uint16_t *addre
         return false;
     }
     *address = IDM_RS_MAPPING_SETUP_ADDRESS_ADDR(n);
+    return true;
+}
+/* Values of mapping_setup_address: 0..65535. */
+static inline bool idm_rs_mapping_setup_address_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_mapping_setup_address_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_mapping_setup_address_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_mapping_setup_address_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -1862,8 +3908,8 @@ static inline bool idm_rs_mapping_setup_address_addr(unsigned n, uint16_t *addre
 #define IDM_RS_RUN_STATUS_ACCESS                         REGMAP_ACCESS_R
 #define IDM_RS_RUN_STATUS_SIGNED                         0
 #define IDM_RS_RUN_STATUS_SCALE                          1.0f
-#define IDM_RS_RUN_STATUS_SCALE_NUM                      1
-#define IDM_RS_RUN_STATUS_SCALE_DEN                      1
+#define IDM_RS_RUN_STATUS_SCALE_NUM                      1u
+#define IDM_RS_RUN_STATUS_SCALE_DEN                      1u
 #define IDM_RS_RUN_STATUS_PAIRED                         0
 /* bit 0 fault: Fault (故障). */
 #define IDM_RS_RUN_STATUS_FAULT_MASK                     0x0001u
@@ -1872,9 +3918,14 @@ static inline uint16_t idm_rs_run_status_get_fault(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_FAULT_MASK) >> IDM_RS_RUN_STATUS_FAULT_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_fault(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_fault(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_FAULT_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_FAULT_SHIFT) & IDM_RS_RUN_STATUS_FAULT_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_FAULT_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_FAULT_SHIFT) & IDM_RS_RUN_STATUS_FAULT_MASK));
+    return true;
 }
 /* bit 1 enabled: Enabled (使能). */
 #define IDM_RS_RUN_STATUS_ENABLED_MASK                   0x0002u
@@ -1883,9 +3934,14 @@ static inline uint16_t idm_rs_run_status_get_enabled(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_ENABLED_MASK) >> IDM_RS_RUN_STATUS_ENABLED_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_enabled(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_enabled(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_ENABLED_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_ENABLED_SHIFT) & IDM_RS_RUN_STATUS_ENABLED_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_ENABLED_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_ENABLED_SHIFT) & IDM_RS_RUN_STATUS_ENABLED_MASK));
+    return true;
 }
 /* bit 2 running: Running (运行). */
 #define IDM_RS_RUN_STATUS_RUNNING_MASK                   0x0004u
@@ -1894,9 +3950,14 @@ static inline uint16_t idm_rs_run_status_get_running(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_RUNNING_MASK) >> IDM_RS_RUN_STATUS_RUNNING_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_running(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_running(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_RUNNING_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_RUNNING_SHIFT) & IDM_RS_RUN_STATUS_RUNNING_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_RUNNING_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_RUNNING_SHIFT) & IDM_RS_RUN_STATUS_RUNNING_MASK));
+    return true;
 }
 /* bit 3 invalid: Invalid (no meaning; 4.1/5.3.2 print 无效, appendix 4 omits bit 3) (无效). */
 #define IDM_RS_RUN_STATUS_INVALID_MASK                   0x0008u
@@ -1905,9 +3966,14 @@ static inline uint16_t idm_rs_run_status_get_invalid(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_INVALID_MASK) >> IDM_RS_RUN_STATUS_INVALID_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_invalid(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_invalid(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_INVALID_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_INVALID_SHIFT) & IDM_RS_RUN_STATUS_INVALID_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_INVALID_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_INVALID_SHIFT) & IDM_RS_RUN_STATUS_INVALID_MASK));
+    return true;
 }
 /* bit 4 command_done: Command complete (指令完成). */
 #define IDM_RS_RUN_STATUS_COMMAND_DONE_MASK              0x0010u
@@ -1916,9 +3982,14 @@ static inline uint16_t idm_rs_run_status_get_command_done(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_COMMAND_DONE_MASK) >> IDM_RS_RUN_STATUS_COMMAND_DONE_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_command_done(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_command_done(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_COMMAND_DONE_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_COMMAND_DONE_SHIFT) & IDM_RS_RUN_STATUS_COMMAND_DONE_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_COMMAND_DONE_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_COMMAND_DONE_SHIFT) & IDM_RS_RUN_STATUS_COMMAND_DONE_MASK));
+    return true;
 }
 /* bit 5 path_done: Path complete (路径完成). */
 #define IDM_RS_RUN_STATUS_PATH_DONE_MASK                 0x0020u
@@ -1927,9 +3998,14 @@ static inline uint16_t idm_rs_run_status_get_path_done(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_PATH_DONE_MASK) >> IDM_RS_RUN_STATUS_PATH_DONE_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_path_done(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_path_done(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_PATH_DONE_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_PATH_DONE_SHIFT) & IDM_RS_RUN_STATUS_PATH_DONE_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_PATH_DONE_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_PATH_DONE_SHIFT) & IDM_RS_RUN_STATUS_PATH_DONE_MASK));
+    return true;
 }
 /* bit 6 homing_done: Homing complete (回零完成). */
 #define IDM_RS_RUN_STATUS_HOMING_DONE_MASK               0x0040u
@@ -1938,9 +4014,20 @@ static inline uint16_t idm_rs_run_status_get_homing_done(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_RUN_STATUS_HOMING_DONE_MASK) >> IDM_RS_RUN_STATUS_HOMING_DONE_SHIFT);
 }
-static inline uint16_t idm_rs_run_status_set_homing_done(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_run_status_set_homing_done(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_RUN_STATUS_HOMING_DONE_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_HOMING_DONE_SHIFT) & IDM_RS_RUN_STATUS_HOMING_DONE_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_RUN_STATUS_HOMING_DONE_MASK) | (((uint32_t)value << IDM_RS_RUN_STATUS_HOMING_DONE_SHIFT) & IDM_RS_RUN_STATUS_HOMING_DONE_MASK));
+    return true;
+}
+/* Value of run_status. */
+static inline bool idm_rs_run_status_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* control_word: Auxiliary control word (控制字). u16 w, values: enum control_word. Manual 4.4, 4.5, 4.7, 5.3.3, 附录4. */
@@ -1949,9 +4036,22 @@ static inline uint16_t idm_rs_run_status_set_homing_done(uint16_t raw, uint16_t 
 #define IDM_RS_CONTROL_WORD_ACCESS                       REGMAP_ACCESS_W
 #define IDM_RS_CONTROL_WORD_SIGNED                       0
 #define IDM_RS_CONTROL_WORD_SCALE                        1.0f
-#define IDM_RS_CONTROL_WORD_SCALE_NUM                    1
-#define IDM_RS_CONTROL_WORD_SCALE_DEN                    1
+#define IDM_RS_CONTROL_WORD_SCALE_NUM                    1u
+#define IDM_RS_CONTROL_WORD_SCALE_DEN                    1u
 #define IDM_RS_CONTROL_WORD_PAIRED                       0
+/* Values of control_word: the members of control_word a write may send. */
+static inline bool idm_rs_control_word_is_in_range(idm_rs_control_word value)
+{
+    return idm_rs_control_word_is_writable(value);
+}
+static inline bool idm_rs_control_word_encode(idm_rs_control_word value, uint16_t words[1])
+{
+    if (!idm_rs_control_word_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* save_status: Parameter save status word (保存参数状态字). u16 r, default 4369, values: enum save_status. Manual 5.3.3, 附录4. */
 #define IDM_RS_SAVE_STATUS_ADDR                          0x1901u
@@ -1960,9 +4060,19 @@ static inline uint16_t idm_rs_run_status_set_homing_done(uint16_t raw, uint16_t 
 #define IDM_RS_SAVE_STATUS_SIGNED                        0
 #define IDM_RS_SAVE_STATUS_DEFAULT                       4369u
 #define IDM_RS_SAVE_STATUS_SCALE                         1.0f
-#define IDM_RS_SAVE_STATUS_SCALE_NUM                     1
-#define IDM_RS_SAVE_STATUS_SCALE_DEN                     1
+#define IDM_RS_SAVE_STATUS_SCALE_NUM                     1u
+#define IDM_RS_SAVE_STATUS_SCALE_DEN                     1u
 #define IDM_RS_SAVE_STATUS_PAIRED                        0
+/* Value of save_status. */
+static inline bool idm_rs_save_status_decode(const uint16_t words[1], idm_rs_save_status *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_save_status_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_save_status)raw;
+    return true;
+}
 
 /* current_alarm: Current alarm (当前报警). u16 r, values: enum alarm_code, errata E10, E9. Manual 4.2, 5.4.2, 附录4. */
 #define IDM_RS_CURRENT_ALARM_ADDR                        0x2203u
@@ -1970,9 +4080,19 @@ static inline uint16_t idm_rs_run_status_set_homing_done(uint16_t raw, uint16_t 
 #define IDM_RS_CURRENT_ALARM_ACCESS                      REGMAP_ACCESS_R
 #define IDM_RS_CURRENT_ALARM_SIGNED                      0
 #define IDM_RS_CURRENT_ALARM_SCALE                       1.0f
-#define IDM_RS_CURRENT_ALARM_SCALE_NUM                   1
-#define IDM_RS_CURRENT_ALARM_SCALE_DEN                   1
+#define IDM_RS_CURRENT_ALARM_SCALE_NUM                   1u
+#define IDM_RS_CURRENT_ALARM_SCALE_DEN                   1u
 #define IDM_RS_CURRENT_ALARM_PAIRED                      0
+/* Value of current_alarm. */
+static inline bool idm_rs_current_alarm_decode(const uint16_t words[1], idm_rs_alarm_code *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_alarm_code_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_alarm_code)raw;
+    return true;
+}
 
 /* ==== PR control parameters (Pr8.xx) (PR参数). Manual 5.3.1, 6.2, 6.3, 6.4, 附录4. ==== */
 
@@ -1983,8 +4103,8 @@ static inline uint16_t idm_rs_run_status_set_homing_done(uint16_t raw, uint16_t 
 #define IDM_RS_PR_CONTROL_SIGNED                         0
 #define IDM_RS_PR_CONTROL_DEFAULT                        0u
 #define IDM_RS_PR_CONTROL_SCALE                          1.0f
-#define IDM_RS_PR_CONTROL_SCALE_NUM                      1
-#define IDM_RS_PR_CONTROL_SCALE_DEN                      1
+#define IDM_RS_PR_CONTROL_SCALE_NUM                      1u
+#define IDM_RS_PR_CONTROL_SCALE_DEN                      1u
 #define IDM_RS_PR_CONTROL_PAIRED                         0
 /* bit 0 ctrg_edge: CTRG edge selection (CTRG 边沿选择). Values: enum ctrg_edge. */
 #define IDM_RS_PR_CONTROL_CTRG_EDGE_MASK                 0x0001u
@@ -1993,9 +4113,14 @@ static inline uint16_t idm_rs_pr_control_get_ctrg_edge(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_CONTROL_CTRG_EDGE_MASK) >> IDM_RS_PR_CONTROL_CTRG_EDGE_SHIFT);
 }
-static inline uint16_t idm_rs_pr_control_set_ctrg_edge(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_pr_control_set_ctrg_edge(uint16_t *raw, idm_rs_ctrg_edge value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_CONTROL_CTRG_EDGE_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_CTRG_EDGE_SHIFT) & IDM_RS_PR_CONTROL_CTRG_EDGE_MASK));
+    if (!idm_rs_ctrg_edge_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_CONTROL_CTRG_EDGE_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_CTRG_EDGE_SHIFT) & IDM_RS_PR_CONTROL_CTRG_EDGE_MASK));
+    return true;
 }
 /* bit 1 soft_limit_enable: Software limits (0: disabled, 1: enabled) (软件限位). */
 #define IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_MASK         0x0002u
@@ -2004,9 +4129,14 @@ static inline uint16_t idm_rs_pr_control_get_soft_limit_enable(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_MASK) >> IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_SHIFT);
 }
-static inline uint16_t idm_rs_pr_control_set_soft_limit_enable(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_control_set_soft_limit_enable(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_SHIFT) & IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_SHIFT) & IDM_RS_PR_CONTROL_SOFT_LIMIT_ENABLE_MASK));
+    return true;
 }
 /* bit 2 home_on_power_up: Homing at power-up (0: off, 1: on) (上电回零). */
 #define IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_MASK          0x0004u
@@ -2015,9 +4145,14 @@ static inline uint16_t idm_rs_pr_control_get_home_on_power_up(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_MASK) >> IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_SHIFT);
 }
-static inline uint16_t idm_rs_pr_control_set_home_on_power_up(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_control_set_home_on_power_up(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_SHIFT) & IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_SHIFT) & IDM_RS_PR_CONTROL_HOME_ON_POWER_UP_MASK));
+    return true;
 }
 /* bit 3 absolute_position_memory: Absolute position memory (0: not kept, 1: kept; 5.3.1 only) (绝对值记忆). */
 #define IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_MASK  0x0008u
@@ -2026,9 +4161,14 @@ static inline uint16_t idm_rs_pr_control_get_absolute_position_memory(uint16_t r
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_MASK) >> IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_SHIFT);
 }
-static inline uint16_t idm_rs_pr_control_set_absolute_position_memory(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_control_set_absolute_position_memory(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_SHIFT) & IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_SHIFT) & IDM_RS_PR_CONTROL_ABSOLUTE_POSITION_MEMORY_MASK));
+    return true;
 }
 /* bit 4 level_trigger: CTRG level trigger (0: edge per bit 0, 1: level trigger; when set, bit 0 and RS-485 triggering are ignored) (CTRG 触发方式). */
 #define IDM_RS_PR_CONTROL_LEVEL_TRIGGER_MASK             0x0010u
@@ -2037,9 +4177,32 @@ static inline uint16_t idm_rs_pr_control_get_level_trigger(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_CONTROL_LEVEL_TRIGGER_MASK) >> IDM_RS_PR_CONTROL_LEVEL_TRIGGER_SHIFT);
 }
-static inline uint16_t idm_rs_pr_control_set_level_trigger(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_control_set_level_trigger(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_CONTROL_LEVEL_TRIGGER_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_LEVEL_TRIGGER_SHIFT) & IDM_RS_PR_CONTROL_LEVEL_TRIGGER_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_CONTROL_LEVEL_TRIGGER_MASK) | (((uint32_t)value << IDM_RS_PR_CONTROL_LEVEL_TRIGGER_SHIFT) & IDM_RS_PR_CONTROL_LEVEL_TRIGGER_MASK));
+    return true;
+}
+/* Values of pr_control: its whole word, the fields set with the setters above. */
+static inline bool idm_rs_pr_control_is_in_range(uint16_t value)
+{
+    return idm_rs_ctrg_edge_is_writable(idm_rs_pr_control_get_ctrg_edge(value));
+}
+static inline bool idm_rs_pr_control_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_control_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_control_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr8.02 pr_trigger: PR trigger / control register (触发寄存器). u16 rw, printed range -32768~32767, default 0, values: enum pr_trigger, errata E12. Manual 4.8, 5.3.1, 6.4, 附录4, 7.4. */
@@ -2049,9 +4212,31 @@ static inline uint16_t idm_rs_pr_control_set_level_trigger(uint16_t raw, uint16_
 #define IDM_RS_PR_TRIGGER_SIGNED                         0
 #define IDM_RS_PR_TRIGGER_DEFAULT                        0u
 #define IDM_RS_PR_TRIGGER_SCALE                          1.0f
-#define IDM_RS_PR_TRIGGER_SCALE_NUM                      1
-#define IDM_RS_PR_TRIGGER_SCALE_DEN                      1
+#define IDM_RS_PR_TRIGGER_SCALE_NUM                      1u
+#define IDM_RS_PR_TRIGGER_SCALE_DEN                      1u
 #define IDM_RS_PR_TRIGGER_PAIRED                         0
+/* Values of pr_trigger: the members of pr_trigger a write may send. */
+static inline bool idm_rs_pr_trigger_is_in_range(idm_rs_pr_trigger value)
+{
+    return idm_rs_pr_trigger_is_writable(value);
+}
+static inline bool idm_rs_pr_trigger_encode(idm_rs_pr_trigger value, uint16_t words[1])
+{
+    if (!idm_rs_pr_trigger_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_trigger_decode(const uint16_t words[1], idm_rs_pr_trigger *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_pr_trigger_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_pr_trigger)raw;
+    return true;
+}
 
 /* Pr8.06 positive_soft_limit: Positive software limit (正软件限位). s32 rw, unit pulse, raw -2147483648..2147483647, default 2147483647, errata E13. Manual 5.3.1, 6.3, 附录4. */
 #define IDM_RS_POSITIVE_SOFT_LIMIT_ADDR                  0x6006u
@@ -2066,6 +4251,25 @@ static inline uint16_t idm_rs_pr_control_set_level_trigger(uint16_t raw, uint16_
 #define IDM_RS_POSITIVE_SOFT_LIMIT_SCALE_NUM             1
 #define IDM_RS_POSITIVE_SOFT_LIMIT_SCALE_DEN             1
 #define IDM_RS_POSITIVE_SOFT_LIMIT_PAIRED                0
+/* Values of positive_soft_limit: -2147483648..2147483647 pulse. */
+static inline bool idm_rs_positive_soft_limit_is_in_range(int32_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_positive_soft_limit_encode(int32_t value, uint16_t words[2])
+{
+    if (!idm_rs_positive_soft_limit_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool idm_rs_positive_soft_limit_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.08 negative_soft_limit: Negative software limit (负软件限位). s32 rw, unit pulse, raw -2147483648..2147483647, default -2147483648, errata E13. Manual 5.3.1, 6.3, 附录4. */
 #define IDM_RS_NEGATIVE_SOFT_LIMIT_ADDR                  0x6008u
@@ -2080,6 +4284,25 @@ static inline uint16_t idm_rs_pr_control_set_level_trigger(uint16_t raw, uint16_
 #define IDM_RS_NEGATIVE_SOFT_LIMIT_SCALE_NUM             1
 #define IDM_RS_NEGATIVE_SOFT_LIMIT_SCALE_DEN             1
 #define IDM_RS_NEGATIVE_SOFT_LIMIT_PAIRED                0
+/* Values of negative_soft_limit: -2147483648..2147483647 pulse. */
+static inline bool idm_rs_negative_soft_limit_is_in_range(int32_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_negative_soft_limit_encode(int32_t value, uint16_t words[2])
+{
+    if (!idm_rs_negative_soft_limit_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool idm_rs_negative_soft_limit_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.10 homing_mode: Homing mode (回零模式). u16 rw, printed range -32768~32767, default 0, errata E14. Manual 4.13, 5.3.1, 6.2, 附录4, 7.4. */
 #define IDM_RS_HOMING_MODE_ADDR                          0x600Au
@@ -2088,8 +4311,8 @@ static inline uint16_t idm_rs_pr_control_set_level_trigger(uint16_t raw, uint16_
 #define IDM_RS_HOMING_MODE_SIGNED                        0
 #define IDM_RS_HOMING_MODE_DEFAULT                       0u
 #define IDM_RS_HOMING_MODE_SCALE                         1.0f
-#define IDM_RS_HOMING_MODE_SCALE_NUM                     1
-#define IDM_RS_HOMING_MODE_SCALE_DEN                     1
+#define IDM_RS_HOMING_MODE_SCALE_NUM                     1u
+#define IDM_RS_HOMING_MODE_SCALE_DEN                     1u
 #define IDM_RS_HOMING_MODE_PAIRED                        0
 /* bit 0 direction: Homing direction (回零方向). Values: enum homing_direction. */
 #define IDM_RS_HOMING_MODE_DIRECTION_MASK                0x0001u
@@ -2098,9 +4321,14 @@ static inline uint16_t idm_rs_homing_mode_get_direction(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_HOMING_MODE_DIRECTION_MASK) >> IDM_RS_HOMING_MODE_DIRECTION_SHIFT);
 }
-static inline uint16_t idm_rs_homing_mode_set_direction(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_homing_mode_set_direction(uint16_t *raw, idm_rs_homing_direction value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_HOMING_MODE_DIRECTION_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_DIRECTION_SHIFT) & IDM_RS_HOMING_MODE_DIRECTION_MASK));
+    if (!idm_rs_homing_direction_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_HOMING_MODE_DIRECTION_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_DIRECTION_SHIFT) & IDM_RS_HOMING_MODE_DIRECTION_MASK));
+    return true;
 }
 /* bit 1 move_to_stop_position: Move to the homing stop position (Pr8.13/14) after homing (回零后是否移动到指定位置). */
 #define IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_MASK    0x0002u
@@ -2109,9 +4337,14 @@ static inline uint16_t idm_rs_homing_mode_get_move_to_stop_position(uint16_t raw
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_MASK) >> IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_SHIFT);
 }
-static inline uint16_t idm_rs_homing_mode_set_move_to_stop_position(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_homing_mode_set_move_to_stop_position(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_SHIFT) & IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_SHIFT) & IDM_RS_HOMING_MODE_MOVE_TO_STOP_POSITION_MASK));
+    return true;
 }
 /* bits 2-3 method: Homing method (回零模式). Values: enum homing_method. */
 #define IDM_RS_HOMING_MODE_METHOD_MASK                   0x000Cu
@@ -2120,9 +4353,14 @@ static inline uint16_t idm_rs_homing_mode_get_method(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_HOMING_MODE_METHOD_MASK) >> IDM_RS_HOMING_MODE_METHOD_SHIFT);
 }
-static inline uint16_t idm_rs_homing_mode_set_method(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_homing_mode_set_method(uint16_t *raw, idm_rs_homing_method value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_HOMING_MODE_METHOD_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_METHOD_SHIFT) & IDM_RS_HOMING_MODE_METHOD_MASK));
+    if (!idm_rs_homing_method_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_HOMING_MODE_METHOD_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_METHOD_SHIFT) & IDM_RS_HOMING_MODE_METHOD_MASK));
+    return true;
 }
 /* bit 5 current_point_as_origin: Use the current point as origin (以当前点作为原点). */
 #define IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_MASK  0x0020u
@@ -2131,9 +4369,14 @@ static inline uint16_t idm_rs_homing_mode_get_current_point_as_origin(uint16_t r
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_MASK) >> IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_SHIFT);
 }
-static inline uint16_t idm_rs_homing_mode_set_current_point_as_origin(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_homing_mode_set_current_point_as_origin(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_SHIFT) & IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_SHIFT) & IDM_RS_HOMING_MODE_CURRENT_POINT_AS_ORIGIN_MASK));
+    return true;
 }
 /* bit 8 with_z_signal: Homing with Z signal (回零带Z信号). */
 #define IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_MASK            0x0100u
@@ -2142,9 +4385,32 @@ static inline uint16_t idm_rs_homing_mode_get_with_z_signal(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_MASK) >> IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_SHIFT);
 }
-static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_homing_mode_set_with_z_signal(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_SHIFT) & IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_MASK) | (((uint32_t)value << IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_SHIFT) & IDM_RS_HOMING_MODE_WITH_Z_SIGNAL_MASK));
+    return true;
+}
+/* Values of homing_mode: its whole word, the fields set with the setters above. */
+static inline bool idm_rs_homing_mode_is_in_range(uint16_t value)
+{
+    return idm_rs_homing_direction_is_writable(idm_rs_homing_mode_get_direction(value)) && idm_rs_homing_method_is_writable(idm_rs_homing_mode_get_method(value));
+}
+static inline bool idm_rs_homing_mode_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_homing_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_homing_mode_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr8.11 home_offset: Zero position (origin signal position on the axis) (零位位置). s32 rw, unit pulse, raw -2147483648..2147483647, default 0, errata E13. Manual 5.3.1, 6.2, 附录4. */
@@ -2160,6 +4426,25 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOME_OFFSET_SCALE_NUM                     1
 #define IDM_RS_HOME_OFFSET_SCALE_DEN                     1
 #define IDM_RS_HOME_OFFSET_PAIRED                        0
+/* Values of home_offset: -2147483648..2147483647 pulse. */
+static inline bool idm_rs_home_offset_is_in_range(int32_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_home_offset_encode(int32_t value, uint16_t words[2])
+{
+    if (!idm_rs_home_offset_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool idm_rs_home_offset_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.13 home_stop_position: Homing stop position (回零停止位置). s32 rw, unit pulse, raw -2147483648..2147483647, default 0, errata E13. Manual 5.3.1, 6.2, 附录4. */
 #define IDM_RS_HOME_STOP_POSITION_ADDR                   0x600Du
@@ -2174,6 +4459,25 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOME_STOP_POSITION_SCALE_NUM              1
 #define IDM_RS_HOME_STOP_POSITION_SCALE_DEN              1
 #define IDM_RS_HOME_STOP_POSITION_PAIRED                 0
+/* Values of home_stop_position: -2147483648..2147483647 pulse. */
+static inline bool idm_rs_home_stop_position_is_in_range(int32_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_home_stop_position_encode(int32_t value, uint16_t words[2])
+{
+    if (!idm_rs_home_stop_position_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool idm_rs_home_stop_position_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.15 homing_high_speed: Homing high speed (first stage) (回零高速). u16 rw, unit rpm, raw 1..6000, default 200. Manual 5.3.1, 6.2, 附录4, 7.4. */
 #define IDM_RS_HOMING_HIGH_SPEED_ADDR                    0x600Fu
@@ -2184,9 +4488,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOMING_HIGH_SPEED_MAX                     6000u
 #define IDM_RS_HOMING_HIGH_SPEED_DEFAULT                 200u
 #define IDM_RS_HOMING_HIGH_SPEED_SCALE                   1.0f
-#define IDM_RS_HOMING_HIGH_SPEED_SCALE_NUM               1
-#define IDM_RS_HOMING_HIGH_SPEED_SCALE_DEN               1
+#define IDM_RS_HOMING_HIGH_SPEED_SCALE_NUM               1u
+#define IDM_RS_HOMING_HIGH_SPEED_SCALE_DEN               1u
 #define IDM_RS_HOMING_HIGH_SPEED_PAIRED                  0
+/* Values of homing_high_speed: 1..6000 rpm. */
+static inline bool idm_rs_homing_high_speed_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 6000u;
+}
+static inline bool idm_rs_homing_high_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_homing_high_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_homing_high_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.16 homing_low_speed: Homing low speed (second stage) (回零低速). u16 rw, unit rpm, raw 1..6000, default 50. Manual 5.3.1, 6.2, 附录4, 7.4. */
 #define IDM_RS_HOMING_LOW_SPEED_ADDR                     0x6010u
@@ -2197,9 +4519,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOMING_LOW_SPEED_MAX                      6000u
 #define IDM_RS_HOMING_LOW_SPEED_DEFAULT                  50u
 #define IDM_RS_HOMING_LOW_SPEED_SCALE                    1.0f
-#define IDM_RS_HOMING_LOW_SPEED_SCALE_NUM                1
-#define IDM_RS_HOMING_LOW_SPEED_SCALE_DEN                1
+#define IDM_RS_HOMING_LOW_SPEED_SCALE_NUM                1u
+#define IDM_RS_HOMING_LOW_SPEED_SCALE_DEN                1u
 #define IDM_RS_HOMING_LOW_SPEED_PAIRED                   0
+/* Values of homing_low_speed: 1..6000 rpm. */
+static inline bool idm_rs_homing_low_speed_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 6000u;
+}
+static inline bool idm_rs_homing_low_speed_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_homing_low_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_homing_low_speed_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.17 homing_accel: Homing acceleration time (回零加速时间). u16 rw, unit ms/Krpm, raw 1..32767, default 100. Manual 5.3.1, 6.2, 附录4. */
 #define IDM_RS_HOMING_ACCEL_ADDR                         0x6011u
@@ -2210,9 +4550,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOMING_ACCEL_MAX                          32767u
 #define IDM_RS_HOMING_ACCEL_DEFAULT                      100u
 #define IDM_RS_HOMING_ACCEL_SCALE                        1.0f
-#define IDM_RS_HOMING_ACCEL_SCALE_NUM                    1
-#define IDM_RS_HOMING_ACCEL_SCALE_DEN                    1
+#define IDM_RS_HOMING_ACCEL_SCALE_NUM                    1u
+#define IDM_RS_HOMING_ACCEL_SCALE_DEN                    1u
 #define IDM_RS_HOMING_ACCEL_PAIRED                       0
+/* Values of homing_accel: 1..32767 ms/Krpm. */
+static inline bool idm_rs_homing_accel_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool idm_rs_homing_accel_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_homing_accel_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_homing_accel_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.18 homing_decel: Homing deceleration time (回零减速时间). u16 rw, unit ms/Krpm, raw 1..32767, default 100. Manual 5.3.1, 6.2, 附录4. */
 #define IDM_RS_HOMING_DECEL_ADDR                         0x6012u
@@ -2223,9 +4581,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOMING_DECEL_MAX                          32767u
 #define IDM_RS_HOMING_DECEL_DEFAULT                      100u
 #define IDM_RS_HOMING_DECEL_SCALE                        1.0f
-#define IDM_RS_HOMING_DECEL_SCALE_NUM                    1
-#define IDM_RS_HOMING_DECEL_SCALE_DEN                    1
+#define IDM_RS_HOMING_DECEL_SCALE_NUM                    1u
+#define IDM_RS_HOMING_DECEL_SCALE_DEN                    1u
 #define IDM_RS_HOMING_DECEL_PAIRED                       0
+/* Values of homing_decel: 1..32767 ms/Krpm. */
+static inline bool idm_rs_homing_decel_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool idm_rs_homing_decel_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_homing_decel_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_homing_decel_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.19 torque_homing_time: Torque homing hold time (力矩回零时间). u16 rw, unit ms, raw 0..32767, default 100. Manual 4.13, 5.3.1, 6.2, 6.2.3, 附录4. */
 #define IDM_RS_TORQUE_HOMING_TIME_ADDR                   0x6013u
@@ -2236,9 +4612,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_TORQUE_HOMING_TIME_MAX                    32767u
 #define IDM_RS_TORQUE_HOMING_TIME_DEFAULT                100u
 #define IDM_RS_TORQUE_HOMING_TIME_SCALE                  1.0f
-#define IDM_RS_TORQUE_HOMING_TIME_SCALE_NUM              1
-#define IDM_RS_TORQUE_HOMING_TIME_SCALE_DEN              1
+#define IDM_RS_TORQUE_HOMING_TIME_SCALE_NUM              1u
+#define IDM_RS_TORQUE_HOMING_TIME_SCALE_DEN              1u
 #define IDM_RS_TORQUE_HOMING_TIME_PAIRED                 0
+/* Values of torque_homing_time: 0..32767 ms. */
+static inline bool idm_rs_torque_homing_time_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_torque_homing_time_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_torque_homing_time_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_torque_homing_time_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.20 torque_homing_level: Torque homing force (percentage of the set current) (力矩回零值). u16 rw, unit %, raw 0..32767, default 50. Manual 4.13, 5.3.1, 6.2, 6.2.3, 附录4. */
 #define IDM_RS_TORQUE_HOMING_LEVEL_ADDR                  0x6014u
@@ -2249,9 +4643,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_TORQUE_HOMING_LEVEL_MAX                   32767u
 #define IDM_RS_TORQUE_HOMING_LEVEL_DEFAULT               50u
 #define IDM_RS_TORQUE_HOMING_LEVEL_SCALE                 1.0f
-#define IDM_RS_TORQUE_HOMING_LEVEL_SCALE_NUM             1
-#define IDM_RS_TORQUE_HOMING_LEVEL_SCALE_DEN             1
+#define IDM_RS_TORQUE_HOMING_LEVEL_SCALE_NUM             1u
+#define IDM_RS_TORQUE_HOMING_LEVEL_SCALE_DEN             1u
 #define IDM_RS_TORQUE_HOMING_LEVEL_PAIRED                0
+/* Values of torque_homing_level: 0..32767 %. */
+static inline bool idm_rs_torque_homing_level_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_torque_homing_level_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_torque_homing_level_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_torque_homing_level_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.21 homing_overtravel: Homing overtravel distance (回零超程). u16 rw, unit r, scale 0.1, raw 0..32767 (0..3276.7 r), printed range 0~32767 (0.1r), default 0 (0). Manual 5.3.1, 附录4. */
 #define IDM_RS_HOMING_OVERTRAVEL_ADDR                    0x6015u
@@ -2262,9 +4674,29 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_HOMING_OVERTRAVEL_MAX                     32767u
 #define IDM_RS_HOMING_OVERTRAVEL_DEFAULT                 0u
 #define IDM_RS_HOMING_OVERTRAVEL_SCALE                   0.1f
-#define IDM_RS_HOMING_OVERTRAVEL_SCALE_NUM               1
-#define IDM_RS_HOMING_OVERTRAVEL_SCALE_DEN               10
+#define IDM_RS_HOMING_OVERTRAVEL_SCALE_NUM               1u
+#define IDM_RS_HOMING_OVERTRAVEL_SCALE_DEN               10u
 #define IDM_RS_HOMING_OVERTRAVEL_PAIRED                  0
+/* Values of homing_overtravel: 0..3276.7 r in steps of 0.1. */
+static inline bool idm_rs_homing_overtravel_is_in_range(double value)
+{
+    double raw;
+    return regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 32767.0, &raw);
+}
+static inline bool idm_rs_homing_overtravel_encode(double value, uint16_t words[1])
+{
+    double raw;
+    if (!regmap_value_to_raw(value, 0.0, 1.0, 10.0, 0.0, 32767.0, &raw)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)raw, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_homing_overtravel_decode(const uint16_t words[1], double *out)
+{
+    *out = (double)regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST) * 1.0 / 10.0;
+    return true;
+}
 
 /* Pr8.22 limit_stop_decel: Deceleration after a limit (limit emergency stop) (限位急停减速度). u16 rw, unit ms/Krpm, raw 1..32767, default 10, errata E20. Manual 5.3.1, 6.3, 附录4. */
 #define IDM_RS_LIMIT_STOP_DECEL_ADDR                     0x6016u
@@ -2275,9 +4707,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_LIMIT_STOP_DECEL_MAX                      32767u
 #define IDM_RS_LIMIT_STOP_DECEL_DEFAULT                  10u
 #define IDM_RS_LIMIT_STOP_DECEL_SCALE                    1.0f
-#define IDM_RS_LIMIT_STOP_DECEL_SCALE_NUM                1
-#define IDM_RS_LIMIT_STOP_DECEL_SCALE_DEN                1
+#define IDM_RS_LIMIT_STOP_DECEL_SCALE_NUM                1u
+#define IDM_RS_LIMIT_STOP_DECEL_SCALE_DEN                1u
 #define IDM_RS_LIMIT_STOP_DECEL_PAIRED                   0
+/* Values of limit_stop_decel: 1..32767 ms/Krpm. */
+static inline bool idm_rs_limit_stop_decel_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool idm_rs_limit_stop_decel_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_limit_stop_decel_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_limit_stop_decel_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.23 stop_decel: Deceleration after an emergency stop (STP) (STP 急停减速度). u16 rw, unit ms/Krpm, raw 1..32767, default 50, errata E20. Manual 5.3.1, 6.3, 附录4. */
 #define IDM_RS_STOP_DECEL_ADDR                           0x6017u
@@ -2288,9 +4738,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_STOP_DECEL_MAX                            32767u
 #define IDM_RS_STOP_DECEL_DEFAULT                        50u
 #define IDM_RS_STOP_DECEL_SCALE                          1.0f
-#define IDM_RS_STOP_DECEL_SCALE_NUM                      1
-#define IDM_RS_STOP_DECEL_SCALE_DEN                      1
+#define IDM_RS_STOP_DECEL_SCALE_NUM                      1u
+#define IDM_RS_STOP_DECEL_SCALE_DEN                      1u
 #define IDM_RS_STOP_DECEL_PAIRED                         0
+/* Values of stop_decel: 1..32767 ms/Krpm. */
+static inline bool idm_rs_stop_decel_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool idm_rs_stop_decel_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_stop_decel_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_stop_decel_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.24 encoder_memory_value: Encoder memory value (编码器记忆值). s32 rw. Manual 附录4. */
 #define IDM_RS_ENCODER_MEMORY_VALUE_ADDR                 0x6018u
@@ -2302,6 +4770,25 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_ENCODER_MEMORY_VALUE_SCALE_NUM            1
 #define IDM_RS_ENCODER_MEMORY_VALUE_SCALE_DEN            1
 #define IDM_RS_ENCODER_MEMORY_VALUE_PAIRED               0
+/* Values of encoder_memory_value: -2147483648..2147483647. */
+static inline bool idm_rs_encoder_memory_value_is_in_range(int32_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_encoder_memory_value_encode(int32_t value, uint16_t words[2])
+{
+    if (!idm_rs_encoder_memory_value_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool idm_rs_encoder_memory_value_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.26 io_combination_mode: IO combination trigger mode (IO 组合触发模式). u16 rw, raw 0..65535, default 0, values: enum io_combination_mode. Manual 4.8, 4.9, 5.3.1, 6.4, 附录4. */
 #define IDM_RS_IO_COMBINATION_MODE_ADDR                  0x601Au
@@ -2312,9 +4799,31 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_IO_COMBINATION_MODE_MAX                   65535u
 #define IDM_RS_IO_COMBINATION_MODE_DEFAULT               0u
 #define IDM_RS_IO_COMBINATION_MODE_SCALE                 1.0f
-#define IDM_RS_IO_COMBINATION_MODE_SCALE_NUM             1
-#define IDM_RS_IO_COMBINATION_MODE_SCALE_DEN             1
+#define IDM_RS_IO_COMBINATION_MODE_SCALE_NUM             1u
+#define IDM_RS_IO_COMBINATION_MODE_SCALE_DEN             1u
 #define IDM_RS_IO_COMBINATION_MODE_PAIRED                0
+/* Values of io_combination_mode: the members of io_combination_mode a write may send. */
+static inline bool idm_rs_io_combination_mode_is_in_range(idm_rs_io_combination_mode value)
+{
+    return idm_rs_io_combination_mode_is_writable(value);
+}
+static inline bool idm_rs_io_combination_mode_encode(idm_rs_io_combination_mode value, uint16_t words[1])
+{
+    if (!idm_rs_io_combination_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire((uint16_t)value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_io_combination_mode_decode(const uint16_t words[1], idm_rs_io_combination_mode *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_io_combination_mode_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_io_combination_mode)raw;
+    return true;
+}
 
 /* Pr8.27 io_combination_filter: IO combination filter time (IO 组合滤波). u16 rw, unit ms, raw 0..32767, default 0. Manual 5.3.1, 附录4. */
 #define IDM_RS_IO_COMBINATION_FILTER_ADDR                0x601Bu
@@ -2325,9 +4834,27 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_IO_COMBINATION_FILTER_MAX                 32767u
 #define IDM_RS_IO_COMBINATION_FILTER_DEFAULT             0u
 #define IDM_RS_IO_COMBINATION_FILTER_SCALE               1.0f
-#define IDM_RS_IO_COMBINATION_FILTER_SCALE_NUM           1
-#define IDM_RS_IO_COMBINATION_FILTER_SCALE_DEN           1
+#define IDM_RS_IO_COMBINATION_FILTER_SCALE_NUM           1u
+#define IDM_RS_IO_COMBINATION_FILTER_SCALE_DEN           1u
 #define IDM_RS_IO_COMBINATION_FILTER_PAIRED              0
+/* Values of io_combination_filter: 0..32767 ms. */
+static inline bool idm_rs_io_combination_filter_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_io_combination_filter_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_io_combination_filter_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_io_combination_filter_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.28 s_code_output: Current S-code output value (S 码当前输出值). u16 r, raw 0..32767, default 0. Manual 4.11, 5.3.1, 附录4. */
 #define IDM_RS_S_CODE_OUTPUT_ADDR                        0x601Cu
@@ -2338,8 +4865,8 @@ static inline uint16_t idm_rs_homing_mode_set_with_z_signal(uint16_t raw, uint16
 #define IDM_RS_S_CODE_OUTPUT_MAX                         32767u
 #define IDM_RS_S_CODE_OUTPUT_DEFAULT                     0u
 #define IDM_RS_S_CODE_OUTPUT_SCALE                       1.0f
-#define IDM_RS_S_CODE_OUTPUT_SCALE_NUM                   1
-#define IDM_RS_S_CODE_OUTPUT_SCALE_DEN                   1
+#define IDM_RS_S_CODE_OUTPUT_SCALE_NUM                   1u
+#define IDM_RS_S_CODE_OUTPUT_SCALE_DEN                   1u
 #define IDM_RS_S_CODE_OUTPUT_PAIRED                      0
 /* bit 0 out1: Output 1 on. */
 #define IDM_RS_S_CODE_OUTPUT_OUT1_MASK                   0x0001u
@@ -2348,9 +4875,14 @@ static inline uint16_t idm_rs_s_code_output_get_out1(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_OUTPUT_OUT1_MASK) >> IDM_RS_S_CODE_OUTPUT_OUT1_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_output_set_out1(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_output_set_out1(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_OUTPUT_OUT1_MASK) | (((uint32_t)value << IDM_RS_S_CODE_OUTPUT_OUT1_SHIFT) & IDM_RS_S_CODE_OUTPUT_OUT1_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_OUTPUT_OUT1_MASK) | (((uint32_t)value << IDM_RS_S_CODE_OUTPUT_OUT1_SHIFT) & IDM_RS_S_CODE_OUTPUT_OUT1_MASK));
+    return true;
 }
 /* bit 1 out2: Output 2 on. */
 #define IDM_RS_S_CODE_OUTPUT_OUT2_MASK                   0x0002u
@@ -2359,9 +4891,14 @@ static inline uint16_t idm_rs_s_code_output_get_out2(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_OUTPUT_OUT2_MASK) >> IDM_RS_S_CODE_OUTPUT_OUT2_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_output_set_out2(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_output_set_out2(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_OUTPUT_OUT2_MASK) | (((uint32_t)value << IDM_RS_S_CODE_OUTPUT_OUT2_SHIFT) & IDM_RS_S_CODE_OUTPUT_OUT2_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_OUTPUT_OUT2_MASK) | (((uint32_t)value << IDM_RS_S_CODE_OUTPUT_OUT2_SHIFT) & IDM_RS_S_CODE_OUTPUT_OUT2_MASK));
+    return true;
 }
 /* bit 2 out3: Output 3 on. */
 #define IDM_RS_S_CODE_OUTPUT_OUT3_MASK                   0x0004u
@@ -2370,9 +4907,20 @@ static inline uint16_t idm_rs_s_code_output_get_out3(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_OUTPUT_OUT3_MASK) >> IDM_RS_S_CODE_OUTPUT_OUT3_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_output_set_out3(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_OUTPUT_OUT3_MASK) | (((uint32_t)value << IDM_RS_S_CODE_OUTPUT_OUT3_SHIFT) & IDM_RS_S_CODE_OUTPUT_OUT3_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_OUTPUT_OUT3_MASK) | (((uint32_t)value << IDM_RS_S_CODE_OUTPUT_OUT3_SHIFT) & IDM_RS_S_CODE_OUTPUT_OUT3_MASK));
+    return true;
+}
+/* Value of s_code_output. */
+static inline bool idm_rs_s_code_output_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* Pr8.29 pr_warning: PR warning (PR 警告). u16 r, raw 0..32767, default 0, values: enum pr_warning, errata E19. Manual 5.3.1, 附录4. */
@@ -2384,9 +4932,19 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_PR_WARNING_MAX                            32767u
 #define IDM_RS_PR_WARNING_DEFAULT                        0u
 #define IDM_RS_PR_WARNING_SCALE                          1.0f
-#define IDM_RS_PR_WARNING_SCALE_NUM                      1
-#define IDM_RS_PR_WARNING_SCALE_DEN                      1
+#define IDM_RS_PR_WARNING_SCALE_NUM                      1u
+#define IDM_RS_PR_WARNING_SCALE_DEN                      1u
 #define IDM_RS_PR_WARNING_PAIRED                         0
+/* Value of pr_warning. */
+static inline bool idm_rs_pr_warning_decode(const uint16_t words[1], idm_rs_pr_warning *out)
+{
+    uint16_t raw = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    if (!idm_rs_pr_warning_is_member(raw)) {
+        return false;
+    }
+    *out = (idm_rs_pr_warning)raw;
+    return true;
+}
 
 /* Pr8.38 jog_speed_2: JOG speed 2 (IO JOG) (JOG2 速度). s16 rw, unit rpm, raw -2500..2500, default 50. Manual 4.10, 5.3.1, 6.3, 附录4. */
 #define IDM_RS_JOG_SPEED_2_ADDR                          0x6026u
@@ -2400,6 +4958,24 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_JOG_SPEED_2_SCALE_NUM                     1
 #define IDM_RS_JOG_SPEED_2_SCALE_DEN                     1
 #define IDM_RS_JOG_SPEED_2_PAIRED                        0
+/* Values of jog_speed_2: -2500..2500 rpm. */
+static inline bool idm_rs_jog_speed_2_is_in_range(int16_t value)
+{
+    return value >= (-2500) && value <= 2500;
+}
+static inline bool idm_rs_jog_speed_2_encode(int16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_speed_2_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_speed_2_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.39 jog_speed_1: JOG speed (IO JOG) (JOG1 速度). s16 rw, unit rpm, raw -2500..2500, default 200. Manual 4.7, 4.10, 5.3.1, 6.3, 附录4. */
 #define IDM_RS_JOG_SPEED_1_ADDR                          0x6027u
@@ -2413,6 +4989,24 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_JOG_SPEED_1_SCALE_NUM                     1
 #define IDM_RS_JOG_SPEED_1_SCALE_DEN                     1
 #define IDM_RS_JOG_SPEED_1_PAIRED                        0
+/* Values of jog_speed_1: -2500..2500 rpm. */
+static inline bool idm_rs_jog_speed_1_is_in_range(int16_t value)
+{
+    return value >= (-2500) && value <= 2500;
+}
+static inline bool idm_rs_jog_speed_1_encode(int16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_speed_1_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_speed_1_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.40 jog_accel: JOG acceleration time (IO JOG) (JOG 加速度). u16 rw, unit ms/Krpm, raw 0..32767, default 1000. Manual 4.7, 5.3.1, 6.3, 附录4. */
 #define IDM_RS_JOG_ACCEL_ADDR                            0x6028u
@@ -2423,9 +5017,27 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_JOG_ACCEL_MAX                             32767u
 #define IDM_RS_JOG_ACCEL_DEFAULT                         1000u
 #define IDM_RS_JOG_ACCEL_SCALE                           1.0f
-#define IDM_RS_JOG_ACCEL_SCALE_NUM                       1
-#define IDM_RS_JOG_ACCEL_SCALE_DEN                       1
+#define IDM_RS_JOG_ACCEL_SCALE_NUM                       1u
+#define IDM_RS_JOG_ACCEL_SCALE_DEN                       1u
 #define IDM_RS_JOG_ACCEL_PAIRED                          0
+/* Values of jog_accel: 0..32767 ms/Krpm. */
+static inline bool idm_rs_jog_accel_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_jog_accel_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_accel_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_accel_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.41 jog_decel: JOG deceleration time (IO JOG) (JOG 减速度). u16 rw, unit ms/Krpm, raw 0..32767, default 1000. Manual 4.7, 5.3.1, 6.3, 附录4. */
 #define IDM_RS_JOG_DECEL_ADDR                            0x6029u
@@ -2436,9 +5048,27 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_JOG_DECEL_MAX                             32767u
 #define IDM_RS_JOG_DECEL_DEFAULT                         1000u
 #define IDM_RS_JOG_DECEL_SCALE                           1.0f
-#define IDM_RS_JOG_DECEL_SCALE_NUM                       1
-#define IDM_RS_JOG_DECEL_SCALE_DEN                       1
+#define IDM_RS_JOG_DECEL_SCALE_NUM                       1u
+#define IDM_RS_JOG_DECEL_SCALE_DEN                       1u
 #define IDM_RS_JOG_DECEL_PAIRED                          0
+/* Values of jog_decel: 0..32767 ms/Krpm. */
+static inline bool idm_rs_jog_decel_is_in_range(uint16_t value)
+{
+    return value <= 32767u;
+}
+static inline bool idm_rs_jog_decel_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_jog_decel_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_jog_decel_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.42 command_position: Command position (命令位置). s32 r, unit pulse, raw -2147483648..2147483647, default 0. Manual 5.3.1, 6.3, 附录4. */
 #define IDM_RS_COMMAND_POSITION_ADDR                     0x602Au
@@ -2453,6 +5083,12 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_COMMAND_POSITION_SCALE_NUM                1
 #define IDM_RS_COMMAND_POSITION_SCALE_DEN                1
 #define IDM_RS_COMMAND_POSITION_PAIRED                   0
+/* Value of command_position. */
+static inline bool idm_rs_command_position_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.44 motor_position: Motor (actual) position (电机位置). s32 r, unit pulse, raw -2147483648..2147483647, default 0. Manual 5.3.1, 6.3, 附录4. */
 #define IDM_RS_MOTOR_POSITION_ADDR                       0x602Cu
@@ -2467,6 +5103,12 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_MOTOR_POSITION_SCALE_NUM                  1
 #define IDM_RS_MOTOR_POSITION_SCALE_DEN                  1
 #define IDM_RS_MOTOR_POSITION_PAIRED                     0
+/* Value of motor_position. */
+static inline bool idm_rs_motor_position_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.46 input_io: Input IO (输入 IO). u16 r, printed range -32768~32767, default 0. Manual 5.3.1, 4.12. */
 #define IDM_RS_INPUT_IO_ADDR                             0x602Eu
@@ -2475,9 +5117,15 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_INPUT_IO_SIGNED                           0
 #define IDM_RS_INPUT_IO_DEFAULT                          0u
 #define IDM_RS_INPUT_IO_SCALE                            1.0f
-#define IDM_RS_INPUT_IO_SCALE_NUM                        1
-#define IDM_RS_INPUT_IO_SCALE_DEN                        1
+#define IDM_RS_INPUT_IO_SCALE_NUM                        1u
+#define IDM_RS_INPUT_IO_SCALE_DEN                        1u
 #define IDM_RS_INPUT_IO_PAIRED                           0
+/* Value of input_io. */
+static inline bool idm_rs_input_io_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* Pr8.47 output_io: Output IO (输出 IO). u16 r, printed range -32768~32767, default 0. Manual 5.3.1. */
 #define IDM_RS_OUTPUT_IO_ADDR                            0x602Fu
@@ -2486,9 +5134,15 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_OUTPUT_IO_SIGNED                          0
 #define IDM_RS_OUTPUT_IO_DEFAULT                         0u
 #define IDM_RS_OUTPUT_IO_SCALE                           1.0f
-#define IDM_RS_OUTPUT_IO_SCALE_NUM                       1
-#define IDM_RS_OUTPUT_IO_SCALE_DEN                       1
+#define IDM_RS_OUTPUT_IO_SCALE_NUM                       1u
+#define IDM_RS_OUTPUT_IO_SCALE_DEN                       1u
 #define IDM_RS_OUTPUT_IO_PAIRED                          0
+/* Value of output_io. */
+static inline bool idm_rs_output_io_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* S-code output setting per path (S 码设置): 16 elements 0..15; member m of element n is at BASE 0x6030 + 1 x (n - 0) + offset of m. Manual 4.11, 5.3.1, 附录4. */
 #define IDM_RS_S_CODE_BASE                               0x6030u
@@ -2504,8 +5158,8 @@ static inline uint16_t idm_rs_s_code_output_set_out3(uint16_t raw, uint16_t valu
 #define IDM_RS_S_CODE_SETTING_SIGNED                     0
 #define IDM_RS_S_CODE_SETTING_DEFAULT                    0u
 #define IDM_RS_S_CODE_SETTING_SCALE                      1.0f
-#define IDM_RS_S_CODE_SETTING_SCALE_NUM                  1
-#define IDM_RS_S_CODE_SETTING_SCALE_DEN                  1
+#define IDM_RS_S_CODE_SETTING_SCALE_NUM                  1u
+#define IDM_RS_S_CODE_SETTING_SCALE_DEN                  1u
 #define IDM_RS_S_CODE_SETTING_PAIRED                     0
 static inline bool idm_rs_s_code_setting_addr(unsigned n, uint16_t *address)
 {
@@ -2522,9 +5176,14 @@ static inline uint16_t idm_rs_s_code_setting_get_start_code(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_SETTING_START_CODE_MASK) >> IDM_RS_S_CODE_SETTING_START_CODE_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_setting_set_start_code(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_setting_set_start_code(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_START_CODE_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_START_CODE_SHIFT) & IDM_RS_S_CODE_SETTING_START_CODE_MASK));
+    if (value > 0x0007u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_START_CODE_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_START_CODE_SHIFT) & IDM_RS_S_CODE_SETTING_START_CODE_MASK));
+    return true;
 }
 /* bit 7 start_valid: Start S code valid (0: invalid, 1: valid; recommended 1) (启动 S码是否有效). */
 #define IDM_RS_S_CODE_SETTING_START_VALID_MASK           0x0080u
@@ -2533,9 +5192,14 @@ static inline uint16_t idm_rs_s_code_setting_get_start_valid(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_SETTING_START_VALID_MASK) >> IDM_RS_S_CODE_SETTING_START_VALID_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_setting_set_start_valid(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_setting_set_start_valid(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_START_VALID_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_START_VALID_SHIFT) & IDM_RS_S_CODE_SETTING_START_VALID_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_START_VALID_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_START_VALID_SHIFT) & IDM_RS_S_CODE_SETTING_START_VALID_MASK));
+    return true;
 }
 /* bits 8-10 done_code: S code output at path completion (bit n = output n+1) (完成时的 S码). */
 #define IDM_RS_S_CODE_SETTING_DONE_CODE_MASK             0x0700u
@@ -2544,9 +5208,14 @@ static inline uint16_t idm_rs_s_code_setting_get_done_code(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_SETTING_DONE_CODE_MASK) >> IDM_RS_S_CODE_SETTING_DONE_CODE_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_setting_set_done_code(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_setting_set_done_code(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_DONE_CODE_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_DONE_CODE_SHIFT) & IDM_RS_S_CODE_SETTING_DONE_CODE_MASK));
+    if (value > 0x0007u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_DONE_CODE_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_DONE_CODE_SHIFT) & IDM_RS_S_CODE_SETTING_DONE_CODE_MASK));
+    return true;
 }
 /* bit 15 done_valid: Completion S code valid (0: invalid, keep last value; 1: valid; recommended 1) (完成时 S码是否有效). */
 #define IDM_RS_S_CODE_SETTING_DONE_VALID_MASK            0x8000u
@@ -2555,9 +5224,33 @@ static inline uint16_t idm_rs_s_code_setting_get_done_valid(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_S_CODE_SETTING_DONE_VALID_MASK) >> IDM_RS_S_CODE_SETTING_DONE_VALID_SHIFT);
 }
-static inline uint16_t idm_rs_s_code_setting_set_done_valid(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_s_code_setting_set_done_valid(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_DONE_VALID_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_DONE_VALID_SHIFT) & IDM_RS_S_CODE_SETTING_DONE_VALID_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_S_CODE_SETTING_DONE_VALID_MASK) | (((uint32_t)value << IDM_RS_S_CODE_SETTING_DONE_VALID_SHIFT) & IDM_RS_S_CODE_SETTING_DONE_VALID_MASK));
+    return true;
+}
+/* Values of s_code_setting: its whole word, the fields set with the setters above. */
+static inline bool idm_rs_s_code_setting_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_s_code_setting_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_s_code_setting_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_s_code_setting_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* ==== PR path table (Pr9.xx) (PR路径). Manual 5.3.1, 6.5, 附录4. ==== */
@@ -2576,8 +5269,8 @@ static inline uint16_t idm_rs_s_code_setting_set_done_valid(uint16_t raw, uint16
 #define IDM_RS_PR_PATH_MODE_SIGNED                       0
 #define IDM_RS_PR_PATH_MODE_DEFAULT                      0u
 #define IDM_RS_PR_PATH_MODE_SCALE                        1.0f
-#define IDM_RS_PR_PATH_MODE_SCALE_NUM                    1
-#define IDM_RS_PR_PATH_MODE_SCALE_DEN                    1
+#define IDM_RS_PR_PATH_MODE_SCALE_NUM                    1u
+#define IDM_RS_PR_PATH_MODE_SCALE_DEN                    1u
 #define IDM_RS_PR_PATH_MODE_PAIRED                       0
 static inline bool idm_rs_pr_path_mode_addr(unsigned n, uint16_t *address)
 {
@@ -2594,9 +5287,14 @@ static inline uint16_t idm_rs_pr_path_mode_get_type(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_PATH_MODE_TYPE_MASK) >> IDM_RS_PR_PATH_MODE_TYPE_SHIFT);
 }
-static inline uint16_t idm_rs_pr_path_mode_set_type(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_pr_path_mode_set_type(uint16_t *raw, idm_rs_path_type value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_TYPE_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_TYPE_SHIFT) & IDM_RS_PR_PATH_MODE_TYPE_MASK));
+    if (!idm_rs_path_type_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_TYPE_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_TYPE_SHIFT) & IDM_RS_PR_PATH_MODE_TYPE_MASK));
+    return true;
 }
 /* bit 4 interrupt: Interrupt (INS) (插断). Values: enum path_interrupt. */
 #define IDM_RS_PR_PATH_MODE_INTERRUPT_MASK               0x0010u
@@ -2605,9 +5303,14 @@ static inline uint16_t idm_rs_pr_path_mode_get_interrupt(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_PATH_MODE_INTERRUPT_MASK) >> IDM_RS_PR_PATH_MODE_INTERRUPT_SHIFT);
 }
-static inline uint16_t idm_rs_pr_path_mode_set_interrupt(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_pr_path_mode_set_interrupt(uint16_t *raw, idm_rs_path_interrupt value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_INTERRUPT_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_INTERRUPT_SHIFT) & IDM_RS_PR_PATH_MODE_INTERRUPT_MASK));
+    if (!idm_rs_path_interrupt_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_INTERRUPT_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_INTERRUPT_SHIFT) & IDM_RS_PR_PATH_MODE_INTERRUPT_MASK));
+    return true;
 }
 /* bit 5 overlap: Overlap jump (OVLP; 0: no overlap SJ, 1: overlap CJ) (重叠跳转). */
 #define IDM_RS_PR_PATH_MODE_OVERLAP_MASK                 0x0020u
@@ -2616,9 +5319,14 @@ static inline uint16_t idm_rs_pr_path_mode_get_overlap(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_PATH_MODE_OVERLAP_MASK) >> IDM_RS_PR_PATH_MODE_OVERLAP_SHIFT);
 }
-static inline uint16_t idm_rs_pr_path_mode_set_overlap(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_path_mode_set_overlap(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_OVERLAP_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_OVERLAP_SHIFT) & IDM_RS_PR_PATH_MODE_OVERLAP_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_OVERLAP_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_OVERLAP_SHIFT) & IDM_RS_PR_PATH_MODE_OVERLAP_MASK));
+    return true;
 }
 /* bits 6-7 motion: Position reference (absolute / relative) (路径运动方式). Values: enum path_motion. */
 #define IDM_RS_PR_PATH_MODE_MOTION_MASK                  0x00C0u
@@ -2627,9 +5335,14 @@ static inline uint16_t idm_rs_pr_path_mode_get_motion(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_PATH_MODE_MOTION_MASK) >> IDM_RS_PR_PATH_MODE_MOTION_SHIFT);
 }
-static inline uint16_t idm_rs_pr_path_mode_set_motion(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field or not a member of its enum */
+static inline bool idm_rs_pr_path_mode_set_motion(uint16_t *raw, idm_rs_path_motion value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_MOTION_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_MOTION_SHIFT) & IDM_RS_PR_PATH_MODE_MOTION_MASK));
+    if (!idm_rs_path_motion_is_member(value)) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_MOTION_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_MOTION_SHIFT) & IDM_RS_PR_PATH_MODE_MOTION_MASK));
+    return true;
 }
 /* bits 8-11 jump_target: Path to jump to (0-15) (跳转到对应的路径). */
 #define IDM_RS_PR_PATH_MODE_JUMP_TARGET_MASK             0x0F00u
@@ -2638,9 +5351,14 @@ static inline uint16_t idm_rs_pr_path_mode_get_jump_target(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_PATH_MODE_JUMP_TARGET_MASK) >> IDM_RS_PR_PATH_MODE_JUMP_TARGET_SHIFT);
 }
-static inline uint16_t idm_rs_pr_path_mode_set_jump_target(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_path_mode_set_jump_target(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_JUMP_TARGET_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_JUMP_TARGET_SHIFT) & IDM_RS_PR_PATH_MODE_JUMP_TARGET_MASK));
+    if (value > 0x000Fu) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_JUMP_TARGET_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_JUMP_TARGET_SHIFT) & IDM_RS_PR_PATH_MODE_JUMP_TARGET_MASK));
+    return true;
 }
 /* bit 14 jump: Jump (JUMP; 0: no jump, 1: jump) (是否跳转). */
 #define IDM_RS_PR_PATH_MODE_JUMP_MASK                    0x4000u
@@ -2649,9 +5367,32 @@ static inline uint16_t idm_rs_pr_path_mode_get_jump(uint16_t raw)
 {
     return (uint16_t)(((uint32_t)raw & IDM_RS_PR_PATH_MODE_JUMP_MASK) >> IDM_RS_PR_PATH_MODE_JUMP_SHIFT);
 }
-static inline uint16_t idm_rs_pr_path_mode_set_jump(uint16_t raw, uint16_t value)
+/* false, *raw unchanged, for a value wider than the field */
+static inline bool idm_rs_pr_path_mode_set_jump(uint16_t *raw, uint16_t value)
 {
-    return (uint16_t)(((uint32_t)raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_JUMP_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_JUMP_SHIFT) & IDM_RS_PR_PATH_MODE_JUMP_MASK));
+    if (value > 0x0001u) {
+        return false;
+    }
+    *raw = (uint16_t)(((uint32_t)*raw & ~(uint32_t)IDM_RS_PR_PATH_MODE_JUMP_MASK) | (((uint32_t)value << IDM_RS_PR_PATH_MODE_JUMP_SHIFT) & IDM_RS_PR_PATH_MODE_JUMP_MASK));
+    return true;
+}
+/* Values of pr_path_mode: its whole word, the fields set with the setters above. */
+static inline bool idm_rs_pr_path_mode_is_in_range(uint16_t value)
+{
+    return idm_rs_path_type_is_writable(idm_rs_pr_path_mode_get_type(value)) && idm_rs_path_interrupt_is_writable(idm_rs_pr_path_mode_get_interrupt(value)) && idm_rs_path_motion_is_writable(idm_rs_pr_path_mode_get_motion(value));
+}
+static inline bool idm_rs_pr_path_mode_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_path_mode_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_path_mode_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
 }
 
 /* pr_path_position (element 0: Pr9.01 pr_path_0_position): Target position (or distance) (位置). s32 rw, unit pulse, raw -2147483648..2147483647, default 0, errata E13, E18. Manual 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4. */
@@ -2675,6 +5416,25 @@ static inline bool idm_rs_pr_path_position_addr(unsigned n, uint16_t *address)
     *address = IDM_RS_PR_PATH_POSITION_ADDR(n);
     return true;
 }
+/* Values of pr_path_position: -2147483648..2147483647 pulse. */
+static inline bool idm_rs_pr_path_position_is_in_range(int32_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_pr_path_position_encode(int32_t value, uint16_t words[2])
+{
+    if (!idm_rs_pr_path_position_is_in_range(value)) {
+        return false;
+    }
+    regmap_s32_to_wire(value, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST, words);
+    return true;
+}
+static inline bool idm_rs_pr_path_position_decode(const uint16_t words[2], int32_t *out)
+{
+    *out = regmap_s32_from_wire(words, REGMAP_HIGH_FIRST, REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* pr_path_speed (element 0: Pr9.03 pr_path_0_speed): Running speed (运行速度). s16 rw, unit rpm, raw -6000..6000, default 0, errata E18, E27, E31. Manual 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4. */
 #define IDM_RS_PR_PATH_SPEED_ADDR(n) ((uint16_t)(IDM_RS_PR_PATH_BASE + ((unsigned)(n) - IDM_RS_PR_PATH_FIRST) * IDM_RS_PR_PATH_STRIDE + 3u))
@@ -2696,6 +5456,24 @@ static inline bool idm_rs_pr_path_speed_addr(unsigned n, uint16_t *address)
     *address = IDM_RS_PR_PATH_SPEED_ADDR(n);
     return true;
 }
+/* Values of pr_path_speed: -6000..6000 rpm. */
+static inline bool idm_rs_pr_path_speed_is_in_range(int16_t value)
+{
+    return value >= (-6000) && value <= 6000;
+}
+static inline bool idm_rs_pr_path_speed_encode(int16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_path_speed_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_path_speed_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* pr_path_acceleration (element 0: Pr9.04 pr_path_0_acceleration): Acceleration time (加速时间). u16 rw, unit ms/Krpm, raw 1..32767, default 100. Manual 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4. */
 #define IDM_RS_PR_PATH_ACCELERATION_ADDR(n) ((uint16_t)(IDM_RS_PR_PATH_BASE + ((unsigned)(n) - IDM_RS_PR_PATH_FIRST) * IDM_RS_PR_PATH_STRIDE + 4u))
@@ -2706,8 +5484,8 @@ static inline bool idm_rs_pr_path_speed_addr(unsigned n, uint16_t *address)
 #define IDM_RS_PR_PATH_ACCELERATION_MAX                  32767u
 #define IDM_RS_PR_PATH_ACCELERATION_DEFAULT              100u
 #define IDM_RS_PR_PATH_ACCELERATION_SCALE                1.0f
-#define IDM_RS_PR_PATH_ACCELERATION_SCALE_NUM            1
-#define IDM_RS_PR_PATH_ACCELERATION_SCALE_DEN            1
+#define IDM_RS_PR_PATH_ACCELERATION_SCALE_NUM            1u
+#define IDM_RS_PR_PATH_ACCELERATION_SCALE_DEN            1u
 #define IDM_RS_PR_PATH_ACCELERATION_PAIRED               0
 static inline bool idm_rs_pr_path_acceleration_addr(unsigned n, uint16_t *address)
 {
@@ -2715,6 +5493,24 @@ static inline bool idm_rs_pr_path_acceleration_addr(unsigned n, uint16_t *addres
         return false;
     }
     *address = IDM_RS_PR_PATH_ACCELERATION_ADDR(n);
+    return true;
+}
+/* Values of pr_path_acceleration: 1..32767 ms/Krpm. */
+static inline bool idm_rs_pr_path_acceleration_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool idm_rs_pr_path_acceleration_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_path_acceleration_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_path_acceleration_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -2727,8 +5523,8 @@ static inline bool idm_rs_pr_path_acceleration_addr(unsigned n, uint16_t *addres
 #define IDM_RS_PR_PATH_DECELERATION_MAX                  32767u
 #define IDM_RS_PR_PATH_DECELERATION_DEFAULT              100u
 #define IDM_RS_PR_PATH_DECELERATION_SCALE                1.0f
-#define IDM_RS_PR_PATH_DECELERATION_SCALE_NUM            1
-#define IDM_RS_PR_PATH_DECELERATION_SCALE_DEN            1
+#define IDM_RS_PR_PATH_DECELERATION_SCALE_NUM            1u
+#define IDM_RS_PR_PATH_DECELERATION_SCALE_DEN            1u
 #define IDM_RS_PR_PATH_DECELERATION_PAIRED               0
 static inline bool idm_rs_pr_path_deceleration_addr(unsigned n, uint16_t *address)
 {
@@ -2736,6 +5532,24 @@ static inline bool idm_rs_pr_path_deceleration_addr(unsigned n, uint16_t *addres
         return false;
     }
     *address = IDM_RS_PR_PATH_DECELERATION_ADDR(n);
+    return true;
+}
+/* Values of pr_path_deceleration: 1..32767 ms/Krpm. */
+static inline bool idm_rs_pr_path_deceleration_is_in_range(uint16_t value)
+{
+    return value >= 1u && value <= 32767u;
+}
+static inline bool idm_rs_pr_path_deceleration_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_path_deceleration_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_path_deceleration_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -2759,6 +5573,25 @@ static inline bool idm_rs_pr_path_dwell_addr(unsigned n, uint16_t *address)
     *address = IDM_RS_PR_PATH_DWELL_ADDR(n);
     return true;
 }
+/* Values of pr_path_dwell: -32768..32767 ms. */
+static inline bool idm_rs_pr_path_dwell_is_in_range(int16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_pr_path_dwell_encode(int16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_path_dwell_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_s16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_path_dwell_decode(const uint16_t words[1], int16_t *out)
+{
+    *out = regmap_s16_from_wire(words[0], REGMAP_HIGH_FIRST);
+    return true;
+}
 
 /* pr_path_special (element 0: Pr9.07 pr_path_0_special): Special parameter (特殊参数). u16 rw. Manual 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4. */
 #define IDM_RS_PR_PATH_SPECIAL_ADDR(n) ((uint16_t)(IDM_RS_PR_PATH_BASE + ((unsigned)(n) - IDM_RS_PR_PATH_FIRST) * IDM_RS_PR_PATH_STRIDE + 7u))
@@ -2766,8 +5599,8 @@ static inline bool idm_rs_pr_path_dwell_addr(unsigned n, uint16_t *address)
 #define IDM_RS_PR_PATH_SPECIAL_ACCESS                    REGMAP_ACCESS_RW
 #define IDM_RS_PR_PATH_SPECIAL_SIGNED                    0
 #define IDM_RS_PR_PATH_SPECIAL_SCALE                     1.0f
-#define IDM_RS_PR_PATH_SPECIAL_SCALE_NUM                 1
-#define IDM_RS_PR_PATH_SPECIAL_SCALE_DEN                 1
+#define IDM_RS_PR_PATH_SPECIAL_SCALE_NUM                 1u
+#define IDM_RS_PR_PATH_SPECIAL_SCALE_DEN                 1u
 #define IDM_RS_PR_PATH_SPECIAL_PAIRED                    0
 static inline bool idm_rs_pr_path_special_addr(unsigned n, uint16_t *address)
 {
@@ -2775,6 +5608,25 @@ static inline bool idm_rs_pr_path_special_addr(unsigned n, uint16_t *address)
         return false;
     }
     *address = IDM_RS_PR_PATH_SPECIAL_ADDR(n);
+    return true;
+}
+/* Values of pr_path_special: 0..65535. */
+static inline bool idm_rs_pr_path_special_is_in_range(uint16_t value)
+{
+    (void)value;
+    return true;
+}
+static inline bool idm_rs_pr_path_special_encode(uint16_t value, uint16_t words[1])
+{
+    if (!idm_rs_pr_path_special_is_in_range(value)) {
+        return false;
+    }
+    words[0] = regmap_u16_to_wire(value, REGMAP_HIGH_FIRST);
+    return true;
+}
+static inline bool idm_rs_pr_path_special_decode(const uint16_t words[1], uint16_t *out)
+{
+    *out = regmap_u16_from_wire(words[0], REGMAP_HIGH_FIRST);
     return true;
 }
 
@@ -2911,7 +5763,22 @@ static inline size_t idm_rs_build_force_enable_off(uint8_t *buf, size_t cap, uin
 
 /* ==== Read plan: the requests that read every readable register (as the Python client's read_all) ==== */
 #define IDM_RS_READ_PLAN_LEN 38u
-static const regmap_read_block idm_rs_read_plan[IDM_RS_READ_PLAN_LEN] = {
+extern const regmap_read_block idm_rs_read_plan[IDM_RS_READ_PLAN_LEN];
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* REGMAP_IDM_RS_H */
+
+/* The tables' definitions: in the one .c file that defines IDM_RS_IMPLEMENTATION before it includes this header. */
+#if defined(IDM_RS_IMPLEMENTATION) && !defined(REGMAP_IDM_RS_IMPLEMENTED)
+#define REGMAP_IDM_RS_IMPLEMENTED
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+const regmap_read_block idm_rs_read_plan[IDM_RS_READ_PLAN_LEN] = {
     { 0x0000u, 12u }, /* Pr0.00 .. Pr0.05 (6 registers) */
     { 0x000Fu, 1u }, /* Pr0.07 */
     { 0x0050u, 8u }, /* Pr1.00 .. Pr1.03 (4 registers) */
@@ -2955,5 +5822,4 @@ static const regmap_read_block idm_rs_read_plan[IDM_RS_READ_PLAN_LEN] = {
 #ifdef __cplusplus
 }
 #endif
-
-#endif /* REGMAP_IDM_RS_H */
+#endif /* IDM_RS_IMPLEMENTATION */

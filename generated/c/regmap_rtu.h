@@ -400,6 +400,33 @@ static inline void regmap_f64_to_wire(double value, regmap_word_order word_order
 }
 #endif
 
+/* ---- engineering values ----
+ *
+ * The raw value of an engineering value, as a device header's <name>_encode computes it and the
+ * Python client and the Structured Text encoders do: raw = (value - offset) x den / num, refused
+ * (false, `*raw` unchanged) when that is NaN, when it is not within a thousandth of a step of a
+ * whole number (not a multiple of the register's resolution), or when the whole number lies
+ * outside lo..hi. Otherwise `*raw` is that whole number, which converts exactly to the register's
+ * integer type (the header passes lo and hi inside the type's range). */
+static inline bool regmap_value_to_raw(double value, double offset, double num, double den, double lo, double hi, double *raw)
+{
+    double exact = (value - offset) * den / num;
+    double whole;
+    if (!(exact >= lo - 1.0 && exact <= hi + 1.0)) {
+        return false; /* NaN fails too */
+    }
+    if (exact < 4503599627370496.0 && exact > -4503599627370496.0) {
+        whole = (double)(int64_t)(exact < 0.0 ? exact - 0.5 : exact + 0.5);
+    } else {
+        whole = exact; /* from 2^52 on every double is a whole number */
+    }
+    if (exact - whole > 0.001 || whole - exact > 0.001 || whole < lo || whole > hi) {
+        return false;
+    }
+    *raw = whole;
+    return true;
+}
+
 /* ---- strings ---- */
 
 /* Byte `index` of a string register's text: the first character is in the high byte of the first word. */

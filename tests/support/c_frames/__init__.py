@@ -123,18 +123,22 @@ class _Frames:
 
     def raw_word(self, reg: Register, raw: int) -> str:
         """C expression of the raw value of a one-word register, built with the header's names."""
-        if reg.bitfields:
+        known = all(b.enum is None or b.enum.by_value((raw & b.mask) >> b.lsb) is not None for b in reg.bitfields)
+        if reg.bitfields and known:
+            # The word built in the frames program's `fields` by the setters, each of which must accept its value.
             owner = self.ctx.owner(reg)
-            expr = "0u"
+            steps = ["fields = 0u"]
             covered = 0
             for b in reg.bitfields:
                 field = (raw & b.mask) >> b.lsb
                 member = b.enum.by_value(field) if b.enum else None
                 value = CIdentifier(self.ctx.prefix, b.enum.name, member.name) if b.enum and member else c_unsigned(field)
-                expr = f"{CSymbol(self.ctx.lower, owner, 'set', b.name)}({expr}, {value})"
+                steps.append(f"accepted({CSymbol(self.ctx.lower, owner, 'set', b.name)}(&fields, {value}))")
                 covered |= b.mask
             rest = raw & 0xFFFF & ~covered
-            return f"(uint16_t)({expr} | {c_hex(rest)})" if rest else expr
+            return f"(uint16_t)({', '.join(steps)}, {f'fields | {c_hex(rest)}' if rest else 'fields'})"
+        if reg.bitfields:
+            return c_hex(raw)  # a field value its enum does not list: no setter takes it
         if reg.enum is not None:
             member = reg.enum.by_value(raw)
             if member is not None:

@@ -23,7 +23,18 @@ from regmap.backends.c.names import (
     c_unsigned,
     file_header,
 )
-from regmap.backends.c.views import Macro, command_view, enum_view, group_views, manual_sections, modern, sentences
+from regmap.backends.c.values import configurable
+from regmap.backends.c.views import (
+    ArrayView,
+    GroupView,
+    Macro,
+    command_view,
+    enum_view,
+    group_views,
+    manual_sections,
+    modern,
+    sentences,
+)
 from regmap.core.text import titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, PollClass
@@ -63,6 +74,44 @@ class Plan:
     table: str
     functions: str
     blocks: tuple[PlanBlock, ...]
+
+
+@dataclass(frozen=True)
+class TableRow:
+    value: str
+    comment: str = ""
+
+
+@dataclass(frozen=True)
+class TableView:
+    """A constant table: declared `extern` in the header, defined once where <DEVICE>_IMPLEMENTATION is defined."""
+
+    comment: str
+    c_type: str
+    name: str
+    length: str
+    rows: tuple[TableRow, ...]
+    declared: bool = True  # False: declared beside its array member
+
+
+def _tables(main: Plan, per_class: list[Plan], groups: list[GroupView]) -> list[TableView]:
+    """The read plans and their function-code tables, then the per-element tables of array members."""
+    tables = []
+    for plan in [main, *per_class]:
+        if not plan.blocks:
+            continue
+        rows = tuple(TableRow(f"{{ {b.address}, {b.count} }}", b.comment) for b in plan.blocks)
+        tables.append(TableView(f"Read plan of {plan.comment}" if plan.comment else "", "regmap_read_block", plan.table, plan.length, rows))
+        if plan.functions:
+            functions = tuple(TableRow(b.function) for b in plan.blocks)
+            comment = f"The function code of each request of {plan.table} (the Modbus table it reads)"
+            tables.append(TableView(comment, "uint8_t", plan.functions, plan.length, functions))
+    for group in groups:
+        for item in group.items:
+            for member in item.members if isinstance(item, ArrayView) else ():
+                for t in member.tables:
+                    tables.append(TableView("", t.c_type, t.name, t.length, tuple(TableRow(v) for v in t.values), declared=False))
+    return tables
 
 
 @dataclass(frozen=True)
@@ -257,9 +306,11 @@ def device_context(device: Device) -> dict[str, Any]:
         "faults": faults,
         "plan": main.blocks,
         "plan_len": main.length,
-        "plan_table": main.table,
-        "plan_functions": main.functions,
         "class_plans": per_class,
+        "tables": _tables(main, per_class, groups),
+        "implementation": ctx.const("IMPLEMENTATION", what="the macro that defines the tables"),
+        "implemented": CIdentifier("REGMAP", device.id, "IMPLEMENTED"),
+        "word_order_param": any(configurable(ctx, r) for r in device.registers),
         "builders": builders,
         "modern": any(modern(r) for r in device.registers),
     }

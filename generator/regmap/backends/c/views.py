@@ -18,6 +18,7 @@ from regmap.backends.c.names import (
     TYPE_MACRO,
     WIRE_FUNCTIONS,
     WORD_ORDER_MACRO,
+    CIdentifier,
     Context,
     CSymbol,
     c_double,
@@ -28,6 +29,7 @@ from regmap.backends.c.names import (
     c_unsigned,
     c_value,
 )
+from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
 from regmap.core.text import eng, number, titled
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
@@ -49,6 +51,7 @@ class EnumView:
     comment: str
     members: tuple[Macro, ...]
     as_macros: bool  # a value does not fit an int, which a C enum constant must
+    checks: EnumCheckView
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,8 @@ class BitfieldView:
     word_type: str
     getter: str
     setter: str
+    value_type: str  # the field's enum type, or the word type
+    refused: str  # C condition on `value` under which the setter refuses it
 
 
 @dataclass(frozen=True)
@@ -96,6 +101,7 @@ class RegisterView:
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
     gate: GateView | None = None
+    values: tuple[ValueView, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -104,7 +110,8 @@ class ElementTable:
 
     c_type: str
     name: str
-    values: str
+    values: tuple[str, ...]
+    length: str  # the array's COUNT macro
 
 
 @dataclass(frozen=True)
@@ -120,6 +127,7 @@ class ArrayMemberView:
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
     gate: GateView | None = None
+    values: tuple[ValueView, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -259,15 +267,16 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
             if values[0] is not None:
                 macros.append(Macro(ctx.const(owner, key), _literal(reg, values[0])))
         elif None not in values:
-            c_type = "const char *" if reg.type.is_string else C_TYPES[reg.type].value
-            tables.append(ElementTable(c_type, ctx.symbol(owner, key), ", ".join(_literal(reg, v) for v in values)))
+            c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
+            count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
+            tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
     if numeric:
         # A float register's scale and offset are doubles (its value is computed in floating point anyway).
         spell = c_double if reg.type.is_float else c_float
         macros += [
             Macro(ctx.const(owner, "SCALE"), spell(reg.scale)),
-            Macro(ctx.const(owner, "SCALE_NUM"), str(reg.scale.numerator)),
-            Macro(ctx.const(owner, "SCALE_DEN"), str(reg.scale.denominator)),
+            Macro(ctx.const(owner, "SCALE_NUM"), ratio_literal(reg, reg.scale.numerator, reg.scale)),
+            Macro(ctx.const(owner, "SCALE_DEN"), ratio_literal(reg, reg.scale.denominator, reg.scale)),
             Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
         ]
     if modern(reg):
@@ -289,8 +298,8 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
         spell = c_double if reg.type.is_float else c_float
         macros += [
             Macro(ctx.const(owner, "OFFSET"), spell(reg.offset)),
-            Macro(ctx.const(owner, "OFFSET_NUM"), c_signed(reg.offset.numerator)),
-            Macro(ctx.const(owner, "OFFSET_DEN"), str(reg.offset.denominator)),
+            Macro(ctx.const(owner, "OFFSET_NUM"), ratio_literal(reg, reg.offset.numerator, reg.offset)),
+            Macro(ctx.const(owner, "OFFSET_DEN"), ratio_literal(reg, reg.offset.denominator, reg.offset)),
         ]
     if reg.type.is_string:
         macros += [
@@ -363,17 +372,31 @@ def _gate_view(ctx: Context, reg: Register, owner: str) -> GateView | None:
 
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
     word_type = C_TYPES[reg.type].bits
-    return tuple(
-        BitfieldView(
-            comment=_bitfield_comment(b),
-            mask=Macro(ctx.const(owner, b.name, "MASK"), c_hex(b.mask)),
-            shift=Macro(ctx.const(owner, b.name, "SHIFT"), c_unsigned(b.lsb)),
-            word_type=word_type,
-            getter=ctx.symbol(owner, "get", b.name),
-            setter=ctx.symbol(owner, "set", b.name),
+    word_bits = 16 * reg.words
+    views = []
+    for b in reg.bitfields:
+        typed = b.enum is not None and all(-(1 << 31) <= m.value < (1 << 31) for m in b.enum.members)
+        value_type = ctx.symbol_ref(b.enum.name) if b.enum is not None and typed else word_type
+        refused = []
+        # An enum field refuses what its enum lacks, which covers a value wider than the field (the front end
+        # checks every member fits); another refuses a value wider than the field where its type can hold one.
+        if b.enum is None and b.width < word_bits:
+            refused.append(f"value > {c_hex(b.max_value)}")
+        if b.enum is not None:
+            refused.append(f"!{ctx.symbol_ref(b.enum.name, 'is_member')}(value)")
+        views.append(
+            BitfieldView(
+                comment=_bitfield_comment(b),
+                mask=Macro(ctx.const(owner, b.name, "MASK"), c_hex(b.mask)),
+                shift=Macro(ctx.const(owner, b.name, "SHIFT"), c_unsigned(b.lsb)),
+                word_type=word_type,
+                getter=ctx.symbol(owner, "get", b.name),
+                setter=ctx.symbol(owner, "set", b.name),
+                value_type=value_type,
+                refused=" || ".join(refused),
+            )
         )
-        for b in reg.bitfields
-    )
+    return tuple(views)
 
 
 def _bitfield_comment(b: Bitfield) -> str:
@@ -394,6 +417,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name),
         gate=_gate_view(ctx, reg, reg.name),
+        values=register_values(ctx, reg),
     )
 
 
@@ -426,6 +450,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 bitfields=_bitfield_views(ctx, reg, owner),
                 codec=_codec_view(ctx, reg, owner),
                 gate=_gate_view(ctx, reg, owner),
+                values=member_values(ctx, elements, owner),
             )
         )
     comment = sentences(
@@ -475,7 +500,13 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
         for m in e.members
     )
     comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
-    return EnumView(type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"), comment=comment, members=members, as_macros=as_macros)
+    return EnumView(
+        type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"),
+        comment=comment,
+        members=members,
+        as_macros=as_macros,
+        checks=enum_checks(ctx, e),
+    )
 
 
 def command_view(ctx: Context, cmd: Command) -> CommandView:

@@ -1,0 +1,339 @@
+"""The value-level helpers of one C header: per enum, whether a value is a member and whether a write may
+send it; per register, `<name>_is_in_range`, `<name>_encode` and `<name>_decode` (as cantools generates
+`_is_in_range/_encode/_decode` per signal). They refuse what the Python client and the Structured Text
+encoders refuse: a value outside min/max, not a multiple of the resolution, not a member of the enum,
+a member the device only reports (EnumMember.writable), NaN. Every line of C is computed here."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+
+from regmap.backends.c.names import (
+    C_TYPES,
+    FLOAT_GUARD,
+    WORD_ORDER_MACRO,
+    CIdentifier,
+    Context,
+    c_double,
+    c_float_literal,
+    c_hex,
+    c_raw,
+    c_signed,
+    c_unsigned,
+)
+from regmap.core.text import eng, number
+from regmap.model import EnumType, Register
+
+# The parameter a helper of a register whose word order follows the device's word-order register takes.
+ORDER_PARAM = "word_order"
+
+
+@dataclass(frozen=True)
+class EnumCheckView:
+    """`<enum>_is_member(value)` and `<enum>_is_writable(value)` (a member a write may send: not a state the device only reports)."""
+
+    member_fn: str
+    writable_fn: str
+    param: str  # C type of the value: long long, or unsigned long long for a member beyond it
+    members: tuple[str, ...]  # the case labels
+    writable: tuple[str, ...]
+    all_writable: bool
+
+
+@dataclass(frozen=True)
+class ValueView:
+    """The value helpers of one register (or of every element of an array member)."""
+
+    comment: str
+    value_type: str
+    words: str  # the words parameter's length (a C literal)
+    order: str  # ", regmap_word_order word_order" where the device's word-order register sets it, else ""
+    in_range: str  # "" for a register a write cannot reach
+    in_range_body: tuple[str, ...]
+    encode: str
+    encode_body: tuple[str, ...]
+    decode: str  # "" for a register a read cannot reach
+    decode_body: tuple[str, ...]
+    guard: str  # "" or REGMAP_HAS_F32 / REGMAP_HAS_F64
+
+
+def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
+    top = max((m.value for m in e.members), default=0)
+    return EnumCheckView(
+        member_fn=ctx.symbol(e.name, "is_member", what=f"the member test of enum {e.name}"),
+        writable_fn=ctx.symbol(e.name, "is_writable", what=f"the write test of enum {e.name}"),
+        param="unsigned long long" if top >= 1 << 63 else "long long",
+        members=tuple(_member_label(ctx, e, m.name, m.value) for m in e.members),
+        writable=tuple(_member_label(ctx, e, m.name, m.value) for m in e.members if m.writable),
+        all_writable=all(m.writable for m in e.members),
+    )
+
+
+def _member_label(ctx: Context, e: EnumType, name: str, value: int) -> str:
+    # A table spelled as macros (a value beyond int) has no enum constants to compare with a long long.
+    return CIdentifier(ctx.prefix, e.name, name) if -(1 << 31) <= value < (1 << 31) else c_raw(value, value < 0)
+
+
+def configurable(ctx: Context, reg: Register) -> bool:
+    """A wide register whose word order follows the device's word-order register (C630S P0C-26), as the Python client's."""
+    return reg.wide and ctx.device.transport.word_order_register is not None and not reg.word_order_fixed
+
+
+def _word_order(ctx: Context, reg: Register) -> str:
+    return ORDER_PARAM if configurable(ctx, reg) else WORD_ORDER_MACRO[reg.word_order]
+
+
+def _to_wire(ctx: Context, reg: Register, value: str) -> str:
+    byte_order = WORD_ORDER_MACRO[reg.byte_order]
+    function = f"regmap_{reg.type.value}_to_wire"
+    if reg.words == 1:
+        return f"words[0] = {function}({value}, {byte_order});"
+    return f"{function}({value}, {_word_order(ctx, reg)}, {byte_order}, words);"
+
+
+def _from_wire(ctx: Context, reg: Register) -> str:
+    byte_order = WORD_ORDER_MACRO[reg.byte_order]
+    function = f"regmap_{reg.type.value}_from_wire"
+    if reg.words == 1:
+        return f"{function}(words[0], {byte_order})"
+    return f"{function}(words, {_word_order(ctx, reg)}, {byte_order})"
+
+
+def _bits_to_wire(ctx: Context, reg: Register, value: str) -> str:
+    """The words of a bitfield register's whole word (its unsigned bits) in its orders."""
+    bits = C_TYPES[reg.type].bits.removeprefix("uint").removesuffix("_t")
+    byte_order = WORD_ORDER_MACRO[reg.byte_order]
+    if reg.words == 1:
+        return f"words[0] = regmap_u16_to_wire({value}, {byte_order});"
+    return f"regmap_u{bits}_to_wire({value}, {_word_order(ctx, reg)}, {byte_order}, words);"
+
+
+def _bits_from_wire(ctx: Context, reg: Register) -> str:
+    bits = C_TYPES[reg.type].bits.removeprefix("uint").removesuffix("_t")
+    byte_order = WORD_ORDER_MACRO[reg.byte_order]
+    if reg.words == 1:
+        return f"regmap_u16_from_wire(words[0], {byte_order})"
+    return f"regmap_u{bits}_from_wire(words, {_word_order(ctx, reg)}, {byte_order})"
+
+
+def _inside(value: int | float, upward: bool) -> float:
+    """The double nearest `value` on the inside of the range (a 64-bit bound is no exact double)."""
+    bound = float(value)
+    if upward and bound < value:
+        return math.nextafter(bound, math.inf)
+    if not upward and bound > value:
+        return math.nextafter(bound, -math.inf)
+    return bound
+
+
+def _signed_bits(reg: Register, bits: str) -> str:
+    """The signed value of a signed register's unsigned bits (`bits`), without implementation-defined conversions."""
+    width = reg.type.bits
+    if width == 16:
+        return f"regmap_s16_from_word({bits})"
+    half = c_hex(1 << (width - 1))
+    signed = C_TYPES[reg.type].value
+    return f"({bits} < {half} ? ({signed}){bits} : ({signed})({bits} - {half}) - {c_raw((1 << (width - 1)) - 1, True)} - 1)"
+
+
+def _range_conditions(reg: Register, value: str, lo_type: int | float, hi_type: int | float) -> list[str]:
+    """`value >= MIN` and `value <= MAX` where the map's range is narrower than what `value`'s type holds
+    (a test the type already makes is left out: -Wtype-limits flags it)."""
+    conditions = []
+    if reg.raw_min > lo_type:
+        conditions.append(f"{value} >= {c_raw(int(reg.raw_min), reg.signed)}")
+    if reg.raw_max < hi_type:
+        conditions.append(f"{value} <= {c_raw(int(reg.raw_max), reg.signed)}")
+    return conditions
+
+
+def _returns(conditions: list[str], value: str = "value") -> tuple[str, ...]:
+    if not conditions:
+        return (f"(void){value};", "return true;")
+    return (f"return {' && '.join(conditions)};",)
+
+
+def _refused_when_not(in_range: str, value: str = "value") -> tuple[str, ...]:
+    return (f"if (!{in_range}({value})) {{", "    return false;", "}")
+
+
+def _scaled(reg: Register) -> bool:
+    return reg.scale != 1 or reg.offset_set
+
+
+def _ratio(reg: Register) -> tuple[str, str, str]:
+    """The offset, numerator and denominator as double literals (value = raw x num / den + offset)."""
+    return c_double(reg.offset), c_double(Fraction(reg.scale.numerator)), c_double(Fraction(reg.scale.denominator))
+
+
+def _scaled_value(reg: Register, raw: str) -> str:
+    """The engineering value of `raw` as the Python client computes it: raw x num / den (+ offset when there is one)."""
+    offset, num, den = _ratio(reg)
+    value = f"(double){raw} * {num} / {den}"
+    return f"{value} + {offset}" if reg.offset_set else value
+
+
+def _comment(reg: Register, label: str, order: str) -> str:
+    """One line per register; the header's top comment says what the helpers refuse."""
+    if reg.type.is_float:
+        what = "any finite value of its type" if (reg.raw_min, reg.raw_max) == (reg.type.raw_min, reg.type.raw_max) else "its range"
+    elif reg.bitfields:
+        what = "its whole word, the fields set with the setters above"
+    elif reg.enum is not None:
+        what = f"the members of {reg.enum.name} a write may send"
+    else:
+        what = f"{eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''}"
+        if _scaled(reg):
+            what += f" in steps of {eng(reg, 1) if not reg.offset_set else number(reg.scale)}"
+    parts = [f"Values of {label}: {what}" if reg.access.writable else f"Value of {label}"]
+    if reg.paired:
+        parts.append("a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR")
+    if order:
+        parts.append("word_order as the device is set")
+    return "; ".join(parts) + "."
+
+
+def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
+    """The value helpers of `reg` under the name `label` (its owner: the register, or `<array>_<member>`).
+    Coils, discrete inputs and strings have none: a bit is its value, and `_to_wire/_from_wire` take text."""
+    if reg.type.is_bool or reg.type.is_string or not reg.type.numeric:
+        return None
+    readable, writable = reg.access.readable, reg.access.writable
+    order = f", regmap_word_order {ORDER_PARAM}" if configurable(ctx, reg) else ""
+    value_type, in_range, encode, decode = _bodies(ctx, reg, label)
+    return ValueView(
+        comment=_comment(reg, label, order),
+        value_type=value_type,
+        words=str(reg.words),
+        order=order,
+        in_range=ctx.symbol(label, "is_in_range", what=f"the range test of {label}") if writable else "",
+        in_range_body=in_range,
+        encode=ctx.symbol(label, "encode", what=f"the encoder of {label}") if writable else "",
+        encode_body=encode,
+        decode=ctx.symbol(label, "decode", what=f"the decoder of {label}") if readable else "",
+        decode_body=decode,
+        guard=FLOAT_GUARD.get(reg.type, ""),
+    )
+
+
+def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """(value type, is_in_range body, encode body, decode body) of a numeric register."""
+    in_range = ctx.symbol_ref(label, "is_in_range")
+    raw_type = C_TYPES[reg.type].value
+    if reg.bitfields:
+        return _bitfield_bodies(ctx, reg, label, in_range)
+    if reg.enum is not None:
+        return _enum_bodies(ctx, reg, in_range)
+    if reg.type.is_float:
+        return _float_bodies(ctx, reg, in_range)
+    if _scaled(reg):
+        offset, num, den = _ratio(reg)
+        lo, hi = c_double(_inside(reg.raw_min, True)), c_double(_inside(reg.raw_max, False))
+        convert = f"regmap_value_to_raw(value, {offset}, {num}, {den}, {lo}, {hi}, &raw)"
+        return (
+            "double",
+            ("double raw;", f"return {convert};"),
+            ("double raw;", f"if (!{convert}) {{", "    return false;", "}", _to_wire(ctx, reg, f"({raw_type})raw"), "return true;"),
+            (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
+        )
+    conditions = _range_conditions(reg, "value", reg.type.raw_min, reg.type.raw_max)
+    return (
+        raw_type,
+        _returns(conditions),
+        (*_refused_when_not(in_range), _to_wire(ctx, reg, "value"), "return true;"),
+        (f"*out = {_from_wire(ctx, reg)};", "return true;"),
+    )
+
+
+def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    e = reg.enum
+    assert e is not None
+    raw_type = C_TYPES[reg.type].value
+    typed = all(-(1 << 31) <= m.value < (1 << 31) for m in e.members)
+    value_type = ctx.symbol_ref(e.name) if typed else raw_type
+    writable, member = ctx.symbol_ref(e.name, "is_writable"), ctx.symbol_ref(e.name, "is_member")
+    conditions = [f"{writable}(value)"]
+    # The range where a member a write may send lies outside it (else membership says it all, and a bound
+    # the enum's type already keeps would be flagged by -Wtype-limits).
+    if any(m.value < reg.raw_min for m in e.members if m.writable):
+        conditions.append(f"(long long)value >= (long long){c_signed(int(reg.raw_min))}")
+    if any(m.value > reg.raw_max for m in e.members if m.writable):
+        conditions.append(f"(long long)value <= (long long){c_signed(int(reg.raw_max))}")
+    cast = f"({value_type})raw" if typed else "raw"
+    return (
+        value_type,
+        (f"return {' && '.join(conditions)};",),
+        (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})value"), "return true;"),
+        (
+            f"{raw_type} raw = {_from_wire(ctx, reg)};",
+            f"if (!{member}(raw)) {{",
+            "    return false;",
+            "}",
+            f"*out = {cast};",
+            "return true;",
+        ),
+    )
+
+
+def _bitfield_bodies(
+    ctx: Context, reg: Register, label: str, in_range: str
+) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """A bitfield register's value is its whole word (built with the field setters); a write refuses a
+    field whose enum does not have the value, or has it as a state the device only reports."""
+    bits_type = C_TYPES[reg.type].bits
+    if reg.signed:
+        signed = _signed_bits(reg, "value")
+        conditions = _range_conditions(reg, signed, reg.type.raw_min, reg.type.raw_max)
+    else:
+        conditions = _range_conditions(reg, "value", reg.type.raw_min, reg.type.raw_max)
+    for b in reg.bitfields:
+        if b.enum is not None:
+            conditions.append(f"{ctx.symbol_ref(b.enum.name, 'is_writable')}({ctx.symbol_ref(label, 'get', b.name)}(value))")
+    return (
+        bits_type,
+        _returns(conditions),
+        (*_refused_when_not(in_range), _bits_to_wire(ctx, reg, "value"), "return true;"),
+        (f"*out = {_bits_from_wire(ctx, reg)};", "return true;"),
+    )
+
+
+def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    raw_type = C_TYPES[reg.type].value
+    lo, hi = c_float_literal(float(reg.raw_min), reg.type), c_float_literal(float(reg.raw_max), reg.type)
+    if _scaled(reg):
+        offset, num, den = _ratio(reg)
+        raw = f"(value - {offset}) * {den} / {num}"
+        return (
+            "double",
+            (f"double raw = {raw};", f"return raw >= {lo} && raw <= {hi}; /* NaN fails */"),
+            (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})({raw})"), "return true;"),
+            (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
+        )
+    return (
+        raw_type,
+        (f"return value >= {lo} && value <= {hi}; /* NaN fails */",),
+        (*_refused_when_not(in_range), _to_wire(ctx, reg, "value"), "return true;"),
+        (f"*out = {_from_wire(ctx, reg)};", "return true;"),
+    )
+
+
+def register_values(ctx: Context, reg: Register, label: str = "") -> tuple[ValueView, ...]:
+    view = value_view(ctx, reg, label or reg.name)
+    return (view,) if view is not None else ()
+
+
+def member_values(ctx: Context, elements: Sequence[Register], owner: str) -> tuple[ValueView, ...]:
+    """One set of value helpers for an array member whose elements share their range, else one per element (named as the element)."""
+    if len({(r.raw_min, r.raw_max) for r in elements}) == 1:
+        return register_values(ctx, elements[0], owner)
+    return tuple(v for r in elements for v in register_values(ctx, r))
+
+
+def ratio_literal(reg: Register, part: int, ratio: Fraction) -> str:
+    """A numerator or denominator of a scale or offset, of the essential type of the raw value it multiplies
+    (MISRA C:2012 10.4): unsigned (`u`) beside an unsigned raw value, signed beside a signed one or when
+    the ratio is negative, so `raw * NUM / DEN` never turns a negative raw value into a huge unsigned one."""
+    return c_signed(part) if reg.signed or ratio < 0 else c_unsigned(part)
