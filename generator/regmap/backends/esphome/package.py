@@ -104,6 +104,7 @@ NAME_PREFIX_BYTES = 24  # names leave room for a `<id>_name_prefix` this long wi
 # device with that address), so the one controller of a device sends every request once: a lost reply
 # to a command is not answered by sending the command again; a lost read costs one update.
 MAX_CMD_RETRIES = 0
+READ_ONLY_PLATFORMS = ("sensor", "binary_sensor", "text_sensor")
 COMMAND_THROTTLE_FLOOR_MS = 50  # between two requests to one device; longer when the map documents a slower device
 
 
@@ -194,6 +195,8 @@ class _Package:
     def add(self, platform: str, entity: dict[str, Any], *key: str, category: str | None = None) -> None:
         """Add an entity with its id: `${<id>_device_id}_` and `key` (a register, field or command name)."""
         made = {"platform": entity.pop("platform"), "id": self.sub("device_id") + "_" + self.ids.id(*key), **entity}
+        if category == "config" and platform in READ_ONLY_PLATFORMS:
+            category = "diagnostic"  # ESPHome allows no `config` on what only reads: a setting it cannot write
         if category is not None:
             made["entity_category"] = category
         self.entities.setdefault(platform, []).append(made)
