@@ -91,19 +91,21 @@ def test_select_options_are_the_writable_members_and_states_have_a_sensor(device
             selects[e["address"]] = e
         elif platform == "text_sensor" and "filters" in e:
             texts[e["address"]] = e
-    for address, e in selects.items():
+    for e in selects.values():
         reg = _register(device, e)
         assert reg.enum is not None and reg.access.writable
         writable = sorted(_wire(device, reg, m.value) for m in reg.enum.members if m.writable)
         assert writable and sorted(e["optionsmap"].values()) == writable, (reg.name, e["optionsmap"])
-    for reg in (r for r in device.registers if r.enum is not None and r.access.readable):
-        if not any(r.name == reg.name for r in _chosen(device, data)):
+    chosen = {r.name for r in _chosen(device, data)}
+    for reg in device.registers:
+        if reg.enum is None or not reg.access.readable or reg.name not in chosen:
             continue
-        if not any(m.writable for m in reg.enum.members) or not reg.access.writable:
+        members = reg.enum.members
+        if not any(m.writable for m in members) or not reg.access.writable:
             assert reg.address not in selects, f"{reg.name} has no member a write may send, yet a select"
-        if any(m.readable and not m.writable for m in reg.enum.members):
+        if any(m.readable and not m.writable for m in members):
             labels = {row["to"] for row in texts[reg.address]["filters"][0]["map"]}
-            assert len(labels) == sum(1 for m in reg.enum.members if m.readable), reg.name  # every reported state has its label
+            assert len(labels) == len([m for m in members if m.readable]), reg.name  # every reported state has its label
 
 
 def _chosen(device: Device, data: dict[str, Any]) -> list[Register]:
@@ -199,7 +201,7 @@ def test_state_classes_follow_the_register_kind(device: Device, selection: str) 
         if platform != "sensor":
             assert "state_class" not in e, e
             continue
-        if "bitmask" in e or "lambda" in e and reg.bitfields:
+        if "bitmask" in e or ("lambda" in e and reg.bitfields):
             assert "state_class" not in e, e  # a field of a bit word
             continue
         assert e.get("state_class") == expected_state_class(device, reg), (reg.name, e.get("state_class"))
@@ -242,7 +244,7 @@ def test_known_kinds() -> None:
 @pytest.mark.parametrize(("device", "selection"), CASES, ids=IDS)
 def test_units_are_the_maps(device: Device, selection: str) -> None:
     units = 0
-    for platform, e in _entities(_package(device, selection)):
+    for _platform, e in _entities(_package(device, selection)):
         if "unit_of_measurement" in e:
             reg = _register(device, e)
             assert reg.unit is not None and e["unit_of_measurement"] == " ".join(reg.unit.split()), (reg.unit, e["unit_of_measurement"])
