@@ -139,8 +139,12 @@ class _Hub:
         if virtual:
             entity["virtual_count"] = virtual
         self.sensors.append(entity)
-        if not virtual:
-            self._templates(reg, title, "sensor." + object_id(entity["name"]))
+        if virtual or not (reg.enum is not None or template_flags(reg)):
+            return
+        if not entity["name"].isascii():  # HA transliterates it into the entity id; which way is not ours to guess
+            self.skipped.append(f"{reg.name}'s labels and flags as templates (its name is not ASCII text)")
+            return
+        self._templates(reg, title, "sensor." + object_id(entity["name"]))
 
     def _templates(self, reg: Register, title: str, source: str) -> None:
         """The register's labels and flags as template entities over its sensor `source`."""
