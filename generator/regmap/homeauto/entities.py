@@ -200,8 +200,10 @@ def single_flag(reg: Register) -> Bitfield | None:
 
 
 def is_parameter(reg: Register) -> bool:
-    """A setting: it changes only when someone writes it, so it is polled less often than status values."""
-    return reg.access.writable
+    """A setting: it changes only when someone writes it, so it is polled less often than status values.
+    A register whose enum has states the device reports (a trigger register's progress) changes by itself."""
+    reports = reg.enum is not None and any(not m.writable for m in reg.enum.members)
+    return reg.access.writable and not reports
 
 
 FLOAT_DECIMALS = 3  # decimals shown for an unscaled float register (its resolution is not a fixed step)

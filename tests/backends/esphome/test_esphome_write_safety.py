@@ -122,6 +122,7 @@ def test_the_pr_trigger_select_sends_commands_and_its_states_are_shown() -> None
     assert done_path_5 is not None and done_path_5.value not in select["optionsmap"].values()
     (state,) = [e for e in data["text_sensor"] if e["address"] == select["address"]]
     assert "0005" in {row["from"] for row in state["filters"][0]["map"]}
+    assert "skip_updates" not in state  # the drive changes it by itself: polled as a status value, not as a setting
 
 
 # -- commands go out once ---------------------------------------------------------------------------
