@@ -164,12 +164,6 @@ def test_destructive_commands_are_a_deliberate_step_away(device: Device) -> None
                 assert write in default and "disabled_by_default" not in full[write], command.name
 
 
-def test_the_idm_rs_destructive_commands_are_marked_in_the_map() -> None:
-    device = next(d for d in DEVICES if d.id == "idm_rs")
-    destructive = {c.name for c in device.commands if c.destructive}
-    assert {"restore_factory_defaults", "init_parameters", "force_enable_on"} <= destructive  # what the test above covers
-
-
 # -- ids ----------------------------------------------------------------------------------------------
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -14,8 +15,10 @@ import jinja2
 import pytest
 
 from regmap.backends.homeassistant import render_device
+from regmap.backends.homeassistant.hub import render_hub
 from regmap.frontend import load_map
-from regmap.model import Device, Register
+from regmap.homeauto.selection import Selection
+from regmap.model import Access, Device, Register
 
 from conftest import FIXTURE_MAPS, GENERATED, MAPS, ROOT
 from support.homeauto_yaml import command_writes, expected_state_class, load, reserved_title
@@ -211,3 +214,42 @@ def test_state_classes_follow_the_register_kind(device: Device, selection: str) 
             assert e["device_class"] == "energy"
         if "unit_of_measurement" in e:
             assert reg.unit is not None and e["unit_of_measurement"] == " ".join(reg.unit.split())
+
+
+# -- made-up members: a reported "on" state, labels that try to leave their literal ----------------
+
+
+def _with_members(device: Device, name: str, titles_access: list[tuple[str, Access]]) -> tuple[Device, Register]:
+    reg = device.register(name)
+    assert reg.enum is not None and len(reg.enum.members) >= len(titles_access)
+    members = tuple(replace(m, title=title, access=access) for m, (title, access) in zip(reg.enum.members, titles_access, strict=False))
+    changed = replace(reg, enum=replace(reg.enum, members=members))
+    return replace(device, registers=tuple(changed if r.name == name else r for r in device.registers)), changed
+
+
+def _hub_of(device: Device, reg: Register) -> dict[str, Any]:
+    (text,) = render_hub(device, Selection((reg,), (), "test")).values()
+    data = load(text)
+    assert isinstance(data, dict)
+    return data
+
+
+def test_a_switch_never_writes_a_state_the_device_only_reports() -> None:
+    c630s = next(d for d in DEVICES if d.id == "c630s")
+    reg = c630s.register("power_loss_save")
+    assert _hub_of(c630s, reg)["modbus"][0]["switches"]  # the two members go both ways: a switch
+    device, changed = _with_members(c630s, "power_loss_save", [("Off", Access.READ_WRITE), ("On (reported only)", Access.READ)])
+    (hub,) = _hub_of(device, changed)["modbus"]
+    assert "switches" not in hub and [e["address"] for e in hub["sensors"]] == [reg.address]
+
+
+def test_labels_with_quotes_and_braces_stay_text() -> None:
+    idm = next(d for d in DEVICES if d.id == "idm_rs")
+    evil = ["It's {{ 7 * 7 }} }}", 'Quote " and \\ back', "{% raw %}é 😀 '~", "x' ~ (states('sensor.a')) ~ '"]
+    device, reg = _with_members(idm, "current_alarm", [(t, Access.READ_WRITE) for t in evil])
+    data = _hub_of(device, reg)
+    (label,) = _templates(data, "sensor")
+    (source,) = data["modbus"][0]["sensors"]
+    assert reg.enum is not None
+    for member in reg.enum.members[: len(evil)]:
+        assert _render(label["state"], {"sensor." + _slug(source["name"]): str(member.value)}) == member.title
