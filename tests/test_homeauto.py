@@ -26,7 +26,7 @@ from pymodbus.client.mixin import ModbusClientMixin
 from regmap.backends.esphome import render_device as esphome_files
 from regmap.backends.homeassistant import render_device as hass_files
 from regmap.frontend import load_map
-from regmap.homeauto.entities import planned
+from regmap.homeauto.entities import planned, reserved
 from regmap.model import ByteOrder, DataType, Device, Register, WordOrder
 from regmap.runtime_bridge import documented_addresses, read_plan
 
@@ -164,7 +164,9 @@ def test_hostile_map_validates_and_injects_nothing(esphome: Path, hass: Path, tm
     lambdas = [a["lambda"] for b in data.get("button", []) for a in b["on_press"]]
     assert len(lambdas) == len(_tags(package)) > 0
     for code in lambdas:  # built from numbers and the controller id only
-        assert code.value.startswith("id(hostile_dev_controller)->queue_command(esphome::modbus_controller::ModbusCommandItem::"), code
+        assert code.value.startswith(
+            "id(${hostile_dev_device_id}_controller)->queue_command(esphome::modbus_controller::ModbusCommandItem::"
+        ), code
         assert "pwn" not in code.value.lower() and '"' not in code.value
     assert "$" not in package.split("\nsubstitutions:", 1)[1].replace("${hostile_dev_", "")
     titles = {
@@ -259,7 +261,7 @@ def test_esphome_entities_equal_the_model(device: Device) -> None:
                 masks = {((m & 0xFF) << 8) | (m >> 8) for m in masks}
             assert e["bitmask"] in masks, e
         if platform == "select":
-            values = sorted(m.value for m in reg.enum.members) if reg.enum else []
+            values = sorted(m.value for m in reg.enum.members if m.writable) if reg.enum else []  # never a reported state
             if _swapped(reg):
                 values = sorted(((v & 0xFF) << 8) | (v >> 8) for v in values)
             assert sorted(e["optionsmap"].values()) == values, e
@@ -271,8 +273,8 @@ def test_esphome_entities_equal_the_model(device: Device) -> None:
         if reg.type.is_string:
             assert platform == "text_sensor" and e["register_count"] == reg.words and e["response_size"] == 2 * reg.words, e
             assert lambda_, e
-    readable = {r.name for r in device.registers if r.access.readable}
-    assert seen == readable  # every readable register has an entity under the full selection
+    readable = {r.name for r in device.registers if r.access.readable and not reserved(r.title)}
+    assert seen == readable  # every readable register has an entity under the full selection (none the manual calls reserved)
 
 
 def _ha_swap(reg: Register) -> str | None:
@@ -319,7 +321,7 @@ def test_home_assistant_entities_equal_the_model(device: Device) -> None:
             assert reg.access.writable and e["verify"]["address"] == reg.address
             if reg.type.is_bool:
                 assert e["write_type"] in ("coil", "coils") and e["verify"]["input_type"] == "coil", e
-    assert seen == {r.name for r in device.registers if r.access.readable}
+    assert seen == {r.name for r in device.registers if r.access.readable and not reserved(r.title)}
 
 
 @pytest.mark.parametrize("device", FIXTURES, ids=[d.id for d in FIXTURES])
@@ -682,7 +684,9 @@ def test_select_patterns_and_file(tmp_path: Path) -> None:
     device = load_map(ROOT / "maps" / "c630s.yaml")
     names = {device.at_address(e["address"]).param for p in ("sensor", "select", "number") for e in data.get(p, [])}  # type: ignore[union-attr]
     assert names == {r.param for r in device.registers if r.group == "p0b" and not r.param.startswith("P0B-0")} | {"P0D-01"}  # type: ignore[union-attr]
-    assert [b["name"] for b in data["button"]] == [c.title for c in device.commands if c.name == "fault_reset"]
+    assert [b["name"].removeprefix("${c630s_name_prefix}") for b in data["button"]] == [
+        c.title for c in device.commands if c.name == "fault_reset"
+    ]
 
 
 @pytest.mark.parametrize(

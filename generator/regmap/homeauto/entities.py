@@ -9,6 +9,9 @@ views build from integers and validated identifiers alone.
 
 from __future__ import annotations
 
+import enum
+import math
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
@@ -16,7 +19,7 @@ from typing import Any
 
 import yaml
 
-from regmap.model import Bitfield, ByteOrder, Device, EnumType, FirmwareGate, PollClass, Register
+from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.render import header_lines
 from regmap.runtime_bridge import documented_addresses, runtime_specs
 from regmap_runtime.plan import ReadBlock, plan_reads
@@ -40,6 +43,120 @@ DEVICE_CLASS = {
     "h": "duration",
 }
 
+# Units of a quantity that only accumulates: the Energy dashboard reads these (device_class energy) as totals.
+ENERGY_UNITS = {"Wh": "energy", "kWh": "energy", "MWh": "energy", "varh": None, "kvarh": None}
+DURATION_UNITS = frozenset({"s", "ms", "min", "h"})
+# Title words (the last resort: the map format has no `counter` key) that make a duration or a plain
+# count a running total, e.g. "Total power-on time", "Running hours", "Faults since power-on".
+COUNTER_WORDS = re.compile(r"\b(total|cumulative|accumulated|counter|count|since|running|operating|power-on)\b", re.IGNORECASE)
+# Title words of a register or field the manual gives no meaning ("Reserved", "Invalid (no meaning; ...)").
+RESERVED_TITLE = re.compile(r"^\s*reserved\b|\bno meaning\b", re.IGNORECASE)
+
+
+class Kind(enum.Enum):
+    """What a register is to a home-automation user; its classes and category follow from it."""
+
+    SETTING = "setting"  # writable: someone sets it (a control, when a write makes the device act)
+    IDENTITY = "identity"  # the firmware register, text, values read once (nameplate, limits)
+    STATE = "state"  # an enum, bit flags or a coil: shown with the map's labels
+    CODE = "code"  # a unitless, unscaled integer that is none of those: a status word, fault code, version word
+    COUNTER = "counter"  # a running total: energy, power-on time, a count of events
+    MEASUREMENT = "measurement"  # a quantity the device measures now
+
+
+def kind(device: Device, reg: Register) -> Kind:
+    """The register's kind, from the model: access, type, poll class, enum/bitfields, unit; title words
+    (`COUNTER_WORDS`) only to tell a running total from a duration or count measured now."""
+    if reg.access.writable:
+        return Kind.SETTING
+    firmware = device.info.firmware_register
+    if reg.type.is_string or reg.poll is PollClass.STATIC or (firmware is not None and firmware.register.name == reg.name):
+        return Kind.IDENTITY
+    if reg.enum is not None or reg.bitfields or reg.type.is_bool:
+        return Kind.STATE
+    if is_counter(reg):
+        return Kind.COUNTER
+    if reg.unit is None and not reg.type.is_float and not reg.scaled and not reg.offset_set:
+        return Kind.CODE
+    return Kind.MEASUREMENT
+
+
+def is_counter(reg: Register) -> bool:
+    """Energy always accumulates; a duration or a plain count does when its title says it is a total."""
+    if reg.unit in ENERGY_UNITS:
+        return True
+    if reg.signed or not COUNTER_WORDS.search(reg.title):
+        return False
+    return reg.unit in DURATION_UNITS or (reg.unit is None and not reg.type.is_float and not reg.scaled)
+
+
+def state_class(device: Device, reg: Register) -> str | None:
+    """`measurement` for quantities only; a counter `total_increasing` (`total` when signed: a net
+    value can fall); none for settings, codes, states and identity (statistics of them mean nothing)."""
+    k = kind(device, reg)
+    if k is Kind.COUNTER:
+        return "total" if reg.signed else "total_increasing"
+    return "measurement" if k is Kind.MEASUREMENT else None
+
+
+def device_class(reg: Register) -> str | None:
+    if reg.unit in ENERGY_UNITS:
+        return ENERGY_UNITS[reg.unit]
+    return DEVICE_CLASS.get(reg.unit or "")
+
+
+def entity_category(device: Device, reg: Register, raw: bool = False) -> str | None:
+    """`config` for settings (a write that makes the device act is a control: none), `diagnostic` for
+    identity and codes (and `raw`: a register's number shown beside its labelled fields)."""
+    k = kind(device, reg)
+    if k is Kind.SETTING:
+        return None if device.is_trigger(reg) else "config"
+    return "diagnostic" if raw or k in (Kind.IDENTITY, Kind.CODE) else None
+
+
+def command_category(command: Command) -> str | None:
+    """A destructive command, and one that saves or restores the configuration, is `config`; a control
+    (motion, a reset of an alarm) is a primary entity."""
+    effect = command.effect.kind if command.effect is not None else None
+    return "config" if command.destructive or effect in ("save", "restore_defaults") else None
+
+
+def reserved(title: str) -> bool:
+    """The manual gives it no meaning: not exposed as an entity."""
+    return bool(RESERVED_TITLE.search(title))
+
+
+def turnaround_ms(device: Device) -> float | None:
+    """How long the device takes to answer, from the map: its timing row at the line's baud rate, else
+    its response delay; None when the map gives neither."""
+    t = device.transport
+    row = next((r for r in t.timing if r.baud == t.baud and r.total_ms is not None), None)
+    if row is not None and row.total_ms is not None:
+        return row.total_ms
+    return t.response_delay_ms
+
+
+def command_throttle_ms(device: Device, floor: int) -> int:
+    """A pause between two requests to one device: `floor`, or the device's documented turnaround when longer."""
+    documented = turnaround_ms(device)
+    return max(floor, math.ceil(documented)) if documented is not None else floor
+
+
+class Ids:
+    """Entity ids unique within one file: a clash (a register named like another's field) gets `_2`, `_3`, ..."""
+
+    def __init__(self, taken: tuple[str, ...] = ()) -> None:
+        self.seen = set(taken)
+
+    def id(self, *parts: str) -> str:
+        base = "_".join(parts)
+        text, n = base, 2
+        while text in self.seen:
+            text, n = f"{base}_{n}", n + 1
+        self.seen.add(text)
+        return text
+
+
 ON_NAMES = frozenset({"on", "enabled", "enable", "yes", "true"})
 OFF_NAMES = frozenset({"off", "disabled", "disable", "no", "false"})
 MAX_DECIMALS = 6
@@ -58,12 +175,18 @@ def scale_float(scale: Fraction) -> float | int:
 
 
 def on_off(enum: EnumType | None) -> tuple[int, int] | None:
-    """(on value, off value) of a two-valued on/off enum, which a switch can show; else None."""
-    if enum is None or len(enum.members) != 2:
+    """(on value, off value) of a two-valued on/off enum, which a switch can show; else None. A switch
+    writes both values and reads them back, so both must be members that may be written and are reported."""
+    if enum is None or len(enum.members) != 2 or not all(m.writable and m.readable for m in enum.members):
         return None
     on = [m.value for m in enum.members if m.name.lower() in ON_NAMES]
     off = [m.value for m in enum.members if m.name.lower() in OFF_NAMES]
     return (on[0], off[0]) if on and off and on[0] >= 0 and off[0] >= 0 else None
+
+
+def writable_members(enum: EnumType) -> tuple[EnumMember, ...]:
+    """The members a write may send (a state the device only reports is never offered)."""
+    return tuple(m for m in enum.members if m.writable)
 
 
 def flags(reg: Register) -> tuple[Bitfield, ...]:
@@ -77,8 +200,10 @@ def single_flag(reg: Register) -> Bitfield | None:
 
 
 def is_parameter(reg: Register) -> bool:
-    """A setting: it changes only when someone writes it, so it is polled less often than status values."""
-    return reg.access.writable
+    """A setting: it changes only when someone writes it, so it is polled less often than status values.
+    A register whose enum has states the device reports (a trigger register's progress) changes by itself."""
+    reports = reg.enum is not None and any(not m.writable for m in reg.enum.members)
+    return reg.access.writable and not reports
 
 
 FLOAT_DECIMALS = 3  # decimals shown for an unscaled float register (its resolution is not a fixed step)
@@ -139,15 +264,16 @@ class Names:
     """Entity names, unique within one generated file (a repeated title gets the register's name), and
     at most `MAX_NAME_BYTES` long (ESPHome refuses longer names; a long title is cut with an ellipsis)."""
 
-    def __init__(self, clean: Callable[[str], str] = str) -> None:
+    def __init__(self, clean: Callable[[str], str] = str, limit: int = 0) -> None:
         self.seen: set[str] = set()
         self.clean = clean  # the target's own escaping, applied before the length is measured
+        self.limit = limit or MAX_NAME_BYTES
 
     def name(self, title: str, qualifier: str) -> str:
-        text = _cut(self.clean(" ".join(title.split()) or qualifier), MAX_NAME_BYTES)
+        text = _cut(self.clean(" ".join(title.split()) or qualifier), self.limit)
         if text in self.seen:
             suffix = f" ({self.clean(qualifier)})"
-            text = _cut(text, MAX_NAME_BYTES - len(suffix.encode())) + suffix
+            text = _cut(text, self.limit - len(suffix.encode())) + suffix
         self.seen.add(text)
         return text
 

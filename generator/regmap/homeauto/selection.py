@@ -9,8 +9,10 @@ Format: patterns separated by commas or newlines; `#` starts a comment. Each pat
 that matches decides: a plain pattern selects, `!pattern` deselects. A pattern that matches nothing
 is an error (a typo must not silently drop entities).
 
-Default (no `--select`): every read-only register (status and monitor values), every command, and
-the readable registers the commands write (so their state shows beside the buttons).
+Default (no `--select`): every read-only register (status and monitor values), every command that
+is not destructive, and the readable registers the commands write (so their state shows beside the
+buttons). A destructive command (restore defaults, initialise parameters, force-enable) is one
+deliberate step away: it is generated only when a pattern names it.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from pathlib import Path
 from regmap.diagnostics import UsageError
 from regmap.model import Command, Device, Register
 
-DEFAULT_RULE = "the default: every read-only register, every command and the readable registers the commands write"
+DEFAULT_RULE = "the default: every read-only register, every command that is not destructive and the readable registers the commands write"
 
 
 @dataclass(frozen=True)
@@ -59,9 +61,10 @@ def _keys(reg: Register) -> tuple[str, ...]:
 def select(device: Device, patterns: tuple[str, ...] | None) -> Selection:
     """The registers and commands `patterns` choose (the default rule when None)."""
     if patterns is None:
-        targets = {c.register.name for c in device.commands}
+        commands = tuple(c for c in device.commands if not c.destructive)
+        targets = {c.register.name for c in commands}
         registers = tuple(r for r in device.registers if r.access.readable and (not r.access.writable or r.name in targets))
-        return Selection(registers, device.commands, DEFAULT_RULE)
+        return Selection(registers, commands, DEFAULT_RULE)
     chosen_regs = dict.fromkeys(r.name for r in device.registers if _decide(_keys(r), patterns))
     chosen_cmds = dict.fromkeys(c.name for c in device.commands if _decide((c.name,), patterns))
     unused = [

@@ -35,24 +35,32 @@ from typing import Any
 
 from regmap.backends.esphome import lambdas
 from regmap.homeauto.entities import (
-    DEVICE_CLASS,
+    MAX_NAME_BYTES,
     Hex,
+    Ids,
     Lambda,
     Names,
+    command_category,
+    command_throttle_ms,
+    device_class,
     dump,
+    entity_category,
     firmware_notes,
     flags,
     is_parameter,
     planned,
+    reserved,
     scale_float,
     shown_decimals,
     single_flag,
+    state_class,
     swap_word,
     swapped,
     unit_text,
+    writable_members,
 )
 from regmap.homeauto.selection import Selection
-from regmap.model import Command, DataType, Device, PollClass, Register, WordOrder
+from regmap.model import Command, DataType, Device, EnumMember, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_specs
 from regmap.target import Files
 from regmap_runtime.codec import raw_to_words
@@ -89,12 +97,27 @@ PARITY = {"none": "NONE", "even": "EVEN", "odd": "ODD"}
 NUMBER_LIMIT = 16777215  # ESPHome's number keeps min/max within 24 bits (float precision)
 MAX_BUTTONS_PER_COMMAND = 16  # a command with an argument gets a button per value, up to this many
 UPDATE_INTERVAL = "10s"
+NAME_PREFIX_BYTES = 24  # names leave room for a `<id>_name_prefix` this long within ESPHome's 120 bytes
+# ESPHome's modbus_controller re-sends a request nobody answered `max_cmd_retries` times (default 4:
+# `should_retry` allows send_count <= max). The count belongs to the controller, and a second controller
+# for the same address on one bus would take the other's responses (modbus.cpp hands each frame to every
+# device with that address), so the one controller of a device sends every request once: a lost reply
+# to a command is not answered by sending the command again; a lost read costs one update.
+MAX_CMD_RETRIES = 0
+READ_ONLY_PLATFORMS = ("sensor", "binary_sensor", "text_sensor")
+COMMAND_THROTTLE_FLOOR_MS = 50  # between two requests to one device; longer when the map documents a slower device
 
 
 def esp_text(text: str) -> str:
-    """Map text as an ESPHome string: `$` would start a substitution or a Jinja expression, and ESPHome
-    reserves `/` in names (URL paths); both become their look-alikes."""
-    return " ".join(text.split()).replace("$", "\uff04").replace("/", "\u2044")
+    """Map text as an ESPHome name or label: `$` would start a substitution or a Jinja expression, and
+    ESPHome reserves `/` in names (URL paths; `_validate_no_slash`); both become their look-alikes."""
+    return esp_unit(text).replace("/", "\u2044")
+
+
+def esp_unit(text: str) -> str:
+    """A unit as the map gives it (ESPHome checks units for length only); only `$`, which would start
+    a substitution, becomes its look-alike."""
+    return " ".join(text.split()).replace("$", "\uff04")
 
 
 class _Package:
@@ -102,8 +125,9 @@ class _Package:
         self.device = device
         self.selection = selection
         self.prefix = device.id
-        self.controller = f"{device.id}_controller"
-        self.names = Names(esp_text)
+        self.controller = self.sub("device_id") + "_controller"
+        self.names = Names(esp_text, MAX_NAME_BYTES - NAME_PREFIX_BYTES)
+        self.ids = Ids(("controller",))
         t = device.transport
         self.register_type = "holding" if 0x03 in t.function_codes else "read"
         self.single_write = 0x06 in t.function_codes
@@ -168,10 +192,19 @@ class _Package:
 
     # -- entities ----------------------------------------------------------------------------
 
-    def add(self, platform: str, entity: dict[str, Any]) -> None:
-        self.entities.setdefault(platform, []).append(entity)
+    def add(self, platform: str, entity: dict[str, Any], *key: str, category: str | None = None) -> None:
+        """Add an entity with its id: `${<id>_device_id}_` and `key` (a register, field or command name)."""
+        made = {"platform": entity.pop("platform"), "id": self.sub("device_id") + "_" + self.ids.id(*key), **entity}
+        if category == "config" and platform in READ_ONLY_PLATFORMS:
+            category = "diagnostic"  # ESPHome allows no `config` on what only reads: a setting it cannot write
+        if category is not None:
+            made["entity_category"] = category
+        self.entities.setdefault(platform, []).append(made)
 
     def register(self, reg: Register) -> None:
+        if reserved(reg.title):
+            self.skipped.append(f"{reg.name} (reserved: the manual gives it no meaning)")
+            return
         if not reg.access.readable:
             self.skipped.append(f"{reg.name} (write-only: ESPHome's number/select/switch read their register back)")
             return
@@ -205,12 +238,13 @@ class _Package:
     def _bit(self, reg: Register) -> None:
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg))
+        category = entity_category(self.device, reg)
         if reg.access.writable and reg.space_info.writable:
             if not self.single_coil_write:
                 entity["use_write_multiple"] = True
-            self.add("switch", entity)
+            self.add("switch", entity, reg.name, category=category)
         else:
-            self.add("binary_sensor", entity)
+            self.add("binary_sensor", entity, reg.name, category=category)
 
     def _text(self, reg: Register) -> None:
         if reg.encoding not in ("ascii", "latin-1", "utf-8"):
@@ -221,10 +255,11 @@ class _Package:
         entity["lambda"] = Lambda(lambdas.text_lambda(reg))
         if reg.access.writable:
             self.skipped.append(f"writes of {reg.name} (ESPHome's modbus_controller has no text entity)")
-        self.add("text_sensor", entity)
+        self.add("text_sensor", entity, reg.name, category=entity_category(self.device, reg))
 
     def _name(self, title: str, qualifier: str) -> str:
-        return self.names.name(title, qualifier)
+        """The entity's name after the `<id>_name_prefix` substitution (empty unless a config sets it)."""
+        return self.sub("name_prefix") + self.names.name(title, qualifier)
 
     def _value_type(self, reg: Register) -> str:
         if self._lambda(reg):
@@ -237,12 +272,12 @@ class _Package:
         if self._lambda(reg):
             entity["lambda"] = Lambda(lambdas.raw_lambda(reg))
         if reg.unit:
-            entity["unit_of_measurement"] = unit_text(esp_text(reg.unit))
-            if reg.unit in DEVICE_CLASS:
-                entity["device_class"] = DEVICE_CLASS[reg.unit]
+            entity["unit_of_measurement"] = unit_text(esp_unit(reg.unit))
+        if device_class(reg) is not None:
+            entity["device_class"] = device_class(reg)
         entity["accuracy_decimals"] = shown_decimals(reg)
-        if not reg.access.writable:
-            entity["state_class"] = "measurement"
+        if state_class(self.device, reg) is not None:
+            entity["state_class"] = state_class(self.device, reg)
         filters: list[dict[str, Any]] = []
         if reg.scaled:
             filters.append({"multiply": scale_float(reg.scale)})
@@ -250,7 +285,7 @@ class _Package:
             filters.append({"offset": scale_float(reg.offset)})
         if filters:
             entity["filters"] = filters
-        self.add("sensor", entity)
+        self.add("sensor", entity, reg.name, category=entity_category(self.device, reg))
 
     def _number(self, reg: Register) -> None:
         low, high = (max(-NUMBER_LIMIT, float(reg.raw_min * reg.scale)), min(NUMBER_LIMIT, float(reg.raw_max * reg.scale)))
@@ -270,15 +305,14 @@ class _Package:
         if reg.words == 1 and not self.single_write:
             entity["use_write_multiple"] = True
         if reg.unit:
-            entity["unit_of_measurement"] = unit_text(esp_text(reg.unit))
+            entity["unit_of_measurement"] = unit_text(esp_unit(reg.unit))
         entity["mode"] = "box"
-        self.add("number", entity)
+        self.add("number", entity, reg.name, category=entity_category(self.device, reg))
 
-    def _options(self, reg: Register) -> list[tuple[str, int]]:
-        assert reg.enum is not None
+    def _options(self, members: tuple[EnumMember, ...]) -> list[tuple[str, int]]:
         labels: list[tuple[str, int]] = []
         seen: set[str] = set()
-        for member in reg.enum.members:
+        for member in members:
             label = esp_text(member.title) or member.name
             if label in seen:
                 label = f"{label} ({member.value})"
@@ -287,21 +321,29 @@ class _Package:
         return labels
 
     def _enum(self, reg: Register) -> None:
-        options = self._options(reg)
-        if reg.access.writable:
+        """A select offers the members a write may send; the states the device only reports (and every
+        value of a read-only register) are shown by a text sensor with the manual's labels."""
+        assert reg.enum is not None
+        writable = writable_members(reg.enum) if reg.access.writable else ()
+        reported = tuple(m for m in reg.enum.members if m.readable)
+        state = not writable or any(not m.writable for m in reported)
+        if state:
+            # The register's bytes as hex (`raw_encode: HEXBYTES`), mapped to the manual's labels.
             entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
-            entity.update(self._item(reg, value_type=self._wire_type(reg)))
-            entity["optionsmap"] = {label: self._wire_value(reg, value) for label, value in options}
-            if reg.words == 1 and not self.single_write:
-                entity["use_write_multiple"] = True
-            del entity["register_type"]  # select only talks to holding registers
-            self.add("select", entity)
+            entity.update(self._item(reg, response_size=2 * reg.words, raw_encode="HEXBYTES"))
+            options = self._options(reported)
+            entity["filters"] = [{"map": [{"from": self._hexbytes(reg, value), "to": label} for label, value in options]}]
+            self.add("text_sensor", entity, reg.name, category=None if writable else entity_category(self.device, reg))
+        if not writable:
             return
-        # Read-only: the register's bytes as hex (`raw_encode: HEXBYTES`), mapped to the manual's labels.
-        entity = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
-        entity.update(self._item(reg, response_size=2 * reg.words, raw_encode="HEXBYTES"))
-        entity["filters"] = [{"map": [{"from": self._hexbytes(reg, value), "to": label} for label, value in options]}]
-        self.add("text_sensor", entity)
+        title, key = (f"{reg.title} (write)", (reg.name, "write")) if state else (reg.title, (reg.name,))
+        entity = {"platform": "modbus_controller", "name": self._name(title, reg.name)}
+        entity.update(self._item(reg, value_type=self._wire_type(reg)))
+        entity["optionsmap"] = {label: self._wire_value(reg, value) for label, value in self._options(writable)}
+        if reg.words == 1 and not self.single_write:
+            entity["use_write_multiple"] = True
+        del entity["register_type"]  # select only talks to holding registers
+        self.add("select", entity, *key, category=entity_category(self.device, reg))
 
     def _wire_words(self, reg: Register, raw: int) -> list[int]:
         return raw_to_words(self.specs[reg.name], raw)
@@ -329,37 +371,39 @@ class _Package:
             entity.update(self._item(reg, bitmask=Hex(swap_word(flag.mask) if swapped(reg) else flag.mask)))
             if not self.single_write:
                 entity["use_write_multiple"] = True
-            self.add("switch", entity)
+            self.add("switch", entity, reg.name, category=entity_category(self.device, reg))
             return
         for field in reg.bitfields:
+            if reserved(field.title):
+                self.skipped.append(f"{reg.name}.{field.name} (the manual gives the field no meaning)")
+                continue
             name = self._name(f"{reg.title}: {field.title}", f"{reg.name}.{field.name}")
+            entity = {"platform": "modbus_controller", "name": name}
             if field in flags(reg) and reg.words == 1:  # a binary_sensor reads one word; 32-bit flags are sensors
-                entity = {"platform": "modbus_controller", "name": name}
                 entity.update(self._item(reg, bitmask=Hex(swap_word(field.mask) if swapped(reg) else field.mask, 4 * reg.words)))
-                self.add("binary_sensor", entity)
-            elif swapped(reg):  # the field's bits are not where the wire word has them: a lambda takes them out
-                entity = {"platform": "modbus_controller", "name": name}
+                self.add("binary_sensor", entity, reg.name, field.name)
+                continue
+            if swapped(reg):  # the field's bits are not where the wire word has them: a lambda takes them out
                 entity.update(self._item(reg, value_type=SIZED[reg.words]))
                 entity["lambda"] = Lambda(lambdas.raw_lambda(reg, field))
-                entity["accuracy_decimals"] = 0
-                self.add("sensor", entity)
             else:
-                entity = {"platform": "modbus_controller", "name": name}
                 entity.update(self._item(reg, value_type=self._value_type(reg), bitmask=Hex(field.mask, 4 * reg.words)))
-                entity["accuracy_decimals"] = 0
-                self.add("sensor", entity)
+            entity["accuracy_decimals"] = 0
+            self.add("sensor", entity, reg.name, field.name)
 
     def command(self, command: Command) -> None:
         arg = command.argument
         if arg is None:
-            self._button(command, command.title, command.raw_value())
+            self._button(command, command.title, command.raw_value(), (command.name,))
         elif arg.max - arg.min + 1 <= MAX_BUTTONS_PER_COMMAND:
             for value in range(arg.min, arg.max + 1):
-                self._button(command, f"{command.title} {arg.name} {value}", command.raw_value(value))
+                self._button(command, f"{command.title} {arg.name} {value}", command.raw_value(value), (command.name, arg.name, str(value)))
         else:
             self.skipped.append(f"command {command.name} (its argument has more than {MAX_BUTTONS_PER_COMMAND} values)")
 
-    def _button(self, command: Command, title: str, raw: int) -> None:
+    def _button(self, command: Command, title: str, raw: int, key: tuple[str, ...]) -> None:
+        """A button that queues the command's write once (the controller does not retry: MAX_CMD_RETRIES).
+        A destructive command is disabled until the user enables it, under the device's configuration."""
         reg = command.register
         words = self._wire_words(reg, raw)
         ctrl = f"id({self.controller})"
@@ -369,7 +413,11 @@ class _Package:
             values = ", ".join(f"0x{w:04X}" for w in words)
             make = f"create_write_multiple_command({ctrl}, 0x{reg.address:04X}, {len(words)}, {{{values}}})"
         code = f"{ctrl}->queue_command(esphome::modbus_controller::ModbusCommandItem::{make});"
-        self.add("button", {"platform": "template", "name": self._name(title, command.name), "on_press": [{"lambda": Lambda(code)}]})
+        entity: dict[str, Any] = {"platform": "template", "name": self._name(title, command.name)}
+        if command.destructive:
+            entity["disabled_by_default"] = True
+        entity["on_press"] = [{"lambda": Lambda(code)}]
+        self.add("button", entity, *key, category=command_category(command))
 
     # -- the file ----------------------------------------------------------------------------
 
@@ -383,32 +431,37 @@ class _Package:
             self.command(command)
         out: dict[str, Any] = {
             "substitutions": {
+                f"{p}_device_id": p,
+                f"{p}_name_prefix": "",
+                f"{p}_bus_id": p,
                 f"{p}_tx_pin": "GPIO17",
                 f"{p}_rx_pin": "GPIO16",
                 f"{p}_baud_rate": str(t.baud),
                 f"{p}_slave_id": str(slave),
                 f"{p}_update_interval": FAST_UPDATE_INTERVAL if self.fast else UPDATE_INTERVAL,
+                f"{p}_command_throttle": f"{command_throttle_ms(self.device, COMMAND_THROTTLE_FLOOR_MS)}ms",
                 f"{p}_parameter_skip_updates": str(SKIPS["parameter_skip_updates"][1 if self.fast else 0]),
                 **{f"{p}_{key}": str(SKIPS[key][1 if self.fast else 0]) for key in sorted(self.used_skips - {"parameter_skip_updates"})},
             },
-            "uart": [
-                {
-                    "id": f"{p}_uart",
-                    "tx_pin": self.sub("tx_pin"),
-                    "rx_pin": self.sub("rx_pin"),
-                    "baud_rate": self.sub("baud_rate"),
-                    "data_bits": t.data_bits,
-                    "parity": PARITY[t.parity],
-                    "stop_bits": t.stop_bits,
-                }
-            ],
-            "modbus": [{"id": f"{p}_modbus", "uart_id": f"{p}_uart"}],
+            # One mapping each (not a list): packages merge mappings, so two drives included on one bus share them.
+            "uart": {
+                "id": self.sub("bus_id") + "_uart",
+                "tx_pin": self.sub("tx_pin"),
+                "rx_pin": self.sub("rx_pin"),
+                "baud_rate": self.sub("baud_rate"),
+                "data_bits": t.data_bits,
+                "parity": PARITY[t.parity],
+                "stop_bits": t.stop_bits,
+            },
+            "modbus": {"id": self.sub("bus_id") + "_modbus", "uart_id": self.sub("bus_id") + "_uart"},
             "modbus_controller": [
                 {
                     "id": self.controller,
-                    "modbus_id": f"{p}_modbus",
+                    "modbus_id": self.sub("bus_id") + "_modbus",
                     "address": self.sub("slave_id"),
                     "update_interval": self.sub("update_interval"),
+                    "max_cmd_retries": MAX_CMD_RETRIES,
+                    "command_throttle": self.sub("command_throttle"),
                 }
             ],
         }
@@ -448,6 +501,17 @@ def render_package(device: Device, selection: Selection) -> Files:
         f"ESPHome package for {device.info.vendor} {device.info.model}: modbus_controller on a UART, entities from the map.",
         f"Include it: packages: {{{device.id}: !include {device.id}.yaml}} and override the substitutions "
         f"({device.id}_tx_pin, {device.id}_rx_pin, {device.id}_slave_id, ...) in your config.",
+        f"Every entity has the id ${{{device.id}_device_id}}_<register> (fields: _<register>_<field>, buttons: _<command>),"
+        " for !extend and !remove. Two drives on one bus: include the file twice, the second with"
+        f" vars {{{device.id}_device_id: drive2, {device.id}_slave_id: 2, {device.id}_name_prefix: 'Drive 2 '}}"
+        f" (a prefix of at most {NAME_PREFIX_BYTES} bytes); both share the uart and modbus of {device.id}_bus_id.",
+        f"Writes go out once: max_cmd_retries {MAX_CMD_RETRIES}. ESPHome counts retries per controller (default 4: an"
+        " unanswered command would be sent up to 5 times, a motion repeated); one controller serves one address"
+        " (a second one on the same bus would take this one's responses), so reads are not retried either:"
+        " a lost reply costs one update. command_throttle keeps a pause between two requests to the device"
+        f" ({COMMAND_THROTTLE_FLOOR_MS} ms, or the map's documented turnaround when longer).",
+        "Destructive commands are left out of the default selection; chosen with --select they are"
+        " disabled_by_default and entity_category config (enable one in Home Assistant before pressing it).",
         f"Serial line from the map: {t.baud} baud, {t.data_bits} data bits, parity {t.parity}, {t.stop_bits} stop bit(s).",
         f"Reads follow the map's read plan (at most {t.max_read_registers} registers a request, no undocumented address).",
         f"32-bit values assume the device's factory word order ({t.word_order.value}).",

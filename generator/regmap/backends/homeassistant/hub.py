@@ -1,13 +1,14 @@
-"""The Home Assistant `modbus:` hub of one map: sensors, binary sensors and switches for the selected registers.
+"""The Home Assistant package of one map: a `modbus:` hub with sensors, binary sensors and switches for the
+selected registers, and (`scripts`) a `script:` per command and `template:` entities for flags and enum labels.
 
 Home Assistant reads each entity with its own request, except virtual sensors: a run of array
 elements of one type, scale and unit at consecutive addresses inside one read-plan request becomes
 one sensor with `virtual_count` (one request for the whole run). What HA's modbus integration cannot
-express from the map is listed in the file's header instead of being approximated: enum labels (the
-sensor shows the raw code), flags other than bit 0 (its binary sensor reads `value & 1`, and it loads
-one entity per address, so a register with several flags is one raw sensor), write-only
-registers and commands (call `modbus.write_register`), text in encodings other than ASCII/UTF-8
-(HA decodes UTF-8 only).
+express from the map is listed in the file's header instead of being approximated: write-only
+registers, multi-bit fields (in the register's sensor), text in encodings other than ASCII/UTF-8 (HA
+decodes UTF-8 only). Enum labels and flags other than a lone bit 0 (HA's binary sensor reads `value & 1`
+and loads one entity per address) are template entities over the register's sensor; a register with
+labels shows its raw code in a sensor named "<title> (code)".
 
 Spaces: `input_type` holding / input for registers; coils and discrete inputs are binary sensors
 (`input_type: coil` / `discrete_input`), a writable coil a switch (`write_type: coil`). Byte and word
@@ -21,18 +22,21 @@ from __future__ import annotations
 
 from typing import Any
 
+from regmap.backends.homeassistant.scripts import Scripts, flag_sensor, label_sensor, object_id, template_flags
 from regmap.homeauto.entities import (
-    DEVICE_CLASS,
     Hex,
     Names,
+    device_class,
     dump,
     firmware_notes,
     is_parameter,
     on_off,
     planned,
+    reserved,
     scale_float,
     shown_decimals,
     single_flag,
+    state_class,
     swap_word,
     swapped,
     unit_text,
@@ -91,6 +95,9 @@ class _Hub:
         self.sensors: list[dict[str, Any]] = []
         self.binary_sensors: list[dict[str, Any]] = []
         self.switches: list[dict[str, Any]] = []
+        self.template_sensors: list[dict[str, Any]] = []
+        self.template_binary_sensors: list[dict[str, Any]] = []
+        self.scripts = Scripts(device, device.id, self.slave)
         plan = planned(device, [r for r in selection.registers if r.access.readable])
         self.block_of = {s.name: i for i, (block, _, _) in enumerate(plan) for s in block.registers}
 
@@ -107,7 +114,8 @@ class _Hub:
         return INPUT_TYPE[reg.space] if reg.space != "holding" else self.input_type
 
     def _sensor(self, reg: Register, title: str, virtual: int = 0) -> None:
-        entity = self._base(reg, title, reg.name)
+        labelled = reg.enum is not None and not virtual
+        entity = self._base(reg, f"{title} (code)" if labelled else title, reg.name)
         entity.update({"input_type": self._input_type(reg), "data_type": DATA_TYPE[reg.type]})
         if reg.type.is_string:
             entity["count"] = reg.words
@@ -124,21 +132,35 @@ class _Hub:
         entity["precision"] = shown_decimals(reg)
         if reg.unit:
             entity["unit_of_measurement"] = unit_text(reg.unit)
-            if reg.unit in DEVICE_CLASS:
-                entity["device_class"] = DEVICE_CLASS[reg.unit]
-        if not reg.access.writable and reg.enum is None and not reg.bitfields:
-            entity["state_class"] = "measurement"
+        if device_class(reg) is not None:
+            entity["device_class"] = device_class(reg)
+        if state_class(self.device, reg) is not None:
+            entity["state_class"] = state_class(self.device, reg)
         if virtual:
             entity["virtual_count"] = virtual
         self.sensors.append(entity)
+        if virtual or not (reg.enum is not None or template_flags(reg)):
+            return
+        if not entity["name"].isascii():  # HA transliterates it into the entity id; which way is not ours to guess
+            self.skipped.append(f"{reg.name}'s labels and flags as templates (its name is not ASCII text)")
+            return
+        self._templates(reg, title, "sensor." + object_id(entity["name"]))
+
+    def _templates(self, reg: Register, title: str, source: str) -> None:
+        """The register's labels and flags as template entities over its sensor `source`."""
+        if reg.enum is not None:
+            self.template_sensors.append(label_sensor(self.device, reg, source, self.names.name(title, f"{reg.name} label")))
+        for name, field_title, mask in template_flags(reg):
+            entity = flag_sensor(self.device, reg, source, self.names.name(f"{title}: {field_title}", f"{reg.name}.{name}"), name, mask)
+            self.template_binary_sensors.append(entity)
+        if any(b.width > 1 for b in reg.bitfields):
+            self.skipped.append(f"{reg.name}'s multi-bit fields as entities (the register's sensor shows them)")
 
     def _flag_sensor(self, reg: Register) -> bool:
         """A read-only register whose only field is bit 0 becomes a binary sensor (HA reads `value & 1`);
         HA loads one entity per address, so any other bitfield register stays one raw sensor."""
         field = single_flag(reg)
-        if field is None or field.lsb != 0 or reg.access.writable or reg.words != 1 or swapped(reg):
-            if reg.bitfields:
-                self.skipped.append(f"{reg.name}'s bitfields as entities (HA reads bit 0 only; the register's sensor shows them)")
+        if field is None or field.lsb != 0 or reg.access.writable or reg.words != 1 or swapped(reg) or reserved(field.title):
             return False
         entity = self._base(reg, f"{reg.title}: {field.title}", f"{reg.name}.{field.name}")
         entity["input_type"] = self._input_type(reg)
@@ -211,9 +233,12 @@ class _Hub:
 
     def build(self) -> None:
         regs = [r for r in self.selection.registers if r.access.readable]
+        regs = [r for r in regs if not reserved(r.title)]
         for reg in self.selection.registers:
             if not reg.access.readable:
                 self.skipped.append(f"{reg.name} (write-only; write it with modbus.write_register)")
+            elif reserved(reg.title):
+                self.skipped.append(f"{reg.name} (reserved: the manual gives it no meaning)")
         i = 0
         while i < len(regs):
             reg = regs[i]
@@ -246,7 +271,8 @@ class _Hub:
                 self._sensor(reg, reg.title)
             i += 1
         for command in self.selection.commands:
-            self.skipped.append(f"command {command.name} (HA modbus has no button: call modbus.write_register)")
+            self.scripts.add(command)
+        self.skipped += self.scripts.skipped
 
     def data(self) -> list[dict[str, Any]]:
         self.build()
@@ -272,6 +298,17 @@ def hub(device: Device, selection: Selection) -> list[dict[str, Any]]:
     return _Hub(device, selection).data()
 
 
+def _package(h: _Hub, data: list[dict[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {"modbus": data}
+    kinds = (("sensor", h.template_sensors), ("binary_sensor", h.template_binary_sensors))
+    templates = [{key: entities} for key, entities in kinds if entities]
+    if templates:
+        out["template"] = templates
+    if h.scripts.scripts:
+        out["script"] = h.scripts.scripts
+    return out
+
+
 def render_hub(device: Device, selection: Selection) -> Files:
     h = _Hub(device, selection)
     data = h.data()
@@ -286,6 +323,14 @@ def render_hub(device: Device, selection: Selection) -> Files:
         about.append("Poll classes as scan_interval: fast 5 s, normal 10 s (settings 300 s), slow 60 s, static 0 (read once at start-up).")
     if any(r.type.is_string and r.padding == "nul" for r in selection.registers):
         about.append("Text: HA keeps a string register's NUL padding in the state (it decodes every byte).")
+    about += [
+        "Commands are scripts (script.<device>_<command>, mode single); destructive ones are left out of the default"
+        " selection, and when chosen are named DESTRUCTIVE and send nothing unless called with confirm: <command>.",
+        "Retries: HA's modbus hub gives pymodbus retries=3 for every request, writes included (the hub's `retries`"
+        " option is deprecated and ignored in 2024.3, removed later): a command whose reply is lost may be sent again;"
+        " nothing in this file can stop that.",
+        "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
+    ]
     about += firmware_notes(selection.registers)
     about += [f"Not generated: {s}" for s in h.skipped]
-    return {f"{device.id}.yaml": dump(device, about, {"modbus": data})}
+    return {f"{device.id}.yaml": dump(device, about, _package(h, data))}

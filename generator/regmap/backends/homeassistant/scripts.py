@@ -1,0 +1,128 @@
+"""What Home Assistant's `modbus:` entities cannot show or do, as other parts of the same package:
+`script:`s that send the map's commands (`modbus.write_register`), and `template:` entities over a
+register's sensor: a binary sensor per bit flag, a sensor with the manual's labels per enum register.
+
+Templates hold only entity ids (slugs: [a-z0-9_]) and integers; an enum label, being map text, goes in as
+a Jinja string literal whose every character outside [A-Za-z0-9 ] is a `\\uXXXX` escape, so no label can
+end the literal or the expression. HA names a sensor `sensor.<slug of its name>` when it first sees it
+(`object_id`); the templates read that entity.
+
+Retries: the hub hands pymodbus `retries=3, retry_on_empty=True` for every request, writes included
+(homeassistant/components/modbus/modbus.py; 2024.3 deprecates the hub's `retries` option and ignores it,
+later versions removed it): a command whose reply is lost may reach the device up to 4 times, and no
+setting of the integration turns that off. The scripts run in `mode: single` (a second press while one
+runs is dropped) and say so in their description.
+"""
+
+from __future__ import annotations
+
+import re
+import unicodedata
+from typing import Any
+
+from regmap.homeauto.entities import Hex, Ids, flags, reserved
+from regmap.model import Command, Device, EnumMember, Register
+from regmap.runtime_bridge import runtime_specs
+from regmap_runtime.codec import raw_to_words
+
+MAX_SCRIPTS_PER_COMMAND = 16  # a command with an argument gets a script per value, up to this many
+RETRY_NOTE = (
+    "Home Assistant's modbus hub retries a request without reply up to 3 times: if the reply is lost the command may be sent again."
+)
+_QUOTES = re.compile("['\u2018\u2019\"]")
+_NOT_SLUG = re.compile(r"[^a-z0-9]+")
+
+
+def object_id(name: str) -> str:
+    """The object id HA gives an entity named `name` (its `slugify`, for ASCII text; the tests compare them)."""
+    text = unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode().lower()
+    return _NOT_SLUG.sub("_", _QUOTES.sub("", text)).strip("_") or "unknown"
+
+
+def jinja_text(text: str) -> str:
+    """Map text as a Jinja string literal that cannot break out of itself."""
+    return "'" + "".join(c if c.isascii() and (c.isalnum() or c == " ") else _escape(c) for c in text) + "'"
+
+
+def _escape(c: str) -> str:
+    return f"\\u{ord(c):04x}" if ord(c) <= 0xFFFF else f"\\U{ord(c):08x}"
+
+
+def flag_sensor(device: Device, reg: Register, source: str, name: str, field_name: str, mask: int) -> dict[str, Any]:
+    """A template binary sensor: the flag's bit of the register's sensor `source` (an entity id)."""
+    return {
+        "name": name,
+        "unique_id": f"{device.id}_{reg.name}_{field_name}",
+        "state": f"{{{{ states('{source}') | int(0) | bitwise_and({mask}) != 0 }}}}",
+        "availability": f"{{{{ has_value('{source}') }}}}",
+    }
+
+
+def label_sensor(device: Device, reg: Register, source: str, name: str) -> dict[str, Any]:
+    """A template sensor showing the label of the value the register's sensor `source` reads (the value
+    itself when the map lists no label for it). Members the device never reports are left out."""
+    assert reg.enum is not None
+    members: list[EnumMember] = [m for m in reg.enum.members if m.readable]
+    labels = ", ".join(f"{m.value}: {jinja_text(' '.join(m.title.split()) or m.name)}" for m in members)
+    return {
+        "name": name,
+        "unique_id": f"{device.id}_{reg.name}_label",
+        "state": f"{{{{ {{{labels}}}.get(states('{source}') | int(-1), states('{source}')) }}}}",
+        "availability": f"{{{{ has_value('{source}') }}}}",
+    }
+
+
+def template_flags(reg: Register) -> list[tuple[str, str, int]]:
+    """(field name, field title, mask) of the register's flags that have a meaning."""
+    return [(f.name, f.title, f.mask) for f in flags(reg) if not reserved(f.title)]
+
+
+class Scripts:
+    """A script per command (per argument value, up to MAX_SCRIPTS_PER_COMMAND), named after it."""
+
+    def __init__(self, device: Device, hub: str, slave: int) -> None:
+        self.device = device
+        self.hub = hub
+        self.slave = slave
+        self.ids = Ids()
+        self.specs = {spec.name: spec for spec in runtime_specs(device)}
+        self.single_write = 0x06 in device.transport.function_codes
+        self.scripts: dict[str, dict[str, Any]] = {}
+        self.skipped: list[str] = []
+
+    def add(self, command: Command) -> None:
+        arg = command.argument
+        if arg is None:
+            self._script(command, command.title, command.raw_value(), (command.name,))
+        elif arg.max - arg.min + 1 <= MAX_SCRIPTS_PER_COMMAND:
+            for value in range(arg.min, arg.max + 1):
+                self._script(command, f"{command.title} {arg.name} {value}", command.raw_value(value), (command.name, arg.name, str(value)))
+        else:
+            self.skipped.append(f"command {command.name} (its argument has more than {MAX_SCRIPTS_PER_COMMAND} values)")
+
+    def _write(self, reg: Register, raw: int) -> dict[str, Any]:
+        data: dict[str, Any] = {"hub": self.hub, "slave": self.slave, "address": Hex(reg.address)}
+        if reg.space == "coil":
+            data["state"] = raw != 0
+            return {"service": "modbus.write_coil", "data": data}
+        words = raw_to_words(self.specs[reg.name], raw)
+        data["value"] = Hex(words[0]) if len(words) == 1 and self.single_write else [Hex(w) for w in words]
+        return {"service": "modbus.write_register", "data": data}
+
+    def _script(self, command: Command, title: str, raw: int, key: tuple[str, ...]) -> None:
+        script_id = self.ids.id(object_id("_".join((self.device.id, *key))))
+        about = " ".join(command.description.split())
+        script: dict[str, Any] = {"alias": " ".join(title.split()), "mode": "single"}
+        sequence: list[dict[str, Any]] = []
+        if command.destructive:
+            # One deliberate step: pressing Run does nothing; a call must name the command in `confirm`.
+            script["alias"] = "DESTRUCTIVE: " + script["alias"]
+            about = f"Destructive. Sent only when called with confirm: {command.name}. {about}"
+            script["fields"] = {
+                "confirm": {"description": f"the command's name, {command.name}, to send it", "required": True, "selector": {"text": {}}}
+            }
+            sequence.append({"condition": "template", "value_template": f"{{{{ confirm | default('') == '{command.name}' }}}}"})
+        script["description"] = " ".join(part for part in (about, RETRY_NOTE) if part)
+        sequence.append(self._write(command.register, raw))
+        script["sequence"] = sequence
+        self.scripts[script_id] = script
