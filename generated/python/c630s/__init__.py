@@ -10,19 +10,20 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_63c5f1fa58.bits import BitfieldValue
-from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
-from regmap_runtime_63c5f1fa58.errors import (
+from regmap_runtime_d68d918515.bits import BitfieldValue
+from regmap_runtime_d68d918515.client import AsyncClient, SyncClient
+from regmap_runtime_d68d918515.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    OutcomeUnknown,
     ProtocolError,
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
-from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_d68d918515.profile import DeviceProfile, load_profile
+from regmap_runtime_d68d918515.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "c00a044d45903b2e"
@@ -42,6 +43,7 @@ __all__ = [
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",
     "WrongSlave",
@@ -1369,6 +1371,7 @@ SYSTEM_PARAMETER_INIT: Final = ReadWrite[SystemInit | int](
     max=2,
     param="P02-31",
     enum=SystemInit,
+    trigger=True,
 )
 """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
 
@@ -4126,6 +4129,7 @@ SOFTWARE_RESET: Final = ReadWrite[NoOpEnable | int](
     max=1,
     param="P0D-00",
     enum=NoOpEnable,
+    trigger=True,
 )
 """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
 
@@ -4138,6 +4142,7 @@ FAULT_RESET: Final = ReadWrite[NoOpEnable | int](
     max=1,
     param="P0D-01",
     enum=NoOpEnable,
+    trigger=True,
 )
 """Fault reset (故障复位). Parameter P0D-01, address 0x0D01, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
 
@@ -4171,6 +4176,7 @@ EMERGENCY_STOP: Final = ReadWrite[EmergencyStopCmd | int](
     max=1,
     param="P0D-05",
     enum=EmergencyStopCmd,
+    trigger=True,
 )
 """Emergency stop (紧急停机). Parameter P0D-05, address 0x0D05, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
 
@@ -4235,6 +4241,7 @@ ABS_ENCODER_RESET: Final = ReadWrite[AbsEncoderReset | int](
     max=2,
     param="P0D-20",
     enum=AbsEncoderReset,
+    trigger=True,
 )
 """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
 

@@ -10,19 +10,20 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_63c5f1fa58.bits import BitfieldValue
-from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
-from regmap_runtime_63c5f1fa58.errors import (
+from regmap_runtime_d68d918515.bits import BitfieldValue
+from regmap_runtime_d68d918515.client import AsyncClient, SyncClient
+from regmap_runtime_d68d918515.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    OutcomeUnknown,
     ProtocolError,
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
-from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_d68d918515.profile import DeviceProfile, load_profile
+from regmap_runtime_d68d918515.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "30cbe83802b68f17"
@@ -42,6 +43,7 @@ __all__ = [
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",
     "WrongSlave",
@@ -295,6 +297,7 @@ USER_COMMAND: Final = ReadWrite[UserCommand | int](
     max=5,
     param="0206",
     enum=UserCommand,
+    trigger=True,
 )
 """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
 
@@ -640,6 +643,7 @@ CONTROL_COMMAND: Final = ReadWrite[ControlCommand | int](
     max=29,
     param="0323",
     enum=ControlCommand,
+    trigger=True,
 )
 """Control command (控制命令). Parameter 0323, address 0x0143, u16, range 0..29, default 0. Manual section 1.3. Motion command; see enum control_command."""
 

@@ -10,19 +10,20 @@ import dataclasses
 import enum
 from typing import ClassVar, Final
 
-from regmap_runtime_63c5f1fa58.bits import BitfieldValue
-from regmap_runtime_63c5f1fa58.client import AsyncClient, SyncClient
-from regmap_runtime_63c5f1fa58.errors import (
+from regmap_runtime_d68d918515.bits import BitfieldValue
+from regmap_runtime_d68d918515.client import AsyncClient, SyncClient
+from regmap_runtime_d68d918515.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    OutcomeUnknown,
     ProtocolError,
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_63c5f1fa58.profile import DeviceProfile, load_profile
-from regmap_runtime_63c5f1fa58.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_d68d918515.profile import DeviceProfile, load_profile
+from regmap_runtime_d68d918515.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "ffc4f99fb1205a63"
@@ -42,6 +43,7 @@ __all__ = [
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",
     "WrongSlave",
@@ -909,6 +911,7 @@ FORCE_ENABLE: Final = ReadWrite[ForceEnable | int](
     max=1,
     param="Pr0.07",
     enum=ForceEnable,
+    trigger=True,
 )
 """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
 
@@ -1981,6 +1984,7 @@ CONTROL_WORD: Final = WriteOnly[ControlWord | int](
     data_type="u16",
     access="w",
     enum=ControlWord,
+    trigger=True,
 )
 """Auxiliary control word (控制字). address 0x1801, u16. Manual section 4.4, 4.5, 4.7, 5.3.3, 附录4."""
 
@@ -2020,6 +2024,7 @@ PR_TRIGGER: Final = ReadWrite[PrTrigger | int](
     access="rw",
     param="Pr8.02",
     enum=PrTrigger,
+    trigger=True,
 )
 """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
 

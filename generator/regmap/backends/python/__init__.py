@@ -36,6 +36,7 @@ RUNTIME_MODULES = (
     "spaces.py",
     "spec.py",
     "types.py",
+    "wire.py",
 )
 
 
@@ -252,8 +253,9 @@ def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
 
-def _register_view(reg: Register, attr: str | None = None, constant: str | None = None) -> RegisterView:
-    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant."""
+def _register_view(reg: Register, attr: str | None = None, constant: str | None = None, *, trigger: bool = False) -> RegisterView:
+    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant;
+    `trigger`: a write makes the device act (Device.is_trigger), so the client sends it once."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
     kwargs: list[tuple[str, str]] = [
@@ -287,6 +289,8 @@ def _register_view(reg: Register, attr: str | None = None, constant: str | None 
         kwargs.append(("bitfield_type", _bits_class_name(reg)))
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
     kwargs += [(key, _literal(value)) for key, value in spec_extras(reg).items()]
+    if trigger:
+        kwargs.append(("trigger", "True"))
     value_type = _value_type(reg)
     write_type = value_type if reg.bitfields or reg.enum else _plain_type(reg)
     if reg.enum is not None and not reg.bitfields:
@@ -390,7 +394,7 @@ CLIENT_METHODS = frozenset(
     | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile"}
     | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
 )
-BASE_ERRORS = ("ConnectionLost", "CrcError", "DeviceException", "DeviceTimeout", "ProtocolError", "RegmapError", "WrongSlave")
+BASE_ERRORS = ("ConnectionLost", "CrcError", "DeviceException", "DeviceTimeout", "OutcomeUnknown", "ProtocolError", "RegmapError", "WrongSlave")
 
 
 def module_errors(device: Device) -> tuple[str, ...]:
@@ -488,7 +492,7 @@ def device_context(device: Device) -> dict[str, Any]:
     for reg in device.registers:
         by_name.setdefault(reg.name, reg)
     arrays = [_array_view(by_name, a) for a in device.arrays]
-    all_regs = [_register_view(r) for r in device.registers]
+    all_regs = [_register_view(r, trigger=device.is_trigger(r)) for r in device.registers]
     plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
     problems = check(device)

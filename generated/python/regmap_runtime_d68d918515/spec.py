@@ -99,6 +99,7 @@ class RegisterSpec(Generic[T]):
     firmware_from: str | None = None  # first firmware version that has the register
     firmware_until: str | None = None  # first firmware version that no longer has it
     poll: str = "normal"  # static, fast, normal, slow
+    trigger: bool = False  # a write makes the device act (a command, a trigger): sent once, never repeated
 
     @cached_property
     def type_info(self) -> TypeInfo:
