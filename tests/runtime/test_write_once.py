@@ -13,6 +13,7 @@ from typing import Any
 import pytest
 
 from conftest import ROOT, SimulatorFactory
+from test_python_client import client_module
 
 ID243 = ROOT / "maps" / "id243pro.yaml"
 IDM = ROOT / "maps" / "idm_rs.yaml"
@@ -78,8 +79,7 @@ def test_a_setting_whose_answer_is_lost_is_written_again(simulator: SimulatorFac
 
 
 def test_the_generated_client_raises_outcome_unknown_and_sends_once(simulator: SimulatorFactory, tmp_path: Path) -> None:
-    import id243pro
-
+    id243pro = client_module("id243pro")
     port, log = _dropping_first_answer(simulator, ID243, tmp_path)
     with id243pro.Id243pro.tcp("127.0.0.1", port, timeout=0.4, retries=2) as drive:
         with pytest.raises(id243pro.OutcomeUnknown) as info:
@@ -92,8 +92,7 @@ def test_the_generated_client_raises_outcome_unknown_and_sends_once(simulator: S
 
 
 def test_the_async_client_sends_a_trigger_write_once(simulator: SimulatorFactory, tmp_path: Path) -> None:
-    import idm_rs
-
+    idm_rs = client_module("idm_rs")
     port, log = _dropping_first_answer(simulator, IDM, tmp_path)
 
     async def run() -> Any:

@@ -430,8 +430,8 @@ class SyncClient(_Core):
     def read(self, spec: Readable[T]) -> T:
         return cast(T, self.read_many(spec)[spec.name])
 
-    def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
-        """Read several registers with the fewest requests the device allows."""
+    def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
+        """Read several registers with the fewest requests the device allows (a generated client types the result)."""
         if self.firmware_pending:
             self.detect_firmware()
         values: dict[str, Any] = {}
@@ -441,7 +441,7 @@ class SyncClient(_Core):
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
 
-    def read_all(self, poll: object = None) -> dict[str, Any]:
+    def read_all(self, poll: object = None) -> Mapping[str, Any]:
         """Every readable register, by the device's read plan; `poll` ("static", "fast", "normal",
         "slow"): only that class's. With check_firmware, the registers the firmware lacks are left out."""
         if poll is not None:
@@ -542,7 +542,7 @@ class AsyncClient(_Core):
     async def read(self, spec: Readable[T]) -> T:
         return cast(T, (await self.read_many(spec))[spec.name])
 
-    async def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
+    async def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
         if self.firmware_pending:
             await self.detect_firmware()
         values: dict[str, Any] = {}
@@ -552,7 +552,7 @@ class AsyncClient(_Core):
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
 
-    async def read_all(self, poll: object = None) -> dict[str, Any]:
+    async def read_all(self, poll: object = None) -> Mapping[str, Any]:
         if poll is not None:
             poll_class(poll)
         if self.firmware_pending:

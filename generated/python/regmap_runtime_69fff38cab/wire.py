@@ -82,9 +82,7 @@ def outcome_unknown(
 ) -> OutcomeUnknown:
     """The error of a write sent once whose answer was lost: what was written, why the outcome is not
     known, and what to read before deciding to send it again."""
-    touched = [
-        s for s in registers if s.space == space and s.first_address < address + len(words) and s.address + s.words > address
-    ]
+    touched = [s for s in registers if s.space == space and s.first_address < address + len(words) and s.address + s.words > address]
     target = ", ".join(s.label for s in touched) or "an address the map does not describe"
     shown = " ".join(f"0x{w:04X}" for w in words)
     readable = [s.label for s in touched if s.readable]
