@@ -25,14 +25,13 @@ from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError,
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
 from .rtu import STANDARD_EXCEPTIONS
-from .spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, SPACES
+from .spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, MASK_WRITE_REGISTER, SPACES
 from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
-from .wire import LineWatch, may_repeat, outcome_unknown, transport_error
+from .wire import LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 K = TypeVar("K", bound="_Core")
-PARITY = {"none": "N", "even": "E", "odd": "O"}
 WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
 # pymodbus's spelling of each space's reads and writes: (read, write single, write multiple); None where the space is read-only.
 PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
@@ -41,18 +40,6 @@ PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
     COIL.name: ("read_coils", "write_coil", "write_coils"),  # write_coil(True) sends FF 00, as 0x05 requires
     DISCRETE_INPUT.name: ("read_discrete_inputs", None, None),
 }
-
-
-def serial_settings(device: DeviceSpec, baud: int | None, parity: str | None, stop_bits: int | None) -> dict[str, Any]:
-    """pymodbus's serial settings: the map's where None is given (0 is no baud rate: termios's B0 hangs the line up)."""
-    if baud is not None and baud <= 0:
-        raise ValueError(f"baud {baud} is not a baud rate")
-    return {
-        "baudrate": device.baud if baud is None else baud,
-        "parity": PARITY[device.parity if parity is None else parity],
-        "bytesize": device.data_bits,
-        "stopbits": device.stop_bits if stop_bits is None else stop_bits,
-    }
 
 
 class _Core:
@@ -290,6 +277,16 @@ class _Core:
                 blocks += plan_writes(by_space[space], device.max_write_registers, grouped, max_bits=device.max_write_coils)
         return blocks
 
+    def masked(self, spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tuple[int, int] | None:
+        """(AND mask, OR mask) of the one mask write (0x16) that sets only the named fields, where the device
+        lists 0x16 and the register is one holding word with no range of its own; None: read-modify-write."""
+        if MASK_WRITE_REGISTER not in self.DEVICE.function_codes or self.broadcast:
+            return None
+        if spec.space != HOLDING.name or spec.words != 1 or spec.paired or spec.min is not None or spec.max is not None:
+            return None
+        self.check_writable(spec)
+        return mask_write_masks(spec, fields)
+
     def readable(self, poll: object = None) -> list[RegisterSpec[Any]]:
         """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
         cls = None if poll is None else poll_class(poll)
@@ -454,11 +451,21 @@ class SyncClient(_Core):
         self.write_many({spec: value}, raw=raw)
 
     def update(self, spec: ReadWrite[B], **fields: Any) -> B:
-        """Read-modify-write of a bitfield register: one read, then one write that changes only
-        the named fields (every other bit, described or not, is written back as read)."""
-        new = dataclasses.replace(self.read(spec), **fields)
-        self.write(spec, new)
-        return new
+        """Change only the named fields of a bitfield register (every other bit, described or not, stays):
+        one mask write (0x16) where the device lists it, then the register read back; else read-modify-write."""
+        masks = self.masked(spec, fields)
+        if masks is None:
+            new = dataclasses.replace(self.read(spec), **fields)
+            self.write(spec, new)
+            return new
+        if self.firmware_pending:
+            self.detect_firmware()
+        self.check_exists(spec)
+        write = (spec.space, spec.address, [masks[1]])
+        self._call(
+            MASK_WRITE_REGISTER, self.modbus.mask_write_register, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write
+        )
+        return self.read(spec)
 
     def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         """Validate every value, then write contiguous registers together (0x10; coils 0x0F)."""
@@ -563,10 +570,19 @@ class AsyncClient(_Core):
         await self.write_many({spec: value}, raw=raw)
 
     async def update(self, spec: ReadWrite[B], **fields: Any) -> B:
-        """Read-modify-write of a bitfield register (see SyncClient.update)."""
-        new = dataclasses.replace(await self.read(spec), **fields)
-        await self.write(spec, new)
-        return new
+        """Change only the named fields of a bitfield register (see SyncClient.update)."""
+        masks = self.masked(spec, fields)
+        if masks is None:
+            new = dataclasses.replace(await self.read(spec), **fields)
+            await self.write(spec, new)
+            return new
+        if self.firmware_pending:
+            await self.detect_firmware()
+        self.check_exists(spec)
+        write = (spec.space, spec.address, [masks[1]])
+        method = self.modbus.mask_write_register
+        await self._call(MASK_WRITE_REGISTER, method, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write)
+        return await self.read(spec)
 
     async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         for spec in values:

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_69fff38cab.bits import BitfieldValue
-from regmap_runtime_69fff38cab.client import AsyncClient, SyncClient
-from regmap_runtime_69fff38cab.codec import Unlisted
-from regmap_runtime_69fff38cab.errors import (
+from regmap_runtime_08fd440668.bits import BitfieldValue
+from regmap_runtime_08fd440668.client import AsyncClient, SyncClient
+from regmap_runtime_08fd440668.codec import Unlisted
+from regmap_runtime_08fd440668.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -23,8 +23,8 @@ from regmap_runtime_69fff38cab.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_69fff38cab.profile import DeviceProfile, load_profile
-from regmap_runtime_69fff38cab.spec import (
+from regmap_runtime_08fd440668.profile import DeviceProfile, load_profile
+from regmap_runtime_08fd440668.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

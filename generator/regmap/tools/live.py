@@ -30,13 +30,14 @@ from regmap.tools.frames import (
 )
 from regmap.tools.link import Link, port_reason, serial_line
 from regmap.tools.selectors import Item, Registers, check_slave
-from regmap_runtime.client import PARITY, SyncClient
+from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import OutcomeUnknown, RegmapError
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 from regmap_runtime.spec import Raw
+from regmap_runtime.wire import PARITY
 
 WORD_ORDERS = ("auto", "high_first", "low_first")
 

@@ -17,12 +17,12 @@ import struct
 
 from regmap.model import Device
 from regmap_runtime.rtu import EXCEPTION_FLAG, READS, WRITES_MULTIPLE, WRITES_SINGLE, pack_bits, unpack_bits
-from regmap_runtime.spaces import COIL_OFF, COIL_ON, MAX_READ_BITS, MAX_WRITE_BITS, Space
+from regmap_runtime.spaces import COIL_OFF, COIL_ON, HOLDING, MASK_WRITE_REGISTER, MAX_READ_BITS, MAX_WRITE_BITS, Space
 
 from .quirks import Quirks
 from .store import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, DeviceStore
 
-IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE)
+IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE, MASK_WRITE_REGISTER)
 SPEC_MAX_READ = 125  # §6.3
 SPEC_MAX_WRITE = 123  # §6.12
 RTU_OVERHEAD = 3  # slave id + CRC around a PDU; a map's max_message_bytes counts the RTU frame
@@ -81,6 +81,8 @@ class Dispatcher:
             # every such request of these functions asks for more registers than the map allows, so
             # it is the quantity error (0x03), as a request of that quantity is.
             return exception_pdu(function, ILLEGAL_VALUE)
+        if function == MASK_WRITE_REGISTER:
+            return self._mask_write(pdu)
         if function in READS:
             space = READS[function]
             return self._read_bits(pdu, space) if space.bits else self._read(pdu, space)
@@ -127,6 +129,16 @@ class Dispatcher:
         refused = self.store.write(address, words, space.name)
         return pdu[:5] if refused is None else exception_pdu(function, refused)
 
+    def _mask_write(self, pdu: bytes) -> bytes:
+        """0x16 (§6.16): the register becomes (current AND and_mask) OR (or_mask AND NOT and_mask); the answer echoes the request."""
+        function = pdu[0]
+        if len(pdu) != 7:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        address, and_mask, or_mask = struct.unpack(">HHH", pdu[1:7])
+        current = self.store.words.get((HOLDING.name, address), 0)  # the device's own word, write-only or not
+        refused = self.store.write(address, [(current & and_mask) | (or_mask & ~and_mask & 0xFFFF)], HOLDING.name)
+        return pdu if refused is None else exception_pdu(function, refused)
+
     # -- bits: 0x01, 0x02 (§6.1, §6.2), 0x05 (§6.5), 0x0F (§6.11) ---------------------------
 
     def _read_bits(self, pdu: bytes, space: Space) -> bytes:
@@ -169,4 +181,4 @@ class Dispatcher:
     @staticmethod
     def writes(pdu: bytes) -> bool:
         """A request a broadcast may carry (§4.1: broadcast requests are writes)."""
-        return pdu[0] in WRITES_SINGLE or pdu[0] in WRITES_MULTIPLE
+        return pdu[0] in WRITES_SINGLE or pdu[0] in WRITES_MULTIPLE or pdu[0] == MASK_WRITE_REGISTER

@@ -9,15 +9,32 @@ an `OutcomeUnknown`: the device may or may not have carried it out.
 
 from __future__ import annotations
 
+import dataclasses
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from pymodbus.exceptions import ConnectionException, ModbusIOException
 
+from .codec import RangeError, enum_names
 from .errors import ConnectionLost, CrcError, DeviceTimeout, OutcomeUnknown, ProtocolError, RegmapError, WrongSlave
 from .rtu import crc_ok, to_hex
-from .spec import RegisterSpec
+from .spec import HIGH_FIRST, DeviceSpec, RegisterSpec
+from .types import swap_bytes
+
+PARITY = {"none": "N", "even": "E", "odd": "O"}
+
+
+def serial_settings(device: DeviceSpec, baud: int | None, parity: str | None, stop_bits: int | None) -> dict[str, Any]:
+    """pymodbus's serial settings: the map's where None is given (0 is no baud rate: termios's B0 hangs the line up)."""
+    if baud is not None and baud <= 0:
+        raise ValueError(f"baud {baud} is not a baud rate")
+    return {
+        "baudrate": device.baud if baud is None else baud,
+        "parity": PARITY[device.parity if parity is None else parity],
+        "bytesize": device.data_bits,
+        "stopbits": device.stop_bits if stop_bits is None else stop_bits,
+    }
 
 
 class LineWatch:
@@ -97,3 +114,22 @@ def outcome_unknown(
         f" it was not sent again; {check}"
     )
     return OutcomeUnknown(message, cause, tuple(s.name for s in touched))
+
+
+def mask_write_masks(spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tuple[int, int]:
+    """The AND and OR masks of a mask write (0x16) that sets the named fields of a one-word bitfield register
+    and leaves every other bit as the device holds it; each named field checked (its width, its enum)."""
+    if spec.bitfield_type is None:
+        raise TypeError(f"{spec.label} has no bitfields")
+    raw = int(dataclasses.replace(spec.bitfield_type.from_raw(0), **fields).to_raw())  # unknown names and widths refused
+    named = 0
+    for field in spec.bitfields:
+        if field.name in fields:
+            named |= field.mask
+            value = (raw & field.mask) >> field.lsb
+            if field.enum is not None and value not in field.enum._value2member_map_:
+                raise RangeError(f"{spec.label}.{field.name}: {value} is not one of {enum_names(field.enum)}")
+    and_mask, or_mask = ~named & 0xFFFF, raw & named
+    if spec.byte_order != HIGH_FIRST:  # the device applies the masks to the word as it travels
+        and_mask, or_mask = swap_bytes([and_mask, or_mask])
+    return and_mask, or_mask
