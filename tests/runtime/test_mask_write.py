@@ -1,19 +1,23 @@
 """Function 0x16 (mask write register): where a map lists it, a bitfield change is one atomic request, not a
-read-modify-write, and the simulator applies it as MBAP §6.16 says. Fixture: tests/maps/fixtures/mask_write.yaml."""
+read-modify-write, and the simulator applies it as MBAP §6.16 says. Fixture: tests/maps/protocol/mask_write.yaml (kept
+out of tests/maps/fixtures/, whose maps every back end's tests take up with their own expectations)."""
 
 from __future__ import annotations
 
 import asyncio
+import functools
 import importlib
 import re
 import socket
 import struct
+import sys
+import tempfile
 from pathlib import Path
 from typing import Any
 
-from conftest import ROOT, SimulatorFactory, fixture_maps_generated
+from conftest import ROOT, SimulatorFactory
 
-MASK_MAP = ROOT / "tests" / "maps" / "fixtures" / "mask_write.yaml"
+MASK_MAP = ROOT / "tests" / "maps" / "protocol" / "mask_write.yaml"
 IDM = ROOT / "maps" / "idm_rs.yaml"
 
 
@@ -22,8 +26,15 @@ def _functions(log: Path) -> list[str]:
     return re.findall(r"function (0x[0-9A-F]{2}) .*\(request\)", log.read_text(encoding="utf-8"))
 
 
+@functools.cache
 def _module() -> Any:
-    fixture_maps_generated()
+    """The generated client of the fixture (generated once per run, importable from then on)."""
+    from regmap.frontend import load_map
+    from regmap.generate import generate
+
+    out = Path(tempfile.mkdtemp(prefix="regmap-mask-write-")) / "generated"
+    generate([load_map(MASK_MAP)], out, ["python"], complete=True)
+    sys.path.append(str(out / "python"))
     return importlib.import_module("fixture_mask_write")
 
 

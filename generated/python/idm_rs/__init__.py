@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_08fd440668.bits import BitfieldValue
-from regmap_runtime_08fd440668.client import AsyncClient, SyncClient
-from regmap_runtime_08fd440668.codec import Unlisted
-from regmap_runtime_08fd440668.errors import (
+from regmap_runtime_40c484018b.bits import BitfieldValue
+from regmap_runtime_40c484018b.client import AsyncClient, SyncClient
+from regmap_runtime_40c484018b.codec import Unlisted
+from regmap_runtime_40c484018b.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
@@ -23,8 +23,8 @@ from regmap_runtime_08fd440668.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_08fd440668.profile import DeviceProfile, load_profile
-from regmap_runtime_08fd440668.spec import (
+from regmap_runtime_40c484018b.profile import DeviceProfile, load_profile
+from regmap_runtime_40c484018b.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

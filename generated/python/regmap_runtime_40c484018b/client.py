@@ -25,21 +25,14 @@ from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError,
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
 from .rtu import STANDARD_EXCEPTIONS
-from .spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, MASK_WRITE_REGISTER, SPACES
+from .spaces import DEFAULT_SPACE, HOLDING, MASK_WRITE_REGISTER, SPACES
 from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
-from .wire import LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
+from .wire import PYMODBUS_METHODS, LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 K = TypeVar("K", bound="_Core")
 WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
-# pymodbus's spelling of each space's reads and writes: (read, write single, write multiple); None where the space is read-only.
-PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
-    HOLDING.name: ("read_holding_registers", "write_register", "write_registers"),
-    INPUT.name: ("read_input_registers", None, None),
-    COIL.name: ("read_coils", "write_coil", "write_coils"),  # write_coil(True) sends FF 00, as 0x05 requires
-    DISCRETE_INPUT.name: ("read_discrete_inputs", None, None),
-}
 
 
 class _Core:
@@ -109,7 +102,8 @@ class _Core:
         check_firmware: bool = False,
     ) -> K:
         """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
-        firmware register on connect and refuse the registers that firmware lacks."""
+        firmware register on connect and refuse the registers that firmware lacks. `retries`: a read or a
+        setting is sent again after a lost answer; a command or trigger write goes out once (OutcomeUnknown)."""
         line = LineWatch(rtu_framing=True)
         settings = serial_settings(cls.DEVICE, baud, parity, stop_bits)
         modbus = cls.SERIAL_TRANSPORT(port, **settings, timeout=timeout, retries=0, trace_packet=line)
@@ -130,7 +124,8 @@ class _Core:
         check_firmware: bool = False,
     ) -> K:
         """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
-        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks."""
+        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks.
+        `retries`: as for rtu(); commands and trigger writes are never sent again."""
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
         modbus = cls.TCP_TRANSPORT(host, port=port, framer=framer, timeout=timeout, retries=0, trace_packet=line)

@@ -1,5 +1,5 @@
-"""What the client makes of the line: the bytes it saw, the typed error of a failed request, and
-which requests may be sent again.
+"""What the client makes of the line: pymodbus's settings and method names, the bytes it saw, the
+typed error of a failed request, which requests may be sent again, and the masks of a mask write.
 
 pymodbus is created with no retries of its own: it would send a lost command again. The client
 repeats a request only where repeating cannot act twice: a read, or a write that covers nothing but
@@ -19,10 +19,18 @@ from pymodbus.exceptions import ConnectionException, ModbusIOException
 from .codec import RangeError, enum_names
 from .errors import ConnectionLost, CrcError, DeviceTimeout, OutcomeUnknown, ProtocolError, RegmapError, WrongSlave
 from .rtu import crc_ok, to_hex
+from .spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT
 from .spec import HIGH_FIRST, DeviceSpec, RegisterSpec
 from .types import swap_bytes
 
 PARITY = {"none": "N", "even": "E", "odd": "O"}
+# pymodbus's spelling of each space's reads and writes: (read, write single, write multiple); None where the space is read-only.
+PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
+    HOLDING.name: ("read_holding_registers", "write_register", "write_registers"),
+    INPUT.name: ("read_input_registers", None, None),
+    COIL.name: ("read_coils", "write_coil", "write_coils"),  # write_coil(True) sends FF 00, as 0x05 requires
+    DISCRETE_INPUT.name: ("read_discrete_inputs", None, None),
+}
 
 
 def serial_settings(device: DeviceSpec, baud: int | None, parity: str | None, stop_bits: int | None) -> dict[str, Any]:
