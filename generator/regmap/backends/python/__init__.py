@@ -412,7 +412,7 @@ CLIENT_METHODS = frozenset(
         "check_response",
     }
     | {"read_words", "slave", "word_order", "requests_sent", "line", "modbus", "DEVICE"}
-    | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile"}
+    | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile", "masked", "retries"}
     | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
 )
 BASE_ERRORS = (
