@@ -876,7 +876,7 @@ def test_generated_accessors_are_typed_per_type_and_space() -> None:
         (remote.FixtureRemoteIo, "read_alarm_output"): "bool",  # a coil
         (remote.InputElement, "read_active"): "bool",  # a discrete input
         (remote.FixtureRemoteIo, "read_analog_in_9"): "int",  # an input register
-        (swapped.FixtureSwappedDrive, "read_legacy_mode"): "DriveMode | int",
+        (swapped.FixtureSwappedDrive, "read_legacy_mode"): "DriveMode | Unlisted",  # a value the enum does not list is Unlisted
         (swapped.FixtureSwappedDrive, "read_status"): "StatusBits",
         (swapped.FixtureSwappedDrive, "read_runtime_hours"): "float",  # f64
     }
@@ -887,6 +887,7 @@ def test_generated_accessors_are_typed_per_type_and_space() -> None:
         (power.FixturePowerMeter, "write_demand_period"): "float",
         (remote.FixtureRemoteIo, "write_alarm_output"): "bool",
         (remote.RelayElement, "write_on"): "bool",
+        (swapped.FixtureSwappedDrive, "write_legacy_mode"): "DriveMode | Literal['idle', 'speed', 'position']",
     }
     for (cls, method), annotation in writes.items():
         assert getattr(cls, method).__annotations__["value"] == annotation, (cls.__name__, method)

@@ -18,6 +18,7 @@ class ExitCode(enum.IntEnum):
     DIFF_COMPATIBLE = 6  # `diff`: differences, all compatible
     DIFF_BREAKING = 7  # `diff`: breaking differences
     PROBE_DISAGREES = 8  # `probe`: the drive and its map disagree
+    OUTCOME_UNKNOWN = 9  # `command`, `write`: a command or trigger write went out once, its answer was lost: it may have acted
     INTERNAL = 70  # a bug in regmap (EX_SOFTWARE): please report it with REGMAP_DEBUG=1
     OUTPUT = 74  # an output could not be written (EX_IOERR): disk full, read-only, permission
     INTERRUPTED = 130  # Ctrl-C

@@ -57,6 +57,7 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             enum=enums[r.enum.name] if r.enum is not None else None,
             bitfields=tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields),
             space=r.space,
+            trigger=device.is_trigger(r),
             **spec_extras(r),
         )
         for r in device.registers

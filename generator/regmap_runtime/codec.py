@@ -248,6 +248,11 @@ def _exact(value: int | float) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
+class Unlisted(int):
+    """A raw value the register's enum does not list (no member of the map names it): the number is kept,
+    typed apart from the members, so `read_x() -> Mode | Unlisted` says both outcomes."""
+
+
 def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
     """The typed value a client returns: enum member, bitfield dict source, number, text or bool."""
     if isinstance(raw, str):
@@ -258,7 +263,7 @@ def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
         try:
             return spec.enum(raw)
         except ValueError:
-            return raw  # a value the manual does not list: keep the number rather than fail the read
+            return Unlisted(raw)  # a value the manual does not list: keep the number rather than fail the read
     return raw_to_value(spec, raw)
 
 

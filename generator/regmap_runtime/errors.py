@@ -19,7 +19,7 @@ class DeviceException(RegmapError):
 
 
 class DeviceTimeout(RegmapError):
-    """No answer at all within the timeout, after all retries (the line stayed silent)."""
+    """No answer at all within the timeout, after every try the request was allowed (the line stayed silent)."""
 
 
 class ConnectionLost(RegmapError):
@@ -54,4 +54,18 @@ class FirmwareError(RegmapError):
         self.register = register
         self.gate = gate
         self.found = found
+        super().__init__(message)
+
+
+class OutcomeUnknown(RegmapError):
+    """A write that must not be repeated (a command, a trigger) went out once and no usable answer came:
+    the device may or may not have carried it out, and it was not sent again. Read its state back
+    before deciding to send it again.
+
+    `cause` is the error of the lost answer (DeviceTimeout, CrcError ...), `registers` the names of the
+    registers the write covered."""
+
+    def __init__(self, message: str, cause: RegmapError, registers: tuple[str, ...] = ()) -> None:
+        self.cause = cause
+        self.registers = registers
         super().__init__(message)

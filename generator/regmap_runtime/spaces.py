@@ -53,4 +53,5 @@ MAX_READ_REGISTERS = 125  # §6.3/§6.4
 MAX_WRITE_REGISTERS = 123  # §6.12
 MAX_READ_BITS = 2000  # §6.1/§6.2
 MAX_WRITE_BITS = 1968  # §6.11
+MASK_WRITE_REGISTER = 0x16  # §6.16: one holding register, (current AND and_mask) OR (or_mask AND NOT and_mask)
 COIL_ON, COIL_OFF = 0xFF00, 0x0000  # §6.5: the only two values 0x05 accepts

@@ -8,21 +8,31 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-from typing import ClassVar, Final
+from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_268ae68b51.bits import BitfieldValue
-from regmap_runtime_268ae68b51.client import AsyncClient, SyncClient
-from regmap_runtime_268ae68b51.errors import (
+from regmap_runtime_2f08255883.bits import BitfieldValue
+from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
+from regmap_runtime_2f08255883.codec import Unlisted
+from regmap_runtime_2f08255883.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    OutcomeUnknown,
     ProtocolError,
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_268ae68b51.profile import DeviceProfile, load_profile
-from regmap_runtime_268ae68b51.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_2f08255883.profile import DeviceProfile, load_profile
+from regmap_runtime_2f08255883.spec import (
+    BitfieldSpec,
+    DeviceSpec,
+    Readable,
+    ReadOnly,
+    ReadWrite,
+    RegisterSpec,
+    WriteOnly,
+)
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "b1ca4a5b2a91e7d6"
@@ -33,15 +43,18 @@ __all__ = [
     "C630s",
     "AsyncC630s",
     "DEVICE",
+    "C630sValues",
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "Unlisted",
     "DeviceProfile",
     "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",
     "WrongSlave",
@@ -1114,7 +1127,7 @@ SERVO_DRIVE_NUMBER: Final = ReadWrite[int](
 )
 """Servo drive number (伺服驱动器编号). Parameter P01-02, address 0x0102, u16, range 0..65535, takes effect after restart. Manual section 7.1."""
 
-CONTROL_MODE: Final = ReadWrite[ControlMode | int](
+CONTROL_MODE: Final = ReadWrite[ControlMode | Unlisted](
     name="control_mode",
     address=0x0200,
     data_type="u16",
@@ -1126,7 +1139,7 @@ CONTROL_MODE: Final = ReadWrite[ControlMode | int](
 )
 """Control mode (控制模式选择). Parameter P02-00, address 0x0200, u16, range 0..6, default 1, takes effect immediately. Manual section 7.2, 6.1.2, 6.2.2, 6.3.2."""
 
-ENCODER_TYPE: Final = ReadWrite[EncoderType | int](
+ENCODER_TYPE: Final = ReadWrite[EncoderType | Unlisted](
     name="encoder_type",
     address=0x0201,
     data_type="u16",
@@ -1138,7 +1151,7 @@ ENCODER_TYPE: Final = ReadWrite[EncoderType | int](
 )
 """Encoder type (编码器类型选择). Parameter P02-01, address 0x0201, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
 
-ROTATION_DIRECTION: Final = ReadWrite[RotationDirection | int](
+ROTATION_DIRECTION: Final = ReadWrite[RotationDirection | Unlisted](
     name="rotation_direction",
     address=0x0202,
     data_type="u16",
@@ -1150,7 +1163,7 @@ ROTATION_DIRECTION: Final = ReadWrite[RotationDirection | int](
 )
 """Rotation direction (旋转方向选择). Parameter P02-02, address 0x0202, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
 
-OUTPUT_PULSE_PHASE: Final = ReadWrite[OutputPulsePhase | int](
+OUTPUT_PULSE_PHASE: Final = ReadWrite[OutputPulsePhase | Unlisted](
     name="output_pulse_phase",
     address=0x0203,
     data_type="u16",
@@ -1162,7 +1175,7 @@ OUTPUT_PULSE_PHASE: Final = ReadWrite[OutputPulsePhase | int](
 )
 """Output pulse phase (输出脉冲相位). Parameter P02-03, address 0x0203, u16, range 0..1, default 0, takes effect after restart. Manual section 7.2, 6.1.2."""
 
-SERVO_OFF_STOP_MODE: Final = ReadWrite[StopMode | int](
+SERVO_OFF_STOP_MODE: Final = ReadWrite[StopMode | Unlisted](
     name="servo_off_stop_mode",
     address=0x0205,
     data_type="u16",
@@ -1174,7 +1187,7 @@ SERVO_OFF_STOP_MODE: Final = ReadWrite[StopMode | int](
 )
 """Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择). Parameter P02-05, address 0x0205, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
 
-FAULT_NO2_STOP_MODE: Final = ReadWrite[StopMode | int](
+FAULT_NO2_STOP_MODE: Final = ReadWrite[StopMode | Unlisted](
     name="fault_no2_stop_mode",
     address=0x0206,
     data_type="u16",
@@ -1186,7 +1199,7 @@ FAULT_NO2_STOP_MODE: Final = ReadWrite[StopMode | int](
 )
 """Stop mode at fault No.2 (故障 No.2 停机方式选择). Parameter P02-06, address 0x0206, u16, range 0..1, default 0, takes effect immediately. Manual section 7.2."""
 
-OVERTRAVEL_STOP_MODE: Final = ReadWrite[OvertravelStopMode | int](
+OVERTRAVEL_STOP_MODE: Final = ReadWrite[OvertravelStopMode | Unlisted](
     name="overtravel_stop_mode",
     address=0x0207,
     data_type="u16",
@@ -1198,7 +1211,7 @@ OVERTRAVEL_STOP_MODE: Final = ReadWrite[OvertravelStopMode | int](
 )
 """Overtravel stop mode (超程停机方式选择). Parameter P02-07, address 0x0207, u16, range 0..2, default 1, takes effect immediately. Manual section 7.2."""
 
-FAULT_NO1_STOP_MODE: Final = ReadWrite[FaultNo1StopMode | int](
+FAULT_NO1_STOP_MODE: Final = ReadWrite[FaultNo1StopMode | Unlisted](
     name="fault_no1_stop_mode",
     address=0x0208,
     data_type="u16",
@@ -1258,7 +1271,7 @@ SERVO_OFF_TO_BRAKE_OFF_DELAY: Final = ReadWrite[int](
 )
 """While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时). Parameter P02-12, address 0x020C, u16, unit ms, range 1..1000, default 500, takes effect immediately. Manual section 7.2."""
 
-LED_WARNING_DISPLAY: Final = ReadWrite[LedWarningDisplay | int](
+LED_WARNING_DISPLAY: Final = ReadWrite[LedWarningDisplay | Unlisted](
     name="led_warning_display",
     address=0x020F,
     data_type="u16",
@@ -1324,7 +1337,7 @@ RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Final = ReadWrite[int](
 )
 """Resistor heat dissipation coefficient (电阻散热系数). Parameter P02-24, address 0x0218, u16, unit %, range 10..100, default 30, takes effect immediately. Manual section 7.2."""
 
-BRAKING_RESISTOR_SETTING: Final = ReadWrite[BrakingResistorSetting | int](
+BRAKING_RESISTOR_SETTING: Final = ReadWrite[BrakingResistorSetting | Unlisted](
     name="braking_resistor_setting",
     address=0x0219,
     data_type="u16",
@@ -1360,7 +1373,7 @@ EXTERNAL_BRAKING_RESISTOR_RESISTANCE: Final = ReadWrite[int](
 )
 """External braking resistor resistance (外接制动电阻阻值). Parameter P02-27, address 0x021B, u16, unit Ω, range 1..1000, takes effect immediately. Manual section 7.2."""
 
-SYSTEM_PARAMETER_INIT: Final = ReadWrite[SystemInit | int](
+SYSTEM_PARAMETER_INIT: Final = ReadWrite[SystemInit | Unlisted](
     name="system_parameter_init",
     address=0x021F,
     data_type="u16",
@@ -1369,6 +1382,7 @@ SYSTEM_PARAMETER_INIT: Final = ReadWrite[SystemInit | int](
     max=2,
     param="P02-31",
     enum=SystemInit,
+    trigger=True,
 )
 """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
 
@@ -1435,7 +1449,7 @@ POWERON_DI_FUNCTIONS_2: Final = ReadWrite[PoweronDiFunctions2Bits](
 )
 """DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配). Parameter P03-01, address 0x0301, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.3. Bit n = FunIN.17+n (Bit0 = FunIN.17 ... Bit15 = FunIN.32)."""
 
-DI1_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI1_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di1_function",
     address=0x0302,
     data_type="u16",
@@ -1447,7 +1461,7 @@ DI1_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI1 terminal function (DI1 端子功能选择). Parameter P03-02, address 0x0302, u16, range 0..38, default 1, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI1_LOGIC: Final = ReadWrite[DiLogic | int](
+DI1_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di1_logic",
     address=0x0303,
     data_type="u16",
@@ -1459,7 +1473,7 @@ DI1_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI1 terminal logic (DI1 端子逻辑选择). Parameter P03-03, address 0x0303, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1, 6.1.2, 5.2.2."""
 
-DI2_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI2_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di2_function",
     address=0x0304,
     data_type="u16",
@@ -1471,7 +1485,7 @@ DI2_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI2 terminal function (DI2 端子功能选择). Parameter P03-04, address 0x0304, u16, range 0..38, default 14, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI2_LOGIC: Final = ReadWrite[DiLogic | int](
+DI2_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di2_logic",
     address=0x0305,
     data_type="u16",
@@ -1483,7 +1497,7 @@ DI2_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI2 terminal logic (DI2 端子逻辑选择). Parameter P03-05, address 0x0305, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI3_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI3_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di3_function",
     address=0x0306,
     data_type="u16",
@@ -1495,7 +1509,7 @@ DI3_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI3 terminal function (DI3 端子功能选择). Parameter P03-06, address 0x0306, u16, range 0..38, default 15, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI3_LOGIC: Final = ReadWrite[DiLogic | int](
+DI3_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di3_logic",
     address=0x0307,
     data_type="u16",
@@ -1507,7 +1521,7 @@ DI3_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI3 terminal logic (DI3 端子逻辑选择). Parameter P03-07, address 0x0307, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI4_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI4_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di4_function",
     address=0x0308,
     data_type="u16",
@@ -1519,7 +1533,7 @@ DI4_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI4 terminal function (DI4 端子功能选择). Parameter P03-08, address 0x0308, u16, range 0..38, default 2, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI4_LOGIC: Final = ReadWrite[DiLogic | int](
+DI4_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di4_logic",
     address=0x0309,
     data_type="u16",
@@ -1531,7 +1545,7 @@ DI4_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI4 terminal logic (DI4 端子逻辑选择). Parameter P03-09, address 0x0309, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI5_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI5_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di5_function",
     address=0x030A,
     data_type="u16",
@@ -1543,7 +1557,7 @@ DI5_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI5 terminal function (DI5 端子功能选择). Parameter P03-10, address 0x030A, u16, range 0..38, default 26, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI5_LOGIC: Final = ReadWrite[DiLogic | int](
+DI5_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di5_logic",
     address=0x030B,
     data_type="u16",
@@ -1555,7 +1569,7 @@ DI5_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI5 terminal logic (DI5 端子逻辑选择). Parameter P03-11, address 0x030B, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI6_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI6_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di6_function",
     address=0x030C,
     data_type="u16",
@@ -1567,7 +1581,7 @@ DI6_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI6 terminal function (DI6 端子功能选择). Parameter P03-12, address 0x030C, u16, range 0..38, default 34, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI6_LOGIC: Final = ReadWrite[DiLogic | int](
+DI6_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di6_logic",
     address=0x030D,
     data_type="u16",
@@ -1579,7 +1593,7 @@ DI6_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI6 terminal logic (DI6 端子逻辑选择). Parameter P03-13, address 0x030D, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI7_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI7_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di7_function",
     address=0x030E,
     data_type="u16",
@@ -1591,7 +1605,7 @@ DI7_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI7 terminal function (DI7 端子功能选择). Parameter P03-14, address 0x030E, u16, range 0..38, default 31, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI7_LOGIC: Final = ReadWrite[DiLogic | int](
+DI7_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di7_logic",
     address=0x030F,
     data_type="u16",
@@ -1603,7 +1617,7 @@ DI7_LOGIC: Final = ReadWrite[DiLogic | int](
 )
 """DI7 terminal logic (DI7 端子逻辑选择). Parameter P03-15, address 0x030F, u16, range 0..4, default 0, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI8_FUNCTION: Final = ReadWrite[DiFunction | int](
+DI8_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="di8_function",
     address=0x0310,
     data_type="u16",
@@ -1615,7 +1629,7 @@ DI8_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """DI8 terminal function (DI8 端子功能选择). Parameter P03-16, address 0x0310, u16, range 0..38, default 32, takes effect when stopped. Manual section 7.3, 6.4.1."""
 
-DI8_LOGIC: Final = ReadWrite[DiLogic | int](
+DI8_LOGIC: Final = ReadWrite[DiLogic | Unlisted](
     name="di8_logic",
     address=0x0311,
     data_type="u16",
@@ -1807,7 +1821,7 @@ ANALOG_10V_TORQUE: Final = ReadWrite[float](
 )
 """Torque at 10 V analog input (模拟量 10V 对应转矩值). Parameter P03-52, address 0x0334, u16, unit x rated torque, range 1..8, default 1, takes effect immediately. Manual section 7.3, 6.2.2, 6.3.2."""
 
-DO1_FUNCTION: Final = ReadWrite[DoFunction | int](
+DO1_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="do1_function",
     address=0x0400,
     data_type="u16",
@@ -1819,7 +1833,7 @@ DO1_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """DO1 terminal function (DO1 端子功能选择). Parameter P04-00, address 0x0400, u16, range 0..20, default 1, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO1_LOGIC: Final = ReadWrite[DoLogic | int](
+DO1_LOGIC: Final = ReadWrite[DoLogic | Unlisted](
     name="do1_logic",
     address=0x0401,
     data_type="u16",
@@ -1831,7 +1845,7 @@ DO1_LOGIC: Final = ReadWrite[DoLogic | int](
 )
 """DO1 terminal logic (DO1 端子逻辑选择). Parameter P04-01, address 0x0401, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO2_FUNCTION: Final = ReadWrite[DoFunction | int](
+DO2_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="do2_function",
     address=0x0402,
     data_type="u16",
@@ -1843,7 +1857,7 @@ DO2_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """DO2 terminal function (DO2 端子功能选择). Parameter P04-02, address 0x0402, u16, range 0..20, default 5, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO2_LOGIC: Final = ReadWrite[DoLogic | int](
+DO2_LOGIC: Final = ReadWrite[DoLogic | Unlisted](
     name="do2_logic",
     address=0x0403,
     data_type="u16",
@@ -1855,7 +1869,7 @@ DO2_LOGIC: Final = ReadWrite[DoLogic | int](
 )
 """DO2 terminal logic (DO2 端子逻辑选择). Parameter P04-03, address 0x0403, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO3_FUNCTION: Final = ReadWrite[DoFunction | int](
+DO3_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="do3_function",
     address=0x0404,
     data_type="u16",
@@ -1867,7 +1881,7 @@ DO3_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """DO3 terminal function (DO3 端子功能选择). Parameter P04-04, address 0x0404, u16, range 0..20, default 3, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO3_LOGIC: Final = ReadWrite[DoLogic | int](
+DO3_LOGIC: Final = ReadWrite[DoLogic | Unlisted](
     name="do3_logic",
     address=0x0405,
     data_type="u16",
@@ -1879,7 +1893,7 @@ DO3_LOGIC: Final = ReadWrite[DoLogic | int](
 )
 """DO3 terminal logic (DO3 端子逻辑选择). Parameter P04-05, address 0x0405, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO4_FUNCTION: Final = ReadWrite[DoFunction | int](
+DO4_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="do4_function",
     address=0x0406,
     data_type="u16",
@@ -1891,7 +1905,7 @@ DO4_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """DO4 terminal function (DO4 端子功能选择). Parameter P04-06, address 0x0406, u16, range 0..20, default 11, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO4_LOGIC: Final = ReadWrite[DoLogic | int](
+DO4_LOGIC: Final = ReadWrite[DoLogic | Unlisted](
     name="do4_logic",
     address=0x0407,
     data_type="u16",
@@ -1903,7 +1917,7 @@ DO4_LOGIC: Final = ReadWrite[DoLogic | int](
 )
 """DO4 terminal logic (DO4 端子逻辑选择). Parameter P04-07, address 0x0407, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO5_FUNCTION: Final = ReadWrite[DoFunction | int](
+DO5_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="do5_function",
     address=0x0408,
     data_type="u16",
@@ -1915,7 +1929,7 @@ DO5_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """DO5 terminal function (DO5 端子功能选择). Parameter P04-08, address 0x0408, u16, range 0..20, default 16, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO5_LOGIC: Final = ReadWrite[DoLogic | int](
+DO5_LOGIC: Final = ReadWrite[DoLogic | Unlisted](
     name="do5_logic",
     address=0x0409,
     data_type="u16",
@@ -1927,7 +1941,7 @@ DO5_LOGIC: Final = ReadWrite[DoLogic | int](
 )
 """DO5 terminal logic (DO5 端子逻辑选择). Parameter P04-09, address 0x0409, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO6_FUNCTION: Final = ReadWrite[DoFunction | int](
+DO6_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="do6_function",
     address=0x040A,
     data_type="u16",
@@ -1939,7 +1953,7 @@ DO6_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """DO6 terminal function (DO6端子功能选择). Parameter P04-10, address 0x040A, u16, range 0..20, default 9, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-DO6_LOGIC: Final = ReadWrite[DoLogic | int](
+DO6_LOGIC: Final = ReadWrite[DoLogic | Unlisted](
     name="do6_logic",
     address=0x040B,
     data_type="u16",
@@ -1951,7 +1965,7 @@ DO6_LOGIC: Final = ReadWrite[DoLogic | int](
 )
 """DO6 terminal logic (DO6 端子逻辑选择). Parameter P04-11, address 0x040B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.4, 6.4.2."""
 
-POSITION_COMMAND_SOURCE: Final = ReadWrite[PositionCommandSource | int](
+POSITION_COMMAND_SOURCE: Final = ReadWrite[PositionCommandSource | Unlisted](
     name="position_command_source",
     address=0x0500,
     data_type="u16",
@@ -2064,7 +2078,7 @@ GEAR2_DENOMINATOR: Final = ReadWrite[int](
 )
 """Electronic gear ratio 2 denominator (电子齿数比 2(分母)). Parameter P05-13, address 0x050D, u32, range 1..1073741824, default 10000, takes effect immediately. Manual section 7.5."""
 
-PULSE_INPUT_FORM: Final = ReadWrite[PulseInputForm | int](
+PULSE_INPUT_FORM: Final = ReadWrite[PulseInputForm | Unlisted](
     name="pulse_input_form",
     address=0x050F,
     data_type="u16",
@@ -2076,7 +2090,7 @@ PULSE_INPUT_FORM: Final = ReadWrite[PulseInputForm | int](
 )
 """Pulse command form (脉冲指令形态). Parameter P05-15, address 0x050F, u16, range 0..4, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
 
-POSITION_CLEAR_ACTION: Final = ReadWrite[PositionClearAction | int](
+POSITION_CLEAR_ACTION: Final = ReadWrite[PositionClearAction | Unlisted](
     name="position_clear_action",
     address=0x0510,
     data_type="u16",
@@ -2100,7 +2114,7 @@ ENCODER_DIVIDED_PULSES: Final = ReadWrite[int](
 )
 """Encoder divided output pulses per revolution (编码器分频脉冲数). Parameter P05-17, address 0x0511, u16, unit P/r, range 35..32767, default 2500, takes effect after restart. Manual section 7.5, 6.1.2, 4.3.1."""
 
-SPEED_FEEDFORWARD_SELECT: Final = ReadWrite[SpeedFeedforwardSelect | int](
+SPEED_FEEDFORWARD_SELECT: Final = ReadWrite[SpeedFeedforwardSelect | Unlisted](
     name="speed_feedforward_select",
     address=0x0513,
     data_type="u16",
@@ -2112,7 +2126,7 @@ SPEED_FEEDFORWARD_SELECT: Final = ReadWrite[SpeedFeedforwardSelect | int](
 )
 """Speed feedforward select (速度前馈控制选择). Parameter P05-19, address 0x0513, u16, range 0..3, default 1, takes effect immediately. Manual section 7.5."""
 
-COIN_OUTPUT_CONDITION: Final = ReadWrite[CoinOutputCondition | int](
+COIN_OUTPUT_CONDITION: Final = ReadWrite[CoinOutputCondition | Unlisted](
     name="coin_output_condition",
     address=0x0514,
     data_type="u16",
@@ -2148,7 +2162,7 @@ NEAR_THRESHOLD: Final = ReadWrite[int](
 )
 """Positioning near threshold (定位接近阈值). Parameter P05-22, address 0x0516, u16, unit encoder unit, range 1..65535, default 65535, takes effect immediately. Manual section 7.5."""
 
-HOMING_ENABLE: Final = ReadWrite[HomingEnable | int](
+HOMING_ENABLE: Final = ReadWrite[HomingEnable | Unlisted](
     name="homing_enable",
     address=0x051E,
     data_type="u16",
@@ -2160,7 +2174,7 @@ HOMING_ENABLE: Final = ReadWrite[HomingEnable | int](
 )
 """Homing enable control (原点复归使能控制). Parameter P05-30, address 0x051E, u16, range 0..8, default 0, takes effect immediately. Manual section 7.5."""
 
-HOMING_MODE: Final = ReadWrite[HomingMode | int](
+HOMING_MODE: Final = ReadWrite[HomingMode | Unlisted](
     name="homing_mode",
     address=0x051F,
     data_type="u16",
@@ -2232,7 +2246,7 @@ HOME_OFFSET: Final = ReadWrite[int](
 )
 """Mechanical home offset (机械原点偏移量). Parameter P05-36, address 0x0524, s32, unit command unit, range -1073741824..1073741824, default 0, takes effect immediately. Manual section 7.5."""
 
-PULSE_OUTPUT_SOURCE: Final = ReadWrite[PulseOutputSource | int](
+PULSE_OUTPUT_SOURCE: Final = ReadWrite[PulseOutputSource | Unlisted](
     name="pulse_output_source",
     address=0x0526,
     data_type="u16",
@@ -2244,7 +2258,7 @@ PULSE_OUTPUT_SOURCE: Final = ReadWrite[PulseOutputSource | int](
 )
 """Servo pulse output source (伺服脉冲输出来源选择). Parameter P05-38, address 0x0526, u16, range 0..2, default 0, takes effect after restart. Manual section 7.5, 6.1.2."""
 
-GEAR_SWITCH_CONDITION: Final = ReadWrite[GearSwitchCondition | int](
+GEAR_SWITCH_CONDITION: Final = ReadWrite[GearSwitchCondition | Unlisted](
     name="gear_switch_condition",
     address=0x0527,
     data_type="u16",
@@ -2256,7 +2270,7 @@ GEAR_SWITCH_CONDITION: Final = ReadWrite[GearSwitchCondition | int](
 )
 """Electronic gear switching condition (电子齿轮比切换条件). Parameter P05-39, address 0x0527, u16, range 0..1, default 0, takes effect immediately. Manual section 7.5."""
 
-PULSE_EDGE: Final = ReadWrite[PulseEdge | int](
+PULSE_EDGE: Final = ReadWrite[PulseEdge | Unlisted](
     name="pulse_edge",
     address=0x052B,
     data_type="u16",
@@ -2303,7 +2317,7 @@ HOMING_TIME_UNIT: Final = ReadWrite[int](
 )
 """Homing time limit unit select (限定查找原点的时间单位选择). Parameter P05-61, address 0x053D, u16, range 0..2, default 0, takes effect immediately. Manual section 7.5."""
 
-SPEED_A_SOURCE: Final = ReadWrite[SpeedASource | int](
+SPEED_A_SOURCE: Final = ReadWrite[SpeedASource | Unlisted](
     name="speed_a_source",
     address=0x0600,
     data_type="u16",
@@ -2315,7 +2329,7 @@ SPEED_A_SOURCE: Final = ReadWrite[SpeedASource | int](
 )
 """Main speed command A source (主速度指令 A 来源). Parameter P06-00, address 0x0600, u16, range 0..2, default 0, takes effect immediately. Manual section 7.6, 6.2.2."""
 
-SPEED_B_SOURCE: Final = ReadWrite[SpeedBSource | int](
+SPEED_B_SOURCE: Final = ReadWrite[SpeedBSource | Unlisted](
     name="speed_b_source",
     address=0x0601,
     data_type="u16",
@@ -2327,7 +2341,7 @@ SPEED_B_SOURCE: Final = ReadWrite[SpeedBSource | int](
 )
 """Auxiliary speed command B source (辅助速度指令 B 来源). Parameter P06-01, address 0x0601, u16, range 0..5, default 1, takes effect immediately. Manual section 7.6, 6.2.2."""
 
-SPEED_COMMAND_SELECT: Final = ReadWrite[SpeedCommandSelect | int](
+SPEED_COMMAND_SELECT: Final = ReadWrite[SpeedCommandSelect | Unlisted](
     name="speed_command_select",
     address=0x0602,
     data_type="u16",
@@ -2423,7 +2437,7 @@ REVERSE_SPEED_THRESHOLD: Final = ReadWrite[int](
 )
 """Reverse speed threshold (反向速度阈值). Parameter P06-09, address 0x0609, u16, unit rpm, range 0..6000, default 5000, takes effect immediately. Manual section 7.6, 6.2.2."""
 
-TORQUE_FEEDFORWARD_SELECT: Final = ReadWrite[TorqueFeedforwardSelect | int](
+TORQUE_FEEDFORWARD_SELECT: Final = ReadWrite[TorqueFeedforwardSelect | Unlisted](
     name="torque_feedforward_select",
     address=0x060B,
     data_type="u16",
@@ -2495,7 +2509,7 @@ ZERO_SPEED_THRESHOLD: Final = ReadWrite[int](
 )
 """Zero speed output threshold (ZERO) (零速输出信号阀值). Parameter P06-19, address 0x0613, u16, unit rpm, range 1..6000, default 10, takes effect immediately. Manual section 7.6, 6.2.2."""
 
-TORQUE_A_SOURCE: Final = ReadWrite[TorqueSource | int](
+TORQUE_A_SOURCE: Final = ReadWrite[TorqueSource | Unlisted](
     name="torque_a_source",
     address=0x0700,
     data_type="u16",
@@ -2507,7 +2521,7 @@ TORQUE_A_SOURCE: Final = ReadWrite[TorqueSource | int](
 )
 """Main torque command A source (主转矩指令 A 来源). Parameter P07-00, address 0x0700, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
 
-TORQUE_B_SOURCE: Final = ReadWrite[TorqueSource | int](
+TORQUE_B_SOURCE: Final = ReadWrite[TorqueSource | Unlisted](
     name="torque_b_source",
     address=0x0701,
     data_type="u16",
@@ -2519,7 +2533,7 @@ TORQUE_B_SOURCE: Final = ReadWrite[TorqueSource | int](
 )
 """Auxiliary torque command B source (辅助转矩指令 B 来源). Parameter P07-01, address 0x0701, u16, range 0..2, default 1, takes effect immediately. Manual section 7.7, 6.3.2."""
 
-TORQUE_COMMAND_SELECT: Final = ReadWrite[TorqueCommandSelect | int](
+TORQUE_COMMAND_SELECT: Final = ReadWrite[TorqueCommandSelect | Unlisted](
     name="torque_command_select",
     address=0x0702,
     data_type="u16",
@@ -2573,7 +2587,7 @@ TORQUE_FILTER_TIME_2: Final = ReadWrite[float](
 )
 """Second torque command filter time constant (第二转矩指令滤波时间常数). Parameter P07-06, address 0x0706, u16, unit ms, range 0..30, default 0.79, takes effect immediately. Manual section 7.7."""
 
-TORQUE_LIMIT_SOURCE: Final = ReadWrite[TorqueLimitSource | int](
+TORQUE_LIMIT_SOURCE: Final = ReadWrite[TorqueLimitSource | Unlisted](
     name="torque_limit_source",
     address=0x0707,
     data_type="u16",
@@ -2585,7 +2599,7 @@ TORQUE_LIMIT_SOURCE: Final = ReadWrite[TorqueLimitSource | int](
 )
 """Torque limit source (转矩限制来源). Parameter P07-07, address 0x0707, u16, range 0..4, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
 
-T_LMT_SELECT: Final = ReadWrite[AiChannel | int](
+T_LMT_SELECT: Final = ReadWrite[AiChannel | Unlisted](
     name="t_lmt_select",
     address=0x0708,
     data_type="u16",
@@ -2653,7 +2667,7 @@ NEGATIVE_EXTERNAL_TORQUE_LIMIT: Final = ReadWrite[float](
 )
 """Negative external torque limit (负外部转矩限制). Parameter P07-12, address 0x070C, u16, unit %, range 0..300, default 300, takes effect immediately. Manual section 7.7, 6.3.2."""
 
-SPEED_LIMIT_SOURCE: Final = ReadWrite[SpeedLimitSource | int](
+SPEED_LIMIT_SOURCE: Final = ReadWrite[SpeedLimitSource | Unlisted](
     name="speed_limit_source",
     address=0x0711,
     data_type="u16",
@@ -2665,7 +2679,7 @@ SPEED_LIMIT_SOURCE: Final = ReadWrite[SpeedLimitSource | int](
 )
 """Speed limit source (速度限制来源选择). Parameter P07-17, address 0x0711, u16, range 0..2, default 0, takes effect immediately. Manual section 7.7, 6.3.2."""
 
-V_LMT_SELECT: Final = ReadWrite[AiChannel | int](
+V_LMT_SELECT: Final = ReadWrite[AiChannel | Unlisted](
     name="v_lmt_select",
     address=0x0712,
     data_type="u16",
@@ -2841,7 +2855,7 @@ POSITION_LOOP_GAIN_2: Final = ReadWrite[float](
 )
 """Second position loop gain (第 2 位置环增益). Parameter P08-05, address 0x0805, u16, unit Hz, range 0..2000, default 64, takes effect immediately. Manual section 7.8."""
 
-SECOND_GAIN_MODE: Final = ReadWrite[SecondGainMode | int](
+SECOND_GAIN_MODE: Final = ReadWrite[SecondGainMode | Unlisted](
     name="second_gain_mode",
     address=0x0808,
     data_type="u16",
@@ -2853,7 +2867,7 @@ SECOND_GAIN_MODE: Final = ReadWrite[SecondGainMode | int](
 )
 """Second gain mode (第二增益模式设置). Parameter P08-08, address 0x0808, u16, range 0..1, default 1, takes effect immediately. Manual section 7.8."""
 
-GAIN_SWITCH_CONDITION: Final = ReadWrite[GainSwitchCondition | int](
+GAIN_SWITCH_CONDITION: Final = ReadWrite[GainSwitchCondition | Unlisted](
     name="gain_switch_condition",
     address=0x0809,
     data_type="u16",
@@ -2985,7 +2999,7 @@ TORQUE_FF_GAIN: Final = ReadWrite[float](
 )
 """Torque feedforward gain (转矩前馈增益). Parameter P08-21, address 0x0815, u16, unit %, range 0..200, default 0, takes effect immediately. Manual section 7.8."""
 
-SPEED_FEEDBACK_FILTER: Final = ReadWrite[SpeedFeedbackFilter | int](
+SPEED_FEEDBACK_FILTER: Final = ReadWrite[SpeedFeedbackFilter | Unlisted](
     name="speed_feedback_filter",
     address=0x0816,
     data_type="u16",
@@ -3033,7 +3047,7 @@ STIFFNESS_LEVEL: Final = ReadWrite[int](
 )
 """Stiffness level (刚性等级选择). Parameter P09-01, address 0x0901, u16, range 0..31, default 12, takes effect immediately. Manual section 7.9."""
 
-ADAPTIVE_NOTCH_MODE: Final = ReadWrite[AdaptiveNotchMode | int](
+ADAPTIVE_NOTCH_MODE: Final = ReadWrite[AdaptiveNotchMode | Unlisted](
     name="adaptive_notch_mode",
     address=0x0902,
     data_type="u16",
@@ -3045,7 +3059,7 @@ ADAPTIVE_NOTCH_MODE: Final = ReadWrite[AdaptiveNotchMode | int](
 )
 """Adaptive notch filter mode (自适应陷波器模式选择). Parameter P09-02, address 0x0902, u16, range 0..4, default 0, takes effect immediately. Manual section 7.9."""
 
-LOW_FREQ_RESONANCE_MODE: Final = ReadWrite[LowFreqResonanceMode | int](
+LOW_FREQ_RESONANCE_MODE: Final = ReadWrite[LowFreqResonanceMode | Unlisted](
     name="low_freq_resonance_mode",
     address=0x0904,
     data_type="u16",
@@ -3057,7 +3071,7 @@ LOW_FREQ_RESONANCE_MODE: Final = ReadWrite[LowFreqResonanceMode | int](
 )
 """Low-frequency resonance suppression mode (低频共振抑制模式选择). Parameter P09-04, address 0x0904, u16, range 0..1, default 0, takes effect immediately. Manual section 7.9."""
 
-INERTIA_ID_MODE: Final = ReadWrite[InertiaIdMode | int](
+INERTIA_ID_MODE: Final = ReadWrite[InertiaIdMode | Unlisted](
     name="inertia_id_mode",
     address=0x0905,
     data_type="u16",
@@ -3320,7 +3334,7 @@ LOW_FREQ_RESONANCE_FILTER: Final = ReadWrite[int](
 )
 """Low-frequency resonance frequency filter setting (低频共振频率滤波设定). Parameter P09-39, address 0x0927, u16, range 0..10, default 2, takes effect immediately. Manual section 7.9."""
 
-PHASE_LOSS_PROTECTION: Final = ReadWrite[PhaseLossProtection | int](
+PHASE_LOSS_PROTECTION: Final = ReadWrite[PhaseLossProtection | Unlisted](
     name="phase_loss_protection",
     address=0x0A00,
     data_type="u16",
@@ -3332,7 +3346,7 @@ PHASE_LOSS_PROTECTION: Final = ReadWrite[PhaseLossProtection | int](
 )
 """Input phase-loss protection (电源输入缺相保护选择). Parameter P0A-00, address 0x0A00, u16, range 0..2, default 0, takes effect immediately. Manual section 7.10."""
 
-POWER_LOSS_SAVE: Final = ReadWrite[PowerLossSave | int](
+POWER_LOSS_SAVE: Final = ReadWrite[PowerLossSave | Unlisted](
     name="power_loss_save",
     address=0x0A03,
     data_type="u16",
@@ -3393,7 +3407,7 @@ POSITION_DEVIATION_FAULT_THRESHOLD: Final = ReadWrite[int](
 )
 """Excessive position deviation fault threshold (位置偏差过大故障阈值). Parameter P0A-10, address 0x0A0A, u32, unit encoder/command unit, range 1..1073741824, default 3145728, takes effect immediately. Manual section 7.10."""
 
-RUNAWAY_PROTECTION: Final = ReadWrite[RunawayProtection | int](
+RUNAWAY_PROTECTION: Final = ReadWrite[RunawayProtection | Unlisted](
     name="runaway_protection",
     address=0x0A0C,
     data_type="u16",
@@ -3417,7 +3431,7 @@ LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Final = ReadWrite[int](
 )
 """Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值). Parameter P0A-16, address 0x0A10, u16, unit encoder unit, range 1..1000, default 5, takes effect immediately. Manual section 7.10."""
 
-POSITION_UNIT_SELECT: Final = ReadWrite[PositionUnitSelect | int](
+POSITION_UNIT_SELECT: Final = ReadWrite[PositionUnitSelect | Unlisted](
     name="position_unit_select",
     address=0x0A11,
     data_type="u16",
@@ -3455,7 +3469,7 @@ SPEED_DISPLAY_FILTER_TIME: Final = ReadWrite[int](
 )
 """Speed feedback display filter time constant (速度反馈显示值滤波时间常数). Parameter P0A-25, address 0x0A19, u16, unit ms, range 0..5000, default 50, takes effect immediately. Manual section 7.10."""
 
-MOTOR_OVERLOAD_MASK: Final = ReadWrite[MotorOverloadMask | int](
+MOTOR_OVERLOAD_MASK: Final = ReadWrite[MotorOverloadMask | Unlisted](
     name="motor_overload_mask",
     address=0x0A1A,
     data_type="u16",
@@ -3519,7 +3533,7 @@ STALL_PROTECTION_WINDOW: Final = ReadWrite[int](
 )
 """Stall over-temperature protection time window (堵转过温保护时间窗口). Parameter P0A-32, address 0x0A20, u16, unit ms, range 10..65535, default 200, takes effect immediately. Manual section 7.10, 8.1.1."""
 
-STALL_PROTECTION_ENABLE: Final = ReadWrite[StallProtection | int](
+STALL_PROTECTION_ENABLE: Final = ReadWrite[StallProtection | Unlisted](
     name="stall_protection_enable",
     address=0x0A21,
     data_type="u16",
@@ -3531,7 +3545,7 @@ STALL_PROTECTION_ENABLE: Final = ReadWrite[StallProtection | int](
 )
 """Stall over-temperature protection enable (堵转过温保护使能). Parameter P0A-33, address 0x0A21, u16, range 0..1, default 1, takes effect immediately. Manual section 7.10."""
 
-MULTITURN_OVERFLOW_FAULT: Final = ReadWrite[MultiturnOverflowFault | int](
+MULTITURN_OVERFLOW_FAULT: Final = ReadWrite[MultiturnOverflowFault | Unlisted](
     name="multiturn_overflow_fault",
     address=0x0A24,
     data_type="u16",
@@ -3983,7 +3997,7 @@ SLAVE_ADDRESS: Final = ReadWrite[int](
 )
 """Servo axis (Modbus slave) address (伺服轴地址). Parameter P0C-00, address 0x0C00, u16, range 1..247, default 1, takes effect immediately. Manual section 7.12, 9.1.2."""
 
-BAUD_RATE: Final = ReadWrite[BaudRate | int](
+BAUD_RATE: Final = ReadWrite[BaudRate | Unlisted](
     name="baud_rate",
     address=0x0C02,
     data_type="u16",
@@ -3995,7 +4009,7 @@ BAUD_RATE: Final = ReadWrite[BaudRate | int](
 )
 """Serial baud rate (串口波特率设置). Parameter P0C-02, address 0x0C02, u16, range 0..5, default 5, takes effect immediately. Manual section 7.12, 9.1.2."""
 
-MODBUS_DATA_FORMAT: Final = ReadWrite[ModbusDataFormat | int](
+MODBUS_DATA_FORMAT: Final = ReadWrite[ModbusDataFormat | Unlisted](
     name="modbus_data_format",
     address=0x0C03,
     data_type="u16",
@@ -4007,7 +4021,7 @@ MODBUS_DATA_FORMAT: Final = ReadWrite[ModbusDataFormat | int](
 )
 """Modbus data format (Moubus 数据格式). Parameter P0C-03, address 0x0C03, u16, range 0..3, default 0, takes effect immediately. Manual section 7.12, 9.1.2."""
 
-COMM_VDI_ENABLE: Final = ReadWrite[DisableEnable | int](
+COMM_VDI_ENABLE: Final = ReadWrite[DisableEnable | Unlisted](
     name="comm_vdi_enable",
     address=0x0C09,
     data_type="u16",
@@ -4032,7 +4046,7 @@ VDI_POWERON_DEFAULT: Final = ReadWrite[VdiPoweronDefaultBits](
 )
 """VDI default values after power-on (上电后 VDI 默认值). Parameter P0C-10, address 0x0C0A, u16, range 0..65535, default 0, takes effect after restart. Manual section 7.12."""
 
-COMM_VDO_ENABLE: Final = ReadWrite[DisableEnable | int](
+COMM_VDO_ENABLE: Final = ReadWrite[DisableEnable | Unlisted](
     name="comm_vdo_enable",
     address=0x0C0B,
     data_type="u16",
@@ -4057,7 +4071,7 @@ VDO_DEFAULT_LEVEL: Final = ReadWrite[VdoDefaultLevelBits](
 )
 """VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平). Parameter P0C-12, address 0x0C0C, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.12."""
 
-MODBUS_EEPROM_UPDATE: Final = ReadWrite[EepromUpdate | int](
+MODBUS_EEPROM_UPDATE: Final = ReadWrite[EepromUpdate | Unlisted](
     name="modbus_eeprom_update",
     address=0x0C0D,
     data_type="u16",
@@ -4069,7 +4083,7 @@ MODBUS_EEPROM_UPDATE: Final = ReadWrite[EepromUpdate | int](
 )
 """Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM). Parameter P0C-13, address 0x0C0D, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.1.2, 8.1.2."""
 
-MODBUS_ERROR_CODE: Final = ReadOnly[ModbusError | int](
+MODBUS_ERROR_CODE: Final = ReadOnly[ModbusError | Unlisted](
     name="modbus_error_code",
     address=0x0C0E,
     data_type="u16",
@@ -4093,7 +4107,7 @@ MODBUS_RESPONSE_DELAY: Final = ReadWrite[int](
 )
 """Modbus response delay (Moubus 指令应答延时). Parameter P0C-25, address 0x0C19, u16, unit ms, range 0..5000, default 1, takes effect immediately. Manual section 7.12."""
 
-MODBUS_WORD_ORDER: Final = ReadWrite[WordOrder | int](
+MODBUS_WORD_ORDER: Final = ReadWrite[WordOrder | Unlisted](
     name="modbus_word_order",
     address=0x0C1A,
     data_type="u16",
@@ -4105,7 +4119,7 @@ MODBUS_WORD_ORDER: Final = ReadWrite[WordOrder | int](
 )
 """Modbus 32-bit word order (Moubus 通信数据高低位顺序). Parameter P0C-26, address 0x0C1A, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.1, 9.2.3. Word order of 32-bit parameters on the bus: 0 = high word first, 1 = low word first (default). transport.word_order_register points here."""
 
-MODBUS_ERROR_FRAME_FORMAT: Final = ReadWrite[ErrorFrameFormat | int](
+MODBUS_ERROR_FRAME_FORMAT: Final = ReadWrite[ErrorFrameFormat | Unlisted](
     name="modbus_error_frame_format",
     address=0x0C1E,
     data_type="u16",
@@ -4117,7 +4131,7 @@ MODBUS_ERROR_FRAME_FORMAT: Final = ReadWrite[ErrorFrameFormat | int](
 )
 """Modbus error frame format (Moubus 错误帧格式选择). Parameter P0C-30, address 0x0C1E, u16, range 0..1, default 1, takes effect immediately. Manual section 7.12, 9.2.4."""
 
-SOFTWARE_RESET: Final = ReadWrite[NoOpEnable | int](
+SOFTWARE_RESET: Final = ReadWrite[NoOpEnable | Unlisted](
     name="software_reset",
     address=0x0D00,
     data_type="u16",
@@ -4126,10 +4140,11 @@ SOFTWARE_RESET: Final = ReadWrite[NoOpEnable | int](
     max=1,
     param="P0D-00",
     enum=NoOpEnable,
+    trigger=True,
 )
 """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
 
-FAULT_RESET: Final = ReadWrite[NoOpEnable | int](
+FAULT_RESET: Final = ReadWrite[NoOpEnable | Unlisted](
     name="fault_reset",
     address=0x0D01,
     data_type="u16",
@@ -4138,6 +4153,7 @@ FAULT_RESET: Final = ReadWrite[NoOpEnable | int](
     max=1,
     param="P0D-01",
     enum=NoOpEnable,
+    trigger=True,
 )
 """Fault reset (故障复位). Parameter P0D-01, address 0x0D01, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
 
@@ -4147,10 +4163,11 @@ OFFLINE_INERTIA_IDENTIFICATION: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="P0D-02",
+    trigger=True,
 )
 """Offline inertia identification (离线惯量辨识功能). Parameter P0D-02, address 0x0D02, u16, takes effect immediately. Manual section 7.13."""
 
-INITIAL_ANGLE_IDENTIFICATION: Final = ReadWrite[InitialAngleId | int](
+INITIAL_ANGLE_IDENTIFICATION: Final = ReadWrite[InitialAngleId | Unlisted](
     name="initial_angle_identification",
     address=0x0D03,
     data_type="u16",
@@ -4159,10 +4176,11 @@ INITIAL_ANGLE_IDENTIFICATION: Final = ReadWrite[InitialAngleId | int](
     max=1,
     param="P0D-03",
     enum=InitialAngleId,
+    trigger=True,
 )
 """Initial angle identification (初始角度识别). Parameter P0D-03, address 0x0D03, u16, range 1..1. Manual section 7.13."""
 
-EMERGENCY_STOP: Final = ReadWrite[EmergencyStopCmd | int](
+EMERGENCY_STOP: Final = ReadWrite[EmergencyStopCmd | Unlisted](
     name="emergency_stop",
     address=0x0D05,
     data_type="u16",
@@ -4171,6 +4189,7 @@ EMERGENCY_STOP: Final = ReadWrite[EmergencyStopCmd | int](
     max=1,
     param="P0D-05",
     enum=EmergencyStopCmd,
+    trigger=True,
 )
 """Emergency stop (紧急停机). Parameter P0D-05, address 0x0D05, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
 
@@ -4189,10 +4208,11 @@ JOG_TRIAL_RUN: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="P0D-11",
+    trigger=True,
 )
 """JOG trial run (JOG 试运行功能). Parameter P0D-11, address 0x0D0B, u16. Manual section 7.13, 5.2.1."""
 
-DIDO_FORCE_ENABLE: Final = ReadWrite[DidoForce | int](
+DIDO_FORCE_ENABLE: Final = ReadWrite[DidoForce | Unlisted](
     name="dido_force_enable",
     address=0x0D11,
     data_type="u16",
@@ -4226,7 +4246,7 @@ DO_FORCE_VALUE: Final = ReadWrite[int](
 )
 """DO forced output value (DO 强制输出给定). Parameter P0D-19, address 0x0D13, u16, range 0..31, default 0, takes effect immediately. Manual section 7.13."""
 
-ABS_ENCODER_RESET: Final = ReadWrite[AbsEncoderReset | int](
+ABS_ENCODER_RESET: Final = ReadWrite[AbsEncoderReset | Unlisted](
     name="abs_encoder_reset",
     address=0x0D14,
     data_type="u16",
@@ -4235,10 +4255,11 @@ ABS_ENCODER_RESET: Final = ReadWrite[AbsEncoderReset | int](
     max=2,
     param="P0D-20",
     enum=AbsEncoderReset,
+    trigger=True,
 )
 """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
 
-MULTI_POSITION_RUN_MODE: Final = ReadWrite[MultiPositionRunMode | int](
+MULTI_POSITION_RUN_MODE: Final = ReadWrite[MultiPositionRunMode | Unlisted](
     name="multi_position_run_mode",
     address=0x1100,
     data_type="u16",
@@ -4261,7 +4282,7 @@ MULTI_POSITION_END_SEGMENT: Final = ReadWrite[int](
 )
 """Last displacement segment (位移指令终点段数). Parameter P11-01, address 0x1101, u16, range 1..16, default 1, takes effect immediately. Manual section 7.14, 6.1.3."""
 
-MULTI_POSITION_REMAINDER: Final = ReadWrite[RemainderHandling | int](
+MULTI_POSITION_REMAINDER: Final = ReadWrite[RemainderHandling | Unlisted](
     name="multi_position_remainder",
     address=0x1102,
     data_type="u16",
@@ -4273,7 +4294,7 @@ MULTI_POSITION_REMAINDER: Final = ReadWrite[RemainderHandling | int](
 )
 """Remaining-segment handling (余量处理方式). Parameter P11-02, address 0x1102, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3."""
 
-MULTI_POSITION_TIME_UNIT: Final = ReadWrite[TimeUnitMsS | int](
+MULTI_POSITION_TIME_UNIT: Final = ReadWrite[TimeUnitMsS | Unlisted](
     name="multi_position_time_unit",
     address=0x1103,
     data_type="u16",
@@ -4285,7 +4306,7 @@ MULTI_POSITION_TIME_UNIT: Final = ReadWrite[TimeUnitMsS | int](
 )
 """Time unit (时间单位). Parameter P11-03, address 0x1103, u16, range 0..1, default 0, takes effect immediately. Manual section 7.14, 6.1.3. Unit of the segment acceleration/deceleration and wait times (P11-15, P11-16, ...)."""
 
-DISPLACEMENT_TYPE: Final = ReadWrite[DisplacementType | int](
+DISPLACEMENT_TYPE: Final = ReadWrite[DisplacementType | Unlisted](
     name="displacement_type",
     address=0x1104,
     data_type="u16",
@@ -5092,7 +5113,7 @@ POSITION_SEGMENT_16_WAIT_TIME: Final = ReadWrite[int](
 )
 """Wait time after the segment (第 n 段位移完成后等待时间). Parameter P11-91, address 0x115B, u16, unit ms, range 0..10000, default 10, takes effect immediately. Manual section 7.14, 6.1.3, 9.2.3."""
 
-MULTI_SPEED_RUN_MODE: Final = ReadWrite[MultiSpeedRunMode | int](
+MULTI_SPEED_RUN_MODE: Final = ReadWrite[MultiSpeedRunMode | Unlisted](
     name="multi_speed_run_mode",
     address=0x1200,
     data_type="u16",
@@ -5115,7 +5136,7 @@ MULTI_SPEED_END_SEGMENT: Final = ReadWrite[int](
 )
 """Last speed segment (速度指令终点段数选择). Parameter P12-01, address 0x1201, u16, range 1..16, default 16, takes effect immediately. Manual section 7.15, 6.2.3."""
 
-MULTI_SPEED_TIME_UNIT: Final = ReadWrite[TimeUnitSMin | int](
+MULTI_SPEED_TIME_UNIT: Final = ReadWrite[TimeUnitSMin | Unlisted](
     name="multi_speed_time_unit",
     address=0x1202,
     data_type="u16",
@@ -5249,7 +5270,7 @@ SPEED_SEGMENT_1_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-21, address 0x1215, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_1_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_1_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_1_ramp",
     address=0x1216,
     data_type="u16",
@@ -5287,7 +5308,7 @@ SPEED_SEGMENT_2_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-24, address 0x1218, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_2_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_2_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_2_ramp",
     address=0x1219,
     data_type="u16",
@@ -5325,7 +5346,7 @@ SPEED_SEGMENT_3_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-27, address 0x121B, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_3_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_3_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_3_ramp",
     address=0x121C,
     data_type="u16",
@@ -5363,7 +5384,7 @@ SPEED_SEGMENT_4_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-30, address 0x121E, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_4_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_4_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_4_ramp",
     address=0x121F,
     data_type="u16",
@@ -5401,7 +5422,7 @@ SPEED_SEGMENT_5_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-33, address 0x1221, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_5_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_5_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_5_ramp",
     address=0x1222,
     data_type="u16",
@@ -5439,7 +5460,7 @@ SPEED_SEGMENT_6_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-36, address 0x1224, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_6_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_6_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_6_ramp",
     address=0x1225,
     data_type="u16",
@@ -5477,7 +5498,7 @@ SPEED_SEGMENT_7_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-39, address 0x1227, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_7_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_7_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_7_ramp",
     address=0x1228,
     data_type="u16",
@@ -5515,7 +5536,7 @@ SPEED_SEGMENT_8_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-42, address 0x122A, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_8_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_8_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_8_ramp",
     address=0x122B,
     data_type="u16",
@@ -5553,7 +5574,7 @@ SPEED_SEGMENT_9_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-45, address 0x122D, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_9_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_9_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_9_ramp",
     address=0x122E,
     data_type="u16",
@@ -5591,7 +5612,7 @@ SPEED_SEGMENT_10_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-48, address 0x1230, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_10_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_10_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_10_ramp",
     address=0x1231,
     data_type="u16",
@@ -5629,7 +5650,7 @@ SPEED_SEGMENT_11_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-51, address 0x1233, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_11_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_11_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_11_ramp",
     address=0x1234,
     data_type="u16",
@@ -5667,7 +5688,7 @@ SPEED_SEGMENT_12_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-54, address 0x1236, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_12_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_12_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_12_ramp",
     address=0x1237,
     data_type="u16",
@@ -5705,7 +5726,7 @@ SPEED_SEGMENT_13_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-57, address 0x1239, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_13_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_13_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_13_ramp",
     address=0x123A,
     data_type="u16",
@@ -5743,7 +5764,7 @@ SPEED_SEGMENT_14_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-60, address 0x123C, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_14_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_14_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_14_ramp",
     address=0x123D,
     data_type="u16",
@@ -5781,7 +5802,7 @@ SPEED_SEGMENT_15_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-63, address 0x123F, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_15_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_15_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_15_ramp",
     address=0x1240,
     data_type="u16",
@@ -5819,7 +5840,7 @@ SPEED_SEGMENT_16_RUN_TIME: Final = ReadWrite[float](
 )
 """Segment run time (第 n 段指令运行时间). Parameter P12-66, address 0x1242, u16, unit s, range 0..6553.5, default 5, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-SPEED_SEGMENT_16_RAMP: Final = ReadWrite[RampSelect | int](
+SPEED_SEGMENT_16_RAMP: Final = ReadWrite[RampSelect | Unlisted](
     name="speed_segment_16_ramp",
     address=0x1243,
     data_type="u16",
@@ -5831,7 +5852,7 @@ SPEED_SEGMENT_16_RAMP: Final = ReadWrite[RampSelect | int](
 )
 """Segment acceleration/deceleration time select (第 n 段加减速时间). Parameter P12-67, address 0x1243, u16, range 0..4, default 0, takes effect immediately. Manual section 7.15, 6.2.3, 9.2.2."""
 
-VDI_1_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_1_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_1_function",
     address=0x1700,
     data_type="u16",
@@ -5843,7 +5864,7 @@ VDI_1_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-00, address 0x1700, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_1_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_1_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_1_logic",
     address=0x1701,
     data_type="u16",
@@ -5855,7 +5876,7 @@ VDI_1_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-01, address 0x1701, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_2_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_2_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_2_function",
     address=0x1702,
     data_type="u16",
@@ -5867,7 +5888,7 @@ VDI_2_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-02, address 0x1702, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_2_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_2_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_2_logic",
     address=0x1703,
     data_type="u16",
@@ -5879,7 +5900,7 @@ VDI_2_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-03, address 0x1703, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_3_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_3_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_3_function",
     address=0x1704,
     data_type="u16",
@@ -5891,7 +5912,7 @@ VDI_3_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-04, address 0x1704, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_3_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_3_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_3_logic",
     address=0x1705,
     data_type="u16",
@@ -5903,7 +5924,7 @@ VDI_3_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-05, address 0x1705, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_4_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_4_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_4_function",
     address=0x1706,
     data_type="u16",
@@ -5915,7 +5936,7 @@ VDI_4_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-06, address 0x1706, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_4_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_4_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_4_logic",
     address=0x1707,
     data_type="u16",
@@ -5927,7 +5948,7 @@ VDI_4_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-07, address 0x1707, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_5_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_5_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_5_function",
     address=0x1708,
     data_type="u16",
@@ -5939,7 +5960,7 @@ VDI_5_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-08, address 0x1708, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_5_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_5_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_5_logic",
     address=0x1709,
     data_type="u16",
@@ -5951,7 +5972,7 @@ VDI_5_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-09, address 0x1709, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_6_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_6_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_6_function",
     address=0x170A,
     data_type="u16",
@@ -5963,7 +5984,7 @@ VDI_6_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-10, address 0x170A, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_6_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_6_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_6_logic",
     address=0x170B,
     data_type="u16",
@@ -5975,7 +5996,7 @@ VDI_6_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-11, address 0x170B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_7_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_7_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_7_function",
     address=0x170C,
     data_type="u16",
@@ -5987,7 +6008,7 @@ VDI_7_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-12, address 0x170C, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_7_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_7_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_7_logic",
     address=0x170D,
     data_type="u16",
@@ -5999,7 +6020,7 @@ VDI_7_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-13, address 0x170D, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_8_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_8_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_8_function",
     address=0x170E,
     data_type="u16",
@@ -6011,7 +6032,7 @@ VDI_8_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-14, address 0x170E, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_8_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_8_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_8_logic",
     address=0x170F,
     data_type="u16",
@@ -6023,7 +6044,7 @@ VDI_8_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-15, address 0x170F, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_9_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_9_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_9_function",
     address=0x1710,
     data_type="u16",
@@ -6035,7 +6056,7 @@ VDI_9_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-16, address 0x1710, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_9_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_9_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_9_logic",
     address=0x1711,
     data_type="u16",
@@ -6047,7 +6068,7 @@ VDI_9_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-17, address 0x1711, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_10_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_10_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_10_function",
     address=0x1712,
     data_type="u16",
@@ -6059,7 +6080,7 @@ VDI_10_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-18, address 0x1712, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_10_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_10_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_10_logic",
     address=0x1713,
     data_type="u16",
@@ -6071,7 +6092,7 @@ VDI_10_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-19, address 0x1713, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_11_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_11_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_11_function",
     address=0x1714,
     data_type="u16",
@@ -6083,7 +6104,7 @@ VDI_11_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-20, address 0x1714, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_11_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_11_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_11_logic",
     address=0x1715,
     data_type="u16",
@@ -6095,7 +6116,7 @@ VDI_11_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-21, address 0x1715, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_12_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_12_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_12_function",
     address=0x1716,
     data_type="u16",
@@ -6107,7 +6128,7 @@ VDI_12_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-22, address 0x1716, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_12_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_12_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_12_logic",
     address=0x1717,
     data_type="u16",
@@ -6119,7 +6140,7 @@ VDI_12_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-23, address 0x1717, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_13_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_13_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_13_function",
     address=0x1718,
     data_type="u16",
@@ -6131,7 +6152,7 @@ VDI_13_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-24, address 0x1718, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_13_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_13_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_13_logic",
     address=0x1719,
     data_type="u16",
@@ -6143,7 +6164,7 @@ VDI_13_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-25, address 0x1719, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_14_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_14_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_14_function",
     address=0x171A,
     data_type="u16",
@@ -6155,7 +6176,7 @@ VDI_14_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-26, address 0x171A, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_14_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_14_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_14_logic",
     address=0x171B,
     data_type="u16",
@@ -6167,7 +6188,7 @@ VDI_14_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-27, address 0x171B, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_15_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_15_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_15_function",
     address=0x171C,
     data_type="u16",
@@ -6179,7 +6200,7 @@ VDI_15_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-28, address 0x171C, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_15_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_15_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_15_logic",
     address=0x171D,
     data_type="u16",
@@ -6191,7 +6212,7 @@ VDI_15_LOGIC: Final = ReadWrite[VdiLogic | int](
 )
 """VDI terminal logic (VDIn 端子逻辑选择). Parameter P17-29, address 0x171D, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_16_FUNCTION: Final = ReadWrite[DiFunction | int](
+VDI_16_FUNCTION: Final = ReadWrite[DiFunction | Unlisted](
     name="vdi_16_function",
     address=0x171E,
     data_type="u16",
@@ -6203,7 +6224,7 @@ VDI_16_FUNCTION: Final = ReadWrite[DiFunction | int](
 )
 """VDI terminal function (VDIn 端子功能选择). Parameter P17-30, address 0x171E, u16, range 0..37, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDI_16_LOGIC: Final = ReadWrite[VdiLogic | int](
+VDI_16_LOGIC: Final = ReadWrite[VdiLogic | Unlisted](
     name="vdi_16_logic",
     address=0x171F,
     data_type="u16",
@@ -6224,7 +6245,7 @@ VDO_VIRTUAL_LEVEL: Final = ReadOnly[int](
 )
 """VDO virtual level (VDO 虚拟电平). Parameter P17-32, address 0x1720, u16. Manual section 7.16."""
 
-VDO_1_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_1_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_1_function",
     address=0x1721,
     data_type="u16",
@@ -6236,7 +6257,7 @@ VDO_1_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-33, address 0x1721, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_1_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_1_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_1_logic",
     address=0x1722,
     data_type="u16",
@@ -6248,7 +6269,7 @@ VDO_1_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-34, address 0x1722, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_2_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_2_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_2_function",
     address=0x1723,
     data_type="u16",
@@ -6260,7 +6281,7 @@ VDO_2_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-35, address 0x1723, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_2_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_2_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_2_logic",
     address=0x1724,
     data_type="u16",
@@ -6272,7 +6293,7 @@ VDO_2_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-36, address 0x1724, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_3_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_3_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_3_function",
     address=0x1725,
     data_type="u16",
@@ -6284,7 +6305,7 @@ VDO_3_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-37, address 0x1725, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_3_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_3_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_3_logic",
     address=0x1726,
     data_type="u16",
@@ -6296,7 +6317,7 @@ VDO_3_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-38, address 0x1726, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_4_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_4_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_4_function",
     address=0x1727,
     data_type="u16",
@@ -6308,7 +6329,7 @@ VDO_4_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-39, address 0x1727, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_4_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_4_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_4_logic",
     address=0x1728,
     data_type="u16",
@@ -6320,7 +6341,7 @@ VDO_4_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-40, address 0x1728, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_5_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_5_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_5_function",
     address=0x1729,
     data_type="u16",
@@ -6332,7 +6353,7 @@ VDO_5_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-41, address 0x1729, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_5_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_5_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_5_logic",
     address=0x172A,
     data_type="u16",
@@ -6344,7 +6365,7 @@ VDO_5_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-42, address 0x172A, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_6_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_6_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_6_function",
     address=0x172B,
     data_type="u16",
@@ -6356,7 +6377,7 @@ VDO_6_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-43, address 0x172B, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_6_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_6_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_6_logic",
     address=0x172C,
     data_type="u16",
@@ -6368,7 +6389,7 @@ VDO_6_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-44, address 0x172C, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_7_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_7_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_7_function",
     address=0x172D,
     data_type="u16",
@@ -6380,7 +6401,7 @@ VDO_7_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-45, address 0x172D, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_7_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_7_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_7_logic",
     address=0x172E,
     data_type="u16",
@@ -6392,7 +6413,7 @@ VDO_7_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-46, address 0x172E, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_8_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_8_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_8_function",
     address=0x172F,
     data_type="u16",
@@ -6404,7 +6425,7 @@ VDO_8_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-47, address 0x172F, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_8_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_8_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_8_logic",
     address=0x1730,
     data_type="u16",
@@ -6416,7 +6437,7 @@ VDO_8_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-48, address 0x1730, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_9_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_9_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_9_function",
     address=0x1731,
     data_type="u16",
@@ -6428,7 +6449,7 @@ VDO_9_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-49, address 0x1731, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_9_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_9_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_9_logic",
     address=0x1732,
     data_type="u16",
@@ -6440,7 +6461,7 @@ VDO_9_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-50, address 0x1732, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_10_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_10_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_10_function",
     address=0x1733,
     data_type="u16",
@@ -6452,7 +6473,7 @@ VDO_10_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-51, address 0x1733, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_10_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_10_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_10_logic",
     address=0x1734,
     data_type="u16",
@@ -6464,7 +6485,7 @@ VDO_10_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-52, address 0x1734, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_11_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_11_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_11_function",
     address=0x1735,
     data_type="u16",
@@ -6476,7 +6497,7 @@ VDO_11_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-53, address 0x1735, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_11_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_11_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_11_logic",
     address=0x1736,
     data_type="u16",
@@ -6488,7 +6509,7 @@ VDO_11_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-54, address 0x1736, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_12_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_12_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_12_function",
     address=0x1737,
     data_type="u16",
@@ -6500,7 +6521,7 @@ VDO_12_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-55, address 0x1737, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_12_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_12_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_12_logic",
     address=0x1738,
     data_type="u16",
@@ -6512,7 +6533,7 @@ VDO_12_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-56, address 0x1738, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_13_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_13_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_13_function",
     address=0x1739,
     data_type="u16",
@@ -6524,7 +6545,7 @@ VDO_13_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-57, address 0x1739, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_13_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_13_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_13_logic",
     address=0x173A,
     data_type="u16",
@@ -6536,7 +6557,7 @@ VDO_13_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-58, address 0x173A, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_14_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_14_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_14_function",
     address=0x173B,
     data_type="u16",
@@ -6548,7 +6569,7 @@ VDO_14_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-59, address 0x173B, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_14_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_14_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_14_logic",
     address=0x173C,
     data_type="u16",
@@ -6560,7 +6581,7 @@ VDO_14_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-60, address 0x173C, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_15_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_15_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_15_function",
     address=0x173D,
     data_type="u16",
@@ -6572,7 +6593,7 @@ VDO_15_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-61, address 0x173D, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_15_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_15_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_15_logic",
     address=0x173E,
     data_type="u16",
@@ -6584,7 +6605,7 @@ VDO_15_LOGIC: Final = ReadWrite[VdoLogic | int](
 )
 """VDO terminal logic (VDOn 端子逻辑选择). Parameter P17-62, address 0x173E, u16, range 0..1, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_16_FUNCTION: Final = ReadWrite[DoFunction | int](
+VDO_16_FUNCTION: Final = ReadWrite[DoFunction | Unlisted](
     name="vdo_16_function",
     address=0x173F,
     data_type="u16",
@@ -6596,7 +6617,7 @@ VDO_16_FUNCTION: Final = ReadWrite[DoFunction | int](
 )
 """VDO terminal function (VDOn 端子功能选择). Parameter P17-63, address 0x173F, u16, range 0..22, default 0, takes effect when stopped. Manual section 7.16."""
 
-VDO_16_LOGIC: Final = ReadWrite[VdoLogic | int](
+VDO_16_LOGIC: Final = ReadWrite[VdoLogic | Unlisted](
     name="vdo_16_logic",
     address=0x1740,
     data_type="u16",
@@ -6663,6 +6684,7 @@ COMM_VDI_LEVEL: Final = ReadWrite[int](
     min=0,
     max=65535,
     param="P31-00",
+    trigger=True,
 )
 """VDI virtual level set by communication (通信给定 VDI 虚拟电平). Parameter P31-00, address 0x3100, u16, range 0..65535, default 0, takes effect immediately. Manual section 7.18, 7.16."""
 
@@ -6794,7 +6816,7 @@ class SpeedSegmentRegisters:
 
     speed: ReadWrite[int]
     run_time: ReadWrite[float]
-    ramp: ReadWrite[RampSelect | int]
+    ramp: ReadWrite[RampSelect | Unlisted]
 
 
 SPEED_SEGMENT: Final[dict[int, SpeedSegmentRegisters]] = {
@@ -6835,8 +6857,8 @@ SPEED_SEGMENT: Final[dict[int, SpeedSegmentRegisters]] = {
 class VdiRegisters:
     """Virtual DI (虚拟 DI): 16 elements 1..16, element n at 0x1700 + 2 x (n - 1). Manual section 7.16."""
 
-    function: ReadWrite[DiFunction | int]
-    logic: ReadWrite[VdiLogic | int]
+    function: ReadWrite[DiFunction | Unlisted]
+    logic: ReadWrite[VdiLogic | Unlisted]
 
 
 VDI: Final[dict[int, VdiRegisters]] = {
@@ -6863,8 +6885,8 @@ VDI: Final[dict[int, VdiRegisters]] = {
 class VdoRegisters:
     """Virtual DO (虚拟 DO): 16 elements 1..16, element n at 0x1721 + 2 x (n - 1). Manual section 7.16."""
 
-    function: ReadWrite[DoFunction | int]
-    logic: ReadWrite[VdoLogic | int]
+    function: ReadWrite[DoFunction | Unlisted]
+    logic: ReadWrite[VdoLogic | Unlisted]
 
 
 VDO: Final[dict[int, VdoRegisters]] = {
@@ -7376,12 +7398,490 @@ DEVICE: Final = DeviceSpec(
         (0x04, "refused", "Refused to execute (P0C-14: slave device failure)"),
     ),
 )
+C630sValues = TypedDict(
+    "C630sValues",
+    {
+        "mcu_software_version": int,
+        "servo_drive_number": int,
+        "control_mode": ControlMode | Unlisted,
+        "encoder_type": EncoderType | Unlisted,
+        "rotation_direction": RotationDirection | Unlisted,
+        "output_pulse_phase": OutputPulsePhase | Unlisted,
+        "servo_off_stop_mode": StopMode | Unlisted,
+        "fault_no2_stop_mode": StopMode | Unlisted,
+        "overtravel_stop_mode": OvertravelStopMode | Unlisted,
+        "fault_no1_stop_mode": FaultNo1StopMode | Unlisted,
+        "brake_on_to_command_delay": int,
+        "brake_off_to_motor_off_delay": int,
+        "brake_off_speed_threshold": int,
+        "servo_off_to_brake_off_delay": int,
+        "led_warning_display": LedWarningDisplay | Unlisted,
+        "servo_on_filter_time": int,
+        "min_braking_resistance": int,
+        "internal_braking_resistor_power": int,
+        "internal_braking_resistor_resistance": int,
+        "resistor_heat_dissipation_coefficient": int,
+        "braking_resistor_setting": BrakingResistorSetting | Unlisted,
+        "external_braking_resistor_power": int,
+        "external_braking_resistor_resistance": int,
+        "system_parameter_init": SystemInit | Unlisted,
+        "panel_default_display": int,
+        "fault_short_circuit_braking_time": int,
+        "fault_short_circuit_braking_threshold": float,
+        "poweron_di_functions_1": PoweronDiFunctions1Bits,
+        "poweron_di_functions_2": PoweronDiFunctions2Bits,
+        "di1_function": DiFunction | Unlisted,
+        "di1_logic": DiLogic | Unlisted,
+        "di2_function": DiFunction | Unlisted,
+        "di2_logic": DiLogic | Unlisted,
+        "di3_function": DiFunction | Unlisted,
+        "di3_logic": DiLogic | Unlisted,
+        "di4_function": DiFunction | Unlisted,
+        "di4_logic": DiLogic | Unlisted,
+        "di5_function": DiFunction | Unlisted,
+        "di5_logic": DiLogic | Unlisted,
+        "di6_function": DiFunction | Unlisted,
+        "di6_logic": DiLogic | Unlisted,
+        "di7_function": DiFunction | Unlisted,
+        "di7_logic": DiLogic | Unlisted,
+        "di8_function": DiFunction | Unlisted,
+        "di8_logic": DiLogic | Unlisted,
+        "poweron_di_functions_3": PoweronDiFunctions3Bits,
+        "poweron_di_functions_4": int,
+        "ai1_offset": int,
+        "ai1_filter_time": float,
+        "ai1_median_filter_enable": int,
+        "ai1_dead_zone": float,
+        "ai1_zero_drift": float,
+        "ai2_offset": int,
+        "ai2_filter_time": float,
+        "ai2_median_filter_enable": int,
+        "ai2_dead_zone": float,
+        "ai2_zero_drift": float,
+        "analog_10v_speed": int,
+        "analog_10v_torque": float,
+        "do1_function": DoFunction | Unlisted,
+        "do1_logic": DoLogic | Unlisted,
+        "do2_function": DoFunction | Unlisted,
+        "do2_logic": DoLogic | Unlisted,
+        "do3_function": DoFunction | Unlisted,
+        "do3_logic": DoLogic | Unlisted,
+        "do4_function": DoFunction | Unlisted,
+        "do4_logic": DoLogic | Unlisted,
+        "do5_function": DoFunction | Unlisted,
+        "do5_logic": DoLogic | Unlisted,
+        "do6_function": DoFunction | Unlisted,
+        "do6_logic": DoLogic | Unlisted,
+        "position_command_source": PositionCommandSource | Unlisted,
+        "pulses_per_revolution": int,
+        "position_lowpass_filter_time": float,
+        "step_amount": int,
+        "position_average_filter_time": float,
+        "gear1_numerator": int,
+        "gear1_denominator": int,
+        "gear2_numerator": int,
+        "gear2_denominator": int,
+        "pulse_input_form": PulseInputForm | Unlisted,
+        "position_clear_action": PositionClearAction | Unlisted,
+        "encoder_divided_pulses": int,
+        "speed_feedforward_select": SpeedFeedforwardSelect | Unlisted,
+        "coin_output_condition": CoinOutputCondition | Unlisted,
+        "coin_threshold": int,
+        "near_threshold": int,
+        "homing_enable": HomingEnable | Unlisted,
+        "homing_mode": HomingMode | Unlisted,
+        "homing_high_speed": int,
+        "homing_low_speed": int,
+        "homing_accel_time": int,
+        "homing_time_limit": int,
+        "home_offset": int,
+        "pulse_output_source": PulseOutputSource | Unlisted,
+        "gear_switch_condition": GearSwitchCondition | Unlisted,
+        "pulse_edge": PulseEdge | Unlisted,
+        "coin_window_time": int,
+        "coin_hold_time": int,
+        "homing_time_unit": int,
+        "speed_a_source": SpeedASource | Unlisted,
+        "speed_b_source": SpeedBSource | Unlisted,
+        "speed_command_select": SpeedCommandSelect | Unlisted,
+        "speed_keypad_setting": int,
+        "jog_speed": int,
+        "speed_accel_time": int,
+        "speed_decel_time": int,
+        "max_speed_threshold": int,
+        "forward_speed_threshold": int,
+        "reverse_speed_threshold": int,
+        "torque_feedforward_select": TorqueFeedforwardSelect | Unlisted,
+        "zero_clamp_speed_threshold": int,
+        "rotation_detect_threshold": int,
+        "speed_coincidence_threshold": int,
+        "speed_reached_threshold": int,
+        "zero_speed_threshold": int,
+        "torque_a_source": TorqueSource | Unlisted,
+        "torque_b_source": TorqueSource | Unlisted,
+        "torque_command_select": TorqueCommandSelect | Unlisted,
+        "torque_keypad_setting": float,
+        "torque_filter_time": float,
+        "torque_filter_time_2": float,
+        "torque_limit_source": TorqueLimitSource | Unlisted,
+        "t_lmt_select": AiChannel | Unlisted,
+        "positive_internal_torque_limit": float,
+        "negative_internal_torque_limit": float,
+        "positive_external_torque_limit": float,
+        "negative_external_torque_limit": float,
+        "speed_limit_source": SpeedLimitSource | Unlisted,
+        "v_lmt_select": AiChannel | Unlisted,
+        "torque_mode_speed_limit_1": int,
+        "torque_mode_speed_limit_2": int,
+        "torque_reached_reference": float,
+        "torque_reached_on": float,
+        "torque_reached_off": float,
+        "torque_mode_speed_limit_window": float,
+        "speed_loop_gain": float,
+        "speed_loop_integral_time": float,
+        "position_loop_gain": float,
+        "speed_loop_gain_2": float,
+        "speed_loop_integral_time_2": float,
+        "position_loop_gain_2": float,
+        "second_gain_mode": SecondGainMode | Unlisted,
+        "gain_switch_condition": GainSwitchCondition | Unlisted,
+        "gain_switch_delay": float,
+        "gain_switch_level": int,
+        "gain_switch_hysteresis": int,
+        "position_gain_switch_time": float,
+        "load_inertia_ratio": float,
+        "speed_ff_filter_time": float,
+        "speed_ff_gain": float,
+        "torque_ff_filter_time": float,
+        "torque_ff_gain": float,
+        "speed_feedback_filter": SpeedFeedbackFilter | Unlisted,
+        "speed_feedback_lowpass_cutoff": int,
+        "pdff_coefficient": float,
+        "stiffness_level": int,
+        "adaptive_notch_mode": AdaptiveNotchMode | Unlisted,
+        "low_freq_resonance_mode": LowFreqResonanceMode | Unlisted,
+        "inertia_id_mode": InertiaIdMode | Unlisted,
+        "inertia_id_max_speed": int,
+        "inertia_id_accel_time": int,
+        "inertia_id_wait_time": int,
+        "inertia_id_revolutions": float,
+        "notch1_frequency": int,
+        "notch1_width": int,
+        "notch1_depth": int,
+        "notch2_frequency": int,
+        "notch2_width": int,
+        "notch2_depth": int,
+        "notch3_frequency": int,
+        "notch3_width": int,
+        "notch3_depth": int,
+        "notch4_frequency": int,
+        "notch4_width": int,
+        "notch4_depth": int,
+        "resonance_frequency_result": int,
+        "disturbance_compensation_gain": float,
+        "disturbance_observer_filter_time": float,
+        "low_freq_resonance_frequency": float,
+        "low_freq_resonance_filter": int,
+        "phase_loss_protection": PhaseLossProtection | Unlisted,
+        "power_loss_save": PowerLossSave | Unlisted,
+        "motor_overload_gain": int,
+        "overspeed_threshold": int,
+        "max_pulse_frequency": int,
+        "position_deviation_fault_threshold": int,
+        "runaway_protection": RunawayProtection | Unlisted,
+        "low_freq_resonance_deviation_threshold": int,
+        "position_unit_select": PositionUnitSelect | Unlisted,
+        "pulse_input_filter_time": float,
+        "speed_display_filter_time": int,
+        "motor_overload_mask": MotorOverloadMask | Unlisted,
+        "speed_do_filter_time": int,
+        "quadrature_encoder_filter_time": float,
+        "high_speed_pulse_filter_time": float,
+        "stall_protection_window": int,
+        "stall_protection_enable": StallProtection | Unlisted,
+        "multiturn_overflow_fault": MultiturnOverflowFault | Unlisted,
+        "actual_speed": int,
+        "speed_command": int,
+        "internal_torque_command": float,
+        "di_status": int,
+        "do_status": int,
+        "absolute_position_counter": int,
+        "mechanical_angle": int,
+        "electrical_angle": int,
+        "position_command_speed": int,
+        "average_load_rate": int,
+        "input_pulse_counter": int,
+        "encoder_position_deviation": int,
+        "feedback_pulse_counter": int,
+        "total_power_on_time": int,
+        "ai1_voltage": float,
+        "ai2_voltage": float,
+        "phase_current_rms": float,
+        "bus_voltage": float,
+        "module_temperature": int,
+        "fault_record_select": int,
+        "selected_fault_code": int,
+        "selected_fault_timestamp": int,
+        "selected_fault_speed": int,
+        "selected_fault_u_current": float,
+        "selected_fault_v_current": float,
+        "selected_fault_bus_voltage": int,
+        "selected_fault_di_status": int,
+        "selected_fault_do_status": int,
+        "position_deviation_counter": int,
+        "actual_speed_0_1rpm": float,
+        "mechanical_abs_position_low": int,
+        "mechanical_abs_position_high": int,
+        "realtime_input_position_counter": int,
+        "abs_encoder_turns": int,
+        "abs_encoder_single_turn_position": int,
+        "abs_encoder_position_low": int,
+        "abs_encoder_position_high": int,
+        "load_single_turn_position_low": int,
+        "load_single_turn_position_high": int,
+        "load_single_turn_position": int,
+        "slave_address": int,
+        "baud_rate": BaudRate | Unlisted,
+        "modbus_data_format": ModbusDataFormat | Unlisted,
+        "comm_vdi_enable": DisableEnable | Unlisted,
+        "vdi_poweron_default": VdiPoweronDefaultBits,
+        "comm_vdo_enable": DisableEnable | Unlisted,
+        "vdo_default_level": VdoDefaultLevelBits,
+        "modbus_eeprom_update": EepromUpdate | Unlisted,
+        "modbus_error_code": ModbusError | Unlisted,
+        "modbus_response_delay": int,
+        "modbus_word_order": WordOrder | Unlisted,
+        "modbus_error_frame_format": ErrorFrameFormat | Unlisted,
+        "software_reset": NoOpEnable | Unlisted,
+        "fault_reset": NoOpEnable | Unlisted,
+        "offline_inertia_identification": int,
+        "initial_angle_identification": InitialAngleId | Unlisted,
+        "emergency_stop": EmergencyStopCmd | Unlisted,
+        "reserved_p0d_10": int,
+        "jog_trial_run": int,
+        "dido_force_enable": DidoForce | Unlisted,
+        "di_force_value": int,
+        "do_force_value": int,
+        "abs_encoder_reset": AbsEncoderReset | Unlisted,
+        "multi_position_run_mode": MultiPositionRunMode | Unlisted,
+        "multi_position_end_segment": int,
+        "multi_position_remainder": RemainderHandling | Unlisted,
+        "multi_position_time_unit": TimeUnitMsS | Unlisted,
+        "displacement_type": DisplacementType | Unlisted,
+        "sequential_start_segment": int,
+        "position_segment_1_displacement": int,
+        "position_segment_1_max_speed": int,
+        "position_segment_1_accel_time": int,
+        "position_segment_1_wait_time": int,
+        "position_segment_2_displacement": int,
+        "position_segment_2_max_speed": int,
+        "position_segment_2_accel_time": int,
+        "position_segment_2_wait_time": int,
+        "position_segment_3_displacement": int,
+        "position_segment_3_max_speed": int,
+        "position_segment_3_accel_time": int,
+        "position_segment_3_wait_time": int,
+        "position_segment_4_displacement": int,
+        "position_segment_4_max_speed": int,
+        "position_segment_4_accel_time": int,
+        "position_segment_4_wait_time": int,
+        "position_segment_5_displacement": int,
+        "position_segment_5_max_speed": int,
+        "position_segment_5_accel_time": int,
+        "position_segment_5_wait_time": int,
+        "position_segment_6_displacement": int,
+        "position_segment_6_max_speed": int,
+        "position_segment_6_accel_time": int,
+        "position_segment_6_wait_time": int,
+        "position_segment_7_displacement": int,
+        "position_segment_7_max_speed": int,
+        "position_segment_7_accel_time": int,
+        "position_segment_7_wait_time": int,
+        "position_segment_8_displacement": int,
+        "position_segment_8_max_speed": int,
+        "position_segment_8_accel_time": int,
+        "position_segment_8_wait_time": int,
+        "position_segment_9_displacement": int,
+        "position_segment_9_max_speed": int,
+        "position_segment_9_accel_time": int,
+        "position_segment_9_wait_time": int,
+        "position_segment_10_displacement": int,
+        "position_segment_10_max_speed": int,
+        "position_segment_10_accel_time": int,
+        "position_segment_10_wait_time": int,
+        "position_segment_11_displacement": int,
+        "position_segment_11_max_speed": int,
+        "position_segment_11_accel_time": int,
+        "position_segment_11_wait_time": int,
+        "position_segment_12_displacement": int,
+        "position_segment_12_max_speed": int,
+        "position_segment_12_accel_time": int,
+        "position_segment_12_wait_time": int,
+        "position_segment_13_displacement": int,
+        "position_segment_13_max_speed": int,
+        "position_segment_13_accel_time": int,
+        "position_segment_13_wait_time": int,
+        "position_segment_14_displacement": int,
+        "position_segment_14_max_speed": int,
+        "position_segment_14_accel_time": int,
+        "position_segment_14_wait_time": int,
+        "position_segment_15_displacement": int,
+        "position_segment_15_max_speed": int,
+        "position_segment_15_accel_time": int,
+        "position_segment_15_wait_time": int,
+        "position_segment_16_displacement": int,
+        "position_segment_16_max_speed": int,
+        "position_segment_16_accel_time": int,
+        "position_segment_16_wait_time": int,
+        "multi_speed_run_mode": MultiSpeedRunMode | Unlisted,
+        "multi_speed_end_segment": int,
+        "multi_speed_time_unit": TimeUnitSMin | Unlisted,
+        "multi_speed_accel_time_1": int,
+        "multi_speed_decel_time_1": int,
+        "multi_speed_accel_time_2": int,
+        "multi_speed_decel_time_2": int,
+        "multi_speed_accel_time_3": int,
+        "multi_speed_decel_time_3": int,
+        "multi_speed_accel_time_4": int,
+        "multi_speed_decel_time_4": int,
+        "speed_segment_1_speed": int,
+        "speed_segment_1_run_time": float,
+        "speed_segment_1_ramp": RampSelect | Unlisted,
+        "speed_segment_2_speed": int,
+        "speed_segment_2_run_time": float,
+        "speed_segment_2_ramp": RampSelect | Unlisted,
+        "speed_segment_3_speed": int,
+        "speed_segment_3_run_time": float,
+        "speed_segment_3_ramp": RampSelect | Unlisted,
+        "speed_segment_4_speed": int,
+        "speed_segment_4_run_time": float,
+        "speed_segment_4_ramp": RampSelect | Unlisted,
+        "speed_segment_5_speed": int,
+        "speed_segment_5_run_time": float,
+        "speed_segment_5_ramp": RampSelect | Unlisted,
+        "speed_segment_6_speed": int,
+        "speed_segment_6_run_time": float,
+        "speed_segment_6_ramp": RampSelect | Unlisted,
+        "speed_segment_7_speed": int,
+        "speed_segment_7_run_time": float,
+        "speed_segment_7_ramp": RampSelect | Unlisted,
+        "speed_segment_8_speed": int,
+        "speed_segment_8_run_time": float,
+        "speed_segment_8_ramp": RampSelect | Unlisted,
+        "speed_segment_9_speed": int,
+        "speed_segment_9_run_time": float,
+        "speed_segment_9_ramp": RampSelect | Unlisted,
+        "speed_segment_10_speed": int,
+        "speed_segment_10_run_time": float,
+        "speed_segment_10_ramp": RampSelect | Unlisted,
+        "speed_segment_11_speed": int,
+        "speed_segment_11_run_time": float,
+        "speed_segment_11_ramp": RampSelect | Unlisted,
+        "speed_segment_12_speed": int,
+        "speed_segment_12_run_time": float,
+        "speed_segment_12_ramp": RampSelect | Unlisted,
+        "speed_segment_13_speed": int,
+        "speed_segment_13_run_time": float,
+        "speed_segment_13_ramp": RampSelect | Unlisted,
+        "speed_segment_14_speed": int,
+        "speed_segment_14_run_time": float,
+        "speed_segment_14_ramp": RampSelect | Unlisted,
+        "speed_segment_15_speed": int,
+        "speed_segment_15_run_time": float,
+        "speed_segment_15_ramp": RampSelect | Unlisted,
+        "speed_segment_16_speed": int,
+        "speed_segment_16_run_time": float,
+        "speed_segment_16_ramp": RampSelect | Unlisted,
+        "vdi_1_function": DiFunction | Unlisted,
+        "vdi_1_logic": VdiLogic | Unlisted,
+        "vdi_2_function": DiFunction | Unlisted,
+        "vdi_2_logic": VdiLogic | Unlisted,
+        "vdi_3_function": DiFunction | Unlisted,
+        "vdi_3_logic": VdiLogic | Unlisted,
+        "vdi_4_function": DiFunction | Unlisted,
+        "vdi_4_logic": VdiLogic | Unlisted,
+        "vdi_5_function": DiFunction | Unlisted,
+        "vdi_5_logic": VdiLogic | Unlisted,
+        "vdi_6_function": DiFunction | Unlisted,
+        "vdi_6_logic": VdiLogic | Unlisted,
+        "vdi_7_function": DiFunction | Unlisted,
+        "vdi_7_logic": VdiLogic | Unlisted,
+        "vdi_8_function": DiFunction | Unlisted,
+        "vdi_8_logic": VdiLogic | Unlisted,
+        "vdi_9_function": DiFunction | Unlisted,
+        "vdi_9_logic": VdiLogic | Unlisted,
+        "vdi_10_function": DiFunction | Unlisted,
+        "vdi_10_logic": VdiLogic | Unlisted,
+        "vdi_11_function": DiFunction | Unlisted,
+        "vdi_11_logic": VdiLogic | Unlisted,
+        "vdi_12_function": DiFunction | Unlisted,
+        "vdi_12_logic": VdiLogic | Unlisted,
+        "vdi_13_function": DiFunction | Unlisted,
+        "vdi_13_logic": VdiLogic | Unlisted,
+        "vdi_14_function": DiFunction | Unlisted,
+        "vdi_14_logic": VdiLogic | Unlisted,
+        "vdi_15_function": DiFunction | Unlisted,
+        "vdi_15_logic": VdiLogic | Unlisted,
+        "vdi_16_function": DiFunction | Unlisted,
+        "vdi_16_logic": VdiLogic | Unlisted,
+        "vdo_virtual_level": int,
+        "vdo_1_function": DoFunction | Unlisted,
+        "vdo_1_logic": VdoLogic | Unlisted,
+        "vdo_2_function": DoFunction | Unlisted,
+        "vdo_2_logic": VdoLogic | Unlisted,
+        "vdo_3_function": DoFunction | Unlisted,
+        "vdo_3_logic": VdoLogic | Unlisted,
+        "vdo_4_function": DoFunction | Unlisted,
+        "vdo_4_logic": VdoLogic | Unlisted,
+        "vdo_5_function": DoFunction | Unlisted,
+        "vdo_5_logic": VdoLogic | Unlisted,
+        "vdo_6_function": DoFunction | Unlisted,
+        "vdo_6_logic": VdoLogic | Unlisted,
+        "vdo_7_function": DoFunction | Unlisted,
+        "vdo_7_logic": VdoLogic | Unlisted,
+        "vdo_8_function": DoFunction | Unlisted,
+        "vdo_8_logic": VdoLogic | Unlisted,
+        "vdo_9_function": DoFunction | Unlisted,
+        "vdo_9_logic": VdoLogic | Unlisted,
+        "vdo_10_function": DoFunction | Unlisted,
+        "vdo_10_logic": VdoLogic | Unlisted,
+        "vdo_11_function": DoFunction | Unlisted,
+        "vdo_11_logic": VdoLogic | Unlisted,
+        "vdo_12_function": DoFunction | Unlisted,
+        "vdo_12_logic": VdoLogic | Unlisted,
+        "vdo_13_function": DoFunction | Unlisted,
+        "vdo_13_logic": VdoLogic | Unlisted,
+        "vdo_14_function": DoFunction | Unlisted,
+        "vdo_14_logic": VdoLogic | Unlisted,
+        "vdo_15_function": DoFunction | Unlisted,
+        "vdo_15_logic": VdoLogic | Unlisted,
+        "vdo_16_function": DoFunction | Unlisted,
+        "vdo_16_logic": VdoLogic | Unlisted,
+        "comm_servo_status": int,
+        "comm_do_function_status_1": int,
+        "comm_do_function_status_2": int,
+        "comm_input_pulse_sample": int,
+        "comm_di_status": int,
+        "comm_vdi_level": int,
+        "comm_do_output": int,
+    },
+    total=False,
+)
+"""What read_all() and read_many() return: register name -> value, typed per register; a register not read (another poll class, absent in the firmware, not asked for) is not there."""
 
 
 class C630s(SyncClient):
     """Gumei Technology C630S client (blocking). Construct with `C630s.rtu(port, slave)` or `.tcp(host, port, slave)`."""
 
     DEVICE = DEVICE
+
+    def read_many(self, *specs: Readable[Any]) -> C630sValues:
+        """Read several registers with the fewest requests the device allows."""
+        return cast(C630sValues, super().read_many(*specs))
+
+    def read_all(self, poll: object = None) -> C630sValues:
+        """Every readable register by the read plan; `poll` ("static", "fast", "normal", "slow"): only that class's."""
+        return cast(C630sValues, super().read_all(poll))
 
     def read_mcu_software_version(self) -> int:
         """Read MCU_SOFTWARE_VERSION: MCU software version (MCU 软件版本号); documented at the constant."""
@@ -7395,67 +7895,75 @@ class C630s(SyncClient):
         """Write SERVO_DRIVE_NUMBER: Servo drive number (伺服驱动器编号); documented at the constant."""
         self.write(SERVO_DRIVE_NUMBER, value)
 
-    def read_control_mode(self) -> ControlMode | int:
+    def read_control_mode(self) -> ControlMode | Unlisted:
         """Read CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         return self.read(CONTROL_MODE)
 
-    def write_control_mode(self, value: ControlMode | int | str) -> None:
+    def write_control_mode(
+        self,
+        value: ControlMode
+        | Literal[
+            "speed", "position", "torque", "torque_speed", "speed_position", "torque_position", "torque_speed_position"
+        ],
+    ) -> None:
         """Write CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         self.write(CONTROL_MODE, value)
 
-    def read_encoder_type(self) -> EncoderType | int:
+    def read_encoder_type(self) -> EncoderType | Unlisted:
         """Read ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         return self.read(ENCODER_TYPE)
 
-    def write_encoder_type(self, value: EncoderType | int | str) -> None:
+    def write_encoder_type(self, value: EncoderType | Literal["incremental", "absolute"]) -> None:
         """Write ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         self.write(ENCODER_TYPE, value)
 
-    def read_rotation_direction(self) -> RotationDirection | int:
+    def read_rotation_direction(self) -> RotationDirection | Unlisted:
         """Read ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         return self.read(ROTATION_DIRECTION)
 
-    def write_rotation_direction(self, value: RotationDirection | int | str) -> None:
+    def write_rotation_direction(self, value: RotationDirection | Literal["ccw_positive", "cw_positive"]) -> None:
         """Write ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         self.write(ROTATION_DIRECTION, value)
 
-    def read_output_pulse_phase(self) -> OutputPulsePhase | int:
+    def read_output_pulse_phase(self) -> OutputPulsePhase | Unlisted:
         """Read OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         return self.read(OUTPUT_PULSE_PHASE)
 
-    def write_output_pulse_phase(self, value: OutputPulsePhase | int | str) -> None:
+    def write_output_pulse_phase(self, value: OutputPulsePhase | Literal["ccw_positive", "cw_positive"]) -> None:
         """Write OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         self.write(OUTPUT_PULSE_PHASE, value)
 
-    def read_servo_off_stop_mode(self) -> StopMode | int:
+    def read_servo_off_stop_mode(self) -> StopMode | Unlisted:
         """Read SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         return self.read(SERVO_OFF_STOP_MODE)
 
-    def write_servo_off_stop_mode(self, value: StopMode | int | str) -> None:
+    def write_servo_off_stop_mode(self, value: StopMode | Literal["coast", "zero_speed_then_free"]) -> None:
         """Write SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         self.write(SERVO_OFF_STOP_MODE, value)
 
-    def read_fault_no2_stop_mode(self) -> StopMode | int:
+    def read_fault_no2_stop_mode(self) -> StopMode | Unlisted:
         """Read FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         return self.read(FAULT_NO2_STOP_MODE)
 
-    def write_fault_no2_stop_mode(self, value: StopMode | int | str) -> None:
+    def write_fault_no2_stop_mode(self, value: StopMode | Literal["coast", "zero_speed_then_free"]) -> None:
         """Write FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         self.write(FAULT_NO2_STOP_MODE, value)
 
-    def read_overtravel_stop_mode(self) -> OvertravelStopMode | int:
+    def read_overtravel_stop_mode(self) -> OvertravelStopMode | Unlisted:
         """Read OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         return self.read(OVERTRAVEL_STOP_MODE)
 
-    def write_overtravel_stop_mode(self, value: OvertravelStopMode | int | str) -> None:
+    def write_overtravel_stop_mode(
+        self, value: OvertravelStopMode | Literal["coast", "zero_speed_position_lock", "zero_speed_then_free"]
+    ) -> None:
         """Write OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         self.write(OVERTRAVEL_STOP_MODE, value)
 
-    def read_fault_no1_stop_mode(self) -> FaultNo1StopMode | int:
+    def read_fault_no1_stop_mode(self) -> FaultNo1StopMode | Unlisted:
         """Read FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         return self.read(FAULT_NO1_STOP_MODE)
 
-    def write_fault_no1_stop_mode(self, value: FaultNo1StopMode | int | str) -> None:
+    def write_fault_no1_stop_mode(self, value: FaultNo1StopMode | Literal["coast"]) -> None:
         """Write FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         self.write(FAULT_NO1_STOP_MODE, value)
 
@@ -7491,11 +7999,11 @@ class C630s(SyncClient):
         """Write SERVO_OFF_TO_BRAKE_OFF_DELAY: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时); documented at the constant."""
         self.write(SERVO_OFF_TO_BRAKE_OFF_DELAY, value)
 
-    def read_led_warning_display(self) -> LedWarningDisplay | int:
+    def read_led_warning_display(self) -> LedWarningDisplay | Unlisted:
         """Read LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         return self.read(LED_WARNING_DISPLAY)
 
-    def write_led_warning_display(self, value: LedWarningDisplay | int | str) -> None:
+    def write_led_warning_display(self, value: LedWarningDisplay | Literal["output_immediately", "no_output"]) -> None:
         """Write LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         self.write(LED_WARNING_DISPLAY, value)
 
@@ -7527,11 +8035,15 @@ class C630s(SyncClient):
         """Write RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Resistor heat dissipation coefficient (电阻散热系数); documented at the constant."""
         self.write(RESISTOR_HEAT_DISSIPATION_COEFFICIENT, value)
 
-    def read_braking_resistor_setting(self) -> BrakingResistorSetting | int:
+    def read_braking_resistor_setting(self) -> BrakingResistorSetting | Unlisted:
         """Read BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         return self.read(BRAKING_RESISTOR_SETTING)
 
-    def write_braking_resistor_setting(self, value: BrakingResistorSetting | int | str) -> None:
+    def write_braking_resistor_setting(
+        self,
+        value: BrakingResistorSetting
+        | Literal["internal", "external_natural_cooling", "external_forced_air", "none_capacitor_only"],
+    ) -> None:
         """Write BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         self.write(BRAKING_RESISTOR_SETTING, value)
 
@@ -7551,11 +8063,13 @@ class C630s(SyncClient):
         """Write EXTERNAL_BRAKING_RESISTOR_RESISTANCE: External braking resistor resistance (外接制动电阻阻值); documented at the constant."""
         self.write(EXTERNAL_BRAKING_RESISTOR_RESISTANCE, value)
 
-    def read_system_parameter_init(self) -> SystemInit | int:
+    def read_system_parameter_init(self) -> SystemInit | Unlisted:
         """Read SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         return self.read(SYSTEM_PARAMETER_INIT)
 
-    def write_system_parameter_init(self, value: SystemInit | int | str) -> None:
+    def write_system_parameter_init(
+        self, value: SystemInit | Literal["no_operation", "restore_factory_defaults", "clear_fault_records"]
+    ) -> None:
         """Write SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         self.write(SYSTEM_PARAMETER_INIT, value)
 
@@ -7599,131 +8113,483 @@ class C630s(SyncClient):
         """Write POWERON_DI_FUNCTIONS_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配); documented at the constant."""
         self.write(POWERON_DI_FUNCTIONS_2, value)
 
-    def read_di1_function(self) -> DiFunction | int:
+    def read_di1_function(self) -> DiFunction | Unlisted:
         """Read DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         return self.read(DI1_FUNCTION)
 
-    def write_di1_function(self, value: DiFunction | int | str) -> None:
+    def write_di1_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         self.write(DI1_FUNCTION, value)
 
-    def read_di1_logic(self) -> DiLogic | int:
+    def read_di1_logic(self) -> DiLogic | Unlisted:
         """Read DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         return self.read(DI1_LOGIC)
 
-    def write_di1_logic(self, value: DiLogic | int | str) -> None:
+    def write_di1_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         self.write(DI1_LOGIC, value)
 
-    def read_di2_function(self) -> DiFunction | int:
+    def read_di2_function(self) -> DiFunction | Unlisted:
         """Read DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         return self.read(DI2_FUNCTION)
 
-    def write_di2_function(self, value: DiFunction | int | str) -> None:
+    def write_di2_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         self.write(DI2_FUNCTION, value)
 
-    def read_di2_logic(self) -> DiLogic | int:
+    def read_di2_logic(self) -> DiLogic | Unlisted:
         """Read DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         return self.read(DI2_LOGIC)
 
-    def write_di2_logic(self, value: DiLogic | int | str) -> None:
+    def write_di2_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         self.write(DI2_LOGIC, value)
 
-    def read_di3_function(self) -> DiFunction | int:
+    def read_di3_function(self) -> DiFunction | Unlisted:
         """Read DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         return self.read(DI3_FUNCTION)
 
-    def write_di3_function(self, value: DiFunction | int | str) -> None:
+    def write_di3_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         self.write(DI3_FUNCTION, value)
 
-    def read_di3_logic(self) -> DiLogic | int:
+    def read_di3_logic(self) -> DiLogic | Unlisted:
         """Read DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         return self.read(DI3_LOGIC)
 
-    def write_di3_logic(self, value: DiLogic | int | str) -> None:
+    def write_di3_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         self.write(DI3_LOGIC, value)
 
-    def read_di4_function(self) -> DiFunction | int:
+    def read_di4_function(self) -> DiFunction | Unlisted:
         """Read DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         return self.read(DI4_FUNCTION)
 
-    def write_di4_function(self, value: DiFunction | int | str) -> None:
+    def write_di4_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         self.write(DI4_FUNCTION, value)
 
-    def read_di4_logic(self) -> DiLogic | int:
+    def read_di4_logic(self) -> DiLogic | Unlisted:
         """Read DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         return self.read(DI4_LOGIC)
 
-    def write_di4_logic(self, value: DiLogic | int | str) -> None:
+    def write_di4_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         self.write(DI4_LOGIC, value)
 
-    def read_di5_function(self) -> DiFunction | int:
+    def read_di5_function(self) -> DiFunction | Unlisted:
         """Read DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         return self.read(DI5_FUNCTION)
 
-    def write_di5_function(self, value: DiFunction | int | str) -> None:
+    def write_di5_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         self.write(DI5_FUNCTION, value)
 
-    def read_di5_logic(self) -> DiLogic | int:
+    def read_di5_logic(self) -> DiLogic | Unlisted:
         """Read DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         return self.read(DI5_LOGIC)
 
-    def write_di5_logic(self, value: DiLogic | int | str) -> None:
+    def write_di5_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         self.write(DI5_LOGIC, value)
 
-    def read_di6_function(self) -> DiFunction | int:
+    def read_di6_function(self) -> DiFunction | Unlisted:
         """Read DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         return self.read(DI6_FUNCTION)
 
-    def write_di6_function(self, value: DiFunction | int | str) -> None:
+    def write_di6_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         self.write(DI6_FUNCTION, value)
 
-    def read_di6_logic(self) -> DiLogic | int:
+    def read_di6_logic(self) -> DiLogic | Unlisted:
         """Read DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         return self.read(DI6_LOGIC)
 
-    def write_di6_logic(self, value: DiLogic | int | str) -> None:
+    def write_di6_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         self.write(DI6_LOGIC, value)
 
-    def read_di7_function(self) -> DiFunction | int:
+    def read_di7_function(self) -> DiFunction | Unlisted:
         """Read DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         return self.read(DI7_FUNCTION)
 
-    def write_di7_function(self, value: DiFunction | int | str) -> None:
+    def write_di7_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         self.write(DI7_FUNCTION, value)
 
-    def read_di7_logic(self) -> DiLogic | int:
+    def read_di7_logic(self) -> DiLogic | Unlisted:
         """Read DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         return self.read(DI7_LOGIC)
 
-    def write_di7_logic(self, value: DiLogic | int | str) -> None:
+    def write_di7_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         self.write(DI7_LOGIC, value)
 
-    def read_di8_function(self) -> DiFunction | int:
+    def read_di8_function(self) -> DiFunction | Unlisted:
         """Read DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         return self.read(DI8_FUNCTION)
 
-    def write_di8_function(self, value: DiFunction | int | str) -> None:
+    def write_di8_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         self.write(DI8_FUNCTION, value)
 
-    def read_di8_logic(self) -> DiLogic | int:
+    def read_di8_logic(self) -> DiLogic | Unlisted:
         """Read DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         return self.read(DI8_LOGIC)
 
-    def write_di8_logic(self, value: DiLogic | int | str) -> None:
+    def write_di8_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         self.write(DI8_LOGIC, value)
 
@@ -7839,107 +8705,259 @@ class C630s(SyncClient):
         """Write ANALOG_10V_TORQUE: Torque at 10 V analog input (模拟量 10V 对应转矩值); documented at the constant."""
         self.write(ANALOG_10V_TORQUE, value)
 
-    def read_do1_function(self) -> DoFunction | int:
+    def read_do1_function(self) -> DoFunction | Unlisted:
         """Read DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         return self.read(DO1_FUNCTION)
 
-    def write_do1_function(self, value: DoFunction | int | str) -> None:
+    def write_do1_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         self.write(DO1_FUNCTION, value)
 
-    def read_do1_logic(self) -> DoLogic | int:
+    def read_do1_logic(self) -> DoLogic | Unlisted:
         """Read DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         return self.read(DO1_LOGIC)
 
-    def write_do1_logic(self, value: DoLogic | int | str) -> None:
+    def write_do1_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         self.write(DO1_LOGIC, value)
 
-    def read_do2_function(self) -> DoFunction | int:
+    def read_do2_function(self) -> DoFunction | Unlisted:
         """Read DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         return self.read(DO2_FUNCTION)
 
-    def write_do2_function(self, value: DoFunction | int | str) -> None:
+    def write_do2_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         self.write(DO2_FUNCTION, value)
 
-    def read_do2_logic(self) -> DoLogic | int:
+    def read_do2_logic(self) -> DoLogic | Unlisted:
         """Read DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         return self.read(DO2_LOGIC)
 
-    def write_do2_logic(self, value: DoLogic | int | str) -> None:
+    def write_do2_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         self.write(DO2_LOGIC, value)
 
-    def read_do3_function(self) -> DoFunction | int:
+    def read_do3_function(self) -> DoFunction | Unlisted:
         """Read DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         return self.read(DO3_FUNCTION)
 
-    def write_do3_function(self, value: DoFunction | int | str) -> None:
+    def write_do3_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         self.write(DO3_FUNCTION, value)
 
-    def read_do3_logic(self) -> DoLogic | int:
+    def read_do3_logic(self) -> DoLogic | Unlisted:
         """Read DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         return self.read(DO3_LOGIC)
 
-    def write_do3_logic(self, value: DoLogic | int | str) -> None:
+    def write_do3_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         self.write(DO3_LOGIC, value)
 
-    def read_do4_function(self) -> DoFunction | int:
+    def read_do4_function(self) -> DoFunction | Unlisted:
         """Read DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         return self.read(DO4_FUNCTION)
 
-    def write_do4_function(self, value: DoFunction | int | str) -> None:
+    def write_do4_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         self.write(DO4_FUNCTION, value)
 
-    def read_do4_logic(self) -> DoLogic | int:
+    def read_do4_logic(self) -> DoLogic | Unlisted:
         """Read DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         return self.read(DO4_LOGIC)
 
-    def write_do4_logic(self, value: DoLogic | int | str) -> None:
+    def write_do4_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         self.write(DO4_LOGIC, value)
 
-    def read_do5_function(self) -> DoFunction | int:
+    def read_do5_function(self) -> DoFunction | Unlisted:
         """Read DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         return self.read(DO5_FUNCTION)
 
-    def write_do5_function(self, value: DoFunction | int | str) -> None:
+    def write_do5_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         self.write(DO5_FUNCTION, value)
 
-    def read_do5_logic(self) -> DoLogic | int:
+    def read_do5_logic(self) -> DoLogic | Unlisted:
         """Read DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         return self.read(DO5_LOGIC)
 
-    def write_do5_logic(self, value: DoLogic | int | str) -> None:
+    def write_do5_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         self.write(DO5_LOGIC, value)
 
-    def read_do6_function(self) -> DoFunction | int:
+    def read_do6_function(self) -> DoFunction | Unlisted:
         """Read DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         return self.read(DO6_FUNCTION)
 
-    def write_do6_function(self, value: DoFunction | int | str) -> None:
+    def write_do6_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         self.write(DO6_FUNCTION, value)
 
-    def read_do6_logic(self) -> DoLogic | int:
+    def read_do6_logic(self) -> DoLogic | Unlisted:
         """Read DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         return self.read(DO6_LOGIC)
 
-    def write_do6_logic(self, value: DoLogic | int | str) -> None:
+    def write_do6_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         self.write(DO6_LOGIC, value)
 
-    def read_position_command_source(self) -> PositionCommandSource | int:
+    def read_position_command_source(self) -> PositionCommandSource | Unlisted:
         """Read POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         return self.read(POSITION_COMMAND_SOURCE)
 
-    def write_position_command_source(self, value: PositionCommandSource | int | str) -> None:
+    def write_position_command_source(
+        self, value: PositionCommandSource | Literal["pulse", "step_amount", "multi_segment"]
+    ) -> None:
         """Write POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         self.write(POSITION_COMMAND_SOURCE, value)
 
@@ -8007,19 +9025,23 @@ class C630s(SyncClient):
         """Write GEAR2_DENOMINATOR: Electronic gear ratio 2 denominator (电子齿数比 2(分母)); documented at the constant."""
         self.write(GEAR2_DENOMINATOR, value)
 
-    def read_pulse_input_form(self) -> PulseInputForm | int:
+    def read_pulse_input_form(self) -> PulseInputForm | Unlisted:
         """Read PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         return self.read(PULSE_INPUT_FORM)
 
-    def write_pulse_input_form(self, value: PulseInputForm | int | str) -> None:
+    def write_pulse_input_form(
+        self, value: PulseInputForm | Literal["pulse_dir_positive", "pulse_dir_negative", "ab_quadrature_x4", "cw_ccw"]
+    ) -> None:
         """Write PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         self.write(PULSE_INPUT_FORM, value)
 
-    def read_position_clear_action(self) -> PositionClearAction | int:
+    def read_position_clear_action(self) -> PositionClearAction | Unlisted:
         """Read POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         return self.read(POSITION_CLEAR_ACTION)
 
-    def write_position_clear_action(self, value: PositionClearAction | int | str) -> None:
+    def write_position_clear_action(
+        self, value: PositionClearAction | Literal["servo_off_or_fault", "fault_or_warning", "servo_off_or_di"]
+    ) -> None:
         """Write POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         self.write(POSITION_CLEAR_ACTION, value)
 
@@ -8031,19 +9053,30 @@ class C630s(SyncClient):
         """Write ENCODER_DIVIDED_PULSES: Encoder divided output pulses per revolution (编码器分频脉冲数); documented at the constant."""
         self.write(ENCODER_DIVIDED_PULSES, value)
 
-    def read_speed_feedforward_select(self) -> SpeedFeedforwardSelect | int:
+    def read_speed_feedforward_select(self) -> SpeedFeedforwardSelect | Unlisted:
         """Read SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         return self.read(SPEED_FEEDFORWARD_SELECT)
 
-    def write_speed_feedforward_select(self, value: SpeedFeedforwardSelect | int | str) -> None:
+    def write_speed_feedforward_select(
+        self, value: SpeedFeedforwardSelect | Literal["none", "internal", "ai1", "ai2"]
+    ) -> None:
         """Write SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         self.write(SPEED_FEEDFORWARD_SELECT, value)
 
-    def read_coin_output_condition(self) -> CoinOutputCondition | int:
+    def read_coin_output_condition(self) -> CoinOutputCondition | Unlisted:
         """Read COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         return self.read(COIN_OUTPUT_CONDITION)
 
-    def write_coin_output_condition(self, value: CoinOutputCondition | int | str) -> None:
+    def write_coin_output_condition(
+        self,
+        value: CoinOutputCondition
+        | Literal[
+            "deviation_below",
+            "deviation_below_filtered_cmd_zero",
+            "deviation_below_unfiltered_cmd_zero",
+            "deviation_below_hold",
+        ],
+    ) -> None:
         """Write COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         self.write(COIN_OUTPUT_CONDITION, value)
 
@@ -8063,19 +9096,47 @@ class C630s(SyncClient):
         """Write NEAR_THRESHOLD: Positioning near threshold (定位接近阈值); documented at the constant."""
         self.write(NEAR_THRESHOLD, value)
 
-    def read_homing_enable(self) -> HomingEnable | int:
+    def read_homing_enable(self) -> HomingEnable | Unlisted:
         """Read HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         return self.read(HOMING_ENABLE)
 
-    def write_homing_enable(self, value: HomingEnable | int | str) -> None:
+    def write_homing_enable(
+        self,
+        value: HomingEnable
+        | Literal[
+            "off",
+            "di_homing",
+            "di_electrical_homing",
+            "homing_at_power_on",
+            "homing_now",
+            "electrical_homing",
+            "set_current_as_home",
+            "di_set_current_as_home",
+        ],
+    ) -> None:
         """Write HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         self.write(HOMING_ENABLE, value)
 
-    def read_homing_mode(self) -> HomingMode | int:
+    def read_homing_mode(self) -> HomingMode | Unlisted:
         """Read HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         return self.read(HOMING_MODE)
 
-    def write_homing_mode(self, value: HomingMode | int | str) -> None:
+    def write_homing_mode(
+        self,
+        value: HomingMode
+        | Literal[
+            "fwd_home_switch",
+            "rev_home_switch",
+            "fwd_motor_z",
+            "rev_motor_z",
+            "fwd_home_switch_then_z",
+            "rev_home_switch_then_z",
+            "fwd_p_ot",
+            "rev_n_ot",
+            "fwd_p_ot_then_z",
+            "rev_n_ot_then_z",
+        ],
+    ) -> None:
         """Write HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         self.write(HOMING_MODE, value)
 
@@ -8119,27 +9180,31 @@ class C630s(SyncClient):
         """Write HOME_OFFSET: Mechanical home offset (机械原点偏移量); documented at the constant."""
         self.write(HOME_OFFSET, value)
 
-    def read_pulse_output_source(self) -> PulseOutputSource | int:
+    def read_pulse_output_source(self) -> PulseOutputSource | Unlisted:
         """Read PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         return self.read(PULSE_OUTPUT_SOURCE)
 
-    def write_pulse_output_source(self, value: PulseOutputSource | int | str) -> None:
+    def write_pulse_output_source(
+        self, value: PulseOutputSource | Literal["encoder_divided", "command_sync", "disabled"]
+    ) -> None:
         """Write PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         self.write(PULSE_OUTPUT_SOURCE, value)
 
-    def read_gear_switch_condition(self) -> GearSwitchCondition | int:
+    def read_gear_switch_condition(self) -> GearSwitchCondition | Unlisted:
         """Read GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         return self.read(GEAR_SWITCH_CONDITION)
 
-    def write_gear_switch_condition(self, value: GearSwitchCondition | int | str) -> None:
+    def write_gear_switch_condition(
+        self, value: GearSwitchCondition | Literal["command_zero_2_5ms", "realtime"]
+    ) -> None:
         """Write GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         self.write(GEAR_SWITCH_CONDITION, value)
 
-    def read_pulse_edge(self) -> PulseEdge | int:
+    def read_pulse_edge(self) -> PulseEdge | Unlisted:
         """Read PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         return self.read(PULSE_EDGE)
 
-    def write_pulse_edge(self, value: PulseEdge | int | str) -> None:
+    def write_pulse_edge(self, value: PulseEdge | Literal["falling", "rising"]) -> None:
         """Write PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         self.write(PULSE_EDGE, value)
 
@@ -8167,27 +9232,29 @@ class C630s(SyncClient):
         """Write HOMING_TIME_UNIT: Homing time limit unit select (限定查找原点的时间单位选择); documented at the constant."""
         self.write(HOMING_TIME_UNIT, value)
 
-    def read_speed_a_source(self) -> SpeedASource | int:
+    def read_speed_a_source(self) -> SpeedASource | Unlisted:
         """Read SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         return self.read(SPEED_A_SOURCE)
 
-    def write_speed_a_source(self, value: SpeedASource | int | str) -> None:
+    def write_speed_a_source(self, value: SpeedASource | Literal["digital", "ai1", "ai2"]) -> None:
         """Write SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         self.write(SPEED_A_SOURCE, value)
 
-    def read_speed_b_source(self) -> SpeedBSource | int:
+    def read_speed_b_source(self) -> SpeedBSource | Unlisted:
         """Read SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         return self.read(SPEED_B_SOURCE)
 
-    def write_speed_b_source(self, value: SpeedBSource | int | str) -> None:
+    def write_speed_b_source(self, value: SpeedBSource | Literal["digital", "ai1", "ai2", "multi_segment"]) -> None:
         """Write SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         self.write(SPEED_B_SOURCE, value)
 
-    def read_speed_command_select(self) -> SpeedCommandSelect | int:
+    def read_speed_command_select(self) -> SpeedCommandSelect | Unlisted:
         """Read SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         return self.read(SPEED_COMMAND_SELECT)
 
-    def write_speed_command_select(self, value: SpeedCommandSelect | int | str) -> None:
+    def write_speed_command_select(
+        self, value: SpeedCommandSelect | Literal["a", "b", "a_plus_b", "a_b_switch"]
+    ) -> None:
         """Write SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         self.write(SPEED_COMMAND_SELECT, value)
 
@@ -8247,11 +9314,11 @@ class C630s(SyncClient):
         """Write REVERSE_SPEED_THRESHOLD: Reverse speed threshold (反向速度阈值); documented at the constant."""
         self.write(REVERSE_SPEED_THRESHOLD, value)
 
-    def read_torque_feedforward_select(self) -> TorqueFeedforwardSelect | int:
+    def read_torque_feedforward_select(self) -> TorqueFeedforwardSelect | Unlisted:
         """Read TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         return self.read(TORQUE_FEEDFORWARD_SELECT)
 
-    def write_torque_feedforward_select(self, value: TorqueFeedforwardSelect | int | str) -> None:
+    def write_torque_feedforward_select(self, value: TorqueFeedforwardSelect | Literal["none", "internal"]) -> None:
         """Write TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         self.write(TORQUE_FEEDFORWARD_SELECT, value)
 
@@ -8295,27 +9362,29 @@ class C630s(SyncClient):
         """Write ZERO_SPEED_THRESHOLD: Zero speed output threshold (ZERO) (零速输出信号阀值); documented at the constant."""
         self.write(ZERO_SPEED_THRESHOLD, value)
 
-    def read_torque_a_source(self) -> TorqueSource | int:
+    def read_torque_a_source(self) -> TorqueSource | Unlisted:
         """Read TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         return self.read(TORQUE_A_SOURCE)
 
-    def write_torque_a_source(self, value: TorqueSource | int | str) -> None:
+    def write_torque_a_source(self, value: TorqueSource | Literal["digital", "ai1", "ai2"]) -> None:
         """Write TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         self.write(TORQUE_A_SOURCE, value)
 
-    def read_torque_b_source(self) -> TorqueSource | int:
+    def read_torque_b_source(self) -> TorqueSource | Unlisted:
         """Read TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         return self.read(TORQUE_B_SOURCE)
 
-    def write_torque_b_source(self, value: TorqueSource | int | str) -> None:
+    def write_torque_b_source(self, value: TorqueSource | Literal["digital", "ai1", "ai2"]) -> None:
         """Write TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         self.write(TORQUE_B_SOURCE, value)
 
-    def read_torque_command_select(self) -> TorqueCommandSelect | int:
+    def read_torque_command_select(self) -> TorqueCommandSelect | Unlisted:
         """Read TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         return self.read(TORQUE_COMMAND_SELECT)
 
-    def write_torque_command_select(self, value: TorqueCommandSelect | int | str) -> None:
+    def write_torque_command_select(
+        self, value: TorqueCommandSelect | Literal["a", "b", "a_plus_b", "a_b_switch", "communication"]
+    ) -> None:
         """Write TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         self.write(TORQUE_COMMAND_SELECT, value)
 
@@ -8343,19 +9412,23 @@ class C630s(SyncClient):
         """Write TORQUE_FILTER_TIME_2: Second torque command filter time constant (第二转矩指令滤波时间常数); documented at the constant."""
         self.write(TORQUE_FILTER_TIME_2, value)
 
-    def read_torque_limit_source(self) -> TorqueLimitSource | int:
+    def read_torque_limit_source(self) -> TorqueLimitSource | Unlisted:
         """Read TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         return self.read(TORQUE_LIMIT_SOURCE)
 
-    def write_torque_limit_source(self, value: TorqueLimitSource | int | str) -> None:
+    def write_torque_limit_source(
+        self,
+        value: TorqueLimitSource
+        | Literal["internal", "external", "t_lmt", "min_external_t_lmt", "internal_t_lmt_switch"],
+    ) -> None:
         """Write TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         self.write(TORQUE_LIMIT_SOURCE, value)
 
-    def read_t_lmt_select(self) -> AiChannel | int:
+    def read_t_lmt_select(self) -> AiChannel | Unlisted:
         """Read T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         return self.read(T_LMT_SELECT)
 
-    def write_t_lmt_select(self, value: AiChannel | int | str) -> None:
+    def write_t_lmt_select(self, value: AiChannel | Literal["ai1", "ai2"]) -> None:
         """Write T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         self.write(T_LMT_SELECT, value)
 
@@ -8391,19 +9464,21 @@ class C630s(SyncClient):
         """Write NEGATIVE_EXTERNAL_TORQUE_LIMIT: Negative external torque limit (负外部转矩限制); documented at the constant."""
         self.write(NEGATIVE_EXTERNAL_TORQUE_LIMIT, value)
 
-    def read_speed_limit_source(self) -> SpeedLimitSource | int:
+    def read_speed_limit_source(self) -> SpeedLimitSource | Unlisted:
         """Read SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         return self.read(SPEED_LIMIT_SOURCE)
 
-    def write_speed_limit_source(self, value: SpeedLimitSource | int | str) -> None:
+    def write_speed_limit_source(
+        self, value: SpeedLimitSource | Literal["internal", "v_lmt", "funin36_select"]
+    ) -> None:
         """Write SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         self.write(SPEED_LIMIT_SOURCE, value)
 
-    def read_v_lmt_select(self) -> AiChannel | int:
+    def read_v_lmt_select(self) -> AiChannel | Unlisted:
         """Read V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         return self.read(V_LMT_SELECT)
 
-    def write_v_lmt_select(self, value: AiChannel | int | str) -> None:
+    def write_v_lmt_select(self, value: AiChannel | Literal["ai1", "ai2"]) -> None:
         """Write V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         self.write(V_LMT_SELECT, value)
 
@@ -8503,19 +9578,37 @@ class C630s(SyncClient):
         """Write POSITION_LOOP_GAIN_2: Second position loop gain (第 2 位置环增益); documented at the constant."""
         self.write(POSITION_LOOP_GAIN_2, value)
 
-    def read_second_gain_mode(self) -> SecondGainMode | int:
+    def read_second_gain_mode(self) -> SecondGainMode | Unlisted:
         """Read SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         return self.read(SECOND_GAIN_MODE)
 
-    def write_second_gain_mode(self, value: SecondGainMode | int | str) -> None:
+    def write_second_gain_mode(
+        self, value: SecondGainMode | Literal["first_gain_di_p_pi", "switch_per_p08_09"]
+    ) -> None:
         """Write SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         self.write(SECOND_GAIN_MODE, value)
 
-    def read_gain_switch_condition(self) -> GainSwitchCondition | int:
+    def read_gain_switch_condition(self) -> GainSwitchCondition | Unlisted:
         """Read GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         return self.read(GAIN_SWITCH_CONDITION)
 
-    def write_gain_switch_condition(self, value: GainSwitchCondition | int | str) -> None:
+    def write_gain_switch_condition(
+        self,
+        value: GainSwitchCondition
+        | Literal[
+            "first_gain_fixed",
+            "external_di",
+            "torque_command_large",
+            "speed_command_large",
+            "speed_command_rate_large",
+            "speed_command_high_low",
+            "position_deviation_large",
+            "position_command_present",
+            "positioning_complete",
+            "actual_speed_large",
+            "position_command_and_speed",
+        ],
+    ) -> None:
         """Write GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         self.write(GAIN_SWITCH_CONDITION, value)
 
@@ -8591,11 +9684,13 @@ class C630s(SyncClient):
         """Write TORQUE_FF_GAIN: Torque feedforward gain (转矩前馈增益); documented at the constant."""
         self.write(TORQUE_FF_GAIN, value)
 
-    def read_speed_feedback_filter(self) -> SpeedFeedbackFilter | int:
+    def read_speed_feedback_filter(self) -> SpeedFeedbackFilter | Unlisted:
         """Read SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         return self.read(SPEED_FEEDBACK_FILTER)
 
-    def write_speed_feedback_filter(self, value: SpeedFeedbackFilter | int | str) -> None:
+    def write_speed_feedback_filter(
+        self, value: SpeedFeedbackFilter | Literal["off", "avg_2", "avg_4", "avg_8", "avg_16"]
+    ) -> None:
         """Write SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         self.write(SPEED_FEEDBACK_FILTER, value)
 
@@ -8623,27 +9718,30 @@ class C630s(SyncClient):
         """Write STIFFNESS_LEVEL: Stiffness level (刚性等级选择); documented at the constant."""
         self.write(STIFFNESS_LEVEL, value)
 
-    def read_adaptive_notch_mode(self) -> AdaptiveNotchMode | int:
+    def read_adaptive_notch_mode(self) -> AdaptiveNotchMode | Unlisted:
         """Read ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         return self.read(ADAPTIVE_NOTCH_MODE)
 
-    def write_adaptive_notch_mode(self, value: AdaptiveNotchMode | int | str) -> None:
+    def write_adaptive_notch_mode(
+        self,
+        value: AdaptiveNotchMode | Literal["no_update", "one_notch", "two_notches", "test_only", "restore_notch_3_4"],
+    ) -> None:
         """Write ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         self.write(ADAPTIVE_NOTCH_MODE, value)
 
-    def read_low_freq_resonance_mode(self) -> LowFreqResonanceMode | int:
+    def read_low_freq_resonance_mode(self) -> LowFreqResonanceMode | Unlisted:
         """Read LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         return self.read(LOW_FREQ_RESONANCE_MODE)
 
-    def write_low_freq_resonance_mode(self, value: LowFreqResonanceMode | int | str) -> None:
+    def write_low_freq_resonance_mode(self, value: LowFreqResonanceMode | Literal["manual", "auto"]) -> None:
         """Write LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_MODE, value)
 
-    def read_inertia_id_mode(self) -> InertiaIdMode | int:
+    def read_inertia_id_mode(self) -> InertiaIdMode | Unlisted:
         """Read INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         return self.read(INERTIA_ID_MODE)
 
-    def write_inertia_id_mode(self, value: InertiaIdMode | int | str) -> None:
+    def write_inertia_id_mode(self, value: InertiaIdMode | Literal["triangle", "jog"]) -> None:
         """Write INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         self.write(INERTIA_ID_MODE, value)
 
@@ -8807,19 +9905,21 @@ class C630s(SyncClient):
         """Write LOW_FREQ_RESONANCE_FILTER: Low-frequency resonance frequency filter setting (低频共振频率滤波设定); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_FILTER, value)
 
-    def read_phase_loss_protection(self) -> PhaseLossProtection | int:
+    def read_phase_loss_protection(self) -> PhaseLossProtection | Unlisted:
         """Read PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         return self.read(PHASE_LOSS_PROTECTION)
 
-    def write_phase_loss_protection(self, value: PhaseLossProtection | int | str) -> None:
+    def write_phase_loss_protection(
+        self, value: PhaseLossProtection | Literal["fault_only", "fault_and_warning", "disabled"]
+    ) -> None:
         """Write PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         self.write(PHASE_LOSS_PROTECTION, value)
 
-    def read_power_loss_save(self) -> PowerLossSave | int:
+    def read_power_loss_save(self) -> PowerLossSave | Unlisted:
         """Read POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         return self.read(POWER_LOSS_SAVE)
 
-    def write_power_loss_save(self, value: PowerLossSave | int | str) -> None:
+    def write_power_loss_save(self, value: PowerLossSave | Literal["off", "on"]) -> None:
         """Write POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         self.write(POWER_LOSS_SAVE, value)
 
@@ -8855,11 +9955,11 @@ class C630s(SyncClient):
         """Write POSITION_DEVIATION_FAULT_THRESHOLD: Excessive position deviation fault threshold (位置偏差过大故障阈值); documented at the constant."""
         self.write(POSITION_DEVIATION_FAULT_THRESHOLD, value)
 
-    def read_runaway_protection(self) -> RunawayProtection | int:
+    def read_runaway_protection(self) -> RunawayProtection | Unlisted:
         """Read RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         return self.read(RUNAWAY_PROTECTION)
 
-    def write_runaway_protection(self, value: RunawayProtection | int | str) -> None:
+    def write_runaway_protection(self, value: RunawayProtection | Literal["off", "on"]) -> None:
         """Write RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         self.write(RUNAWAY_PROTECTION, value)
 
@@ -8871,11 +9971,11 @@ class C630s(SyncClient):
         """Write LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值); documented at the constant."""
         self.write(LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD, value)
 
-    def read_position_unit_select(self) -> PositionUnitSelect | int:
+    def read_position_unit_select(self) -> PositionUnitSelect | Unlisted:
         """Read POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         return self.read(POSITION_UNIT_SELECT)
 
-    def write_position_unit_select(self, value: PositionUnitSelect | int | str) -> None:
+    def write_position_unit_select(self, value: PositionUnitSelect | Literal["encoder_unit", "command_unit"]) -> None:
         """Write POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         self.write(POSITION_UNIT_SELECT, value)
 
@@ -8895,11 +9995,11 @@ class C630s(SyncClient):
         """Write SPEED_DISPLAY_FILTER_TIME: Speed feedback display filter time constant (速度反馈显示值滤波时间常数); documented at the constant."""
         self.write(SPEED_DISPLAY_FILTER_TIME, value)
 
-    def read_motor_overload_mask(self) -> MotorOverloadMask | int:
+    def read_motor_overload_mask(self) -> MotorOverloadMask | Unlisted:
         """Read MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         return self.read(MOTOR_OVERLOAD_MASK)
 
-    def write_motor_overload_mask(self, value: MotorOverloadMask | int | str) -> None:
+    def write_motor_overload_mask(self, value: MotorOverloadMask | Literal["detect", "masked"]) -> None:
         """Write MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         self.write(MOTOR_OVERLOAD_MASK, value)
 
@@ -8935,19 +10035,19 @@ class C630s(SyncClient):
         """Write STALL_PROTECTION_WINDOW: Stall over-temperature protection time window (堵转过温保护时间窗口); documented at the constant."""
         self.write(STALL_PROTECTION_WINDOW, value)
 
-    def read_stall_protection_enable(self) -> StallProtection | int:
+    def read_stall_protection_enable(self) -> StallProtection | Unlisted:
         """Read STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         return self.read(STALL_PROTECTION_ENABLE)
 
-    def write_stall_protection_enable(self, value: StallProtection | int | str) -> None:
+    def write_stall_protection_enable(self, value: StallProtection | Literal["masked", "enabled"]) -> None:
         """Write STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         self.write(STALL_PROTECTION_ENABLE, value)
 
-    def read_multiturn_overflow_fault(self) -> MultiturnOverflowFault | int:
+    def read_multiturn_overflow_fault(self) -> MultiturnOverflowFault | Unlisted:
         """Read MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         return self.read(MULTITURN_OVERFLOW_FAULT)
 
-    def write_multiturn_overflow_fault(self, value: MultiturnOverflowFault | int | str) -> None:
+    def write_multiturn_overflow_fault(self, value: MultiturnOverflowFault | Literal["not_masked", "masked"]) -> None:
         """Write MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         self.write(MULTITURN_OVERFLOW_FAULT, value)
 
@@ -9123,27 +10223,31 @@ class C630s(SyncClient):
         """Write SLAVE_ADDRESS: Servo axis (Modbus slave) address (伺服轴地址); documented at the constant."""
         self.write(SLAVE_ADDRESS, value)
 
-    def read_baud_rate(self) -> BaudRate | int:
+    def read_baud_rate(self) -> BaudRate | Unlisted:
         """Read BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         return self.read(BAUD_RATE)
 
-    def write_baud_rate(self, value: BaudRate | int | str) -> None:
+    def write_baud_rate(
+        self, value: BaudRate | Literal["b2400", "b4800", "b9600", "b19200", "b38400", "b57600"]
+    ) -> None:
         """Write BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         self.write(BAUD_RATE, value)
 
-    def read_modbus_data_format(self) -> ModbusDataFormat | int:
+    def read_modbus_data_format(self) -> ModbusDataFormat | Unlisted:
         """Read MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         return self.read(MODBUS_DATA_FORMAT)
 
-    def write_modbus_data_format(self, value: ModbusDataFormat | int | str) -> None:
+    def write_modbus_data_format(
+        self, value: ModbusDataFormat | Literal["none_2_stop", "even_1_stop", "odd_1_stop", "none_1_stop"]
+    ) -> None:
         """Write MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         self.write(MODBUS_DATA_FORMAT, value)
 
-    def read_comm_vdi_enable(self) -> DisableEnable | int:
+    def read_comm_vdi_enable(self) -> DisableEnable | Unlisted:
         """Read COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         return self.read(COMM_VDI_ENABLE)
 
-    def write_comm_vdi_enable(self, value: DisableEnable | int | str) -> None:
+    def write_comm_vdi_enable(self, value: DisableEnable | Literal["disabled", "enabled"]) -> None:
         """Write COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         self.write(COMM_VDI_ENABLE, value)
 
@@ -9155,11 +10259,11 @@ class C630s(SyncClient):
         """Write VDI_POWERON_DEFAULT: VDI default values after power-on (上电后 VDI 默认值); documented at the constant."""
         self.write(VDI_POWERON_DEFAULT, value)
 
-    def read_comm_vdo_enable(self) -> DisableEnable | int:
+    def read_comm_vdo_enable(self) -> DisableEnable | Unlisted:
         """Read COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         return self.read(COMM_VDO_ENABLE)
 
-    def write_comm_vdo_enable(self, value: DisableEnable | int | str) -> None:
+    def write_comm_vdo_enable(self, value: DisableEnable | Literal["disabled", "enabled"]) -> None:
         """Write COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         self.write(COMM_VDO_ENABLE, value)
 
@@ -9171,15 +10275,15 @@ class C630s(SyncClient):
         """Write VDO_DEFAULT_LEVEL: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平); documented at the constant."""
         self.write(VDO_DEFAULT_LEVEL, value)
 
-    def read_modbus_eeprom_update(self) -> EepromUpdate | int:
+    def read_modbus_eeprom_update(self) -> EepromUpdate | Unlisted:
         """Read MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         return self.read(MODBUS_EEPROM_UPDATE)
 
-    def write_modbus_eeprom_update(self, value: EepromUpdate | int | str) -> None:
+    def write_modbus_eeprom_update(self, value: EepromUpdate | Literal["no_update", "update_except_p0b_p0d"]) -> None:
         """Write MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         self.write(MODBUS_EEPROM_UPDATE, value)
 
-    def read_modbus_error_code(self) -> ModbusError | int:
+    def read_modbus_error_code(self) -> ModbusError | Unlisted:
         """Read MODBUS_ERROR_CODE: Modbus error code (Moubus 错误码); documented at the constant."""
         return self.read(MODBUS_ERROR_CODE)
 
@@ -9191,35 +10295,35 @@ class C630s(SyncClient):
         """Write MODBUS_RESPONSE_DELAY: Modbus response delay (Moubus 指令应答延时); documented at the constant."""
         self.write(MODBUS_RESPONSE_DELAY, value)
 
-    def read_modbus_word_order(self) -> WordOrder | int:
+    def read_modbus_word_order(self) -> WordOrder | Unlisted:
         """Read MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         return self.read(MODBUS_WORD_ORDER)
 
-    def write_modbus_word_order(self, value: WordOrder | int | str) -> None:
+    def write_modbus_word_order(self, value: WordOrder | Literal["high_first", "low_first"]) -> None:
         """Write MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         self.write(MODBUS_WORD_ORDER, value)
 
-    def read_modbus_error_frame_format(self) -> ErrorFrameFormat | int:
+    def read_modbus_error_frame_format(self) -> ErrorFrameFormat | Unlisted:
         """Read MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         return self.read(MODBUS_ERROR_FRAME_FORMAT)
 
-    def write_modbus_error_frame_format(self, value: ErrorFrameFormat | int | str) -> None:
+    def write_modbus_error_frame_format(self, value: ErrorFrameFormat | Literal["old", "standard"]) -> None:
         """Write MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         self.write(MODBUS_ERROR_FRAME_FORMAT, value)
 
-    def read_software_reset(self) -> NoOpEnable | int:
+    def read_software_reset(self) -> NoOpEnable | Unlisted:
         """Read SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         return self.read(SOFTWARE_RESET)
 
-    def write_software_reset(self, value: NoOpEnable | int | str) -> None:
+    def write_software_reset(self, value: NoOpEnable | Literal["no_operation", "enable"]) -> None:
         """Write SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         self.write(SOFTWARE_RESET, value)
 
-    def read_fault_reset(self) -> NoOpEnable | int:
+    def read_fault_reset(self) -> NoOpEnable | Unlisted:
         """Read FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         return self.read(FAULT_RESET)
 
-    def write_fault_reset(self, value: NoOpEnable | int | str) -> None:
+    def write_fault_reset(self, value: NoOpEnable | Literal["no_operation", "enable"]) -> None:
         """Write FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         self.write(FAULT_RESET, value)
 
@@ -9231,19 +10335,19 @@ class C630s(SyncClient):
         """Write OFFLINE_INERTIA_IDENTIFICATION: Offline inertia identification (离线惯量辨识功能); documented at the constant."""
         self.write(OFFLINE_INERTIA_IDENTIFICATION, value)
 
-    def read_initial_angle_identification(self) -> InitialAngleId | int:
+    def read_initial_angle_identification(self) -> InitialAngleId | Unlisted:
         """Read INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         return self.read(INITIAL_ANGLE_IDENTIFICATION)
 
-    def write_initial_angle_identification(self, value: InitialAngleId | int | str) -> None:
+    def write_initial_angle_identification(self, value: InitialAngleId | Literal["enable"]) -> None:
         """Write INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         self.write(INITIAL_ANGLE_IDENTIFICATION, value)
 
-    def read_emergency_stop(self) -> EmergencyStopCmd | int:
+    def read_emergency_stop(self) -> EmergencyStopCmd | Unlisted:
         """Read EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         return self.read(EMERGENCY_STOP)
 
-    def write_emergency_stop(self, value: EmergencyStopCmd | int | str) -> None:
+    def write_emergency_stop(self, value: EmergencyStopCmd | Literal["no_operation", "emergency_stop"]) -> None:
         """Write EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         self.write(EMERGENCY_STOP, value)
 
@@ -9259,11 +10363,13 @@ class C630s(SyncClient):
         """Write JOG_TRIAL_RUN: JOG trial run (JOG 试运行功能); documented at the constant."""
         self.write(JOG_TRIAL_RUN, value)
 
-    def read_dido_force_enable(self) -> DidoForce | int:
+    def read_dido_force_enable(self) -> DidoForce | Unlisted:
         """Read DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         return self.read(DIDO_FORCE_ENABLE)
 
-    def write_dido_force_enable(self, value: DidoForce | int | str) -> None:
+    def write_dido_force_enable(
+        self, value: DidoForce | Literal["no_operation", "force_di", "force_do", "force_di_do"]
+    ) -> None:
         """Write DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         self.write(DIDO_FORCE_ENABLE, value)
 
@@ -9283,19 +10389,23 @@ class C630s(SyncClient):
         """Write DO_FORCE_VALUE: DO forced output value (DO 强制输出给定); documented at the constant."""
         self.write(DO_FORCE_VALUE, value)
 
-    def read_abs_encoder_reset(self) -> AbsEncoderReset | int:
+    def read_abs_encoder_reset(self) -> AbsEncoderReset | Unlisted:
         """Read ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         return self.read(ABS_ENCODER_RESET)
 
-    def write_abs_encoder_reset(self, value: AbsEncoderReset | int | str) -> None:
+    def write_abs_encoder_reset(
+        self, value: AbsEncoderReset | Literal["no_operation", "reset_option_1", "reset_fault_and_multiturn"]
+    ) -> None:
         """Write ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         self.write(ABS_ENCODER_RESET, value)
 
-    def read_multi_position_run_mode(self) -> MultiPositionRunMode | int:
+    def read_multi_position_run_mode(self) -> MultiPositionRunMode | Unlisted:
         """Read MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         return self.read(MULTI_POSITION_RUN_MODE)
 
-    def write_multi_position_run_mode(self, value: MultiPositionRunMode | int | str) -> None:
+    def write_multi_position_run_mode(
+        self, value: MultiPositionRunMode | Literal["single", "cycle", "di_switch", "sequential"]
+    ) -> None:
         """Write MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         self.write(MULTI_POSITION_RUN_MODE, value)
 
@@ -9307,27 +10417,27 @@ class C630s(SyncClient):
         """Write MULTI_POSITION_END_SEGMENT: Last displacement segment (位移指令终点段数); documented at the constant."""
         self.write(MULTI_POSITION_END_SEGMENT, value)
 
-    def read_multi_position_remainder(self) -> RemainderHandling | int:
+    def read_multi_position_remainder(self) -> RemainderHandling | Unlisted:
         """Read MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         return self.read(MULTI_POSITION_REMAINDER)
 
-    def write_multi_position_remainder(self, value: RemainderHandling | int | str) -> None:
+    def write_multi_position_remainder(self, value: RemainderHandling | Literal["continue", "restart"]) -> None:
         """Write MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         self.write(MULTI_POSITION_REMAINDER, value)
 
-    def read_multi_position_time_unit(self) -> TimeUnitMsS | int:
+    def read_multi_position_time_unit(self) -> TimeUnitMsS | Unlisted:
         """Read MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         return self.read(MULTI_POSITION_TIME_UNIT)
 
-    def write_multi_position_time_unit(self, value: TimeUnitMsS | int | str) -> None:
+    def write_multi_position_time_unit(self, value: TimeUnitMsS | Literal["ms", "s"]) -> None:
         """Write MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         self.write(MULTI_POSITION_TIME_UNIT, value)
 
-    def read_displacement_type(self) -> DisplacementType | int:
+    def read_displacement_type(self) -> DisplacementType | Unlisted:
         """Read DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         return self.read(DISPLACEMENT_TYPE)
 
-    def write_displacement_type(self, value: DisplacementType | int | str) -> None:
+    def write_displacement_type(self, value: DisplacementType | Literal["relative", "absolute"]) -> None:
         """Write DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         self.write(DISPLACEMENT_TYPE, value)
 
@@ -9339,11 +10449,11 @@ class C630s(SyncClient):
         """Write SEQUENTIAL_START_SEGMENT: Sequential run start segment (顺序运行起始段选择); documented at the constant."""
         self.write(SEQUENTIAL_START_SEGMENT, value)
 
-    def read_multi_speed_run_mode(self) -> MultiSpeedRunMode | int:
+    def read_multi_speed_run_mode(self) -> MultiSpeedRunMode | Unlisted:
         """Read MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         return self.read(MULTI_SPEED_RUN_MODE)
 
-    def write_multi_speed_run_mode(self, value: MultiSpeedRunMode | int | str) -> None:
+    def write_multi_speed_run_mode(self, value: MultiSpeedRunMode | Literal["single", "cycle", "di_switch"]) -> None:
         """Write MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         self.write(MULTI_SPEED_RUN_MODE, value)
 
@@ -9355,11 +10465,11 @@ class C630s(SyncClient):
         """Write MULTI_SPEED_END_SEGMENT: Last speed segment (速度指令终点段数选择); documented at the constant."""
         self.write(MULTI_SPEED_END_SEGMENT, value)
 
-    def read_multi_speed_time_unit(self) -> TimeUnitSMin | int:
+    def read_multi_speed_time_unit(self) -> TimeUnitSMin | Unlisted:
         """Read MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         return self.read(MULTI_SPEED_TIME_UNIT)
 
-    def write_multi_speed_time_unit(self, value: TimeUnitSMin | int | str) -> None:
+    def write_multi_speed_time_unit(self, value: TimeUnitSMin | Literal["sec", "min"]) -> None:
         """Write MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         self.write(MULTI_SPEED_TIME_UNIT, value)
 
@@ -9513,6 +10623,14 @@ class AsyncC630s(AsyncClient):
 
     DEVICE = DEVICE
 
+    async def read_many(self, *specs: Readable[Any]) -> C630sValues:
+        """Read several registers with the fewest requests the device allows."""
+        return cast(C630sValues, await super().read_many(*specs))
+
+    async def read_all(self, poll: object = None) -> C630sValues:
+        """Every readable register by the read plan; `poll` ("static", "fast", "normal", "slow"): only that class's."""
+        return cast(C630sValues, await super().read_all(poll))
+
     async def read_mcu_software_version(self) -> int:
         """Read MCU_SOFTWARE_VERSION: MCU software version (MCU 软件版本号); documented at the constant."""
         return await self.read(MCU_SOFTWARE_VERSION)
@@ -9525,67 +10643,75 @@ class AsyncC630s(AsyncClient):
         """Write SERVO_DRIVE_NUMBER: Servo drive number (伺服驱动器编号); documented at the constant."""
         await self.write(SERVO_DRIVE_NUMBER, value)
 
-    async def read_control_mode(self) -> ControlMode | int:
+    async def read_control_mode(self) -> ControlMode | Unlisted:
         """Read CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         return await self.read(CONTROL_MODE)
 
-    async def write_control_mode(self, value: ControlMode | int | str) -> None:
+    async def write_control_mode(
+        self,
+        value: ControlMode
+        | Literal[
+            "speed", "position", "torque", "torque_speed", "speed_position", "torque_position", "torque_speed_position"
+        ],
+    ) -> None:
         """Write CONTROL_MODE: Control mode (控制模式选择); documented at the constant."""
         await self.write(CONTROL_MODE, value)
 
-    async def read_encoder_type(self) -> EncoderType | int:
+    async def read_encoder_type(self) -> EncoderType | Unlisted:
         """Read ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         return await self.read(ENCODER_TYPE)
 
-    async def write_encoder_type(self, value: EncoderType | int | str) -> None:
+    async def write_encoder_type(self, value: EncoderType | Literal["incremental", "absolute"]) -> None:
         """Write ENCODER_TYPE: Encoder type (编码器类型选择); documented at the constant."""
         await self.write(ENCODER_TYPE, value)
 
-    async def read_rotation_direction(self) -> RotationDirection | int:
+    async def read_rotation_direction(self) -> RotationDirection | Unlisted:
         """Read ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         return await self.read(ROTATION_DIRECTION)
 
-    async def write_rotation_direction(self, value: RotationDirection | int | str) -> None:
+    async def write_rotation_direction(self, value: RotationDirection | Literal["ccw_positive", "cw_positive"]) -> None:
         """Write ROTATION_DIRECTION: Rotation direction (旋转方向选择); documented at the constant."""
         await self.write(ROTATION_DIRECTION, value)
 
-    async def read_output_pulse_phase(self) -> OutputPulsePhase | int:
+    async def read_output_pulse_phase(self) -> OutputPulsePhase | Unlisted:
         """Read OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         return await self.read(OUTPUT_PULSE_PHASE)
 
-    async def write_output_pulse_phase(self, value: OutputPulsePhase | int | str) -> None:
+    async def write_output_pulse_phase(self, value: OutputPulsePhase | Literal["ccw_positive", "cw_positive"]) -> None:
         """Write OUTPUT_PULSE_PHASE: Output pulse phase (输出脉冲相位); documented at the constant."""
         await self.write(OUTPUT_PULSE_PHASE, value)
 
-    async def read_servo_off_stop_mode(self) -> StopMode | int:
+    async def read_servo_off_stop_mode(self) -> StopMode | Unlisted:
         """Read SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         return await self.read(SERVO_OFF_STOP_MODE)
 
-    async def write_servo_off_stop_mode(self, value: StopMode | int | str) -> None:
+    async def write_servo_off_stop_mode(self, value: StopMode | Literal["coast", "zero_speed_then_free"]) -> None:
         """Write SERVO_OFF_STOP_MODE: Stop mode at servo enable OFF (伺服使能 OFF 停机方式选择); documented at the constant."""
         await self.write(SERVO_OFF_STOP_MODE, value)
 
-    async def read_fault_no2_stop_mode(self) -> StopMode | int:
+    async def read_fault_no2_stop_mode(self) -> StopMode | Unlisted:
         """Read FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         return await self.read(FAULT_NO2_STOP_MODE)
 
-    async def write_fault_no2_stop_mode(self, value: StopMode | int | str) -> None:
+    async def write_fault_no2_stop_mode(self, value: StopMode | Literal["coast", "zero_speed_then_free"]) -> None:
         """Write FAULT_NO2_STOP_MODE: Stop mode at fault No.2 (故障 No.2 停机方式选择); documented at the constant."""
         await self.write(FAULT_NO2_STOP_MODE, value)
 
-    async def read_overtravel_stop_mode(self) -> OvertravelStopMode | int:
+    async def read_overtravel_stop_mode(self) -> OvertravelStopMode | Unlisted:
         """Read OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         return await self.read(OVERTRAVEL_STOP_MODE)
 
-    async def write_overtravel_stop_mode(self, value: OvertravelStopMode | int | str) -> None:
+    async def write_overtravel_stop_mode(
+        self, value: OvertravelStopMode | Literal["coast", "zero_speed_position_lock", "zero_speed_then_free"]
+    ) -> None:
         """Write OVERTRAVEL_STOP_MODE: Overtravel stop mode (超程停机方式选择); documented at the constant."""
         await self.write(OVERTRAVEL_STOP_MODE, value)
 
-    async def read_fault_no1_stop_mode(self) -> FaultNo1StopMode | int:
+    async def read_fault_no1_stop_mode(self) -> FaultNo1StopMode | Unlisted:
         """Read FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         return await self.read(FAULT_NO1_STOP_MODE)
 
-    async def write_fault_no1_stop_mode(self, value: FaultNo1StopMode | int | str) -> None:
+    async def write_fault_no1_stop_mode(self, value: FaultNo1StopMode | Literal["coast"]) -> None:
         """Write FAULT_NO1_STOP_MODE: Stop mode at fault No.1 (故障 No.1 停机方式选择); documented at the constant."""
         await self.write(FAULT_NO1_STOP_MODE, value)
 
@@ -9621,11 +10747,13 @@ class AsyncC630s(AsyncClient):
         """Write SERVO_OFF_TO_BRAKE_OFF_DELAY: While rotating: delay from servo enable OFF to brake output OFF (旋转状态, 伺服使能 OFF 至抱闸输出 OFF 延时); documented at the constant."""
         await self.write(SERVO_OFF_TO_BRAKE_OFF_DELAY, value)
 
-    async def read_led_warning_display(self) -> LedWarningDisplay | int:
+    async def read_led_warning_display(self) -> LedWarningDisplay | Unlisted:
         """Read LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         return await self.read(LED_WARNING_DISPLAY)
 
-    async def write_led_warning_display(self, value: LedWarningDisplay | int | str) -> None:
+    async def write_led_warning_display(
+        self, value: LedWarningDisplay | Literal["output_immediately", "no_output"]
+    ) -> None:
         """Write LED_WARNING_DISPLAY: LED warning display (LED 警告显示选择); documented at the constant."""
         await self.write(LED_WARNING_DISPLAY, value)
 
@@ -9657,11 +10785,15 @@ class AsyncC630s(AsyncClient):
         """Write RESISTOR_HEAT_DISSIPATION_COEFFICIENT: Resistor heat dissipation coefficient (电阻散热系数); documented at the constant."""
         await self.write(RESISTOR_HEAT_DISSIPATION_COEFFICIENT, value)
 
-    async def read_braking_resistor_setting(self) -> BrakingResistorSetting | int:
+    async def read_braking_resistor_setting(self) -> BrakingResistorSetting | Unlisted:
         """Read BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         return await self.read(BRAKING_RESISTOR_SETTING)
 
-    async def write_braking_resistor_setting(self, value: BrakingResistorSetting | int | str) -> None:
+    async def write_braking_resistor_setting(
+        self,
+        value: BrakingResistorSetting
+        | Literal["internal", "external_natural_cooling", "external_forced_air", "none_capacitor_only"],
+    ) -> None:
         """Write BRAKING_RESISTOR_SETTING: Braking resistor setting (制动电阻设置); documented at the constant."""
         await self.write(BRAKING_RESISTOR_SETTING, value)
 
@@ -9681,11 +10813,13 @@ class AsyncC630s(AsyncClient):
         """Write EXTERNAL_BRAKING_RESISTOR_RESISTANCE: External braking resistor resistance (外接制动电阻阻值); documented at the constant."""
         await self.write(EXTERNAL_BRAKING_RESISTOR_RESISTANCE, value)
 
-    async def read_system_parameter_init(self) -> SystemInit | int:
+    async def read_system_parameter_init(self) -> SystemInit | Unlisted:
         """Read SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         return await self.read(SYSTEM_PARAMETER_INIT)
 
-    async def write_system_parameter_init(self, value: SystemInit | int | str) -> None:
+    async def write_system_parameter_init(
+        self, value: SystemInit | Literal["no_operation", "restore_factory_defaults", "clear_fault_records"]
+    ) -> None:
         """Write SYSTEM_PARAMETER_INIT: System parameter initialisation (系统参数初始化); documented at the constant."""
         await self.write(SYSTEM_PARAMETER_INIT, value)
 
@@ -9729,131 +10863,483 @@ class AsyncC630s(AsyncClient):
         """Write POWERON_DI_FUNCTIONS_2: DI functions valid at power-on, FunIN.17-32 (上电有效的 DI 功能分配); documented at the constant."""
         await self.write(POWERON_DI_FUNCTIONS_2, value)
 
-    async def read_di1_function(self) -> DiFunction | int:
+    async def read_di1_function(self) -> DiFunction | Unlisted:
         """Read DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         return await self.read(DI1_FUNCTION)
 
-    async def write_di1_function(self, value: DiFunction | int | str) -> None:
+    async def write_di1_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI1_FUNCTION: DI1 terminal function (DI1 端子功能选择); documented at the constant."""
         await self.write(DI1_FUNCTION, value)
 
-    async def read_di1_logic(self) -> DiLogic | int:
+    async def read_di1_logic(self) -> DiLogic | Unlisted:
         """Read DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         return await self.read(DI1_LOGIC)
 
-    async def write_di1_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di1_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI1_LOGIC: DI1 terminal logic (DI1 端子逻辑选择); documented at the constant."""
         await self.write(DI1_LOGIC, value)
 
-    async def read_di2_function(self) -> DiFunction | int:
+    async def read_di2_function(self) -> DiFunction | Unlisted:
         """Read DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         return await self.read(DI2_FUNCTION)
 
-    async def write_di2_function(self, value: DiFunction | int | str) -> None:
+    async def write_di2_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI2_FUNCTION: DI2 terminal function (DI2 端子功能选择); documented at the constant."""
         await self.write(DI2_FUNCTION, value)
 
-    async def read_di2_logic(self) -> DiLogic | int:
+    async def read_di2_logic(self) -> DiLogic | Unlisted:
         """Read DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         return await self.read(DI2_LOGIC)
 
-    async def write_di2_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di2_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI2_LOGIC: DI2 terminal logic (DI2 端子逻辑选择); documented at the constant."""
         await self.write(DI2_LOGIC, value)
 
-    async def read_di3_function(self) -> DiFunction | int:
+    async def read_di3_function(self) -> DiFunction | Unlisted:
         """Read DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         return await self.read(DI3_FUNCTION)
 
-    async def write_di3_function(self, value: DiFunction | int | str) -> None:
+    async def write_di3_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI3_FUNCTION: DI3 terminal function (DI3 端子功能选择); documented at the constant."""
         await self.write(DI3_FUNCTION, value)
 
-    async def read_di3_logic(self) -> DiLogic | int:
+    async def read_di3_logic(self) -> DiLogic | Unlisted:
         """Read DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         return await self.read(DI3_LOGIC)
 
-    async def write_di3_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di3_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI3_LOGIC: DI3 terminal logic (DI3 端子逻辑选择); documented at the constant."""
         await self.write(DI3_LOGIC, value)
 
-    async def read_di4_function(self) -> DiFunction | int:
+    async def read_di4_function(self) -> DiFunction | Unlisted:
         """Read DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         return await self.read(DI4_FUNCTION)
 
-    async def write_di4_function(self, value: DiFunction | int | str) -> None:
+    async def write_di4_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI4_FUNCTION: DI4 terminal function (DI4 端子功能选择); documented at the constant."""
         await self.write(DI4_FUNCTION, value)
 
-    async def read_di4_logic(self) -> DiLogic | int:
+    async def read_di4_logic(self) -> DiLogic | Unlisted:
         """Read DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         return await self.read(DI4_LOGIC)
 
-    async def write_di4_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di4_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI4_LOGIC: DI4 terminal logic (DI4 端子逻辑选择); documented at the constant."""
         await self.write(DI4_LOGIC, value)
 
-    async def read_di5_function(self) -> DiFunction | int:
+    async def read_di5_function(self) -> DiFunction | Unlisted:
         """Read DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         return await self.read(DI5_FUNCTION)
 
-    async def write_di5_function(self, value: DiFunction | int | str) -> None:
+    async def write_di5_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI5_FUNCTION: DI5 terminal function (DI5 端子功能选择); documented at the constant."""
         await self.write(DI5_FUNCTION, value)
 
-    async def read_di5_logic(self) -> DiLogic | int:
+    async def read_di5_logic(self) -> DiLogic | Unlisted:
         """Read DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         return await self.read(DI5_LOGIC)
 
-    async def write_di5_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di5_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI5_LOGIC: DI5 terminal logic (DI5 端子逻辑选择); documented at the constant."""
         await self.write(DI5_LOGIC, value)
 
-    async def read_di6_function(self) -> DiFunction | int:
+    async def read_di6_function(self) -> DiFunction | Unlisted:
         """Read DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         return await self.read(DI6_FUNCTION)
 
-    async def write_di6_function(self, value: DiFunction | int | str) -> None:
+    async def write_di6_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI6_FUNCTION: DI6 terminal function (DI6 端子功能选择); documented at the constant."""
         await self.write(DI6_FUNCTION, value)
 
-    async def read_di6_logic(self) -> DiLogic | int:
+    async def read_di6_logic(self) -> DiLogic | Unlisted:
         """Read DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         return await self.read(DI6_LOGIC)
 
-    async def write_di6_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di6_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI6_LOGIC: DI6 terminal logic (DI6 端子逻辑选择); documented at the constant."""
         await self.write(DI6_LOGIC, value)
 
-    async def read_di7_function(self) -> DiFunction | int:
+    async def read_di7_function(self) -> DiFunction | Unlisted:
         """Read DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         return await self.read(DI7_FUNCTION)
 
-    async def write_di7_function(self, value: DiFunction | int | str) -> None:
+    async def write_di7_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI7_FUNCTION: DI7 terminal function (DI7 端子功能选择); documented at the constant."""
         await self.write(DI7_FUNCTION, value)
 
-    async def read_di7_logic(self) -> DiLogic | int:
+    async def read_di7_logic(self) -> DiLogic | Unlisted:
         """Read DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         return await self.read(DI7_LOGIC)
 
-    async def write_di7_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di7_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI7_LOGIC: DI7 terminal logic (DI7 端子逻辑选择); documented at the constant."""
         await self.write(DI7_LOGIC, value)
 
-    async def read_di8_function(self) -> DiFunction | int:
+    async def read_di8_function(self) -> DiFunction | Unlisted:
         """Read DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         return await self.read(DI8_FUNCTION)
 
-    async def write_di8_function(self, value: DiFunction | int | str) -> None:
+    async def write_di8_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write DI8_FUNCTION: DI8 terminal function (DI8 端子功能选择); documented at the constant."""
         await self.write(DI8_FUNCTION, value)
 
-    async def read_di8_logic(self) -> DiLogic | int:
+    async def read_di8_logic(self) -> DiLogic | Unlisted:
         """Read DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         return await self.read(DI8_LOGIC)
 
-    async def write_di8_logic(self, value: DiLogic | int | str) -> None:
+    async def write_di8_logic(
+        self, value: DiLogic | Literal["low_level", "high_level", "rising_edge", "falling_edge", "both_edges"]
+    ) -> None:
         """Write DI8_LOGIC: DI8 terminal logic (DI8 端子逻辑选择); documented at the constant."""
         await self.write(DI8_LOGIC, value)
 
@@ -9969,107 +11455,259 @@ class AsyncC630s(AsyncClient):
         """Write ANALOG_10V_TORQUE: Torque at 10 V analog input (模拟量 10V 对应转矩值); documented at the constant."""
         await self.write(ANALOG_10V_TORQUE, value)
 
-    async def read_do1_function(self) -> DoFunction | int:
+    async def read_do1_function(self) -> DoFunction | Unlisted:
         """Read DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         return await self.read(DO1_FUNCTION)
 
-    async def write_do1_function(self, value: DoFunction | int | str) -> None:
+    async def write_do1_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO1_FUNCTION: DO1 terminal function (DO1 端子功能选择); documented at the constant."""
         await self.write(DO1_FUNCTION, value)
 
-    async def read_do1_logic(self) -> DoLogic | int:
+    async def read_do1_logic(self) -> DoLogic | Unlisted:
         """Read DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         return await self.read(DO1_LOGIC)
 
-    async def write_do1_logic(self, value: DoLogic | int | str) -> None:
+    async def write_do1_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO1_LOGIC: DO1 terminal logic (DO1 端子逻辑选择); documented at the constant."""
         await self.write(DO1_LOGIC, value)
 
-    async def read_do2_function(self) -> DoFunction | int:
+    async def read_do2_function(self) -> DoFunction | Unlisted:
         """Read DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         return await self.read(DO2_FUNCTION)
 
-    async def write_do2_function(self, value: DoFunction | int | str) -> None:
+    async def write_do2_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO2_FUNCTION: DO2 terminal function (DO2 端子功能选择); documented at the constant."""
         await self.write(DO2_FUNCTION, value)
 
-    async def read_do2_logic(self) -> DoLogic | int:
+    async def read_do2_logic(self) -> DoLogic | Unlisted:
         """Read DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         return await self.read(DO2_LOGIC)
 
-    async def write_do2_logic(self, value: DoLogic | int | str) -> None:
+    async def write_do2_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO2_LOGIC: DO2 terminal logic (DO2 端子逻辑选择); documented at the constant."""
         await self.write(DO2_LOGIC, value)
 
-    async def read_do3_function(self) -> DoFunction | int:
+    async def read_do3_function(self) -> DoFunction | Unlisted:
         """Read DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         return await self.read(DO3_FUNCTION)
 
-    async def write_do3_function(self, value: DoFunction | int | str) -> None:
+    async def write_do3_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO3_FUNCTION: DO3 terminal function (DO3 端子功能选择); documented at the constant."""
         await self.write(DO3_FUNCTION, value)
 
-    async def read_do3_logic(self) -> DoLogic | int:
+    async def read_do3_logic(self) -> DoLogic | Unlisted:
         """Read DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         return await self.read(DO3_LOGIC)
 
-    async def write_do3_logic(self, value: DoLogic | int | str) -> None:
+    async def write_do3_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO3_LOGIC: DO3 terminal logic (DO3 端子逻辑选择); documented at the constant."""
         await self.write(DO3_LOGIC, value)
 
-    async def read_do4_function(self) -> DoFunction | int:
+    async def read_do4_function(self) -> DoFunction | Unlisted:
         """Read DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         return await self.read(DO4_FUNCTION)
 
-    async def write_do4_function(self, value: DoFunction | int | str) -> None:
+    async def write_do4_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO4_FUNCTION: DO4 terminal function (DO4 端子功能选择); documented at the constant."""
         await self.write(DO4_FUNCTION, value)
 
-    async def read_do4_logic(self) -> DoLogic | int:
+    async def read_do4_logic(self) -> DoLogic | Unlisted:
         """Read DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         return await self.read(DO4_LOGIC)
 
-    async def write_do4_logic(self, value: DoLogic | int | str) -> None:
+    async def write_do4_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO4_LOGIC: DO4 terminal logic (DO4 端子逻辑选择); documented at the constant."""
         await self.write(DO4_LOGIC, value)
 
-    async def read_do5_function(self) -> DoFunction | int:
+    async def read_do5_function(self) -> DoFunction | Unlisted:
         """Read DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         return await self.read(DO5_FUNCTION)
 
-    async def write_do5_function(self, value: DoFunction | int | str) -> None:
+    async def write_do5_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO5_FUNCTION: DO5 terminal function (DO5 端子功能选择); documented at the constant."""
         await self.write(DO5_FUNCTION, value)
 
-    async def read_do5_logic(self) -> DoLogic | int:
+    async def read_do5_logic(self) -> DoLogic | Unlisted:
         """Read DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         return await self.read(DO5_LOGIC)
 
-    async def write_do5_logic(self, value: DoLogic | int | str) -> None:
+    async def write_do5_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO5_LOGIC: DO5 terminal logic (DO5 端子逻辑选择); documented at the constant."""
         await self.write(DO5_LOGIC, value)
 
-    async def read_do6_function(self) -> DoFunction | int:
+    async def read_do6_function(self) -> DoFunction | Unlisted:
         """Read DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         return await self.read(DO6_FUNCTION)
 
-    async def write_do6_function(self, value: DoFunction | int | str) -> None:
+    async def write_do6_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write DO6_FUNCTION: DO6 terminal function (DO6端子功能选择); documented at the constant."""
         await self.write(DO6_FUNCTION, value)
 
-    async def read_do6_logic(self) -> DoLogic | int:
+    async def read_do6_logic(self) -> DoLogic | Unlisted:
         """Read DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         return await self.read(DO6_LOGIC)
 
-    async def write_do6_logic(self, value: DoLogic | int | str) -> None:
+    async def write_do6_logic(self, value: DoLogic | Literal["low_when_active", "high_when_active"]) -> None:
         """Write DO6_LOGIC: DO6 terminal logic (DO6 端子逻辑选择); documented at the constant."""
         await self.write(DO6_LOGIC, value)
 
-    async def read_position_command_source(self) -> PositionCommandSource | int:
+    async def read_position_command_source(self) -> PositionCommandSource | Unlisted:
         """Read POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         return await self.read(POSITION_COMMAND_SOURCE)
 
-    async def write_position_command_source(self, value: PositionCommandSource | int | str) -> None:
+    async def write_position_command_source(
+        self, value: PositionCommandSource | Literal["pulse", "step_amount", "multi_segment"]
+    ) -> None:
         """Write POSITION_COMMAND_SOURCE: Position command source (位置指令来源); documented at the constant."""
         await self.write(POSITION_COMMAND_SOURCE, value)
 
@@ -10137,19 +11775,23 @@ class AsyncC630s(AsyncClient):
         """Write GEAR2_DENOMINATOR: Electronic gear ratio 2 denominator (电子齿数比 2(分母)); documented at the constant."""
         await self.write(GEAR2_DENOMINATOR, value)
 
-    async def read_pulse_input_form(self) -> PulseInputForm | int:
+    async def read_pulse_input_form(self) -> PulseInputForm | Unlisted:
         """Read PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         return await self.read(PULSE_INPUT_FORM)
 
-    async def write_pulse_input_form(self, value: PulseInputForm | int | str) -> None:
+    async def write_pulse_input_form(
+        self, value: PulseInputForm | Literal["pulse_dir_positive", "pulse_dir_negative", "ab_quadrature_x4", "cw_ccw"]
+    ) -> None:
         """Write PULSE_INPUT_FORM: Pulse command form (脉冲指令形态); documented at the constant."""
         await self.write(PULSE_INPUT_FORM, value)
 
-    async def read_position_clear_action(self) -> PositionClearAction | int:
+    async def read_position_clear_action(self) -> PositionClearAction | Unlisted:
         """Read POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         return await self.read(POSITION_CLEAR_ACTION)
 
-    async def write_position_clear_action(self, value: PositionClearAction | int | str) -> None:
+    async def write_position_clear_action(
+        self, value: PositionClearAction | Literal["servo_off_or_fault", "fault_or_warning", "servo_off_or_di"]
+    ) -> None:
         """Write POSITION_CLEAR_ACTION: Position deviation clear action (清除动作选择); documented at the constant."""
         await self.write(POSITION_CLEAR_ACTION, value)
 
@@ -10161,19 +11803,30 @@ class AsyncC630s(AsyncClient):
         """Write ENCODER_DIVIDED_PULSES: Encoder divided output pulses per revolution (编码器分频脉冲数); documented at the constant."""
         await self.write(ENCODER_DIVIDED_PULSES, value)
 
-    async def read_speed_feedforward_select(self) -> SpeedFeedforwardSelect | int:
+    async def read_speed_feedforward_select(self) -> SpeedFeedforwardSelect | Unlisted:
         """Read SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         return await self.read(SPEED_FEEDFORWARD_SELECT)
 
-    async def write_speed_feedforward_select(self, value: SpeedFeedforwardSelect | int | str) -> None:
+    async def write_speed_feedforward_select(
+        self, value: SpeedFeedforwardSelect | Literal["none", "internal", "ai1", "ai2"]
+    ) -> None:
         """Write SPEED_FEEDFORWARD_SELECT: Speed feedforward select (速度前馈控制选择); documented at the constant."""
         await self.write(SPEED_FEEDFORWARD_SELECT, value)
 
-    async def read_coin_output_condition(self) -> CoinOutputCondition | int:
+    async def read_coin_output_condition(self) -> CoinOutputCondition | Unlisted:
         """Read COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         return await self.read(COIN_OUTPUT_CONDITION)
 
-    async def write_coin_output_condition(self, value: CoinOutputCondition | int | str) -> None:
+    async def write_coin_output_condition(
+        self,
+        value: CoinOutputCondition
+        | Literal[
+            "deviation_below",
+            "deviation_below_filtered_cmd_zero",
+            "deviation_below_unfiltered_cmd_zero",
+            "deviation_below_hold",
+        ],
+    ) -> None:
         """Write COIN_OUTPUT_CONDITION: Positioning complete output condition (定位完成输出条件); documented at the constant."""
         await self.write(COIN_OUTPUT_CONDITION, value)
 
@@ -10193,19 +11846,47 @@ class AsyncC630s(AsyncClient):
         """Write NEAR_THRESHOLD: Positioning near threshold (定位接近阈值); documented at the constant."""
         await self.write(NEAR_THRESHOLD, value)
 
-    async def read_homing_enable(self) -> HomingEnable | int:
+    async def read_homing_enable(self) -> HomingEnable | Unlisted:
         """Read HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         return await self.read(HOMING_ENABLE)
 
-    async def write_homing_enable(self, value: HomingEnable | int | str) -> None:
+    async def write_homing_enable(
+        self,
+        value: HomingEnable
+        | Literal[
+            "off",
+            "di_homing",
+            "di_electrical_homing",
+            "homing_at_power_on",
+            "homing_now",
+            "electrical_homing",
+            "set_current_as_home",
+            "di_set_current_as_home",
+        ],
+    ) -> None:
         """Write HOMING_ENABLE: Homing enable control (原点复归使能控制); documented at the constant."""
         await self.write(HOMING_ENABLE, value)
 
-    async def read_homing_mode(self) -> HomingMode | int:
+    async def read_homing_mode(self) -> HomingMode | Unlisted:
         """Read HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         return await self.read(HOMING_MODE)
 
-    async def write_homing_mode(self, value: HomingMode | int | str) -> None:
+    async def write_homing_mode(
+        self,
+        value: HomingMode
+        | Literal[
+            "fwd_home_switch",
+            "rev_home_switch",
+            "fwd_motor_z",
+            "rev_motor_z",
+            "fwd_home_switch_then_z",
+            "rev_home_switch_then_z",
+            "fwd_p_ot",
+            "rev_n_ot",
+            "fwd_p_ot_then_z",
+            "rev_n_ot_then_z",
+        ],
+    ) -> None:
         """Write HOMING_MODE: Homing mode (原点复归模式); documented at the constant."""
         await self.write(HOMING_MODE, value)
 
@@ -10249,27 +11930,31 @@ class AsyncC630s(AsyncClient):
         """Write HOME_OFFSET: Mechanical home offset (机械原点偏移量); documented at the constant."""
         await self.write(HOME_OFFSET, value)
 
-    async def read_pulse_output_source(self) -> PulseOutputSource | int:
+    async def read_pulse_output_source(self) -> PulseOutputSource | Unlisted:
         """Read PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         return await self.read(PULSE_OUTPUT_SOURCE)
 
-    async def write_pulse_output_source(self, value: PulseOutputSource | int | str) -> None:
+    async def write_pulse_output_source(
+        self, value: PulseOutputSource | Literal["encoder_divided", "command_sync", "disabled"]
+    ) -> None:
         """Write PULSE_OUTPUT_SOURCE: Servo pulse output source (伺服脉冲输出来源选择); documented at the constant."""
         await self.write(PULSE_OUTPUT_SOURCE, value)
 
-    async def read_gear_switch_condition(self) -> GearSwitchCondition | int:
+    async def read_gear_switch_condition(self) -> GearSwitchCondition | Unlisted:
         """Read GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         return await self.read(GEAR_SWITCH_CONDITION)
 
-    async def write_gear_switch_condition(self, value: GearSwitchCondition | int | str) -> None:
+    async def write_gear_switch_condition(
+        self, value: GearSwitchCondition | Literal["command_zero_2_5ms", "realtime"]
+    ) -> None:
         """Write GEAR_SWITCH_CONDITION: Electronic gear switching condition (电子齿轮比切换条件); documented at the constant."""
         await self.write(GEAR_SWITCH_CONDITION, value)
 
-    async def read_pulse_edge(self) -> PulseEdge | int:
+    async def read_pulse_edge(self) -> PulseEdge | Unlisted:
         """Read PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         return await self.read(PULSE_EDGE)
 
-    async def write_pulse_edge(self, value: PulseEdge | int | str) -> None:
+    async def write_pulse_edge(self, value: PulseEdge | Literal["falling", "rising"]) -> None:
         """Write PULSE_EDGE: Position pulse edge (位置脉冲沿选择); documented at the constant."""
         await self.write(PULSE_EDGE, value)
 
@@ -10297,27 +11982,31 @@ class AsyncC630s(AsyncClient):
         """Write HOMING_TIME_UNIT: Homing time limit unit select (限定查找原点的时间单位选择); documented at the constant."""
         await self.write(HOMING_TIME_UNIT, value)
 
-    async def read_speed_a_source(self) -> SpeedASource | int:
+    async def read_speed_a_source(self) -> SpeedASource | Unlisted:
         """Read SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         return await self.read(SPEED_A_SOURCE)
 
-    async def write_speed_a_source(self, value: SpeedASource | int | str) -> None:
+    async def write_speed_a_source(self, value: SpeedASource | Literal["digital", "ai1", "ai2"]) -> None:
         """Write SPEED_A_SOURCE: Main speed command A source (主速度指令 A 来源); documented at the constant."""
         await self.write(SPEED_A_SOURCE, value)
 
-    async def read_speed_b_source(self) -> SpeedBSource | int:
+    async def read_speed_b_source(self) -> SpeedBSource | Unlisted:
         """Read SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         return await self.read(SPEED_B_SOURCE)
 
-    async def write_speed_b_source(self, value: SpeedBSource | int | str) -> None:
+    async def write_speed_b_source(
+        self, value: SpeedBSource | Literal["digital", "ai1", "ai2", "multi_segment"]
+    ) -> None:
         """Write SPEED_B_SOURCE: Auxiliary speed command B source (辅助速度指令 B 来源); documented at the constant."""
         await self.write(SPEED_B_SOURCE, value)
 
-    async def read_speed_command_select(self) -> SpeedCommandSelect | int:
+    async def read_speed_command_select(self) -> SpeedCommandSelect | Unlisted:
         """Read SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         return await self.read(SPEED_COMMAND_SELECT)
 
-    async def write_speed_command_select(self, value: SpeedCommandSelect | int | str) -> None:
+    async def write_speed_command_select(
+        self, value: SpeedCommandSelect | Literal["a", "b", "a_plus_b", "a_b_switch"]
+    ) -> None:
         """Write SPEED_COMMAND_SELECT: Speed command select (速度指令选择); documented at the constant."""
         await self.write(SPEED_COMMAND_SELECT, value)
 
@@ -10377,11 +12066,13 @@ class AsyncC630s(AsyncClient):
         """Write REVERSE_SPEED_THRESHOLD: Reverse speed threshold (反向速度阈值); documented at the constant."""
         await self.write(REVERSE_SPEED_THRESHOLD, value)
 
-    async def read_torque_feedforward_select(self) -> TorqueFeedforwardSelect | int:
+    async def read_torque_feedforward_select(self) -> TorqueFeedforwardSelect | Unlisted:
         """Read TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         return await self.read(TORQUE_FEEDFORWARD_SELECT)
 
-    async def write_torque_feedforward_select(self, value: TorqueFeedforwardSelect | int | str) -> None:
+    async def write_torque_feedforward_select(
+        self, value: TorqueFeedforwardSelect | Literal["none", "internal"]
+    ) -> None:
         """Write TORQUE_FEEDFORWARD_SELECT: Torque feedforward select (转矩前馈控制选择); documented at the constant."""
         await self.write(TORQUE_FEEDFORWARD_SELECT, value)
 
@@ -10425,27 +12116,29 @@ class AsyncC630s(AsyncClient):
         """Write ZERO_SPEED_THRESHOLD: Zero speed output threshold (ZERO) (零速输出信号阀值); documented at the constant."""
         await self.write(ZERO_SPEED_THRESHOLD, value)
 
-    async def read_torque_a_source(self) -> TorqueSource | int:
+    async def read_torque_a_source(self) -> TorqueSource | Unlisted:
         """Read TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         return await self.read(TORQUE_A_SOURCE)
 
-    async def write_torque_a_source(self, value: TorqueSource | int | str) -> None:
+    async def write_torque_a_source(self, value: TorqueSource | Literal["digital", "ai1", "ai2"]) -> None:
         """Write TORQUE_A_SOURCE: Main torque command A source (主转矩指令 A 来源); documented at the constant."""
         await self.write(TORQUE_A_SOURCE, value)
 
-    async def read_torque_b_source(self) -> TorqueSource | int:
+    async def read_torque_b_source(self) -> TorqueSource | Unlisted:
         """Read TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         return await self.read(TORQUE_B_SOURCE)
 
-    async def write_torque_b_source(self, value: TorqueSource | int | str) -> None:
+    async def write_torque_b_source(self, value: TorqueSource | Literal["digital", "ai1", "ai2"]) -> None:
         """Write TORQUE_B_SOURCE: Auxiliary torque command B source (辅助转矩指令 B 来源); documented at the constant."""
         await self.write(TORQUE_B_SOURCE, value)
 
-    async def read_torque_command_select(self) -> TorqueCommandSelect | int:
+    async def read_torque_command_select(self) -> TorqueCommandSelect | Unlisted:
         """Read TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         return await self.read(TORQUE_COMMAND_SELECT)
 
-    async def write_torque_command_select(self, value: TorqueCommandSelect | int | str) -> None:
+    async def write_torque_command_select(
+        self, value: TorqueCommandSelect | Literal["a", "b", "a_plus_b", "a_b_switch", "communication"]
+    ) -> None:
         """Write TORQUE_COMMAND_SELECT: Torque command select (转矩指令选择); documented at the constant."""
         await self.write(TORQUE_COMMAND_SELECT, value)
 
@@ -10473,19 +12166,23 @@ class AsyncC630s(AsyncClient):
         """Write TORQUE_FILTER_TIME_2: Second torque command filter time constant (第二转矩指令滤波时间常数); documented at the constant."""
         await self.write(TORQUE_FILTER_TIME_2, value)
 
-    async def read_torque_limit_source(self) -> TorqueLimitSource | int:
+    async def read_torque_limit_source(self) -> TorqueLimitSource | Unlisted:
         """Read TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         return await self.read(TORQUE_LIMIT_SOURCE)
 
-    async def write_torque_limit_source(self, value: TorqueLimitSource | int | str) -> None:
+    async def write_torque_limit_source(
+        self,
+        value: TorqueLimitSource
+        | Literal["internal", "external", "t_lmt", "min_external_t_lmt", "internal_t_lmt_switch"],
+    ) -> None:
         """Write TORQUE_LIMIT_SOURCE: Torque limit source (转矩限制来源); documented at the constant."""
         await self.write(TORQUE_LIMIT_SOURCE, value)
 
-    async def read_t_lmt_select(self) -> AiChannel | int:
+    async def read_t_lmt_select(self) -> AiChannel | Unlisted:
         """Read T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         return await self.read(T_LMT_SELECT)
 
-    async def write_t_lmt_select(self, value: AiChannel | int | str) -> None:
+    async def write_t_lmt_select(self, value: AiChannel | Literal["ai1", "ai2"]) -> None:
         """Write T_LMT_SELECT: T-LMT analog channel (T-LMT 选择); documented at the constant."""
         await self.write(T_LMT_SELECT, value)
 
@@ -10521,19 +12218,21 @@ class AsyncC630s(AsyncClient):
         """Write NEGATIVE_EXTERNAL_TORQUE_LIMIT: Negative external torque limit (负外部转矩限制); documented at the constant."""
         await self.write(NEGATIVE_EXTERNAL_TORQUE_LIMIT, value)
 
-    async def read_speed_limit_source(self) -> SpeedLimitSource | int:
+    async def read_speed_limit_source(self) -> SpeedLimitSource | Unlisted:
         """Read SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         return await self.read(SPEED_LIMIT_SOURCE)
 
-    async def write_speed_limit_source(self, value: SpeedLimitSource | int | str) -> None:
+    async def write_speed_limit_source(
+        self, value: SpeedLimitSource | Literal["internal", "v_lmt", "funin36_select"]
+    ) -> None:
         """Write SPEED_LIMIT_SOURCE: Speed limit source (速度限制来源选择); documented at the constant."""
         await self.write(SPEED_LIMIT_SOURCE, value)
 
-    async def read_v_lmt_select(self) -> AiChannel | int:
+    async def read_v_lmt_select(self) -> AiChannel | Unlisted:
         """Read V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         return await self.read(V_LMT_SELECT)
 
-    async def write_v_lmt_select(self, value: AiChannel | int | str) -> None:
+    async def write_v_lmt_select(self, value: AiChannel | Literal["ai1", "ai2"]) -> None:
         """Write V_LMT_SELECT: V-LMT analog channel (V-LMT 选择); documented at the constant."""
         await self.write(V_LMT_SELECT, value)
 
@@ -10633,19 +12332,37 @@ class AsyncC630s(AsyncClient):
         """Write POSITION_LOOP_GAIN_2: Second position loop gain (第 2 位置环增益); documented at the constant."""
         await self.write(POSITION_LOOP_GAIN_2, value)
 
-    async def read_second_gain_mode(self) -> SecondGainMode | int:
+    async def read_second_gain_mode(self) -> SecondGainMode | Unlisted:
         """Read SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         return await self.read(SECOND_GAIN_MODE)
 
-    async def write_second_gain_mode(self, value: SecondGainMode | int | str) -> None:
+    async def write_second_gain_mode(
+        self, value: SecondGainMode | Literal["first_gain_di_p_pi", "switch_per_p08_09"]
+    ) -> None:
         """Write SECOND_GAIN_MODE: Second gain mode (第二增益模式设置); documented at the constant."""
         await self.write(SECOND_GAIN_MODE, value)
 
-    async def read_gain_switch_condition(self) -> GainSwitchCondition | int:
+    async def read_gain_switch_condition(self) -> GainSwitchCondition | Unlisted:
         """Read GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         return await self.read(GAIN_SWITCH_CONDITION)
 
-    async def write_gain_switch_condition(self, value: GainSwitchCondition | int | str) -> None:
+    async def write_gain_switch_condition(
+        self,
+        value: GainSwitchCondition
+        | Literal[
+            "first_gain_fixed",
+            "external_di",
+            "torque_command_large",
+            "speed_command_large",
+            "speed_command_rate_large",
+            "speed_command_high_low",
+            "position_deviation_large",
+            "position_command_present",
+            "positioning_complete",
+            "actual_speed_large",
+            "position_command_and_speed",
+        ],
+    ) -> None:
         """Write GAIN_SWITCH_CONDITION: Gain switching condition (增益切换条件选择); documented at the constant."""
         await self.write(GAIN_SWITCH_CONDITION, value)
 
@@ -10721,11 +12438,13 @@ class AsyncC630s(AsyncClient):
         """Write TORQUE_FF_GAIN: Torque feedforward gain (转矩前馈增益); documented at the constant."""
         await self.write(TORQUE_FF_GAIN, value)
 
-    async def read_speed_feedback_filter(self) -> SpeedFeedbackFilter | int:
+    async def read_speed_feedback_filter(self) -> SpeedFeedbackFilter | Unlisted:
         """Read SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         return await self.read(SPEED_FEEDBACK_FILTER)
 
-    async def write_speed_feedback_filter(self, value: SpeedFeedbackFilter | int | str) -> None:
+    async def write_speed_feedback_filter(
+        self, value: SpeedFeedbackFilter | Literal["off", "avg_2", "avg_4", "avg_8", "avg_16"]
+    ) -> None:
         """Write SPEED_FEEDBACK_FILTER: Speed feedback filter option (速度反馈滤波选项); documented at the constant."""
         await self.write(SPEED_FEEDBACK_FILTER, value)
 
@@ -10753,27 +12472,30 @@ class AsyncC630s(AsyncClient):
         """Write STIFFNESS_LEVEL: Stiffness level (刚性等级选择); documented at the constant."""
         await self.write(STIFFNESS_LEVEL, value)
 
-    async def read_adaptive_notch_mode(self) -> AdaptiveNotchMode | int:
+    async def read_adaptive_notch_mode(self) -> AdaptiveNotchMode | Unlisted:
         """Read ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         return await self.read(ADAPTIVE_NOTCH_MODE)
 
-    async def write_adaptive_notch_mode(self, value: AdaptiveNotchMode | int | str) -> None:
+    async def write_adaptive_notch_mode(
+        self,
+        value: AdaptiveNotchMode | Literal["no_update", "one_notch", "two_notches", "test_only", "restore_notch_3_4"],
+    ) -> None:
         """Write ADAPTIVE_NOTCH_MODE: Adaptive notch filter mode (自适应陷波器模式选择); documented at the constant."""
         await self.write(ADAPTIVE_NOTCH_MODE, value)
 
-    async def read_low_freq_resonance_mode(self) -> LowFreqResonanceMode | int:
+    async def read_low_freq_resonance_mode(self) -> LowFreqResonanceMode | Unlisted:
         """Read LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         return await self.read(LOW_FREQ_RESONANCE_MODE)
 
-    async def write_low_freq_resonance_mode(self, value: LowFreqResonanceMode | int | str) -> None:
+    async def write_low_freq_resonance_mode(self, value: LowFreqResonanceMode | Literal["manual", "auto"]) -> None:
         """Write LOW_FREQ_RESONANCE_MODE: Low-frequency resonance suppression mode (低频共振抑制模式选择); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_MODE, value)
 
-    async def read_inertia_id_mode(self) -> InertiaIdMode | int:
+    async def read_inertia_id_mode(self) -> InertiaIdMode | Unlisted:
         """Read INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         return await self.read(INERTIA_ID_MODE)
 
-    async def write_inertia_id_mode(self, value: InertiaIdMode | int | str) -> None:
+    async def write_inertia_id_mode(self, value: InertiaIdMode | Literal["triangle", "jog"]) -> None:
         """Write INERTIA_ID_MODE: Offline inertia identification mode (离线惯量辨识模式选择); documented at the constant."""
         await self.write(INERTIA_ID_MODE, value)
 
@@ -10937,19 +12659,21 @@ class AsyncC630s(AsyncClient):
         """Write LOW_FREQ_RESONANCE_FILTER: Low-frequency resonance frequency filter setting (低频共振频率滤波设定); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_FILTER, value)
 
-    async def read_phase_loss_protection(self) -> PhaseLossProtection | int:
+    async def read_phase_loss_protection(self) -> PhaseLossProtection | Unlisted:
         """Read PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         return await self.read(PHASE_LOSS_PROTECTION)
 
-    async def write_phase_loss_protection(self, value: PhaseLossProtection | int | str) -> None:
+    async def write_phase_loss_protection(
+        self, value: PhaseLossProtection | Literal["fault_only", "fault_and_warning", "disabled"]
+    ) -> None:
         """Write PHASE_LOSS_PROTECTION: Input phase-loss protection (电源输入缺相保护选择); documented at the constant."""
         await self.write(PHASE_LOSS_PROTECTION, value)
 
-    async def read_power_loss_save(self) -> PowerLossSave | int:
+    async def read_power_loss_save(self) -> PowerLossSave | Unlisted:
         """Read POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         return await self.read(POWER_LOSS_SAVE)
 
-    async def write_power_loss_save(self, value: PowerLossSave | int | str) -> None:
+    async def write_power_loss_save(self, value: PowerLossSave | Literal["off", "on"]) -> None:
         """Write POWER_LOSS_SAVE: Power-loss save enable (掉电保存功能使能选择); documented at the constant."""
         await self.write(POWER_LOSS_SAVE, value)
 
@@ -10985,11 +12709,11 @@ class AsyncC630s(AsyncClient):
         """Write POSITION_DEVIATION_FAULT_THRESHOLD: Excessive position deviation fault threshold (位置偏差过大故障阈值); documented at the constant."""
         await self.write(POSITION_DEVIATION_FAULT_THRESHOLD, value)
 
-    async def read_runaway_protection(self) -> RunawayProtection | int:
+    async def read_runaway_protection(self) -> RunawayProtection | Unlisted:
         """Read RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         return await self.read(RUNAWAY_PROTECTION)
 
-    async def write_runaway_protection(self, value: RunawayProtection | int | str) -> None:
+    async def write_runaway_protection(self, value: RunawayProtection | Literal["off", "on"]) -> None:
         """Write RUNAWAY_PROTECTION: Runaway protection enable (飞车保护功能使能); documented at the constant."""
         await self.write(RUNAWAY_PROTECTION, value)
 
@@ -11001,11 +12725,13 @@ class AsyncC630s(AsyncClient):
         """Write LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD: Low-frequency resonance position deviation threshold (低频共振位置偏差判断阈值); documented at the constant."""
         await self.write(LOW_FREQ_RESONANCE_DEVIATION_THRESHOLD, value)
 
-    async def read_position_unit_select(self) -> PositionUnitSelect | int:
+    async def read_position_unit_select(self) -> PositionUnitSelect | Unlisted:
         """Read POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         return await self.read(POSITION_UNIT_SELECT)
 
-    async def write_position_unit_select(self, value: PositionUnitSelect | int | str) -> None:
+    async def write_position_unit_select(
+        self, value: PositionUnitSelect | Literal["encoder_unit", "command_unit"]
+    ) -> None:
         """Write POSITION_UNIT_SELECT: Position setting unit (位置设定单位选择); documented at the constant."""
         await self.write(POSITION_UNIT_SELECT, value)
 
@@ -11025,11 +12751,11 @@ class AsyncC630s(AsyncClient):
         """Write SPEED_DISPLAY_FILTER_TIME: Speed feedback display filter time constant (速度反馈显示值滤波时间常数); documented at the constant."""
         await self.write(SPEED_DISPLAY_FILTER_TIME, value)
 
-    async def read_motor_overload_mask(self) -> MotorOverloadMask | int:
+    async def read_motor_overload_mask(self) -> MotorOverloadMask | Unlisted:
         """Read MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         return await self.read(MOTOR_OVERLOAD_MASK)
 
-    async def write_motor_overload_mask(self, value: MotorOverloadMask | int | str) -> None:
+    async def write_motor_overload_mask(self, value: MotorOverloadMask | Literal["detect", "masked"]) -> None:
         """Write MOTOR_OVERLOAD_MASK: Motor overload masking (电机过载屏蔽使能); documented at the constant."""
         await self.write(MOTOR_OVERLOAD_MASK, value)
 
@@ -11065,19 +12791,21 @@ class AsyncC630s(AsyncClient):
         """Write STALL_PROTECTION_WINDOW: Stall over-temperature protection time window (堵转过温保护时间窗口); documented at the constant."""
         await self.write(STALL_PROTECTION_WINDOW, value)
 
-    async def read_stall_protection_enable(self) -> StallProtection | int:
+    async def read_stall_protection_enable(self) -> StallProtection | Unlisted:
         """Read STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         return await self.read(STALL_PROTECTION_ENABLE)
 
-    async def write_stall_protection_enable(self, value: StallProtection | int | str) -> None:
+    async def write_stall_protection_enable(self, value: StallProtection | Literal["masked", "enabled"]) -> None:
         """Write STALL_PROTECTION_ENABLE: Stall over-temperature protection enable (堵转过温保护使能); documented at the constant."""
         await self.write(STALL_PROTECTION_ENABLE, value)
 
-    async def read_multiturn_overflow_fault(self) -> MultiturnOverflowFault | int:
+    async def read_multiturn_overflow_fault(self) -> MultiturnOverflowFault | Unlisted:
         """Read MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         return await self.read(MULTITURN_OVERFLOW_FAULT)
 
-    async def write_multiturn_overflow_fault(self, value: MultiturnOverflowFault | int | str) -> None:
+    async def write_multiturn_overflow_fault(
+        self, value: MultiturnOverflowFault | Literal["not_masked", "masked"]
+    ) -> None:
         """Write MULTITURN_OVERFLOW_FAULT: Encoder multi-turn overflow fault select (编码器多圈溢出故障选择); documented at the constant."""
         await self.write(MULTITURN_OVERFLOW_FAULT, value)
 
@@ -11253,27 +12981,31 @@ class AsyncC630s(AsyncClient):
         """Write SLAVE_ADDRESS: Servo axis (Modbus slave) address (伺服轴地址); documented at the constant."""
         await self.write(SLAVE_ADDRESS, value)
 
-    async def read_baud_rate(self) -> BaudRate | int:
+    async def read_baud_rate(self) -> BaudRate | Unlisted:
         """Read BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         return await self.read(BAUD_RATE)
 
-    async def write_baud_rate(self, value: BaudRate | int | str) -> None:
+    async def write_baud_rate(
+        self, value: BaudRate | Literal["b2400", "b4800", "b9600", "b19200", "b38400", "b57600"]
+    ) -> None:
         """Write BAUD_RATE: Serial baud rate (串口波特率设置); documented at the constant."""
         await self.write(BAUD_RATE, value)
 
-    async def read_modbus_data_format(self) -> ModbusDataFormat | int:
+    async def read_modbus_data_format(self) -> ModbusDataFormat | Unlisted:
         """Read MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         return await self.read(MODBUS_DATA_FORMAT)
 
-    async def write_modbus_data_format(self, value: ModbusDataFormat | int | str) -> None:
+    async def write_modbus_data_format(
+        self, value: ModbusDataFormat | Literal["none_2_stop", "even_1_stop", "odd_1_stop", "none_1_stop"]
+    ) -> None:
         """Write MODBUS_DATA_FORMAT: Modbus data format (Moubus 数据格式); documented at the constant."""
         await self.write(MODBUS_DATA_FORMAT, value)
 
-    async def read_comm_vdi_enable(self) -> DisableEnable | int:
+    async def read_comm_vdi_enable(self) -> DisableEnable | Unlisted:
         """Read COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         return await self.read(COMM_VDI_ENABLE)
 
-    async def write_comm_vdi_enable(self, value: DisableEnable | int | str) -> None:
+    async def write_comm_vdi_enable(self, value: DisableEnable | Literal["disabled", "enabled"]) -> None:
         """Write COMM_VDI_ENABLE: Communication VDI (通信 VDI); documented at the constant."""
         await self.write(COMM_VDI_ENABLE, value)
 
@@ -11285,11 +13017,11 @@ class AsyncC630s(AsyncClient):
         """Write VDI_POWERON_DEFAULT: VDI default values after power-on (上电后 VDI 默认值); documented at the constant."""
         await self.write(VDI_POWERON_DEFAULT, value)
 
-    async def read_comm_vdo_enable(self) -> DisableEnable | int:
+    async def read_comm_vdo_enable(self) -> DisableEnable | Unlisted:
         """Read COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         return await self.read(COMM_VDO_ENABLE)
 
-    async def write_comm_vdo_enable(self, value: DisableEnable | int | str) -> None:
+    async def write_comm_vdo_enable(self, value: DisableEnable | Literal["disabled", "enabled"]) -> None:
         """Write COMM_VDO_ENABLE: Communication VDO (通信 VDO); documented at the constant."""
         await self.write(COMM_VDO_ENABLE, value)
 
@@ -11301,15 +13033,17 @@ class AsyncC630s(AsyncClient):
         """Write VDO_DEFAULT_LEVEL: VDO default level when its function is 0 (VDO 功能选择为 0 时的默认电平); documented at the constant."""
         await self.write(VDO_DEFAULT_LEVEL, value)
 
-    async def read_modbus_eeprom_update(self) -> EepromUpdate | int:
+    async def read_modbus_eeprom_update(self) -> EepromUpdate | Unlisted:
         """Read MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         return await self.read(MODBUS_EEPROM_UPDATE)
 
-    async def write_modbus_eeprom_update(self, value: EepromUpdate | int | str) -> None:
+    async def write_modbus_eeprom_update(
+        self, value: EepromUpdate | Literal["no_update", "update_except_p0b_p0d"]
+    ) -> None:
         """Write MODBUS_EEPROM_UPDATE: Store Modbus-written parameters to EEPROM (Moubus 通信写入功能码是否更新到 EEPROM); documented at the constant."""
         await self.write(MODBUS_EEPROM_UPDATE, value)
 
-    async def read_modbus_error_code(self) -> ModbusError | int:
+    async def read_modbus_error_code(self) -> ModbusError | Unlisted:
         """Read MODBUS_ERROR_CODE: Modbus error code (Moubus 错误码); documented at the constant."""
         return await self.read(MODBUS_ERROR_CODE)
 
@@ -11321,35 +13055,35 @@ class AsyncC630s(AsyncClient):
         """Write MODBUS_RESPONSE_DELAY: Modbus response delay (Moubus 指令应答延时); documented at the constant."""
         await self.write(MODBUS_RESPONSE_DELAY, value)
 
-    async def read_modbus_word_order(self) -> WordOrder | int:
+    async def read_modbus_word_order(self) -> WordOrder | Unlisted:
         """Read MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         return await self.read(MODBUS_WORD_ORDER)
 
-    async def write_modbus_word_order(self, value: WordOrder | int | str) -> None:
+    async def write_modbus_word_order(self, value: WordOrder | Literal["high_first", "low_first"]) -> None:
         """Write MODBUS_WORD_ORDER: Modbus 32-bit word order (Moubus 通信数据高低位顺序); documented at the constant."""
         await self.write(MODBUS_WORD_ORDER, value)
 
-    async def read_modbus_error_frame_format(self) -> ErrorFrameFormat | int:
+    async def read_modbus_error_frame_format(self) -> ErrorFrameFormat | Unlisted:
         """Read MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         return await self.read(MODBUS_ERROR_FRAME_FORMAT)
 
-    async def write_modbus_error_frame_format(self, value: ErrorFrameFormat | int | str) -> None:
+    async def write_modbus_error_frame_format(self, value: ErrorFrameFormat | Literal["old", "standard"]) -> None:
         """Write MODBUS_ERROR_FRAME_FORMAT: Modbus error frame format (Moubus 错误帧格式选择); documented at the constant."""
         await self.write(MODBUS_ERROR_FRAME_FORMAT, value)
 
-    async def read_software_reset(self) -> NoOpEnable | int:
+    async def read_software_reset(self) -> NoOpEnable | Unlisted:
         """Read SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         return await self.read(SOFTWARE_RESET)
 
-    async def write_software_reset(self, value: NoOpEnable | int | str) -> None:
+    async def write_software_reset(self, value: NoOpEnable | Literal["no_operation", "enable"]) -> None:
         """Write SOFTWARE_RESET: Software reset (软件复位); documented at the constant."""
         await self.write(SOFTWARE_RESET, value)
 
-    async def read_fault_reset(self) -> NoOpEnable | int:
+    async def read_fault_reset(self) -> NoOpEnable | Unlisted:
         """Read FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         return await self.read(FAULT_RESET)
 
-    async def write_fault_reset(self, value: NoOpEnable | int | str) -> None:
+    async def write_fault_reset(self, value: NoOpEnable | Literal["no_operation", "enable"]) -> None:
         """Write FAULT_RESET: Fault reset (故障复位); documented at the constant."""
         await self.write(FAULT_RESET, value)
 
@@ -11361,19 +13095,19 @@ class AsyncC630s(AsyncClient):
         """Write OFFLINE_INERTIA_IDENTIFICATION: Offline inertia identification (离线惯量辨识功能); documented at the constant."""
         await self.write(OFFLINE_INERTIA_IDENTIFICATION, value)
 
-    async def read_initial_angle_identification(self) -> InitialAngleId | int:
+    async def read_initial_angle_identification(self) -> InitialAngleId | Unlisted:
         """Read INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         return await self.read(INITIAL_ANGLE_IDENTIFICATION)
 
-    async def write_initial_angle_identification(self, value: InitialAngleId | int | str) -> None:
+    async def write_initial_angle_identification(self, value: InitialAngleId | Literal["enable"]) -> None:
         """Write INITIAL_ANGLE_IDENTIFICATION: Initial angle identification (初始角度识别); documented at the constant."""
         await self.write(INITIAL_ANGLE_IDENTIFICATION, value)
 
-    async def read_emergency_stop(self) -> EmergencyStopCmd | int:
+    async def read_emergency_stop(self) -> EmergencyStopCmd | Unlisted:
         """Read EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         return await self.read(EMERGENCY_STOP)
 
-    async def write_emergency_stop(self, value: EmergencyStopCmd | int | str) -> None:
+    async def write_emergency_stop(self, value: EmergencyStopCmd | Literal["no_operation", "emergency_stop"]) -> None:
         """Write EMERGENCY_STOP: Emergency stop (紧急停机); documented at the constant."""
         await self.write(EMERGENCY_STOP, value)
 
@@ -11389,11 +13123,13 @@ class AsyncC630s(AsyncClient):
         """Write JOG_TRIAL_RUN: JOG trial run (JOG 试运行功能); documented at the constant."""
         await self.write(JOG_TRIAL_RUN, value)
 
-    async def read_dido_force_enable(self) -> DidoForce | int:
+    async def read_dido_force_enable(self) -> DidoForce | Unlisted:
         """Read DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         return await self.read(DIDO_FORCE_ENABLE)
 
-    async def write_dido_force_enable(self, value: DidoForce | int | str) -> None:
+    async def write_dido_force_enable(
+        self, value: DidoForce | Literal["no_operation", "force_di", "force_do", "force_di_do"]
+    ) -> None:
         """Write DIDO_FORCE_ENABLE: DI/DO forced input/output enable (DIDO 强制输入输出使能); documented at the constant."""
         await self.write(DIDO_FORCE_ENABLE, value)
 
@@ -11413,19 +13149,23 @@ class AsyncC630s(AsyncClient):
         """Write DO_FORCE_VALUE: DO forced output value (DO 强制输出给定); documented at the constant."""
         await self.write(DO_FORCE_VALUE, value)
 
-    async def read_abs_encoder_reset(self) -> AbsEncoderReset | int:
+    async def read_abs_encoder_reset(self) -> AbsEncoderReset | Unlisted:
         """Read ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         return await self.read(ABS_ENCODER_RESET)
 
-    async def write_abs_encoder_reset(self, value: AbsEncoderReset | int | str) -> None:
+    async def write_abs_encoder_reset(
+        self, value: AbsEncoderReset | Literal["no_operation", "reset_option_1", "reset_fault_and_multiturn"]
+    ) -> None:
         """Write ABS_ENCODER_RESET: Absolute encoder reset (绝对编码器复位使能); documented at the constant."""
         await self.write(ABS_ENCODER_RESET, value)
 
-    async def read_multi_position_run_mode(self) -> MultiPositionRunMode | int:
+    async def read_multi_position_run_mode(self) -> MultiPositionRunMode | Unlisted:
         """Read MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         return await self.read(MULTI_POSITION_RUN_MODE)
 
-    async def write_multi_position_run_mode(self, value: MultiPositionRunMode | int | str) -> None:
+    async def write_multi_position_run_mode(
+        self, value: MultiPositionRunMode | Literal["single", "cycle", "di_switch", "sequential"]
+    ) -> None:
         """Write MULTI_POSITION_RUN_MODE: Multi-segment position run mode (多段位置运行方式); documented at the constant."""
         await self.write(MULTI_POSITION_RUN_MODE, value)
 
@@ -11437,27 +13177,27 @@ class AsyncC630s(AsyncClient):
         """Write MULTI_POSITION_END_SEGMENT: Last displacement segment (位移指令终点段数); documented at the constant."""
         await self.write(MULTI_POSITION_END_SEGMENT, value)
 
-    async def read_multi_position_remainder(self) -> RemainderHandling | int:
+    async def read_multi_position_remainder(self) -> RemainderHandling | Unlisted:
         """Read MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         return await self.read(MULTI_POSITION_REMAINDER)
 
-    async def write_multi_position_remainder(self, value: RemainderHandling | int | str) -> None:
+    async def write_multi_position_remainder(self, value: RemainderHandling | Literal["continue", "restart"]) -> None:
         """Write MULTI_POSITION_REMAINDER: Remaining-segment handling (余量处理方式); documented at the constant."""
         await self.write(MULTI_POSITION_REMAINDER, value)
 
-    async def read_multi_position_time_unit(self) -> TimeUnitMsS | int:
+    async def read_multi_position_time_unit(self) -> TimeUnitMsS | Unlisted:
         """Read MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         return await self.read(MULTI_POSITION_TIME_UNIT)
 
-    async def write_multi_position_time_unit(self, value: TimeUnitMsS | int | str) -> None:
+    async def write_multi_position_time_unit(self, value: TimeUnitMsS | Literal["ms", "s"]) -> None:
         """Write MULTI_POSITION_TIME_UNIT: Time unit (时间单位); documented at the constant."""
         await self.write(MULTI_POSITION_TIME_UNIT, value)
 
-    async def read_displacement_type(self) -> DisplacementType | int:
+    async def read_displacement_type(self) -> DisplacementType | Unlisted:
         """Read DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         return await self.read(DISPLACEMENT_TYPE)
 
-    async def write_displacement_type(self, value: DisplacementType | int | str) -> None:
+    async def write_displacement_type(self, value: DisplacementType | Literal["relative", "absolute"]) -> None:
         """Write DISPLACEMENT_TYPE: Displacement command type (位移指令类型选择); documented at the constant."""
         await self.write(DISPLACEMENT_TYPE, value)
 
@@ -11469,11 +13209,13 @@ class AsyncC630s(AsyncClient):
         """Write SEQUENTIAL_START_SEGMENT: Sequential run start segment (顺序运行起始段选择); documented at the constant."""
         await self.write(SEQUENTIAL_START_SEGMENT, value)
 
-    async def read_multi_speed_run_mode(self) -> MultiSpeedRunMode | int:
+    async def read_multi_speed_run_mode(self) -> MultiSpeedRunMode | Unlisted:
         """Read MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         return await self.read(MULTI_SPEED_RUN_MODE)
 
-    async def write_multi_speed_run_mode(self, value: MultiSpeedRunMode | int | str) -> None:
+    async def write_multi_speed_run_mode(
+        self, value: MultiSpeedRunMode | Literal["single", "cycle", "di_switch"]
+    ) -> None:
         """Write MULTI_SPEED_RUN_MODE: Multi-segment speed run mode (多段速度指令运行方式); documented at the constant."""
         await self.write(MULTI_SPEED_RUN_MODE, value)
 
@@ -11485,11 +13227,11 @@ class AsyncC630s(AsyncClient):
         """Write MULTI_SPEED_END_SEGMENT: Last speed segment (速度指令终点段数选择); documented at the constant."""
         await self.write(MULTI_SPEED_END_SEGMENT, value)
 
-    async def read_multi_speed_time_unit(self) -> TimeUnitSMin | int:
+    async def read_multi_speed_time_unit(self) -> TimeUnitSMin | Unlisted:
         """Read MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         return await self.read(MULTI_SPEED_TIME_UNIT)
 
-    async def write_multi_speed_time_unit(self, value: TimeUnitSMin | int | str) -> None:
+    async def write_multi_speed_time_unit(self, value: TimeUnitSMin | Literal["sec", "min"]) -> None:
         """Write MULTI_SPEED_TIME_UNIT: Run time unit (运行时间单位选择); documented at the constant."""
         await self.write(MULTI_SPEED_TIME_UNIT, value)
 
@@ -11707,11 +13449,11 @@ class SpeedSegmentElement:
         """Write SPEED_SEGMENT[n].run_time: Segment run time (第 n 段指令运行时间); documented at the constant."""
         self.client.write(self.registers.run_time, value)
 
-    def read_ramp(self) -> RampSelect | int:
+    def read_ramp(self) -> RampSelect | Unlisted:
         """Read SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         return self.client.read(self.registers.ramp)
 
-    def write_ramp(self, value: RampSelect | int | str) -> None:
+    def write_ramp(self, value: RampSelect | Literal["none", "ramp_1", "ramp_2", "ramp_3", "ramp_4"]) -> None:
         """Write SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         self.client.write(self.registers.ramp, value)
 
@@ -11726,19 +13468,61 @@ class VdiElement:
         self.n = n
         self.registers = VDI[n]
 
-    def read_function(self) -> DiFunction | int:
+    def read_function(self) -> DiFunction | Unlisted:
         """Read VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         return self.client.read(self.registers.function)
 
-    def write_function(self, value: DiFunction | int | str) -> None:
+    def write_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         self.client.write(self.registers.function, value)
 
-    def read_logic(self) -> VdiLogic | int:
+    def read_logic(self) -> VdiLogic | Unlisted:
         """Read VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         return self.client.read(self.registers.logic)
 
-    def write_logic(self, value: VdiLogic | int | str) -> None:
+    def write_logic(self, value: VdiLogic | Literal["write_1_active", "write_0_to_1_active"]) -> None:
         """Write VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         self.client.write(self.registers.logic, value)
 
@@ -11753,19 +13537,44 @@ class VdoElement:
         self.n = n
         self.registers = VDO[n]
 
-    def read_function(self) -> DoFunction | int:
+    def read_function(self) -> DoFunction | Unlisted:
         """Read VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         return self.client.read(self.registers.function)
 
-    def write_function(self, value: DoFunction | int | str) -> None:
+    def write_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         self.client.write(self.registers.function, value)
 
-    def read_logic(self) -> VdoLogic | int:
+    def read_logic(self) -> VdoLogic | Unlisted:
         """Read VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         return self.client.read(self.registers.logic)
 
-    def write_logic(self, value: VdoLogic | int | str) -> None:
+    def write_logic(self, value: VdoLogic | Literal["output_1_when_active", "output_0_when_active"]) -> None:
         """Write VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         self.client.write(self.registers.logic, value)
 
@@ -11839,11 +13648,11 @@ class AsyncSpeedSegmentElement:
         """Write SPEED_SEGMENT[n].run_time: Segment run time (第 n 段指令运行时间); documented at the constant."""
         await self.client.write(self.registers.run_time, value)
 
-    async def read_ramp(self) -> RampSelect | int:
+    async def read_ramp(self) -> RampSelect | Unlisted:
         """Read SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         return await self.client.read(self.registers.ramp)
 
-    async def write_ramp(self, value: RampSelect | int | str) -> None:
+    async def write_ramp(self, value: RampSelect | Literal["none", "ramp_1", "ramp_2", "ramp_3", "ramp_4"]) -> None:
         """Write SPEED_SEGMENT[n].ramp: Segment acceleration/deceleration time select (第 n 段加减速时间); documented at the constant."""
         await self.client.write(self.registers.ramp, value)
 
@@ -11858,19 +13667,61 @@ class AsyncVdiElement:
         self.n = n
         self.registers = VDI[n]
 
-    async def read_function(self) -> DiFunction | int:
+    async def read_function(self) -> DiFunction | Unlisted:
         """Read VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         return await self.client.read(self.registers.function)
 
-    async def write_function(self, value: DiFunction | int | str) -> None:
+    async def write_function(
+        self,
+        value: DiFunction
+        | Literal[
+            "none",
+            "s_on",
+            "alm_rst",
+            "gain_sel",
+            "cmd_sel",
+            "dir_sel",
+            "cmd1",
+            "cmd2",
+            "cmd3",
+            "cmd4",
+            "m1_sel",
+            "m2_sel",
+            "zclamp",
+            "inhibit",
+            "p_ot",
+            "n_ot",
+            "p_cl",
+            "n_cl",
+            "jog_plus",
+            "jog_minus",
+            "posstep",
+            "hx1",
+            "hx2",
+            "hx_en",
+            "gear_sel",
+            "toq_dir_sel",
+            "spd_dir_sel",
+            "pos_dir_sel",
+            "pos_in_sen",
+            "home_switch",
+            "homing_start",
+            "xint_inhibit",
+            "emergency_stop",
+            "clr_pos_err",
+            "v_lmt_sel",
+            "pulse_inhibit",
+            "set_current_as_home",
+        ],
+    ) -> None:
         """Write VDI[n].function: VDI terminal function (VDIn 端子功能选择); documented at the constant."""
         await self.client.write(self.registers.function, value)
 
-    async def read_logic(self) -> VdiLogic | int:
+    async def read_logic(self) -> VdiLogic | Unlisted:
         """Read VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         return await self.client.read(self.registers.logic)
 
-    async def write_logic(self, value: VdiLogic | int | str) -> None:
+    async def write_logic(self, value: VdiLogic | Literal["write_1_active", "write_0_to_1_active"]) -> None:
         """Write VDI[n].logic: VDI terminal logic (VDIn 端子逻辑选择); documented at the constant."""
         await self.client.write(self.registers.logic, value)
 
@@ -11885,18 +13736,43 @@ class AsyncVdoElement:
         self.n = n
         self.registers = VDO[n]
 
-    async def read_function(self) -> DoFunction | int:
+    async def read_function(self) -> DoFunction | Unlisted:
         """Read VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         return await self.client.read(self.registers.function)
 
-    async def write_function(self, value: DoFunction | int | str) -> None:
+    async def write_function(
+        self,
+        value: DoFunction
+        | Literal[
+            "none",
+            "s_rdy",
+            "tgon",
+            "zero",
+            "v_cmp",
+            "coin",
+            "near",
+            "c_lt",
+            "v_lt",
+            "bk",
+            "warn",
+            "alm",
+            "almo1",
+            "almo2",
+            "almo3",
+            "home_attain",
+            "elec_home_attain",
+            "toq_reach",
+            "v_arr",
+            "ang_int_rdy",
+        ],
+    ) -> None:
         """Write VDO[n].function: VDO terminal function (VDOn 端子功能选择); documented at the constant."""
         await self.client.write(self.registers.function, value)
 
-    async def read_logic(self) -> VdoLogic | int:
+    async def read_logic(self) -> VdoLogic | Unlisted:
         """Read VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         return await self.client.read(self.registers.logic)
 
-    async def write_logic(self, value: VdoLogic | int | str) -> None:
+    async def write_logic(self, value: VdoLogic | Literal["output_1_when_active", "output_0_when_active"]) -> None:
         """Write VDO[n].logic: VDO terminal logic (VDOn 端子逻辑选择); documented at the constant."""
         await self.client.write(self.registers.logic, value)

@@ -8,21 +8,31 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-from typing import ClassVar, Final
+from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_268ae68b51.bits import BitfieldValue
-from regmap_runtime_268ae68b51.client import AsyncClient, SyncClient
-from regmap_runtime_268ae68b51.errors import (
+from regmap_runtime_2f08255883.bits import BitfieldValue
+from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
+from regmap_runtime_2f08255883.codec import Unlisted
+from regmap_runtime_2f08255883.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    OutcomeUnknown,
     ProtocolError,
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_268ae68b51.profile import DeviceProfile, load_profile
-from regmap_runtime_268ae68b51.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_2f08255883.profile import DeviceProfile, load_profile
+from regmap_runtime_2f08255883.spec import (
+    BitfieldSpec,
+    DeviceSpec,
+    Readable,
+    ReadOnly,
+    ReadWrite,
+    RegisterSpec,
+    WriteOnly,
+)
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "e621f2f48ab6c490"
@@ -33,15 +43,18 @@ __all__ = [
     "Id243pro",
     "AsyncId243pro",
     "DEVICE",
+    "Id243proValues",
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "Unlisted",
     "DeviceProfile",
     "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",
     "WrongSlave",
@@ -204,7 +217,7 @@ MICROSTEP_STATUS: Final = ReadOnly[int](
 )
 """Microstep setting (pulses per revolution) (设置细分). Parameter 0104, address 0x0068, u32, unit ppr. Manual section 1.1. Microstep value (设置细分值), pulses per revolution."""
 
-PULSE_MODE_STATUS: Final = ReadOnly[PulseMode | int](
+PULSE_MODE_STATUS: Final = ReadOnly[PulseMode | Unlisted](
     name="pulse_mode_status",
     address=0x006A,
     data_type="u16",
@@ -286,7 +299,7 @@ MOTOR_DIRECTION: Final = ReadWrite[int](
 )
 """Motor direction switch (电机方向切换). Parameter 0201, address 0x00C9, u16, range 0..1. Manual section 1.2. Selects the motor running direction (选择电机运行方向)."""
 
-USER_COMMAND: Final = ReadWrite[UserCommand | int](
+USER_COMMAND: Final = ReadWrite[UserCommand | Unlisted](
     name="user_command",
     address=0x00CE,
     data_type="u16",
@@ -295,6 +308,7 @@ USER_COMMAND: Final = ReadWrite[UserCommand | int](
     max=5,
     param="0206",
     enum=UserCommand,
+    trigger=True,
 )
 """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
 
@@ -359,7 +373,7 @@ MICROSTEP: Final = ReadWrite[int](
 )
 """Microstep setting (pulses per revolution) (设置细分). Parameter 0242, address 0x00F2, u32, unit ppr, range 200..102400. Manual section 1.2. Pulses per revolution (每圈脉冲数)."""
 
-PULSE_MODE: Final = ReadWrite[PulseMode | int](
+PULSE_MODE: Final = ReadWrite[PulseMode | Unlisted](
     name="pulse_mode",
     address=0x00F4,
     data_type="u16",
@@ -383,7 +397,7 @@ STANDSTILL_CURRENT_DELAY: Final = ReadWrite[int](
 )
 """Standstill (half) current delay (半流时间). Parameter 0245, address 0x00F5, u16, unit ms, range 1..32767. Manual section 1.2. Delay after the motor stops before it enters standstill (half) current (电机停止运行后进入半流状态的延时时间)."""
 
-RUN_MODE: Final = ReadWrite[RunMode | int](
+RUN_MODE: Final = ReadWrite[RunMode | Unlisted](
     name="run_mode",
     address=0x0128,
     data_type="u16",
@@ -471,7 +485,7 @@ DECELERATION: Final = ReadWrite[int](
 )
 """Deceleration (减速度). Parameter 0304, address 0x0130, u16, unit rps/s, range 5..10000, default 500. Manual section 1.3."""
 
-HOMING_MODE: Final = ReadWrite[HomingMode | int](
+HOMING_MODE: Final = ReadWrite[HomingMode | Unlisted](
     name="homing_mode",
     address=0x0131,
     data_type="u16",
@@ -631,7 +645,7 @@ SET_POSITION_VALUE: Final = ReadWrite[int](
 )
 """Current position preset (设置当前位置). Parameter 0321, address 0x0141, s32, unit pulse, range -2000000000..2000000000, default 0. Manual section 1.3. Position loaded by control command 8 (设定当前位置)."""
 
-CONTROL_COMMAND: Final = ReadWrite[ControlCommand | int](
+CONTROL_COMMAND: Final = ReadWrite[ControlCommand | Unlisted](
     name="control_command",
     address=0x0143,
     data_type="u16",
@@ -640,10 +654,11 @@ CONTROL_COMMAND: Final = ReadWrite[ControlCommand | int](
     max=29,
     param="0323",
     enum=ControlCommand,
+    trigger=True,
 )
 """Control command (控制命令). Parameter 0323, address 0x0143, u16, range 0..29, default 0. Manual section 1.3. Motion command; see enum control_command."""
 
-IN1_FUNCTION: Final = ReadWrite[InputFunction | int](
+IN1_FUNCTION: Final = ReadWrite[InputFunction | Unlisted](
     name="in1_function",
     address=0x0190,
     data_type="u16",
@@ -655,7 +670,7 @@ IN1_FUNCTION: Final = ReadWrite[InputFunction | int](
 )
 """IN1 function (IN1 功能选择). Parameter 0400, address 0x0190, u16, range 0..30, default 0. Manual section 1.4."""
 
-IN2_FUNCTION: Final = ReadWrite[InputFunction | int](
+IN2_FUNCTION: Final = ReadWrite[InputFunction | Unlisted](
     name="in2_function",
     address=0x0191,
     data_type="u16",
@@ -667,7 +682,7 @@ IN2_FUNCTION: Final = ReadWrite[InputFunction | int](
 )
 """IN2 function (IN2 功能选择). Parameter 0401, address 0x0191, u16, range 0..30, default 0. Manual section 1.4. Same settings as IN1 (设置内容同 IN1)."""
 
-VIRTUAL_IN1: Final = ReadWrite[VirtualInput | int](
+VIRTUAL_IN1: Final = ReadWrite[VirtualInput | Unlisted](
     name="virtual_in1",
     address=0x019A,
     data_type="u16",
@@ -676,10 +691,11 @@ VIRTUAL_IN1: Final = ReadWrite[VirtualInput | int](
     max=1,
     param="0410",
     enum=VirtualInput,
+    trigger=True,
 )
 """Pseudo-communication input IN1 (伪通讯设定 IN1). Parameter 0410, address 0x019A, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN1)."""
 
-VIRTUAL_IN2: Final = ReadWrite[VirtualInput | int](
+VIRTUAL_IN2: Final = ReadWrite[VirtualInput | Unlisted](
     name="virtual_in2",
     address=0x019B,
     data_type="u16",
@@ -688,10 +704,11 @@ VIRTUAL_IN2: Final = ReadWrite[VirtualInput | int](
     max=1,
     param="0411",
     enum=VirtualInput,
+    trigger=True,
 )
 """Pseudo-communication input IN2 (伪通讯设定 IN2). Parameter 0411, address 0x019B, u16, range 0..1, default 0. Manual section 1.4. 0 OFF (initial value), 1 ON (triggers the action configured for IN2)."""
 
-OUT1_FUNCTION: Final = ReadWrite[OutputFunction | int](
+OUT1_FUNCTION: Final = ReadWrite[OutputFunction | Unlisted](
     name="out1_function",
     address=0x01A4,
     data_type="u16",
@@ -799,12 +816,74 @@ DEVICE: Final = DeviceSpec(
     tolerates_gaps=False,
     exceptions=(),
 )
+Id243proValues = TypedDict(
+    "Id243proValues",
+    {
+        "motor_current": float,
+        "input_voltage": int,
+        "microstep_status": int,
+        "pulse_mode_status": PulseMode | Unlisted,
+        "fault_code": int,
+        "run_status": int,
+        "hardware_version": int,
+        "software_version": int,
+        "current_position": int,
+        "actual_speed": float,
+        "motor_direction": int,
+        "user_command": UserCommand | Unlisted,
+        "standstill_current_ratio": int,
+        "angle_filter": int,
+        "digital_filter": int,
+        "input_current": float,
+        "microstep": int,
+        "pulse_mode": PulseMode | Unlisted,
+        "standstill_current_delay": int,
+        "run_mode": RunMode | Unlisted,
+        "slave_address": int,
+        "baud_rate": int,
+        "start_frequency": float,
+        "stop_frequency": float,
+        "acceleration": int,
+        "deceleration": int,
+        "homing_mode": HomingMode | Unlisted,
+        "move_speed": float,
+        "speed_mode_speed": float,
+        "jog_speed": float,
+        "homing_speed": float,
+        "homing_creep_speed": float,
+        "homing_offset": int,
+        "target_distance": int,
+        "in_position_width": int,
+        "positive_soft_limit": int,
+        "negative_soft_limit": int,
+        "set_position_value": int,
+        "control_command": ControlCommand | Unlisted,
+        "in1_function": InputFunction | Unlisted,
+        "in2_function": InputFunction | Unlisted,
+        "virtual_in1": VirtualInput | Unlisted,
+        "virtual_in2": VirtualInput | Unlisted,
+        "out1_function": OutputFunction | Unlisted,
+        "digital_output_control": int,
+        "digital_input_logic": int,
+        "digital_output_logic": int,
+    },
+    total=False,
+)
+"""What read_all() and read_many() return: register name -> value, typed per register; a register not read (another poll class, absent in the firmware, not asked for) is not there."""
 
 
 class Id243pro(SyncClient):
     """Shanghai Sidapu iD243pro client (blocking). Construct with `Id243pro.rtu(port, slave)` or `.tcp(host, port, slave)`."""
 
     DEVICE = DEVICE
+
+    def read_many(self, *specs: Readable[Any]) -> Id243proValues:
+        """Read several registers with the fewest requests the device allows."""
+        return cast(Id243proValues, super().read_many(*specs))
+
+    def read_all(self, poll: object = None) -> Id243proValues:
+        """Every readable register by the read plan; `poll` ("static", "fast", "normal", "slow"): only that class's."""
+        return cast(Id243proValues, super().read_all(poll))
 
     def read_motor_current(self) -> float:
         """Read MOTOR_CURRENT: Motor current (电机电流); documented at the constant."""
@@ -818,7 +897,7 @@ class Id243pro(SyncClient):
         """Read MICROSTEP_STATUS: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         return self.read(MICROSTEP_STATUS)
 
-    def read_pulse_mode_status(self) -> PulseMode | int:
+    def read_pulse_mode_status(self) -> PulseMode | Unlisted:
         """Read PULSE_MODE_STATUS: Pulse mode (脉冲方式); documented at the constant."""
         return self.read(PULSE_MODE_STATUS)
 
@@ -854,11 +933,13 @@ class Id243pro(SyncClient):
         """Write MOTOR_DIRECTION: Motor direction switch (电机方向切换); documented at the constant."""
         self.write(MOTOR_DIRECTION, value)
 
-    def read_user_command(self) -> UserCommand | int:
+    def read_user_command(self) -> UserCommand | Unlisted:
         """Read USER_COMMAND: User command (用户指令); documented at the constant."""
         return self.read(USER_COMMAND)
 
-    def write_user_command(self, value: UserCommand | int | str) -> None:
+    def write_user_command(
+        self, value: UserCommand | Literal["reset_user_parameters", "clear_alarm", "restart"]
+    ) -> None:
         """Write USER_COMMAND: User command (用户指令); documented at the constant."""
         self.write(USER_COMMAND, value)
 
@@ -902,11 +983,11 @@ class Id243pro(SyncClient):
         """Write MICROSTEP: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         self.write(MICROSTEP, value)
 
-    def read_pulse_mode(self) -> PulseMode | int:
+    def read_pulse_mode(self) -> PulseMode | Unlisted:
         """Read PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         return self.read(PULSE_MODE)
 
-    def write_pulse_mode(self, value: PulseMode | int | str) -> None:
+    def write_pulse_mode(self, value: PulseMode | Literal["pulse_direction", "double_pulse"]) -> None:
         """Write PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         self.write(PULSE_MODE, value)
 
@@ -918,11 +999,11 @@ class Id243pro(SyncClient):
         """Write STANDSTILL_CURRENT_DELAY: Standstill (half) current delay (半流时间); documented at the constant."""
         self.write(STANDSTILL_CURRENT_DELAY, value)
 
-    def read_run_mode(self) -> RunMode | int:
+    def read_run_mode(self) -> RunMode | Unlisted:
         """Read RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         return self.read(RUN_MODE)
 
-    def write_run_mode(self, value: RunMode | int | str) -> None:
+    def write_run_mode(self, value: RunMode | Literal["external_pulse", "internal_pulse"]) -> None:
         """Write RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         self.write(RUN_MODE, value)
 
@@ -974,11 +1055,11 @@ class Id243pro(SyncClient):
         """Write DECELERATION: Deceleration (减速度); documented at the constant."""
         self.write(DECELERATION, value)
 
-    def read_homing_mode(self) -> HomingMode | int:
+    def read_homing_mode(self) -> HomingMode | Unlisted:
         """Read HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         return self.read(HOMING_MODE)
 
-    def write_homing_mode(self, value: HomingMode | int | str) -> None:
+    def write_homing_mode(self, value: HomingMode | Literal["clockwise", "counterclockwise"]) -> None:
         """Write HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         self.write(HOMING_MODE, value)
 
@@ -1070,51 +1151,108 @@ class Id243pro(SyncClient):
         """Write SET_POSITION_VALUE: Current position preset (设置当前位置); documented at the constant."""
         self.write(SET_POSITION_VALUE, value)
 
-    def read_control_command(self) -> ControlCommand | int:
+    def read_control_command(self) -> ControlCommand | Unlisted:
         """Read CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         return self.read(CONTROL_COMMAND)
 
-    def write_control_command(self, value: ControlCommand | int | str) -> None:
+    def write_control_command(
+        self,
+        value: ControlCommand
+        | Literal[
+            "none",
+            "absolute_move",
+            "relative_move",
+            "speed_mode",
+            "jog_forward",
+            "jog_reverse",
+            "decelerate_stop",
+            "emergency_stop",
+            "set_position",
+            "homing",
+            "clear_alarm",
+            "enable",
+        ],
+    ) -> None:
         """Write CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         self.write(CONTROL_COMMAND, value)
 
-    def read_in1_function(self) -> InputFunction | int:
+    def read_in1_function(self) -> InputFunction | Unlisted:
         """Read IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         return self.read(IN1_FUNCTION)
 
-    def write_in1_function(self, value: InputFunction | int | str) -> None:
+    def write_in1_function(
+        self,
+        value: InputFunction
+        | Literal[
+            "none",
+            "absolute_move",
+            "relative_move",
+            "speed_mode",
+            "jog_forward",
+            "jog_reverse",
+            "decelerate_stop",
+            "emergency_stop",
+            "set_position",
+            "positive_limit",
+            "negative_limit",
+            "home_signal",
+            "homing",
+            "clear_alarm",
+            "enable",
+        ],
+    ) -> None:
         """Write IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         self.write(IN1_FUNCTION, value)
 
-    def read_in2_function(self) -> InputFunction | int:
+    def read_in2_function(self) -> InputFunction | Unlisted:
         """Read IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         return self.read(IN2_FUNCTION)
 
-    def write_in2_function(self, value: InputFunction | int | str) -> None:
+    def write_in2_function(
+        self,
+        value: InputFunction
+        | Literal[
+            "none",
+            "absolute_move",
+            "relative_move",
+            "speed_mode",
+            "jog_forward",
+            "jog_reverse",
+            "decelerate_stop",
+            "emergency_stop",
+            "set_position",
+            "positive_limit",
+            "negative_limit",
+            "home_signal",
+            "homing",
+            "clear_alarm",
+            "enable",
+        ],
+    ) -> None:
         """Write IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         self.write(IN2_FUNCTION, value)
 
-    def read_virtual_in1(self) -> VirtualInput | int:
+    def read_virtual_in1(self) -> VirtualInput | Unlisted:
         """Read VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         return self.read(VIRTUAL_IN1)
 
-    def write_virtual_in1(self, value: VirtualInput | int | str) -> None:
+    def write_virtual_in1(self, value: VirtualInput | Literal["off", "on"]) -> None:
         """Write VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         self.write(VIRTUAL_IN1, value)
 
-    def read_virtual_in2(self) -> VirtualInput | int:
+    def read_virtual_in2(self) -> VirtualInput | Unlisted:
         """Read VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         return self.read(VIRTUAL_IN2)
 
-    def write_virtual_in2(self, value: VirtualInput | int | str) -> None:
+    def write_virtual_in2(self, value: VirtualInput | Literal["off", "on"]) -> None:
         """Write VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         self.write(VIRTUAL_IN2, value)
 
-    def read_out1_function(self) -> OutputFunction | int:
+    def read_out1_function(self) -> OutputFunction | Unlisted:
         """Read OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         return self.read(OUT1_FUNCTION)
 
-    def write_out1_function(self, value: OutputFunction | int | str) -> None:
+    def write_out1_function(self, value: OutputFunction | Literal["disabled", "alarm_output", "enable_output"]) -> None:
         """Write OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         self.write(OUT1_FUNCTION, value)
 
@@ -1204,6 +1342,14 @@ class AsyncId243pro(AsyncClient):
 
     DEVICE = DEVICE
 
+    async def read_many(self, *specs: Readable[Any]) -> Id243proValues:
+        """Read several registers with the fewest requests the device allows."""
+        return cast(Id243proValues, await super().read_many(*specs))
+
+    async def read_all(self, poll: object = None) -> Id243proValues:
+        """Every readable register by the read plan; `poll` ("static", "fast", "normal", "slow"): only that class's."""
+        return cast(Id243proValues, await super().read_all(poll))
+
     async def read_motor_current(self) -> float:
         """Read MOTOR_CURRENT: Motor current (电机电流); documented at the constant."""
         return await self.read(MOTOR_CURRENT)
@@ -1216,7 +1362,7 @@ class AsyncId243pro(AsyncClient):
         """Read MICROSTEP_STATUS: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         return await self.read(MICROSTEP_STATUS)
 
-    async def read_pulse_mode_status(self) -> PulseMode | int:
+    async def read_pulse_mode_status(self) -> PulseMode | Unlisted:
         """Read PULSE_MODE_STATUS: Pulse mode (脉冲方式); documented at the constant."""
         return await self.read(PULSE_MODE_STATUS)
 
@@ -1252,11 +1398,13 @@ class AsyncId243pro(AsyncClient):
         """Write MOTOR_DIRECTION: Motor direction switch (电机方向切换); documented at the constant."""
         await self.write(MOTOR_DIRECTION, value)
 
-    async def read_user_command(self) -> UserCommand | int:
+    async def read_user_command(self) -> UserCommand | Unlisted:
         """Read USER_COMMAND: User command (用户指令); documented at the constant."""
         return await self.read(USER_COMMAND)
 
-    async def write_user_command(self, value: UserCommand | int | str) -> None:
+    async def write_user_command(
+        self, value: UserCommand | Literal["reset_user_parameters", "clear_alarm", "restart"]
+    ) -> None:
         """Write USER_COMMAND: User command (用户指令); documented at the constant."""
         await self.write(USER_COMMAND, value)
 
@@ -1300,11 +1448,11 @@ class AsyncId243pro(AsyncClient):
         """Write MICROSTEP: Microstep setting (pulses per revolution) (设置细分); documented at the constant."""
         await self.write(MICROSTEP, value)
 
-    async def read_pulse_mode(self) -> PulseMode | int:
+    async def read_pulse_mode(self) -> PulseMode | Unlisted:
         """Read PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         return await self.read(PULSE_MODE)
 
-    async def write_pulse_mode(self, value: PulseMode | int | str) -> None:
+    async def write_pulse_mode(self, value: PulseMode | Literal["pulse_direction", "double_pulse"]) -> None:
         """Write PULSE_MODE: Pulse mode (脉冲方式); documented at the constant."""
         await self.write(PULSE_MODE, value)
 
@@ -1316,11 +1464,11 @@ class AsyncId243pro(AsyncClient):
         """Write STANDSTILL_CURRENT_DELAY: Standstill (half) current delay (半流时间); documented at the constant."""
         await self.write(STANDSTILL_CURRENT_DELAY, value)
 
-    async def read_run_mode(self) -> RunMode | int:
+    async def read_run_mode(self) -> RunMode | Unlisted:
         """Read RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         return await self.read(RUN_MODE)
 
-    async def write_run_mode(self, value: RunMode | int | str) -> None:
+    async def write_run_mode(self, value: RunMode | Literal["external_pulse", "internal_pulse"]) -> None:
         """Write RUN_MODE: Run mode selection (运行模式选择); documented at the constant."""
         await self.write(RUN_MODE, value)
 
@@ -1372,11 +1520,11 @@ class AsyncId243pro(AsyncClient):
         """Write DECELERATION: Deceleration (减速度); documented at the constant."""
         await self.write(DECELERATION, value)
 
-    async def read_homing_mode(self) -> HomingMode | int:
+    async def read_homing_mode(self) -> HomingMode | Unlisted:
         """Read HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         return await self.read(HOMING_MODE)
 
-    async def write_homing_mode(self, value: HomingMode | int | str) -> None:
+    async def write_homing_mode(self, value: HomingMode | Literal["clockwise", "counterclockwise"]) -> None:
         """Write HOMING_MODE: Homing mode (回原点模式); documented at the constant."""
         await self.write(HOMING_MODE, value)
 
@@ -1468,51 +1616,110 @@ class AsyncId243pro(AsyncClient):
         """Write SET_POSITION_VALUE: Current position preset (设置当前位置); documented at the constant."""
         await self.write(SET_POSITION_VALUE, value)
 
-    async def read_control_command(self) -> ControlCommand | int:
+    async def read_control_command(self) -> ControlCommand | Unlisted:
         """Read CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         return await self.read(CONTROL_COMMAND)
 
-    async def write_control_command(self, value: ControlCommand | int | str) -> None:
+    async def write_control_command(
+        self,
+        value: ControlCommand
+        | Literal[
+            "none",
+            "absolute_move",
+            "relative_move",
+            "speed_mode",
+            "jog_forward",
+            "jog_reverse",
+            "decelerate_stop",
+            "emergency_stop",
+            "set_position",
+            "homing",
+            "clear_alarm",
+            "enable",
+        ],
+    ) -> None:
         """Write CONTROL_COMMAND: Control command (控制命令); documented at the constant."""
         await self.write(CONTROL_COMMAND, value)
 
-    async def read_in1_function(self) -> InputFunction | int:
+    async def read_in1_function(self) -> InputFunction | Unlisted:
         """Read IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         return await self.read(IN1_FUNCTION)
 
-    async def write_in1_function(self, value: InputFunction | int | str) -> None:
+    async def write_in1_function(
+        self,
+        value: InputFunction
+        | Literal[
+            "none",
+            "absolute_move",
+            "relative_move",
+            "speed_mode",
+            "jog_forward",
+            "jog_reverse",
+            "decelerate_stop",
+            "emergency_stop",
+            "set_position",
+            "positive_limit",
+            "negative_limit",
+            "home_signal",
+            "homing",
+            "clear_alarm",
+            "enable",
+        ],
+    ) -> None:
         """Write IN1_FUNCTION: IN1 function (IN1 功能选择); documented at the constant."""
         await self.write(IN1_FUNCTION, value)
 
-    async def read_in2_function(self) -> InputFunction | int:
+    async def read_in2_function(self) -> InputFunction | Unlisted:
         """Read IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         return await self.read(IN2_FUNCTION)
 
-    async def write_in2_function(self, value: InputFunction | int | str) -> None:
+    async def write_in2_function(
+        self,
+        value: InputFunction
+        | Literal[
+            "none",
+            "absolute_move",
+            "relative_move",
+            "speed_mode",
+            "jog_forward",
+            "jog_reverse",
+            "decelerate_stop",
+            "emergency_stop",
+            "set_position",
+            "positive_limit",
+            "negative_limit",
+            "home_signal",
+            "homing",
+            "clear_alarm",
+            "enable",
+        ],
+    ) -> None:
         """Write IN2_FUNCTION: IN2 function (IN2 功能选择); documented at the constant."""
         await self.write(IN2_FUNCTION, value)
 
-    async def read_virtual_in1(self) -> VirtualInput | int:
+    async def read_virtual_in1(self) -> VirtualInput | Unlisted:
         """Read VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         return await self.read(VIRTUAL_IN1)
 
-    async def write_virtual_in1(self, value: VirtualInput | int | str) -> None:
+    async def write_virtual_in1(self, value: VirtualInput | Literal["off", "on"]) -> None:
         """Write VIRTUAL_IN1: Pseudo-communication input IN1 (伪通讯设定 IN1); documented at the constant."""
         await self.write(VIRTUAL_IN1, value)
 
-    async def read_virtual_in2(self) -> VirtualInput | int:
+    async def read_virtual_in2(self) -> VirtualInput | Unlisted:
         """Read VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         return await self.read(VIRTUAL_IN2)
 
-    async def write_virtual_in2(self, value: VirtualInput | int | str) -> None:
+    async def write_virtual_in2(self, value: VirtualInput | Literal["off", "on"]) -> None:
         """Write VIRTUAL_IN2: Pseudo-communication input IN2 (伪通讯设定 IN2); documented at the constant."""
         await self.write(VIRTUAL_IN2, value)
 
-    async def read_out1_function(self) -> OutputFunction | int:
+    async def read_out1_function(self) -> OutputFunction | Unlisted:
         """Read OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         return await self.read(OUT1_FUNCTION)
 
-    async def write_out1_function(self, value: OutputFunction | int | str) -> None:
+    async def write_out1_function(
+        self, value: OutputFunction | Literal["disabled", "alarm_output", "enable_output"]
+    ) -> None:
         """Write OUT1_FUNCTION: OUT1 function (OUT1 功能选择); documented at the constant."""
         await self.write(OUT1_FUNCTION, value)
 

@@ -8,21 +8,31 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-from typing import ClassVar, Final
+from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_268ae68b51.bits import BitfieldValue
-from regmap_runtime_268ae68b51.client import AsyncClient, SyncClient
-from regmap_runtime_268ae68b51.errors import (
+from regmap_runtime_2f08255883.bits import BitfieldValue
+from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
+from regmap_runtime_2f08255883.codec import Unlisted
+from regmap_runtime_2f08255883.errors import (
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    OutcomeUnknown,
     ProtocolError,
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_268ae68b51.profile import DeviceProfile, load_profile
-from regmap_runtime_268ae68b51.spec import BitfieldSpec, DeviceSpec, ReadOnly, ReadWrite, RegisterSpec, WriteOnly
+from regmap_runtime_2f08255883.profile import DeviceProfile, load_profile
+from regmap_runtime_2f08255883.spec import (
+    BitfieldSpec,
+    DeviceSpec,
+    Readable,
+    ReadOnly,
+    ReadWrite,
+    RegisterSpec,
+    WriteOnly,
+)
 
 MAP_VERSION: Final = "1.0.0"
 MAP_FINGERPRINT: Final = "561d37cf9177d969"
@@ -33,15 +43,18 @@ __all__ = [
     "IdmRs",
     "AsyncIdmRs",
     "DEVICE",
+    "IdmRsValues",
     "MAP_VERSION",
     "MAP_FINGERPRINT",
     "BitfieldValue",
+    "Unlisted",
     "DeviceProfile",
     "load_profile",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",
     "WrongSlave",
@@ -833,7 +846,7 @@ PULSES_PER_REVOLUTION: Final = ReadWrite[int](
 )
 """Command pulses per revolution (指令脉冲数/转). Parameter Pr0.00, address 0x0001 (low word of a 32-bit pair), u16, unit P/R, range 200..51200, default 10000. Manual section 5.3.1, 附录4, 4.12."""
 
-LOOP_MODE: Final = ReadWrite[LoopMode | int](
+LOOP_MODE: Final = ReadWrite[LoopMode | Unlisted](
     name="loop_mode",
     address=0x0003,
     data_type="u16",
@@ -858,7 +871,7 @@ CONTROL_MODE: Final = ReadWrite[int](
 )
 """Control mode and command source (no effect) (控制模式及指令来源). Parameter Pr0.02, address 0x0005 (low word of a 32-bit pair), u16, range 0..10, default 1. Manual section 5.3.1, 附录4."""
 
-MOTOR_DIRECTION: Final = ReadWrite[MotorDirection | int](
+MOTOR_DIRECTION: Final = ReadWrite[MotorDirection | Unlisted](
     name="motor_direction",
     address=0x0007,
     data_type="u16",
@@ -899,7 +912,7 @@ FOLLOWING_ERROR_LIMIT: Final = ReadWrite[int](
 )
 """Maximum tracking error (跟踪误差最大值). Parameter Pr0.05, address 0x000B (low word of a 32-bit pair), u16, unit encoder units, range 9..65535, default 65535. Manual section 5.3.1."""
 
-FORCE_ENABLE: Final = ReadWrite[ForceEnable | int](
+FORCE_ENABLE: Final = ReadWrite[ForceEnable | Unlisted](
     name="force_enable",
     address=0x000F,
     data_type="u16",
@@ -909,6 +922,7 @@ FORCE_ENABLE: Final = ReadWrite[ForceEnable | int](
     max=1,
     param="Pr0.07",
     enum=ForceEnable,
+    trigger=True,
 )
 """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
 
@@ -1071,7 +1085,7 @@ POSITION_INTEGRAL_DEADBAND: Final = ReadWrite[int](
 )
 """Position loop integral dead band (位置环积分死区). Parameter Pr2.09, address 0x00B3 (low word of a 32-bit pair), u16, unit pulse, range 0..65535, default 1. Manual section 5.3.1."""
 
-VBS_ENABLE: Final = ReadWrite[OffOn | int](
+VBS_ENABLE: Final = ReadWrite[OffOn | Unlisted](
     name="vbs_enable",
     address=0x00BB,
     data_type="u16",
@@ -1544,7 +1558,7 @@ MAX_STOP_TIME: Final = ReadWrite[int](
 )
 """Maximum stopping time (停车最长时间). Parameter Pr5.10, address 0x01A5 (low word of a 32-bit pair), u16, unit ms, range 100..1000, default 1000. Manual section 5.3.1, 附录4."""
 
-CURRENT_AUTOTUNE: Final = ReadWrite[CurrentAutotune | int](
+CURRENT_AUTOTUNE: Final = ReadWrite[CurrentAutotune | Unlisted](
     name="current_autotune",
     address=0x01AB,
     data_type="u16",
@@ -1557,7 +1571,7 @@ CURRENT_AUTOTUNE: Final = ReadWrite[CurrentAutotune | int](
 )
 """Current loop auto-tuning at power-up (电流环上电自整定). Parameter Pr5.13, address 0x01AB (low word of a 32-bit pair), u16, range 0..1, default 1. Manual section 5.3.1, 附录4."""
 
-BAUD_RATE: Final = ReadWrite[BaudRate | int](
+BAUD_RATE: Final = ReadWrite[BaudRate | Unlisted](
     name="baud_rate",
     address=0x01BD,
     data_type="u16",
@@ -1582,7 +1596,7 @@ SLAVE_ID: Final = ReadWrite[int](
 )
 """RS-485 slave ID (485 ID). Parameter Pr5.23, address 0x01BF (low word of a 32-bit pair), u16, range 0..127, default 1. Manual section 5.3.1, 附录4, 3.2.5, 5.2.1."""
 
-DATA_FORMAT: Final = ReadWrite[DataFormat | int](
+DATA_FORMAT: Final = ReadWrite[DataFormat | Unlisted](
     name="data_format",
     address=0x01C1,
     data_type="u16",
@@ -1975,16 +1989,17 @@ RUN_STATUS: Final = ReadOnly[RunStatusBits](
 )
 """Run status (运行状态). address 0x1003, u16. Manual section 4.1, 5.3.2, 附录4."""
 
-CONTROL_WORD: Final = WriteOnly[ControlWord | int](
+CONTROL_WORD: Final = WriteOnly[ControlWord | Unlisted](
     name="control_word",
     address=0x1801,
     data_type="u16",
     access="w",
     enum=ControlWord,
+    trigger=True,
 )
 """Auxiliary control word (控制字). address 0x1801, u16. Manual section 4.4, 4.5, 4.7, 5.3.3, 附录4."""
 
-SAVE_STATUS: Final = ReadOnly[SaveStatus | int](
+SAVE_STATUS: Final = ReadOnly[SaveStatus | Unlisted](
     name="save_status",
     address=0x1901,
     data_type="u16",
@@ -1993,7 +2008,7 @@ SAVE_STATUS: Final = ReadOnly[SaveStatus | int](
 )
 """Parameter save status word (保存参数状态字). address 0x1901, u16, default 4369. Manual section 5.3.3, 附录4."""
 
-CURRENT_ALARM: Final = ReadOnly[AlarmCode | int](
+CURRENT_ALARM: Final = ReadOnly[AlarmCode | Unlisted](
     name="current_alarm",
     address=0x2203,
     data_type="u16",
@@ -2013,7 +2028,7 @@ PR_CONTROL: Final = ReadWrite[PrControlBits](
 )
 """PR control settings (PR 控制设置). Parameter Pr8.00, address 0x6000, u16, default 0. Manual section 5.3.1, 6.3, 6.4, 附录4."""
 
-PR_TRIGGER: Final = ReadWrite[PrTrigger | int](
+PR_TRIGGER: Final = ReadWrite[PrTrigger | Unlisted](
     name="pr_trigger",
     address=0x6002,
     data_type="u16",
@@ -2021,6 +2036,7 @@ PR_TRIGGER: Final = ReadWrite[PrTrigger | int](
     param="Pr8.02",
     enum=PrTrigger,
     reported=((0, 15), (256, 271), (512, 527)),
+    trigger=True,
 )
 """PR trigger / control register (触发寄存器). Parameter Pr8.02, address 0x6002, u16, default 0. Manual section 4.8, 5.3.1, 6.4, 附录4, 7.4."""
 
@@ -2207,7 +2223,7 @@ ENCODER_MEMORY_VALUE: Final = ReadWrite[int](
 )
 """Encoder memory value (编码器记忆值). Parameter Pr8.24, address 0x6018, s32. Manual section 附录4."""
 
-IO_COMBINATION_MODE: Final = ReadWrite[IoCombinationMode | int](
+IO_COMBINATION_MODE: Final = ReadWrite[IoCombinationMode | Unlisted](
     name="io_combination_mode",
     address=0x601A,
     data_type="u16",
@@ -2244,7 +2260,7 @@ S_CODE_OUTPUT: Final = ReadOnly[SCodeOutputBits](
 )
 """Current S-code output value (S 码当前输出值). Parameter Pr8.28, address 0x601C, u16, range 0..32767, default 0. Manual section 4.11, 5.3.1, 附录4."""
 
-PR_WARNING: Final = ReadOnly[PrWarning | int](
+PR_WARNING: Final = ReadOnly[PrWarning | Unlisted](
     name="pr_warning",
     address=0x601D,
     data_type="u16",
@@ -2603,6 +2619,7 @@ PR_PATH_0_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.07",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.07, address 0x6207, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -2685,6 +2702,7 @@ PR_PATH_1_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.15",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.15, address 0x620F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -2767,6 +2785,7 @@ PR_PATH_2_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.23",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.23, address 0x6217, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -2849,6 +2868,7 @@ PR_PATH_3_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.31",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.31, address 0x621F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -2931,6 +2951,7 @@ PR_PATH_4_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.39",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.39, address 0x6227, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3013,6 +3034,7 @@ PR_PATH_5_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.47",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.47, address 0x622F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3095,6 +3117,7 @@ PR_PATH_6_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.55",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.55, address 0x6237, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3177,6 +3200,7 @@ PR_PATH_7_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.63",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.63, address 0x623F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3259,6 +3283,7 @@ PR_PATH_8_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.71",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.71, address 0x6247, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3341,6 +3366,7 @@ PR_PATH_9_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.79",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.79, address 0x624F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3423,6 +3449,7 @@ PR_PATH_10_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.87",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.87, address 0x6257, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3505,6 +3532,7 @@ PR_PATH_11_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.95",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.95, address 0x625F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3587,6 +3615,7 @@ PR_PATH_12_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.103",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.103, address 0x6267, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3669,6 +3698,7 @@ PR_PATH_13_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.111",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.111, address 0x626F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3751,6 +3781,7 @@ PR_PATH_14_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.119",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.119, address 0x6277, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -3833,6 +3864,7 @@ PR_PATH_15_SPECIAL: Final = ReadWrite[int](
     data_type="u16",
     access="rw",
     param="Pr9.127",
+    trigger=True,
 )
 """Special parameter (特殊参数). Parameter Pr9.127, address 0x627F, u16. Manual section 4.8, 5.3.1, 6.4, 6.5, 附录4, 7.4."""
 
@@ -4349,12 +4381,282 @@ DEVICE: Final = DeviceSpec(
         (0x08, "crc_error", "Wrong CRC"),
     ),
 )
+IdmRsValues = TypedDict(
+    "IdmRsValues",
+    {
+        "pulses_per_revolution": int,
+        "loop_mode": LoopMode | Unlisted,
+        "control_mode": int,
+        "motor_direction": MotorDirection | Unlisted,
+        "motor_inductance": float,
+        "following_error_limit": int,
+        "force_enable": ForceEnable | Unlisted,
+        "position_loop_kp": int,
+        "speed_loop_ki": int,
+        "speed_loop_kp": int,
+        "torque_feedforward": int,
+        "position_loop_filter": int,
+        "speed_loop_filter": int,
+        "command_filter_time": float,
+        "closed_to_open_speed": float,
+        "standstill_lead_angle_switch": int,
+        "position_integral_delay": float,
+        "command_iir_bandwidth": int,
+        "position_integral_deadband": int,
+        "vbs_enable": OffOn | Unlisted,
+        "vbs_phase": int,
+        "vbs_gain": int,
+        "vbs_speed_max": float,
+        "vbs_speed_min": float,
+        "vbs_current_limit": float,
+        "accel_hp_bandwidth": int,
+        "accel_lp_bandwidth": int,
+        "accel_coefficient": int,
+        "accel_feedforward_angle_limit": int,
+        "di1_function": Di1FunctionBits,
+        "di2_function": Di2FunctionBits,
+        "di3_function": Di3FunctionBits,
+        "di4_function": Di4FunctionBits,
+        "di5_function": Di5FunctionBits,
+        "di6_function": Di6FunctionBits,
+        "di7_function": Di7FunctionBits,
+        "do1_function": Do1FunctionBits,
+        "do2_function": Do2FunctionBits,
+        "do3_function": Do3FunctionBits,
+        "brake_release_delay": int,
+        "fault_detection_mask": FaultDetectionMaskBits,
+        "in_position_error": int,
+        "in_position_debounce": int,
+        "zero_speed_threshold": int,
+        "bus_voltage": float,
+        "input_io_state": InputIoStateBits,
+        "output_io_state": OutputIoStateBits,
+        "dip_switch_state": int,
+        "peak_current": float,
+        "open_loop_hold_current": int,
+        "lock_current_percent": int,
+        "lock_duration": int,
+        "lock_current_rise_time": float,
+        "max_stop_time": int,
+        "current_autotune": CurrentAutotune | Unlisted,
+        "baud_rate": BaudRate | Unlisted,
+        "slave_id": int,
+        "data_format": DataFormat | Unlisted,
+        "response_bit_delay": int,
+        "standby_time": int,
+        "standby_current_percent": int,
+        "jog_speed": int,
+        "jog_interval": int,
+        "jog_cycles": int,
+        "jog_accel_time": int,
+        "version_info_1": int,
+        "version_info_2": int,
+        "r4d_status_word": int,
+        "encoder_resolution": int,
+        "back_emf_coefficient": int,
+        "current_loop_kp": int,
+        "current_loop_ki": int,
+        "current_loop_gain_ratio": int,
+        "current_loop_kc": int,
+        "overvoltage_threshold": int,
+        "mapping_window_0_value": int,
+        "mapping_window_1_value": int,
+        "mapping_window_2_value": int,
+        "mapping_window_3_value": int,
+        "mapping_window_4_value": int,
+        "mapping_window_5_value": int,
+        "mapping_window_6_value": int,
+        "mapping_window_7_value": int,
+        "mapping_window_8_value": int,
+        "mapping_window_9_value": int,
+        "mapping_setup_0_address": int,
+        "mapping_setup_1_address": int,
+        "mapping_setup_2_address": int,
+        "mapping_setup_3_address": int,
+        "mapping_setup_4_address": int,
+        "mapping_setup_5_address": int,
+        "mapping_setup_6_address": int,
+        "mapping_setup_7_address": int,
+        "mapping_setup_8_address": int,
+        "mapping_setup_9_address": int,
+        "run_status": RunStatusBits,
+        "save_status": SaveStatus | Unlisted,
+        "current_alarm": AlarmCode | Unlisted,
+        "pr_control": PrControlBits,
+        "pr_trigger": PrTrigger | Unlisted,
+        "positive_soft_limit": int,
+        "negative_soft_limit": int,
+        "homing_mode": HomingModeBits,
+        "home_offset": int,
+        "home_stop_position": int,
+        "homing_high_speed": int,
+        "homing_low_speed": int,
+        "homing_accel": int,
+        "homing_decel": int,
+        "torque_homing_time": int,
+        "torque_homing_level": int,
+        "homing_overtravel": float,
+        "limit_stop_decel": int,
+        "stop_decel": int,
+        "encoder_memory_value": int,
+        "io_combination_mode": IoCombinationMode | Unlisted,
+        "io_combination_filter": int,
+        "s_code_output": SCodeOutputBits,
+        "pr_warning": PrWarning | Unlisted,
+        "jog_speed_2": int,
+        "jog_speed_1": int,
+        "jog_accel": int,
+        "jog_decel": int,
+        "command_position": int,
+        "motor_position": int,
+        "input_io": int,
+        "output_io": int,
+        "s_code_0_setting": SCodeSettingBits,
+        "s_code_1_setting": SCodeSettingBits,
+        "s_code_2_setting": SCodeSettingBits,
+        "s_code_3_setting": SCodeSettingBits,
+        "s_code_4_setting": SCodeSettingBits,
+        "s_code_5_setting": SCodeSettingBits,
+        "s_code_6_setting": SCodeSettingBits,
+        "s_code_7_setting": SCodeSettingBits,
+        "s_code_8_setting": SCodeSettingBits,
+        "s_code_9_setting": SCodeSettingBits,
+        "s_code_10_setting": SCodeSettingBits,
+        "s_code_11_setting": SCodeSettingBits,
+        "s_code_12_setting": SCodeSettingBits,
+        "s_code_13_setting": SCodeSettingBits,
+        "s_code_14_setting": SCodeSettingBits,
+        "s_code_15_setting": SCodeSettingBits,
+        "pr_path_0_mode": PrPathModeBits,
+        "pr_path_0_position": int,
+        "pr_path_0_speed": int,
+        "pr_path_0_acceleration": int,
+        "pr_path_0_deceleration": int,
+        "pr_path_0_dwell": int,
+        "pr_path_0_special": int,
+        "pr_path_1_mode": PrPathModeBits,
+        "pr_path_1_position": int,
+        "pr_path_1_speed": int,
+        "pr_path_1_acceleration": int,
+        "pr_path_1_deceleration": int,
+        "pr_path_1_dwell": int,
+        "pr_path_1_special": int,
+        "pr_path_2_mode": PrPathModeBits,
+        "pr_path_2_position": int,
+        "pr_path_2_speed": int,
+        "pr_path_2_acceleration": int,
+        "pr_path_2_deceleration": int,
+        "pr_path_2_dwell": int,
+        "pr_path_2_special": int,
+        "pr_path_3_mode": PrPathModeBits,
+        "pr_path_3_position": int,
+        "pr_path_3_speed": int,
+        "pr_path_3_acceleration": int,
+        "pr_path_3_deceleration": int,
+        "pr_path_3_dwell": int,
+        "pr_path_3_special": int,
+        "pr_path_4_mode": PrPathModeBits,
+        "pr_path_4_position": int,
+        "pr_path_4_speed": int,
+        "pr_path_4_acceleration": int,
+        "pr_path_4_deceleration": int,
+        "pr_path_4_dwell": int,
+        "pr_path_4_special": int,
+        "pr_path_5_mode": PrPathModeBits,
+        "pr_path_5_position": int,
+        "pr_path_5_speed": int,
+        "pr_path_5_acceleration": int,
+        "pr_path_5_deceleration": int,
+        "pr_path_5_dwell": int,
+        "pr_path_5_special": int,
+        "pr_path_6_mode": PrPathModeBits,
+        "pr_path_6_position": int,
+        "pr_path_6_speed": int,
+        "pr_path_6_acceleration": int,
+        "pr_path_6_deceleration": int,
+        "pr_path_6_dwell": int,
+        "pr_path_6_special": int,
+        "pr_path_7_mode": PrPathModeBits,
+        "pr_path_7_position": int,
+        "pr_path_7_speed": int,
+        "pr_path_7_acceleration": int,
+        "pr_path_7_deceleration": int,
+        "pr_path_7_dwell": int,
+        "pr_path_7_special": int,
+        "pr_path_8_mode": PrPathModeBits,
+        "pr_path_8_position": int,
+        "pr_path_8_speed": int,
+        "pr_path_8_acceleration": int,
+        "pr_path_8_deceleration": int,
+        "pr_path_8_dwell": int,
+        "pr_path_8_special": int,
+        "pr_path_9_mode": PrPathModeBits,
+        "pr_path_9_position": int,
+        "pr_path_9_speed": int,
+        "pr_path_9_acceleration": int,
+        "pr_path_9_deceleration": int,
+        "pr_path_9_dwell": int,
+        "pr_path_9_special": int,
+        "pr_path_10_mode": PrPathModeBits,
+        "pr_path_10_position": int,
+        "pr_path_10_speed": int,
+        "pr_path_10_acceleration": int,
+        "pr_path_10_deceleration": int,
+        "pr_path_10_dwell": int,
+        "pr_path_10_special": int,
+        "pr_path_11_mode": PrPathModeBits,
+        "pr_path_11_position": int,
+        "pr_path_11_speed": int,
+        "pr_path_11_acceleration": int,
+        "pr_path_11_deceleration": int,
+        "pr_path_11_dwell": int,
+        "pr_path_11_special": int,
+        "pr_path_12_mode": PrPathModeBits,
+        "pr_path_12_position": int,
+        "pr_path_12_speed": int,
+        "pr_path_12_acceleration": int,
+        "pr_path_12_deceleration": int,
+        "pr_path_12_dwell": int,
+        "pr_path_12_special": int,
+        "pr_path_13_mode": PrPathModeBits,
+        "pr_path_13_position": int,
+        "pr_path_13_speed": int,
+        "pr_path_13_acceleration": int,
+        "pr_path_13_deceleration": int,
+        "pr_path_13_dwell": int,
+        "pr_path_13_special": int,
+        "pr_path_14_mode": PrPathModeBits,
+        "pr_path_14_position": int,
+        "pr_path_14_speed": int,
+        "pr_path_14_acceleration": int,
+        "pr_path_14_deceleration": int,
+        "pr_path_14_dwell": int,
+        "pr_path_14_special": int,
+        "pr_path_15_mode": PrPathModeBits,
+        "pr_path_15_position": int,
+        "pr_path_15_speed": int,
+        "pr_path_15_acceleration": int,
+        "pr_path_15_deceleration": int,
+        "pr_path_15_dwell": int,
+        "pr_path_15_special": int,
+    },
+    total=False,
+)
+"""What read_all() and read_many() return: register name -> value, typed per register; a register not read (another poll class, absent in the firmware, not asked for) is not there."""
 
 
 class IdmRs(SyncClient):
     """Leadshine iDM-RS (V2.0) client (blocking). Construct with `IdmRs.rtu(port, slave)` or `.tcp(host, port, slave)`."""
 
     DEVICE = DEVICE
+
+    def read_many(self, *specs: Readable[Any]) -> IdmRsValues:
+        """Read several registers with the fewest requests the device allows."""
+        return cast(IdmRsValues, super().read_many(*specs))
+
+    def read_all(self, poll: object = None) -> IdmRsValues:
+        """Every readable register by the read plan; `poll` ("static", "fast", "normal", "slow"): only that class's."""
+        return cast(IdmRsValues, super().read_all(poll))
 
     def read_pulses_per_revolution(self) -> int:
         """Read PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
@@ -4364,11 +4666,11 @@ class IdmRs(SyncClient):
         """Write PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         self.write(PULSES_PER_REVOLUTION, value)
 
-    def read_loop_mode(self) -> LoopMode | int:
+    def read_loop_mode(self) -> LoopMode | Unlisted:
         """Read LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         return self.read(LOOP_MODE)
 
-    def write_loop_mode(self, value: LoopMode | int | str) -> None:
+    def write_loop_mode(self, value: LoopMode | Literal["open_loop", "closed_loop"]) -> None:
         """Write LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         self.write(LOOP_MODE, value)
 
@@ -4380,11 +4682,11 @@ class IdmRs(SyncClient):
         """Write CONTROL_MODE: Control mode and command source (no effect) (控制模式及指令来源); documented at the constant."""
         self.write(CONTROL_MODE, value)
 
-    def read_motor_direction(self) -> MotorDirection | int:
+    def read_motor_direction(self) -> MotorDirection | Unlisted:
         """Read MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         return self.read(MOTOR_DIRECTION)
 
-    def write_motor_direction(self, value: MotorDirection | int | str) -> None:
+    def write_motor_direction(self, value: MotorDirection | Literal["positive", "negative"]) -> None:
         """Write MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         self.write(MOTOR_DIRECTION, value)
 
@@ -4404,11 +4706,11 @@ class IdmRs(SyncClient):
         """Write FOLLOWING_ERROR_LIMIT: Maximum tracking error (跟踪误差最大值); documented at the constant."""
         self.write(FOLLOWING_ERROR_LIMIT, value)
 
-    def read_force_enable(self) -> ForceEnable | int:
+    def read_force_enable(self) -> ForceEnable | Unlisted:
         """Read FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         return self.read(FORCE_ENABLE)
 
-    def write_force_enable(self, value: ForceEnable | int | str) -> None:
+    def write_force_enable(self, value: ForceEnable | Literal["io_controlled", "forced"]) -> None:
         """Write FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         self.write(FORCE_ENABLE, value)
 
@@ -4508,11 +4810,11 @@ class IdmRs(SyncClient):
         """Write POSITION_INTEGRAL_DEADBAND: Position loop integral dead band (位置环积分死区); documented at the constant."""
         self.write(POSITION_INTEGRAL_DEADBAND, value)
 
-    def read_vbs_enable(self) -> OffOn | int:
+    def read_vbs_enable(self) -> OffOn | Unlisted:
         """Read VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         return self.read(VBS_ENABLE)
 
-    def write_vbs_enable(self, value: OffOn | int | str) -> None:
+    def write_vbs_enable(self, value: OffOn | Literal["off", "on"]) -> None:
         """Write VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         self.write(VBS_ENABLE, value)
 
@@ -4772,19 +5074,21 @@ class IdmRs(SyncClient):
         """Write MAX_STOP_TIME: Maximum stopping time (停车最长时间); documented at the constant."""
         self.write(MAX_STOP_TIME, value)
 
-    def read_current_autotune(self) -> CurrentAutotune | int:
+    def read_current_autotune(self) -> CurrentAutotune | Unlisted:
         """Read CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         return self.read(CURRENT_AUTOTUNE)
 
-    def write_current_autotune(self, value: CurrentAutotune | int | str) -> None:
+    def write_current_autotune(self, value: CurrentAutotune | Literal["disabled", "enabled"]) -> None:
         """Write CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         self.write(CURRENT_AUTOTUNE, value)
 
-    def read_baud_rate(self) -> BaudRate | int:
+    def read_baud_rate(self) -> BaudRate | Unlisted:
         """Read BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         return self.read(BAUD_RATE)
 
-    def write_baud_rate(self, value: BaudRate | int | str) -> None:
+    def write_baud_rate(
+        self, value: BaudRate | Literal["b2400", "b4800", "b9600", "b19200", "b38400", "b57600", "b115200"]
+    ) -> None:
         """Write BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         self.write(BAUD_RATE, value)
 
@@ -4796,11 +5100,11 @@ class IdmRs(SyncClient):
         """Write SLAVE_ID: RS-485 slave ID (485 ID); documented at the constant."""
         self.write(SLAVE_ID, value)
 
-    def read_data_format(self) -> DataFormat | int:
+    def read_data_format(self) -> DataFormat | Unlisted:
         """Read DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         return self.read(DATA_FORMAT)
 
-    def write_data_format(self, value: DataFormat | int | str) -> None:
+    def write_data_format(self, value: DataFormat | Literal["e82", "o82", "e81", "o81", "n81", "n82"]) -> None:
         """Write DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         self.write(DATA_FORMAT, value)
 
@@ -4932,15 +5236,28 @@ class IdmRs(SyncClient):
         """Read RUN_STATUS: Run status (运行状态); documented at the constant."""
         return self.read(RUN_STATUS)
 
-    def write_control_word(self, value: ControlWord | int | str) -> None:
+    def write_control_word(
+        self,
+        value: ControlWord
+        | Literal[
+            "reset_current_alarm",
+            "reset_history_alarms",
+            "save_all_parameters",
+            "init_parameters",
+            "restore_factory_defaults",
+            "save_mapping",
+            "jog_left",
+            "jog_right",
+        ],
+    ) -> None:
         """Write CONTROL_WORD: Auxiliary control word (控制字); documented at the constant."""
         self.write(CONTROL_WORD, value)
 
-    def read_save_status(self) -> SaveStatus | int:
+    def read_save_status(self) -> SaveStatus | Unlisted:
         """Read SAVE_STATUS: Parameter save status word (保存参数状态字); documented at the constant."""
         return self.read(SAVE_STATUS)
 
-    def read_current_alarm(self) -> AlarmCode | int:
+    def read_current_alarm(self) -> AlarmCode | Unlisted:
         """Read CURRENT_ALARM: Current alarm (当前报警); documented at the constant."""
         return self.read(CURRENT_ALARM)
 
@@ -4952,11 +5269,53 @@ class IdmRs(SyncClient):
         """Write PR_CONTROL: PR control settings (PR 控制设置); documented at the constant."""
         self.write(PR_CONTROL, value)
 
-    def read_pr_trigger(self) -> PrTrigger | int:
+    def read_pr_trigger(self) -> PrTrigger | Unlisted:
         """Read PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         return self.read(PR_TRIGGER)
 
-    def write_pr_trigger(self, value: PrTrigger | int | str) -> None:
+    def write_pr_trigger(
+        self,
+        value: Literal[
+            PrTrigger.START_PATH_0,
+            PrTrigger.START_PATH_1,
+            PrTrigger.START_PATH_2,
+            PrTrigger.START_PATH_3,
+            PrTrigger.START_PATH_4,
+            PrTrigger.START_PATH_5,
+            PrTrigger.START_PATH_6,
+            PrTrigger.START_PATH_7,
+            PrTrigger.START_PATH_8,
+            PrTrigger.START_PATH_9,
+            PrTrigger.START_PATH_10,
+            PrTrigger.START_PATH_11,
+            PrTrigger.START_PATH_12,
+            PrTrigger.START_PATH_13,
+            PrTrigger.START_PATH_14,
+            PrTrigger.START_PATH_15,
+            PrTrigger.HOME,
+            PrTrigger.SET_ZERO,
+            PrTrigger.EMERGENCY_STOP,
+            "start_path_0",
+            "start_path_1",
+            "start_path_2",
+            "start_path_3",
+            "start_path_4",
+            "start_path_5",
+            "start_path_6",
+            "start_path_7",
+            "start_path_8",
+            "start_path_9",
+            "start_path_10",
+            "start_path_11",
+            "start_path_12",
+            "start_path_13",
+            "start_path_14",
+            "start_path_15",
+            "home",
+            "set_zero",
+            "emergency_stop",
+        ],
+    ) -> None:
         """Write PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         self.write(PR_TRIGGER, value)
 
@@ -5080,11 +5439,13 @@ class IdmRs(SyncClient):
         """Write ENCODER_MEMORY_VALUE: Encoder memory value (编码器记忆值); documented at the constant."""
         self.write(ENCODER_MEMORY_VALUE, value)
 
-    def read_io_combination_mode(self) -> IoCombinationMode | int:
+    def read_io_combination_mode(self) -> IoCombinationMode | Unlisted:
         """Read IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         return self.read(IO_COMBINATION_MODE)
 
-    def write_io_combination_mode(self, value: IoCombinationMode | int | str) -> None:
+    def write_io_combination_mode(
+        self, value: IoCombinationMode | Literal["off", "after_homing", "without_homing"]
+    ) -> None:
         """Write IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         self.write(IO_COMBINATION_MODE, value)
 
@@ -5100,7 +5461,7 @@ class IdmRs(SyncClient):
         """Read S_CODE_OUTPUT: Current S-code output value (S 码当前输出值); documented at the constant."""
         return self.read(S_CODE_OUTPUT)
 
-    def read_pr_warning(self) -> PrWarning | int:
+    def read_pr_warning(self) -> PrWarning | Unlisted:
         """Read PR_WARNING: PR warning (PR 警告); documented at the constant."""
         return self.read(PR_WARNING)
 
@@ -5232,6 +5593,14 @@ class AsyncIdmRs(AsyncClient):
 
     DEVICE = DEVICE
 
+    async def read_many(self, *specs: Readable[Any]) -> IdmRsValues:
+        """Read several registers with the fewest requests the device allows."""
+        return cast(IdmRsValues, await super().read_many(*specs))
+
+    async def read_all(self, poll: object = None) -> IdmRsValues:
+        """Every readable register by the read plan; `poll` ("static", "fast", "normal", "slow"): only that class's."""
+        return cast(IdmRsValues, await super().read_all(poll))
+
     async def read_pulses_per_revolution(self) -> int:
         """Read PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         return await self.read(PULSES_PER_REVOLUTION)
@@ -5240,11 +5609,11 @@ class AsyncIdmRs(AsyncClient):
         """Write PULSES_PER_REVOLUTION: Command pulses per revolution (指令脉冲数/转); documented at the constant."""
         await self.write(PULSES_PER_REVOLUTION, value)
 
-    async def read_loop_mode(self) -> LoopMode | int:
+    async def read_loop_mode(self) -> LoopMode | Unlisted:
         """Read LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         return await self.read(LOOP_MODE)
 
-    async def write_loop_mode(self, value: LoopMode | int | str) -> None:
+    async def write_loop_mode(self, value: LoopMode | Literal["open_loop", "closed_loop"]) -> None:
         """Write LOOP_MODE: Open/closed loop mode (开闭环模式选择); documented at the constant."""
         await self.write(LOOP_MODE, value)
 
@@ -5256,11 +5625,11 @@ class AsyncIdmRs(AsyncClient):
         """Write CONTROL_MODE: Control mode and command source (no effect) (控制模式及指令来源); documented at the constant."""
         await self.write(CONTROL_MODE, value)
 
-    async def read_motor_direction(self) -> MotorDirection | int:
+    async def read_motor_direction(self) -> MotorDirection | Unlisted:
         """Read MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         return await self.read(MOTOR_DIRECTION)
 
-    async def write_motor_direction(self, value: MotorDirection | int | str) -> None:
+    async def write_motor_direction(self, value: MotorDirection | Literal["positive", "negative"]) -> None:
         """Write MOTOR_DIRECTION: Motor running direction (电机运行方向); documented at the constant."""
         await self.write(MOTOR_DIRECTION, value)
 
@@ -5280,11 +5649,11 @@ class AsyncIdmRs(AsyncClient):
         """Write FOLLOWING_ERROR_LIMIT: Maximum tracking error (跟踪误差最大值); documented at the constant."""
         await self.write(FOLLOWING_ERROR_LIMIT, value)
 
-    async def read_force_enable(self) -> ForceEnable | int:
+    async def read_force_enable(self) -> ForceEnable | Unlisted:
         """Read FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         return await self.read(FORCE_ENABLE)
 
-    async def write_force_enable(self, value: ForceEnable | int | str) -> None:
+    async def write_force_enable(self, value: ForceEnable | Literal["io_controlled", "forced"]) -> None:
         """Write FORCE_ENABLE: Forced enable (software enable) (强制使能); documented at the constant."""
         await self.write(FORCE_ENABLE, value)
 
@@ -5384,11 +5753,11 @@ class AsyncIdmRs(AsyncClient):
         """Write POSITION_INTEGRAL_DEADBAND: Position loop integral dead band (位置环积分死区); documented at the constant."""
         await self.write(POSITION_INTEGRAL_DEADBAND, value)
 
-    async def read_vbs_enable(self) -> OffOn | int:
+    async def read_vbs_enable(self) -> OffOn | Unlisted:
         """Read VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         return await self.read(VBS_ENABLE)
 
-    async def write_vbs_enable(self, value: OffOn | int | str) -> None:
+    async def write_vbs_enable(self, value: OffOn | Literal["off", "on"]) -> None:
         """Write VBS_ENABLE: VBS enable (VBS开启); documented at the constant."""
         await self.write(VBS_ENABLE, value)
 
@@ -5648,19 +6017,21 @@ class AsyncIdmRs(AsyncClient):
         """Write MAX_STOP_TIME: Maximum stopping time (停车最长时间); documented at the constant."""
         await self.write(MAX_STOP_TIME, value)
 
-    async def read_current_autotune(self) -> CurrentAutotune | int:
+    async def read_current_autotune(self) -> CurrentAutotune | Unlisted:
         """Read CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         return await self.read(CURRENT_AUTOTUNE)
 
-    async def write_current_autotune(self, value: CurrentAutotune | int | str) -> None:
+    async def write_current_autotune(self, value: CurrentAutotune | Literal["disabled", "enabled"]) -> None:
         """Write CURRENT_AUTOTUNE: Current loop auto-tuning at power-up (电流环上电自整定); documented at the constant."""
         await self.write(CURRENT_AUTOTUNE, value)
 
-    async def read_baud_rate(self) -> BaudRate | int:
+    async def read_baud_rate(self) -> BaudRate | Unlisted:
         """Read BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         return await self.read(BAUD_RATE)
 
-    async def write_baud_rate(self, value: BaudRate | int | str) -> None:
+    async def write_baud_rate(
+        self, value: BaudRate | Literal["b2400", "b4800", "b9600", "b19200", "b38400", "b57600", "b115200"]
+    ) -> None:
         """Write BAUD_RATE: RS-485 baud rate (485 波特率); documented at the constant."""
         await self.write(BAUD_RATE, value)
 
@@ -5672,11 +6043,11 @@ class AsyncIdmRs(AsyncClient):
         """Write SLAVE_ID: RS-485 slave ID (485 ID); documented at the constant."""
         await self.write(SLAVE_ID, value)
 
-    async def read_data_format(self) -> DataFormat | int:
+    async def read_data_format(self) -> DataFormat | Unlisted:
         """Read DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         return await self.read(DATA_FORMAT)
 
-    async def write_data_format(self, value: DataFormat | int | str) -> None:
+    async def write_data_format(self, value: DataFormat | Literal["e82", "o82", "e81", "o81", "n81", "n82"]) -> None:
         """Write DATA_FORMAT: RS-485 data format (485数据类型选择); documented at the constant."""
         await self.write(DATA_FORMAT, value)
 
@@ -5808,15 +6179,28 @@ class AsyncIdmRs(AsyncClient):
         """Read RUN_STATUS: Run status (运行状态); documented at the constant."""
         return await self.read(RUN_STATUS)
 
-    async def write_control_word(self, value: ControlWord | int | str) -> None:
+    async def write_control_word(
+        self,
+        value: ControlWord
+        | Literal[
+            "reset_current_alarm",
+            "reset_history_alarms",
+            "save_all_parameters",
+            "init_parameters",
+            "restore_factory_defaults",
+            "save_mapping",
+            "jog_left",
+            "jog_right",
+        ],
+    ) -> None:
         """Write CONTROL_WORD: Auxiliary control word (控制字); documented at the constant."""
         await self.write(CONTROL_WORD, value)
 
-    async def read_save_status(self) -> SaveStatus | int:
+    async def read_save_status(self) -> SaveStatus | Unlisted:
         """Read SAVE_STATUS: Parameter save status word (保存参数状态字); documented at the constant."""
         return await self.read(SAVE_STATUS)
 
-    async def read_current_alarm(self) -> AlarmCode | int:
+    async def read_current_alarm(self) -> AlarmCode | Unlisted:
         """Read CURRENT_ALARM: Current alarm (当前报警); documented at the constant."""
         return await self.read(CURRENT_ALARM)
 
@@ -5828,11 +6212,53 @@ class AsyncIdmRs(AsyncClient):
         """Write PR_CONTROL: PR control settings (PR 控制设置); documented at the constant."""
         await self.write(PR_CONTROL, value)
 
-    async def read_pr_trigger(self) -> PrTrigger | int:
+    async def read_pr_trigger(self) -> PrTrigger | Unlisted:
         """Read PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         return await self.read(PR_TRIGGER)
 
-    async def write_pr_trigger(self, value: PrTrigger | int | str) -> None:
+    async def write_pr_trigger(
+        self,
+        value: Literal[
+            PrTrigger.START_PATH_0,
+            PrTrigger.START_PATH_1,
+            PrTrigger.START_PATH_2,
+            PrTrigger.START_PATH_3,
+            PrTrigger.START_PATH_4,
+            PrTrigger.START_PATH_5,
+            PrTrigger.START_PATH_6,
+            PrTrigger.START_PATH_7,
+            PrTrigger.START_PATH_8,
+            PrTrigger.START_PATH_9,
+            PrTrigger.START_PATH_10,
+            PrTrigger.START_PATH_11,
+            PrTrigger.START_PATH_12,
+            PrTrigger.START_PATH_13,
+            PrTrigger.START_PATH_14,
+            PrTrigger.START_PATH_15,
+            PrTrigger.HOME,
+            PrTrigger.SET_ZERO,
+            PrTrigger.EMERGENCY_STOP,
+            "start_path_0",
+            "start_path_1",
+            "start_path_2",
+            "start_path_3",
+            "start_path_4",
+            "start_path_5",
+            "start_path_6",
+            "start_path_7",
+            "start_path_8",
+            "start_path_9",
+            "start_path_10",
+            "start_path_11",
+            "start_path_12",
+            "start_path_13",
+            "start_path_14",
+            "start_path_15",
+            "home",
+            "set_zero",
+            "emergency_stop",
+        ],
+    ) -> None:
         """Write PR_TRIGGER: PR trigger / control register (触发寄存器); documented at the constant."""
         await self.write(PR_TRIGGER, value)
 
@@ -5956,11 +6382,13 @@ class AsyncIdmRs(AsyncClient):
         """Write ENCODER_MEMORY_VALUE: Encoder memory value (编码器记忆值); documented at the constant."""
         await self.write(ENCODER_MEMORY_VALUE, value)
 
-    async def read_io_combination_mode(self) -> IoCombinationMode | int:
+    async def read_io_combination_mode(self) -> IoCombinationMode | Unlisted:
         """Read IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         return await self.read(IO_COMBINATION_MODE)
 
-    async def write_io_combination_mode(self, value: IoCombinationMode | int | str) -> None:
+    async def write_io_combination_mode(
+        self, value: IoCombinationMode | Literal["off", "after_homing", "without_homing"]
+    ) -> None:
         """Write IO_COMBINATION_MODE: IO combination trigger mode (IO 组合触发模式); documented at the constant."""
         await self.write(IO_COMBINATION_MODE, value)
 
@@ -5976,7 +6404,7 @@ class AsyncIdmRs(AsyncClient):
         """Read S_CODE_OUTPUT: Current S-code output value (S 码当前输出值); documented at the constant."""
         return await self.read(S_CODE_OUTPUT)
 
-    async def read_pr_warning(self) -> PrWarning | int:
+    async def read_pr_warning(self) -> PrWarning | Unlisted:
         """Read PR_WARNING: PR warning (PR 警告); documented at the constant."""
         return await self.read(PR_WARNING)
 

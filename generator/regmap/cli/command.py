@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from regmap.cli.common import WHERE, link_from, live_parser, load_map
 
@@ -28,6 +29,9 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
     sent = live.send_command(load_map(args.map), link_from(args), args.name, args.argument)
+    if sent.unknown is not None:
+        print(f"regmap command: outcome unknown: {sent.name}: {sent.unknown}", file=sys.stderr)
+        return ExitCode.OUTCOME_UNKNOWN
     shown = " ".join(f"0x{w:04X}" for w in sent.words)
     print(f"sent {sent.name}: {shown} to {sent.register.label} (0x{sent.register.address:04X})")
     return ExitCode.OK

@@ -186,7 +186,12 @@ def add_link_options(p: argparse.ArgumentParser) -> None:
     bus.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity")
     bus.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
     bus.add_argument("--timeout", type=positive_float, default=1.0, help="seconds to wait for an answer (default 1)")
-    bus.add_argument("--retries", type=count, default=2, help="retries after a timeout (default 2)")
+    bus.add_argument(
+        "--retries",
+        type=count,
+        default=2,
+        help="retries of a read or a setting after a lost answer (default 2); commands and trigger writes go out once",
+    )
     add_word_order(bus, live=True)
 
 

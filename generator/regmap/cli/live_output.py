@@ -89,6 +89,9 @@ def _checked_line(checked: Checked) -> str:
 
 def write_status(written: Written) -> int:
     """Print what a write sent or read back; the exit status says whether the drive holds what was written."""
+    if written.unknown is not None:
+        print(f"regmap write: outcome unknown: {written.unknown}", file=sys.stderr)
+        return ExitCode.OUTCOME_UNKNOWN
     if written.checked is None:
         print(f"wrote {written.count} {written.unit}(s) in {written.requests} request(s)")
         return ExitCode.OK

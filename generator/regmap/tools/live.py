@@ -30,13 +30,14 @@ from regmap.tools.frames import (
 )
 from regmap.tools.link import Link, port_reason, serial_line
 from regmap.tools.selectors import Item, Registers, check_slave
-from regmap_runtime.client import PARITY, SyncClient
+from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
-from regmap_runtime.errors import RegmapError
+from regmap_runtime.errors import OutcomeUnknown, RegmapError
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 from regmap_runtime.spec import Raw
+from regmap_runtime.wire import PARITY
 
 WORD_ORDERS = ("auto", "high_first", "low_first")
 
@@ -333,9 +334,16 @@ class WriteLog:
 
     done: list[str] = field(default_factory=list)
 
+    def before(self) -> str:
+        return f"; written before it: {', '.join(self.done)}" if self.done else "; nothing was written before it"
+
     def failed(self, what: str, exc: RegmapError) -> LinkError:
-        went = f"; written before it: {', '.join(self.done)}" if self.done else "; nothing was written"
+        went = self.before() if self.done else "; nothing was written"
         return LinkError(f"writing {what} failed: {_bus(exc)}{went}")
+
+    def unknown(self, exc: OutcomeUnknown, unit: str) -> Written:
+        """What a write that went out once and lost its answer returns: the requests answered, and what is not known."""
+        return Written(len(self.done), unit, len(self.done) + 1, unknown=f"{exc}{self.before()}")
 
 
 def _merge_current(client: SyncClient, device: Device, partial: list[Assignment], order: str | None) -> list[Assignment]:
@@ -418,6 +426,7 @@ class Written:
     checked: list[Checked] | None = None
     mismatches: int = 0
     read_back_error: str | None = None
+    unknown: str | None = None  # a command or trigger write went out once and lost its answer: it may have acted
 
 
 def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Written:
@@ -429,6 +438,8 @@ def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Writt
             single = write_function(device, plan.space, len(run))
             try:
                 client.write_raw(address, run, multiple=not single, space=plan.space)
+            except OutcomeUnknown as exc:
+                return log.unknown(exc, plan.unit)
             except RegmapError as exc:
                 raise log.failed(f"{len(run)} {plan.unit}(s) at 0x{address:04X}", exc) from None
             log.done.append(f"{len(run)} {plan.unit}(s) at 0x{address:04X}")
@@ -445,6 +456,8 @@ def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Writt
             single = write_function(device, block.space, len(block.words))
             try:
                 client.write_raw(block.address, block.words, multiple=not single, space=block.space)
+            except OutcomeUnknown as exc:
+                return log.unknown(exc, "value")
             except RegmapError as exc:
                 raise log.failed(names, exc) from None
             log.done.append(names)
@@ -476,6 +489,7 @@ class CommandSent:
     name: str
     words: list[int]
     register: Register
+    unknown: str | None = None  # the write went out once and its answer was lost: the drive may or may not have acted
 
 
 def send_command(device: Device, link: Link, name: str, argument: str | None) -> CommandSent:
@@ -486,6 +500,8 @@ def send_command(device: Device, link: Link, name: str, argument: str | None) ->
         _, words = command_words(device, name, argument, order)
         try:
             client.write_raw(command.register.address, words, multiple=len(words) > 1, space=command.register.space)
+        except OutcomeUnknown as exc:
+            return CommandSent(command.name, list(words), command.register, unknown=str(exc))
         except RegmapError as exc:
             raise LinkError(f"command {command.name} failed: {_bus(exc)}") from None
     finally:

@@ -5,16 +5,11 @@ The views below compute every identifier, literal and docstring line; the templa
 
 from __future__ import annotations
 
-import functools
-import hashlib
 import keyword
-import subprocess
-import sys
 from dataclasses import dataclass
-from importlib import resources
-from pathlib import Path
 from typing import Any
 
+from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
 from regmap.core.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
@@ -24,19 +19,7 @@ from regmap.runtime_bridge import device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target
 from regmap_runtime.spaces import DEFAULT_SPACE
 
-RUNTIME_MODULES = (
-    "__init__.py",
-    "bits.py",
-    "client.py",
-    "codec.py",
-    "errors.py",
-    "plan.py",
-    "profile.py",
-    "rtu.py",
-    "spaces.py",
-    "spec.py",
-    "types.py",
-)
+__all__ = ["RUNTIME_MODULES", "TARGET", "PythonIdentifier", "check", "device_context", "render_device", "render_shared", "runtime_package"]
 
 
 class PythonIdentifier(str):
@@ -118,6 +101,30 @@ class ArrayView:
 
 
 @dataclass(frozen=True)
+class SnapshotView:
+    """The TypedDict read_all() and read_many() return: each readable register's name and value type."""
+
+    name: str
+    name_literal: str
+    doc: str
+    fields: tuple[tuple[str, str], ...]  # (the name as a literal, the value type)
+
+
+def snapshot_name(device: Device) -> str:
+    return camel(device.id) + "Values"
+
+
+def _snapshot_view(device: Device) -> SnapshotView:
+    name = snapshot_name(device)
+    doc = (
+        "What read_all() and read_many() return: register name -> value, typed per register; a register"
+        " not read (another poll class, absent in the firmware, not asked for) is not there."
+    )
+    fields = tuple((py_str(r.name), _value_type(r)) for r in device.registers if r.access.readable)
+    return SnapshotView(name=name, name_literal=py_str(name), doc=py_doc(doc), fields=fields)
+
+
+@dataclass(frozen=True)
 class CommandView:
     method: str
     const: str
@@ -171,8 +178,23 @@ def _value_type(reg: Register) -> str:
     if reg.bitfields:
         return _bits_class_name(reg)
     if reg.enum is not None:
-        return f"{camel(reg.enum.name)} | int"
+        return f"{camel(reg.enum.name)} | Unlisted"
     return _plain_type(reg)
+
+
+def _enum_write_type(e: EnumType) -> str:
+    """What an enum register's write takes: a member, or a member's name as the map spells it; only the
+    writable ones. Where some member is a state the device only reports, the members are listed too,
+    so mypy refuses a state as it refuses its name."""
+    cls = camel(e.name)
+    writable = [m for m in e.members if m.writable]
+    names = ", ".join(py_str(m.name) for m in writable)
+    if len(writable) == len(e.members):
+        return f"{cls} | Literal[{names}]"
+    if not writable:
+        return cls  # nothing may be written: the runtime refuses every member
+    members = ", ".join(f"{cls}.{const(PythonIdentifier(m.name))}" for m in writable)
+    return f"Literal[{members}, {names}]"
 
 
 def _plain_type(reg: Register) -> str:
@@ -252,8 +274,9 @@ def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
 
-def _register_view(reg: Register, attr: str | None = None, constant: str | None = None) -> RegisterView:
-    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant."""
+def _register_view(reg: Register, attr: str | None = None, constant: str | None = None, *, trigger: bool = False) -> RegisterView:
+    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant;
+    `trigger`: a write makes the device act (Device.is_trigger), so the client sends it once."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
     kwargs: list[tuple[str, str]] = [
@@ -287,10 +310,12 @@ def _register_view(reg: Register, attr: str | None = None, constant: str | None 
         kwargs.append(("bitfield_type", _bits_class_name(reg)))
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
     kwargs += [(key, _literal(value)) for key, value in spec_extras(reg).items()]
+    if trigger:
+        kwargs.append(("trigger", "True"))
     value_type = _value_type(reg)
     write_type = value_type if reg.bitfields or reg.enum else _plain_type(reg)
     if reg.enum is not None and not reg.bitfields:
-        write_type = f"{camel(reg.enum.name)} | int | str"
+        write_type = _enum_write_type(reg.enum)
     return RegisterView(
         const=const(reg.name),
         attr=PythonIdentifier(attr or reg.name),
@@ -387,10 +412,19 @@ CLIENT_METHODS = frozenset(
         "check_response",
     }
     | {"read_words", "slave", "word_order", "requests_sent", "line", "modbus", "DEVICE"}
-    | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile"}
+    | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile", "masked", "retries"}
     | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
 )
-BASE_ERRORS = ("ConnectionLost", "CrcError", "DeviceException", "DeviceTimeout", "ProtocolError", "RegmapError", "WrongSlave")
+BASE_ERRORS = (
+    "ConnectionLost",
+    "CrcError",
+    "DeviceException",
+    "DeviceTimeout",
+    "OutcomeUnknown",
+    "ProtocolError",
+    "RegmapError",
+    "WrongSlave",
+)
 
 
 def module_errors(device: Device) -> tuple[str, ...]:
@@ -418,9 +452,10 @@ def check(device: Device) -> list[Diagnostic]:
         taken.setdefault(name, what)
 
     client_class = camel(device.id)
-    for name in ("BitfieldValue", *module_errors(device)):
+    for name in ("BitfieldValue", "Unlisted", *module_errors(device)):
         claim(name, f"the runtime's {name}, which the module re-exports", None)
     claim(client_class, "the client class", None)
+    claim(snapshot_name(device), "the values read_all() returns", None)
     claim("Async" + client_class, "the async client class", None)
     for e in device.enums:
         claim(camel(e.name), f"enum {e.name}", e.pos)
@@ -488,7 +523,7 @@ def device_context(device: Device) -> dict[str, Any]:
     for reg in device.registers:
         by_name.setdefault(reg.name, reg)
     arrays = [_array_view(by_name, a) for a in device.arrays]
-    all_regs = [_register_view(r) for r in device.registers]
+    all_regs = [_register_view(r, trigger=device.is_trigger(r)) for r in device.registers]
     plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
     problems = check(device)
@@ -507,6 +542,7 @@ def device_context(device: Device) -> dict[str, Any]:
         "plain": plain,
         "arrays": arrays,
         "commands": [_command_view(c) for c in device.commands],
+        "snapshot": _snapshot_view(device),
         "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
         "device_kwargs": [(key, _literal(value)) for key, value in device_extras(device).items()],
         "errors": module_errors(device),
@@ -527,54 +563,6 @@ def render_device(device: Device) -> Files:
     }
 
 
-@functools.cache
-def runtime_package() -> str:
-    """The name the vendored runtime gets in a generated tree: `regmap_runtime_` and a digest of its
-    source, so two generated trees from different regmap versions on one sys.path cannot shadow each
-    other's runtime (and two of the same version share one, identical, copy)."""
-    source = resources.files("regmap_runtime")
-    digest = hashlib.sha256()
-    for module in RUNTIME_MODULES:
-        digest.update(module.encode() + b"\0" + source.joinpath(module).read_bytes() + b"\0")
-    return f"regmap_runtime_{digest.hexdigest()[:10]}"
-
-
-def render_shared(devices: Any) -> Files:
-    """The runtime, copied byte for byte (its modules import each other relatively)."""
-    package = runtime_package()
-    files: Files = {f"{package}/py.typed": ""}
-    source = resources.files("regmap_runtime")
-    for module in RUNTIME_MODULES:
-        files[f"{package}/{module}"] = source.joinpath(module).read_text(encoding="utf-8")
-    return files
-
-
-def ruff_format(directory: Path, *, skip: str) -> None:
-    """Format generated Python with ruff (a dependency of regmap, so output is the same everywhere); the vendored
-    runtime (`skip`) stays byte for byte its source."""
-    try:
-        from ruff.__main__ import find_ruff_bin
-    except ImportError:  # pragma: no cover - ruff is a declared dependency
-        raise UsageError("ruff is not installed; it formats the generated Python (pip install ruff)") from None
-    files = sorted(str(p) for p in directory.rglob("*.py") if skip not in p.relative_to(directory).parts)
-    if not files:
-        return
-    config = ["--config", "line-length = 120", "--config", "target-version = 'py311'"]
-    result = subprocess.run(
-        [find_ruff_bin(), "format", "--quiet", "--no-cache", "--isolated", *config, *files],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    if result.returncode != 0:
-        sys.stderr.write(result.stderr)
-        raise UsageError("ruff could not format the generated Python (a template bug): see above")
-
-
-def _post(directory: Path) -> None:
-    ruff_format(directory, skip=runtime_package())
-
-
 # A device id names the generated package: one of these would shadow a package its client imports (or the stdlib's `test`).
 SHADOWED_PACKAGES = frozenset({"regmap", "regmap_runtime", "pymodbus", "test", "tests"})
 
@@ -583,7 +571,7 @@ TARGET = Target(
     subdir="python",
     per_device=render_device,
     shared=render_shared,
-    post=_post,
+    post=post,
     check=check,
     order=10,
     reserved_words=ReservedWords("a Python keyword or a package the client would shadow", PYTHON_KEYWORDS | SHADOWED_PACKAGES),

@@ -29,12 +29,21 @@ from regmap_runtime.rtu import (
     pack_bits,
     unpack_bits,
 )
-from regmap_runtime.spaces import COIL_OFF, COIL_ON, MAX_READ_BITS, MAX_WRITE_BITS, Space
+from regmap_runtime.spaces import COIL_OFF, COIL_ON, HOLDING, MASK_WRITE_REGISTER, MAX_READ_BITS, MAX_WRITE_BITS, Space
 
 from .quirks import Quirks
 from .store import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, DeviceStore
 
-IMPLEMENTED = (*READS, *WRITES_SINGLE, *WRITES_MULTIPLE, DIAGNOSTICS, REPORT_SERVER_ID, READ_WRITE_MULTIPLE, ENCAPSULATED_INTERFACE)
+IMPLEMENTED = (
+    *READS,
+    *WRITES_SINGLE,
+    *WRITES_MULTIPLE,
+    MASK_WRITE_REGISTER,
+    DIAGNOSTICS,
+    REPORT_SERVER_ID,
+    READ_WRITE_MULTIPLE,
+    ENCAPSULATED_INTERFACE,
+)
 SPEC_MAX_READ = 125  # §6.3
 SPEC_MAX_WRITE = 123  # §6.12
 SPEC_MAX_RW_WRITE = 121  # §6.17: the write part of read/write multiple registers
@@ -88,6 +97,7 @@ class Dispatcher:
         self.identification = t.identification
         self.server_id = t.server_id
         self._other_functions = {
+            MASK_WRITE_REGISTER: self._mask_write,
             DIAGNOSTICS: self._diagnostics,
             REPORT_SERVER_ID: self._report_server_id,
             READ_WRITE_MULTIPLE: self._read_write_multiple,
@@ -152,6 +162,16 @@ class Dispatcher:
         words = list(struct.unpack(f">{count}H", pdu[6:]))
         refused = self.store.write(address, words, space.name)
         return pdu[:5] if refused is None else exception_pdu(function, refused)
+
+    def _mask_write(self, pdu: bytes) -> bytes:
+        """0x16 (§6.16): the register becomes (current AND and_mask) OR (or_mask AND NOT and_mask); the answer echoes the request."""
+        function = pdu[0]
+        if len(pdu) != 7:
+            return exception_pdu(function, ILLEGAL_VALUE)
+        address, and_mask, or_mask = struct.unpack(">HHH", pdu[1:7])
+        current = self.store.words.get((HOLDING.name, address), 0)  # the device's own word, write-only or not
+        refused = self.store.write(address, [(current & and_mask) | (or_mask & ~and_mask & 0xFFFF)], HOLDING.name)
+        return pdu if refused is None else exception_pdu(function, refused)
 
     # -- bits: 0x01, 0x02 (§6.1, §6.2), 0x05 (§6.5), 0x0F (§6.11) ---------------------------
 
@@ -268,4 +288,4 @@ class Dispatcher:
     @staticmethod
     def writes(pdu: bytes) -> bool:
         """A request a broadcast may carry (§4.1: broadcast requests are writes)."""
-        return pdu[0] in WRITES_SINGLE or pdu[0] in WRITES_MULTIPLE
+        return pdu[0] in WRITES_SINGLE or pdu[0] in WRITES_MULTIPLE or pdu[0] == MASK_WRITE_REGISTER

@@ -10,7 +10,6 @@ from then on refuses registers that firmware lacks.
 from __future__ import annotations
 
 import dataclasses
-import re
 from collections.abc import Iterable, Mapping
 from typing import Any, TypeVar, cast
 
@@ -22,49 +21,18 @@ from pymodbus.pdu import ExceptionResponse
 
 from .bits import BitfieldValue
 from .codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
-from .errors import AccessError, ConnectionLost, CrcError, DeviceException, DeviceTimeout, FirmwareError, ProtocolError, WrongSlave
+from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError, ProtocolError, RegmapError
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
-from .rtu import STANDARD_EXCEPTIONS, crc_ok, to_hex
-from .spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, SPACES
+from .rtu import STANDARD_EXCEPTIONS
+from .spaces import DEFAULT_SPACE, HOLDING, MASK_WRITE_REGISTER, SPACES
 from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
+from .wire import PYMODBUS_METHODS, LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 K = TypeVar("K", bound="_Core")
-PARITY = {"none": "N", "even": "E", "odd": "O"}
-# pymodbus's spelling of each space's reads and writes: (read, write single, write multiple); None where the space is read-only.
-PYMODBUS_METHODS: dict[str, tuple[str, str | None, str | None]] = {
-    HOLDING.name: ("read_holding_registers", "write_register", "write_registers"),
-    INPUT.name: ("read_input_registers", None, None),
-    COIL.name: ("read_coils", "write_coil", "write_coils"),  # write_coil(True) sends FF 00, as 0x05 requires
-    DISCRETE_INPUT.name: ("read_discrete_inputs", None, None),
-}
-
-
-def serial_settings(device: DeviceSpec, baud: int | None, parity: str | None, stop_bits: int | None) -> dict[str, Any]:
-    """pymodbus's serial settings: the map's where None is given (0 is no baud rate: termios's B0 hangs the line up)."""
-    if baud is not None and baud <= 0:
-        raise ValueError(f"baud {baud} is not a baud rate")
-    return {
-        "baudrate": device.baud if baud is None else baud,
-        "parity": PARITY[device.parity if parity is None else parity],
-        "bytesize": device.data_bits,
-        "stopbits": device.stop_bits if stop_bits is None else stop_bits,
-    }
-
-
-class LineWatch:
-    """pymodbus's packet hook: keeps the bytes of the latest answer (bounded) so an unusable answer
-    can be named (bad CRC, another slave, garbage) rather than reported as silence. Changes nothing."""
-
-    def __init__(self, rtu_framing: bool) -> None:
-        self.rtu_framing = rtu_framing
-        self.received = b""
-
-    def __call__(self, sending: bool, data: bytes) -> bytes:
-        self.received = b"" if sending else bytes(data[-260:])
-        return data
+WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
 
 
 class _Core:
@@ -85,6 +53,7 @@ class _Core:
         profile: DeviceProfile | None = None,
         *,
         check_firmware: bool = False,
+        retries: int = 0,
     ) -> None:
         if not 0 <= slave <= 255:
             raise ValueError(f"slave id {slave} is outside 0..255")
@@ -95,6 +64,8 @@ class _Core:
         self.slave = slave
         self.word_order = word_order or (profile.word_order if profile is not None else None) or self.DEVICE.word_order
         self.requests_sent = 0
+        self.retries = retries
+        """How often a read, or a write of settings, is sent again after a lost answer; commands and triggers never are."""
         self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
         self.modbus = modbus
         self.line = line or LineWatch(rtu_framing=False)
@@ -131,11 +102,12 @@ class _Core:
         check_firmware: bool = False,
     ) -> K:
         """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
-        firmware register on connect and refuse the registers that firmware lacks."""
+        firmware register on connect and refuse the registers that firmware lacks. `retries`: a read or a
+        setting is sent again after a lost answer; a command or trigger write goes out once (OutcomeUnknown)."""
         line = LineWatch(rtu_framing=True)
         settings = serial_settings(cls.DEVICE, baud, parity, stop_bits)
-        modbus = cls.SERIAL_TRANSPORT(port, **settings, timeout=timeout, retries=retries, trace_packet=line)
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
+        modbus = cls.SERIAL_TRANSPORT(port, **settings, timeout=timeout, retries=0, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries)
 
     @classmethod
     def tcp(
@@ -152,35 +124,34 @@ class _Core:
         check_firmware: bool = False,
     ) -> K:
         """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
-        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks."""
+        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks.
+        `retries`: as for rtu(); commands and trigger writes are never sent again."""
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
-        modbus = cls.TCP_TRANSPORT(host, port=port, framer=framer, timeout=timeout, retries=retries, trace_packet=line)
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware)
+        modbus = cls.TCP_TRANSPORT(host, port=port, framer=framer, timeout=timeout, retries=0, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries)
 
-    def transport_error(self, exc: Exception) -> Exception:
-        """A typed error saying what happened on the line, in regmap's words (pymodbus's texts name its own
-        internals): silence, a lost connection, a bad CRC, another slave, or garbage."""
-        seen = self.line.received
-        text = str(exc)
-        if isinstance(exc, ConnectionException):
-            if "unexpectedly closed" in text:
-                return ConnectionLost("the connection closed before the answer was complete")
-            return ConnectionLost("the connection could not be opened" if "connect" in text.lower() else "the connection was lost")
-        if not isinstance(exc, ModbusIOException):
-            return ProtocolError(f"unusable answer: {to_hex(seen)}" if seen else "unusable answer")
-        other = re.search(r"device id\S* but received (\d+)", text)
-        if other:
-            return WrongSlave(f"asked slave {self.slave}, the answer came from slave {other.group(1)}")
-        if not seen:
-            return DeviceTimeout(f"no answer from slave {self.slave} (after all retries)")
-        # Where the answer's unit id is: RTU's first byte, the 7th of a Modbus TCP header.
-        unit, shortest = (0, 4) if self.line.rtu_framing else (6, 8)
-        if len(seen) >= shortest and seen[unit] != self.slave:
-            return WrongSlave(f"asked slave {self.slave}, the answer came from slave {seen[unit]}: {to_hex(seen)}")
-        if self.line.rtu_framing and len(seen) >= 4 and not crc_ok(seen):
-            return CrcError(f"the answer's CRC does not match: {to_hex(seen)}")
-        return ProtocolError(f"unusable answer: {to_hex(seen)}")
+    def transport_error(self, exc: Exception) -> RegmapError:
+        """A typed error saying what happened on the line (`wire.transport_error`)."""
+        return transport_error(self.line, self.slave, exc)
+
+    def _tries(self, write: WriteTarget | None) -> int:
+        """How often a request may go out: a read, or a write of settings, 1 + `retries`; a write that
+        must not be repeated (a command, a trigger register, an address the map does not describe) once."""
+        if write is not None and (self.broadcast or not may_repeat(self.DEVICE.registers, *write)):
+            return 1
+        return 1 + self.retries
+
+    def _failure(self, exc: PymodbusError, write: WriteTarget | None, again: bool, sent_before: int) -> RegmapError | None:
+        """None: send the request again; else the error to raise. A write sent once whose answer is lost
+        is OutcomeUnknown (a connection that never opened sent nothing)."""
+        if again and isinstance(exc, ModbusIOException):
+            return None
+        error = self.transport_error(exc)
+        went_out = not isinstance(exc, ConnectionException) or getattr(self.line, "packets_sent", sent_before) > sent_before
+        if write is not None and went_out and not may_repeat(self.DEVICE.registers, *write):
+            return outcome_unknown(self.DEVICE.registers, *write, error)
+        return error
 
     @property
     def where(self) -> str:
@@ -301,6 +272,16 @@ class _Core:
                 blocks += plan_writes(by_space[space], device.max_write_registers, grouped, max_bits=device.max_write_coils)
         return blocks
 
+    def masked(self, spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tuple[int, int] | None:
+        """(AND mask, OR mask) of the one mask write (0x16) that sets only the named fields, where the device
+        lists 0x16 and the register is one holding word with no range of its own; None: read-modify-write."""
+        if MASK_WRITE_REGISTER not in self.DEVICE.function_codes or self.broadcast:
+            return None
+        if spec.space != HOLDING.name or spec.words != 1 or spec.paired or spec.min is not None or spec.max is not None:
+            return None
+        self.check_writable(spec)
+        return mask_write_masks(spec, fields)
+
     def readable(self, poll: object = None) -> list[RegisterSpec[Any]]:
         """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
         cls = None if poll is None else poll_class(poll)
@@ -393,12 +374,18 @@ class SyncClient(_Core):
         response = self._send(*self.reader(block.space), block.address, count=block.count)
         return self.learn_firmware(self.read_words(response, block))
 
-    def _send(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
-        self.requests_sent += 1
-        try:
-            response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
-        except PymodbusError as exc:
-            raise self.transport_error(exc) from exc
+    def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
+        tries = self._tries(write)
+        for attempt in range(1, tries + 1):
+            self.requests_sent += 1
+            sent_before = getattr(self.line, "packets_sent", 0)
+            try:
+                response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
+                break
+            except PymodbusError as exc:
+                error = self._failure(exc, write, attempt < tries, sent_before)
+                if error is not None:
+                    raise error from exc
         if self.broadcast:
             return None
         return self.check_response(response, function)
@@ -421,7 +408,7 @@ class SyncClient(_Core):
         """Write words from `address`: write single (0x06; a coil 0x05) for one word unless `multiple`, else
         write multiple (0x10; coils 0x0F). A coil's word is its bit, 0 or 1 (0x05 sends it as FF 00 / 00 00)."""
         function, method, single = self.writer(space, len(words) == 1 and not multiple)
-        self._call(function, method, *self.write_args(space, address, words, single))
+        self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
 
     def send_command(self, spec: Writable[Any], raw: int) -> None:
         """Write a command's fixed raw value (already checked against the map at generation time)."""
@@ -435,8 +422,8 @@ class SyncClient(_Core):
     def read(self, spec: Readable[T]) -> T:
         return cast(T, self.read_many(spec)[spec.name])
 
-    def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
-        """Read several registers with the fewest requests the device allows."""
+    def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
+        """Read several registers with the fewest requests the device allows (a generated client types the result)."""
         if self.firmware_pending:
             self.detect_firmware()
         values: dict[str, Any] = {}
@@ -446,7 +433,7 @@ class SyncClient(_Core):
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
 
-    def read_all(self, poll: object = None) -> dict[str, Any]:
+    def read_all(self, poll: object = None) -> Mapping[str, Any]:
         """Every readable register, by the device's read plan; `poll` ("static", "fast", "normal",
         "slow"): only that class's. With check_firmware, the registers the firmware lacks are left out."""
         if poll is not None:
@@ -459,11 +446,21 @@ class SyncClient(_Core):
         self.write_many({spec: value}, raw=raw)
 
     def update(self, spec: ReadWrite[B], **fields: Any) -> B:
-        """Read-modify-write of a bitfield register: one read, then one write that changes only
-        the named fields (every other bit, described or not, is written back as read)."""
-        new = dataclasses.replace(self.read(spec), **fields)
-        self.write(spec, new)
-        return new
+        """Change only the named fields of a bitfield register (every other bit, described or not, stays):
+        one mask write (0x16) where the device lists it, then the register read back; else read-modify-write."""
+        masks = self.masked(spec, fields)
+        if masks is None:
+            new = dataclasses.replace(self.read(spec), **fields)
+            self.write(spec, new)
+            return new
+        if self.firmware_pending:
+            self.detect_firmware()
+        self.check_exists(spec)
+        write = (spec.space, spec.address, [masks[1]])
+        self._call(
+            MASK_WRITE_REGISTER, self.modbus.mask_write_register, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write
+        )
+        return self.read(spec)
 
     def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         """Validate every value, then write contiguous registers together (0x10; coils 0x0F)."""
@@ -503,12 +500,18 @@ class AsyncClient(_Core):
         response = await self._send(*self.reader(block.space), block.address, count=block.count)
         return self.learn_firmware(self.read_words(response, block))
 
-    async def _send(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
-        self.requests_sent += 1
-        try:
-            response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
-        except PymodbusError as exc:
-            raise self.transport_error(exc) from exc
+    async def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
+        tries = self._tries(write)
+        for attempt in range(1, tries + 1):
+            self.requests_sent += 1
+            sent_before = getattr(self.line, "packets_sent", 0)
+            try:
+                response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
+                break
+            except PymodbusError as exc:
+                error = self._failure(exc, write, attempt < tries, sent_before)
+                if error is not None:
+                    raise error from exc
         if self.broadcast:
             return None
         return self.check_response(response, function)
@@ -528,7 +531,7 @@ class AsyncClient(_Core):
         self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
     ) -> None:
         function, method, single = self.writer(space, len(words) == 1 and not multiple)
-        await self._call(function, method, *self.write_args(space, address, words, single))
+        await self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
 
     async def send_command(self, spec: Writable[Any], raw: int) -> None:
         if self.firmware_pending:
@@ -541,7 +544,7 @@ class AsyncClient(_Core):
     async def read(self, spec: Readable[T]) -> T:
         return cast(T, (await self.read_many(spec))[spec.name])
 
-    async def read_many(self, *specs: Readable[Any]) -> dict[str, Any]:
+    async def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
         if self.firmware_pending:
             await self.detect_firmware()
         values: dict[str, Any] = {}
@@ -551,7 +554,7 @@ class AsyncClient(_Core):
                 values[spec.name] = self.decode(spec, block.words_of(spec, words))
         return values
 
-    async def read_all(self, poll: object = None) -> dict[str, Any]:
+    async def read_all(self, poll: object = None) -> Mapping[str, Any]:
         if poll is not None:
             poll_class(poll)
         if self.firmware_pending:
@@ -562,10 +565,19 @@ class AsyncClient(_Core):
         await self.write_many({spec: value}, raw=raw)
 
     async def update(self, spec: ReadWrite[B], **fields: Any) -> B:
-        """Read-modify-write of a bitfield register (see SyncClient.update)."""
-        new = dataclasses.replace(await self.read(spec), **fields)
-        await self.write(spec, new)
-        return new
+        """Change only the named fields of a bitfield register (see SyncClient.update)."""
+        masks = self.masked(spec, fields)
+        if masks is None:
+            new = dataclasses.replace(await self.read(spec), **fields)
+            await self.write(spec, new)
+            return new
+        if self.firmware_pending:
+            await self.detect_firmware()
+        self.check_exists(spec)
+        write = (spec.space, spec.address, [masks[1]])
+        method = self.modbus.mask_write_register
+        await self._call(MASK_WRITE_REGISTER, method, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write)
+        return await self.read(spec)
 
     async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         for spec in values:

@@ -11,6 +11,7 @@ from .spaces import (
     COIL_OFF,
     COIL_ON,
     DEFAULT_SPACE,
+    MASK_WRITE_REGISTER,
     MAX_READ_BITS,
     MAX_READ_REGISTERS,
     MAX_WRITE_BITS,
@@ -31,7 +32,16 @@ ENCAPSULATED_INTERFACE = 0x2B  # with MEI type 0x0E: read device identification
 READ_DEVICE_ID = 0x0E
 # Every function a map may list: what the simulator serves and the tools build and decode.
 SERVED_FUNCTIONS = frozenset(
-    {*READS, *WRITES_SINGLE, *WRITES_MULTIPLE, DIAGNOSTICS, REPORT_SERVER_ID, READ_WRITE_MULTIPLE, ENCAPSULATED_INTERFACE}
+    {
+        *READS,
+        *WRITES_SINGLE,
+        *WRITES_MULTIPLE,
+        MASK_WRITE_REGISTER,
+        DIAGNOSTICS,
+        REPORT_SERVER_ID,
+        READ_WRITE_MULTIPLE,
+        ENCAPSULATED_INTERFACE,
+    }
 )
 
 STANDARD_EXCEPTIONS = {

@@ -103,6 +103,7 @@ class RegisterSpec(Generic[T]):
     # reported_fields: the same per bitfield, (field name, runs).
     reported: tuple[tuple[int, int], ...] = ()
     reported_fields: tuple[tuple[str, tuple[tuple[int, int], ...]], ...] = ()
+    trigger: bool = False  # a write makes the device act (a command, a trigger): sent once, never repeated
 
     @cached_property
     def type_info(self) -> TypeInfo:

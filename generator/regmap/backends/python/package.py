@@ -1,0 +1,81 @@
+"""The generated Python tree's packaging: the vendored runtime under its digest name, and ruff format."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import subprocess
+import sys
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from regmap.diagnostics import UsageError
+from regmap.target import Files
+
+RUNTIME_MODULES = (
+    "__init__.py",
+    "bits.py",
+    "client.py",
+    "codec.py",
+    "errors.py",
+    "plan.py",
+    "profile.py",
+    "rtu.py",
+    "spaces.py",
+    "spec.py",
+    "types.py",
+    "wire.py",
+)
+
+
+@functools.cache
+def runtime_package() -> str:
+    """The name the vendored runtime gets in a generated tree: `regmap_runtime_` and a digest of its
+    source, so two generated trees from different regmap versions on one sys.path cannot shadow each
+    other's runtime (and two of the same version share one, identical, copy)."""
+    source = resources.files("regmap_runtime")
+    digest = hashlib.sha256()
+    for module in RUNTIME_MODULES:
+        digest.update(module.encode() + b"\0" + source.joinpath(module).read_bytes() + b"\0")
+    return f"regmap_runtime_{digest.hexdigest()[:10]}"
+
+
+def render_shared(devices: Any) -> Files:
+    """The runtime, copied byte for byte (its modules import each other relatively)."""
+    package = runtime_package()
+    files: Files = {f"{package}/py.typed": ""}
+    source = resources.files("regmap_runtime")
+    for module in RUNTIME_MODULES:
+        files[f"{package}/{module}"] = source.joinpath(module).read_text(encoding="utf-8")
+    return files
+
+
+def ruff_format(directory: Path, *, skip: str) -> None:
+    """Format generated Python with ruff (a dependency of regmap, so output is the same everywhere); the vendored
+    runtime (`skip`) stays byte for byte its source."""
+    try:
+        from ruff.__main__ import find_ruff_bin
+    except ImportError:  # pragma: no cover - ruff is a declared dependency
+        raise UsageError("ruff is not installed; it formats the generated Python (pip install ruff)") from None
+    files = sorted(str(p) for p in directory.rglob("*.py") if skip not in p.relative_to(directory).parts)
+    if not files:
+        return
+    config = ["--config", "line-length = 120", "--config", "target-version = 'py311'"]
+    result = subprocess.run(
+        [find_ruff_bin(), "format", "--quiet", "--no-cache", "--isolated", *config, *files],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if result.returncode != 0:
+        sys.stderr.write(result.stderr)
+        raise UsageError("ruff could not format the generated Python (a template bug): see above")
+
+
+def _post(directory: Path) -> None:
+    ruff_format(directory, skip=runtime_package())
+
+
+def post(directory: Path) -> None:
+    ruff_format(directory, skip=runtime_package())
