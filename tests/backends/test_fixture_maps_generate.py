@@ -2,8 +2,8 @@
 Python passes mypy --strict. The fixtures are made-up devices, marked as such, and never in maps/.
 
 Behaviour is tested where it lives: the clients against libmodbus and the simulator
-(test_fixture_clients.py), C helpers against libmodbus (test_c_*), the simulator's functions
-(test_simulator_conformance.py), docs/diff/export/ST/ESPHome/HA in their own test files."""
+(backends/python/test_clients_against_libmodbus.py), C helpers against libmodbus (backends/c/), the simulator's functions
+(tools/simulator/test_simulator_conformance.py), docs/diff/export/ST/ESPHome/HA in their own test files."""
 
 from __future__ import annotations
 

@@ -16,14 +16,14 @@ from regmap.frontend import load_map
 from regmap.generate import Target, generate, recover
 
 from conftest import MAPS, ROOT, SMALL_MAPS
-from test_generated_drift import _tree
+from support.trees import tree
 
 
 def test_a_failing_target_changes_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     out = tmp_path / "generated"
     devices = [load_map(p) for p in SMALL_MAPS]
     generate(devices, out, ["python", "c"], complete=True)
-    before = _tree(out)
+    before = tree(out)
 
     def broken(directory: Path) -> None:
         raise RuntimeError("formatter crashed")
@@ -33,7 +33,7 @@ def test_a_failing_target_changes_nothing(tmp_path: Path, monkeypatch: pytest.Mo
     monkeypatch.setattr(python, "TARGET", Target("python", "python", python.render_device, python.render_shared, broken))
     with pytest.raises(RuntimeError):
         generate(devices, out, ["c", "python"], complete=True)
-    assert _tree(out) == before
+    assert tree(out) == before
     assert not list(tmp_path.glob(".regmap-staging-*")), "staging left behind"
 
 
@@ -46,7 +46,7 @@ def test_extra_files_are_swapped_in_with_the_targets(tmp_path: Path, monkeypatch
     written = generate(devices, out, ["markdown"], complete=True, extra=page)
     assert (out / "docs" / "extra-changelog.md").read_text(encoding="utf-8") == "# page\n"
     assert out.resolve() / "docs" / "extra-changelog.md" in written
-    before = _tree(out)
+    before = tree(out)
 
     def broken(directory: Path) -> None:
         raise RuntimeError("formatter crashed")
@@ -56,7 +56,7 @@ def test_extra_files_are_swapped_in_with_the_targets(tmp_path: Path, monkeypatch
     monkeypatch.setattr(python, "TARGET", Target("python", "python", python.render_device, python.render_shared, broken))
     with pytest.raises(RuntimeError):
         generate(devices, out, ["markdown", "python"], complete=True, extra={"docs/extra-changelog.md": "# changed\n"})
-    assert _tree(out) == before
+    assert tree(out) == before
 
 
 def test_invalid_map_changes_nothing(tmp_path: Path) -> None:
@@ -64,7 +64,7 @@ def test_invalid_map_changes_nothing(tmp_path: Path) -> None:
     subprocess.run(
         [sys.executable, "-m", "regmap", "generate", *map(str, SMALL_MAPS), "--out", str(out)], cwd=ROOT, check=True, capture_output=True
     )
-    before = _tree(out)
+    before = tree(out)
     broken = tmp_path / "broken.yaml"
     broken.write_text(SMALL_MAPS[0].read_text(encoding="utf-8").replace("map_version: 0.1.0", "map_version: one"), encoding="utf-8")
     result = subprocess.run(
@@ -72,14 +72,14 @@ def test_invalid_map_changes_nothing(tmp_path: Path) -> None:
     )
     assert result.returncode == 1
     assert "map_version" in result.stderr
-    assert _tree(out) == before
+    assert tree(out) == before
 
 
 def test_killed_runs_leave_old_or_new_never_half(tmp_path: Path) -> None:
     out = tmp_path / "generated"
     args = [sys.executable, "-m", "regmap", "generate", *map(str, MAPS), "--out", str(out)]
     subprocess.run(args, cwd=ROOT, check=True, capture_output=True)
-    complete = _tree(out)
+    complete = tree(out)
     rng = random.Random(1234)
     for _ in range(6):
         process = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -88,7 +88,7 @@ def test_killed_runs_leave_old_or_new_never_half(tmp_path: Path) -> None:
         process.wait()
         recover(out)  # what the next run does first
         assert out.exists()
-        assert _tree(out) == complete, "a killed run left a partial tree"
+        assert tree(out) == complete, "a killed run left a partial tree"
     assert not list(tmp_path.glob(".regmap-staging-*"))
 
 

@@ -23,7 +23,7 @@ from regmap_runtime.rtu import parse_frame, to_hex, with_crc
 from regmap_runtime.spaces import SPACES
 
 from conftest import MAPS, ROOT, SimulatorFactory
-from test_python_client import client_module
+from support.clients import client_module
 
 IDM = "maps/idm_rs.yaml"
 C630S = "maps/c630s.yaml"

@@ -23,12 +23,12 @@ from typing import IO
 
 import openpyxl
 import pytest
-from test_spreadsheet import table_changing_a_default
 
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
 
 from conftest import ROOT
+from support.tables import table_changing_a_default
 
 IDM = str(ROOT / "maps" / "idm_rs.yaml")
 SMALL = ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml"

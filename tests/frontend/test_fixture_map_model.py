@@ -2,13 +2,12 @@
 byte order, offsets, firmware gates and poll classes, read from the fixture maps (tests/maps/fixtures,
 test fixtures, not real devices) and from small maps written here.
 
-The error texts of whole invalid maps are golden files (tests/test_invalid_maps.py); these tests pin the
+The error texts of whole invalid maps are golden files (tests/frontend/test_invalid_maps.py); these tests pin the
 model the valid maps give and the few rules that need a map of their own (inheritance, migration)."""
 
 from __future__ import annotations
 
 from fractions import Fraction
-from pathlib import Path
 
 import pytest
 
@@ -17,7 +16,9 @@ from regmap.frontend import load_map, load_map_text
 from regmap.model import Access, ByteOrder, DataType, Device, FirmwareGate, PollClass, WordOrder
 from regmap.runtime_bridge import read_plan, runtime_device
 
-FIXTURES = Path(__file__).resolve().parent / "maps" / "fixtures"
+from conftest import ROOT
+
+FIXTURES = ROOT / "tests" / "maps" / "fixtures"
 
 
 @pytest.fixture(scope="module")

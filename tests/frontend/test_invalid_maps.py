@@ -1,7 +1,7 @@
 """Golden test of the invalid-map corpus: every `tests/maps/invalid/<case>.yaml` is rejected by the real
 `regmap validate`, with exactly the error text committed beside it in `<case>.expected`.
 
-The cases are found by walking the folder; `make regen` rewrites the expected texts (tests/regen.py).
+The cases are found by walking the folder; `make regen` rewrites the expected texts (tests/support/regen.py).
 """
 
 from __future__ import annotations
@@ -12,7 +12,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
-import regen
+
+from support import regen
 
 CASES = regen.cases()
 MESSAGE = re.compile(r"^(?P<file>[^:]+):(?P<line>[0-9]+):(?P<col>[0-9]+): \S")

@@ -1,6 +1,6 @@
 """Unit tests of the front end: the positional YAML reader and the model `load_map` builds.
 
-The error texts of whole invalid maps are golden files (tests/test_invalid_maps.py); these tests pin the
+The error texts of whole invalid maps are golden files (tests/frontend/test_invalid_maps.py); these tests pin the
 pieces underneath: positions, the safety bounds of the reader, encodings, and the elaborated model.
 """
 
@@ -23,7 +23,8 @@ from regmap.frontend.stages import MapSource
 from regmap.frontend.yamlsource import MAX_DEPTH, MAX_INT_CHARS, MAX_NODES, YamlProblem, read_yaml
 from regmap.model import Access, DataType, Device, WordOrder
 
-ROOT = Path(__file__).resolve().parent.parent
+from conftest import ROOT
+
 SMALL = ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml"
 INVALID = ROOT / "tests" / "maps" / "invalid"
 

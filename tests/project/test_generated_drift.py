@@ -8,12 +8,7 @@ import sys
 from pathlib import Path
 
 from conftest import GENERATED, ROOT
-
-CACHES = {"__pycache__", ".mypy_cache", ".ruff_cache", ".pytest_cache"}  # made by tools run on the tree; git ignores them
-
-
-def _tree(root: Path) -> dict[str, bytes]:
-    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file() and not CACHES & set(p.parts)}
+from support.trees import tree
 
 
 def test_generated_tree_matches_the_maps(tmp_path: Path) -> None:
@@ -22,7 +17,7 @@ def test_generated_tree_matches_the_maps(tmp_path: Path) -> None:
         [sys.executable, "-m", "regmap", "generate", "--out", str(out)], cwd=ROOT, capture_output=True, text=True, check=False
     )
     assert result.returncode == 0, result.stderr
-    fresh, committed = _tree(out), _tree(GENERATED)
+    fresh, committed = tree(out), tree(GENERATED)
     problems = []
     for name in sorted(set(fresh) | set(committed)):
         if name not in committed:
@@ -47,5 +42,5 @@ def test_generation_is_deterministic(tmp_path: Path) -> None:
     for name in ("a", "b"):
         out = tmp_path / name
         subprocess.run([sys.executable, "-m", "regmap", "generate", "--out", str(out)], cwd=ROOT, check=True, capture_output=True)
-        trees.append(_tree(out))
+        trees.append(tree(out))
     assert trees[0] == trees[1]

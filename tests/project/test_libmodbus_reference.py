@@ -1,4 +1,4 @@
-"""The libmodbus reference harness (tests/libmodbus_ref.py) against Python's struct, the Modbus spec's own
+"""The libmodbus reference harness (tests/support/libmodbus_ref.py) against Python's struct, the Modbus spec's own
 example and pymodbus: before other tests trust it to judge regmap, it is judged itself."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from libmodbus_ref import (
+from support.libmodbus_ref import (
     ORDERS,
     LibmodbusRef,
     LibmodbusRefError,

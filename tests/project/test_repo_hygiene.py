@@ -15,7 +15,7 @@ def test_no_tracked_file_looks_like_an_option() -> None:
 
 
 def test_the_table_script_answers_help_and_writes_nothing(tmp_path: Path) -> None:
-    script = ROOT / "tests" / "c630s_table.py"
+    script = ROOT / "tests" / "support" / "c630s_table.py"
     for argv in (["--help"], ["write", "--help"]):
         result = subprocess.run([sys.executable, str(script), *argv], cwd=tmp_path, capture_output=True, text=True, check=False)
         assert result.returncode == 0, result.stderr

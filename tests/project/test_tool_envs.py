@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-import tool_envs
 from conftest import ROOT, built_tool, skip_or_fail
+from support import tool_envs
 
 
 def test_an_environment_without_its_stamp_is_not_taken_for_a_built_one(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -31,11 +31,11 @@ def test_new_pins_mean_a_new_environment(monkeypatch: pytest.MonkeyPatch) -> Non
 
 
 def test_no_test_installs_a_tool() -> None:
-    """pip runs in tests/tool_envs.py (`make tools`) alone; a test that installed would race pytest-timeout."""
+    """pip runs in tests/support/tool_envs.py (`make tools`) alone; a test that installed would race pytest-timeout."""
     installers = re.compile(r"[\"']pip[\"'],\s*[\"']install[\"']|[\"']-m[\"'],\s*[\"'](venv|ensurepip)[\"']")
     offenders = [
         f"{path.name}:{number}"
-        for path in sorted((ROOT / "tests").glob("*.py"))
+        for path in sorted((ROOT / "tests").rglob("*.py"))
         if path.name not in ("tool_envs.py", "test_tool_envs.py")
         for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
         if installers.search(line)

@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from conftest import ROOT, SimulatorFactory, generated_runtime
-from test_python_client import client_module
+from support.clients import client_module
 
 _errors = generated_runtime("errors")
 CrcError = _errors.CrcError

@@ -16,7 +16,7 @@ from regmap_runtime.plan import ReadBlock, plan_writes
 from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, POLL_CLASSES, BitfieldSpec, DeviceSpec, RegisterSpec, Writable, poll_class
 
 from conftest import ROOT, SimulatorFactory, generated_runtime
-from test_python_client import client_module
+from support.clients import client_module
 
 
 def spec(data_type: str, **kwargs: object) -> RegisterSpec[int]:
@@ -124,7 +124,7 @@ def test_the_same_register_twice_in_one_write_is_refused() -> None:
 
 
 def test_the_simulator_refuses_a_second_read_only_and_out_of_range_write(simulator: SimulatorFactory) -> None:
-    """Independent cases beside tests/test_simulator.py's peak current and run status."""
+    """Independent cases beside tests/tools/simulator/test_simulator_clients.py's peak current and run status."""
     DeviceException = generated_runtime("errors").DeviceException  # what the generated client raises
 
     sim = simulator(ROOT / "maps" / "c630s.yaml")

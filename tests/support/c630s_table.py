@@ -4,8 +4,8 @@ Rows are copied cell for cell from ../shared/manuals/c630s.txt (tab-separated in
 section number is added as a column (章节), so that the draft cites its source. Nothing is corrected:
 what the manual prints wrongly or splits across lines stays so, and the import must report it.
 
-    python tests/c630s_table.py write OUT.csv   # write the table
-    python tests/c630s_table.py report          # import it into a draft; the agreement with maps/c630s.yaml
+    python tests/support/c630s_table.py write OUT.csv   # write the table
+    python tests/support/c630s_table.py report          # import it into a draft; the agreement with maps/c630s.yaml
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import re
 import sys
 from pathlib import Path
 
-MANUAL = Path(__file__).resolve().parents[1].parent / "shared" / "manuals" / "c630s.txt"
+MANUAL = Path(__file__).resolve().parents[2].parent / "shared" / "manuals" / "c630s.txt"
 HEADER = ["功能码", "名称", "设定范围", "单位", "出厂设定", "生效方式", "设定方式", "相关模式", "章节"]
 MAPPING = """\
 # C630S chapter 7: no address column; the address of PXX-YY is XX << 8 | YY (YY decimal), as in maps/c630s.yaml.
@@ -103,7 +103,7 @@ def report(out_dir: Path) -> str:
     """Write the table, import it into a new draft, and say how far it agrees with maps/c630s.yaml."""
     import subprocess
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     table, mapping, draft = out_dir / "c630s-ch7.csv", out_dir / "c630s-columns.yaml", out_dir / "c630s_draft.yaml"
     rows = write_table(table)
     mapping.write_text(MAPPING, encoding="utf-8")
@@ -127,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
     import argparse
     import tempfile
 
-    parser = argparse.ArgumentParser(prog="tests/c630s_table.py", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="tests/support/c630s_table.py", description=__doc__.split("\n\n")[0])
     actions = parser.add_subparsers(dest="action", required=True)
     write = actions.add_parser("write", help="write chapter 7 as a CSV")
     write.add_argument("out", type=Path, metavar="OUT.csv")
@@ -140,7 +140,7 @@ def main(argv: list[str] | None = None) -> int:
             with tempfile.TemporaryDirectory() as tmp:
                 print(report(Path(tmp)))
     except ManualAbsent as exc:
-        print(f"tests/c630s_table.py: {exc}", file=sys.stderr)
+        print(f"tests/support/c630s_table.py: {exc}", file=sys.stderr)
         return 1
     return 0
 

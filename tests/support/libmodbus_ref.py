@@ -18,7 +18,7 @@ asked for, found at start-up by reading each setter's output back with libmodbus
 Test files get the fixtures by importing them (pytest finds the fixtures among a test module's names;
 the functions carry other names than the fixtures, so ruff sees no redefinition in the tests):
 
-    from libmodbus_ref import LibmodbusRef, LibmodbusServerFactory, libmodbus_ref_fixture, libmodbus_server_fixture  # noqa: F401
+    from support.libmodbus_ref import LibmodbusRef, LibmodbusServerFactory, libmodbus_ref_fixture, libmodbus_server_fixture  # noqa: F401
 
     def test_floats(libmodbus_ref: LibmodbusRef) -> None: ...                   # session scoped
     def test_client(libmodbus_server: LibmodbusServerFactory) -> None:

@@ -5,7 +5,7 @@ Each case is `tests/maps/invalid/<case>.yaml` with its expected stderr beside it
 A case that is not rejected cleanly (exit status 1, nothing on stdout, no traceback) is reported and left
 alone, so a crash or a map that became valid is never recorded as the expected output.
 
-`tests/test_invalid_maps.py` imports this module for the same paths and the same command; importing it
+`tests/frontend/test_invalid_maps.py` imports this module for the same paths and the same command; importing it
 runs nothing.
 """
 
@@ -17,7 +17,7 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 INVALID = ROOT / "tests" / "maps" / "invalid"
 REGEN_COMMAND = "make regen"
 

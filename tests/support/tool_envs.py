@@ -6,8 +6,8 @@ directory outside the work tree (`$REGMAP_TOOLS_DIR`, default `~/.cache/regmap/t
 of its pins, so every clone on the machine shares it. A stamp written last marks an environment complete;
 one without its stamp (an interrupted build) is removed and built again.
 
-    python tests/tool_envs.py install [NAME ...]   # build what is missing; exit 1 under CI=true if any fails
-    python tests/tool_envs.py status               # one line per tool: ready, missing, or why it cannot be built
+    python tests/support/tool_envs.py install [NAME ...]   # build what is missing; exit 1 under CI=true if any fails
+    python tests/support/tool_envs.py status               # one line per tool: ready, missing, or why it cannot be built
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SHARED_TOOLS = ROOT.parent / "shared" / "tools"
 MATIEC_TARBALL = SHARED_TOOLS / "matiec" / "matiec-6bb2c33.tar.gz"
 STAMP = ".regmap-complete"
@@ -179,7 +179,7 @@ def _stale(name: str) -> list[Path]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="tests/tool_envs.py", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="tests/support/tool_envs.py", description=__doc__.split("\n\n")[0])
     parser.add_argument("action", choices=("install", "status"))
     parser.add_argument("names", nargs="*", metavar="NAME", help=f"default: all of {', '.join(NAMES)}")
     args = parser.parse_args(argv)

@@ -22,7 +22,8 @@ from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
 from regmap.model import Device, Register
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 MAP_FILES = sorted((ROOT / "maps").glob("*.yaml")) + sorted((ROOT / "tests" / "maps" / "small").glob("*.yaml"))
 SMALL_MAP = ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml"
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome")

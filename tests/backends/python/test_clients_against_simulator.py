@@ -2,7 +2,7 @@
 `regmap simulate`: every table, type and order written and read back, the simulator's words checked
 with `struct` (not with regmap's codec), firmware gates against the simulator's --firmware.
 
-test_fixture_clients.py runs the same clients against a libmodbus server, an implementation regmap
+test_clients_against_libmodbus.py runs the same clients against a libmodbus server, an implementation regmap
 did not write; this file shows the simulator and the clients agree with each other and with struct."""
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import struct
 from typing import Any
 
 import pytest
-from test_fixture_clients import FLAVOURS, POWER, REMOTE, SWAPPED, flavour, read, write
 
 from conftest import FIXTURE_MAPS, SimulatorFactory
+from support.fixture_clients import FLAVOURS, POWER, REMOTE, SWAPPED, flavour, read, write
 
 PATHS = {p.stem: p for p in FIXTURE_MAPS}
 

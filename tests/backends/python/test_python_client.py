@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import importlib
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 
 from conftest import MAPS, ROOT, PtyPair, SimulatorFactory, generated_runtime, generated_runtime_name, mypy_strict
 from support import docstrings
+from support.clients import client_module
 
 _errors = generated_runtime("errors")
 DeviceException = _errors.DeviceException
@@ -19,10 +18,6 @@ DeviceTimeout = _errors.DeviceTimeout
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"
 ID243 = ROOT / "maps" / "id243pro.yaml"
-
-
-def client_module(device_id: str) -> ModuleType:
-    return importlib.import_module(device_id)
 
 
 def test_generated_clients_pass_mypy_strict() -> None:

@@ -3,7 +3,7 @@ maps, the hostile map and issue 19's fixture maps (input registers, coils, discr
 64-bit values, text, byte swaps, offsets, firmware gates, poll classes).
 
 blark (TwinCAT's grammar, lark-based) and tree-sitter-iec61131-3-st (the plain standard) live in a venv
-of their own (tests/tool_envs.py, built by `make tools`), since their pins are not regmap's;
+of their own (tests/support/tool_envs.py, built by `make tools`), since their pins are not regmap's;
 tests/st/parse_st.py runs inside it. Without it the parse tests skip, except under CI=true where they fail.
 """
 

@@ -28,7 +28,7 @@ from regmap_runtime.errors import DeviceTimeout
 from regmap_runtime.profile import DeviceProfile, ProfileError, load_profile
 
 from conftest import MAPS, ROOT, SimulatorFactory
-from test_python_client import client_module
+from support.clients import client_module
 
 IDS = [p.stem for p in MAPS]
 # A plain register per map (16-bit, read-write, ranged, with a default, named by no command, example or erratum).

@@ -13,7 +13,7 @@ import pytest
 from regmap.frontend import load_map
 
 from conftest import ROOT, PtyPair, SimulatorFactory, generated_runtime, require_tool
-from test_python_client import client_module
+from support.clients import client_module
 
 _errors = generated_runtime("errors")
 DeviceException = _errors.DeviceException

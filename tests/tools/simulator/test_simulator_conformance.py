@@ -10,13 +10,11 @@ from __future__ import annotations
 
 import os
 import random
-import select
 import socket
 import struct
 import subprocess
 import sys
 import time
-import tty
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -26,6 +24,7 @@ from regmap.frontend import load_map
 from regmap_runtime.rtu import with_crc
 
 from conftest import ROOT, PtyPair, SimulatorFactory, free_port, require_tool
+from support.simulator_wire import Line, mbap
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 C630S = ROOT / "maps" / "c630s.yaml"
@@ -33,75 +32,6 @@ C630S_FIRST = load_map(C630S).registers[0].address
 PEAK_CURRENT = 0x0191  # Pr5.00, default 22 (2.2 A)
 PR_TABLE = 0x6200  # 128 plain 16-bit registers: room for the largest read and write
 READ_COUNTS = (0, 48, 125, 126, 200, 0xFFFF)
-QUIET_S = 0.4  # how long "no answer" is waited for
-
-
-# -- raw lines ------------------------------------------------------------------------------
-
-
-class Line:
-    """A byte pipe to the simulator (TCP socket or pty) that reads what arrives within a time."""
-
-    def __init__(self, fd: int, closer: object) -> None:
-        self.fd = fd
-        self.closer = closer
-
-    @classmethod
-    def tcp(cls, port: int) -> Line:
-        sock = socket.create_connection(("127.0.0.1", port), timeout=5)
-        sock.setblocking(False)
-        return cls(sock.fileno(), sock)
-
-    @classmethod
-    def pty(cls, path: str) -> Line:
-        fd = os.open(path, os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
-        tty.setraw(fd)
-        return cls(fd, None)
-
-    def send(self, data: bytes) -> None:
-        if isinstance(self.closer, socket.socket):
-            self.closer.sendall(data)
-        else:
-            os.write(self.fd, data)
-
-    def read(self, want: int | None = None, timeout: float = 3.0) -> bytes:
-        """Bytes until `want` have come (or, with want None, until QUIET_S of silence), or `timeout`."""
-        out = b""
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline and (want is None or len(out) < want):
-            ready, _, _ = select.select([self.fd], [], [], QUIET_S if want is None else max(0.0, deadline - time.monotonic()))
-            if not ready:
-                if want is None:
-                    break
-                continue
-            try:
-                chunk = os.read(self.fd, 4096)
-            except BlockingIOError:
-                continue
-            except ConnectionResetError:
-                break
-            if not chunk:
-                break  # closed by the simulator
-            out += chunk
-        return out
-
-    def closed_by_peer(self, timeout: float = 3.0) -> bool:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            ready, _, _ = select.select([self.fd], [], [], 0.1)
-            if ready:
-                try:
-                    if os.read(self.fd, 4096) == b"":
-                        return True
-                except ConnectionResetError:
-                    return True
-        return False
-
-    def close(self) -> None:
-        if isinstance(self.closer, socket.socket):
-            self.closer.close()
-        else:
-            os.close(self.fd)
 
 
 def read_request(address: int, count: int, slave: int = 1) -> bytes:
@@ -116,10 +46,6 @@ def write_multiple(address: int, words: list[int], slave: int = 1) -> bytes:
 
 def exception(function: int, code: int, slave: int = 1) -> bytes:
     return with_crc(bytes([slave, function | 0x80, code]))
-
-
-def mbap(transaction: int, pdu: bytes, unit: int = 1, protocol: int = 0) -> bytes:
-    return struct.pack(">HHHB", transaction, protocol, len(pdu) + 1, unit) + pdu
 
 
 def rtu_cases() -> list[tuple[str, bytes, bytes]]:

@@ -18,11 +18,11 @@ from pathlib import Path
 
 import pytest
 from pymodbus.client import ModbusTcpClient
-from test_simulator_conformance import Line, mbap
 
 from regmap_runtime.rtu import with_crc
 
 from conftest import ROOT, PtyPair, RunningSimulator, SimulatorFactory, require_tool
+from support.simulator_wire import Line, mbap
 
 FIXTURES = ROOT / "tests" / "maps" / "fixtures"
 REMOTE_IO = FIXTURES / "remote_io.yaml"

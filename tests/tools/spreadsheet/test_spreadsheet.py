@@ -24,12 +24,11 @@ from regmap.tools.spreadsheet import cells
 from regmap.tools.spreadsheet.cells import CellProblem
 from regmap.tools.spreadsheet.export import export_csv, export_xlsx
 
-ROOT = Path(__file__).resolve().parents[1]
-MAPS = sorted((ROOT / "maps").glob("*.yaml"))
-sys.path.insert(0, str(Path(__file__).parent))
-import c630s_table  # noqa: E402
+from conftest import ROOT, manual
+from support import c630s_table
+from support.tables import table_changing_a_default
 
-from conftest import manual  # noqa: E402
+MAPS = sorted((ROOT / "maps").glob("*.yaml"))
 
 
 def _fields(r: Register) -> dict[str, Any]:
@@ -218,19 +217,6 @@ def test_c630s_manual_table_reproduces_the_map(tmp_path: Path, capsys: pytest.Ca
 
 
 # -- update keeps the map's text --------------------------------------------------------------
-
-
-def table_changing_a_default(device: Device, tmp_path: Path) -> tuple[Path, Register, int]:
-    """tmp_path/changed.csv: the device's table with one register's default raised by one; that register and its new default."""
-    rows = list(csv.reader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
-    reg = next(r for r in device.registers if isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max)
-    assert isinstance(reg.default, int)
-    row = next(row for row in rows if row[0] == reg.name)
-    row[rows[0].index("default")] = str(reg.default + 1)
-    table = tmp_path / "changed.csv"
-    with table.open("w", encoding="utf-8", newline="") as handle:
-        csv.writer(handle).writerows(rows)
-    return table, reg, reg.default + 1
 
 
 def test_update_changes_one_line_and_nothing_else(tmp_path: Path) -> None:
