@@ -21,7 +21,13 @@ from conftest import ROOT, SimulatorFactory
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
 TOOLS = ROOT / "generator" / "regmap" / "tools"
-RESULT_TOOLS = [TOOLS / "live.py", TOOLS / "link.py", TOOLS / "simulator" / "run.py", *sorted((TOOLS / "probe").glob("*.py"))]
+RESULT_TOOLS = [
+    TOOLS / "live.py",
+    TOOLS / "link.py",
+    TOOLS / "selectors.py",
+    TOOLS / "simulator" / "run.py",
+    *sorted((TOOLS / "probe").glob("*.py")),
+]
 
 
 def _printing(path: Path) -> list[str]:
