@@ -17,17 +17,17 @@ $(STAMP): pyproject.toml
 install: $(STAMP)
 
 # The third-party judges of the generated output (ESPHome, Home Assistant, the ST parsers, matiec), each in
-# its own environment under ~/.cache/regmap/tools, rebuilt only when its pins change (tests/tool_envs.py).
+# its own environment under ~/.cache/regmap/tools, rebuilt only when its pins change (tests/support/tool_envs.py).
 # A tool that cannot be built here is reported and its tests skip; under CI=true that fails.
 tools: $(STAMP)
-	$(BIN)/python tests/tool_envs.py install
+	$(BIN)/python tests/support/tool_envs.py install
 
 generate: $(STAMP)
 	$(BIN)/regmap generate
 
 # Rewrite every committed golden output (generated/ and the expected error texts of invalid maps).
 regen: generate
-	$(BIN)/python tests/regen.py
+	$(BIN)/python tests/support/regen.py
 	$(BIN)/regmap diff tests/maps/diff/idm_rs_small_v1.yaml tests/maps/diff/idm_rs_small_v2.yaml --format markdown > docs/changelog-example.md; status=$$?; test $$status -eq 6 -o $$status -eq 7
 
 test: $(STAMP) tools

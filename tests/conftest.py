@@ -216,8 +216,8 @@ def skip_or_fail(message: str) -> NoReturn:
 
 
 def built_tool(name: str) -> Path:
-    """A tool from tests/tool_envs.py, built beforehand by `make tools`; never installed here."""
-    import tool_envs
+    """A tool from tests/support/tool_envs.py, built beforehand by `make tools`; never installed here."""
+    from support import tool_envs
 
     try:
         return tool_envs.find(name)

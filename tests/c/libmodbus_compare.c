@@ -1,6 +1,6 @@
 /*
  * The float and bit helpers of the generated regmap_rtu.h against libmodbus's own, in one program
- * (tests/test_c_libmodbus.py builds it with the generated header and libmodbus, and runs it).
+ * (tests/backends/c/test_c_helpers_against_libmodbus.py builds it with the generated header and libmodbus, and runs it).
  *
  * stdin: one IEEE 754 single's bits a line, as hex (the test gives -0.0, subnormals, infinities,
  * NaNs, 230.1, 3.4e38 and pseudo-random patterns, computed with Python's struct). For each of
@@ -12,7 +12,7 @@
  * Then bit packing for every count 1..2000 on pseudo-random bits: regmap_bits_pack equals
  * modbus_get_byte_from_bits byte for byte, and regmap_bits_unpack equals modbus_set_bits_from_bytes.
  * libmodbus 3.1.6's getters read the order they are named after; its setters do not (see
- * tests/libmodbus_ref.py), so only the getters are the reference here.
+ * tests/support/libmodbus_ref.py), so only the getters are the reference here.
  *
  * Prints a line per mismatch and "N passed, M failed"; the exit status is 0 when none failed.
  */

@@ -1,6 +1,6 @@
 /*
  * A reference codec on libmodbus's own helpers, for tests that check regmap's codecs against an
- * implementation that is not regmap's (tests/libmodbus_ref.py drives it).
+ * implementation that is not regmap's (tests/support/libmodbus_ref.py drives it).
  *
  *   libmodbus_ref          reads commands on stdin, one a line; answers each with one line, flushed.
  *

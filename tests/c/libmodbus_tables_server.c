@@ -1,6 +1,6 @@
 /*
  * A reference Modbus TCP server on libmodbus, its four tables loaded from a file, for tests that check
- * regmap's clients against a server that is not regmap's (tests/libmodbus_ref.py drives it).
+ * regmap's clients against a server that is not regmap's (tests/support/libmodbus_ref.py drives it).
  *
  *   libmodbus_tables_server PORT TABLES
  *

@@ -2,7 +2,7 @@
  * Code size of the RTU frame helpers on a Cortex-M0: out-of-line wrappers make the compiler emit
  * each static inline helper once, as a firmware using all of them would. Compiled with
  * arm-none-eabi-gcc -mcpu=cortex-m0 -mthumb -Os -c and measured with arm-none-eabi-size
- * (tests/test_c_backend.py). REGMAP_SIZE_WITH_WORDS adds the 16/32-bit word conversions;
+ * (tests/backends/c/test_c_backend.py). REGMAP_SIZE_WITH_WORDS adds the 16/32-bit word conversions;
  * REGMAP_SIZE_WITH_SPACES the coil, discrete-input and input-register frames, bit packing, a float
  * in any order and the string copy (issue 19).
  */

@@ -3,7 +3,7 @@
  * capacity and argument checks, every parse error, response lengths, 16/32/64-bit and float
  * conversions in every word and byte order, strings, coil bits and firmware versions. The
  * coil, input-register and discrete-input frames are the Modbus Application Protocol v1.1b3's
- * worked examples (section 6.1-6.11, slave 1, RTU CRC). tests/test_c_backend.py compiles and
+ * worked examples (section 6.1-6.11, slave 1, RTU CRC). tests/backends/c/test_c_backend.py compiles and
  * runs it with every host compiler (and with clang's sanitizers); the exit status is 0 when
  * every check passes.
  */

@@ -24,7 +24,12 @@ def test_the_pr_trigger_states_are_read_only_and_its_commands_write_only(idm: De
     assert not members["running_path_3"].writable and not members["command_done_waiting"].writable
     assert members["start_path_0"].access is Access.WRITE and not members["start_path_0"].readable
     assert all(members[f"start_path_{n}"].writable for n in range(16))
-    assert {m.name for m in members.values() if m.writable} == {*(f"start_path_{n}" for n in range(16)), "home", "set_zero", "emergency_stop"}
+    assert {m.name for m in members.values() if m.writable} == {
+        *(f"start_path_{n}" for n in range(16)),
+        "home",
+        "set_zero",
+        "emergency_stop",
+    }
 
 
 def test_a_member_without_access_goes_both_ways(idm: Device) -> None:

@@ -22,7 +22,7 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 MUTANTS = Path(__file__).with_name("mutants.yaml")
-DRIFT = "tests/test_generated_drift.py"
+DRIFT = "tests/project/test_generated_drift.py"
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from conftest import ROOT, SimulatorFactory
-from test_python_client import client_module
+from support.clients import client_module
 
 ID243 = ROOT / "maps" / "id243pro.yaml"
 IDM = ROOT / "maps" / "idm_rs.yaml"

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Sequence
+import sys
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -26,6 +27,12 @@ SELECTOR_SYNTAX = (
     "(0x0191, 0191h, 401; mbpoll's -r 402, Modicon's 40402 with --modicon); a plain decimal number right after a SELECTOR "
     "is its COUNT: that many of the map's readable registers from it on (with --words: words), as mbpoll's -c"
 )
+
+
+def say_notes(command: str, notes: Iterable[str]) -> None:
+    """How addresses were read (-r, Modicon numbers) and other notes the tools return, each once, on stderr."""
+    for note in dict.fromkeys(notes):
+        print(f"regmap {command}: note: {note}", file=sys.stderr)
 
 
 def load_map(path: str | Path) -> Device:

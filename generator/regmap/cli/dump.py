@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from regmap.cli.common import add_read_options, link_from, live_parser, load_map, output_format, profile_from, space_from
+from regmap.cli.common import add_read_options, link_from, live_parser, load_map, output_format, profile_from, say_notes, space_from
 
 if TYPE_CHECKING:
     from regmap.tools.live import Firmware
@@ -40,7 +40,7 @@ def _say_lacking(known: Firmware) -> None:
 def run(args: argparse.Namespace) -> int:
     from regmap.cli.live_output import ProgressBar, print_values, read_status
     from regmap.tools import live
-    from regmap.tools.selectors import dump_range, say_notes
+    from regmap.tools.selectors import dump_range
 
     space = space_from(args)
     device = load_map(args.map)

@@ -13,6 +13,7 @@ from regmap.cli.common import (
     add_word_order,
     examples,
     load_map,
+    say_notes,
     slave_id,
     space_from,
 )
@@ -78,7 +79,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 def run(args: argparse.Namespace) -> int:
     from regmap.tools import frames
-    from regmap.tools.selectors import Registers, parse_items, say_notes
+    from regmap.tools.selectors import Registers, parse_items
     from regmap_runtime.rtu import to_hex
 
     space = space_from(args)

@@ -13,6 +13,7 @@ from regmap.cli.common import (
     load_map,
     output_format,
     profile_from,
+    say_notes,
     space_from,
 )
 
@@ -49,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.diagnostics import ExitCode, LinkError
     from regmap.tools import live
     from regmap.tools.frames import word_reads
-    from regmap.tools.selectors import parse_items, say_notes
+    from regmap.tools.selectors import parse_items
 
     space = space_from(args)
     items = parse_items(args.selectors, count=args.count, start=args.start, modicon=args.modicon, space=space)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import VALUE_SYNTAX, WHERE, add_addressing, add_space, link_from, live_parser, load_map, space_from
+from regmap.cli.common import VALUE_SYNTAX, WHERE, add_addressing, add_space, link_from, live_parser, load_map, say_notes, space_from
 
 HELP = "write registers, then read them back"
 
@@ -39,7 +39,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 def run(args: argparse.Namespace) -> int:
     from regmap.cli.live_output import write_status
     from regmap.tools import live
-    from regmap.tools.selectors import say_notes
 
     space = space_from(args)
     device = load_map(args.map)

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import difflib
 import re
-import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -354,12 +353,6 @@ def dump_range(
     if not chosen:
         raise UsageError(f"{item.selector}: no readable {SPACES[start_space].title} from 0x{item.located.address:04X} on")
     return chosen, [item.located.note] if item.located.note else []
-
-
-def say_notes(command: str, notes: Iterable[str]) -> None:
-    """How addresses were read (-r, Modicon numbers) and other notes, each once, on stderr."""
-    for note in dict.fromkeys(notes):
-        print(f"regmap {command}: note: {note}", file=sys.stderr)
 
 
 def check_slave(device: Device, slave: int, *, reading: bool = False) -> None:

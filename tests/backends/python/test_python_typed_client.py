@@ -8,7 +8,7 @@ import re
 from pathlib import Path
 
 from conftest import mypy_strict
-from test_python_client import client_module
+from support.clients import client_module
 
 CORRECT = """
 from typing import assert_type
