@@ -25,7 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SHARED_TOOLS = ROOT.parent / "shared" / "tools"
+# ../shared beside the clone; REGMAP_SHARED_DIR points elsewhere (a worktree nested one level deeper).
+SHARED_TOOLS = Path(os.environ.get("REGMAP_SHARED_DIR") or ROOT.parent / "shared") / "tools"
 MATIEC_TARBALL = SHARED_TOOLS / "matiec" / "matiec-6bb2c33.tar.gz"
 STAMP = ".regmap-complete"
 

@@ -13,9 +13,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from regmap.backends.st.codec import DIALECTS
 from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
-from regmap.backends.st.views import DIALECTS
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device

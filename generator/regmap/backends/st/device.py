@@ -5,12 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.st import codec
+from regmap.backends.st.codec import Dialect
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoders
 from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
 from regmap.backends.st.views import (
     Const,
-    Dialect,
     EnumValue,
     EnumView,
     FunctionView,
@@ -165,7 +165,7 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
                 h.code,
                 "BYTE",
                 "The byte of a one-character string: its position in the same table (0 for the empty string).",
-                (Member("sChar", "STRING(1)"),),
+                (Member("sChar", dialect.string(1)),),
                 (),
                 (),
                 (f"{h.code} := INT_TO_BYTE(FIND({codec.BYTE_TABLE}, sChar));",),

@@ -11,7 +11,7 @@ from regmap.backends.st.codec import (
     st_type,
     swapped,
 )
-from regmap.backends.st.functions import getter_name, owners
+from regmap.backends.st.functions import getter_name, getter_type, owners
 from regmap.backends.st.names import StIdentifier, st_real
 from regmap.backends.st.views import (
     FunctionView,
@@ -218,7 +218,7 @@ def _text_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> 
         name,
         "BOOL",
         _encoder_comment(reg, label, "aWords"),
-        (Member("sValue", st_type(reg)),),
+        (Member("sValue", st_type(reg, names.dialect)),),
         (Member("aWords", f"ARRAY[0..{reg.words - 1}] OF WORD"),),
         local,
         tuple(body),
@@ -244,7 +244,7 @@ def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
                 local.append(Member(local_name, names.enum_type(b.enum)))
                 decoder = StIdentifier("F", names.prefix, b.enum.name, "FROM_RAW")
                 body += [
-                    f"IF NOT {decoder}(nRaw := UINT_TO_DINT({getter_name(names, reg, b)}(nValue)), eValue := {local_name}) THEN",
+                    f"IF NOT {decoder}(nRaw := {getter_type(b)}_TO_DINT({getter_name(names, reg, b)}(nValue)), eValue := {local_name}) THEN",
                     f"    {name} := FALSE;",
                     "    RETURN;",
                     "END_IF;",
