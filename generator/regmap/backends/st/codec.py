@@ -9,8 +9,8 @@ into its fields by halving or doubling it to [1, 2). Plain IEC has no literal fo
 decoder returns FALSE for them (CODESYS returns the REAL as the device sent it, as the Python client
 does); both encoders refuse them, as the Python client refuses NaN and values outside the range.
 
-Text: ST strings are bytes; a byte becomes a one-character STRING through MID of a 255-character table
-of `$hh` escapes, and a character its code through FIND in the same table, in both dialects (plain IEC
+Text: ST strings are bytes; a byte becomes a one-character STRING through MID of three tables of `$hh`
+escapes (85 bytes each), and a character its code through FIND in the same tables, in both dialects (plain IEC
 has no CHAR/BYTE conversion). Text bytes are kept as the device sends them (no transcoding).
 """
 
@@ -37,8 +37,40 @@ NATURAL = {
 # Bit string of the same width: the word a register's words are assembled into.
 BITS = {1: "WORD", 2: "DWORD", 4: "LWORD"}
 
-BYTE_TABLE = "'" + "".join(f"${b:02X}" for b in range(1, 256)) + "'"
-"""Every byte 1..255 in order: MID(table, 1, b) is the character b, FIND(table, c) the code of c."""
+# Every byte 1..255 in order, in three strings of 85: MID(table k, 1, b - 85 k) is the character b, and
+# FIND(table k, c) + 85 k the code of c. One table of 255 would not fit matiec's STRING (126 bytes).
+BYTE_TABLE_LENGTH = 85
+BYTE_TABLES = tuple(
+    (start - 1, "'" + "".join(f"${b:02X}" for b in range(start, start + BYTE_TABLE_LENGTH)) + "'")
+    for start in range(1, 256, BYTE_TABLE_LENGTH)
+)
+
+
+def char_body(name: str) -> list[str]:
+    """F_<DEV>_CHAR(nByte : BYTE) : STRING, the one-character string of a byte 1..255."""
+    lines = []
+    for k, (before, table) in enumerate(BYTE_TABLES):
+        test = "IF" if k == 0 else "ELSIF"
+        if k < len(BYTE_TABLES) - 1:
+            lines.append(f"{test} nByte <= {before + BYTE_TABLE_LENGTH} THEN")
+        else:
+            lines.append("ELSE")
+        lines.append(f"    {name} := MID({table}, 1, BYTE_TO_INT(nByte) - {before});")
+    return [*lines, "END_IF;"]
+
+
+def char_code_body(name: str) -> list[str]:
+    """F_<DEV>_CHAR_CODE(sChar : STRING) : BYTE, the byte of a one-character string (0: the empty one)."""
+    lines = [f"{name} := 0;", "IF LEN(sChar) = 0 THEN", "    RETURN;", "END_IF;"]
+    for before, table in BYTE_TABLES:
+        lines += [
+            f"nAt := FIND({table}, sChar);",
+            "IF nAt > 0 THEN",
+            f"    {name} := INT_TO_BYTE(nAt + {before});",
+            "    RETURN;",
+            "END_IF;",
+        ]
+    return lines
 
 
 @dataclass(frozen=True)

@@ -151,11 +151,11 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
             FunctionView(
                 h.char,
                 "STRING",
-                "The one-character string of a byte (1..255): MID of a table of every byte in order.",
+                "The one-character string of a byte (1..255): MID of tables of every byte in order.",
                 (Member("nByte", "BYTE"),),
                 (),
                 (),
-                (f"{h.char} := MID({codec.BYTE_TABLE}, 1, BYTE_TO_INT(nByte));",),
+                tuple(codec.char_body(h.char)),
             )
         )
     if "code" in used:
@@ -164,11 +164,11 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
             FunctionView(
                 h.code,
                 "BYTE",
-                "The byte of a one-character string: its position in the same table (0 for the empty string).",
+                "The byte of a one-character string: its position in the same tables (0 for the empty string).",
                 (Member("sChar", dialect.string(1)),),
                 (),
-                (),
-                (f"{h.code} := INT_TO_BYTE(FIND({codec.BYTE_TABLE}, sChar));",),
+                (Member("nAt", "INT"),),
+                tuple(codec.char_code_body(h.code)),
             )
         )
     return out
