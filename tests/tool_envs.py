@@ -78,6 +78,7 @@ VENV_TOOLS = {
             ("blark==0.8.3", "tree-sitter-iec61131-3-st==0.1.2", "tree-sitter>=0.23"),
             "parses the generated Structured Text (TwinCAT's grammar and the plain standard's)",
         ),
+        VenvTool("plcopen", "bin/python", ("lxml==6.0.2",), "validates the generated PLCopen XML against the TC6 XML v2.01 schema"),
     )
 }
 SOURCE_TOOLS = {

@@ -83,6 +83,7 @@ class Dialect:
     enum_base: bool  # `(A := 1, ...) UINT;`: CODESYS' enum values and base type; plain `(A, ...)` otherwise
     qualifier: str  # `E_X.MEMBER` (CODESYS qualified_only) or `E_X#MEMBER` (the standard's typed enum value)
     sized_strings: bool  # `STRING(16)`; matiec reads no length in a STRUCT member or a VAR_INPUT: plain `STRING`
+    unions: bool  # floats' bits through a UNION (CODESYS / TwinCAT); otherwise exact LREAL arithmetic
 
     def string(self, size: int) -> str:
         """The text type of `size` bytes (plain IEC: matiec's STRING, 126 bytes; the encoders check the length)."""
@@ -93,10 +94,12 @@ class Dialect:
         return f"{type_name}{self.qualifier}{member}"
 
 
-CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), True, ".", True)
+CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), True, ".", True, True)
 # matiec implements edition 2: no enum values (the FROM_RAW / TO_RAW CASEs carry the numbers), no string lengths.
-IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), False, "#", False)
+IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), False, "#", False, False)
 DIALECTS = (CODESYS, IEC)
+# The PLCopen XML project (TwinCAT 3 / CODESYS import): CODESYS' text, but TC6 XML has no UNION.
+PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), True, ".", True, False)
 
 
 def st_type(reg: Register, dialect: Dialect) -> str:

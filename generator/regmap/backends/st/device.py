@@ -102,7 +102,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
 
 def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set[str]) -> list[FunctionView]:
     """The float and text helpers the decoders and encoders call (none for a map without floats or text)."""
-    union = dialect.enum_base  # CODESYS / TwinCAT: reinterpret through a UNION; plain IEC: exact arithmetic
+    union = dialect.unions  # CODESYS / TwinCAT: reinterpret through a UNION; otherwise exact arithmetic
     how = "through a UNION" if union else "rebuilt from sign, exponent and mantissa with exact LREAL arithmetic"
     out: list[FunctionView] = []
 
@@ -176,7 +176,7 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
 
 def unions(names: Names, dialect: Dialect, h: codec.Helpers, used: set[str]) -> list[StructView]:
     """CODESYS / TwinCAT: the UNIONs the float helpers reinterpret bits through."""
-    if not dialect.enum_base:
+    if not dialect.unions:
         return []
     out = []
     if "f32" in used:

@@ -334,7 +334,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
         why = "a register holds a value its enum does not list (that member keeps its old value)"
-        if any(r.type.is_float for r in regs) and not names.dialect.enum_base:
+        if any(r.type.is_float for r in regs) and not names.dialect.unions:
             why += ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
         decode = FunctionView(
             name,
