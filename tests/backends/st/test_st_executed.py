@@ -412,7 +412,17 @@ def test_compiled_st_decodes_and_encodes_as_the_python_client(map_path: Path, ma
     problems += encodes.check(results)
     print(
         f"{device.id}: {examples} example frames, {len(decodes.cases)} decoder calls ({compared} register values), "
-        f"{len(encodes.cases)} encoder calls ({sum(e is None for e in encodes.expected.values())} refused)"
+        f"{len(encodes.cases)} encoder calls ({sum(e is None for e in encodes.expected.values())} refused)",
     )
     assert not problems, f"{len(problems)} differences:\n" + "\n".join(problems[:40])
+    reported = [
+        f"e_{reg.name}_member_{m.name}"
+        for reg in device.registers
+        if reg.enum is not None and not reg.bitfields and encodes.encoder(reg) is not None
+        for m in reg.enum.members
+        if not m.writable
+    ]
+    tried = [case_id for case_id in reported if case_id in results]
+    assert bool(tried) == bool(reported), "the encoders were not tried on the states the device only reports"
+    assert all(not results[case_id].ok for case_id in tried), "a state the device only reports was encoded"
     assert examples or not device.examples, "no example frame was run"
