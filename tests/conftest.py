@@ -225,7 +225,7 @@ def built_tool(name: str) -> Path:
         skip_or_fail(str(exc))
 
 
-SHARED = ROOT.parent / "shared"
+SHARED = Path(os.environ.get("REGMAP_SHARED_DIR") or ROOT.parent / "shared")  # as tests/support/tool_envs.py
 MANUALS = SHARED / "manuals"
 
 

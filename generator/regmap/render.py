@@ -78,6 +78,21 @@ def md_text(text: str | None) -> str:
     return cleaned
 
 
+def xml_text(text: str | None) -> str:
+    """XML character data or an attribute value: markup characters as entities, and the control
+    characters XML 1.0 cannot carry at all as U+FFFD."""
+    out = (text or "").replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+    return "".join(c if c in "\t\n\r" or ord(c) >= 0x20 else "\ufffd" for c in out)
+
+
+def xml_comment(text: str | None) -> str:
+    """Text safe inside an XML <!-- --> comment on one line: no `--`, no `-` at its end."""
+    cleaned = xml_text(" ".join((text or "").split()))
+    while "--" in cleaned:
+        cleaned = cleaned.replace("--", "- -")
+    return cleaned + " " if cleaned.endswith("-") else cleaned
+
+
 def hex4(value: int) -> str:
     return f"0x{value:04X}"
 
@@ -93,6 +108,8 @@ FILTERS: dict[str, Callable[..., Any]] = {
     "c_str": c_str,
     "st_comment": st_comment,
     "md": md_text,
+    "xml": xml_text,
+    "xml_comment": xml_comment,
     "hex4": hex4,
     "hex2": hex2,
     "json": lambda v: json.dumps(v, ensure_ascii=False),

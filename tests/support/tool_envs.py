@@ -25,7 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-SHARED_TOOLS = ROOT.parent / "shared" / "tools"
+# ../shared beside the clone; REGMAP_SHARED_DIR points elsewhere (a worktree nested one level deeper).
+SHARED_TOOLS = Path(os.environ.get("REGMAP_SHARED_DIR") or ROOT.parent / "shared") / "tools"
 MATIEC_TARBALL = SHARED_TOOLS / "matiec" / "matiec-6bb2c33.tar.gz"
 STAMP = ".regmap-complete"
 
@@ -77,6 +78,7 @@ VENV_TOOLS = {
             ("blark==0.8.3", "tree-sitter-iec61131-3-st==0.1.2", "tree-sitter>=0.23"),
             "parses the generated Structured Text (TwinCAT's grammar and the plain standard's)",
         ),
+        VenvTool("plcopen", "bin/python", ("lxml==6.0.2",), "validates the generated PLCopen XML against the TC6 XML v2.01 schema"),
     )
 }
 SOURCE_TOOLS = {

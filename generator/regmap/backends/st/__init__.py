@@ -1,7 +1,8 @@
 """Structured Text back end (IEC 61131-3): per map, `st/<device>/codesys/` (CODESYS / TwinCAT 3) and
 `st/<device>/iec/` (plain standard, for OpenPLC / matiec), each with the enums and raw read-plan
 blocks (`<device>_types.st`), the constants (`<device>_constants.st`) and the functions
-(`<device>_functions.st`), plus a README with the usage per dialect.
+(`<device>_functions.st`), plus `st/<device>/plcopen/<device>.xml` (the same as one PLCopen TC6 XML
+project) and a README with the usage per dialect.
 
 As in the C back end, `views` computes every name, literal and statement and the templates only
 print, escaping map text with `st_comment`; `names` holds the identifier rules (IEC keywords, no
@@ -13,9 +14,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from regmap.backends.st.codec import DIALECTS
 from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
-from regmap.backends.st.views import DIALECTS
+from regmap.backends.st.plcopen import plcopen_context
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
@@ -45,6 +47,7 @@ def render_device(device: Device) -> Files:
     for dialect, context in views.items():
         for name in FILES:
             files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(device))
     files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
     return files
 

@@ -9,8 +9,8 @@ into its fields by halving or doubling it to [1, 2). Plain IEC has no literal fo
 decoder returns FALSE for them (CODESYS returns the REAL as the device sent it, as the Python client
 does); both encoders refuse them, as the Python client refuses NaN and values outside the range.
 
-Text: ST strings are bytes; a byte becomes a one-character STRING through MID of a 255-character table
-of `$hh` escapes, and a character its code through FIND in the same table, in both dialects (plain IEC
+Text: ST strings are bytes; a byte becomes a one-character STRING through MID of three tables of `$hh`
+escapes (85 bytes each), and a character its code through FIND in the same tables, in both dialects (plain IEC
 has no CHAR/BYTE conversion). Text bytes are kept as the device sends them (no transcoding).
 """
 
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from regmap.backends.st.names import StIdentifier
 from regmap.model import ByteOrder, DataType, Register, WordOrder
 
-# The ST type of a register's raw value (strings: STRING(bytes), see `st_type`).
+# The ST type of a register's raw value (strings: STRING of its bytes, see `st_type`).
 NATURAL = {
     DataType.U16: "UINT",
     DataType.S16: "INT",
@@ -37,13 +37,74 @@ NATURAL = {
 # Bit string of the same width: the word a register's words are assembled into.
 BITS = {1: "WORD", 2: "DWORD", 4: "LWORD"}
 
-BYTE_TABLE = "'" + "".join(f"${b:02X}" for b in range(1, 256)) + "'"
-"""Every byte 1..255 in order: MID(table, 1, b) is the character b, FIND(table, c) the code of c."""
+# Every byte 1..255 in order, in three strings of 85: MID(table k, 1, b - 85 k) is the character b, and
+# FIND(table k, c) + 85 k the code of c. One table of 255 would not fit matiec's STRING (126 bytes).
+BYTE_TABLE_LENGTH = 85
+BYTE_TABLES = tuple(
+    (start - 1, "'" + "".join(f"${b:02X}" for b in range(start, start + BYTE_TABLE_LENGTH)) + "'")
+    for start in range(1, 256, BYTE_TABLE_LENGTH)
+)
 
 
-def st_type(reg: Register) -> str:
+def char_body(name: str) -> list[str]:
+    """F_<DEV>_CHAR(nByte : BYTE) : STRING, the one-character string of a byte 1..255."""
+    lines = []
+    for k, (before, table) in enumerate(BYTE_TABLES):
+        test = "IF" if k == 0 else "ELSIF"
+        if k < len(BYTE_TABLES) - 1:
+            lines.append(f"{test} nByte <= {before + BYTE_TABLE_LENGTH} THEN")
+        else:
+            lines.append("ELSE")
+        lines.append(f"    {name} := MID({table}, 1, BYTE_TO_INT(nByte) - {before});")
+    return [*lines, "END_IF;"]
+
+
+def char_code_body(name: str) -> list[str]:
+    """F_<DEV>_CHAR_CODE(sChar : STRING) : BYTE, the byte of a one-character string (0: the empty one)."""
+    lines = [f"{name} := 0;", "IF LEN(sChar) = 0 THEN", "    RETURN;", "END_IF;"]
+    for before, table in BYTE_TABLES:
+        lines += [
+            f"nAt := FIND({table}, sChar);",
+            "IF nAt > 0 THEN",
+            f"    {name} := INT_TO_BYTE(nAt + {before});",
+            "    RETURN;",
+            "END_IF;",
+        ]
+    return lines
+
+
+@dataclass(frozen=True)
+class Dialect:
+    """What differs between CODESYS / TwinCAT and plain IEC 61131-3 (OpenPLC / matiec)."""
+
+    name: str
+    title: str
+    pragmas: tuple[str, ...]  # before every enum type
+    enum_base: bool  # `(A := 1, ...) UINT;`: CODESYS' enum values and base type; plain `(A, ...)` otherwise
+    qualifier: str  # `E_X.MEMBER` (CODESYS qualified_only) or `E_X#MEMBER` (the standard's typed enum value)
+    sized_strings: bool  # `STRING(16)`; matiec reads no length in a STRUCT member or a VAR_INPUT: plain `STRING`
+    unions: bool  # floats' bits through a UNION (CODESYS / TwinCAT); otherwise exact LREAL arithmetic
+
+    def string(self, size: int) -> str:
+        """The text type of `size` bytes (plain IEC: matiec's STRING, 126 bytes; the encoders check the length)."""
+        return f"STRING({size})" if self.sized_strings else "STRING"
+
+    def member(self, type_name: str, member: str) -> str:
+        """An enum value, always qualified: two enums of a map may share a member name (`NONE`)."""
+        return f"{type_name}{self.qualifier}{member}"
+
+
+CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), True, ".", True, True)
+# matiec implements edition 2: no enum values (the FROM_RAW / TO_RAW CASEs carry the numbers), no string lengths.
+IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), False, "#", False, False)
+DIALECTS = (CODESYS, IEC)
+# The PLCopen XML project (TwinCAT 3 / CODESYS import): CODESYS' text, but TC6 XML has no UNION.
+PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), True, ".", True, False)
+
+
+def st_type(reg: Register, dialect: Dialect) -> str:
     if reg.type.is_string:
-        return f"STRING({2 * reg.words})"
+        return dialect.string(2 * reg.words)
     return NATURAL[reg.type]
 
 
@@ -53,10 +114,10 @@ def swapped(reg: Register) -> bool:
 
 
 def value_type(reg: Register) -> str:
-    """The decoded value's ST type: scaled (or offset) numbers become REAL, 64-bit ones LREAL."""
+    """The decoded value's ST type of a number: scaled (or offset) ones become REAL, 64-bit ones LREAL."""
     if reg.type.numeric and (reg.scaled or reg.offset_set):
         return "LREAL" if reg.type.words == 4 else "REAL"
-    return st_type(reg)
+    return NATURAL[reg.type]
 
 
 def wire_word(reg: Register, index: int, words: str) -> str:
@@ -185,10 +246,11 @@ def f64_from_bits_body(h: Helpers, union: bool) -> tuple[list[tuple[str, str]], 
     ]
 
 
-def _normalise(limit: str) -> list[str]:
-    """Statements that bring fAbs (finite, non-zero) to [1, 2) while counting the power of two in nExp."""
+def _normalise() -> list[str]:
+    """Statements that bring fAbs (non-zero) to [1, 2) while counting the power of two in nExp; infinity and
+    NaN return (x - x is NaN for both). No literal bound: matiec reads every real literal as a REAL."""
     return [
-        f"IF NOT (fAbs <= {limit}) THEN",
+        "IF NOT (fAbs - fAbs = 0.0) THEN",
         "    RETURN; (* infinity or NaN *)",
         "END_IF;",
         "nExp := 0;",
@@ -225,7 +287,7 @@ def f32_to_bits_body(h: Helpers, union: bool) -> tuple[list[tuple[str, str]], li
         f"    {name} := TRUE;",
         "    RETURN;",
         "END_IF;",
-        *_normalise("3.4028234663852886e38"),
+        *_normalise(),
         "IF nExp < -126 THEN",
         "    nBits := UDINT_TO_DWORD(LREAL_TO_UDINT(fAbs * EXPT(fTwo, nExp + 149)));",
         "ELSE",
@@ -262,7 +324,7 @@ def f64_to_bits_body(h: Helpers, union: bool) -> tuple[list[tuple[str, str]], li
         f"    {name} := TRUE;",
         "    RETURN;",
         "END_IF;",
-        *_normalise("1.7976931348623157e308"),
+        *_normalise(),
         "IF nExp < -1022 THEN",
         "    fMant := fAbs * EXPT(fTwo, nExp + 1074);",
         "    nExp := -1023;",

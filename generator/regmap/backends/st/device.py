@@ -5,12 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.st import codec
+from regmap.backends.st.codec import Dialect
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoders
 from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
 from regmap.backends.st.views import (
     Const,
-    Dialect,
     EnumValue,
     EnumView,
     FunctionView,
@@ -102,7 +102,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
 
 def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set[str]) -> list[FunctionView]:
     """The float and text helpers the decoders and encoders call (none for a map without floats or text)."""
-    union = dialect.enum_base  # CODESYS / TwinCAT: reinterpret through a UNION; plain IEC: exact arithmetic
+    union = dialect.unions  # CODESYS / TwinCAT: reinterpret through a UNION; otherwise exact arithmetic
     how = "through a UNION" if union else "rebuilt from sign, exponent and mantissa with exact LREAL arithmetic"
     out: list[FunctionView] = []
 
@@ -151,11 +151,11 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
             FunctionView(
                 h.char,
                 "STRING",
-                "The one-character string of a byte (1..255): MID of a table of every byte in order.",
+                "The one-character string of a byte (1..255): MID of tables of every byte in order.",
                 (Member("nByte", "BYTE"),),
                 (),
                 (),
-                (f"{h.char} := MID({codec.BYTE_TABLE}, 1, BYTE_TO_INT(nByte));",),
+                tuple(codec.char_body(h.char)),
             )
         )
     if "code" in used:
@@ -164,11 +164,11 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
             FunctionView(
                 h.code,
                 "BYTE",
-                "The byte of a one-character string: its position in the same table (0 for the empty string).",
-                (Member("sChar", "STRING(1)"),),
+                "The byte of a one-character string: its position in the same tables (0 for the empty string).",
+                (Member("sChar", dialect.string(1)),),
                 (),
-                (),
-                (f"{h.code} := INT_TO_BYTE(FIND({codec.BYTE_TABLE}, sChar));",),
+                (Member("nAt", "INT"),),
+                tuple(codec.char_code_body(h.code)),
             )
         )
     return out
@@ -176,7 +176,7 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
 
 def unions(names: Names, dialect: Dialect, h: codec.Helpers, used: set[str]) -> list[StructView]:
     """CODESYS / TwinCAT: the UNIONs the float helpers reinterpret bits through."""
-    if not dialect.enum_base:
+    if not dialect.unions:
         return []
     out = []
     if "f32" in used:

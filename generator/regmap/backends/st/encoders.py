@@ -11,7 +11,7 @@ from regmap.backends.st.codec import (
     st_type,
     swapped,
 )
-from regmap.backends.st.functions import getter_name, owners
+from regmap.backends.st.functions import getter_name, getter_type, owners
 from regmap.backends.st.names import StIdentifier, st_real
 from regmap.backends.st.views import (
     FunctionView,
@@ -23,11 +23,27 @@ from regmap.backends.st.views import (
     sentences,
 )
 from regmap.core.text import eng
-from regmap.model import Command, Device, Register, WordOrder
+from regmap.model import Command, Device, EnumType, Register, WordOrder
 
 
 def _range_lines(name: str, lo: int | float, hi: int | float) -> list[str]:
     return [f"IF nRaw < {lo} OR nRaw > {hi} THEN", f"    {name} := FALSE;", "    RETURN;", "END_IF;"]
+
+
+def _refuse_reported(names: Names, name: str, variable: str, enum: EnumType) -> list[str]:
+    """FALSE for a member the device only reports (access r): a state, never a value to write."""
+    reported = [m for m in enum.members if not m.writable]
+    if not reported:
+        return []
+    type_name = names.enum_type(enum)
+    labels = [f"    {names.dialect.member(type_name, StIdentifier(m.name))}" for m in reported]
+    return [
+        f"CASE {variable} OF",
+        *(label + ("," if i < len(labels) - 1 else ":") for i, label in enumerate(labels)),
+        f"        {name} := FALSE; (* a state the device only reports *)",
+        "        RETURN;",
+        "END_CASE;",
+    ]
 
 
 def _put_words(device: Device, reg: Register, output: str) -> list[str]:
@@ -218,7 +234,7 @@ def _text_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> 
         name,
         "BOOL",
         _encoder_comment(reg, label, "aWords"),
-        (Member("sValue", st_type(reg)),),
+        (Member("sValue", st_type(reg, names.dialect)),),
         (Member("aWords", f"ARRAY[0..{reg.words - 1}] OF WORD"),),
         local,
         tuple(body),
@@ -244,13 +260,15 @@ def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
                 local.append(Member(local_name, names.enum_type(b.enum)))
                 decoder = StIdentifier("F", names.prefix, b.enum.name, "FROM_RAW")
                 body += [
-                    f"IF NOT {decoder}(nRaw := UINT_TO_DINT({getter_name(names, reg, b)}(nValue)), eValue := {local_name}) THEN",
+                    f"IF NOT {decoder}(nRaw := {getter_type(b)}_TO_DINT({getter_name(names, reg, b)}(nValue)), eValue := {local_name}) THEN",
                     f"    {name} := FALSE;",
                     "    RETURN;",
                     "END_IF;",
+                    *_refuse_reported(names, name, local_name, b.enum),
                 ]
     elif reg.enum is not None:
         inputs.append(Member("eValue", names.enum_type(reg.enum)))
+        body += _refuse_reported(names, name, "eValue", reg.enum)
         body.append(f"nRaw := DINT_TO_LINT({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
         checked = True
     elif reg.scaled or reg.offset_set:

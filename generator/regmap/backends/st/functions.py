@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 from regmap.backends.st.codec import (
     NATURAL,
+    Dialect,
     Helpers,
     assemble64,
     halves64,
-    st_type,
     swapped,
     value_type,
 )
@@ -18,7 +18,6 @@ from regmap.backends.st.names import StIdentifier, st_hex, st_int, st_real
 from regmap.backends.st.views import (
     POLL_VALUE,
     Const,
-    Dialect,
     FunctionView,
     Member,
     Names,
@@ -130,12 +129,12 @@ class Values:
                     self.members.append(Member(field, names.enum_type(b.enum), _bitfield_comment(b)))
                     decoder = StIdentifier("F", names.prefix, b.enum.name, "FROM_RAW")
                     lines += [
-                        f"IF NOT {decoder}(nRaw := UINT_TO_DINT({getter}), eValue := stValues.{field}) THEN",
+                        f"IF NOT {decoder}(nRaw := {getter_type(b)}_TO_DINT({getter}), eValue := stValues.{field}) THEN",
                         "    bOk := FALSE;",
                         "END_IF;",
                     ]
                 else:
-                    self.members.append(Member(field, "BOOL" if b.width == 1 else "UINT", _bitfield_comment(b)))
+                    self.members.append(Member(field, getter_type(b), _bitfield_comment(b)))
                     lines.append(f"stValues.{field} := {getter};")
             return lines
         if reg.type.is_float:
@@ -173,7 +172,7 @@ class Values:
     def _text(self, reg: Register, member: str, raw: str, target: str, comment: str, locals_: dict[str, str]) -> list[str]:
         """Text: bytes in order (first character in the high byte), up to the first NUL; space padding removed."""
         self.used.add("char")
-        self.members.append(Member(member, st_type(reg), comment))
+        self.members.append(Member(member, self.dialect.string(2 * reg.words), comment))
         locals_.update(i="INT", nByte="BYTE", nWord="WORD")
         word = f"ROL({raw}[i / 2], 8)" if swapped(reg) else f"{raw}[i / 2]"
         lines = [
@@ -217,6 +216,11 @@ def _offset(reg: Register) -> str:
         return ""
     sign = "-" if reg.offset < 0 else "+"
     return f" {sign} {st_real(abs(reg.offset.numerator))} / {st_real(reg.offset.denominator)}"
+
+
+def getter_type(b: Bitfield) -> str:
+    """What a bitfield's GET function returns: one bit is a BOOL, a wider field its UINT value."""
+    return "BOOL" if b.width == 1 else "UINT"
 
 
 def getter_name(names: Names, reg: Register, b: Bitfield) -> StIdentifier:
@@ -330,7 +334,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
         why = "a register holds a value its enum does not list (that member keeps its old value)"
-        if any(r.type.is_float for r in regs) and not names.dialect.enum_base:
+        if any(r.type.is_float for r in regs) and not names.dialect.unions:
             why += ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
         decode = FunctionView(
             name,
@@ -371,16 +375,15 @@ def bitfield_functions(names: Names) -> list[FunctionView]:
             to_uint = f"{word}_TO_UINT(SHR(nWord AND {mask}, {shift}))"
             get_body: tuple[str, ...]
             set_body: tuple[str, ...]
+            returns = getter_type(b)
             if b.width == 1:
                 get_body = (f"{get} := (nWord AND {mask}) <> 0;",)
                 set_body = ("IF bValue THEN", f"    {put} := nWord OR {mask};", "ELSE", f"    {put} := nWord AND NOT {mask};", "END_IF;")
                 value = Member("bValue", "BOOL")
-                returns = "BOOL"
             else:
                 get_body = (f"{get} := {to_uint};",)
                 set_body = (f"{put} := (nWord AND NOT {mask}) OR (SHL(UINT_TO_{word}(nValue), {shift}) AND {mask});",)
                 value = Member("nValue", "UINT")
-                returns = "UINT"
             functions.append(
                 FunctionView(
                     get, returns, f"Bits {b.bits_text} ({b.name}) of a {owner(reg)} word.", (Member("nWord", word),), (), (), get_body

@@ -8,31 +8,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.st.codec import NATURAL, st_type, swapped
+from regmap.backends.st.codec import NATURAL, Dialect, st_type, swapped
 from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_real, st_string
 from regmap.core.text import number, titled
 from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device
-
-
-@dataclass(frozen=True)
-class Dialect:
-    """What differs between CODESYS / TwinCAT and plain IEC 61131-3 (OpenPLC / matiec)."""
-
-    name: str
-    title: str
-    pragmas: tuple[str, ...]  # before every enum type
-    enum_base: bool  # `(...) UINT;`: CODESYS' enum base type
-    qualified_enums: bool  # `E_X.MEMBER` (qualified_only) rather than the bare `MEMBER`
-
-    def member(self, type_name: str, member: str) -> str:
-        return f"{type_name}.{member}" if self.qualified_enums else member
-
-
-CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), True, True)
-IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), False, False)
-DIALECTS = (CODESYS, IEC)
 
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
 
@@ -194,7 +175,7 @@ def enum_functions(names: Names, dialect: Dialect, enums: Sequence[EnumView]) ->
                 (Member("nRaw", "DINT"),),
                 (Member("eValue", view.type_name),),
                 (),
-                ("CASE nRaw OF", *cases, "ELSE", f"    {from_raw} := FALSE;", "    RETURN;", "END_CASE", f"{from_raw} := TRUE;"),
+                ("CASE nRaw OF", *cases, "ELSE", f"    {from_raw} := FALSE;", "    RETURN;", "END_CASE;", f"{from_raw} := TRUE;"),
             )
         )
         back = [f"    {dialect.member(view.type_name, m.name)}: {to_raw} := {m.value};" for m in view.members]
@@ -206,7 +187,7 @@ def enum_functions(names: Names, dialect: Dialect, enums: Sequence[EnumView]) ->
                 (Member("eValue", view.type_name),),
                 (),
                 (),
-                ("CASE eValue OF", *back, "END_CASE"),
+                ("CASE eValue OF", *back, "END_CASE;"),
             )
         )
     return functions
@@ -236,7 +217,7 @@ def _ratio(value: int) -> str:
 
 def register_consts(names: Names, reg: Register) -> Section:
     what = f"register {reg.name}"
-    t = st_type(reg)
+    t = st_type(reg, names.dialect)
     c = names.const
     consts = [
         Const(c(reg.name, "ADDR", what=what, pos=reg.pos), "UINT", st_hex(reg.address)),
@@ -446,7 +427,7 @@ def command_consts(names: Names) -> list[Section]:
         reg = cmd.register
         consts = [
             Const(names.const("CMD", cmd.name, "ADDR", what=what, pos=cmd.pos), "UINT", st_hex(reg.address)),
-            Const(names.const("CMD", cmd.name, "VALUE", what=what, pos=cmd.pos), st_type(reg), st_int(cmd.value)),
+            Const(names.const("CMD", cmd.name, "VALUE", what=what, pos=cmd.pos), st_type(reg, names.dialect), st_int(cmd.value)),
         ]
         if cmd.argument is not None:
             arg = cmd.argument
