@@ -73,12 +73,8 @@ class LibmodbusPrograms:
 _PROGRAMS: list[LibmodbusPrograms] = []
 
 
-def libmodbus_programs(factory: pytest.TempPathFactory) -> LibmodbusPrograms:
-    """Both programs, compiled on the first call of the session; skips (fails under CI=true) without cc,
-    pkg-config or libmodbus-dev."""
-    if _PROGRAMS:
-        return _PROGRAMS[0]
-    cc = require_tool("cc")
+def libmodbus_flags() -> list[str]:
+    """The compiler and linker flags for libmodbus; skips (fails under CI=true) without pkg-config or libmodbus-dev."""
     pkg_config = require_tool("pkg-config")
     flags = subprocess.run([pkg_config, "--cflags", "--libs", "libmodbus"], capture_output=True, text=True, check=False)
     if flags.returncode != 0:
@@ -86,15 +82,24 @@ def libmodbus_programs(factory: pytest.TempPathFactory) -> LibmodbusPrograms:
         if os.environ.get("CI") == "true":
             pytest.fail(message)
         pytest.skip(message)
+    return flags.stdout.split()
+
+
+def build_libmodbus_program(source: Path, binary: Path) -> Path:
+    """`source` compiled against libmodbus with the tests' warning flags."""
+    cc = require_tool("cc")
+    build = subprocess.run([cc, *CFLAGS, "-o", str(binary), str(source), *libmodbus_flags()], capture_output=True, text=True, check=False)
+    assert build.returncode == 0, f"{source.name} does not compile:\n{build.stderr}"
+    return binary
+
+
+def libmodbus_programs(factory: pytest.TempPathFactory) -> LibmodbusPrograms:
+    """Both programs, compiled on the first call of the session; skips (fails under CI=true) without cc,
+    pkg-config or libmodbus-dev."""
+    if _PROGRAMS:
+        return _PROGRAMS[0]
     out = factory.mktemp("libmodbus")
-    built = {}
-    for name in ("libmodbus_ref", "libmodbus_tables_server"):
-        binary = out / name
-        build = subprocess.run(
-            [cc, *CFLAGS, "-o", str(binary), str(C_DIR / f"{name}.c"), *flags.stdout.split()], capture_output=True, text=True, check=False
-        )
-        assert build.returncode == 0, f"{name}.c does not compile:\n{build.stderr}"
-        built[name] = binary
+    built = {name: build_libmodbus_program(C_DIR / f"{name}.c", out / name) for name in ("libmodbus_ref", "libmodbus_tables_server")}
     _PROGRAMS.append(LibmodbusPrograms(built["libmodbus_ref"], built["libmodbus_tables_server"]))
     return _PROGRAMS[0]
 

@@ -14,10 +14,12 @@ from regmap_runtime_2f08255883.bits import BitfieldValue
 from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
 from regmap_runtime_2f08255883.codec import Unlisted
 from regmap_runtime_2f08255883.errors import (
+    AccessError,
     ConnectionLost,
     CrcError,
     DeviceException,
     DeviceTimeout,
+    FirmwareError,
     OutcomeUnknown,
     ProtocolError,
     RegmapError,
@@ -50,10 +52,12 @@ __all__ = [
     "Unlisted",
     "DeviceProfile",
     "load_profile",
+    "AccessError",
     "ConnectionLost",
     "CrcError",
     "DeviceException",
     "DeviceTimeout",
+    "FirmwareError",
     "OutcomeUnknown",
     "ProtocolError",
     "RegmapError",

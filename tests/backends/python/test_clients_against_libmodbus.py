@@ -829,15 +829,6 @@ def test_generated_docstrings_say_space_order_gate_and_poll() -> None:
     assert "check_firmware" not in (remote.FixtureRemoteIo.__doc__ or "")
 
 
-def test_generated_modules_re_export_firmware_error_where_the_map_has_a_firmware_register() -> None:
-    generated_python()
-    power, remote = importlib.import_module(POWER), importlib.import_module(REMOTE)
-    errors = importlib.import_module(power.SyncClient.__module__.rsplit(".", 1)[0] + ".errors")
-    assert "FirmwareError" in power.__all__ and power.FirmwareError is errors.FirmwareError
-    assert issubclass(errors.FirmwareError, power.RegmapError) and issubclass(errors.AccessError, power.RegmapError)
-    assert "FirmwareError" not in remote.__all__  # no firmware register: nothing to check against
-
-
 def test_misuse_of_the_generated_fixture_clients_does_not_type_check(tmp_path: Path) -> None:
     python = generated_python()
     program = tmp_path / "misuse.py"

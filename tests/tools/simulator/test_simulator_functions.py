@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import os
 import select
-import shutil
 import socket
 import struct
 import subprocess
@@ -21,7 +20,8 @@ from regmap.diagnostics import MapError
 from regmap.frontend import load_map, load_map_text
 from regmap_runtime.rtu import with_crc
 
-from conftest import ROOT, PtyPair, SimulatorFactory, require_tool
+from conftest import ROOT, PtyPair, SimulatorFactory
+from support.libmodbus_ref import build_libmodbus_program
 
 METER = ROOT / "tests" / "maps" / "fixtures" / "power_meter.yaml"
 CT_RATIO = 0x0120  # u16 1..10000, default 1
@@ -138,7 +138,7 @@ LIBMODBUS_CALLS = r"""
 #include <stdlib.h>
 #include <modbus.h>
 int main(int argc, char **argv) {
-    modbus_t *ctx = modbus_new_tcp("127.0.0.1", atoi(argv[1]));
+    modbus_t *ctx = modbus_new_tcp("127.0.0.1", argc > 1 ? atoi(argv[1]) : 502);
     uint8_t id[64];
     uint16_t write[1] = {42}, read[2] = {0, 0};
     int n, i;
@@ -161,14 +161,10 @@ int main(int argc, char **argv) {
 
 
 def test_libmodbus_client_calls(simulator: SimulatorFactory, tmp_path: Path) -> None:
-    gcc = require_tool("gcc")
-    if shutil.which("pkg-config") is None or subprocess.run(["pkg-config", "--exists", "libmodbus"], check=False).returncode:
-        require_tool("libmodbus (pkg-config libmodbus)")
     (tmp_path / "calls.c").write_text(LIBMODBUS_CALLS)
-    flags = subprocess.run(["pkg-config", "--cflags", "--libs", "libmodbus"], capture_output=True, text=True, check=True).stdout.split()
-    subprocess.run([gcc, "-o", str(tmp_path / "calls"), str(tmp_path / "calls.c"), *flags], check=True)
+    calls = build_libmodbus_program(tmp_path / "calls.c", tmp_path / "calls")
     sim = simulator(METER)
-    result = subprocess.run([str(tmp_path / "calls"), str(sim.port)], capture_output=True, text=True, timeout=30, check=False)
+    result = subprocess.run([str(calls), str(sim.port)], capture_output=True, text=True, timeout=30, check=False)
     assert result.returncode == 0, result.stderr
     expected_id = " ".join(f"{b:02X}" for b in bytes([0x50, 0x4D, 0xFF]) + b"PM-3000")
     assert result.stdout.splitlines() == [f"id {expected_id}", "rw 42", "refused -1 EMBXILADD"]

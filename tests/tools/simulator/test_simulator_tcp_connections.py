@@ -9,7 +9,6 @@ from __future__ import annotations
 import os
 import resource
 import select
-import shutil
 import socket
 import struct
 import subprocess
@@ -22,9 +21,10 @@ import pytest
 
 from regmap_runtime.rtu import with_crc
 
-from conftest import MAPS, ROOT, SimulatorFactory, free_port, require_tool, wait_for
+from conftest import ROOT, SimulatorFactory, free_port, wait_for
+from support.libmodbus_ref import build_libmodbus_program
 
-IDM = MAPS[0] if MAPS[0].name == "idm_rs.yaml" else ROOT / "maps" / "idm_rs.yaml"
+IDM = ROOT / "maps" / "idm_rs.yaml"
 PEAK_CURRENT = 0x0191
 READ_PEAK = struct.pack(">BHH", 0x03, PEAK_CURRENT, 1)
 
@@ -78,10 +78,12 @@ def test_a_gateway_broadcasts_unit_0_and_answers_0x0b_for_absent_units(simulator
 
 
 LIBMODBUS_CLIENT = r"""
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <modbus.h>
 int main(int argc, char **argv) {
-    modbus_t *ctx = modbus_new_tcp("127.0.0.1", atoi(argv[1]));
+    modbus_t *ctx = modbus_new_tcp("127.0.0.1", argc > 1 ? atoi(argv[1]) : 502);
     uint16_t value = 0;
     if (ctx == NULL || modbus_connect(ctx) != 0) { return 2; }
     modbus_set_response_timeout(ctx, 2, 0);
@@ -95,15 +97,11 @@ int main(int argc, char **argv) {
 
 
 def test_libmodbus_tcp_client_with_its_default_unit_gets_answers(simulator: SimulatorFactory, tmp_path: Path) -> None:
-    gcc = require_tool("gcc")
-    if shutil.which("pkg-config") is None or subprocess.run(["pkg-config", "--exists", "libmodbus"], check=False).returncode:
-        require_tool("libmodbus (pkg-config libmodbus)")
     source = tmp_path / "client.c"
-    source.write_text("#include <stdlib.h>\n#include <errno.h>\n" + LIBMODBUS_CLIENT)
-    flags = subprocess.run(["pkg-config", "--cflags", "--libs", "libmodbus"], capture_output=True, text=True, check=True).stdout.split()
-    subprocess.run([gcc, "-o", str(tmp_path / "client"), str(source), *flags], check=True)
+    source.write_text(LIBMODBUS_CLIENT)
+    client = build_libmodbus_program(source, tmp_path / "client")
     sim = simulator(IDM)
-    result = subprocess.run([str(tmp_path / "client"), str(sim.port)], capture_output=True, text=True, timeout=20, check=False)
+    result = subprocess.run([str(client), str(sim.port)], capture_output=True, text=True, timeout=20, check=False)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip().isdigit()
 

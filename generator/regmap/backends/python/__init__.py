@@ -17,6 +17,7 @@ from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device,
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target
+from regmap_runtime import errors
 from regmap_runtime.spaces import DEFAULT_SPACE
 
 __all__ = ["RUNTIME_MODULES", "TARGET", "PythonIdentifier", "check", "device_context", "render_device", "render_shared", "runtime_package"]
@@ -415,23 +416,16 @@ CLIENT_METHODS = frozenset(
     | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile", "masked", "retries"}
     | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
 )
-BASE_ERRORS = (
-    "ConnectionLost",
-    "CrcError",
-    "DeviceException",
-    "DeviceTimeout",
-    "OutcomeUnknown",
-    "ProtocolError",
-    "RegmapError",
-    "WrongSlave",
+# Every error the runtime raises, re-exported by every generated module: `except drive.AccessError` must work
+# whichever map the module came from (a map without a firmware register still raises FirmwareError on request).
+RUNTIME_ERRORS = tuple(
+    sorted(name for name, obj in vars(errors).items() if isinstance(obj, type) and issubclass(obj, errors.RegmapError))
 )
 
 
 def module_errors(device: Device) -> tuple[str, ...]:
-    """The runtime's errors a generated module re-exports: the base ones, and FirmwareError where the
-    map names a firmware register (so a seed map's module is what it was)."""
-    extra = ("FirmwareError",) if device.info.firmware_register is not None else ()
-    return tuple(sorted((*BASE_ERRORS, *extra)))
+    """The runtime's errors a generated module re-exports: all of them."""
+    return RUNTIME_ERRORS
 
 
 BITFIELD_RESERVED = frozenset({"raw", "FIELDS", "from_raw", "to_raw", "described_mask", "describe"})
