@@ -51,6 +51,22 @@ def address(text: str) -> int:
     return value
 
 
+MODICON_SPACES = {0: "coil", 1: "discrete_input", 3: "input", 4: "holding"}
+"""The first digit of a Modicon register number (0xxxx, 1xxxx, 3xxxx, 4xxxx and the six-digit 4xxxxx)."""
+
+
+def modicon(text: str) -> tuple[str, int] | None:
+    """`30001` -> (input, 0), `400001` -> (holding, 0), `00017` -> (coil, 16); None for a cell no Modicon number."""
+    t = _clean(text)
+    if not re.fullmatch(r"[0-9]{5,6}", t):
+        return None
+    base = 10 ** (len(t) - 1)
+    band, number = divmod(int(t), base)
+    if band not in MODICON_SPACES or not 1 <= number <= min(base - 1, 0x10000):
+        return None
+    return MODICON_SPACES[band], number - 1
+
+
 _DECIMAL = re.compile(r"^[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)$")
 
 
@@ -123,6 +139,8 @@ UNITS: dict[str, str] = {
     **{u: u for u in ("A", "mA", "V", "mV", "kV", "W", "kW", "Ω", "Hz", "kHz", "ms", "s", "us", "μs", "ns", "min", "h", "rpm", "rps")},
     **{u: u for u in ("r", "%", "°", "°C", "P/r", "P/R", "ppr", "pulse", "bps", "Nm", "N·m", "mH", "kg·cm²")},
     **{u: u for u in ("Wh", "kWh", "MWh", "var", "kvar", "varh", "kvarh", "VA", "kVA", "mm", "m", "bar", "Pa", "kPa", "MPa")},
+    "Ah": "Ah",
+    "kVAh": "kVAh",
     "ohm": "Ω",
     "℃": "°C",
     "度": "°",
@@ -142,12 +160,41 @@ UNITS: dict[str, str] = {
 }
 """Units the importer knows, as printed -> as the maps write them. Anything else is reported."""
 
+UNIT_WORDS: dict[str, str] = {
+    **{w: "V" for w in ("v", "volt", "volts")},
+    **{w: "A" for w in ("a", "amp", "amps", "ampere", "amperes")},
+    **{w: "W" for w in ("w", "watt", "watts")},
+    **{w: "kW" for w in ("kw", "kilowatt", "kilowatts")},
+    **{w: "var" for w in ("var", "vars")},
+    "kvar": "kvar",
+    "varh": "varh",
+    "kvarh": "kvarh",
+    "va": "VA",
+    "kva": "kVA",
+    "vah": "VAh",
+    "kvah": "kVAh",
+    "wh": "Wh",
+    "kwh": "kWh",
+    "ah": "Ah",
+    "hz": "Hz",
+    **{w: "°" for w in ("degree", "degrees")},
+    **{w: "°C" for w in ("degrees c", "deg c", "degc")},
+    **{w: "min" for w in ("minute", "minutes")},
+    **{w: "s" for w in ("second", "seconds", "sec")},
+    **{w: "h" for w in ("hour", "hours")},
+    **{w: "%" for w in ("percent", "per cent")},
+}
+"""Units written out as words, or in a case the symbol does not have (VAr, KWH): compared lower-case. No
+symbol whose case carries meaning (mW and MW) is here."""
+
 
 def unit(text: str) -> tuple[str | None, Fraction | None]:
     """`A` -> (A, None); `0.1A` / `0.1 A` -> (A, 1/10); `25ns` -> (ns, 25); `-` -> (None, None)."""
     t = _clean(text)
-    if t in EMPTY:
+    if t in EMPTY or t.lower() == "none":
         return None, None
+    if t.lower() in UNIT_WORDS:
+        return UNIT_WORDS[t.lower()], None
     if t in UNITS or _squash(t) in UNITS:  # cells break words across lines: 编码器 单位
         return UNITS.get(t) or UNITS[_squash(t)], None
     m = re.fullmatch(r"([0-9]+(?:\.[0-9]+)?)\s*(\S.*)", t)
@@ -191,9 +238,16 @@ ACCESS = {
     "只读": "r",
     "rw": "rw",
     "r/w": "rw",
+    "read/write": "rw",
+    "read only": "r",
+    "read-only": "r",
+    "write only": "w",
+    "write-only": "w",
     "读写": "rw",
     "w": "w",
     "wo": "w",
+    "r/wp": "rw",
+    "rwp": "rw",
     "write": "w",
     "只写": "w",
 }
@@ -212,6 +266,17 @@ TYPES = {
     "float32": "f32",
     "real": "f32",
     "double": "f64",
+    # the width in the name, as datasheets print it
+    **{f"{p}{n}": f"{k}{n}" for n in (16, 32, 64) for p, k in (("i", "s"), ("s", "s"), ("u", "u"), ("int", "s"), ("uint", "u"))},
+    "f32": "f32",
+    "f64": "f64",
+    "float 32": "f32",
+    "bitfield16": "u16",
+    "bitfield32": "u32",
+    "e16": "u16",
+    "e32": "u32",
+    "enum16": "u16",
+    "enum32": "u32",
     "float64": "f64",
     "lreal": "f64",
     "str": "string",
@@ -231,6 +296,16 @@ TYPES = {
     "布尔": "bool",
     "位": "bool",
 }
+
+TYPE_NOTES = {
+    "bitfield16": "the table prints the type Bitfield16: a 16-bit field whose bits it does not list here",
+    "bitfield32": "the table prints the type Bitfield32: a 32-bit field whose bits it does not list here",
+    "e16": "the table prints the type E16: a 16-bit code whose values it does not list here",
+    "e32": "the table prints the type E32: a 32-bit code whose values it does not list here",
+    "enum16": "the table prints the type enum16: a 16-bit code whose values it does not list here",
+    "enum32": "the table prints the type enum32: a 32-bit code whose values it does not list here",
+}
+"""Types read by their width whose meaning the map must still be told."""
 
 WORD_ORDERS = {"high_first": "high_first", "low_first": "low_first"}
 
