@@ -184,3 +184,184 @@ def test_a_default_column_beside_a_range_is_a_printed_default_and_keeps_the_rang
     assert (regs["motor_speed"]["min"], regs["motor_speed"]["max"], regs["motor_speed"]["type"]) == (-6000, 6000, "s16")
     assert (regs["acceleration_time"]["max"], regs["acceleration_time"]["default"]) == (10000, 100)
     assert regs["top_speed"]["min"] is None and "0~∞" in regs["top_speed"]["notes"]
+
+
+# -- the engineer's loop on every shipped map: export, edit in engineering units, add, import back ----
+
+
+def _rows(device: Device) -> list[list[str]]:
+    return list(csv.reader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
+
+
+def _write(rows: list[list[str]], path: Path) -> Path:
+    with path.open("w", encoding="utf-8", newline="") as handle:
+        csv.writer(handle).writerows(rows)
+    return path
+
+
+def _scaled_default(device: Device) -> tuple[Register, int]:
+    """A register with a scale, a default and room above it: its new raw default, one step up."""
+    reg = next(
+        r for r in device.registers if r.scale != 1 and r.array is None and isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max
+    )
+    assert isinstance(reg.default, int)
+    return reg, reg.default + 1
+
+
+def _added_row(header: list[str], device: Device) -> list[str]:
+    free = next(a for a in range(0xFE00, 0x10000) if device.at_address(a, "holding") is None)
+    cells = {"name": "added_setting", "address_hex": f"0x{free:04X}", "address": str(free), "type": "u16", "access": "rw"}
+    cells |= {"title": "Added setting", "min": "0", "max": "100", "default": "5", "space": "holding"}
+    return [cells.get(column, "") for column in header]
+
+
+@pytest.mark.parametrize("path", MAPS, ids=lambda p: p.name)
+def test_edit_a_default_in_engineering_units_and_add_a_register(tmp_path: Path, path: Path) -> None:
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    device = load_map(path)
+    reg, raw = _scaled_default(device)
+    rows = _rows(device)
+    header = rows[0]
+    row = next(r for r in rows if r[0] == reg.name)
+    shown = engineering(reg, raw)
+    row[header.index("default_value")] = str(shown)  # only the engineering column: the raw one still says the old default
+    rows.append(_added_row(header, device))
+    table = _write(rows, tmp_path / "edited.csv")
+
+    dry = _regmap("import", str(table), "--into", str(target), "--dry-run")
+    assert dry.returncode == ExitCode.OK, dry.stderr
+    assert f"would update {target}: 1 value(s) changed, 1 register(s) added" in dry.stdout and "written" not in dry.stdout
+    assert target.read_bytes() == path.read_bytes()
+
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == ExitCode.OK, run.stderr
+    assert f"updated {target}: 1 value(s) changed, 1 register(s) added" in run.stdout
+    after = load_map(target)
+    assert after.register(reg.name).default == raw and after.register("added_setting").max == 100
+    before_lines, after_lines = path.read_text(encoding="utf-8").splitlines(), target.read_text(encoding="utf-8").splitlines()
+    ops = [op for op in difflib.SequenceMatcher(None, before_lines, after_lines, autojunk=False).get_opcodes() if op[0] != "equal"]
+    assert [op[0] for op in ops] == ["replace", "insert"], ops
+    _, i1, i2, j1, j2 = ops[0]
+    assert i2 - i1 == j2 - j1 == 1
+    assert re.sub(rf"default: {reg.default}\b", f"default: {raw}", before_lines[i1]) == after_lines[j1] != before_lines[i1]
+    inserted = after_lines[ops[1][3] : ops[1][4]]
+    assert inserted[0].strip() == "- id: imported" and any("name: added_setting" in line for line in inserted)
+
+
+def test_a_change_of_only_an_engineering_column_is_a_change(tmp_path: Path) -> None:
+    path = ROOT / "maps" / "id243pro.yaml"
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    device = load_map(path)
+    reg, raw = _scaled_default(device)
+    rows = _rows(device)
+    rows[next(i for i, r in enumerate(rows) if r[0] == reg.name)][rows[0].index("default_value")] = str(engineering(reg, raw))
+    run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
+    assert run.returncode == ExitCode.OK, run.stderr
+    assert "no changes" not in run.stdout and load_map(target).register(reg.name).default == raw
+
+
+def test_raw_and_engineering_columns_that_disagree_are_refused(tmp_path: Path) -> None:
+    path = ROOT / "maps" / "id243pro.yaml"
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    device = load_map(path)
+    reg, raw = _scaled_default(device)
+    rows = _rows(device)
+    row = rows[next(i for i, r in enumerate(rows) if r[0] == reg.name)]
+    row[rows[0].index("default")] = str(raw)
+    row[rows[0].index("default_value")] = str(engineering(reg, raw + 1))
+    run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
+    assert f"{reg.name}: default {raw} and default_value" in run.stderr and "neither applied" in run.stderr
+    assert target.read_bytes() == path.read_bytes()
+
+
+def test_unreadable_cells_in_an_update_say_the_map_keeps_its_values(tmp_path: Path) -> None:
+    path = ROOT / "maps" / "id243pro.yaml"
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    device = load_map(path)
+    rows = _rows(device)
+    reg = next(r for r in device.registers if isinstance(r.max, int) and r.array is None)
+    rows[next(i for i, r in enumerate(rows) if r[0] == reg.name)][rows[0].index("max")] = "lots"
+    run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
+    assert run.returncode == ExitCode.OK, run.stderr
+    assert "cannot read max 'lots'" in run.stderr
+    assert "1 cell(s) could not be read (listed above): 1 in registers the map has: not applied, the map keeps its values" in run.stdout
+    assert "null with a note" not in run.stdout and target.read_bytes() == path.read_bytes()
+
+
+def test_a_rejected_update_names_lines_of_the_map_on_disk(tmp_path: Path) -> None:
+    path = ROOT / "maps" / "idm_rs.yaml"
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    device = load_map(path)
+    below = next(r.address - 1 for r in device.registers if r.space == "holding" and device.at_address(r.address - 1, "holding") is None)
+    table = tmp_path / "t.csv"
+    table.write_text(f"Address,Name,Title,Type\n0x{below:04X},clash,Clash,u32\n", encoding="utf-8")  # its high word overlaps a register
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == ExitCode.INVALID_MAP, run.stdout
+    assert "nothing written" in run.stderr and target.read_bytes() == path.read_bytes()
+    lines = path.read_text(encoding="utf-8").splitlines()
+    named = [m for line in run.stderr.splitlines() if (m := re.match(rf"{re.escape(str(target))}:([0-9]+):[0-9]+: (.*)", line))]
+    added = [line for line in run.stderr.splitlines() if "in the text the update would add" in line]
+    assert added or named
+    for m in named:  # a line of the map on disk, and the register it names is on that line
+        assert int(m.group(1)) <= len(lines)
+    assert all("clash" in line or "overlap" in line for line in added)
+
+
+def test_dry_run_of_a_draft_the_front_end_rejects_says_nothing_was_written(tmp_path: Path) -> None:
+    run, draft = _import(tmp_path, "Address,Title,Type\n0x0000,Clock,EPOCH\n", "--dry-run")
+    assert run.returncode == ExitCode.INVALID_MAP and not draft.exists()
+    assert f"would write {draft}: a new draft, 1 registers in 1 group(s), which the front end rejects (above)" in run.stdout
+    assert "written" not in run.stdout
+
+
+# -- exports write no formula, and an import gives the text back --------------------------------
+
+FORMULAS = ['=HYPERLINK("http://evil.example","click")', "+1+cmd|' /C calc'!A0", "-2+3", "@SUM(1)", "'=already quoted"]
+
+
+def _map_with_titles(tmp_path: Path) -> Path:
+    text = (ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml").read_text(encoding="utf-8")
+    for old, new in zip(("Command pulses per revolution", "Motor direction", "Peak current", "DI2 function", "DI3 function"), FORMULAS, strict=True):
+        assert f"title: {old}," in text
+        text = text.replace(f"title: {old},", f"title: {yaml.safe_dump(new, default_style=chr(34)).strip()},", 1)
+    target = tmp_path / "device.yaml"
+    target.write_text(text, encoding="utf-8")
+    return target
+
+
+def test_csv_export_neutralises_formulas_and_an_import_gives_them_back(tmp_path: Path) -> None:
+    target = _map_with_titles(tmp_path)
+    device = load_map(target)
+    assert {r.title for r in device.registers} >= set(FORMULAS)
+    text = export_csv(device)
+    for row in csv.reader(io.StringIO(text.lstrip("\ufeff"))):
+        for cell in row:
+            assert not cell.startswith(("=", "+", "@", "\t", "\r")), cell
+            assert not cell.startswith("-") or re.fullmatch(r"-[0-9.]+", cell), cell
+    assert "'=HYPERLINK(" in text and "''=already quoted" in text
+    table = tmp_path / "device.csv"
+    table.write_text(text, encoding="utf-8")
+    run = _regmap("import", str(table), "--into", str(target))
+    assert run.returncode == ExitCode.OK and "no changes" in run.stdout, run.stderr + run.stdout
+    draft = tmp_path / "again.yaml"
+    _regmap("import", str(table), "--into", str(draft))  # a CSV carries no enums: the draft names them, the front end asks for them
+    assert set(_registers(draft)) >= set(FORMULAS)
+
+
+def test_xlsx_export_writes_text_cells_never_formulas_and_an_import_gives_them_back(tmp_path: Path) -> None:
+    target = _map_with_titles(tmp_path)
+    book = tmp_path / "device.xlsx"
+    book.write_bytes(export_xlsx(load_map(target)))
+    sheet = openpyxl.load_workbook(book)["registers"]
+    titles = [c for row in sheet.iter_rows() for c in row if c.value in FORMULAS]
+    assert len(titles) == len(FORMULAS) and all(c.data_type == "s" for c in titles)
+    run = _regmap("import", str(book), "--into", str(target))
+    assert run.returncode == ExitCode.OK and "no changes" in run.stdout, run.stderr + run.stdout
+    draft = tmp_path / "again.yaml"
+    _regmap("import", str(book), "--into", str(draft))
+    assert set(_registers(draft)) >= set(FORMULAS)
