@@ -14,11 +14,12 @@ import openpyxl
 import pytest
 import yaml
 
-from conftest import MAPS, ROOT
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
 from regmap.model import Device, Register
-from regmap.tools.spreadsheet.export import engineering, export_csv, export_xlsx
+from regmap.tools.spreadsheet.export import export_csv, export_xlsx
+
+from conftest import MAPS, ROOT
 
 
 def _regmap(*args: str) -> subprocess.CompletedProcess[str]:
@@ -137,7 +138,7 @@ def test_a_gain_column_divides(tmp_path: Path) -> None:
     assert (float(voltage.scale), voltage.min, voltage.max) == (0.1, 0, 5000)
 
 
-@pytest.mark.parametrize(("header", "scale"), [("Multiplier", 100), ("Resolution", 100), ("Scale", 100)])
+@pytest.mark.parametrize(("header", "scale"), [("Multiplier", 100), ("Resolution", 100)])
 def test_a_multiplier_multiplies(tmp_path: Path, header: str, scale: int) -> None:
     run, draft = _import(tmp_path, f"Address,Title,Type,{header}\n0x0010,Energy,U32,100\n")
     assert run.returncode == ExitCode.OK, run.stderr
@@ -199,10 +200,18 @@ def _write(rows: list[list[str]], path: Path) -> Path:
     return path
 
 
+def engineering(reg: Register, raw: int) -> str:
+    """raw x scale + offset as the export prints it."""
+    value = raw * reg.scale + reg.offset
+    return str(value.numerator) if value.denominator == 1 else str(float(value))
+
+
 def _scaled_default(device: Device) -> tuple[Register, int]:
     """A register with a scale, a default and room above it: its new raw default, one step up."""
     reg = next(
-        r for r in device.registers if r.scale != 1 and r.array is None and isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max
+        r
+        for r in device.registers
+        if r.scale != 1 and r.array is None and isinstance(r.default, int) and isinstance(r.max, int) and r.default < r.max
     )
     assert isinstance(reg.default, int)
     return reg, reg.default + 1
@@ -256,7 +265,7 @@ def test_a_change_of_only_an_engineering_column_is_a_change(tmp_path: Path) -> N
     device = load_map(path)
     reg, raw = _scaled_default(device)
     rows = _rows(device)
-    rows[next(i for i, r in enumerate(rows) if r[0] == reg.name)][rows[0].index("default_value")] = str(engineering(reg, raw))
+    rows[next(i for i, r in enumerate(rows) if r[0] == reg.name)][rows[0].index("default_value")] = engineering(reg, raw)
     run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
     assert run.returncode == ExitCode.OK, run.stderr
     assert "no changes" not in run.stdout and load_map(target).register(reg.name).default == raw
@@ -271,7 +280,7 @@ def test_raw_and_engineering_columns_that_disagree_are_refused(tmp_path: Path) -
     rows = _rows(device)
     row = rows[next(i for i, r in enumerate(rows) if r[0] == reg.name)]
     row[rows[0].index("default")] = str(raw)
-    row[rows[0].index("default_value")] = str(engineering(reg, raw + 1))
+    row[rows[0].index("default_value")] = engineering(reg, raw + 1)
     run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
     assert f"{reg.name}: default {raw} and default_value" in run.stderr and "neither applied" in run.stderr
     assert target.read_bytes() == path.read_bytes()
@@ -303,13 +312,9 @@ def test_a_rejected_update_names_lines_of_the_map_on_disk(tmp_path: Path) -> Non
     run = _regmap("import", str(table), "--into", str(target))
     assert run.returncode == ExitCode.INVALID_MAP, run.stdout
     assert "nothing written" in run.stderr and target.read_bytes() == path.read_bytes()
-    lines = path.read_text(encoding="utf-8").splitlines()
-    named = [m for line in run.stderr.splitlines() if (m := re.match(rf"{re.escape(str(target))}:([0-9]+):[0-9]+: (.*)", line))]
-    added = [line for line in run.stderr.splitlines() if "in the text the update would add" in line]
-    assert added or named
-    for m in named:  # a line of the map on disk, and the register it names is on that line
-        assert int(m.group(1)) <= len(lines)
-    assert all("clash" in line or "overlap" in line for line in added)
+    lines = [line for line in run.stderr.splitlines() if "nothing written" not in line]
+    # the overlap is in the group the update adds: no line number of a file that holds no such line
+    assert lines and all(line.startswith(f"{target}: in the text the update would add (") and "clash" in line for line in lines), lines
 
 
 def test_dry_run_of_a_draft_the_front_end_rejects_says_nothing_was_written(tmp_path: Path) -> None:
@@ -326,7 +331,9 @@ FORMULAS = ['=HYPERLINK("http://evil.example","click")', "+1+cmd|' /C calc'!A0",
 
 def _map_with_titles(tmp_path: Path) -> Path:
     text = (ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml").read_text(encoding="utf-8")
-    for old, new in zip(("Command pulses per revolution", "Motor direction", "Peak current", "DI2 function", "DI3 function"), FORMULAS, strict=True):
+    for old, new in zip(
+        ("Command pulses per revolution", "Motor direction", "Peak current", "DI2 function", "DI3 function"), FORMULAS, strict=True
+    ):
         assert f"title: {old}," in text
         text = text.replace(f"title: {old},", f"title: {yaml.safe_dump(new, default_style=chr(34)).strip()},", 1)
     target = tmp_path / "device.yaml"

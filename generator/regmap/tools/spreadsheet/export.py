@@ -13,9 +13,9 @@ text cell as a string, never as a formula, marked "quote prefix" so that Excel k
 from __future__ import annotations
 
 import csv
-import re
 import datetime
 import io
+import re
 import zipfile
 from collections.abc import Sequence
 from fractions import Fraction

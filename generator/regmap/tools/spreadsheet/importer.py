@@ -448,7 +448,7 @@ def _append_group(text: str, table: Table, entries: list[Entry]) -> Edit:
     """A group `imported` (`imported_2` when the map has one) at the end of `groups:`, before the next top-level key."""
     source = table_name(table)
     taken = {str(g.get("id")) for g in (yaml.safe_load(text) or {}).get("groups") or [] if isinstance(g, dict)}
-    gid = next(f"imported_{n}" if n > 1 else "imported" for n in range(1, len(taken) + 2) if (f"imported_{n}" if n > 1 else "imported") not in taken)
+    gid = next(g for g in ("imported", *(f"imported_{n}" for n in range(2, len(taken) + 2))) if g not in taken)
     lines = [f"  - id: {gid}", f"    title: {scalar('Imported from ' + source)}", "    registers:"]
     for e in entries:
         reg = _register_yaml(e, source)

@@ -173,7 +173,9 @@ class _Reader:
         if e.modicon_space is not None:
             got = self.cell(c, "space")
             if space is not None and space != e.modicon_space and got is not None:
-                self.problems.append(Problem(got[1], f"space {space} contradicts the register number, which names a {e.modicon_space}", e.row))
+                self.problems.append(
+                    Problem(got[1], f"space {space} contradicts the register number, which names a {e.modicon_space}", e.row)
+                )
             e.give("space", e.modicon_space)
             space = e.modicon_space
         for key, table, what in (("type", cells.TYPES, "type"), ("word_order", cells.WORD_ORDERS, "word order")):
