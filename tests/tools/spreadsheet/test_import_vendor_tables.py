@@ -372,3 +372,36 @@ def test_xlsx_export_writes_text_cells_never_formulas_and_an_import_gives_them_b
     draft = tmp_path / "again.yaml"
     _regmap("import", str(book), "--into", str(draft))
     assert set(_registers(draft)) >= set(FORMULAS)
+
+
+# -- spellings as datasheets print them ----------------------------------------------------------
+
+SPELLINGS = """Address,Title,Type,Access,Units
+00 0C,Reactive power,F32,R/WP,VAr
+0x00O2,Reactive energy,F32,RO,kVArh
+001EH,Phase angle,F32,WO,Degrees
+0x0020,Apparent energy,F32,R/W,kVAh
+0x0022,Charge,F32,RO,Ah
+0x0024,Demand time,U16,RO,minutes
+0x0025,Count,U16,RO,None
+0x0026,Supply,F32,RO,VOLTS
+"""
+
+
+def test_addresses_units_and_access_as_datasheets_print_them(tmp_path: Path) -> None:
+    run, draft = _import(tmp_path, SPELLINGS)
+    assert run.returncode == ExitCode.OK, run.stderr + run.stdout
+    assert f"{tmp_path / 'meter.csv'}:3:1: address '0x00O2' read as 0x0002: a letter O taken for a zero" in run.stdout
+    regs = {r.title: r for r in load_map(draft).registers}
+    got = {t: (r.address, r.unit, r.access.value) for t, r in regs.items()}
+    assert got == {
+        "Reactive power": (0x000C, "var", "rw"),
+        "Reactive energy": (0x0002, "kvarh", "r"),
+        "Phase angle": (0x001E, "°", "w"),
+        "Apparent energy": (0x0020, "kVAh", "rw"),
+        "Charge": (0x0022, "Ah", "r"),
+        "Demand time": (0x0024, "min", "r"),
+        "Count": (0x0025, None, "r"),
+        "Supply": (0x0026, "V", "r"),
+    }
+    assert "password" in (regs["Reactive power"].notes or "")

@@ -45,10 +45,28 @@ def integer(text: str, what: str = "number") -> int:
 
 
 def address(text: str) -> int:
-    value = integer(text, "address")
+    """`0x000C`, `000CH`, `12`, and the high and low bytes apart (`00 0C`)."""
+    t = _clean(text)
+    pair = re.fullmatch(r"([0-9A-Fa-f]{2}) ([0-9A-Fa-f]{2})", t)
+    value = int(pair.group(1) + pair.group(2), 16) if pair else integer(text, "address")
     if not 0 <= value <= 0xFFFF:
         raise CellProblem(f"address {text!r} is outside 0..0xFFFF")
     return value
+
+
+def address_with_o(text: str) -> tuple[int, str | None]:
+    """An address, and what was corrected to read it: a letter O typed for a zero (`0x00O1`) is read as 0, and said."""
+    try:
+        return address(text), None
+    except CellProblem:
+        if "O" not in text.upper():
+            raise
+        fixed = re.sub("[Oo]", "0", text)
+        try:
+            value = address(fixed)
+        except CellProblem:
+            raise CellProblem(f"cannot read address {text!r}") from None
+        return value, f"address {text.strip()!r} read as 0x{value:04X}: a letter O taken for a zero"
 
 
 MODICON_SPACES = {0: "coil", 1: "discrete_input", 3: "input", 4: "holding"}

@@ -179,6 +179,9 @@ def build_draft(
     lines = head(device_id, vendor, model, made_by=made_by, function_codes=_function_codes(entries)).splitlines()
     if problems:
         lines.append(f"# {len(problems)} cell(s) of the table could not be read: those values are null, with a note.")
+    lines += [f"# {said}" for said in table.said]
+    if table.ignored:
+        lines.append("# Columns not read: " + ", ".join(f"{table.position(i)} {table.heading(i)}" for i in sorted(table.ignored)) + ".")
     if rules:
         lines.append("param_ids:")
         lines += [f"  - {flow(r)}" for r in rules]

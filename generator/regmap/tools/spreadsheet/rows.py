@@ -140,9 +140,12 @@ class _Reader:
     def _identity(self, e: Entry, c: list[str]) -> None:
         param = self.take(e, c, "param", lambda t: t.strip())
         self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
-        address = self._modicon(e, c) if self.addresses == "modicon" else self.read(e, c, "address", cells.address)
+        if self.addresses == "modicon":
+            address = self._modicon(e, c)
+        else:
+            address = self._address(e, c, "address")
         if address is None:
-            address = self.read(e, c, "address_hex", cells.address)
+            address = self._address(e, c, "address_hex")
         if address is None and param is not None and self.rules:
             address = _rule_address(self.rules, param)
             if address is None:
@@ -154,6 +157,18 @@ class _Reader:
             self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address"))
             return
         e.give("address", address)
+
+    def _address(self, e: Entry, c: list[str], column: str) -> int | None:
+        got = self.read(e, c, column, cells.address_with_o)
+        if got is None:
+            return None
+        value, corrected = got
+        if corrected is not None:
+            where = self.cell(c, column)
+            assert where is not None
+            self.table.said.append(f"{where[1]}: {corrected}")
+            e.notes.append(corrected)
+        return int(value)
 
     def _modicon(self, e: Entry, c: list[str]) -> int | None:
         got = self.cell(c, "address")
