@@ -405,3 +405,28 @@ def test_addresses_units_and_access_as_datasheets_print_them(tmp_path: Path) -> 
         "Supply": (0x0026, "V", "r"),
     }
     assert "password" in (regs["Reactive power"].notes or "")
+
+
+VALUE_TABLES = """Address,Title,Type,Range,Description
+0x0000,Baud rate,U16,"0 = 2400, 1 = 4800",
+0x0001,Prefix,U16,,"0: k, 1: M"
+0x0002,CT ratio,U16,"60, 100, 200",
+0x0003,Speed,U16,0~100,0 = stop 1 = go
+"""
+
+
+def test_values_listed_in_a_range_or_description_cell_become_an_enum(tmp_path: Path) -> None:
+    run, draft = _import(tmp_path, VALUE_TABLES)
+    assert run.returncode == ExitCode.OK, run.stderr + run.stdout
+    regs = {r.title: r for r in load_map(draft).registers}
+
+    def members(title: str) -> list[tuple[int, str]]:
+        enum = regs[title].enum
+        assert enum is not None, title
+        return [(m.value, m.title) for m in enum.members]
+
+    assert members("Baud rate") == [(0, "2400"), (1, "4800")]
+    assert members("Prefix") == [(0, "k"), (1, "M")]
+    assert members("CT ratio") == [(60, "60"), (100, "100"), (200, "200")]
+    assert (regs["CT ratio"].min, regs["CT ratio"].max) == (60, 200)
+    assert regs["Speed"].enum is None and "does not bound" in (regs["Speed"].notes or "")  # 0..100 is no list of two values

@@ -140,7 +140,30 @@ def printed_range(text: str) -> PrintedRange:
     values = [int(v, 0) for v in _VALUE_LIST.findall(t)]
     if values and re.match(rf"^{_VALUE}\s*[:：-]", t) and values == sorted(set(values)):
         return PrintedRange(Decimal(values[0]), Decimal(values[-1]), listed=True)
+    table = value_table(t)
+    if table is not None:
+        return PrintedRange(Decimal(min(v for v, _ in table)), Decimal(max(v for v, _ in table)), listed=True)
     raise CellProblem(f"cannot read range {text!r}")
+
+
+_PAIR = re.compile(r"(?:^|(?<=[,;，；\s]))(0[xX][0-9A-Fa-f]+|[0-9]+)\s*[=:：]\s*")
+
+
+def value_table(text: str) -> list[tuple[int, str]] | None:
+    """The values a cell lists: `0 = 2400, 1 = 4800`, `0: k, 1: M`, `60, 100, 200` -> [(value, as printed)]; None for
+    any other text (a range, a sentence). Two values at least, each once."""
+    t = _clean(text)
+    if re.fullmatch(r"[0-9]+(?:\s*[,;，；]\s*[0-9]+)+", t):
+        members = [(int(v), v) for v in re.split(r"\s*[,;，；]\s*", t)]
+    else:
+        parts = _PAIR.split(t)
+        if parts[0].strip() or len(parts) < 5:
+            return None
+        members = [(int(v, 0), title.strip().rstrip(",;，；").strip()) for v, title in zip(parts[1::2], parts[2::2], strict=True)]
+        if any(not title for _, title in members):
+            return None
+    values = [v for v, _ in members]
+    return members if len(set(values)) == len(values) else None
 
 
 def _number_and_unit(text: str) -> tuple[Decimal | None, str | None]:

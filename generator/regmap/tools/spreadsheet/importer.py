@@ -9,6 +9,7 @@ maps/id243pro.yaml and thousands of maps/c630s.yaml change with no edit at all.)
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -125,10 +126,39 @@ def _group_titles(table: Table) -> dict[str, tuple[str, str | None]]:
     }
 
 
-def _enums_section(table: Table) -> list[str]:
+def _member_name(title: str, value: int, taken: set[str]) -> str:
+    """A snake_case member name from the title a table prints (`2400` -> `value_2400`, `M` -> `m`), unique in its enum."""
+    name = re.sub(r"[^a-z0-9]+", "_", title.lower()).strip("_")
+    if not name or not name[0].isalpha():
+        name = f"value_{name or value}"
+    if name in taken:
+        name = f"{name}_{value}"
+    taken.add(name)
+    return name
+
+
+def _listed_enums(entries: list[Entry], defined: set[str]) -> list[str]:
+    """An enum for every register whose range or description lists its values; the register takes its name."""
+    lines = []
+    for e in entries:
+        if not e.value_table or "enum" in e.values:
+            continue
+        name = e.values["name"] if e.values["name"] not in defined else f"{e.values['name']}_values"
+        defined.add(name)
+        e.values["enum"] = name
+        e.notes.append(f"enum {name} from the values the table lists: check their names")
+        taken: set[str] = set()
+        lines += [f"  {name}:", f"    title: {scalar(e.values.get('title') or name)}", "    values:"]
+        for value, title in e.value_table:
+            lines.append(f"      - {flow({'value': value, 'name': _member_name(title, value, taken), 'title': title})}")
+    return lines
+
+
+def _enums_section(table: Table, entries: list[Entry]) -> list[str]:
     rows = table.extra.get("enums", [])
+    listed = _listed_enums(entries, {str(r.get("enum")) for r in rows})
     if not rows:
-        return []
+        return ["enums:", *listed] if listed else []
     lines = ["enums:"]
     current = None
     for r in rows:
@@ -140,7 +170,7 @@ def _enums_section(table: Table) -> list[str]:
             if r.get(key):
                 member[key] = r[key]
         lines.append(f"      - {flow(member)}")
-    return lines
+    return lines + listed
 
 
 def _errata_section(table: Table, named: dict[str, list[str]]) -> list[str]:
@@ -185,7 +215,7 @@ def build_draft(
     if rules:
         lines.append("param_ids:")
         lines += [f"  - {flow(r)}" for r in rules]
-    lines += _enums_section(table)
+    lines += _enums_section(table, entries)
     titles = _group_titles(table)
     groups: dict[str, list[Entry]] = {}
     for e in entries:

@@ -29,6 +29,7 @@ class Entry:
     errata: list[str] = field(default_factory=list)
     printed: dict[str, Decimal] = field(default_factory=dict)  # min/max/default in engineering units beside raw columns
     modicon_space: str | None = None  # the space a Modicon register number names
+    value_table: list[tuple[int, str]] = field(default_factory=list)  # the values a range or description cell lists
 
     @property
     def type_unknown(self) -> bool:
@@ -133,7 +134,26 @@ class _Reader:
             e.notes.append("name made from the " + ("parameter id" if param else "address") + ": the table has no name; rename it")
         self._numbers(e, cells_)
         self._text(e, cells_)
+        self._value_table(e, cells_)
         return e
+
+    def _value_table(self, e: Entry, c: list[str]) -> None:
+        """A list of values in the range cell, else in the description cell: an enum of the draft when raw = value."""
+        for name in ("range", "description"):
+            got = self.cell(c, name)
+            table = None if got is None or cells.blank(got[0]) else cells.value_table(got[0])
+            if table is None:
+                continue
+            if e.values.get("scale", 1) != 1 or e.values.get("offset", 0) != 0 or _kind_of(e.values.get("type")) != "int":
+                e.notes.append(f"the {name} lists values ({got[0].strip()}); not an enum, as the raw value is not the value printed")
+                return
+            values = [v for v, _ in table]
+            bounds = (e.values.get("min"), e.values.get("max"))
+            if name == "description" and bounds != (None, None) and bounds != (min(values), max(values)):
+                e.notes.append(f"the description lists values ({got[0].strip()}) that the range {bounds[0]}..{bounds[1]} does not bound")
+                return
+            e.value_table = table
+            return
 
     # -- name, param, address
 
