@@ -314,7 +314,7 @@ def test_a_rejected_update_names_lines_of_the_map_on_disk(tmp_path: Path) -> Non
     assert "nothing written" in run.stderr and target.read_bytes() == path.read_bytes()
     lines = [line for line in run.stderr.splitlines() if "nothing written" not in line]
     # the overlap is in the group the update adds: no line number of a file that holds no such line
-    assert lines and all(line.startswith(f"{target}: in the text the update would add (") and "clash" in line for line in lines), lines
+    assert lines and all(line.startswith(f"{target}: in the text the update would write (") and "clash" in line for line in lines), lines
 
 
 def test_dry_run_of_a_draft_the_front_end_rejects_says_nothing_was_written(tmp_path: Path) -> None:

@@ -266,7 +266,7 @@ class Update:
         old_offset = self._old_offset(_offset_of_line(self.text, diag.line))
         if old_offset is None:
             line = self.text.splitlines()[diag.line - 1].strip() if 0 < diag.line <= len(self.text.splitlines()) else ""
-            return f"{diag.file}: in the text the update would add ({line!r}): {diag.message}"
+            return f"{diag.file}: in the text the update would write ({line!r}): {diag.message}"
         original = self.original[:old_offset].count("\n") + 1
         return f"{diag.file}:{original}:{diag.column}: {diag.message}"
 

@@ -141,7 +141,9 @@ class _Reader:
         """A list of values in the range cell, else in the description cell: an enum of the draft when raw = value."""
         for name in ("range", "description"):
             got = self.cell(c, name)
-            table = None if got is None or cells.blank(got[0]) else cells.value_table(got[0])
+            if got is None or cells.blank(got[0]):
+                continue
+            table = cells.value_table(got[0])
             if table is None:
                 continue
             if e.values.get("scale", 1) != 1 or e.values.get("offset", 0) != 0 or _kind_of(e.values.get("type")) != "int":
@@ -160,10 +162,7 @@ class _Reader:
     def _identity(self, e: Entry, c: list[str]) -> None:
         param = self.take(e, c, "param", lambda t: t.strip())
         self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
-        if self.addresses == "modicon":
-            address = self._modicon(e, c)
-        else:
-            address = self._address(e, c, "address")
+        address = self._modicon(e, c) if self.addresses == "modicon" else self._address(e, c, "address")
         if address is None:
             address = self._address(e, c, "address_hex")
         if address is None and param is not None and self.rules:
