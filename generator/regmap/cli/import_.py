@@ -151,7 +151,10 @@ def _unread_in_update(problems: list[Problem], update: Update) -> str:
     if not problems:
         return "0 cell(s) could not be read"
     added = sum(1 for p in problems if p.row in update.added_rows)
-    parts = [f"{len(problems) - added} in registers the map has: not applied, the map keeps its values"] if added < len(problems) else []
+    kept = sum(1 for p in problems if p.row not in update.added_rows and p.row is not None and p.row not in update.skipped_rows)
+    parts = [f"{kept} in registers the map has: not applied, the map keeps its values"] if kept else []
     if added:
         parts.append(f"{added} in added registers: null with a note")
+    if len(problems) - kept - added:
+        parts.append(f"{len(problems) - kept - added} in rows not imported")
     return f"{len(problems)} cell(s) could not be read (listed above): " + "; ".join(parts)

@@ -258,6 +258,7 @@ class Update:
     unchanged: int = 0
     skipped: list[str] = field(default_factory=list)  # what the table says that an import does not apply
     added_rows: set[int] = field(default_factory=set)  # the table rows of the added registers
+    skipped_rows: set[int] = field(default_factory=set)  # the table rows of no register (no address)
     original: str = ""  # the map's text before the update
     edits: list[Edit] = field(default_factory=list)  # spans of the map's text, in its own offsets
 
@@ -402,7 +403,7 @@ def update_map(text: str, device: Device, table: Table, entries: list[Entry]) ->
     root = yaml.compose(text)
     nodes = _register_nodes(root) if root is not None else {}
     by_param = {r.param: r for r in device.registers if r.param}
-    update = Update(text, original=text)
+    update = Update(text, original=text, skipped_rows={row for row, _ in table.rows} - {e.row for e in entries})
     edits: list[Edit] = []
     new: list[Entry] = []
     for e in entries:

@@ -170,10 +170,10 @@ class _Reader:
             if address is None:
                 got = self.cell(c, "param")
                 assert got is not None
-                self.problems.append(Problem(got[1], f"cannot read parameter id {param!r}: no param_ids rule gives its address"))
+                self.problems.append(Problem(got[1], f"cannot read parameter id {param!r}: no param_ids rule gives its address", e.row))
         if address is None:
             got = self.cell(c, "address") or self.cell(c, "param")
-            self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address"))
+            self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address", e.row))
             return
         e.give("address", address)
 
@@ -339,7 +339,9 @@ class _Reader:
         if scale is None:
             if unit_step is not None and decimals:
                 self.problems.append(
-                    Problem(e.where, f"unit step {float(unit_step):g} and printed decimals ({texts}) together: scale unclear; left null")
+                    Problem(
+                        e.where, f"unit step {float(unit_step):g} and printed decimals ({texts}) together: scale unclear; left null", e.row
+                    )
                 )
                 e.notes.append("scale unclear: the unit has a step and the values have decimals; min, max and default left null")
                 return
@@ -358,7 +360,7 @@ class _Reader:
                 step, zero = (Fraction(1), Fraction(0)) if unit_step is not None else (scale, shift)
                 e.give(key, cells.raw_from(value, step, key, str(value), zero))
             except CellProblem as exc:
-                self.problems.append(Problem(e.where, str(exc)))
+                self.problems.append(Problem(e.where, str(exc), e.row))
                 e.notes.append(f"{key}: {exc}; left null")
         if self._range_text and (scale != 1 or range_unit or self._range_listed or not _plain_range(self._range_text)):
             e.give("range_text", self._range_text)
