@@ -452,14 +452,14 @@ def _settle_printed(e: Entry, reg: Register) -> list[str]:
         try:
             raw = engineering_to_raw(printed, Fraction(scale), Fraction(offset), kind, key)
         except CellProblem as exc:
-            refused.append(f"{e.where}: {reg.name}.{key}_value: {exc}: not applied")
+            refused.append(f"{e.printed_at[key]}: {reg.name}.{key}_value: {exc}: not applied")
             continue
         raw_changed = key in e.given and not _same(key, current, e.values[key])
         if not raw_changed:
             e.give(key, raw)
         elif not _same(key, raw, e.values[key]):
             refused.append(
-                f"{e.where}: {reg.name}: {key} {e.values[key]} and {key}_value {printed} disagree (scale {float(scale):g}): "
+                f"{e.printed_at[key]}: {reg.name}: {key} {e.values[key]} and {key}_value {printed} disagree (scale {float(scale):g}): "
                 f"neither applied; change one of them"
             )
             e.given.discard(key)

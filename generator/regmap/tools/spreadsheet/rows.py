@@ -28,6 +28,7 @@ class Entry:
     notes: list[str] = field(default_factory=list)
     errata: list[str] = field(default_factory=list)
     printed: dict[str, Decimal] = field(default_factory=dict)  # min/max/default in engineering units beside raw columns
+    printed_at: dict[str, str] = field(default_factory=dict)  # where each of those cells is
     modicon_space: str | None = None  # the space a Modicon register number names
     value_table: list[tuple[int, str]] = field(default_factory=list)  # the values a range or description cell lists
 
@@ -373,6 +374,8 @@ class _Reader:
             if printed is None:
                 continue
             e.printed[key] = printed
+            got = self.cell(c, f"{key}_value")
+            e.printed_at[key] = got[1] if got else e.where
             if key in e.values or not self.has(key):
                 continue
             try:
