@@ -431,3 +431,15 @@ def test_values_listed_in_a_range_or_description_cell_become_an_enum(tmp_path: P
     assert members("CT ratio") == [(60, "60"), (100, "100"), (200, "200")]
     assert (regs["CT ratio"].min, regs["CT ratio"].max) == (60, 200)
     assert regs["Speed"].enum is None and "does not bound" in (regs["Speed"].notes or "")  # 0..100 is no list of two values
+
+
+def test_the_mapping_file_can_say_how_addresses_read(tmp_path: Path) -> None:
+    mapping = tmp_path / "columns.yaml"
+    mapping.write_text("addresses: modicon\n", encoding="utf-8")
+    run, draft = _import(tmp_path, "Register,Title,Type\n40001,Mode,U16\n", "--columns", str(mapping))
+    assert run.returncode == ExitCode.OK, run.stderr
+    assert [(r.space, r.address) for r in load_map(draft).registers] == [("holding", 0)]
+    mapping.write_text("addresses: 1-based\n", encoding="utf-8")
+    run, _ = _import(tmp_path, "Register,Title,Type\n40001,Mode,U16\n", "--columns", str(mapping), name="bad")
+    assert run.returncode == ExitCode.USAGE and f"{mapping}: addresses: expected modicon or plain" in run.stderr
+    assert "Traceback" not in run.stderr
