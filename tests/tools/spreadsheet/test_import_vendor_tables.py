@@ -443,3 +443,16 @@ def test_the_mapping_file_can_say_how_addresses_read(tmp_path: Path) -> None:
     run, _ = _import(tmp_path, "Register,Title,Type\n40001,Mode,U16\n", "--columns", str(mapping), name="bad")
     assert run.returncode == ExitCode.USAGE and f"{mapping}: addresses: expected modicon or plain" in run.stderr
     assert "Traceback" not in run.stderr
+
+
+def test_a_diagnostic_after_an_insertion_names_the_line_of_the_map_on_disk() -> None:
+    from regmap.diagnostics import Diagnostic
+    from regmap.tools.spreadsheet import importer
+
+    original = "a: 1\nb: 2\nc: 3\n"
+    edits = [importer.Edit(5, 5, "x: 9\ny: 8\n"), importer.Edit(13, 14, "30")]  # two lines before b; c's value
+    update = importer.Update(importer._apply(original, edits), original=original, edits=edits)
+    assert update.text == "a: 1\nx: 9\ny: 8\nb: 2\nc: 30\n"
+    assert update.locate(Diagnostic("m.yaml", 4, 4, "bad b")) == "m.yaml:2:4: bad b"
+    assert update.locate(Diagnostic("m.yaml", 1, 1, "bad a")) == "m.yaml:1:1: bad a"
+    assert update.locate(Diagnostic("m.yaml", 2, 1, "bad x")) == "m.yaml: in the text the update would write ('x: 9'): bad x"
