@@ -456,3 +456,18 @@ def test_a_diagnostic_after_an_insertion_names_the_line_of_the_map_on_disk() -> 
     assert update.locate(Diagnostic("m.yaml", 4, 4, "bad b")) == "m.yaml:2:4: bad b"
     assert update.locate(Diagnostic("m.yaml", 1, 1, "bad a")) == "m.yaml:1:1: bad a"
     assert update.locate(Diagnostic("m.yaml", 2, 1, "bad x")) == "m.yaml: in the text the update would write ('x: 9'): bad x"
+
+
+def test_coils_whose_leading_zeros_a_spreadsheet_dropped_are_not_read_as_addresses_silently(tmp_path: Path) -> None:
+    table = "Register,Title,Type\n1,Relay 1,\n2,Relay 2,\n30001,Voltage,U16\n40001,Mode,U16\n"  # 00001 and 00002, as an xlsx keeps them
+    run, draft = _import(tmp_path, table)
+    assert run.returncode == ExitCode.USAGE and not draft.exists()
+    assert "Modicon register numbers" in run.stderr and "--addresses modicon or --addresses plain" in run.stderr
+    run, draft = _import(tmp_path, table, "--addresses", "modicon", name="told")
+    assert run.returncode == ExitCode.OK, run.stderr
+    assert {r.title: (r.space, r.address) for r in load_map(draft).registers} == {
+        "Relay 1": ("coil", 0),
+        "Relay 2": ("coil", 1),
+        "Voltage": ("input", 0),
+        "Mode": ("holding", 0),
+    }

@@ -74,8 +74,10 @@ MODICON_SPACES = {0: "coil", 1: "discrete_input", 3: "input", 4: "holding"}
 
 
 def modicon(text: str) -> tuple[str, int] | None:
-    """`30001` -> (input, 0), `400001` -> (holding, 0), `00017` -> (coil, 16); None for a cell no Modicon number."""
+    """`30001` -> (input, 0), `400001` -> (holding, 0), `00017` and `17` -> (coil, 16); None for a cell no Modicon number."""
     t = _clean(text)
+    if re.fullmatch(r"[0-9]{1,4}", t) and int(t) >= 1:  # a coil's 0xxxx whose leading zeros a spreadsheet dropped
+        return MODICON_SPACES[0], int(t) - 1
     if not re.fullmatch(r"[0-9]{5,6}", t):
         return None
     base = 10 ** (len(t) - 1)

@@ -511,13 +511,14 @@ def address_form(table: Table, told: str | None) -> str:
         return told
     texts = [c[column].strip() for _, c in table.rows if column < len(c) and not cells.blank(c[column])]
     read = [cells.modicon(t) for t in texts]
-    if "address_hex" in table.columns.values() or not texts or not all(read):
+    long = [len(t) >= 5 for t in texts]  # 1..9999 are Modicon coils only beside longer Modicon numbers
+    if "address_hex" in table.columns.values() or not any(long) or not all(read):
         return "plain"
     first: dict[str, str] = {}
     for text, got in zip(texts, read, strict=True):
         assert got is not None
         first.setdefault(got[0], f"{text} -> {got[0]} 0x{got[1]:04X}")
-    if len(first) == 1 and not any(len(t) == 6 or t.startswith("0") for t in texts):
+    if (len(first) == 1 or not all(long)) and not any(len(t) == 6 or t.startswith("0") for t in texts):
         raise TableError(
             [
                 f"{table.where(table.header_row, column)}: {heading} holds {texts[0]} .. {texts[-1]}: Modicon register numbers "
