@@ -18,7 +18,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help=HELP,
         description="Print the map as regmap understands it: arrays expanded, enums resolved, defaults applied (README: the JSON contract). "
         "csv and xlsx give one row per register with every field (raw and engineering values); xlsx adds sheets for groups, enums, "
-        "commands, faults and errata. CSV is UTF-8 with a BOM so that Excel shows Chinese; the same map always gives the same bytes.",
+        "commands, faults and errata. CSV is UTF-8 with a BOM so that Excel shows Chinese; the same map always gives the same bytes. No cell is a formula: "
+        "a CSV text that starts with = + - @ is written behind a single quote (import takes it off), an xlsx text is a string.",
         epilog=examples(
             "regmap export maps/c630s.yaml > c630s.json",
             "regmap export maps/c630s.yaml --format csv > c630s.csv",

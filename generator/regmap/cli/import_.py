@@ -6,13 +6,17 @@ import argparse
 import re
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
 from regmap.cli.common import examples
 from regmap.diagnostics import ExitCode, MapError, UsageError
 from regmap.tools.output import check_output, write_output
+
+if TYPE_CHECKING:
+    from regmap.tools.spreadsheet.importer import Update
+    from regmap.tools.spreadsheet.rows import Problem
 
 HELP = "make a map draft from a register table (CSV/XLSX), or update a map from one"
 
@@ -35,7 +39,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         + "\n\nA mapping file (--columns) names columns and gives param_ids rules for tables without an address column:\n"
         "  columns: {Code: param, Name: title_zh}\n"
         "  param_ids: [{regex: '^P(?P<group>[0-9A-F]{2})-(?P<index>[0-9]{2})$', format: 'P{group:02X}-{index:02d}', "
-        "group_radix: 16, group_stride: 256}]",
+        "group_radix: 16, group_stride: 256}]\n"
+        "A Gain column divides (value = raw / gain); Scale, Multiplier and Resolution multiply; a Factor column is refused "
+        "until the mapping says which ({Factor: gain} or {Factor: scale}).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("table", metavar="TABLE", help="a .csv (UTF-8) or .xlsx register table")
@@ -44,6 +50,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--columns", metavar="MAPPING.yaml", help="column mapping file: header -> field, param_ids rules")
     p.add_argument("--vendor", default="unknown", help="vendor of a new draft (default 'unknown')")
     p.add_argument("--model", default="unknown", help="model of a new draft (default 'unknown')")
+    p.add_argument(
+        "--addresses",
+        choices=["modicon", "plain"],
+        help="how a decimal address column reads: modicon (30001 = input register 0, 40001 = holding register 0) or plain "
+        "(default: Modicon numbers are recognised only when they cannot be addresses; a column that may be either is refused)",
+    )
     p.add_argument("--dry-run", action="store_true", help="print what would change; write nothing")
     return p
 
@@ -72,7 +84,9 @@ def run(args: argparse.Namespace) -> int:
         table = read_table(args.table, args.sheet, mapping)
         print(f"{table.label}: header in row {table.header_row}; columns:")
         print("\n".join(table.describe_columns()))
-        entries, problems = read_entries(table, param_rules(rules))
+        entries, problems = read_entries(table, param_rules(rules), args.addresses or mapping.addresses)
+        for line in table.said:
+            print(f"  {line}")
     except TableError as exc:
         for line in exc.problems:
             print(line, file=sys.stderr)
@@ -82,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"param_ids: bad regex: {exc}") from None
     for problem in problems:
         print(problem, file=sys.stderr)
-    unread = f"{len(problems)} cell(s) could not be read" + (" (listed above; null with a note in the map)" if problems else "")
+    unread = f"{len(problems)} cell(s) could not be read" + (" (listed above; null with a note in the draft)" if problems else "")
 
     if device is None:
         device_id = into.stem
@@ -98,7 +112,10 @@ def run(args: argparse.Namespace) -> int:
             status = ExitCode.INVALID_MAP
         if not args.dry_run:
             write_output(into, draft.text.encode(), "--into")
-        verdict = "valid" if status == ExitCode.OK else "written, but the front end rejects it (above): edit it"
+        if status == ExitCode.OK:
+            verdict = "valid"
+        else:
+            verdict = "which the front end rejects (above)" if args.dry_run else "written, but the front end rejects it (above): edit it"
         action = "would write" if args.dry_run else "wrote"
         print(f"{action} {into}: a new draft, {draft.registers} registers in {len(draft.groups)} group(s), {verdict}; {unread}")
         return status
@@ -107,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
     update = update_map(text, device, table, entries)
     for line in update.skipped:
         print(line, file=sys.stderr)
+    unread = _unread_in_update(problems, update)
     if update.text == text:
         print(f"{into}: no changes ({update.unchanged} registers agree with the table); {unread}")
         return ExitCode.OK
@@ -114,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
         new = load_map_text(update.text, str(into))
     except MapError as exc:
         for diag in exc.diagnostics:
-            print(diag, file=sys.stderr)
+            print(update.locate(diag), file=sys.stderr)
         print(f"regmap import: the update would make {into} invalid (above): nothing written", file=sys.stderr)
         return ExitCode.INVALID_MAP
     sys.stdout.write(render_text(compare(device, new)))
@@ -126,3 +144,17 @@ def run(args: argparse.Namespace) -> int:
         f"{update.unchanged} unchanged, {len(update.skipped)} not applied; {unread}"
     )
     return ExitCode.OK
+
+
+def _unread_in_update(problems: list[Problem], update: Update) -> str:
+    """What became of the cells that could not be read: a register the map has keeps its value, an added one has null."""
+    if not problems:
+        return "0 cell(s) could not be read"
+    added = sum(1 for p in problems if p.row in update.added_rows)
+    kept = sum(1 for p in problems if p.row not in update.added_rows and p.row is not None and p.row not in update.skipped_rows)
+    parts = [f"{kept} in registers the map has: not applied, the map keeps its values"] if kept else []
+    if added:
+        parts.append(f"{added} in added registers: null with a note")
+    if len(problems) - kept - added:
+        parts.append(f"{len(problems) - kept - added} in rows not imported")
+    return f"{len(problems)} cell(s) could not be read (listed above): " + "; ".join(parts)

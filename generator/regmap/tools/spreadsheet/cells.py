@@ -45,10 +45,46 @@ def integer(text: str, what: str = "number") -> int:
 
 
 def address(text: str) -> int:
-    value = integer(text, "address")
+    """`0x000C`, `000CH`, `12`, and the high and low bytes apart (`00 0C`)."""
+    t = _clean(text)
+    pair = re.fullmatch(r"([0-9A-Fa-f]{2}) ([0-9A-Fa-f]{2})", t)
+    value = int(pair.group(1) + pair.group(2), 16) if pair else integer(text, "address")
     if not 0 <= value <= 0xFFFF:
         raise CellProblem(f"address {text!r} is outside 0..0xFFFF")
     return value
+
+
+def address_with_o(text: str) -> tuple[int, str | None]:
+    """An address, and what was corrected to read it: a letter O typed for a zero (`0x00O1`) is read as 0, and said."""
+    try:
+        return address(text), None
+    except CellProblem:
+        if "O" not in text.upper():
+            raise
+        fixed = re.sub("[Oo]", "0", text)
+        try:
+            value = address(fixed)
+        except CellProblem:
+            raise CellProblem(f"cannot read address {text!r}") from None
+        return value, f"address {text.strip()!r} read as 0x{value:04X}: a letter O taken for a zero"
+
+
+MODICON_SPACES = {0: "coil", 1: "discrete_input", 3: "input", 4: "holding"}
+"""The first digit of a Modicon register number (0xxxx, 1xxxx, 3xxxx, 4xxxx and the six-digit 4xxxxx)."""
+
+
+def modicon(text: str) -> tuple[str, int] | None:
+    """`30001` -> (input, 0), `400001` -> (holding, 0), `00017` and `17` -> (coil, 16); None for a cell no Modicon number."""
+    t = _clean(text)
+    if re.fullmatch(r"[0-9]{1,4}", t) and int(t) >= 1:  # a coil's 0xxxx whose leading zeros a spreadsheet dropped
+        return MODICON_SPACES[0], int(t) - 1
+    if not re.fullmatch(r"[0-9]{5,6}", t):
+        return None
+    base = 10 ** (len(t) - 1)
+    band, number = divmod(int(t), base)
+    if band not in MODICON_SPACES or not 1 <= number <= min(base - 1, 0x10000):
+        return None
+    return MODICON_SPACES[band], number - 1
 
 
 _DECIMAL = re.compile(r"^[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)$")
@@ -106,7 +142,30 @@ def printed_range(text: str) -> PrintedRange:
     values = [int(v, 0) for v in _VALUE_LIST.findall(t)]
     if values and re.match(rf"^{_VALUE}\s*[:：-]", t) and values == sorted(set(values)):
         return PrintedRange(Decimal(values[0]), Decimal(values[-1]), listed=True)
+    table = value_table(t)
+    if table is not None:
+        return PrintedRange(Decimal(min(v for v, _ in table)), Decimal(max(v for v, _ in table)), listed=True)
     raise CellProblem(f"cannot read range {text!r}")
+
+
+_PAIR = re.compile(r"(?:^|(?<=[,;，；\s]))(0[xX][0-9A-Fa-f]+|[0-9]+)\s*[=:：]\s*")
+
+
+def value_table(text: str) -> list[tuple[int, str]] | None:
+    """The values a cell lists: `0 = 2400, 1 = 4800`, `0: k, 1: M`, `60, 100, 200` -> [(value, as printed)]; None for
+    any other text (a range, a sentence). Two values at least, each once."""
+    t = _clean(text)
+    if re.fullmatch(r"[0-9]+(?:\s*[,;，；]\s*[0-9]+)+", t):
+        members = [(int(v), v) for v in re.split(r"\s*[,;，；]\s*", t)]
+    else:
+        parts = _PAIR.split(t)
+        if parts[0].strip() or len(parts) < 5:
+            return None
+        members = [(int(v, 0), title.strip().rstrip(",;，；").strip()) for v, title in zip(parts[1::2], parts[2::2], strict=True)]
+        if any(not title for _, title in members):
+            return None
+    values = [v for v, _ in members]
+    return members if len(set(values)) == len(values) else None
 
 
 def _number_and_unit(text: str) -> tuple[Decimal | None, str | None]:
@@ -123,6 +182,8 @@ UNITS: dict[str, str] = {
     **{u: u for u in ("A", "mA", "V", "mV", "kV", "W", "kW", "Ω", "Hz", "kHz", "ms", "s", "us", "μs", "ns", "min", "h", "rpm", "rps")},
     **{u: u for u in ("r", "%", "°", "°C", "P/r", "P/R", "ppr", "pulse", "bps", "Nm", "N·m", "mH", "kg·cm²")},
     **{u: u for u in ("Wh", "kWh", "MWh", "var", "kvar", "varh", "kvarh", "VA", "kVA", "mm", "m", "bar", "Pa", "kPa", "MPa")},
+    "Ah": "Ah",
+    "kVAh": "kVAh",
     "ohm": "Ω",
     "℃": "°C",
     "度": "°",
@@ -142,12 +203,41 @@ UNITS: dict[str, str] = {
 }
 """Units the importer knows, as printed -> as the maps write them. Anything else is reported."""
 
+UNIT_WORDS: dict[str, str] = {
+    **{w: "V" for w in ("v", "volt", "volts")},
+    **{w: "A" for w in ("a", "amp", "amps", "ampere", "amperes")},
+    **{w: "W" for w in ("w", "watt", "watts")},
+    **{w: "kW" for w in ("kw", "kilowatt", "kilowatts")},
+    **{w: "var" for w in ("var", "vars")},
+    "kvar": "kvar",
+    "varh": "varh",
+    "kvarh": "kvarh",
+    "va": "VA",
+    "kva": "kVA",
+    "vah": "VAh",
+    "kvah": "kVAh",
+    "wh": "Wh",
+    "kwh": "kWh",
+    "ah": "Ah",
+    "hz": "Hz",
+    **{w: "°" for w in ("degree", "degrees")},
+    **{w: "°C" for w in ("degrees c", "deg c", "degc")},
+    **{w: "min" for w in ("minute", "minutes")},
+    **{w: "s" for w in ("second", "seconds", "sec")},
+    **{w: "h" for w in ("hour", "hours")},
+    **{w: "%" for w in ("percent", "per cent")},
+}
+"""Units written out as words, or in a case the symbol does not have (VAr, KWH): compared lower-case. No
+symbol whose case carries meaning (mW and MW) is here."""
+
 
 def unit(text: str) -> tuple[str | None, Fraction | None]:
     """`A` -> (A, None); `0.1A` / `0.1 A` -> (A, 1/10); `25ns` -> (ns, 25); `-` -> (None, None)."""
     t = _clean(text)
-    if t in EMPTY:
+    if t in EMPTY or t.lower() == "none":
         return None, None
+    if t.lower() in UNIT_WORDS:
+        return UNIT_WORDS[t.lower()], None
     if t in UNITS or _squash(t) in UNITS:  # cells break words across lines: 编码器 单位
         return UNITS.get(t) or UNITS[_squash(t)], None
     m = re.fullmatch(r"([0-9]+(?:\.[0-9]+)?)\s*(\S.*)", t)
@@ -191,9 +281,16 @@ ACCESS = {
     "只读": "r",
     "rw": "rw",
     "r/w": "rw",
+    "read/write": "rw",
+    "read only": "r",
+    "read-only": "r",
+    "write only": "w",
+    "write-only": "w",
     "读写": "rw",
     "w": "w",
     "wo": "w",
+    "r/wp": "rw",
+    "rwp": "rw",
     "write": "w",
     "只写": "w",
 }
@@ -212,6 +309,17 @@ TYPES = {
     "float32": "f32",
     "real": "f32",
     "double": "f64",
+    # the width in the name, as datasheets print it
+    **{f"{p}{n}": f"{k}{n}" for n in (16, 32, 64) for p, k in (("i", "s"), ("s", "s"), ("u", "u"), ("int", "s"), ("uint", "u"))},
+    "f32": "f32",
+    "f64": "f64",
+    "float 32": "f32",
+    "bitfield16": "u16",
+    "bitfield32": "u32",
+    "e16": "u16",
+    "e32": "u32",
+    "enum16": "u16",
+    "enum32": "u32",
     "float64": "f64",
     "lreal": "f64",
     "str": "string",
@@ -231,6 +339,16 @@ TYPES = {
     "布尔": "bool",
     "位": "bool",
 }
+
+TYPE_NOTES = {
+    "bitfield16": "the table prints the type Bitfield16: a 16-bit field whose bits it does not list here",
+    "bitfield32": "the table prints the type Bitfield32: a 32-bit field whose bits it does not list here",
+    "e16": "the table prints the type E16: a 16-bit code whose values it does not list here",
+    "e32": "the table prints the type E32: a 32-bit code whose values it does not list here",
+    "enum16": "the table prints the type enum16: a 16-bit code whose values it does not list here",
+    "enum32": "the table prints the type enum32: a 32-bit code whose values it does not list here",
+}
+"""Types read by their width whose meaning the map must still be told."""
 
 WORD_ORDERS = {"high_first": "high_first", "low_first": "low_first"}
 

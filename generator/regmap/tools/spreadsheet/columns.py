@@ -6,6 +6,11 @@ A mapping file (`--columns MAPPING.yaml`) is YAML:
     param_ids:                                                # addresses from parameter ids (C630S)
       - {regex: '^P(?P<group>[0-9A-F]{2})-(?P<index>[0-9]{2})$', format: 'P{group:02X}-{index:02d}', group_radix: 16, group_stride: 256}
     sheet: Sheet1                                             # optional, like --sheet
+    addresses: modicon                                        # optional, like --addresses: modicon or plain
+
+A "Gain" column divides (value = raw / gain); "Scale", "Multiplier" and "Resolution" multiply
+(value = raw x scale). A header that may mean either ("Factor", "Scale factor", "Coefficient") is
+refused until the mapping names it: `columns: {Factor: gain}` or `{Factor: scale}`.
 """
 
 from __future__ import annotations
@@ -30,7 +35,8 @@ FIELDS: dict[str, str] = {
     "paired": "iDM-RS pair (true/false)",
     "access": "r rw w",
     "unit": "unit, optionally with its step (0.1A)",
-    "scale": "raw x scale = value",
+    "scale": "raw x scale = value (also multiplier, resolution)",
+    "gain": "raw / gain = value (as vendors print a gain or a divisor)",
     "min": "raw minimum",
     "max": "raw maximum",
     "default": "raw default",
@@ -92,6 +98,20 @@ HEADERS: dict[str, str] = {
     "title (zh)": "title_zh",
     "chinese title": "title_zh",
     "section": "source",
+    "units": "unit",
+    "multiplier": "scale",
+    "resolution": "scale",
+    "gain": "gain",
+    "divisor": "gain",
+    "增益": "gain",
+    "quantity": "words",
+    "length": "words",
+    "words": "words",
+    "number of registers": "words",
+    "no. of registers": "words",
+    "register count": "words",
+    "remarks": "notes",
+    "comments": "notes",
     # Chinese, as the manuals print them
     "地址": "address",
     "寄存器地址": "address",
@@ -179,12 +199,21 @@ def normalise(header: str) -> str:
 
 _KNOWN = {normalise(k): v for k, v in HEADERS.items()}
 
+AMBIGUOUS = {
+    normalise(h): "raw x factor or raw / factor"
+    for h in ("factor", "scale factor", "scaling factor", "scaling", "coefficient", "ratio", "倍率", "系数")
+}
+"""Headers that vendors print for a multiplier and for a divisor alike: refused until a mapping names them."""
+
+ADDRESS_FORMS = ("modicon", "plain")
+
 
 @dataclass
 class Mapping:
     columns: dict[str, str] = field(default_factory=dict)  # normalised header -> field
     param_ids: list[dict[str, Any]] = field(default_factory=list)
     sheet: str | None = None
+    addresses: str | None = None  # modicon or plain: how a decimal address column reads (None: see rows.address_form)
 
 
 def load_mapping(path: str | Path) -> Mapping:
@@ -192,8 +221,11 @@ def load_mapping(path: str | Path) -> Mapping:
         data = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise UsageError(f"{path}: cannot read the column mapping: {exc}") from None
-    if not isinstance(data, dict) or not set(data) <= {"columns", "param_ids", "sheet"}:
-        raise UsageError(f"{path}: a column mapping has the keys columns, param_ids and sheet")
+    if not isinstance(data, dict) or not set(data) <= {"columns", "param_ids", "sheet", "addresses"}:
+        raise UsageError(f"{path}: a column mapping has the keys columns, param_ids, sheet and addresses")
+    addresses = data.get("addresses")
+    if addresses is not None and addresses not in ADDRESS_FORMS:
+        raise UsageError(f"{path}: addresses: expected modicon or plain, not {addresses!r}")
     columns = data.get("columns") or {}
     if not isinstance(columns, dict):
         raise UsageError(f"{path}: columns: expected a mapping of header -> field")
@@ -206,11 +238,14 @@ def load_mapping(path: str | Path) -> Mapping:
     if not isinstance(rules, list) or not all(isinstance(r, dict) for r in rules):
         raise UsageError(f"{path}: param_ids: expected a list of rules as in a map")
     sheet = data.get("sheet")
-    return Mapping(out, rules, None if sheet is None else str(sheet))
+    return Mapping(out, rules, None if sheet is None else str(sheet), addresses)
 
 
 def recognise(header: list[str], mapping: Mapping) -> dict[int, str]:
-    """Column index -> field for every header recognised; a field named twice keeps its first column."""
+    """Column index -> field for every header recognised; a field named twice keeps its first column.
+
+    A vendor's "Default" beside a range is printed in engineering units, as the range is: it reads as
+    `default_value` (the export's raw `default` comes with raw `min` and `max` columns)."""
     found: dict[int, str] = {}
     taken: set[str] = set()
     for i, cell in enumerate(header):
@@ -219,7 +254,31 @@ def recognise(header: list[str], mapping: Mapping) -> dict[int, str]:
         if name and name not in taken:
             found[i] = name
             taken.add(name)
+    printed = taken & {"range", "min_value", "max_value"}
+    if printed and "default" in taken and not taken & {"min", "max", "default_value"}:
+        column = next(i for i, n in found.items() if n == "default")
+        if normalise(header[column]) not in mapping.columns:  # a mapping that says `default` is obeyed
+            found[column] = "default_value"
     return found
+
+
+def ignored(header: list[str], columns: dict[int, str], rows: list[list[str]]) -> dict[int, str]:
+    """Column index -> why it is not read, for every column with a header or a value that no field takes."""
+    out: dict[int, str] = {}
+    width = max([len(header), *(len(r) for r in rows)], default=0)
+    for i in range(width):
+        if i in columns:
+            continue
+        text = header[i].strip() if i < len(header) else ""
+        if text and normalise(text) in AMBIGUOUS:
+            out[i] = "ambiguous"
+        elif text and (mapping_field := _KNOWN.get(normalise(text))) in columns.values():
+            out[i] = f"{mapping_field} already comes from another column"
+        elif text:
+            out[i] = "not a header regmap knows (name it with --columns MAPPING.yaml)"
+        elif any(i < len(r) and r[i].strip() for r in rows):
+            out[i] = "no header (name it with --columns MAPPING.yaml)"
+    return out
 
 
 def looks_like_header(cells: list[str], mapping: Mapping) -> bool:

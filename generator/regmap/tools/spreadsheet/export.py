@@ -3,6 +3,11 @@ xlsx one sheet each for groups, enums, commands, faults and errata.
 
 The rows are built from `regmap.core.contract` (the JSON contract), so the three formats agree.
 Output is deterministic: the same map gives the same bytes (the xlsx carries fixed timestamps).
+
+No cell is a formula (OWASP, CSV injection): a CSV text cell that starts with = + - @ or a tab or CR (a
+title `=HYPERLINK(...)`, `-2+3`) is written behind a single quote, which `regmap import` takes off again, so
+the text comes back as the map has it; a plain number (-500, -0.5) is written as it is. The xlsx writes every
+text cell as a string, never as a formula, marked "quote prefix" so that Excel keeps it text when edited.
 """
 
 from __future__ import annotations
@@ -10,6 +15,7 @@ from __future__ import annotations
 import csv
 import datetime
 import io
+import re
 import zipfile
 from collections.abc import Sequence
 from fractions import Fraction
@@ -17,6 +23,7 @@ from typing import Any
 
 from regmap.core.contract import export_json, register_json
 from regmap.model import Device, Register
+from regmap.tools.spreadsheet.table import FORMULA_LEAD
 
 REGISTER_COLUMNS = (
     "name",
@@ -71,7 +78,7 @@ def _number(value: Fraction) -> int | float:
     return value.numerator if value.denominator == 1 else float(value)
 
 
-def _engineering(r: Register, raw: int | float | str | None) -> Cell:
+def engineering(r: Register, raw: int | float | str | None) -> Cell:
     """raw x scale + offset; text and bits as they are."""
     if raw is None or isinstance(raw, str) or not r.type.numeric:
         return _raw(r, raw)
@@ -115,9 +122,9 @@ def register_row(r: Register) -> dict[str, Cell]:
         "min": r.min,
         "max": r.max,
         "default": _raw(r, r.default),
-        "min_value": _engineering(r, r.min),
-        "max_value": _engineering(r, r.max),
-        "default_value": _engineering(r, r.default),
+        "min_value": engineering(r, r.min),
+        "max_value": engineering(r, r.max),
+        "default_value": engineering(r, r.default),
         "range_text": r.range_text,
         "enum": j["enum"],
         "bitfields": bitfields_text(r) or None,
@@ -200,13 +207,24 @@ def _text(value: Cell) -> str:
     return str(value)
 
 
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+def neutralised(text: str) -> str:
+    """A CSV cell that no spreadsheet runs as a formula: `=x` -> `'=x`, `'=x` -> `''=x` (so that an import gives back
+    exactly the text); a plain number, and any other text, as it is."""
+    if text.lstrip("'").startswith(FORMULA_LEAD) and not _PLAIN_NUMBER.fullmatch(text):
+        return "'" + text
+    return text
+
+
 def export_csv(device: Device) -> str:
     """UTF-8 with a BOM (Excel then shows Chinese correctly), CRLF rows, one row per register."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\r\n")
     writer.writerow(REGISTER_COLUMNS)
     for row in (register_row(r) for r in device.registers):
-        writer.writerow([_text(row[c]) for c in REGISTER_COLUMNS])
+        writer.writerow([neutralised(_text(row[c])) for c in REGISTER_COLUMNS])
     return "\ufeff" + out.getvalue()
 
 
@@ -239,6 +257,11 @@ def export_xlsx(device: Device) -> bytes:
             cell.font = bold
         for row in rows:
             ws.append([row[c] for c in columns])
+            for cell in ws[ws.max_row]:
+                if isinstance(cell.value, str):
+                    cell.data_type = "s"  # openpyxl takes a text that starts with = for a formula
+                    if cell.value.startswith(FORMULA_LEAD):
+                        cell.quotePrefix = True
         ws.freeze_panes = "B2" if title == "registers" else "A2"
         for i, column in enumerate(columns, start=1):
             longest = max([len(column), *(max((len(line) for line in _text(r[column]).splitlines()), default=0) for r in rows)])

@@ -9,15 +9,20 @@ maps/id243pro.yaml and thousands of maps/c630s.yaml change with no edit at all.)
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
 import yaml
 
+from regmap.diagnostics import Diagnostic
 from regmap.model import Device, Register
-from regmap.tools.spreadsheet.rows import Entry, Problem, table_name
+from regmap.tools.spreadsheet.cells import CellProblem
+from regmap.tools.spreadsheet.export import engineering
+from regmap.tools.spreadsheet.rows import Entry, Problem, engineering_to_raw, table_name
 from regmap.tools.spreadsheet.skeleton import head
 from regmap.tools.spreadsheet.table import Table
 from regmap.tools.spreadsheet.yamltext import block, flow, scalar
@@ -64,14 +69,16 @@ NUMERIC = tuple(t.name for t in TYPES.values() if t.numeric)  # types with a ran
 def _register_yaml(e: Entry, source: str) -> dict[str, Any]:
     v = dict(e.values)
     v.setdefault("source", [source])
-    if "type" not in v:
+    if e.type_unknown:
+        v["type"] = None  # the front end refuses it until the manual's type is filled in: a width is never made up
+    elif "type" not in v:
         v["type"] = _type_from_range(v.get("min"), v.get("max"), e)
     notes = [v.pop("notes")] if v.get("notes") else []
     notes += e.notes
     if notes:
         v["notes"] = " ".join(n if n.endswith(".") else n + "." for n in notes)
     bounds = ("min", "max", "default") if v["type"] in NUMERIC else ("default",)
-    out = {k: v[k] for k in KEY_ORDER if k in v and (v[k] is not None or k in bounds)}
+    out = {k: v[k] for k in KEY_ORDER if k in v and (v[k] is not None or k in bounds or k == "type")}
     for key, default in (("scale", 1), ("offset", 0), ("space", "holding"), ("byte_order", "high_first"), ("poll", "normal")):
         if key in out and out[key] == default:
             del out[key]  # the map's default: a draft says only what differs
@@ -119,10 +126,39 @@ def _group_titles(table: Table) -> dict[str, tuple[str, str | None]]:
     }
 
 
-def _enums_section(table: Table) -> list[str]:
+def _member_name(title: str, value: int, taken: set[str]) -> str:
+    """A snake_case member name from the title a table prints (`2400` -> `value_2400`, `M` -> `m`), unique in its enum."""
+    name = re.sub(r"[^a-z0-9]+", "_", title.lower()).strip("_")
+    if not name or not name[0].isalpha():
+        name = f"value_{name or value}"
+    if name in taken:
+        name = f"{name}_{value}"
+    taken.add(name)
+    return name
+
+
+def _listed_enums(entries: list[Entry], defined: set[str]) -> list[str]:
+    """An enum for every register whose range or description lists its values; the register takes its name."""
+    lines = []
+    for e in entries:
+        if not e.value_table or "enum" in e.values:
+            continue
+        name = e.values["name"] if e.values["name"] not in defined else f"{e.values['name']}_values"
+        defined.add(name)
+        e.values["enum"] = name
+        e.notes.append(f"enum {name} from the values the table lists: check their names")
+        taken: set[str] = set()
+        lines += [f"  {name}:", f"    title: {scalar(e.values.get('title') or name)}", "    values:"]
+        for value, title in e.value_table:
+            lines.append(f"      - {flow({'value': value, 'name': _member_name(title, value, taken), 'title': title})}")
+    return lines
+
+
+def _enums_section(table: Table, entries: list[Entry]) -> list[str]:
     rows = table.extra.get("enums", [])
+    listed = _listed_enums(entries, {str(r.get("enum")) for r in rows})
     if not rows:
-        return []
+        return ["enums:", *listed] if listed else []
     lines = ["enums:"]
     current = None
     for r in rows:
@@ -134,7 +170,7 @@ def _enums_section(table: Table) -> list[str]:
             if r.get(key):
                 member[key] = r[key]
         lines.append(f"      - {flow(member)}")
-    return lines
+    return lines + listed
 
 
 def _errata_section(table: Table, named: dict[str, list[str]]) -> list[str]:
@@ -173,10 +209,13 @@ def build_draft(
     lines = head(device_id, vendor, model, made_by=made_by, function_codes=_function_codes(entries)).splitlines()
     if problems:
         lines.append(f"# {len(problems)} cell(s) of the table could not be read: those values are null, with a note.")
+    lines += [f"# {said}" for said in table.said]
+    if table.ignored:
+        lines.append("# Columns not read: " + ", ".join(f"{table.position(i)} {table.heading(i)}" for i in sorted(table.ignored)) + ".")
     if rules:
         lines.append("param_ids:")
         lines += [f"  - {flow(r)}" for r in rules]
-    lines += _enums_section(table)
+    lines += _enums_section(table, entries)
     titles = _group_titles(table)
     groups: dict[str, list[Entry]] = {}
     for e in entries:
@@ -218,6 +257,38 @@ class Update:
     added: list[str] = field(default_factory=list)  # registers new to the map
     unchanged: int = 0
     skipped: list[str] = field(default_factory=list)  # what the table says that an import does not apply
+    added_rows: set[int] = field(default_factory=set)  # the table rows of the added registers
+    skipped_rows: set[int] = field(default_factory=set)  # the table rows of no register (no address)
+    original: str = ""  # the map's text before the update
+    edits: list[Edit] = field(default_factory=list)  # spans of the map's text, in its own offsets
+
+    def locate(self, diag: Diagnostic) -> str:
+        """A diagnostic of the updated text, told where it is in the map as it is on disk (the update is not written)."""
+        old_offset = self._old_offset(_offset_of_line(self.text, diag.line))
+        if old_offset is None:
+            line = self.text.splitlines()[diag.line - 1].strip() if 0 < diag.line <= len(self.text.splitlines()) else ""
+            return f"{diag.file}: in the text the update would write ({line!r}): {diag.message}"
+        original = self.original[:old_offset].count("\n") + 1
+        return f"{diag.file}:{original}:{diag.column}: {diag.message}"
+
+    def _old_offset(self, offset: int) -> int | None:
+        """An offset of the updated text -> the same place in the original, None inside text an edit wrote."""
+        shift = 0
+        for e in sorted(self.edits, key=lambda e: (e.start, e.end)):
+            new_start = e.start + shift
+            if offset < new_start:
+                break
+            if offset < new_start + len(e.text) or (not e.text and offset == new_start):
+                return None
+            shift += len(e.text) - (e.end - e.start)
+        return offset - shift
+
+
+def _offset_of_line(text: str, line: int) -> int:
+    offset = 0
+    for _ in range(line - 1):
+        offset = text.find("\n", offset) + 1
+    return offset
 
 
 def _current(reg: Register, key: str) -> Any:
@@ -332,7 +403,7 @@ def update_map(text: str, device: Device, table: Table, entries: list[Entry]) ->
     root = yaml.compose(text)
     nodes = _register_nodes(root) if root is not None else {}
     by_param = {r.param: r for r in device.registers if r.param}
-    update = Update(text)
+    update = Update(text, original=text, skipped_rows={row for row, _ in table.rows} - {e.row for e in entries})
     edits: list[Edit] = []
     new: list[Entry] = []
     for e in entries:
@@ -340,6 +411,7 @@ def update_map(text: str, device: Device, table: Table, entries: list[Entry]) ->
         if reg is None:
             new.append(e)
             continue
+        update.skipped += _settle_printed(e, reg)
         diffs = [k for k in APPLIED if k in e.given and not _same(k, _current(reg, k), e.values[k])]
         if not diffs:
             update.unchanged += 1
@@ -355,12 +427,43 @@ def update_map(text: str, device: Device, table: Table, entries: list[Entry]) ->
         for key in diffs:
             edits.append(_edit(text, nodes[reg.name], key, _stored(key, e.values[key])))
             update.changed.append(f"{reg.name}.{key}")
-    text = _apply(text, edits)
     if new:
-        text = _append_group(text, table, new)
+        edits.append(_append_group(text, table, new))
         update.added = [e.values["name"] for e in new]
-    update.text = text
+        update.added_rows = {e.row for e in new}
+    update.edits = edits
+    update.text = _apply(text, edits)
     return update
+
+
+def _settle_printed(e: Entry, reg: Register) -> list[str]:
+    """The export's engineering columns beside its raw ones: an edit of either is a change. An engineering value
+    that differs from the map's (as the export prints it) while the raw cell did not change gives the raw value;
+    both changed and disagreeing is reported and neither applied."""
+    refused = []
+    kind = reg.type.info.kind
+    for key, printed in e.printed.items():
+        current = getattr(reg, key)
+        shown = engineering(reg, current)
+        if isinstance(shown, int | float) and not isinstance(shown, bool) and Decimal(repr(shown)) == printed:  # as the export prints it
+            continue
+        scale = e.values.get("scale", reg.scale) if "scale" in e.given else reg.scale
+        offset = e.values.get("offset", reg.offset) if "offset" in e.given else reg.offset
+        try:
+            raw = engineering_to_raw(printed, Fraction(scale), Fraction(offset), kind, key)
+        except CellProblem as exc:
+            refused.append(f"{e.printed_at[key]}: {reg.name}.{key}_value: {exc}: not applied")
+            continue
+        raw_changed = key in e.given and not _same(key, current, e.values[key])
+        if not raw_changed:
+            e.give(key, raw)
+        elif not _same(key, raw, e.values[key]):
+            refused.append(
+                f"{e.printed_at[key]}: {reg.name}: {key} {e.values[key]} and {key}_value {printed} disagree (scale {float(scale):g}): "
+                f"neither applied; change one of them"
+            )
+            e.given.discard(key)
+    return refused
 
 
 def _stored(key: str, value: Any) -> Any:
@@ -375,10 +478,12 @@ def _dash_column(text: str, item: yaml.Node) -> int:
     return dash - (text.rfind("\n", 0, dash) + 1)
 
 
-def _append_group(text: str, table: Table, entries: list[Entry]) -> str:
-    """A group `imported` at the end of `groups:`, before the next top-level key."""
+def _append_group(text: str, table: Table, entries: list[Entry]) -> Edit:
+    """A group `imported` (`imported_2` when the map has one) at the end of `groups:`, before the next top-level key."""
     source = table_name(table)
-    lines = ["  - id: imported", f"    title: {scalar('Imported from ' + source)}", "    registers:"]
+    taken = {str(g.get("id")) for g in (yaml.safe_load(text) or {}).get("groups") or [] if isinstance(g, dict)}
+    gid = next(g for g in ("imported", *(f"imported_{n}" for n in range(2, len(taken) + 2))) if g not in taken)
+    lines = [f"  - id: {gid}", f"    title: {scalar('Imported from ' + source)}", "    registers:"]
     for e in entries:
         reg = _register_yaml(e, source)
         reg.pop("group", None)
@@ -392,7 +497,7 @@ def _append_group(text: str, table: Table, entries: list[Entry]) -> str:
     lines = [" " * dash + line[2:] for line in lines]  # the lines above put the group's dash in column 2
     at = keys[groups_at + 1].start_mark.index if groups_at + 1 < len(keys) else len(text)
     if at == len(text):
-        return text.rstrip("\n") + "\n" + "\n".join(lines) + "\n"
+        return Edit(len(text), len(text), ("" if text.endswith("\n") else "\n") + "\n".join(lines) + "\n")
     # before any comment lines that introduce the next key
     head_ = text[:at]
     cut = len(head_.rstrip(" "))
@@ -403,4 +508,4 @@ def _append_group(text: str, table: Table, entries: list[Entry]) -> str:
             cut = start
             continue
         break
-    return text[:cut] + "\n".join(lines) + "\n" + text[cut:]
+    return Edit(cut, cut, "\n".join(lines) + "\n")

@@ -27,6 +27,15 @@ class Entry:
     given: set[str] = field(default_factory=set)
     notes: list[str] = field(default_factory=list)
     errata: list[str] = field(default_factory=list)
+    printed: dict[str, Decimal] = field(default_factory=dict)  # min/max/default in engineering units beside raw columns
+    printed_at: dict[str, str] = field(default_factory=dict)  # where each of those cells is
+    modicon_space: str | None = None  # the space a Modicon register number names
+    value_table: list[tuple[int, str]] = field(default_factory=list)  # the values a range or description cell lists
+
+    @property
+    def type_unknown(self) -> bool:
+        """The table prints a type regmap cannot read: the draft says `type: null`, never a width of its own."""
+        return "type" in _noted(self) and "type" not in self.values
 
     def give(self, key: str, value: Any) -> None:
         self.values[key] = value
@@ -37,6 +46,7 @@ class Entry:
 class Problem:
     where: str
     message: str
+    row: int | None = None  # the table row, when the problem is one row's
 
     def __str__(self) -> str:
         return f"{self.where}: {self.message}"
@@ -75,8 +85,8 @@ TEXT_FIELDS = ("title", "title_zh", "description", "range_text", "notes", "group
 
 
 class _Reader:
-    def __init__(self, table: Table, rules: list[_ParamRule]) -> None:
-        self.table, self.rules = table, rules
+    def __init__(self, table: Table, rules: list[_ParamRule], addresses: str = "plain") -> None:
+        self.table, self.rules, self.addresses = table, rules, addresses
         self.by_field = {name: i for i, name in table.columns.items()}
         self.problems: list[Problem] = []  # cells it could not read: reported, left null
 
@@ -98,7 +108,7 @@ class _Reader:
         try:
             return parse(text)
         except CellProblem as exc:
-            self.problems.append(Problem(where, str(exc)))
+            self.problems.append(Problem(where, str(exc), entry.row))
             entry.notes.append(f"{name}: the table prints {text.strip()!r}, which regmap cannot read; left null")
             return None
 
@@ -125,47 +135,111 @@ class _Reader:
             e.notes.append("name made from the " + ("parameter id" if param else "address") + ": the table has no name; rename it")
         self._numbers(e, cells_)
         self._text(e, cells_)
+        self._value_table(e, cells_)
         return e
+
+    def _value_table(self, e: Entry, c: list[str]) -> None:
+        """A list of values in the range cell, else in the description cell: an enum of the draft when raw = value."""
+        for name in ("range", "description"):
+            got = self.cell(c, name)
+            if got is None or cells.blank(got[0]):
+                continue
+            table = cells.value_table(got[0])
+            if table is None:
+                continue
+            if e.values.get("scale", 1) != 1 or e.values.get("offset", 0) != 0 or _kind_of(e.values.get("type")) != "int":
+                e.notes.append(f"the {name} lists values ({got[0].strip()}); not an enum, as the raw value is not the value printed")
+                return
+            values = [v for v, _ in table]
+            bounds = (e.values.get("min"), e.values.get("max"))
+            if name == "description" and bounds != (None, None) and bounds != (min(values), max(values)):
+                e.notes.append(f"the description lists values ({got[0].strip()}) that the range {bounds[0]}..{bounds[1]} does not bound")
+                return
+            e.value_table = table
+            return
 
     # -- name, param, address
 
     def _identity(self, e: Entry, c: list[str]) -> None:
         param = self.take(e, c, "param", lambda t: t.strip())
         self.take(e, c, "name", lambda t: cells.identifier(t, "name"))
-        address = self.read(e, c, "address", cells.address)
+        address = self._modicon(e, c) if self.addresses == "modicon" else self._address(e, c, "address")
         if address is None:
-            address = self.read(e, c, "address_hex", cells.address)
+            address = self._address(e, c, "address_hex")
         if address is None and param is not None and self.rules:
             address = _rule_address(self.rules, param)
             if address is None:
                 got = self.cell(c, "param")
                 assert got is not None
-                self.problems.append(Problem(got[1], f"cannot read parameter id {param!r}: no param_ids rule gives its address"))
+                self.problems.append(Problem(got[1], f"cannot read parameter id {param!r}: no param_ids rule gives its address", e.row))
         if address is None:
             got = self.cell(c, "address") or self.cell(c, "param")
-            self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address"))
+            self.problems.append(Problem(got[1] if got else e.where, "row skipped: no address", e.row))
             return
         e.give("address", address)
+
+    def _address(self, e: Entry, c: list[str], column: str) -> int | None:
+        got = self.read(e, c, column, cells.address_with_o)
+        if got is None:
+            return None
+        value, corrected = got
+        if corrected is not None:
+            where = self.cell(c, column)
+            assert where is not None
+            self.table.said.append(f"{where[1]}: {corrected}")
+            e.notes.append(corrected)
+        return int(value)
+
+    def _modicon(self, e: Entry, c: list[str]) -> int | None:
+        got = self.cell(c, "address")
+        if got is None or cells.blank(got[0]):
+            return None
+        read = cells.modicon(got[0])
+        if read is None:
+            self.problems.append(Problem(got[1], f"{got[0].strip()!r} is not a Modicon register number (0xxxx 1xxxx 3xxxx 4xxxx)", e.row))
+            return None
+        e.modicon_space = read[0]
+        return read[1]
 
     # -- type, access, enum, bitfields, word order
 
     def _kind(self, e: Entry, c: list[str]) -> None:
         space = self.take(e, c, "space", cells.space)
+        if e.modicon_space is not None:
+            got = self.cell(c, "space")
+            if space is not None and space != e.modicon_space and got is not None:
+                self.problems.append(
+                    Problem(got[1], f"space {space} contradicts the register number, which names a {e.modicon_space}", e.row)
+                )
+            e.give("space", e.modicon_space)
+            space = e.modicon_space
         for key, table, what in (("type", cells.TYPES, "type"), ("word_order", cells.WORD_ORDERS, "word order")):
             value = self.read(e, c, key, lambda t, table=table, what=what: cells.choice(t, table, what))
             if value is not None:
                 e.give(key, value)
-        if "type" not in e.values and space in ("coil", "discrete_input"):
+        printed_type = self.cell(c, "type")
+        if printed_type is not None and "type" in e.values and cells._squash(printed_type[0]).lower() in cells.TYPE_NOTES:
+            e.notes.append(cells.TYPE_NOTES[cells._squash(printed_type[0]).lower()])
+        if "type" not in e.values and space in ("coil", "discrete_input") and not e.type_unknown:
             e.values["type"] = "bool"  # a coil or discrete input is one bit
         words = self.read(e, c, "words", lambda t: cells.integer(t, "words"))
+        words_at = self.cell(c, "words")
         if words is not None and e.values.get("type") == "string":
             e.give("words", words)
         elif words is not None and "type" not in e.values:
             if words not in (1, 2):
-                self.problems.append(Problem(self.table.where(e.row), f"words {words}: expected 1 or 2"))
+                self.problems.append(Problem(words_at[1] if words_at else e.where, f"words {words}: expected 1 or 2", e.row))
             else:
                 e.give("type", "u32" if words == 2 else "u16")
-                e.notes.append("type from the words column: signedness not in the table")
+                e.notes = [n for n in e.notes if not n.startswith("type:")]
+                e.notes.append(f"type {e.values['type']} from the words column ({words}): signedness not in the table")
+                if words_at is not None and printed_type is not None and not cells.blank(printed_type[0]):
+                    e.notes[-1] += f"; the table prints the type {printed_type[0].strip()!r}, which regmap does not know"
+        elif words is not None and TYPES[e.values["type"]].numeric and TYPES[e.values["type"]].words != words:
+            width = TYPES[e.values["type"]].words
+            self.problems.append(
+                Problem(words_at[1] if words_at else e.where, f"{words} register(s), but type {e.values['type']} takes {width}", e.row)
+            )
         orders = self.read(e, c, "byte_order", cells.byte_order)
         if orders is not None:
             word_order, byte_order = orders
@@ -196,7 +270,10 @@ class _Reader:
                 e.give("settable", settable)
                 if settable == "display_only":
                     e.values["access"] = "r"
-        self.take(e, c, "access", lambda t: cells.choice(t, cells.ACCESS, "access"))
+        if self.take(e, c, "access", lambda t: cells.choice(t, cells.ACCESS, "access")) is not None:
+            got = self.cell(c, "access")
+            if got is not None and cells._squash(got[0]).lower() in ("r/wp", "rwp"):
+                e.notes.append("access R/WP: written with a password, as the table says")
         self.take(e, c, "enum", lambda t: cells.identifier(t, "enum name"))
         bitfields = self.read(e, c, "bitfields", cells.bitfields)
         if bitfields:
@@ -226,6 +303,13 @@ class _Reader:
             elif "unit" not in _noted(e):
                 e.give("unit", None)
         scale = self.read(e, c, "scale", lambda t: Fraction(cells.decimal(t, "scale")))
+        gain = self.read(e, c, "gain", _gain)
+        if scale is None and gain is not None:
+            scale = gain
+        if {"scale", "gain"} & _noted(e):
+            if self.has("range") or self.has("default_value") or self.has("min_value"):
+                e.notes.append("min, max and default: left null, as the scale cannot be read")
+            return
         offset = self.read(e, c, "offset", lambda t: Fraction(cells.decimal(t, "offset")))
         if offset is not None:
             e.give("offset", offset)
@@ -237,6 +321,8 @@ class _Reader:
                     e.give(k, raw[k])
             if scale is not None:
                 e.give("scale", scale)
+            if kind in ("int", "float"):
+                self._printed_beside_raw(e, c, scale, offset, kind)
             return
         printed = self._printed(e, c)
         if printed is None:
@@ -254,7 +340,9 @@ class _Reader:
         if scale is None:
             if unit_step is not None and decimals:
                 self.problems.append(
-                    Problem(e.where, f"unit step {float(unit_step):g} and printed decimals ({texts}) together: scale unclear; left null")
+                    Problem(
+                        e.where, f"unit step {float(unit_step):g} and printed decimals ({texts}) together: scale unclear; left null", e.row
+                    )
                 )
                 e.notes.append("scale unclear: the unit has a step and the values have decimals; min, max and default left null")
                 return
@@ -273,10 +361,27 @@ class _Reader:
                 step, zero = (Fraction(1), Fraction(0)) if unit_step is not None else (scale, shift)
                 e.give(key, cells.raw_from(value, step, key, str(value), zero))
             except CellProblem as exc:
-                self.problems.append(Problem(e.where, str(exc)))
+                self.problems.append(Problem(e.where, str(exc), e.row))
                 e.notes.append(f"{key}: {exc}; left null")
         if self._range_text and (scale != 1 or range_unit or self._range_listed or not _plain_range(self._range_text)):
             e.give("range_text", self._range_text)
+
+    def _printed_beside_raw(self, e: Entry, c: list[str], scale: Fraction | None, offset: Fraction | None, kind: str) -> None:
+        """The export's engineering columns: kept for an update (an edit of either column counts); a raw cell left blank
+        is filled from its engineering one."""
+        for key in ("min", "max", "default"):
+            printed = self.read(e, c, f"{key}_value", lambda t, key=key: cells.decimal(t, key))
+            if printed is None:
+                continue
+            e.printed[key] = printed
+            got = self.cell(c, f"{key}_value")
+            e.printed_at[key] = got[1] if got else e.where
+            if key in e.values or not self.has(key):
+                continue
+            try:
+                e.give(key, engineering_to_raw(printed, scale or Fraction(1), offset or Fraction(0), kind, key))
+            except CellProblem as exc:
+                self.problems.append(Problem(e.where, str(exc), e.row))
 
     def _printed(self, e: Entry, c: list[str]) -> tuple[Decimal | None, Decimal | None, Decimal | None, str, str | None] | None:
         """The engineering-unit range and default as printed, or None when the table prints neither."""
@@ -319,6 +424,28 @@ class _Reader:
 
 
 READ_ONLY_SETTABLE = {"通信只读", "只读"}
+
+
+def _gain(text: str) -> Fraction:
+    """A gain or divisor (value = raw / gain) -> the map's scale; refused when 1/gain is no exact decimal."""
+    gain = Fraction(cells.decimal(text, "gain"))
+    if gain <= 0:
+        raise CellProblem(f"gain {text.strip()!r}: expected a number above 0 (value = raw / gain)")
+    scale = 1 / gain
+    rest = scale.denominator
+    for prime in (2, 5):
+        while rest % prime == 0:
+            rest //= prime
+    if rest != 1:
+        raise CellProblem(f"gain {text.strip()!r}: 1/{text.strip()} is no exact decimal scale; write the scale in the map")
+    return scale
+
+
+def engineering_to_raw(value: Decimal, scale: Fraction, offset: Fraction, kind: str, key: str) -> int | float:
+    """A value in engineering units -> the raw value the map stores ((value - offset) / scale)."""
+    if kind == "float":
+        return float((Fraction(value) - offset) / scale)
+    return cells.raw_from(value, scale, key, str(value), offset)
 
 
 def _kind_of(type_name: Any) -> str:
@@ -371,7 +498,41 @@ def _name_from(param: str | None, address: int, space: str = "holding") -> str:
     return fallback
 
 
-def read_entries(table: Table, rules: list[_ParamRule]) -> tuple[list[Entry], list[Problem]]:
+def address_form(table: Table, told: str | None) -> str:
+    """How the address column reads: `modicon` (30001 = input register 0) or `plain`. A column of Modicon numbers
+    is read as such only when it cannot be addresses (two spaces, six digits, a leading zero); one that may be
+    either is refused until --addresses says. What was decided is added to `table.said`."""
+    column = next((i for i, n in table.columns.items() if n == "address"), None)
+    if column is None:
+        return "plain"
+    heading = f"{table.position(column)} {table.heading(column)}"
+    if told is not None:
+        table.said.append(f"{heading}: read as {'Modicon register numbers' if told == 'modicon' else 'addresses'}, as --addresses says")
+        return told
+    texts = [c[column].strip() for _, c in table.rows if column < len(c) and not cells.blank(c[column])]
+    read = [cells.modicon(t) for t in texts]
+    long = [len(t) >= 5 for t in texts]  # 1..9999 are Modicon coils only beside longer Modicon numbers
+    if "address_hex" in table.columns.values() or not any(long) or not all(read):
+        return "plain"
+    first: dict[str, str] = {}
+    for text, got in zip(texts, read, strict=True):
+        assert got is not None
+        first.setdefault(got[0], f"{text} -> {got[0]} 0x{got[1]:04X}")
+    if (len(first) == 1 or not all(long)) and not any(len(t) == 6 or t.startswith("0") for t in texts):
+        raise TableError(
+            [
+                f"{table.where(table.header_row, column)}: {heading} holds {texts[0]} .. {texts[-1]}: Modicon register numbers "
+                f"({next(iter(first.values()))}) or addresses? say which: --addresses modicon or --addresses plain"
+            ]
+        )
+    table.said.append(
+        f"{heading}: Modicon register numbers, read as space and address n - base: {', '.join(first.values())} "
+        "(--addresses plain reads them as addresses)"
+    )
+    return "modicon"
+
+
+def read_entries(table: Table, rules: list[_ParamRule], addresses: str | None = None) -> tuple[list[Entry], list[Problem]]:
     """Every row as an entry, and the cells that could not be read.
 
     Raises TableError for a table that cannot be imported at all: no address column (and no
@@ -386,7 +547,7 @@ def read_entries(table: Table, rules: list[_ParamRule]) -> tuple[list[Entry], li
                 "or give param_ids rules there (or in the map) that turn parameter ids into addresses"
             ]
         )
-    reader = _Reader(table, rules)
+    reader = _Reader(table, rules, address_form(table, addresses))
     entries = [e for row, cells_ in table.rows if (e := reader.entry(row, cells_)) is not None]
     first: dict[tuple[str, int], Entry] = {}
     duplicates = []

@@ -9,7 +9,7 @@ import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from regmap.tools.spreadsheet.columns import Mapping, looks_like_header, recognise
+from regmap.tools.spreadsheet.columns import AMBIGUOUS, Mapping, ignored, looks_like_header, normalise, recognise
 
 
 class TableError(Exception):
@@ -39,6 +39,8 @@ class Table:
     columns: dict[int, str]  # column index -> field
     rows: list[tuple[int, list[str]]]  # (1-based row number, cells)
     extra: dict[str, list[dict[str, str]]] = field(default_factory=dict)  # xlsx: other sheets by name, rows as header -> text
+    ignored: dict[int, str] = field(default_factory=dict)  # column index -> why no field reads it
+    said: list[str] = field(default_factory=list)  # how the import read the table where it could have read it otherwise
 
     def where(self, row: int, column: int | None = None) -> str:
         if self.sheet is None:
@@ -49,12 +51,29 @@ class Table:
     def label(self) -> str:
         return self.path if self.sheet is None else f"{self.path}:{self.sheet}"
 
+    def position(self, column: int) -> str:
+        return f"column {column + 1}" if self.sheet is None else f"column {_column_letter(column)}"
+
+    def heading(self, column: int) -> str:
+        return repr(self.header[column].strip()) if column < len(self.header) and self.header[column].strip() else "(no header)"
+
     def describe_columns(self) -> list[str]:
-        out = []
-        for i, name in sorted(self.columns.items()):
-            position = f"column {i + 1}" if self.sheet is None else f"column {_column_letter(i)}"
-            out.append(f"  {position} {self.header[i].strip()!r} -> {name}")
-        return out
+        """Every column: the field it is read as, or that it is ignored and why."""
+        said = {i: f"-> {name}" for i, name in self.columns.items()} | {i: f"ignored: {why}" for i, why in self.ignored.items()}
+        return [f"  {self.position(i)} {self.heading(i)} {text}" for i, text in sorted(said.items())]
+
+
+FORMULA_LEAD = ("=", "+", "-", "@", "\t", "\r")
+"""What makes a spreadsheet read a cell as a formula (OWASP, CSV injection): the CSV export writes such a text
+cell behind a single quote, and a CSV import takes the quote off again (an xlsx holds such text as a string)."""
+
+
+def unquote(text: str) -> str:
+    """A cell as the export neutralised it (`'=HYPERLINK(...)`, `''=x`) -> its text; any other cell as it is."""
+    body = text.lstrip("'")
+    if text.startswith("'") and body.startswith(FORMULA_LEAD):
+        return text[1:]
+    return text
 
 
 def _cell_text(value: object) -> str:
@@ -89,7 +108,7 @@ def _csv_rows(path: Path) -> list[list[str]]:
         raise TableError([f"{path}: cannot read: {exc.strerror or exc}"]) from None
     text = _decode_csv(path, data)
     try:
-        return [list(r) for r in csv.reader(io.StringIO(text, newline=""))]
+        return [[unquote(c) for c in r] for r in csv.reader(io.StringIO(text, newline=""))]
     except csv.Error as exc:
         raise TableError([f"{path}: not a CSV table: {exc}"]) from None
 
@@ -154,4 +173,16 @@ def read_table(path: str | Path, sheet: str | None, mapping: Mapping) -> Table:
         for n, cells in enumerate(rows)
         if n > index and any(c.strip() for c in cells) and [c.strip() for c in cells] != [c.strip() for c in header]
     ]
-    return Table(str(p), sheet_name, header, index + 1, columns, data, extra)
+    table = Table(str(p), sheet_name, header, index + 1, columns, data, extra)
+    table.ignored = ignored(header, columns, [c for _, c in data])
+    ambiguous = [i for i, why in table.ignored.items() if why == "ambiguous"]
+    if ambiguous:
+        raise TableError(
+            [
+                f"{table.where(index + 1, i)}: column {table.heading(i)}: {AMBIGUOUS[normalise(header[i])]}? "
+                f"name it in --columns MAPPING.yaml: {{{header[i].strip()}: gain}} (value = raw / gain) "
+                f"or {{{header[i].strip()}: scale}} (value = raw x scale)"
+                for i in ambiguous
+            ]
+        )
+    return table
