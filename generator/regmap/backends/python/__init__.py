@@ -418,9 +418,7 @@ CLIENT_METHODS = frozenset(
 )
 # Every error the runtime raises, re-exported by every generated module: `except drive.AccessError` must work
 # whichever map the module came from (a map without a firmware register still raises FirmwareError on request).
-RUNTIME_ERRORS = tuple(
-    sorted(name for name, obj in vars(errors).items() if isinstance(obj, type) and issubclass(obj, errors.RegmapError))
-)
+RUNTIME_ERRORS = tuple(sorted(name for name, obj in vars(errors).items() if isinstance(obj, type) and issubclass(obj, errors.RegmapError)))
 
 
 def module_errors(device: Device) -> tuple[str, ...]:
