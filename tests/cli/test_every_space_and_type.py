@@ -137,7 +137,10 @@ def test_frame_builds_every_space_and_type(args: tuple[str, ...], expected: str)
         ((REMOTE_IO, "read", "--words", "-t", "0", "0x13", "2001"), "COUNT 2001 is outside 1..2000"),
         ((REMOTE_IO, "read", "--words", "-t", "5", "0x13", "1"), "one of holding, input, coil, discrete_input"),
         ((REMOTE_IO, "read", "0x13", "-t", "4"), "no register at 0x0013 among the holding registers"),
-        ((POWER_METER, "read", "--words", "-t", "0", "0", "1"), "has no function 0x01 (read coils); its map lists 0x03 0x04 0x06 0x10"),
+        (
+            (POWER_METER, "read", "--words", "-t", "0", "0", "1"),
+            "has no function 0x01 (read coils); its map lists 0x03 0x04 0x06 0x08 0x10 0x11 0x17 0x2B",
+        ),
         ((POWER_METER, "write", "meter_label=abcdefghi"), "'abcdefghi' is 9 bytes in utf-8; the register holds 8"),
         ((POWER_METER, "write", "demand_period=0.5"), "demand_period: 0.5 s is outside 1..3600 s"),
         ((POWER_METER, "write", "demand_period=nan"), "NaN is not a value"),

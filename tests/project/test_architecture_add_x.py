@@ -132,7 +132,7 @@ def add_register_type(copy: Path) -> None:
     edit(
         runtime, '        TypeInfo("f64",', '        TypeInfo("f16", words=1, signed=True, kind=FLOAT, codec="e"),\n        TypeInfo("f64",'
     )
-    edit(copy / "generator" / "regmap" / "model.py", '    F64 = "f64"\n', '    F64 = "f64"\n    F16 = "f16"\n')
+    edit(copy / "generator" / "regmap" / "kinds.py", '    F64 = "f64"\n', '    F64 = "f64"\n    F16 = "f16"\n')
     schema = copy / "generator" / "regmap" / "schema" / "map.schema.json"
     text = schema.read_text(encoding="utf-8")
     schema.write_text(re.sub(r'^( *)"f64",\n', r'\1"f64",\n\1"f16",\n', text, flags=re.M), encoding="utf-8")

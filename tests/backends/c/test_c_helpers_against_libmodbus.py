@@ -10,7 +10,6 @@ packing must equal modbus_get_byte_from_bits and modbus_set_bits_from_bytes for 
 
 from __future__ import annotations
 
-import os
 import random
 import re
 import struct
@@ -23,6 +22,7 @@ from regmap.frontend import load_map
 from regmap.generate import render
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT, require_tool
+from support.libmodbus_ref import libmodbus_flags
 
 SOURCE = ROOT / "tests" / "c" / "libmodbus_compare.c"
 
@@ -63,21 +63,10 @@ def _float_bits() -> list[int]:
     return sorted(patterns)
 
 
-def _libmodbus_flags() -> list[str]:
-    pkg_config = require_tool("pkg-config")
-    flags = subprocess.run([pkg_config, "--cflags", "--libs", "libmodbus"], capture_output=True, text=True, check=False)
-    if flags.returncode != 0:
-        message = "libmodbus-dev is not installed (.ci/run installs it)"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message)
-        pytest.skip(message)
-    return flags.stdout.split()
-
-
 @pytest.fixture(scope="module")
 def compare_program(tmp_path_factory: pytest.TempPathFactory) -> Path:
     cc = require_tool("cc")
-    flags = _libmodbus_flags()
+    flags = libmodbus_flags()
     out = tmp_path_factory.mktemp("c-libmodbus")
     devices = [load_map(p) for p in (*MAPS, *FIXTURE_MAPS)]
     for rel, text in render(devices, ["c"])["c"].items():
@@ -110,7 +99,7 @@ def test_a_wrong_byte_swap_is_caught(compare_program: Path, tmp_path: Path) -> N
     (tmp_path / "regmap_rtu.h").write_text(header.replace(swap, "word"), encoding="utf-8")
     binary = tmp_path / "broken"
     build = subprocess.run(
-        [require_tool("cc"), "-std=c99", f"-I{tmp_path}", str(SOURCE), "-o", str(binary), *_libmodbus_flags()],
+        [require_tool("cc"), "-std=c99", f"-I{tmp_path}", str(SOURCE), "-o", str(binary), *libmodbus_flags()],
         capture_output=True,
         text=True,
         check=False,
