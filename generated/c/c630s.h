@@ -2474,7 +2474,7 @@ static inline bool c630s_external_braking_resistor_resistance_decode(const uint1
 /* Values of system_parameter_init: the members of system_init a write may send. */
 static inline bool c630s_system_parameter_init_is_in_range(c630s_system_init value)
 {
-    return c630s_system_init_is_writable(value);
+    return c630s_system_init_is_writable(value) && (long long)value != (long long)1 && (long long)value != (long long)2;
 }
 static inline bool c630s_system_parameter_init_encode(c630s_system_init value, uint16_t words[1])
 {
@@ -10467,7 +10467,7 @@ static inline bool c630s_modbus_error_frame_format_decode(const uint16_t words[1
 /* Values of software_reset: the members of no_op_enable a write may send. */
 static inline bool c630s_software_reset_is_in_range(c630s_no_op_enable value)
 {
-    return c630s_no_op_enable_is_writable(value);
+    return c630s_no_op_enable_is_writable(value) && (long long)value != (long long)1;
 }
 static inline bool c630s_software_reset_encode(c630s_no_op_enable value, uint16_t words[1])
 {
@@ -10777,7 +10777,7 @@ static inline bool c630s_do_force_value_decode(const uint16_t words[1], uint16_t
 /* Values of abs_encoder_reset: the members of abs_encoder_reset a write may send. */
 static inline bool c630s_abs_encoder_reset_is_in_range(c630s_abs_encoder_reset value)
 {
-    return c630s_abs_encoder_reset_is_writable(value);
+    return c630s_abs_encoder_reset_is_writable(value) && (long long)value != (long long)2;
 }
 static inline bool c630s_abs_encoder_reset_encode(c630s_abs_encoder_reset value, uint16_t words[1])
 {
@@ -12019,27 +12019,36 @@ static inline size_t c630s_build_fault_reset(uint8_t *buf, size_t cap, uint8_t s
     return c630s_build_write_single(buf, cap, slave, C630S_CMD_FAULT_RESET_ADDR, (uint16_t)(C630S_CMD_FAULT_RESET_VALUE));
 }
 
-/* Software reset (软件复位): writes 0x0001 to P0D-00 software_reset (0x0D00). Manual 7.13. */
+/* Software reset (软件复位): writes 0x0001 to P0D-00 software_reset (0x0D00). Manual 7.13. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "software_reset". */
 #define C630S_CMD_SOFTWARE_RESET_ADDR                    C630S_SOFTWARE_RESET_ADDR
 #define C630S_CMD_SOFTWARE_RESET_VALUE                   0x0001u
-static inline size_t c630s_build_software_reset(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t c630s_build_software_reset(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "software_reset") != 0) {
+        return 0u;
+    }
     return c630s_build_write_single(buf, cap, slave, C630S_CMD_SOFTWARE_RESET_ADDR, (uint16_t)(C630S_CMD_SOFTWARE_RESET_VALUE));
 }
 
-/* Restore factory defaults (except P00/P01; restart afterwards) (恢复出厂设定值(P00/P01组除外)): writes 0x0001 to P02-31 system_parameter_init (0x021F). Manual 5.2.3, 7.2. */
+/* Restore factory defaults (except P00/P01; restart afterwards) (恢复出厂设定值(P00/P01组除外)): writes 0x0001 to P02-31 system_parameter_init (0x021F). Manual 5.2.3, 7.2. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "restore_factory_defaults". */
 #define C630S_CMD_RESTORE_FACTORY_DEFAULTS_ADDR          C630S_SYSTEM_PARAMETER_INIT_ADDR
 #define C630S_CMD_RESTORE_FACTORY_DEFAULTS_VALUE         0x0001u
-static inline size_t c630s_build_restore_factory_defaults(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t c630s_build_restore_factory_defaults(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "restore_factory_defaults") != 0) {
+        return 0u;
+    }
     return c630s_build_write_single(buf, cap, slave, C630S_CMD_RESTORE_FACTORY_DEFAULTS_ADDR, (uint16_t)(C630S_CMD_RESTORE_FACTORY_DEFAULTS_VALUE));
 }
 
-/* Clear fault records (清除故障记录): writes 0x0002 to P02-31 system_parameter_init (0x021F). Manual 7.2. */
+/* Clear fault records (清除故障记录): writes 0x0002 to P02-31 system_parameter_init (0x021F). Manual 7.2. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "clear_fault_records". */
 #define C630S_CMD_CLEAR_FAULT_RECORDS_ADDR               C630S_SYSTEM_PARAMETER_INIT_ADDR
 #define C630S_CMD_CLEAR_FAULT_RECORDS_VALUE              0x0002u
-static inline size_t c630s_build_clear_fault_records(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t c630s_build_clear_fault_records(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "clear_fault_records") != 0) {
+        return 0u;
+    }
     return c630s_build_write_single(buf, cap, slave, C630S_CMD_CLEAR_FAULT_RECORDS_ADDR, (uint16_t)(C630S_CMD_CLEAR_FAULT_RECORDS_VALUE));
 }
 
@@ -12051,11 +12060,14 @@ static inline size_t c630s_build_emergency_stop(uint8_t *buf, size_t cap, uint8_
     return c630s_build_write_single(buf, cap, slave, C630S_CMD_EMERGENCY_STOP_ADDR, (uint16_t)(C630S_CMD_EMERGENCY_STOP_VALUE));
 }
 
-/* Reset absolute encoder fault and multi-turn data (then fault_reset) (复位故障和多圈数据): writes 0x0002 to P0D-20 abs_encoder_reset (0x0D14). Manual 5.2.4, 7.13, 8.1.1. */
+/* Reset absolute encoder fault and multi-turn data (then fault_reset) (复位故障和多圈数据): writes 0x0002 to P0D-20 abs_encoder_reset (0x0D14). Manual 5.2.4, 7.13, 8.1.1. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "reset_abs_encoder_multiturn". */
 #define C630S_CMD_RESET_ABS_ENCODER_MULTITURN_ADDR       C630S_ABS_ENCODER_RESET_ADDR
 #define C630S_CMD_RESET_ABS_ENCODER_MULTITURN_VALUE      0x0002u
-static inline size_t c630s_build_reset_abs_encoder_multiturn(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t c630s_build_reset_abs_encoder_multiturn(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "reset_abs_encoder_multiturn") != 0) {
+        return 0u;
+    }
     return c630s_build_write_single(buf, cap, slave, C630S_CMD_RESET_ABS_ENCODER_MULTITURN_ADDR, (uint16_t)(C630S_CMD_RESET_ABS_ENCODER_MULTITURN_VALUE));
 }
 

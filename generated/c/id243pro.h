@@ -522,7 +522,7 @@ static inline bool id243pro_motor_direction_decode(const uint16_t words[1], uint
 /* Values of user_command: the members of user_command a write may send. */
 static inline bool id243pro_user_command_is_in_range(id243pro_user_command value)
 {
-    return id243pro_user_command_is_writable(value);
+    return id243pro_user_command_is_writable(value) && (long long)value != (long long)1 && (long long)value != (long long)3;
 }
 static inline bool id243pro_user_command_encode(id243pro_user_command value, uint16_t words[1])
 {
@@ -1787,11 +1787,14 @@ static inline size_t id243pro_build_enable(uint8_t *buf, size_t cap, uint8_t sla
     return id243pro_build_write_single(buf, cap, slave, ID243PRO_CMD_ENABLE_ADDR, (uint16_t)(ID243PRO_CMD_ENABLE_VALUE));
 }
 
-/* Reset user parameters (motor stopped) (用户参数复位): writes 0x0001 to 0206 user_command (0x00CE). Manual 1.2. */
+/* Reset user parameters (motor stopped) (用户参数复位): writes 0x0001 to 0206 user_command (0x00CE). Manual 1.2. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "reset_user_parameters". */
 #define ID243PRO_CMD_RESET_USER_PARAMETERS_ADDR          ID243PRO_USER_COMMAND_ADDR
 #define ID243PRO_CMD_RESET_USER_PARAMETERS_VALUE         0x0001u
-static inline size_t id243pro_build_reset_user_parameters(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t id243pro_build_reset_user_parameters(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "reset_user_parameters") != 0) {
+        return 0u;
+    }
     return id243pro_build_write_single(buf, cap, slave, ID243PRO_CMD_RESET_USER_PARAMETERS_ADDR, (uint16_t)(ID243PRO_CMD_RESET_USER_PARAMETERS_VALUE));
 }
 
@@ -1803,11 +1806,14 @@ static inline size_t id243pro_build_user_clear_alarm(uint8_t *buf, size_t cap, u
     return id243pro_build_write_single(buf, cap, slave, ID243PRO_CMD_USER_CLEAR_ALARM_ADDR, (uint16_t)(ID243PRO_CMD_USER_CLEAR_ALARM_VALUE));
 }
 
-/* Restart the driver (motor stopped) (驱动器重启): writes 0x0003 to 0206 user_command (0x00CE). Manual 1.2. */
+/* Restart the driver (motor stopped) (驱动器重启): writes 0x0003 to 0206 user_command (0x00CE). Manual 1.2. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "restart". */
 #define ID243PRO_CMD_RESTART_ADDR                        ID243PRO_USER_COMMAND_ADDR
 #define ID243PRO_CMD_RESTART_VALUE                       0x0003u
-static inline size_t id243pro_build_restart(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t id243pro_build_restart(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "restart") != 0) {
+        return 0u;
+    }
     return id243pro_build_write_single(buf, cap, slave, ID243PRO_CMD_RESTART_ADDR, (uint16_t)(ID243PRO_CMD_RESTART_VALUE));
 }
 

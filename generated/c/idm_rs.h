@@ -1063,7 +1063,7 @@ static inline bool idm_rs_following_error_limit_decode(const uint16_t words[1], 
 /* Values of force_enable: the members of force_enable a write may send; a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR. */
 static inline bool idm_rs_force_enable_is_in_range(idm_rs_force_enable value)
 {
-    return idm_rs_force_enable_is_writable(value);
+    return idm_rs_force_enable_is_writable(value) && (long long)value != (long long)1;
 }
 static inline bool idm_rs_force_enable_encode(idm_rs_force_enable value, uint16_t words[1])
 {
@@ -4042,7 +4042,7 @@ static inline bool idm_rs_run_status_decode(const uint16_t words[1], uint16_t *o
 /* Values of control_word: the members of control_word a write may send. */
 static inline bool idm_rs_control_word_is_in_range(idm_rs_control_word value)
 {
-    return idm_rs_control_word_is_writable(value);
+    return idm_rs_control_word_is_writable(value) && (long long)value != (long long)4386 && (long long)value != (long long)8738 && (long long)value != (long long)8755;
 }
 static inline bool idm_rs_control_word_encode(idm_rs_control_word value, uint16_t words[1])
 {
@@ -5640,11 +5640,14 @@ static inline size_t idm_rs_build_reset_current_alarm(uint8_t *buf, size_t cap, 
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_RESET_CURRENT_ALARM_ADDR, (uint16_t)(IDM_RS_CMD_RESET_CURRENT_ALARM_VALUE));
 }
 
-/* Reset the alarm history (复位历史报警): writes 0x1122 to control_word (0x1801). Manual 5.3.3, 附录4. */
+/* Reset the alarm history (复位历史报警): writes 0x1122 to control_word (0x1801). Manual 5.3.3, 附录4. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "reset_history_alarms". */
 #define IDM_RS_CMD_RESET_HISTORY_ALARMS_ADDR             IDM_RS_CONTROL_WORD_ADDR
 #define IDM_RS_CMD_RESET_HISTORY_ALARMS_VALUE            0x1122u
-static inline size_t idm_rs_build_reset_history_alarms(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t idm_rs_build_reset_history_alarms(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "reset_history_alarms") != 0) {
+        return 0u;
+    }
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_RESET_HISTORY_ALARMS_ADDR, (uint16_t)(IDM_RS_CMD_RESET_HISTORY_ALARMS_VALUE));
 }
 
@@ -5656,19 +5659,25 @@ static inline size_t idm_rs_build_save_all_parameters(uint8_t *buf, size_t cap, 
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_SAVE_ALL_PARAMETERS_ADDR, (uint16_t)(IDM_RS_CMD_SAVE_ALL_PARAMETERS_VALUE));
 }
 
-/* Initialise parameters (motor parameters excluded) (参数初始化（不含电机参数）): writes 0x2222 to control_word (0x1801). Manual 5.3.3, 附录4. */
+/* Initialise parameters (motor parameters excluded) (参数初始化（不含电机参数）): writes 0x2222 to control_word (0x1801). Manual 5.3.3, 附录4. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "init_parameters". */
 #define IDM_RS_CMD_INIT_PARAMETERS_ADDR                  IDM_RS_CONTROL_WORD_ADDR
 #define IDM_RS_CMD_INIT_PARAMETERS_VALUE                 0x2222u
-static inline size_t idm_rs_build_init_parameters(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t idm_rs_build_init_parameters(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "init_parameters") != 0) {
+        return 0u;
+    }
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_INIT_PARAMETERS_ADDR, (uint16_t)(IDM_RS_CMD_INIT_PARAMETERS_VALUE));
 }
 
-/* Restore all parameters to factory values (所有参数恢复到出厂值): writes 0x2233 to control_word (0x1801). Manual 4.5, 5.3.3, 附录4. */
+/* Restore all parameters to factory values (所有参数恢复到出厂值): writes 0x2233 to control_word (0x1801). Manual 4.5, 5.3.3, 附录4. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "restore_factory_defaults". */
 #define IDM_RS_CMD_RESTORE_FACTORY_DEFAULTS_ADDR         IDM_RS_CONTROL_WORD_ADDR
 #define IDM_RS_CMD_RESTORE_FACTORY_DEFAULTS_VALUE        0x2233u
-static inline size_t idm_rs_build_restore_factory_defaults(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t idm_rs_build_restore_factory_defaults(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "restore_factory_defaults") != 0) {
+        return 0u;
+    }
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_RESTORE_FACTORY_DEFAULTS_ADDR, (uint16_t)(IDM_RS_CMD_RESTORE_FACTORY_DEFAULTS_VALUE));
 }
 
@@ -5733,11 +5742,14 @@ static inline size_t idm_rs_build_emergency_stop(uint8_t *buf, size_t cap, uint8
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_EMERGENCY_STOP_ADDR, (uint16_t)(IDM_RS_CMD_EMERGENCY_STOP_VALUE));
 }
 
-/* Force-enable the motor over RS-485 (强制使能): writes 0x0001 to Pr0.07 force_enable (0x000F). Manual 4.3, 5.3.1. */
+/* Force-enable the motor over RS-485 (强制使能): writes 0x0001 to Pr0.07 force_enable (0x000F). Manual 4.3, 5.3.1. Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "force_enable_on". */
 #define IDM_RS_CMD_FORCE_ENABLE_ON_ADDR                  IDM_RS_FORCE_ENABLE_ADDR
 #define IDM_RS_CMD_FORCE_ENABLE_ON_VALUE                 0x0001u
-static inline size_t idm_rs_build_force_enable_on(uint8_t *buf, size_t cap, uint8_t slave)
+static inline size_t idm_rs_build_force_enable_on(uint8_t *buf, size_t cap, uint8_t slave, const char *confirm)
 {
+    if (confirm == NULL || strcmp(confirm, "force_enable_on") != 0) {
+        return 0u;
+    }
     return idm_rs_build_write_single(buf, cap, slave, IDM_RS_CMD_FORCE_ENABLE_ON_ADDR, (uint16_t)(IDM_RS_CMD_FORCE_ENABLE_ON_VALUE));
 }
 

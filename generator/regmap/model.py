@@ -286,6 +286,13 @@ class Command:
     destructive: bool = False  # loses data or state: one deliberate step away in every artefact
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
+    @property
+    def raw_values(self) -> tuple[int, int]:
+        """The first and last raw value the command can write (value + its argument's range)."""
+        if self.argument is None:
+            return self.value, self.value
+        return self.value + self.argument.min, self.value + self.argument.max
+
     def raw_value(self, argument: int | None = None) -> int:
         if self.argument is None:
             return self.value
@@ -516,6 +523,10 @@ class Device:
     @cached_property
     def _trigger_names(self) -> frozenset[str]:
         return frozenset(reg.name for reg in self.registers if reg.trigger) | {c.register.name for c in self.commands}
+
+    def destructive_commands(self, reg: Register) -> tuple[Command, ...]:
+        """The destructive commands that write `reg`: a plain write of their values is refused everywhere."""
+        return tuple(c for c in self.commands if c.destructive and c.register.name == reg.name)
 
     def is_trigger(self, reg: Register) -> bool:
         """A write to `reg` makes the device act (the map says so, or a command writes it): never retried."""

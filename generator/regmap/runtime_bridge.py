@@ -57,13 +57,25 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             enum=enums[r.enum.name] if r.enum is not None else None,
             bitfields=tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields),
             space=r.space,
-            trigger=device.is_trigger(r),
             **spec_extras(r),
+            **command_extras(device, r),
         )
         for r in device.registers
     ]
     _SPECS[id(device)] = (device, specs)
     return specs
+
+
+def command_extras(device: Device, r: Register) -> dict[str, Any]:
+    """The RegisterSpec fields the device's commands give a register: `trigger` (a write makes the device
+    act: sent once) and `destructive` (the values destructive commands write: only those commands, confirmed)."""
+    extras: dict[str, Any] = {}
+    if device.is_trigger(r):
+        extras["trigger"] = True
+    destructive = tuple((*c.raw_values, c.name) for c in device.destructive_commands(r))
+    if destructive:
+        extras["destructive"] = destructive
+    return extras
 
 
 def spec_extras(r: Register) -> dict[str, Any]:

@@ -20,7 +20,7 @@ from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
 from .bits import BitfieldValue
-from .codec import check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
+from .codec import check_command, check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
 from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError, ProtocolError, RegmapError
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
@@ -410,8 +410,10 @@ class SyncClient(_Core):
         function, method, single = self.writer(space, len(words) == 1 and not multiple)
         self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
 
-    def send_command(self, spec: Writable[Any], raw: int) -> None:
-        """Write a command's fixed raw value (already checked against the map at generation time)."""
+    def send_command(self, spec: Writable[Any], raw: int, *, confirmed: bool = False) -> None:
+        """Write a command's fixed raw value (already checked against the map at generation time); a
+        destructive command's only when `confirmed` (DestructiveWriteError, nothing sent)."""
+        check_command(spec, raw, confirmed)
         if self.firmware_pending:
             self.detect_firmware()
         self.check_exists(spec)
@@ -533,7 +535,8 @@ class AsyncClient(_Core):
         function, method, single = self.writer(space, len(words) == 1 and not multiple)
         await self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
 
-    async def send_command(self, spec: Writable[Any], raw: int) -> None:
+    async def send_command(self, spec: Writable[Any], raw: int, *, confirmed: bool = False) -> None:
+        check_command(spec, raw, confirmed)
         if self.firmware_pending:
             await self.detect_firmware()
         self.check_exists(spec)

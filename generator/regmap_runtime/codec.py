@@ -19,6 +19,18 @@ class ReportedStateError(RangeError):
     """A write of a state the device only reports (an enum member with access r); nothing was sent."""
 
 
+class DestructiveWriteError(RangeError):
+    """A plain write of the value a destructive command writes, or that command unconfirmed; nothing was sent."""
+
+
+def destructive_refusal(spec: RegisterSpec[Any], name: str) -> DestructiveWriteError:
+    return DestructiveWriteError(
+        f"{spec.label}: {name} is destructive (the map marks it: it loses data or state); "
+        f"send it as the command {name}, confirmed with its name (regmap command ... {name} --confirm {name}; "
+        f"in Python {name}(confirm={name!r}))"
+    )
+
+
 def _wire_order(spec: RegisterSpec[Any], words: list[int]) -> list[int]:
     """Words high word first, high byte first <-> the register's order on the wire (the swap is its own inverse)."""
     if spec.byte_order != HIGH_FIRST:
@@ -226,12 +238,22 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
         raise RangeError(f"{spec.label}: {raw} is not one of {enum_names(spec.enum, spec.reported)}")
     _refuse_reported(spec.label, spec.enum, spec.reported, raw)
+    destructive = spec.destructive_command(raw)
+    if destructive is not None:
+        raise destructive_refusal(spec, destructive)
     for field in spec.bitfields:
         value = (raw & field.mask) >> field.lsb
         reported = spec.reported_in(field.name)
         if field.enum is not None and value not in field.enum._value2member_map_:
             raise RangeError(f"{spec.label}.{field.name}: {value} is not one of {enum_names(field.enum, reported)}")
         _refuse_reported(f"{spec.label}.{field.name}", field.enum, reported, value)
+
+
+def check_command(spec: RegisterSpec[Any], raw: int, confirmed: bool) -> None:
+    """A command's value goes out as it is, except a destructive command's, which needs `confirmed`."""
+    name = spec.destructive_command(raw)
+    if name is not None and not confirmed:
+        raise destructive_refusal(spec, name)
 
 
 def _unit(spec: RegisterSpec[Any]) -> str:

@@ -103,6 +103,8 @@ class RegisterSpec(Generic[T]):
     # reported_fields: the same per bitfield, (field name, runs).
     reported: tuple[tuple[int, int], ...] = ()
     reported_fields: tuple[tuple[str, tuple[tuple[int, int], ...]], ...] = ()
+    # The values destructive commands write, (first, last, command name): only that command, confirmed, sends them.
+    destructive: tuple[tuple[int, int, str], ...] = ()
     trigger: bool = False  # a write makes the device act (a command, a trigger): sent once, never repeated
 
     @cached_property
@@ -175,6 +177,12 @@ class RegisterSpec(Generic[T]):
     @property
     def raw_max(self) -> int | float:
         return self.type_max if self.max is None else self.max
+
+    def destructive_command(self, raw: object) -> str | None:
+        """The destructive command whose value `raw` is, or None."""
+        if not isinstance(raw, int):
+            return None
+        return next((name for first, last, name in self.destructive if first <= raw <= last), None)
 
     def reported_in(self, field: str) -> tuple[tuple[int, int], ...]:
         """The runs of values of bitfield `field` that the device only reports (never written)."""

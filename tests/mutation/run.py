@@ -53,7 +53,10 @@ def _copy_tree(scratch: Path) -> None:
 
 
 def _env(scratch: Path) -> dict[str, str]:
-    return {**os.environ, "PYTHONPATH": str(scratch / "generator"), "PYTHONDONTWRITEBYTECODE": "1"}
+    # The scratch copy has no ../shared beside it: point it at the repository's, else every test that
+    # needs the manuals or matiec would skip and its mutants "survive".
+    shared = os.environ.get("REGMAP_SHARED_DIR") or str(ROOT.parent / "shared")
+    return {**os.environ, "PYTHONPATH": str(scratch / "generator"), "PYTHONDONTWRITEBYTECODE": "1", "REGMAP_SHARED_DIR": shared}
 
 
 def _tests(scratch: Path, tests: tuple[str, ...]) -> subprocess.CompletedProcess[str]:

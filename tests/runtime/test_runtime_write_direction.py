@@ -15,7 +15,7 @@ import pytest
 from regmap.frontend import load_map, load_map_text
 from regmap.model import Device
 from regmap.runtime_bridge import runtime_specs
-from regmap_runtime.codec import RangeError, ReportedStateError, check_raw, decode_value, value_to_raw
+from regmap_runtime.codec import DestructiveWriteError, RangeError, ReportedStateError, check_raw, decode_value, value_to_raw
 from regmap_runtime.spec import RegisterSpec
 
 from conftest import MAPS, ROOT, SMALL_MAPS, SimulatorFactory, generated_runtime
@@ -45,10 +45,14 @@ def test_every_spec_refuses_exactly_the_members_the_map_says_are_only_reported(p
         if reg.enum is None or reg.bitfields or not reg.access.writable:
             continue
         spec = specs[reg.name]
+        destructive = {c.value for c in device.destructive_commands(reg)}
         for member in reg.enum.members:
             if not reg.raw_min <= member.value <= reg.raw_max:
                 continue
-            if member.writable:
+            if member.value in destructive:
+                with pytest.raises(DestructiveWriteError):  # only its command, confirmed, sends it
+                    check_raw(spec, member.value)
+            elif member.writable:
                 check_raw(spec, member.value)
             else:
                 with pytest.raises(ReportedStateError):

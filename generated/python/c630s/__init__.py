@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_2f08255883.bits import BitfieldValue
-from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
-from regmap_runtime_2f08255883.codec import Unlisted
-from regmap_runtime_2f08255883.errors import (
+from regmap_runtime_ae14440b16.bits import BitfieldValue
+from regmap_runtime_ae14440b16.client import AsyncClient, SyncClient
+from regmap_runtime_ae14440b16.codec import Unlisted
+from regmap_runtime_ae14440b16.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_2f08255883.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_2f08255883.profile import DeviceProfile, load_profile
-from regmap_runtime_2f08255883.spec import (
+from regmap_runtime_ae14440b16.profile import DeviceProfile, load_profile
+from regmap_runtime_ae14440b16.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,
@@ -1387,6 +1387,7 @@ SYSTEM_PARAMETER_INIT: Final = ReadWrite[SystemInit | Unlisted](
     param="P02-31",
     enum=SystemInit,
     trigger=True,
+    destructive=((1, 1, "restore_factory_defaults"), (2, 2, "clear_fault_records")),
 )
 """System parameter initialisation (系统参数初始化). Parameter P02-31, address 0x021F, u16, range 0..2, default 0, takes effect immediately. Manual section 7.2, 5.2.3."""
 
@@ -4145,6 +4146,7 @@ SOFTWARE_RESET: Final = ReadWrite[NoOpEnable | Unlisted](
     param="P0D-00",
     enum=NoOpEnable,
     trigger=True,
+    destructive=((1, 1, "software_reset"),),
 )
 """Software reset (软件复位). Parameter P0D-00, address 0x0D00, u16, range 0..1, default 0, takes effect immediately. Manual section 7.13."""
 
@@ -4260,6 +4262,7 @@ ABS_ENCODER_RESET: Final = ReadWrite[AbsEncoderReset | Unlisted](
     param="P0D-20",
     enum=AbsEncoderReset,
     trigger=True,
+    destructive=((2, 2, "reset_abs_encoder_multiturn"),),
 )
 """Absolute encoder reset (绝对编码器复位使能). Parameter P0D-20, address 0x0D14, u16, range 0..2, default 0, takes effect immediately. Manual section 7.13, 5.2.4, 8.1.1."""
 
@@ -10601,25 +10604,25 @@ class C630s(SyncClient):
         """Reset resettable faults and warnings (故障复位): writes 0x0001 to P0D-01 fault_reset (0x0D01). Manual section 5.2.4, 7.13."""
         self.send_command(FAULT_RESET, 0x0001)
 
-    def software_reset(self) -> None:
-        """Software reset (软件复位): writes 0x0001 to P0D-00 software_reset (0x0D00). Manual section 7.13."""
-        self.send_command(SOFTWARE_RESET, 0x0001)
+    def software_reset(self, *, confirm: Literal["software_reset"]) -> None:
+        """Software reset (软件复位): writes 0x0001 to P0D-00 software_reset (0x0D00). Manual section 7.13. Destructive (it loses data or state): nothing is sent without confirm='software_reset'."""
+        self.send_command(SOFTWARE_RESET, 0x0001, confirmed=confirm == "software_reset")
 
-    def restore_factory_defaults(self) -> None:
-        """Restore factory defaults (except P00/P01; restart afterwards) (恢复出厂设定值(P00/P01组除外)): writes 0x0001 to P02-31 system_parameter_init (0x021F). Manual section 5.2.3, 7.2."""
-        self.send_command(SYSTEM_PARAMETER_INIT, 0x0001)
+    def restore_factory_defaults(self, *, confirm: Literal["restore_factory_defaults"]) -> None:
+        """Restore factory defaults (except P00/P01; restart afterwards) (恢复出厂设定值(P00/P01组除外)): writes 0x0001 to P02-31 system_parameter_init (0x021F). Manual section 5.2.3, 7.2. Destructive (it loses data or state): nothing is sent without confirm='restore_factory_defaults'."""
+        self.send_command(SYSTEM_PARAMETER_INIT, 0x0001, confirmed=confirm == "restore_factory_defaults")
 
-    def clear_fault_records(self) -> None:
-        """Clear fault records (清除故障记录): writes 0x0002 to P02-31 system_parameter_init (0x021F). Manual section 7.2."""
-        self.send_command(SYSTEM_PARAMETER_INIT, 0x0002)
+    def clear_fault_records(self, *, confirm: Literal["clear_fault_records"]) -> None:
+        """Clear fault records (清除故障记录): writes 0x0002 to P02-31 system_parameter_init (0x021F). Manual section 7.2. Destructive (it loses data or state): nothing is sent without confirm='clear_fault_records'."""
+        self.send_command(SYSTEM_PARAMETER_INIT, 0x0002, confirmed=confirm == "clear_fault_records")
 
     def emergency_stop(self) -> None:
         """Emergency stop (使能紧急停机): writes 0x0001 to P0D-05 emergency_stop (0x0D05). Manual section 7.13."""
         self.send_command(EMERGENCY_STOP, 0x0001)
 
-    def reset_abs_encoder_multiturn(self) -> None:
-        """Reset absolute encoder fault and multi-turn data (then fault_reset) (复位故障和多圈数据): writes 0x0002 to P0D-20 abs_encoder_reset (0x0D14). Manual section 5.2.4, 7.13, 8.1.1."""
-        self.send_command(ABS_ENCODER_RESET, 0x0002)
+    def reset_abs_encoder_multiturn(self, *, confirm: Literal["reset_abs_encoder_multiturn"]) -> None:
+        """Reset absolute encoder fault and multi-turn data (then fault_reset) (复位故障和多圈数据): writes 0x0002 to P0D-20 abs_encoder_reset (0x0D14). Manual section 5.2.4, 7.13, 8.1.1. Destructive (it loses data or state): nothing is sent without confirm='reset_abs_encoder_multiturn'."""
+        self.send_command(ABS_ENCODER_RESET, 0x0002, confirmed=confirm == "reset_abs_encoder_multiturn")
 
 
 class AsyncC630s(AsyncClient):
@@ -13363,25 +13366,25 @@ class AsyncC630s(AsyncClient):
         """Reset resettable faults and warnings (故障复位): writes 0x0001 to P0D-01 fault_reset (0x0D01). Manual section 5.2.4, 7.13."""
         await self.send_command(FAULT_RESET, 0x0001)
 
-    async def software_reset(self) -> None:
-        """Software reset (软件复位): writes 0x0001 to P0D-00 software_reset (0x0D00). Manual section 7.13."""
-        await self.send_command(SOFTWARE_RESET, 0x0001)
+    async def software_reset(self, *, confirm: Literal["software_reset"]) -> None:
+        """Software reset (软件复位): writes 0x0001 to P0D-00 software_reset (0x0D00). Manual section 7.13. Destructive (it loses data or state): nothing is sent without confirm='software_reset'."""
+        await self.send_command(SOFTWARE_RESET, 0x0001, confirmed=confirm == "software_reset")
 
-    async def restore_factory_defaults(self) -> None:
-        """Restore factory defaults (except P00/P01; restart afterwards) (恢复出厂设定值(P00/P01组除外)): writes 0x0001 to P02-31 system_parameter_init (0x021F). Manual section 5.2.3, 7.2."""
-        await self.send_command(SYSTEM_PARAMETER_INIT, 0x0001)
+    async def restore_factory_defaults(self, *, confirm: Literal["restore_factory_defaults"]) -> None:
+        """Restore factory defaults (except P00/P01; restart afterwards) (恢复出厂设定值(P00/P01组除外)): writes 0x0001 to P02-31 system_parameter_init (0x021F). Manual section 5.2.3, 7.2. Destructive (it loses data or state): nothing is sent without confirm='restore_factory_defaults'."""
+        await self.send_command(SYSTEM_PARAMETER_INIT, 0x0001, confirmed=confirm == "restore_factory_defaults")
 
-    async def clear_fault_records(self) -> None:
-        """Clear fault records (清除故障记录): writes 0x0002 to P02-31 system_parameter_init (0x021F). Manual section 7.2."""
-        await self.send_command(SYSTEM_PARAMETER_INIT, 0x0002)
+    async def clear_fault_records(self, *, confirm: Literal["clear_fault_records"]) -> None:
+        """Clear fault records (清除故障记录): writes 0x0002 to P02-31 system_parameter_init (0x021F). Manual section 7.2. Destructive (it loses data or state): nothing is sent without confirm='clear_fault_records'."""
+        await self.send_command(SYSTEM_PARAMETER_INIT, 0x0002, confirmed=confirm == "clear_fault_records")
 
     async def emergency_stop(self) -> None:
         """Emergency stop (使能紧急停机): writes 0x0001 to P0D-05 emergency_stop (0x0D05). Manual section 7.13."""
         await self.send_command(EMERGENCY_STOP, 0x0001)
 
-    async def reset_abs_encoder_multiturn(self) -> None:
-        """Reset absolute encoder fault and multi-turn data (then fault_reset) (复位故障和多圈数据): writes 0x0002 to P0D-20 abs_encoder_reset (0x0D14). Manual section 5.2.4, 7.13, 8.1.1."""
-        await self.send_command(ABS_ENCODER_RESET, 0x0002)
+    async def reset_abs_encoder_multiturn(self, *, confirm: Literal["reset_abs_encoder_multiturn"]) -> None:
+        """Reset absolute encoder fault and multi-turn data (then fault_reset) (复位故障和多圈数据): writes 0x0002 to P0D-20 abs_encoder_reset (0x0D14). Manual section 5.2.4, 7.13, 8.1.1. Destructive (it loses data or state): nothing is sent without confirm='reset_abs_encoder_multiturn'."""
+        await self.send_command(ABS_ENCODER_RESET, 0x0002, confirmed=confirm == "reset_abs_encoder_multiturn")
 
 
 class PositionSegmentElement:

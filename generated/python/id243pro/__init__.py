@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_2f08255883.bits import BitfieldValue
-from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
-from regmap_runtime_2f08255883.codec import Unlisted
-from regmap_runtime_2f08255883.errors import (
+from regmap_runtime_ae14440b16.bits import BitfieldValue
+from regmap_runtime_ae14440b16.client import AsyncClient, SyncClient
+from regmap_runtime_ae14440b16.codec import Unlisted
+from regmap_runtime_ae14440b16.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_2f08255883.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_2f08255883.profile import DeviceProfile, load_profile
-from regmap_runtime_2f08255883.spec import (
+from regmap_runtime_ae14440b16.profile import DeviceProfile, load_profile
+from regmap_runtime_ae14440b16.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,
@@ -313,6 +313,7 @@ USER_COMMAND: Final = ReadWrite[UserCommand | Unlisted](
     param="0206",
     enum=UserCommand,
     trigger=True,
+    destructive=((1, 1, "reset_user_parameters"), (3, 3, "restart")),
 )
 """User command (用户指令). Parameter 0206, address 0x00CE, u16, range 0..5. Manual section 1.2. Set only while the motor is stopped (电机停止运行状态下设置). 1 reset user parameters, 2 clear alarm (except some hardware alarms), 3 restart."""
 
@@ -1328,17 +1329,17 @@ class Id243pro(SyncClient):
         """Enable the motor (使能): writes 0x0014 to 0323 control_command (0x0143). Manual section 1.3."""
         self.send_command(CONTROL_COMMAND, 0x0014)
 
-    def reset_user_parameters(self) -> None:
-        """Reset user parameters (motor stopped) (用户参数复位): writes 0x0001 to 0206 user_command (0x00CE). Manual section 1.2."""
-        self.send_command(USER_COMMAND, 0x0001)
+    def reset_user_parameters(self, *, confirm: Literal["reset_user_parameters"]) -> None:
+        """Reset user parameters (motor stopped) (用户参数复位): writes 0x0001 to 0206 user_command (0x00CE). Manual section 1.2. Destructive (it loses data or state): nothing is sent without confirm='reset_user_parameters'."""
+        self.send_command(USER_COMMAND, 0x0001, confirmed=confirm == "reset_user_parameters")
 
     def user_clear_alarm(self) -> None:
         """Clear alarm via user command (except some hardware alarms) (清除报警（除部分硬件故障报警）): writes 0x0002 to 0206 user_command (0x00CE). Manual section 1.2."""
         self.send_command(USER_COMMAND, 0x0002)
 
-    def restart(self) -> None:
-        """Restart the driver (motor stopped) (驱动器重启): writes 0x0003 to 0206 user_command (0x00CE). Manual section 1.2."""
-        self.send_command(USER_COMMAND, 0x0003)
+    def restart(self, *, confirm: Literal["restart"]) -> None:
+        """Restart the driver (motor stopped) (驱动器重启): writes 0x0003 to 0206 user_command (0x00CE). Manual section 1.2. Destructive (it loses data or state): nothing is sent without confirm='restart'."""
+        self.send_command(USER_COMMAND, 0x0003, confirmed=confirm == "restart")
 
 
 class AsyncId243pro(AsyncClient):
@@ -1795,14 +1796,14 @@ class AsyncId243pro(AsyncClient):
         """Enable the motor (使能): writes 0x0014 to 0323 control_command (0x0143). Manual section 1.3."""
         await self.send_command(CONTROL_COMMAND, 0x0014)
 
-    async def reset_user_parameters(self) -> None:
-        """Reset user parameters (motor stopped) (用户参数复位): writes 0x0001 to 0206 user_command (0x00CE). Manual section 1.2."""
-        await self.send_command(USER_COMMAND, 0x0001)
+    async def reset_user_parameters(self, *, confirm: Literal["reset_user_parameters"]) -> None:
+        """Reset user parameters (motor stopped) (用户参数复位): writes 0x0001 to 0206 user_command (0x00CE). Manual section 1.2. Destructive (it loses data or state): nothing is sent without confirm='reset_user_parameters'."""
+        await self.send_command(USER_COMMAND, 0x0001, confirmed=confirm == "reset_user_parameters")
 
     async def user_clear_alarm(self) -> None:
         """Clear alarm via user command (except some hardware alarms) (清除报警（除部分硬件故障报警）): writes 0x0002 to 0206 user_command (0x00CE). Manual section 1.2."""
         await self.send_command(USER_COMMAND, 0x0002)
 
-    async def restart(self) -> None:
-        """Restart the driver (motor stopped) (驱动器重启): writes 0x0003 to 0206 user_command (0x00CE). Manual section 1.2."""
-        await self.send_command(USER_COMMAND, 0x0003)
+    async def restart(self, *, confirm: Literal["restart"]) -> None:
+        """Restart the driver (motor stopped) (驱动器重启): writes 0x0003 to 0206 user_command (0x00CE). Manual section 1.2. Destructive (it loses data or state): nothing is sent without confirm='restart'."""
+        await self.send_command(USER_COMMAND, 0x0003, confirmed=confirm == "restart")

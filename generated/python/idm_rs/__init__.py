@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_2f08255883.bits import BitfieldValue
-from regmap_runtime_2f08255883.client import AsyncClient, SyncClient
-from regmap_runtime_2f08255883.codec import Unlisted
-from regmap_runtime_2f08255883.errors import (
+from regmap_runtime_ae14440b16.bits import BitfieldValue
+from regmap_runtime_ae14440b16.client import AsyncClient, SyncClient
+from regmap_runtime_ae14440b16.codec import Unlisted
+from regmap_runtime_ae14440b16.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_2f08255883.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_2f08255883.profile import DeviceProfile, load_profile
-from regmap_runtime_2f08255883.spec import (
+from regmap_runtime_ae14440b16.profile import DeviceProfile, load_profile
+from regmap_runtime_ae14440b16.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,
@@ -927,6 +927,7 @@ FORCE_ENABLE: Final = ReadWrite[ForceEnable | Unlisted](
     param="Pr0.07",
     enum=ForceEnable,
     trigger=True,
+    destructive=((1, 1, "force_enable_on"),),
 )
 """Forced enable (software enable) (强制使能). Parameter Pr0.07, address 0x000F (low word of a 32-bit pair), u16, range 0..1, default 0. Manual section 4.3, 5.3.1, 附录4."""
 
@@ -2000,6 +2001,11 @@ CONTROL_WORD: Final = WriteOnly[ControlWord | Unlisted](
     access="w",
     enum=ControlWord,
     trigger=True,
+    destructive=(
+        (4386, 4386, "reset_history_alarms"),
+        (8738, 8738, "init_parameters"),
+        (8755, 8755, "restore_factory_defaults"),
+    ),
 )
 """Auxiliary control word (控制字). address 0x1801, u16. Manual section 4.4, 4.5, 4.7, 5.3.3, 附录4."""
 
@@ -5537,21 +5543,21 @@ class IdmRs(SyncClient):
         """Reset the current alarm (复位当前报警): writes 0x1111 to control_word (0x1801). Manual section 5.3.3, 附录4. Clearing the current alarm can clear overvoltage but not overcurrent (5.4.3)."""
         self.send_command(CONTROL_WORD, 0x1111)
 
-    def reset_history_alarms(self) -> None:
-        """Reset the alarm history (复位历史报警): writes 0x1122 to control_word (0x1801). Manual section 5.3.3, 附录4."""
-        self.send_command(CONTROL_WORD, 0x1122)
+    def reset_history_alarms(self, *, confirm: Literal["reset_history_alarms"]) -> None:
+        """Reset the alarm history (复位历史报警): writes 0x1122 to control_word (0x1801). Manual section 5.3.3, 附录4. Destructive (it loses data or state): nothing is sent without confirm='reset_history_alarms'."""
+        self.send_command(CONTROL_WORD, 0x1122, confirmed=confirm == "reset_history_alarms")
 
     def save_all_parameters(self) -> None:
         """Save all parameters to EEPROM (保存所有参数到 EEPROM): writes 0x2211 to control_word (0x1801). Manual section 4.4, 4.15, 5.2.2, 5.3.3, 附录4. Check the result in save_status (0x1901: 0x5555 ok, 0xAAAA failed)."""
         self.send_command(CONTROL_WORD, 0x2211)
 
-    def init_parameters(self) -> None:
-        """Initialise parameters (motor parameters excluded) (参数初始化（不含电机参数）): writes 0x2222 to control_word (0x1801). Manual section 5.3.3, 附录4."""
-        self.send_command(CONTROL_WORD, 0x2222)
+    def init_parameters(self, *, confirm: Literal["init_parameters"]) -> None:
+        """Initialise parameters (motor parameters excluded) (参数初始化（不含电机参数）): writes 0x2222 to control_word (0x1801). Manual section 5.3.3, 附录4. Destructive (it loses data or state): nothing is sent without confirm='init_parameters'."""
+        self.send_command(CONTROL_WORD, 0x2222, confirmed=confirm == "init_parameters")
 
-    def restore_factory_defaults(self) -> None:
-        """Restore all parameters to factory values (所有参数恢复到出厂值): writes 0x2233 to control_word (0x1801). Manual section 4.5, 5.3.3, 附录4."""
-        self.send_command(CONTROL_WORD, 0x2233)
+    def restore_factory_defaults(self, *, confirm: Literal["restore_factory_defaults"]) -> None:
+        """Restore all parameters to factory values (所有参数恢复到出厂值): writes 0x2233 to control_word (0x1801). Manual section 4.5, 5.3.3, 附录4. Destructive (it loses data or state): nothing is sent without confirm='restore_factory_defaults'."""
+        self.send_command(CONTROL_WORD, 0x2233, confirmed=confirm == "restore_factory_defaults")
 
     def save_mapping(self) -> None:
         """Save the register mapping set-up to EEPROM (保持所以映射参数进 EEPROM): writes 0x2244 to control_word (0x1801). Manual section 4.12, 5.3.3, 附录4."""
@@ -5583,9 +5589,9 @@ class IdmRs(SyncClient):
         """Emergency stop (急停): writes 0x0040 to Pr8.02 pr_trigger (0x6002). Manual section 5.3.1, 6.4, 附录2, 附录4, 7.4."""
         self.send_command(PR_TRIGGER, 0x0040)
 
-    def force_enable_on(self) -> None:
-        """Force-enable the motor over RS-485 (强制使能): writes 0x0001 to Pr0.07 force_enable (0x000F). Manual section 4.3, 5.3.1."""
-        self.send_command(FORCE_ENABLE, 0x0001)
+    def force_enable_on(self, *, confirm: Literal["force_enable_on"]) -> None:
+        """Force-enable the motor over RS-485 (强制使能): writes 0x0001 to Pr0.07 force_enable (0x000F). Manual section 4.3, 5.3.1. Destructive (it loses data or state): nothing is sent without confirm='force_enable_on'."""
+        self.send_command(FORCE_ENABLE, 0x0001, confirmed=confirm == "force_enable_on")
 
     def force_enable_off(self) -> None:
         """Hand the enable state back to the IO input (使能状态由 IO控制): writes 0x0000 to Pr0.07 force_enable (0x000F). Manual section 4.3, 5.3.1."""
@@ -6480,21 +6486,21 @@ class AsyncIdmRs(AsyncClient):
         """Reset the current alarm (复位当前报警): writes 0x1111 to control_word (0x1801). Manual section 5.3.3, 附录4. Clearing the current alarm can clear overvoltage but not overcurrent (5.4.3)."""
         await self.send_command(CONTROL_WORD, 0x1111)
 
-    async def reset_history_alarms(self) -> None:
-        """Reset the alarm history (复位历史报警): writes 0x1122 to control_word (0x1801). Manual section 5.3.3, 附录4."""
-        await self.send_command(CONTROL_WORD, 0x1122)
+    async def reset_history_alarms(self, *, confirm: Literal["reset_history_alarms"]) -> None:
+        """Reset the alarm history (复位历史报警): writes 0x1122 to control_word (0x1801). Manual section 5.3.3, 附录4. Destructive (it loses data or state): nothing is sent without confirm='reset_history_alarms'."""
+        await self.send_command(CONTROL_WORD, 0x1122, confirmed=confirm == "reset_history_alarms")
 
     async def save_all_parameters(self) -> None:
         """Save all parameters to EEPROM (保存所有参数到 EEPROM): writes 0x2211 to control_word (0x1801). Manual section 4.4, 4.15, 5.2.2, 5.3.3, 附录4. Check the result in save_status (0x1901: 0x5555 ok, 0xAAAA failed)."""
         await self.send_command(CONTROL_WORD, 0x2211)
 
-    async def init_parameters(self) -> None:
-        """Initialise parameters (motor parameters excluded) (参数初始化（不含电机参数）): writes 0x2222 to control_word (0x1801). Manual section 5.3.3, 附录4."""
-        await self.send_command(CONTROL_WORD, 0x2222)
+    async def init_parameters(self, *, confirm: Literal["init_parameters"]) -> None:
+        """Initialise parameters (motor parameters excluded) (参数初始化（不含电机参数）): writes 0x2222 to control_word (0x1801). Manual section 5.3.3, 附录4. Destructive (it loses data or state): nothing is sent without confirm='init_parameters'."""
+        await self.send_command(CONTROL_WORD, 0x2222, confirmed=confirm == "init_parameters")
 
-    async def restore_factory_defaults(self) -> None:
-        """Restore all parameters to factory values (所有参数恢复到出厂值): writes 0x2233 to control_word (0x1801). Manual section 4.5, 5.3.3, 附录4."""
-        await self.send_command(CONTROL_WORD, 0x2233)
+    async def restore_factory_defaults(self, *, confirm: Literal["restore_factory_defaults"]) -> None:
+        """Restore all parameters to factory values (所有参数恢复到出厂值): writes 0x2233 to control_word (0x1801). Manual section 4.5, 5.3.3, 附录4. Destructive (it loses data or state): nothing is sent without confirm='restore_factory_defaults'."""
+        await self.send_command(CONTROL_WORD, 0x2233, confirmed=confirm == "restore_factory_defaults")
 
     async def save_mapping(self) -> None:
         """Save the register mapping set-up to EEPROM (保持所以映射参数进 EEPROM): writes 0x2244 to control_word (0x1801). Manual section 4.12, 5.3.3, 附录4."""
@@ -6526,9 +6532,9 @@ class AsyncIdmRs(AsyncClient):
         """Emergency stop (急停): writes 0x0040 to Pr8.02 pr_trigger (0x6002). Manual section 5.3.1, 6.4, 附录2, 附录4, 7.4."""
         await self.send_command(PR_TRIGGER, 0x0040)
 
-    async def force_enable_on(self) -> None:
-        """Force-enable the motor over RS-485 (强制使能): writes 0x0001 to Pr0.07 force_enable (0x000F). Manual section 4.3, 5.3.1."""
-        await self.send_command(FORCE_ENABLE, 0x0001)
+    async def force_enable_on(self, *, confirm: Literal["force_enable_on"]) -> None:
+        """Force-enable the motor over RS-485 (强制使能): writes 0x0001 to Pr0.07 force_enable (0x000F). Manual section 4.3, 5.3.1. Destructive (it loses data or state): nothing is sent without confirm='force_enable_on'."""
+        await self.send_command(FORCE_ENABLE, 0x0001, confirmed=confirm == "force_enable_on")
 
     async def force_enable_off(self) -> None:
         """Hand the enable state back to the IO input (使能状态由 IO控制): writes 0x0000 to Pr0.07 force_enable (0x000F). Manual section 4.3, 5.3.1."""

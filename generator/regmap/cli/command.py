@@ -18,9 +18,15 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "Send a command the map declares (save, factory reset, alarm reset, trigger a path ...). `regmap show MAP` lists them.",
         f"regmap command maps/idm_rs.yaml save_all_parameters {WHERE}",
         f"regmap command maps/idm_rs.yaml trigger_path 3 {WHERE}",
+        f"regmap command maps/idm_rs.yaml restore_factory_defaults --confirm restore_factory_defaults {WHERE}",
     )
     p.add_argument("name", metavar="NAME")
     p.add_argument("argument", nargs="?", metavar="ARGUMENT", help="for a command that takes one (a path number ...)")
+    p.add_argument(
+        "--confirm",
+        metavar="NAME",
+        help="a destructive command (factory reset, initialisation ...) is sent only with its name repeated here",
+    )
     return p
 
 
@@ -28,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.diagnostics import ExitCode
     from regmap.tools import live
 
-    sent = live.send_command(load_map(args.map), link_from(args), args.name, args.argument)
+    sent = live.send_command(load_map(args.map), link_from(args), args.name, args.argument, args.confirm)
     if sent.unknown is not None:
         print(f"regmap command: outcome unknown: {sent.name}: {sent.unknown}", file=sys.stderr)
         return ExitCode.OUTCOME_UNKNOWN

@@ -73,6 +73,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     add_space(p)
     add_addressing(p, start=True)
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 (replace the whole word)")
+    p.add_argument("--confirm", metavar="NAME", help="command: a destructive command's frame is built only with its name repeated here")
     add_word_order(p, live=False)
     return p
 
@@ -87,6 +88,8 @@ def run(args: argparse.Namespace) -> int:
     notes: list[str] = []
     if args.words and args.raw:
         raise UsageError("--words already means raw words; give one of --words and --raw")
+    if args.confirm is not None and args.action != "command":
+        raise UsageError(f"--confirm names a destructive command: `frame {args.action}` sends none")
     if args.action != "read" and (args.start is not None or args.count is not None):
         raise UsageError(f"-r and -c name what to read: `frame {args.action}` takes neither")
     if args.action == "read":
@@ -118,7 +121,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         if not 1 <= len(args.items) <= 2:
             raise UsageError("command wants NAME [ARGUMENT]")
-        built = frames.command_frames(device, args.items[0], args.items[1] if len(args.items) == 2 else None, args.slave, args.word_order)
+        built = frames.command_frames(
+            device, args.items[0], args.items[1] if len(args.items) == 2 else None, args.slave, args.word_order, args.confirm
+        )
     for frame in built:
         print(to_hex(frame))
     say_notes("frame", notes)

@@ -401,8 +401,18 @@ def find_command(device: Device, name: str) -> Any:
     return command
 
 
-def command_words(device: Device, name: str, argument: str | None, word_order: str | None = None) -> tuple[Any, list[int]]:
+def command_words(
+    device: Device, name: str, argument: str | None, word_order: str | None = None, confirm: str | None = None
+) -> tuple[Any, list[int]]:
+    """The command and the words it writes; a destructive one only with `confirm` repeating its name."""
     command = find_command(device, name)
+    if confirm is not None and confirm != command.name:
+        raise UsageError(f"--confirm {confirm} does not name the command sent ({command.name})")
+    if command.destructive and confirm is None:
+        raise UsageError(
+            f"{command.name} is destructive ({command.title}: the map marks it as losing data or state); "
+            f"to send it, repeat its name: --confirm {command.name}"
+        )
     takes = command.argument
     if takes is None and argument is not None:
         raise UsageError(f"command {command.name} takes no argument, got {argument!r}")
@@ -416,7 +426,9 @@ def command_words(device: Device, name: str, argument: str | None, word_order: s
     return command, raw_to_words(spec, raw)
 
 
-def command_frames(device: Device, name: str, argument: str | None, slave: int, word_order: str | None = None) -> list[bytes]:
+def command_frames(
+    device: Device, name: str, argument: str | None, slave: int, word_order: str | None = None, confirm: str | None = None
+) -> list[bytes]:
     check_slave(device, slave)
-    command, words = command_words(device, name, argument, word_order)
+    command, words = command_words(device, name, argument, word_order, confirm)
     return [block_frame(slave, command.register.address, words, len(words) == 1, command.register.space)]

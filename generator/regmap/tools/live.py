@@ -492,12 +492,12 @@ class CommandSent:
     unknown: str | None = None  # the write went out once and its answer was lost: the drive may or may not have acted
 
 
-def send_command(device: Device, link: Link, name: str, argument: str | None) -> CommandSent:
-    command, _ = command_words(device, name, argument)  # checked before the port is opened
+def send_command(device: Device, link: Link, name: str, argument: str | None, confirm: str | None = None) -> CommandSent:
+    command, _ = command_words(device, name, argument, confirm=confirm)  # checked before the port is opened
     client = connect(device, link, reading=False)
     try:
         order = word_order(device, client, link) if command.register.wide else None
-        _, words = command_words(device, name, argument, order)
+        _, words = command_words(device, name, argument, order, confirm)
         try:
             client.write_raw(command.register.address, words, multiple=len(words) > 1, space=command.register.space)
         except OutcomeUnknown as exc:

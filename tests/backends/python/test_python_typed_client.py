@@ -31,6 +31,7 @@ def use(drive: IdmRs) -> float:
         print(f"a value the manual does not list: {int(trigger)}")
     drive.write_pr_trigger(PrTrigger.START_PATH_3)
     drive.write_pr_trigger("start_path_3")
+    drive.restore_factory_defaults(confirm="restore_factory_defaults")
     current: float = snapshot["peak_current"]
     return current
 
@@ -63,6 +64,8 @@ def misuse(drive: IdmRs, mode_drive: id243pro.Id243pro) -> None:
     drive.write_pr_trigger(0x13)  # refused: a bare number
     mode_drive.write_pulse_mode("pulse")  # refused: any str
     state: PrTrigger = drive.read_pr_trigger()  # refused: an unlisted value is not a member
+    drive.restore_factory_defaults()  # refused: a destructive command without its confirm keyword
+    drive.restore_factory_defaults(confirm="restore")  # refused: confirm must repeat the command's name
     print(name, state)
 """
 

@@ -103,7 +103,7 @@ def test_save_survives_a_restart_and_factory_reset_restores(simulator: Simulator
     assert sim.port is not None
     with idm.IdmRs.tcp("127.0.0.1", sim.port, timeout=2) as drive:
         assert drive.read_peak_current() == pytest.approx(1.5)
-        drive.restore_factory_defaults()
+        drive.restore_factory_defaults(confirm="restore_factory_defaults")
         assert drive.read_peak_current() == pytest.approx(2.2)
 
 

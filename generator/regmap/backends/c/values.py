@@ -150,6 +150,18 @@ def _range_conditions(reg: Register, value: str, lo_type: int | float, hi_type: 
     return conditions
 
 
+def _not_destructive(ctx: Context, reg: Register, value: str = "value") -> list[str]:
+    """A plain write never sends what a destructive command writes: that command's helper, confirmed, does."""
+    conditions = []
+    for command in ctx.device.destructive_commands(reg):
+        first, last = command.raw_values
+        if first == last:
+            conditions.append(f"(long long){value} != (long long){c_signed(first)}")
+        else:
+            conditions.append(f"((long long){value} < (long long){c_signed(first)} || (long long){value} > (long long){c_signed(last)})")
+    return conditions
+
+
 def _returns(conditions: list[str], value: str = "value") -> tuple[str, ...]:
     if not conditions:
         return (f"(void){value};", "return true;")
@@ -239,7 +251,7 @@ def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ..
             ("double raw;", f"if (!{convert}) {{", "    return false;", "}", _to_wire(ctx, reg, f"({raw_type})raw"), "return true;"),
             (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
         )
-    conditions = _range_conditions(reg, "value", reg.type.raw_min, reg.type.raw_max)
+    conditions = _range_conditions(reg, "value", reg.type.raw_min, reg.type.raw_max) + _not_destructive(ctx, reg)
     return (
         raw_type,
         _returns(conditions),
@@ -262,6 +274,7 @@ def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple
         conditions.append(f"(long long)value >= (long long){c_signed(int(reg.raw_min))}")
     if any(m.value > reg.raw_max for m in e.members if m.writable):
         conditions.append(f"(long long)value <= (long long){c_signed(int(reg.raw_max))}")
+    conditions += _not_destructive(ctx, reg)
     cast = f"({value_type})raw" if typed else "raw"
     return (
         value_type,
@@ -292,6 +305,7 @@ def _bitfield_bodies(
     for b in reg.bitfields:
         if b.enum is not None:
             conditions.append(f"{ctx.symbol_ref(b.enum.name, 'is_writable')}({ctx.symbol_ref(label, 'get', b.name)}(value))")
+    conditions += _not_destructive(ctx, reg)
     return (
         bits_type,
         _returns(conditions),

@@ -162,6 +162,7 @@ class CommandView:
     raw: str  # C expression of the raw value to write
     wide: bool  # more than one word: written with write multiple in `word_order`
     word_order: str
+    confirm: str = ""  # a destructive command's name, which its helper's `confirm` must repeat ("" otherwise)
 
 
 def _enum_literal(value: int) -> str:
@@ -512,7 +513,12 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
 def command_view(ctx: Context, cmd: Command) -> CommandView:
     reg = cmd.register
     what = f"writes 0x{cmd.value:04X}" + (f" + {cmd.argument.name}" if cmd.argument else "") + f" to {reg.label} (0x{reg.address:04X})"
-    comment = sentences(f"{titled(cmd.title, cmd.title_zh)}: {what}", cmd.description, manual_sections(cmd.source))
+    destructive = (
+        f"Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string \"{cmd.name}\"."
+        if cmd.destructive
+        else ""
+    )
+    comment = sentences(f"{titled(cmd.title, cmd.title_zh)}: {what}", cmd.description, manual_sections(cmd.source), destructive)
     value = Macro(ctx.const("CMD", cmd.name, "VALUE"), c_hex(cmd.value) if cmd.value >= 0 else c_signed(cmd.value))
     argument_macros: tuple[Macro, ...] = ()
     argument = argument_type = out_of_range = ""
@@ -546,4 +552,5 @@ def command_view(ctx: Context, cmd: Command) -> CommandView:
         raw=raw,
         wide=reg.wide,
         word_order=ctx.member_const(reg, "WORD_ORDER") if reg.wide else "",
+        confirm=cmd.name if cmd.destructive else "",
     )

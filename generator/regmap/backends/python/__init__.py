@@ -15,7 +15,7 @@ from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.render import header_lines, py_doc, py_str, templates
-from regmap.runtime_bridge import device_extras, read_plan, spec_extras
+from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target
 from regmap_runtime import errors
 from regmap_runtime.spaces import DEFAULT_SPACE
@@ -134,6 +134,8 @@ class CommandView:
     arg_min: int
     arg_max: int
     doc: str
+    confirm_param: str = ""  # a destructive command's required keyword: its own name, typed as a Literal
+    confirm_arg: str = ""  # and what send_command is told of it
 
 
 def _enum_view(e: EnumType) -> EnumView:
@@ -275,9 +277,11 @@ def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
 
-def _register_view(reg: Register, attr: str | None = None, constant: str | None = None, *, trigger: bool = False) -> RegisterView:
+def _register_view(
+    reg: Register, attr: str | None = None, constant: str | None = None, *, commands: dict[str, Any] | None = None
+) -> RegisterView:
     """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant;
-    `trigger`: a write makes the device act (Device.is_trigger), so the client sends it once."""
+    `commands`: what the device's commands make of the register (`command_extras`: trigger, destructive values)."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
     kwargs: list[tuple[str, str]] = [
@@ -310,9 +314,7 @@ def _register_view(reg: Register, attr: str | None = None, constant: str | None 
         kwargs.append(("bitfields", f"{_bits_class_name(reg)}.FIELDS"))
         kwargs.append(("bitfield_type", _bits_class_name(reg)))
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
-    kwargs += [(key, _literal(value)) for key, value in spec_extras(reg).items()]
-    if trigger:
-        kwargs.append(("trigger", "True"))
+    kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
     value_type = _value_type(reg)
     write_type = value_type if reg.bitfields or reg.enum else _plain_type(reg)
     if reg.enum is not None and not reg.bitfields:
@@ -373,7 +375,14 @@ def _command_view(cmd: Command) -> CommandView:
     )
     if cmd.description:
         doc += " " + cmd.description
+    confirm_param = confirm_arg = ""
+    if cmd.destructive:
+        doc += f" Destructive (it loses data or state): nothing is sent without confirm={cmd.name!r}."
+        confirm_param = f", *, confirm: Literal[{py_str(cmd.name)}]"
+        confirm_arg = f", confirmed=confirm == {py_str(cmd.name)}"
     return CommandView(
+        confirm_param=confirm_param,
+        confirm_arg=confirm_arg,
         method=PythonIdentifier(cmd.name),
         const=const(cmd.register.name),
         raw=f"0x{cmd.value:04X}",
@@ -515,7 +524,7 @@ def device_context(device: Device) -> dict[str, Any]:
     for reg in device.registers:
         by_name.setdefault(reg.name, reg)
     arrays = [_array_view(by_name, a) for a in device.arrays]
-    all_regs = [_register_view(r, trigger=device.is_trigger(r)) for r in device.registers]
+    all_regs = [_register_view(r, commands=command_extras(device, r)) for r in device.registers]
     plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
     problems = check(device)

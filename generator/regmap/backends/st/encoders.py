@@ -46,6 +46,16 @@ def _refuse_reported(names: Names, name: str, variable: str, enum: EnumType) -> 
     ]
 
 
+def _refuse_destructive(device: Device, reg: Register, name: str) -> list[str]:
+    """FALSE for what a destructive command writes: the program sends that command's constants by name, deliberately."""
+    lines = []
+    for command in device.destructive_commands(reg):
+        first, last = command.raw_values
+        test = f"nRaw = {first}" if first == last else f"nRaw >= {first} AND nRaw <= {last}"
+        lines += [f"IF {test} THEN", f"    {name} := FALSE; (* {command.name}: destructive *)", "    RETURN;", "END_IF;"]
+    return lines
+
+
 def _put_words(device: Device, reg: Register, output: str) -> list[str]:
     natural = NATURAL[reg.type]
     if reg.words == 1:
@@ -297,6 +307,7 @@ def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
         body.append(f"nRaw := {natural}_TO_{raw_type}(nValue)" + ";" if raw_type != natural else "nRaw := nValue;")
     if checked:
         body += _range_lines(name, reg.raw_min, reg.raw_max)
+    body += _refuse_destructive(device, reg, name)
     if configurable(device, reg):
         inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
     if reg.words == 2:
