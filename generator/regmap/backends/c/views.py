@@ -514,7 +514,7 @@ def command_view(ctx: Context, cmd: Command) -> CommandView:
     reg = cmd.register
     what = f"writes 0x{cmd.value:04X}" + (f" + {cmd.argument.name}" if cmd.argument else "") + f" to {reg.label} (0x{reg.address:04X})"
     destructive = (
-        f"Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string \"{cmd.name}\"."
+        f'Destructive (it loses data or state): builds nothing (returns 0) unless confirm is the string "{cmd.name}".'
         if cmd.destructive
         else ""
     )
