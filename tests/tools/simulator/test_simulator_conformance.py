@@ -310,6 +310,10 @@ def test_busy_port_is_one_line_before_serving() -> None:
         (["--slave", "32"], "--slave 32 is outside 1..31, the slave ids of iDM-RS (V2.0)"),
         (["--slave", "0"], "--slave 0 is outside 1..31, the slave ids of iDM-RS (V2.0) (0 is the broadcast id)"),
         (["--state", "/nonexistent-dir/drive.json"], "--state /nonexistent-dir/drive.json: the directory /nonexistent-dir does not exist"),
+        (
+            ["--gateway", "--rtu-over-tcp"],
+            "--gateway plays a Modbus TCP gateway: it takes neither --serial nor --rtu-over-tcp (RTU keeps the serial line's rules)",
+        ),
     ],
 )
 def test_start_up_refusals(args: list[str], message: str) -> None:
