@@ -128,7 +128,9 @@ def run(args: argparse.Namespace) -> int:
     if args.fault not in FAULT_KINDS:
         raise UsageError(f"--fault must be one of {', '.join(FAULT_KINDS)}")
     if args.gateway and (args.serial or args.rtu_over_tcp):
-        raise UsageError("--gateway plays a Modbus TCP gateway: it takes neither --serial nor --rtu-over-tcp (RTU keeps the serial line's rules)")
+        raise UsageError(
+            "--gateway plays a Modbus TCP gateway: it takes neither --serial nor --rtu-over-tcp (RTU keeps the serial line's rules)"
+        )
     if args.rtu_gap is not None and not 0 < args.rtu_gap <= 10000:
         raise UsageError(f"--rtu-gap {args.rtu_gap:g} ms is outside 0..10000 ms")
     try:
