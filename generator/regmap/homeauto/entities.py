@@ -121,6 +121,35 @@ def command_category(command: Command) -> str | None:
     return "config" if command.destructive or effect in ("save", "restore_defaults") else None
 
 
+MAX_PRESSES_PER_COMMAND = 16  # a command with an argument gets a button (or script) per value, up to this many
+
+
+@dataclass(frozen=True)
+class Press:
+    """One thing to press for a command: a command without an argument, or one of its argument's values."""
+
+    title: str
+    raw: int
+    key: tuple[str, ...]  # the parts of its id
+
+
+def presses(command: Command) -> tuple[Press, ...] | None:
+    """The presses of `command`, or None when its argument has more than MAX_PRESSES_PER_COMMAND values."""
+    arg = command.argument
+    if arg is None:
+        return (Press(command.title, command.raw_value(), (command.name,)),)
+    if arg.max - arg.min + 1 > MAX_PRESSES_PER_COMMAND:
+        return None
+    return tuple(
+        Press(f"{command.title} {arg.name} {value}", command.raw_value(value), (command.name, arg.name, str(value)))
+        for value in range(arg.min, arg.max + 1)
+    )
+
+
+def too_many_presses(command: Command) -> str:
+    return f"command {command.name} (its argument has more than {MAX_PRESSES_PER_COMMAND} values)"
+
+
 def reserved(title: str) -> bool:
     """The manual gives it no meaning: not exposed as an entity."""
     return bool(RESERVED_TITLE.search(title))

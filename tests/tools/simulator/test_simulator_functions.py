@@ -24,22 +24,28 @@ from conftest import ROOT, PtyPair, SimulatorFactory
 from support.libmodbus_ref import build_libmodbus_program
 
 METER = ROOT / "tests" / "maps" / "fixtures" / "power_meter.yaml"
-CT_RATIO = 0x0120  # u16 1..10000, default 1
-FIRMWARE = 0x0110  # u16, default 125
+METER_MAP = load_map(METER)
+CT_RATIO = METER_MAP.register("ct_ratio").address  # u16 1..10000, default 1
+FIRMWARE = METER_MAP.register("firmware_version").address  # u16, default 125
+assert METER_MAP.transport.identification is not None and METER_MAP.transport.server_id is not None
+OBJECTS = dict(METER_MAP.transport.identification.objects)  # the map's text; the framing below is the spec's
+SERVER = METER_MAP.transport.server_id
 
 
-def ident_object(object_id: int, text: str) -> bytes:
+def ident_object(object_id: int) -> bytes:
+    text = OBJECTS[object_id]
     return struct.pack(">BB", object_id, len(text)) + text.encode("ascii")
 
 
-BASIC = ident_object(0, "regmap test fixtures") + ident_object(1, "PM-3000") + ident_object(2, "1.25")
-MODEL = ident_object(5, "PM-3000 three-phase meter")
+BASIC = ident_object(0) + ident_object(1) + ident_object(2)
+MODEL = ident_object(5)
+SERVER_DATA = SERVER.id + b"\xff" + SERVER.additional_data.encode("ascii")  # the run indicator: ON
 
 # (what, request PDU, answer PDU): a sequence, run in order on a fresh simulator.
 CASES: list[tuple[str, bytes, bytes]] = [
     ("0x08 return query data echoes", bytes([0x08, 0x00, 0x00, 0xA5, 0x37]), bytes([0x08, 0x00, 0x00, 0xA5, 0x37])),
     ("0x08 another sub-function", bytes([0x08, 0x00, 0x0A, 0x00, 0x00]), bytes([0x88, 0x01])),
-    ("0x11 report server id", bytes([0x11]), bytes([0x11, 10, 0x50, 0x4D, 0xFF]) + b"PM-3000"),
+    ("0x11 report server id", bytes([0x11]), bytes([0x11, len(SERVER_DATA)]) + SERVER_DATA),
     (
         "0x17 writes 7 to ct_ratio, then reads it and the firmware",
         struct.pack(">BHHHHBH", 0x17, FIRMWARE, 1, CT_RATIO, 1, 2, 7),
@@ -59,7 +65,7 @@ CASES: list[tuple[str, bytes, bytes]] = [
         bytes([0x2B, 0x0E, 0x01, 0x09]),
         bytes([0x2B, 0x0E, 0x01, 0x82, 0x00, 0x00, 3]) + BASIC,
     ),
-    ("0x2B one object", bytes([0x2B, 0x0E, 0x04, 0x01]), bytes([0x2B, 0x0E, 0x04, 0x82, 0x00, 0x00, 1]) + ident_object(1, "PM-3000")),
+    ("0x2B one object", bytes([0x2B, 0x0E, 0x04, 0x01]), bytes([0x2B, 0x0E, 0x04, 0x82, 0x00, 0x00, 1]) + ident_object(1)),
     ("0x2B one absent object", bytes([0x2B, 0x0E, 0x04, 0x03]), bytes([0xAB, 0x02])),
     ("0x2B read device id code 5", bytes([0x2B, 0x0E, 0x05, 0x00]), bytes([0xAB, 0x03])),
     ("0x2B another MEI type", bytes([0x2B, 0x0D, 0x00, 0x00]), bytes([0xAB, 0x01])),
@@ -166,7 +172,7 @@ def test_libmodbus_client_calls(simulator: SimulatorFactory, tmp_path: Path) -> 
     sim = simulator(METER)
     result = subprocess.run([str(calls), str(sim.port)], capture_output=True, text=True, timeout=30, check=False)
     assert result.returncode == 0, result.stderr
-    expected_id = " ".join(f"{b:02X}" for b in bytes([0x50, 0x4D, 0xFF]) + b"PM-3000")
+    expected_id = " ".join(f"{b:02X}" for b in SERVER_DATA)
     assert result.stdout.splitlines() == [f"id {expected_id}", "rw 42", "refused -1 EMBXILADD"]
 
 

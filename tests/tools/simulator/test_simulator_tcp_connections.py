@@ -19,13 +19,14 @@ from pathlib import Path
 
 import pytest
 
+from regmap.frontend import load_map
 from regmap_runtime.rtu import with_crc
 
 from conftest import ROOT, SimulatorFactory, free_port, wait_for
 from support.libmodbus_ref import build_libmodbus_program
 
 IDM = ROOT / "maps" / "idm_rs.yaml"
-PEAK_CURRENT = 0x0191
+PEAK_CURRENT = load_map(IDM).register("peak_current").address
 READ_PEAK = struct.pack(">BHH", 0x03, PEAK_CURRENT, 1)
 
 
@@ -202,8 +203,6 @@ def test_eighty_idle_sockets_do_not_lock_out_a_well_behaved_client(limited_simul
 
 
 def test_the_power_meter_plays_the_firmware_its_map_and_example_name(simulator: SimulatorFactory) -> None:
-    from regmap.frontend import load_map
-
     meter = ROOT / "tests" / "maps" / "fixtures" / "power_meter.yaml"
     example = load_map(meter).example("read_firmware_rsp")
     sim = simulator(meter)

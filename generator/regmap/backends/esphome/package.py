@@ -49,6 +49,7 @@ from regmap.homeauto.entities import (
     flags,
     is_parameter,
     planned,
+    presses,
     reserved,
     scale_float,
     shown_decimals,
@@ -56,6 +57,7 @@ from regmap.homeauto.entities import (
     state_class,
     swap_word,
     swapped,
+    too_many_presses,
     unit_text,
     writable_members,
 )
@@ -95,7 +97,6 @@ SKIPS = {  # substitution -> (skip without fast registers at 10 s, with them at 
 }
 PARITY = {"none": "NONE", "even": "EVEN", "odd": "ODD"}
 NUMBER_LIMIT = 16777215  # ESPHome's number keeps min/max within 24 bits (float precision)
-MAX_BUTTONS_PER_COMMAND = 16  # a command with an argument gets a button per value, up to this many
 UPDATE_INTERVAL = "10s"
 NAME_PREFIX_BYTES = 24  # names leave room for a `<id>_name_prefix` this long within ESPHome's 120 bytes
 # ESPHome's modbus_controller re-sends a request nobody answered `max_cmd_retries` times (default 4:
@@ -392,14 +393,11 @@ class _Package:
             self.add("sensor", entity, reg.name, field.name)
 
     def command(self, command: Command) -> None:
-        arg = command.argument
-        if arg is None:
-            self._button(command, command.title, command.raw_value(), (command.name,))
-        elif arg.max - arg.min + 1 <= MAX_BUTTONS_PER_COMMAND:
-            for value in range(arg.min, arg.max + 1):
-                self._button(command, f"{command.title} {arg.name} {value}", command.raw_value(value), (command.name, arg.name, str(value)))
-        else:
-            self.skipped.append(f"command {command.name} (its argument has more than {MAX_BUTTONS_PER_COMMAND} values)")
+        chosen = presses(command)
+        if chosen is None:
+            self.skipped.append(too_many_presses(command))
+        for press in chosen or ():
+            self._button(command, press.title, press.raw, press.key)
 
     def _button(self, command: Command, title: str, raw: int, key: tuple[str, ...]) -> None:
         """A button that queues the command's write once (the controller does not retry: MAX_CMD_RETRIES).

@@ -20,12 +20,11 @@ import re
 import unicodedata
 from typing import Any
 
-from regmap.homeauto.entities import Hex, Ids, flags, reserved
+from regmap.homeauto.entities import Hex, Ids, flags, presses, reserved, too_many_presses
 from regmap.model import Command, Device, EnumMember, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import raw_to_words
 
-MAX_SCRIPTS_PER_COMMAND = 16  # a command with an argument gets a script per value, up to this many
 RETRY_NOTE = (
     "Home Assistant's modbus hub retries a request without reply up to 3 times: if the reply is lost the command may be sent again."
 )
@@ -78,7 +77,7 @@ def template_flags(reg: Register) -> list[tuple[str, str, int]]:
 
 
 class Scripts:
-    """A script per command (per argument value, up to MAX_SCRIPTS_PER_COMMAND), named after it."""
+    """A script per command (per argument value, up to MAX_PRESSES_PER_COMMAND), named after it."""
 
     def __init__(self, device: Device, hub: str, slave: int) -> None:
         self.device = device
@@ -91,14 +90,11 @@ class Scripts:
         self.skipped: list[str] = []
 
     def add(self, command: Command) -> None:
-        arg = command.argument
-        if arg is None:
-            self._script(command, command.title, command.raw_value(), (command.name,))
-        elif arg.max - arg.min + 1 <= MAX_SCRIPTS_PER_COMMAND:
-            for value in range(arg.min, arg.max + 1):
-                self._script(command, f"{command.title} {arg.name} {value}", command.raw_value(value), (command.name, arg.name, str(value)))
-        else:
-            self.skipped.append(f"command {command.name} (its argument has more than {MAX_SCRIPTS_PER_COMMAND} values)")
+        chosen = presses(command)
+        if chosen is None:
+            self.skipped.append(too_many_presses(command))
+        for press in chosen or ():
+            self._script(command, press.title, press.raw, press.key)
 
     def _write(self, reg: Register, raw: int) -> dict[str, Any]:
         data: dict[str, Any] = {"hub": self.hub, "slave": self.slave, "address": Hex(reg.address)}
