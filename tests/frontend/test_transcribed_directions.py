@@ -11,7 +11,7 @@ import pytest
 from regmap.frontend import load_map
 from regmap.model import Access, Device
 from regmap.runtime_bridge import runtime_specs
-from regmap_runtime.codec import check_raw
+from regmap_runtime.codec import DestructiveWriteError, check_command, check_raw
 
 from conftest import MAPS, ROOT, SMALL_MAPS
 
@@ -83,7 +83,13 @@ def test_every_command_writes_a_writable_member(path: Path) -> None:
             if enum is not None and not command.register.bitfields:
                 member = enum.by_value(raw)
                 assert member is not None and member.writable, (command.name, raw)
-            check_raw(specs[command.register.name], raw)  # the runtime's one check agrees
+            spec = specs[command.register.name]
+            if command.destructive:  # sent only as its command, confirmed; a plain write of it is refused
+                with pytest.raises(DestructiveWriteError):
+                    check_raw(spec, raw)
+                check_command(spec, raw, confirmed=True)
+            else:
+                check_raw(spec, raw)  # the runtime's one check agrees
 
 
 @pytest.mark.parametrize("name", ["idm_rs", "id243pro", "c630s"])
