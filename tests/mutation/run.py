@@ -18,7 +18,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
+from regmap.frontend.yamlsource import YamlProblem, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 MUTANTS = Path(__file__).with_name("mutants.yaml")
@@ -36,7 +36,11 @@ class Mutant:
 
 
 def load() -> list[Mutant]:
-    data = yaml.safe_load(MUTANTS.read_text(encoding="utf-8"))
+    """The curated mutants; a key given twice in one entry (the second would silently win) is an error."""
+    try:
+        data, _ = read_yaml(MUTANTS.read_text(encoding="utf-8"))
+    except YamlProblem as exc:
+        raise SystemExit(f"{MUTANTS.relative_to(ROOT)}:{exc.line}:{exc.column}: {exc.message}") from None
     return [Mutant(m["id"], m["file"], m["original"], m["mutant"], m["why"], tuple(m["tests"])) for m in data["mutants"]]
 
 
