@@ -11,6 +11,7 @@ from pathlib import Path
 
 from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
 from regmap.model import Device
+from regmap.plant import Plant
 
 # The contract lives in regmap.target; these names stay importable from here for the runner's users.
 from regmap.target import TARGET_GROUP, reserved_id_problems
@@ -88,6 +89,38 @@ def render(devices: Sequence[Device], targets: Sequence[str], options: TargetOpt
     return out
 
 
+def plant_target_names() -> list[str]:
+    """The targets that render plants, in their order."""
+    return [name for name, target in _targets().items() if target.plant is not None]
+
+
+PLANT_MARKER = "regmap-plant.txt"  # marks a directory `regmap generate PLANT` wrote: only such a directory is replaced
+
+
+def render_plant(plant: Plant, targets: Sequence[str]) -> dict[str, Files]:
+    """Every file each plant-rendering target produces for `plant`, in memory, keyed by target name."""
+    known = _targets()
+    problems = reserved_ids(plant.maps, targets)
+    if problems:
+        raise MapError(problems)
+    out: dict[str, Files] = {}
+    for name in targets:
+        render_whole = known[name].plant
+        if render_whole is None:
+            raise UsageError(f"--target {name}: this target does not render plants (plant targets: {', '.join(plant_target_names())})")
+        out[name] = dict(render_whole(plant))
+    return out
+
+
+def generate_plant(plant: Plant, out_dir: Path, targets: Sequence[str]) -> list[Path]:
+    """Write a plant's files under `out_dir`, each target's subdirectory replaced whole. A non-empty `out_dir`
+    that an earlier plant run did not write (no marker file) is refused: it is not ours to replace."""
+    if out_dir.is_dir() and any(out_dir.iterdir()) and not (out_dir / PLANT_MARKER).is_file():
+        raise UsageError(f"--out {out_dir}: holds files that `regmap generate PLANT` did not write; choose a new or empty directory")
+    marker = f"generated from {plant.source_path} (plant {plant.id}) by regmap — do not edit; this directory is replaced on each run\n"
+    return generate(list(plant.maps), out_dir, targets, complete=True, extra={PLANT_MARKER: marker}, rendered=render_plant(plant, targets))
+
+
 def generate(
     devices: Sequence[Device],
     out_dir: Path,
@@ -96,6 +129,7 @@ def generate(
     complete: bool,
     extra: Files | None = None,
     options: TargetOptions | None = None,
+    rendered: dict[str, Files] | None = None,
 ) -> list[Path]:
     """Write the targets' files under `out_dir`. With `complete` (all maps in scope) each target's
     subdirectory is replaced whole, so files of removed maps disappear; otherwise files are added or
@@ -103,7 +137,8 @@ def generate(
     is written last, into the same staged tree. Nothing under `out_dir` changes unless every target
     rendered and post-processed."""
     known = _targets()
-    rendered = render(devices, targets, options)
+    if rendered is None:
+        rendered = render(devices, targets, options)
     given = out_dir
     out_dir = out_dir.resolve()  # a symlink is followed: its target is swapped, the link stays
     with _writing(given):

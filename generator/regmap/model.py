@@ -436,6 +436,7 @@ class Transport:
     max_read_coils: int = 2000
     max_write_coils: int = 1968
     baud_rates: tuple[int, ...] = ()
+    parities: tuple[str, ...] = ()
     broadcast_id: int | None = None
     max_message_bytes: int | None = None
     word_order_register: WordOrderRegister | None = None
@@ -449,6 +450,16 @@ class Transport:
     server_id: ServerId | None = None
     source: tuple[str, ...] = ()
     notes: str = ""
+
+    @property
+    def accepted_bauds(self) -> tuple[int, ...]:
+        """Every baud rate the device can be set to (its default alone when the map lists none)."""
+        return self.baud_rates or (self.baud,)
+
+    @property
+    def accepted_parities(self) -> tuple[str, ...]:
+        """Every parity the device can be set to (its default alone when the map lists none)."""
+        return self.parities or (self.parity,)
 
     @property
     def tolerates_gaps(self) -> bool:

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from regmap.diagnostics import Diagnostic, at
 from regmap.model import Device
+from regmap.plant import Plant
 
 Files = dict[str, str]  # relative path -> content
 TargetOptions = Mapping[str, str]  # `regmap generate` target options (e.g. `--select`) -> their text
@@ -49,6 +50,9 @@ class Target:
     configure: Callable[[TargetOptions], Target] | None = None
     order: int = PLUGIN_ORDER  # targets run and are listed by (order, name)
     reserved_words: ReservedWords = field(default_factory=ReservedWords)
+    # A plant (several devices on buses, regmap.plant): the target's files for the whole plant, under `subdir`
+    # of `regmap generate PLANT --out DIR`. A target without it is skipped for plants.
+    plant: Callable[[Plant], Files] | None = None
 
     def configured(self, options: TargetOptions) -> Target:
         """This target with the options it reads applied (itself when none of them was given)."""

@@ -14,6 +14,7 @@ from regmap.tools.link import Link
 
 if TYPE_CHECKING:
     from regmap.model import Device
+    from regmap.plant import Plant
 
 DEFAULT_MAPS_DIR = Path("maps")
 VALUE_SYNTAX = (
@@ -40,6 +41,27 @@ def load_map(path: str | Path) -> Device:
     from regmap.frontend import load_map as front_end
 
     return front_end(path)
+
+
+def load_plant(path: str | Path) -> Plant:
+    """A plant file and every map it names (imported when a command needs it)."""
+    from regmap.frontend.plant import load_plant as front_end
+
+    return front_end(path)
+
+
+def is_plant(path: str | Path) -> bool:
+    from regmap.frontend.plant import is_plant_file
+
+    return is_plant_file(path)
+
+
+def plant_argument(paths: Sequence[str], command: str) -> str | None:
+    """The plant file among a command's MAP arguments, if one is given: a plant comes alone."""
+    plants = [p for p in paths if is_plant(p)]
+    if plants and len(paths) > 1:
+        raise UsageError(f"regmap {command}: a plant file ({plants[0]}) comes alone, without other maps or plants")
+    return plants[0] if plants else None
 
 
 def map_paths(paths: Sequence[str]) -> list[Path]:

@@ -6,7 +6,7 @@ import argparse
 import os
 from pathlib import Path
 
-from regmap.cli.common import examples, load_all
+from regmap.cli.common import examples, load_all, load_plant, plant_argument
 from regmap.diagnostics import ExitCode, UsageError
 
 HELP = "generate Python clients, C headers and docs from maps"
@@ -24,11 +24,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap generate --since v1.0.0                  # also changelog pages in the docs",
             "regmap generate maps/c630s.yaml --target esphome --select 'p0b,P02-00,fault_reset'",
             "regmap generate maps/idm_rs.yaml --target homeassistant --select @my-selection.txt",
+            "regmap generate examples/plants/cell1.yaml      # a plant -> generated/plants/cell1/",
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("maps", nargs="*", metavar="MAP", help="map files (default: every maps/*.yaml)")
-    p.add_argument("--out", default="generated", metavar="DIR", help="output directory (default: generated)")
+    p.add_argument("--out", metavar="DIR", help="output directory (default: generated; for a plant: generated/plants/<plant id>)")
     p.add_argument(
         "--target",
         action="append",
@@ -61,7 +62,11 @@ def run(args: argparse.Namespace) -> int:
     from regmap.generate import check_options, generate, target_names
     from regmap.tools.diff import changelog_pages
 
-    out = Path(args.out)
+    plant_path = plant_argument(args.maps, "generate")
+    if plant_path is not None:
+        return _generate_plant(args, plant_path)
+
+    out = Path(args.out or "generated")
     check_out_dir(out)
     known = target_names()
     unknown = [t for t in args.target or [] if t not in known]
@@ -73,5 +78,28 @@ def run(args: argparse.Namespace) -> int:
     devices = load_all(args.maps)
     pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
     written = generate(devices, out, targets, complete=not args.maps, extra=pages, options=options)
-    print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {args.out}/")
+    print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {out}/")
+    return ExitCode.OK
+
+
+def _generate_plant(args: argparse.Namespace, plant_path: str) -> int:
+    from regmap.generate import generate_plant, plant_target_names
+
+    for option, given in (("--select", args.select), ("--since", args.since)):
+        if given is not None:
+            raise UsageError(f"{option} applies to maps, not to a plant file")
+    plant = load_plant(plant_path)
+    out = Path(args.out or f"generated/plants/{plant.id}")
+    if args.out is None:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    check_out_dir(out)
+    known = plant_target_names()
+    unknown = [t for t in args.target or [] if t not in known]
+    if unknown:
+        raise UsageError(f"--target {unknown[0]}: not a plant target (plant targets: {', '.join(known) or '(none yet)'})")
+    targets = args.target or known
+    written = generate_plant(plant, out, targets)
+    print(
+        f"regmap generate: {len(written)} files for plant {plant.id} ({len(plant.devices)} devices), targets {', '.join(targets) or '(none)'} -> {out}/"
+    )
     return ExitCode.OK

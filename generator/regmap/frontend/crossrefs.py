@@ -168,6 +168,9 @@ class _CrossReferences:
         rates = tuple(serial.get("baud_rates", ()))
         if rates and serial["baud"] not in rates:
             self.problems.add((*path, "serial", "baud"), f"default baud {serial['baud']} is not among baud_rates {list(rates)}")
+        parities = tuple(serial.get("parities", ()))
+        if parities and serial["parity"] not in parities:
+            self.problems.add((*path, "serial", "parity"), f"default parity {serial['parity']!r} is not among parities {list(parities)}")
         ids = t["slave_ids"]
         if ids["min"] > ids["max"]:
             self.problems.add((*path, "slave_ids", "min"), f"slave id min {ids['min']} is greater than max {ids['max']}")
@@ -220,6 +223,7 @@ class _CrossReferences:
             baud=serial["baud"],
             baud_rates=rates,
             parity=serial["parity"],
+            parities=parities,
             data_bits=serial["data_bits"],
             stop_bits=serial["stop_bits"],
             slave_min=ids["min"],

@@ -15,20 +15,20 @@ from regmap.diagnostics import Diagnostic
 from regmap.frontend.yamlsource import Positions
 
 
-def _schema() -> dict[str, Any]:
-    text = resources.files("regmap").joinpath("schema/map.schema.json").read_text(encoding="utf-8")
+def _schema(file: str = "map.schema.json") -> dict[str, Any]:
+    text = resources.files("regmap").joinpath(f"schema/{file}").read_text(encoding="utf-8")
     schema: dict[str, Any] = json.loads(text)
     return schema
 
 
-_VALIDATOR: jsonschema.protocols.Validator | None = None
+_VALIDATORS: dict[str, jsonschema.protocols.Validator] = {}
 
 
-def _validator() -> jsonschema.protocols.Validator:
-    global _VALIDATOR
-    if _VALIDATOR is None:
-        _VALIDATOR = jsonschema.Draft202012Validator(_schema())
-    return _VALIDATOR
+def _validator(file: str = "map.schema.json") -> jsonschema.protocols.Validator:
+    """One validator per schema file and process (building one costs more than validating a map)."""
+    if file not in _VALIDATORS:
+        _VALIDATORS[file] = jsonschema.Draft202012Validator(_schema(file))
+    return _VALIDATORS[file]
 
 
 def _kind(value: Any) -> str:
@@ -42,9 +42,9 @@ def _dotted(path: Iterable[str | int]) -> str:
     return out or "(top level)"
 
 
-def _schema_problems(raw: dict[str, Any], positions: Positions, name: str) -> list[Diagnostic]:
+def _schema_problems(raw: dict[str, Any], positions: Positions, name: str, schema_file: str = "map.schema.json") -> list[Diagnostic]:
     problems = []
-    for umbrella in _validator().iter_errors(raw):
+    for umbrella in _validator(schema_file).iter_errors(raw):
         error, message = _pick(umbrella)
         path = tuple(error.absolute_path)
         instance: Any = error.instance
