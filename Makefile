@@ -24,6 +24,7 @@ tools: $(STAMP)
 
 generate: $(STAMP)
 	$(BIN)/regmap generate
+	$(BIN)/regmap generate examples/plants/cell1.yaml
 
 # Rewrite every committed golden output (generated/ and the expected error texts of invalid maps).
 regen: generate

@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from regmap.model import ByteOrder, Device, EnumType, PollClass, Register
+from regmap.plant import Bus, Plant, PlantDevice
+from regmap_runtime.line import frame_s, interleave
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
-from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS
+from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
@@ -181,3 +184,73 @@ def read_plan(
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)
     return plan_reads(specs, limit, documented, max_bits=t.max_read_coils)
+
+
+# -- plants: several devices on one bus ------------------------------------------------------------
+
+READ_REQUEST_BYTES = 8  # slave, function, start (2), count (2), CRC (2)
+
+
+@dataclass(frozen=True)
+class PollEntry:
+    """One request of a bus's poll cycle: which device, at which slave id, reads which block."""
+
+    device: PlantDevice
+    block: ReadBlock
+
+    @property
+    def slave(self) -> int:
+        return self.device.slave
+
+    @property
+    def function(self) -> int:
+        return SPACES[self.block.space].read
+
+    @property
+    def start(self) -> int:
+        return self.block.address
+
+    @property
+    def count(self) -> int:
+        return self.block.count
+
+    @property
+    def reply_bytes(self) -> int:
+        """The RTU answer: slave, function, byte count, the data, CRC (2)."""
+        data = (self.count + 7) // 8 if SPACES[self.block.space].bits else 2 * self.count
+        return 5 + data
+
+
+@dataclass(frozen=True)
+class BusSchedule:
+    """A bus's poll cycle in line order, and (on a serial line) what each exchange costs at worst."""
+
+    bus: Bus
+    entries: tuple[PollEntry, ...]
+
+    def exchange_s(self, entry: PollEntry) -> float | None:
+        """Request, the device's turnaround, its answer, then the inter-frame silence (None on TCP: the gateway's timing)."""
+        line = self.bus.serial
+        if line is None:
+            return None
+        frames = frame_s(READ_REQUEST_BYTES + entry.reply_bytes, line.character_bits, line.baud)
+        return frames + entry.device.turnaround_s(line.baud) + line.silence_s
+
+    @property
+    def cycle_s(self) -> float | None:
+        """The whole cycle's line time at worst (None on TCP)."""
+        times = [self.exchange_s(entry) for entry in self.entries]
+        return None if any(t is None for t in times) else sum(t for t in times if t is not None)
+
+
+def bus_schedule(bus: Bus) -> BusSchedule:
+    """The bus's poll order: each device's read plan (as its client's `read_all()` plans it), interleaved
+    round robin block by block, as the plant client's `read_all()` runs it (`regmap_runtime.line.interleave`)."""
+    plans = [read_plan(dev.device) for dev in bus.devices]
+    order = interleave(plans)
+    return BusSchedule(bus, tuple(PollEntry(bus.devices[index], block) for index, block in order))
+
+
+def plant_schedule(plant: Plant) -> tuple[BusSchedule, ...]:
+    """Every bus's poll cycle, in the plant file's order: what the C and ST poll tables and the plant page print."""
+    return tuple(bus_schedule(bus) for bus in plant.buses)

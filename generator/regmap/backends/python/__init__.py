@@ -13,6 +13,7 @@ from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared,
 from regmap.core.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
+from regmap.plant import Plant
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
@@ -416,6 +417,7 @@ CLIENT_METHODS = frozenset(
         "encode",
         "encode_raw",
         "decode",
+        "decode_block",
         "effective",
         "broadcast",
         "transport_error",
@@ -564,6 +566,13 @@ def render_device(device: Device) -> Files:
     }
 
 
+def render_plant(plant: Plant) -> Files:
+    """The plant module with the device packages and the runtime it imports (backends/python/plant.py)."""
+    from regmap.backends.python.plant import render_plant as render  # that module uses this package's views
+
+    return render(plant)
+
+
 # A device id names the generated package: one of these would shadow a package its client imports (or the stdlib's `test`).
 SHADOWED_PACKAGES = frozenset({"regmap", "regmap_runtime", "pymodbus", "test", "tests"})
 
@@ -576,4 +585,5 @@ TARGET = Target(
     check=check,
     order=10,
     reserved_words=ReservedWords("a Python keyword or a package the client would shadow", PYTHON_KEYWORDS | SHADOWED_PACKAGES),
+    plant=render_plant,
 )

@@ -239,6 +239,10 @@ class _Core:
             return cast(T, spec.bitfield_type.from_raw(raw))
         return cast(T, decode_value(spec, raw))
 
+    def decode_block(self, block: ReadBlock, words: list[int]) -> dict[str, Any]:
+        """Each register of a read block, decoded from the words the block returned."""
+        return {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
+
     # -- planning ------------------------------------------------------------------------------
 
     def plan_reads(self, specs: Iterable[RegisterSpec[Any]]) -> list[ReadBlock]:
@@ -430,9 +434,7 @@ class SyncClient(_Core):
             self.detect_firmware()
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
-            words = self.read_raw(block.address, block.count, space=block.space)
-            for spec in block.registers:
-                values[spec.name] = self.decode(spec, block.words_of(spec, words))
+            values.update(self.decode_block(block, self.read_raw(block.address, block.count, space=block.space)))
         return values
 
     def read_all(self, poll: object = None) -> Mapping[str, Any]:
@@ -552,9 +554,7 @@ class AsyncClient(_Core):
             await self.detect_firmware()
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
-            words = await self.read_raw(block.address, block.count, space=block.space)
-            for spec in block.registers:
-                values[spec.name] = self.decode(spec, block.words_of(spec, words))
+            values.update(self.decode_block(block, await self.read_raw(block.address, block.count, space=block.space)))
         return values
 
     async def read_all(self, poll: object = None) -> Mapping[str, Any]:

@@ -1,0 +1,597 @@
+"""The client base that generated device modules subclass: sync and async, one surface.
+
+Validation, encoding and planning happen before anything is sent; pymodbus does the transport.
+Every space is served: holding and input registers, coils and discrete inputs (a bit's "words" are
+its 0/1, one per address, as in the codec). A client asked to `check_firmware` reads the device's
+firmware register in `connect()` (or, used without `connect()`, before its first other request) and
+from then on refuses registers that firmware lacks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable, Mapping
+from typing import Any, TypeVar, cast
+
+from pymodbus import FramerType
+from pymodbus.client import AsyncModbusSerialClient, AsyncModbusTcpClient, ModbusSerialClient, ModbusTcpClient
+from pymodbus.exceptions import ConnectionException, ModbusIOException
+from pymodbus.exceptions import ModbusException as PymodbusError
+from pymodbus.pdu import ExceptionResponse
+
+from .bits import BitfieldValue
+from .codec import check_command, check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
+from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError, ProtocolError, RegmapError
+from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
+from .profile import DeviceProfile
+from .rtu import STANDARD_EXCEPTIONS
+from .spaces import DEFAULT_SPACE, HOLDING, MASK_WRITE_REGISTER, SPACES
+from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
+from .wire import PYMODBUS_METHODS, LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
+
+T = TypeVar("T")
+B = TypeVar("B", bound=BitfieldValue)
+K = TypeVar("K", bound="_Core")
+WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
+
+
+class _Core:
+    """Everything that does not touch the bus: value checks, encoding, request planning, firmware gates."""
+
+    DEVICE: DeviceSpec
+    modbus: Any  # the pymodbus client of the subclass
+    # pymodbus's client classes the subclass drives: one pair of constructors serves sync and async.
+    SERIAL_TRANSPORT: Any
+    TCP_TRANSPORT: Any
+
+    def __init__(
+        self,
+        modbus: Any,
+        slave: int = 1,
+        word_order: str | None = None,
+        line: LineWatch | None = None,
+        profile: DeviceProfile | None = None,
+        *,
+        check_firmware: bool = False,
+        retries: int = 0,
+    ) -> None:
+        if not 0 <= slave <= 255:
+            raise ValueError(f"slave id {slave} is outside 0..255")
+        if profile is not None:
+            # What `regmap probe` observed: the read limit, the gaps proven readable, the word order (ProfileError for another map).
+            self.DEVICE = profile.apply(type(self).DEVICE)
+        self.profile = profile
+        self.slave = slave
+        self.word_order = word_order or (profile.word_order if profile is not None else None) or self.DEVICE.word_order
+        self.requests_sent = 0
+        self.retries = retries
+        """How often a read, or a write of settings, is sent again after a lost answer; commands and triggers never are."""
+        self._plans: dict[tuple[str, ...], list[ReadBlock]] = {}
+        self.modbus = modbus
+        self.line = line or LineWatch(rtu_framing=False)
+        self.check_firmware = check_firmware
+        self.firmware: tuple[int, ...] | None = None
+        """The firmware version the device reported (check_firmware=True, once read), e.g. (2, 3)."""
+        self.firmware_text: str | None = None
+        """The same version as the device's documents write it, e.g. "1.25"."""
+        self._documented = self.DEVICE.documented
+        self._firmware_spec: RegisterSpec[Any] | None = None
+        if check_firmware:
+            name = self.DEVICE.firmware_register
+            if name is None:
+                raise FirmwareError(
+                    f"{self.DEVICE.id}: check_firmware=True, but the map names no firmware register (device.firmware_register)"
+                )
+            if self.broadcast:
+                raise FirmwareError(f"check_firmware=True: a broadcast (slave {slave}) cannot read the firmware register {name}")
+            self._firmware_spec = next(r for r in self.DEVICE.registers if r.name == name)
+
+    @classmethod
+    def rtu(
+        cls: type[K],
+        port: str,
+        slave: int = 1,
+        *,
+        baud: int | None = None,
+        parity: str | None = None,
+        stop_bits: int | None = None,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+        profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
+    ) -> K:
+        """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
+        firmware register on connect and refuse the registers that firmware lacks. `retries`: a read or a
+        setting is sent again after a lost answer; a command or trigger write goes out once (OutcomeUnknown)."""
+        line = LineWatch(rtu_framing=True)
+        settings = serial_settings(cls.DEVICE, baud, parity, stop_bits)
+        modbus = cls.SERIAL_TRANSPORT(port, **settings, timeout=timeout, retries=0, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries)
+
+    @classmethod
+    def tcp(
+        cls: type[K],
+        host: str,
+        port: int = 502,
+        slave: int = 1,
+        *,
+        timeout: float = 1.0,
+        retries: int = 2,
+        word_order: str | None = None,
+        rtu_over_tcp: bool = False,
+        profile: DeviceProfile | None = None,
+        check_firmware: bool = False,
+    ) -> K:
+        """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
+        `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks.
+        `retries`: as for rtu(); commands and trigger writes are never sent again."""
+        framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
+        line = LineWatch(rtu_framing=rtu_over_tcp)
+        modbus = cls.TCP_TRANSPORT(host, port=port, framer=framer, timeout=timeout, retries=0, trace_packet=line)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries)
+
+    def transport_error(self, exc: Exception) -> RegmapError:
+        """A typed error saying what happened on the line (`wire.transport_error`)."""
+        return transport_error(self.line, self.slave, exc)
+
+    def _tries(self, write: WriteTarget | None) -> int:
+        """How often a request may go out: a read, or a write of settings, 1 + `retries`; a write that
+        must not be repeated (a command, a trigger register, an address the map does not describe) once."""
+        if write is not None and (self.broadcast or not may_repeat(self.DEVICE.registers, *write)):
+            return 1
+        return 1 + self.retries
+
+    def _failure(self, exc: PymodbusError, write: WriteTarget | None, again: bool, sent_before: int) -> RegmapError | None:
+        """None: send the request again; else the error to raise. A write sent once whose answer is lost
+        is OutcomeUnknown (a connection that never opened sent nothing)."""
+        if again and isinstance(exc, ModbusIOException):
+            return None
+        error = self.transport_error(exc)
+        went_out = not isinstance(exc, ConnectionException) or getattr(self.line, "packets_sent", sent_before) > sent_before
+        if write is not None and went_out and not may_repeat(self.DEVICE.registers, *write):
+            return outcome_unknown(self.DEVICE.registers, *write, error)
+        return error
+
+    @property
+    def where(self) -> str:
+        """The port or HOST:PORT, as the user gave it (pymodbus's str() starts with its class name)."""
+        params = getattr(self.modbus, "comm_params", None)
+        if params is None:  # a stand-in for pymodbus's client (a test double)
+            return str(self.modbus)
+        return str(params.host) if isinstance(self.modbus, ModbusSerialClient | AsyncModbusSerialClient) else f"{params.host}:{params.port}"
+
+    @property
+    def broadcast(self) -> bool:
+        return self.DEVICE.broadcast_id is not None and self.slave == self.DEVICE.broadcast_id
+
+    def effective(self, spec: RegisterSpec[T]) -> RegisterSpec[T]:
+        """The spec with the word order this client was told the device uses (a device with a word-order register, `transport.word_order_register` in its map)."""
+        return spec.in_word_order(self.word_order)
+
+    # -- firmware gates ------------------------------------------------------------------------
+
+    @property
+    def firmware_pending(self) -> bool:
+        """check_firmware=True and the version not read yet: the next request reads it first."""
+        return self.check_firmware and self.firmware is None
+
+    def firmware_block(self) -> ReadBlock:
+        """The read of the firmware register."""
+        spec = self._firmware_spec
+        if spec is None:
+            raise FirmwareError(f"{self.DEVICE.id}: this client was not asked to check the firmware (check_firmware=True)")
+        return ReadBlock(spec.address, spec.words, (spec,), spec.space)
+
+    def learn_firmware(self, words: list[int]) -> tuple[int, ...]:
+        """Keep the version the firmware register's words report; from now on plans and checks follow it."""
+        spec = self.effective(self.firmware_block().registers[0])
+        raw = words_to_raw(spec, words)
+        try:
+            version = self.DEVICE.firmware_version(raw)
+            text = self.DEVICE.firmware_text(raw)
+        except ValueError as exc:
+            raise FirmwareError(
+                f"the firmware register {spec.label} holds {raw!r}, which is not a version ({exc})", found=str(raw)
+            ) from None
+        self.firmware, self.firmware_text = version, text
+        self._documented = self.DEVICE.documented_in(version)
+        self._plans.clear()
+        return version
+
+    def check_exists(self, spec: RegisterSpec[Any]) -> None:
+        """Refuse a register the connected firmware lacks (nothing is sent)."""
+        if self.firmware is not None and not spec.exists_in(self.firmware):
+            gate = spec.firmware_text
+            raise FirmwareError(
+                f"{spec.label} exists only with {gate}; the device reports firmware {self.firmware_text}: nothing was sent",
+                spec.name,
+                gate,
+                self.firmware_text,
+            )
+
+    # -- values --------------------------------------------------------------------------------
+
+    def check_writable(self, spec: RegisterSpec[Any]) -> None:
+        if not spec.space_info.writable:
+            raise AccessError(f"{spec.label} is read-only ({spec.space_info.title} cannot be written): nothing was sent")
+        if not spec.writable:
+            raise AccessError(f"{spec.label} is read-only: nothing was sent")
+
+    def encode(self, spec: RegisterSpec[Any], value: Any) -> Raw:
+        self.check_writable(spec)
+        if spec.bitfield_type is not None and isinstance(value, spec.bitfield_type):
+            raw = int(value.to_raw())
+            check_raw(spec, raw)
+            return raw
+        return value_to_raw(spec, value)
+
+    def encode_raw(self, spec: RegisterSpec[Any], raw: Raw) -> Raw:
+        self.check_writable(spec)
+        raw = raw if isinstance(raw, str | float) else int(raw)
+        check_raw(spec, raw)
+        return raw
+
+    def decode(self, spec: RegisterSpec[T], words: list[int]) -> T:
+        spec = self.effective(spec)
+        raw = words_to_raw(spec, words)
+        if spec.bitfield_type is not None:
+            return cast(T, spec.bitfield_type.from_raw(raw))
+        return cast(T, decode_value(spec, raw))
+
+    def decode_block(self, block: ReadBlock, words: list[int]) -> dict[str, Any]:
+        """Each register of a read block, decoded from the words the block returned."""
+        return {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
+
+    # -- planning ------------------------------------------------------------------------------
+
+    def plan_reads(self, specs: Iterable[RegisterSpec[Any]]) -> list[ReadBlock]:
+        """The requests for these registers, per space within its limit; plans are kept, so a polling loop plans once."""
+        chosen = tuple(specs)
+        key = tuple(spec.name for spec in chosen)
+        plan = self._plans.get(key)
+        if plan is None:
+            for spec in chosen:
+                if not spec.readable:
+                    raise AccessError(f"{spec.label} is write-only: nothing was sent")
+                self.check_exists(spec)
+            device = self.DEVICE
+            plan = plan_reads(chosen, device.max_read_registers, self._documented, max_bits=device.max_read_coils)
+            self._plans[key] = plan
+        return plan
+
+    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
+        """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers."""
+        by_space: dict[str, list[tuple[RegisterSpec[Any], Raw]]] = {}
+        for spec, value in values.items():
+            self.check_writable(spec)
+            self.check_exists(spec)
+            encoded = self.encode_raw(spec, value) if raw else self.encode(spec, value)
+            by_space.setdefault(spec.space, []).append((self.effective(spec), encoded))
+        device = self.DEVICE
+        blocks: list[WriteBlock] = []
+        for space in SPACES:
+            if space in by_space:
+                grouped = SPACES[space].write_multiple in device.function_codes
+                blocks += plan_writes(by_space[space], device.max_write_registers, grouped, max_bits=device.max_write_coils)
+        return blocks
+
+    def masked(self, spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tuple[int, int] | None:
+        """(AND mask, OR mask) of the one mask write (0x16) that sets only the named fields, where the device
+        lists 0x16 and the register is one holding word with no range of its own; None: read-modify-write."""
+        if MASK_WRITE_REGISTER not in self.DEVICE.function_codes or self.broadcast:
+            return None
+        if spec.space != HOLDING.name or spec.words != 1 or spec.paired or spec.min is not None or spec.max is not None:
+            return None
+        self.check_writable(spec)
+        return mask_write_masks(spec, fields)
+
+    def readable(self, poll: object = None) -> list[RegisterSpec[Any]]:
+        """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
+        cls = None if poll is None else poll_class(poll)
+        return [
+            r
+            for r in self.DEVICE.registers
+            if r.readable and (cls is None or r.poll == cls) and (self.firmware is None or r.exists_in(self.firmware))
+        ]
+
+    # -- the wire ------------------------------------------------------------------------------
+
+    def check_response(self, response: Any, function: int) -> Any:
+        if isinstance(response, ExceptionResponse) or (hasattr(response, "isError") and response.isError()):
+            code = int(getattr(response, "exception_code", 0))
+            for known, name, meaning in self.DEVICE.exceptions:
+                if known == code:
+                    raise DeviceException(function, code, meaning, name)
+            raise DeviceException(function, code, STANDARD_EXCEPTIONS.get(code, "unknown exception code"))
+        return response
+
+    def reader(self, space: str) -> tuple[int, Any]:
+        """The function code and the pymodbus method that read `space`."""
+        return SPACES[space].read, getattr(self.modbus, PYMODBUS_METHODS[space][0])
+
+    def writer(self, space: str, single: bool) -> tuple[int, Any, bool]:
+        """The function code and the pymodbus method of a write to `space`, and whether it is the
+        single write (0x06/0x05): one word goes single unless the device lists only the multiple write."""
+        facts = SPACES[space]
+        if not facts.writable:
+            raise AccessError(f"{facts.title} cannot be written: nothing was sent")
+        codes = self.DEVICE.function_codes
+        if single and facts.write_single not in codes and facts.write_multiple in codes:
+            single = False
+        function = facts.write_single if single else facts.write_multiple
+        method = PYMODBUS_METHODS[space][1 if single else 2]
+        assert function is not None and method is not None  # a writable space has both writes
+        return function, getattr(self.modbus, method), single
+
+    def write_args(self, space: str, address: int, words: list[int] | tuple[int, ...], single: bool) -> tuple[Any, ...]:
+        """pymodbus's arguments for a write: register words, or coils as booleans (0/1 in, so that a
+        stray 0xFF00 is not taken for "on" silently)."""
+        if not SPACES[space].bits:
+            return (address, words[0] if single else list(words))
+        if any(w not in (0, 1) for w in words):
+            raise ValueError(f"a coil is written as 0 or 1, got {list(words)}")
+        return (address, bool(words[0]) if single else [bool(w) for w in words])
+
+    def read_words(self, response: Any, block: ReadBlock) -> list[int]:
+        """The block's words from a read response: registers, or (coils, discrete inputs) one 0/1 per
+        address, the answer's padding bits cut off."""
+        if SPACES[block.space].bits:
+            bits = list(getattr(response, "bits", []))
+            if len(bits) < block.count:
+                raise ProtocolError(f"asked for {block.count} bits at 0x{block.address:04X}, got {len(bits)}")
+            return [1 if bit else 0 for bit in bits[: block.count]]
+        words = list(getattr(response, "registers", []))
+        if len(words) != block.count:
+            raise ProtocolError(f"asked for {block.count} registers at 0x{block.address:04X}, got {len(words)}")
+        return words
+
+
+class SyncClient(_Core):
+    """Blocking client. Use as a context manager, or call close()."""
+
+    modbus: ModbusSerialClient | ModbusTcpClient
+    SERIAL_TRANSPORT = ModbusSerialClient
+    TCP_TRANSPORT = ModbusTcpClient
+
+    def __enter__(self: C) -> C:
+        self.connect()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def connect(self) -> None:
+        """Open the port or socket; with check_firmware, read the firmware version too."""
+        if not self.modbus.connect():
+            raise ConnectionLost(f"cannot connect to {self.where}")
+        if self.firmware_pending:
+            self.detect_firmware()
+
+    def close(self) -> None:
+        self.modbus.close()  # type: ignore[no-untyped-call]
+
+    def detect_firmware(self) -> tuple[int, ...]:
+        """Read the firmware register now and keep its version (`firmware`, `firmware_text`); with
+        check_firmware, connect() does this, or the first request when connect() was not called."""
+        block = self.firmware_block()
+        response = self._send(*self.reader(block.space), block.address, count=block.count)
+        return self.learn_firmware(self.read_words(response, block))
+
+    def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
+        tries = self._tries(write)
+        for attempt in range(1, tries + 1):
+            self.requests_sent += 1
+            sent_before = getattr(self.line, "packets_sent", 0)
+            try:
+                response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
+                break
+            except PymodbusError as exc:
+                error = self._failure(exc, write, attempt < tries, sent_before)
+                if error is not None:
+                    raise error from exc
+        if self.broadcast:
+            return None
+        return self.check_response(response, function)
+
+    def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+        if self.firmware_pending:
+            self.detect_firmware()
+        return self._send(function, method, *args, **kwargs)
+
+    def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
+        """Read `count` words from `address` of `space` (holding registers: 0x03; coils and discrete inputs: one 0/1 per bit)."""
+        if self.broadcast:
+            raise ValueError("a broadcast cannot read")
+        response = self._call(*self.reader(space), address, count=count)
+        return self.read_words(response, ReadBlock(address, count, (), space))
+
+    def write_raw(
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
+    ) -> None:
+        """Write words from `address`: write single (0x06; a coil 0x05) for one word unless `multiple`, else
+        write multiple (0x10; coils 0x0F). A coil's word is its bit, 0 or 1 (0x05 sends it as FF 00 / 00 00)."""
+        function, method, single = self.writer(space, len(words) == 1 and not multiple)
+        self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
+
+    def send_command(self, spec: Writable[Any], raw: int, *, confirmed: bool = False) -> None:
+        """Write a command's fixed raw value (already checked against the map at generation time); a
+        destructive command's only when `confirmed` (DestructiveWriteError, nothing sent)."""
+        check_command(spec, raw, confirmed)
+        if self.firmware_pending:
+            self.detect_firmware()
+        self.check_exists(spec)
+        target = self.effective(spec)
+        words = raw_to_words(target, raw)
+        self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
+
+    def read(self, spec: Readable[T]) -> T:
+        return cast(T, self.read_many(spec)[spec.name])
+
+    def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
+        """Read several registers with the fewest requests the device allows (a generated client types the result)."""
+        if self.firmware_pending:
+            self.detect_firmware()
+        values: dict[str, Any] = {}
+        for block in self.plan_reads(specs):
+            values.update(self.decode_block(block, self.read_raw(block.address, block.count, space=block.space)))
+        return values
+
+    def read_all(self, poll: object = None) -> Mapping[str, Any]:
+        """Every readable register, by the device's read plan; `poll` ("static", "fast", "normal",
+        "slow"): only that class's. With check_firmware, the registers the firmware lacks are left out."""
+        if poll is not None:
+            poll_class(poll)  # an unknown class fails before anything is sent
+        if self.firmware_pending:
+            self.detect_firmware()
+        return self.read_many(*cast(list[Readable[Any]], self.readable(poll)))
+
+    def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
+        self.write_many({spec: value}, raw=raw)
+
+    def update(self, spec: ReadWrite[B], **fields: Any) -> B:
+        """Change only the named fields of a bitfield register (every other bit, described or not, stays):
+        one mask write (0x16) where the device lists it, then the register read back; else read-modify-write."""
+        masks = self.masked(spec, fields)
+        if masks is None:
+            new = dataclasses.replace(self.read(spec), **fields)
+            self.write(spec, new)
+            return new
+        if self.firmware_pending:
+            self.detect_firmware()
+        self.check_exists(spec)
+        write = (spec.space, spec.address, [masks[1]])
+        self._call(
+            MASK_WRITE_REGISTER, self.modbus.mask_write_register, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write
+        )
+        return self.read(spec)
+
+    def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
+        """Validate every value, then write contiguous registers together (0x10; coils 0x0F)."""
+        for spec in values:
+            self.check_writable(spec)  # refused before even the firmware is read
+        if self.firmware_pending:
+            self.detect_firmware()
+        for block in self.plan_writes(values, raw):
+            self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
+
+
+class AsyncClient(_Core):
+    """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
+
+    modbus: AsyncModbusSerialClient | AsyncModbusTcpClient
+    SERIAL_TRANSPORT = AsyncModbusSerialClient
+    TCP_TRANSPORT = AsyncModbusTcpClient
+
+    async def __aenter__(self: A) -> A:
+        await self.connect()
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        self.close()
+
+    async def connect(self) -> None:
+        if not await self.modbus.connect():
+            raise ConnectionLost(f"cannot connect to {self.where}")
+        if self.firmware_pending:
+            await self.detect_firmware()
+
+    def close(self) -> None:
+        self.modbus.close()
+
+    async def detect_firmware(self) -> tuple[int, ...]:
+        block = self.firmware_block()
+        response = await self._send(*self.reader(block.space), block.address, count=block.count)
+        return self.learn_firmware(self.read_words(response, block))
+
+    async def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
+        tries = self._tries(write)
+        for attempt in range(1, tries + 1):
+            self.requests_sent += 1
+            sent_before = getattr(self.line, "packets_sent", 0)
+            try:
+                response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
+                break
+            except PymodbusError as exc:
+                error = self._failure(exc, write, attempt < tries, sent_before)
+                if error is not None:
+                    raise error from exc
+        if self.broadcast:
+            return None
+        return self.check_response(response, function)
+
+    async def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
+        if self.firmware_pending:
+            await self.detect_firmware()
+        return await self._send(function, method, *args, **kwargs)
+
+    async def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
+        if self.broadcast:
+            raise ValueError("a broadcast cannot read")
+        response = await self._call(*self.reader(space), address, count=count)
+        return self.read_words(response, ReadBlock(address, count, (), space))
+
+    async def write_raw(
+        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
+    ) -> None:
+        function, method, single = self.writer(space, len(words) == 1 and not multiple)
+        await self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
+
+    async def send_command(self, spec: Writable[Any], raw: int, *, confirmed: bool = False) -> None:
+        check_command(spec, raw, confirmed)
+        if self.firmware_pending:
+            await self.detect_firmware()
+        self.check_exists(spec)
+        target = self.effective(spec)
+        words = raw_to_words(target, raw)
+        await self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
+
+    async def read(self, spec: Readable[T]) -> T:
+        return cast(T, (await self.read_many(spec))[spec.name])
+
+    async def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
+        if self.firmware_pending:
+            await self.detect_firmware()
+        values: dict[str, Any] = {}
+        for block in self.plan_reads(specs):
+            values.update(self.decode_block(block, await self.read_raw(block.address, block.count, space=block.space)))
+        return values
+
+    async def read_all(self, poll: object = None) -> Mapping[str, Any]:
+        if poll is not None:
+            poll_class(poll)
+        if self.firmware_pending:
+            await self.detect_firmware()
+        return await self.read_many(*cast(list[Readable[Any]], self.readable(poll)))
+
+    async def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
+        await self.write_many({spec: value}, raw=raw)
+
+    async def update(self, spec: ReadWrite[B], **fields: Any) -> B:
+        """Change only the named fields of a bitfield register (see SyncClient.update)."""
+        masks = self.masked(spec, fields)
+        if masks is None:
+            new = dataclasses.replace(await self.read(spec), **fields)
+            await self.write(spec, new)
+            return new
+        if self.firmware_pending:
+            await self.detect_firmware()
+        self.check_exists(spec)
+        write = (spec.space, spec.address, [masks[1]])
+        method = self.modbus.mask_write_register
+        await self._call(MASK_WRITE_REGISTER, method, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write)
+        return await self.read(spec)
+
+    async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
+        for spec in values:
+            self.check_writable(spec)
+        if self.firmware_pending:
+            await self.detect_firmware()
+        for block in self.plan_writes(values, raw):
+            await self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
+
+
+C = TypeVar("C", bound=SyncClient)
+A = TypeVar("A", bound=AsyncClient)
+
+__all__ = ["LOW_FIRST", "AsyncClient", "SyncClient"]

@@ -1,0 +1,142 @@
+"""The generated Python plant client: one connection per bus, every device's typed client on it, read_all()
+interleaved in the shared schedule's order, the serial line's timing kept (measured where the bytes cross a pty).
+
+The bus is tests/support/plant_bus.py: the simulator's own store and dispatcher per slave id behind one pty or
+one TCP socket (the simulator does not serve several units on one port yet)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+from conftest import GENERATED, mypy_strict, require_tool
+from support.plant_bus import PtyBus, TcpBus
+from support.plants import generate_python_plant, write_plant
+
+from regmap.frontend.plant import load_plant
+from regmap.runtime_bridge import plant_schedule
+
+CELL1_PY = GENERATED / "plants" / "cell1" / "python"
+# examples/plants/cell1.yaml's devices on a line without parity: a Linux pty refuses parity settings (EINVAL).
+CELL = [("axis_x", "idm_rs.yaml", 1), ("axis_y", "idm_rs.yaml", 2), ("spindle", "c630s.yaml", 3)]
+
+
+@pytest.fixture
+def socat() -> str:
+    return require_tool("socat")
+
+
+@dataclass
+class PlantOnPty:
+    bus: PtyBus
+    module: Any
+    plant_file: Path
+
+
+@pytest.fixture
+def cell_on_pty(socat: str, tmp_path: Path) -> Iterator[PlantOnPty]:
+    plant_file = write_plant(tmp_path, "cellpty", "serial: {port: /dev/null, baud: 38400, parity: none}", CELL)
+    module = generate_python_plant(plant_file, tmp_path / "out")
+    bus = PtyBus({dev.slave: dev.device for dev in load_plant(plant_file).devices}, socat, tmp_path)
+    yield PlantOnPty(bus, module, plant_file)
+    bus.close()
+
+
+def _set(bus: PtyBus | TcpBus, slave: int, register: str, raw: int) -> None:
+    store = bus.stores[slave]
+    store.store_raw(store.device.register(register), raw)
+
+
+def test_read_all_reads_every_device_through_one_line_in_the_schedule_order(cell_on_pty: PlantOnPty) -> None:
+    bus = cell_on_pty.bus
+    _set(bus, 1, "peak_current", 42)  # 4.2 A
+    _set(bus, 2, "peak_current", 17)
+    with cell_on_pty.module.Cellpty(line1_port=bus.path, timeout=2.0) as plant:
+        values = plant.read_all()
+        assert values["axis_x"]["peak_current"] == pytest.approx(4.2)
+        assert values["axis_y"]["peak_current"] == pytest.approx(1.7)
+        assert set(values) == {"axis_x", "axis_y", "spindle"}
+        for name in ("axis_x", "axis_y", "spindle"):
+            client = getattr(plant, name)
+            assert set(values[name]) == {spec.name for spec in client.readable()}, name
+        assert plant.axis_x.modbus is plant.axis_y.modbus is plant.spindle.modbus  # one connection for the bus
+    seen = [(e.slave, e.function, e.start, e.count) for e in bus.exchanges]
+    (schedule,) = plant_schedule(load_plant(cell_on_pty.plant_file))
+    assert seen == [(e.slave, e.function, e.start, e.count) for e in schedule.entries]
+    assert [slave for slave, *_ in seen[:6]] == [1, 2, 3, 1, 2, 3]  # round robin, block by block
+
+
+def test_two_instances_of_one_map_are_two_slaves_on_the_line(cell_on_pty: PlantOnPty) -> None:
+    bus = cell_on_pty.bus
+    _set(bus, 1, "peak_current", 30)
+    _set(bus, 2, "peak_current", 60)
+    with cell_on_pty.module.Cellpty(line1_port=bus.path, timeout=2.0) as plant:
+        assert plant.axis_x.read_peak_current() == pytest.approx(3.0)
+        assert plant.axis_y.read_peak_current() == pytest.approx(6.0)
+        plant.axis_y.write_peak_current(5.5)
+        assert plant.axis_y.read_peak_current() == pytest.approx(5.5)
+        assert plant.axis_x.read_peak_current() == pytest.approx(3.0)
+    store_x, store_y = bus.stores[1], bus.stores[2]
+    assert store_x.raw_of(store_x.device.register("peak_current")) == 30
+    assert store_y.raw_of(store_y.device.register("peak_current")) == 55
+
+
+def test_the_serial_schedule_keeps_the_silence_and_each_devices_turnaround(socat: str, tmp_path: Path) -> None:
+    # 9600 baud: a 3.6 ms silence (3.5 characters of 10 bits) and the iDM-RS's 24.9 ms turnaround, both well above
+    # the jitter of a loaded machine; the C630S's turnaround is its 1 ms response delay.
+    plant_file = write_plant(
+        tmp_path,
+        "slowline",
+        "serial: {port: /dev/null, baud: 9600, parity: none}",
+        [("near", "idm_rs.yaml", 1), ("far", "idm_rs.yaml", 2), ("spindle", "c630s.yaml", 3)],
+    )
+    module = generate_python_plant(plant_file, tmp_path / "out")
+    plant_model = load_plant(plant_file)
+    line = plant_model.buses[0].serial
+    assert line is not None
+    turnaround = {dev.slave: dev.turnaround_s(line.baud) for dev in plant_model.devices}
+    bus = PtyBus({dev.slave: dev.device for dev in plant_model.devices}, socat, tmp_path)
+    try:
+        with module.Slowline(line1_port=bus.path, timeout=2.0) as plant:
+            for client in (plant.near, plant.far, plant.spindle):
+                client.read_raw(0x0000 if client is not plant.spindle else 0x0100, 1)
+            plant.near.read_peak_current()
+            plant.far.read_peak_current()
+    finally:
+        bus.close()
+    exchanges = bus.exchanges
+    assert len(exchanges) == 5
+    for before, after in zip(exchanges, exchanges[1:], strict=False):
+        assert before.answered is not None
+        # The answer was written before the master could see it: this gap can only be longer than the master waited.
+        assert after.request_first - before.answered >= line.silence_s
+        # From the end of the request to the next one: the turnaround of the device just addressed (the pty
+        # hands bytes on at once; 3 ms for the test thread's scheduling).
+        assert after.request_first - before.request_last >= turnaround[before.slave] - 0.003, (before, after)
+    assert line.silence_s == pytest.approx(3.5 * 10 / 9600)
+    assert turnaround[1] == pytest.approx(0.0249)
+
+
+def test_a_tcp_bus_reads_every_device_through_one_connection(tmp_path: Path) -> None:
+    devices = [("near", "idm_rs.yaml", 1), ("far", "idm_rs.yaml", 2), ("drive", "id243pro.yaml", 7)]
+    plant_file = write_plant(tmp_path, "gateway", "tcp: {host: 127.0.0.1, port: 502}", devices)
+    module = generate_python_plant(plant_file, tmp_path / "out")
+    bus = TcpBus({dev.slave: dev.device for dev in load_plant(plant_file).devices})
+    try:
+        _set(bus, 2, "peak_current", 25)
+        with module.Gateway(line1_port=bus.port) as plant:
+            values = plant.read_all()
+        assert values["far"]["peak_current"] == pytest.approx(2.5)
+        assert set(values) == {"near", "far", "drive"}
+        assert bus.connections == 1
+        assert {e.slave for e in bus.exchanges} == {1, 2, 7}
+    finally:
+        bus.close()
+
+
+def test_the_generated_plant_passes_mypy_strict() -> None:
+    result = mypy_strict("cell1_plant.py", cwd=CELL1_PY)
+    assert result.returncode == 0, result.stdout + result.stderr
