@@ -9,6 +9,7 @@ the items of a header, `device` the header's context; `templates/` the header te
 from __future__ import annotations
 
 from regmap.backends.c.device import SHARED_HEADER, device_context, render_device, render_shared
+from regmap.backends.c.plant import render_plant
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
 from regmap.backends.c.views import c_version
 from regmap.diagnostics import Diagnostic, at
@@ -36,7 +37,16 @@ RESERVED_WORDS = ReservedWords(
     "a C/C++ keyword or the shared header's name", C_KEYWORDS | CPP_KEYWORDS | {SHARED_HEADER.removesuffix(".h")}
 )
 
-TARGET = Target(name="c", subdir="c", per_device=render_device, shared=render_shared, check=check, order=20, reserved_words=RESERVED_WORDS)
+TARGET = Target(
+    name="c",
+    subdir="c",
+    per_device=render_device,
+    shared=render_shared,
+    check=check,
+    order=20,
+    reserved_words=RESERVED_WORDS,
+    plant=render_plant,
+)
 
 __all__ = [
     "SHARED_HEADER",
