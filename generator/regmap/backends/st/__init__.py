@@ -17,6 +17,7 @@ from typing import Any
 from regmap.backends.st.codec import DIALECTS
 from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
+from regmap.backends.st.plant import render_plant
 from regmap.backends.st.plcopen import plcopen_context
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
@@ -68,7 +69,14 @@ def render_shared(devices: Sequence[Device]) -> Files:
 RESERVED_WORDS = ReservedWords("an IEC 61131-3 or CODESYS reserved word", IEC_KEYWORDS, case_sensitive=False)
 
 TARGET = Target(
-    name="st", subdir="st", per_device=render_device, shared=render_shared, check=check, order=40, reserved_words=RESERVED_WORDS
+    name="st",
+    subdir="st",
+    per_device=render_device,
+    shared=render_shared,
+    check=check,
+    order=40,
+    reserved_words=RESERVED_WORDS,
+    plant=render_plant,
 )
 
 __all__ = ["DIALECTS", "TARGET", "StIdentifier", "check", "contexts", "device_views", "render_device", "render_shared", "st_string"]
