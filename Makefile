@@ -24,7 +24,7 @@ tools: $(STAMP)
 
 generate: $(STAMP)
 	$(BIN)/regmap generate
-	$(BIN)/regmap generate examples/plants/cell1.yaml
+	for plant in examples/plants/*.yaml; do $(BIN)/regmap generate $$plant || exit 1; done  # into generated/plants/<plant id>/
 
 # Rewrite every committed golden output (generated/ and the expected error texts of invalid maps).
 regen: generate

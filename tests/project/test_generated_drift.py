@@ -1,4 +1,5 @@
-"""The committed generated/ tree must be exactly what the maps produce now."""
+"""The committed generated/ tree must be exactly what the maps and the example plants produce now
+(`make generate`: `regmap generate`, then `regmap generate PLANT` for each plant in examples/plants/)."""
 
 from __future__ import annotations
 
@@ -10,13 +11,23 @@ from pathlib import Path
 from conftest import GENERATED, ROOT
 from support.trees import tree
 
+from regmap.frontend.plant import load_plant
+
+
+PLANTS = sorted((ROOT / "examples" / "plants").glob("*.yaml"))
+
+
+def _generate(*args: str) -> None:
+    result = subprocess.run([sys.executable, "-m", "regmap", "generate", *args], cwd=ROOT, capture_output=True, text=True, check=False)
+    assert result.returncode == 0, result.stderr
+
 
 def test_generated_tree_matches_the_maps(tmp_path: Path) -> None:
     out = tmp_path / "generated"
-    result = subprocess.run(
-        [sys.executable, "-m", "regmap", "generate", "--out", str(out)], cwd=ROOT, capture_output=True, text=True, check=False
-    )
-    assert result.returncode == 0, result.stderr
+    _generate("--out", str(out))
+    (out / "plants").mkdir()
+    for plant in PLANTS:
+        _generate(plant.relative_to(ROOT).as_posix(), "--out", str(out / "plants" / load_plant(plant).id))
     fresh, committed = tree(out), tree(GENERATED)
     problems = []
     for name in sorted(set(fresh) | set(committed)):
@@ -34,7 +45,7 @@ def test_generated_tree_matches_the_maps(tmp_path: Path) -> None:
                 n=2,
             )
             problems.append("\n".join(list(diff)[:40]))
-    assert not problems, "generated/ has drifted from the maps; run `make generate` and commit:\n" + "\n".join(problems)
+    assert not problems, "generated/ has drifted from the maps or plants; run `make generate` and commit:\n" + "\n".join(problems)
 
 
 def test_generation_is_deterministic(tmp_path: Path) -> None:

@@ -16,8 +16,9 @@ from __future__ import annotations
 
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
 from regmap.backends.markdown.page import INDEX_PAGE, device_page, render_device, render_shared
+from regmap.backends.markdown.plant import render_plant
 from regmap.target import Target
 
-TARGET = Target(name="markdown", subdir="docs", per_device=render_device, shared=render_shared, order=30)
+TARGET = Target(name="markdown", subdir="docs", per_device=render_device, shared=render_shared, order=30, plant=render_plant)
 
 __all__ = ["INDEX_PAGE", "TARGET", "bitfield_svg", "device_page", "diagram_path", "render_device", "render_shared"]
