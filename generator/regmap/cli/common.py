@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import sys
 from collections.abc import Iterable, Sequence
@@ -210,7 +211,7 @@ def add_link_options(p: argparse.ArgumentParser) -> None:
     where.add_argument("--tcp", metavar="HOST:PORT", help="Modbus TCP gateway or simulator")
     bus = p.add_argument_group("bus settings")
     bus.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP connection (transparent serial servers)")
-    bus.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
+    bus.add_argument("--slave", type=slave_id, help="slave id (default 1; a plant's device: its slave id in the plant)")
     bus.add_argument("--baud", type=baud_rate, help="override the map's default baud rate")
     bus.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity")
     bus.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
@@ -228,7 +229,7 @@ def link_from(args: argparse.Namespace) -> Link:
     return Link(
         tcp=args.tcp,
         serial=args.serial,
-        slave=args.slave,
+        slave=1 if args.slave is None else args.slave,
         baud=args.baud,
         parity=args.parity,
         stop_bits=args.stop_bits,
@@ -237,6 +238,46 @@ def link_from(args: argparse.Namespace) -> Link:
         rtu_over_tcp=args.rtu_over_tcp,
         word_order=args.word_order,
     )
+
+
+def add_plant_device(p: argparse.ArgumentParser) -> None:
+    """--bus and --device: MAP may be a plant file, and the command then talks to one of its devices."""
+    plant = p.add_argument_group("a device of a plant (MAP is a plant file, docs/plants.md)")
+    plant.add_argument("--bus", metavar="NAME", help="the plant's bus: its line settings unless --serial/--tcp/--baud/... override them")
+    plant.add_argument("--device", metavar="NAME", help="the device on that bus: its map and its slave id (unless --slave overrides it)")
+
+
+def device_and_link(args: argparse.Namespace, command: str) -> tuple[Device, Link]:
+    """The device and the link a command talks to: MAP's and the options', or, for a plant file, the map and the
+    slave id of --device and the line settings of --bus, each overridable on the command line."""
+    if not is_plant(args.map):
+        if args.bus is not None or args.device is not None:
+            raise UsageError(f"regmap {command}: --bus and --device pick a device of a plant file; {args.map} is a map")
+        return load_map(args.map), link_from(args)
+    if args.bus is None or args.device is None:
+        raise UsageError(f"regmap {command}: {args.map} is a plant file: name the device with --bus NAME --device NAME")
+    plant = load_plant(args.map)
+    try:
+        bus = plant.bus(args.bus)
+    except KeyError:
+        raise UsageError(f"--bus {args.bus}: {args.map} has no such bus (buses: {', '.join(b.name for b in plant.buses)})") from None
+    try:
+        member = bus.device(args.device)
+    except KeyError:
+        raise UsageError(f"--device {args.device}: bus {bus.name} has no such device (devices: {', '.join(d.name for d in bus.devices)})") from None
+    link = link_from(args)
+    given = link.serial is not None or link.tcp is not None
+    serial, tcp = link.serial, link.tcp
+    baud, parity, stop_bits = link.baud, link.parity, link.stop_bits
+    if bus.serial is not None and tcp is None:  # a --tcp gateway in front of the line has its own serial settings
+        serial = serial if given else bus.serial.port
+        baud = bus.serial.baud if baud is None else baud
+        parity = bus.serial.parity if parity is None else parity
+        stop_bits = bus.serial.stop_bits if stop_bits is None else stop_bits
+    elif bus.tcp is not None and not given:
+        tcp = f"{bus.tcp.host}:{bus.tcp.port}"
+    slave = member.slave if args.slave is None else args.slave
+    return member.device, dataclasses.replace(link, serial=serial, tcp=tcp, slave=slave, baud=baud, parity=parity, stop_bits=stop_bits)
 
 
 def examples(*lines: str) -> str:

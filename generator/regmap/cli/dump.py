@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from regmap.cli.common import add_read_options, link_from, live_parser, load_map, output_format, profile_from, say_notes, space_from
+from regmap.cli.common import add_plant_device, add_read_options, device_and_link, live_parser, output_format, profile_from, say_notes, space_from
 
 if TYPE_CHECKING:
     from regmap.tools.live import Firmware
@@ -26,8 +26,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "(default holding) from that address on.",
         "regmap dump maps/idm_rs.yaml --csv --tcp 192.168.1.50:502 > drive.csv",
         "regmap dump maps/idm_rs.yaml -r 402 -c 10 --tcp 192.168.1.50:502     # 10 registers from address 401 on",
+        "regmap dump examples/plants/cell1.yaml --bus line1 --device axis_y   # a plant's device, on its bus's line",
     )
     add_read_options(p)
+    add_plant_device(p)
     return p
 
 
@@ -43,11 +45,11 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools.selectors import dump_range
 
     space = space_from(args)
-    device = load_map(args.map)
+    device, link = device_and_link(args, "dump")
     chosen, notes = dump_range(device, args.start, args.count, space, modicon=args.modicon)
     progress = ProgressBar() if sys.stderr.isatty() else None
     try:
-        result = live.dump(device, link_from(args), profile_from(args, device), chosen, progress=progress, lacking=_say_lacking)
+        result = live.dump(device, link, profile_from(args, device), chosen, progress=progress, lacking=_say_lacking)
     finally:
         if progress is not None:
             progress.end()
