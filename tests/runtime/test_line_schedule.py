@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from support.fake_clock import FakeClock
 
 from regmap_runtime.line import PacedLine, frame_s, interleave
 from regmap_runtime.rtu import build_read
@@ -13,19 +14,6 @@ def test_interleave_takes_one_block_of_each_device_in_turn() -> None:
     assert interleave(plans) == [(0, "x1"), (1, "y1"), (2, "z1"), (0, "x2"), (2, "z2"), (0, "x3")]
     assert interleave([]) == []
     assert interleave([[], ["a"]]) == [(1, "a")]
-
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 100.0
-        self.slept: list[float] = []
-
-    def clock(self) -> float:
-        return self.now
-
-    def sleep(self, seconds: float) -> None:
-        self.slept.append(seconds)
-        self.now += seconds
 
 
 def _line(fake: FakeClock) -> PacedLine:

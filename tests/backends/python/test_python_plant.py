@@ -6,6 +6,8 @@ one TCP socket (the simulator does not serve several units on one port yet)."""
 
 from __future__ import annotations
 
+import importlib
+import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,10 +16,12 @@ from typing import Any
 import pytest
 from conftest import GENERATED, mypy_strict, require_tool
 from support.plant_bus import PtyBus, TcpBus
+from support.fake_clock import FakeClock
 from support.plants import generate_python_plant, write_plant
 
 from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
+from regmap_runtime.rtu import build_read
 
 CELL1_PY = GENERATED / "plants" / "cell1" / "python"
 # examples/plants/cell1.yaml's devices on a line without parity: a Linux pty refuses parity settings (EINVAL).
@@ -111,7 +115,8 @@ def test_the_serial_schedule_keeps_the_silence_and_each_devices_turnaround(socat
     assert len(exchanges) == 5
     for before, after in zip(exchanges, exchanges[1:], strict=False):
         assert before.answered is not None
-        # The answer was written before the master could see it: this gap can only be longer than the master waited.
+        # The answer was stamped before it was written: this gap can only be longer than the master waited. (pymodbus's
+        # own receive loop already waits 8 characters after an answer; the plant's pacing is shown on a fake clock too.)
         assert after.request_first - before.answered >= line.silence_s
         # From the end of the request to the next one: the turnaround of the device just addressed (the pty
         # hands bytes on at once; 3 ms for the test thread's scheduling).
@@ -135,6 +140,35 @@ def test_a_tcp_bus_reads_every_device_through_one_connection(tmp_path: Path) -> 
         assert {e.slave for e in bus.exchanges} == {1, 2, 7}
     finally:
         bus.close()
+
+
+def _cell1_module() -> Any:
+    sys.path.insert(0, str(CELL1_PY))
+    try:
+        return importlib.import_module("cell1_plant")
+    finally:
+        sys.path.remove(str(CELL1_PY))
+
+
+def test_the_generated_plant_paces_its_line_as_the_plant_file_says() -> None:
+    """examples/plants/cell1.yaml at 38400 baud: a 1.75 ms silence; the iDM-RS turns around in 7.12 ms (its timing row
+    for 38400), the C630S in 1 ms (its response delay). On a fake clock, without a bus: pymodbus's own receive loop
+    waits 8 characters after an answer, so on a pty the silence cannot be told from it."""
+    fake = FakeClock()
+    plant = _cell1_module().Cell1(clock=fake.clock, sleep=fake.sleep)  # not connected: the hook alone
+    line = plant.line1.line
+    line(True, build_read(3, 0x0100, 1))  # the spindle
+    fake.now += 0.010  # its answer, 10 ms later
+    line(False, bytes.fromhex("0303020000B844"))
+    answered = fake.now
+    line(True, build_read(1, 0x0000, 12))  # axis_x: after the silence (the spindle turned around long ago)
+    assert fake.now == pytest.approx(answered + 0.00175)
+    sent = fake.now
+    fake.now += 0.003  # a quick answer
+    line(False, bytes.fromhex("0103020000B844"))
+    line(True, build_read(2, 0x0000, 12))  # axis_y: after axis_x's turnaround, counted from the end of its request
+    assert fake.now == pytest.approx(sent + 8 * 11 / 38400 + 0.00712)
+    assert plant.axis_x.slave == 1 and plant.axis_y.slave == 2 and plant.spindle.slave == 3
 
 
 def test_the_generated_plant_passes_mypy_strict() -> None:
