@@ -9,16 +9,26 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import ROOT, SimulatorFactory
 
 from regmap.cli.common import device_and_link
 from regmap.diagnostics import UsageError
+
+from conftest import ROOT, SimulatorFactory
 
 CELL1 = "examples/plants/cell1.yaml"
 
 
 def _args(**given: object) -> argparse.Namespace:
-    options = {"map": CELL1, "bus": "line1", "device": "axis_y", "tcp": None, "serial": None, "slave": None, "baud": None, "parity": None}
+    options: dict[str, object] = {
+        "map": CELL1,
+        "bus": "line1",
+        "device": "axis_y",
+        "tcp": None,
+        "serial": None,
+        "slave": None,
+        "baud": None,
+        "parity": None,
+    }
     options |= {"stop_bits": None, "timeout": 1.0, "retries": 2, "rtu_over_tcp": False, "word_order": None}
     options.update(given)
     return argparse.Namespace(**options)

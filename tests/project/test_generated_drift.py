@@ -8,11 +8,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-from conftest import GENERATED, ROOT
-from support.trees import tree
-
 from regmap.frontend.plant import load_plant
 
+from conftest import GENERATED, ROOT
+from support.trees import tree
 
 PLANTS = sorted((ROOT / "examples" / "plants").glob("*.yaml"))
 

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import pytest
-from support.fake_clock import FakeClock
 
 from regmap_runtime.line import PacedLine, frame_s, interleave
 from regmap_runtime.rtu import build_read
+
+from support.fake_clock import FakeClock
 
 
 def test_interleave_takes_one_block_of_each_device_in_turn() -> None:

@@ -16,7 +16,14 @@ def write_plant(tmp_path: Path, plant_id: str, bus: str, devices: list[tuple[str
     """A plant file with one bus (`bus`: the YAML flow mapping of its `serial:` or `tcp:` key) and
     `devices` as (name, map file under maps/, slave id)."""
     path = tmp_path / f"{plant_id}.yaml"
-    lines = ["format: regmap-plant/1", f"plant: {{id: {plant_id}, title: Test plant {plant_id}}}", "buses:", "  - name: line1", f"    {bus}", "    devices:"]
+    lines = [
+        "format: regmap-plant/1",
+        f"plant: {{id: {plant_id}, title: Test plant {plant_id}}}",
+        "buses:",
+        "  - name: line1",
+        f"    {bus}",
+        "    devices:",
+    ]
     for name, map_file, slave in devices:
         rel = os.path.relpath(ROOT / "maps" / map_file, tmp_path)
         lines.append(f"      - {{name: {name}, map: {rel}, slave: {slave}}}")

@@ -264,7 +264,9 @@ def device_and_link(args: argparse.Namespace, command: str) -> tuple[Device, Lin
     try:
         member = bus.device(args.device)
     except KeyError:
-        raise UsageError(f"--device {args.device}: bus {bus.name} has no such device (devices: {', '.join(d.name for d in bus.devices)})") from None
+        raise UsageError(
+            f"--device {args.device}: bus {bus.name} has no such device (devices: {', '.join(d.name for d in bus.devices)})"
+        ) from None
     link = link_from(args)
     given = link.serial is not None or link.tcp is not None
     serial, tcp = link.serial, link.tcp

@@ -6,7 +6,16 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from regmap.cli.common import add_plant_device, add_read_options, device_and_link, live_parser, output_format, profile_from, say_notes, space_from
+from regmap.cli.common import (
+    add_plant_device,
+    add_read_options,
+    device_and_link,
+    live_parser,
+    output_format,
+    profile_from,
+    say_notes,
+    space_from,
+)
 
 if TYPE_CHECKING:
     from regmap.tools.live import Firmware

@@ -7,11 +7,12 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import ROOT, require_tool
 
 from regmap.backends.c.plant import plant_header
 from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
+
+from conftest import ROOT, require_tool
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 WARNINGS = ("-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wconversion", "-Wsign-conversion")
@@ -48,7 +49,10 @@ def test_the_poll_table_walks_as_the_shared_schedule(standard: str, tmp_path: Pa
     source = tmp_path / "walk.c"
     source.write_text(WALK, encoding="utf-8")
     build = subprocess.run(
-        [compiler, *flags, "-O2", *WARNINGS, f"-I{tmp_path}", str(source), "-o", str(tmp_path / "walk")], capture_output=True, text=True, check=False
+        [compiler, *flags, "-O2", *WARNINGS, f"-I{tmp_path}", str(source), "-o", str(tmp_path / "walk")],
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert build.returncode == 0 and not build.stderr.strip(), build.stderr
     lines = subprocess.run([str(tmp_path / "walk")], capture_output=True, text=True, check=True).stdout.splitlines()
@@ -58,4 +62,3 @@ def test_the_poll_table_walks_as_the_shared_schedule(standard: str, tmp_path: Pa
     assert lines[1] == f"line 38400 E silence 1750 cycle {round((schedule.cycle_s or 0) * 1e6)}"
     rows = [tuple(int(x) for x in line.split()) for line in lines[2:]]
     assert rows == [(index[e.device.name], e.slave, e.function, e.start, e.count) for e in schedule.entries]
-

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import re
 
-from conftest import ROOT
-
 from regmap.backends.markdown.plant import render_plant
 from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
+
+from conftest import ROOT
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 

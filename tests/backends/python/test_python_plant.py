@@ -7,6 +7,7 @@ one TCP socket (the simulator does not serve several units on one port yet)."""
 from __future__ import annotations
 
 import importlib
+import itertools
 import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -14,14 +15,15 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import GENERATED, mypy_strict, require_tool
-from support.plant_bus import PtyBus, TcpBus
-from support.fake_clock import FakeClock
-from support.plants import generate_python_plant, write_plant
 
 from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
 from regmap_runtime.rtu import build_read
+
+from conftest import GENERATED, mypy_strict, require_tool
+from support.fake_clock import FakeClock
+from support.plant_bus import PtyBus, TcpBus
+from support.plants import generate_python_plant, write_plant
 
 CELL1_PY = GENERATED / "plants" / "cell1" / "python"
 # examples/plants/cell1.yaml's devices on a line without parity: a Linux pty refuses parity settings (EINVAL).
@@ -113,7 +115,7 @@ def test_the_serial_schedule_keeps_the_silence_and_each_devices_turnaround(socat
         bus.close()
     exchanges = bus.exchanges
     assert len(exchanges) == 5
-    for before, after in zip(exchanges, exchanges[1:], strict=False):
+    for before, after in itertools.pairwise(exchanges):
         assert before.answered is not None
         # The answer was stamped before it was written: this gap can only be longer than the master waited. (pymodbus's
         # own receive loop already waits 8 characters after an answer; the plant's pacing is shown on a fake clock too.)

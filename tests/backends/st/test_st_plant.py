@@ -6,12 +6,12 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from conftest import ROOT, built_tool
-from support.st_matiec import iec2c
-
 from regmap.backends.st.plant import render_plant
 from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
+
+from conftest import ROOT, built_tool
+from support.st_matiec import iec2c
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 

@@ -9,8 +9,8 @@ the items of a header, `device` the header's context; `templates/` the header te
 from __future__ import annotations
 
 from regmap.backends.c.device import SHARED_HEADER, device_context, render_device, render_shared
-from regmap.backends.c.plant import render_plant
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
+from regmap.backends.c.plant import render_plant
 from regmap.backends.c.views import c_version
 from regmap.diagnostics import Diagnostic, at
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS

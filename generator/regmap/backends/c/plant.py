@@ -108,7 +108,9 @@ def plant_header(plant: Plant) -> str:
             slave_value=c_unsigned(dev.slave),
             turnaround=CIdentifier(plant.id, dev.name, "TURNAROUND_US"),
             turnaround_value=_us(dev.turnaround_s(baud)),
-            comment=c_comment(f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} ({dev.map_path}, header {dev.device.id}.h) on bus {bus.name}"),
+            comment=c_comment(
+                f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} ({dev.map_path}, header {dev.device.id}.h) on bus {bus.name}"
+            ),
         )
         for name in (view.index, view.slave, view.turnaround):
             if name in names:
@@ -117,19 +119,23 @@ def plant_header(plant: Plant) -> str:
         indexes[dev.name] = view.index
         devices.append(view)
     buses = [_bus_table(plant, schedule, indexes, names) for schedule in plant_schedule(plant)]
-    return templates(__name__).get_template("plant.h.jinja").render(
-        header=[c_comment(line) for line in plant_header_lines(plant, f"regmap generate {plant.source_path}")],
-        title=c_comment(plant.title or plant.id),
-        guard=CIdentifier("REGMAP", plant.id, "PLANT_H"),
-        implementation=CIdentifier(plant.id, "PLANT_IMPLEMENTATION"),
-        implemented=CIdentifier("REGMAP", plant.id, "PLANT_IMPLEMENTED"),
-        poll_type=CSymbol(plant.id, "poll"),
-        file=plant_file(plant),
-        device_prefix=CIdentifier(plant.id, "DEVICE") + "_",
-        device_count=CIdentifier(plant.id, "DEVICE_COUNT"),
-        device_count_value=c_unsigned(len(devices)),
-        devices=devices,
-        buses=buses,
+    return (
+        templates(__name__)
+        .get_template("plant.h.jinja")
+        .render(
+            header=[c_comment(line) for line in plant_header_lines(plant, f"regmap generate {plant.source_path}")],
+            title=c_comment(plant.title or plant.id),
+            guard=CIdentifier("REGMAP", plant.id, "PLANT_H"),
+            implementation=CIdentifier(plant.id, "PLANT_IMPLEMENTATION"),
+            implemented=CIdentifier("REGMAP", plant.id, "PLANT_IMPLEMENTED"),
+            poll_type=CSymbol(plant.id, "poll"),
+            file=plant_file(plant),
+            device_prefix=CIdentifier(plant.id, "DEVICE") + "_",
+            device_count=CIdentifier(plant.id, "DEVICE_COUNT"),
+            device_count_value=c_unsigned(len(devices)),
+            devices=devices,
+            buses=buses,
+        )
     )
 
 

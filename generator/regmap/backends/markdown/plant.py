@@ -67,11 +67,17 @@ def _bus_view(schedule: BusSchedule) -> BusView:
             ("Parity", md.Md(line.parity)),
             ("Data bits / stop bits", md.Md(f"{line.data_bits} / {line.stop_bits}")),
             ("Character", md.Md(f"{line.character_bits} bits ({line.character_bits / line.baud * 1e6:.0f} µs)")),
-            ("Inter-frame silence", md.Md(f"{_ms(line.silence_s)} (3.5 characters{', fixed above 19200 baud' if line.baud > 19200 else ''})")),
+            (
+                "Inter-frame silence",
+                md.Md(f"{_ms(line.silence_s)} (3.5 characters{', fixed above 19200 baud' if line.baud > 19200 else ''})"),
+            ),
         ]
     else:
         assert bus.tcp is not None
-        settings += [("Line", md.Md("Modbus TCP (the slave id travels as the unit id)")), ("Host", md.escaped(f"{bus.tcp.host}:{bus.tcp.port}"))]
+        settings += [
+            ("Line", md.Md("Modbus TCP (the slave id travels as the unit id)")),
+            ("Host", md.escaped(f"{bus.tcp.host}:{bus.tcp.port}")),
+        ]
     times = {id(entry): schedule.exchange_s(entry) for entry in schedule.entries}
     devices = []
     for dev in bus.devices:
@@ -123,14 +129,18 @@ def _bus_view(schedule: BusSchedule) -> BusView:
 
 
 def plant_page(plant: Plant) -> str:
-    return templates(__name__).get_template("plant.md.jinja").render(
-        header=[md.html_comment(line) for line in plant_header_lines(plant, f"regmap generate {plant.source_path}")],
-        title=md.escaped(plant.title or plant.id),
-        plant_id=md.code(plant.id),
-        source=md.escaped(plant.source_path),
-        notes=md.paragraph(plant.notes) if plant.notes else md.Md(""),
-        buses=[_bus_view(schedule) for schedule in plant_schedule(plant)],
-        bus_count="one bus" if len(plant.buses) == 1 else f"{len(plant.buses)} buses",
+    return (
+        templates(__name__)
+        .get_template("plant.md.jinja")
+        .render(
+            header=[md.html_comment(line) for line in plant_header_lines(plant, f"regmap generate {plant.source_path}")],
+            title=md.escaped(plant.title or plant.id),
+            plant_id=md.code(plant.id),
+            source=md.escaped(plant.source_path),
+            notes=md.paragraph(plant.notes) if plant.notes else md.Md(""),
+            buses=[_bus_view(schedule) for schedule in plant_schedule(plant)],
+            bus_count="one bus" if len(plant.buses) == 1 else f"{len(plant.buses)} buses",
+        )
     )
 
 

@@ -13,8 +13,8 @@ from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared,
 from regmap.core.text import eng, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
-from regmap.plant import Plant
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
+from regmap.plant import Plant
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target

@@ -43,7 +43,9 @@ def _check_names(plant: Plant) -> None:
     for bus in plant.buses:
         for name, what, pos in [(bus.name, f"bus {bus.name}", bus.pos)] + [(d.name, f"device {d.name}", d.pos) for d in bus.devices]:
             if name in PLANT_NAMES:
-                problems.append(at(plant.source_path, pos, f"{what}: the plant's Python attribute {name!r} would shadow its own {name}(); rename it"))
+                problems.append(
+                    at(plant.source_path, pos, f"{what}: the plant's Python attribute {name!r} would shadow its own {name}(); rename it")
+                )
             elif name in taken:
                 problems.append(at(plant.source_path, pos, f"{what}: the Python plant has {name!r} already as {taken[name]}; rename one"))
             taken.setdefault(name, what)
@@ -62,14 +64,16 @@ def _bus_view(plant: Plant, index: int) -> BusView:
             values_class=snapshot_name(dev.device),
             slave=dev.slave,
             bus=bus.name,
-            doc=py_doc(f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} at slave {dev.slave} on bus {bus.name}."),
+            doc=py_doc(
+                f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} at slave {dev.slave} on bus {bus.name}."
+            ),
         )
         for dev in bus.devices
     )
     if bus.serial is not None:
         line = bus.serial
         turnaround = ", ".join(f"{dev.slave}: {round(dev.turnaround_s(line.baud), 9)!r}" for dev in bus.devices)
-        params = ((f"{bus.name}_port", "str", py_str(line.port)),)
+        params: tuple[tuple[str, str, str], ...] = ((f"{bus.name}_port", "str", py_str(line.port)),)
         args = (
             f"{bus.name}_port, baud={line.baud}, parity={py_str(line.parity)}, data_bits={line.data_bits},"
             f" stop_bits={line.stop_bits}, silence_s={line.silence_s!r}, turnaround_s={{{turnaround}}},"
@@ -82,7 +86,15 @@ def _bus_view(plant: Plant, index: int) -> BusView:
         args = f"{bus.name}_host, {bus.name}_port, timeout=timeout"
         where = f"Modbus TCP {bus.tcp.host}:{bus.tcp.port}"
     doc = py_doc(f"Bus {bus.name}: {where}; " + ", ".join(f"{d.name} (slave {d.slave})" for d in bus.devices) + ".")
-    return BusView(attr=bus.name, name_literal=py_str(bus.name), serial=bus.serial is not None, params=params, factory_args=args, devices=devices, doc=doc)
+    return BusView(
+        attr=bus.name,
+        name_literal=py_str(bus.name),
+        serial=bus.serial is not None,
+        params=params,
+        factory_args=args,
+        devices=devices,
+        doc=doc,
+    )
 
 
 def plant_module(plant: Plant) -> str:
@@ -91,16 +103,20 @@ def plant_module(plant: Plant) -> str:
     _check_names(plant)
     imported = sorted({(dev.device.id, camel(dev.device.id), snapshot_name(dev.device)) for dev in plant.devices})
     requests = {schedule.bus.name: len(schedule.entries) for schedule in plant_schedule(plant)}
-    return templates(__name__).get_template("plant.py.jinja").render(
-        header=plant_header_lines(plant, f"regmap generate {plant.source_path}"),
-        title=py_doc(f"{plant.title or plant.id}: the plant's buses and device clients"),
-        class_name=camel(plant.id),
-        values_class=camel(plant.id) + "Values",
-        doc=py_doc(plant.notes),
-        runtime=runtime_package(),
-        imports=imported,
-        buses=[_bus_view(plant, index) for index in range(len(plant.buses))],
-        requests=requests,
+    return (
+        templates(__name__)
+        .get_template("plant.py.jinja")
+        .render(
+            header=plant_header_lines(plant, f"regmap generate {plant.source_path}"),
+            title=py_doc(f"{plant.title or plant.id}: the plant's buses and device clients"),
+            class_name=camel(plant.id),
+            values_class=camel(plant.id) + "Values",
+            doc=py_doc(plant.notes),
+            runtime=runtime_package(),
+            imports=imported,
+            buses=[_bus_view(plant, index) for index in range(len(plant.buses))],
+            requests=requests,
+        )
     )
 
 

@@ -67,7 +67,9 @@ def plant_context(plant: Plant) -> dict[str, object]:
     for index, dev in enumerate(plant.devices):
         bus, _ = plant.device(dev.name)
         baud = bus.serial.baud if bus.serial is not None else None
-        what = st_comment(f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} on bus {bus.name} ({dev.device.id}_constants.st)")
+        what = st_comment(
+            f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} on bus {bus.name} ({dev.device.id}_constants.st)"
+        )
         index_of[dev.name] = str(index)
         constants += [
             Constant(name("DEVICE", dev.name), "USINT", str(index), what),
@@ -86,7 +88,9 @@ def plant_context(plant: Plant) -> dict[str, object]:
                 Constant(name(bus.name, "PARITY"), "STRING", f"'{line.parity}'", "parity"),
                 Constant(name(bus.name, "DATA_BITS"), "USINT", str(line.data_bits), "data bits"),
                 Constant(name(bus.name, "STOP_BITS"), "USINT", str(line.stop_bits), "stop bits"),
-                Constant(name(bus.name, "SILENCE_US"), "UDINT", _us(line.silence_s), "inter-frame silence before each request, microseconds"),
+                Constant(
+                    name(bus.name, "SILENCE_US"), "UDINT", _us(line.silence_s), "inter-frame silence before each request, microseconds"
+                ),
                 Constant(name(bus.name, "CYCLE_US"), "UDINT", _us(cycle), "the whole poll cycle's line time at worst, microseconds"),
             ]
             where = f"serial {line.port}, {line.baud} baud, parity {line.parity}"
@@ -130,4 +134,7 @@ def plant_context(plant: Plant) -> dict[str, object]:
 def render_plant(plant: Plant) -> Files:
     env = templates(__name__)
     context = plant_context(plant)
-    return {f"{plant.id}_plant/{plant.id}_plant_{kind}.st": env.get_template(f"plant_{kind}.st.jinja").render(**context) for kind in ("types", "constants")}
+    return {
+        f"{plant.id}_plant/{plant.id}_plant_{kind}.st": env.get_template(f"plant_{kind}.st.jinja").render(**context)
+        for kind in ("types", "constants")
+    }
