@@ -191,6 +191,11 @@ def read_plan(
 READ_REQUEST_BYTES = 8  # slave, function, start (2), count (2), CRC (2)
 
 
+def microseconds(seconds: float) -> int:
+    """A line time as the C and ST plant constants give it."""
+    return round(seconds * 1_000_000)
+
+
 @dataclass(frozen=True)
 class PollEntry:
     """One request of a bus's poll cycle: which device, at which slave id, reads which block."""

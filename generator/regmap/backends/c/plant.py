@@ -10,7 +10,7 @@ from regmap.backends.c.names import CIdentifier, CSymbol, c_hex, c_unsigned
 from regmap.diagnostics import UsageError
 from regmap.plant import Plant
 from regmap.render import c_comment, plant_header_lines, templates
-from regmap.runtime_bridge import BusSchedule, plant_schedule
+from regmap.runtime_bridge import BusSchedule, microseconds, plant_schedule
 from regmap.target import Files
 
 
@@ -21,7 +21,7 @@ def _registers(registers: tuple[Any, ...]) -> str:
 
 
 def _us(seconds: float) -> str:
-    return c_unsigned(round(seconds * 1_000_000))
+    return c_unsigned(microseconds(seconds))
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ from regmap.backends.st.names import StIdentifier
 from regmap.diagnostics import UsageError
 from regmap.plant import Plant
 from regmap.render import plant_header_lines, st_comment, templates
-from regmap.runtime_bridge import plant_schedule
+from regmap.runtime_bridge import microseconds, plant_schedule
 from regmap.target import Files
 
 # The poll row's members: (name, type, what it holds); a row's values are given in this order.
@@ -41,7 +41,7 @@ class PollTable:
 
 
 def _us(seconds: float) -> str:
-    return str(round(seconds * 1_000_000))
+    return str(microseconds(seconds))
 
 
 class _Names:
