@@ -176,3 +176,15 @@ def test_the_generated_plant_paces_its_line_as_the_plant_file_says() -> None:
 def test_the_generated_plant_passes_mypy_strict() -> None:
     result = mypy_strict("cell1_plant.py", cwd=CELL1_PY)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_a_name_the_python_plant_would_use_twice_is_refused_at_its_line(tmp_path: Path) -> None:
+    from regmap.backends.python.plant import render_plant
+    from regmap.diagnostics import MapError
+
+    plant_file = write_plant(tmp_path, "clash", "tcp: {host: 127.0.0.1}", [("line1", "idm_rs.yaml", 1), ("read_all", "idm_rs.yaml", 2)])
+    with pytest.raises(MapError) as refused:
+        render_plant(load_plant(plant_file))
+    text = str(refused.value)
+    assert f"{plant_file}:7:" in text and "'line1' already as bus line1" in text
+    assert f"{plant_file}:8:" in text and "would shadow its own read_all()" in text
