@@ -35,6 +35,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap import c630s-ch7.csv --columns c630s-columns.yaml --into maps/c630s_draft.yaml",
             "regmap import id243pro.xlsx --sheet registers --into maps/id243pro.yaml  # update: prints the change summary",
             "regmap import table.csv --into maps/id243pro.yaml --dry-run              # show the changes, write nothing",
+            "regmap import esphome/meter.yaml --into maps/sdm120.yaml                # an ESPHome modbus_controller config",
+            "regmap import configuration.yaml --from homeassistant --into maps/plant/ # HA modbus: one map per distinct device",
         )
         + "\n\nA mapping file (--columns) names columns and gives param_ids rules for tables without an address column:\n"
         "  columns: {Code: param, Name: title_zh}\n"
@@ -44,8 +46,19 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "until the mapping says which ({Factor: gain} or {Factor: scale}).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("table", metavar="TABLE", help="a .csv (UTF-8) or .xlsx register table")
-    p.add_argument("--into", required=True, metavar="MAP", help="the map to create or update")
+    p.add_argument("table", metavar="TABLE", help="a .csv (UTF-8) or .xlsx register table, or an ESPHome / Home Assistant .yaml config")
+    p.add_argument(
+        "--into",
+        required=True,
+        metavar="MAP",
+        help="the map to create or update; for a config of several distinct devices, a directory (one map per device)",
+    )
+    p.add_argument(
+        "--from",
+        dest="config_format",
+        choices=["esphome", "homeassistant"],
+        help="what wrote the .yaml config (default: ESPHome when it has modbus_controller:, Home Assistant when it has a modbus: list)",
+    )
     p.add_argument("--sheet", help="the xlsx sheet to read (default: 'registers', else the first)")
     p.add_argument("--columns", metavar="MAPPING.yaml", help="column mapping file: header -> field, param_ids rules")
     p.add_argument("--vendor", default="unknown", help="vendor of a new draft (default 'unknown')")
@@ -67,6 +80,8 @@ def _map_rules(path: Path) -> list[dict[str, Any]]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if Path(args.table).suffix.lower() in (".yaml", ".yml") or args.config_format:
+        return _run_config(args)
     from regmap.frontend import load_map, load_map_text
     from regmap.tools.diff import compare, render_text
     from regmap.tools.spreadsheet.columns import Mapping, load_mapping
@@ -158,3 +173,58 @@ def _unread_in_update(problems: list[Problem], update: Update) -> str:
     if len(problems) - kept - added:
         parts.append(f"{len(problems) - kept - added} in rows not imported")
     return f"{len(problems)} cell(s) could not be read (listed above): " + "; ".join(parts)
+
+
+def _run_config(args: argparse.Namespace) -> int:
+    """An ESPHome or Home Assistant config -> one map per distinct device, and the report of what became notes."""
+    from regmap.frontend import load_map_text
+    from regmap.tools.configimport.drafts import drafts, read
+    from regmap.tools.configimport.reader import ConfigError
+
+    into = Path(args.into)
+    source = Path(args.table)
+    if not source.is_file():
+        raise UsageError(f"{source}: no such file")
+    try:
+        fmt, imported = read(source, args.config_format)
+    except ConfigError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        print(f"regmap import: {source}: nothing written", file=sys.stderr)
+        return ExitCode.INVALID_MAP
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{source}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    several = len({d.signature() for d in imported.devices}) > 1
+    if several and into.suffix in (".yaml", ".yml"):
+        raise UsageError(f"--into {into}: {source} describes several distinct devices; give a directory (one map per device)")
+    device_id = "device" if several else into.stem
+    if not several and not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", device_id):
+        raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
+    made = drafts(imported, device_id, args.vendor, args.model, source.name)
+    targets = [(into / f"{d.device_id}.yaml" if several else into, d) for d in made]
+    status: int = ExitCode.OK
+    for target, draft in targets:
+        try:
+            load_map_text(draft.text, str(target))
+        except MapError as exc:
+            for diag in exc.diagnostics:
+                print(diag, file=sys.stderr)
+            status = ExitCode.INVALID_MAP
+    for line in imported.report:
+        print(f"  {line}")
+    if not args.dry_run:
+        if several:
+            into.mkdir(parents=True, exist_ok=True)
+        for target, _ in targets:
+            check_output(str(target), "--into")
+        for target, draft in targets:
+            write_output(target, draft.text.encode(), "--into")
+    action = "would write" if args.dry_run else "wrote"
+    for target, draft in targets:
+        registers = len(draft.devices[0].registers)
+        where = ", ".join(f"{d.label} (slave {d.slave})" for d in draft.devices)
+        print(f"{action} {target}: {registers} registers from {fmt} {where}")
+    print(
+        f"{len(imported.report)} thing(s) kept as notes or left out (listed above); {'valid' if status == ExitCode.OK else 'the front end rejects a draft (above)'}"
+    )
+    return status
