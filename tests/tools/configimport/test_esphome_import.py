@@ -332,3 +332,17 @@ def test_an_entity_whose_reading_contradicts_another_at_its_address_is_left_out_
     config.write_text(text, encoding="utf-8")
     _, imported = read(config, None)
     assert any("not imported" in line and "clash" in line for line in imported.report), imported.report
+
+
+def test_a_byte_offset_into_the_read_moves_the_address(tmp_path: Path) -> None:
+    """ESPHome's `offset` counts bytes from `address` (bits for coils); a register is two bytes, an odd offset no register."""
+    text = CONFIG.replace("    address: 0x0016\n    value_type: FP32\n", "    address: 0x0010\n    offset: 12\n    value_type: FP32\n", 1)
+    text = text.replace("    register_type: coil\n    address: 5\n", "    register_type: coil\n    address: 0\n    offset: 5\n", 1)
+    config = tmp_path / "node.yaml"
+    config.write_text(text, encoding="utf-8")
+    _, imported = read(config, None)
+    (device,) = imported.devices
+    assert any(r.address == 0x16 and r.type == "f32" and r.space == "input" for r in device.registers)
+    assert any(r.address == 5 and r.space == "coil" for r in device.registers)
+    run, _ = _import(tmp_path, text.replace("offset: 12", "offset: 3"))
+    assert run.returncode == ExitCode.INVALID_MAP and "offset 3: a byte offset" in run.stderr

@@ -170,12 +170,11 @@ class _Reader:
             self.fail((*path, "address"), f"address {address!r}: expected a register address 0..0xFFFF")
             return None
         offset = entity.get("offset", 0)
-        if isinstance(offset, bool) or not isinstance(offset, int) or offset < 0 or offset % 2:
+        bits = entity.get("register_type", "holding") in ("coil", "discrete_input")
+        if isinstance(offset, bool) or not isinstance(offset, int) or offset < 0 or (offset % 2 and not bits):
             self.fail((*path, "offset"), f"offset {offset!r}: a byte offset into the read; regmap reads whole registers (an even offset)")
             return None
-        register_type = entity.get("register_type", "holding")
-        bits = register_type in ("coil", "discrete_input")
-        return address + (offset * 8 if bits else offset // 2)
+        return address + (offset if bits else offset // 2)  # ESPHome: bytes into the read, a coil's position for bits
 
     def _register(
         self, device: Device, platform: str, entity: dict[str, Any], path: tuple[str | int, ...], origin: str, address: int
