@@ -37,6 +37,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap import table.csv --into maps/id243pro.yaml --dry-run              # show the changes, write nothing",
             "regmap import esphome/meter.yaml --into maps/sdm120.yaml                # an ESPHome modbus_controller config",
             "regmap import configuration.yaml --from homeassistant --into maps/plant/ # HA modbus: one map per distinct device",
+            "regmap import model_1.json --chain model_103.json --chain model_160.json --repeats 2 --into maps/inverter.yaml  # SunSpec",
         )
         + "\n\nA mapping file (--columns) names columns and gives param_ids rules for tables without an address column:\n"
         "  columns: {Code: param, Name: title_zh}\n"
@@ -56,8 +57,24 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument(
         "--from",
         dest="config_format",
-        choices=["esphome", "homeassistant"],
-        help="what wrote the .yaml config (default: ESPHome when it has modbus_controller:, Home Assistant when it has a modbus: list)",
+        choices=["esphome", "homeassistant", "sunspec"],
+        help="what wrote the config (default: ESPHome when it has modbus_controller:, Home Assistant when it has a modbus: list, "
+        "SunSpec for a .json model definition)",
+    )
+    p.add_argument(
+        "--chain",
+        action="append",
+        default=[],
+        metavar="MODEL.json",
+        help="SunSpec: a model definition chained after TABLE's (repeatable, in order: model 1, then 103, then 160 ...)",
+    )
+    p.add_argument("--base", type=int, choices=[40000, 50000, 0], default=40000, help="SunSpec: the address of the SunS marker")
+    p.add_argument(
+        "--repeats",
+        type=int,
+        default=1,
+        metavar="N",
+        help="SunSpec: how many times a repeating group whose count the device gives is present (default 1)",
     )
     p.add_argument("--sheet", help="the xlsx sheet to read (default: 'registers', else the first)")
     p.add_argument("--columns", metavar="MAPPING.yaml", help="column mapping file: header -> field, param_ids rules")
@@ -80,7 +97,7 @@ def _map_rules(path: Path) -> list[dict[str, Any]]:
 
 
 def run(args: argparse.Namespace) -> int:
-    if Path(args.table).suffix.lower() in (".yaml", ".yml") or args.config_format:
+    if Path(args.table).suffix.lower() in (".yaml", ".yml", ".json") or args.config_format:
         return _run_config(args)
     from regmap.frontend import load_map, load_map_text
     from regmap.tools.diff import compare, render_text
@@ -185,8 +202,14 @@ def _run_config(args: argparse.Namespace) -> int:
     source = Path(args.table)
     if not source.is_file():
         raise UsageError(f"{source}: no such file")
+    if args.repeats < 0:
+        raise UsageError(f"--repeats {args.repeats}: a count of repetitions, 0 or more")
+    chain = tuple(Path(c) for c in args.chain)
+    for path in chain:
+        if not path.is_file():
+            raise UsageError(f"--chain {path}: no such file")
     try:
-        fmt, imported = read(source, args.config_format)
+        fmt, imported = read(source, args.config_format, chain, args.base, args.repeats)
     except ConfigError as exc:
         for diag in exc.diagnostics:
             print(diag, file=sys.stderr)

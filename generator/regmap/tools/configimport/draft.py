@@ -63,6 +63,10 @@ class Imported:
     flags: list[Flag] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     count: int = 1  # Home Assistant's virtual_count + 1: this many at consecutive addresses (an array)
+    group: str | None = None  # the map group it goes in (a SunSpec model); None: one group per space
+    group_title: str | None = None
+    default: int | str | None = None
+    encoding: str | None = None  # of a string, when not ASCII
 
     @property
     def width(self) -> int:
@@ -162,7 +166,7 @@ def identifier(text: str, fallback: str) -> str:
     name = re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_")
     if not name or not name[0].isalpha():
         name = f"{fallback}_{name}" if name else fallback
-    return _cut(name)
+    return name if len(name) <= MAX_NAME else name[:MAX_NAME].rstrip("_")
 
 
 def fraction(value: Any) -> Fraction:
@@ -211,7 +215,7 @@ class _Names:
     def unique(self, name: str) -> str:
         base, n = name, 2
         while name in self.taken:
-            name = f"{base[:60]}_{n}"
+            name = f"{base[: MAX_NAME - 4]}_{n}"
             n += 1
         self.taken.add(name)
         return name
@@ -224,6 +228,8 @@ def _register_yaml(reg: Imported, name: str, enum: str | None) -> dict[str, Any]
     out["type"] = reg.type
     if reg.words is not None:
         out["words"] = reg.words
+    if reg.encoding is not None:
+        out["encoding"] = reg.encoding
     if reg.word_order != "high_first" and TYPES[reg.type].words > 1:
         out["word_order"] = reg.word_order
     if reg.byte_order != "high_first":
@@ -256,6 +262,8 @@ def _register_yaml(reg: Imported, name: str, enum: str | None) -> dict[str, Any]
         for flag in sorted(reg.flags, key=lambda f: f.mask & -f.mask):
             fields.append({"name": names.unique(identifier(flag.key, "bit")), "bits": _bits(flag.mask), "title": flag.title or flag.key})
         out["bitfields"] = fields
+    if reg.default is not None:
+        out["default"] = reg.default
     if reg.poll != "normal":
         out["poll"] = reg.poll
     out["source"] = reg.origin
@@ -315,7 +323,10 @@ def map_text(device: Device, device_id: str, vendor: str, model: str, source: st
     names = _Names()
     enums: list[str] = []
     groups: dict[str, list[str]] = {}
+    titles: dict[str, str] = {}
     for reg in sorted(device.registers, key=lambda r: (list(SPACES).index(r.space), r.address)):
+        group = reg.group or reg.space
+        titles.setdefault(group, reg.group_title or SPACES[reg.space].title.capitalize())
         _usable_flags(reg, report)
         name = names.unique(identifier(reg.key, "register"))
         enum = None
@@ -335,14 +346,14 @@ def map_text(device: Device, device_id: str, vendor: str, model: str, source: st
         entry = _register_yaml(reg, name, enum)
         if reg.count > 1:
             entry = _array_yaml(reg, entry)
-        groups.setdefault(reg.space, []).extend(block(entry, 6, "- "))
+        groups.setdefault(group, []).extend(block(entry, 6, "- "))
     if enums:
         out += ["enums:", *enums]
     out.append("groups:" if groups else "groups: []")
-    for space, lines_ in groups.items():
+    for group, lines_ in groups.items():
         out += [
-            f"  - id: {space}",
-            f"    title: {scalar(SPACES[space].title.capitalize())}",
+            f"  - id: {group}",
+            f"    title: {scalar(titles[group])}",
             f"    source: {scalar(source)}",
             "    registers:",
             *lines_,
@@ -351,6 +362,7 @@ def map_text(device: Device, device_id: str, vendor: str, model: str, source: st
     return "\n".join(out) + "\n"
 
 
+MAX_NAME = 64  # the map's limit on a name
 NAME_CHARS = 48  # of a name made from a title: room for a `_<value>` that makes it unique, within the map's 64
 
 

@@ -9,7 +9,7 @@ from regmap.tools.configimport.draft import Device, Import, identifier, map_text
 from regmap.tools.configimport.esphome import read_esphome
 from regmap.tools.configimport.reader import Config, ConfigError, read_config
 
-FORMATS = ("esphome", "homeassistant")
+FORMATS = ("esphome", "homeassistant", "sunspec")
 
 
 @dataclass
@@ -33,8 +33,13 @@ def detect(config: Config) -> str:
     )
 
 
-def read(path: Path, fmt: str | None) -> tuple[str, Import]:
-    """The file's format and what it holds; ConfigError at file:line:col for what cannot be read."""
+def read(path: Path, fmt: str | None, chain: tuple[Path, ...] = (), base: int = 40000, repeats: int = 1) -> tuple[str, Import]:
+    """The file's format and what it holds; ConfigError at file:line:col for what cannot be read. A SunSpec
+    model definition (.json) is chained with the `chain` models after it, from `base`."""
+    if fmt == "sunspec" or (fmt is None and path.suffix.lower() == ".json"):
+        from regmap.tools.configimport import sunspec
+
+        return "sunspec", sunspec.device(sunspec.read_models([path, *chain]), base, repeats)
     config = read_config(path.read_text(encoding="utf-8"), str(path))
     fmt = fmt or detect(config)
     if fmt == "esphome":
