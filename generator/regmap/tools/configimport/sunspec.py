@@ -93,6 +93,14 @@ def points(model: dict[str, Any], repeats: int) -> list[Point]:
     return out
 
 
+def _count_points(group: dict[str, Any]) -> set[str]:
+    """The points that give a repeating group's count (`"count": "NMod"`)."""
+    names = {g["count"] for g in group.get("groups", []) if isinstance(g.get("count"), str)}
+    for sub in group.get("groups", []):
+        names |= _count_points(sub)
+    return names
+
+
 def model_length(model: dict[str, Any], repeats: int) -> int:
     """The L of the model laid out with `repeats` repetitions: registers after ID and L."""
     laid = points(model, repeats)
@@ -178,6 +186,7 @@ def device(models: list[dict[str, Any]], base: int = 40000, repeats: int = 1) ->
             prefix = f"m{model['id']}_{len(taken)}_"
         taken.add(prefix)
         laid = points(model, repeats)
+        counted = _count_points(model["group"])
         for point in laid:
             size = int(point.pdef.get("size") or 0)
             if point.pdef["type"] == "string" and size > MAX_STRING_WORDS:
@@ -186,6 +195,8 @@ def device(models: list[dict[str, Any]], base: int = 40000, repeats: int = 1) ->
             reg = _register(point, address + point.offset, model, prefix, f"{model['_file']}:{point.pdef['name']}", report)
             if point.pdef["name"] == "L" and not point.group:
                 reg.default = model_length(model, repeats)
+            elif (point.pdef["name"] in counted or point.pdef["type"] == "count") and not point.group:
+                reg.default = repeats  # the count of the repeating group as laid out
             found.registers.append(reg)
         address += model_length(model, repeats) + 2
     end = Imported(
