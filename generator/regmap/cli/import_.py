@@ -90,6 +90,25 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
+def _device_id(into: Path) -> str:
+    if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", into.stem):
+        raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
+    return into.stem
+
+
+def _front_end(text: str, name: Path) -> int:
+    """A new draft through the front end: OK, or INVALID_MAP with its problems printed (the draft is still written)."""
+    from regmap.frontend import load_map_text
+
+    try:
+        load_map_text(text, str(name))
+    except MapError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        return ExitCode.INVALID_MAP
+    return ExitCode.OK
+
+
 def _map_rules(path: Path) -> list[dict[str, Any]]:
     data = yaml.safe_load(path.read_text(encoding="utf-8"))
     rules = data.get("param_ids", []) if isinstance(data, dict) else []
@@ -131,17 +150,8 @@ def run(args: argparse.Namespace) -> int:
     unread = f"{len(problems)} cell(s) could not be read" + (" (listed above; null with a note in the draft)" if problems else "")
 
     if device is None:
-        device_id = into.stem
-        if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", device_id):
-            raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
-        draft = build_draft(table, entries, problems, device_id, args.vendor, args.model, mapping.param_ids)
-        status: int = ExitCode.OK
-        try:
-            load_map_text(draft.text, str(into))
-        except MapError as exc:
-            for diag in exc.diagnostics:
-                print(diag, file=sys.stderr)
-            status = ExitCode.INVALID_MAP
+        draft = build_draft(table, entries, problems, _device_id(into), args.vendor, args.model, mapping.param_ids)
+        status = _front_end(draft.text, into)
         if not args.dry_run:
             write_output(into, draft.text.encode(), "--into")
         if status == ExitCode.OK:
@@ -194,7 +204,6 @@ def _unread_in_update(problems: list[Problem], update: Update) -> str:
 
 def _run_config(args: argparse.Namespace) -> int:
     """An ESPHome or Home Assistant config -> one map per distinct device, and the report of what became notes."""
-    from regmap.frontend import load_map_text
     from regmap.tools.configimport.drafts import drafts, read
     from regmap.tools.configimport.reader import ConfigError
 
@@ -220,19 +229,11 @@ def _run_config(args: argparse.Namespace) -> int:
     several = len({d.signature() for d in imported.devices}) > 1
     if several and into.suffix in (".yaml", ".yml"):
         raise UsageError(f"--into {into}: {source} describes several distinct devices; give a directory (one map per device)")
-    device_id = "device" if several else into.stem
-    if not several and not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", device_id):
-        raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
-    made = drafts(imported, device_id, args.vendor, args.model, source.name)
+    made = drafts(imported, "device" if several else _device_id(into), args.vendor, args.model, source.name)
     targets = [(into / f"{d.device_id}.yaml" if several else into, d) for d in made]
     status: int = ExitCode.OK
     for target, draft in targets:
-        try:
-            load_map_text(draft.text, str(target))
-        except MapError as exc:
-            for diag in exc.diagnostics:
-                print(diag, file=sys.stderr)
-            status = ExitCode.INVALID_MAP
+        status = max(status, _front_end(draft.text, target))
     for line in imported.report:
         print(f"  {line}")
     if not args.dry_run:

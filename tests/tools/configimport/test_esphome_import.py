@@ -14,7 +14,7 @@ from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
 from regmap.model import Device, Register
 from regmap.tools.configimport.drafts import read
-from regmap.tools.configimport.esphome import VALUE_TYPE, poll_class
+from regmap.tools.configimport.esphome import VALUE_TYPE, skip_poll_class
 from regmap.tools.configimport.reader import ConfigError, Tagged, read_config
 
 CONFIG = """\
@@ -247,11 +247,11 @@ def test_selects_and_hexbytes_maps_become_enums(imported: tuple[subprocess.Compl
 
 
 def test_skip_updates_give_poll_classes() -> None:
-    assert poll_class(0, 10, False) == "normal"
-    assert poll_class(5, 10, False) == "slow"
-    assert poll_class(29, 10, True) == "normal"  # a setting read seldom is still a normal register
-    assert poll_class(0, 5, False) == "fast"
-    assert poll_class(65535, 10, False) == "static"
+    assert skip_poll_class(0, 10, False) == "normal"
+    assert skip_poll_class(5, 10, False) == "slow"
+    assert skip_poll_class(29, 10, True) == "normal"  # a setting read seldom is still a normal register
+    assert skip_poll_class(0, 5, False) == "fast"
+    assert skip_poll_class(65535, 10, False) == "static"
 
 
 def test_skip_updates_in_the_draft(imported: tuple[subprocess.CompletedProcess[str], Device]) -> None:

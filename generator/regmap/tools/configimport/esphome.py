@@ -14,9 +14,8 @@ import re
 from fractions import Fraction
 from typing import Any
 
-from regmap.diagnostics import Diagnostic
 from regmap.tools.configimport.draft import Device, Flag, Import, Imported, Member, fraction, identifier
-from regmap.tools.configimport.reader import Config, ConfigError, Tagged, substitute
+from regmap.tools.configimport.reader import STATIC_PERIOD, Config, ConfigError, ConfigReader, Tagged, poll_class, substitute
 
 # ESPHome's value_type -> (regmap type, word order). The inverse of backends/esphome's VALUE_TYPE.
 VALUE_TYPE = {
@@ -35,6 +34,7 @@ VALUE_TYPE = {
 }
 REGISTER_TYPE = {"holding": "holding", "read": "input", "coil": "coil", "discrete_input": "discrete_input"}
 PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch")
+NORMAL_PERIOD = 10.0  # seconds: regmap's ESPHome back end reads normal registers every 10 s
 STATIC_SKIP = 65535  # ESPHome's skip_updates is a uint16: this many means "read at boot, then hardly ever"
 _INTERVAL = re.compile(r"^\s*([0-9]+(?:\.[0-9]+)?)\s*(ms|s|min|h)?\s*$")
 _SECONDS = {"ms": 0.001, "s": 1.0, "min": 60.0, "h": 3600.0, None: 1.0}
@@ -50,33 +50,20 @@ def seconds(value: Any) -> float | None:
     return float(match.group(1)) * _SECONDS[match.group(2)] if match else None
 
 
-def poll_class(skip: int, interval: float, writable: bool) -> str:
+def skip_poll_class(skip: int, interval: float, writable: bool) -> str:
     """The map's poll class of an entity read every `skip`+1 updates of `interval` seconds."""
-    if skip >= STATIC_SKIP:
-        return "static"
-    period = interval * (skip + 1)
-    if period <= 5:
-        return "fast"
-    return "normal" if writable or period <= 10 else "slow"
+    return poll_class(STATIC_PERIOD if skip >= STATIC_SKIP else interval * (skip + 1), writable, NORMAL_PERIOD)
 
 
-class _Reader:
+class _Reader(ConfigReader):
     def __init__(self, config: Config) -> None:
-        self.config = config
-        self.problems: list[Diagnostic] = []
-        self.report: list[str] = []
+        super().__init__(config)
         data = config.data if isinstance(config.data, dict) else {}
         subs = data.get("substitutions")
         self.substitutions = {str(k): str(v) for k, v in subs.items() if not isinstance(v, dict | list)} if isinstance(subs, dict) else {}
         self.unresolved: set[str] = set()
         self.devices_found: list[Device] = []
         self.data = substitute(data, self.substitutions, self.unresolved)
-
-    def where(self, path: tuple[str | int, ...]) -> str:
-        return f"{self.config.file_name}:{self.config.positions.locate(path)[0]}"
-
-    def fail(self, path: tuple[str | int, ...], message: str) -> None:
-        self.problems.append(self.config.error(path, message))
 
     def devices(self) -> Import:
         if not isinstance(self.config.data, dict):
@@ -225,7 +212,7 @@ class _Reader:
             reg.unit = looks(str(entity["unit_of_measurement"]))
         skip = entity.get("skip_updates", 0)
         if isinstance(skip, int) and not isinstance(skip, bool) and skip >= 0:
-            reg.poll = poll_class(skip, getattr(device, "interval", 60.0), writable)
+            reg.poll = skip_poll_class(skip, device.interval, writable)
         else:
             self.fail((*path, "skip_updates"), f"skip_updates {skip!r}: expected a count of updates (0..65535)")
         return reg

@@ -17,9 +17,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from regmap.diagnostics import Diagnostic
 from regmap.tools.configimport.draft import Device, Flag, Import, Imported, Member, fraction
-from regmap.tools.configimport.reader import Config, ConfigError, substitute
+from regmap.tools.configimport.reader import Config, ConfigError, ConfigReader, poll_class, substitute
 
 # HA's data_type -> regmap type (the inverse of backends/homeassistant's DATA_TYPE); float16 and custom have none.
 DATA_TYPE = {
@@ -50,27 +49,10 @@ PARITY = {"N": "none", "E": "even", "O": "odd"}
 CLIMATE_MODES = ("state_off", "state_heat", "state_cool", "state_heat_cool", "state_auto", "state_dry", "state_fan_only")
 
 
-def poll_class(scan_interval: Any, writable: bool) -> str:
-    """The map's poll class of an entity HA reads every `scan_interval` seconds (0: once at start-up)."""
-    if scan_interval == 0:
-        return "static"
-    if scan_interval <= 5:
-        return "fast"
-    return "normal" if writable or scan_interval <= 15 else "slow"
-
-
-class _Reader:
+class _Reader(ConfigReader):
     def __init__(self, config: Config) -> None:
-        self.config = config
-        self.problems: list[Diagnostic] = []
-        self.report: list[str] = []
+        super().__init__(config)
         self.devices: dict[tuple[str, int], Device] = {}
-
-    def where(self, path: tuple[str | int, ...]) -> str:
-        return f"{self.config.file_name}:{self.config.positions.locate(path)[0]}"
-
-    def fail(self, path: tuple[str | int, ...], message: str) -> None:
-        self.problems.append(self.config.error(path, message))
 
     def read(self) -> Import:
         data = self.config.data
@@ -142,7 +124,7 @@ class _Reader:
         reg = Imported(key=key, title=title, address=address, space=space, type=kind, origin=self.where(path), writable=writable)
         scan = entity.get("scan_interval", DEFAULT_SCAN_INTERVAL)
         if isinstance(scan, int) and not isinstance(scan, bool):
-            reg.poll = poll_class(scan, writable)
+            reg.poll = poll_class(scan, writable, DEFAULT_SCAN_INTERVAL)  # HA: 0 reads once at start-up
         for extra in UNSUPPORTED:
             if extra in entity:
                 self._note(reg, f"Home Assistant {extra}: {entity[extra]} (not part of the register's reading)")

@@ -118,3 +118,32 @@ def _plain_reading(text: str) -> Any:
     if isinstance(node, yaml.ScalarNode) and node.tag in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float", "tag:yaml.org,2002:bool"):
         return yaml.SafeLoader("").construct_object(node)
     return text
+
+
+class ConfigReader:
+    """What the ESPHome and Home Assistant readers share: the problems found (each at file:line:col) and the
+    report (file:line of the entity: what became a note or was left out)."""
+
+    def __init__(self, config: Config) -> None:
+        self.config = config
+        self.problems: list[Diagnostic] = []
+        self.report: list[str] = []
+
+    def where(self, path: Path) -> str:
+        return f"{self.config.file_name}:{self.config.positions.locate(path)[0]}"
+
+    def fail(self, path: Path, message: str) -> None:
+        self.problems.append(self.config.error(path, message))
+
+
+STATIC_PERIOD = 0.0  # seconds: read once at start-up, then (practically) never
+
+
+def poll_class(period: float, writable: bool, normal_up_to: float) -> str:
+    """The map's poll class of an entity read every `period` seconds: fast up to 5 s, normal up to the tool's
+    usual period, slow beyond; a setting read seldom is still a normal register (it changes when written)."""
+    if period <= STATIC_PERIOD:
+        return "static"
+    if period <= 5:
+        return "fast"
+    return "normal" if writable or period <= normal_up_to else "slow"
