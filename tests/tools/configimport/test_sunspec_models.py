@@ -18,6 +18,7 @@ from typing import Any
 
 import pytest
 
+from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate
 from regmap.model import Device
@@ -177,3 +178,30 @@ def test_the_generated_client_of_a_chained_device_decodes_as_pysunspec2(python: 
     differences, absent = _compare(python, blocks, expected)
     assert differences == [] and absent == []
     assert sum(map(len, expected)) == len(device.registers) - 3  # every point but the SunS and end markers
+
+
+BAD_MODELS = [
+    (
+        '{"id": 1, "group": {"name": "common", "points": [{"name": "ID", "type": "int8"}]}}',
+        "1:73",
+        "point ID: type 'int8' is not a SunSpec type",
+    ),
+    ('{"id": 1,\n "group": {"name": "c", "points": [\n  {"name": "Mn", "type": "string"}]}}', "3:3", "point Mn: a string needs its size"),
+    ('{"id": 1, "group": [', "1:", "YAML syntax error"),
+    ('{"model": 1}', "1:1", "not a SunSpec model definition"),
+]
+
+
+@pytest.mark.parametrize(("text", "where", "message"), BAD_MODELS, ids=[b[2][:30] for b in BAD_MODELS])
+def test_a_bad_model_definition_is_located(tmp_path: Path, text: str, where: str, message: str) -> None:
+    model = tmp_path / "model_1.json"
+    model.write_text(text, encoding="utf-8")
+    run = subprocess.run(
+        [str(Path(sys.executable).with_name("regmap")), "import", str(model), "--into", str(tmp_path / "x.yaml")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert run.returncode == ExitCode.INVALID_MAP and "Traceback" not in run.stderr
+    assert f"model_1.json:{where}" in run.stderr and message in run.stderr, run.stderr
+    assert not (tmp_path / "x.yaml").exists()

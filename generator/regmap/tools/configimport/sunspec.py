@@ -16,16 +16,15 @@ device has.
 
 from __future__ import annotations
 
-import json
 import re
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from regmap.diagnostics import at
+from regmap.diagnostics import Diagnostic
 from regmap.tools.configimport.draft import Device, Flag, Import, Imported, Member
-from regmap.tools.configimport.reader import ConfigError
+from regmap.tools.configimport.reader import Config, ConfigError, read_config
 
 # SunSpec type -> (regmap type, words, the raw value that means "not implemented"; None: every value is one)
 TYPES: dict[str, tuple[str, int, int | str | None]] = {
@@ -156,17 +155,39 @@ def _register(point: Point, address: int, model: dict[str, Any], prefix: str, or
 
 
 def read_models(paths: list[Path]) -> list[dict[str, Any]]:
+    """The model definitions, checked: a problem is a ConfigError at file:line:col (the JSON read by the safe
+    YAML reader, which keeps positions: JSON is YAML)."""
     models = []
+    problems = []
     for path in paths:
-        try:
-            model = json.loads(path.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as exc:
-            raise ConfigError([at(str(path), (exc.lineno, exc.colno), f"not JSON: {exc.msg}")]) from None
+        config = read_config(path.read_text(encoding="utf-8"), str(path))
+        model = config.data
         if not isinstance(model, dict) or not isinstance(model.get("group"), dict) or not isinstance(model.get("id"), int):
-            raise ConfigError([at(str(path), (1, 1), "not a SunSpec model definition (expected {id: ..., group: {...}})")])
-        model["_file"] = path.name
+            raise ConfigError([config.error((), "not a SunSpec model definition (expected {id: ..., group: {...}})")])
+        problems += _check_group(config, model["group"], ("group",))
+        model["_file"] = config.file_name
         models.append(model)
+    if problems:
+        raise ConfigError(problems)
     return models
+
+
+def _check_group(config: Config, group: Any, path: tuple[str | int, ...]) -> list[Diagnostic]:
+    """Every point has a name, a SunSpec type and (a string) a size; every group a name."""
+    if not isinstance(group, dict) or not isinstance(group.get("name"), str):
+        return [config.error(path, "a group is a mapping with a name, points and groups")]
+    problems = []
+    for i, pdef in enumerate(group.get("points") or []):
+        where = (*path, "points", i)
+        if not isinstance(pdef, dict) or not isinstance(pdef.get("name"), str):
+            problems.append(config.error(where, "a point is a mapping with a name and a type"))
+        elif pdef.get("type") not in TYPES:
+            problems.append(config.error((*where, "type"), f"point {pdef['name']}: type {pdef.get('type')!r} is not a SunSpec type"))
+        elif pdef["type"] == "string" and (isinstance(pdef.get("size"), bool) or not isinstance(pdef.get("size"), int) or pdef["size"] < 1):
+            problems.append(config.error((*where, "size"), f"point {pdef['name']}: a string needs its size in registers"))
+    for i, sub in enumerate(group.get("groups") or []):
+        problems += _check_group(config, sub, (*path, "groups", i))
+    return problems
 
 
 def device(models: list[dict[str, Any]], base: int = 40000, repeats: int = 1) -> Import:
