@@ -79,6 +79,12 @@ VENV_TOOLS = {
             "parses the generated Structured Text (TwinCAT's grammar and the plain standard's)",
         ),
         VenvTool("plcopen", "bin/python", ("lxml==6.0.2",), "validates the generated PLCopen XML against the TC6 XML v2.01 schema"),
+        VenvTool(
+            "sunspec",
+            "bin/python",
+            ("pysunspec2==1.3.7",),
+            "ships the SunSpec model definitions and decodes and scans SunSpec devices (the cross-check of the SunSpec maps)",
+        ),
     )
 }
 SOURCE_TOOLS = {

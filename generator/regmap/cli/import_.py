@@ -35,6 +35,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap import c630s-ch7.csv --columns c630s-columns.yaml --into maps/c630s_draft.yaml",
             "regmap import id243pro.xlsx --sheet registers --into maps/id243pro.yaml  # update: prints the change summary",
             "regmap import table.csv --into maps/id243pro.yaml --dry-run              # show the changes, write nothing",
+            "regmap import esphome/meter.yaml --into maps/sdm120.yaml                # an ESPHome modbus_controller config",
+            "regmap import configuration.yaml --from homeassistant --into maps/plant/ # HA modbus: one map per distinct device",
+            "regmap import model_1.json --chain model_103.json --chain model_160.json --repeats 2 --into maps/inverter.yaml  # SunSpec",
         )
         + "\n\nA mapping file (--columns) names columns and gives param_ids rules for tables without an address column:\n"
         "  columns: {Code: param, Name: title_zh}\n"
@@ -44,8 +47,35 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "until the mapping says which ({Factor: gain} or {Factor: scale}).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("table", metavar="TABLE", help="a .csv (UTF-8) or .xlsx register table")
-    p.add_argument("--into", required=True, metavar="MAP", help="the map to create or update")
+    p.add_argument("table", metavar="TABLE", help="a .csv (UTF-8) or .xlsx register table, or an ESPHome / Home Assistant .yaml config")
+    p.add_argument(
+        "--into",
+        required=True,
+        metavar="MAP",
+        help="the map to create or update; for a config of several distinct devices, a directory (one map per device)",
+    )
+    p.add_argument(
+        "--from",
+        dest="config_format",
+        choices=["esphome", "homeassistant", "sunspec"],
+        help="what wrote the config (default: ESPHome when it has modbus_controller:, Home Assistant when it has a modbus: list, "
+        "SunSpec for a .json model definition)",
+    )
+    p.add_argument(
+        "--chain",
+        action="append",
+        default=[],
+        metavar="MODEL.json",
+        help="SunSpec: a model definition chained after TABLE's (repeatable, in order: model 1, then 103, then 160 ...)",
+    )
+    p.add_argument("--base", type=int, choices=[40000, 50000, 0], default=40000, help="SunSpec: the address of the SunS marker")
+    p.add_argument(
+        "--repeats",
+        type=int,
+        default=1,
+        metavar="N",
+        help="SunSpec: how many times a repeating group whose count the device gives is present (default 1)",
+    )
     p.add_argument("--sheet", help="the xlsx sheet to read (default: 'registers', else the first)")
     p.add_argument("--columns", metavar="MAPPING.yaml", help="column mapping file: header -> field, param_ids rules")
     p.add_argument("--vendor", default="unknown", help="vendor of a new draft (default 'unknown')")
@@ -60,6 +90,25 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     return p
 
 
+def _device_id(into: Path) -> str:
+    if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", into.stem):
+        raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
+    return into.stem
+
+
+def _front_end(text: str, name: Path) -> int:
+    """A new draft through the front end: OK, or INVALID_MAP with its problems printed (the draft is still written)."""
+    from regmap.frontend import load_map_text
+
+    try:
+        load_map_text(text, str(name))
+    except MapError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        return ExitCode.INVALID_MAP
+    return ExitCode.OK
+
+
 def _map_rules(path: Path) -> list[dict[str, Any]]:
     data = yaml.safe_load(path.read_text(encoding="utf-8"))
     rules = data.get("param_ids", []) if isinstance(data, dict) else []
@@ -67,6 +116,8 @@ def _map_rules(path: Path) -> list[dict[str, Any]]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if Path(args.table).suffix.lower() in (".yaml", ".yml", ".json") or args.config_format:
+        return _run_config(args)
     from regmap.frontend import load_map, load_map_text
     from regmap.tools.diff import compare, render_text
     from regmap.tools.spreadsheet.columns import Mapping, load_mapping
@@ -99,17 +150,8 @@ def run(args: argparse.Namespace) -> int:
     unread = f"{len(problems)} cell(s) could not be read" + (" (listed above; null with a note in the draft)" if problems else "")
 
     if device is None:
-        device_id = into.stem
-        if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", device_id):
-            raise UsageError(f"--into {into}: the file name gives the device id, which must be snake_case")
-        draft = build_draft(table, entries, problems, device_id, args.vendor, args.model, mapping.param_ids)
-        status: int = ExitCode.OK
-        try:
-            load_map_text(draft.text, str(into))
-        except MapError as exc:
-            for diag in exc.diagnostics:
-                print(diag, file=sys.stderr)
-            status = ExitCode.INVALID_MAP
+        draft = build_draft(table, entries, problems, _device_id(into), args.vendor, args.model, mapping.param_ids)
+        status = _front_end(draft.text, into)
         if not args.dry_run:
             write_output(into, draft.text.encode(), "--into")
         if status == ExitCode.OK:
@@ -158,3 +200,55 @@ def _unread_in_update(problems: list[Problem], update: Update) -> str:
     if len(problems) - kept - added:
         parts.append(f"{len(problems) - kept - added} in rows not imported")
     return f"{len(problems)} cell(s) could not be read (listed above): " + "; ".join(parts)
+
+
+def _run_config(args: argparse.Namespace) -> int:
+    """An ESPHome or Home Assistant config -> one map per distinct device, and the report of what became notes."""
+    from regmap.tools.configimport.drafts import drafts, read
+    from regmap.tools.configimport.reader import ConfigError
+
+    into = Path(args.into)
+    source = Path(args.table)
+    if not source.is_file():
+        raise UsageError(f"{source}: no such file")
+    if args.repeats < 0:
+        raise UsageError(f"--repeats {args.repeats}: a count of repetitions, 0 or more")
+    chain = tuple(Path(c) for c in args.chain)
+    for path in chain:
+        if not path.is_file():
+            raise UsageError(f"--chain {path}: no such file")
+    try:
+        fmt, imported = read(source, args.config_format, chain, args.base, args.repeats)
+    except ConfigError as exc:
+        for diag in exc.diagnostics:
+            print(diag, file=sys.stderr)
+        print(f"regmap import: {source}: nothing written", file=sys.stderr)
+        return ExitCode.INVALID_MAP
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{source}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    several = len({d.signature() for d in imported.devices}) > 1
+    if several and into.suffix in (".yaml", ".yml"):
+        raise UsageError(f"--into {into}: {source} describes several distinct devices; give a directory (one map per device)")
+    made = drafts(imported, "device" if several else _device_id(into), args.vendor, args.model, source.name)
+    targets = [(into / f"{d.device_id}.yaml" if several else into, d) for d in made]
+    status: int = ExitCode.OK
+    for target, draft in targets:
+        status = max(status, _front_end(draft.text, target))
+    for line in imported.report:
+        print(f"  {line}")
+    if not args.dry_run:
+        if several:
+            into.mkdir(parents=True, exist_ok=True)
+        for target, _ in targets:
+            check_output(str(target), "--into")
+        for target, draft in targets:
+            write_output(target, draft.text.encode(), "--into")
+    action = "would write" if args.dry_run else "wrote"
+    for target, draft in targets:
+        registers = len(draft.devices[0].registers)
+        where = ", ".join(f"{d.label} (slave {d.slave})" for d in draft.devices)
+        print(f"{action} {target}: {registers} registers from {fmt} {where}")
+    print(
+        f"{len(imported.report)} thing(s) kept as notes or left out (listed above); {'valid' if status == ExitCode.OK else 'the front end rejects a draft (above)'}"
+    )
+    return status

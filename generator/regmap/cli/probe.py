@@ -48,6 +48,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         default=[],
         help="write these registers' current values back and read them; check an out-of-range value is refused",
     )
+    p.add_argument(
+        "--sunspec",
+        action="store_true",
+        help="walk the SunSpec chain (the SunS marker at 40000, 50000 or 0, then model id + length) and report its models",
+    )
     p.add_argument("--budget", type=positive_float, default=300.0, metavar="SECONDS", help="stop after this long (default 300)")
     p.add_argument(
         "--rate", type=requests_per_second, metavar="REQ_PER_S", help="at most this many requests per second (default: no limit)"
@@ -80,6 +85,7 @@ def run(args: argparse.Namespace) -> int:
         rate=args.rate,
         scan_undocumented=args.scan_undocumented,
         write_test=tuple(chosen(device, args.write_test)),
+        sunspec=args.sunspec,
         progress=progress,
     )
     client = live.connect(device, link, reading=True)

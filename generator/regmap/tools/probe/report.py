@@ -11,7 +11,7 @@ from regmap.model import Device
 
 @dataclass(frozen=True)
 class Note:
-    stage: str  # registers, word_order, limits, gaps, scan, firmware, write_test
+    stage: str  # registers, word_order, limits, gaps, scan, firmware, write_test, sunspec
     subject: str  # a register's label, or "transport"
     kind: str
     text: str
@@ -76,6 +76,7 @@ STAGE_TITLES = {
     "scan": "undocumented addresses",
     "firmware": "firmware",
     "write_test": "write test",
+    "sunspec": "SunSpec",
 }
 MAX_SHOWN = 40
 

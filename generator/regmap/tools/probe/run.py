@@ -11,7 +11,7 @@ from regmap.model import Device, Register
 from regmap_runtime.client import SyncClient
 from regmap_runtime.profile import DeviceProfile
 
-from . import firmware, gaps, limits, profile, registers, wordorder, writetest
+from . import firmware, gaps, limits, profile, registers, sunspec, wordorder, writetest
 from .bus import ProbeBus, Stop
 from .report import Findings, Note
 
@@ -31,6 +31,7 @@ class Options:
     rate: float | None = None  # requests per second; None: as fast as the drive answers
     scan_undocumented: bool = False
     write_test: tuple[Register, ...] = ()
+    sunspec: bool = False
     progress: Callable[[str], None] | None = None
 
 
@@ -68,6 +69,8 @@ def probe(device: Device, client: SyncClient, where: str, options: Options) -> t
     ]
     if options.scan_undocumented:
         steps.append(("scan", lambda: gaps.scan(bus, device, options.progress)))
+    if options.sunspec:
+        steps.insert(0, ("sunspec", lambda: sunspec.walk(bus, device)))
     if options.write_test:
         steps.append(("write_test", lambda: writetest.write_test(bus, device, options.write_test, order.effective)))
     for name, step in steps if going and found.answered_registers else []:

@@ -21,7 +21,11 @@ def scalar(value: Any, key: str = "") -> str:
     if isinstance(value, int):
         return f"0x{value:04X}" if key == "address" else str(value)
     if isinstance(value, float):
-        return repr(value)
+        text = repr(value)  # 1e-07: YAML 1.1 reads a float only with a dot and a signed exponent
+        mantissa, e, exponent = text.partition("e")
+        if e and "." not in mantissa:
+            mantissa += ".0"
+        return mantissa + (("e" + (exponent if exponent[0] in "+-" else "+" + exponent)) if e else "")
     text = str(value)
     if _PLAIN.match(text) and text.lower() not in _RESERVED and not text.endswith((" ", ":")) and ": " not in text and " #" not in text:
         return text
