@@ -77,14 +77,14 @@ class Compiled:
     c_dir: Path
 
 
-def iec2c(matiec: Path, source: str, work: Path, name: str = "program") -> Compiled:
-    """Run `iec2c -I lib -T work/<name>_c` on the source (written to work/<name>.st)."""
+def iec2c(matiec: Path, source: str, work: Path, name: str = "program", flags: tuple[str, ...] = ()) -> Compiled:
+    """Run `iec2c [flags] -I lib -T work/<name>_c` on the source (written to work/<name>.st)."""
     path = work / f"{name}.st"
     path.write_text(source, encoding="utf-8")
     c_dir = work / f"{name}_c"
     c_dir.mkdir(exist_ok=True)
     result = subprocess.run(
-        [str(matiec / "iec2c"), "-I", str(matiec / "lib"), "-T", str(c_dir), str(path)],
+        [str(matiec / "iec2c"), *flags, "-I", str(matiec / "lib"), "-T", str(c_dir), str(path)],
         capture_output=True,
         text=True,
         timeout=300,

@@ -18,6 +18,7 @@ from regmap.backends.st.codec import DIALECTS
 from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.plcopen import plcopen_context
+from regmap.backends.st.poller import RUNTIMES, VENDOR, poller
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
@@ -47,6 +48,10 @@ def render_device(device: Device) -> Files:
     for dialect, context in views.items():
         for name in FILES:
             files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    for runtime in RUNTIMES:
+        files[f"{device.id}/{runtime.name}/{device.id}_poll.st"] = env.get_template("poll.st.jinja").render(
+            **views["codesys"], runtime=runtime, poller=poller(views["codesys"], runtime, VENDOR)
+        )
     files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(device))
     files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
     return files
