@@ -18,7 +18,7 @@ from regmap.backends.st.codec import DIALECTS
 from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.plcopen import plcopen_context
-from regmap.backends.st.poller import RUNTIMES, VENDOR, poller
+from regmap.backends.st.poller import RUNTIMES, VENDOR, poller, serial_settings
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
@@ -53,7 +53,17 @@ def render_device(device: Device) -> Files:
             **views["codesys"], runtime=runtime, poller=poller(views["codesys"], runtime, VENDOR)
         )
     files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(device))
-    files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
+    codesys = views["codesys"]
+    plain = [f for f in codesys["write_functions"][1:] if not any(m.name == "nIndex" for m in f.inputs)]
+    example = {"function": plain[0].name, "input": plain[0].inputs[0].name} if plain else None
+    files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(
+        **codesys,
+        iec=views["iec"],
+        files=FILES,
+        poll=poller(codesys, RUNTIMES[0], VENDOR),
+        serial=serial_settings(device),
+        write_example=example,
+    )
     return files
 
 

@@ -218,6 +218,14 @@ class Twincat:
         return f"BOOL_TO_BYTE({on})"
 
 
+def serial_settings(device: Any) -> dict[str, str]:
+    """The SysCom values of ModbusFB.ClientSerial's inputs for the device's serial line (the README's example)."""
+    t = device.transport
+    parity = {"none": "SYS_NOPARITY", "even": "SYS_EVENPARITY", "odd": "SYS_ODDPARITY"}[t.parity]
+    stop = {1: "SYS_ONESTOPBIT", 2: "SYS_TWOSTOPBITS"}[t.stop_bits]
+    return {"baud": f"SysCom.SYS_BR_{t.baud}", "parity": f"SysCom.{parity}", "stop": f"SysCom.{stop}"}
+
+
 Runtime = Codesys | Twincat
 RUNTIMES: tuple[Runtime, ...] = (Codesys(), Twincat())
 
@@ -231,10 +239,16 @@ class Poller:
     outputs: tuple[Member, ...]
     locals: tuple[Member, ...]
     body: tuple[str, ...]
+    functions: tuple[int, ...]  # the Modbus function codes it sends
 
 
 def _convert(value: str, source: str, target: str) -> str:
     return value if source == target else f"{source}_TO_{target}({value})"
+
+
+def _loop(count: int, body: list[str], start: int = 0) -> list[str]:
+    """k from `start` to `start + count - 1`: a WHILE, since matiec 6bb2c33 runs `FOR k := 0 TO 0` no time at all."""
+    return [f"k := {start};", f"WHILE k < {start + count} DO", *(f"    {line}" for line in body), "    k := k + 1;", "END_WHILE;"]
 
 
 def _copy_in(block: Block, raw: str, runtime: Runtime) -> list[str]:
@@ -242,17 +256,10 @@ def _copy_in(block: Block, raw: str, runtime: Runtime) -> list[str]:
     if block.bits:
         count = block.count
         if runtime.bit_type == "BYTE":  # packed as the response carries them
-            return [f"FOR k := 0 TO {(count + 7) // 8 - 1} DO", f"    {raw}.BITS[k] := aBits[k];", "END_FOR;"]
-        return [
-            f"FOR k := 0 TO {(count + 7) // 8 - 1} DO",
-            f"    {raw}.BITS[k] := 0;",
-            "END_FOR;",
-            f"FOR k := 0 TO {count - 1} DO",
-            "    IF aBits[k] THEN",
-            f"        {raw}.BITS[k / 8] := {raw}.BITS[k / 8] OR SHL(BYTE#1, k MOD 8);",
-            "    END_IF;",
-            "END_FOR;",
-        ]
+            return _loop((count + 7) // 8, [f"{raw}.BITS[k] := aBits[k];"])
+        return _loop((count + 7) // 8, [f"{raw}.BITS[k] := 0;"]) + _loop(
+            count, ["IF aBits[k] THEN", f"    {raw}.BITS[k / 8] := {raw}.BITS[k / 8] OR SHL(BYTE#1, k MOD 8);", "END_IF;"]
+        )
     lines = []
     at = 0
     for member in block.struct.members:
@@ -359,16 +366,19 @@ def poller(context: dict[str, Any], runtime: Runtime, spelling: Spelling) -> Pol
     if due_cases:
         search = [
             "bDue := FALSE;",
-            f"FOR k := 1 TO {n} DO",
-            "    bDue := TRUE;",
-            "    CASE nBlock OF",
-            *(f"        {i}: bDue := {c};" for i, c in due_cases),
-            "    END_CASE;",
-            "    IF bDue THEN",
-            "        EXIT;",
-            "    END_IF;",
-            *(f"    {line}" for line in advance),
-            "END_FOR;",
+            *_loop(
+                n,
+                [
+                    "bDue := TRUE;",
+                    "CASE nBlock OF",
+                    *(f"    {i}: bDue := {c};" for i, c in due_cases),
+                    "END_CASE;",
+                    "IF bDue THEN",
+                    "    EXIT;",
+                    "END_IF;",
+                    *advance,
+                ],
+            ),
         ]
     coil_write = []
     if WRITE_COIL in functions:
@@ -461,4 +471,4 @@ def poller(context: dict[str, Any], runtime: Runtime, spelling: Spelling) -> Pol
         f"Polls {device.id} through {runtime.title}: the {n} read-plan blocks in turn into stValues, "
         "errors and timeouts counted per block, and the write waiting in stWrite sent once (never retried)."
     )
-    return Poller(name, comment, tuple(inputs), tuple(in_outs), tuple(outputs), tuple(local), tuple(body))
+    return Poller(name, comment, tuple(inputs), tuple(in_outs), tuple(outputs), tuple(local), tuple(body), tuple(sorted(functions)))

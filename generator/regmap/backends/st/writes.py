@@ -104,7 +104,7 @@ def write_functions(
         count = 1 if reg.space == "coil" else reg.span
         inputs = list(encoder.inputs)
         body: list[str] = []
-        local = [Member(output.name, output.type)]
+        local = [Member(output.name, output.type), Member("bEncoded", "BOOL")]
         if indexed:
             assert reg.array is not None
             inputs.append(Member("nIndex", "UINT", f"the element of {reg.array.array}"))
@@ -117,7 +117,7 @@ def write_functions(
             address = st_hex(reg.first_address)
         args = ", ".join(
             [
-                f"bEncoded := {encode}",
+                "bEncoded := bEncoded",
                 f"nFunction := {st_hex(write_function_code(reg), 2)}",
                 f"nAddr := {address}",
                 f"nCount := {st_int(count)}",
@@ -125,7 +125,8 @@ def write_functions(
                 "stWrite := stWrite",
             ]
         )
-        body.append(f"{name} := {queue.name}({args});")
+        # the encoder first, on its own: the order in which a call's arguments are evaluated is the compiler's
+        body += [f"bEncoded := {encode};", f"{name} := {queue.name}({args});"]
         out.append(
             FunctionView(
                 name,
