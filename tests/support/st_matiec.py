@@ -93,3 +93,28 @@ def iec2c(matiec: Path, source: str, work: Path, name: str = "program", flags: t
     output = result.stdout + result.stderr
     errors = tuple(f"{m['line']}: {m['what']}" for m in ERROR.finditer(output))
     return Compiled(result.returncode, output, errors, c_dir)
+
+
+def build_and_run(matiec: Path, compiled: Compiled, driver: str, binary: Path) -> str:
+    """Build a C driver (which includes matiec's POUS.c) against the compiled ST with gcc, run it, its stdout."""
+    source = compiled.c_dir / f"{binary.name}_driver.c"
+    source.write_text(driver, encoding="utf-8")
+    command = [
+        "gcc",
+        "-std=gnu11",
+        "-O1",
+        "-w",
+        "-I",
+        str(matiec / "lib" / "C"),
+        "-I",
+        str(compiled.c_dir),
+        str(source),
+        "-o",
+        str(binary),
+        "-lm",
+    ]
+    gcc = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    assert gcc.returncode == 0, gcc.stderr[-3000:]
+    ran = subprocess.run([str(binary)], capture_output=True, text=True, timeout=300, check=False)
+    assert ran.returncode == 0, ran.stderr[-3000:]
+    return ran.stdout

@@ -17,7 +17,6 @@ number given: a reply timeout or an exception). It prints what the test reads ba
 
 from __future__ import annotations
 
-import subprocess
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,7 +28,7 @@ from regmap.model import Device
 from regmap.render import templates
 
 from support.st_exec import StProgram
-from support.st_matiec import Compiled, iec2c, program_text, st_files
+from support.st_matiec import Compiled, build_and_run, iec2c, program_text, st_files
 
 STUBS = Path(__file__).resolve().parent / "st_stubs"
 SPACES = ("coil", "discrete_input", "holding", "input")
@@ -130,8 +129,8 @@ class PollBench:
         )
         return program_text(st_files(self.device), program, "P_POLL")
 
-    def compile(self, matiec: Path, work: Path, poll_text: str | None = None, name: str = "poll") -> Compiled:
-        return iec2c(matiec, self.source(poll_text), work, f"{self.device.id}_{self.runtime.name}_{name}", FLAGS)
+    def compile(self, matiec: Path, work: Path, poll_text: str | None = None, name: str = "poll", high_word_first: bool = True) -> Compiled:
+        return iec2c(matiec, self.source(poll_text, high_word_first), work, f"{self.device.id}_{self.runtime.name}_{name}", FLAGS)
 
     # -- the driver --------------------------------------------------------------------------
 
@@ -295,36 +294,15 @@ class PollBench:
         faults: dict[int, str],
         steps: Sequence[WriteStep] = (),
         cycles: int = 20000,
+        high_word_first: bool = True,
     ) -> Run:
-        compiled = self.compile(matiec, work)
+        """`high_word_first`: the poller's bHighWordFirst, for a device whose word order is a parameter."""
+        compiled = self.compile(matiec, work, high_word_first=high_word_first)
         assert compiled.returncode == 0 and not compiled.errors, compiled.output[-3000:]
-        driver = compiled.c_dir / "poll_driver.c"
-        driver.write_text(self.driver(image, faults, cycles, steps), encoding="utf-8")
-        binary = work / f"{self.device.id}_{self.runtime.name}_poll"
-        gcc = subprocess.run(
-            [
-                "gcc",
-                "-std=gnu11",
-                "-O1",
-                "-w",
-                "-I",
-                str(matiec / "lib" / "C"),
-                "-I",
-                str(compiled.c_dir),
-                str(driver),
-                "-o",
-                str(binary),
-                "-lm",
-            ],
-            capture_output=True,
-            text=True,
-            timeout=600,
-            check=False,
+        stdout = build_and_run(
+            matiec, compiled, self.driver(image, faults, cycles, steps), work / f"{self.device.id}_{self.runtime.name}_poll"
         )
-        assert gcc.returncode == 0, gcc.stderr[-3000:]
-        ran = subprocess.run([str(binary)], capture_output=True, text=True, timeout=300, check=False)
-        assert ran.returncode == 0, ran.stderr[-3000:]
-        return parse(ran.stdout, {s.label for s in steps})
+        return parse(stdout, {s.label for s in steps})
 
 
 def parse(stdout: str, labels: set[str]) -> Run:

@@ -89,7 +89,8 @@ def _candidate(device: Device) -> Register | None:
 
 def _accepted_raw(device: Device, reg: Register) -> int:
     taken = [command.raw_values for command in device.destructive_commands(reg)]
-    return next(int(r) for r in (reg.raw_min, reg.raw_min + 1, reg.raw_max) if not any(lo <= r <= hi for lo, hi in taken))
+    # not 0, so that a write of a constant 0 shows; never a destructive command's value (the encoder refuses those)
+    return next(int(r) for r in (reg.raw_min + 1, reg.raw_max, reg.raw_min) if r != 0 and not any(lo <= r <= hi for lo, hi in taken))
 
 
 def _c_value(device: Device, reg: Register, raw: int) -> str:
@@ -182,7 +183,7 @@ def test_poller_reads_the_plan_and_writes_once(map_path: Path, runtime: str, mat
             WriteStep("timeout", function, (_c_value(device, reg, accepted),), cycles, fault="timeout"),
         ]
     high_word_first = order_flag(device, None)
-    run = bench.run(matiec, tmp_path, image, FAULTS, steps)
+    run = bench.run(matiec, tmp_path, image, FAULTS, steps, high_word_first=high_word_first)
     problems = _reads(bench, run, per_block, high_word_first)
     if reg is not None:
         problems += _writes(bench, run, reg)

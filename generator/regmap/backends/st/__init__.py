@@ -2,7 +2,9 @@
 `st/<device>/iec/` (plain standard, for OpenPLC / matiec), each with the enums and raw read-plan
 blocks (`<device>_types.st`), the constants (`<device>_constants.st`) and the functions
 (`<device>_functions.st`), plus `st/<device>/plcopen/<device>.xml` (the same as one PLCopen TC6 XML
-project) and a README with the usage per dialect.
+project), the poller per runtime (`st/<device>/codesys/<device>_poll.st` on CODESYS' ModbusFB,
+`st/<device>/twincat/<device>_poll.st` on TwinCAT's Tc2_ModbusRTU: poller.py, with the write request of
+writes.py) and a README with the import steps per runtime.
 
 As in the C back end, `views` computes every name, literal and statement and the templates only
 print, escaping map text with `st_comment`; `names` holds the identifier rules (IEC keywords, no

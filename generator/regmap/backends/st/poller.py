@@ -292,6 +292,130 @@ def _due(names: Names, index: int, poll: PollClass, gate: Any) -> str | None:
     return " AND ".join(parts) if parts else None
 
 
+def _advance(n: int) -> list[str]:
+    return ["nBlock := nBlock + 1;", f"IF nBlock >= {n} THEN", "    nBlock := 0;", "    nPasses := nPasses + 1;", "END_IF;"]
+
+
+def _choose(names: Names, plan: list[Block], planned: list[Any], runtime: Runtime, functions: set[int], words_in_write: int) -> list[str]:
+    """Step 1: pick the next request (a waiting write first, else the next due block) and set it up."""
+    n = len(plan)
+    advance = _advance(n)
+    due_cases = [(i, _due(names, i, poll, gate)) for i, (_, poll, gate) in enumerate(planned)]
+    due_cases = [(i, c) for i, c in due_cases if c is not None]
+    search = ["bDue := TRUE;"]  # every block is due on every pass
+    if due_cases:
+        search = [
+            "bDue := FALSE;",
+            *_loop(
+                n,
+                [
+                    "bDue := TRUE;",
+                    "CASE nBlock OF",
+                    *(f"    {i}: bDue := {c};" for i, c in due_cases),
+                    "END_CASE;",
+                    "IF bDue THEN",
+                    "    EXIT;",
+                    "END_IF;",
+                    *advance,
+                ],
+            ),
+        ]
+    coil_write = []
+    if WRITE_COIL in functions:
+        coil_write = [f"aBits[0] := {runtime.coil_byte('stWrite.aWords[0] = 16#FF00')};"]
+    return [
+        "(* 1. the next request: a waiting write first (sent once), else the next block that is due *)",
+        "IF nState = 0 THEN",
+        "    IF stWrite.bPending THEN",
+        "        stWrite.bPending := FALSE;",
+        "        stWrite.bSent := TRUE;",
+        "        nRequest := -1;",
+        "        nFunction := stWrite.nFunction;",
+        "        nAddr := stWrite.nAddr;",
+        "        nCount := stWrite.nCount;",
+        *(f"        aWords[{k}] := {_convert(f'stWrite.aWords[{k}]', 'WORD', runtime.word_type)};" for k in range(words_in_write)),
+        *(f"        {line}" for line in coil_write),
+        "        nState := 1;",
+        "    ELSIF bEnable THEN",
+        *(f"        {line}" for line in search),
+        "        IF bDue THEN",
+        "            nRequest := nBlock;",
+        "            CASE nBlock OF",
+        *(
+            f"                {i}: nFunction := {st_hex(b.function, 2)}; nAddr := {st_hex(b.address)}; nCount := {st_int(b.count)};"
+            for i, b in enumerate(plan)
+        ),
+        "            END_CASE;",
+        "            nState := 1;",
+        "        END_IF;",
+        "    END_IF;",
+        "    IF nState = 1 THEN",
+        "        bExecute := TRUE;",
+        "        bStarted := FALSE;",
+        "    END_IF;",
+        "END_IF;",
+        "(* 2. call the request's block: Execute high until it ends, then low for one call *)",
+        "IF nState > 0 THEN",
+        "    bFinished := FALSE;",
+        "    CASE nFunction OF",
+    ]
+
+
+def _run(plan: list[Block], planned: list[Any], runtime: Runtime, spelling: Spelling, functions: set[int], buffers: Buffers) -> list[str]:
+    """Step 2: call the running request's block, then take its outcome (the write's flags, a block's counters or values)."""
+    advance = _advance(len(plan))
+    body: list[str] = []
+    calls = {code: runtime.call(code, buffers, spelling) for code in sorted(functions)}
+    shared = len({tuple(outcome) for _, outcome in calls.values()}) == 1  # one master: its outputs after any call
+    for code, (call, outcome) in calls.items():
+        body.append(f"        {st_int(code)}:")
+        body += [f"            {line}" for line in (call if shared else call + outcome)]
+    body.append("    END_CASE;")
+    if shared:
+        body += [f"    {line}" for line in next(iter(calls.values()))[1]]
+    body += [
+        "    IF nState = 2 THEN",
+        "        nState := 0;",
+        "    ELSIF bFinished THEN",
+        "        bExecute := FALSE;",
+        "        nState := 2;",
+        "        IF nRequest < 0 THEN",
+        "            IF NOT bFailed THEN",
+        "                stWrite.bDone := TRUE;",
+        "            ELSIF bException THEN",
+        "                stWrite.bFailed := TRUE;",
+        "            ELSE",
+        "                stWrite.bOutcomeUnknown := TRUE; (* no valid reply: perhaps written; never sent again *)",
+        "            END_IF;",
+        "        ELSIF bFailed THEN",
+        "            IF bTimedOut THEN",
+        "                aTimeouts[nRequest] := aTimeouts[nRequest] + 1;",
+        "            ELSE",
+        "                aErrors[nRequest] := aErrors[nRequest] + 1;",
+        "            END_IF;",
+        "        ELSE",
+        "            CASE nRequest OF",
+    ]
+    for i, b in enumerate(plan):
+        raw = f"stRaw{i}"
+        order_arg = ", bHighWordFirst := bHighWordFirst" if len(b.decode.inputs) > 1 else ""
+        body.append(f"                {i}:")
+        body += [f"                    {line}" for line in _copy_in(b, raw, runtime)]
+        body.append(f"                    aDecoded[{i}] := {b.decode.name}(stRaw := {raw}{order_arg}, stValues := stValues);")
+        if planned[i][1] is PollClass.STATIC:
+            body.append(f"                    aHave[{i}] := TRUE;")
+    body += [
+        "            END_CASE;",
+        "        END_IF;",
+        "        IF nRequest >= 0 THEN",
+        *(f"            {line}" for line in advance),
+        "        END_IF;",
+        "    END_IF;",
+        "END_IF;",
+    ]
+    return body
+
+
 def poller(context: dict[str, Any], runtime: Runtime, spelling: Spelling) -> Poller:
     """FB_<DEV>_POLL of one device (the views of `context`, any dialect: the names are the same)."""
     device = context["device"]
@@ -359,114 +483,7 @@ def poller(context: dict[str, Any], runtime: Runtime, spelling: Spelling) -> Pol
     local += runtime.locals(functions, spelling)
     local += [Member(f"stRaw{i}", b.struct.type_name) for i, b in enumerate(plan)]
 
-    advance = ["nBlock := nBlock + 1;", f"IF nBlock >= {n} THEN", "    nBlock := 0;", "    nPasses := nPasses + 1;", "END_IF;"]
-    due_cases = [(i, _due(names, i, poll, gate)) for i, (_, poll, gate) in enumerate(planned)]
-    due_cases = [(i, c) for i, c in due_cases if c is not None]
-    search = ["bDue := TRUE;"]  # every block is due on every pass
-    if due_cases:
-        search = [
-            "bDue := FALSE;",
-            *_loop(
-                n,
-                [
-                    "bDue := TRUE;",
-                    "CASE nBlock OF",
-                    *(f"    {i}: bDue := {c};" for i, c in due_cases),
-                    "END_CASE;",
-                    "IF bDue THEN",
-                    "    EXIT;",
-                    "END_IF;",
-                    *advance,
-                ],
-            ),
-        ]
-    coil_write = []
-    if WRITE_COIL in functions:
-        coil_write = [f"aBits[0] := {runtime.coil_byte('stWrite.aWords[0] = 16#FF00')};"]
-    body = [
-        "(* 1. the next request: a waiting write first (sent once), else the next block that is due *)",
-        "IF nState = 0 THEN",
-        "    IF stWrite.bPending THEN",
-        "        stWrite.bPending := FALSE;",
-        "        stWrite.bSent := TRUE;",
-        "        nRequest := -1;",
-        "        nFunction := stWrite.nFunction;",
-        "        nAddr := stWrite.nAddr;",
-        "        nCount := stWrite.nCount;",
-        *(f"        aWords[{k}] := {_convert(f'stWrite.aWords[{k}]', 'WORD', runtime.word_type)};" for k in range(words_in_write)),
-        *(f"        {line}" for line in coil_write),
-        "        nState := 1;",
-        "    ELSIF bEnable THEN",
-        *(f"        {line}" for line in search),
-        "        IF bDue THEN",
-        "            nRequest := nBlock;",
-        "            CASE nBlock OF",
-        *(
-            f"                {i}: nFunction := {st_hex(b.function, 2)}; nAddr := {st_hex(b.address)}; nCount := {st_int(b.count)};"
-            for i, b in enumerate(plan)
-        ),
-        "            END_CASE;",
-        "            nState := 1;",
-        "        END_IF;",
-        "    END_IF;",
-        "    IF nState = 1 THEN",
-        "        bExecute := TRUE;",
-        "        bStarted := FALSE;",
-        "    END_IF;",
-        "END_IF;",
-        "(* 2. call the request's block: Execute high until it ends, then low for one call *)",
-        "IF nState > 0 THEN",
-        "    bFinished := FALSE;",
-        "    CASE nFunction OF",
-    ]
-    calls = {code: runtime.call(code, buffers, spelling) for code in sorted(functions)}
-    shared = len({tuple(outcome) for _, outcome in calls.values()}) == 1  # one master: its outputs after any call
-    for code, (call, outcome) in calls.items():
-        body.append(f"        {st_int(code)}:")
-        body += [f"            {line}" for line in (call if shared else call + outcome)]
-    body.append("    END_CASE;")
-    if shared:
-        body += [f"    {line}" for line in next(iter(calls.values()))[1]]
-    body += [
-        "    IF nState = 2 THEN",
-        "        nState := 0;",
-        "    ELSIF bFinished THEN",
-        "        bExecute := FALSE;",
-        "        nState := 2;",
-        "        IF nRequest < 0 THEN",
-        "            IF NOT bFailed THEN",
-        "                stWrite.bDone := TRUE;",
-        "            ELSIF bException THEN",
-        "                stWrite.bFailed := TRUE;",
-        "            ELSE",
-        "                stWrite.bOutcomeUnknown := TRUE; (* no valid reply: perhaps written; never sent again *)",
-        "            END_IF;",
-        "        ELSIF bFailed THEN",
-        "            IF bTimedOut THEN",
-        "                aTimeouts[nRequest] := aTimeouts[nRequest] + 1;",
-        "            ELSE",
-        "                aErrors[nRequest] := aErrors[nRequest] + 1;",
-        "            END_IF;",
-        "        ELSE",
-        "            CASE nRequest OF",
-    ]
-    for i, b in enumerate(plan):
-        raw = f"stRaw{i}"
-        order_arg = ", bHighWordFirst := bHighWordFirst" if len(b.decode.inputs) > 1 else ""
-        body.append(f"                {i}:")
-        body += [f"                    {line}" for line in _copy_in(b, raw, runtime)]
-        body.append(f"                    aDecoded[{i}] := {b.decode.name}(stRaw := {raw}{order_arg}, stValues := stValues);")
-        if planned[i][1] is PollClass.STATIC:
-            body.append(f"                    aHave[{i}] := TRUE;")
-    body += [
-        "            END_CASE;",
-        "        END_IF;",
-        "        IF nRequest >= 0 THEN",
-        *(f"            {line}" for line in advance),
-        "        END_IF;",
-        "    END_IF;",
-        "END_IF;",
-    ]
+    body = _choose(names, plan, planned, runtime, functions, words_in_write) + _run(plan, planned, runtime, spelling, functions, buffers)
     comment = (
         f"Polls {device.id} through {runtime.title}: the {n} read-plan blocks in turn into stValues, "
         "errors and timeouts counted per block, and the write waiting in stWrite sent once (never retried)."
