@@ -6,14 +6,16 @@ from __future__ import annotations
 
 import math
 import struct
+from collections.abc import Iterator
 from typing import Any
 
 from regmap.backends.st.functions import Block
 from regmap.backends.st.names import StIdentifier
-from regmap.core.decoding import DecodedValue
+from regmap.core.decoding import DecodedValue, carried, trim_bits
 from regmap.model import Device, Register, WordOrder
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import _wire_order, raw_to_words
+from regmap_runtime.rtu import parse_frame
 from regmap_runtime.spec import RegisterSpec
 
 
@@ -115,3 +117,16 @@ def compare_value(reg: Register, value: DecodedValue, got: dict[str, str], kind:
             expected, shown = as_f32(expected), as_f32(shown)
         return True, [] if shown == expected else [f"ST {st}, Python {value.value!r}"]
     return True, [] if int(st) == value.value else [f"ST {st}, Python {value.value!r}"]
+
+
+def example_data(device: Device) -> Iterator[tuple[str, str, str, int, list[int]]]:
+    """(example id, kind, space, start address, words or bits) of every example frame that carries values."""
+    by_id = {ex.id: ex for ex in device.examples}
+    for ex in device.examples:
+        frame = parse_frame(ex.wire_frame, ex.direction)
+        if frame.kind in ("write_single", "write_multiple_request") and frame.address is not None and frame.space:
+            yield ex.id, "write", frame.space, frame.address, list(carried(frame))
+        elif frame.kind == "read_response" and ex.request in by_id and frame.space:
+            request = parse_frame(by_id[str(ex.request)].wire_frame, "request")
+            if request.address is not None and request.count is not None:
+                yield ex.id, "read", frame.space, request.address, list(carried(trim_bits(frame, request.count)))

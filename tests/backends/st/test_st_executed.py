@@ -30,11 +30,10 @@ import pytest
 from regmap.backends.st.functions import Block
 from regmap.backends.st.names import StIdentifier
 from regmap.backends.st.views import FunctionView, configurable, owner
-from regmap.core.decoding import DecodedValue, carried, decode_words, trim_bits
+from regmap.core.decoding import DecodedValue, decode_words
 from regmap.frontend import load_map
-from regmap.model import Device, Register
+from regmap.model import Register
 from regmap_runtime.codec import RangeError, raw_to_value, raw_to_words, value_to_raw
-from regmap_runtime.rtu import parse_frame
 from regmap_runtime.spaces import COIL_ON
 from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, RegisterSpec
 
@@ -43,6 +42,7 @@ from support.st_exec import SENTINEL, Decode, Encode, Result, StProgram
 from support.st_values import block_words as _block_words
 from support.st_values import compare_value as _compare
 from support.st_values import edge_words as _edge
+from support.st_values import example_data as _example_data
 from support.st_values import order_flag as _order_flag
 from support.st_values import register_spec as _spec
 from support.st_values import value_members as _members
@@ -255,19 +255,6 @@ def _encode_edges(reg: Register, spec: RegisterSpec[Any]) -> Iterator[tuple[str,
 
 
 # -- the examples --------------------------------------------------------------------------------
-
-
-def _example_data(device: Device) -> Iterator[tuple[str, str, str, int, list[int]]]:
-    """(example id, kind, space, start address, words or bits) of every example frame that carries values."""
-    by_id = {ex.id: ex for ex in device.examples}
-    for ex in device.examples:
-        frame = parse_frame(ex.wire_frame, ex.direction)
-        if frame.kind in ("write_single", "write_multiple_request") and frame.address is not None and frame.space:
-            yield ex.id, "write", frame.space, frame.address, list(carried(frame))
-        elif frame.kind == "read_response" and ex.request in by_id and frame.space:
-            request = parse_frame(by_id[str(ex.request)].wire_frame, "request")
-            if request.address is not None and request.count is not None:
-                yield ex.id, "read", frame.space, request.address, list(carried(trim_bits(frame, request.count)))
 
 
 def example_cases(program: StProgram, decodes: Decodes, encodes: Encodes) -> int:

@@ -5,7 +5,8 @@ and the run is held to the Python client:
 
 - every read-plan block is requested as planned (function, address, count) and nothing else; a static
   block once, a firmware-gated block not while the firmware is unknown;
-- after two passes the values struct holds what the Python client decodes from the same words;
+- after two passes the values struct holds what the Python client decodes from the same words (the
+  manuals' read responses, and each register's minimum or maximum elsewhere);
 - the injected reply timeout and exception are counted in aTimeouts / aErrors of their block;
 - a value the encoder refuses queues nothing and sends nothing; an accepted write is sent once with the
   Python client's words, and when its reply times out it is `bOutcomeUnknown` and never sent again.
@@ -39,7 +40,7 @@ from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool, skip_or_fail
 from support.st_poll import PollBench, Run, WriteStep
-from support.st_values import block_words, compare_value, edge_words, order_flag, register_spec
+from support.st_values import block_words, compare_value, edge_words, example_data, order_flag, register_spec
 
 RUNTIMES = ("codesys", "twincat")
 PARSE = ROOT / "tests" / "st" / "parse_st.py"
@@ -55,16 +56,20 @@ def matiec() -> Path:
 
 
 def _image(bench: PollBench) -> tuple[dict[str, dict[int, int]], list[list[int]]]:
-    """A register image per space: each block's registers at their minimum (even blocks) or maximum (odd)."""
+    """A register image per space: each block's registers at their minimum (even blocks) or maximum (odd), then
+    the words of every read response the manuals print (the golden frames) where they fall."""
     device = bench.device
     image: dict[str, dict[int, int]] = {"coil": {}, "discrete_input": {}, "holding": {}, "input": {}}
-    per_block = []
     for index, block in enumerate(bench.plan):
         specs = {r.name: register_spec(device, r) for r in block.registers}
         words = block_words(block, edge_words(specs, "max" if index % 2 else "min"))
-        per_block.append(words)
         for k, word in enumerate(words):
             image[block.space][block.address + k] = word
+    for _, kind, space, address, words in example_data(device):  # the manuals' read responses, over the edges
+        if kind == "read":
+            for k, word in enumerate(words):
+                image[space][address + k] = word
+    per_block = [[image[b.space][b.address + k] for k in range(b.count)] for b in bench.plan]
     return image, per_block
 
 
