@@ -27,7 +27,7 @@ from regmap.backends.st.functions import Block
 from regmap.backends.st.views import FunctionView
 from regmap.model import Device
 
-from support.st_matiec import build_and_run, decoding_program, iec2c, program_text, st_files
+from support.st_matiec import DRIVER_PRELUDE, build_and_run, decoding_program, iec2c, program_text, st_files
 
 UNSIGNED = {"USINT", "UINT", "UDINT", "ULINT", "BYTE", "WORD", "DWORD", "LWORD"}
 SIGNED = {"SINT", "INT", "DINT", "LINT"}
@@ -188,14 +188,7 @@ class StProgram:
             body += self._decode(case) if isinstance(case, Decode) else self._encode(case)
         return "\n".join(
             [
-                "#include <math.h>",
-                "#include <stdio.h>",
-                "#include <string.h>",
-                '#include "iec_std_lib.h"',
-                '#include "POUS.h"',
-                '#include "POUS.c"',
-                "TIME __CURRENT_TIME;",
-                "BOOL __DEBUG;",
+                *DRIVER_PRELUDE,
                 "int main(void) {",
                 "    BOOL ok, eno;",
                 "    int i;",

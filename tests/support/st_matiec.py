@@ -95,6 +95,19 @@ def iec2c(matiec: Path, source: str, work: Path, name: str = "program", flags: t
     return Compiled(result.returncode, output, errors, c_dir)
 
 
+# The start of a C driver: the C library of matiec, the compiled POUs, and the two globals that library expects.
+DRIVER_PRELUDE = (
+    "#include <math.h>",
+    "#include <stdio.h>",
+    "#include <string.h>",
+    '#include "iec_std_lib.h"',
+    '#include "POUS.h"',
+    '#include "POUS.c"',
+    "TIME __CURRENT_TIME;",
+    "BOOL __DEBUG;",
+)
+
+
 def build_and_run(matiec: Path, compiled: Compiled, driver: str, binary: Path) -> str:
     """Build a C driver (which includes matiec's POUS.c) against the compiled ST with gcc, run it, its stdout."""
     source = compiled.c_dir / f"{binary.name}_driver.c"

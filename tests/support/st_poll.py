@@ -28,7 +28,7 @@ from regmap.model import Device
 from regmap.render import templates
 
 from support.st_exec import StProgram
-from support.st_matiec import Compiled, build_and_run, iec2c, program_text, st_files
+from support.st_matiec import DRIVER_PRELUDE, Compiled, build_and_run, iec2c, program_text, st_files
 
 STUBS = Path(__file__).resolve().parent / "st_stubs"
 SPACES = ("coil", "discrete_input", "holding", "input")
@@ -231,14 +231,7 @@ class PollBench:
         member_prints = [self.program._print_member(m.name) for m in self.views["values"].members]
         return "\n".join(
             [
-                "#include <math.h>",
-                "#include <stdio.h>",
-                "#include <string.h>",
-                '#include "iec_std_lib.h"',
-                '#include "POUS.h"',
-                '#include "POUS.c"',
-                "TIME __CURRENT_TIME;",
-                "BOOL __DEBUG;",
+                *DRIVER_PRELUDE,
                 "static WORD image[4][65536];",
                 "static P_POLL prog;",
                 "static int requests = 0, forced = -1;",
