@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 import struct
-import subprocess
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +27,7 @@ from regmap.backends.st.functions import Block
 from regmap.backends.st.views import FunctionView
 from regmap.model import Device
 
-from support.st_matiec import decoding_program, iec2c, program_text, st_files
+from support.st_matiec import DRIVER_PRELUDE, build_and_run, decoding_program, iec2c, program_text, st_files
 
 UNSIGNED = {"USINT", "UINT", "UDINT", "ULINT", "BYTE", "WORD", "DWORD", "LWORD"}
 SIGNED = {"SINT", "INT", "DINT", "LINT"}
@@ -189,14 +188,7 @@ class StProgram:
             body += self._decode(case) if isinstance(case, Decode) else self._encode(case)
         return "\n".join(
             [
-                "#include <math.h>",
-                "#include <stdio.h>",
-                "#include <string.h>",
-                '#include "iec_std_lib.h"',
-                '#include "POUS.h"',
-                '#include "POUS.c"',
-                "TIME __CURRENT_TIME;",
-                "BOOL __DEBUG;",
+                *DRIVER_PRELUDE,
                 "int main(void) {",
                 "    BOOL ok, eno;",
                 "    int i;",
@@ -214,34 +206,9 @@ class StProgram:
         source = program_text(self.files, decoding_program(self.files, self.values_type), "P_DECODE_ALL")
         compiled = iec2c(matiec, source, work, self.device.id)
         assert compiled.returncode == 0 and not compiled.errors, compiled.output[-3000:]
-        driver = compiled.c_dir / "driver.c"
-        driver.write_text(self.driver(cases), encoding="utf-8")
-        binary = work / f"{self.device.id}_st"
-        gcc = subprocess.run(
-            [
-                "gcc",
-                "-std=gnu11",
-                "-O1",
-                "-w",
-                "-I",
-                str(matiec / "lib" / "C"),
-                "-I",
-                str(compiled.c_dir),
-                str(driver),
-                "-o",
-                str(binary),
-                "-lm",
-            ],
-            capture_output=True,
-            text=True,
-            timeout=600,
-            check=False,
-        )
-        assert gcc.returncode == 0, gcc.stderr[-3000:]
-        ran = subprocess.run([str(binary)], capture_output=True, text=True, timeout=120, check=False)
-        assert ran.returncode == 0, ran.stderr[-3000:]
+        stdout = build_and_run(matiec, compiled, self.driver(cases), work / f"{self.device.id}_st")
         results: dict[str, Result] = {}
-        for line in ran.stdout.splitlines():
+        for line in stdout.splitlines():
             case_id, ok, *rest = line.split(" ")
             if rest and "=" in rest[0]:
                 results[case_id] = Result(ok == "1", values=dict(item.split("=", 1) for item in rest))

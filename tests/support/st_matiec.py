@@ -77,14 +77,14 @@ class Compiled:
     c_dir: Path
 
 
-def iec2c(matiec: Path, source: str, work: Path, name: str = "program") -> Compiled:
-    """Run `iec2c -I lib -T work/<name>_c` on the source (written to work/<name>.st)."""
+def iec2c(matiec: Path, source: str, work: Path, name: str = "program", flags: tuple[str, ...] = ()) -> Compiled:
+    """Run `iec2c [flags] -I lib -T work/<name>_c` on the source (written to work/<name>.st)."""
     path = work / f"{name}.st"
     path.write_text(source, encoding="utf-8")
     c_dir = work / f"{name}_c"
     c_dir.mkdir(exist_ok=True)
     result = subprocess.run(
-        [str(matiec / "iec2c"), "-I", str(matiec / "lib"), "-T", str(c_dir), str(path)],
+        [str(matiec / "iec2c"), *flags, "-I", str(matiec / "lib"), "-T", str(c_dir), str(path)],
         capture_output=True,
         text=True,
         timeout=300,
@@ -93,3 +93,41 @@ def iec2c(matiec: Path, source: str, work: Path, name: str = "program") -> Compi
     output = result.stdout + result.stderr
     errors = tuple(f"{m['line']}: {m['what']}" for m in ERROR.finditer(output))
     return Compiled(result.returncode, output, errors, c_dir)
+
+
+# The start of a C driver: the C library of matiec, the compiled POUs, and the two globals that library expects.
+DRIVER_PRELUDE = (
+    "#include <math.h>",
+    "#include <stdio.h>",
+    "#include <string.h>",
+    '#include "iec_std_lib.h"',
+    '#include "POUS.h"',
+    '#include "POUS.c"',
+    "TIME __CURRENT_TIME;",
+    "BOOL __DEBUG;",
+)
+
+
+def build_and_run(matiec: Path, compiled: Compiled, driver: str, binary: Path) -> str:
+    """Build a C driver (which includes matiec's POUS.c) against the compiled ST with gcc, run it, its stdout."""
+    source = compiled.c_dir / f"{binary.name}_driver.c"
+    source.write_text(driver, encoding="utf-8")
+    command = [
+        "gcc",
+        "-std=gnu11",
+        "-O1",
+        "-w",
+        "-I",
+        str(matiec / "lib" / "C"),
+        "-I",
+        str(compiled.c_dir),
+        str(source),
+        "-o",
+        str(binary),
+        "-lm",
+    ]
+    gcc = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    assert gcc.returncode == 0, gcc.stderr[-3000:]
+    ran = subprocess.run([str(binary)], capture_output=True, text=True, timeout=300, check=False)
+    assert ran.returncode == 0, ran.stderr[-3000:]
+    return ran.stdout

@@ -2,7 +2,9 @@
 `st/<device>/iec/` (plain standard, for OpenPLC / matiec), each with the enums and raw read-plan
 blocks (`<device>_types.st`), the constants (`<device>_constants.st`) and the functions
 (`<device>_functions.st`), plus `st/<device>/plcopen/<device>.xml` (the same as one PLCopen TC6 XML
-project) and a README with the usage per dialect.
+project), the poller per runtime (`st/<device>/codesys/<device>_poll.st` on CODESYS' ModbusFB,
+`st/<device>/twincat/<device>_poll.st` on TwinCAT's Tc2_ModbusRTU: poller.py, with the write request of
+writes.py) and a README with the import steps per runtime.
 
 As in the C back end, `views` computes every name, literal and statement and the templates only
 print, escaping map text with `st_comment`; `names` holds the identifier rules (IEC keywords, no
@@ -19,6 +21,7 @@ from regmap.backends.st.device import device_views
 from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.plant import render_plant
 from regmap.backends.st.plcopen import plcopen_context
+from regmap.backends.st.poller import RUNTIMES, VENDOR, poller, serial_settings
 from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
@@ -48,8 +51,22 @@ def render_device(device: Device) -> Files:
     for dialect, context in views.items():
         for name in FILES:
             files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    for runtime in RUNTIMES:
+        files[f"{device.id}/{runtime.name}/{device.id}_poll.st"] = env.get_template("poll.st.jinja").render(
+            **views["codesys"], runtime=runtime, poller=poller(views["codesys"], runtime, VENDOR)
+        )
     files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(device))
-    files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(**views["codesys"], iec=views["iec"], files=FILES)
+    codesys = views["codesys"]
+    plain = [f for f in codesys["write_functions"][1:] if not any(m.name == "nIndex" for m in f.inputs)]
+    example = {"function": plain[0].name, "input": plain[0].inputs[0].name} if plain else None
+    files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(
+        **codesys,
+        iec=views["iec"],
+        files=FILES,
+        poll=poller(codesys, RUNTIMES[0], VENDOR),
+        serial=serial_settings(device),
+        write_example=example,
+    )
     return files
 
 

@@ -6,7 +6,7 @@ from typing import Any
 
 from regmap.backends.st import codec
 from regmap.backends.st.codec import Dialect
-from regmap.backends.st.encoders import _encoder_input, command_functions, encoders
+from regmap.backends.st.encoders import _encoder_input, command_functions, encoder_targets, encoders
 from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
 from regmap.backends.st.views import (
@@ -27,6 +27,7 @@ from regmap.backends.st.views import (
     needs_order_input,
     register_consts,
 )
+from regmap.backends.st.writes import queue_function, write_functions, write_struct
 from regmap.diagnostics import Diagnostic
 from regmap.model import Device, PollClass
 from regmap.render import header_lines
@@ -39,6 +40,9 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
     values = Values(names, dialect, helpers)
     plan = blocks(names, values)
     writers = encoders(names, helpers, values.used)
+    targets = encoder_targets(device)
+    request = write_struct(names, targets)
+    queue = queue_function(names, request)
     registers = []
     for reg in device.registers:
         registers.append(register_consts(names, reg))
@@ -76,6 +80,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
     return {
         "header": header_lines(device, "regmap generate"),
         "device": device,
+        "names": names,
         "dialect": dialect,
         "enums": [access, *enums],
         "device_consts": Section(dev.comment, dev.consts + tuple(poll_consts(names))),
@@ -86,6 +91,8 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
         "plan": plan,
         "plan_len": plan_len,
         "values": values.struct(),
+        "write": request.struct,
+        "write_functions": [queue, *write_functions(names, targets, writers, request, queue)],
         "functions": functions,
         "unions": unions(names, dialect, helpers, values.used),
         "spaces": sorted({r.space for r in device.registers}),

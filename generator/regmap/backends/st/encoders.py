@@ -95,30 +95,39 @@ def _put_dword(device: Device, reg: Register, output: str) -> list[str]:
     return high if reg.word_order is WordOrder.HIGH_FIRST else low
 
 
+def encoder_targets(device: Device) -> list[tuple[str, list[Register]]]:
+    """(label, registers) of each encoder: one per writable register, one per array member whose
+    elements share the range (label: the member's name, registers: its elements), else one per element."""
+    out: list[tuple[str, list[Register]]] = []
+    for regs in owners(device):
+        reg = regs[0]
+        if not reg.access.writable:
+            continue
+        if len({(r.raw_min, r.raw_max) for r in regs}) == 1:
+            out.append((owner(reg), regs))
+        else:
+            out += [(r.name, [r]) for r in regs]
+    return out
+
+
 def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionView]:
     """An encoder per writable register (one per array member when its elements share the range):
     the value into the words to write, or FALSE (words unchanged) when the Python client would
     refuse it (out of range, not a multiple of the resolution, not a member of the enum, NaN,
     text too long or not in the register's encoding)."""
-    device = names.device
     functions = []
-    for regs in owners(device):
-        reg = regs[0]
-        if not reg.access.writable:
-            continue
-        uniform = len({(r.raw_min, r.raw_max) for r in regs}) == 1
-        for r in [reg] if uniform else regs:
-            label = owner(r) if uniform else r.name
-            if r.type.is_string:
-                used.add("code")
-                functions.append(_text_encoder(names, helpers, r, label))
-            elif r.type.is_bool:
-                functions.append(_bit_encoder(names, r, label))
-            elif r.type.is_float:
-                used.add("f32" if r.words == 2 else "f64")
-                functions.append(_float_encoder(names, helpers, r, label))
-            else:
-                functions.append(_encoder(names, r, label))
+    for label, regs in encoder_targets(names.device):
+        r = regs[0]
+        if r.type.is_string:
+            used.add("code")
+            functions.append(_text_encoder(names, helpers, r, label))
+        elif r.type.is_bool:
+            functions.append(_bit_encoder(names, r, label))
+        elif r.type.is_float:
+            used.add("f32" if r.words == 2 else "f64")
+            functions.append(_float_encoder(names, helpers, r, label))
+        else:
+            functions.append(_encoder(names, r, label))
     return functions
 
 
