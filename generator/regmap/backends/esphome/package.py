@@ -44,11 +44,14 @@ from regmap.homeauto.entities import (
     command_throttle_ms,
     device_class,
     dump,
+    dump_commented,
     entity_category,
     firmware_notes,
     flags,
     is_parameter,
     planned,
+    plant_device_line,
+    plant_header_lines,
     presses,
     reserved,
     scale_float,
@@ -61,8 +64,9 @@ from regmap.homeauto.entities import (
     unit_text,
     writable_members,
 )
-from regmap.homeauto.selection import Selection
+from regmap.homeauto.selection import DEFAULT_RULE, Selection, select
 from regmap.model import Command, DataType, Device, EnumMember, PollClass, Register, WordOrder
+from regmap.plant import Bus, Plant, PlantDevice
 from regmap.runtime_bridge import runtime_specs
 from regmap.target import Files
 from regmap_runtime.codec import raw_to_words
@@ -106,6 +110,7 @@ NAME_PREFIX_BYTES = 24  # names leave room for a `<id>_name_prefix` this long wi
 # to a command is not answered by sending the command again; a lost read costs one update.
 MAX_CMD_RETRIES = 0
 READ_ONLY_PLATFORMS = ("sensor", "binary_sensor", "text_sensor")
+PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
 COMMAND_THROTTLE_FLOOR_MS = 50  # between two requests to one device; longer when the map documents a slower device
 
 
@@ -122,12 +127,16 @@ def esp_unit(text: str) -> str:
 
 
 class _Package:
-    def __init__(self, device: Device, selection: Selection) -> None:
+    """One map's entities and controller; `prefix` names its substitutions (the map's id, or in a plant the
+    device's name, so that one map appears twice)."""
+
+    def __init__(self, device: Device, selection: Selection, prefix: str | None = None) -> None:
         self.device = device
         self.selection = selection
-        self.prefix = device.id
+        self.prefix = prefix or device.id
         self.controller = self.sub("device_id") + "_controller"
-        self.names = Names(esp_text, MAX_NAME_BYTES - NAME_PREFIX_BYTES)
+        # Names leave room for the `<prefix>_name_prefix` (a plant sets it to the device's name and a space).
+        self.names = Names(esp_text, MAX_NAME_BYTES - max(NAME_PREFIX_BYTES, len(self.prefix) + 1))
         self.ids = Ids(("controller",))
         t = device.transport
         self.register_type = "holding" if 0x03 in t.function_codes else "read"
@@ -419,14 +428,38 @@ class _Package:
 
     # -- the file ----------------------------------------------------------------------------
 
-    def data(self) -> dict[str, Any]:
-        t = self.device.transport
-        slave = 1 if t.slave_min <= 1 <= t.slave_max else t.slave_min
-        p = self.prefix
+    def build(self) -> None:
         for reg in self.selection.registers:
             self.register(reg)
         for command in self.selection.commands:
             self.command(command)
+
+    def timing_substitutions(self) -> dict[str, str]:
+        """The controller's polling and pacing substitutions (after `build`: which skips it uses)."""
+        p = self.prefix
+        return {
+            f"{p}_update_interval": FAST_UPDATE_INTERVAL if self.fast else UPDATE_INTERVAL,
+            f"{p}_command_throttle": f"{command_throttle_ms(self.device, COMMAND_THROTTLE_FLOOR_MS)}ms",
+            f"{p}_parameter_skip_updates": str(SKIPS["parameter_skip_updates"][1 if self.fast else 0]),
+            **{f"{p}_{key}": str(SKIPS[key][1 if self.fast else 0]) for key in sorted(self.used_skips - {"parameter_skip_updates"})},
+        }
+
+    def controller_data(self, modbus_id: str) -> dict[str, Any]:
+        return {
+            "id": self.controller,
+            "modbus_id": modbus_id,
+            "address": self.sub("slave_id"),
+            "update_interval": self.sub("update_interval"),
+            "max_cmd_retries": MAX_CMD_RETRIES,
+            "command_throttle": self.sub("command_throttle"),
+        }
+
+    def data(self) -> dict[str, Any]:
+        t = self.device.transport
+        slave = 1 if t.slave_min <= 1 <= t.slave_max else t.slave_min
+        p = self.prefix
+        self.build()
+        timing = self.timing_substitutions()
         out: dict[str, Any] = {
             "substitutions": {
                 f"{p}_device_id": p,
@@ -436,10 +469,7 @@ class _Package:
                 f"{p}_rx_pin": "GPIO16",
                 f"{p}_baud_rate": str(t.baud),
                 f"{p}_slave_id": str(slave),
-                f"{p}_update_interval": FAST_UPDATE_INTERVAL if self.fast else UPDATE_INTERVAL,
-                f"{p}_command_throttle": f"{command_throttle_ms(self.device, COMMAND_THROTTLE_FLOOR_MS)}ms",
-                f"{p}_parameter_skip_updates": str(SKIPS["parameter_skip_updates"][1 if self.fast else 0]),
-                **{f"{p}_{key}": str(SKIPS[key][1 if self.fast else 0]) for key in sorted(self.used_skips - {"parameter_skip_updates"})},
+                **timing,
             },
             # One mapping each (not a list): packages merge mappings, so two drives included on one bus share them.
             "uart": {
@@ -452,21 +482,14 @@ class _Package:
                 "stop_bits": t.stop_bits,
             },
             "modbus": {"id": self.sub("bus_id") + "_modbus", "uart_id": self.sub("bus_id") + "_uart"},
-            "modbus_controller": [
-                {
-                    "id": self.controller,
-                    "modbus_id": self.sub("bus_id") + "_modbus",
-                    "address": self.sub("slave_id"),
-                    "update_interval": self.sub("update_interval"),
-                    "max_cmd_retries": MAX_CMD_RETRIES,
-                    "command_throttle": self.sub("command_throttle"),
-                }
-            ],
+            "modbus_controller": [self.controller_data(self.sub("bus_id") + "_modbus")],
         }
-        for platform in ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button"):
-            if platform in self.entities:
-                out[platform] = self.entities[platform]
+        out.update(self.platforms())
         return out
+
+    def platforms(self) -> dict[str, list[dict[str, Any]]]:
+        """The entity lists by platform, in ESPHome's usual order, the empty ones left out."""
+        return {platform: self.entities[platform] for platform in PLATFORMS if platform in self.entities}
 
 
 def _num(value: float) -> float | int:
@@ -525,3 +548,89 @@ def render_package(device: Device, selection: Selection) -> Files:
     about += firmware_notes(selection.registers)
     about += [f"Not generated: {s}" for s in pkg.skipped]
     return {f"{device.id}.yaml": dump(device, about, data)}
+
+
+# -- a plant: several devices on buses -------------------------------------------------------------
+
+# Default UART pins of each serial bus of a plant, in bus order (ESP32 GPIOs free of flash and strapping
+# duties; UART0 stays the logger's, so an ESP32 drives at most this many lines). Substitutions: override them.
+BUS_PINS = (("GPIO17", "GPIO16"), ("GPIO25", "GPIO26"))
+
+
+def _plant_package(plant: Plant) -> tuple[dict[str, Any], list[tuple[Bus, PlantDevice, _Package]], list[str]]:
+    substitutions: dict[str, str] = {}
+    uarts: list[dict[str, Any]] = []
+    buses: list[dict[str, Any]] = []
+    controllers: list[dict[str, Any]] = []
+    entities: dict[str, list[dict[str, Any]]] = {}
+    built: list[tuple[Bus, PlantDevice, _Package]] = []
+    skipped: list[str] = []
+    serial = [bus for bus in plant.buses if bus.serial is not None]
+    for bus in plant.buses:
+        if bus.serial is None:
+            skipped.append(f"bus {bus.name} (Modbus TCP: ESPHome's modbus speaks RTU on a UART only)")
+    for index, bus in enumerate(serial):
+        line = bus.serial
+        assert line is not None
+        if index >= len(BUS_PINS):
+            skipped.append(f"bus {bus.name} (an ESP32 has {len(BUS_PINS)} UARTs besides the logger's)")
+            continue
+        tx, rx = BUS_PINS[index]
+        substitutions |= {f"{bus.name}_tx_pin": tx, f"{bus.name}_rx_pin": rx}
+        uart = {
+            "id": f"{bus.name}_uart",
+            "tx_pin": "${" + bus.name + "_tx_pin}",
+            "rx_pin": "${" + bus.name + "_rx_pin}",
+            "baud_rate": line.baud,
+            "data_bits": line.data_bits,
+            "parity": PARITY[line.parity],
+            "stop_bits": line.stop_bits,
+        }
+        uarts.append(uart)
+        buses.append({"id": f"{bus.name}_modbus", "uart_id": f"{bus.name}_uart"})
+        for dev in bus.devices:
+            pkg = _Package(dev.device, select(dev.device, None), prefix=dev.name)
+            pkg.build()
+            built.append((bus, dev, pkg))
+            substitutions |= {
+                f"{dev.name}_device_id": dev.name,
+                f"{dev.name}_name_prefix": f"{dev.name} ",
+                f"{dev.name}_slave_id": str(dev.slave),
+                **pkg.timing_substitutions(),
+            }
+            controllers.append(pkg.controller_data(f"{bus.name}_modbus"))
+            for platform, items in pkg.platforms().items():
+                entities.setdefault(platform, []).extend(items)
+    out: dict[str, Any] = {"substitutions": substitutions, "uart": uarts, "modbus": buses, "modbus_controller": controllers}
+    out.update({platform: entities[platform] for platform in PLATFORMS if platform in entities})
+    return out, built, skipped
+
+
+def plant_package(plant: Plant) -> dict[str, Any]:
+    """The plant's ESPHome package as data: a uart and modbus per serial bus, a controller per device."""
+    return _plant_package(plant)[0]
+
+
+def render_plant(plant: Plant) -> Files:
+    """The plant's ESPHome package (`<plant id>.yaml`); none when the plant has no serial bus ESPHome can drive."""
+    data, built, skipped = _plant_package(plant)
+    if not built:
+        return {}
+    about = [
+        "",
+        f"ESPHome package of the plant {' '.join(plant.title.split())}: a uart and a modbus per serial bus, a"
+        " modbus_controller per device at its slave id.",
+        f"Include it: packages: {{{plant.id}: !include {plant.id}.yaml}} and override the substitutions (<bus>_tx_pin,"
+        " <bus>_rx_pin, <device>_name_prefix, ...) in your config.",
+        "Every entity has the id <device>_<register> (fields: _<register>_<field>, buttons: _<command>) and its name"
+        " starts with the device's name, so one map appears once per device.",
+        f"Writes go out once: max_cmd_retries {MAX_CMD_RETRIES} on every controller; command_throttle keeps each"
+        " device's pause between two requests to it.",
+        f"Selection per device: {DEFAULT_RULE}.",
+        *(plant_device_line(bus, dev, pkg.selection) for bus, dev, pkg in built),
+    ]
+    for _, dev, pkg in built:
+        about += [f"{dev.name}: {note}" for note in firmware_notes(pkg.selection.registers)]
+        about += [f"Not generated for {dev.name}: {s}" for s in pkg.skipped]
+    about += [f"Not generated: {s}" for s in skipped]
+    return {f"{plant.id}.yaml": dump_commented([*plant_header_lines(plant), *about], data)}
