@@ -1,0 +1,120 @@
+"""The ESPHome package of a plant (issue 32): a uart and modbus per serial bus, a modbus_controller per
+device at its slave id, every id and name prefixed by the device, so one map appears twice."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from regmap.backends.esphome import render_device, render_plant
+from regmap.frontend.plant import load_plant
+from regmap.plant import Plant
+
+from conftest import ROOT
+from support.homeauto_yaml import load, resolve
+
+CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
+PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
+
+
+@pytest.fixture(scope="module")
+def cell1() -> Plant:
+    return load_plant(CELL1)
+
+
+def _data(text: str) -> dict[str, Any]:
+    data = load(text)
+    assert isinstance(data, dict)
+    return data
+
+
+def _package(plant: Plant) -> tuple[str, dict[str, Any]]:
+    (text,) = render_plant(plant).values()
+    return text, _data(text)
+
+
+def _entities(data: dict[str, Any]) -> list[dict[str, Any]]:
+    return [e for platform in PLATFORMS for e in data.get(platform, [])]
+
+
+def test_a_controller_per_device_on_its_bus(cell1: Plant) -> None:
+    _, data = _package(cell1)
+    subs = data["substitutions"]
+    (uart,) = data["uart"]
+    assert (uart["id"], uart["baud_rate"], uart["parity"], uart["stop_bits"], uart["data_bits"]) == ("line1_uart", 38400, "EVEN", 1, 8)
+    assert data["modbus"] == [{"id": "line1_modbus", "uart_id": "line1_uart"}]
+    controllers = data["modbus_controller"]
+    assert [(resolve(c["id"], subs), c["modbus_id"], int(resolve(c["address"], subs))) for c in controllers] == [
+        ("axis_x_controller", "line1_modbus", 1),
+        ("axis_y_controller", "line1_modbus", 2),
+        ("spindle_controller", "line1_modbus", 3),
+    ]
+    assert all(c["max_cmd_retries"] == 0 for c in controllers)
+
+
+def test_every_entity_is_its_devices_under_its_name(cell1: Plant) -> None:
+    """Each device holds its map's single-device entities, with ids and names prefixed by the device's
+    name and its controller; the same map twice gives two distinct sets."""
+    _, data = _package(cell1)
+    subs = data["substitutions"]
+    entities = _entities(data)
+    ids = [resolve(e["id"], subs) for e in entities]
+    names = [resolve(e["name"], subs) for e in entities]
+    assert len(set(ids)) == len(ids) and len(set(names)) == len(names)
+    for dev in cell1.devices:
+        single = _data(next(iter(render_device(dev.device).values())))
+        single_subs = single["substitutions"]
+        expected = [
+            (
+                resolve(e["id"], single_subs).replace(dev.device.id + "_", dev.name + "_", 1),
+                f"{dev.name} {resolve(e['name'], single_subs)}",
+            )
+            for e in _entities(single)
+        ]
+        mine = [(i, n) for i, n in zip(ids, names, strict=True) if i.startswith(dev.name + "_")]
+        assert mine == expected
+        for e in _entities(data):
+            if resolve(e["id"], subs).startswith(dev.name + "_") and "modbus_controller_id" in e:
+                assert resolve(e["modbus_controller_id"], subs) == f"{dev.name}_controller"
+
+
+def test_a_tcp_bus_is_named_as_not_generated(tmp_path: Path) -> None:
+    path = tmp_path / "plant.yaml"
+    path.write_text(
+        f"""format: regmap-plant/1
+plant: {{id: mixed, title: Mixed}}
+buses:
+  - name: line1
+    serial: {{port: /dev/ttyUSB0, baud: 38400, parity: even}}
+    devices:
+      - {{name: axis_x, map: {ROOT / "maps" / "idm_rs.yaml"}, slave: 1}}
+  - name: gw
+    tcp: {{host: 10.0.0.5}}
+    devices:
+      - {{name: spindle, map: {ROOT / "maps" / "c630s.yaml"}, slave: 3}}
+""",
+        encoding="utf-8",
+    )
+    text, data = _package(load_plant(path))
+    assert "# Not generated: bus gw (Modbus TCP" in text
+    assert [c["modbus_id"] for c in data["modbus_controller"]] == ["line1_modbus"]
+    assert not any(resolve(e["id"], data["substitutions"]).startswith("spindle_") for e in _entities(data))
+
+
+def test_esphome_config_accepts_the_plant_with_three_controllers(esphome: Path, tmp_path: Path, cell1: Plant) -> None:
+    text, data = _package(cell1)
+    (tmp_path / "cell1.yaml").write_text(text, encoding="utf-8")
+    main = "esphome:\n  name: regmap-check\nesp32:\n  board: esp32dev\n  framework:\n    type: esp-idf\npackages:\n  plant: !include cell1.yaml\n"
+    (tmp_path / "main.yaml").write_text(main, encoding="utf-8")
+    result = subprocess.run([str(esphome), "config", "main.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False)
+    out = result.stdout + result.stderr
+    assert result.returncode == 0, out[-4000:]
+    assert "Configuration is valid!" in out
+    assert "WARNING" not in out.replace("WARNING 💡", ""), [line for line in out.splitlines() if "WARNING" in line]
+    checked = _data(result.stdout[result.stdout.index("substitutions:") :])  # the configuration as ESPHome validated it
+    controllers = [(c["id"], c["address"]) for c in checked["modbus_controller"]]
+    assert controllers == [("axis_x_controller", 1), ("axis_y_controller", 2), ("spindle_controller", 3)]
+    assert len(_entities(checked)) == len(_entities(data))  # nothing dropped
