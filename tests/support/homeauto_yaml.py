@@ -41,6 +41,11 @@ def load(text: str) -> Any:
     return yaml.load(text, Loader=_Loader)
 
 
+def ha_slug(name: str) -> str:
+    """The object id HA gives an entity with an ASCII name (homeassistant.util.slugify), written apart from the back end."""
+    return re.sub(r"[^a-z0-9]+", "_", name.lower().replace("'", "")).strip("_")
+
+
 SUB = re.compile(r"\$\{(\w+)\}")
 
 

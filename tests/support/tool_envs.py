@@ -70,7 +70,14 @@ VENV_TOOLS = {
         VenvTool(
             "hass",
             "bin/hass",
-            ("homeassistant==2024.3.3", "pymodbus==3.6.6", "colorlog==6.8.2", "SQLAlchemy==2.0.27", "fnv-hash-fast==0.5.0", "psutil-home-assistant==0.0.1"),
+            (
+                "homeassistant==2024.3.3",
+                "pymodbus==3.6.6",
+                "colorlog==6.8.2",
+                "SQLAlchemy==2.0.27",
+                "fnv-hash-fast==0.5.0",
+                "psutil-home-assistant==0.0.1",
+            ),
             "checks and runs the generated Home Assistant configuration",
         ),
         VenvTool(

@@ -15,7 +15,7 @@ from regmap.frontend.plant import load_plant
 from regmap.plant import Plant
 
 from conftest import ROOT
-from support.homeauto_yaml import load
+from support.homeauto_yaml import ha_slug, load
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 ENTITY_KEYS = ("sensors", "binary_sensors", "switches")
@@ -124,15 +124,10 @@ def test_every_entity_carries_its_device_and_slave(cell1: Plant) -> None:
     assert len(entities) == sum(len(_entities(_single(cell1, d.name)["modbus"][0])) for d in cell1.devices)
 
 
-def _slug(name: str) -> str:
-    """HA's entity id of an ASCII name (homeassistant.util.slugify), written here apart from the back end."""
-    return re.sub(r"[^a-z0-9]+", "_", name.lower().replace("'", "")).strip("_")
-
-
 def test_templates_and_scripts_address_their_own_device(cell1: Plant) -> None:
     package = _package(cell1)
     (hub,) = package["modbus"]
-    sensors = {_slug(e["name"]): e for e in hub["sensors"]}
+    sensors = {ha_slug(e["name"]): e for e in hub["sensors"]}
     for template in _templates(package):
         sources = set(re.findall(r"states\('sensor\.(\w+)'\)", template["state"]))
         assert len(sources) == 1, template
