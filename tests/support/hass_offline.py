@@ -13,13 +13,14 @@ the configuration names is set up, from what the tool env holds.
 
 from __future__ import annotations
 
+import importlib
 import sys
 
 
 def main() -> int:
-    from homeassistant import __main__ as hass_main
-    from homeassistant import bootstrap
-
+    # Imported by name: Home Assistant is in the hass tool env, not in regmap's.
+    bootstrap = importlib.import_module("homeassistant.bootstrap")
+    hass_main = importlib.import_module("homeassistant.__main__")
     bootstrap.DEFAULT_INTEGRATIONS.clear()
     bootstrap.CRITICAL_INTEGRATIONS.clear()
     sys.argv = ["hass", "--skip-pip", *sys.argv[1:]]

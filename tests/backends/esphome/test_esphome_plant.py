@@ -3,7 +3,6 @@ device at its slave id, every id and name prefixed by the device, so one map app
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 from typing import Any
 
@@ -14,7 +13,7 @@ from regmap.frontend.plant import load_plant
 from regmap.plant import Plant
 
 from conftest import ROOT
-from support.homeauto_yaml import load, resolve
+from support.homeauto_yaml import esphome_config, load, resolve
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
@@ -106,15 +105,7 @@ buses:
 
 def test_esphome_config_accepts_the_plant_with_three_controllers(esphome: Path, tmp_path: Path, cell1: Plant) -> None:
     text, data = _package(cell1)
-    (tmp_path / "cell1.yaml").write_text(text, encoding="utf-8")
-    main = "esphome:\n  name: regmap-check\nesp32:\n  board: esp32dev\n  framework:\n    type: esp-idf\npackages:\n  plant: !include cell1.yaml\n"
-    (tmp_path / "main.yaml").write_text(main, encoding="utf-8")
-    result = subprocess.run([str(esphome), "config", "main.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False)
-    out = result.stdout + result.stderr
-    assert result.returncode == 0, out[-4000:]
-    assert "Configuration is valid!" in out
-    assert "WARNING" not in out.replace("WARNING 💡", ""), [line for line in out.splitlines() if "WARNING" in line]
-    checked = _data(result.stdout[result.stdout.index("substitutions:") :])  # the configuration as ESPHome validated it
+    checked = _data(esphome_config(esphome, tmp_path, text))  # the configuration as ESPHome validated it
     controllers = [(c["id"], c["address"]) for c in checked["modbus_controller"]]
     assert controllers == [("axis_x_controller", 1), ("axis_y_controller", 2), ("spindle_controller", 3)]
     assert len(_entities(checked)) == len(_entities(data))  # nothing dropped
