@@ -19,6 +19,7 @@ from typing import Any
 
 import yaml
 
+from regmap.diagnostics import MapError, at
 from regmap.homeauto.selection import Selection
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
@@ -385,6 +386,22 @@ def plant_device_line(bus: Bus, dev: PlantDevice, selection: Selection) -> str:
         f"{dev.name} ({' '.join(dev.title.split())}): {info.vendor} {info.model} at slave {dev.slave} on {bus.name}"
         f" ({len(selection.registers)} registers, {len(selection.commands)} commands selected)."
     )
+
+
+def refuse_shared_ids(plant: Plant, ids: list[tuple[PlantDevice, list[str]]], tool: str) -> None:
+    """Two devices whose generated ids meet (device `a` with a register `b_c` and device `a_b` with `c` both
+    give `a_b_c`): refused at the second device's line, one problem per device, naming the id."""
+    owners: dict[str, PlantDevice] = {}
+    problems = []
+    for dev, dev_ids in ids:
+        for made in dev_ids:
+            first = owners.setdefault(made, dev)
+            if first is not dev:
+                message = f"devices {first.name!r} and {dev.name!r} give {tool} the same id {made}; rename one of them"
+                problems.append(at(plant.source_path, dev.pos, message))
+                break
+    if problems:
+        raise MapError(problems)
 
 
 def dump_commented(comments: list[str], data: dict[str, Any]) -> str:

@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 
 from regmap.backends.esphome import render_device, render_plant
+from regmap.diagnostics import MapError
 from regmap.frontend.plant import load_plant
 from regmap.plant import Plant
 
@@ -109,3 +110,27 @@ def test_esphome_config_accepts_the_plant_with_three_controllers(esphome: Path, 
     controllers = [(c["id"], c["address"]) for c in checked["modbus_controller"]]
     assert controllers == [("axis_x_controller", 1), ("axis_y_controller", 2), ("spindle_controller", 3)]
     assert len(_entities(checked)) == len(_entities(data))  # nothing dropped
+
+
+def test_two_devices_that_would_share_an_object_id_are_refused(tmp_path: Path) -> None:
+    """`sp` + "Encoder position deviation counter" and `sp_encoder` + "Position deviation counter" give
+    ESPHome one object id: refused at the second device's line (ESPHome would refuse the whole file)."""
+    c630s = ROOT / "maps" / "c630s.yaml"
+    path = tmp_path / "plant.yaml"
+    path.write_text(
+        f"""format: regmap-plant/1
+plant: {{id: clash, title: Clash}}
+buses:
+  - name: line1
+    serial: {{port: /dev/ttyUSB0, baud: 19200, parity: none}}
+    devices:
+      - {{name: sp, map: {c630s}, slave: 1}}
+      - {{name: sp_encoder, map: {c630s}, slave: 2}}
+""",
+        encoding="utf-8",
+    )
+    with pytest.raises(MapError) as caught:
+        render_plant(load_plant(path))
+    assert str(caught.value) == (
+        f"{path}:8:9: devices 'sp' and 'sp_encoder' give ESPHome the same id sensor.sp_encoder_position_deviation_counter; rename one of them"
+    )

@@ -16,6 +16,7 @@ from regmap.plant import Plant
 
 from conftest import ROOT
 from support.homeauto_yaml import ha_slug, load
+from support.plant_bus import REGMAP
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 ENTITY_KEYS = ("sensors", "binary_sensors", "switches")
@@ -172,3 +173,36 @@ def test_check_config_accepts_the_plant_with_nothing_dropped(hass: Path, tmp_pat
     checked = sorted(re.findall(r"^\s+unique_id: (\S+)", out, re.MULTILINE))
     assert checked == generated
     assert len(generated) == 90  # iDM-RS 18 + 18, C630S 54: the default selections' entities
+
+
+def test_two_devices_that_would_share_an_entity_id_are_refused_at_the_second(tmp_path: Path) -> None:
+    """`sp` + "Encoder position deviation counter" and `sp_encoder` + "Position deviation counter" are both
+    sensor.sp_encoder_position_deviation_counter: refused at the second device's line, nothing written."""
+    c630s = ROOT / "maps" / "c630s.yaml"
+    path = tmp_path / "plant.yaml"
+    path.write_text(
+        f"""format: regmap-plant/1
+plant: {{id: clash, title: Clash}}
+buses:
+  - name: line1
+    tcp: {{host: 127.0.0.1}}
+    devices:
+      - {{name: sp, map: {c630s}, slave: 1}}
+      - {{name: sp_encoder, map: {c630s}, slave: 2}}
+""",
+        encoding="utf-8",
+    )
+    out = tmp_path / "out"
+    result = subprocess.run(
+        [REGMAP, "generate", str(path), "--target", "homeassistant", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.returncode == 1, result.stderr
+    assert result.stderr.strip() == (
+        f"{path}:8:9: devices 'sp' and 'sp_encoder' give Home Assistant the same id"
+        " sensor.sp_encoder_position_deviation_counter; rename one of them"
+    )
+    assert not out.exists()

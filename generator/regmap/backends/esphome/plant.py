@@ -8,10 +8,11 @@ generated in the file's header.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from regmap.backends.esphome.package import MAX_CMD_RETRIES, PARITY, PLATFORMS, DevicePackage
-from regmap.homeauto.entities import dump_commented, firmware_notes, plant_device_line, plant_header_lines
+from regmap.homeauto.entities import dump_commented, firmware_notes, plant_device_line, plant_header_lines, refuse_shared_ids
 from regmap.homeauto.selection import DEFAULT_RULE, select
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.target import Files
@@ -65,9 +66,27 @@ def _plant_package(plant: Plant) -> tuple[dict[str, Any], list[tuple[Bus, PlantD
             controllers.append(pkg.controller_data(f"{bus.name}_modbus"))
             for platform, items in pkg.platforms().items():
                 entities.setdefault(platform, []).extend(items)
+    _refuse_shared_ids(plant, built)
     out: dict[str, Any] = {"substitutions": substitutions, "uart": uarts, "modbus": buses, "modbus_controller": controllers}
     out.update({platform: entities[platform] for platform in PLATFORMS if platform in entities})
     return out, built, skipped
+
+
+def _object_id(name: str) -> str:
+    """ESPHome's object id of an entity name (`snake_case` then `sanitize`): the key of its API and web paths."""
+    return re.sub(r"[^-_a-z0-9]", "_", name.replace(" ", "_").lower())
+
+
+def _refuse_shared_ids(plant: Plant, built: list[tuple[Bus, PlantDevice, DevicePackage]]) -> None:
+    """ESPHome refuses an id given twice and two entities of one platform with one object id: device `a`
+    with `b_c` and device `a_b` with `c` would meet in both."""
+    ids = []
+    for _, dev, pkg in built:
+        items = [(platform, item) for platform, entities in pkg.platforms().items() for item in entities]
+        made = [item["id"].replace(pkg.sub("device_id"), dev.name) for _, item in items]
+        made += [f"{platform}.{_object_id(dev.name + ' ' + item['name'].replace(pkg.sub('name_prefix'), ''))}" for platform, item in items]
+        ids.append((dev, made))
+    refuse_shared_ids(plant, ids, "ESPHome")
 
 
 def plant_package(plant: Plant) -> dict[str, Any]:

@@ -37,6 +37,7 @@ from regmap.homeauto.entities import (
     planned,
     plant_device_line,
     plant_header_lines,
+    refuse_shared_ids,
     reserved,
     scale_float,
     shown_decimals,
@@ -421,7 +422,20 @@ def _plant_hubs(plant: Plant) -> tuple[list[dict[str, Any]], list[tuple[Bus, Pla
             for key, entities in h.entities().items():
                 hub_data.setdefault(key, []).extend(entities)
         data.append(hub_data)
+    _refuse_shared_entity_ids(plant, built)
     return data, built
+
+
+def _refuse_shared_entity_ids(plant: Plant, built: list[tuple[Bus, PlantDevice, _Hub]]) -> None:
+    """HA makes each entity id of its name: device `a` with "b c" and device `a_b` with "c" would both be
+    `sensor.a_b_c` (HA adds `_2` to one, and the templates read the other)."""
+    ids = []
+    for _, dev, h in built:
+        named = [("sensor", e["name"]) for e in [*h.sensors, *h.template_sensors]]
+        named += [("binary_sensor", e["name"]) for e in [*h.binary_sensors, *h.template_binary_sensors]]
+        named += [("switch", e["name"]) for e in h.switches]
+        ids.append((dev, [f"{domain}.{object_id(name)}" for domain, name in named] + [f"script.{s}" for s in h.scripts.scripts]))
+    refuse_shared_ids(plant, ids, "Home Assistant")
 
 
 def plant_hubs(plant: Plant) -> list[dict[str, Any]]:
