@@ -87,6 +87,20 @@ class _RouterConnection(socketserver.BaseRequestHandler):
                 sock.close()
 
 
+MAPS = ROOT / "maps"
+PlantLine = tuple[str, str, list[tuple[str, Path, int]]]  # bus name, its line ("tcp: {host: ...}"), devices (name, map, slave)
+
+
+def write_plant(path: Path, plant_id: str, buses: list[PlantLine]) -> Path:
+    """A plant file at `path`; the n-th device of the first bus is at line 6 + n."""
+    lines = ["format: regmap-plant/1", f"plant: {{id: {plant_id}, title: {plant_id}}}", "buses:"]
+    for name, line, devices in buses:
+        lines += [f"  - name: {name}", f"    {line}", "    devices:"]
+        lines += [f"      - {{name: {dev}, map: {map_path}, slave: {slave}}}" for dev, map_path, slave in devices]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
 @dataclass(frozen=True)
 class ServedBus:
     port: int  # where the bus listens (127.0.0.1)

@@ -15,6 +15,7 @@ from regmap.plant import Plant
 
 from conftest import ROOT
 from support.homeauto_yaml import esphome_config, load, resolve
+from support.plant_bus import MAPS, write_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
@@ -82,22 +83,9 @@ def test_every_entity_is_its_devices_under_its_name(cell1: Plant) -> None:
 
 
 def test_a_tcp_bus_is_named_as_not_generated(tmp_path: Path) -> None:
-    path = tmp_path / "plant.yaml"
-    path.write_text(
-        f"""format: regmap-plant/1
-plant: {{id: mixed, title: Mixed}}
-buses:
-  - name: line1
-    serial: {{port: /dev/ttyUSB0, baud: 38400, parity: even}}
-    devices:
-      - {{name: axis_x, map: {ROOT / "maps" / "idm_rs.yaml"}, slave: 1}}
-  - name: gw
-    tcp: {{host: 10.0.0.5}}
-    devices:
-      - {{name: spindle, map: {ROOT / "maps" / "c630s.yaml"}, slave: 3}}
-""",
-        encoding="utf-8",
-    )
+    line1 = ("line1", "serial: {port: /dev/ttyUSB0, baud: 38400, parity: even}", [("axis_x", MAPS / "idm_rs.yaml", 1)])
+    gw = ("gw", "tcp: {host: 10.0.0.5}", [("spindle", MAPS / "c630s.yaml", 3)])
+    path = write_plant(tmp_path / "plant.yaml", "mixed", [line1, gw])
     text, data = _package(load_plant(path))
     assert "# Not generated: bus gw (Modbus TCP" in text
     assert [c["modbus_id"] for c in data["modbus_controller"]] == ["line1_modbus"]
@@ -115,20 +103,9 @@ def test_esphome_config_accepts_the_plant_with_three_controllers(esphome: Path, 
 def test_two_devices_that_would_share_an_object_id_are_refused(tmp_path: Path) -> None:
     """`sp` + "Encoder position deviation counter" and `sp_encoder` + "Position deviation counter" give
     ESPHome one object id: refused at the second device's line (ESPHome would refuse the whole file)."""
-    c630s = ROOT / "maps" / "c630s.yaml"
-    path = tmp_path / "plant.yaml"
-    path.write_text(
-        f"""format: regmap-plant/1
-plant: {{id: clash, title: Clash}}
-buses:
-  - name: line1
-    serial: {{port: /dev/ttyUSB0, baud: 19200, parity: none}}
-    devices:
-      - {{name: sp, map: {c630s}, slave: 1}}
-      - {{name: sp_encoder, map: {c630s}, slave: 2}}
-""",
-        encoding="utf-8",
-    )
+    c630s = MAPS / "c630s.yaml"
+    line1 = ("line1", "serial: {port: /dev/ttyUSB0, baud: 19200, parity: none}", [("sp", c630s, 1), ("sp_encoder", c630s, 2)])
+    path = write_plant(tmp_path / "plant.yaml", "clash", [line1])
     with pytest.raises(MapError) as caught:
         render_plant(load_plant(path))
     assert str(caught.value) == (

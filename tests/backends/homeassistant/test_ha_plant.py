@@ -16,37 +16,22 @@ from regmap.plant import Plant
 
 from conftest import ROOT
 from support.homeauto_yaml import ha_slug, load
-from support.plant_bus import REGMAP
+from support.plant_bus import MAPS, REGMAP, write_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 ENTITY_KEYS = ("sensors", "binary_sensors", "switches")
 
 
-def _plant(text: str, tmp_path: Path) -> Plant:
-    path = tmp_path / "plant.yaml"
-    path.write_text(text, encoding="utf-8")
-    return load_plant(path)
-
-
 def _two_buses(tmp_path: Path) -> Plant:
     """cell1's drives split over a serial line and a TCP gateway, with the same map twice on one bus."""
-    maps = ROOT / "maps"
-    return _plant(
-        f"""format: regmap-plant/1
-plant: {{id: cell2, title: Two lines}}
-buses:
-  - name: line1
-    serial: {{port: /dev/ttyUSB1, baud: 19200, parity: none, stop_bits: 2}}
-    devices:
-      - {{name: axis_x, map: {maps / "idm_rs.yaml"}, slave: 4}}
-      - {{name: axis_y, map: {maps / "idm_rs.yaml"}, slave: 5}}
-  - name: gw
-    tcp: {{host: 10.0.0.5, port: 1502}}
-    devices:
-      - {{name: spindle, map: {maps / "c630s.yaml"}, slave: 7}}
-""",
-        tmp_path,
+    idm_rs = MAPS / "idm_rs.yaml"
+    line1 = (
+        "line1",
+        "serial: {port: /dev/ttyUSB1, baud: 19200, parity: none, stop_bits: 2}",
+        [("axis_x", idm_rs, 4), ("axis_y", idm_rs, 5)],
     )
+    gw = ("gw", "tcp: {host: 10.0.0.5, port: 1502}", [("spindle", MAPS / "c630s.yaml", 7)])
+    return load_plant(write_plant(tmp_path / "plant.yaml", "cell2", [line1, gw]))
 
 
 def _package(plant: Plant) -> dict[str, Any]:
@@ -178,19 +163,9 @@ def test_check_config_accepts_the_plant_with_nothing_dropped(hass: Path, tmp_pat
 def test_two_devices_that_would_share_an_entity_id_are_refused_at_the_second(tmp_path: Path) -> None:
     """`sp` + "Encoder position deviation counter" and `sp_encoder` + "Position deviation counter" are both
     sensor.sp_encoder_position_deviation_counter: refused at the second device's line, nothing written."""
-    c630s = ROOT / "maps" / "c630s.yaml"
-    path = tmp_path / "plant.yaml"
-    path.write_text(
-        f"""format: regmap-plant/1
-plant: {{id: clash, title: Clash}}
-buses:
-  - name: line1
-    tcp: {{host: 127.0.0.1}}
-    devices:
-      - {{name: sp, map: {c630s}, slave: 1}}
-      - {{name: sp_encoder, map: {c630s}, slave: 2}}
-""",
-        encoding="utf-8",
+    c630s = MAPS / "c630s.yaml"
+    path = write_plant(
+        tmp_path / "plant.yaml", "clash", [("line1", "tcp: {host: 127.0.0.1}", [("sp", c630s, 1), ("sp_encoder", c630s, 2)])]
     )
     out = tmp_path / "out"
     result = subprocess.run(

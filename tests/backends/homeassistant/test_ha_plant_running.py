@@ -36,7 +36,7 @@ from regmap.plant import Plant, PlantDevice
 
 from conftest import ROOT, built_tool
 from support.homeauto_yaml import ha_slug, load
-from support.plant_bus import REGMAP, ServedBus, free_port, serve_bus
+from support.plant_bus import REGMAP, ServedBus, free_port, serve_bus, write_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
@@ -58,18 +58,8 @@ def _tcp_plant(tmp_path: Path, port: int) -> Plant:
     """cell1's devices at their slave ids, the bus a Modbus TCP endpoint on 127.0.0.1:port."""
     cell1 = load_plant(CELL1)
     (bus,) = cell1.buses
-    lines = [
-        "format: regmap-plant/1",
-        f"plant: {{id: {cell1.id}, title: {cell1.title} on TCP}}",
-        "buses:",
-        f"  - name: {bus.name}",
-        f"    tcp: {{host: 127.0.0.1, port: {port}}}",
-        "    devices:",
-        *(f"      - {{name: {d.name}, map: {(CELL1.parent / d.map_path).resolve()}, slave: {d.slave}}}" for d in bus.devices),
-    ]
-    path = tmp_path / "plant.yaml"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return load_plant(path)
+    devices = [(d.name, (CELL1.parent / d.map_path).resolve(), d.slave) for d in bus.devices]
+    return load_plant(write_plant(tmp_path / "plant.yaml", cell1.id, [(bus.name, f"tcp: {{host: 127.0.0.1, port: {port}}}", devices)]))
 
 
 def _seed(dev: PlantDevice) -> dict[str, int]:
