@@ -169,6 +169,8 @@ def _template_expected(device: Device, unique_rest: str, entity: dict[str, Any],
 
 def _expected(plant: Plant, package: dict[str, Any], raws: dict[str, dict[str, Any]]) -> list[Expected]:
     (hub,) = package["modbus"]
+    # cell1's default selections make sensors and templates only; binary sensors or switches would need their own check here
+    assert not {"binary_sensors", "switches"} & set(hub)
     by_slave = {dev.slave: dev for dev in plant.devices}
     out = [_sensor_expected(by_slave[e["slave"]].device, e, raws[by_slave[e["slave"]].name]) for e in hub["sensors"]]
     for block in package["template"]:
