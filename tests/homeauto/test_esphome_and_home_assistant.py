@@ -31,6 +31,7 @@ from regmap.model import ByteOrder, DataType, Device, Register, WordOrder
 from regmap.runtime_bridge import documented_addresses, read_plan
 
 from conftest import FIXTURE_MAPS, GENERATED, MAPS, ROOT
+from support.homeauto_yaml import esphome_config
 
 HOSTILE = ROOT / "tests" / "maps" / "hostile" / "hostile.yaml"
 ALL = ("*",)
@@ -97,14 +98,7 @@ EVERY = DEVICES + FIXTURES
 
 
 def _esphome_config(esphome: Path, tmp_path: Path, package: str) -> None:
-    (tmp_path / "device.yaml").write_text(package, encoding="utf-8")
-    main = "esphome:\n  name: regmap-check\nesp32:\n  board: esp32dev\n  framework:\n    type: esp-idf\npackages:\n  device: !include device.yaml\n"
-    (tmp_path / "main.yaml").write_text(main, encoding="utf-8")
-    result = subprocess.run([str(esphome), "config", "main.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False)
-    out = result.stdout + result.stderr
-    assert result.returncode == 0, out[-4000:]
-    assert "Configuration is valid!" in out
-    assert "WARNING" not in out.replace("WARNING 💡", ""), [line for line in out.splitlines() if "WARNING" in line]
+    esphome_config(esphome, tmp_path, package)
 
 
 def _hass_check(hass: Path, tmp_path: Path, package: str) -> None:

@@ -4,7 +4,9 @@ written here apart from the back ends (tests/backends/*/test_*_write_safety.py u
 from __future__ import annotations
 
 import re
+import subprocess
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import yaml
@@ -39,6 +41,27 @@ _Loader.add_multi_constructor("!", _tagged)
 
 def load(text: str) -> Any:
     return yaml.load(text, Loader=_Loader)
+
+
+ESPHOME_MAIN = "esphome:\n  name: regmap-check\nesp32:\n  board: esp32dev\n  framework:\n    type: esp-idf\npackages:\n  device: !include device.yaml\n"
+
+
+def esphome_config(esphome: Path, work: Path, package: str) -> str:
+    """`esphome config` on an ESP32 config that includes `package`: it must be valid with no warning.
+    Returns what ESPHome prints on stdout: the configuration as it validated it."""
+    (work / "device.yaml").write_text(package, encoding="utf-8")
+    (work / "main.yaml").write_text(ESPHOME_MAIN, encoding="utf-8")
+    result = subprocess.run([str(esphome), "config", "main.yaml"], cwd=work, capture_output=True, text=True, timeout=300, check=False)
+    out = result.stdout + result.stderr
+    assert result.returncode == 0, out[-4000:]
+    assert "Configuration is valid!" in out
+    assert "WARNING" not in out.replace("WARNING 💡", ""), [line for line in out.splitlines() if "WARNING" in line]
+    return result.stdout
+
+
+def ha_slug(name: str) -> str:
+    """The object id HA gives an entity with an ASCII name (homeassistant.util.slugify), written apart from the back end."""
+    return re.sub(r"[^a-z0-9]+", "_", name.lower().replace("'", "")).strip("_")
 
 
 SUB = re.compile(r"\$\{(\w+)\}")

@@ -61,7 +61,8 @@ class SourceTool:
 
 # Newest releases that install on the Python regmap supports (3.11): ESPHome 2026.6.5; Home Assistant
 # 2024.3.3 (2024.4 needs 3.12). pymodbus is the modbus integration's own pin (its manifest), colorlog
-# the check_config script's, so the check installs nothing at run time.
+# the check_config script's, SQLAlchemy, fnv-hash-fast and psutil-home-assistant the recorder's (the running-HA
+# test reads the states it records), so neither the check nor a run installs anything.
 VENV_TOOLS = {
     tool.name: tool
     for tool in (
@@ -69,7 +70,14 @@ VENV_TOOLS = {
         VenvTool(
             "hass",
             "bin/hass",
-            ("homeassistant==2024.3.3", "pymodbus==3.6.6", "colorlog==6.8.2"),
+            (
+                "homeassistant==2024.3.3",
+                "pymodbus==3.6.6",
+                "colorlog==6.8.2",
+                "SQLAlchemy==2.0.27",
+                "fnv-hash-fast==0.5.0",
+                "psutil-home-assistant==0.0.1",
+            ),
             "checks and runs the generated Home Assistant configuration",
         ),
         VenvTool(

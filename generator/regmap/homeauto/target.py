@@ -3,12 +3,13 @@ and commands `--select` picks (the default selection without it)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Protocol
 
 from regmap.homeauto.selection import parse_patterns
 from regmap.model import Device
+from regmap.plant import Plant
 from regmap.target import Files, Target, TargetOptions
 
 
@@ -20,14 +21,22 @@ def _no_shared_files(devices: Sequence[Device]) -> Files:
     return {}
 
 
-def selecting_target(name: str, render_device: SelectionRenderer, *, order: int) -> Target:
-    """The target `name` (its files under `name/`), configured by the `select` option."""
+def selecting_target(name: str, render_device: SelectionRenderer, *, order: int, plant: Callable[[Plant], Files] | None = None) -> Target:
+    """The target `name` (its files under `name/`), configured by the `select` option; `plant` renders a
+    plant file (each device's default selection: `regmap generate PLANT` takes no `--select`)."""
 
     def configure(options: TargetOptions) -> Target:
         patterns = parse_patterns(options["select"])
         return replace(target, per_device=lambda device: render_device(device, patterns))
 
     target = Target(
-        name=name, subdir=name, per_device=render_device, shared=_no_shared_files, options=("select",), configure=configure, order=order
+        name=name,
+        subdir=name,
+        per_device=render_device,
+        shared=_no_shared_files,
+        options=("select",),
+        configure=configure,
+        order=order,
+        plant=plant,
     )
     return target

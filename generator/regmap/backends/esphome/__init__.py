@@ -1,4 +1,5 @@
-"""ESPHome back end: an ESPHome package per map (`esphome/<device>.yaml`) for `modbus_controller`.
+"""ESPHome back end: an ESPHome package per map (`esphome/<device>.yaml`) for `modbus_controller`, and for a
+plant one package (`esphome/<plant>.yaml`): a uart and modbus per serial bus, a controller per device.
 
 `package` computes the package as data from the model and the selection (`regmap.homeauto.selection`);
 `homeauto.entities.dump` writes it with the safe dumper. The target reads the `select` option
@@ -8,6 +9,7 @@
 from __future__ import annotations
 
 from regmap.backends.esphome.package import VALUE_TYPE, esp_text, hexbytes, package, render_package
+from regmap.backends.esphome.plant import plant_package, render_plant
 from regmap.homeauto.selection import select
 from regmap.homeauto.target import selecting_target
 from regmap.model import Device
@@ -18,6 +20,6 @@ def render_device(device: Device, patterns: tuple[str, ...] | None = None) -> Fi
     return render_package(device, select(device, patterns))
 
 
-TARGET = selecting_target("esphome", render_device, order=50)
+TARGET = selecting_target("esphome", render_device, order=50, plant=render_plant)
 
-__all__ = ["TARGET", "VALUE_TYPE", "esp_text", "hexbytes", "package", "render_device"]
+__all__ = ["TARGET", "VALUE_TYPE", "esp_text", "hexbytes", "package", "plant_package", "render_device", "render_plant"]

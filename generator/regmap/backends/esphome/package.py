@@ -86,7 +86,7 @@ VALUE_TYPE = {
 }
 # A value a lambda decodes is still given a type of its size, so that ESPHome reads the right count of registers.
 SIZED = {1: "U_WORD", 2: "U_DWORD", 4: "U_QWORD"}
-REGISTER_TYPE = {"input": "read", "coil": "coil", "discrete_input": "discrete_input"}  # holding: see _Package
+REGISTER_TYPE = {"input": "read", "coil": "coil", "discrete_input": "discrete_input"}  # holding: see DevicePackage
 MAX_RANGE_BITS = 255  # ESPHome counts a range's coils in a uint8_t
 FAST_UPDATE_INTERVAL = "5s"
 SKIPS = {  # substitution -> (skip without fast registers at 10 s, with them at 5 s)
@@ -106,6 +106,7 @@ NAME_PREFIX_BYTES = 24  # names leave room for a `<id>_name_prefix` this long wi
 # to a command is not answered by sending the command again; a lost read costs one update.
 MAX_CMD_RETRIES = 0
 READ_ONLY_PLATFORMS = ("sensor", "binary_sensor", "text_sensor")
+PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
 COMMAND_THROTTLE_FLOOR_MS = 50  # between two requests to one device; longer when the map documents a slower device
 
 
@@ -121,13 +122,17 @@ def esp_unit(text: str) -> str:
     return " ".join(text.split()).replace("$", "\uff04")
 
 
-class _Package:
-    def __init__(self, device: Device, selection: Selection) -> None:
+class DevicePackage:
+    """One map's entities and controller; `prefix` names its substitutions (the map's id, or in a plant the
+    device's name, so that one map appears twice)."""
+
+    def __init__(self, device: Device, selection: Selection, prefix: str | None = None) -> None:
         self.device = device
         self.selection = selection
-        self.prefix = device.id
+        self.prefix = prefix or device.id
         self.controller = self.sub("device_id") + "_controller"
-        self.names = Names(esp_text, MAX_NAME_BYTES - NAME_PREFIX_BYTES)
+        # Names leave room for the `<prefix>_name_prefix` (a plant sets it to the device's name and a space).
+        self.names = Names(esp_text, MAX_NAME_BYTES - max(NAME_PREFIX_BYTES, len(self.prefix) + 1))
         self.ids = Ids(("controller",))
         t = device.transport
         self.register_type = "holding" if 0x03 in t.function_codes else "read"
@@ -419,14 +424,38 @@ class _Package:
 
     # -- the file ----------------------------------------------------------------------------
 
-    def data(self) -> dict[str, Any]:
-        t = self.device.transport
-        slave = 1 if t.slave_min <= 1 <= t.slave_max else t.slave_min
-        p = self.prefix
+    def build(self) -> None:
         for reg in self.selection.registers:
             self.register(reg)
         for command in self.selection.commands:
             self.command(command)
+
+    def timing_substitutions(self) -> dict[str, str]:
+        """The controller's polling and pacing substitutions (after `build`: which skips it uses)."""
+        p = self.prefix
+        return {
+            f"{p}_update_interval": FAST_UPDATE_INTERVAL if self.fast else UPDATE_INTERVAL,
+            f"{p}_command_throttle": f"{command_throttle_ms(self.device, COMMAND_THROTTLE_FLOOR_MS)}ms",
+            f"{p}_parameter_skip_updates": str(SKIPS["parameter_skip_updates"][1 if self.fast else 0]),
+            **{f"{p}_{key}": str(SKIPS[key][1 if self.fast else 0]) for key in sorted(self.used_skips - {"parameter_skip_updates"})},
+        }
+
+    def controller_data(self, modbus_id: str) -> dict[str, Any]:
+        return {
+            "id": self.controller,
+            "modbus_id": modbus_id,
+            "address": self.sub("slave_id"),
+            "update_interval": self.sub("update_interval"),
+            "max_cmd_retries": MAX_CMD_RETRIES,
+            "command_throttle": self.sub("command_throttle"),
+        }
+
+    def data(self) -> dict[str, Any]:
+        t = self.device.transport
+        slave = 1 if t.slave_min <= 1 <= t.slave_max else t.slave_min
+        p = self.prefix
+        self.build()
+        timing = self.timing_substitutions()
         out: dict[str, Any] = {
             "substitutions": {
                 f"{p}_device_id": p,
@@ -436,10 +465,7 @@ class _Package:
                 f"{p}_rx_pin": "GPIO16",
                 f"{p}_baud_rate": str(t.baud),
                 f"{p}_slave_id": str(slave),
-                f"{p}_update_interval": FAST_UPDATE_INTERVAL if self.fast else UPDATE_INTERVAL,
-                f"{p}_command_throttle": f"{command_throttle_ms(self.device, COMMAND_THROTTLE_FLOOR_MS)}ms",
-                f"{p}_parameter_skip_updates": str(SKIPS["parameter_skip_updates"][1 if self.fast else 0]),
-                **{f"{p}_{key}": str(SKIPS[key][1 if self.fast else 0]) for key in sorted(self.used_skips - {"parameter_skip_updates"})},
+                **timing,
             },
             # One mapping each (not a list): packages merge mappings, so two drives included on one bus share them.
             "uart": {
@@ -452,21 +478,14 @@ class _Package:
                 "stop_bits": t.stop_bits,
             },
             "modbus": {"id": self.sub("bus_id") + "_modbus", "uart_id": self.sub("bus_id") + "_uart"},
-            "modbus_controller": [
-                {
-                    "id": self.controller,
-                    "modbus_id": self.sub("bus_id") + "_modbus",
-                    "address": self.sub("slave_id"),
-                    "update_interval": self.sub("update_interval"),
-                    "max_cmd_retries": MAX_CMD_RETRIES,
-                    "command_throttle": self.sub("command_throttle"),
-                }
-            ],
+            "modbus_controller": [self.controller_data(self.sub("bus_id") + "_modbus")],
         }
-        for platform in ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button"):
-            if platform in self.entities:
-                out[platform] = self.entities[platform]
+        out.update(self.platforms())
         return out
+
+    def platforms(self) -> dict[str, list[dict[str, Any]]]:
+        """The entity lists by platform, in ESPHome's usual order, the empty ones left out."""
+        return {platform: self.entities[platform] for platform in PLATFORMS if platform in self.entities}
 
 
 def _num(value: float) -> float | int:
@@ -487,11 +506,11 @@ def hexbytes(reg: Register, raw: int) -> str:
 
 def package(device: Device, selection: Selection) -> dict[str, Any]:
     """The package's content as data (the tests read the entities from it, as ESPHome does from the file)."""
-    return _Package(device, selection).data()
+    return DevicePackage(device, selection).data()
 
 
 def render_package(device: Device, selection: Selection) -> Files:
-    pkg = _Package(device, selection)
+    pkg = DevicePackage(device, selection)
     data = pkg.data()
     t = device.transport
     about = [

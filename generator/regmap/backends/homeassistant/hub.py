@@ -20,18 +20,24 @@ slow 60 s, static 0 (HA reads the entity once at start-up and never polls it).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.homeassistant.scripts import Scripts, flag_sensor, label_sensor, object_id, template_flags
 from regmap.homeauto.entities import (
+    MAX_NAME_BYTES,
     Hex,
     Names,
     device_class,
     dump,
+    dump_commented,
     firmware_notes,
     is_parameter,
     on_off,
     planned,
+    plant_device_line,
+    plant_header_lines,
+    refuse_shared_ids,
     reserved,
     scale_float,
     shown_decimals,
@@ -41,8 +47,9 @@ from regmap.homeauto.entities import (
     swapped,
     unit_text,
 )
-from regmap.homeauto.selection import Selection
+from regmap.homeauto.selection import DEFAULT_RULE, Selection, select
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
+from regmap.plant import Bus, Plant, PlantDevice
 from regmap.target import Files
 
 DATA_TYPE = {
@@ -81,12 +88,32 @@ def scan_interval(reg: Register) -> int:
     return POLL_SCAN_INTERVAL[reg.poll]
 
 
+@dataclass(frozen=True)
+class Instance:
+    """Where one map's entities live and what keeps them apart from another device's in the same
+    configuration: the hub and slave id, the prefix of every unique_id and script id, and of every name."""
+
+    hub: str
+    slave: int
+    unique_prefix: str  # unique_id = <unique_prefix>_<register>
+    script_prefix: str  # script id = <script_prefix>_<command>
+    name_prefix: str = ""  # "axis_x " in a plant: HA slugs the name into the entity id
+
+
+def single_instance(device: Device) -> Instance:
+    """The package of one map: its own hub named after it, at the device's usual slave id."""
+    t = device.transport
+    slave = 1 if t.slave_min <= 1 <= t.slave_max else t.slave_min
+    return Instance(hub=device.id, slave=slave, unique_prefix=device.id, script_prefix=device.id)
+
+
 class _Hub:
-    def __init__(self, device: Device, selection: Selection) -> None:
+    def __init__(self, device: Device, selection: Selection, instance: Instance | None = None) -> None:
         self.device = device
         self.selection = selection
-        self.names = Names()
-        self.slave = 1 if device.transport.slave_min <= 1 <= device.transport.slave_max else device.transport.slave_min
+        self.instance = instance or single_instance(device)
+        self.names = Names(limit=MAX_NAME_BYTES - len(self.instance.name_prefix.encode()))
+        self.slave = self.instance.slave
         codes = device.transport.function_codes
         self.input_type = "holding" if 0x03 in codes else "input"
         self.register_write = "holding" if 0x06 in codes else "holdings"
@@ -97,14 +124,17 @@ class _Hub:
         self.switches: list[dict[str, Any]] = []
         self.template_sensors: list[dict[str, Any]] = []
         self.template_binary_sensors: list[dict[str, Any]] = []
-        self.scripts = Scripts(device, device.id, self.slave)
+        self.scripts = Scripts(device, self.instance.hub, self.slave, self.instance.script_prefix, self.instance.name_prefix)
         plan = planned(device, [r for r in selection.registers if r.access.readable])
         self.block_of = {s.name: i for i, (block, _, _) in enumerate(plan) for s in block.registers}
 
+    def _name(self, title: str, qualifier: str) -> str:
+        return self.instance.name_prefix + self.names.name(title, qualifier)
+
     def _base(self, reg: Register, title: str, qualifier: str) -> dict[str, Any]:
         return {
-            "name": self.names.name(title, qualifier),
-            "unique_id": f"{self.device.id}_{qualifier.replace('.', '_')}",
+            "name": self._name(title, qualifier),
+            "unique_id": f"{self.instance.unique_prefix}_{qualifier.replace('.', '_')}",
             "slave": self.slave,
             "address": Hex(reg.address),
             "scan_interval": scan_interval(reg),
@@ -149,9 +179,11 @@ class _Hub:
     def _templates(self, reg: Register, title: str, source: str) -> None:
         """The register's labels and flags as template entities over its sensor `source`."""
         if reg.enum is not None:
-            self.template_sensors.append(label_sensor(self.device, reg, source, self.names.name(title, f"{reg.name} label")))
-        for name, field_title, mask in template_flags(reg):
-            entity = flag_sensor(self.device, reg, source, self.names.name(f"{title}: {field_title}", f"{reg.name}.{name}"), name, mask)
+            name = self._name(title, f"{reg.name} label")
+            self.template_sensors.append(label_sensor(reg, source, name, self.instance.unique_prefix))
+        for field_name, field_title, mask in template_flags(reg):
+            name = self._name(f"{title}: {field_title}", f"{reg.name}.{field_name}")
+            entity = flag_sensor(reg, source, name, self.instance.unique_prefix, field_name, mask)
             self.template_binary_sensors.append(entity)
         if any(b.width > 1 for b in reg.bitfields):
             self.skipped.append(f"{reg.name}'s multi-bit fields as entities (the register's sensor shows them)")
@@ -274,6 +306,11 @@ class _Hub:
             self.scripts.add(command)
         self.skipped += self.scripts.skipped
 
+    def entities(self) -> dict[str, list[dict[str, Any]]]:
+        """The hub's entity lists by key (`sensors`, `binary_sensors`, `switches`), the empty ones left out."""
+        kinds = (("sensors", self.sensors), ("binary_sensors", self.binary_sensors), ("switches", self.switches))
+        return {key: entities for key, entities in kinds if entities}
+
     def data(self) -> list[dict[str, Any]]:
         self.build()
         t = self.device.transport
@@ -287,10 +324,7 @@ class _Hub:
             "parity": PARITY[t.parity],
             "stopbits": t.stop_bits,
         }
-        for key, entities in (("sensors", self.sensors), ("binary_sensors", self.binary_sensors), ("switches", self.switches)):
-            if entities:
-                hub[key] = entities
-        return [hub]
+        return [hub | self.entities()]
 
 
 def hub(device: Device, selection: Selection) -> list[dict[str, Any]]:
@@ -298,14 +332,18 @@ def hub(device: Device, selection: Selection) -> list[dict[str, Any]]:
     return _Hub(device, selection).data()
 
 
-def _package(h: _Hub, data: list[dict[str, Any]]) -> dict[str, Any]:
+def _package(hubs: list[_Hub], data: list[dict[str, Any]]) -> dict[str, Any]:
+    """The package: the `modbus:` list, then the template entities and scripts of every device in `hubs`."""
     out: dict[str, Any] = {"modbus": data}
-    kinds = (("sensor", h.template_sensors), ("binary_sensor", h.template_binary_sensors))
+    template_sensors = [e for h in hubs for e in h.template_sensors]
+    template_binary_sensors = [e for h in hubs for e in h.template_binary_sensors]
+    kinds = (("sensor", template_sensors), ("binary_sensor", template_binary_sensors))
     templates = [{key: entities} for key, entities in kinds if entities]
     if templates:
         out["template"] = templates
-    if h.scripts.scripts:
-        out["script"] = h.scripts.scripts
+    scripts = {script_id: script for h in hubs for script_id, script in h.scripts.scripts.items()}
+    if scripts:
+        out["script"] = scripts
     return out
 
 
@@ -333,4 +371,97 @@ def render_hub(device: Device, selection: Selection) -> Files:
     ]
     about += firmware_notes(selection.registers)
     about += [f"Not generated: {s}" for s in h.skipped]
-    return {f"{device.id}.yaml": dump(device, about, _package(h, data))}
+    return {f"{device.id}.yaml": dump(device, about, _package([h], data))}
+
+
+# -- a plant: several devices on buses -------------------------------------------------------------
+
+
+def plant_hub_name(plant: Plant, bus: Bus) -> str:
+    return f"{plant.id}_{bus.name}"
+
+
+def plant_instance(plant: Plant, bus: Bus, dev: PlantDevice) -> Instance:
+    """A device of a plant: on its bus's hub at its slave id; every name, unique_id and script id carries its name."""
+    return Instance(
+        hub=plant_hub_name(plant, bus),
+        slave=dev.slave,
+        unique_prefix=f"{plant.id}_{dev.name}",
+        script_prefix=dev.name,
+        name_prefix=f"{dev.name} ",
+    )
+
+
+def _bus_connection(plant: Plant, bus: Bus) -> dict[str, Any]:
+    """The hub's own keys: one hub per bus (HA refuses a second hub on one port or host:port)."""
+    if bus.serial is not None:
+        line = bus.serial
+        return {
+            "name": plant_hub_name(plant, bus),
+            "type": "serial",
+            "method": "rtu",
+            "port": line.port,
+            "baudrate": line.baud,
+            "bytesize": line.data_bits,
+            "parity": PARITY[line.parity],
+            "stopbits": line.stop_bits,
+        }
+    assert bus.tcp is not None
+    return {"name": plant_hub_name(plant, bus), "type": "tcp", "host": bus.tcp.host, "port": bus.tcp.port}
+
+
+def _plant_hubs(plant: Plant) -> tuple[list[dict[str, Any]], list[tuple[Bus, PlantDevice, _Hub]]]:
+    data: list[dict[str, Any]] = []
+    built: list[tuple[Bus, PlantDevice, _Hub]] = []
+    for bus in plant.buses:
+        hub_data = _bus_connection(plant, bus)
+        for dev in bus.devices:
+            h = _Hub(dev.device, select(dev.device, None), plant_instance(plant, bus, dev))
+            h.build()
+            built.append((bus, dev, h))
+            for key, entities in h.entities().items():
+                hub_data.setdefault(key, []).extend(entities)
+        data.append(hub_data)
+    _refuse_shared_entity_ids(plant, built)
+    return data, built
+
+
+def _refuse_shared_entity_ids(plant: Plant, built: list[tuple[Bus, PlantDevice, _Hub]]) -> None:
+    """HA makes each entity id of its name: device `a` with "b c" and device `a_b` with "c" would both be
+    `sensor.a_b_c` (HA adds `_2` to one, and the templates read the other)."""
+    ids = []
+    for _, dev, h in built:
+        named = [("sensor", e["name"]) for e in [*h.sensors, *h.template_sensors]]
+        named += [("binary_sensor", e["name"]) for e in [*h.binary_sensors, *h.template_binary_sensors]]
+        named += [("switch", e["name"]) for e in h.switches]
+        ids.append((dev, [f"{domain}.{object_id(name)}" for domain, name in named] + [f"script.{s}" for s in h.scripts.scripts]))
+    refuse_shared_ids(plant, ids, "Home Assistant")
+
+
+def plant_hubs(plant: Plant) -> list[dict[str, Any]]:
+    """The plant's `modbus:` list as data: a hub per bus, each device's entities at its slave id."""
+    return _plant_hubs(plant)[0]
+
+
+def render_plant(plant: Plant) -> Files:
+    """The plant's package (`<plant id>.yaml`): a hub per bus, every device's entities, templates and scripts."""
+    data, built = _plant_hubs(plant)
+    buses = ", ".join(f"{bus.name} ({plant_hub_name(plant, bus)})" for bus in plant.buses)
+    about = [
+        "",
+        f"Home Assistant modbus configuration of the plant {' '.join(plant.title.split())}, as a package. In configuration.yaml:",
+        f"homeassistant: packages: {{{plant.id}: !include {plant.id}.yaml}}. One hub per bus: {buses}.",
+        "Every entity's name starts with its device's name (the entity id HA makes of it too), every unique_id with"
+        f" {plant.id}_<device>_, every script id with <device>_; each entity and script names its device's slave id.",
+        f"Selection per device: {DEFAULT_RULE}.",
+        *(plant_device_line(bus, dev, h.selection) for bus, dev, h in built),
+        "Commands are scripts (script.<device>_<command>, mode single); destructive ones are left out of the default selection.",
+        "Retries: HA's modbus hub gives pymodbus retries=3 for every request, writes included: a command whose reply"
+        " is lost may be sent again; nothing in this file can stop that.",
+        "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
+    ]
+    for _, dev, h in built:
+        about += [f"{dev.name}: {note}" for note in firmware_notes(h.selection.registers)]
+        about += [f"Not generated for {dev.name}: {s}" for s in h.skipped]
+    hubs = [h for _, _, h in built]
+    return {f"{plant.id}.yaml": dump_commented([*plant_header_lines(plant), *about], _package(hubs, data))}

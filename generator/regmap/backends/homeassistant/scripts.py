@@ -47,17 +47,17 @@ def _escape(c: str) -> str:
     return f"\\u{ord(c):04x}" if ord(c) <= 0xFFFF else f"\\U{ord(c):08x}"
 
 
-def flag_sensor(device: Device, reg: Register, source: str, name: str, field_name: str, mask: int) -> dict[str, Any]:
+def flag_sensor(reg: Register, source: str, name: str, unique_prefix: str, field_name: str, mask: int) -> dict[str, Any]:
     """A template binary sensor: the flag's bit of the register's sensor `source` (an entity id)."""
     return {
         "name": name,
-        "unique_id": f"{device.id}_{reg.name}_{field_name}",
+        "unique_id": f"{unique_prefix}_{reg.name}_{field_name}",
         "state": f"{{{{ states('{source}') | int(0) | bitwise_and({mask}) != 0 }}}}",
         "availability": f"{{{{ has_value('{source}') }}}}",
     }
 
 
-def label_sensor(device: Device, reg: Register, source: str, name: str) -> dict[str, Any]:
+def label_sensor(reg: Register, source: str, name: str, unique_prefix: str) -> dict[str, Any]:
     """A template sensor showing the label of the value the register's sensor `source` reads (the value
     itself when the map lists no label for it). Members the device never reports are left out."""
     assert reg.enum is not None
@@ -65,7 +65,7 @@ def label_sensor(device: Device, reg: Register, source: str, name: str) -> dict[
     labels = ", ".join(f"{m.value}: {jinja_text(' '.join(m.title.split()) or m.name)}" for m in members)
     return {
         "name": name,
-        "unique_id": f"{device.id}_{reg.name}_label",
+        "unique_id": f"{unique_prefix}_{reg.name}_label",
         "state": f"{{{{ {{{labels}}}.get(states('{source}') | int(-1), states('{source}')) }}}}",
         "availability": f"{{{{ has_value('{source}') }}}}",
     }
@@ -79,10 +79,12 @@ def template_flags(reg: Register) -> list[tuple[str, str, int]]:
 class Scripts:
     """A script per command (per argument value, up to MAX_PRESSES_PER_COMMAND), named after it."""
 
-    def __init__(self, device: Device, hub: str, slave: int) -> None:
+    def __init__(self, device: Device, hub: str, slave: int, prefix: str, name_prefix: str = "") -> None:
         self.device = device
         self.hub = hub
         self.slave = slave
+        self.prefix = prefix  # of every script id
+        self.name_prefix = name_prefix  # of every alias
         self.ids = Ids()
         self.specs = {spec.name: spec for spec in runtime_specs(device)}
         self.single_write = 0x06 in device.transport.function_codes
@@ -106,9 +108,9 @@ class Scripts:
         return {"service": "modbus.write_register", "data": data}
 
     def _script(self, command: Command, title: str, raw: int, key: tuple[str, ...]) -> None:
-        script_id = self.ids.id(object_id("_".join((self.device.id, *key))))
+        script_id = self.ids.id(object_id("_".join((self.prefix, *key))))
         about = " ".join(command.description.split())
-        script: dict[str, Any] = {"alias": " ".join(title.split()), "mode": "single"}
+        script: dict[str, Any] = {"alias": self.name_prefix + " ".join(title.split()), "mode": "single"}
         sequence: list[dict[str, Any]] = []
         if command.destructive:
             # One deliberate step: pressing Run does nothing; a call must name the command in `confirm`.

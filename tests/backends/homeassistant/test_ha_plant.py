@@ -1,0 +1,183 @@
+"""The Home Assistant package of a plant (issue 32): one hub per bus, every device's entities named,
+unique_id'd and addressed after it, accepted whole by HA's config check with nothing dropped."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from regmap.backends.homeassistant import render_device, render_plant
+from regmap.frontend.plant import load_plant
+from regmap.plant import Plant
+
+from conftest import ROOT
+from support.homeauto_yaml import ha_slug, load
+from support.plant_tcp_bus import MAPS, REGMAP, write_plant
+
+CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
+ENTITY_KEYS = ("sensors", "binary_sensors", "switches")
+
+
+def _two_buses(tmp_path: Path) -> Plant:
+    """cell1's drives split over a serial line and a TCP gateway, with the same map twice on one bus."""
+    idm_rs = MAPS / "idm_rs.yaml"
+    line1 = (
+        "line1",
+        "serial: {port: /dev/ttyUSB1, baud: 19200, parity: none, stop_bits: 2}",
+        [("axis_x", idm_rs, 4), ("axis_y", idm_rs, 5)],
+    )
+    gw = ("gw", "tcp: {host: 10.0.0.5, port: 1502}", [("spindle", MAPS / "c630s.yaml", 7)])
+    return load_plant(write_plant(tmp_path / "plant.yaml", "cell2", [line1, gw]))
+
+
+def _package(plant: Plant) -> dict[str, Any]:
+    (text,) = render_plant(plant).values()
+    data = load(text)
+    assert isinstance(data, dict)
+    return data
+
+
+def _single(plant: Plant, name: str) -> dict[str, Any]:
+    """The single-device package of the device's map (the plant must hold all of it, renamed)."""
+    _, dev = plant.device(name)
+    (text,) = render_device(dev.device).values()
+    data = load(text)
+    assert isinstance(data, dict)
+    return data
+
+
+def _entities(hub: dict[str, Any]) -> list[dict[str, Any]]:
+    return [e for key in ENTITY_KEYS for e in hub.get(key, [])]
+
+
+def _templates(package: dict[str, Any]) -> list[dict[str, Any]]:
+    return [e for block in package.get("template", []) for entities in block.values() for e in entities]
+
+
+@pytest.fixture(scope="module")
+def cell1() -> Plant:
+    return load_plant(CELL1)
+
+
+def test_one_hub_per_bus_with_the_plant_line_settings(tmp_path: Path) -> None:
+    plant = _two_buses(tmp_path)
+    hubs = _package(plant)["modbus"]
+    assert [h["name"] for h in hubs] == ["cell2_line1", "cell2_gw"]
+    serial, tcp = hubs
+    assert {k: serial[k] for k in ("type", "method", "port", "baudrate", "parity", "stopbits", "bytesize")} == {
+        "type": "serial",
+        "method": "rtu",
+        "port": "/dev/ttyUSB1",
+        "baudrate": 19200,
+        "parity": "N",
+        "stopbits": 2,
+        "bytesize": 8,
+    }
+    assert {k: tcp[k] for k in ("type", "host", "port")} == {"type": "tcp", "host": "10.0.0.5", "port": 1502}
+    assert "baudrate" not in tcp
+    assert {e["slave"] for e in _entities(serial)} == {4, 5}
+    assert {e["slave"] for e in _entities(tcp)} == {7}
+
+
+def test_every_entity_carries_its_device_and_slave(cell1: Plant) -> None:
+    """Each device's entities are its map's single-device entities, with its name before the name,
+    <plant>_<device>_ before the unique_id, and its slave id: none dropped, none shared."""
+    package = _package(cell1)
+    (hub,) = package["modbus"]
+    entities = _entities(hub)
+    templates = _templates(package)
+    for bus in cell1.buses:
+        for dev in bus.devices:
+            single = _single(cell1, dev.name)
+            (single_hub,) = single["modbus"]
+            unique = f"{cell1.id}_{dev.name}_"
+            mine = [e for e in entities if e["unique_id"].startswith(unique)]
+            expected = [
+                (f"{dev.name} {e['name']}", unique + e["unique_id"].removeprefix(dev.device.id + "_"), e["address"])
+                for e in _entities(single_hub)
+            ]
+            assert [(e["name"], e["unique_id"], e["address"]) for e in mine] == expected
+            assert {e["slave"] for e in mine} == {dev.slave}
+            mine_t = [e for e in templates if e["unique_id"].startswith(unique)]
+            assert [e["name"] for e in mine_t] == [f"{dev.name} {e['name']}" for e in _templates(single)]
+    names = [e["name"] for e in entities + templates]
+    ids = [e["unique_id"] for e in entities + templates]
+    assert len(set(names)) == len(names) and len(set(ids)) == len(ids)
+    assert len(entities) == sum(len(_entities(_single(cell1, d.name)["modbus"][0])) for d in cell1.devices)
+
+
+def test_templates_and_scripts_address_their_own_device(cell1: Plant) -> None:
+    package = _package(cell1)
+    (hub,) = package["modbus"]
+    sensors = {ha_slug(e["name"]): e for e in hub["sensors"]}
+    for template in _templates(package):
+        sources = set(re.findall(r"states\('sensor\.(\w+)'\)", template["state"]))
+        assert len(sources) == 1, template
+        (source,) = sources
+        assert source in sensors, f"{template['name']} reads sensor.{source}, which no entity of the plant is"
+        device = template["name"].split()[0]
+        assert sensors[source]["name"].split()[0] == device, (template["name"], source)
+        assert template["unique_id"].startswith(f"{cell1.id}_{device}_")
+    scripts = package["script"]
+    assert len(scripts) == sum(len(_single(cell1, d.name).get("script", {})) for d in cell1.devices)
+    for script_id, script in scripts.items():
+        dev_name = next(d.name for d in cell1.devices if script_id.startswith(d.name + "_"))
+        _, dev = cell1.device(dev_name)
+        (write,) = [step for step in script["sequence"] if "service" in step]
+        assert write["data"]["hub"] == "cell1_line1"
+        assert write["data"]["slave"] == dev.slave, script_id
+        assert script["alias"].removeprefix("DESTRUCTIVE: ").startswith(f"{dev_name} ")
+        if script["alias"].startswith("DESTRUCTIVE"):
+            assert script["sequence"][0]["condition"] == "template" and "confirm" in script["fields"]
+
+
+def test_check_config_accepts_the_plant_with_nothing_dropped(hass: Path, tmp_path: Path, cell1: Plant) -> None:
+    """HA's own config check reads the whole plant: no duplicate hub, no entity dropped (its `--info modbus`
+    lists every unique_id the file holds)."""
+    (text,) = render_plant(cell1).values()
+    (tmp_path / "cell1.yaml").write_text(text, encoding="utf-8")
+    (tmp_path / "configuration.yaml").write_text("homeassistant:\n  packages:\n    cell1: !include cell1.yaml\n", encoding="utf-8")
+    result = subprocess.run(
+        [str(hass), "--script", "check_config", "-c", str(tmp_path), "--info", "modbus"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    out = re.sub(r"\x1b\[[0-9;]*m", "", result.stdout + result.stderr)
+    assert result.returncode == 0, out[-4000:]
+    assert "Successful config" in out, out[-4000:]
+    for word in ("duplicate", "not loaded", "invalid", "Incorrect config", "Failed config", "components.modbus"):
+        assert word.lower() not in out.lower(), [line for line in out.splitlines() if word.lower() in line.lower()]
+    (hub,) = load(text)["modbus"]
+    generated = sorted(e["unique_id"] for e in _entities(hub))
+    checked = sorted(re.findall(r"^\s+unique_id: (\S+)", out, re.MULTILINE))
+    assert checked == generated
+    assert len(generated) == 90  # iDM-RS 18 + 18, C630S 54: the default selections' entities
+
+
+def test_two_devices_that_would_share_an_entity_id_are_refused_at_the_second(tmp_path: Path) -> None:
+    """`sp` + "Encoder position deviation counter" and `sp_encoder` + "Position deviation counter" are both
+    sensor.sp_encoder_position_deviation_counter: refused at the second device's line, nothing written."""
+    c630s = MAPS / "c630s.yaml"
+    path = write_plant(
+        tmp_path / "plant.yaml", "clash", [("line1", "tcp: {host: 127.0.0.1}", [("sp", c630s, 1), ("sp_encoder", c630s, 2)])]
+    )
+    out = tmp_path / "out"
+    result = subprocess.run(
+        [REGMAP, "generate", str(path), "--target", "homeassistant", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.returncode == 1, result.stderr
+    assert result.stderr.strip() == (
+        f"{path}:8:9: devices 'sp' and 'sp_encoder' give Home Assistant the same id"
+        " sensor.sp_encoder_position_deviation_counter; rename one of them"
+    )
+    assert not out.exists()
