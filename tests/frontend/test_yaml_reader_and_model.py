@@ -119,8 +119,10 @@ def test_alias_bomb_is_bounded() -> None:
 def test_a_big_document_without_aliases_is_not_an_alias_bomb() -> None:
     """The bound counts values aliases add; a table of 20,000 registers has more values than that of its own."""
     rows = MAX_NODES // 4 + 1
-    data, positions = read_yaml("r:\n" + "".join(f"  - {{a: {i}, b: x, c: y}}\n" for i in range(rows)))
+    text = "r:\n" + "".join(f"  - {{a: {i}, b: x, c: y}}\n" for i in range(rows))
+    data, positions = read_yaml(text)
     assert len(data["r"]) == rows and positions.locate(("r", rows - 1, "c")) == (rows + 1, 20 + len(str(rows - 1)))
+    assert _checked_reading(text)[0] == data  # the checked reader, which reads any document the fast one does not, too
 
 
 # Documents the fast reader (libyaml's events) must read exactly as the checked reader (a node tree) does, down to the
