@@ -47,7 +47,18 @@ def main(argv: list[str] | None = None) -> int:
         gen_floor = floor.measure_generate(repeats=1 if args.quick else 9, maps=[MAPS[0]] if args.quick else None)
         big_import = floor.measure_import(200 if args.quick else floor.TABLE_ROWS)
     results = Results(
-        facts, bus_results, plans, gen, comparisons, costs, c, quick=args.quick, sim=sim, profiles=profiles, floor=gen_floor, big_import=big_import
+        facts,
+        bus_results,
+        plans,
+        gen,
+        comparisons,
+        costs,
+        c,
+        quick=args.quick,
+        sim=sim,
+        profiles=profiles,
+        floor=gen_floor,
+        big_import=big_import,
     )
     results.elapsed_s = time.perf_counter() - started
     out = Path(args.out)

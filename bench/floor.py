@@ -115,7 +115,8 @@ def _pairs(work: Path, cache: bool, repeats: int, maps: list[Path] | None) -> Ra
     floor = [sys.executable, "-c", FLOOR_IMPORTS]
     for cmd in (generate, floor):  # untimed: fills the bytecode cache (and, warm, the output cache)
         _child(cmd, env)
-    gen_s, floor_s = [], []
+    gen_s: list[float] = []
+    floor_s: list[float] = []
     for i in range(repeats):
         shutil.rmtree(out, ignore_errors=True)
         order = (generate, floor) if i % 2 == 0 else (floor, generate)

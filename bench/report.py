@@ -584,7 +584,7 @@ def _floor(r: Results) -> list[str]:
         return ["Not run.", ""]
     out = [
         "Issue #36, `bench/floor.py`. CPU seconds (user + system, the child's and its children's: ruff included) of",
-        f"`regmap generate` (every target, the three maps) and of `python -c \"{FLOOR_IMPORTS}\"`, run in pairs",
+        f'`regmap generate` (every target, the three maps) and of `python -c "{FLOOR_IMPORTS}"`, run in pairs',
         "(alternating order) with regmap's bytecode cached; the ratio is the median of the pairs' ratios. Cold: `REGMAP_NO_CACHE=1`,",
         "every target rendered from the maps. Warm: the output cache (`regmap/outputcache.py`) filled by one untimed run, so",
         "unchanged maps are neither read nor rendered again. Before: the same code on ac2dd2b (`BEFORE_*` in bench/floor.py).",

@@ -7,7 +7,8 @@ import functools
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
+from importlib.metadata import EntryPoint, entry_points
 from pathlib import Path
 
 from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
@@ -42,15 +43,8 @@ def reserved_ids(devices: Sequence[Device], targets: Sequence[str] | None = None
 
 def _targets() -> dict[str, Target]:
     """Every back end registered under the `regmap.targets` entry points, in the order each declares (then by name)."""
-    return dict(_registered_targets())
-
-
-@functools.cache  # the installed packages do not change while regmap runs; reading their metadata is slow
-def _registered_targets() -> dict[str, Target]:
-    from importlib.metadata import entry_points
-
     found: dict[str, Target] = {}
-    for point in entry_points(group=TARGET_GROUP):
+    for point in _entry_points():
         try:
             target = point.load()
         except Exception as exc:  # a broken plugin must not take the built-in back ends down with it
@@ -59,6 +53,11 @@ def _registered_targets() -> dict[str, Target]:
             raise UsageError(f"entry point {point.name!r} ({point.value}) is not a regmap Target named {point.name!r}")
         found[point.name] = target
     return {name: found[name] for name in sorted(found, key=lambda name: (found[name].order, name))}
+
+
+@functools.cache  # the installed packages do not change while regmap runs, and reading their metadata is slow
+def _entry_points() -> tuple[EntryPoint, ...]:
+    return tuple(entry_points(group=TARGET_GROUP))
 
 
 def target_names() -> list[str]:

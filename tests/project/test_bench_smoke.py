@@ -152,4 +152,6 @@ def test_generation_floor_and_big_import_measure_and_render(tmp_path: Path) -> N
     assert run.status == 0 and run.peak_mib > 0 and run.draft_sha256 and "valid" in run.verdict
     text = render(Results(machine(), [], [], None, [], [], None, quick=True, floor=gen, big_import=run))
     assert "## 7. Generation against its import floor" in text and "warm" in text and "draft = before's bytes" in text
-    assert any("import floor" not in t and "import" in t for t, _, _ in targets(Results(machine(), [], [], None, [], [], None, big_import=run)))
+    assert any(
+        "import floor" not in t and "import" in t for t, _, _ in targets(Results(machine(), [], [], None, [], [], None, big_import=run))
+    )

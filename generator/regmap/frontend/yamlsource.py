@@ -300,7 +300,7 @@ class _EventReader:
 
     def mapping(self, path: Path) -> dict[str, Any]:
         result: dict[str, Any] = {}
-        get, keys, by_path = self.get, self.positions.keys, self.by_path
+        get, keys, by_path, plain_tags = self.get, self.positions.keys, self.by_path, self.plain_tags
         scalar_event = yaml.ScalarEvent
         while True:
             event = get()
@@ -309,11 +309,11 @@ class _EventReader:
                 if kind is yaml.MappingEndEvent:
                     return result
                 raise _Unsure
-            if event.anchor is not None or (event.tag is None and event.implicit[0] and self._plain_tag(event.value) == _MERGE_TAG):
-                raise _Unsure
-            key = self.scalar(event)
-            if type(key) is not str or key in result:
-                raise _Unsure
+            key = event.value
+            if event.anchor is not None or event.tag is not None or key in result:
+                raise _Unsure  # a tagged key, an anchored one or one given twice: the checked reader says what is wrong
+            if event.implicit[0] and (plain_tags.get(key) or self._plain_tag(key)) != _STR_TAG:
+                raise _Unsure  # a plain key that reads as a number, a boolean, null or `<<`
             start = event.start_mark
             line = start.line
             key_path = (*path, key)
