@@ -134,7 +134,8 @@ def generate(
     already); the others are rendered from `devices`, and `cached` stores their finished files."""
     known = _targets()
     found = cached.found if cached is not None else {}
-    rendered: dict[str, Files] = {**render(devices, [t for t in targets if t not in found], options), **found}
+    fresh = render(devices, [t for t in targets if t not in found], options)
+    rendered = {name: found[name] if name in found else fresh[name] for name in targets}
     given = out_dir
     out_dir = out_dir.resolve()  # a symlink is followed: its target is swapped, the link stays
     with _writing(given):
