@@ -154,7 +154,8 @@ def measure_import(rows: int = TABLE_ROWS) -> ImportRun:
         wall, cpu, mib, status, output = _child([*regmap_command(), "import", str(table), "--into", str(draft)], env, cwd=work)
         digest = hashlib.sha256(draft.read_bytes()).hexdigest() if draft.exists() else ""
         lines = output.strip().splitlines()
-        return ImportRun(rows, wall, cpu, mib, status, digest, lines[-1] if lines else "")
+        verdict = (lines[-1] if lines else "").replace(str(draft), draft.name)  # no temp path in the report
+        return ImportRun(rows, wall, cpu, mib, status, digest, verdict)
 
 
 def main(argv: list[str]) -> int:
