@@ -95,8 +95,15 @@ class OutputCache:
 
     @classmethod
     def from_environment(cls) -> OutputCache | None:
+        """The cache the environment asks for; none when it is turned off or regmap's own files cannot be read."""
         root = cache_dir()
-        return None if root is None else cls(root)
+        if root is None:
+            return None
+        try:
+            code_digest()
+        except OSError:
+            return None
+        return cls(root)
 
     def _path(self, key: str) -> Path:
         return self.root / f"{key}.json"
