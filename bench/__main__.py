@@ -8,7 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-from bench import bus, chelpers, genspeed, optimal, overhead, simload
+from bench import bus, chelpers, floor, genspeed, optimal, overhead, simload
 from bench.common import FIXTURE_MAPS, MAPS, ROOT, machine, stage
 from bench.report import Results, render, targets
 
@@ -43,7 +43,23 @@ def main(argv: list[str] | None = None) -> int:
         c = chelpers.measure(iterations=2000 if args.quick else 200000, repeats=1 if args.quick else 7)
     with stage("simulator under load, beside a libmodbus server"):
         sim = simload.measure(2_000, 5_000, 500) if args.quick else simload.measure()
-    results = Results(facts, bus_results, plans, gen, comparisons, costs, c, quick=args.quick, sim=sim, profiles=profiles)
+    with stage("regmap generate against its import floor (cold and warm), regmap import of a 20,000-row table"):
+        gen_floor = floor.measure_generate(repeats=1 if args.quick else 9, maps=[MAPS[0]] if args.quick else None)
+        big_import = floor.measure_import(200 if args.quick else floor.TABLE_ROWS)
+    results = Results(
+        facts,
+        bus_results,
+        plans,
+        gen,
+        comparisons,
+        costs,
+        c,
+        quick=args.quick,
+        sim=sim,
+        profiles=profiles,
+        floor=gen_floor,
+        big_import=big_import,
+    )
     results.elapsed_s = time.perf_counter() - started
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

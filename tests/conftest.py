@@ -22,6 +22,10 @@ from hypothesis import settings
 settings.register_profile("regmap", deadline=None)
 settings.load_profile("regmap")
 
+# Every test, and every `regmap` a test starts, renders from the maps: a stale output cache must not be able to hide a
+# drift, and no test writes into the user's cache. tests/backends/test_generate_cache.py turns it on in a temp dir.
+os.environ["REGMAP_NO_CACHE"] = "1"
+
 ROOT = Path(__file__).resolve().parent.parent
 MAPS = sorted((ROOT / "maps").glob("*.yaml"))
 SMALL_MAPS = sorted((ROOT / "tests" / "maps" / "small").glob("*.yaml"))

@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import shutil
 import tempfile
 from collections.abc import Iterator, Sequence
+from importlib.metadata import EntryPoint, entry_points
 from pathlib import Path
 
 from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
 from regmap.model import Device
+from regmap.outputcache import OutputCache, Source, entry_key
 from regmap.plant import Plant
 
 # The contract lives in regmap.target; these names stay importable from here for the runner's users.
@@ -41,10 +44,8 @@ def reserved_ids(devices: Sequence[Device], targets: Sequence[str] | None = None
 
 def _targets() -> dict[str, Target]:
     """Every back end registered under the `regmap.targets` entry points, in the order each declares (then by name)."""
-    from importlib.metadata import entry_points
-
     found: dict[str, Target] = {}
-    for point in entry_points(group=TARGET_GROUP):
+    for point in _entry_points():
         try:
             target = point.load()
         except Exception as exc:  # a broken plugin must not take the built-in back ends down with it
@@ -53,6 +54,11 @@ def _targets() -> dict[str, Target]:
             raise UsageError(f"entry point {point.name!r} ({point.value}) is not a regmap Target named {point.name!r}")
         found[point.name] = target
     return {name: found[name] for name in sorted(found, key=lambda name: (found[name].order, name))}
+
+
+@functools.cache  # the installed packages do not change while regmap runs, and reading their metadata is slow
+def _entry_points() -> tuple[EntryPoint, ...]:
+    return tuple(entry_points(group=TARGET_GROUP))
 
 
 def target_names() -> list[str]:
@@ -121,6 +127,28 @@ def generate_plant(plant: Plant, out_dir: Path, targets: Sequence[str]) -> list[
     return generate(list(plant.maps), out_dir, targets, complete=True, extra={PLANT_MARKER: marker}, rendered=render_plant(plant, targets))
 
 
+class CachedOutputs:
+    """The targets whose finished files the output cache holds for these maps, and where to store the others'."""
+
+    def __init__(self, cache: OutputCache, sources: Sequence[Source], targets: Sequence[str]) -> None:
+        known = _targets()
+        self.cache = cache
+        # A third party's target may read more than the maps and regmap's own files: never cached.
+        self.keys = {name: entry_key(name, sources) for name in targets if known[name].per_device.__module__.startswith("regmap.")}
+        self.found: dict[str, Files] = {}
+        for name, key in self.keys.items():
+            files = cache.get(key)
+            if files is not None:
+                self.found[name] = files
+
+    def complete(self, targets: Sequence[str]) -> bool:
+        return all(name in self.found for name in targets)
+
+    def store(self, name: str, files: Files) -> None:
+        if name in self.keys:
+            self.cache.put(self.keys[name], files)
+
+
 def generate(
     devices: Sequence[Device],
     out_dir: Path,
@@ -130,15 +158,19 @@ def generate(
     extra: Files | None = None,
     options: TargetOptions | None = None,
     rendered: dict[str, Files] | None = None,
+    cached: CachedOutputs | None = None,
 ) -> list[Path]:
     """Write the targets' files under `out_dir`. With `complete` (all maps in scope) each target's
     subdirectory is replaced whole, so files of removed maps disappear; otherwise files are added or
     overwritten. `extra` (path relative to `out_dir` -> content, e.g. the `--since` changelog pages)
     is written last, into the same staged tree. Nothing under `out_dir` changes unless every target
-    rendered and post-processed."""
+    rendered and post-processed. A target `cached` holds is written from the cache (post-processed
+    already); the others are rendered from `devices`, and `cached` stores their finished files."""
     known = _targets()
+    found = cached.found if cached is not None else {}
     if rendered is None:
-        rendered = render(devices, targets, options)
+        fresh = render(devices, [t for t in targets if t not in found], options)
+        rendered = {name: found[name] if name in found else fresh[name] for name in targets}
     given = out_dir
     out_dir = out_dir.resolve()  # a symlink is followed: its target is swapped, the link stays
     with _writing(given):
@@ -162,8 +194,13 @@ def generate(
                 for rel, content in sorted(files.items()):
                     _write(sub, rel, content)
                     written.append(out_dir / target.subdir / rel)
+            if name in found:
+                continue
             if target.post is not None:
                 target.post(sub)
+            if cached is not None:
+                with _writing(given):
+                    cached.store(name, {rel: (sub / rel).read_bytes().decode("utf-8") for rel in files})
         with _writing(given):
             for rel, content in sorted((extra or {}).items()):
                 _write(tree, rel, content)

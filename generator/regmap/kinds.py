@@ -57,7 +57,7 @@ class DataType(enum.Enum):
 
     @property
     def info(self) -> TypeInfo:
-        return TYPES[self.value]
+        return TYPES[self._value_]  # `_value_`, not `value`: Enum's `value` descriptor is slow, and this is read often
 
     @property
     def words(self) -> int:

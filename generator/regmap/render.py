@@ -59,31 +59,38 @@ def st_comment(text: str | None) -> str:
     return cleaned
 
 
+_MD_ESCAPES = str.maketrans(
+    {
+        "\\": "\\\\",
+        "&": "&amp;",
+        "~": "&#126;",  # GitHub reads 0~22 ... 0~80 as strikethrough
+        "|": "\\|",
+        "<": "&lt;",
+        ">": "&gt;",
+        "`": "\\`",
+        "*": "\\*",
+        "_": "\\_",
+        "[": "\\[",
+        "]": "\\]",
+    }
+)
+
+
 def md_text(text: str | None) -> str:
-    """Inline Markdown text: table pipes, HTML and line breaks neutralised."""
-    cleaned = " ".join((text or "").split())
-    for char, escaped in (
-        ("\\", "\\\\"),
-        ("&", "&amp;"),
-        ("~", "&#126;"),  # GitHub reads 0~22 ... 0~80 as strikethrough
-        ("|", "\\|"),
-        ("<", "&lt;"),
-        (">", "&gt;"),
-        ("`", "\\`"),
-        ("*", "\\*"),
-        ("_", "\\_"),
-        ("[", "\\["),
-        ("]", "\\]"),
-    ):
-        cleaned = cleaned.replace(char, escaped)
-    return cleaned
+    """Inline Markdown text: table pipes, HTML and line breaks neutralised (one pass: no escape is escaped again)."""
+    return " ".join((text or "").split()).translate(_MD_ESCAPES)
+
+
+# Markup characters as entities; the control characters XML 1.0 cannot carry at all as U+FFFD.
+_XML_ESCAPES = str.maketrans(
+    {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", **{chr(c): "\ufffd" for c in range(0x20) if chr(c) not in "\t\n\r"}}
+)
 
 
 def xml_text(text: str | None) -> str:
     """XML character data or an attribute value: markup characters as entities, and the control
     characters XML 1.0 cannot carry at all as U+FFFD."""
-    out = (text or "").replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
-    return "".join(c if c in "\t\n\r" or ord(c) >= 0x20 else "\ufffd" for c in out)
+    return (text or "").translate(_XML_ESCAPES)
 
 
 def xml_comment(text: str | None) -> str:

@@ -116,6 +116,74 @@ def test_alias_bomb_is_bounded() -> None:
     assert f"more than {MAX_NODES} values" in problem.message
 
 
+def test_a_big_document_without_aliases_is_not_an_alias_bomb() -> None:
+    """The bound counts values aliases add; a table of 20,000 registers has more values than that of its own."""
+    rows = MAX_NODES // 4 + 1
+    text = "r:\n" + "".join(f"  - {{a: {i}, b: x, c: y}}\n" for i in range(rows))
+    data, positions = read_yaml(text)
+    assert len(data["r"]) == rows and positions.locate(("r", rows - 1, "c")) == (rows + 1, 20 + len(str(rows - 1)))
+    assert _checked_reading(text)[0] == data  # the checked reader, which reads any document the fast one does not, too
+
+
+# Documents the fast reader (libyaml's events) must read exactly as the checked reader (a node tree) does, down to the
+# order positions are recorded in: aliases of scalars and collections, nested anchors, block and flow styles, tags.
+AGREEING_DOCUMENTS = [
+    "a: &x [1, {b: c}]\nd: *x\ne: !!str 5\n",
+    "a: &s hello\nb: *s\nc: [*s, *s]\n",
+    "a: &m\n  x: 1\n  y: &n [1, 2]\nb: *m\nc:\n  - *n\n  - *m\nd: {e: *n}\n",
+    "a:\n  &q {x: 1}\nb:\n  *q\nc: [*q]\n",
+    "k: !!map {a: 1}\nl: !!seq [1]\nm: !!int '7'\nn: !!float 1\no: ! x\n",
+    "- 1\n- [2, 3]\n- {a: b}\n- ~\n- true\n- 0x10\n- 1.5\n- ''\n- 'yes'\n- no\n",
+    "x: |\n  block\n  text\ny: >\n  folded\n",
+    "a:\n- x: 1\n  y: 2\n- &z\n  p: q\nb: *z\n",
+]
+
+
+def _checked_reading(text: str) -> tuple[object, list[object], list[object]]:
+    from regmap.frontend import yamlsource
+
+    positions = yamlsource.Positions()
+    data = yamlsource._Builder(positions).build(yamlsource._compose_checked(text), ())
+    return data, list(positions.by_path.items()), list(positions.keys.items())
+
+
+@pytest.mark.parametrize(
+    "text", [*AGREEING_DOCUMENTS, SMALL.read_text(encoding="utf-8"), (ROOT / "maps" / "idm_rs.yaml").read_text("utf-8")]
+)
+def test_the_fast_reader_reads_as_the_checked_reader(text: str) -> None:
+    from regmap.frontend import yamlsource
+
+    fast = yamlsource._read_fast(text)
+    assert fast is not None
+    assert (fast[0], list(fast[1].by_path.items()), list(fast[1].keys.items())) == _checked_reading(text)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "a: &a [1]\nb: &a [2]\n",
+        "a: &r [*r]\n",
+        "<<: {a: 1}\n",
+        "a: 1\na: 2\n",
+        "? [a]\n: 1\n",
+        "*u : 1\n",
+        "a: 012\n",
+        "a: .nan\n",
+        "a: 2001-01-01\n",
+        "a: 1\n---\nb: 2\n",
+        "",
+        "a: !!python/name:os.system x\n",
+        "a: [" * (MAX_DEPTH + 1),
+    ],
+)
+def test_the_fast_reader_leaves_every_problem_to_the_checked_reader(text: str) -> None:
+    from regmap.frontend import yamlsource
+
+    assert yamlsource._read_fast(text) is None
+    with pytest.raises(YamlProblem):
+        read_yaml(text)
+
+
 def test_recursive_alias_is_refused() -> None:
     problem = yaml_problem("a: &n [*n]\n")
     assert "recursive" in problem.message

@@ -22,7 +22,7 @@ from conftest import MAPS, ROOT
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))  # bench/ sits at the top of the repository
 
-from bench import bus, chelpers, genspeed, optimal, overhead, simload, synth
+from bench import bus, chelpers, floor, genspeed, optimal, overhead, simload, synth
 from bench.common import client_class, client_module, machine
 from bench.plot import Series, loglog
 from bench.report import Results, render, targets
@@ -141,3 +141,17 @@ def test_simulator_load_beside_libmodbus() -> None:
     assert set(result.rss_kb) == set(simload.SERVERS)
     text = render(Results(machine(), [], [], None, [], [], None, quick=True, sim=result))
     assert "## 6. Simulator under load" in text and "req/s ratio" in text
+
+
+def test_generation_floor_and_big_import_measure_and_render(tmp_path: Path) -> None:
+    small = ROOT / "tests" / "maps" / "small" / "idm_rs_small.yaml"
+    gen = floor.measure_generate(repeats=1, maps=[small])
+    assert gen.cold.ratio > 0 and gen.warm.ratio > 0
+    assert gen.warm.generate < gen.cold.generate  # the warm run writes from the cache: it must be the cheaper one
+    run = floor.measure_import(rows=60)
+    assert run.status == 0 and run.peak_mib > 0 and run.draft_sha256 and "valid" in run.verdict
+    text = render(Results(machine(), [], [], None, [], [], None, quick=True, floor=gen, big_import=run))
+    assert "## 7. Generation against its import floor" in text and "warm" in text and "draft = before's bytes" in text
+    assert any(
+        "import floor" not in t and "import" in t for t, _, _ in targets(Results(machine(), [], [], None, [], [], None, big_import=run))
+    )

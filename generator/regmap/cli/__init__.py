@@ -44,7 +44,8 @@ def _module(name: str) -> ModuleType:
     return importlib.import_module(f"regmap.cli.{name}_" if keyword.iskeyword(name) else f"regmap.cli.{name}")  # import -> import_.py
 
 
-def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
+def build_parser(only: str | None = None) -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
+    """The parser and each subcommand's; with `only`, that subcommand's alone (the others' modules stay unimported)."""
     parser = argparse.ArgumentParser(
         prog="regmap",
         description="Declarative Modbus register maps for motor drives: validate, generate, build and decode frames, talk to drives.",
@@ -52,7 +53,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     )
     parser.add_argument("--version", action="version", version=f"regmap {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    parsers = {name: _module(name).add_parser(sub) for name in SUBCOMMANDS}
+    parsers = {name: _module(name).add_parser(sub) for name in SUBCOMMANDS if only in (None, name)}
     return parser, parsers
 
 
@@ -74,9 +75,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
     _tolerant_streams()
     args_list = list(sys.argv[1:] if argv is None else argv)
-    parser, parsers = build_parser()
     position = next((i for i, a in enumerate(args_list) if not a.startswith("-")), None)
-    if position is None or ALIASES.get(args_list[position], args_list[position]) not in parsers:
+    named = None if position is None else ALIASES.get(args_list[position], args_list[position])
+    parser, parsers = build_parser(named if named in SUBCOMMANDS else None)
+    if position is None or named not in parsers:
         try:
             parser.parse_args(args_list)  # --help, --version, or the error naming the valid commands
         except SystemExit as exc:

@@ -6,7 +6,7 @@ import argparse
 import os
 from pathlib import Path
 
-from regmap.cli.common import examples, load_all, load_plant, plant_argument
+from regmap.cli.common import examples, load_all, load_plant, map_paths, plant_argument
 from regmap.diagnostics import ExitCode, UsageError
 
 HELP = "generate Python clients, C headers and docs from maps"
@@ -59,8 +59,8 @@ def check_out_dir(out: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from regmap.generate import check_options, generate, target_names
-    from regmap.tools.diff import changelog_pages
+    from regmap.generate import CachedOutputs, check_options, generate, target_names
+    from regmap.outputcache import OutputCache, read_sources
 
     plant_path = plant_argument(args.maps, "generate")
     if plant_path is not None:
@@ -75,10 +75,18 @@ def run(args: argparse.Namespace) -> int:
     targets = args.target or known
     options = {"select": args.select} if args.select is not None else {}
     check_options(targets, options)
-    devices = load_all(args.maps)
-    pages = changelog_pages(devices, args.since, targets) if args.since else {}  # first: a bad revision writes nothing
-    written = generate(devices, out, targets, complete=not args.maps, extra=pages, options=options)
-    print(f"regmap generate: {len(written)} files for {len(devices)} map(s), targets {', '.join(targets)} -> {out}/")
+    # Unchanged maps, same regmap: the finished files come from the output cache, and the maps need not be read again.
+    cache = None if args.since or options else OutputCache.from_environment()
+    sources = read_sources(map_paths(args.maps)) if cache is not None else None
+    cached = CachedOutputs(cache, sources, targets) if cache is not None and sources is not None else None
+    devices = [] if cached is not None and cached.complete(targets) else load_all(args.maps)
+    pages: dict[str, str] = {}
+    if args.since:
+        from regmap.tools.diff import changelog_pages
+
+        pages = changelog_pages(devices, args.since, targets)  # first: a bad revision writes nothing
+    written = generate(devices, out, targets, complete=not args.maps, extra=pages, options=options, cached=cached)
+    print(f"regmap generate: {len(written)} files for {len(sources or devices)} map(s), targets {', '.join(targets)} -> {out}/")
     return ExitCode.OK
 
 

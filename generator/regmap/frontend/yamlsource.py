@@ -8,6 +8,7 @@ finite floats, booleans, null, lists and mappings with string keys (no object ta
 
 from __future__ import annotations
 
+import copy
 import math
 import re
 from dataclasses import dataclass, field
@@ -17,7 +18,7 @@ import yaml
 
 Path = tuple[str | int, ...]
 
-MAX_NODES = 200_000  # far above any real map (the largest has a few thousand nodes)
+MAX_NODES = 200_000  # values aliases may add: far above any real map's (the file's own nodes are bounded by its size)
 MAX_DEPTH = 64  # real maps nest about 8 levels; the bound keeps recursion far from Python's limit
 MAX_INT_CHARS = 100  # no register value needs more; Python refuses int() of over 4300 digits anyway
 _AMBIGUOUS_INT = re.compile(r"^[-+]?(0[0-9_]+|[0-9][0-9_]*(:[0-5]?[0-9])+)$")
@@ -67,35 +68,35 @@ def _mark(node: yaml.Node) -> tuple[int, int]:
     return node.start_mark.line + 1, node.start_mark.column + 1
 
 
-# libyaml composes the same node tree (same resolver, same marks) about ten times faster. Only
-# valid documents are taken from it: on any error the pure-Python parser below runs again, so
-# every message and position a user sees comes from one parser.
-_FAST_LOADER: type[Any] | None = getattr(yaml, "CSafeLoader", None)
-
-
-def _compose_fast(text: str) -> yaml.Node | None:
-    if _FAST_LOADER is None:
-        return None
-    try:
-        loader = _FAST_LOADER(text)
-        try:
-            node: yaml.Node | None = loader.get_single_node()
-            return node
-        finally:
-            loader.dispose()
-    except (yaml.YAMLError, RecursionError, ValueError):
-        return None
+# libyaml parses the same events (same marks) many times faster. The fast reader builds data and
+# positions straight from those events, without a node tree; it takes only documents it is sure of:
+# on any error or anything unusual the checked reader below reads the text again, so every message
+# and position a user sees comes from one reader.
+_FAST_PARSER: type[Any] | None = getattr(getattr(yaml, "cyaml", None), "CParser", None)
 
 
 def read_yaml(text: str) -> tuple[Any, Positions]:
     """Parse one YAML document into plain data plus the position of every value."""
-    root = _compose_fast(text)
-    if root is None:
-        root = _compose_checked(text)
+    fast = _read_fast(text)
+    if fast is not None:
+        return fast
+    root = _compose_checked(text)
     positions = Positions()
     builder = _Builder(positions)
     data = builder.build(root, ())
     return data, positions
+
+
+def _read_fast(text: str) -> tuple[Any, Positions] | None:
+    if _FAST_PARSER is None:
+        return None
+    parser = _FAST_PARSER(text)
+    try:
+        return _EventReader(parser).document()
+    except (_Unsure, YamlProblem, yaml.YAMLError, ValueError, RecursionError):
+        return None
+    finally:
+        parser.dispose()
 
 
 def _compose_checked(text: str) -> yaml.Node:
@@ -131,18 +132,22 @@ def _compose_checked(text: str) -> yaml.Node:
 class _Builder:
     def __init__(self, positions: Positions) -> None:
         self.positions = positions
-        self.count = 0
+        self.expanded = 0  # nodes built again through an alias
+        self.built: set[int] = set()  # ids of the nodes built once (the tree holds them, so ids stay unique)
         self.open: list[yaml.Node] = []  # collections being built, outermost first
         self.constructor = yaml.SafeLoader("")
 
     def build(self, node: yaml.Node, path: Path) -> Any:
-        self.count += 1
-        if self.count > MAX_NODES:
-            line, col = _mark(node)
-            raise YamlProblem(line, col, f"the document expands to more than {MAX_NODES} values (alias bomb?)")
+        if id(node) in self.built:
+            self.expanded += 1
+            if self.expanded > MAX_NODES:
+                line, col = _mark(node)
+                raise YamlProblem(line, col, f"the document expands to more than {MAX_NODES} values (alias bomb?)")
+        else:
+            self.built.add(id(node))
         self.positions.by_path.setdefault(path, _mark(node))
         if not isinstance(node, yaml.MappingNode | yaml.SequenceNode):
-            return self._scalar(node)
+            return self.scalar(node)
         line, col = _mark(node)
         if node.tag not in _PLAIN_TAGS:
             raise YamlProblem(line, col, f"unsupported YAML tag {_tag(node.tag)}; a map holds only plain values")
@@ -164,7 +169,7 @@ class _Builder:
             if key_node.tag == "tag:yaml.org,2002:merge":
                 line, col = _mark(key_node)
                 raise YamlProblem(line, col, "YAML merge keys (<<) are not supported in maps")
-            key = self._scalar(key_node)
+            key = self.scalar(key_node)
             line, col = _mark(key_node)
             if not isinstance(key, str):
                 raise YamlProblem(line, col, f"mapping key {key_node.value!r} is read as {_reading(key)}; quote it to make it text")
@@ -178,7 +183,7 @@ class _Builder:
             result[key] = self.build(value_node, (*path, key))
         return result
 
-    def _scalar(self, node: yaml.Node) -> Any:
+    def scalar(self, node: yaml.Node) -> Any:
         line, col = _mark(node)
         if not isinstance(node, yaml.ScalarNode):
             raise YamlProblem(line, col, "a mapping key must be a plain scalar")
@@ -200,6 +205,172 @@ class _Builder:
         if isinstance(value, float) and not math.isfinite(value):
             raise YamlProblem(line, col, f"number {text!r} is not finite (too large for a 64-bit float, or .inf/.nan)")
         return value
+
+
+class _Unsure(Exception):
+    """The fast reader met what only the checked reader reports exactly (a problem, a tag, a bound)."""
+
+
+@dataclass
+class _Anchored:
+    """What an anchor names, for its aliases: the value, the position records of its subtree, where it starts."""
+
+    value: Any
+    records: list[tuple[int, Path, tuple[int, int]]]  # (_VALUE, _KEY or _KEY_LINE, path below the anchor, position)
+    mark: tuple[int, int]
+    collection: bool
+
+
+_VALUE, _KEY, _KEY_LINE = 0, 1, 2
+
+
+class _EventReader:
+    """Data and positions from libyaml's events, recording exactly what `_Builder` records for the same document."""
+
+    def __init__(self, parser: Any) -> None:
+        self.get = parser.get_event
+        self.positions = Positions()
+        self.by_path = self.positions.by_path
+        self.checks = _Builder(self.positions)  # the scalar rules, shared with the checked reader
+        self.resolver = yaml.resolver.Resolver()
+        self.plain_tags: dict[str, str] = {}  # a plain scalar's tag depends on its text alone
+        self.scalars: dict[tuple[str, str], Any] = {}  # (tag, text) -> value, for the tags other than str
+        self.anchors: dict[Any, _Anchored | None] = {}  # None: the anchored collection is still open
+        self.recording: list[tuple[int, list[tuple[int, Path, tuple[int, int]]]]] = []  # (depth of the anchor's path, records)
+        self.depth = 0
+        self.expanded = 0
+
+    def document(self) -> tuple[Any, Positions]:
+        get = self.get
+        if type(get()) is not yaml.StreamStartEvent or type(get()) is not yaml.DocumentStartEvent:
+            raise _Unsure
+        data = self.value(get(), ())
+        if type(get()) is not yaml.DocumentEndEvent or type(get()) is not yaml.StreamEndEvent:
+            raise _Unsure
+        return data, self.positions
+
+    def record(self, kind: int, path: Path, mark: tuple[int, int]) -> None:
+        (self.positions.keys if kind == _KEY else self.by_path).setdefault(path, mark)
+        for base, records in self.recording:
+            records.append((kind, path[base:], mark))
+
+    def value(self, event: Any, path: Path) -> Any:
+        kind = type(event)
+        if kind is yaml.AliasEvent:
+            return self.alias(event, path)
+        start = event.start_mark
+        mark = (start.line + 1, start.column + 1)
+        anchor = event.anchor
+        if anchor is not None:
+            if anchor in self.anchors:  # PyYAML refuses an anchor given twice
+                raise _Unsure
+            self.anchors[anchor] = None  # an alias inside its own anchor's collection is a recursion: refused
+            records: list[tuple[int, Path, tuple[int, int]]] = []
+            self.recording.append((len(path), records))
+        if self.recording:
+            self.record(_VALUE, path, mark)
+        else:
+            self.by_path.setdefault(path, mark)
+        if kind is yaml.ScalarEvent:
+            result = self.scalar(event)
+        elif kind is yaml.MappingStartEvent or kind is yaml.SequenceStartEvent:
+            if (event.tag is not None and event.tag not in _PLAIN_TAGS) or self.depth >= MAX_DEPTH:
+                raise _Unsure
+            self.depth += 1
+            result = self.mapping(path) if kind is yaml.MappingStartEvent else self.sequence(path)
+            self.depth -= 1
+        else:
+            raise _Unsure
+        if anchor is not None:
+            self.recording.pop()
+            self.anchors[anchor] = _Anchored(result, records, mark, kind is not yaml.ScalarEvent)
+        return result
+
+    def alias(self, event: Any, path: Path) -> Any:
+        anchored = self.anchors.get(event.anchor)
+        if anchored is None:
+            raise _Unsure
+        for kind, below, mark in anchored.records:
+            if kind == _VALUE:
+                self.expanded += 1
+            self.record(kind, path + below, mark)
+        if self.expanded > MAX_NODES:
+            raise _Unsure
+        return copy.deepcopy(anchored.value)
+
+    def mapping(self, path: Path) -> dict[str, Any]:
+        result: dict[str, Any] = {}
+        get, keys, by_path, plain_tags = self.get, self.positions.keys, self.by_path, self.plain_tags
+        scalar_event = yaml.ScalarEvent
+        while True:
+            event = get()
+            kind = type(event)
+            if kind is not scalar_event:
+                if kind is yaml.MappingEndEvent:
+                    return result
+                raise _Unsure
+            key = event.value
+            if event.anchor is not None or event.tag is not None or key in result:
+                raise _Unsure  # a tagged key, an anchored one or one given twice: the checked reader says what is wrong
+            if event.implicit[0] and (plain_tags.get(key) or self._plain_tag(key)) != _STR_TAG:
+                raise _Unsure  # a plain key that reads as a number, a boolean, null or `<<`
+            start = event.start_mark
+            line = start.line
+            key_path = (*path, key)
+            key_mark = (line + 1, start.column + 1)
+            if self.recording:
+                self.record(_KEY, key_path, key_mark)
+            else:
+                keys.setdefault(key_path, key_mark)
+            value = get()
+            if type(value) is yaml.AliasEvent:
+                anchored = self.anchors.get(value.anchor)
+                starts, collection = (anchored.mark[0] - 1, anchored.collection) if anchored else (line, False)
+            else:
+                starts, collection = value.start_mark.line, type(value) is not scalar_event
+            if collection and starts != line:
+                if self.recording:
+                    self.record(_KEY_LINE, key_path, key_mark)
+                else:
+                    by_path.setdefault(key_path, key_mark)
+            result[key] = self.value(value, key_path)
+
+    def sequence(self, path: Path) -> list[Any]:
+        result: list[Any] = []
+        get = self.get
+        while True:
+            event = get()
+            if type(event) is yaml.SequenceEndEvent:
+                return result
+            result.append(self.value(event, (*path, len(result))))
+
+    def _plain_tag(self, text: str) -> str:
+        tag = self.plain_tags.get(text)
+        if tag is None:
+            tag = self.plain_tags[text] = str(self.resolver.resolve(yaml.ScalarNode, text, (True, False)))  # type: ignore[no-untyped-call]
+        return tag
+
+    def scalar(self, event: Any) -> Any:
+        tag: str | None = event.tag
+        text: str = event.value
+        if tag is None or tag == "!":
+            if not event.implicit[0]:
+                return text  # quoted: a string, as the resolver says for every non-plain scalar
+            tag = self._plain_tag(text)
+        if tag == _STR_TAG:
+            return text  # what the checks and SafeConstructor make of any string
+        key = (tag, text)
+        try:
+            return self.scalars[key]
+        except KeyError:
+            pass
+        node = yaml.ScalarNode(tag, text, event.start_mark, event.end_mark, event.style)
+        value = self.scalars[key] = self.checks.scalar(node)  # a problem: _Unsure's reader, the checked one, says it
+        return value
+
+
+_STR_TAG = _YAML_TAG + "str"
+_MERGE_TAG = "tag:yaml.org,2002:merge"
 
 
 def _tag(tag: str) -> str:

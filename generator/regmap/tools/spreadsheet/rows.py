@@ -99,16 +99,16 @@ class _Reader:
 
     def read(self, entry: Entry, cells_: list[str], name: str, parse: Any) -> Any:
         """The parsed cell, `None` for a blank one; a problem is reported and gives `None` too."""
-        got = self.cell(cells_, name)
-        if got is None:
+        i = self.by_field.get(name)
+        if i is None:
             return None
-        text, where = got
+        text = cells_[i] if i < len(cells_) else ""
         if cells.blank(text):
             return None
         try:
             return parse(text)
         except CellProblem as exc:
-            self.problems.append(Problem(where, str(exc), entry.row))
+            self.problems.append(Problem(self.table.where(self.row, i), str(exc), entry.row))
             entry.notes.append(f"{name}: the table prints {text.strip()!r}, which regmap cannot read; left null")
             return None
 
