@@ -13,6 +13,7 @@ every map that lists exceptions gives these codes the same meaning (the maps' `t
 
 from __future__ import annotations
 
+import functools
 import struct
 
 from regmap.model import Device
@@ -77,6 +78,15 @@ def rtu_request_length(buf: bytes | bytearray) -> int | None:
     return None
 
 
+_TWO_WORDS = struct.Struct(">HH")
+
+
+@functools.cache
+def _words_answer(count: int) -> struct.Struct:
+    """A read answer of `count` registers: function, byte count, the words."""
+    return struct.Struct(f">BB{count}H")
+
+
 def exception_pdu(function: int, code: int) -> bytes:
     return bytes([(function | EXCEPTION_FLAG) & 0xFF, code])
 
@@ -132,7 +142,7 @@ class Dispatcher:
         function = pdu[0]
         if len(pdu) != 5:
             return exception_pdu(function, ILLEGAL_VALUE)
-        address, count = struct.unpack(">HH", pdu[1:5])
+        address, count = _TWO_WORDS.unpack_from(pdu, 1)
         if not 1 <= count <= self.max_read:
             return exception_pdu(function, ILLEGAL_VALUE)
         if address + count > 0x10000:
@@ -140,7 +150,7 @@ class Dispatcher:
         words = self.store.read(address, count, space.name)
         if isinstance(words, int):
             return exception_pdu(function, words)
-        return bytes([function, 2 * count]) + struct.pack(f">{count}H", *words)
+        return _words_answer(count).pack(function, 2 * count, *words)
 
     def _write_single(self, pdu: bytes, space: Space) -> bytes:
         function = pdu[0]

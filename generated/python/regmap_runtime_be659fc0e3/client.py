@@ -5,6 +5,12 @@ Every space is served: holding and input registers, coils and discrete inputs (a
 its 0/1, one per address, as in the codec). A client asked to `check_firmware` reads the device's
 firmware register in `connect()` (or, used without `connect()`, before its first other request) and
 from then on refuses registers that firmware lacks.
+
+Beyond reads and writes, where the map lists the function: `echo` (0x08 sub-function 0x00, return
+query data), `report_server_id` (0x11), `write_and_read` (0x17: one write and one read of holding
+registers in one request, the write checked as `write_many` checks it and sent once: a lost answer
+is `OutcomeUnknown`), `read_identification` (0x2B/0x0E, basic or regular objects, following "more
+follows" to the end of the stream). A function the map does not list is refused before anything is sent.
 """
 
 from __future__ import annotations
@@ -24,15 +30,30 @@ from .codec import check_command, check_raw, decode_value, raw_to_words, value_t
 from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError, ProtocolError, RegmapError
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
-from .rtu import STANDARD_EXCEPTIONS
+from .rtu import DIAGNOSTICS, ENCAPSULATED_INTERFACE, READ_WRITE_MULTIPLE, REPORT_SERVER_ID, STANDARD_EXCEPTIONS
 from .spaces import DEFAULT_SPACE, HOLDING, MASK_WRITE_REGISTER, SPACES
 from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
-from .wire import PYMODBUS_METHODS, LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
+from .wire import (
+    IDENTIFICATION_CODES,
+    PYMODBUS_METHODS,
+    LineWatch,
+    ServerIdReport,
+    identification_objects,
+    mask_write_masks,
+    may_repeat,
+    next_identification_object,
+    outcome_unknown,
+    serial_settings,
+    server_id_report,
+    transport_error,
+)
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 K = TypeVar("K", bound="_Core")
 WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
+MAX_READ_WRITE_WORDS = 121  # MBAP §6.17: the write part of 0x17
+ECHO_WORD = 0xA537  # the query data echo() sends unless told (the spec's example carries A5 37)
 
 
 class _Core:
@@ -135,21 +156,24 @@ class _Core:
         """A typed error saying what happened on the line (`wire.transport_error`)."""
         return transport_error(self.line, self.slave, exc)
 
-    def _tries(self, write: WriteTarget | None) -> int:
+    def _tries(self, write: WriteTarget | None, once: bool = False) -> int:
         """How often a request may go out: a read, or a write of settings, 1 + `retries`; a write that
-        must not be repeated (a command, a trigger register, an address the map does not describe) once."""
-        if write is not None and (self.broadcast or not may_repeat(self.DEVICE.registers, *write)):
+        must not be repeated (a command, a trigger register, an address the map does not describe,
+        any read/write multiple: `once`) once."""
+        if write is not None and (once or self.broadcast or not may_repeat(self.DEVICE.registers, *write)):
             return 1
         return 1 + self.retries
 
-    def _failure(self, exc: PymodbusError, write: WriteTarget | None, again: bool, sent_before: int) -> RegmapError | None:
+    def _failure(
+        self, exc: PymodbusError, write: WriteTarget | None, again: bool, sent_before: int, once: bool = False
+    ) -> RegmapError | None:
         """None: send the request again; else the error to raise. A write sent once whose answer is lost
         is OutcomeUnknown (a connection that never opened sent nothing)."""
         if again and isinstance(exc, ModbusIOException):
             return None
         error = self.transport_error(exc)
         went_out = not isinstance(exc, ConnectionException) or getattr(self.line, "packets_sent", sent_before) > sent_before
-        if write is not None and went_out and not may_repeat(self.DEVICE.registers, *write):
+        if write is not None and went_out and (once or not may_repeat(self.DEVICE.registers, *write)):
             return outcome_unknown(self.DEVICE.registers, *write, error)
         return error
 
@@ -256,8 +280,9 @@ class _Core:
             self._plans[key] = plan
         return plan
 
-    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
-        """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers."""
+    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False, *, grouped: bool | None = None) -> list[WriteBlock]:
+        """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers;
+        `grouped`: contiguous registers in one block (default: where the device lists the space's write multiple)."""
         by_space: dict[str, list[tuple[RegisterSpec[Any], Raw]]] = {}
         for spec, value in values.items():
             self.check_writable(spec)
@@ -268,8 +293,8 @@ class _Core:
         blocks: list[WriteBlock] = []
         for space in SPACES:
             if space in by_space:
-                grouped = SPACES[space].write_multiple in device.function_codes
-                blocks += plan_writes(by_space[space], device.max_write_registers, grouped, max_bits=device.max_write_coils)
+                together = SPACES[space].write_multiple in device.function_codes if grouped is None else grouped
+                blocks += plan_writes(by_space[space], device.max_write_registers, together, max_bits=device.max_write_coils)
         return blocks
 
     def masked(self, spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tuple[int, int] | None:
@@ -281,6 +306,49 @@ class _Core:
             return None
         self.check_writable(spec)
         return mask_write_masks(spec, fields)
+
+    def check_listed(self, function: int, what: str) -> None:
+        """Refuse a function the map does not list, or one whose answer a broadcast would never bring (nothing is sent)."""
+        if function not in self.DEVICE.function_codes:
+            raise AccessError(f"{self.DEVICE.id} does not list function 0x{function:02X} ({what}): nothing was sent")
+        if self.broadcast:
+            raise ValueError(f"a broadcast cannot {what}: no answer comes back")
+
+    def read_write_plan(
+        self, writes: Mapping[Writable[Any], Any], reads: Iterable[Readable[Any]], raw: bool = False
+    ) -> tuple[WriteBlock, ReadBlock]:
+        """The one write and the one read of a read/write multiple (0x17): each value checked and encoded
+        as `write_many` does, each a contiguous run of holding registers within the limits; else nothing is sent."""
+        self.check_listed(READ_WRITE_MULTIPLE, "read/write multiple registers")
+        written = self.plan_writes(writes, raw, grouped=True)
+        read = self.plan_reads(reads)
+        if len(written) != 1 or written[0].space != HOLDING.name or len(written[0].words) > MAX_READ_WRITE_WORDS:
+            raise ValueError(
+                f"read/write multiple writes one run of at most {MAX_READ_WRITE_WORDS} adjacent holding registers"
+                f" ({', '.join(spec.label for spec in writes)} are not): nothing was sent"
+            )
+        if len(read) != 1 or read[0].space != HOLDING.name:
+            raise ValueError("read/write multiple reads one block of adjacent holding registers within the read limit: nothing was sent")
+        return written[0], read[0]
+
+    def values_of(self, block: ReadBlock, words: list[int]) -> dict[str, Any]:
+        """Each register of a read block decoded from the block's words."""
+        return {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
+
+    def echoed(self, word: int, response: Any) -> int:
+        """The word return query data sent back; a device that echoes something else is a ProtocolError."""
+        sent = word.to_bytes(2, "big")
+        got = bytes(getattr(response, "message", b"") or b"")
+        if got != sent:
+            raise ProtocolError(f"return query data sent {sent.hex(' ').upper()}, the device echoed {got.hex(' ').upper() or 'nothing'}")
+        return word
+
+    @staticmethod
+    def identification_code(level: str) -> int:
+        code = IDENTIFICATION_CODES.get(level)
+        if code is None or level == "extended":
+            raise ValueError(f"identification level {level!r}: basic or regular")
+        return code
 
     def readable(self, poll: object = None) -> list[RegisterSpec[Any]]:
         """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
@@ -374,8 +442,8 @@ class SyncClient(_Core):
         response = self._send(*self.reader(block.space), block.address, count=block.count)
         return self.learn_firmware(self.read_words(response, block))
 
-    def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
-        tries = self._tries(write)
+    def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, once: bool = False, **kwargs: Any) -> Any:
+        tries = self._tries(write, once)
         for attempt in range(1, tries + 1):
             self.requests_sent += 1
             sent_before = getattr(self.line, "packets_sent", 0)
@@ -383,7 +451,7 @@ class SyncClient(_Core):
                 response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
                 break
             except PymodbusError as exc:
-                error = self._failure(exc, write, attempt < tries, sent_before)
+                error = self._failure(exc, write, attempt < tries, sent_before, once)
                 if error is not None:
                     raise error from exc
         if self.broadcast:
@@ -430,9 +498,7 @@ class SyncClient(_Core):
             self.detect_firmware()
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
-            words = self.read_raw(block.address, block.count, space=block.space)
-            for spec in block.registers:
-                values[spec.name] = self.decode(spec, block.words_of(spec, words))
+            values.update(self.values_of(block, self.read_raw(block.address, block.count, space=block.space)))
         return values
 
     def read_all(self, poll: object = None) -> Mapping[str, Any]:
@@ -463,6 +529,50 @@ class SyncClient(_Core):
             MASK_WRITE_REGISTER, self.modbus.mask_write_register, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write
         )
         return self.read(spec)
+
+    def echo(self, word: int = ECHO_WORD) -> int:
+        """Diagnostics 0x08 sub-function 0x00 (return query data): the device echoes `word`; ProtocolError if not."""
+        self.check_listed(DIAGNOSTICS, "diagnostics")
+        return self.echoed(word, self._call(DIAGNOSTICS, self.modbus.diag_query_data, word.to_bytes(2, "big")))
+
+    def report_server_id(self) -> ServerIdReport:
+        """Report server id (0x11): the id, run indicator and additional data as the device sends them."""
+        self.check_listed(REPORT_SERVER_ID, "report server id")
+        return server_id_report(self.line, self._call(REPORT_SERVER_ID, self.modbus.report_device_id))
+
+    def read_identification(self, level: str = "regular") -> dict[int, str]:
+        """Read device identification (0x2B/0x0E): the basic (0x00-0x02) or regular (to 0x7F) objects by id,
+        every answer of the stream followed ("more follows")."""
+        self.check_listed(ENCAPSULATED_INTERFACE, "read device identification")
+        code = self.identification_code(level)
+        start: int | None = 0
+        answers: list[Any] = []
+        while start is not None:  # each answer moves forward (next_identification_object), so this ends
+            answer = self._call(ENCAPSULATED_INTERFACE, self.modbus.read_device_information, read_code=code, object_id=start)
+            answers.append(answer)
+            start = next_identification_object(answer, start)
+        return identification_objects(answers)
+
+    def write_and_read(
+        self, writes: Mapping[Writable[Any], Any], reads: Iterable[Readable[Any]], *, raw: bool = False
+    ) -> Mapping[str, Any]:
+        """Read/write multiple registers (0x17): write `writes` (checked and encoded as write_many does; one run
+        of adjacent holding registers), then read `reads` (one block), in one request sent once: a lost
+        answer is OutcomeUnknown. Returns the values read, by register name."""
+        if self.firmware_pending:
+            self.detect_firmware()
+        written, read = self.read_write_plan(writes, reads, raw)
+        response = self._send(
+            READ_WRITE_MULTIPLE,
+            self.modbus.readwrite_registers,
+            read_address=read.address,
+            read_count=read.count,
+            write_address=written.address,
+            values=list(written.words),
+            write=(HOLDING.name, written.address, written.words),
+            once=True,
+        )
+        return self.values_of(read, self.read_words(response, read))
 
     def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         """Validate every value, then write contiguous registers together (0x10; coils 0x0F)."""
@@ -502,8 +612,10 @@ class AsyncClient(_Core):
         response = await self._send(*self.reader(block.space), block.address, count=block.count)
         return self.learn_firmware(self.read_words(response, block))
 
-    async def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
-        tries = self._tries(write)
+    async def _send(
+        self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, once: bool = False, **kwargs: Any
+    ) -> Any:
+        tries = self._tries(write, once)
         for attempt in range(1, tries + 1):
             self.requests_sent += 1
             sent_before = getattr(self.line, "packets_sent", 0)
@@ -511,7 +623,7 @@ class AsyncClient(_Core):
                 response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
                 break
             except PymodbusError as exc:
-                error = self._failure(exc, write, attempt < tries, sent_before)
+                error = self._failure(exc, write, attempt < tries, sent_before, once)
                 if error is not None:
                     raise error from exc
         if self.broadcast:
@@ -552,9 +664,7 @@ class AsyncClient(_Core):
             await self.detect_firmware()
         values: dict[str, Any] = {}
         for block in self.plan_reads(specs):
-            words = await self.read_raw(block.address, block.count, space=block.space)
-            for spec in block.registers:
-                values[spec.name] = self.decode(spec, block.words_of(spec, words))
+            values.update(self.values_of(block, await self.read_raw(block.address, block.count, space=block.space)))
         return values
 
     async def read_all(self, poll: object = None) -> Mapping[str, Any]:
@@ -581,6 +691,50 @@ class AsyncClient(_Core):
         method = self.modbus.mask_write_register
         await self._call(MASK_WRITE_REGISTER, method, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write)
         return await self.read(spec)
+
+    async def echo(self, word: int = ECHO_WORD) -> int:
+        """Diagnostics 0x08 sub-function 0x00 (return query data): the device echoes `word`; ProtocolError if not."""
+        self.check_listed(DIAGNOSTICS, "diagnostics")
+        return self.echoed(word, await self._call(DIAGNOSTICS, self.modbus.diag_query_data, word.to_bytes(2, "big")))
+
+    async def report_server_id(self) -> ServerIdReport:
+        """Report server id (0x11): the id, run indicator and additional data as the device sends them."""
+        self.check_listed(REPORT_SERVER_ID, "report server id")
+        return server_id_report(self.line, await self._call(REPORT_SERVER_ID, self.modbus.report_device_id))
+
+    async def read_identification(self, level: str = "regular") -> dict[int, str]:
+        """Read device identification (0x2B/0x0E): the basic (0x00-0x02) or regular (to 0x7F) objects by id,
+        every answer of the stream followed ("more follows")."""
+        self.check_listed(ENCAPSULATED_INTERFACE, "read device identification")
+        code = self.identification_code(level)
+        start: int | None = 0
+        answers: list[Any] = []
+        while start is not None:  # each answer moves forward (next_identification_object), so this ends
+            answer = await self._call(ENCAPSULATED_INTERFACE, self.modbus.read_device_information, read_code=code, object_id=start)
+            answers.append(answer)
+            start = next_identification_object(answer, start)
+        return identification_objects(answers)
+
+    async def write_and_read(
+        self, writes: Mapping[Writable[Any], Any], reads: Iterable[Readable[Any]], *, raw: bool = False
+    ) -> Mapping[str, Any]:
+        """Read/write multiple registers (0x17): write `writes` (checked and encoded as write_many does; one run
+        of adjacent holding registers), then read `reads` (one block), in one request sent once: a lost
+        answer is OutcomeUnknown. Returns the values read, by register name."""
+        if self.firmware_pending:
+            await self.detect_firmware()
+        written, read = self.read_write_plan(writes, reads, raw)
+        response = await self._send(
+            READ_WRITE_MULTIPLE,
+            self.modbus.readwrite_registers,
+            read_address=read.address,
+            read_count=read.count,
+            write_address=written.address,
+            values=list(written.words),
+            write=(HOLDING.name, written.address, written.words),
+            once=True,
+        )
+        return self.values_of(read, self.read_words(response, read))
 
     async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
         for spec in values:
