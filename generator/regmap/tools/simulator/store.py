@@ -34,7 +34,6 @@ ILLEGAL_FUNCTION = 0x01
 ILLEGAL_ADDRESS = 0x02
 ILLEGAL_VALUE = 0x03
 READ_CHECKS_KEPT = 4096  # reads whose address check is remembered
-_UNKNOWN = object()
 
 
 def slave_refusal(device: Device, slave: int) -> str | None:
@@ -192,9 +191,8 @@ class DeviceStore:
         """The exception code a read of these addresses gets (an undocumented or write-only one), or None.
         The answer never changes while the simulator runs (the firmware played is fixed), so the latest are kept."""
         key = (space, address, count)
-        known = self._unreadable.get(key, _UNKNOWN)
-        if known is not _UNKNOWN:
-            return known
+        if key in self._unreadable:
+            return self._unreadable[key]
         gaps = self.device.transport.tolerates_gaps or self.quirks.answer_gaps
         refused = None
         for a in range(address, address + count):
