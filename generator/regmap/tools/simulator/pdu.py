@@ -4,7 +4,8 @@ The checks follow the Modbus Application Protocol v1.1b3 §6 in its order: funct
 (else 0x01), quantity and byte count (else 0x03; for 0x05 a value other than FF 00/00 00), address
 range (else 0x02), then the device's own rules (`DeviceStore`: an address the map does not document
 in that space, or a register the simulated firmware lacks, 0x02; read-only or out-of-range value
-0x03). The map's limits narrow the spec's: `max_read_registers` (0x03/0x04), `max_write_registers`,
+0x03). An injected `exception` fault (device failure, 0x04) comes after the address checks, as the
+spec's processing does, for every function. The map's limits narrow the spec's: `max_read_registers` (0x03/0x04), `max_write_registers`,
 `max_read_coils` (0x01/0x02), `max_write_coils` (0x0F) and `max_message_bytes` are quantity limits,
 refused with 0x03 like the spec's 125/123/2000/1968. Input registers and discrete inputs have no
 write function, so a write to them is a function the space lacks. The exception codes are the spec's;
@@ -229,11 +230,15 @@ class Dispatcher:
             return exception_pdu(pdu[0], ILLEGAL_VALUE)
         if struct.unpack(">H", pdu[1:3])[0] != RETURN_QUERY_DATA:
             return exception_pdu(pdu[0], ILLEGAL_FUNCTION)  # a sub-function the device does not have
+        if self.store.failing():
+            return exception_pdu(pdu[0], self.store.faults.exception_code)
         return pdu  # the query data echoed
 
     def _report_server_id(self, pdu: bytes) -> bytes:
         if len(pdu) != 1 or self.server_id is None:
             return exception_pdu(pdu[0], ILLEGAL_VALUE)
+        if self.store.failing():
+            return exception_pdu(pdu[0], self.store.faults.exception_code)
         s = self.server_id
         data = s.id + bytes([0xFF if s.running else 0x00]) + s.additional_data.encode("ascii")
         return bytes([pdu[0], len(data)]) + data
@@ -275,9 +280,11 @@ class Dispatcher:
         access, wanted = pdu[2], pdu[3]
         objects = dict(self.identification.objects)
         level = self.identification.conformity_level
-        if access == 4:  # one object, individually
-            if wanted not in objects:
-                return exception_pdu(function, ILLEGAL_ADDRESS)
+        if access == 4 and wanted not in objects:  # one object, individually
+            return exception_pdu(function, ILLEGAL_ADDRESS)
+        if self.store.failing():
+            return exception_pdu(function, self.store.faults.exception_code)
+        if access == 4:
             chosen = [wanted]
         else:  # a stream: basic (1), regular (2), extended (3); an unknown start restarts at object 0
             last = {1: 0x02, 2: 0x7F, 3: 0xFF}[access]

@@ -187,6 +187,10 @@ class DeviceStore:
 
     # -- the rules ---------------------------------------------------------------------------
 
+    def failing(self) -> bool:
+        """The injected `exception` fault takes this request (`--fault exception`: device failure, 0x04 unless told)."""
+        return self.faults.kind != "none" and self.faults.take(("exception",)) == "exception"
+
     def unreadable(self, address: int, count: int, space: str = DEFAULT_SPACE) -> int | None:
         """The exception code a read of these addresses gets (an undocumented or write-only one), or None.
         The answer never changes while the simulator runs (the firmware played is fixed), so the latest are kept."""
@@ -207,11 +211,11 @@ class DeviceStore:
 
     def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> list[int] | int:
         """The words at `address` of `space`, or the exception code the device answers."""
-        if self.faults.kind != "none" and self.faults.take(("exception",)) == "exception":
-            return self.faults.exception_code
         refused = self.unreadable(address, count, space)
         if refused is not None:
             return refused
+        if self.failing():  # the spec's order: the address is checked before the device fails to carry the request out
+            return self.faults.exception_code
         words = self.words
         values = [words.get((space, a), 0) for a in range(address, address + count)]
         if self.pending_after_read:
@@ -222,8 +226,6 @@ class DeviceStore:
 
     def write(self, address: int, words: list[int], space: str = DEFAULT_SPACE) -> int | None:
         """Store `words` from `address` of `space` (all or nothing); None when done, else the exception code."""
-        if self.faults.take(("exception",)) == "exception":
-            return self.faults.exception_code
         end = address + len(words)
         touched: list[Register] = []
         for a in range(address, end):
@@ -234,6 +236,8 @@ class DeviceStore:
                 return ILLEGAL_ADDRESS
             if reg not in touched:
                 touched.append(reg)
+        if self.failing():
+            return self.faults.exception_code
         updates: list[tuple[Register, Raw]] = []
         for reg in touched:
             own = range(reg.address, reg.last_address + 1)
