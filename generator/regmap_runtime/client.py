@@ -30,11 +30,18 @@ from .codec import check_command, check_raw, decode_value, raw_to_words, value_t
 from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError, ProtocolError, RegmapError
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
-from .rtu import DIAGNOSTICS, ENCAPSULATED_INTERFACE, READ_WRITE_MULTIPLE, REPORT_SERVER_ID, STANDARD_EXCEPTIONS
+from .rtu import (
+    DEVICE_ID_CODES,
+    DIAGNOSTICS,
+    ENCAPSULATED_INTERFACE,
+    MAX_READ_WRITE_REGISTERS,
+    READ_WRITE_MULTIPLE,
+    REPORT_SERVER_ID,
+    STANDARD_EXCEPTIONS,
+)
 from .spaces import DEFAULT_SPACE, HOLDING, MASK_WRITE_REGISTER, SPACES
 from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
 from .wire import (
-    IDENTIFICATION_CODES,
     PYMODBUS_METHODS,
     LineWatch,
     ServerIdReport,
@@ -52,7 +59,6 @@ T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
 K = TypeVar("K", bound="_Core")
 WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
-MAX_READ_WRITE_WORDS = 121  # MBAP §6.17: the write part of 0x17
 ECHO_WORD = 0xA537  # the query data echo() sends unless told (the spec's example carries A5 37)
 
 
@@ -322,9 +328,9 @@ class _Core:
         self.check_listed(READ_WRITE_MULTIPLE, "read/write multiple registers")
         written = self.plan_writes(writes, raw, grouped=True)
         read = self.plan_reads(reads)
-        if len(written) != 1 or written[0].space != HOLDING.name or len(written[0].words) > MAX_READ_WRITE_WORDS:
+        if len(written) != 1 or written[0].space != HOLDING.name or len(written[0].words) > MAX_READ_WRITE_REGISTERS:
             raise ValueError(
-                f"read/write multiple writes one run of at most {MAX_READ_WRITE_WORDS} adjacent holding registers"
+                f"read/write multiple writes one run of at most {MAX_READ_WRITE_REGISTERS} adjacent holding registers"
                 f" ({', '.join(spec.label for spec in writes)} are not): nothing was sent"
             )
         if len(read) != 1 or read[0].space != HOLDING.name:
@@ -345,8 +351,8 @@ class _Core:
 
     @staticmethod
     def identification_code(level: str) -> int:
-        code = IDENTIFICATION_CODES.get(level)
-        if code is None or level == "extended":
+        code = DEVICE_ID_CODES.get(level)
+        if code is None or level not in ("basic", "regular"):
             raise ValueError(f"identification level {level!r}: basic or regular")
         return code
 

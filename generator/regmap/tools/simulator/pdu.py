@@ -22,10 +22,12 @@ from regmap_runtime.rtu import (
     DIAGNOSTICS,
     ENCAPSULATED_INTERFACE,
     EXCEPTION_FLAG,
+    MAX_READ_WRITE_REGISTERS,
     READ_DEVICE_ID,
     READ_WRITE_MULTIPLE,
     READS,
     REPORT_SERVER_ID,
+    RETURN_QUERY_DATA,
     WRITES_MULTIPLE,
     WRITES_SINGLE,
     pack_bits,
@@ -48,8 +50,6 @@ IMPLEMENTED = (
 )
 SPEC_MAX_READ = 125  # §6.3
 SPEC_MAX_WRITE = 123  # §6.12
-SPEC_MAX_RW_WRITE = 121  # §6.17: the write part of read/write multiple registers
-RETURN_QUERY_DATA = 0x0000  # §6.8.1, the one diagnostics sub-function served
 MAX_PDU = 253
 RTU_OVERHEAD = 3  # slave id + CRC around a PDU; a map's max_message_bytes counts the RTU frame
 
@@ -252,7 +252,7 @@ class Dispatcher:
         read_at, read_count, write_at, write_count, byte_count = struct.unpack(">HHHHB", pdu[1:10])
         if (
             not 1 <= read_count <= self.max_read
-            or not 1 <= write_count <= min(SPEC_MAX_RW_WRITE, self.max_write)
+            or not 1 <= write_count <= min(MAX_READ_WRITE_REGISTERS, self.max_write)
             or byte_count != 2 * write_count
             or len(pdu) != 10 + byte_count
         ):
