@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_be659fc0e3.bits import BitfieldValue
-from regmap_runtime_be659fc0e3.client import AsyncClient, SyncClient
-from regmap_runtime_be659fc0e3.codec import Unlisted
-from regmap_runtime_be659fc0e3.errors import (
+from regmap_runtime_18b69d7542.bits import BitfieldValue
+from regmap_runtime_18b69d7542.client import AsyncClient, SyncClient
+from regmap_runtime_18b69d7542.codec import Unlisted
+from regmap_runtime_18b69d7542.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_be659fc0e3.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_be659fc0e3.profile import DeviceProfile, load_profile
-from regmap_runtime_be659fc0e3.spec import (
+from regmap_runtime_18b69d7542.profile import DeviceProfile, load_profile
+from regmap_runtime_18b69d7542.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

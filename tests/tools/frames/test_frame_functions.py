@@ -133,7 +133,11 @@ def test_the_frames_are_what_libmodbus_sends(tmp_path: Path) -> None:
     thread = threading.Thread(target=serve, daemon=True)
     thread.start()
     result = subprocess.run(
-        [str(program), str(port), hex(OUTPUT_WORD), hex(FIRMWARE), hex(CT_RATIO), "x"], capture_output=True, text=True, timeout=30, check=False
+        [str(program), str(port), hex(OUTPUT_WORD), hex(FIRMWARE), hex(CT_RATIO), "x"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
     )
     thread.join(10)
     listener.close()

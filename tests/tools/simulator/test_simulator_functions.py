@@ -101,6 +101,8 @@ CASES: list[tuple[str, bytes, bytes]] = [
 ]
 # --fault exception (device failure 0x04): after the checks of 01, 03 and 02, as MBAP §6's diagrams place it.
 FAULT_CASES: list[tuple[str, bytes, bytes]] = [
+    ("0x03 02 before 04", struct.pack(">BHH", 0x03, UNDOCUMENTED, 1), exc(0x03, 0x02)),
+    ("0x03 04", struct.pack(">BHH", 0x03, CT_RATIO, 1), exc(0x03, 0x04)),
     ("0x08 04", bytes([0x08, 0x00, 0x00, 0xA5, 0x37]), exc(0x08, 0x04)),
     ("0x08 01 before 04", bytes([0x08, 0x00, 0x0A, 0x00, 0x00]), exc(0x08, 0x01)),
     ("0x11 04", bytes([0x11]), exc(0x11, 0x04)),

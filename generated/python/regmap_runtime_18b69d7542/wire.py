@@ -171,9 +171,6 @@ def server_id_report(line: LineWatch, response: Any) -> ServerIdReport:
     return ServerIdReport(identifier + bytes([0xFF if getattr(response, "status", False) else 0x00]))
 
 
-IDENTIFICATION_CODES = {"basic": 0x01, "regular": 0x02, "extended": 0x03}  # read device id codes of §6.21
-
-
 def identification_objects(answers: Sequence[Any]) -> dict[int, str]:
     """The objects of a read device identification stream, in object id order, from its answers."""
     objects: dict[int, str] = {}
