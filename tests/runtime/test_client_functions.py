@@ -28,6 +28,7 @@ SERVER = METER_MAP.transport.server_id
 def meter_client(simulator: SimulatorFactory, name: str, *extra: str, map_path: Path = METER, **options: Any) -> tuple[Any, Any, Any]:
     sim = simulator(map_path, *extra)
     f = flavour(name, POWER)
+    assert sim.port is not None
     client, recorder = f.client(sim.port, **options)
     client.connect()
     return f, client, recorder
@@ -86,6 +87,7 @@ def test_functions_the_map_does_not_list_are_refused_before_sending(simulator: S
     sim = simulator(ROOT / "tests" / "maps" / "fixtures" / "remote_io.yaml")
     f = flavour("runtime", REMOTE)
     assert not {0x08, 0x11, 0x17, 0x2B} & set(f.device.transport.function_codes)
+    assert sim.port is not None
     client, recorder = f.client(sim.port)
     try:
         for call in (client.echo, client.report_server_id, client.read_identification):

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import functools
 import struct
+from collections.abc import Callable
 
 from regmap.model import Device
 from regmap_runtime.rtu import (
@@ -107,35 +108,34 @@ class Dispatcher:
         self.max_bytes = t.max_message_bytes
         self.identification = t.identification
         self.server_id = t.server_id
-        self._other_functions = {
+        handlers: dict[int, Callable[[bytes], bytes]] = {
             MASK_WRITE_REGISTER: self._mask_write,
             DIAGNOSTICS: self._diagnostics,
             REPORT_SERVER_ID: self._report_server_id,
             READ_WRITE_MULTIPLE: self._read_write_multiple,
             ENCAPSULATED_INTERFACE: self._encapsulated,
         }
+        for code, space in READS.items():
+            handlers[code] = functools.partial(self._read_bits if space.bits else self._read, space=space)
+        for code, space in WRITES_SINGLE.items():
+            handlers[code] = functools.partial(self._write_coil if space.bits else self._write_single, space=space)
+        for code, space in WRITES_MULTIPLE.items():
+            handlers[code] = functools.partial(self._write_coils if space.bits else self._write_multiple, space=space)
+        # Only the functions the map lists: any other is 0x01. One look-up per request, the hot path of a polling client.
+        self._handlers = {code: handler for code, handler in handlers.items() if code in self.functions}
 
     def answer(self, pdu: bytes) -> bytes:
         """The answer PDU (a normal response or `function | 0x80, code`)."""
         function = pdu[0]
-        if function not in self.functions:
+        handler = self._handlers.get(function)
+        if handler is None:
             return exception_pdu(function, ILLEGAL_FUNCTION)
         if self.max_bytes is not None and len(pdu) + RTU_OVERHEAD > self.max_bytes:
             # Longer than the device takes in one message. The spec has no code for a frame too long;
             # every such request of these functions asks for more registers than the map allows, so
             # it is the quantity error (0x03), as a request of that quantity is.
             return exception_pdu(function, ILLEGAL_VALUE)
-        other = self._other_functions.get(function)
-        if other is not None:
-            return other(pdu)
-        if function in READS:
-            space = READS[function]
-            return self._read_bits(pdu, space) if space.bits else self._read(pdu, space)
-        if function in WRITES_SINGLE:
-            space = WRITES_SINGLE[function]
-            return self._write_coil(pdu, space) if space.bits else self._write_single(pdu, space)
-        space = WRITES_MULTIPLE[function]
-        return self._write_coils(pdu, space) if space.bits else self._write_multiple(pdu, space)
+        return handler(pdu)
 
     # -- registers: 0x03, 0x04 (§6.3, §6.4), 0x06 (§6.6), 0x10 (§6.12) ---------------------
 

@@ -34,6 +34,7 @@ GATEWAY_TARGET_FAILED = 0x0B  # exception: a gateway found no answer from the ad
 PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
 TCP_RTU_GAP_S = 0.05
 KEEP_REQUESTS = 64
+RECEIVE_BUFFER = 4096  # bytes one read from a TCP connection takes; a request is at most 260
 
 Send = Callable[[bytes], None]
 
@@ -76,11 +77,15 @@ def is_pty(path: str) -> bool:
         return False
 
 
-class _Connection(asyncio.Protocol):
-    """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only."""
+class _Connection(asyncio.BufferedProtocol):
+    """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only.
+
+    A buffered protocol: the transport receives into this connection's own small buffer, where a plain
+    protocol would have asyncio allocate (and free) 256 KiB for every segment, each request."""
 
     def __init__(self, sim: Simulator, rtu: bool) -> None:
         self.sim = sim
+        self._received = memoryview(bytearray(RECEIVE_BUFFER))
         self.rtu_framing = rtu
         self.transport: asyncio.Transport | None = None
         self.peer = "tcp"
@@ -112,6 +117,12 @@ class _Connection(asyncio.Protocol):
                 lambda f: sim.rtu_bad_frame(f, self.send, self.peer),
                 lambda b: sim.dropped(b, self.peer),
             )
+
+    def get_buffer(self, sizehint: int) -> memoryview:
+        return self._received
+
+    def buffer_updated(self, nbytes: int) -> None:
+        self.data_received(bytes(self._received[:nbytes]))
 
     def data_received(self, data: bytes) -> None:
         self.last_heard = self.clock()
