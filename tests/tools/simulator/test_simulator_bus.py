@@ -14,10 +14,11 @@ from typing import Any
 import pytest
 
 from regmap.frontend import load_map
+from regmap.tools.link import Line as SerialLine
 from regmap.tools.simulator import DeviceStore, Simulator, TcpPolicy, serve
 from regmap_runtime.rtu import with_crc
 
-from conftest import ROOT, free_port
+from conftest import ROOT, PtyPair, free_port
 from support.simulator_wire import Line, mbap
 
 METER_MAP = load_map(ROOT / "tests" / "maps" / "fixtures" / "power_meter.yaml")
@@ -37,9 +38,11 @@ def word_answer(value: int) -> bytes:
 
 @contextmanager
 def bus(**options: Any) -> Iterator[tuple[int, Simulator]]:
-    """Meters at 5 and 7, the iDM-RS drive at 1, served by `serve` from a thread; yields (port, simulator)."""
+    """Meters at 5 and 7, the iDM-RS drive at 1, served by `serve` from a thread; yields (port, simulator)
+    (the port is 0 when `serial` is among the options)."""
     units = {5: DeviceStore(METER_MAP, 5), 7: DeviceStore(METER_MAP, 7), 1: DeviceStore(IDM_MAP, 1)}
-    port = free_port()
+    port = 0 if "serial" in options else free_port()
+    where: dict[str, Any] = {} if "serial" in options else {"tcp": ("127.0.0.1", port)}
     loop = asyncio.new_event_loop()
     ready = threading.Event()
     running: list[Simulator] = []
@@ -48,9 +51,7 @@ def bus(**options: Any) -> Iterator[tuple[int, Simulator]]:
         running.append(simulator)
         ready.set()
 
-    thread = threading.Thread(
-        target=lambda: loop.run_until_complete(serve(units, tcp=("127.0.0.1", port), started=started, **options)), daemon=True
-    )
+    thread = threading.Thread(target=lambda: loop.run_until_complete(serve(units, started=started, **where, **options)), daemon=True)
     thread.start()
     assert ready.wait(20), "the bus did not start"
     try:
@@ -109,6 +110,24 @@ def test_an_rtu_broadcast_write_reaches_every_device_with_that_broadcast_id_and_
         finally:
             line.close()
         assert simulator.stats.frames_sent == 2
+
+
+def test_one_serial_line_serves_every_device_and_a_broadcast_reaches_them(pty_pair: PtyPair) -> None:
+    with bus(serial=pty_pair.device, line=SerialLine(9600, "none", 1)) as (_port, simulator):
+        line = Line.pty(pty_pair.client)
+        try:
+            line.send(with_crc(struct.pack(">BBHH", 0, 0x06, CT_RATIO, 55)))
+            assert line.read() == b""
+            for slave in (5, 7):
+                line.send(with_crc(bytes([slave]) + read_pdu(CT_RATIO)))
+                assert line.read(7) == with_crc(bytes([slave]) + word_answer(55)), slave
+            line.send(with_crc(bytes([1]) + read_pdu(PEAK_CURRENT.address)))
+            assert line.read(7)[:3] == bytes([1, 0x03, 2])
+            line.send(with_crc(bytes([9]) + read_pdu(CT_RATIO)))
+            assert line.read() == b""
+        finally:
+            line.close()
+        assert simulator.stats.frames_sent == 3
 
 
 def test_a_gateway_broadcasts_tcp_unit_0_and_answers_absent_units_0x0b() -> None:
