@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: all install tools generate regen test lint format typecheck check docs bench mutate clean
+.PHONY: all install tools generate regen test lint format typecheck check docs bench bench-sim mutate clean
 
 all: generate
 
@@ -50,6 +50,9 @@ typecheck: $(STAMP)
 check: lint test
 
 # Benchmarks (bench/): bus time, read-plan optimality, generation speed, client overhead, C helpers -> docs/benchmarks.md.
+bench-sim: $(STAMP)
+	$(BIN)/python -m bench.simload
+
 bench: $(STAMP)
 	$(BIN)/python -m bench
 

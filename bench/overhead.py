@@ -199,7 +199,7 @@ class ClientCost:
 
     case: str
     read_many_s: float  # the whole call, without I/O
-    plan_s: float  # planning the requests (_Core.plan_reads; the client keeps plans it made before)
+    plan_s: float  # planning the requests (ClientCore.plan_reads; the client keeps plans it made before)
     decode_s: float  # decoding the responses into typed values
 
 

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_b147831a49.bits import BitfieldValue
-from regmap_runtime_b147831a49.client import AsyncClient, SyncClient
-from regmap_runtime_b147831a49.codec import Unlisted
-from regmap_runtime_b147831a49.errors import (
+from regmap_runtime_038cd9619c.bits import BitfieldValue
+from regmap_runtime_038cd9619c.client import AsyncClient, SyncClient
+from regmap_runtime_038cd9619c.codec import Unlisted
+from regmap_runtime_038cd9619c.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_b147831a49.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_b147831a49.profile import DeviceProfile, load_profile
-from regmap_runtime_b147831a49.spec import (
+from regmap_runtime_038cd9619c.profile import DeviceProfile, load_profile
+from regmap_runtime_038cd9619c.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

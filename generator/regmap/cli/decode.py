@@ -32,6 +32,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap decode maps/idm_rs.yaml --file examples/capture.log --json",
             "cat examples/capture.log | regmap decode maps/idm_rs.yaml --file -",
             'regmap decode tests/maps/fixtures/remote_io.yaml 01 01 03 CD 6B 05 42 82 --request "01 01 00 13 00 13 8C 02"',
+            'regmap decode tests/maps/fixtures/power_meter.yaml --mbap 00 01 00 00 00 05 01 17 02 00 07 --request "00 01 00 00 00 0D 01 17 01 20 00 01 01 20 00 01 02 00 07"',
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -40,6 +41,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--file", metavar="CAPTURE", help="a log of frames, one per line; - reads standard input")
     p.add_argument("--request", metavar="HEX", help="the request a response answers (names the registers of a read response)")
     p.add_argument("--direction", choices=["request", "response"], help="settle frames that read alike both ways")
+    p.add_argument("--mbap", action="store_true", help="HEX (and --request) are Modbus TCP ADUs: MBAP header and PDU, no CRC")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_word_order(p, live=False)
     return p
@@ -66,6 +68,8 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError("give HEX or --file, not both")
         if args.request:
             raise UsageError("--request goes with one HEX frame; a capture pairs each response with the request before it")
+        if args.mbap:
+            raise UsageError("--mbap decodes one HEX ADU; a capture holds RTU frames")
         lines = decode.capture_lines(_capture_bytes(args.file), args.file)
         result = decode.decode_capture(device, lines, args.file, word_order=args.word_order)
         entries, decoded, errors = result.entries(), result.frames, result.errors
@@ -77,7 +81,9 @@ def run(args: argparse.Namespace) -> int:
             request = parse_hex(args.request) if args.request else None
         except FrameError as exc:
             raise UsageError(str(exc)) from None
-        if request is not None:
+        if args.mbap:
+            one = decode.decode_mbap(device, frame, direction=args.direction, request=request, word_order=args.word_order)
+        elif request is not None:
             one = decode.decode_answer(device, frame, request, word_order=args.word_order)
         else:
             one = decode.decode_frame(device, frame, direction=args.direction, word_order=args.word_order)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from regmap.cli.common import (
     SELECTOR_SYNTAX,
@@ -38,7 +39,13 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "address (one word: 0x06; contiguous words: one 0x10, as mbpoll sends them) with none of the map's checks, and read ADDR COUNT reads COUNT words; "
             "with -t/--space another space (mbpoll's -t: 0 coils, 1 discrete inputs, 3 input registers, 4 holding registers), "
             "whose words are bits 0/1 in a bit space (-t 0 0x13=1,0,1: one 0x0F).\n"
-            "A bitfield register needs every field, a base word first, or --replace: `frame` has no drive to read the rest from."
+            "A bitfield register needs every field, a base word first, or --replace: `frame` has no drive to read the rest from.\n"
+            "Where the map lists them: echo [WORD] (0x08 return query data, A5 37 unless given), server-id (0x11), "
+            "identification [basic|regular|extended|OBJECT] (0x2B/0x0E; an object id reads that object alone), "
+            "mask SELECTOR=FIELD:VALUE,... (0x16: only the named bitfields change, the device keeps the rest; --words ADDR=AND,OR), "
+            "write-read SELECTOR [COUNT] SELECTOR=VALUE ... (0x17: the items without = are the read, one block; the others the write, "
+            "one run of adjacent holding registers; --words ADDR COUNT ADDR=WORD,...).\n"
+            "--mbap prints the Modbus TCP ADU (MBAP header, unit = --slave, --transaction) instead of the RTU frame."
         ),
         epilog=examples(
             "regmap frame maps/idm_rs.yaml write peak_current=1.5              # 01 06 01 91 00 0F 99 DF",
@@ -52,16 +59,20 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap frame tests/maps/fixtures/remote_io.yaml write alarm_output=on          # 0x05, FF 00",
             "regmap frame tests/maps/fixtures/remote_io.yaml read --words -t 1 0xC4 22      # 22 discrete inputs",
             "regmap frame tests/maps/fixtures/remote_io.yaml write --words -t 0 0x13=1,0,1  # three coils, one 0x0F",
+            "regmap frame tests/maps/fixtures/power_meter.yaml server-id --mbap             # 00 01 00 00 00 02 01 11",
+            "regmap frame tests/maps/fixtures/power_meter.yaml identification regular",
+            "regmap frame tests/maps/fixtures/power_meter.yaml write-read firmware_version ct_ratio=7",
+            "regmap frame tests/maps/protocol/mask_write.yaml mask --words 0x0004=0x00F2,0x0025  # MBAP 6.16's example",
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_map(p)
-    p.add_argument("action", choices=["read", "write", "command"])
+    p.add_argument("action", choices=["read", "write", "command", "echo", "server-id", "identification", "mask", "write-read"])
     p.add_argument(
         "items",
         nargs="*",
         metavar="ARG",
-        help="read: SELECTOR [COUNT] ... (or -r REF [-c N]); write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]",
+        help="read: SELECTOR [COUNT] ... (or -r REF [-c N]); write: SELECTOR=VALUE ...; command: NAME [ARGUMENT]; the others: see above",
     )
     p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1)")
     p.add_argument("--raw", action="store_true", help="values are raw register integers")
@@ -74,8 +85,20 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     add_addressing(p, start=True)
     p.add_argument("--replace", action="store_true", help="bitfield fields not named become 0 (replace the whole word)")
     p.add_argument("--confirm", metavar="NAME", help="command: a destructive command's frame is built only with its name repeated here")
+    p.add_argument("--mbap", action="store_true", help="print Modbus TCP ADUs (MBAP header + PDU) instead of RTU frames")
+    p.add_argument("--transaction", type=transaction_id, default=1, help="the first MBAP transaction id (default 1; with --mbap)")
     add_word_order(p, live=False)
     return p
+
+
+def transaction_id(text: str) -> int:
+    try:
+        value = int(text, 0)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 0xFFFF:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a transaction id (0..65535)")
+    return value
 
 
 def run(args: argparse.Namespace) -> int:
@@ -118,13 +141,37 @@ def run(args: argparse.Namespace) -> int:
                 space=space,
                 modicon=args.modicon,
             )
-    else:
+    elif args.action == "command":
         if not 1 <= len(args.items) <= 2:
             raise UsageError("command wants NAME [ARGUMENT]")
         built = frames.command_frames(
             device, args.items[0], args.items[1] if len(args.items) == 2 else None, args.slave, args.word_order, args.confirm
         )
-    for frame in built:
-        print(to_hex(frame))
+    else:
+        built, notes = _other_function(frames, device, args)
+    if args.transaction != 1 and not args.mbap:
+        raise UsageError("--transaction is an MBAP header's: give --mbap too")
+    for number, frame in enumerate(built):
+        print(to_hex(frames.mbap_adu(frame, args.transaction + number) if args.mbap else frame))
     say_notes("frame", notes)
     return ExitCode.OK
+
+
+def _other_function(frames: Any, device: Any, args: argparse.Namespace) -> tuple[list[bytes], list[str]]:
+    """echo, server-id, identification, mask, write-read."""
+    items = list(args.items)
+    if args.action in ("echo", "identification", "server-id"):
+        most = 0 if args.action == "server-id" else 1
+        if len(items) > most:
+            raise UsageError(f"{args.action} takes {'no argument' if most == 0 else 'at most one argument'}, got {' '.join(items)}")
+        if args.action == "echo":
+            return [frames.echo_frame(device, args.slave, items[0] if items else None)], []
+        if args.action == "server-id":
+            return [frames.server_id_frame(device, args.slave)], []
+        return [frames.identification_frame(device, args.slave, items[0] if items else None)], []
+    if args.action == "mask":
+        return frames.mask_frames(device, items, args.slave, words=args.words, modicon=args.modicon), []
+    built, notes = frames.read_write_frame(
+        device, items, args.slave, args.raw, words=args.words, modicon=args.modicon, word_order=args.word_order
+    )
+    return [built], notes

@@ -34,7 +34,10 @@ FUNCTION_NAMES = {
     0x08: "diagnostics",
     COIL.write_multiple: "write multiple coils",
     HOLDING.write_multiple: "write multiple registers",
+    0x11: "report server id",
+    0x16: "mask write register",
     0x17: "read/write multiple registers",
+    0x2B: "read device identification",
 }
 
 

@@ -7,6 +7,8 @@ for byte the frame the generated client sends, and a value the client refuses is
 from __future__ import annotations
 
 import dataclasses
+import itertools
+import struct
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -14,14 +16,30 @@ from typing import Any
 from regmap.core.decoding import FUNCTION_NAMES
 from regmap.core.text import article, space_label
 from regmap.diagnostics import UsageError
-from regmap.model import Device, Register
+from regmap.model import ByteOrder, Device, Register
 from regmap.runtime_bridge import read_plan
-from regmap.tools.selectors import Item, Located, Registers, check_slave, locate, parse_int, suggest
+from regmap.tools.selectors import Item, Located, Registers, check_slave, locate, parse_int, parse_items, suggest
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
-from regmap_runtime.rtu import FrameError, build_read, build_write_multiple, build_write_single
-from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
+from regmap_runtime.rtu import (
+    DEVICE_ID_CODES,
+    DIAGNOSTICS,
+    ENCAPSULATED_INTERFACE,
+    READ_WRITE_MULTIPLE,
+    REPORT_SERVER_ID,
+    FrameError,
+    build_echo,
+    build_mask_write,
+    build_read,
+    build_read_device_id,
+    build_read_write,
+    build_report_server_id,
+    build_write_multiple,
+    build_write_single,
+)
+from regmap_runtime.spaces import DEFAULT_SPACE, MASK_WRITE_REGISTER, SPACES
 from regmap_runtime.spec import Raw, RegisterSpec
+from regmap_runtime.types import swap_bytes
 
 # -- reads -------------------------------------------------------------------------------
 
@@ -432,3 +450,133 @@ def command_frames(
     check_slave(device, slave)
     command, words = command_words(device, name, argument, word_order, confirm)
     return [block_frame(slave, command.register.address, words, len(words) == 1, command.register.space)]
+
+
+# -- functions beyond reads and writes: 0x08, 0x11, 0x16, 0x17, 0x2B/0x0E ----------------
+
+
+def echo_frame(device: Device, slave: int, word: str | None = None) -> bytes:
+    """Diagnostics 0x08 sub-function 0x0000 (return query data) with one word of data (A5 37 unless given)."""
+    _function(device, DIAGNOSTICS)
+    check_slave(device, slave, reading=True)
+    value = 0xA537 if word is None else parse_int(word, "the query data")
+    return _built(lambda: build_echo(slave, value))
+
+
+def server_id_frame(device: Device, slave: int) -> bytes:
+    _function(device, REPORT_SERVER_ID)
+    check_slave(device, slave, reading=True)
+    return _built(lambda: build_report_server_id(slave))
+
+
+def identification_frame(device: Device, slave: int, what: str | None = None) -> bytes:
+    """Read device identification: a stream (basic, regular, extended) from object 0, or one object by its id."""
+    _function(device, ENCAPSULATED_INTERFACE)
+    check_slave(device, slave, reading=True)
+    wanted = (what or "basic").strip().lower()
+    if wanted in DEVICE_ID_CODES and wanted != "individual":
+        return _built(lambda: build_read_device_id(slave, DEVICE_ID_CODES[wanted]))
+    object_id = parse_int(wanted, "identification")
+    return _built(lambda: build_read_device_id(slave, DEVICE_ID_CODES["individual"], object_id))
+
+
+def mask_frames(device: Device, items: Sequence[str], slave: int, *, words: bool = False, modicon: bool = False) -> list[bytes]:
+    """Mask write register (0x16): SELECTOR=FIELD:VALUE,... sets the named bitfields of a one-word holding
+    register and keeps every other bit (the device applies it); --words ADDR=AND,OR sends the masks as given."""
+    _function(device, MASK_WRITE_REGISTER)
+    check_slave(device, slave)
+    if not items:
+        raise UsageError("mask wants SELECTOR=FIELD:VALUE,... (or --words ADDR=AND,OR)")
+    out = []
+    for item in items:
+        if words:
+            write = parse_word_write(item, DEFAULT_SPACE, modicon=modicon)
+            if len(write.words) != 2:
+                raise UsageError(f"{item}: mask --words wants ADDR=AND,OR (two words)")
+            masks = (write.words[0], write.words[1])
+            address = write.address
+        else:
+            a = parse_assignment(Registers(device, DEFAULT_SPACE, modicon=modicon), item, raw=False)
+            address, masks = a.register.address, _field_masks(a)
+        out.append(_built(lambda address=address, masks=masks: build_mask_write(slave, address, *masks)))
+    return out
+
+
+def _field_masks(a: Assignment) -> tuple[int, int]:
+    """The AND and OR masks that set the assignment's named fields (all of them when every field was given)."""
+    reg = a.register
+    if reg.space != DEFAULT_SPACE or reg.words != 1 or not reg.bitfields:
+        raise UsageError(f"{a.argument}: a mask write changes fields of a one-word holding register with bitfields; {reg.label} is none")
+    named_fields = a.fields if a.fields is not None else {b.name: 0 for b in reg.bitfields}
+    named = sum(b.mask for b in reg.bitfields if b.name in named_fields)
+    raw = merge_fields(a.spec, 0, a.fields) if a.fields is not None else int(a.raw or 0)
+    and_mask, or_mask = ~named & 0xFFFF, raw & named
+    if reg.byte_order is not ByteOrder.HIGH_FIRST:  # the device applies the masks to the word as it travels
+        and_mask, or_mask = swap_bytes([and_mask, or_mask])
+    return and_mask, or_mask
+
+
+def read_write_frame(
+    device: Device,
+    items: Sequence[str],
+    slave: int,
+    raw: bool,
+    *,
+    words: bool = False,
+    modicon: bool = False,
+    word_order: str | None = None,
+) -> tuple[bytes, list[str]]:
+    """Read/write multiple registers (0x17): the items without `=` name the read (SELECTOR [COUNT], or with
+    --words ADDR COUNT), the assignments the write, checked as `write` checks them; both one run of holding registers."""
+    _function(device, READ_WRITE_MULTIPLE)
+    check_slave(device, slave)
+    reading = [item for item in items if "=" not in item]
+    writing = [item for item in items if "=" in item]
+    if not reading or not writing:
+        raise UsageError("write-read wants what to read (SELECTOR [COUNT]) and what to write (SELECTOR=VALUE ...)")
+    notes: list[str] = []
+    parsed = parse_items(reading, modicon=modicon, space=DEFAULT_SPACE)
+    if words:
+        if len(parsed) != 1:
+            raise UsageError("write-read --words reads one ADDR COUNT")
+        (read,) = word_reads(device, parsed, DEFAULT_SPACE, modicon=modicon)
+        read_at, read_count = read.address, read.count
+        write_at, written = _one_run(writing, modicon)
+    else:
+        regs = Registers(device, DEFAULT_SPACE, modicon=modicon)
+        blocks = read_plan(device, regs.select(parsed))
+        if len(blocks) != 1:
+            raise UsageError(f"write-read reads one block: these registers need {len(blocks)} requests")
+        read_at, read_count = blocks[0].address, blocks[0].count
+        assignments = parse_assignments(device, writing, raw, space=DEFAULT_SPACE, modicon=modicon)
+        incomplete = [a for a in assignments if a.raw is None]
+        if incomplete:
+            raise UsageError(f"{incomplete[0].argument}: name every field of a bitfield register in a write-read (nothing is read first)")
+        planned = write_blocks(device, assignments, word_order)
+        if len(planned) != 1:
+            raise UsageError("write-read writes one run of adjacent holding registers; these are not adjacent")
+        write_at, written = planned[0].address, tuple(planned[0].words)
+        notes = regs.notes + [n for a in assignments for n in (a.located, a.note) if n]
+    return _built(lambda: build_read_write(slave, read_at, read_count, write_at, list(written))), notes
+
+
+def _one_run(items: Sequence[str], modicon: bool) -> tuple[int, tuple[int, ...]]:
+    """--words writes of a write-read: contiguous words, one run."""
+    writes = parse_word_writes(items, DEFAULT_SPACE, modicon=modicon)
+    flat = sorted((w.address + i, word) for w in writes for i, word in enumerate(w.words))
+    if any(b[0] != a[0] + 1 for a, b in itertools.pairwise(flat)):
+        raise UsageError("write-read --words writes one run of adjacent words")
+    return flat[0][0], tuple(word for _, word in flat)
+
+
+def _built(build: Any) -> bytes:
+    try:
+        frame: bytes = build()
+    except FrameError as exc:
+        raise UsageError(str(exc)) from None
+    return frame
+
+
+def mbap_adu(frame: bytes, transaction: int) -> bytes:
+    """The Modbus TCP ADU that carries an RTU frame's request: MBAP header (unit = the slave id), PDU, no CRC."""
+    return struct.pack(">HHHB", transaction & 0xFFFF, 0, len(frame) - 2, frame[0]) + frame[1:-2]

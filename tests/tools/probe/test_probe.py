@@ -313,3 +313,28 @@ def test_the_firmware_stage_checks_the_gates_against_the_version_read(simulator:
     code, report = probe(old.port or 0, served)
     assert code == ExitCode.PROBE_DISAGREES
     assert disagreements(report) == {(REG, "not_answered", "torque_limit")}
+
+
+def test_the_probe_compares_identification_and_server_id_with_the_map(simulator: SimulatorFactory, tmp_path: Path) -> None:
+    path = FIXTURE_DIR / "power_meter.yaml"
+    sim = simulator(path)
+    code, report = probe(sim.port or 0, path)
+    assert code == ExitCode.OK, report["disagreements"]
+    identity = {n["kind"]: n["text"] for n in report["information"] if n["stage"] == "identity"}
+    assert identity == {
+        "identification": "identification agrees (4 objects)",
+        "server_id": "server id agrees (50 4D FF 50 4D 2D 33 30 30 30)",
+    }
+    assert report["identity"]["identification"]["0x02"] == "1.25"
+    # The device a map edit describes differently: another revision, other additional data.
+    text = (
+        path.read_text(encoding="utf-8")
+        .replace('revision: "1.25"', 'revision: "1.30"')
+        .replace("additional_data: PM-3000", "additional_data: PM-9")
+    )
+    other = tmp_path / "other_meter.yaml"
+    other.write_text(text, encoding="utf-8")
+    code, report = probe(sim.port or 0, other)
+    assert code == ExitCode.PROBE_DISAGREES
+    texts = sorted(n["text"] for n in report["disagreements"] if n["stage"] == "identity")
+    assert texts == ["additional data b'PM-3000', the map 'PM-9'", "object 0x02 (revision): the device says '1.25', the map '1.30'"]

@@ -210,3 +210,22 @@ def test_the_power_meter_plays_the_firmware_its_map_and_example_name(simulator: 
     with connect(sim.port) as sock:
         answer = exchange(sock, mbap(1, 1, struct.pack(">BHH", 0x03, 0x0110, 1)))
     assert with_crc(bytes([1]) + answer[7:]) == example.frame  # 01 03 02 00 7D: firmware 1.25
+
+
+def test_requests_cut_anywhere_by_tcp_segments_are_each_answered_once(simulator: SimulatorFactory) -> None:
+    """Two whole ADUs and the start of a third in one segment, the rest of the third in the next."""
+    sim = simulator(IDM)
+    assert sim.port is not None
+    stream = mbap(1, 1, READ_PEAK) + mbap(2, 1, READ_PEAK) + mbap(3, 1, READ_PEAK)
+    with connect(sim.port) as sock:
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        sock.sendall(stream[:-5])
+        time.sleep(0.2)  # a segment of its own
+        sock.sendall(stream[-5:])
+        got = b""
+        deadline = time.monotonic() + 5
+        while len(got) < 3 * 11 and time.monotonic() < deadline:
+            if select.select([sock], [], [], 0.5)[0]:
+                got += sock.recv(4096)
+    assert [struct.unpack(">H", got[i : i + 2])[0] for i in range(0, len(got), 11)] == [1, 2, 3]
+    assert len(got) == 3 * 11

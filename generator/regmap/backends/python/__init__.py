@@ -417,7 +417,7 @@ CLIENT_METHODS = frozenset(
         "encode",
         "encode_raw",
         "decode",
-        "decode_block",
+        "values_of",
         "effective",
         "broadcast",
         "transport_error",
@@ -426,6 +426,8 @@ CLIENT_METHODS = frozenset(
     | {"read_words", "slave", "word_order", "requests_sent", "line", "modbus", "DEVICE"}
     | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile", "masked", "retries"}
     | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
+    | {"echo", "echoed", "report_server_id", "read_identification", "identification_code", "write_and_read", "read_write_arguments"}
+    | {"read_write_plan", "check_listed", "where"}
 )
 # Every error the runtime raises, re-exported by every generated module: `except drive.AccessError` must work
 # whichever map the module came from (a map without a firmware register still raises FirmwareError on request).

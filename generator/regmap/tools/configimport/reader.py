@@ -72,7 +72,7 @@ class Config:
 def read_config(text: str, name: str) -> Config:
     """The file's data; a YAML error raises ConfigError at its position."""
     try:
-        root = yamlsource._compose_fast(text) or yamlsource._compose_checked(text)
+        root = yamlsource._compose_checked(text)  # a config is small: the checked composer, with every position
         positions = Positions()
         data = _TaggedBuilder(positions).build(root, ())
     except YamlProblem as exc:

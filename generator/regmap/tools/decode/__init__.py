@@ -6,7 +6,7 @@ manual's annotated frames and `regmap read` use too.
 """
 
 from regmap.tools.decode.capture import CaptureError, CaptureLine, CaptureResult, capture_lines, decode_capture, split_capture_line
-from regmap.tools.decode.frame import Decoded, decode_answer, decode_frame
+from regmap.tools.decode.frame import Decoded, decode_answer, decode_frame, decode_mbap
 from regmap.tools.decode.text import render_text
 
 __all__ = [
@@ -18,6 +18,7 @@ __all__ = [
     "decode_answer",
     "decode_capture",
     "decode_frame",
+    "decode_mbap",
     "render_text",
     "split_capture_line",
 ]

@@ -7,6 +7,7 @@ plausibility.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -15,7 +16,7 @@ from regmap.core.decoding import FUNCTION_NAMES, DecodedValue, carried, decode_w
 from regmap.diagnostics import UsageError
 from regmap.model import Device
 from regmap.runtime_bridge import documented_addresses
-from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, FrameError, crc_ok, parse_frame, to_hex, unpack_bits
+from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, FrameError, crc_ok, parse_frame, to_hex, unpack_bits, with_crc
 from regmap_runtime.spaces import DEFAULT_SPACE, MAX_READ_BITS, MAX_READ_REGISTERS, MAX_WRITE_BITS, MAX_WRITE_REGISTERS, SPACES
 
 CANDIDATES_SHOWN = 6
@@ -32,6 +33,7 @@ class Decoded:
     problems: list[str] = field(default_factory=list)  # beyond the frame's own (limits, junk)
     data_words: list[str] = field(default_factory=list)  # a read response without its request: every word (or byte of bits)
     source_line: int | None = None
+    mbap: tuple[bytes, int, int] | None = None  # a Modbus TCP ADU: (its bytes, transaction, unit); the frame is then its PDU with a CRC
 
     @property
     def ok(self) -> bool:
@@ -40,7 +42,8 @@ class Decoded:
     def as_json(self) -> dict[str, Any]:
         f = self.frame
         return {
-            "hex": to_hex(f.raw),
+            "hex": to_hex(f.raw if self.mbap is None else self.mbap[0]),
+            "mbap": None if self.mbap is None else {"transaction": self.mbap[1], "unit": self.mbap[2]},
             "line": self.source_line,
             "slave": f.slave,
             "function": f.function,
@@ -181,6 +184,12 @@ def decode_frame(
         "write_multiple_request": "request",
         "write_multiple_response": "response",
         "exception": "response",
+        "read_write_request": "request",
+        "read_write_response": "response",
+        "server_id_request": "request",
+        "server_id_response": "response",
+        "device_id_request": "request",
+        "device_id_response": "response",
     }.get(frame.kind, direction or "request or response")
     decoded = Decoded(frame=frame, direction=kind_direction, function_name=name, problems=problems + _limits(device, frame))
     space = frame.space or DEFAULT_SPACE
@@ -231,6 +240,8 @@ def decode_frame(
             decoded.notes.append(
                 "a read response does not carry the address; give the request (--request, or pair them in --file) to name the registers"
             )
+    elif frame.kind in _OTHER_KINDS:
+        _other(device, decoded, request, word_order)
     elif frame.kind == "write_multiple_response" and request is not None and request.count is not None and request.count != frame.count:
         decoded.problems.append(f"the request wrote {request.count} {unit}, the response echoes {frame.count}")
     if base_function not in device.transport.function_codes and frame.kind != "exception":
@@ -267,3 +278,92 @@ def _registers_in(device: Device, start: int, count: int, space: str) -> list[De
             seen.add(reg.name)
             out.append(DecodedValue(reg.address, reg.name, reg.param, None, [], unit=reg.unit, text=reg.title, space=space))
     return out
+
+
+_OTHER_KINDS = (
+    "mask_write",
+    "read_write_request",
+    "read_write_response",
+    "diagnostics",
+    "server_id_response",
+    "device_id_request",
+    "device_id_response",
+)
+_DEVICE_ID_READS = {1: "basic stream", 2: "regular stream", 3: "extended stream", 4: "one object"}
+
+
+def _other(device: Device, decoded: Decoded, request: Frame | None, word_order: str | None) -> None:
+    """0x16, 0x17, 0x08, 0x11 and 0x2B/0x0E: the registers they touch, the data they carry, against the map."""
+    frame = decoded.frame
+    t = device.transport
+    if frame.kind == "mask_write" and frame.address is not None and len(frame.words) == 2:
+        and_mask, or_mask = frame.words
+        reg = device.covering(frame.address, DEFAULT_SPACE)
+        target = reg.label if reg is not None else "an address the map does not document"
+        kept, set_, cleared = and_mask, or_mask & ~and_mask & 0xFFFF, ~and_mask & ~or_mask & 0xFFFF
+        decoded.notes.append(
+            f"{target}: keeps bits 0x{kept:04X}, sets 0x{set_:04X}, clears 0x{cleared:04X} (AND 0x{and_mask:04X}, OR 0x{or_mask:04X})"
+        )
+    elif frame.kind == "read_write_request" and frame.write_address is not None and frame.address is not None:
+        decoded.values = decode_words(device, frame.write_address, frame.words, word_order=word_order, space=DEFAULT_SPACE)
+        if frame.count is not None:
+            read = ", ".join(
+                v.register or f"0x{v.address:04X}"
+                for v in _registers_in(device, frame.address, min(frame.count, MAX_READ_REGISTERS), DEFAULT_SPACE)
+            )
+            decoded.notes.append(f"then reads {frame.count} register(s) from 0x{frame.address:04X}: {read}")
+    elif frame.kind == "read_write_response":
+        if request is not None and request.kind == "read_write_request" and request.address is not None:
+            if request.count is not None and request.count != len(frame.words):
+                decoded.problems.append(f"the request asked for {request.count} registers, the response carries {len(frame.words)}")
+            decoded.values = decode_words(device, request.address, frame.words, word_order=word_order, space=DEFAULT_SPACE)
+        else:
+            decoded.data_words = _word_table(frame.words)
+            decoded.notes.append("a read/write response does not carry the read address; give the request to name the registers")
+    elif frame.kind == "diagnostics":
+        if frame.count == 0x0000:
+            decoded.notes.append(f"sub-function 0x0000 return query data, data {to_hex(frame.data) or '(none)'}: the answer echoes it")
+        else:
+            decoded.notes.append(f"sub-function 0x{frame.count or 0:04X}: regmap serves only 0x0000 (return query data)")
+    elif frame.kind == "server_id_response":
+        decoded.notes.append(f"report {to_hex(frame.data)} ({frame.data.decode('ascii', 'replace')!r})")
+        s = t.server_id
+        if s is not None:
+            expected = s.id + bytes([0xFF if s.running else 0x00]) + s.additional_data.encode("ascii")
+            if frame.data != expected:
+                decoded.notes.append(f"the map says {to_hex(expected)}: server id {to_hex(s.id)}, run indicator, {s.additional_data!r}")
+    elif frame.kind == "device_id_request" and frame.device_id is not None:
+        code, object_id = frame.device_id[:2]
+        decoded.notes.append(f"read device id code {code} ({_DEVICE_ID_READS.get(code, 'not one of 1..4')}), object 0x{object_id:02X}")
+    elif frame.kind == "device_id_response" and frame.device_id is not None:
+        _code, level, more, following = frame.device_id
+        mapped = dict(t.identification.objects) if t.identification is not None else {}
+        for object_id, text in frame.objects:
+            differs = object_id in mapped and mapped[object_id] != text
+            decoded.notes.append(f"object 0x{object_id:02X} = {text!r}" + (f" (the map says {mapped[object_id]!r})" if differs else ""))
+        decoded.notes.append(f"conformity level 0x{level:02X}" + (f"; more follows from object 0x{following:02X}" if more == 0xFF else ""))
+
+
+def mbap_to_rtu(adu: bytes, what: str = "frame") -> tuple[bytes, int]:
+    """The RTU frame with the same unit and PDU as a Modbus TCP ADU (the CRC computed), and its transaction id."""
+    if len(adu) < 8:
+        raise UsageError(f"{what}: {len(adu)} bytes is no Modbus TCP ADU (an MBAP header is 7 bytes, a PDU at least 1)")
+    transaction, protocol, length = struct.unpack(">HHH", adu[:6])
+    if protocol != 0:
+        raise UsageError(f"{what}: MBAP protocol id {protocol} (Modbus is 0)")
+    if length != len(adu) - 6:
+        raise UsageError(f"{what}: the MBAP length says {length} bytes follow, {len(adu) - 6} do")
+    return with_crc(adu[6:]), transaction
+
+
+def decode_mbap(
+    device: Device, adu: bytes, *, direction: str | None = None, request: bytes | None = None, word_order: str | None = None
+) -> Decoded:
+    """A Modbus TCP ADU decoded as the RTU frame with its unit and PDU; `request` the ADU it answers."""
+    frame, transaction = mbap_to_rtu(adu)
+    if request is not None:
+        decoded = decode_answer(device, frame, mbap_to_rtu(request, "--request")[0], word_order=word_order)
+    else:
+        decoded = decode_frame(device, frame, direction=direction, word_order=word_order)
+    decoded.mbap = (adu, transaction, adu[6])
+    return decoded

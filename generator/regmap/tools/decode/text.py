@@ -11,10 +11,12 @@ def render_text(decoded: Decoded) -> str:
     f = decoded.frame
     crc = "ok" if f.crc_valid else "MISMATCH"
     where = f"line {decoded.source_line}: " if decoded.source_line is not None else ""
-    lines = [
-        where + to_hex(f.raw),
-        f"  slave {f.slave}, function 0x{f.function:02X} {decoded.function_name} ({decoded.direction}), CRC {to_hex(f.raw[-2:])} {crc}",
-    ]
+    head = f"function 0x{f.function:02X} {decoded.function_name} ({decoded.direction})"
+    if decoded.mbap is None:
+        lines = [where + to_hex(f.raw), f"  slave {f.slave}, {head}, CRC {to_hex(f.raw[-2:])} {crc}"]
+    else:
+        adu, transaction, unit = decoded.mbap
+        lines = [where + to_hex(adu), f"  MBAP transaction {transaction}, unit {unit}, {head}"]
     bits = f.space is not None and SPACES[f.space].bits
     if f.address is not None:
         lines.append(
@@ -22,6 +24,8 @@ def render_text(decoded: Decoded) -> str:
             + (f", count {f.count}" if f.count is not None else "")
             + (f", byte count {f.byte_count}" if f.byte_count is not None else "")
         )
+    elif f.byte_count is not None and f.kind == "server_id_response":
+        lines.append(f"  byte count {f.byte_count}")
     elif f.byte_count is not None:
         lines.append(f"  byte count {f.byte_count}, " + (f"{8 * (len(f.raw) - 5)} bits" if bits else f"{len(f.words)} words"))
     if decoded.exception:

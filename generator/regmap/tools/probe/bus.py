@@ -6,11 +6,13 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TypeVar
 
 from regmap_runtime.client import SyncClient
 from regmap_runtime.errors import ConnectionLost, DeviceException, RegmapError
 from regmap_runtime.spaces import DEFAULT_SPACE
 
+T = TypeVar("T")
 CONFUSED_AFTER = 3  # requests in a row with no usable answer
 
 
@@ -86,6 +88,17 @@ class ProbeBus:
             return Answer(failure=f"{type(exc).__name__}: {exc}")
         self.silent = 0
         return Answer(words=words)
+
+    def call(self, ask: Callable[[], T]) -> tuple[T | None, Answer]:
+        """Any other request (identification, server id): what `ask` returned, and how the device answered."""
+        got: list[T] = []
+
+        def send() -> list[int] | None:
+            got.append(ask())
+            return None
+
+        answer = self._send(send)
+        return (got[0] if got else None), answer
 
     def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> Answer:
         answer = self._send(lambda: self.client.read_raw(address, count, space=space))

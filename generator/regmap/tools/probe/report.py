@@ -11,7 +11,7 @@ from regmap.model import Device
 
 @dataclass(frozen=True)
 class Note:
-    stage: str  # registers, word_order, limits, gaps, scan, firmware, write_test, sunspec
+    stage: str  # registers, word_order, limits, gaps, scan, firmware, identity, write_test, sunspec
     subject: str  # a register's label, or "transport"
     kind: str
     text: str

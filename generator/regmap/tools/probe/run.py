@@ -11,7 +11,7 @@ from regmap.model import Device, Register
 from regmap_runtime.client import SyncClient
 from regmap_runtime.profile import DeviceProfile
 
-from . import firmware, gaps, limits, profile, registers, sunspec, wordorder, writetest
+from . import firmware, gaps, identity, limits, profile, registers, sunspec, wordorder, writetest
 from .bus import ProbeBus, Stop
 from .report import Findings, Note
 
@@ -71,6 +71,8 @@ def probe(device: Device, client: SyncClient, where: str, options: Options) -> t
         steps.append(("scan", lambda: gaps.scan(bus, device, options.progress)))
     if options.sunspec:
         steps.insert(0, ("sunspec", lambda: sunspec.walk(bus, device)))
+    if device.transport.identification is not None or device.transport.server_id is not None:
+        steps.append((identity.STAGE, lambda: identity.check(bus, device)))
     if options.write_test:
         steps.append(("write_test", lambda: writetest.write_test(bus, device, options.write_test, order.effective)))
     for name, step in steps if going and found.answered_registers else []:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import asyncio
 import struct
 from collections.abc import Callable
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from regmap_runtime.rtu import crc_ok
 
@@ -114,16 +114,19 @@ class RtuReceiver:
             self.on_bad_frame(frame)
 
 
-@dataclass(frozen=True)
-class Adu:
+class Adu(NamedTuple):
     transaction: int
     protocol: int
     unit: int
     pdu: bytes
+    raw: bytes  # the whole ADU as it came (header and PDU)
 
 
 class MbapError(ValueError):
     """A header no Modbus TCP client sends: the connection cannot be trusted to be in step."""
+
+
+_HEADER = struct.Struct(">HHHB")
 
 
 class MbapReceiver:
@@ -133,21 +136,30 @@ class MbapReceiver:
         self.buffer = bytearray()
 
     def feed(self, data: bytes) -> list[Adu]:
-        """The whole ADUs now buffered; raises MbapError on a header that cannot be one."""
-        self.buffer += data
+        """The whole ADUs now buffered; raises MbapError on a header that cannot be one.
+        The common case, whole ADUs in one segment with nothing buffered, is cut without a copy."""
+        if self.buffer:
+            self.buffer += data
+            data = bytes(self.buffer)
+            self.buffer.clear()
         out = []
-        buf = self.buffer
-        while len(buf) >= MBAP_HEADER:
-            transaction, protocol, length, unit = struct.unpack(">HHHB", buf[:MBAP_HEADER])
+        at, size = 0, len(data)
+        while size - at >= MBAP_HEADER:
+            transaction, protocol, length, unit = _HEADER.unpack_from(data, at)
             if protocol != 0:
+                self.buffer += data[at:]
                 raise MbapError(f"MBAP protocol id {protocol} (Modbus is 0)")
             if not 2 <= length <= MBAP_MAX_LENGTH:
+                self.buffer += data[at:]
                 raise MbapError(f"MBAP length {length} is outside 2..{MBAP_MAX_LENGTH}")
-            end = 6 + length
-            if len(buf) < end:
+            end = at + 6 + length
+            if size < end:
                 break
-            out.append(Adu(transaction, protocol, unit, bytes(buf[MBAP_HEADER:end])))
-            del buf[:end]
+            raw = data[at:end] if at or end != size else data
+            out.append(Adu(transaction, protocol, unit, raw[MBAP_HEADER:], raw))
+            at = end
+        if at < size:
+            self.buffer += data[at:]
         return out
 
     @property
@@ -156,4 +168,4 @@ class MbapReceiver:
 
 
 def mbap(transaction: int, unit: int, pdu: bytes) -> bytes:
-    return struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu
+    return _HEADER.pack(transaction, 0, len(pdu) + 1, unit) + pdu

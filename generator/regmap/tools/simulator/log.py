@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import TextIO
 
 from regmap.diagnostics import UsageError
@@ -22,17 +22,19 @@ def _stamp() -> str:
 class RequestLog:
     """Writes one block per exchange; nothing is kept in memory."""
 
-    def __init__(self, device: Device, streams: list[TextIO]) -> None:
+    def __init__(self, device: Device, streams: list[TextIO], by_unit: Mapping[int, Device] | None = None) -> None:
         self.device = device
         self.streams = streams
+        self.by_unit = dict(by_unit or {})  # several devices on one port: each frame decoded with its slave's map
 
     def _decoded(self, frame: bytes, direction: str, request: bytes | None = None) -> list[str]:
         try:
             asked: Frame | None = parse_frame(request, "request") if request is not None else None
         except FrameError:
             asked = None
+        device = self.by_unit.get(frame[0], self.device) if frame else self.device
         try:
-            lines = render_text(decode_frame(self.device, frame, direction=direction, request=asked)).splitlines()
+            lines = render_text(decode_frame(device, frame, direction=direction, request=asked)).splitlines()
         except UsageError as exc:  # too short to decode: the bytes say it all
             return [to_hex(frame), f"  problem: {exc}"]
         if len(lines) > MAX_LINES:

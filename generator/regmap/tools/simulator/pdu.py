@@ -4,7 +4,8 @@ The checks follow the Modbus Application Protocol v1.1b3 §6 in its order: funct
 (else 0x01), quantity and byte count (else 0x03; for 0x05 a value other than FF 00/00 00), address
 range (else 0x02), then the device's own rules (`DeviceStore`: an address the map does not document
 in that space, or a register the simulated firmware lacks, 0x02; read-only or out-of-range value
-0x03). The map's limits narrow the spec's: `max_read_registers` (0x03/0x04), `max_write_registers`,
+0x03). An injected `exception` fault (device failure, 0x04) comes after the address checks, as the
+spec's processing does, for every function. The map's limits narrow the spec's: `max_read_registers` (0x03/0x04), `max_write_registers`,
 `max_read_coils` (0x01/0x02), `max_write_coils` (0x0F) and `max_message_bytes` are quantity limits,
 refused with 0x03 like the spec's 125/123/2000/1968. Input registers and discrete inputs have no
 write function, so a write to them is a function the space lacks. The exception codes are the spec's;
@@ -13,17 +14,21 @@ every map that lists exceptions gives these codes the same meaning (the maps' `t
 
 from __future__ import annotations
 
+import functools
 import struct
+from collections.abc import Callable
 
 from regmap.model import Device
 from regmap_runtime.rtu import (
     DIAGNOSTICS,
     ENCAPSULATED_INTERFACE,
     EXCEPTION_FLAG,
+    MAX_READ_WRITE_REGISTERS,
     READ_DEVICE_ID,
     READ_WRITE_MULTIPLE,
     READS,
     REPORT_SERVER_ID,
+    RETURN_QUERY_DATA,
     WRITES_MULTIPLE,
     WRITES_SINGLE,
     pack_bits,
@@ -46,8 +51,6 @@ IMPLEMENTED = (
 )
 SPEC_MAX_READ = 125  # §6.3
 SPEC_MAX_WRITE = 123  # §6.12
-SPEC_MAX_RW_WRITE = 121  # §6.17: the write part of read/write multiple registers
-RETURN_QUERY_DATA = 0x0000  # §6.8.1, the one diagnostics sub-function served
 MAX_PDU = 253
 RTU_OVERHEAD = 3  # slave id + CRC around a PDU; a map's max_message_bytes counts the RTU frame
 
@@ -77,6 +80,15 @@ def rtu_request_length(buf: bytes | bytearray) -> int | None:
     return None
 
 
+_TWO_WORDS = struct.Struct(">HH")
+
+
+@functools.cache
+def _words_answer(count: int) -> struct.Struct:
+    """A read answer of `count` registers: function, byte count, the words."""
+    return struct.Struct(f">BB{count}H")
+
+
 def exception_pdu(function: int, code: int) -> bytes:
     return bytes([(function | EXCEPTION_FLAG) & 0xFF, code])
 
@@ -96,35 +108,34 @@ class Dispatcher:
         self.max_bytes = t.max_message_bytes
         self.identification = t.identification
         self.server_id = t.server_id
-        self._other_functions = {
+        handlers: dict[int, Callable[[bytes], bytes]] = {
             MASK_WRITE_REGISTER: self._mask_write,
             DIAGNOSTICS: self._diagnostics,
             REPORT_SERVER_ID: self._report_server_id,
             READ_WRITE_MULTIPLE: self._read_write_multiple,
             ENCAPSULATED_INTERFACE: self._encapsulated,
         }
+        for code, space in READS.items():
+            handlers[code] = functools.partial(self._read_bits if space.bits else self._read, space=space)
+        for code, space in WRITES_SINGLE.items():
+            handlers[code] = functools.partial(self._write_coil if space.bits else self._write_single, space=space)
+        for code, space in WRITES_MULTIPLE.items():
+            handlers[code] = functools.partial(self._write_coils if space.bits else self._write_multiple, space=space)
+        # Only the functions the map lists: any other is 0x01. One look-up per request, the hot path of a polling client.
+        self._handlers = {code: handler for code, handler in handlers.items() if code in self.functions}
 
     def answer(self, pdu: bytes) -> bytes:
         """The answer PDU (a normal response or `function | 0x80, code`)."""
         function = pdu[0]
-        if function not in self.functions:
+        handler = self._handlers.get(function)
+        if handler is None:
             return exception_pdu(function, ILLEGAL_FUNCTION)
         if self.max_bytes is not None and len(pdu) + RTU_OVERHEAD > self.max_bytes:
             # Longer than the device takes in one message. The spec has no code for a frame too long;
             # every such request of these functions asks for more registers than the map allows, so
             # it is the quantity error (0x03), as a request of that quantity is.
             return exception_pdu(function, ILLEGAL_VALUE)
-        other = self._other_functions.get(function)
-        if other is not None:
-            return other(pdu)
-        if function in READS:
-            space = READS[function]
-            return self._read_bits(pdu, space) if space.bits else self._read(pdu, space)
-        if function in WRITES_SINGLE:
-            space = WRITES_SINGLE[function]
-            return self._write_coil(pdu, space) if space.bits else self._write_single(pdu, space)
-        space = WRITES_MULTIPLE[function]
-        return self._write_coils(pdu, space) if space.bits else self._write_multiple(pdu, space)
+        return handler(pdu)
 
     # -- registers: 0x03, 0x04 (§6.3, §6.4), 0x06 (§6.6), 0x10 (§6.12) ---------------------
 
@@ -132,7 +143,7 @@ class Dispatcher:
         function = pdu[0]
         if len(pdu) != 5:
             return exception_pdu(function, ILLEGAL_VALUE)
-        address, count = struct.unpack(">HH", pdu[1:5])
+        address, count = _TWO_WORDS.unpack_from(pdu, 1)
         if not 1 <= count <= self.max_read:
             return exception_pdu(function, ILLEGAL_VALUE)
         if address + count > 0x10000:
@@ -140,7 +151,7 @@ class Dispatcher:
         words = self.store.read(address, count, space.name)
         if isinstance(words, int):
             return exception_pdu(function, words)
-        return bytes([function, 2 * count]) + struct.pack(f">{count}H", *words)
+        return _words_answer(count).pack(function, 2 * count, *words)
 
     def _write_single(self, pdu: bytes, space: Space) -> bytes:
         function = pdu[0]
@@ -219,11 +230,15 @@ class Dispatcher:
             return exception_pdu(pdu[0], ILLEGAL_VALUE)
         if struct.unpack(">H", pdu[1:3])[0] != RETURN_QUERY_DATA:
             return exception_pdu(pdu[0], ILLEGAL_FUNCTION)  # a sub-function the device does not have
+        if self.store.failing():
+            return exception_pdu(pdu[0], self.store.faults.exception_code)
         return pdu  # the query data echoed
 
     def _report_server_id(self, pdu: bytes) -> bytes:
         if len(pdu) != 1 or self.server_id is None:
             return exception_pdu(pdu[0], ILLEGAL_VALUE)
+        if self.store.failing():
+            return exception_pdu(pdu[0], self.store.faults.exception_code)
         s = self.server_id
         data = s.id + bytes([0xFF if s.running else 0x00]) + s.additional_data.encode("ascii")
         return bytes([pdu[0], len(data)]) + data
@@ -237,7 +252,7 @@ class Dispatcher:
         read_at, read_count, write_at, write_count, byte_count = struct.unpack(">HHHHB", pdu[1:10])
         if (
             not 1 <= read_count <= self.max_read
-            or not 1 <= write_count <= min(SPEC_MAX_RW_WRITE, self.max_write)
+            or not 1 <= write_count <= min(MAX_READ_WRITE_REGISTERS, self.max_write)
             or byte_count != 2 * write_count
             or len(pdu) != 10 + byte_count
         ):
@@ -265,9 +280,11 @@ class Dispatcher:
         access, wanted = pdu[2], pdu[3]
         objects = dict(self.identification.objects)
         level = self.identification.conformity_level
-        if access == 4:  # one object, individually
-            if wanted not in objects:
-                return exception_pdu(function, ILLEGAL_ADDRESS)
+        if access == 4 and wanted not in objects:  # one object, individually
+            return exception_pdu(function, ILLEGAL_ADDRESS)
+        if self.store.failing():
+            return exception_pdu(function, self.store.faults.exception_code)
+        if access == 4:
             chosen = [wanted]
         else:  # a stream: basic (1), regular (2), extended (3); an unknown start restarts at object 0
             last = {1: 0x02, 2: 0x7F, 3: 0xFF}[access]

@@ -21,6 +21,7 @@ from .log import RequestLog
 from .policy import TcpPolicy
 from .quirks import Quirks
 from .server import Simulator
+from .store import slave_refusal
 
 
 def parse_endpoint(text: str) -> tuple[str, int]:
@@ -32,10 +33,9 @@ def parse_endpoint(text: str) -> tuple[str, int]:
 
 def check_start(device: Device, slave: int, state: Path | None) -> None:
     """What would otherwise be found out later, as exception 0x04 or a lost save: refused now."""
-    t = device.transport
-    if slave == t.broadcast_id or not t.slave_min <= slave <= t.slave_max:
-        broadcast = f" ({t.broadcast_id} is the broadcast id)" if slave == t.broadcast_id else ""
-        raise UsageError(f"--slave {slave} is outside {t.slave_min}..{t.slave_max}, the slave ids of {device.info.model}{broadcast}")
+    refused = slave_refusal(device, slave)
+    if refused is not None:
+        raise UsageError(f"--slave {refused}")
     if state is not None:
         check_output(state, "--state")
 

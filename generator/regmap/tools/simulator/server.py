@@ -10,8 +10,9 @@ import asyncio
 import contextlib
 import os
 import sys
+import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,17 +23,18 @@ from regmap.tools.link import Line, port_reason
 from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
-from .framing import TCP_PARTIAL_TIMEOUT_S, MbapError, MbapReceiver, RtuReceiver, mbap, rtu_gap_s
+from .framing import TCP_PARTIAL_TIMEOUT_S, Adu, MbapError, MbapReceiver, RtuReceiver, mbap, rtu_gap_s
 from .log import RequestLog
 from .pdu import Dispatcher, exception_pdu
 from .policy import DIRECT_UNITS, TcpPolicy
 from .quirks import Quirks
-from .store import DeviceStore
+from .store import DeviceStore, slave_refusal
 
 GATEWAY_TARGET_FAILED = 0x0B  # exception: a gateway found no answer from the addressed device
 PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
 TCP_RTU_GAP_S = 0.05
 KEEP_REQUESTS = 64
+RECEIVE_BUFFER = 4096  # bytes one read from a TCP connection takes; a request is at most 260
 
 Send = Callable[[bytes], None]
 
@@ -75,11 +77,15 @@ def is_pty(path: str) -> bool:
         return False
 
 
-class _Connection(asyncio.Protocol):
-    """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only."""
+class _Connection(asyncio.BufferedProtocol):
+    """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only.
+
+    A buffered protocol: the transport receives into this connection's own small buffer, where a plain
+    protocol would have asyncio allocate (and free) 256 KiB for every segment, each request."""
 
     def __init__(self, sim: Simulator, rtu: bool) -> None:
         self.sim = sim
+        self._received = memoryview(bytearray(RECEIVE_BUFFER))
         self.rtu_framing = rtu
         self.transport: asyncio.Transport | None = None
         self.peer = "tcp"
@@ -88,13 +94,15 @@ class _Connection(asyncio.Protocol):
         self.partial_timer: asyncio.TimerHandle | None = None
         self.idle_timer: asyncio.TimerHandle | None = None
         self.last_heard = 0.0
+        self.clock: Callable[[], float] = time.monotonic
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
         self.transport = transport
         peer = transport.get_extra_info("peername")
         self.peer = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else "tcp"
-        self.last_heard = asyncio.get_running_loop().time()
+        self.clock = asyncio.get_running_loop().time
+        self.last_heard = self.clock()
         self.sim.make_room(self.peer)
         self.sim.connections.add(self)
         self.sim.stats.connections += 1
@@ -110,8 +118,14 @@ class _Connection(asyncio.Protocol):
                 lambda b: sim.dropped(b, self.peer),
             )
 
+    def get_buffer(self, sizehint: int) -> memoryview:
+        return self._received
+
+    def buffer_updated(self, nbytes: int) -> None:
+        self.data_received(bytes(self._received[:nbytes]))
+
     def data_received(self, data: bytes) -> None:
-        self.last_heard = asyncio.get_running_loop().time()
+        self.last_heard = self.clock()
         if self.rtu is not None:
             self.rtu.feed(data)
             return
@@ -122,10 +136,11 @@ class _Connection(asyncio.Protocol):
             self.close()
             return
         for adu in adus:
-            self.sim.tcp_request(adu.transaction, adu.unit, adu.pdu, self.send, self.peer)
-        if adus or not self.mbap.partial:
+            self.sim.tcp_adu(adu, self.send, self.peer)
+        partial = self.mbap.partial
+        if self.partial_timer is not None and (adus or not partial):
             self._cancel_partial()
-        if self.mbap.partial and self.partial_timer is None:
+        if partial and self.partial_timer is None:
             self.partial_timer = asyncio.get_running_loop().call_later(TCP_PARTIAL_TIMEOUT_S, self._partial_expired)
 
     def _partial_expired(self) -> None:
@@ -181,8 +196,24 @@ class _Connection(asyncio.Protocol):
         self.sim.connections.discard(self)
 
 
+@dataclass(frozen=True)
+class Unit:
+    """One device on the server: its store (memory and rules) and the dispatcher answering its requests."""
+
+    store: DeviceStore
+    dispatcher: Dispatcher
+    functions: frozenset[int]  # the function codes its map lists
+
+    @classmethod
+    def of(cls, store: DeviceStore) -> Unit:
+        return cls(store, Dispatcher(store.device, store, store.quirks), frozenset(store.device.transport.function_codes))
+
+
 class Simulator:
-    """One simulated device on TCP or serial, with fault injection and frame statistics."""
+    """Simulated devices on one TCP port or serial line, with fault injection and frame statistics.
+
+    `Simulator(device, slave, ...)` plays one device; `Simulator.serving(units, ...)` several on one
+    port, each slave id its own `DeviceStore` (see the package docstring)."""
 
     def __init__(
         self,
@@ -197,20 +228,58 @@ class Simulator:
         quirks: Quirks | None = None,
         tcp_policy: TcpPolicy | None = None,
     ) -> None:
-        self.device = device
+        store = DeviceStore(device, slave, state_file, quirks or Quirks())
+        self._start_units({slave: store}, faults, log, keep_requests, rtu_gap_s, tcp_policy)
+
+    @classmethod
+    def serving(
+        cls,
+        units: Mapping[int, DeviceStore],
+        *,
+        faults: FaultPlan | None = None,
+        log: RequestLog | None = None,
+        keep_requests: int = KEEP_REQUESTS,
+        rtu_gap_s: float | None = None,
+        tcp_policy: TcpPolicy | None = None,
+    ) -> Simulator:
+        """Several devices on one port: slave id -> its store (each with its own map, state file, quirks)."""
+        if not units:
+            raise ValueError("a simulator serves at least one device")
+        for slave, store in units.items():
+            refused = slave_refusal(store.device, slave)
+            if refused is not None:
+                raise ValueError(refused)
+            if store.slave != slave:
+                raise ValueError(f"the store of {store.device.id} was made for slave {store.slave}, not {slave}")
+        simulator = cls.__new__(cls)
+        simulator._start_units(units, faults, log, keep_requests, rtu_gap_s, tcp_policy)
+        return simulator
+
+    def _start_units(
+        self,
+        units: Mapping[int, DeviceStore],
+        faults: FaultPlan | None,
+        log: RequestLog | None,
+        keep_requests: int,
+        rtu_gap_s: float | None,
+        tcp_policy: TcpPolicy | None,
+    ) -> None:
+        self.units = {slave: Unit.of(store) for slave, store in units.items()}
+        # A broadcast id (each map's own, usually 0) reaches every device whose map has it.
+        broadcasts: dict[int, list[Unit]] = {}
+        for slave, unit in self.units.items():
+            broadcast = unit.store.device.transport.broadcast_id
+            if broadcast is not None and broadcast != slave:
+                broadcasts.setdefault(broadcast, []).append(unit)
+        self.broadcasts = {b: tuple(receivers) for b, receivers in broadcasts.items()}
         self.tcp_policy = tcp_policy or TcpPolicy()
-        self.slave = slave
-        self.broadcast = device.transport.broadcast_id
-        self.quirks = quirks or Quirks()
-        self.store = DeviceStore(device, slave, state_file, self.quirks)
-        self.dispatcher = Dispatcher(device, self.store, self.quirks)
         self.faults = faults or FaultPlan()
-        self.store.faults = self.faults
+        for unit in self.units.values():
+            unit.store.faults = self.faults
         self.stats = Stats(keep=keep_requests)
         self.log = log
         self.rtu_gap_override = rtu_gap_s
         self.tcp_gap_s = rtu_gap_s if rtu_gap_s is not None else TCP_RTU_GAP_S
-        self.map_functions = frozenset(device.transport.function_codes)
         self.servers: list[asyncio.Server] = []
         self.connections: set[_Connection] = set()
         self.serial: Any = None
@@ -218,38 +287,71 @@ class Simulator:
         self.failure: str | None = None
         self.stopped = asyncio.Event()
 
+    # The one device of a single-device simulator (the first one of several).
+    @property
+    def slave(self) -> int:
+        return next(iter(self.units))
+
+    @property
+    def store(self) -> DeviceStore:
+        return self.units[self.slave].store
+
+    @property
+    def device(self) -> Device:
+        return self.store.device
+
+    @property
+    def dispatcher(self) -> Dispatcher:
+        return self.units[self.slave].dispatcher
+
     # -- what comes in -----------------------------------------------------------------------
 
     def ours(self, unit: int, function: int) -> bool:
-        return (unit == self.slave or unit == self.broadcast) and function in self.map_functions
+        """A request some device here would take (the RTU receiver's resynchronisation asks)."""
+        target = self.units.get(unit)
+        if target is not None:
+            return function in target.functions
+        return any(function in receiver.functions for receiver in self.broadcasts.get(unit, ()))
+
+    def _not_ours(self) -> str:
+        if len(self.units) == 1:
+            return f"not for slave {self.slave}"
+        return f"not for slaves {', '.join(map(str, sorted(self.units)))}"
 
     def _answer(self, unit: int, pdu: bytes) -> tuple[bytes | None, str]:
-        """The answer PDU, or None with the reason there is none."""
-        if unit == self.slave:
-            return self.dispatcher.answer(pdu), ""
-        if unit == self.broadcast:
-            if self.dispatcher.writes(pdu):
-                self.dispatcher.answer(pdu)
-                return None, "broadcast"
-            return None, "broadcast of a request that is not a write: ignored"
-        return None, f"not for slave {self.slave}"
+        """The answer PDU, or None with the reason there is none (the serial line's rules)."""
+        target = self.units.get(unit)
+        if target is not None:
+            return target.dispatcher.answer(pdu), ""
+        receivers = self.broadcasts.get(unit)
+        if receivers is not None:
+            if not Dispatcher.writes(pdu):
+                return None, "broadcast of a request that is not a write: ignored"
+            for receiver in receivers:
+                receiver.dispatcher.answer(pdu)
+            return None, "broadcast"
+        return None, self._not_ours()
 
     def _tcp_answer(self, unit: int, pdu: bytes) -> tuple[bytes | None, str]:
-        """Modbus TCP: the device addressed by its IP address, or a gateway with the device behind it."""
+        """Modbus TCP: the device addressed by its IP address, or a gateway with the devices behind it."""
         if self.tcp_policy.gateway:
-            if unit == self.slave or unit == self.broadcast:
+            if unit in self.units or unit in self.broadcasts:
                 return self._answer(unit, pdu)
             if not pdu:
                 return None, "empty request"
             return exception_pdu(pdu[0], GATEWAY_TARGET_FAILED), f"no device {unit} behind this gateway"
-        if unit == self.slave or unit in DIRECT_UNITS:
-            return self.dispatcher.answer(pdu), "" if unit == self.slave else f"unit {unit:#04x}: the device addressed directly"
-        return None, f"not for slave {self.slave}"
+        target = self.units.get(unit)
+        if target is not None:
+            return target.dispatcher.answer(pdu), ""
+        if len(self.units) == 1 and unit in DIRECT_UNITS:  # several devices: only their own unit ids tell them apart
+            return self.dispatcher.answer(pdu), f"unit {unit:#04x}: the device addressed directly"
+        return None, self._not_ours()
 
     def _received(self, frame: bytes) -> None:
-        self.stats.frames_received += 1
-        self.stats.bytes_received += len(frame)
-        self.stats.requests.append(frame)
+        stats = self.stats
+        stats.frames_received += 1
+        stats.bytes_received += len(frame)
+        stats.requests.append(frame)
 
     def rtu_frame(self, frame: bytes, send: Send, peer: str) -> None:
         self._received(frame)
@@ -264,22 +366,40 @@ class Simulator:
     def rtu_bad_frame(self, frame: bytes, send: Send, peer: str) -> None:
         self.stats.bad_crc_frames += 1
         self.stats.bytes_received += len(frame)
-        policy = self.device.transport.bad_crc
+        target = self.units.get(frame[0])
+        policy = (target.store.device if target is not None else self.device).transport.bad_crc
         reply = None
-        if policy.reply == "exception" and policy.code is not None and frame[0] == self.slave:
-            reply = with_crc(bytes([self.slave, (frame[1] | EXCEPTION_FLAG) & 0xFF, policy.code]))
+        if policy.reply == "exception" and policy.code is not None and target is not None:
+            reply = with_crc(bytes([frame[0], (frame[1] | EXCEPTION_FLAG) & 0xFF, policy.code]))
         if self.log is not None:
             self.log.rtu(peer, frame, reply, "bad CRC" + ("" if reply else f", {policy.reply}"))
         if reply is not None:
             self._send(send, reply, reply[1:-2], damage_rtu)
 
     def tcp_request(self, transaction: int, unit: int, pdu: bytes, send: Send, peer: str) -> None:
-        self._received(mbap(transaction, unit, pdu))
+        self.tcp_adu(Adu(transaction, 0, unit, pdu, mbap(transaction, unit, pdu)), send, peer)
+
+    def tcp_adu(self, adu: Adu, send: Send, peer: str) -> None:
+        """One Modbus TCP request; the hot path of the bench, so the common case is written out flat."""
+        stats = self.stats
+        stats.frames_received += 1
+        stats.bytes_received += len(adu.raw)
+        stats.requests.append(adu.raw)
+        transaction, unit, pdu = adu.transaction, adu.unit, adu.pdu
         answer, note = self._tcp_answer(unit, pdu)
         if self.log is not None:
             self.log.tcp(peer, transaction, unit, pdu, answer, note)
-        if answer is not None:
-            self._send(send, mbap(transaction, unit, answer), answer, damage_tcp)
+        if answer is None:
+            return
+        reply = mbap(transaction, unit, answer)
+        if self.faults.kind != "none":
+            self._send(send, reply, answer, damage_tcp)
+            return
+        if answer[0] & EXCEPTION_FLAG:
+            stats.exceptions_sent += 1
+        stats.frames_sent += 1
+        stats.bytes_sent += len(reply)
+        send(reply)
 
     def dropped(self, data: bytes, peer: str) -> None:
         self.stats.bytes_dropped += len(data)
@@ -322,12 +442,12 @@ class Simulator:
     # -- what goes out -----------------------------------------------------------------------
 
     def _send(self, send: Send, data: bytes, pdu: bytes, damage: Callable[[str, bytes], bytes]) -> None:
-        fault = self.faults.take(ANSWER_FAULTS)
+        fault = "none" if self.faults.kind == "none" else self.faults.take(ANSWER_FAULTS)
         if fault == "no_answer":
             return
         if pdu and pdu[0] & EXCEPTION_FLAG:
             self.stats.exceptions_sent += 1
-        out = damage(fault, data)
+        out = data if fault == "none" else damage(fault, data)
         if fault == "delay":
             asyncio.get_running_loop().call_later(self.faults.delay_s, self._deliver, send, out)
         else:
@@ -434,3 +554,36 @@ class Simulator:
             self.serial.close()
             self.serial = None
         self.stopped.set()
+
+
+async def serve(
+    units: Mapping[int, DeviceStore],
+    *,
+    tcp: tuple[str, int] | None = None,
+    serial: str | None = None,
+    rtu_over_tcp: bool = False,
+    line: Line | None = None,
+    faults: FaultPlan | None = None,
+    log: RequestLog | None = None,
+    tcp_policy: TcpPolicy | None = None,
+    started: Callable[[Simulator], None] | None = None,
+) -> Simulator:
+    """Serve several devices on one port until `Simulator.stopped` is set (see the package docstring).
+
+    Exactly one of `tcp` ((host, port)) and `serial` (a port or pty path); `started` is called once the
+    port is open (with the simulator, to stop it or read its stats). Returns the stopped simulator."""
+    if (tcp is None) == (serial is None):
+        raise ValueError("serve() takes one of tcp=(host, port) and serial=PATH")
+    simulator = Simulator.serving(units, faults=faults, log=log, tcp_policy=tcp_policy)
+    if serial is not None:
+        await simulator.start_serial(serial, line)
+    else:
+        assert tcp is not None
+        await simulator.start_tcp(tcp[0], tcp[1], rtu_over_tcp=rtu_over_tcp)
+    if started is not None:
+        started(simulator)
+    try:
+        await simulator.stopped.wait()
+    finally:
+        await simulator.stop()
+    return simulator

@@ -33,6 +33,16 @@ from .quirks import Quirks
 ILLEGAL_FUNCTION = 0x01
 ILLEGAL_ADDRESS = 0x02
 ILLEGAL_VALUE = 0x03
+READ_CHECKS_KEPT = 4096  # reads whose address check is remembered
+
+
+def slave_refusal(device: Device, slave: int) -> str | None:
+    """Why `slave` cannot be this device's slave id (outside its map's range, or its broadcast id), else None."""
+    t = device.transport
+    if slave == t.broadcast_id or not t.slave_min <= slave <= t.slave_max:
+        broadcast = f" ({t.broadcast_id} is the broadcast id)" if slave == t.broadcast_id else ""
+        return f"{slave} is outside {t.slave_min}..{t.slave_max}, the slave ids of {device.info.model}{broadcast}"
+    return None
 
 
 class DeviceStore:
@@ -52,6 +62,7 @@ class DeviceStore:
         self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
         self.pending_after_read: dict[tuple[str, int], int] = {}
+        self._unreadable: dict[tuple[str, int, int], int | None] = {}  # (space, address, count) -> what unreadable() says
         self.faults = FaultPlan()
         self.load_defaults()
         if state_file is not None and state_file.exists():
@@ -176,23 +187,37 @@ class DeviceStore:
 
     # -- the rules ---------------------------------------------------------------------------
 
+    def failing(self) -> bool:
+        """The injected `exception` fault takes this request (`--fault exception`: device failure, 0x04 unless told)."""
+        return self.faults.kind != "none" and self.faults.take(("exception",)) == "exception"
+
     def unreadable(self, address: int, count: int, space: str = DEFAULT_SPACE) -> int | None:
-        """The exception code a read of these addresses gets (an undocumented or write-only one), or None."""
+        """The exception code a read of these addresses gets (an undocumented or write-only one), or None.
+        The answer never changes while the simulator runs (the firmware played is fixed), so the latest are kept."""
+        key = (space, address, count)
+        if key in self._unreadable:
+            return self._unreadable[key]
         gaps = self.device.transport.tolerates_gaps or self.quirks.answer_gaps
+        refused = None
         for a in range(address, address + count):
             reg = self.covering(a, space)
             if (reg is None and not gaps) or (reg is not None and not reg.access.readable):
-                return ILLEGAL_ADDRESS
-        return None
+                refused = ILLEGAL_ADDRESS
+                break
+        if len(self._unreadable) >= READ_CHECKS_KEPT:  # a client sweeping addresses keeps memory bounded
+            self._unreadable.clear()
+        self._unreadable[key] = refused
+        return refused
 
     def read(self, address: int, count: int, space: str = DEFAULT_SPACE) -> list[int] | int:
         """The words at `address` of `space`, or the exception code the device answers."""
-        if self.faults.take(("exception",)) == "exception":
-            return self.faults.exception_code
         refused = self.unreadable(address, count, space)
         if refused is not None:
             return refused
-        values = [self.words.get((space, a), 0) for a in range(address, address + count)]
+        if self.failing():  # the spec's order: the address is checked before the device fails to carry the request out
+            return self.faults.exception_code
+        words = self.words
+        values = [words.get((space, a), 0) for a in range(address, address + count)]
         if self.pending_after_read:
             for a in range(address, address + count):
                 if (space, a) in self.pending_after_read:
@@ -201,8 +226,6 @@ class DeviceStore:
 
     def write(self, address: int, words: list[int], space: str = DEFAULT_SPACE) -> int | None:
         """Store `words` from `address` of `space` (all or nothing); None when done, else the exception code."""
-        if self.faults.take(("exception",)) == "exception":
-            return self.faults.exception_code
         end = address + len(words)
         touched: list[Register] = []
         for a in range(address, end):
@@ -213,6 +236,8 @@ class DeviceStore:
                 return ILLEGAL_ADDRESS
             if reg not in touched:
                 touched.append(reg)
+        if self.failing():
+            return self.faults.exception_code
         updates: list[tuple[Register, Raw]] = []
         for reg in touched:
             own = range(reg.address, reg.last_address + 1)

@@ -105,5 +105,5 @@ class PlantBus:
         for name, block in self.schedule():
             client = self.clients[name]
             words = client.read_raw(block.address, block.count, space=block.space)
-            values[name].update(client.decode_block(block, words))
+            values[name].update(client.values_of(block, words))
         return values

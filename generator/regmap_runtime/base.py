@@ -1,41 +1,48 @@
-"""The client base that generated device modules subclass: sync and async, one surface.
-
-Validation, encoding and planning happen before anything is sent; pymodbus does the transport.
-Every space is served: holding and input registers, coils and discrete inputs (a bit's "words" are
-its 0/1, one per address, as in the codec). A client asked to `check_firmware` reads the device's
-firmware register in `connect()` (or, used without `connect()`, before its first other request) and
-from then on refuses registers that firmware lacks.
-"""
+"""The clients' core: everything that does not touch the bus (value checks, encoding, request planning,
+firmware gates, the arguments of each function), shared by `client.SyncClient` and `client.AsyncClient`."""
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Iterable, Mapping
 from typing import Any, TypeVar, cast
 
 from pymodbus import FramerType
-from pymodbus.client import AsyncModbusSerialClient, AsyncModbusTcpClient, ModbusSerialClient, ModbusTcpClient
+from pymodbus.client import AsyncModbusSerialClient, ModbusSerialClient
 from pymodbus.exceptions import ConnectionException, ModbusIOException
 from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
 from .bits import BitfieldValue
-from .codec import check_command, check_raw, decode_value, raw_to_words, value_to_raw, words_to_raw
-from .errors import AccessError, ConnectionLost, DeviceException, FirmwareError, ProtocolError, RegmapError
+from .codec import check_raw, decode_value, value_to_raw, words_to_raw
+from .errors import AccessError, DeviceException, FirmwareError, ProtocolError, RegmapError
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
-from .rtu import STANDARD_EXCEPTIONS
-from .spaces import DEFAULT_SPACE, HOLDING, MASK_WRITE_REGISTER, SPACES
-from .spec import LOW_FIRST, DeviceSpec, Raw, Readable, ReadWrite, RegisterSpec, Writable, poll_class
-from .wire import PYMODBUS_METHODS, LineWatch, mask_write_masks, may_repeat, outcome_unknown, serial_settings, transport_error
+from .rtu import (
+    DEVICE_ID_CODES,
+    MAX_READ_WRITE_REGISTERS,
+    READ_WRITE_MULTIPLE,
+    STANDARD_EXCEPTIONS,
+)
+from .spaces import HOLDING, MASK_WRITE_REGISTER, SPACES
+from .spec import DeviceSpec, Raw, Readable, RegisterSpec, Writable, poll_class
+from .wire import (
+    PYMODBUS_METHODS,
+    LineWatch,
+    mask_write_masks,
+    may_repeat,
+    outcome_unknown,
+    serial_settings,
+    transport_error,
+)
 
 T = TypeVar("T")
 B = TypeVar("B", bound=BitfieldValue)
-K = TypeVar("K", bound="_Core")
+K = TypeVar("K", bound="ClientCore")
 WriteTarget = tuple[str, int, list[int] | tuple[int, ...]]  # a write's space, first address and words
+ECHO_WORD = 0xA537  # the query data echo() sends unless told (the spec's example carries A5 37)
 
 
-class _Core:
+class ClientCore:
     """Everything that does not touch the bus: value checks, encoding, request planning, firmware gates."""
 
     DEVICE: DeviceSpec
@@ -135,21 +142,24 @@ class _Core:
         """A typed error saying what happened on the line (`wire.transport_error`)."""
         return transport_error(self.line, self.slave, exc)
 
-    def _tries(self, write: WriteTarget | None) -> int:
+    def _tries(self, write: WriteTarget | None, once: bool = False) -> int:
         """How often a request may go out: a read, or a write of settings, 1 + `retries`; a write that
-        must not be repeated (a command, a trigger register, an address the map does not describe) once."""
-        if write is not None and (self.broadcast or not may_repeat(self.DEVICE.registers, *write)):
+        must not be repeated (a command, a trigger register, an address the map does not describe,
+        any read/write multiple: `once`) once."""
+        if write is not None and (once or self.broadcast or not may_repeat(self.DEVICE.registers, *write)):
             return 1
         return 1 + self.retries
 
-    def _failure(self, exc: PymodbusError, write: WriteTarget | None, again: bool, sent_before: int) -> RegmapError | None:
+    def _failure(
+        self, exc: PymodbusError, write: WriteTarget | None, again: bool, sent_before: int, once: bool = False
+    ) -> RegmapError | None:
         """None: send the request again; else the error to raise. A write sent once whose answer is lost
         is OutcomeUnknown (a connection that never opened sent nothing)."""
         if again and isinstance(exc, ModbusIOException):
             return None
         error = self.transport_error(exc)
         went_out = not isinstance(exc, ConnectionException) or getattr(self.line, "packets_sent", sent_before) > sent_before
-        if write is not None and went_out and not may_repeat(self.DEVICE.registers, *write):
+        if write is not None and went_out and (once or not may_repeat(self.DEVICE.registers, *write)):
             return outcome_unknown(self.DEVICE.registers, *write, error)
         return error
 
@@ -239,10 +249,6 @@ class _Core:
             return cast(T, spec.bitfield_type.from_raw(raw))
         return cast(T, decode_value(spec, raw))
 
-    def decode_block(self, block: ReadBlock, words: list[int]) -> dict[str, Any]:
-        """Each register of a read block, decoded from the words the block returned."""
-        return {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
-
     # -- planning ------------------------------------------------------------------------------
 
     def plan_reads(self, specs: Iterable[RegisterSpec[Any]]) -> list[ReadBlock]:
@@ -260,8 +266,9 @@ class _Core:
             self._plans[key] = plan
         return plan
 
-    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False) -> list[WriteBlock]:
-        """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers."""
+    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False, *, grouped: bool | None = None) -> list[WriteBlock]:
+        """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers;
+        `grouped`: contiguous registers in one block (default: where the device lists the space's write multiple)."""
         by_space: dict[str, list[tuple[RegisterSpec[Any], Raw]]] = {}
         for spec, value in values.items():
             self.check_writable(spec)
@@ -272,8 +279,8 @@ class _Core:
         blocks: list[WriteBlock] = []
         for space in SPACES:
             if space in by_space:
-                grouped = SPACES[space].write_multiple in device.function_codes
-                blocks += plan_writes(by_space[space], device.max_write_registers, grouped, max_bits=device.max_write_coils)
+                together = SPACES[space].write_multiple in device.function_codes if grouped is None else grouped
+                blocks += plan_writes(by_space[space], device.max_write_registers, together, max_bits=device.max_write_coils)
         return blocks
 
     def masked(self, spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tuple[int, int] | None:
@@ -285,6 +292,61 @@ class _Core:
             return None
         self.check_writable(spec)
         return mask_write_masks(spec, fields)
+
+    def check_listed(self, function: int, what: str) -> None:
+        """Refuse a function the map does not list, or one whose answer a broadcast would never bring (nothing is sent)."""
+        if function not in self.DEVICE.function_codes:
+            raise AccessError(f"{self.DEVICE.id} does not list function 0x{function:02X} ({what}): nothing was sent")
+        if self.broadcast:
+            raise ValueError(f"a broadcast cannot {what}: no answer comes back")
+
+    def read_write_plan(
+        self, writes: Mapping[Writable[Any], Any], reads: Iterable[Readable[Any]], raw: bool = False
+    ) -> tuple[WriteBlock, ReadBlock]:
+        """The one write and the one read of a read/write multiple (0x17): each value checked and encoded
+        as `write_many` does, each a contiguous run of holding registers within the limits; else nothing is sent."""
+        self.check_listed(READ_WRITE_MULTIPLE, "read/write multiple registers")
+        written = self.plan_writes(writes, raw, grouped=True)
+        read = self.plan_reads(reads)
+        if len(written) != 1 or written[0].space != HOLDING.name or len(written[0].words) > MAX_READ_WRITE_REGISTERS:
+            raise ValueError(
+                f"read/write multiple writes one run of at most {MAX_READ_WRITE_REGISTERS} adjacent holding registers"
+                f" ({', '.join(spec.label for spec in writes)} are not): nothing was sent"
+            )
+        if len(read) != 1 or read[0].space != HOLDING.name:
+            raise ValueError("read/write multiple reads one block of adjacent holding registers within the read limit: nothing was sent")
+        return written[0], read[0]
+
+    @staticmethod
+    def read_write_arguments(written: WriteBlock, read: ReadBlock) -> dict[str, Any]:
+        """pymodbus's arguments for the 0x17 of `read_write_plan`, and the write sent once (OutcomeUnknown if its answer is lost)."""
+        return {
+            "read_address": read.address,
+            "read_count": read.count,
+            "write_address": written.address,
+            "values": list(written.words),
+            "write": (HOLDING.name, written.address, written.words),
+            "once": True,
+        }
+
+    def values_of(self, block: ReadBlock, words: list[int]) -> dict[str, Any]:
+        """Each register of a read block decoded from the block's words."""
+        return {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
+
+    def echoed(self, word: int, response: Any) -> int:
+        """The word return query data sent back; a device that echoes something else is a ProtocolError."""
+        sent = word.to_bytes(2, "big")
+        got = bytes(getattr(response, "message", b"") or b"")
+        if got != sent:
+            raise ProtocolError(f"return query data sent {sent.hex(' ').upper()}, the device echoed {got.hex(' ').upper() or 'nothing'}")
+        return word
+
+    @staticmethod
+    def identification_code(level: str) -> int:
+        code = DEVICE_ID_CODES.get(level)
+        if code is None or level not in ("basic", "regular"):
+            raise ValueError(f"identification level {level!r}: basic or regular")
+        return code
 
     def readable(self, poll: object = None) -> list[RegisterSpec[Any]]:
         """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
@@ -345,253 +407,3 @@ class _Core:
         if len(words) != block.count:
             raise ProtocolError(f"asked for {block.count} registers at 0x{block.address:04X}, got {len(words)}")
         return words
-
-
-class SyncClient(_Core):
-    """Blocking client. Use as a context manager, or call close()."""
-
-    modbus: ModbusSerialClient | ModbusTcpClient
-    SERIAL_TRANSPORT = ModbusSerialClient
-    TCP_TRANSPORT = ModbusTcpClient
-
-    def __enter__(self: C) -> C:
-        self.connect()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
-
-    def connect(self) -> None:
-        """Open the port or socket; with check_firmware, read the firmware version too."""
-        if not self.modbus.connect():
-            raise ConnectionLost(f"cannot connect to {self.where}")
-        if self.firmware_pending:
-            self.detect_firmware()
-
-    def close(self) -> None:
-        self.modbus.close()  # type: ignore[no-untyped-call]
-
-    def detect_firmware(self) -> tuple[int, ...]:
-        """Read the firmware register now and keep its version (`firmware`, `firmware_text`); with
-        check_firmware, connect() does this, or the first request when connect() was not called."""
-        block = self.firmware_block()
-        response = self._send(*self.reader(block.space), block.address, count=block.count)
-        return self.learn_firmware(self.read_words(response, block))
-
-    def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
-        tries = self._tries(write)
-        for attempt in range(1, tries + 1):
-            self.requests_sent += 1
-            sent_before = getattr(self.line, "packets_sent", 0)
-            try:
-                response = method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
-                break
-            except PymodbusError as exc:
-                error = self._failure(exc, write, attempt < tries, sent_before)
-                if error is not None:
-                    raise error from exc
-        if self.broadcast:
-            return None
-        return self.check_response(response, function)
-
-    def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
-        if self.firmware_pending:
-            self.detect_firmware()
-        return self._send(function, method, *args, **kwargs)
-
-    def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
-        """Read `count` words from `address` of `space` (holding registers: 0x03; coils and discrete inputs: one 0/1 per bit)."""
-        if self.broadcast:
-            raise ValueError("a broadcast cannot read")
-        response = self._call(*self.reader(space), address, count=count)
-        return self.read_words(response, ReadBlock(address, count, (), space))
-
-    def write_raw(
-        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
-    ) -> None:
-        """Write words from `address`: write single (0x06; a coil 0x05) for one word unless `multiple`, else
-        write multiple (0x10; coils 0x0F). A coil's word is its bit, 0 or 1 (0x05 sends it as FF 00 / 00 00)."""
-        function, method, single = self.writer(space, len(words) == 1 and not multiple)
-        self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
-
-    def send_command(self, spec: Writable[Any], raw: int, *, confirmed: bool = False) -> None:
-        """Write a command's fixed raw value (already checked against the map at generation time); a
-        destructive command's only when `confirmed` (DestructiveWriteError, nothing sent)."""
-        check_command(spec, raw, confirmed)
-        if self.firmware_pending:
-            self.detect_firmware()
-        self.check_exists(spec)
-        target = self.effective(spec)
-        words = raw_to_words(target, raw)
-        self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
-
-    def read(self, spec: Readable[T]) -> T:
-        return cast(T, self.read_many(spec)[spec.name])
-
-    def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
-        """Read several registers with the fewest requests the device allows (a generated client types the result)."""
-        if self.firmware_pending:
-            self.detect_firmware()
-        values: dict[str, Any] = {}
-        for block in self.plan_reads(specs):
-            values.update(self.decode_block(block, self.read_raw(block.address, block.count, space=block.space)))
-        return values
-
-    def read_all(self, poll: object = None) -> Mapping[str, Any]:
-        """Every readable register, by the device's read plan; `poll` ("static", "fast", "normal",
-        "slow"): only that class's. With check_firmware, the registers the firmware lacks are left out."""
-        if poll is not None:
-            poll_class(poll)  # an unknown class fails before anything is sent
-        if self.firmware_pending:
-            self.detect_firmware()
-        return self.read_many(*cast(list[Readable[Any]], self.readable(poll)))
-
-    def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
-        self.write_many({spec: value}, raw=raw)
-
-    def update(self, spec: ReadWrite[B], **fields: Any) -> B:
-        """Change only the named fields of a bitfield register (every other bit, described or not, stays):
-        one mask write (0x16) where the device lists it, then the register read back; else read-modify-write."""
-        masks = self.masked(spec, fields)
-        if masks is None:
-            new = dataclasses.replace(self.read(spec), **fields)
-            self.write(spec, new)
-            return new
-        if self.firmware_pending:
-            self.detect_firmware()
-        self.check_exists(spec)
-        write = (spec.space, spec.address, [masks[1]])
-        self._call(
-            MASK_WRITE_REGISTER, self.modbus.mask_write_register, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write
-        )
-        return self.read(spec)
-
-    def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
-        """Validate every value, then write contiguous registers together (0x10; coils 0x0F)."""
-        for spec in values:
-            self.check_writable(spec)  # refused before even the firmware is read
-        if self.firmware_pending:
-            self.detect_firmware()
-        for block in self.plan_writes(values, raw):
-            self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
-
-
-class AsyncClient(_Core):
-    """asyncio client with the same surface as SyncClient (every I/O method is a coroutine)."""
-
-    modbus: AsyncModbusSerialClient | AsyncModbusTcpClient
-    SERIAL_TRANSPORT = AsyncModbusSerialClient
-    TCP_TRANSPORT = AsyncModbusTcpClient
-
-    async def __aenter__(self: A) -> A:
-        await self.connect()
-        return self
-
-    async def __aexit__(self, *exc: object) -> None:
-        self.close()
-
-    async def connect(self) -> None:
-        if not await self.modbus.connect():
-            raise ConnectionLost(f"cannot connect to {self.where}")
-        if self.firmware_pending:
-            await self.detect_firmware()
-
-    def close(self) -> None:
-        self.modbus.close()
-
-    async def detect_firmware(self) -> tuple[int, ...]:
-        block = self.firmware_block()
-        response = await self._send(*self.reader(block.space), block.address, count=block.count)
-        return self.learn_firmware(self.read_words(response, block))
-
-    async def _send(self, function: int, method: Any, *args: Any, write: WriteTarget | None = None, **kwargs: Any) -> Any:
-        tries = self._tries(write)
-        for attempt in range(1, tries + 1):
-            self.requests_sent += 1
-            sent_before = getattr(self.line, "packets_sent", 0)
-            try:
-                response = await method(*args, device_id=self.slave, no_response_expected=self.broadcast, **kwargs)
-                break
-            except PymodbusError as exc:
-                error = self._failure(exc, write, attempt < tries, sent_before)
-                if error is not None:
-                    raise error from exc
-        if self.broadcast:
-            return None
-        return self.check_response(response, function)
-
-    async def _call(self, function: int, method: Any, *args: Any, **kwargs: Any) -> Any:
-        if self.firmware_pending:
-            await self.detect_firmware()
-        return await self._send(function, method, *args, **kwargs)
-
-    async def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
-        if self.broadcast:
-            raise ValueError("a broadcast cannot read")
-        response = await self._call(*self.reader(space), address, count=count)
-        return self.read_words(response, ReadBlock(address, count, (), space))
-
-    async def write_raw(
-        self, address: int, words: list[int] | tuple[int, ...], *, multiple: bool | None = None, space: str = DEFAULT_SPACE
-    ) -> None:
-        function, method, single = self.writer(space, len(words) == 1 and not multiple)
-        await self._call(function, method, *self.write_args(space, address, words, single), write=(space, address, words))
-
-    async def send_command(self, spec: Writable[Any], raw: int, *, confirmed: bool = False) -> None:
-        check_command(spec, raw, confirmed)
-        if self.firmware_pending:
-            await self.detect_firmware()
-        self.check_exists(spec)
-        target = self.effective(spec)
-        words = raw_to_words(target, raw)
-        await self.write_raw(target.address, words, multiple=len(words) > 1, space=target.space)
-
-    async def read(self, spec: Readable[T]) -> T:
-        return cast(T, (await self.read_many(spec))[spec.name])
-
-    async def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
-        if self.firmware_pending:
-            await self.detect_firmware()
-        values: dict[str, Any] = {}
-        for block in self.plan_reads(specs):
-            values.update(self.decode_block(block, await self.read_raw(block.address, block.count, space=block.space)))
-        return values
-
-    async def read_all(self, poll: object = None) -> Mapping[str, Any]:
-        if poll is not None:
-            poll_class(poll)
-        if self.firmware_pending:
-            await self.detect_firmware()
-        return await self.read_many(*cast(list[Readable[Any]], self.readable(poll)))
-
-    async def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
-        await self.write_many({spec: value}, raw=raw)
-
-    async def update(self, spec: ReadWrite[B], **fields: Any) -> B:
-        """Change only the named fields of a bitfield register (see SyncClient.update)."""
-        masks = self.masked(spec, fields)
-        if masks is None:
-            new = dataclasses.replace(await self.read(spec), **fields)
-            await self.write(spec, new)
-            return new
-        if self.firmware_pending:
-            await self.detect_firmware()
-        self.check_exists(spec)
-        write = (spec.space, spec.address, [masks[1]])
-        method = self.modbus.mask_write_register
-        await self._call(MASK_WRITE_REGISTER, method, address=spec.address, and_mask=masks[0], or_mask=masks[1], write=write)
-        return await self.read(spec)
-
-    async def write_many(self, values: Mapping[Writable[Any], Any], *, raw: bool = False) -> None:
-        for spec in values:
-            self.check_writable(spec)
-        if self.firmware_pending:
-            await self.detect_firmware()
-        for block in self.plan_writes(values, raw):
-            await self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
-
-
-C = TypeVar("C", bound=SyncClient)
-A = TypeVar("A", bound=AsyncClient)
-
-__all__ = ["LOW_FIRST", "AsyncClient", "SyncClient"]

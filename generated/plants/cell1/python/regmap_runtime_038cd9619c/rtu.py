@@ -190,6 +190,58 @@ def build_write_multiple(slave: int, address: int, words: list[int] | tuple[int,
     return with_crc(body + data)
 
 
+MAX_READ_WRITE_REGISTERS = 121  # §6.17: the write part of read/write multiple registers
+RETURN_QUERY_DATA = 0x0000  # §6.8.1: the diagnostics sub-function regmap sends and serves
+DEVICE_ID_CODES = {"basic": 0x01, "regular": 0x02, "extended": 0x03, "individual": 0x04}  # §6.21
+
+
+def build_mask_write(slave: int, address: int, and_mask: int, or_mask: int) -> bytes:
+    """Mask write register (0x16, §6.16): the register becomes (current AND and_mask) OR (or_mask AND NOT and_mask)."""
+    _check_slave(slave)
+    _check_address(address)
+    _check_word(and_mask)
+    _check_word(or_mask)
+    return with_crc(struct.pack(">BBHHH", slave, MASK_WRITE_REGISTER, address, and_mask, or_mask))
+
+
+def build_read_write(slave: int, read_address: int, read_count: int, write_address: int, words: list[int] | tuple[int, ...]) -> bytes:
+    """Read/write multiple registers (0x17, §6.17): write `words` at `write_address`, then read `read_count` from `read_address`."""
+    _check_slave(slave)
+    _check_address(read_address)
+    _check_address(write_address)
+    if not 1 <= read_count <= MAX_READ_REGISTERS:
+        raise FrameError(f"read count {read_count} is outside 1..{MAX_READ_REGISTERS}")
+    if not 1 <= len(words) <= MAX_READ_WRITE_REGISTERS:
+        raise FrameError(f"write count {len(words)} is outside 1..{MAX_READ_WRITE_REGISTERS}")
+    for word in words:
+        _check_word(word)
+    head = struct.pack(">BBHHHHB", slave, READ_WRITE_MULTIPLE, read_address, read_count, write_address, len(words), 2 * len(words))
+    return with_crc(head + struct.pack(f">{len(words)}H", *words))
+
+
+def build_echo(slave: int, word: int) -> bytes:
+    """Diagnostics (0x08) sub-function 0x0000, return query data: the device echoes the request."""
+    _check_slave(slave)
+    _check_word(word)
+    return with_crc(struct.pack(">BBHH", slave, DIAGNOSTICS, RETURN_QUERY_DATA, word))
+
+
+def build_report_server_id(slave: int) -> bytes:
+    """Report server id (0x11, §6.13): no data."""
+    _check_slave(slave)
+    return with_crc(bytes([slave, REPORT_SERVER_ID]))
+
+
+def build_read_device_id(slave: int, code: int, object_id: int = 0) -> bytes:
+    """Read device identification (0x2B/0x0E, §6.21): read code 1 basic, 2 regular, 3 extended, 4 one object."""
+    _check_slave(slave)
+    if code not in DEVICE_ID_CODES.values():
+        raise FrameError(f"read device id code {code} is not one of 1 (basic), 2 (regular), 3 (extended), 4 (one object)")
+    if not 0 <= object_id <= 0xFF:
+        raise FrameError(f"object id {object_id} is outside 0..255")
+    return with_crc(bytes([slave, ENCAPSULATED_INTERFACE, READ_DEVICE_ID, code, object_id]))
+
+
 def build_read_response(slave: int, words: list[int] | tuple[int, ...], *, space: str = DEFAULT_SPACE) -> bytes:
     """A read response: register words, or (coils, discrete inputs) bits 0/1, packed."""
     if SPACES[space].bits:
@@ -222,6 +274,13 @@ class Frame:
     problems: tuple[str, ...] = ()
     space: str | None = None  # the register space the function addresses (None: exception, unknown)
     bits: tuple[int, ...] = ()  # coils, discrete inputs: the bits carried (a read response: every bit of its bytes)
+    write_address: int | None = None  # 0x17: where the write goes (address/count are the read's)
+    write_count: int | None = None
+    data: bytes = b""  # 0x08: the query data; 0x11: the report after its byte count
+    objects: tuple[tuple[int, str], ...] = ()  # 0x2B/0x0E response: (object id, text)
+    device_id: tuple[int, int, int, int] | None = (
+        None  # 0x2B/0x0E: (read code, conformity level, more follows, next object id); a request: (code, object id, 0, 0)
+    )
 
 
 def _words(data: bytes) -> tuple[int, ...]:
@@ -243,10 +302,14 @@ def parse_frame(frame: bytes, direction: str | None = None) -> Frame:
     if not valid:
         problems.append(f"CRC mismatch: frame carries {to_hex(frame[-2:])}, expected {to_hex(crc_bytes(frame[:-2]))}")
     space = READS.get(function) or WRITES_SINGLE.get(function) or WRITES_MULTIPLE.get(function)
+    if function in OTHER_FUNCTIONS:
+        space = SPACES[DEFAULT_SPACE] if function in (MASK_WRITE_REGISTER, READ_WRITE_MULTIPLE) else None
     if function & EXCEPTION_FLAG:
         if len(body) != 1:
             problems.append(f"exception frame carries {len(body)} data bytes, expected 1")
         fields: dict[str, Any] = {"kind": "exception", "exception_code": body[0] if body else None}
+    elif function in OTHER_FUNCTIONS:
+        fields = OTHER_FUNCTIONS[function](body, direction, problems)
     elif space is None:
         fields = {"kind": "unknown", "words": _words(body)}
     elif function in READS:
@@ -330,3 +393,114 @@ def _write_multiple_fields(space: Space, body: bytes, direction: str | None, pro
     if count * 2 != len(data):
         problems.append(f"register count says {count} but {len(data)} data bytes follow")
     return {**fields, "words": _words(data)}
+
+
+def _mask_write_fields(body: bytes, _direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """0x16: the request and its echo read alike (address, AND mask, OR mask)."""
+    if len(body) != 6:
+        problems.append(f"mask write frame carries {len(body)} data bytes, expected 6")
+        return {"kind": "mask_write"}
+    address, and_mask, or_mask = struct.unpack(">HHH", body)
+    return {"kind": "mask_write", "address": address, "count": 1, "words": (and_mask, or_mask)}
+
+
+def _read_write_fields(body: bytes, direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """0x17: the request (read address and count, write address, count, byte count, words) or its response (the words read)."""
+    if direction == "response" or (direction is None and (len(body) < 9 or body[0] == len(body) - 1)):
+        if not body:
+            problems.append("read/write response has no byte count")
+            return {"kind": "read_write_response"}
+        if body[0] != len(body) - 1:
+            problems.append(f"byte count says {body[0]} but {len(body) - 1} data bytes follow")
+        if (len(body) - 1) % 2:
+            problems.append("odd number of data bytes")
+        return {"kind": "read_write_response", "byte_count": body[0], "words": _words(body[1:])}
+    if len(body) < 9:
+        problems.append(f"read/write request carries only {len(body)} data bytes")
+        return {"kind": "read_write_request"}
+    read_at, read_count, write_at, write_count, byte_count = struct.unpack(">HHHHB", body[:9])
+    data = body[9:]
+    if byte_count != len(data):
+        problems.append(f"byte count says {byte_count} but {len(data)} data bytes follow")
+    if write_count * 2 != len(data):
+        problems.append(f"write count says {write_count} but {len(data)} data bytes follow")
+    if not 1 <= read_count <= MAX_READ_REGISTERS:
+        problems.append(f"read count {read_count} is outside 1..{MAX_READ_REGISTERS}")
+    if not 1 <= write_count <= MAX_READ_WRITE_REGISTERS:
+        problems.append(f"write count {write_count} is outside 1..{MAX_READ_WRITE_REGISTERS}")
+    return {
+        "kind": "read_write_request",
+        "address": read_at,
+        "count": read_count,
+        "write_address": write_at,
+        "write_count": write_count,
+        "byte_count": byte_count,
+        "words": _words(data),
+    }
+
+
+def _diagnostics_fields(body: bytes, _direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """0x08: sub-function and data (the request and a return-query-data echo read alike)."""
+    if len(body) < 2:
+        problems.append(f"diagnostics frame carries {len(body)} data bytes, expected a sub-function and data")
+        return {"kind": "diagnostics"}
+    sub_function = int.from_bytes(body[:2], "big")
+    return {"kind": "diagnostics", "count": sub_function, "data": bytes(body[2:])}
+
+
+def _server_id_fields(body: bytes, direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """0x11: an empty request, or the byte count and the report."""
+    if direction == "request" or (direction is None and not body):
+        if body:
+            problems.append(f"report server id request carries {len(body)} data bytes, expected none")
+        return {"kind": "server_id_request"}
+    if not body:
+        problems.append("report server id response has no byte count")
+        return {"kind": "server_id_response"}
+    if body[0] != len(body) - 1:
+        problems.append(f"byte count says {body[0]} but {len(body) - 1} data bytes follow")
+    return {"kind": "server_id_response", "byte_count": body[0], "data": bytes(body[1:])}
+
+
+def _device_id_fields(body: bytes, direction: str | None, problems: list[str]) -> dict[str, Any]:
+    """0x2B/0x0E: the request (read code, object id) or the response (its header and objects)."""
+    if not body or body[0] != READ_DEVICE_ID:
+        problems.append(f"MEI type {body[0]:#04x} is not read device identification (0x0E)" if body else "no MEI type")
+        return {"kind": "unknown"}
+    if direction == "request" or (direction is None and len(body) == 3):
+        if len(body) != 3:
+            problems.append(f"read device identification request carries {len(body)} data bytes, expected 3")
+            return {"kind": "device_id_request"}
+        if body[1] not in DEVICE_ID_CODES.values():
+            problems.append(f"read device id code {body[1]} is not 1..4")
+        return {"kind": "device_id_request", "device_id": (body[1], body[2], 0, 0)}
+    if len(body) < 6:
+        problems.append(f"read device identification response carries only {len(body)} data bytes")
+        return {"kind": "device_id_response"}
+    code, level, more, following, count = body[1:6]
+    objects: list[tuple[int, str]] = []
+    at = 6
+    while at + 2 <= len(body):
+        object_id, length = body[at], body[at + 1]
+        value = body[at + 2 : at + 2 + length]
+        if len(value) != length:
+            problems.append(f"object 0x{object_id:02X} says {length} bytes, {len(value)} follow")
+        objects.append((object_id, value.decode("ascii", "replace")))
+        at += 2 + length
+    if at != len(body):
+        problems.append(f"{len(body) - at} byte(s) after the last object")
+    if count != len(objects):
+        problems.append(f"the response says {count} objects and carries {len(objects)}")
+    if more not in (0x00, 0xFF):
+        problems.append(f"more follows is 0x{more:02X}, not 00 or FF")
+    return {"kind": "device_id_response", "count": count, "objects": tuple(objects), "device_id": (code, level, more, following)}
+
+
+OTHER_FUNCTIONS = {
+    MASK_WRITE_REGISTER: _mask_write_fields,
+    READ_WRITE_MULTIPLE: _read_write_fields,
+    DIAGNOSTICS: _diagnostics_fields,
+    REPORT_SERVER_ID: _server_id_fields,
+    ENCAPSULATED_INTERFACE: _device_id_fields,
+}
+"""Functions beyond the spaces' reads and writes: function code -> the fields of its frame."""

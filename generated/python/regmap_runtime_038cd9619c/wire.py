@@ -4,7 +4,8 @@ typed error of a failed request, which requests may be sent again, and the masks
 pymodbus is created with no retries of its own: it would send a lost command again. The client
 repeats a request only where repeating cannot act twice: a read, or a write that covers nothing but
 settings (registers the map does not mark as triggers). A write sent once whose answer is lost is
-an `OutcomeUnknown`: the device may or may not have carried it out.
+an `OutcomeUnknown`: the device may or may not have carried it out. Also here: the answers of
+report server id (0x11) and read device identification (0x2B/0x0E) as the client returns them.
 """
 
 from __future__ import annotations
@@ -141,3 +142,51 @@ def mask_write_masks(spec: RegisterSpec[Any], fields: Mapping[str, Any]) -> tupl
     if spec.byte_order != HIGH_FIRST:  # the device applies the masks to the word as it travels
         and_mask, or_mask = swap_bytes([and_mask, or_mask])
     return and_mask, or_mask
+
+
+@dataclasses.dataclass(frozen=True)
+class ServerIdReport:
+    """What report server id (0x11) answered: every byte after the byte count (MBAP §6.13: the
+    server id, the run indicator 0x00 OFF / 0xFF ON, additional data). The id's length is the device's
+    own; `split` cuts the data where the map says the id ends."""
+
+    data: bytes
+
+    def split(self, id_length: int) -> tuple[bytes, bool | None, bytes]:
+        """(server id, running: True ON, False OFF, None neither; additional data)."""
+        if len(self.data) <= id_length:
+            return self.data, None, b""
+        run = self.data[id_length]
+        return self.data[:id_length], True if run == 0xFF else False if run == 0x00 else None, self.data[id_length + 1 :]
+
+
+def server_id_report(line: LineWatch, response: Any) -> ServerIdReport:
+    """The report's data from the answer's own bytes (pymodbus takes the last byte for the run
+    indicator, which is wrong when additional data follows it); pymodbus's fields where the bytes are not kept."""
+    seen = line.received
+    pdu = (seen[1:-2] if line.rtu_framing else seen[7:]) if seen else b""
+    if len(pdu) >= 2 and pdu[0] == 0x11 and len(pdu) == 2 + pdu[1]:
+        return ServerIdReport(bytes(pdu[2:]))
+    identifier = bytes(getattr(response, "identifier", b""))
+    return ServerIdReport(identifier + bytes([0xFF if getattr(response, "status", False) else 0x00]))
+
+
+def identification_objects(answers: Sequence[Any]) -> dict[int, str]:
+    """The objects of a read device identification stream, in object id order, from its answers."""
+    objects: dict[int, str] = {}
+    for answer in answers:
+        for object_id, value in dict(getattr(answer, "information", {})).items():
+            parts = value if isinstance(value, list) else [value]
+            objects[int(object_id)] = b"".join(bytes(p) for p in parts).decode("ascii", "replace")
+    return dict(sorted(objects.items()))
+
+
+def next_identification_object(answer: Any, asked: int) -> int | None:
+    """The object id the next request of a stream starts at, or None when the stream is complete;
+    an answer that says more follows but does not move forward is a ProtocolError."""
+    if int(getattr(answer, "more_follows", 0)) != 0xFF:
+        return None
+    following = int(getattr(answer, "next_object_id", 0))
+    if following <= asked:
+        raise ProtocolError(f"read device identification: more follows, but from object 0x{following:02X} after 0x{asked:02X}")
+    return following
