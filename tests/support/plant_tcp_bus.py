@@ -1,26 +1,22 @@
-"""A plant's TCP bus served for tests: one Modbus TCP port, every device of the bus behind it at its slave id.
-
-Until `regmap simulate PLANT --bus NAME --tcp ...` serves a whole bus, `serve_bus` starts one
-`regmap simulate MAP --tcp --slave N` per device and a `UnitRouter` in front of them that hands each MBAP
-request to the simulator of its unit id (a unit id no device has gets no answer, as on a serial line).
-Each simulator logs its requests (`--log`); `writes()` reads the writes back from those logs.
+"""A plant's TCP bus served for tests: `regmap simulate PLANT --bus NAME --tcp ...`, every device of the bus
+on one Modbus TCP port at its slave id (a unit id no device has gets no answer, as on a serial line).
+The simulator logs its requests (`--log`); `writes()` reads one device's writes back from that log.
 """
 
 from __future__ import annotations
 
 import re
+import shutil
 import socket
-import socketserver
 import subprocess
 import sys
-import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from regmap.plant import Bus
+from regmap.plant import Bus, Plant
 
 ROOT = Path(__file__).resolve().parents[2]
 MBAP_HEADER = 7  # transaction, protocol, length (2 bytes each), unit
@@ -33,58 +29,6 @@ def free_port() -> int:
         sock.bind(("127.0.0.1", 0))
         port: int = sock.getsockname()[1]
         return port
-
-
-def _read_exactly(sock: socket.socket, n: int) -> bytes | None:
-    data = b""
-    while len(data) < n:
-        chunk = sock.recv(n - len(data))
-        if not chunk:
-            return None
-        data += chunk
-    return data
-
-
-def _read_frame(sock: socket.socket) -> bytes | None:
-    """One whole MBAP frame (header and PDU), or None when the peer closed."""
-    header = _read_exactly(sock, MBAP_HEADER)
-    if header is None:
-        return None
-    body = _read_exactly(sock, int.from_bytes(header[4:6], "big") - 1)
-    return None if body is None else header + body
-
-
-class UnitRouter(socketserver.ThreadingTCPServer):
-    """Listens on one port and forwards each request, by its unit id, to the TCP server of that unit."""
-
-    daemon_threads = True
-    allow_reuse_address = True
-
-    def __init__(self, port: int, units: dict[int, int]) -> None:
-        self.units = units  # unit id -> the port of its simulator
-        super().__init__(("127.0.0.1", port), _RouterConnection)
-
-
-class _RouterConnection(socketserver.BaseRequestHandler):
-    def handle(self) -> None:
-        assert isinstance(self.server, UnitRouter)
-        upstream: dict[int, socket.socket] = {}
-        try:
-            while (frame := _read_frame(self.request)) is not None:
-                port = self.server.units.get(frame[6])
-                if port is None:
-                    continue  # nobody at that slave id: silence
-                if frame[6] not in upstream:
-                    upstream[frame[6]] = socket.create_connection(("127.0.0.1", port), timeout=10)
-                upstream[frame[6]].sendall(frame)
-                answer = _read_frame(upstream[frame[6]])
-                if answer is not None:
-                    self.request.sendall(answer)
-        except OSError:
-            pass  # the client went away
-        finally:
-            for sock in upstream.values():
-                sock.close()
 
 
 MAPS = ROOT / "maps"
@@ -104,15 +48,16 @@ def write_plant(path: Path, plant_id: str, buses: list[PlantLine]) -> Path:
 @dataclass(frozen=True)
 class ServedBus:
     port: int  # where the bus listens (127.0.0.1)
-    logs: dict[str, Path]  # device name -> its simulator's request log
+    log: Path  # the bus simulator's request log
+    slaves: dict[str, int]  # device name -> its slave id
 
     def writes(self, device: str) -> list[tuple[int, int, int, bytes]]:
-        """The write requests the device's simulator received: (unit, function, address, the rest of the PDU)."""
+        """The write requests the bus received for the device: (unit, function, address, the rest of the PDU)."""
         out = []
-        text = self.logs[device].read_text(encoding="utf-8") if self.logs[device].exists() else ""
+        text = self.log.read_text(encoding="utf-8") if self.log.exists() else ""
         for match in _REQUEST.finditer(text):
             pdu = bytes.fromhex(match["pdu"])
-            if pdu[0] in (0x05, 0x06, 0x0F, 0x10):
+            if int(match["unit"]) == self.slaves[device] and pdu[0] in (0x05, 0x06, 0x0F, 0x10):
                 out.append((int(match["unit"]), pdu[0], int.from_bytes(pdu[1:3], "big"), pdu[3:]))
         return out
 
@@ -134,42 +79,26 @@ def _wait_port(port: int, process: subprocess.Popen[bytes], what: str) -> None:
 
 
 @contextmanager
-def serve_bus(bus: Bus, work: Path, states: dict[str, Path] | None = None) -> Iterator[ServedBus]:
-    """Serve every device of the TCP bus `bus` at the bus's port (127.0.0.1); `states` gives a device a
-    `--state` file to start from.
-    (With the multi-unit simulator: one `regmap simulate PLANT --bus NAME --tcp 127.0.0.1:PORT` in place of
-    the per-device processes and the router.)"""
+def serve_bus(plant: Plant, bus: Bus, work: Path, states: dict[str, Path] | None = None) -> Iterator[ServedBus]:
+    """Serve every device of the TCP bus `bus` at the bus's port (127.0.0.1) with one
+    `regmap simulate PLANT --bus NAME`; `states` gives a device a state file to start from."""
     assert bus.tcp is not None, f"{bus.name} is not a TCP bus"
-    processes: list[subprocess.Popen[bytes]] = []
-    units: dict[int, int] = {}
-    logs: dict[str, Path] = {}
+    state_dir = work / f"{bus.name}-states"
+    state_dir.mkdir(exist_ok=True)
+    for name, path in (states or {}).items():
+        shutil.copyfile(path, state_dir / f"{name}.json")
+    log = work / f"{bus.name}.log"
+    argv = [REGMAP, "simulate", plant.source_path, "--bus", bus.name, "--tcp", f"127.0.0.1:{bus.tcp.port}", "--log", str(log)]
+    argv += ["--state-dir", str(state_dir)]
+    with (work / f"{bus.name}.stderr").open("wb") as err:
+        process = subprocess.Popen(argv, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err)
     try:
-        for dev in bus.devices:
-            port = free_port()
-            logs[dev.name] = work / f"{dev.name}.log"
-            argv = [REGMAP, "simulate", dev.device.source_path, "--tcp", f"127.0.0.1:{port}", "--slave", str(dev.slave)]
-            argv += ["--log", str(logs[dev.name])]
-            if states and dev.name in states:
-                argv += ["--state", str(states[dev.name])]
-            err = (work / f"{dev.name}.stderr").open("wb")
-            processes.append(subprocess.Popen(argv, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err))
-            err.close()
-            _wait_port(port, processes[-1], f"the simulator of {dev.name}")
-            units[dev.slave] = port
-        router = UnitRouter(bus.tcp.port, units)
-        thread = threading.Thread(target=router.serve_forever, daemon=True)
-        thread.start()
-        try:
-            yield ServedBus(router.server_address[1], logs)
-        finally:
-            router.shutdown()
-            router.server_close()
+        _wait_port(bus.tcp.port, process, f"the simulator of bus {bus.name}")
+        yield ServedBus(bus.tcp.port, log, {dev.name: dev.slave for dev in bus.devices})
     finally:
-        for process in processes:
-            process.terminate()
-        for process in processes:
-            try:
-                process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        process.terminate()
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()

@@ -7,12 +7,14 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from regmap.cli.common import add_map, baud_rate, count, examples, load_map, positive_count, seconds_or_zero, slave_id
+from regmap.cli.common import add_map, baud_rate, count, examples, is_plant, load_map, load_plant, positive_count, seconds_or_zero, slave_id
 from regmap.diagnostics import ExitCode, UsageError
 from regmap.tools.link import serial_line
 from regmap.tools.simulator.policy import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CONNECTIONS
 
 if TYPE_CHECKING:
+    from regmap.tools.simulator import FaultPlan, Quirks
+    from regmap.tools.simulator.policy import TcpPolicy
     from regmap.tools.simulator.run import Listening
 
 HELP = "serve a simulated device (Modbus TCP or RTU on a serial port/pty)"
@@ -51,6 +53,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
             "regmap simulate maps/idm_rs.yaml --fault no_answer --fault-after 3 --fault-count 1",
             "regmap simulate maps/idm_rs.yaml --answer-gaps --max-read 20 --word-order low_first   # a drive unlike its map",
             "regmap simulate tests/maps/fixtures/power_meter.yaml --firmware 1.10 -v             # an older firmware, logged",
+            "regmap simulate examples/plants/cell1.yaml --bus line1 --tcp 127.0.0.1:5020     # every drive of a plant's bus",
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -85,8 +88,13 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     line.add_argument("--baud", type=baud_rate, help="another of the baud rates the map lists")
     line.add_argument("--parity", choices=["none", "even", "odd"], help="override the map's parity (a pty may need none)")
     line.add_argument("--stop-bits", type=int, choices=[1, 2], help="override the map's stop bits")
-    p.add_argument("--slave", type=slave_id, default=1, help="slave id (default 1; must be in the map's slave id range)")
+    p.add_argument("--slave", type=slave_id, default=None, help="slave id (default 1; must be in the map's slave id range)")
     p.add_argument("--state", metavar="FILE", help="persist saved parameters here (atomic writes; its directory must exist)")
+    plant = p.add_argument_group("a plant's bus (MAP is a plant file, docs/plants.md)")
+    plant.add_argument(
+        "--bus", metavar="NAME", help="serve every device of this bus on one port, each at its slave id (default: the only bus)"
+    )
+    plant.add_argument("--state-dir", metavar="DIR", help="persist each device's saved parameters in DIR/<device>.json (DIR must exist)")
     p.add_argument("--log", metavar="FILE", help="append every request and answer, decoded with the map's names, to FILE")
     p.add_argument("-v", "--verbose", action="store_true", help="print the request log on stderr")
     p.add_argument(
@@ -137,17 +145,22 @@ def run(args: argparse.Namespace) -> int:
         quirks = Quirks(max_read=args.max_read, answer_gaps=args.answer_gaps, word_order=args.word_order, firmware=args.firmware)
     except ValueError as exc:
         raise UsageError(f"--max-read/--word-order: {exc}") from None
-    device = load_map(args.map)
-    line = serial_line(device, args.serial, args.baud, args.parity, args.stop_bits)
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception
     )
+    policy = TcpPolicy(gateway=args.gateway, idle_timeout_s=args.idle_timeout or None, max_connections=args.max_connections)
+    if is_plant(args.map):
+        return _run_bus(args, faults, quirks, policy)
+    if args.bus is not None or args.state_dir is not None:
+        raise UsageError(f"--bus and --state-dir serve a plant's bus; {args.map} is a map")
+    device = load_map(args.map)
+    line = serial_line(device, args.serial, args.baud, args.parity, args.stop_bits)
     served = run(
         device,
         tcp=args.tcp,
         serial=args.serial,
         line=line,
-        slave=args.slave,
+        slave=1 if args.slave is None else args.slave,
         state=Path(args.state) if args.state else None,
         faults=faults,
         rtu_over_tcp=args.rtu_over_tcp,
@@ -156,7 +169,71 @@ def run(args: argparse.Namespace) -> int:
         rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
         quirks=quirks,
         listening=_say_listening,
-        tcp_policy=TcpPolicy(gateway=args.gateway, idle_timeout_s=args.idle_timeout or None, max_connections=args.max_connections),
+        tcp_policy=policy,
     )
     print(f"regmap simulate: stopped after {served}", flush=True)
     return ExitCode.OK
+
+
+def _run_bus(args: argparse.Namespace, faults: FaultPlan, quirks: Quirks, policy: TcpPolicy) -> int:
+    """`regmap simulate PLANT --bus NAME`: every device of the bus on one port."""
+    from regmap.tools.link import Line
+    from regmap.tools.simulator.run import run_bus
+
+    per_device = [
+        option
+        for option, given in (
+            ("--slave", args.slave is not None),
+            ("--state", args.state is not None),
+            ("--firmware", args.firmware is not None),
+            ("--word-order", args.word_order is not None),
+            ("--max-read", args.max_read is not None),
+            ("--answer-gaps", args.answer_gaps),
+        )
+        if given
+    ]
+    if per_device:
+        raise UsageError(
+            f"{', '.join(per_device)}: one device's setting; a plant's bus takes its devices and slave ids from the plant file"
+        )
+    plant = load_plant(args.map)
+    if args.bus is None and len(plant.buses) > 1:
+        raise UsageError(f"{args.map} has {len(plant.buses)} buses: name one with --bus ({', '.join(b.name for b in plant.buses)})")
+    try:
+        bus = plant.bus(args.bus) if args.bus is not None else plant.buses[0]
+    except KeyError:
+        raise UsageError(f"--bus {args.bus}: {args.map} has no such bus (buses: {', '.join(b.name for b in plant.buses)})") from None
+    state_dir = Path(args.state_dir) if args.state_dir else None
+    if state_dir is not None and not state_dir.is_dir():
+        raise UsageError(f"--state-dir {state_dir}: not a directory")
+    given = [
+        option for option, value in (("--baud", args.baud), ("--parity", args.parity), ("--stop-bits", args.stop_bits)) if value is not None
+    ]
+    if given and args.serial is None:
+        raise UsageError(f"{', '.join(given)}: a serial line's settings, given without --serial (a TCP gateway's line is set on it)")
+    settings = bus.serial
+    line = Line(
+        args.baud or (settings.baud if settings else bus.devices[0].device.transport.baud),
+        args.parity or (settings.parity if settings else "none"),
+        args.stop_bits or (settings.stop_bits if settings else 1),
+    )
+    served = run_bus(
+        bus,
+        tcp=args.tcp,
+        serial=args.serial,
+        line=line,
+        state_dir=state_dir,
+        faults=faults,
+        rtu_over_tcp=args.rtu_over_tcp,
+        log=Path(args.log) if args.log else None,
+        echo=sys.stderr if args.verbose else None,
+        rtu_gap_s=args.rtu_gap / 1000 if args.rtu_gap is not None else None,
+        listening=_say_bus_listening,
+        tcp_policy=policy,
+    )
+    print(f"regmap simulate: stopped after {served}", flush=True)
+    return ExitCode.OK
+
+
+def _say_bus_listening(at: Listening) -> None:
+    print(f"regmap simulate: {at.model} on {at.where} ({at.framing}); Ctrl-C stops", flush=True)

@@ -2,7 +2,7 @@
 
 Home Assistant itself (the hass tool env's pinned version, started offline by tests/support/hass_offline.py)
 runs the generated package of cell1, its bus moved to Modbus TCP on 127.0.0.1 and served by regmap's
-simulators (tests/support/plant_tcp_bus.py), each drive started from different register values. Its recorder
+simulator (tests/support/plant_tcp_bus.py: `regmap simulate PLANT --bus`), each drive started from different register values. Its recorder
 writes SQLite; the test reads the states it recorded and checks that every entity of every device reaches
 the value its simulator holds (read back with `regmap dump`, scaled as the map says), that an automation's
 call of one generated command script wrote the command register of the right slave exactly once (and that
@@ -246,7 +246,7 @@ def test_home_assistant_polls_the_plant_and_presses_one_command(hass_python: Pat
     _configuration(config, text, script, PRESSED[0])
     log = tmp_path / "hass.log"
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
-    with serve_bus(bus, tmp_path, states) as served, log.open("wb") as out:
+    with serve_bus(plant, bus, tmp_path, states) as served, log.open("wb") as out:
         before = {dev.name: _dump(dev, served) for dev in bus.devices}
         assert before["axis_x"] != before["axis_y"]  # the two drives of one map hold different values
         assert before[PRESSED[0]][CLEARED] != 0

@@ -13,6 +13,7 @@ from typing import TextIO
 
 from regmap.diagnostics import UsageError
 from regmap.model import Device
+from regmap.plant import Bus
 from regmap.tools.link import Line
 from regmap.tools.output import check_output
 
@@ -21,7 +22,7 @@ from .log import RequestLog
 from .policy import TcpPolicy
 from .quirks import Quirks
 from .server import Simulator
-from .store import slave_refusal
+from .store import DeviceStore, slave_refusal
 
 
 def parse_endpoint(text: str) -> tuple[str, int]:
@@ -120,10 +121,63 @@ def run(
     """Serve until Ctrl-C or SIGTERM; `listening` is told once the port is open, `echo` gets the request
     log as well as `log`. Returns what was served (the request counts)."""
     check_start(device, slave, state)
-    host, port = parse_endpoint(tcp or "127.0.0.1:5020") if not serial else ("", 0)
     streams, opened = _open_log(log, echo)
     request_log = RequestLog(device, streams) if streams else None
     simulator = Simulator(device, slave, state, faults, log=request_log, rtu_gap_s=rtu_gap_s, quirks=quirks, tcp_policy=tcp_policy)
+
+    def banner(where: str) -> Listening:
+        framing = "RTU" if serial or rtu_over_tcp else _tcp_framing(tcp_policy or TcpPolicy(), slave)
+        return Listening(device.info.model, slave, where, framing, _firmware_text(simulator) + _quirks_text(quirks))
+
+    return _serve(simulator, tcp, serial, line, rtu_over_tcp, opened, banner, listening)
+
+
+def run_bus(
+    bus: Bus,
+    *,
+    tcp: str | None,
+    serial: str | None,
+    line: Line | None = None,
+    state_dir: Path | None,
+    faults: FaultPlan,
+    rtu_over_tcp: bool = False,
+    log: Path | None = None,
+    echo: TextIO | None = None,
+    rtu_gap_s: float | None = None,
+    listening: Callable[[Listening], None] | None = None,
+    tcp_policy: TcpPolicy | None = None,
+) -> str:
+    """Serve every device of a plant's bus on one port, each at its slave id with its own map's store and
+    rules (`state_dir/<device>.json` keeps each one's saved parameters). Returns what was served."""
+    states = {dev.name: state_dir / f"{dev.name}.json" if state_dir is not None else None for dev in bus.devices}
+    for dev in bus.devices:
+        check_start(dev.device, dev.slave, states[dev.name])
+    streams, opened = _open_log(log, echo)
+    first = bus.devices[0].device
+    request_log = RequestLog(first, streams, by_unit={dev.slave: dev.device for dev in bus.devices}) if streams else None
+    units = {dev.slave: DeviceStore(dev.device, dev.slave, states[dev.name]) for dev in bus.devices}
+    simulator = Simulator.serving(units, faults=faults, log=request_log, rtu_gap_s=rtu_gap_s, tcp_policy=tcp_policy)
+
+    def banner(where: str) -> Listening:
+        policy = tcp_policy or TcpPolicy()
+        framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP, as a gateway" if policy.gateway else "Modbus TCP, a unit id per device"
+        served = ", ".join(f"{dev.name} ({dev.device.info.model}, slave {dev.slave})" for dev in bus.devices)
+        return Listening(f"bus {bus.name}: {served}", 0, where, framing, "")
+
+    return _serve(simulator, tcp, serial, line, rtu_over_tcp, opened, banner, listening)
+
+
+def _serve(
+    simulator: Simulator,
+    tcp: str | None,
+    serial: str | None,
+    line: Line | None,
+    rtu_over_tcp: bool,
+    opened: list[TextIO],
+    banner: Callable[[str], Listening],
+    listening: Callable[[Listening], None] | None,
+) -> str:
+    host, port = parse_endpoint(tcp or "127.0.0.1:5020") if not serial else ("", 0)
 
     async def main() -> None:
         loop = asyncio.get_running_loop()
@@ -138,9 +192,8 @@ def run(
                 await simulator.start_tcp(host, port, rtu_over_tcp=rtu_over_tcp)
             except OSError as exc:
                 raise _listen_error(where, exc) from None
-        framing = "RTU" if serial or rtu_over_tcp else _tcp_framing(tcp_policy or TcpPolicy(), slave)
         if listening is not None:
-            listening(Listening(device.info.model, slave, where, framing, _firmware_text(simulator) + _quirks_text(quirks)))
+            listening(banner(where))
         await simulator.stopped.wait()
         await simulator.stop()
         if simulator.failure is not None:

@@ -1,0 +1,129 @@
+"""`regmap simulate PLANT --bus NAME`: every device of a plant's bus on one port, each at its slave id with its
+own map's rules; other ids stay silent, a broadcast write reaches every device of the bus, and the options that
+set up one device are refused with a plant."""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT, free_port, wait_for
+from regmap_runtime.rtu import with_crc
+
+MAPS = ROOT / "maps"
+PEAK_CURRENT = 0x0191  # iDM-RS Pr5.00, default 22 (2.2 A)
+
+
+def _plant(tmp_path: Path, port: int, extra_bus: bool = False) -> Path:
+    text = f"""format: regmap-plant/1
+plant: {{id: cell1, title: Assembly cell 1}}
+buses:
+  - name: line1
+    tcp: {{host: 127.0.0.1, port: {port}}}
+    devices:
+      - {{name: axis_x, map: {MAPS}/idm_rs.yaml, slave: 1}}
+      - {{name: axis_y, map: {MAPS}/idm_rs.yaml, slave: 2}}
+      - {{name: spindle, map: {MAPS}/c630s.yaml, slave: 3}}
+"""
+    if extra_bus:
+        text += f"""  - name: line2
+    tcp: {{host: 127.0.0.1, port: {port + 1}}}
+    devices:
+      - {{name: stepper, map: {MAPS}/id243pro.yaml, slave: 1}}
+"""
+    path = tmp_path / "plant.yaml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _port_open(port: int) -> bool:
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=0.5).close()
+    except OSError:
+        return False
+    return True
+
+
+@pytest.fixture
+def served(tmp_path: Path, request: pytest.FixtureRequest) -> Iterator[tuple[int, Path]]:
+    port = free_port()
+    plant = _plant(tmp_path, port)
+    extra: list[str] = list(getattr(request, "param", []))
+    log = tmp_path / "bus.log"
+    cmd = [sys.executable, "-m", "regmap", "simulate", str(plant), "--bus", "line1", "--tcp", f"127.0.0.1:{port}", "--log", str(log), *extra]
+    process = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        wait_for(lambda: _port_open(port) or process.poll() is not None, 20, "the bus simulator to listen")
+        assert process.poll() is None, process.communicate()[0]
+        yield port, log
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
+
+
+def _mbap(sock: socket.socket, unit: int, pdu: bytes, transaction: int = 1) -> bytes | None:
+    sock.sendall(transaction.to_bytes(2, "big") + b"\0\0" + (len(pdu) + 1).to_bytes(2, "big") + bytes([unit]) + pdu)
+    try:
+        header = sock.recv(7)
+    except TimeoutError:
+        return None
+    return header + sock.recv(int.from_bytes(header[4:6], "big") - 1)
+
+
+def test_each_slave_answers_with_its_own_map_and_other_ids_stay_silent(served: tuple[int, Path]) -> None:
+    port, log = served
+    with socket.create_connection(("127.0.0.1", port), timeout=1.5) as sock:
+        read_peak = bytes([0x03]) + PEAK_CURRENT.to_bytes(2, "big") + (1).to_bytes(2, "big")
+        for unit in (1, 2):
+            assert _mbap(sock, unit, read_peak) == b"\x00\x01\x00\x00\x00\x05" + bytes([unit]) + b"\x03\x02\x00\x16"
+        # The C630S at slave 3 documents no 0x0191: its own map's exception, not an iDM-RS value.
+        assert _mbap(sock, 3, read_peak) == b"\x00\x01\x00\x00\x00\x03\x03\x83\x02"
+        assert _mbap(sock, 9, read_peak) is None  # nobody at slave 9
+        assert _mbap(sock, 0xFF, read_peak) is None  # several devices: 0xFF addresses none of them directly
+    text = log.read_text(encoding="utf-8")
+    assert "unit 1" in text and "unit 3" in text
+
+
+@pytest.mark.parametrize("served", [["--rtu-over-tcp"]], indirect=True)
+def test_a_broadcast_write_reaches_every_device_and_gets_no_reply(served: tuple[int, Path]) -> None:
+    port, _ = served
+    with socket.create_connection(("127.0.0.1", port), timeout=1.0) as sock:
+        sock.sendall(with_crc(bytes([0x00, 0x06]) + PEAK_CURRENT.to_bytes(2, "big") + (30).to_bytes(2, "big")))
+        with pytest.raises(TimeoutError):
+            sock.recv(64)
+        time.sleep(0.1)
+        for unit in (1, 2):
+            sock.sendall(with_crc(bytes([unit, 0x03]) + PEAK_CURRENT.to_bytes(2, "big") + (1).to_bytes(2, "big")))
+            time.sleep(0.2)
+            assert sock.recv(64) == with_crc(bytes([unit, 0x03, 0x02, 0x00, 30]))
+
+
+def _simulate(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "regmap", "simulate", *args], cwd=ROOT, capture_output=True, text=True, timeout=60)
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--bus", "line1", "--slave", "2"], "--slave: one device's setting"),
+        (["--bus", "line1", "--firmware", "1.0"], "--firmware: one device's setting"),
+        (["--bus", "line9"], "--bus line9: "),
+        ([], "has 2 buses: name one with --bus (line1, line2)"),
+        (["--bus", "line1", "--state-dir", "/nonexistent/dir"], "--state-dir /nonexistent/dir: not a directory"),
+    ],
+)
+def test_one_device_options_and_unknown_buses_are_refused(tmp_path: Path, extra: list[str], message: str) -> None:
+    plant = _plant(tmp_path, free_port(), extra_bus=True)
+    result = _simulate(str(plant), "--tcp", f"127.0.0.1:{free_port()}", *extra)
+    assert result.returncode == 2 and message in result.stderr and "Traceback" not in result.stderr, result.stderr
+
+
+def test_bus_options_are_refused_with_a_map() -> None:
+    result = _simulate(str(MAPS / "idm_rs.yaml"), "--bus", "line1")
+    assert result.returncode == 2 and "--bus and --state-dir serve a plant's bus" in result.stderr
