@@ -8,7 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-from bench import bus, chelpers, floor, genspeed, optimal, overhead, simload
+from bench import bus, chelpers, floor, genspeed, optimal, overhead, plant, simload
 from bench.common import FIXTURE_MAPS, MAPS, ROOT, machine, stage
 from bench.report import Results, render, targets
 
@@ -46,6 +46,8 @@ def main(argv: list[str] | None = None) -> int:
     with stage("regmap generate against its import floor (cold and warm), regmap import of a 20,000-row table"):
         gen_floor = floor.measure_generate(repeats=1 if args.quick else 9, maps=[MAPS[0]] if args.quick else None)
         big_import = floor.measure_import(200 if args.quick else floor.TABLE_ROWS)
+    with stage("a plant's read_all() against the multi-unit simulator, beside its devices' own read_all()"):
+        plant_run = plant.measure()
     results = Results(
         facts,
         bus_results,
@@ -59,6 +61,7 @@ def main(argv: list[str] | None = None) -> int:
         profiles=profiles,
         floor=gen_floor,
         big_import=big_import,
+        plant=plant_run,
     )
     results.elapsed_s = time.perf_counter() - started
     out = Path(args.out)

@@ -22,7 +22,7 @@ from conftest import MAPS, ROOT
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))  # bench/ sits at the top of the repository
 
-from bench import bus, chelpers, floor, genspeed, optimal, overhead, simload, synth
+from bench import bus, chelpers, floor, genspeed, optimal, overhead, plant, simload, synth
 from bench.common import client_class, client_module, machine
 from bench.plot import Series, loglog
 from bench.report import Results, render, targets
@@ -155,3 +155,13 @@ def test_generation_floor_and_big_import_measure_and_render(tmp_path: Path) -> N
     assert any(
         "import floor" not in t and "import" in t for t, _, _ in targets(Results(machine(), [], [], None, [], [], None, big_import=run))
     )
+
+
+def test_the_plant_bench_polls_the_cycle_beside_the_devices_own_plans() -> None:
+    """cell1's read_all() through the multi-unit simulator: the requests of the three single-device plans, in the
+    schedule's order, and the same wire time as their sum and as the schedule's budget."""
+    run = plant.measure()
+    assert run.devices == 3 and run.order_matches
+    assert run.plant_requests == run.single_requests > 100
+    assert run.plant_wire_s == pytest.approx(run.single_wire_s) and run.budget_s == pytest.approx(run.plant_wire_s)
+    assert any("plant `read_all()`" in t for t, _, _ in targets(Results(machine(), [], [], None, [], [], None, plant=run)))

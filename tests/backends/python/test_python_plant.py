@@ -1,13 +1,17 @@
 """The generated Python plant client: one connection per bus, every device's typed client on it, read_all()
 interleaved in the shared schedule's order, the serial line's timing kept (measured where the bytes cross a pty).
 
-The bus is tests/support/plant_bus.py: the simulator's own store and dispatcher per slave id behind one pty or
-one TCP socket (the simulator does not serve several units on one port yet)."""
+The bus is tests/support/plant_bus.py (the simulator's own store and dispatcher per slave id behind one pty or
+one TCP socket, time-stamping every byte), and `regmap simulate PLANT --bus` itself for the TCP plant."""
 
 from __future__ import annotations
 
 import importlib
 import itertools
+import json
+import re
+import socket
+import subprocess
 import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -20,7 +24,7 @@ from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
 from regmap_runtime.rtu import build_read
 
-from conftest import GENERATED, mypy_strict, require_tool
+from conftest import GENERATED, ROOT, free_port, mypy_strict, require_tool, wait_for
 from support.fake_clock import FakeClock
 from support.plant_bus import PtyBus, TcpBus
 from support.plants import generate_python_plant, write_plant
@@ -142,6 +146,45 @@ def test_a_tcp_bus_reads_every_device_through_one_connection(tmp_path: Path) -> 
         assert {e.slave for e in bus.exchanges} == {1, 2, 7}
     finally:
         bus.close()
+
+
+def test_the_plant_client_reads_every_device_from_the_multi_unit_simulator(tmp_path: Path) -> None:
+    """The real `regmap simulate PLANT --bus line1` (one port, one store per slave id), not the test bus."""
+    port = free_port()
+    devices = [("axis_x", "idm_rs.yaml", 1), ("axis_y", "idm_rs.yaml", 2), ("spindle", "c630s.yaml", 3)]
+    plant_file = write_plant(tmp_path, "simcell", f"tcp: {{host: 127.0.0.1, port: {port}}}", devices)
+    module = generate_python_plant(plant_file, tmp_path / "out")
+    states = tmp_path / "states"
+    states.mkdir()
+    plant = load_plant(plant_file)
+    for dev, raw in zip(plant.devices[:2], (31, 17), strict=True):
+        body = {"device": dev.device.id, "map_version": dev.device.info.map_version, "registers": {"peak_current": raw}}
+        (states / f"{dev.name}.json").write_text(json.dumps(body), encoding="utf-8")
+    log = tmp_path / "bus.log"
+    cmd = [sys.executable, "-m", "regmap", "simulate", str(plant_file), "--tcp", f"127.0.0.1:{port}", "--state-dir", str(states)]
+    process = subprocess.Popen([*cmd, "--log", str(log)], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        wait_for(lambda: _listening(port) or process.poll() is not None, 20, "the bus simulator to listen")
+        with module.Simcell(line1_port=port) as cell:
+            values = cell.read_all()
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
+    assert values["axis_x"]["peak_current"] == pytest.approx(3.1) and values["axis_y"]["peak_current"] == pytest.approx(1.7)
+    assert set(values) == {"axis_x", "axis_y", "spindle"} and len(values["spindle"]) > 100
+    peers = set(re.findall(r"^\S+ (\S+) > MBAP", log.read_text(encoding="utf-8"), re.MULTILINE))
+    assert len(peers) == 1, peers  # every request of the cycle came through one connection
+    (schedule,) = plant_schedule(plant)
+    units = [int(u) for u in re.findall(r"> MBAP transaction \d+, unit (\d+)", log.read_text(encoding="utf-8"))]
+    assert units == [e.slave for e in schedule.entries]  # in the schedule's order, nothing else
+
+
+def _listening(port: int) -> bool:
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=0.5).close()
+    except OSError:
+        return False
+    return True
 
 
 def _cell1_module() -> Any:
