@@ -13,8 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT, free_port, wait_for
 from regmap_runtime.rtu import with_crc
+
+from conftest import ROOT, free_port, wait_for
 
 MAPS = ROOT / "maps"
 PEAK_CURRENT = 0x0191  # iDM-RS Pr5.00, default 22 (2.2 A)
@@ -56,7 +57,20 @@ def served(tmp_path: Path, request: pytest.FixtureRequest) -> Iterator[tuple[int
     plant = _plant(tmp_path, port)
     extra: list[str] = list(getattr(request, "param", []))
     log = tmp_path / "bus.log"
-    cmd = [sys.executable, "-m", "regmap", "simulate", str(plant), "--bus", "line1", "--tcp", f"127.0.0.1:{port}", "--log", str(log), *extra]
+    cmd = [
+        sys.executable,
+        "-m",
+        "regmap",
+        "simulate",
+        str(plant),
+        "--bus",
+        "line1",
+        "--tcp",
+        f"127.0.0.1:{port}",
+        "--log",
+        str(log),
+        *extra,
+    ]
     process = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         wait_for(lambda: _port_open(port) or process.poll() is not None, 20, "the bus simulator to listen")
