@@ -31,19 +31,22 @@ def load_map(path: str | FsPath, display_name: str | None = None) -> Device:
 
 
 def load_map_bytes(data: bytes, name: str) -> Device:
+    return load_map_text(decoded(data, name), name, fingerprint=hashlib.sha256(data).hexdigest()[:16])
+
+
+def decoded(data: bytes, name: str, what: str = "map") -> str:
+    """A map's (or a plant file's) text: at most MAX_MAP_BYTES, UTF-8, a leading byte-order mark dropped."""
     if len(data) > MAX_MAP_BYTES:
-        raise MapError([Diagnostic(name, 1, 1, f"the map is {len(data)} bytes; maps larger than {MAX_MAP_BYTES} bytes are refused")])
+        raise MapError([Diagnostic(name, 1, 1, f"the {what} is {len(data)} bytes; larger than {MAX_MAP_BYTES} bytes is refused")])
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
         raise MapError(
-            [Diagnostic(name, line, column, f"the map is not valid UTF-8 (byte 0x{data[exc.start]:02X}); save it as UTF-8")]
+            [Diagnostic(name, line, column, f"the {what} is not valid UTF-8 (byte 0x{data[exc.start]:02X}); save it as UTF-8")]
         ) from None
-    if text.startswith("\ufeff"):
-        text = text[1:]
-    return load_map_text(text, name, fingerprint=hashlib.sha256(data).hexdigest()[:16])
+    return text.removeprefix("\ufeff")
 
 
 def load_map_text(text: str, name: str, fingerprint: str | None = None) -> Device:

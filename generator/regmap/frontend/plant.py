@@ -12,7 +12,7 @@ from pathlib import Path as FsPath
 from typing import Any
 
 from regmap.diagnostics import Diagnostic, MapError
-from regmap.frontend.load import MAX_MAP_BYTES, load_map
+from regmap.frontend.load import decoded, load_map
 from regmap.frontend.schema import _kind, _schema_problems
 from regmap.frontend.yamlsource import Positions, YamlProblem, read_yaml
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS, IEC_KEYWORDS, PYTHON_KEYWORDS
@@ -47,13 +47,7 @@ def load_plant(path: str | FsPath, display_name: str | None = None) -> Plant:
         data = FsPath(path).read_bytes()
     except OSError as exc:
         raise MapError([Diagnostic(name, 1, 1, f"cannot read the plant file: {exc.strerror or exc}")]) from None
-    if len(data) > MAX_MAP_BYTES:
-        raise MapError([Diagnostic(name, 1, 1, f"the plant file is {len(data)} bytes; larger than {MAX_MAP_BYTES} bytes is refused")])
-    try:
-        text = data.decode("utf-8").removeprefix("\ufeff")
-    except UnicodeDecodeError as exc:
-        line = data[: exc.start].count(b"\n") + 1
-        raise MapError([Diagnostic(name, line, 1, "the plant file is not valid UTF-8; save it as UTF-8")]) from None
+    text = decoded(data, name, "plant file")
     try:
         raw, positions = read_yaml(text)
     except YamlProblem as exc:
