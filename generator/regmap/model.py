@@ -16,7 +16,7 @@ from regmap.kinds import DataType as DataType
 from regmap.kinds import PollClass as PollClass
 from regmap.kinds import WordOrder as WordOrder
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
-from regmap_runtime.spec import gate_admits, gate_text
+from regmap_runtime.spec import gate_admits, gate_text, na_marks
 
 SourcePos = tuple[int, int]
 """(line, column) of an item in its map file, so a problem found late still prints file:line:col."""
@@ -187,6 +187,8 @@ class Register:
     firmware: FirmwareGate | None = None
     poll: PollClass = PollClass.NORMAL
     trigger: bool = False  # a write makes the device act: sent once, never retried (see Device.is_trigger)
+    na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as no value, never written
+    na_nan: bool = False  # any NaN of a float register means "not available"
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -236,6 +238,27 @@ class Register:
     @property
     def scaled(self) -> bool:
         return self.scale != 1
+
+    @property
+    def has_na(self) -> bool:
+        """The device sends a "not available" marker in this register (`na`)."""
+        return bool(self.na) or self.na_nan
+
+    def is_na(self, raw: object) -> bool:
+        """Whether `raw` is this register's "not available" marker."""
+        return na_marks(self.na, self.na_nan, raw)
+
+    @property
+    def na_bits(self) -> tuple[int, ...]:
+        """The bits of each `na` marker, as the words carry them high word first (an s16's -32768 is 0x8000,
+        a float's its IEEE 754 bits): what back ends compare a register's assembled word(s) with."""
+        patterns = []
+        for mark in self.na:
+            pattern = 0
+            for word in self.type.info.to_words(mark):
+                pattern = pattern << 16 | word
+            patterns.append(pattern)
+        return tuple(patterns)
 
     @property
     def label(self) -> str:
@@ -323,6 +346,7 @@ class ExampleValue:
     raw: int | float | str | None = None
     words: tuple[int, ...] | None = None
     value: float | str | bool | None = None
+    not_available: bool = False  # the frame carries the register's "not available" marker (value null in the map)
 
 
 @dataclass(frozen=True)

@@ -99,6 +99,10 @@ def spec_extras(r: Register) -> dict[str, Any]:
             extras["firmware_until"] = r.firmware.until
     if r.poll is not PollClass.NORMAL:
         extras["poll"] = r.poll.value
+    if r.na:
+        extras["na"] = r.na
+    if r.na_nan:
+        extras["na_nan"] = True
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported

@@ -57,6 +57,13 @@ def gate_text(first: str | None, until: str | None) -> str | None:
     return None
 
 
+def na_marks(na: tuple[int | float, ...], na_nan: bool, raw: object) -> bool:
+    """Whether `raw` is a "not available" marker: one of the raw values `na`, or (with `na_nan`) any NaN."""
+    if isinstance(raw, float) and raw != raw:
+        return na_nan
+    return isinstance(raw, int | float) and not isinstance(raw, bool) and raw in na
+
+
 @dataclass(frozen=True)
 class BitfieldSpec:
     name: str
@@ -106,6 +113,8 @@ class RegisterSpec(Generic[T]):
     # The values destructive commands write, (first, last, command name): only that command, confirmed, sends them.
     destructive: tuple[tuple[int, int, str], ...] = ()
     trigger: bool = False  # a write makes the device act (a command, a trigger): sent once, never repeated
+    na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as None, never written
+    na_nan: bool = False  # any NaN means "not available"
 
     @cached_property
     def type_info(self) -> TypeInfo:
@@ -177,6 +186,10 @@ class RegisterSpec(Generic[T]):
     @property
     def raw_max(self) -> int | float:
         return self.type_max if self.max is None else self.max
+
+    def is_na(self, raw: object) -> bool:
+        """Whether `raw` is the register's "not available" marker (`na`): no value, read as None."""
+        return na_marks(self.na, self.na_nan, raw)
 
     def destructive_command(self, raw: object) -> str | None:
         """The destructive command whose value `raw` is, or None."""

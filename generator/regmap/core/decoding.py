@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from regmap.core.text import BIT_NAMES, number_text
+from regmap.core.text import BIT_NAMES, na_mark, number_text
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import raw_to_value, words_to_raw
@@ -127,6 +127,8 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
         return raw, quoted + ("" if readable else f"  [NOT valid {reg.encoding}: unreadable bytes shown as U+FFFD]"), readable, None
     if reg.type.is_bool:
         return bool(raw), BIT_NAMES[1 if raw else 0], True, None
+    if reg.is_na(raw):
+        return None, f"not available (raw {na_mark(reg, raw)}, the device's marker)", True, None
     if isinstance(raw, float) and math.isnan(raw):
         return raw, "NaN  [NOT a number: no value the map admits]", False, None
     in_range = reg.raw_min <= raw <= reg.raw_max

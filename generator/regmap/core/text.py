@@ -113,3 +113,16 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
         return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)
     exact = Fraction(raw) * reg.scale + reg.offset
     return exact_decimal(exact) or number_text(float(exact))
+
+
+def na_mark(reg: Register, raw: int | float) -> str:
+    """A "not available" marker as datasheets print it: the bit pattern of an integer (0xFFFF, 0x8000 of an
+    s16), a float's value."""
+    if isinstance(raw, float):
+        return "NaN" if math.isnan(raw) else number(raw)
+    return f"0x{raw & ((1 << reg.type.bits) - 1):0{reg.type.bits // 4}X}"
+
+
+def na_list(reg: Register) -> str:
+    """Every "not available" marker of `reg`: `0x7FFF, 0xFFFF`, `NaN`."""
+    return ", ".join([na_mark(reg, raw) for raw in reg.na] + (["NaN"] if reg.na_nan else []))

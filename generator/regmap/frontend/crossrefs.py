@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
+from regmap.core.text import na_list
 from regmap.frontend.functions import identification, served_function_problems, server_id
 from regmap.frontend.stages import Elaborated, Problems
 from regmap.frontend.values import _source
@@ -560,7 +561,21 @@ class _CrossReferences:
                     )
                 if isinstance(raw, bool):
                     raw = int(raw)
-                values.append(ExampleValue(register=reg, raw=None if isinstance(raw, list) else raw, words=words, value=v.get("value")))
+                not_available = "value" in v and v["value"] is None
+                if not_available and (not reg.has_na or (raw is not None and words is None and not reg.is_na(raw))):
+                    marks = f"its markers are {na_list(reg)}" if reg.has_na else "it has no `na` marker"
+                    self.problems.add(
+                        (*path, "values", j, "value"), f"example {x['id']}: value null says {reg.name} is not available, but {marks}"
+                    )
+                values.append(
+                    ExampleValue(
+                        register=reg,
+                        raw=None if isinstance(raw, list) else raw,
+                        words=words,
+                        value=v.get("value"),
+                        not_available=not_available,
+                    )
+                )
             examples.append(
                 Example(
                     id=x["id"],

@@ -27,7 +27,7 @@ from regmap.model import (
     WordOrder,
 )
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
-from regmap_runtime.spec import parse_version
+from regmap_runtime.spec import na_marks, parse_version
 
 GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its registers inherit
 
@@ -271,6 +271,11 @@ class _Elaboration:
             )
         if isinstance(default, bool) and dtype.is_bool:
             default = int(default)
+        na, na_nan = self._na(r, path, name, dtype)
+        if default is not None and not dtype.is_string and na_marks(na, na_nan, default):
+            self.problems.add((*path, "default"), f"{name}: default {default} is the 'not available' marker (na); a default is a value")
+        if bitfields and (na or na_nan):
+            self.problems.add((*path, "na"), f"{name}: `na` marks a whole value as not available; a bitfield register has no one value")
         return Register(
             name=name,
             param=param if param is not None else r.get("param"),
@@ -307,6 +312,8 @@ class _Elaboration:
             firmware=self._firmware_gate(r.get("firmware"), (*path, "firmware"), name),
             poll=PollClass(r.get("poll", "normal")),
             trigger=bool(r.get("trigger", False)),
+            na=na,
+            na_nan=na_nan,
             pos=self.positions.locate(path),
         )
 
@@ -332,6 +339,7 @@ class _Elaboration:
             "padding": (not dtype.is_string, "a string"),
             "min": (not dtype.numeric, "a number"),
             "max": (not dtype.numeric, "a number"),
+            "na": (not dtype.numeric, "a number"),
         }
         inherited = self._defaults_keys(path)
         for key, (refused, needs) in not_for.items():
@@ -384,6 +392,39 @@ class _Elaboration:
             enum_type = self.enums.get(r.get("enum", ""))
             if enum_type is not None and enum_type.by_value(default) is None:
                 self.problems.add((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
+
+    def _na(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> tuple[tuple[int | float, ...], bool]:
+        """The "not available" markers as raw values of the register's type: an integer (a signed register's
+        may be written as its bit pattern, 0x8000 for an s16's -32768), a float's number, or `nan` (any NaN)."""
+        if not dtype.numeric:
+            return (), False  # reported by _check_type_in_space
+        values: list[int | float] = []
+        nan = False
+        for i, mark in enumerate(r.get("na") or ()):
+            mpath: Path = (*path, "na", i)
+            if mark == "nan":
+                if not dtype.is_float:
+                    self.problems.add(
+                        mpath, f"{name}: `nan` marks a float as not available; a {dtype.value} has no NaN (give its raw value)"
+                    )
+                nan = True
+                continue
+            if isinstance(mark, bool) or (dtype.kind == "int" and not isinstance(mark, int)):
+                self.problems.add(mpath, f"{name}: a 'not available' marker of a {dtype.value} register is an integer, not {mark!r}")
+                continue
+            if dtype.kind == "int" and dtype.signed and dtype.raw_max < mark < 1 << dtype.bits:
+                mark -= 1 << dtype.bits  # the bit pattern the datasheet prints
+            if not dtype.raw_min <= mark <= dtype.raw_max:
+                self.problems.add(mpath, f"{name}: 'not available' marker {mark} does not fit {dtype.value}")
+                continue
+            if dtype.is_float and dtype.info.from_words(dtype.info.to_words(mark)) != mark:
+                self.problems.add(mpath, f"{name}: 'not available' marker {mark} is no {dtype.value} value (a NaN bit pattern is `nan`)")
+                continue
+            if mark in values:
+                self.problems.add(mpath, f"{name}: 'not available' marker {mark} is given twice")
+                continue
+            values.append(mark)
+        return tuple(values), nan
 
     def _check_string_default(self, path: Path, name: str, value: Any, r: dict[str, Any]) -> None:
         if not isinstance(value, str):

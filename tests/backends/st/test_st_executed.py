@@ -88,7 +88,7 @@ class Decodes:
     def block_edges(self, index: int, block: Block) -> None:
         """Every register of the block at once: minimum, maximum, 16#8000, a pattern, each enum member."""
         specs = {r.name: _spec(self.device, r) for r in block.registers}
-        fills = {kind: _edge(specs, kind) for kind in ("min", "max", "w8000", "infinity", "nan")}
+        fills = {kind: _edge(specs, kind) for kind in ("min", "max", "w8000", "infinity", "nan", "na")}
         fills["pattern"] = {}  # every word of the pattern
         enum_counts = [len(r.enum.members) + 1 for r in block.registers if r.enum is not None and not r.bitfields]
         for k in range(max(enum_counts, default=0)):
@@ -125,7 +125,7 @@ class Decodes:
 def _members(reg: Register) -> list[str]:
     if reg.bitfields:
         return [StIdentifier(reg.name), *(StIdentifier(reg.name, b.name) for b in reg.bitfields)]
-    return [StIdentifier(reg.name)]
+    return [StIdentifier(reg.name), *([StIdentifier(reg.name, "available")] if reg.has_na else [])]
 
 
 def _edge(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list[int]]:
@@ -154,6 +154,9 @@ def _edge(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list[int]
                 out[name] = _wire_order(spec, list(info.to_words(math.inf if kind == "infinity" else math.nan)))
         elif kind == "w8000":
             out[name] = [0x8000] + [0] * (spec.words - 1)
+        elif kind == "na":
+            if spec.na:  # the last "not available" marker (min and max often are the first)
+                out[name] = raw_to_words(spec, spec.na[-1])
         else:
             out[name] = raw_to_words(spec, spec.raw_min if kind == "min" else spec.raw_max)
     return out
@@ -183,6 +186,12 @@ def _compare(reg: Register, value: DecodedValue, got: dict[str, str], kind: str)
     if reg.type.is_string:
         text = bytes.fromhex(st.rstrip("-")).decode(reg.encoding or "ascii", errors="replace")
         return True, [] if text == value.value else [f"ST {text!r}, Python {value.value!r}"]
+    if reg.has_na:
+        available = int(got[StIdentifier(reg.name, "available")])
+        if value.value is None:  # the device's "not available" marker: the flag says so, the value is left alone
+            return True, [] if available == 0 else [f"ST available for the marker {value.raw!r}, Python None"]
+        if available != 1:
+            return True, [f"ST not available, Python {value.value!r}"]
     if reg.bitfields:
         wrong = [] if int(st) == value.raw else [f"word: ST {st}, Python {value.raw}"]
         valid = True
@@ -336,6 +345,7 @@ def _encode_edges(reg: Register, spec: RegisterSpec[Any]) -> Iterator[tuple[str,
         return
     low, high = spec.raw_min, spec.raw_max
     yield from (("min", raw_to_value(spec, low)), ("max", raw_to_value(spec, high)))
+    yield from ((f"na_{i}", raw_to_value(spec, mark)) for i, mark in enumerate(spec.na))  # refused: no value to write
     if reg.type.is_float:
         yield from (("zero", 0.0), ("nan", math.nan), ("infinity", math.inf), ("minus_infinity", -math.inf))
         return

@@ -34,6 +34,7 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.esphome import lambdas
+from regmap.core.text import na_list
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
     Hex,
@@ -269,8 +270,10 @@ class _Package:
 
     def _sensor(self, reg: Register) -> None:
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
-        entity.update(self._item(reg, value_type=self._value_type(reg)))
-        if self._lambda(reg):
+        # A "not available" marker is read through a lambda that gives NaN for it: ESPHome shows NaN as unknown.
+        decoded = self._lambda(reg) or bool(reg.na)
+        entity.update(self._item(reg, value_type=SIZED[reg.words] if decoded else self._value_type(reg)))
+        if decoded:
             entity["lambda"] = Lambda(lambdas.raw_lambda(reg))
         if reg.unit:
             entity["unit_of_measurement"] = unit_text(esp_unit(reg.unit))
@@ -289,6 +292,8 @@ class _Package:
         self.add("sensor", entity, reg.name, category=entity_category(self.device, reg))
 
     def _number(self, reg: Register) -> None:
+        if reg.has_na:
+            self.skipped.append(f"{reg.name}'s 'not available' marker ({na_list(reg)}): ESPHome's number shows it as a value")
         low, high = (max(-NUMBER_LIMIT, float(reg.raw_min * reg.scale)), min(NUMBER_LIMIT, float(reg.raw_max * reg.scale)))
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg, value_type=self._value_type(reg)))

@@ -125,6 +125,8 @@ _FLAGS = {"true": 1, "on": 1, "1": 1, "false": 0, "off": 0, "0": 0}
 def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
     """Raw value for an engineering value, an enum member name, text or a flag; checks range and resolution."""
     info = spec.type_info
+    if value is None:  # what a read of the "not available" marker returns: no value to write back
+        raise RangeError(f"{spec.label}: None is no value (a read returns it for the device's 'not available' marker)")
     if info.is_string:
         if not isinstance(value, str):
             raise RangeError(f"{spec.label}: a string register takes text, not {value!r}")
@@ -223,6 +225,8 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
         return
     if isinstance(raw, str) or (isinstance(raw, float) and info.kind != FLOAT):
         raise RangeError(f"{spec.label}: raw value {raw!r} is not an integer")
+    if spec.is_na(raw):
+        raise RangeError(f"{spec.label}: raw {na_text(spec, raw)} is the device's 'not available' marker (na), never a value to write")
     if info.is_bool:
         if raw not in (0, 1):
             raise RangeError(f"{spec.label}: a {spec.space_info.name} is on or off (1 or 0), not {raw!r}")
@@ -256,6 +260,13 @@ def check_command(spec: RegisterSpec[Any], raw: int, confirmed: bool) -> None:
         raise destructive_refusal(spec, name)
 
 
+def na_text(spec: RegisterSpec[Any], raw: int | float) -> str:
+    """A "not available" marker as datasheets print it: 0xFFFF (its bit pattern) for an integer, NaN for a float."""
+    if isinstance(raw, float):
+        return "NaN" if raw != raw else _exact(raw)
+    return f"0x{raw & ((1 << spec.type_info.bits) - 1):0{spec.type_info.bits // 4}X}"
+
+
 def _unit(spec: RegisterSpec[Any]) -> str:
     return f" {spec.unit}" if spec.unit else ""
 
@@ -276,7 +287,10 @@ class Unlisted(int):
 
 
 def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
-    """The typed value a client returns: enum member, bitfield dict source, number, text or bool."""
+    """The typed value a client returns: enum member, bitfield dict source, number, text or bool; None
+    for the register's "not available" marker (`na`), which is never a value."""
+    if spec.is_na(raw):
+        return None
     if isinstance(raw, str):
         return raw
     if spec.type_info.is_bool:
