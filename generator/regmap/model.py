@@ -71,7 +71,7 @@ class EnumType:
     def member(self, name: str) -> EnumMember | None:
         return next((m for m in self.members if m.name == name), None)
 
-    def by_value(self, value: int) -> EnumMember | None:
+    def by_value(self, value: int | float) -> EnumMember | None:
         return next((m for m in self.members if m.value == value), None)
 
 

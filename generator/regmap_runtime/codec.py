@@ -139,8 +139,9 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
         if spec.enum is not None:
             member = enum_member(spec.enum, value)
             if member is not None:
-                check_raw(spec, int(member))
-                return int(member)
+                coded: int | float = float(member) if info.is_float else int(member)  # a setting coded as a float
+                check_raw(spec, coded)
+                return coded
         try:
             number = Decimal(value) if any(c in value for c in ".eEnN") else int(value, 0)
         except (ValueError, ArithmeticError):
@@ -237,6 +238,11 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
         low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
         shown = _exact(raw_to_value(spec, raw))
         raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_exact(low)}..{_exact(high)}{_unit(spec)}")
+    if isinstance(raw, float) and spec.enum is not None and not spec.bitfields:
+        # A setting coded as a float (a baud code 0-4 as an f32): only a member, exactly, is written.
+        if not raw.is_integer() or int(raw) not in spec.enum._value2member_map_:
+            raise RangeError(f"{spec.label}: {_exact(raw)} is not one of {enum_names(spec.enum, spec.reported)}")
+        raw = int(raw)
     if not isinstance(raw, int):
         return
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
@@ -295,6 +301,10 @@ def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
         return raw
     if spec.type_info.is_bool:
         return bool(raw)
+    if spec.enum is not None and not spec.bitfields and isinstance(raw, float):
+        if not raw.is_integer():
+            return raw  # a float enum register's value that no member can be (2.5, NaN): the number, as read
+        raw = int(raw)
     if spec.enum is not None and not spec.bitfields and isinstance(raw, int):
         try:
             return spec.enum(raw)

@@ -268,6 +268,9 @@ def test_esphome_entities_equal_the_model(device: Device) -> None:
             values = sorted(m.value for m in reg.enum.members if m.writable) if reg.enum else []  # never a reported state
             if _swapped(reg):
                 values = sorted(((v & 0xFF) << 8) | (v >> 8) for v in values)
+            elif reg.type is DataType.F32:  # a setting coded as a float: ESPHome's select compares its bits
+                values = sorted(struct.unpack(">I", struct.pack(">f", v))[0] for v in values)
+                assert e["value_type"] in ("U_DWORD", "U_DWORD_R"), e
             assert sorted(e["optionsmap"].values()) == values, e
         if platform in ("number", "select", "switch"):
             assert reg.access.writable, e

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_a4721a8f6b.bits import BitfieldValue
-from regmap_runtime_a4721a8f6b.client import AsyncClient, SyncClient
-from regmap_runtime_a4721a8f6b.codec import Unlisted
-from regmap_runtime_a4721a8f6b.errors import (
+from regmap_runtime_8275cc3156.bits import BitfieldValue
+from regmap_runtime_8275cc3156.client import AsyncClient, SyncClient
+from regmap_runtime_8275cc3156.codec import Unlisted
+from regmap_runtime_8275cc3156.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_a4721a8f6b.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_a4721a8f6b.profile import DeviceProfile, load_profile
-from regmap_runtime_a4721a8f6b.spec import (
+from regmap_runtime_8275cc3156.profile import DeviceProfile, load_profile
+from regmap_runtime_8275cc3156.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

@@ -145,6 +145,12 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
             fields[b.name] = shown
             parts.append(f"{b.name}={shown}")
         return raw, f"0x{raw:04X}: " + " ".join(parts) + outside, in_range, fields
+    if reg.enum is not None and isinstance(raw, float):  # a setting coded as a float: a member, exactly, or not a value
+        member = reg.enum.by_value(int(raw)) if raw.is_integer() else None
+        shown = number_text(raw, reg.type.value)
+        if member is None:
+            return raw, f"{shown}  [NOT a value of {reg.enum.name}]", False, None
+        return member.name, f"{member.name} ({shown})" + outside, in_range, None
     if reg.enum is not None and isinstance(raw, int):
         member = reg.enum.by_value(raw)
         if member is None:

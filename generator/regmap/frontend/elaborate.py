@@ -255,6 +255,14 @@ class _Elaboration:
         bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
         self._check_values(path, name, dtype, low, high, default, r)
+        if enum_type is not None and dtype.is_float:
+            for member in enum_type.members:  # settings coded as floats (a baud code 0-4 as an f32): each member exact
+                inside = dtype.raw_min <= member.value <= dtype.raw_max
+                if not inside or dtype.info.from_words(dtype.info.to_words(member.value)) != member.value:
+                    self.problems.add(
+                        (*path, "enum"),
+                        f"{name}: enum {enum_type.name} member {member.name} = {member.value} is no exact {dtype.value} value",
+                    )
         if enum_type is not None and dtype.kind == "int":
             for member in enum_type.members:
                 if not dtype.raw_min <= member.value <= dtype.raw_max:
@@ -333,7 +341,7 @@ class _Elaboration:
             "offset": (not dtype.numeric, "a number"),
             "unit": (dtype.is_bool, "a number or text"),
             "bitfields": (dtype.kind != "int", "an integer"),
-            "enum": (dtype.kind != "int", "an integer"),
+            "enum": (dtype.kind not in ("int", "float"), "a number"),
             "byte_order": (not dtype.info.has_byte_order, "a value in register words"),
             "encoding": (not dtype.is_string, "a string"),
             "padding": (not dtype.is_string, "a string"),

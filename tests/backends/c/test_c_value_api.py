@@ -382,6 +382,12 @@ class _Program:
                     lines.append(
                         f"        fill(got, {reg.words}u); EXPECT(!{view.encode}({value}{arg}, got) && untouched(got, {reg.words}u));"
                     )
+            if view.decode and reg.enum is not None and reg.type.is_float:
+                half = min(m.value for m in reg.enum.members) + 0.5  # a setting coded as a float: no member is 0.5 off
+                words = ", ".join(c_hex(w) for w in raw_to_words(ordered, half))
+                lines.append(f"        {{ static const uint16_t half[] = {{ {words} }}; /* {half}: no member */")
+                lines.append(f"            EXPECT(!{view.decode}(half{arg}, &out));")
+                lines.append("        }")
             if view.decode and reg.enum is not None and not reg.bitfields:
                 lacking = next((v for v in range(0, 0x10000) if reg.enum.by_value(v) is None and v <= reg.type.raw_max), None)
                 if lacking is not None:

@@ -88,7 +88,7 @@ class Decodes:
     def block_edges(self, index: int, block: Block) -> None:
         """Every register of the block at once: minimum, maximum, 16#8000, a pattern, each enum member."""
         specs = {r.name: _spec(self.device, r) for r in block.registers}
-        fills = {kind: _edge(specs, kind) for kind in ("min", "max", "w8000", "infinity", "nan", "na")}
+        fills = {kind: _edge(specs, kind) for kind in ("min", "max", "w8000", "infinity", "nan", "na", "half")}
         fills["pattern"] = {}  # every word of the pattern
         enum_counts = [len(r.enum.members) + 1 for r in block.registers if r.enum is not None and not r.bitfields]
         for k in range(max(enum_counts, default=0)):
@@ -154,6 +154,9 @@ def _edge(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list[int]
                 out[name] = _wire_order(spec, list(info.to_words(math.inf if kind == "infinity" else math.nan)))
         elif kind == "w8000":
             out[name] = [0x8000] + [0] * (spec.words - 1)
+        elif kind == "half":
+            if spec.enum is not None and info.is_float:  # a setting coded as a float: half-way between two members
+                out[name] = raw_to_words(spec, min(int(m) for m in spec.enum) + 0.5)
         elif kind == "na":
             if spec.na:  # the last "not available" marker (min and max often are the first)
                 out[name] = raw_to_words(spec, spec.na[-1])

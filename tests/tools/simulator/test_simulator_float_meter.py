@@ -58,3 +58,39 @@ def test_a_marker_is_never_written(name: str, simulator: SimulatorFactory) -> No
             client.write_raw(0x0104, [0xFFFF])
         assert refused.value.code == 0x03
         assert read(f, client, "ct_ratio") == 100
+
+
+@pytest.mark.parametrize("name", FLAVOURS)
+def test_a_setting_coded_as_a_float_reads_and_writes_only_members(name: str, simulator: SimulatorFactory, tmp_path: Path) -> None:
+    sim = simulator(FLOAT_METER)
+    assert sim.port is not None
+    f = flavour(name, METER)
+    client, recorder = f.client(sim.port)
+    with client:
+        assert read(f, client, "baud_code").name == "B9600"  # the default 2.0 is member b9600
+        write(f, client, "baud_code", "b19200")
+        assert recorder.pdus()[-1] == bytes.fromhex("10 0100 0002 04 40400000")  # code 3 as the f32 3.0
+        member = read(f, client, "baud_code")
+        assert member.name == "B19200" and int(member) == 3
+        sent = len(recorder.sent)
+        for refused in (2.5, 7, "b115200", float("nan")):
+            with pytest.raises(ValueError):
+                write(f, client, "baud_code", refused)
+        assert len(recorder.sent) == sent  # nothing went out
+        # The device refuses a float no member is (0x03); a value the map does not list reads as it is.
+        with pytest.raises(f.errors.DeviceException) as refused_by_device:
+            client.write_raw(0x0100, [0x4020, 0x0000])  # 2.5
+        assert refused_by_device.value.code == 0x03
+
+
+def test_a_float_code_no_member_has_reads_as_its_number(simulator: SimulatorFactory, tmp_path: Path) -> None:
+    f = flavour("generated", METER)
+    assert f.module is not None
+    for raw, expected in ((7.0, 7), (2.5, 2.5)):
+        sim = simulator(FLOAT_METER, "--state", _state(tmp_path, {"baud_code": raw}))
+        assert sim.port is not None
+        client, _ = f.client(sim.port)
+        with client:
+            got = read(f, client, "baud_code")
+        assert got == expected and type(got) is (float if raw == 2.5 else f.module.Unlisted), got
+        sim.stop()

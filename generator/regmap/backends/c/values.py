@@ -192,7 +192,7 @@ def _scaled_value(reg: Register, raw: str) -> str:
 
 def _comment(reg: Register, label: str, order: str) -> str:
     """One line per register; the header's top comment says what the helpers refuse."""
-    if reg.type.is_float:
+    if reg.type.is_float and reg.enum is None:
         what = "any finite value of its type" if (reg.raw_min, reg.raw_max) == (reg.type.raw_min, reg.type.raw_max) else "its range"
     elif reg.bitfields:
         what = "its whole word, the fields set with the setters above"
@@ -289,10 +289,33 @@ def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple
         conditions.append(f"(long long)value <= (long long){c_signed(int(reg.raw_max))}")
     conditions += _not_destructive(ctx, reg)
     cast = f"({value_type})raw" if typed else "raw"
+    encode = (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})value"), "return true;")
+    if reg.type.is_float:
+        # A setting coded as a float (a baud code 0-4 as an f32): a member only when the float is that integer exactly
+        # (the range test first, so the conversion is defined; NaN fails it).
+        lowest, highest = (c_float_literal(float(v), reg.type) for v in (min(m.value for m in e.members), max(m.value for m in e.members)))
+        return (
+            value_type,
+            (f"return {' && '.join(conditions)};",),
+            encode,
+            (
+                f"{raw_type} coded = {_from_wire(ctx, reg)};",
+                "long long raw;",
+                f"if (!(coded >= {lowest} && coded <= {highest})) {{",
+                "    return false;",
+                "}",
+                "raw = (long long)coded;",
+                f"if (coded != ({raw_type})raw || !{member}(raw)) {{",
+                "    return false;",
+                "}",
+                f"*out = {cast};",
+                "return true;",
+            ),
+        )
     return (
         value_type,
         (f"return {' && '.join(conditions)};",),
-        (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})value"), "return true;"),
+        encode,
         (
             f"{raw_type} raw = {_from_wire(ctx, reg)};",
             f"if (!{member}(raw)) {{",

@@ -360,9 +360,17 @@ class _Package:
 
     def _wire_type(self, reg: Register) -> str:
         """A select's value type: a byte-swapped register is compared word for word as it is on the wire."""
+        if reg.type.is_float and not swapped(reg):  # a float's bits as the unsigned integer of its size (no FP32 select)
+            return VALUE_TYPE[({2: DataType.U32, 4: DataType.U64}[reg.words], reg.word_order)]
         return SIZED[reg.words] if swapped(reg) else self._value_type(reg)
 
     def _wire_value(self, reg: Register, raw: int) -> int:
+        if not swapped(reg) and reg.type.is_float:
+            # ESPHome's select compares and writes an FP32's bits, not its number: a setting coded as a float
+            value = 0
+            for word in reg.type.info.to_words(float(raw)):
+                value = (value << 16) | word
+            return value
         if not swapped(reg):
             return raw
         value = 0

@@ -184,8 +184,8 @@ def _value_type(reg: Register) -> str:
 def _read_type(reg: Register) -> str:
     if reg.bitfields:
         return _bits_class_name(reg)
-    if reg.enum is not None:
-        return f"{camel(reg.enum.name)} | Unlisted"
+    if reg.enum is not None:  # a float enum register also reads a value no member can be (2.5) as the float
+        return f"{camel(reg.enum.name)} | Unlisted" + (" | float" if reg.type.is_float else "")
     return _plain_type(reg)
 
 

@@ -175,7 +175,11 @@ def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) ->
     natural = NATURAL[reg.type]
     local = [Member("rRaw", "LREAL")]
     body: list[str] = []
-    if reg.scaled or reg.offset_set:
+    if reg.enum is not None:  # a setting coded as a float: the member's value, as a float
+        inputs = [Member("eValue", names.enum_type(reg.enum))]
+        body += _refuse_reported(names, name, "eValue", reg.enum)
+        body.append(f"rRaw := DINT_TO_LREAL({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
+    elif reg.scaled or reg.offset_set:
         inputs = [Member("fValue", "LREAL", f"in {reg.unit}" if reg.unit else "engineering value")]
         body.append(f"rRaw := {_less_offset(reg)} * {st_real(reg.scale.denominator)} / {st_real(reg.scale.numerator)};")
     else:

@@ -188,6 +188,19 @@ class Values:
         else:
             self.used.add("f64")
             call = f"{self.helpers.f64_from_bits}(nHigh := nHigh, nLow := nLow, fValue := rValue)"
+        if reg.enum is not None:  # a setting coded as a float: a member when the float is that integer exactly
+            self.members[-1] = Member(member, self.names.enum_type(reg.enum), comment)
+            decoder = StIdentifier("F", self.names.prefix, reg.enum.name, "FROM_RAW")
+            whole = "rValue >= -2147483648.0 AND rValue <= 2147483647.0 AND rValue = DINT_TO_LREAL(LREAL_TO_DINT(rValue))"
+            return [
+                f"IF {call} AND {whole} THEN",
+                f"    IF NOT {decoder}(nRaw := LREAL_TO_DINT(rValue), eValue := {target}) THEN",
+                "        bOk := FALSE;",
+                "    END_IF;",
+                "ELSE",
+                "    bOk := FALSE;",
+                "END_IF;",
+            ]
         scaled = f"rValue * {_ratio(reg)}{_offset(reg)}" if reg.scaled or reg.offset_set else "rValue"
         store = f"{target} := {scaled};" if kind == "LREAL" else f"{target} := LREAL_TO_REAL({scaled});"
         return [f"IF {call} THEN", f"    {store}", "ELSE", "    bOk := FALSE;", "END_IF;"]
