@@ -16,7 +16,7 @@ from regmap.kinds import DataType as DataType
 from regmap.kinds import PollClass as PollClass
 from regmap.kinds import WordOrder as WordOrder
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
-from regmap_runtime.spec import gate_admits, gate_text, na_marks
+from regmap_runtime.spec import gate_admits, gate_text, na_marks, variant_has
 
 SourcePos = tuple[int, int]
 """(line, column) of an item in its map file, so a problem found late still prints file:line:col."""
@@ -189,6 +189,7 @@ class Register:
     trigger: bool = False  # a write makes the device act: sent once, never retried (see Device.is_trigger)
     na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as no value, never written
     na_nan: bool = False  # any NaN of a float register means "not available"
+    variants: tuple[str, ...] = ()  # the device variants (models, options) that have it; () every variant
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -259,6 +260,10 @@ class Register:
                 pattern = pattern << 16 | word
             patterns.append(pattern)
         return tuple(patterns)
+
+    def on_variant(self, variant: str | None) -> bool:
+        """Whether `variant` has the register (None: the variant is not known, so every register may be there)."""
+        return variant_has(self.variants, variant)
 
     @property
     def label(self) -> str:
@@ -483,6 +488,15 @@ class Transport:
 
 
 @dataclass(frozen=True)
+class Variant:
+    """A model or option of the device whose registers differ (a four-string inverter): registers name theirs."""
+
+    name: str
+    title: str
+    description: str = ""
+
+
+@dataclass(frozen=True)
 class DeviceInfo:
     id: str
     vendor: str
@@ -496,6 +510,7 @@ class DeviceInfo:
     manual_language: str | None = None
     firmware: str | None = None
     firmware_register: FirmwareRegister | None = None
+    variants: tuple[Variant, ...] = ()
     id_pos: SourcePos | None = field(default=None, compare=False, repr=False)  # where the map gives the id (targets' reserved words)
 
 

@@ -103,6 +103,8 @@ def spec_extras(r: Register) -> dict[str, Any]:
         extras["na"] = r.na
     if r.na_nan:
         extras["na_nan"] = True
+    if r.variants:
+        extras["variants"] = r.variants
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported
@@ -132,6 +134,8 @@ def device_extras(device: Device) -> dict[str, Any]:
         extras["max_read_coils"] = t.max_read_coils
     if t.max_write_coils != MAX_WRITE_BITS:
         extras["max_write_coils"] = t.max_write_coils
+    if device.info.variants:
+        extras["variants"] = tuple(v.name for v in device.info.variants)
     firmware = device.info.firmware_register
     if firmware is not None:
         extras["firmware_register"] = firmware.register.name

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_8275cc3156.bits import BitfieldValue
-from regmap_runtime_8275cc3156.client import AsyncClient, SyncClient
-from regmap_runtime_8275cc3156.codec import Unlisted
-from regmap_runtime_8275cc3156.errors import (
+from regmap_runtime_54d08db599.bits import BitfieldValue
+from regmap_runtime_54d08db599.client import AsyncClient, SyncClient
+from regmap_runtime_54d08db599.codec import Unlisted
+from regmap_runtime_54d08db599.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_8275cc3156.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_8275cc3156.profile import DeviceProfile, load_profile
-from regmap_runtime_8275cc3156.spec import (
+from regmap_runtime_54d08db599.profile import DeviceProfile, load_profile
+from regmap_runtime_54d08db599.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -114,6 +115,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="the drive's firmware version (2.10): the map's firmware register reports it, registers it lacks (their `firmware` "
         "gate) answer 0x02 (default: the firmware register's default, else the newest version the map's gates name)",
     )
+    quirks.add_argument(
+        "--variant",
+        metavar="NAME",
+        help="the model or option played (one of the map's device.variants): registers other variants have answer 0x02 "
+        "(default: every register is present)",
+    )
     return p
 
 
@@ -138,6 +145,10 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise UsageError(f"--max-read/--word-order: {exc}") from None
     device = load_map(args.map)
+    variants = [v.name for v in device.info.variants]
+    if args.variant is not None and args.variant not in variants:
+        raise UsageError(f"--variant {args.variant!r}: {device.id} declares {', '.join(variants) if variants else 'no variants'}")
+    quirks = replace(quirks, variant=args.variant)
     line = serial_line(device, args.serial, args.baud, args.parity, args.stop_bits)
     faults = FaultPlan(
         kind=args.fault, count=args.fault_count, after=args.fault_after, delay_s=args.fault_delay, exception_code=args.fault_exception

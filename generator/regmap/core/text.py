@@ -13,7 +13,7 @@ import math
 import struct
 from fractions import Fraction
 
-from regmap.model import Register
+from regmap.model import Device, Register
 from regmap_runtime.spaces import SPACES
 
 BIT_NAMES = {0: "off", 1: "on"}
@@ -126,3 +126,9 @@ def na_mark(reg: Register, raw: int | float) -> str:
 def na_list(reg: Register) -> str:
     """Every "not available" marker of `reg`: `0x7FFF, 0xFFFF`, `NaN`."""
     return ", ".join([na_mark(reg, raw) for raw in reg.na] + (["NaN"] if reg.na_nan else []))
+
+
+def variants_text(device: Device, reg: Register) -> str:
+    """The variants that have `reg`, by name and title: `three_phase (Three-phase model)`."""
+    titles = {v.name: v.title for v in device.info.variants}
+    return ", ".join(f"{name} ({titles[name]})" if name in titles else name for name in reg.variants)

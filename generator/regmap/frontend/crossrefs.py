@@ -28,6 +28,7 @@ from regmap.model import (
     Register,
     TimingRow,
     Transport,
+    Variant,
     WordOrder,
     WordOrderRegister,
 )
@@ -93,6 +94,7 @@ class _CrossReferences:
             manual_language=manual.get("language"),
             firmware=d.get("firmware"),
             map_version=d["map_version"],
+            variants=tuple(Variant(v["name"], v["title"], v.get("description", "")) for v in d.get("variants", [])),
             id_pos=self.positions.locate(("device", "id")),
         )
 

@@ -94,3 +94,28 @@ def test_a_float_code_no_member_has_reads_as_its_number(simulator: SimulatorFact
             got = read(f, client, "baud_code")
         assert got == expected and type(got) is (float if raw == 2.5 else f.module.Unlisted), got
         sim.stop()
+
+
+@pytest.mark.parametrize("name", FLAVOURS)
+def test_a_variant_knows_which_registers_it_has(name: str, simulator: SimulatorFactory) -> None:
+    f = flavour(name, METER)
+    sim = simulator(FLOAT_METER, "--variant", "single_phase")
+    assert sim.port is not None
+    client, recorder = f.client(sim.port, variant="single_phase")
+    with client:
+        values = client.read_all()
+        assert "voltage_l2" not in values and "voltage_l1" in values  # read_all() leaves out what the variant lacks
+        sent = len(recorder.sent)
+        with pytest.raises(f.errors.AccessError, match="three_phase"):
+            read(f, client, "voltage_l2")
+        assert len(recorder.sent) == sent  # refused before anything went out
+        with pytest.raises(f.errors.DeviceException) as absent:  # the simulated single-phase model lacks it: 0x02
+            client.read_raw(0x000A, 2, space="input")
+        assert absent.value.code == 0x02
+    three = simulator(FLOAT_METER, "--variant", "three_phase")
+    assert three.port is not None
+    client, _ = f.client(three.port, variant="three_phase")
+    with client:
+        assert client.read_all()["voltage_l2"] == 0.0
+    with pytest.raises(ValueError, match="no variant 'two_phase'"):
+        f.client(three.port, variant="two_phase")

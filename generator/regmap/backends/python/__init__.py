@@ -266,6 +266,8 @@ def _register_doc(reg: Register) -> str:
         facts.append(f"exists with {reg.firmware.text}")
     if reg.poll is not PollClass.NORMAL:
         facts.append(f"poll {reg.poll.value}")
+    if reg.variants:
+        facts.append(f"only on the variant(s) {', '.join(reg.variants)} (a client made with variant= refuses it on another)")
     if reg.has_na:
         facts.append(f"not available (read as None): {na_list(reg)}")
     parts.append(", ".join(facts) + _sources(reg.source))

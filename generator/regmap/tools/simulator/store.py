@@ -47,7 +47,11 @@ class DeviceStore:
         self.firmware = firmware_played(device, self.quirks.firmware)
         self.firmware_text = firmware_text(device, self.firmware, self.quirks.firmware) if self.firmware is not None else None
         # Registers the simulated firmware has (every register when no firmware is played).
-        self.present = [r for r in device.registers if self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])]
+        self.present = [
+            r
+            for r in device.registers
+            if (self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])) and r.on_variant(self.quirks.variant)
+        ]
         self.registers = {r.name: r for r in self.present}
         self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
