@@ -16,7 +16,7 @@ from regmap.kinds import DataType as DataType
 from regmap.kinds import PollClass as PollClass
 from regmap.kinds import WordOrder as WordOrder
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
-from regmap_runtime.spec import gate_admits, gate_text
+from regmap_runtime.spec import gate_admits, gate_text, na_marks, variant_has
 
 SourcePos = tuple[int, int]
 """(line, column) of an item in its map file, so a problem found late still prints file:line:col."""
@@ -71,7 +71,7 @@ class EnumType:
     def member(self, name: str) -> EnumMember | None:
         return next((m for m in self.members if m.name == name), None)
 
-    def by_value(self, value: int) -> EnumMember | None:
+    def by_value(self, value: int | float) -> EnumMember | None:
         return next((m for m in self.members if m.value == value), None)
 
 
@@ -187,6 +187,9 @@ class Register:
     firmware: FirmwareGate | None = None
     poll: PollClass = PollClass.NORMAL
     trigger: bool = False  # a write makes the device act: sent once, never retried (see Device.is_trigger)
+    na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as no value, never written
+    na_nan: bool = False  # any NaN of a float register means "not available"
+    variants: tuple[str, ...] = ()  # the device variants (models, options) that have it; () every variant
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -236,6 +239,31 @@ class Register:
     @property
     def scaled(self) -> bool:
         return self.scale != 1
+
+    @property
+    def has_na(self) -> bool:
+        """The device sends a "not available" marker in this register (`na`)."""
+        return bool(self.na) or self.na_nan
+
+    def is_na(self, raw: object) -> bool:
+        """Whether `raw` is this register's "not available" marker."""
+        return na_marks(self.na, self.na_nan, raw)
+
+    @property
+    def na_bits(self) -> tuple[int, ...]:
+        """The bits of each `na` marker, as the words carry them high word first (an s16's -32768 is 0x8000,
+        a float's its IEEE 754 bits): what back ends compare a register's assembled word(s) with."""
+        patterns = []
+        for mark in self.na:
+            pattern = 0
+            for word in self.type.info.to_words(mark):
+                pattern = pattern << 16 | word
+            patterns.append(pattern)
+        return tuple(patterns)
+
+    def on_variant(self, variant: str | None) -> bool:
+        """Whether `variant` has the register (None: the variant is not known, so every register may be there)."""
+        return variant_has(self.variants, variant)
 
     @property
     def label(self) -> str:
@@ -323,6 +351,7 @@ class ExampleValue:
     raw: int | float | str | None = None
     words: tuple[int, ...] | None = None
     value: float | str | bool | None = None
+    not_available: bool = False  # the frame carries the register's "not available" marker (value null in the map)
 
 
 @dataclass(frozen=True)
@@ -470,6 +499,15 @@ class Transport:
 
 
 @dataclass(frozen=True)
+class Variant:
+    """A model or option of the device whose registers differ (a four-string inverter): registers name theirs."""
+
+    name: str
+    title: str
+    description: str = ""
+
+
+@dataclass(frozen=True)
 class DeviceInfo:
     id: str
     vendor: str
@@ -483,6 +521,7 @@ class DeviceInfo:
     manual_language: str | None = None
     firmware: str | None = None
     firmware_register: FirmwareRegister | None = None
+    variants: tuple[Variant, ...] = ()
     id_pos: SourcePos | None = field(default=None, compare=False, repr=False)  # where the map gives the id (targets' reserved words)
 
 

@@ -102,6 +102,12 @@ def spec_extras(r: Register) -> dict[str, Any]:
             extras["firmware_until"] = r.firmware.until
     if r.poll is not PollClass.NORMAL:
         extras["poll"] = r.poll.value
+    if r.na:
+        extras["na"] = r.na
+    if r.na_nan:
+        extras["na_nan"] = True
+    if r.variants:
+        extras["variants"] = r.variants
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported
@@ -131,6 +137,8 @@ def device_extras(device: Device) -> dict[str, Any]:
         extras["max_read_coils"] = t.max_read_coils
     if t.max_write_coils != MAX_WRITE_BITS:
         extras["max_write_coils"] = t.max_write_coils
+    if device.info.variants:
+        extras["variants"] = tuple(v.name for v in device.info.variants)
     firmware = device.info.firmware_register
     if firmware is not None:
         extras["firmware_register"] = firmware.register.name

@@ -18,7 +18,7 @@ from conftest import FIXTURE_MAPS, ROOT, fixture_maps_generated, mypy_strict
 
 
 def test_the_fixtures_are_plainly_marked_and_not_among_the_maps() -> None:
-    assert [p.stem for p in FIXTURE_MAPS] == ["power_meter", "remote_io", "swapped_gated"]
+    assert [p.stem for p in FIXTURE_MAPS] == ["float_meter", "power_meter", "remote_io", "swapped_gated"]
     for path in FIXTURE_MAPS:
         assert path.read_text(encoding="utf-8").startswith("# TEST FIXTURE - not a real device")
         device = load_map(path)

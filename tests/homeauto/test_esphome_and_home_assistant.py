@@ -233,8 +233,12 @@ def test_esphome_entities_equal_the_model(device: Device) -> None:
         seen.add(reg.name)
         lambda_ = "lambda" in e
         if platform in ("sensor", "number") and "bitmask" not in e:
-            # a lambda reads what no value_type can say: a double, a byte-swapped value (ESPHome has neither)
-            assert lambda_ == (reg.type is DataType.F64 or _swapped(reg) or (platform == "number" and reg.offset != 0)), e
+            # a lambda reads what no value_type can say: a double, a byte-swapped value (ESPHome has neither), a
+            # sensor's "not available" marker (read as NaN: unknown)
+            expected = reg.type is DataType.F64 or _swapped(reg) or (platform == "number" and reg.offset != 0)
+            assert lambda_ == (expected or (platform == "sensor" and bool(reg.na))), e
+            if platform == "sensor" and reg.na:
+                assert all(f"if (raw == 0x{bits:X}u) return NAN;" in e["lambda"].value for bits in reg.na_bits), e
             if platform == "sensor" and lambda_:
                 assert TYPE_WORDS[e["value_type"]] == reg.words, e
             elif not lambda_:
@@ -258,6 +262,9 @@ def test_esphome_entities_equal_the_model(device: Device) -> None:
             values = sorted(m.value for m in reg.enum.members if m.writable) if reg.enum else []  # never a reported state
             if _swapped(reg):
                 values = sorted(((v & 0xFF) << 8) | (v >> 8) for v in values)
+            elif reg.type is DataType.F32:  # a setting coded as a float: ESPHome's select compares its bits
+                values = sorted(struct.unpack(">I", struct.pack(">f", v))[0] for v in values)
+                assert e["value_type"] in ("U_DWORD", "U_DWORD_R"), e
             assert sorted(e["optionsmap"].values()) == values, e
         if platform in ("number", "select", "switch"):
             assert reg.access.writable, e
@@ -384,9 +391,13 @@ def _expected(reg: Register, raw: Any, value: Any) -> float | str | bool | None:
     return float(raw) * float(reg.scale) + float(reg.offset)
 
 
-def _ha_value(e: dict[str, Any], words: list[int]) -> float | str:
+UNAVAILABLE = "unavailable"  # what an example of the device's "not available" marker expects
+
+
+def _ha_value(e: dict[str, Any], words: list[int]) -> float | str | None:
     """What HA's modbus sensor makes of the words: its swap (bytes in each word, then the word order),
-    the bytes big-endian, struct with the data type's format, then scale and offset."""
+    the bytes big-endian, struct with the data type's format, then scale and offset; None (unavailable)
+    for its `nan_value` (also negated, as HA compares) and for a NaN float."""
     n = e["count"] if e["data_type"] == "string" else struct.calcsize(HASS_STRUCT[e["data_type"]]) // 2
     regs = list(words[:n])
     if e.get("swap") in ("byte", "word_byte"):
@@ -397,6 +408,9 @@ def _ha_value(e: dict[str, Any], words: list[int]) -> float | str:
     if e["data_type"] == "string":
         return data.decode()
     (raw,) = struct.unpack(">" + HASS_STRUCT[e["data_type"]], data)
+    nan_value = e.get("nan_value")
+    if (nan_value is not None and raw in (nan_value, -nan_value)) or raw != raw:
+        return None
     return float(e.get("scale", 1)) * float(raw) + float(e.get("offset", 0))
 
 
@@ -480,7 +494,7 @@ def test_example_responses_decode_as_the_map_says(device: Device, tmp_path: Path
                 or not start <= reg.address < start + (8 * len(data) if reg.type.is_bool else len(words))
             ):
                 continue
-            expected = _expected(reg, v.raw, v.value)
+            expected = UNAVAILABLE if v.not_available else _expected(reg, v.raw, v.value)
             if reg.type.is_bool:  # a coil or discrete input: ESPHome's coil_from_vector(offset, data)
                 bit = reg.address - start
                 assert bool(data[bit // 8] & (1 << (bit % 8))) == bool(expected), (ex.id, reg.name)
@@ -494,10 +508,10 @@ def test_example_responses_decode_as_the_map_says(device: Device, tmp_path: Path
             if "lambda" in e and platform in ("sensor", "text_sensor"):
                 kind = "text" if platform == "text_sensor" else "float"
                 lambdas.append((_LambdaCase(e["lambda"].value, kind, data, offset), expected, f"{ex.id} {reg.name}"))
-                if platform == "sensor" and expected is not None:
+                if platform == "sensor" and expected is not None and expected != UNAVAILABLE:
                     lambdas[-1] = (lambdas[-1][0], (float(expected) - _offset_of(e)) / _scale_of(e, platform), lambdas[-1][2])
             elif platform in ("sensor", "number") and "lambda" not in e:
-                if expected is not None:
+                if expected is not None and expected != UNAVAILABLE:
                     got = _esp_value(e, platform, mine)
                     assert math.isclose(got, float(expected), rel_tol=1e-6, abs_tol=1e-9), (ex.id, reg.name, got, expected)
                     checked += 1
@@ -513,8 +527,14 @@ def test_example_responses_decode_as_the_map_says(device: Device, tmp_path: Path
                 if not _swapped(reg):
                     value = _words_value(mine, reg.words, reg.signed, reg.word_order is WordOrder.LOW_FIRST)
                 assert value in e["optionsmap"].values()
-            if (space, reg.address) in ha and expected is not None:
+            if (space, reg.address) in ha and expected == UNAVAILABLE:
+                # HA: unavailable for its one nan_value and for a NaN float; a second marker is listed as not generated
                 got_ha = _ha_value(ha[(space, reg.address)], mine)
+                assert got_ha is None or (v.raw is not None and v.raw != reg.na[0]), (ex.id, reg.name, got_ha)
+                checked += 1
+            elif (space, reg.address) in ha and expected is not None:
+                got_ha = _ha_value(ha[(space, reg.address)], mine)
+                assert got_ha is not None, (ex.id, reg.name)
                 if isinstance(got_ha, str):
                     # HA decodes every byte: NUL padding stays in its state, space padding too
                     assert got_ha.split("\0", 1)[0].rstrip(" " if reg.padding == "space" else "") == expected, (ex.id, reg.name, got_ha)
@@ -526,6 +546,8 @@ def test_example_responses_decode_as_the_map_says(device: Device, tmp_path: Path
         for (case, expected, what), out in zip(lambdas, outputs, strict=True):
             if case.kind == "text":
                 assert out == expected, (what, out, expected)
+            elif expected == UNAVAILABLE:  # the device's "not available" marker: NaN, which ESPHome shows as unknown
+                assert out == "nan", (what, out)
             elif expected is not None:
                 assert math.isclose(float(out), float(expected), rel_tol=1e-6), (what, out, expected)
             checked += 1
@@ -539,7 +561,7 @@ def test_the_lambdas_decode_every_order_as_struct_does(tmp_path: Path) -> None:
 
     from regmap.backends.esphome import lambdas as esp_lambdas
 
-    base = FIXTURES[0].registers[0]
+    base = next(d for d in FIXTURES if d.id == "fixture_power_meter").registers[0]
     cases: list[tuple[_LambdaCase, str]] = []
     samples = {DataType.U16: 0xBEEF, DataType.S16: -2, DataType.U32: 0xDEADBEEF, DataType.S32: -123456, DataType.F32: -1.5}
     samples |= {DataType.U64: 123456789012, DataType.S64: -98765, DataType.F64: 2.5e-3}
@@ -592,7 +614,8 @@ def test_number_lambdas_read_and_write_the_wire_words(tmp_path: Path) -> None:
             cases.append((_LambdaCase(e["write_lambda"].value, "write", b"", 0, value), str(int.from_bytes(wire, "big"))))
     from regmap.backends.esphome import lambdas as esp_lambdas
 
-    offset = replace(FIXTURES[0].register("temperature"), access=FIXTURES[0].register("ct_ratio").access)
+    power = next(d for d in FIXTURES if d.id == "fixture_power_meter")
+    offset = replace(power.register("temperature"), access=power.register("ct_ratio").access)
     cases.append((_LambdaCase(esp_lambdas.offset_read_lambda(offset), "float", b"", 0, 55.0), "15"))  # 550 x 0.1 - 40
     cases.append((_LambdaCase(esp_lambdas.offset_write_lambda(offset), "write", b"", 0, 15.0), "550"))
     outputs = _run_lambdas(tmp_path, [c for c, _ in cases])

@@ -30,7 +30,7 @@ def as_f32(value: float) -> float:
 def value_members(reg: Register) -> list[str]:
     if reg.bitfields:
         return [StIdentifier(reg.name), *(StIdentifier(reg.name, b.name) for b in reg.bitfields)]
-    return [StIdentifier(reg.name)]
+    return [StIdentifier(reg.name), *([StIdentifier(reg.name, "available")] if reg.has_na else [])]
 
 
 def edge_words(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list[int]]:
@@ -59,6 +59,12 @@ def edge_words(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list
                 out[name] = _wire_order(spec, list(info.to_words(math.inf if kind == "infinity" else math.nan)))
         elif kind == "w8000":
             out[name] = [0x8000] + [0] * (spec.words - 1)
+        elif kind == "half":
+            if spec.enum is not None and info.is_float:  # a setting coded as a float: half-way between two members
+                out[name] = raw_to_words(spec, min(int(m) for m in spec.enum) + 0.5)
+        elif kind == "na":
+            if spec.na:  # the last "not available" marker (min and max often are the first)
+                out[name] = raw_to_words(spec, spec.na[-1])
         else:
             out[name] = raw_to_words(spec, spec.raw_min if kind == "min" else spec.raw_max)
     return out
@@ -88,6 +94,12 @@ def compare_value(reg: Register, value: DecodedValue, got: dict[str, str], kind:
     if reg.type.is_string:
         text = bytes.fromhex(st.rstrip("-")).decode(reg.encoding or "ascii", errors="replace")
         return True, [] if text == value.value else [f"ST {text!r}, Python {value.value!r}"]
+    if reg.has_na:
+        available = int(got[StIdentifier(reg.name, "available")])
+        if value.value is None:  # the device's "not available" marker: the flag says so, the value is left alone
+            return True, [] if available == 0 else [f"ST available for the marker {value.raw!r}, Python None"]
+        if available != 1:
+            return True, [f"ST not available, Python {value.value!r}"]
     if reg.bitfields:
         wrong = [] if int(st) == value.raw else [f"word: ST {st}, Python {value.raw}"]
         valid = True

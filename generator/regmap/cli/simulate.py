@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -122,6 +123,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         help="the drive's firmware version (2.10): the map's firmware register reports it, registers it lacks (their `firmware` "
         "gate) answer 0x02 (default: the firmware register's default, else the newest version the map's gates name)",
     )
+    quirks.add_argument(
+        "--variant",
+        metavar="NAME",
+        help="the model or option played (one of the map's device.variants): registers other variants have answer 0x02 "
+        "(default: every register is present)",
+    )
     return p
 
 
@@ -154,6 +161,10 @@ def run(args: argparse.Namespace) -> int:
     if args.bus is not None or args.state_dir is not None:
         raise UsageError(f"--bus and --state-dir serve a plant's bus; {args.map} is a map")
     device = load_map(args.map)
+    variants = [v.name for v in device.info.variants]
+    if args.variant is not None and args.variant not in variants:
+        raise UsageError(f"--variant {args.variant!r}: {device.id} declares {', '.join(variants) if variants else 'no variants'}")
+    quirks = replace(quirks, variant=args.variant)
     line = serial_line(device, args.serial, args.baud, args.parity, args.stop_bits)
     served = run(
         device,
@@ -189,6 +200,7 @@ def _run_bus(args: argparse.Namespace, faults: FaultPlan, quirks: Quirks, policy
             ("--word-order", args.word_order is not None),
             ("--max-read", args.max_read is not None),
             ("--answer-gaps", args.answer_gaps),
+            ("--variant", args.variant is not None),
         )
         if given
     ]

@@ -42,6 +42,11 @@ def _bitfield(b: Bitfield) -> dict[str, Any]:
     }
 
 
+def na_json(r: Register) -> list[int | float | str]:
+    """The register's "not available" markers as a map spells them: raw values, and `nan` for any NaN."""
+    return [*r.na, *(["nan"] if r.na_nan else [])]
+
+
 def register_json(r: Register) -> dict[str, Any]:
     return {
         "name": r.name,
@@ -80,6 +85,7 @@ def register_json(r: Register) -> dict[str, Any]:
         "padding": r.padding if r.type.is_string else None,
         "firmware": _gate(r.firmware),
         "poll": r.poll.value,
+        "na": na_json(r),
     }
 
 

@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from regmap.core.text import BIT_NAMES, number_text
+from regmap.core.text import BIT_NAMES, na_mark, number_text
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import raw_to_value, words_to_raw
@@ -130,6 +130,8 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
         return raw, quoted + ("" if readable else f"  [NOT valid {reg.encoding}: unreadable bytes shown as U+FFFD]"), readable, None
     if reg.type.is_bool:
         return bool(raw), BIT_NAMES[1 if raw else 0], True, None
+    if reg.is_na(raw):
+        return None, f"not available (raw {na_mark(reg, raw)}, the device's marker)", True, None
     if isinstance(raw, float) and math.isnan(raw):
         return raw, "NaN  [NOT a number: no value the map admits]", False, None
     in_range = reg.raw_min <= raw <= reg.raw_max
@@ -146,6 +148,12 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
             fields[b.name] = shown
             parts.append(f"{b.name}={shown}")
         return raw, f"0x{raw:04X}: " + " ".join(parts) + outside, in_range, fields
+    if reg.enum is not None and isinstance(raw, float):  # a setting coded as a float: a member, exactly, or not a value
+        member = reg.enum.by_value(int(raw)) if raw.is_integer() else None
+        shown = number_text(raw, reg.type.value)
+        if member is None:
+            return raw, f"{shown}  [NOT a value of {reg.enum.name}]", False, None
+        return member.name, f"{member.name} ({shown})" + outside, in_range, None
     if reg.enum is not None and isinstance(raw, int):
         member = reg.enum.by_value(raw)
         if member is None:

@@ -13,7 +13,7 @@ import math
 import struct
 from fractions import Fraction
 
-from regmap.model import Register
+from regmap.model import Device, Register
 from regmap_runtime.spaces import SPACES
 
 BIT_NAMES = {0: "off", 1: "on"}
@@ -113,3 +113,22 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
         return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)
     exact = Fraction(raw) * reg.scale + reg.offset
     return exact_decimal(exact) or number_text(float(exact))
+
+
+def na_mark(reg: Register, raw: int | float) -> str:
+    """A "not available" marker as datasheets print it: the bit pattern of an integer (0xFFFF, 0x8000 of an
+    s16), a float's value."""
+    if isinstance(raw, float):
+        return "NaN" if math.isnan(raw) else number(raw)
+    return f"0x{raw & ((1 << reg.type.bits) - 1):0{reg.type.bits // 4}X}"
+
+
+def na_list(reg: Register) -> str:
+    """Every "not available" marker of `reg`: `0x7FFF, 0xFFFF`, `NaN`."""
+    return ", ".join([na_mark(reg, raw) for raw in reg.na] + (["NaN"] if reg.na_nan else []))
+
+
+def variants_text(device: Device, reg: Register) -> str:
+    """The variants that have `reg`, by name and title: `three_phase (Three-phase model)`."""
+    titles = {v.name: v.title for v in device.info.variants}
+    return ", ".join(f"{name} ({titles[name]})" if name in titles else name for name in reg.variants)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
+from regmap.core.text import na_list
 from regmap.frontend.functions import identification, served_function_problems, server_id
 from regmap.frontend.stages import Elaborated, Problems
 from regmap.frontend.values import _source
@@ -27,6 +28,7 @@ from regmap.model import (
     Register,
     TimingRow,
     Transport,
+    Variant,
     WordOrder,
     WordOrderRegister,
 )
@@ -92,6 +94,7 @@ class _CrossReferences:
             manual_language=manual.get("language"),
             firmware=d.get("firmware"),
             map_version=d["map_version"],
+            variants=tuple(Variant(v["name"], v["title"], v.get("description", "")) for v in d.get("variants", [])),
             id_pos=self.positions.locate(("device", "id")),
         )
 
@@ -564,7 +567,21 @@ class _CrossReferences:
                     )
                 if isinstance(raw, bool):
                     raw = int(raw)
-                values.append(ExampleValue(register=reg, raw=None if isinstance(raw, list) else raw, words=words, value=v.get("value")))
+                not_available = "value" in v and v["value"] is None
+                if not_available and (not reg.has_na or (raw is not None and words is None and not reg.is_na(raw))):
+                    marks = f"its markers are {na_list(reg)}" if reg.has_na else "it has no `na` marker"
+                    self.problems.add(
+                        (*path, "values", j, "value"), f"example {x['id']}: value null says {reg.name} is not available, but {marks}"
+                    )
+                values.append(
+                    ExampleValue(
+                        register=reg,
+                        raw=None if isinstance(raw, list) else raw,
+                        words=words,
+                        value=v.get("value"),
+                        not_available=not_available,
+                    )
+                )
             examples.append(
                 Example(
                     id=x["id"],

@@ -8,7 +8,7 @@ from typing import Any
 
 from regmap.core.text import article
 from regmap.frontend.stages import Elaborated, MapSource, Problems
-from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source
+from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source, na_markers
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
     Access,
@@ -27,9 +27,9 @@ from regmap.model import (
     WordOrder,
 )
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
-from regmap_runtime.spec import parse_version
+from regmap_runtime.spec import na_marks, parse_version
 
-GROUP_KEYS = ("space", "firmware", "poll")  # a group's own keys that its registers inherit
+GROUP_KEYS = ("space", "firmware", "poll", "variants")  # a group's own keys that its registers inherit
 
 
 def elaborate(source: MapSource) -> Elaborated:
@@ -54,6 +54,10 @@ class _Elaboration:
         raw = self.raw
         self._param_rules(raw.get("param_ids", []))
         self._enums(raw.get("enums", {}))
+        names = [v["name"] for v in raw["device"].get("variants", [])]
+        for i, name in enumerate(names):
+            if name in names[:i]:
+                self.problems.add(("device", "variants", i, "name"), f"variant {name!r} is declared twice")
         word_order = WordOrder(raw["transport"]["word_order"])
         groups = [self._group(g, ("groups", i), word_order) for i, g in enumerate(raw["groups"])]
         return Elaborated(
@@ -255,12 +259,8 @@ class _Elaboration:
         bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
         self._check_values(path, name, dtype, low, high, default, r)
-        if enum_type is not None and dtype.kind == "int":
-            for member in enum_type.members:
-                if not dtype.raw_min <= member.value <= dtype.raw_max:
-                    self.problems.add(
-                        (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}"
-                    )
+        if enum_type is not None:
+            self._check_members_fit(enum_type, dtype, path, name)
         if not r.get("source"):
             self.problems.add(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
         access = Access(r.get("access", "rw" if space.writable else "r"))
@@ -271,6 +271,7 @@ class _Elaboration:
             )
         if isinstance(default, bool) and dtype.is_bool:
             default = int(default)
+        na, na_nan = self._na(r, path, name, dtype, bool(bitfields))
         return Register(
             name=name,
             param=param if param is not None else r.get("param"),
@@ -307,6 +308,9 @@ class _Elaboration:
             firmware=self._firmware_gate(r.get("firmware"), (*path, "firmware"), name),
             poll=PollClass(r.get("poll", "normal")),
             trigger=bool(r.get("trigger", False)),
+            na=na,
+            na_nan=na_nan,
+            variants=self._variants(r.get("variants", ()), (*path, "variants"), name),
             pos=self.positions.locate(path),
         )
 
@@ -326,12 +330,13 @@ class _Elaboration:
             "offset": (not dtype.numeric, "a number"),
             "unit": (dtype.is_bool, "a number or text"),
             "bitfields": (dtype.kind != "int", "an integer"),
-            "enum": (dtype.kind != "int", "an integer"),
+            "enum": (dtype.kind not in ("int", "float"), "a number"),
             "byte_order": (not dtype.info.has_byte_order, "a value in register words"),
             "encoding": (not dtype.is_string, "a string"),
             "padding": (not dtype.is_string, "a string"),
             "min": (not dtype.numeric, "a number"),
             "max": (not dtype.numeric, "a number"),
+            "na": (not dtype.numeric, "a number"),
         }
         inherited = self._defaults_keys(path)
         for key, (refused, needs) in not_for.items():
@@ -384,6 +389,41 @@ class _Elaboration:
             enum_type = self.enums.get(r.get("enum", ""))
             if enum_type is not None and enum_type.by_value(default) is None:
                 self.problems.add((*path, "default"), f"{name}: default {default} is not a value of enum {enum_type.name}")
+
+    def _variants(self, names: Any, path: Path, name: str) -> tuple[str, ...]:
+        """The device variants that have the register: each one `device.variants` declares."""
+        known = [v["name"] for v in self.raw["device"].get("variants", [])]
+        for i, variant in enumerate(names):
+            if variant not in known:
+                listed = f"device.variants declares {', '.join(known)}" if known else "device.variants declares none"
+                self.problems.add((*path, i), f"{name}: unknown variant {variant!r} ({listed})")
+        return tuple(names)
+
+    def _check_members_fit(self, enum_type: EnumType, dtype: DataType, path: Path, name: str) -> None:
+        """Each member of an integer register's enum fits its type; of a float's (a setting coded as a float: a baud
+        code 0-4 as an f32), each is a value the float holds exactly."""
+        for member in enum_type.members:
+            inside = dtype.raw_min <= member.value <= dtype.raw_max
+            if dtype.is_float and (not inside or dtype.info.from_words(dtype.info.to_words(member.value)) != member.value):
+                self.problems.add(
+                    (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} is no exact {dtype.value} value"
+                )
+            elif dtype.kind == "int" and not inside:
+                self.problems.add(
+                    (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}"
+                )
+
+    def _na(self, r: dict[str, Any], path: Path, name: str, dtype: DataType, bitfields: bool) -> tuple[tuple[int | float, ...], bool]:
+        """The "not available" markers as raw values of the register's type (`values.na_markers`); never its default."""
+        if not dtype.numeric:
+            return (), False  # reported by _check_type_in_space
+        na, nan = na_markers(r.get("na") or (), dtype, lambda i, message: self.problems.add((*path, "na", i), f"{name}: {message}"))
+        default = r.get("default")
+        if default is not None and na_marks(na, nan, default):
+            self.problems.add((*path, "default"), f"{name}: default {default} is the 'not available' marker (na); a default is a value")
+        if bitfields and (na or nan):
+            self.problems.add((*path, "na"), f"{name}: `na` marks a whole value as not available; a bitfield register has no one value")
+        return na, nan
 
     def _check_string_default(self, path: Path, name: str, value: Any, r: dict[str, Any]) -> None:
         if not isinstance(value, str):

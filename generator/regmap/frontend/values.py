@@ -1,12 +1,15 @@
-"""How the map's text values read: sources, scales, bit ranges, parameter-id rules."""
+"""How the map's text values read: sources, scales, bit ranges, parameter-id rules, "not available" markers."""
 
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
+
+from regmap.kinds import DataType
 
 
 def _source(value: Any) -> tuple[str, ...]:
@@ -72,3 +75,31 @@ def _number(text: str | None, radix: int, what: str) -> int:
         return int(text or "", radix)
     except ValueError:
         raise ValueError(f"its {what} {text!r} is not a base-{radix} number") from None
+
+
+def na_markers(marks: Any, dtype: DataType, problem: Callable[[int, str], None]) -> tuple[tuple[int | float, ...], bool]:
+    """A register's `na` as raw values of its type, and whether any NaN is one: an integer (a signed
+    register's may be written as its bit pattern, 0x8000 for an s16's -32768), a float's number, or
+    `nan`. `problem(index, message)` reports a marker the type cannot have."""
+    values: list[int | float] = []
+    nan = False
+    for i, mark in enumerate(marks):
+        if mark == "nan":
+            if not dtype.is_float:
+                problem(i, f"`nan` marks a float as not available; a {dtype.value} has no NaN (give its raw value)")
+            nan = True
+            continue
+        if isinstance(mark, bool) or (dtype.kind == "int" and not isinstance(mark, int)):
+            problem(i, f"a 'not available' marker of a {dtype.value} register is an integer, not {mark!r}")
+            continue
+        if dtype.kind == "int" and dtype.signed and dtype.raw_max < mark < 1 << dtype.bits:
+            mark -= 1 << dtype.bits  # the bit pattern the datasheet prints
+        if not dtype.raw_min <= mark <= dtype.raw_max:
+            problem(i, f"'not available' marker {mark} does not fit {dtype.value}")
+        elif dtype.is_float and dtype.info.from_words(dtype.info.to_words(mark)) != mark:
+            problem(i, f"'not available' marker {mark} is no {dtype.value} value (a NaN bit pattern is `nan`)")
+        elif mark in values:
+            problem(i, f"'not available' marker {mark} is given twice")
+        else:
+            values.append(mark)
+    return tuple(values), nan

@@ -27,13 +27,14 @@ from typing import Any
 import pytest
 
 from regmap.backends.c.names import C_TYPES, CIdentifier, Context, CSymbol, c_float_literal, c_hex, c_raw
-from regmap.backends.c.values import configurable, value_view
+from regmap.backends.c.values import ValueView, configurable, value_view
 from regmap.frontend import load_map
 from regmap.generate import render
 from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import RangeError, raw_to_value, raw_to_words, value_to_raw
 from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, RegisterSpec
+from regmap_runtime.types import swap_bytes
 
 from conftest import FIXTURE_MAPS, MAPS, require_tool
 
@@ -166,6 +167,14 @@ def _writable_raw(reg: Register, spec: RegisterSpec[Any], value: Any) -> int | f
         if member is None or not member.writable:
             return None
     return raw
+
+
+def _nan_words(spec: RegisterSpec[Any]) -> list[int]:
+    """A quiet NaN's words on the wire (the codec refuses to encode NaN: it is no value)."""
+    words = list(spec.type_info.to_words(math.nan))
+    if spec.byte_order != HIGH_FIRST:
+        words = swap_bytes(words)
+    return words[::-1] if spec.word_order != HIGH_FIRST else words
 
 
 def _scaled(reg: Register) -> bool:
@@ -306,7 +315,27 @@ class _Program:
             for v in ex.values:
                 if _same_owner(v.register, reg) and isinstance(v.raw, int | float) and not isinstance(v.raw, bool):
                     values.append(v.raw)
+        values += [*reg.na, *([math.nan] if reg.na_nan else [])]
         return list(dict.fromkeys(values))
+
+    def not_available(self, view: ValueView, reg: Register, spec: RegisterSpec[Any], raw: int | float, words: str, arg: str) -> list[str]:
+        """The device's "not available" marker: _is_available and _decode say no (the output untouched), and
+        a write refuses it as a value."""
+        lines = [f"        {{ static const uint16_t marker[] = {{ {words} }}; /* raw {raw!r}: not available */"]
+        if view.decode:
+            lines += [
+                "            unsigned char kept[sizeof out];",
+                "            memset(&out, 0x5A, sizeof out); memcpy(kept, &out, sizeof out);",
+                f"            EXPECT(!{view.available}(marker{arg}));",
+                f"            EXPECT(!{view.decode}(marker{arg}, &out) && memcmp(&out, kept, sizeof out) == 0);",
+            ]
+        if view.encode and raw == raw:
+            value = self.as_value(reg, spec, raw)
+            lines += [
+                f"            EXPECT(!{view.in_range}({value}));",
+                f"            fill(got, {reg.words}u); EXPECT(!{view.encode}({value}{arg}, got) && untouched(got, {reg.words}u));",
+            ]
+        return [*lines, "        }"]
 
     def orders(self, reg: Register) -> list[str]:
         return list(ORDERS) if configurable(self.ctx, reg) else [""]
@@ -328,7 +357,10 @@ class _Program:
             lines.append(f"        {view.value_type} out;")
             lines.append("        memset(got, 0, sizeof got); memset(&out, 0, sizeof out);")
             for raw in self.raws(reg, spec):
-                words = ", ".join(c_hex(w) for w in raw_to_words(ordered, raw))
+                words = ", ".join(c_hex(w) for w in (raw_to_words(ordered, raw) if raw == raw else _nan_words(ordered)))
+                if spec.is_na(raw):
+                    lines += self.not_available(view, reg, spec, raw, words, arg)
+                    continue
                 case = self.accepted(reg, spec, raw) if view.encode else None
                 if case is not None:
                     lines.append(f"        {{ static const uint16_t want[] = {{ {words} }}; /* raw {raw!r} */")
@@ -350,6 +382,12 @@ class _Program:
                     lines.append(
                         f"        fill(got, {reg.words}u); EXPECT(!{view.encode}({value}{arg}, got) && untouched(got, {reg.words}u));"
                     )
+            if view.decode and reg.enum is not None and reg.type.is_float:
+                half = min(m.value for m in reg.enum.members) + 0.5  # a setting coded as a float: no member is 0.5 off
+                words = ", ".join(c_hex(w) for w in raw_to_words(ordered, half))
+                lines.append(f"        {{ static const uint16_t half[] = {{ {words} }}; /* {half}: no member */")
+                lines.append(f"            EXPECT(!{view.decode}(half{arg}, &out));")
+                lines.append("        }")
             if view.decode and reg.enum is not None and not reg.bitfields:
                 lacking = next((v for v in range(0, 0x10000) if reg.enum.by_value(v) is None and v <= reg.type.raw_max), None)
                 if lacking is not None:

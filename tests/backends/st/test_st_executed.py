@@ -84,7 +84,7 @@ class Decodes:
     def block_edges(self, index: int, block: Block) -> None:
         """Every register of the block at once: minimum, maximum, 16#8000, a pattern, each enum member."""
         specs = {r.name: _spec(self.device, r) for r in block.registers}
-        fills = {kind: _edge(specs, kind) for kind in ("min", "max", "w8000", "infinity", "nan")}
+        fills = {kind: _edge(specs, kind) for kind in ("min", "max", "w8000", "infinity", "nan", "na", "half")}
         fills["pattern"] = {}  # every word of the pattern
         enum_counts = [len(r.enum.members) + 1 for r in block.registers if r.enum is not None and not r.bitfields]
         for k in range(max(enum_counts, default=0)):
@@ -240,6 +240,7 @@ def _encode_edges(reg: Register, spec: RegisterSpec[Any]) -> Iterator[tuple[str,
         return
     low, high = spec.raw_min, spec.raw_max
     yield from (("min", raw_to_value(spec, low)), ("max", raw_to_value(spec, high)))
+    yield from ((f"na_{i}", raw_to_value(spec, mark)) for i, mark in enumerate(spec.na))  # refused: no value to write
     if reg.type.is_float:
         yield from (("zero", 0.0), ("nan", math.nan), ("infinity", math.inf), ("minus_infinity", -math.inf))
         return

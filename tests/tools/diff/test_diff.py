@@ -588,6 +588,7 @@ CASES += [
         set_(lambda d: group(d, "quality"), "firmware", {"from": "2.10"}),
         (("register_firmware_changed", "thd_current", R), ("register_firmware_changed", "thd_voltage", R)),
     ),
+    fx("fx_na_added", set_(lambda d: register(d, "voltage"), "na", ["nan"]), (("register_na_changed", "voltage", R),)),
     fx("fx_poll", set_(lambda d: register(d, "voltage"), "poll", "normal"), (("register_poll_changed", "voltage", C),)),
     fx(
         "fx_group_poll",

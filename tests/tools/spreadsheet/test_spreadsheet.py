@@ -23,6 +23,7 @@ from regmap.model import Device, Register
 from regmap.tools.spreadsheet import cells
 from regmap.tools.spreadsheet.cells import CellProblem
 from regmap.tools.spreadsheet.export import export_csv, export_xlsx
+from regmap_runtime.types import TYPES
 
 from conftest import ROOT, manual
 from support import c630s_table
@@ -319,7 +320,7 @@ def test_new_writes_a_skeleton_that_validates(tmp_path: Path) -> None:
 # -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes --
 
 FIXTURES = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
-NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll"]
+NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na"]
 
 
 def _wire(r: Register) -> dict[str, Any]:
@@ -342,6 +343,7 @@ def _wire(r: Register) -> dict[str, Any]:
         "padding": r.padding if r.type.is_string else None,
         "firmware": None if r.firmware is None else (r.firmware.first, r.firmware.until),
         "poll": r.poll.value,
+        "na": (r.na, r.na_nan),  # issue #34: the "not available" markers survive the round trip
         "unit": r.unit,
         "title": r.title,
     }
@@ -370,9 +372,17 @@ def _draft_wire(r: dict[str, Any]) -> dict[str, Any]:
         "padding": r.get("padding", "nul") if kind == "string" else None,
         "firmware": None if gate is None else (gate.get("from"), gate.get("until")),
         "poll": r.get("poll", "normal"),
+        "na": _draft_na(kind, r.get("na") or []),
         "unit": r.get("unit"),
         "title": r["title"],
     }
+
+
+def _draft_na(kind: str, marks: list[Any]) -> tuple[tuple[int | float, ...], bool]:
+    """A draft's `na` as the model holds it: a signed register's bit patterns as its values, `nan` apart."""
+    info = TYPES[kind]
+    values = tuple(m - (1 << info.bits) if info.signed and isinstance(m, int) and m > info.raw_max else m for m in marks if m != "nan")
+    return values, "nan" in marks
 
 
 def test_seed_exports_only_gain_columns_at_the_end() -> None:
@@ -381,7 +391,7 @@ def test_seed_exports_only_gain_columns_at_the_end() -> None:
         rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
         assert rows[0][-len(NEW_COLUMNS) :] == NEW_COLUMNS
         assert rows[0][: -len(NEW_COLUMNS)][:4] == ["name", "param", "address_hex", "address"]
-        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal")}
+        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal", "")}
 
 
 @pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)

@@ -58,6 +58,8 @@ class ValueView:
     decode: str  # "" for a register a read cannot reach
     decode_body: tuple[str, ...]
     guard: str  # "" or REGMAP_HAS_F32 / REGMAP_HAS_F64
+    available: str = ""  # `<name>_is_available(words)`: false for the device's "not available" marker (`na`)
+    available_body: tuple[str, ...] = ()
 
 
 def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
@@ -190,7 +192,7 @@ def _scaled_value(reg: Register, raw: str) -> str:
 
 def _comment(reg: Register, label: str, order: str) -> str:
     """One line per register; the header's top comment says what the helpers refuse."""
-    if reg.type.is_float:
+    if reg.type.is_float and reg.enum is None:
         what = "any finite value of its type" if (reg.raw_min, reg.raw_max) == (reg.type.raw_min, reg.type.raw_max) else "its range"
     elif reg.bitfields:
         what = "its whole word, the fields set with the setters above"
@@ -216,7 +218,18 @@ def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
     readable, writable = reg.access.readable, reg.access.writable
     order = f", regmap_word_order {ORDER_PARAM}" if configurable(ctx, reg) else ""
     value_type, in_range, encode, decode = _bodies(ctx, reg, label)
+    available = ""
+    available_body: tuple[str, ...] = ()
+    if reg.has_na and readable:
+        available = ctx.symbol(label, "is_available", what=f"the availability test of {label}")
+        available_body = (f"{C_TYPES[reg.type].value} raw = {_from_wire(ctx, reg)};", f"return {' && '.join(_na_conditions(reg, 'raw'))};")
+        call = f"{available}(words{', ' + ORDER_PARAM if order else ''})"
+        decode = (f"if (!{call}) {{", "    return false; /* the device's 'not available' marker: no value */", "}", *decode)
+    if reg.has_na and writable:
+        in_range = _refusing_na(reg, in_range)
     return ValueView(
+        available=available,
+        available_body=available_body,
         comment=_comment(reg, label, order),
         value_type=value_type,
         words=str(reg.words),
@@ -276,10 +289,33 @@ def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple
         conditions.append(f"(long long)value <= (long long){c_signed(int(reg.raw_max))}")
     conditions += _not_destructive(ctx, reg)
     cast = f"({value_type})raw" if typed else "raw"
+    encode = (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})value"), "return true;")
+    if reg.type.is_float:
+        # A setting coded as a float (a baud code 0-4 as an f32): a member only when the float is that integer exactly
+        # (the range test first, so the conversion is defined; NaN fails it).
+        lowest, highest = (c_float_literal(float(v), reg.type) for v in (min(m.value for m in e.members), max(m.value for m in e.members)))
+        return (
+            value_type,
+            (f"return {' && '.join(conditions)};",),
+            encode,
+            (
+                f"{raw_type} coded = {_from_wire(ctx, reg)};",
+                "long long raw;",
+                f"if (!(coded >= {lowest} && coded <= {highest})) {{",
+                "    return false;",
+                "}",
+                "raw = (long long)coded;",
+                f"if (coded != ({raw_type})raw || !{member}(raw)) {{",
+                "    return false;",
+                "}",
+                f"*out = {cast};",
+                "return true;",
+            ),
+        )
     return (
         value_type,
         (f"return {' && '.join(conditions)};",),
-        (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})value"), "return true;"),
+        encode,
         (
             f"{raw_type} raw = {_from_wire(ctx, reg)};",
             f"if (!{member}(raw)) {{",
@@ -332,6 +368,25 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
         (*_refused_when_not(in_range), _to_wire(ctx, reg, "value"), "return true;"),
         (f"*out = {_from_wire(ctx, reg)};", "return true;"),
     )
+
+
+def _na_conditions(reg: Register, raw: str) -> list[str]:
+    """`raw` is none of the register's "not available" markers (a NaN marker: `raw == raw`, false only for NaN)."""
+    conditions = [
+        f"{raw} != {c_float_literal(float(mark), reg.type) if reg.type.is_float else c_raw(int(mark), reg.signed)}" for mark in reg.na
+    ]
+    if reg.na_nan:
+        conditions.append(f"{raw} == {raw} /* not NaN */")
+    return conditions
+
+
+def _refusing_na(reg: Register, in_range: tuple[str, ...]) -> tuple[str, ...]:
+    """The range test, refusing a "not available" marker as a value to write (the raw value for a scaled register)."""
+    *head, last = in_range
+    raw = "raw" if any(line.startswith("double raw") for line in head) else "value"
+    expression = last.split(" /*")[0].removeprefix("return ").removesuffix(";")
+    conditions = [expression] if expression != "true" else []
+    return (*head, f"return {' && '.join([*conditions, *_na_conditions(reg, raw)])};")
 
 
 def register_values(ctx: Context, reg: Register, label: str = "") -> tuple[ValueView, ...]:

@@ -42,6 +42,8 @@ def raw_lambda(reg: Register, field: Bitfield | None = None) -> str:
     """The register's raw value (a bitfield's, when given) as a float, from its wire bytes."""
     bits = 16 * reg.words
     lines = _assemble(reg)
+    if field is None:
+        lines += [f"if (raw == 0x{pattern:X}u) return NAN;  // the device's 'not available' marker" for pattern in reg.na_bits]
     if field is not None:
         lines.append(f"return static_cast<float>((raw >> {field.lsb}) & 0x{(1 << field.width) - 1:X}u);")
     elif reg.type.is_float and bits == 32:

@@ -34,6 +34,7 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.esphome import lambdas
+from regmap.core.text import na_list
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
     Hex,
@@ -274,8 +275,10 @@ class DevicePackage:
 
     def _sensor(self, reg: Register) -> None:
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
-        entity.update(self._item(reg, value_type=self._value_type(reg)))
-        if self._lambda(reg):
+        # A "not available" marker is read through a lambda that gives NaN for it: ESPHome shows NaN as unknown.
+        decoded = self._lambda(reg) or bool(reg.na)
+        entity.update(self._item(reg, value_type=SIZED[reg.words] if decoded else self._value_type(reg)))
+        if decoded:
             entity["lambda"] = Lambda(lambdas.raw_lambda(reg))
         if reg.unit:
             entity["unit_of_measurement"] = unit_text(esp_unit(reg.unit))
@@ -294,6 +297,8 @@ class DevicePackage:
         self.add("sensor", entity, reg.name, category=entity_category(self.device, reg))
 
     def _number(self, reg: Register) -> None:
+        if reg.has_na:
+            self.skipped.append(f"{reg.name}'s 'not available' marker ({na_list(reg)}): ESPHome's number shows it as a value")
         low, high = (max(-NUMBER_LIMIT, float(reg.raw_min * reg.scale)), min(NUMBER_LIMIT, float(reg.raw_max * reg.scale)))
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
         entity.update(self._item(reg, value_type=self._value_type(reg)))
@@ -360,9 +365,17 @@ class DevicePackage:
 
     def _wire_type(self, reg: Register) -> str:
         """A select's value type: a byte-swapped register is compared word for word as it is on the wire."""
+        if reg.type.is_float and not swapped(reg):  # a float's bits as the unsigned integer of its size (no FP32 select)
+            return VALUE_TYPE[({2: DataType.U32, 4: DataType.U64}[reg.words], reg.word_order)]
         return SIZED[reg.words] if swapped(reg) else self._value_type(reg)
 
     def _wire_value(self, reg: Register, raw: int) -> int:
+        if not swapped(reg) and reg.type.is_float:
+            # ESPHome's select compares and writes an FP32's bits, not its number: a setting coded as a float
+            value = 0
+            for word in reg.type.info.to_words(float(raw)):
+                value = (value << 16) | word
+            return value
         if not swapped(reg):
             return raw
         value = 0

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.homeassistant.scripts import Scripts, flag_sensor, label_sensor, object_id, template_flags
+from regmap.core.text import na_mark
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
     Hex,
@@ -160,6 +161,7 @@ class _Hub:
         if reg.offset_set:
             entity["offset"] = scale_float(reg.offset)
         entity["precision"] = shown_decimals(reg)
+        self._not_available(reg, entity)
         if reg.unit:
             entity["unit_of_measurement"] = unit_text(reg.unit)
         if device_class(reg) is not None:
@@ -175,6 +177,17 @@ class _Hub:
             self.skipped.append(f"{reg.name}'s labels and flags as templates (its name is not ASCII text)")
             return
         self._templates(reg, title, "sensor." + object_id(entity["name"]))
+
+    def _not_available(self, reg: Register, entity: dict[str, Any]) -> None:
+        """HA's sensor is unavailable for its one `nan_value` (compared with the unpacked, signed value) and for
+        a NaN float; a second integer marker HA cannot express is said in the skipped list."""
+        if not reg.na:
+            return
+        mark = reg.na[0]
+        entity["nan_value"] = Hex(mark) if isinstance(mark, int) and mark >= 0 else mark
+        if len(reg.na) > 1:
+            rest = ", ".join(na_mark(reg, m) for m in reg.na[1:])
+            self.skipped.append(f"{reg.name}'s 'not available' marker(s) {rest} (HA takes one nan_value; it has the first)")
 
     def _templates(self, reg: Register, title: str, source: str) -> None:
         """The register's labels and flags as template entities over its sensor `source`."""
@@ -252,6 +265,7 @@ class _Hub:
                     first.poll,
                 )
                 and nxt.firmware == first.firmware
+                and (nxt.na, nxt.na_nan) == (first.na, first.na_nan)
                 and nxt.address == prev.address + prev.words
                 and not nxt.paired
                 and not nxt.bitfields

@@ -34,7 +34,7 @@ from regmap.backends.markdown.wire import (
     space_fact,
     type_fact,
 )
-from regmap.core.text import eng, number
+from regmap.core.text import eng, na_list, number, variants_text
 from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, FirmwareGate, Group, PollClass, Register
 from regmap.render import hex2, md_text
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
@@ -218,6 +218,10 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
         facts.append(Fact("Control modes", md.escaped(", ".join(reg.modes))))
     if reg.firmware is not None:
         facts.append(Fact("Firmware", Md(gate_fact(reg.firmware))))
+    if reg.variants:
+        facts.append(Fact("Variants", md.escaped(f"only on {variants_text(ctx.device, reg)}; other variants do not have it")))
+    if reg.has_na:
+        facts.append(Fact("Not available", md.escaped(f"{na_list(reg)}: the device's marker for no value; read as none, never written")))
     if ctx.uses.poll:
         facts.append(Fact("Poll class", Md(POLL_MEANING[reg.poll])))
     facts.append(Fact("Source", md.escaped(md.sources(reg.source))))

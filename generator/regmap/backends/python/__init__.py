@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
-from regmap.core.text import eng, titled
+from regmap.core.text import eng, na_list, titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
@@ -178,11 +178,15 @@ def _bitfield_view(b: Bitfield) -> BitfieldView:
 def _value_type(reg: Register) -> str:
     """What a read returns: the bitfield class, the enum (or the number, for a value the manual does not
     list), text for a string, a bool for a coil or discrete input, a float for a float or a scaled or
-    offset value, else an int."""
+    offset value, else an int; `| None` where the device may send its "not available" marker (`na`)."""
+    return _read_type(reg) + (" | None" if reg.has_na else "")
+
+
+def _read_type(reg: Register) -> str:
     if reg.bitfields:
         return _bits_class_name(reg)
-    if reg.enum is not None:
-        return f"{camel(reg.enum.name)} | Unlisted"
+    if reg.enum is not None:  # a float enum register also reads a value no member can be (2.5) as the float
+        return f"{camel(reg.enum.name)} | Unlisted" + (" | float" if reg.type.is_float else "")
     return _plain_type(reg)
 
 
@@ -263,6 +267,10 @@ def _register_doc(reg: Register) -> str:
         facts.append(f"exists with {reg.firmware.text}")
     if reg.poll is not PollClass.NORMAL:
         facts.append(f"poll {reg.poll.value}")
+    if reg.variants:
+        facts.append(f"only on the variant(s) {', '.join(reg.variants)} (a client made with variant= refuses it on another)")
+    if reg.has_na:
+        facts.append(f"not available (read as None): {na_list(reg)}")
     parts.append(", ".join(facts) + _sources(reg.source))
     if reg.description:
         parts.append(reg.description)
@@ -317,7 +325,7 @@ def _register_view(
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
     kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
     value_type = _value_type(reg)
-    write_type = value_type if reg.bitfields or reg.enum else _plain_type(reg)
+    write_type = _read_type(reg) if reg.bitfields or reg.enum else _plain_type(reg)
     if reg.enum is not None and not reg.bitfields:
         write_type = _enum_write_type(reg.enum)
     return RegisterView(

@@ -56,6 +56,15 @@ def _refuse_destructive(device: Device, reg: Register, name: str) -> list[str]:
     return lines
 
 
+def _refuse_na(reg: Register, name: str, raw: str) -> list[str]:
+    """FALSE for the device's "not available" marker: it is never a value to write (NaN fails the range test already)."""
+    lines = []
+    for mark in reg.na:
+        literal = st_real(mark) if reg.type.is_float else str(mark)
+        lines += [f"IF {raw} = {literal} THEN", f"    {name} := FALSE; (* the device's 'not available' marker *)", "    RETURN;", "END_IF;"]
+    return lines
+
+
 def _put_words(device: Device, reg: Register, output: str) -> list[str]:
     natural = NATURAL[reg.type]
     if reg.words == 1:
@@ -175,7 +184,11 @@ def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) ->
     natural = NATURAL[reg.type]
     local = [Member("rRaw", "LREAL")]
     body: list[str] = []
-    if reg.scaled or reg.offset_set:
+    if reg.enum is not None:  # a setting coded as a float: the member's value, as a float
+        inputs = [Member("eValue", names.enum_type(reg.enum))]
+        body += _refuse_reported(names, name, "eValue", reg.enum)
+        body.append(f"rRaw := DINT_TO_LREAL({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
+    elif reg.scaled or reg.offset_set:
         inputs = [Member("fValue", "LREAL", f"in {reg.unit}" if reg.unit else "engineering value")]
         body.append(f"rRaw := {_less_offset(reg)} * {st_real(reg.scale.denominator)} / {st_real(reg.scale.numerator)};")
     else:
@@ -186,6 +199,7 @@ def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) ->
         f"    {name} := FALSE;",
         "    RETURN;",
         "END_IF;",
+        *_refuse_na(reg, name, "rRaw"),
     ]
     if reg.words == 2:
         local.append(Member("dw", "DWORD"))
@@ -317,6 +331,7 @@ def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
     if checked:
         body += _range_lines(name, reg.raw_min, reg.raw_max)
     body += _refuse_destructive(device, reg, name)
+    body += _refuse_na(reg, name, "nRaw")
     if configurable(device, reg):
         inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
     if reg.words == 2:

@@ -30,6 +30,7 @@ from regmap.backends.st.views import (
     needs_order_input,
     owner,
 )
+from regmap.core.text import na_list
 from regmap.model import Bitfield, Device, FirmwareGate, PollClass, Register, WordOrder
 from regmap.runtime_bridge import read_plan
 from regmap_runtime.plan import ReadBlock
@@ -118,6 +119,28 @@ class Values:
             value = f"WORD_TO_{natural}(ROL({raw}, 8))"
         else:
             value = raw
+        if reg.has_na:
+            # The device's "not available" marker is no value: a flag beside the value, which is left as it was.
+            available = self.scope.add(StIdentifier(reg.name, "available"), f"the availability flag of {reg.name}", reg.pos)
+            self.members.append(
+                Member(available, "BOOL", f"FALSE: {reg.name} carries the device's 'not available' marker ({na_list(reg)})")
+            )
+            decode = self._value(reg, member, target, comment, locals_, value, natural, raw)
+            return [
+                *lines,
+                f"stValues.{available} := {' AND '.join(_na_conditions(reg, value))};",
+                f"IF stValues.{available} THEN",
+                *(f"    {line}" for line in decode),
+                "END_IF;",
+            ]
+        return lines + self._value(reg, member, target, comment, locals_, value, natural, raw)
+
+    def _value(
+        self, reg: Register, member: str, target: str, comment: str, locals_: dict[str, str], value: str, natural: str, raw: str
+    ) -> list[str]:
+        """The statements that decode a numeric register whose raw value is `value` (words already combined)."""
+        names = self.names
+        lines: list[str] = []
         if reg.bitfields:
             word = "dw" if reg.words == 2 else ("lw" if reg.words == 4 else (f"ROL({raw}, 8)" if swapped(reg) else raw))
             self.members.append(Member(member, _word(reg), comment))
@@ -165,6 +188,19 @@ class Values:
         else:
             self.used.add("f64")
             call = f"{self.helpers.f64_from_bits}(nHigh := nHigh, nLow := nLow, fValue := rValue)"
+        if reg.enum is not None:  # a setting coded as a float: a member when the float is that integer exactly
+            self.members[-1] = Member(member, self.names.enum_type(reg.enum), comment)
+            decoder = StIdentifier("F", self.names.prefix, reg.enum.name, "FROM_RAW")
+            whole = "rValue >= -2147483648.0 AND rValue <= 2147483647.0 AND rValue = DINT_TO_LREAL(LREAL_TO_DINT(rValue))"
+            return [
+                f"IF {call} AND {whole} THEN",
+                f"    IF NOT {decoder}(nRaw := LREAL_TO_DINT(rValue), eValue := {target}) THEN",
+                "        bOk := FALSE;",
+                "    END_IF;",
+                "ELSE",
+                "    bOk := FALSE;",
+                "END_IF;",
+            ]
         scaled = f"rValue * {_ratio(reg)}{_offset(reg)}" if reg.scaled or reg.offset_set else "rValue"
         store = f"{target} := {scaled};" if kind == "LREAL" else f"{target} := LREAL_TO_REAL({scaled});"
         return [f"IF {call} THEN", f"    {store}", "ELSE", "    bOk := FALSE;", "END_IF;"]
@@ -205,6 +241,26 @@ class Values:
         return StructView(
             self.type_name, "Decoded values of every readable register (the Python client's read_all()).", tuple(self.members)
         )
+
+
+def _na_conditions(reg: Register, value: str) -> list[str]:
+    """ST conditions, all true when the raw value is none of the register's "not available" markers: a
+    16-bit value compared as its type, a wider one by its bits (`dw`, `lw`, the halves of an f64)."""
+    conditions: list[str] = []
+    for mark, pattern in zip(reg.na, reg.na_bits, strict=True):
+        if reg.words == 1:
+            conditions.append(f"{value} <> {st_int(int(mark))}")
+        elif reg.words == 2:
+            conditions.append(f"dw <> {st_hex(pattern, 8)}")
+        elif reg.type.is_float:
+            conditions.append(f"(nHigh <> {st_hex(pattern >> 32, 8)} OR nLow <> {st_hex(pattern & 0xFFFFFFFF, 8)})")
+        else:
+            conditions.append(f"lw <> {st_hex(pattern, 16)}")
+    if reg.na_nan and reg.words == 2:
+        conditions.append("((dw AND 16#7F800000) <> 16#7F800000 OR (dw AND 16#007FFFFF) = 0)")
+    elif reg.na_nan:
+        conditions.append("((nHigh AND 16#7FF00000) <> 16#7FF00000 OR ((nHigh AND 16#000FFFFF) = 0 AND nLow = 0))")
+    return conditions
 
 
 def _ratio(reg: Register) -> str:

@@ -6,6 +6,8 @@ import json
 from collections.abc import Callable
 from typing import Any
 
+from regmap.core.contract import na_json
+from regmap.core.text import na_list
 from regmap.model import ArrayDef, ArrayMember, Command, Device, EnumType, FirmwareGate, FirmwareRegister, Register
 from regmap.render import hex4
 from regmap.tools.diff.documentation import documentation_changes
@@ -223,6 +225,8 @@ class _Diff:
                 _gate_json(n.firmware),
                 note,
             )
+        if (o.na, o.na_nan) != (n.na, n.na_nan):
+            add("register_na_changed", subject, MAJOR, _show(na_list(o) or None), _show(na_list(n) or None), na_json(o), na_json(n))
         if o.poll != n.poll:
             add("register_poll_changed", subject, PATCH, o.poll.value, n.poll.value, o.poll, n.poll)
         out += self._bitfields(o, n, subject)

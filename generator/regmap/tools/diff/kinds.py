@@ -78,6 +78,9 @@ KINDS: dict[str, Kind] = {
     ),
     "register_default_changed": Kind("register", "Register defaults changed", "patch: factory state, never sent by generated code"),
     "register_param_changed": Kind("register", "Parameter ids changed", "patch: the manual's label only"),
+    "register_na_changed": Kind(
+        "register", "Register 'not available' markers changed", "breaking: a read gives None where it gave a value, or the other way round"
+    ),
     "register_poll_changed": Kind("register", "Register poll classes changed", "patch: how often a poller reads it, not what it reads"),
     "register_added": Kind("register", "Registers added", "minor"),
     "register_doc_changed": Kind("register", "Register documentation changed", "patch"),

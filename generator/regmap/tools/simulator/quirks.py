@@ -21,6 +21,7 @@ class Quirks:
         None  # the drive's 32-bit word order at start-up (on a map with a word-order register: that register's setting)
     )
     firmware: str | None = None  # the firmware version played: the map's firmware register reports it, registers it lacks answer 0x02
+    variant: str | None = None  # the device variant played (device.variants): registers it lacks answer 0x02
 
     def __post_init__(self) -> None:
         if self.max_read is not None and not 1 <= self.max_read <= 125:

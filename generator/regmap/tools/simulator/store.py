@@ -57,7 +57,11 @@ class DeviceStore:
         self.firmware = firmware_played(device, self.quirks.firmware)
         self.firmware_text = firmware_text(device, self.firmware, self.quirks.firmware) if self.firmware is not None else None
         # Registers the simulated firmware has (every register when no firmware is played).
-        self.present = [r for r in device.registers if self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])]
+        self.present = [
+            r
+            for r in device.registers
+            if (self.firmware is None or r.firmware is None or r.firmware.admits(self.firmware[0])) and r.on_variant(self.quirks.variant)
+        ]
         self.registers = {r.name: r for r in self.present}
         self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
@@ -129,6 +133,9 @@ class DeviceStore:
             return ""
         if reg.type.is_bool:
             return 0
+        if reg.type.is_float and reg.enum is not None:  # a setting coded as a float: a member
+            values = sorted(m.value for m in reg.enum.members)
+            return 0.0 if 0 in values else float(values[0])
         if reg.type.is_float:
             return 0.0 if reg.raw_min <= 0 <= reg.raw_max else float(reg.raw_min)
         members = sorted(m.value for m in reg.enum.members) if reg.enum is not None and not reg.bitfields else []
@@ -272,7 +279,7 @@ class DeviceStore:
         except RangeError:
             return False
         # Until runtime specs carry enums for every register, the map's enum is checked here too.
-        return reg.enum is None or bool(reg.bitfields) or (isinstance(raw, int) and reg.enum.by_value(raw) is not None)
+        return reg.enum is None or bool(reg.bitfields) or (isinstance(raw, int | float) and reg.enum.by_value(raw) is not None)
 
     def _is_command(self, reg: Register, raw: Raw) -> bool:
         return any(

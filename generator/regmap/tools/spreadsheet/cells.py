@@ -450,6 +450,24 @@ ENCODINGS |= {"gbk": "gbk", "gb2312": "gbk"}
 PADDINGS = {"nul": "nul", "null": "nul", "\\0": "nul", "0x00": "nul", "space": "space", "空格": "space"}
 
 
+def na_marks(text: str) -> list[int | float | str]:
+    """ "Not available" markers as datasheets print them: `0xFFFF`, `7FFFh`, `-1`, `-1.0`, `NaN`, separated by
+    commas, semicolons, slashes or `or` (`nan` stands for any NaN of a float, as in a map)."""
+    marks: list[int | float | str] = []
+    for part in re.split(r"\s*(?:[,;/]|\bor\b)\s*", _clean(text)):
+        if not part:
+            continue
+        if part.lower() == "nan":
+            marks.append("nan")
+        elif _HEX.match(part) or re.fullmatch(r"[+-]?[0-9]+", part):
+            marks.append(integer(part, "'not available' marker"))
+        else:
+            marks.append(float(decimal(part, "'not available' marker")))
+    if not marks:
+        raise CellProblem(f"cannot read 'not available' markers {text!r}")
+    return marks
+
+
 def version(text: str) -> str:
     """A firmware version: digits and dots (`2.10`, `V2.1` -> `2.1`)."""
     t = _clean(text)

@@ -66,6 +66,7 @@ FIELDS: dict[str, str] = {
     "firmware_from": "first firmware version with the register (inclusive)",
     "firmware_until": "first firmware version without it (exclusive)",
     "poll": "static, fast, normal or slow (also 静态, 快, 普通, 慢)",
+    "na": "'not available' markers the device sends for no value: 0xFFFF, 0x7FFF, NaN (a float's), comma separated",
 }
 
 HEADERS: dict[str, str] = {
@@ -189,6 +190,10 @@ HEADERS: dict[str, str] = {
     "poll class": "poll",
     "轮询": "poll",
     "轮询等级": "poll",
+    "not available": "na",
+    "n/a value": "na",
+    "invalid value": "na",
+    "无效值": "na",
 }
 
 

@@ -22,6 +22,7 @@ from fractions import Fraction
 from typing import Any
 
 from regmap.core.contract import export_json, register_json
+from regmap.core.text import na_list
 from regmap.model import Device, Register
 from regmap.tools.spreadsheet.table import FORMULA_LEAD
 
@@ -66,6 +67,7 @@ REGISTER_COLUMNS = (
     "firmware_from",
     "firmware_until",
     "poll",
+    "na",
 )
 
 Cell = str | int | float | bool | None
@@ -147,6 +149,7 @@ def register_row(r: Register) -> dict[str, Cell]:
         "firmware_from": r.firmware.first if r.firmware else None,
         "firmware_until": r.firmware.until if r.firmware else None,
         "poll": j["poll"],
+        "na": na_list(r) or None,
     }
 
 

@@ -19,7 +19,7 @@ def scalar(value: Any, key: str = "") -> str:
     if isinstance(value, Fraction):
         return str(value.numerator) if value.denominator == 1 else repr(float(value))
     if isinstance(value, int):
-        return f"0x{value:04X}" if key == "address" else str(value)
+        return f"0x{value:04X}" if key == "address" or (key == "na" and value >= 0) else str(value)
     if isinstance(value, float):
         text = repr(value)  # 1e-07: YAML 1.1 reads a float only with a dot and a signed exponent
         mantissa, e, exponent = text.partition("e")
@@ -35,7 +35,7 @@ def scalar(value: Any, key: str = "") -> str:
 def flow(value: Any, key: str = "") -> str:
     """A value on one line: scalars, `[a, b]`, `{k: v}`."""
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(flow(v) for v in value) + "]"
+        return "[" + ", ".join(flow(v, key if key == "na" else "") for v in value) + "]"
     if isinstance(value, dict):
         return "{" + ", ".join(f"{k}: {flow(v, k)}" for k, v in value.items()) + "}"
     return scalar(value, key)

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Generic, Self, TypeVar
 
+from .errors import AccessError, FirmwareError
 from .spaces import DEFAULT_SPACE, SPACES, Space
 from .types import TYPES, TypeInfo
 
@@ -55,6 +56,18 @@ def gate_text(first: str | None, until: str | None) -> str | None:
     if until is not None:
         return f"firmware < {until}"
     return None
+
+
+def variant_has(variants: tuple[str, ...], variant: str | None) -> bool:
+    """Whether a register present on `variants` (() for every variant) exists on `variant` (None: any)."""
+    return not variants or variant is None or variant in variants
+
+
+def na_marks(na: tuple[int | float, ...], na_nan: bool, raw: object) -> bool:
+    """Whether `raw` is a "not available" marker: one of the raw values `na`, or (with `na_nan`) any NaN."""
+    if isinstance(raw, float) and raw != raw:
+        return na_nan
+    return isinstance(raw, int | float) and not isinstance(raw, bool) and raw in na
 
 
 @dataclass(frozen=True)
@@ -106,6 +119,9 @@ class RegisterSpec(Generic[T]):
     # The values destructive commands write, (first, last, command name): only that command, confirmed, sends them.
     destructive: tuple[tuple[int, int, str], ...] = ()
     trigger: bool = False  # a write makes the device act (a command, a trigger): sent once, never repeated
+    na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as None, never written
+    na_nan: bool = False  # any NaN means "not available"
+    variants: tuple[str, ...] = ()  # the device variants that have the register; () every variant
 
     @cached_property
     def type_info(self) -> TypeInfo:
@@ -178,6 +194,18 @@ class RegisterSpec(Generic[T]):
     def raw_max(self) -> int | float:
         return self.type_max if self.max is None else self.max
 
+    def on_variant(self, variant: str | None) -> bool:
+        """Whether device variant `variant` has this register (None: not known, every register may be there)."""
+        return variant_has(self.variants, variant)
+
+    def present(self, version: tuple[int, ...] | None, variant: str | None) -> bool:
+        """Whether a device of firmware `version` and `variant` (None: not known) has this register."""
+        return (version is None or self.exists_in(version)) and self.on_variant(variant)
+
+    def is_na(self, raw: object) -> bool:
+        """Whether `raw` is the register's "not available" marker (`na`): no value, read as None."""
+        return na_marks(self.na, self.na_nan, raw)
+
     def destructive_command(self, raw: object) -> str | None:
         """The destructive command whose value `raw` is, or None."""
         if not isinstance(raw, int):
@@ -244,6 +272,7 @@ class DeviceSpec:
     firmware_format: str = "decimal"  # decimal, major_minor, string
     firmware_decimals: int = 0
     also_readable: frozenset[tuple[str, int]] = frozenset()  # (space, address) undocumented, but a device profile saw them answer
+    variants: tuple[str, ...] = ()  # the device's variants (models, options) whose registers differ
 
     @cached_property
     def documented(self) -> frozenset[tuple[str, int]] | None:
@@ -253,14 +282,24 @@ class DeviceSpec:
         own = frozenset((r.space, a) for r in self.registers if r.readable for a in range(r.first_address, r.address + r.words))
         return own | self.also_readable
 
-    def documented_in(self, version: tuple[int, ...]) -> frozenset[tuple[str, int]] | None:
-        """`documented` for a device running firmware `version`: a register the version lacks is not there to read."""
+    def documented_in(self, version: tuple[int, ...] | None, variant: str | None = None) -> frozenset[tuple[str, int]] | None:
+        """`documented` for a device running firmware `version` (None: not known) of `variant`: a register the
+        version or the variant lacks is not there to read."""
         if self.tolerates_gaps:
             return None
         own = frozenset(
-            (r.space, a) for r in self.registers if r.readable and r.exists_in(version) for a in range(r.first_address, r.address + r.words)
+            (r.space, a)
+            for r in self.registers
+            if r.readable and r.present(version, variant)
+            for a in range(r.first_address, r.address + r.words)
         )
         return own | self.also_readable
+
+    def check_variant(self, variant: str | None) -> str | None:
+        """`variant` when the map declares it (None: not known); a ValueError names the variants it declares."""
+        if variant is not None and variant not in self.variants:
+            raise ValueError(f"{self.id} has no variant {variant!r} (its map declares: {', '.join(self.variants) or 'none'})")
+        return variant
 
     def read_limit(self, space: str) -> int:
         """Most addresses one read request of `space` may cover."""
@@ -291,6 +330,22 @@ class DeviceSpec:
         if self.firmware_format == "decimal" and self.firmware_decimals:
             return f"{version[0]}.{version[1]:0{self.firmware_decimals}d}"
         return ".".join(str(part) for part in version)
+
+
+def refuse_absent(spec: RegisterSpec[Any], version: tuple[int, ...] | None, version_text: str | None, variant: str | None) -> None:
+    """A register the connected variant lacks (AccessError) or its firmware `version` lacks (FirmwareError): nothing is sent."""
+    if not spec.on_variant(variant):
+        raise AccessError(
+            f"{spec.label} exists only on the variant(s) {', '.join(spec.variants)}; this client is for {variant}: nothing was sent"
+        )
+    if version is not None and not spec.exists_in(version):
+        gate = spec.firmware_text
+        raise FirmwareError(
+            f"{spec.label} exists only with {gate}; the device reports firmware {version_text}: nothing was sent",
+            spec.name,
+            gate,
+            version_text,
+        )
 
 
 def version_in_text(text: str) -> tuple[int, ...]:

@@ -24,7 +24,7 @@ from .rtu import (
     STANDARD_EXCEPTIONS,
 )
 from .spaces import HOLDING, MASK_WRITE_REGISTER, SPACES
-from .spec import DeviceSpec, Raw, Readable, RegisterSpec, Writable, poll_class
+from .spec import DeviceSpec, Raw, Readable, RegisterSpec, Writable, poll_class, refuse_absent
 from .wire import (
     PYMODBUS_METHODS,
     LineWatch,
@@ -61,9 +61,11 @@ class ClientCore:
         *,
         check_firmware: bool = False,
         retries: int = 0,
+        variant: str | None = None,
     ) -> None:
         if not 0 <= slave <= 255:
             raise ValueError(f"slave id {slave} is outside 0..255")
+        self.variant = type(self).DEVICE.check_variant(variant)  # registers it lacks: refused, left out of read_all()
         if profile is not None:
             # What `regmap probe` observed: the read limit, the gaps proven readable, the word order (ProfileError for another map).
             self.DEVICE = profile.apply(type(self).DEVICE)
@@ -81,7 +83,7 @@ class ClientCore:
         """The firmware version the device reported (check_firmware=True, once read), e.g. (2, 3)."""
         self.firmware_text: str | None = None
         """The same version as the device's documents write it, e.g. "1.25"."""
-        self._documented = self.DEVICE.documented
+        self._documented = self.DEVICE.documented if variant is None else self.DEVICE.documented_in(None, variant)
         self._firmware_spec: RegisterSpec[Any] | None = None
         if check_firmware:
             name = self.DEVICE.firmware_register
@@ -107,6 +109,7 @@ class ClientCore:
         word_order: str | None = None,
         profile: DeviceProfile | None = None,
         check_firmware: bool = False,
+        variant: str | None = None,
     ) -> K:
         """Serial RTU; port settings default to the map's transport settings. `check_firmware`: read the
         firmware register on connect and refuse the registers that firmware lacks. `retries`: a read or a
@@ -114,7 +117,7 @@ class ClientCore:
         line = LineWatch(rtu_framing=True)
         settings = serial_settings(cls.DEVICE, baud, parity, stop_bits)
         modbus = cls.SERIAL_TRANSPORT(port, **settings, timeout=timeout, retries=0, trace_packet=line)
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries, variant=variant)
 
     @classmethod
     def tcp(
@@ -129,6 +132,7 @@ class ClientCore:
         rtu_over_tcp: bool = False,
         profile: DeviceProfile | None = None,
         check_firmware: bool = False,
+        variant: str | None = None,
     ) -> K:
         """Modbus TCP (gateways, simulators); `rtu_over_tcp` for transparent serial-to-Ethernet converters.
         `check_firmware`: read the firmware register on connect and refuse the registers that firmware lacks.
@@ -136,7 +140,7 @@ class ClientCore:
         framer = FramerType.RTU if rtu_over_tcp else FramerType.SOCKET
         line = LineWatch(rtu_framing=rtu_over_tcp)
         modbus = cls.TCP_TRANSPORT(host, port=port, framer=framer, timeout=timeout, retries=0, trace_packet=line)
-        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries)
+        return cls(modbus, slave, word_order, line, profile, check_firmware=check_firmware, retries=retries, variant=variant)
 
     def transport_error(self, exc: Exception) -> RegmapError:
         """A typed error saying what happened on the line (`wire.transport_error`)."""
@@ -205,20 +209,13 @@ class ClientCore:
                 f"the firmware register {spec.label} holds {raw!r}, which is not a version ({exc})", found=str(raw)
             ) from None
         self.firmware, self.firmware_text = version, text
-        self._documented = self.DEVICE.documented_in(version)
+        self._documented = self.DEVICE.documented_in(version, self.variant)
         self._plans.clear()
         return version
 
     def check_exists(self, spec: RegisterSpec[Any]) -> None:
-        """Refuse a register the connected firmware lacks (nothing is sent)."""
-        if self.firmware is not None and not spec.exists_in(self.firmware):
-            gate = spec.firmware_text
-            raise FirmwareError(
-                f"{spec.label} exists only with {gate}; the device reports firmware {self.firmware_text}: nothing was sent",
-                spec.name,
-                gate,
-                self.firmware_text,
-            )
+        """Refuse a register the connected firmware or variant lacks (nothing is sent)."""
+        refuse_absent(spec, self.firmware, self.firmware_text, self.variant)
 
     # -- values --------------------------------------------------------------------------------
 
@@ -352,9 +349,7 @@ class ClientCore:
         """The registers read_all() reads: every readable one (of one poll class, if given) the firmware has."""
         cls = None if poll is None else poll_class(poll)
         return [
-            r
-            for r in self.DEVICE.registers
-            if r.readable and (cls is None or r.poll == cls) and (self.firmware is None or r.exists_in(self.firmware))
+            r for r in self.DEVICE.registers if r.readable and (cls is None or r.poll == cls) and r.present(self.firmware, self.variant)
         ]
 
     # -- the wire ------------------------------------------------------------------------------

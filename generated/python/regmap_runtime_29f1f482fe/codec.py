@@ -125,6 +125,8 @@ _FLAGS = {"true": 1, "on": 1, "1": 1, "false": 0, "off": 0, "0": 0}
 def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
     """Raw value for an engineering value, an enum member name, text or a flag; checks range and resolution."""
     info = spec.type_info
+    if value is None:  # what a read of the "not available" marker returns: no value to write back
+        raise RangeError(f"{spec.label}: None is no value (a read returns it for the device's 'not available' marker)")
     if info.is_string:
         if not isinstance(value, str):
             raise RangeError(f"{spec.label}: a string register takes text, not {value!r}")
@@ -137,8 +139,9 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
         if spec.enum is not None:
             member = enum_member(spec.enum, value)
             if member is not None:
-                check_raw(spec, int(member))
-                return int(member)
+                coded: int | float = float(member) if info.is_float else int(member)  # a setting coded as a float
+                check_raw(spec, coded)
+                return coded
         try:
             number = Decimal(value) if any(c in value for c in ".eEnN") else int(value, 0)
         except (ValueError, ArithmeticError):
@@ -223,6 +226,8 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
         return
     if isinstance(raw, str) or (isinstance(raw, float) and info.kind != FLOAT):
         raise RangeError(f"{spec.label}: raw value {raw!r} is not an integer")
+    if spec.is_na(raw):
+        raise RangeError(f"{spec.label}: raw {na_text(spec, raw)} is the device's 'not available' marker (na), never a value to write")
     if info.is_bool:
         if raw not in (0, 1):
             raise RangeError(f"{spec.label}: a {spec.space_info.name} is on or off (1 or 0), not {raw!r}")
@@ -233,6 +238,11 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
         low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
         shown = _exact(raw_to_value(spec, raw))
         raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_exact(low)}..{_exact(high)}{_unit(spec)}")
+    if isinstance(raw, float) and spec.enum is not None and not spec.bitfields:
+        # A setting coded as a float (a baud code 0-4 as an f32): only a member, exactly, is written.
+        if not raw.is_integer() or int(raw) not in spec.enum._value2member_map_:
+            raise RangeError(f"{spec.label}: {_exact(raw)} is not one of {enum_names(spec.enum, spec.reported)}")
+        raw = int(raw)
     if not isinstance(raw, int):
         return
     if spec.enum is not None and not spec.bitfields and raw not in spec.enum._value2member_map_:
@@ -256,6 +266,13 @@ def check_command(spec: RegisterSpec[Any], raw: int, confirmed: bool) -> None:
         raise destructive_refusal(spec, name)
 
 
+def na_text(spec: RegisterSpec[Any], raw: int | float) -> str:
+    """A "not available" marker as datasheets print it: 0xFFFF (its bit pattern) for an integer, NaN for a float."""
+    if isinstance(raw, float):
+        return "NaN" if raw != raw else _exact(raw)
+    return f"0x{raw & ((1 << spec.type_info.bits) - 1):0{spec.type_info.bits // 4}X}"
+
+
 def _unit(spec: RegisterSpec[Any]) -> str:
     return f" {spec.unit}" if spec.unit else ""
 
@@ -276,11 +293,18 @@ class Unlisted(int):
 
 
 def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
-    """The typed value a client returns: enum member, bitfield dict source, number, text or bool."""
+    """The typed value a client returns: enum member, bitfield dict source, number, text or bool; None
+    for the register's "not available" marker (`na`), which is never a value."""
+    if spec.is_na(raw):
+        return None
     if isinstance(raw, str):
         return raw
     if spec.type_info.is_bool:
         return bool(raw)
+    if spec.enum is not None and not spec.bitfields and isinstance(raw, float):
+        if not raw.is_integer():
+            return raw  # a float enum register's value that no member can be (2.5, NaN): the number, as read
+        raw = int(raw)
     if spec.enum is not None and not spec.bitfields and isinstance(raw, int):
         try:
             return spec.enum(raw)
