@@ -19,7 +19,9 @@ def main() -> int:
 
         status = cli_main()
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # done: a late Ctrl-C must not kill the interpreter's exit
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, RuntimeError) as exc:
+        if not _interrupted(exc):
+            raise
         import signal
 
         signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -29,6 +31,17 @@ def main() -> int:
         status = ExitCode.INTERRUPTED
     _forget_the_interrupt()
     return status
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """A KeyboardInterrupt, or one that Python wrapped while making a class during an import (RuntimeError:
+    "Error calling __set_name__ ..." caused by it)."""
+    cause: BaseException | None = exc
+    while cause is not None:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        cause = cause.__cause__
+    return False
 
 
 def _interrupt_again(unraisable: "sys.UnraisableHookArgs") -> None:

@@ -306,3 +306,24 @@ def test_ctrl_c_at_any_moment_is_exit_130(launcher: str, delay: float) -> None:
             return
     assert status == ExitCode.INTERRUPTED, said
     assert len(said) == 1 and re.fullmatch(r"regmap( show)?: interrupted", said[0]), said
+
+
+def test_a_ctrl_c_python_wrapped_during_an_import_is_an_interrupt(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Python 3.11 turns a KeyboardInterrupt inside a class being made (a dataclass field's __set_name__, while a
+    subcommand's modules import) into "RuntimeError: Error calling __set_name__": still the user's Ctrl-C, exit 130."""
+    import argparse
+    import types
+
+    import regmap.cli as cli
+
+    def run(args: argparse.Namespace) -> int:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as interrupt:
+            raise RuntimeError("Error calling __set_name__ on 'Field' instance 'pos' in 'Register'") from interrupt
+
+    monkeypatch.setattr(cli, "_module", lambda name: types.SimpleNamespace(run=run))
+    assert cli._run("show", argparse.Namespace()) == 130
+    assert capsys.readouterr().err == "regmap show: interrupted\n"

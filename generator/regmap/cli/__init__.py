@@ -120,7 +120,23 @@ def _run(command: str, args: argparse.Namespace) -> int:
     except BrokenPipeError:
         return ExitCode.OK
     except Exception as exc:  # a bug in regmap, not bad input: one line unless asked for more
+        if _from_an_interrupt(exc):
+            print(f"regmap {command}: interrupted", file=sys.stderr)
+            return ExitCode.INTERRUPTED
         if os.environ.get("REGMAP_DEBUG"):
             traceback.print_exc()
         print(f"regmap {command}: internal error: {type(exc).__name__}: {exc} (set REGMAP_DEBUG=1 for the traceback)", file=sys.stderr)
         return ExitCode.INTERNAL
+
+
+def _from_an_interrupt(exc: BaseException) -> bool:
+    """A Ctrl-C that landed where Python wraps what it catches (a class being made during an import turns it into
+    "RuntimeError: Error calling __set_name__ ..."): the user's interrupt, not a bug."""
+    seen: set[int] = set()
+    cause: BaseException | None = exc
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False
