@@ -116,9 +116,11 @@ def measure(plant_file: Path = PLANT) -> PlantRun:
         copy = _tcp_copy(plant_file, port, out)
         command = [sys.executable, "-m", "regmap", "generate", str(copy), "--target", "python", "--out", str(out / "gen")]
         subprocess.run(command, cwd=ROOT, check=True, capture_output=True)
+        name = f"{original.id}_plant"
+        earlier = sys.modules.pop(name, None)  # the committed plant of that name, imported before: not this one
         sys.path.insert(0, str(out / "gen" / "python"))
         try:
-            module: Any = importlib.import_module(f"{original.id}_plant")
+            module: Any = importlib.import_module(name)
             cls = getattr(module, "".join(part.capitalize() for part in original.id.split("_")))
             with _BusThread(load_plant(copy).buses[0], port) as served, cls(**{f"{bus.name}_port": port}, timeout=5.0) as plant:
                 plant.read_all()
@@ -129,8 +131,9 @@ def measure(plant_file: Path = PLANT) -> PlantRun:
                     single += served.take()
         finally:
             sys.path.remove(str(out / "gen" / "python"))
-            for name in [m for m in sys.modules if m == f"{original.id}_plant"]:
-                del sys.modules[name]
+            sys.modules.pop(name, None)
+            if earlier is not None:
+                sys.modules[name] = earlier
     (schedule,) = plant_schedule(original)[:1]
     line = bus.serial
     return PlantRun(

@@ -481,16 +481,6 @@ class Transport:
     notes: str = ""
 
     @property
-    def accepted_bauds(self) -> tuple[int, ...]:
-        """Every baud rate the device can be set to (its default alone when the map lists none)."""
-        return self.baud_rates or (self.baud,)
-
-    @property
-    def accepted_parities(self) -> tuple[str, ...]:
-        """Every parity the device can be set to (its default alone when the map lists none)."""
-        return self.parities or (self.parity,)
-
-    @property
     def tolerates_gaps(self) -> bool:
         return self.undocumented_addresses == "tolerate"
 

@@ -9,7 +9,7 @@ from typing import Any
 from regmap.core.text import na_list
 from regmap.frontend.functions import identification, served_function_problems, server_id
 from regmap.frontend.stages import Elaborated, Problems
-from regmap.frontend.values import _source
+from regmap.frontend.values import _source, serial_choices
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
     BadCrc,
@@ -168,12 +168,7 @@ class _CrossReferences:
     def _transport(self, t: dict[str, Any], by_selector: dict[str, Register]) -> Transport:
         path: Path = ("transport",)
         serial = t["serial"]
-        rates = tuple(serial.get("baud_rates", ()))
-        if rates and serial["baud"] not in rates:
-            self.problems.add((*path, "serial", "baud"), f"default baud {serial['baud']} is not among baud_rates {list(rates)}")
-        parities = tuple(serial.get("parities", ()))
-        if parities and serial["parity"] not in parities:
-            self.problems.add((*path, "serial", "parity"), f"default parity {serial['parity']!r} is not among parities {list(parities)}")
+        rates, parities = serial_choices(serial, lambda key, message: self.problems.add((*path, "serial", key), message))
         ids = t["slave_ids"]
         if ids["min"] > ids["max"]:
             self.problems.add((*path, "slave_ids", "min"), f"slave id min {ids['min']} is greater than max {ids['max']}")

@@ -169,15 +169,16 @@ class _PlantChecker:
 
     def _line_rules(self, device: Device, line: dict[str, Any], at: tuple[str | int, ...], dev_name: str) -> None:
         t = device.transport
-        if line["baud"] not in t.accepted_bauds:
+        bauds, parities = t.baud_rates or (t.baud,), t.parities or (t.parity,)  # the default alone when the map lists none
+        if line["baud"] not in bauds:
             self.add(
                 (*at, "baud"),
-                f"baud {line['baud']}: device {dev_name!r} ({device.id}) can be set to {', '.join(map(str, t.accepted_bauds))} only",
+                f"baud {line['baud']}: device {dev_name!r} ({device.id}) can be set to {', '.join(map(str, bauds))} only",
             )
-        if line["parity"] not in t.accepted_parities:
+        if line["parity"] not in parities:
             self.add(
                 (*at, "parity"),
-                f"parity {line['parity']}: device {dev_name!r} ({device.id}) can be set to {', '.join(t.accepted_parities)} only",
+                f"parity {line['parity']}: device {dev_name!r} ({device.id}) can be set to {', '.join(parities)} only",
             )
         if line.get("data_bits", 8) != t.data_bits:
             self.add((*at, "data_bits"), f"data bits {line.get('data_bits', 8)}: device {dev_name!r} ({device.id}) uses {t.data_bits}")

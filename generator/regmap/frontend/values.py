@@ -103,3 +103,13 @@ def na_markers(marks: Any, dtype: DataType, problem: Callable[[int, str], None])
         else:
             values.append(mark)
     return tuple(values), nan
+
+
+def serial_choices(serial: dict[str, Any], problem: Callable[[str, str], None]) -> tuple[tuple[int, ...], tuple[str, ...]]:
+    """The baud rates and parities a device can be set to, each list holding the default (else `problem(key, message)`)."""
+    rates, parities = tuple(serial.get("baud_rates", ())), tuple(serial.get("parities", ()))
+    if rates and serial["baud"] not in rates:
+        problem("baud", f"default baud {serial['baud']} is not among baud_rates {list(rates)}")
+    if parities and serial["parity"] not in parities:
+        problem("parity", f"default parity {serial['parity']!r} is not among parities {list(parities)}")
+    return rates, parities

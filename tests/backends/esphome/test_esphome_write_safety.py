@@ -6,6 +6,7 @@ from the generated YAML and compared with the model."""
 from __future__ import annotations
 
 import re
+import struct
 import subprocess
 from pathlib import Path
 from typing import Any
@@ -58,6 +59,8 @@ def _wire(device: Device, reg: Register, raw: int) -> int:
     value = 0
     for word in raw_to_words(spec, raw):
         value = (value << 16) | word
+    if reg.type.is_float:  # a setting coded as a float: ESPHome reads its IEEE bits as U_DWORD(_R), whatever the word order
+        return int.from_bytes(struct.pack(">f", float(raw)), "big")
     return value if reg.byte_order.value == "low_first" else raw
 
 

@@ -51,6 +51,7 @@ def test_swaps_data_types_scale_offset_and_counts(plant: tuple[subprocess.Comple
     outdoor = _at(pump, 10, "input")
     reading: tuple[object, ...] = (outdoor.type.value, outdoor.scale, outdoor.offset, outdoor.unit)
     assert reading == ("s16", Fraction(1, 10), -40, "°C")
+    assert outdoor.na == (0x7FFF,)  # HA's nan_value "0x7FFF": the device's "not available" marker
     hours = _at(pump, 12)
     assert (hours.type.value, hours.word_order.value, hours.byte_order.value) == ("u32", "low_first", "high_first")
     swapped = _at(pump, 40)

@@ -67,6 +67,7 @@ class Imported:
     group_title: str | None = None
     default: int | str | None = None
     encoding: str | None = None  # of a string, when not ASCII
+    na: list[int | float] = field(default_factory=list)  # raw values that mean "not available" (HA's nan_value)
 
     @property
     def width(self) -> int:
@@ -244,6 +245,8 @@ def _register_yaml(reg: Imported, name: str, enum: str | None) -> dict[str, Any]
             reg.notes.append(f"scale {reg.scale} has no exact decimal; written as the nearest float")
     if reg.offset != 0:
         out["offset"] = scale_number(reg.offset)
+    if reg.na:
+        out["na"] = list(reg.na)
     info = TYPES[reg.type]
     if info.numeric:
         for key in ("min", "max"):

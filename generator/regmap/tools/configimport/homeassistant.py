@@ -44,7 +44,7 @@ BIT_INPUT = {"coil": "coil", "discrete_input": "discrete_input", "holding": "hol
 WRITE_TYPE = {"holding": "holding", "holdings": "holding", "coil": "coil", "coils": "coil"}
 DEFAULT_SCAN_INTERVAL = 15  # seconds (HA's DEFAULT_SCAN_INTERVAL)
 PLATFORMS = ("sensors", "binary_sensors", "switches", "fans", "lights", "climates", "covers")
-UNSUPPORTED = ("nan_value", "zero_suppress", "min_value", "max_value", "structure", "lazy_error_count")
+UNSUPPORTED = ("zero_suppress", "min_value", "max_value", "structure", "lazy_error_count")
 PARITY = {"N": "none", "E": "even", "O": "odd"}
 CLIMATE_MODES = ("state_off", "state_heat", "state_cool", "state_heat_cool", "state_auto", "state_dry", "state_fan_only")
 
@@ -125,10 +125,25 @@ class _Reader(ConfigReader):
         scan = entity.get("scan_interval", DEFAULT_SCAN_INTERVAL)
         if isinstance(scan, int) and not isinstance(scan, bool):
             reg.poll = poll_class(scan, writable, DEFAULT_SCAN_INTERVAL)  # HA: 0 reads once at start-up
+        if "nan_value" in entity:
+            self._nan_value(reg, entity["nan_value"])
         for extra in UNSUPPORTED:
             if extra in entity:
                 self._note(reg, f"Home Assistant {extra}: {entity[extra]} (not part of the register's reading)")
         return reg
+
+    def _nan_value(self, reg: Imported, value: Any) -> None:
+        """HA's nan_value: the raw value (a number, or hex text "0xFFFF") the device sends for "not available"."""
+        if isinstance(value, str):
+            try:
+                value = int(value, 16) if value.lower().startswith("0x") else float(value)
+            except ValueError:
+                self._note(reg, f"Home Assistant nan_value: {value!r} is not a number (kept as a note)")
+                return
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            self._note(reg, f"Home Assistant nan_value: {value!r} is not a number (kept as a note)")
+            return
+        reg.na = [value]
 
     def _note(self, reg: Imported, note: str) -> None:
         reg.notes.append(note)

@@ -69,10 +69,30 @@ class Config:
         return at(self.name, self.positions.locate(path), message)
 
 
+# libyaml composes the same node tree (same resolver, same marks) many times faster, and reads JSON that indents
+# with tabs (pysunspec2's model files do). Only a valid document is taken from it: on any error the checked
+# composer runs again, so every message and position comes from one parser.
+_FAST_LOADER: type[Any] | None = getattr(yaml, "CSafeLoader", None)
+
+
+def _compose_fast(text: str) -> yaml.Node | None:
+    if _FAST_LOADER is None:
+        return None
+    try:
+        loader = _FAST_LOADER(text)
+        try:
+            node: yaml.Node | None = loader.get_single_node()
+            return node
+        finally:
+            loader.dispose()
+    except (yaml.YAMLError, RecursionError, ValueError):
+        return None
+
+
 def read_config(text: str, name: str) -> Config:
     """The file's data; a YAML error raises ConfigError at its position."""
     try:
-        root = yamlsource._compose_checked(text)  # a config is small: the checked composer, with every position
+        root = _compose_fast(text) or yamlsource._compose_checked(text)
         positions = Positions()
         data = _TaggedBuilder(positions).build(root, ())
     except YamlProblem as exc:
