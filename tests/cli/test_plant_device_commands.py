@@ -35,10 +35,10 @@ def _args(**given: object) -> argparse.Namespace:
 
 
 def test_the_bus_gives_the_line_and_the_plant_the_map_and_slave() -> None:
-    device, link = device_and_link(_args(), "dump")
+    device, link = device_and_link(_args())
     assert device.id == "idm_rs"
     assert (link.serial, link.tcp, link.slave, link.baud, link.parity, link.stop_bits) == ("/dev/ttyUSB0", None, 2, 38400, "even", 1)
-    spindle, link = device_and_link(_args(device="spindle", tcp="127.0.0.1:5020", slave=9, baud=19200), "dump")
+    spindle, link = device_and_link(_args(device="spindle", tcp="127.0.0.1:5020", slave=9, baud=19200))
     assert spindle.id == "c630s"
     assert (link.serial, link.tcp, link.slave) == (None, "127.0.0.1:5020", 9)  # the command line wins
 
@@ -54,7 +54,7 @@ def test_the_bus_gives_the_line_and_the_plant_the_map_and_slave() -> None:
 )
 def test_a_wrong_plant_device_is_a_usage_error(given: dict[str, object], message: str) -> None:
     with pytest.raises(UsageError, match=message.replace("(", r"\(").replace(")", r"\)")):
-        device_and_link(_args(**given), "dump")
+        device_and_link(_args(**given))
 
 
 def _regmap(*args: str) -> subprocess.CompletedProcess[str]:

@@ -13,12 +13,15 @@ from pathlib import Path
 
 import pytest
 
+from regmap.frontend import load_map
 from regmap_runtime.rtu import with_crc
 
 from conftest import ROOT, free_port, wait_for
 
 MAPS = ROOT / "maps"
-PEAK_CURRENT = 0x0191  # iDM-RS Pr5.00, default 22 (2.2 A)
+PEAK = load_map(MAPS / "idm_rs.yaml").register("peak_current")  # iDM-RS Pr5.00
+PEAK_CURRENT = PEAK.address
+DEFAULT = int(PEAK.default or 0)  # its raw default, what a fresh simulator holds
 
 
 def _plant(tmp_path: Path, port: int, extra_bus: bool = False) -> Path:
@@ -95,7 +98,7 @@ def test_each_slave_answers_with_its_own_map_and_other_ids_stay_silent(served: t
     with socket.create_connection(("127.0.0.1", port), timeout=1.5) as sock:
         read_peak = bytes([0x03]) + PEAK_CURRENT.to_bytes(2, "big") + (1).to_bytes(2, "big")
         for unit in (1, 2):
-            assert _mbap(sock, unit, read_peak) == b"\x00\x01\x00\x00\x00\x05" + bytes([unit]) + b"\x03\x02\x00\x16"
+            assert _mbap(sock, unit, read_peak) == b"\x00\x01\x00\x00\x00\x05" + bytes([unit, 0x03, 0x02]) + DEFAULT.to_bytes(2, "big")
         # The C630S at slave 3 documents no 0x0191: its own map's exception, not an iDM-RS value.
         assert _mbap(sock, 3, read_peak) == b"\x00\x01\x00\x00\x00\x03\x03\x83\x02"
         assert _mbap(sock, 9, read_peak) is None  # nobody at slave 9
@@ -141,3 +144,33 @@ def test_one_device_options_and_unknown_buses_are_refused(tmp_path: Path, extra:
 def test_bus_options_are_refused_with_a_map() -> None:
     result = _simulate(str(MAPS / "idm_rs.yaml"), "--bus", "line1")
     assert result.returncode == 2 and "--bus and --state-dir serve a plant's bus" in result.stderr
+
+
+def _regmap(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "regmap", *args], cwd=ROOT, capture_output=True, text=True, timeout=60)
+
+
+def test_read_and_write_talk_to_one_device_of_the_plant(served: tuple[int, Path], tmp_path: Path) -> None:
+    port, _ = served
+    plant = str(tmp_path / "plant.yaml")
+    written = _regmap("write", plant, "--bus", "line1", "--device", "axis_y", "peak_current=3.0")
+    assert written.returncode == 0 and "peak_current = 3 A (raw 30)  (verified)" in written.stdout, written.stderr
+    with socket.create_connection(("127.0.0.1", port), timeout=1.5) as sock:
+        read_peak = bytes([0x03]) + PEAK_CURRENT.to_bytes(2, "big") + (1).to_bytes(2, "big")
+        assert _mbap(sock, 2, read_peak) == b"\x00\x01\x00\x00\x00\x05\x02\x03\x02\x00\x1e"  # axis_y written
+        assert _mbap(sock, 1, read_peak) == b"\x00\x01\x00\x00\x00\x05\x01\x03\x02" + DEFAULT.to_bytes(2, "big")  # axis_x untouched
+    spindle = _regmap("read", plant, "--bus", "line1", "--device", "spindle", "P02-00")
+    assert spindle.returncode == 0 and "P02-00 control_mode" in spindle.stdout, spindle.stderr
+    refused = _regmap("write", plant, "--bus", "line1", "--device", "axis_x", "peak_current=99")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1 and "outside 0..8 A" in refused.stderr
+
+
+def test_a_plant_file_where_a_map_is_wanted_is_one_line(tmp_path: Path) -> None:
+    plant = str(_plant(tmp_path, free_port()))
+    shown = _regmap("show", plant, "peak_current")
+    assert shown.returncode == 2 and shown.stderr.count("\n") == 1 and "is a plant file, not a map" in shown.stderr
+    read = _regmap("read", plant, "peak_current")
+    assert (
+        read.returncode == 2
+        and read.stderr == f"regmap read: error: {plant} is a plant file: name the device with --bus NAME --device NAME\n"
+    )

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from regmap.cli.common import WHERE, link_from, live_parser, load_map
+from regmap.cli.common import WHERE, device_and_link, live_parser
 
 HELP = "run one of the map's commands on a drive"
 
@@ -34,7 +34,8 @@ def run(args: argparse.Namespace) -> int:
     from regmap.diagnostics import ExitCode
     from regmap.tools import live
 
-    sent = live.send_command(load_map(args.map), link_from(args), args.name, args.argument, args.confirm)
+    device, link = device_and_link(args)
+    sent = live.send_command(device, link, args.name, args.argument, args.confirm)
     if sent.unknown is not None:
         print(f"regmap command: outcome unknown: {sent.name}: {sent.unknown}", file=sys.stderr)
         return ExitCode.OUTCOME_UNKNOWN

@@ -41,6 +41,11 @@ def load_map(path: str | Path) -> Device:
     """The front end, imported when a command needs a map (so `--help` and argument errors stay fast)."""
     from regmap.frontend import load_map as front_end
 
+    if is_plant(path):
+        raise UsageError(
+            f"{path} is a plant file, not a map: give one of its maps, or pick a device with --bus NAME --device NAME "
+            "(read, write, command, dump, probe)"
+        )
     return front_end(path)
 
 
@@ -57,11 +62,11 @@ def is_plant(path: str | Path) -> bool:
     return is_plant_file(path)
 
 
-def plant_argument(paths: Sequence[str], command: str) -> str | None:
+def plant_argument(paths: Sequence[str]) -> str | None:
     """The plant file among a command's MAP arguments, if one is given: a plant comes alone."""
     plants = [p for p in paths if is_plant(p)]
     if plants and len(paths) > 1:
-        raise UsageError(f"regmap {command}: a plant file ({plants[0]}) comes alone, without other maps or plants")
+        raise UsageError(f"a plant file ({plants[0]}) comes alone, without other maps or plants")
     return plants[0] if plants else None
 
 
@@ -247,15 +252,15 @@ def add_plant_device(p: argparse.ArgumentParser) -> None:
     plant.add_argument("--device", metavar="NAME", help="the device on that bus: its map and its slave id (unless --slave overrides it)")
 
 
-def device_and_link(args: argparse.Namespace, command: str) -> tuple[Device, Link]:
+def device_and_link(args: argparse.Namespace) -> tuple[Device, Link]:
     """The device and the link a command talks to: MAP's and the options', or, for a plant file, the map and the
     slave id of --device and the line settings of --bus, each overridable on the command line."""
     if not is_plant(args.map):
         if args.bus is not None or args.device is not None:
-            raise UsageError(f"regmap {command}: --bus and --device pick a device of a plant file; {args.map} is a map")
+            raise UsageError(f"--bus and --device pick a device of a plant file; {args.map} is a map")
         return load_map(args.map), link_from(args)
     if args.bus is None or args.device is None:
-        raise UsageError(f"regmap {command}: {args.map} is a plant file: name the device with --bus NAME --device NAME")
+        raise UsageError(f"{args.map} is a plant file: name the device with --bus NAME --device NAME")
     plant = load_plant(args.map)
     try:
         bus = plant.bus(args.bus)
@@ -297,6 +302,7 @@ def live_parser(
     )
     add_map(p)
     add_link_options(p)
+    add_plant_device(p)
     return p
 
 

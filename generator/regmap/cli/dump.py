@@ -7,7 +7,6 @@ import sys
 from typing import TYPE_CHECKING
 
 from regmap.cli.common import (
-    add_plant_device,
     add_read_options,
     device_and_link,
     live_parser,
@@ -38,7 +37,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "regmap dump examples/plants/cell1.yaml --bus line1 --device axis_y   # a plant's device, on its bus's line",
     )
     add_read_options(p)
-    add_plant_device(p)
     return p
 
 
@@ -54,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools.selectors import dump_range
 
     space = space_from(args)
-    device, link = device_and_link(args, "dump")
+    device, link = device_and_link(args)
     chosen, notes = dump_range(device, args.start, args.count, space, modicon=args.modicon)
     progress = ProgressBar() if sys.stderr.isatty() else None
     try:

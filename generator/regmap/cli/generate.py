@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.generate import CachedOutputs, check_options, generate, target_names
     from regmap.outputcache import OutputCache, read_sources
 
-    plant_path = plant_argument(args.maps, "generate")
+    plant_path = plant_argument(args.maps)
     if plant_path is not None:
         return _generate_plant(args, plant_path)
 

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from regmap.cli.common import WHERE, add_plant_device, device_and_link, live_parser, positive_float, requests_per_second
+from regmap.cli.common import WHERE, device_and_link, live_parser, positive_float, requests_per_second
 from regmap.diagnostics import ExitCode, UsageError
 from regmap.tools.output import check_output
 
@@ -33,7 +33,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "regmap probe maps/id243pro.yaml --tcp 127.0.0.1:5020 --scan-undocumented --write-test 0x0000 --budget 60 --rate 20",
         "regmap probe examples/plants/cell1.yaml --bus line1 --device spindle --tcp 127.0.0.1:5020",
     )
-    add_plant_device(p)
     p.add_argument("--json", action="store_true", help="the report as JSON on stdout")
     p.add_argument("--profile", metavar="FILE", help="write the device profile learned (atomically)")
     p.add_argument(
@@ -67,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools.probe.report import render_text
     from regmap.tools.probe.writetest import chosen
 
-    device, link = device_and_link(args, "probe")
+    device, link = device_and_link(args)
     if link.word_order not in (None, "auto"):
         raise UsageError("--word-order: the probe finds the word order itself")
     target = Path(args.profile) if args.profile else None

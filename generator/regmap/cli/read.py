@@ -8,9 +8,8 @@ from regmap.cli.common import (
     SELECTOR_SYNTAX,
     WHERE,
     add_read_options,
-    link_from,
+    device_and_link,
     live_parser,
-    load_map,
     output_format,
     profile_from,
     say_notes,
@@ -54,8 +53,8 @@ def run(args: argparse.Namespace) -> int:
 
     space = space_from(args)
     items = parse_items(args.selectors, count=args.count, start=args.start, modicon=args.modicon, space=space)
-    device = load_map(args.map)
-    link, profile = link_from(args), profile_from(args, device)
+    device, link = device_and_link(args)
+    profile = profile_from(args, device)
     if args.words:
         got = live.read_words(device, link, word_reads(device, items, space, modicon=args.modicon), profile)
         print_words(got.words, output_format(args))

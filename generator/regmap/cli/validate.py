@@ -33,7 +33,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 def run(args: argparse.Namespace) -> int:
     from regmap.generate import check
 
-    plant_path = plant_argument(args.maps, "validate")
+    plant_path = plant_argument(args.maps)
     if plant_path is not None:
         return _validate_plant(plant_path)
     status = ExitCode.OK

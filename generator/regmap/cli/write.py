@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from regmap.cli.common import VALUE_SYNTAX, WHERE, add_addressing, add_space, link_from, live_parser, load_map, say_notes, space_from
+from regmap.cli.common import VALUE_SYNTAX, WHERE, add_addressing, add_space, device_and_link, live_parser, say_notes, space_from
 
 HELP = "write registers, then read them back"
 
@@ -41,9 +41,9 @@ def run(args: argparse.Namespace) -> int:
     from regmap.tools import live
 
     space = space_from(args)
-    device = load_map(args.map)
+    device, link = device_and_link(args)
     plan = live.plan_write(
         device, args.assignments, raw=args.raw, replace=args.replace, words=args.words, space=space, modicon=args.modicon
     )
     say_notes("write", plan.notes)
-    return write_status(live.write(device, link_from(args), plan, verify=not args.no_verify and not args.words))
+    return write_status(live.write(device, link, plan, verify=not args.no_verify and not args.words))
