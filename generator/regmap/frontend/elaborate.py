@@ -7,15 +7,14 @@ import string
 from typing import Any
 
 from regmap.core.text import article
+from regmap.frontend.arrays import elaborate_array, elaborate_bitfields
 from regmap.frontend.stages import Elaborated, MapSource, Problems
-from regmap.frontend.values import _FORMAT_SPEC, _bits, _ParamRule, _scale, _source, na_markers
+from regmap.frontend.values import _FORMAT_SPEC, _ParamRule, _scale, _source, na_markers
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
     Access,
     ArrayDef,
-    ArrayMember,
     ArrayRef,
-    Bitfield,
     ByteOrder,
     DataType,
     EnumMember,
@@ -199,7 +198,7 @@ class _Elaboration:
         for i, entry in enumerate(g["registers"]):
             epath: Path = (*path, "registers", i)
             if "array" in entry:
-                array, expanded = self._array(entry, epath, defaults, g["id"], word_order)
+                array, expanded = elaborate_array(self, entry, epath, defaults, g["id"], word_order)
                 arrays.append(array)
                 for element, member_path in expanded:
                     registers.append(element)
@@ -256,7 +255,7 @@ class _Elaboration:
         if not dtype.info.has_byte_order:
             byte_order = ByteOrder.HIGH_FIRST
         enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
-        bitfields = self._bitfields(r.get("bitfields", []), (*path, "bitfields"), dtype, name)
+        bitfields = elaborate_bitfields(self, r.get("bitfields", []), (*path, "bitfields"), dtype, name)
         low, high, default = r.get("min"), r.get("max"), r.get("default")
         self._check_values(path, name, dtype, low, high, default, r)
         if enum_type is not None:
@@ -454,135 +453,6 @@ class _Elaboration:
         group_path = path[:2]
         group = self.raw["groups"][group_path[1]] if len(group_path) == 2 else {}
         return set(group.get("defaults", {}))
-
-    def _bitfields(self, specs: list[dict[str, Any]], path: Path, dtype: DataType, name: str) -> tuple[Bitfield, ...]:
-        if dtype.kind != "int":
-            return ()  # reported by _check_type_in_space
-        fields: list[Bitfield] = []
-        used: dict[int, str] = {}
-        names: set[str] = set()
-        for i, spec in enumerate(specs):
-            fpath: Path = (*path, i)
-            lsb, msb = _bits(spec["bits"])
-            if lsb > msb:
-                self.problems.add((*fpath, "bits"), f"{name}.{spec['name']}: bit range {spec['bits']} runs backwards; write low-high")
-                continue
-            if msb >= dtype.bits:
-                self.problems.add((*fpath, "bits"), f"{name}.{spec['name']}: bits {spec['bits']} lie beyond the {dtype.bits}-bit register")
-                continue
-            if spec["name"] in names:
-                self.problems.add((*fpath, "name"), f"{name}: duplicate bitfield name {spec['name']!r}")
-            names.add(spec["name"])
-            for bit in range(lsb, msb + 1):
-                if bit in used:
-                    self.problems.add((*fpath, "bits"), f"{name}.{spec['name']}: bit {bit} overlaps bitfield {used[bit]}")
-                    break
-                used[bit] = spec["name"]
-            enum_type = self._enum_ref(spec.get("enum"), (*fpath, "enum"), f"{name}.{spec['name']}")
-            if enum_type is not None:
-                for member in enum_type.members:
-                    if not 0 <= member.value < (1 << (msb - lsb + 1)):
-                        self.problems.add(
-                            (*fpath, "enum"),
-                            f"{name}.{spec['name']}: enum {enum_type.name} member {member.name} = {member.value} does not fit in {msb - lsb + 1} bit(s)",
-                        )
-                        break
-            fields.append(
-                Bitfield(
-                    name=spec["name"],
-                    lsb=lsb,
-                    msb=msb,
-                    title=spec["title"],
-                    title_zh=spec.get("title_zh"),
-                    description=spec.get("description", ""),
-                    enum=enum_type,
-                    pos=self.positions.locate(fpath),
-                )
-            )
-        return tuple(sorted(fields, key=lambda f: f.lsb))
-
-    def _array(
-        self, a: dict[str, Any], path: Path, defaults: dict[str, Any], group: str, word_order: WordOrder
-    ) -> tuple[ArrayDef, list[tuple[Register, Path]]]:
-        """The array and its expanded registers, each with the path of the member it comes from."""
-        index_base = a.get("index_base", 0)
-        members: list[ArrayMember] = []
-        expanded: list[tuple[Register, Path]] = []
-        member_names: set[str] = set()
-        repeated: set[int] = set()  # not expanded, so the repeat is reported once, not again as duplicate registers
-        for j, m in enumerate(a["members"]):
-            mpath: Path = (*path, "members", j)
-            if m["name"] in member_names:
-                self.problems.add((*mpath, "name"), f"array {a['array']}: duplicate member {m['name']!r}")
-                repeated.add(j)
-            member_names.add(m["name"])
-            member_space = SPACES[m.get("space", defaults.get("space", DEFAULT_SPACE))]
-            member_type = DataType(m.get("type", defaults.get("type", "bool" if member_space.bits else "u16")))
-            words = m.get("words", 1) if member_type.is_string else member_type.words
-            if "word_offset" not in m:
-                moved = "offset" in m and isinstance(m["offset"], int) and "scale" not in m
-                hint = (
-                    "; `offset` is now the value offset beside `scale`, so rename this member's `offset` to `word_offset`" if moved else ""
-                )
-                self.problems.add(mpath, f"array {a['array']}: member {m['name']} needs `word_offset` (its position in the element){hint}")
-                repeated.add(j)
-                members.append(ArrayMember(name=m["name"], offset=0, words=words, title=m["title"]))
-                continue
-            if m["word_offset"] + words > a["stride"]:
-                self.problems.add(
-                    (*mpath, "word_offset"),
-                    f"array {a['array']}: member {m['name']} (word_offset {m['word_offset']}, {words} words) does not fit in the stride {a['stride']}",
-                )
-            members.append(ArrayMember(name=m["name"], offset=m["word_offset"], words=words, title=m["title"]))
-        array = ArrayDef(
-            name=a["array"],
-            title=a["title"],
-            title_zh=a.get("title_zh"),
-            description=a.get("description", ""),
-            element_title=a.get("element_title", a["title"] + " {n}"),
-            count=a["count"],
-            index_base=index_base,
-            base=a["base"],
-            stride=a["stride"],
-            members=tuple(members),
-            group=group,
-            source=_source(a.get("source")),
-            notes=a.get("notes", ""),
-        )
-        last = array.base + (array.count - 1) * array.stride + max((m.offset + m.words for m in members), default=1) - 1
-        if last > 0xFFFF:
-            self.problems.add((*path, "count"), f"array {array.name}: its last element ends at 0x{last:X}, past address 0xFFFF")
-            return array, []
-        inherited = {**defaults, "source": a.get("source", defaults.get("source"))}
-        for j, spec in enumerate(a["members"]):
-            if isinstance(spec.get("default"), list) and len(spec["default"]) != array.count:
-                self.problems.add(
-                    (*path, "members", j, "default"),
-                    f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements",
-                )
-        for i in range(array.count):
-            index = index_base + i
-            for j, (member, spec) in enumerate(zip(members, a["members"], strict=True)):
-                if j in repeated:
-                    continue
-                address = array.element_address(index, member)
-                if isinstance(spec.get("default"), list):
-                    spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
-                reg = self._register(
-                    {**inherited, **{k: v for k, v in spec.items() if k != "word_offset"}},
-                    (*path, "members", j),
-                    group,
-                    word_order,
-                    name=f"{array.name}_{index}_{member.name}",
-                    address=address,
-                    param=self._rule_param(address),
-                    array=ArrayRef(array=array.name, index=index, member=member.name),
-                )
-                if reg is not None:
-                    expanded.append((reg, (*path, "members", j)))
-        # Report per-member problems once, not once per element.
-        self.problems.forget_repeats()
-        return array, expanded
 
     def _check_param(self, reg: Register, path: Path) -> None:
         if reg.param is None:
