@@ -8,16 +8,19 @@ both), `scale` then `offset` (value = raw x scale + offset), `slave` or `device_
 `scan_interval` as a poll class. Switches, fans and lights write `command_on`/`command_off` (an on/off
 enum; a coil is a bool) and read `verify`; a climate is its current temperature, its target
 temperature (read-write) and its mode, on/off and fan registers (enums of the states it names); a
-cover is its command register (or coil) and its status register. What a map cannot say (float16, a
-`custom` structure, `nan_value`, `zero_suppress`, `min_value`/`max_value` clamps, a verify at
+cover is its command register (or coil) and its status register. A `custom` structure becomes one register per value
+it unpacks (tools/configimport/hastruct.py). What a map cannot say (float16, a byte-sized value, `zero_suppress`, `min_value`/`max_value` clamps, a verify at
 another address) is kept as a note and reported.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
+from fractions import Fraction
 from typing import Any
 
 from regmap.tools.configimport.draft import Device, Flag, Import, Imported, Member, fraction
+from regmap.tools.configimport.hastruct import StructureError, structure_fields
 from regmap.tools.configimport.reader import Config, ConfigError, ConfigReader, poll_class, substitute
 
 # HA's data_type -> regmap type (the inverse of backends/homeassistant's DATA_TYPE); float16 and custom have none.
@@ -44,7 +47,7 @@ BIT_INPUT = {"coil": "coil", "discrete_input": "discrete_input", "holding": "hol
 WRITE_TYPE = {"holding": "holding", "holdings": "holding", "coil": "coil", "coils": "coil"}
 DEFAULT_SCAN_INTERVAL = 15  # seconds (HA's DEFAULT_SCAN_INTERVAL)
 PLATFORMS = ("sensors", "binary_sensors", "switches", "fans", "lights", "climates", "covers")
-UNSUPPORTED = ("zero_suppress", "min_value", "max_value", "structure", "lazy_error_count")
+UNSUPPORTED = ("zero_suppress", "min_value", "max_value", "lazy_error_count")
 PARITY = {"N": "none", "E": "even", "O": "odd"}
 CLIMATE_MODES = ("state_off", "state_heat", "state_cool", "state_heat_cool", "state_auto", "state_dry", "state_fan_only")
 
@@ -194,10 +197,56 @@ class _Reader(ConfigReader):
     def _sensors(self, entity: dict[str, Any], path: tuple[str | int, ...]) -> list[Imported]:
         space = self._choice(entity, path, "input_type", REGISTER_INPUT, "holding")
         reg = self._base(entity, path, space, "s16", False) if space else None
+        if reg is not None and entity.get("data_type") == "custom":
+            return self._custom(reg, entity, path)
         if reg is None or not self._value(reg, entity, path):
             return []
         self._count(reg, entity, path)
         return [reg]
+
+    def _custom(self, reg: Imported, entity: dict[str, Any], path: tuple[str | int, ...]) -> list[Imported]:
+        """A `custom` structure: one register per value it unpacks, scale and offset applied to each as HA does."""
+        count, structure = entity.get("count"), entity.get("structure")
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1 or not isinstance(structure, str):
+            self.fail(path, "data_type custom needs count (registers) and structure (a struct format)")
+            return []
+        try:
+            fields, order = structure_fields(structure, count)
+        except StructureError as exc:
+            self.report.append(f"{reg.origin}: {reg.title}: {exc}: not imported")
+            return []
+        numbers: dict[str, Any] = {
+            "data_type": "int16",
+            **{k: entity[k] for k in ("scale", "offset", "unit_of_measurement") if k in entity},
+        }
+        if not self._value(reg, numbers, path):
+            return []
+        regs = [
+            replace(
+                reg,
+                key=reg.key if len(fields) == 1 else f"{reg.key}_{i}",
+                title=reg.title if len(fields) == 1 else f"{reg.title} {i}",
+                address=reg.address + f.word_offset,
+                type=f.type,
+                word_order=f.word_order,
+                byte_order=f.byte_order,
+                words=f.words,
+                notes=list(reg.notes),
+            )
+            for i, f in enumerate(fields, start=1)
+        ]
+        if len(fields) > 1:
+            self._note(
+                reg,
+                f"custom structure {structure!r} ({order} endian): {len(fields)} values, imported as {len(fields)} registers; Home Assistant shows them as one text, joined by commas",
+            )
+        elif order != "big":
+            self._note(reg, f"custom structure {structure!r}: read {order} endian (byte and word order low first)")
+        for r in regs:
+            r.notes = list(reg.notes)
+            if r.type == "string":
+                r.scale, r.offset, r.unit = Fraction(1), Fraction(0), None
+        return regs
 
     def _binary_sensors(self, entity: dict[str, Any], path: tuple[str | int, ...]) -> list[Imported]:
         space = self._choice(entity, path, "input_type", BIT_INPUT, "coil")
