@@ -231,7 +231,6 @@ class _Reader(ConfigReader):
                 word_order=f.word_order,
                 byte_order=f.byte_order,
                 words=f.words,
-                notes=list(reg.notes),
             )
             for i, f in enumerate(fields, start=1)
         ]
