@@ -84,6 +84,8 @@ VALUE_TYPE = {
     (DataType.S64, WordOrder.LOW_FIRST): "S_QWORD_R",
     (DataType.F32, WordOrder.HIGH_FIRST): "FP32",
     (DataType.F32, WordOrder.LOW_FIRST): "FP32_R",
+    (DataType.TIMESTAMP, WordOrder.HIGH_FIRST): "U_DWORD",
+    (DataType.TIMESTAMP, WordOrder.LOW_FIRST): "U_DWORD_R",
 }
 # A value a lambda decodes is still given a type of its size, so that ESPHome reads the right count of registers.
 SIZED = {1: "U_WORD", 2: "U_DWORD", 4: "U_QWORD"}

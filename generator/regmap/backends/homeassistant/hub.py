@@ -63,6 +63,7 @@ DATA_TYPE = {
     DataType.F32: "float32",
     DataType.F64: "float64",
     DataType.STRING: "string",
+    DataType.TIMESTAMP: "uint32",
 }
 INPUT_TYPE = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete_input"}
 TEXT_ENCODINGS = ("ascii", "utf-8")  # HA decodes a string register's bytes as UTF-8

@@ -27,6 +27,7 @@ TYPE_LONG = {
     DataType.F64: "64-bit IEEE 754 float",
     DataType.STRING: "text",
     DataType.BOOL: "one bit: on or off",
+    DataType.TIMESTAMP: "seconds since 1970, unsigned 32-bit",
 }
 
 SPACE_SHORT = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete input"}
