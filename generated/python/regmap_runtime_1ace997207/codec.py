@@ -8,6 +8,7 @@ from fractions import Fraction
 from typing import Any
 
 from .spec import HIGH_FIRST, BitfieldSpec, Raw, RegisterSpec
+from .timestamps import TimestampError, seconds_to_datetime, timestamp_seconds
 from .types import FLOAT, INT, swap_bytes
 
 
@@ -127,6 +128,13 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
     info = spec.type_info
     if value is None:  # what a read of the "not available" marker returns: no value to write back
         raise RangeError(f"{spec.label}: None is no value (a read returns it for the device's 'not available' marker)")
+    if spec.zone is not None:
+        try:
+            seconds = timestamp_seconds(value, spec.zone)
+        except TimestampError as exc:
+            raise RangeError(f"{spec.label}: {exc}") from None
+        check_raw(spec, seconds)
+        return seconds
     if info.is_string:
         if not isinstance(value, str):
             raise RangeError(f"{spec.label}: a string register takes text, not {value!r}")
@@ -301,6 +309,8 @@ def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
         return raw
     if spec.type_info.is_bool:
         return bool(raw)
+    if spec.zone is not None and isinstance(raw, int):
+        return seconds_to_datetime(raw, spec.zone)
     if spec.enum is not None and not spec.bitfields and isinstance(raw, float):
         if not raw.is_integer():
             return raw  # a float enum register's value that no member can be (2.5, NaN): the number, as read
