@@ -143,7 +143,7 @@ def time_lambda(reg: Register) -> str:
     """A timestamp's ISO 8601 text from its unsigned 32-bit seconds (exact: a sensor's float would round
     to 128 s), the civil date by days-from-civil's inverse (proleptic Gregorian, no library, no zone):
     `Z` after a utc time, nothing after a local one; no text for a "not available" marker."""
-    lines = _assemble(reg)[:1] + [f"if (data.size() < o + {2 * reg.words}) return {{}};", "uint64_t raw = 0;"]
+    lines = [*_assemble(reg)[:1], f"if (data.size() < o + {2 * reg.words}) return {{}};", "uint64_t raw = 0;"]
     lines += [f"raw = (raw << 8) | data[o + {i}];" for i in wire_bytes(reg)]
     lines += [f"if (raw == 0x{pattern:X}u) return {{}};  // the device's 'not available' marker" for pattern in reg.na_bits]
     lines += [
