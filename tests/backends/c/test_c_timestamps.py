@@ -35,7 +35,7 @@ def _python_seconds() -> dict[tuple[str, int, int], int | None]:
         for words in WORDS:
             when = decode_value(spec, words_to_raw(spec, words))
             assert when is None or isinstance(when, datetime)
-            seen[(name, *words)] = None if when is None else datetime_to_seconds(when, spec.zone)
+            seen[(name, words[0], words[1])] = None if when is None else datetime_to_seconds(when, spec.zone)
             if when is not None:
                 assert raw_to_words(spec, value_to_raw(spec, when)) == words  # the words a write of that time sends
     return seen

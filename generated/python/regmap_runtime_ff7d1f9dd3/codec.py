@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import enum
+from datetime import datetime
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
@@ -123,8 +124,8 @@ def raw_to_value(spec: RegisterSpec[Any], raw: int | float) -> int | float:
 _FLAGS = {"true": 1, "on": 1, "1": 1, "false": 0, "off": 0, "0": 0}
 
 
-def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
-    """Raw value for an engineering value, an enum member name, text or a flag; checks range and resolution."""
+def value_to_raw(spec: RegisterSpec[Any], value: int | float | str | datetime) -> Raw:
+    """Raw value for an engineering value, an enum member name, text, a flag or a timestamp's time; checks range and resolution."""
     info = spec.type_info
     if value is None:  # what a read of the "not available" marker returns: no value to write back
         raise RangeError(f"{spec.label}: None is no value (a read returns it for the device's 'not available' marker)")
@@ -135,6 +136,8 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
             raise RangeError(f"{spec.label}: {exc}") from None
         check_raw(spec, seconds)
         return seconds
+    if isinstance(value, datetime):
+        raise RangeError(f"{spec.label}: a time is for a timestamp register; this one is {spec.data_type}")
     if info.is_string:
         if not isinstance(value, str):
             raise RangeError(f"{spec.label}: a string register takes text, not {value!r}")
