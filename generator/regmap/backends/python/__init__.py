@@ -206,12 +206,8 @@ def _enum_write_type(e: EnumType) -> str:
 
 
 def _plain_type(reg: Register) -> str:
-    if reg.type.is_string:
-        return "str"
-    if reg.type.is_bool:
-        return "bool"
-    if reg.type.is_timestamp:
-        return "datetime"  # aware (UTC) for zone utc, naive for local: the runtime's timestamps module
+    if reg.type.is_string or reg.type.is_bool or reg.type.is_timestamp:  # a timestamp's datetime: aware (UTC) or naive (local)
+        return {"string": "str", "bool": "bool", "timestamp": "datetime"}[reg.type.value]
     return "float" if reg.type.is_float or reg.scaled or reg.offset_set else "int"
 
 
