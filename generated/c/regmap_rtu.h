@@ -106,7 +106,8 @@ typedef enum regmap_type {
     REGMAP_TYPE_F32 = 6,
     REGMAP_TYPE_F64 = 7,
     REGMAP_TYPE_STRING = 8,
-    REGMAP_TYPE_BOOL = 9
+    REGMAP_TYPE_BOOL = 9,
+    REGMAP_TYPE_TIMESTAMP = 10
 } regmap_type;
 
 /* What fills a string register after its text (a map's `padding`) */
@@ -276,6 +277,18 @@ static inline void regmap_u32_to_wire(uint32_t value, regmap_word_order word_ord
     w[0] = (uint16_t)(value >> 16);
     w[1] = (uint16_t)(value & 0xFFFFu);
     regmap_wire_exchange(w, words, 2u, word_order, byte_order);
+}
+
+/* A timestamp: seconds since 1970-01-01T00:00 as an unsigned 32-bit count, the words of a u32. Whether the
+ * seconds count UTC or the device's local clock (no zone) the register's comment says; nothing here converts. */
+static inline uint32_t regmap_timestamp_from_wire(const uint16_t words[2], regmap_word_order word_order, regmap_byte_order byte_order)
+{
+    return regmap_u32_from_wire(words, word_order, byte_order);
+}
+
+static inline void regmap_timestamp_to_wire(uint32_t value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[2])
+{
+    regmap_u32_to_wire(value, word_order, byte_order, words);
 }
 
 static inline int32_t regmap_s32_from_wire(const uint16_t words[2], regmap_word_order word_order, regmap_byte_order byte_order)

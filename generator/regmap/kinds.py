@@ -54,6 +54,7 @@ class DataType(enum.Enum):
     F64 = "f64"
     STRING = "string"
     BOOL = "bool"
+    TIMESTAMP = "timestamp"  # seconds since 1970 in a u32, read as a time (Register.zone: utc or local)
 
     @property
     def info(self) -> TypeInfo:
@@ -103,3 +104,7 @@ class DataType(enum.Enum):
     @property
     def is_bool(self) -> bool:
         return self.info.is_bool
+
+    @property
+    def is_timestamp(self) -> bool:
+        return self.info.is_timestamp

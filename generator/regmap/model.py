@@ -197,6 +197,7 @@ class Register:
     na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as no value, never written
     na_nan: bool = False  # any NaN of a float register means "not available"
     variants: tuple[str, ...] = ()  # the device variants (models, options) that have it; () every variant
+    zone: str | None = None  # a timestamp's clock: utc or local (regmap_runtime.timestamps); None for other types
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property

@@ -108,6 +108,8 @@ def spec_extras(r: Register) -> dict[str, Any]:
         extras["na_nan"] = True
     if r.variants:
         extras["variants"] = r.variants
+    if r.zone is not None:
+        extras["zone"] = r.zone
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import enum
+from datetime import datetime
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
 from .spec import HIGH_FIRST, BitfieldSpec, Raw, RegisterSpec
+from .timestamps import TimestampError, seconds_to_datetime, timestamp_seconds
 from .types import FLOAT, INT, swap_bytes
 
 
@@ -122,11 +124,20 @@ def raw_to_value(spec: RegisterSpec[Any], raw: int | float) -> int | float:
 _FLAGS = {"true": 1, "on": 1, "1": 1, "false": 0, "off": 0, "0": 0}
 
 
-def value_to_raw(spec: RegisterSpec[Any], value: int | float | str) -> Raw:
-    """Raw value for an engineering value, an enum member name, text or a flag; checks range and resolution."""
+def value_to_raw(spec: RegisterSpec[Any], value: int | float | str | datetime) -> Raw:
+    """Raw value for an engineering value, an enum member name, text, a flag or a timestamp's time; checks range and resolution."""
     info = spec.type_info
     if value is None:  # what a read of the "not available" marker returns: no value to write back
         raise RangeError(f"{spec.label}: None is no value (a read returns it for the device's 'not available' marker)")
+    if spec.zone is not None:
+        try:
+            seconds = timestamp_seconds(value, spec.zone)
+        except TimestampError as exc:
+            raise RangeError(f"{spec.label}: {exc}") from None
+        check_raw(spec, seconds)
+        return seconds
+    if isinstance(value, datetime):
+        raise RangeError(f"{spec.label}: a time is for a timestamp register; this one is {spec.data_type}")
     if info.is_string:
         if not isinstance(value, str):
             raise RangeError(f"{spec.label}: a string register takes text, not {value!r}")
@@ -301,6 +312,8 @@ def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
         return raw
     if spec.type_info.is_bool:
         return bool(raw)
+    if spec.zone is not None and isinstance(raw, int):
+        return seconds_to_datetime(raw, spec.zone)
     if spec.enum is not None and not spec.bitfields and isinstance(raw, float):
         if not raw.is_integer():
             return raw  # a float enum register's value that no member can be (2.5, NaN): the number, as read

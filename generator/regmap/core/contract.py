@@ -86,6 +86,7 @@ def register_json(r: Register) -> dict[str, Any]:
         "firmware": _gate(r.firmware),
         "poll": r.poll.value,
         "na": na_json(r),
+        "zone": r.zone,
     }
 
 

@@ -22,6 +22,7 @@ from regmap_runtime.codec import raw_to_value, words_to_raw
 from regmap_runtime.rtu import Frame
 from regmap_runtime.spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, SPACES
 from regmap_runtime.spec import Raw, RegisterSpec
+from regmap_runtime.timestamps import time_text
 
 # The Modbus names of the public function codes; the data spaces' codes come from the space table.
 FUNCTION_NAMES = {
@@ -159,6 +160,8 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
         if member is None:
             return raw, f"{raw} = 0x{raw & 0xFFFFFFFF:X}  [NOT a value of {reg.enum.name}]", False, None
         return member.name, f"{member.name} ({raw} = 0x{raw & 0xFFFFFFFF:X})" + outside, in_range, None
+    if reg.zone is not None and isinstance(raw, int):  # a timestamp: the seconds, shown as the time on its clock
+        return raw, f"{time_text(raw, reg.zone)} ({raw} s, {'UTC' if reg.zone == 'utc' else 'local clock, no zone'})", True, None
     number = raw_to_value(spec, raw)
     unit = f" {reg.unit}" if reg.unit else ""
     scaled = reg.scaled or reg.offset_set

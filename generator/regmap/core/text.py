@@ -15,6 +15,7 @@ from fractions import Fraction
 
 from regmap.model import Device, Register
 from regmap_runtime.spaces import SPACES
+from regmap_runtime.timestamps import time_text
 
 BIT_NAMES = {0: "off", 1: "on"}
 
@@ -106,6 +107,8 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
         return '"' + raw + '"'
     if reg.type.is_bool:
         return BIT_NAMES[1 if raw else 0]
+    if reg.zone is not None and isinstance(raw, int):
+        return time_text(raw, reg.zone)  # a timestamp: ISO 8601, Z for utc, no zone for local
     if not every_digit:
         return number(raw * float(reg.scale) + float(reg.offset) if isinstance(raw, float) else raw * reg.scale + reg.offset)
     if isinstance(raw, float):
@@ -113,6 +116,15 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
         return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)
     exact = Fraction(raw) * reg.scale + reg.offset
     return exact_decimal(exact) or number_text(float(exact))
+
+
+def zone_text(reg: Register) -> str:
+    """What a timestamp register counts, for docs and comments (empty for any other register)."""
+    if reg.zone == "utc":
+        return "seconds since 1970-01-01T00:00:00Z (UTC)"
+    if reg.zone == "local":
+        return "seconds since 1970-01-01T00:00 on the device's local clock (no zone)"
+    return ""
 
 
 def na_mark(reg: Register, raw: int | float) -> str:

@@ -9,6 +9,7 @@ from typing import Any
 from regmap.core.text import article
 from regmap.frontend.arrays import elaborate_array, elaborate_bitfields
 from regmap.frontend.stages import Elaborated, MapSource, Problems
+from regmap.frontend.timestamps import timestamp_facts
 from regmap.frontend.values import _FORMAT_SPEC, _ParamRule, _scale, _source, na_markers
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
@@ -256,7 +257,9 @@ class _Elaboration:
             byte_order = ByteOrder.HIGH_FIRST
         enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
         bitfields = elaborate_bitfields(self, r.get("bitfields", []), (*path, "bitfields"), dtype, name)
-        low, high, default = r.get("min"), r.get("max"), r.get("default")
+        low, high = r.get("min"), r.get("max")
+        problem = lambda key, message: self.problems.add((*path, key), f"{name}: {message}")  # noqa: E731
+        zone, default = timestamp_facts(r, dtype, self._defaults_keys(path), problem)
         self._check_values(path, name, dtype, low, high, default, r)
         if enum_type is not None:
             self._check_members_fit(enum_type, dtype, path, name)
@@ -270,7 +273,7 @@ class _Elaboration:
             )
         if isinstance(default, bool) and dtype.is_bool:
             default = int(default)
-        na, na_nan = self._na(r, path, name, dtype, bool(bitfields))
+        na, na_nan = self._na(r, path, name, dtype, bool(bitfields), default)
         return Register(
             name=name,
             param=param if param is not None else r.get("param"),
@@ -310,6 +313,7 @@ class _Elaboration:
             na=na,
             na_nan=na_nan,
             variants=self._variants(r.get("variants", ()), (*path, "variants"), name),
+            zone=zone,
             pos=self.positions.locate(path),
         )
 
@@ -412,12 +416,13 @@ class _Elaboration:
                     (*path, "enum"), f"{name}: enum {enum_type.name} member {member.name} = {member.value} does not fit {dtype.value}"
                 )
 
-    def _na(self, r: dict[str, Any], path: Path, name: str, dtype: DataType, bitfields: bool) -> tuple[tuple[int | float, ...], bool]:
+    def _na(
+        self, r: dict[str, Any], path: Path, name: str, dtype: DataType, bitfields: bool, default: Any
+    ) -> tuple[tuple[int | float, ...], bool]:
         """The "not available" markers as raw values of the register's type (`values.na_markers`); never its default."""
         if not dtype.numeric:
             return (), False  # reported by _check_type_in_space
         na, nan = na_markers(r.get("na") or (), dtype, lambda i, message: self.problems.add((*path, "na", i), f"{name}: {message}"))
-        default = r.get("default")
         if default is not None and na_marks(na, nan, default):
             self.problems.add((*path, "default"), f"{name}: default {default} is the 'not available' marker (na); a default is a value")
         if bitfields and (na or nan):

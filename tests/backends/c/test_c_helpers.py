@@ -49,6 +49,7 @@ PYMODBUS_TYPES = {
     DataType.S64: DATATYPE.INT64,
     DataType.F32: DATATYPE.FLOAT32,
     DataType.F64: DATATYPE.FLOAT64,
+    DataType.TIMESTAMP: DATATYPE.UINT32,  # seconds since 1970: the words of a u32
 }
 FLOAT_FORMATS = {DataType.F32: (">f", ">I", "regmap_f32"), DataType.F64: (">d", ">Q", "regmap_f64")}
 FLOAT_VALUES = [0.0, -0.0, 230.1, 12.25, -1.5, 3.4e38, 1e-40, math.inf, -math.inf]

@@ -18,6 +18,7 @@ import socket
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -294,7 +295,12 @@ def _check_value(v: ExampleValue, got: Any) -> None:
     if v.value is None or isinstance(got, BitfieldValue):
         return
     kind = v.register.type.kind
-    if kind == "string" or kind == "bool":
+    if v.register.type.is_timestamp:  # ISO 8601 text in the map; an aware (utc) or naive (local) datetime from the client
+        assert isinstance(v.value, str) and got == datetime.fromisoformat(v.value), (
+            f"{v.register.name}: client returned {got!r}, the example says {v.value!r}"
+        )
+        assert (got.tzinfo is not None) == (v.register.zone == "utc"), f"{v.register.name}: {got!r} on a {v.register.zone} clock"
+    elif kind == "string" or kind == "bool":
         assert got == v.value and type(got) is type(v.value), f"{v.register.name}: client returned {got!r}, the example says {v.value!r}"
     elif isinstance(v.value, (int, float)) and not isinstance(v.value, bool):
         assert got == pytest.approx(v.value), f"{v.register.name}: client returned {got!r}, the example says {v.value!r}"

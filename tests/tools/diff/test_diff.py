@@ -480,6 +480,17 @@ def fx(case_id: str, new: Edit, expect: tuple[Expected, ...], old: Edit | None =
     return Case(case_id, new, expect, old, start=fixture_base)
 
 
+def _thd_as_time(zone: str) -> Edit:
+    """thd_current (2 words) as a timestamp on the clock `zone` (issue #34)."""
+
+    def edit(data: Map) -> None:
+        reg = register(data, "thd_current")
+        reg.pop("unit")
+        reg.update(type="timestamp", zone=zone)
+
+    return edit
+
+
 def firmware_register(data: Map) -> dict[str, Any]:
     result: dict[str, Any] = data["device"]["firmware_register"]
     return result
@@ -589,6 +600,13 @@ CASES += [
         (("register_firmware_changed", "thd_current", R), ("register_firmware_changed", "thd_voltage", R)),
     ),
     fx("fx_na_added", set_(lambda d: register(d, "voltage"), "na", ["nan"]), (("register_na_changed", "voltage", R),)),
+    fx("fx_timestamp_zone", _thd_as_time("local"), (("register_zone_changed", "thd_current", R),), old=_thd_as_time("utc")),
+    fx(
+        "fx_u32_becomes_timestamp",
+        _thd_as_time("utc"),
+        (("register_type_changed", "thd_current", R),),
+        old=lambda d: register(d, "thd_current").update(type="u32", unit=None),
+    ),
     fx("fx_poll", set_(lambda d: register(d, "voltage"), "poll", "normal"), (("register_poll_changed", "voltage", C),)),
     fx(
         "fx_group_poll",

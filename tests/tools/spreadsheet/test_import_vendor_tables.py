@@ -103,16 +103,43 @@ def test_a_type_name_the_importer_does_not_know_is_never_made_u16(tmp_path: Path
         "Mode": "u16",
     }
     assert "Bitfield16" in str(regs["Status"]["notes"]) and "E16" in str(regs["Mode"]["notes"])
-    assert regs["Clock"]["type"] is None and "EPOCH" in str(regs["Clock"]["notes"])  # unknown, said, never 1 word
-    assert f"{tmp_path / 'meter.csv'}:7:3: cannot read type 'EPOCH'" in run.stderr
-    assert run.returncode == ExitCode.INVALID_MAP  # the draft is written, and the front end asks for the type
+    # EPOCH is seconds since 1970: a timestamp, whose zone the table does not give: left out, said, never guessed
+    assert regs["Clock"]["type"] == "timestamp" and "zone" not in regs["Clock"] and "EPOCH" in str(regs["Clock"]["notes"])
+    assert f"{tmp_path / 'meter.csv'}:7:3: type timestamp from the printed 'EPOCH' (seconds since 1970)" in run.stderr
+    assert run.returncode == ExitCode.INVALID_MAP  # the draft is written, and the front end asks for the zone
 
 
 def test_an_unknown_type_with_a_register_count_takes_its_width_from_the_count(tmp_path: Path) -> None:
-    run, draft = _import(tmp_path, "Address,Title,Type,Number of registers\n0x0000,Clock,EPOCH,2\n")
-    reg = _registers(draft)["Clock"]
-    assert reg["type"] == "u32" and "EPOCH" in str(reg["notes"]) and "signedness" in str(reg["notes"])
+    run, draft = _import(tmp_path, "Address,Title,Type,Number of registers\n0x0000,Flags,FLAGS32,2\n")
+    reg = _registers(draft)["Flags"]
+    assert reg["type"] == "u32" and "FLAGS32" in str(reg["notes"]) and "signedness" in str(reg["notes"])
     assert run.returncode == ExitCode.OK, run.stderr
+
+
+TIMES = """Address,Title,Type,Number of registers,Zone
+0x0000,Clock,EPOCH,2,
+0x0002,Last reset,Epoch (UTC),2,
+0x0004,Meter time,UNIX time,2,local
+0x0006,Event,timestamp,2,UTC
+0x0008,Set at,datetime (s since 1970),2,local time
+0x000A,Calendar,datetime,3,
+"""
+
+
+def test_epoch_types_import_as_timestamps_with_the_zone_the_table_gives(tmp_path: Path) -> None:
+    run, draft = _import(tmp_path, TIMES)
+    regs = _registers(draft)
+    got = {title: (regs[title]["type"], regs[title].get("zone")) for title in ("Clock", "Last reset", "Meter time", "Event", "Set at")}
+    assert got == {
+        "Clock": ("timestamp", None),  # EPOCH alone: the zone is not in the table
+        "Last reset": ("timestamp", "utc"),
+        "Meter time": ("timestamp", "local"),
+        "Event": ("timestamp", "utc"),
+        "Set at": ("timestamp", "local"),
+    }
+    assert regs["Calendar"]["type"] is None  # a bare `datetime` of 3 words is no count of seconds (BCD fields, likely)
+    assert f"{tmp_path / 'meter.csv'}:2:3: type timestamp from the printed 'EPOCH'" in run.stderr and "never guessed" in run.stderr
+    assert "zone" in str(regs["Clock"]["notes"])
 
 
 def test_a_register_count_that_contradicts_the_type_is_reported(tmp_path: Path) -> None:

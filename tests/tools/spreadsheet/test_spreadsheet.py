@@ -320,7 +320,7 @@ def test_new_writes_a_skeleton_that_validates(tmp_path: Path) -> None:
 # -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes --
 
 FIXTURES = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
-NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na"]
+NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na", "zone"]
 
 
 def _wire(r: Register) -> dict[str, Any]:
@@ -344,6 +344,7 @@ def _wire(r: Register) -> dict[str, Any]:
         "firmware": None if r.firmware is None else (r.firmware.first, r.firmware.until),
         "poll": r.poll.value,
         "na": (r.na, r.na_nan),  # issue #34: the "not available" markers survive the round trip
+        "zone": r.zone,  # issue #34: a timestamp's clock survives the round trip
         "unit": r.unit,
         "title": r.title,
     }
@@ -359,7 +360,7 @@ def _draft_wire(r: dict[str, Any]) -> dict[str, Any]:
         "address": r["address"],
         "space": r.get("space", "holding"),
         "type": kind,
-        "words": r.get("words", {"u32": 2, "s32": 2, "f32": 2, "u64": 4, "s64": 4, "f64": 4}.get(kind, 1)),
+        "words": r.get("words", TYPES[kind].words or 1),
         "access": r.get("access", "rw"),
         "word_order": r.get("word_order"),
         "byte_order": None if kind == "bool" else r.get("byte_order", "high_first"),
@@ -373,6 +374,7 @@ def _draft_wire(r: dict[str, Any]) -> dict[str, Any]:
         "firmware": None if gate is None else (gate.get("from"), gate.get("until")),
         "poll": r.get("poll", "normal"),
         "na": _draft_na(kind, r.get("na") or []),
+        "zone": r.get("zone"),
         "unit": r.get("unit"),
         "title": r["title"],
     }
@@ -391,7 +393,7 @@ def test_seed_exports_only_gain_columns_at_the_end() -> None:
         rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
         assert rows[0][-len(NEW_COLUMNS) :] == NEW_COLUMNS
         assert rows[0][: -len(NEW_COLUMNS)][:4] == ["name", "param", "address_hex", "address"]
-        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal", "")}
+        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal", "", "")}
 
 
 @pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)

@@ -205,6 +205,7 @@ C_TYPES = {
     DataType.F64: CType("double", "uint64_t"),
     DataType.STRING: CType("char", "uint16_t"),
     DataType.BOOL: CType("bool", "bool"),
+    DataType.TIMESTAMP: CType("uint32_t", "uint32_t"),
 }
 # The 16/32-bit integers of the first maps: their registers need no helper beyond the word conversions.
 PLAIN_TYPES = frozenset({DataType.U16, DataType.S16, DataType.U32, DataType.S32})

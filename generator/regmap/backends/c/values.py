@@ -24,7 +24,7 @@ from regmap.backends.c.names import (
     c_signed,
     c_unsigned,
 )
-from regmap.core.text import eng, number
+from regmap.core.text import eng, number, zone_text
 from regmap.model import EnumType, Register
 
 # The parameter a helper of a register whose word order follows the device's word-order register takes.
@@ -198,11 +198,13 @@ def _comment(reg: Register, label: str, order: str) -> str:
         what = "its whole word, the fields set with the setters above"
     elif reg.enum is not None:
         what = f"the members of {reg.enum.name} a write may send"
+    elif reg.zone is not None:
+        what = f"{reg.raw_min}..{reg.raw_max} {zone_text(reg)}, {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}"
     else:
         what = f"{eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''}"
         if _scaled(reg):
             what += f" in steps of {eng(reg, 1) if not reg.offset_set else number(reg.scale)}"
-    parts = [f"Values of {label}: {what}" if reg.access.writable else f"Value of {label}"]
+    parts = [f"Values of {label}: {what}" if reg.access.writable else f"Value of {label}" + (f": {zone_text(reg)}" if reg.zone else "")]
     if reg.paired:
         parts.append("a block write also sends the unused high word regmap_pair_high_word(words[0], _SIGNED) at _PAIR_ADDR")
     if order:

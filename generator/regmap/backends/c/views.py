@@ -30,7 +30,7 @@ from regmap.backends.c.names import (
     c_value,
 )
 from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
-from regmap.core.text import eng, number, titled
+from regmap.core.text import eng, number, titled, zone_text
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.render import c_str
@@ -185,6 +185,8 @@ def sentences(*parts: str | None) -> str:
 def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
     """Type, access, unit, scale, range, default and errata of a register (or of every element of an array member)."""
     facts = [f"{reg.type.value} {reg.access.value}"]
+    if reg.zone is not None:
+        facts.append(f"raw uint32_t {zone_text(reg)}, never converted to another zone")
     if reg.space != DEFAULT_SPACE:
         facts.append(reg.space_info.title)
     if reg.type.is_string:
@@ -196,7 +198,7 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
         facts.append(f"scale {number(reg.scale)}")
     if reg.offset_set:
         facts.append(f"offset {number(reg.offset)}")
-    converted = reg.scaled or reg.offset_set
+    converted = reg.scaled or reg.offset_set or reg.zone is not None
     if reg.min is not None or reg.max is not None:
         scaled = f" ({eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}{f' {reg.unit}' if reg.unit else ''})" if converted else ""
         facts.append(f"raw {reg.raw_min}..{reg.raw_max}{scaled}")

@@ -139,6 +139,33 @@ def text_lambda(reg: Register) -> str:
     return "\n".join(lines)
 
 
+def time_lambda(reg: Register) -> str:
+    """A timestamp's ISO 8601 text from its unsigned 32-bit seconds (exact: a sensor's float would round
+    to 128 s), the civil date by days-from-civil's inverse (proleptic Gregorian, no library, no zone):
+    `Z` after a utc time, nothing after a local one; no text for a "not available" marker."""
+    lines = [*_assemble(reg)[:1], f"if (data.size() < o + {2 * reg.words}) return {{}};", "uint64_t raw = 0;"]
+    lines += [f"raw = (raw << 8) | data[o + {i}];" for i in wire_bytes(reg)]
+    lines += [f"if (raw == 0x{pattern:X}u) return {{}};  // the device's 'not available' marker" for pattern in reg.na_bits]
+    lines += [
+        "const int64_t days = static_cast<int64_t>(raw / 86400u);",
+        "const unsigned secs = static_cast<unsigned>(raw % 86400u);",
+        "const int64_t z = days + 719468;",
+        "const int64_t era = z / 146097;",
+        "const int64_t doe = z - era * 146097;",
+        "const int64_t yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;",
+        "const int64_t doy = doe - (365 * yoe + yoe / 4 - yoe / 100);",
+        "const int64_t mp = (5 * doy + 2) / 153;",
+        "const unsigned day = static_cast<unsigned>(doy - (153 * mp + 2) / 5 + 1);",
+        "const unsigned month = static_cast<unsigned>(mp < 10 ? mp + 3 : mp - 9);",
+        "const unsigned year = static_cast<unsigned>(yoe + era * 400 + (month <= 2 ? 1 : 0));",
+        "char text[32];",
+        f'snprintf(text, sizeof text, "%04u-%02u-%02uT%02u:%02u:%02u{"Z" if reg.zone == "utc" else ""}", year, month, day, '
+        "secs / 3600u, secs / 60u % 60u, secs % 60u);",
+        "return std::string(text);",
+    ]
+    return "\n".join(lines)
+
+
 def _float(value: Fraction | float) -> str:
     text = f"{float(value):.17g}"
     return text if any(c in text for c in ".en") else text + ".0"

@@ -84,6 +84,8 @@ VALUE_TYPE = {
     (DataType.S64, WordOrder.LOW_FIRST): "S_QWORD_R",
     (DataType.F32, WordOrder.HIGH_FIRST): "FP32",
     (DataType.F32, WordOrder.LOW_FIRST): "FP32_R",
+    (DataType.TIMESTAMP, WordOrder.HIGH_FIRST): "U_DWORD",
+    (DataType.TIMESTAMP, WordOrder.LOW_FIRST): "U_DWORD_R",
 }
 # A value a lambda decodes is still given a type of its size, so that ESPHome reads the right count of registers.
 SIZED = {1: "U_WORD", 2: "U_DWORD", 4: "U_QWORD"}
@@ -219,6 +221,8 @@ class DevicePackage:
             self._bit(reg)
         elif reg.type.is_string:
             self._text(reg)
+        elif reg.type.is_timestamp:
+            self._time(reg)
         elif reg.bitfields:
             self._bitfields(reg)
         elif reg.enum is not None:
@@ -262,6 +266,17 @@ class DevicePackage:
         entity["lambda"] = Lambda(lambdas.text_lambda(reg))
         if reg.access.writable:
             self.skipped.append(f"writes of {reg.name} (ESPHome's modbus_controller has no text entity)")
+        self.add("text_sensor", entity, reg.name, category=entity_category(self.device, reg))
+
+    def _time(self, reg: Register) -> None:
+        """A timestamp as ISO 8601 text (Home Assistant shows a utc one, device_class timestamp, as a time)."""
+        entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
+        entity.update(self._item(reg, register_count=reg.words, response_size=2 * reg.words, raw_encode="NONE"))
+        entity["lambda"] = Lambda(lambdas.time_lambda(reg))
+        if reg.zone == "utc":  # a local time has no zone: Home Assistant's timestamp would need one, so it is plain text
+            entity["device_class"] = "timestamp"
+        if reg.access.writable:
+            self.skipped.append(f"writes of {reg.name} (a timestamp: ESPHome's number would round 32-bit seconds to a float)")
         self.add("text_sensor", entity, reg.name, category=entity_category(self.device, reg))
 
     def _name(self, title: str, qualifier: str) -> str:

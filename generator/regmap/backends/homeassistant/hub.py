@@ -23,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.homeassistant.scripts import Scripts, flag_sensor, label_sensor, object_id, template_flags
+from regmap.backends.homeassistant.scripts import Scripts, flag_sensor, label_sensor, object_id, template_flags, time_sensor
 from regmap.core.text import na_mark
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
@@ -63,6 +63,7 @@ DATA_TYPE = {
     DataType.F32: "float32",
     DataType.F64: "float64",
     DataType.STRING: "string",
+    DataType.TIMESTAMP: "uint32",
 }
 INPUT_TYPE = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete_input"}
 TEXT_ENCODINGS = ("ascii", "utf-8")  # HA decodes a string register's bytes as UTF-8
@@ -171,7 +172,7 @@ class _Hub:
         if virtual:
             entity["virtual_count"] = virtual
         self.sensors.append(entity)
-        if virtual or not (reg.enum is not None or template_flags(reg)):
+        if virtual or not (reg.enum is not None or template_flags(reg) or reg.zone is not None):
             return
         if not entity["name"].isascii():  # HA transliterates it into the entity id; which way is not ours to guess
             self.skipped.append(f"{reg.name}'s labels and flags as templates (its name is not ASCII text)")
@@ -190,7 +191,9 @@ class _Hub:
             self.skipped.append(f"{reg.name}'s 'not available' marker(s) {rest} (HA takes one nan_value; it has the first)")
 
     def _templates(self, reg: Register, title: str, source: str) -> None:
-        """The register's labels and flags as template entities over its sensor `source`."""
+        """The register's labels, flags and time as template entities over its sensor `source`."""
+        if reg.zone is not None:
+            self.template_sensors.append(time_sensor(reg, source, self._name(title, f"{reg.name} time"), self.instance.unique_prefix))
         if reg.enum is not None:
             name = self._name(title, f"{reg.name} label")
             self.template_sensors.append(label_sensor(reg, source, name, self.instance.unique_prefix))

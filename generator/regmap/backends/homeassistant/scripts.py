@@ -71,6 +71,20 @@ def label_sensor(reg: Register, source: str, name: str, unique_prefix: str) -> d
     }
 
 
+def time_sensor(reg: Register, source: str, name: str, unique_prefix: str) -> dict[str, Any]:
+    """A template sensor showing the time of a timestamp register's raw seconds (its sensor `source`): for a utc
+    one a timestamp entity (`as_datetime` of the seconds is an aware UTC time); for a local one the wall-clock
+    text, since Home Assistant's timestamp needs a zone the device does not state (none is guessed)."""
+    entity: dict[str, Any] = {"name": name, "unique_id": f"{unique_prefix}_{reg.name}_time"}
+    if reg.zone == "utc":
+        entity["device_class"] = "timestamp"
+        entity["state"] = f"{{{{ as_datetime(states('{source}')) }}}}"
+    else:
+        entity["state"] = f"{{{{ states('{source}') | int | timestamp_custom('%Y-%m-%dT%H:%M:%S', false) }}}}"
+    entity["availability"] = f"{{{{ has_value('{source}') }}}}"
+    return entity
+
+
 def template_flags(reg: Register) -> list[tuple[str, str, int]]:
     """(field name, field title, mask) of the register's flags that have a meaning."""
     return [(f.name, f.title, f.mask) for f in flags(reg) if not reserved(f.title)]

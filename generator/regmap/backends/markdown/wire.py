@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from regmap.core.text import number
+from regmap.core.text import number, zone_text
 from regmap.model import ByteOrder, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
@@ -27,6 +27,7 @@ TYPE_LONG = {
     DataType.F64: "64-bit IEEE 754 float",
     DataType.STRING: "text",
     DataType.BOOL: "one bit: on or off",
+    DataType.TIMESTAMP: "seconds since 1970, unsigned 32-bit",
 }
 
 SPACE_SHORT = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete input"}
@@ -101,7 +102,7 @@ def order_suffix(reg: Register) -> str:
     swapped too (word order alone says CDAB already); `bytes swapped` for a one-word value or a string."""
     if reg.wide:
         order = "high" if reg.word_order is WordOrder.HIGH_FIRST else "low"
-        text = f", {reg.words} words, {order} first"
+        text = (f" {reg.zone.upper() if reg.zone == 'utc' else reg.zone}" if reg.zone else "") + f", {reg.words} words, {order} first"
         if bytes_swapped(reg):
             text += f" ({order_name(reg.words, reg.word_order, reg.byte_order)})"
         return text
@@ -134,6 +135,8 @@ def type_fact(reg: Register) -> str:
             f"string ({reg.words} words = {2 * reg.words} bytes of {ENCODING_NAMES[reg.encoding]} text, "
             f"{padding}; a read stops at the first NUL)"
         )
+    if reg.zone is not None:  # the clock the seconds count, read as a date and time
+        return f"{reg.type.value} ({zone_text(reg)}, unsigned 32-bit; read as a {'UTC' if reg.zone == 'utc' else 'local, zone-less'} date and time)"
     return f"{reg.type.value} ({TYPE_LONG[reg.type]})"
 
 

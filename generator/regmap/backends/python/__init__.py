@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
-from regmap.core.text import eng, na_list, titled
+from regmap.core.text import eng, na_list, titled, zone_text
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
@@ -206,10 +206,8 @@ def _enum_write_type(e: EnumType) -> str:
 
 
 def _plain_type(reg: Register) -> str:
-    if reg.type.is_string:
-        return "str"
-    if reg.type.is_bool:
-        return "bool"
+    if reg.type.is_string or reg.type.is_bool or reg.type.is_timestamp:  # a timestamp's datetime: aware (UTC) or naive (local)
+        return {"string": "str", "bool": "bool", "timestamp": "datetime"}[reg.type.value]
     return "float" if reg.type.is_float or reg.scaled or reg.offset_set else "int"
 
 
@@ -253,7 +251,7 @@ def _register_doc(reg: Register) -> str:
     if reg.space != DEFAULT_SPACE:
         facts.append(reg.space_info.title[:-1])  # "input register", "coil", "discrete input"
     facts.append(f"address 0x{reg.address:04X}" + (" (low word of a 32-bit pair)" if reg.paired else ""))
-    facts.append(f"{reg.type.value}")
+    facts.append(f"{reg.type.value}" + (f" ({zone_text(reg)})" if reg.zone else ""))
     facts += _layout_facts(reg)
     if reg.unit:
         facts.append(f"unit {reg.unit}")
@@ -559,6 +557,7 @@ def device_context(device: Device) -> dict[str, Any]:
         "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
         "device_kwargs": [(key, _literal(value)) for key, value in device_extras(device).items()],
         "errors": module_errors(device),
+        "has_time": any(r.type.is_timestamp for r in device.registers),
         "firmware_note": _firmware_note(device),
         "read_plan_requests": len(blocks),
         "runtime": runtime_package(),

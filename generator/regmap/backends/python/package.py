@@ -27,6 +27,7 @@ RUNTIME_MODULES = (
     "rtu.py",
     "spaces.py",
     "spec.py",
+    "timestamps.py",
     "types.py",
     "wire.py",
 )

@@ -32,6 +32,7 @@ NATURAL = {
     DataType.F32: "REAL",
     DataType.F64: "LREAL",
     DataType.BOOL: "BOOL",
+    DataType.TIMESTAMP: "UDINT",
 }
 
 # Bit string of the same width: the word a register's words are assembled into.

@@ -10,7 +10,7 @@ from typing import Any
 
 from regmap.backends.st.codec import NATURAL, Dialect, st_type, swapped
 from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_real, st_string
-from regmap.core.text import number, titled
+from regmap.core.text import number, titled, zone_text
 from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device
@@ -355,6 +355,8 @@ def firmware_consts(names: Names, label: str, first: str | None, until: str | No
 
 def _register_comment(reg: Register) -> str:
     facts = [f"{reg.type.value} {reg.access.value}"]
+    if reg.zone is not None:  # the count a DT holds: UDINT_TO_DT (matiec, CODESYS, TwinCAT) gives the date and time
+        facts.append(f"UDINT {zone_text(reg)}; UDINT_TO_DT of it is the DT, DT_TO_UDINT the way back (no zone converted)")
     if reg.unit:
         facts.append(f"unit {reg.unit}")
     if reg.scaled:

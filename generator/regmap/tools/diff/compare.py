@@ -160,6 +160,8 @@ class _Diff:
                 note = f"{o.type.kind} -> {n.type.kind}"
             elif o.words != n.words:
                 note = f"{o.words} -> {n.words} words"
+            elif o.type.is_timestamp or n.type.is_timestamp:
+                note = "a read gives a datetime" if n.type.is_timestamp else "a read gives a number, not a datetime"
             else:
                 note = "signedness" if o.signed != n.signed else ""
             add("register_type_changed", subject, MAJOR, o.type.value, n.type.value, o.type, n.type, note)
@@ -227,6 +229,8 @@ class _Diff:
             )
         if (o.na, o.na_nan) != (n.na, n.na_nan):
             add("register_na_changed", subject, MAJOR, _show(na_list(o) or None), _show(na_list(n) or None), na_json(o), na_json(n))
+        if o.type == n.type and o.zone != n.zone:
+            add("register_zone_changed", subject, MAJOR, _show(o.zone), _show(n.zone), o.zone, n.zone)
         if o.poll != n.poll:
             add("register_poll_changed", subject, PATCH, o.poll.value, n.poll.value, o.poll, n.poll)
         out += self._bitfields(o, n, subject)

@@ -81,6 +81,11 @@ KINDS: dict[str, Kind] = {
     "register_na_changed": Kind(
         "register", "Register 'not available' markers changed", "breaking: a read gives None where it gave a value, or the other way round"
     ),
+    "register_zone_changed": Kind(
+        "register",
+        "Timestamp zones changed",
+        "breaking: the same seconds read as another time (UTC, or the device's zone-less local clock)",
+    ),
     "register_poll_changed": Kind("register", "Register poll classes changed", "patch: how often a poller reads it, not what it reads"),
     "register_added": Kind("register", "Registers added", "minor"),
     "register_doc_changed": Kind("register", "Register documentation changed", "patch"),

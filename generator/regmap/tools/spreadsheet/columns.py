@@ -66,6 +66,7 @@ FIELDS: dict[str, str] = {
     "firmware_from": "first firmware version with the register (inclusive)",
     "firmware_until": "first firmware version without it (exclusive)",
     "poll": "static, fast, normal or slow (also 静态, 快, 普通, 慢)",
+    "zone": "a timestamp's clock: utc or local (the table's own word; never guessed)",
     "na": "'not available' markers the device sends for no value: 0xFFFF, 0x7FFF, NaN (a float's), comma separated",
 }
 
@@ -194,6 +195,10 @@ HEADERS: dict[str, str] = {
     "n/a value": "na",
     "invalid value": "na",
     "无效值": "na",
+    "zone": "zone",
+    "time zone": "zone",
+    "timezone": "zone",
+    "时区": "zone",
 }
 
 

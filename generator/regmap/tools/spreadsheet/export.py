@@ -68,6 +68,7 @@ REGISTER_COLUMNS = (
     "firmware_until",
     "poll",
     "na",
+    "zone",
 )
 
 Cell = str | int | float | bool | None
@@ -150,6 +151,7 @@ def register_row(r: Register) -> dict[str, Cell]:
         "firmware_until": r.firmware.until if r.firmware else None,
         "poll": j["poll"],
         "na": na_list(r) or None,
+        "zone": r.zone,
     }
 
 

@@ -36,6 +36,7 @@ KEY_ORDER = (
     "address",
     "space",
     "type",
+    "zone",
     "words",
     "encoding",
     "padding",
@@ -308,6 +309,8 @@ def _current(reg: Register, key: str) -> Any:
         return None if reg.firmware is None else {k: v for k, v in (("from", reg.firmware.first), ("until", reg.firmware.until)) if v}
     if key == "poll":
         return reg.poll.value
+    if key == "zone":
+        return reg.zone
     if key == "na":  # as a cell reads it back: an integer's bit pattern (0x8000, not -32768), `nan`
         marks = [m & ((1 << reg.type.bits) - 1) if isinstance(m, int) else m for m in reg.na] + (["nan"] if reg.na_nan else [])
         return marks or None

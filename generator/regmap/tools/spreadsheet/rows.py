@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from regmap.frontend.values import _ParamRule
-from regmap.tools.spreadsheet import cells
+from regmap.tools.spreadsheet import cells, times
 from regmap.tools.spreadsheet.cells import CellProblem
 from regmap.tools.spreadsheet.table import Table, TableError
 from regmap_runtime.types import TYPES
@@ -203,6 +203,16 @@ class _Reader:
 
     # -- type, access, enum, bitfields, word order
 
+    def _timestamp(self, e: Entry, c: list[str], printed: tuple[str, str]) -> None:
+        """A type cell naming seconds since 1970: `timestamp`, its zone from the cell or a zone column, else reported."""
+        e.give("type", "timestamp")
+        zone = self.read(e, c, "zone", lambda t: cells.choice(t, times.ZONES, "zone")) or times.printed_zone(printed[0])
+        if zone is not None:
+            e.give("zone", zone)
+        else:
+            e.notes.append(times.zone_note(printed[0]))
+            self.problems.append(Problem(printed[1], f"{times.zone_note(printed[0])} (never guessed)", e.row))
+
     def _kind(self, e: Entry, c: list[str]) -> None:
         space = self.take(e, c, "space", cells.space)
         if e.modicon_space is not None:
@@ -213,11 +223,16 @@ class _Reader:
                 )
             e.give("space", e.modicon_space)
             space = e.modicon_space
+        printed_type = self.cell(c, "type")
+        timestamp = printed_type is not None and times.is_time_type(printed_type[0])
+        if timestamp and printed_type is not None:
+            self._timestamp(e, c, printed_type)
         for key, table, what in (("type", cells.TYPES, "type"), ("word_order", cells.WORD_ORDERS, "word order")):
+            if key == "type" and timestamp:
+                continue
             value = self.read(e, c, key, lambda t, table=table, what=what: cells.choice(t, table, what))
             if value is not None:
                 e.give(key, value)
-        printed_type = self.cell(c, "type")
         if printed_type is not None and "type" in e.values and cells._squash(printed_type[0]).lower() in cells.TYPE_NOTES:
             e.notes.append(cells.TYPE_NOTES[cells._squash(printed_type[0]).lower()])
         if "type" not in e.values and space in ("coil", "discrete_input") and not e.type_unknown:

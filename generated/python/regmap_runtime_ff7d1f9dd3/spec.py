@@ -122,6 +122,7 @@ class RegisterSpec(Generic[T]):
     na: tuple[int | float, ...] = ()  # raw values that mean "not available": read as None, never written
     na_nan: bool = False  # any NaN means "not available"
     variants: tuple[str, ...] = ()  # the device variants that have the register; () every variant
+    zone: str | None = None  # a timestamp's clock: utc or local (regmap_runtime.timestamps)
 
     @cached_property
     def type_info(self) -> TypeInfo:

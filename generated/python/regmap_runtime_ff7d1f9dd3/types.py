@@ -3,7 +3,7 @@
 The model (`regmap.model.DataType`), the runtime (`RegisterSpec`, the codec) and every back end read
 their facts from here; a back end keeps only its own spelling of a type (`int16_t`, "signed 16-bit").
 
-Kinds: "int" (u16..s64), "float" (IEEE 754 f32/f64), "string" (N words of text, N given by the
+Kinds: "int" (u16..s64, and timestamp: an unsigned 32-bit count of seconds, read as a time), "float" (IEEE 754 f32/f64), "string" (N words of text, N given by the
 register) and "bool" (one coil or discrete input: a bit, not a word).
 """
 
@@ -68,6 +68,11 @@ class TypeInfo:
         return self.kind == BOOL
 
     @property
+    def is_timestamp(self) -> bool:
+        """Seconds since 1970 (a u32 on the wire), read and written as a time (`regmap_runtime.timestamps`)."""
+        return self.name == "timestamp"
+
+    @property
     def has_byte_order(self) -> bool:
         """Made of register words, whose two bytes a device may swap (not a coil's bit)."""
         return self.kind != BOOL
@@ -116,6 +121,7 @@ TYPES: dict[str, TypeInfo] = {
         TypeInfo("f64", words=4, signed=True, kind=FLOAT, codec="d"),
         TypeInfo("string", words=0, signed=False, kind=STRING, codec=""),
         TypeInfo("bool", words=1, signed=False, kind=BOOL, codec=""),
+        TypeInfo("timestamp", words=2, signed=False, kind=INT, codec="I"),  # last: the C header's type numbers stay
     )
 }
 
