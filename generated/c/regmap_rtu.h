@@ -103,10 +103,11 @@ typedef enum regmap_type {
     REGMAP_TYPE_S32 = 3,
     REGMAP_TYPE_U64 = 4,
     REGMAP_TYPE_S64 = 5,
-    REGMAP_TYPE_F32 = 6,
-    REGMAP_TYPE_F64 = 7,
-    REGMAP_TYPE_STRING = 8,
-    REGMAP_TYPE_BOOL = 9
+    REGMAP_TYPE_F16 = 6,
+    REGMAP_TYPE_F32 = 7,
+    REGMAP_TYPE_F64 = 8,
+    REGMAP_TYPE_STRING = 9,
+    REGMAP_TYPE_BOOL = 10
 } regmap_type;
 
 /* What fills a string register after its text (a map's `padding`) */
