@@ -37,6 +37,7 @@ groups:
     registers:
       - {name: temperature, address: 0x0000, type: f16, unit: °C, na: [nan], title: Room temperature (NaN while no sensor)}
       - {name: flow, address: 0x0001, type: f16, scale: 0.1, unit: l/min, title: Air flow}
+      - {name: humidity, address: 0x0002, type: f16, byte_order: low_first, unit: "%", title: Relative humidity (bytes swapped)}
   - id: settings
     title: Settings
     source: "test"
