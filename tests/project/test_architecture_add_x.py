@@ -129,7 +129,11 @@ def add_back_end(copy: Path) -> None:
 def add_register_type(copy: Path) -> None:
     # A second name for the half float (f16 is a real type): the same codec, its own row everywhere.
     runtime = copy / "generator" / "regmap_runtime" / "types.py"
-    edit(runtime, '        TypeInfo("f64",', '        TypeInfo("half", words=1, signed=True, kind=FLOAT, codec="e"),\n        TypeInfo("f64",')
+    edit(
+        runtime,
+        '        TypeInfo("f64",',
+        '        TypeInfo("half", words=1, signed=True, kind=FLOAT, codec="e"),\n        TypeInfo("f64",',
+    )
     edit(copy / "generator" / "regmap" / "kinds.py", '    F64 = "f64"\n', '    F64 = "f64"\n    HALF = "half"\n')
     schema = copy / "generator" / "regmap" / "schema" / "map.schema.json"
     text = schema.read_text(encoding="utf-8")

@@ -33,8 +33,8 @@ def test_every_bit_pattern_decodes_as_struct_e_does() -> None:
     spec, swapped = _half(), _half(byte_order="low_first")
     for bits in range(0x10000):
         expected = struct.unpack(">e", bits.to_bytes(2, "big"))[0]
-        got = words_to_raw(spec, [bits])
-        also = words_to_raw(swapped, [((bits & 0xFF) << 8) | (bits >> 8)])
+        got = float(words_to_raw(spec, [bits]))
+        also = float(words_to_raw(swapped, [((bits & 0xFF) << 8) | (bits >> 8)]))
         if math.isnan(expected):
             assert math.isnan(got) and math.isnan(also), hex(bits)
         else:
@@ -78,7 +78,7 @@ def test_rounding_never_carries_a_value_past_the_maps_range() -> None:
 
 def test_a_scaled_half_reads_and_writes_through_the_scale() -> None:
     spec = _half(scale_num=1, scale_den=10)
-    assert raw_to_value(spec, words_to_raw(spec, [0x4B00])) == pytest.approx(1.4)  # raw 14.0
+    assert raw_to_value(spec, float(words_to_raw(spec, [0x4B00]))) == pytest.approx(1.4)  # raw 14.0
     assert raw_to_words(spec, value_to_raw(spec, 1.4)) == [0x4B00]
 
 

@@ -6,6 +6,7 @@ floats and doubles; then the value helpers of a map of f16 registers agree with 
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import random
@@ -64,7 +65,7 @@ def _floats_to_encode() -> list[float]:
     values = [v for v in EDGE_VALUES if abs(v) < 3.4e38] + [65520.0, -65520.0, 1e6, math.inf, -math.inf]
     finite = sorted({half(b) for b in range(0x10000) if not math.isnan(half(b)) and not math.isinf(half(b))})
     values += finite
-    for low, high in zip(finite, finite[1:], strict=False):
+    for low, high in itertools.pairwise(finite):
         tie = (low + high) / 2  # exact in a float: a half has 11 bits, the tie 12
         below, above = (struct.unpack(">f", struct.pack(">I", _float_bits(tie) + d))[0] for d in ((-1, 1) if tie > 0 else (1, -1)))
         values += [tie, below, above] if tie != 0 else [tie]
@@ -171,7 +172,9 @@ def _values_program(cases: list[tuple[str, str, float]]) -> str:
     lines = []
     for function, cast, value in cases:
         literal = f"({cast}){int(value)}" if cast.endswith("_fan") else f"({cast}){value.hex()}"  # an enum from an integer (C++)
-        lines.append(f'    {{ uint16_t w[1] = {{0xDEADu}}; if ({function}({literal}, w)) printf("%04x\\n", (unsigned)w[0]); else printf("refused\\n"); }}')
+        lines.append(
+            f'    {{ uint16_t w[1] = {{0xDEADu}}; if ({function}({literal}, w)) printf("%04x\\n", (unsigned)w[0]); else printf("refused\\n"); }}'
+        )
     return (
         '#include <stdio.h>\n#include "half_sensor.h"\n\nint main(void)\n{\n'
         + "\n".join(lines)

@@ -58,7 +58,7 @@ def test_a_half_is_read_as_a_word_and_decoded_as_struct_e(device: Device, tmp_pa
         calls.append(
             f"for (unsigned b = 0; b < 0x10000u; b++) {{ Item item{{1}}; std::vector<uint8_t> data{{0xAA, "
             f"static_cast<uint8_t>({first}), static_cast<uint8_t>({second})}};\n"
-            f"float f = lambda_{address}(&item, data); uint32_t u; std::memcpy(&u, &f, sizeof u); std::printf(\"%08x\\n\", u); }}"
+            f'float f = lambda_{address}(&item, data); uint32_t u; std::memcpy(&u, &f, sizeof u); std::printf("%08x\\n", u); }}'
         )
     source = tmp_path / "half.cpp"
     source.write_text(

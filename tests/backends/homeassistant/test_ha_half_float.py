@@ -15,9 +15,9 @@ from regmap.frontend import load_map
 from regmap.homeauto.selection import select
 from regmap.model import Device
 
+from support.half_map import write_half_map
 from support.homeauto_roundtrip import EVERYTHING, ha_round_trip
 from support.homeauto_yaml import load
-from support.half_map import write_half_map
 
 
 @pytest.fixture
@@ -51,7 +51,9 @@ def test_home_assistant_accepts_the_hub_and_reads_float16_as_struct_e(hass: Path
     work.mkdir()
     (work / "device.yaml").write_text(_hub(device), encoding="utf-8")
     (work / "configuration.yaml").write_text("homeassistant:\n  packages:\n    device: !include device.yaml\n", encoding="utf-8")
-    result = subprocess.run([str(hass), "--script", "check_config", "-c", str(work)], capture_output=True, text=True, timeout=300, check=False)
+    result = subprocess.run(
+        [str(hass), "--script", "check_config", "-c", str(work)], capture_output=True, text=True, timeout=300, check=False
+    )
     out = result.stdout + result.stderr
     assert result.returncode == 0 and "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
     assert "components.modbus" not in out, out[-4000:]

@@ -88,7 +88,7 @@ def test_switches_fans_lights_climates_and_covers(plant: tuple[subprocess.Comple
 
 
 def test_what_a_map_cannot_hold_is_reported(plant: tuple[subprocess.CompletedProcess[str], dict[str, Device]]) -> None:
-    run, maps = plant
+    run, _ = plant
     assert "Panel light: Home Assistant does not read it back (no verify)" in run.stdout
     assert "Float16" not in run.stdout  # a half float is an f16 now (below), nothing to report
 

@@ -354,6 +354,7 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
     raw_type = C_TYPES[reg.type].value
     lo, hi = c_float_literal(float(reg.raw_min), reg.type), c_float_literal(float(reg.raw_max), reg.type)
     half = reg.type is DataType.F16
+    held: tuple[str, ...]
     if _scaled(reg):
         offset, num, den = _ratio(reg)
         raw = f"(value - {offset}) * {den} / {num}"
