@@ -22,9 +22,9 @@ from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.plant import render_plant
 from regmap.backends.st.plcopen import plcopen_context
 from regmap.backends.st.poller import RUNTIMES, VENDOR, poller, serial_settings
-from regmap.diagnostics import Diagnostic, UsageError, at
+from regmap.diagnostics import Diagnostic, UsageError
 from regmap.keywords import IEC_KEYWORDS
-from regmap.model import DataType, Device
+from regmap.model import Device
 from regmap.render import templates
 from regmap.target import Files, ReservedWords, Target
 
@@ -33,13 +33,7 @@ FILES = ("types", "constants", "functions")
 
 def contexts(device: Device) -> tuple[dict[str, dict[str, Any]], list[Diagnostic]]:
     """Each dialect's template context, and every name problem of the map (found in either dialect)."""
-    problems: list[Diagnostic] = [
-        at(device.source_path, r.pos, f"{r.name}: an f16 (half float) has no Structured Text helpers yet; leave st out (--target)")
-        for r in device.registers
-        if r.type is DataType.F16
-    ]
-    if problems:  # the float helpers go by width (32 or 64 bits): none would read a half right
-        return {}, problems
+    problems: list[Diagnostic] = []
     out = {dialect.name: device_views(device, dialect, problems) for dialect in DIALECTS}
     return out, sorted(set(problems))
 
