@@ -107,7 +107,8 @@ typedef enum regmap_type {
     REGMAP_TYPE_F64 = 7,
     REGMAP_TYPE_STRING = 8,
     REGMAP_TYPE_BOOL = 9,
-    REGMAP_TYPE_TIMESTAMP = 10
+    REGMAP_TYPE_TIMESTAMP = 10,
+    REGMAP_TYPE_F16 = 11
 } regmap_type;
 
 /* What fills a string register after its text (a map's `padding`) */
@@ -382,6 +383,95 @@ static inline float regmap_f32_from_wire(const uint16_t words[2], regmap_word_or
 static inline void regmap_f32_to_wire(float value, regmap_word_order word_order, regmap_byte_order byte_order, uint16_t words[2])
 {
     regmap_u32_to_wire(regmap_f32_to_bits(value), word_order, byte_order, words);
+}
+
+/* IEEE 754 half precision (f16, one register) without _Float16, which C99 and C++ lack: a half's bits
+ * widen exactly to a float's (every half is a float; subnormals normalised, infinities kept, a NaN keeps
+ * its payload) and a float's bits narrow to the nearest half, ties to even; 65520 and beyond round to
+ * infinity, a NaN stays a quiet NaN. The value helpers refuse both before they get here. */
+static inline float regmap_f16_from_bits(uint16_t bits)
+{
+    uint32_t sign = (uint32_t)(bits & 0x8000u) << 16;
+    uint32_t exponent = ((uint32_t)bits >> 10) & 0x1Fu;
+    uint32_t mantissa = (uint32_t)bits & 0x3FFu;
+    if (exponent == 0x1Fu) {
+        return regmap_f32_from_bits(sign | 0x7F800000u | (mantissa << 13)); /* infinity or NaN */
+    }
+    if (exponent == 0u) {
+        if (mantissa == 0u) {
+            return regmap_f32_from_bits(sign); /* +0.0 or -0.0 */
+        }
+        exponent = 113u; /* a subnormal, m x 2^-24: shifted until its leading bit is the float's implicit one */
+        while ((mantissa & 0x400u) == 0u) {
+            mantissa <<= 1;
+            exponent--;
+        }
+        return regmap_f32_from_bits(sign | (exponent << 23) | ((mantissa & 0x3FFu) << 13));
+    }
+    return regmap_f32_from_bits(sign | ((exponent + 112u) << 23) | (mantissa << 13));
+}
+
+static inline uint16_t regmap_f16_to_bits(float value)
+{
+    uint32_t bits = regmap_f32_to_bits(value);
+    uint32_t sign = (bits >> 16) & 0x8000u;
+    uint32_t exponent = (bits >> 23) & 0xFFu;
+    uint32_t mantissa = bits & 0x7FFFFFu;
+    uint32_t half, rest, halfway, shift;
+    if (exponent == 0xFFu) {
+        return (uint16_t)(sign | (mantissa != 0u ? 0x7E00u | (mantissa >> 13) : 0x7C00u)); /* NaN (quiet) or infinity */
+    }
+    if (exponent > 142u) {
+        return (uint16_t)(sign | 0x7C00u); /* 2^16 and beyond: infinity */
+    }
+    if (exponent >= 113u) {
+        /* A normal half: 13 mantissa bits dropped, rounded to nearest, ties to even (a carry may reach infinity). */
+        half = ((exponent - 112u) << 10) | (mantissa >> 13);
+        rest = mantissa & 0x1FFFu;
+        halfway = 0x1000u;
+    } else if (exponent >= 102u) {
+        /* A subnormal half, m x 2^-24 (2^-25 itself is a tie and goes to 0): the implicit bit made explicit. */
+        mantissa |= 0x800000u;
+        shift = 126u - exponent;
+        half = mantissa >> shift;
+        rest = mantissa & ((1u << shift) - 1u);
+        halfway = 1u << (shift - 1u);
+    } else {
+        return (uint16_t)sign; /* below 2^-25: +0.0 or -0.0 */
+    }
+    if (rest > halfway || (rest == halfway && (half & 1u) != 0u)) {
+        half++;
+    }
+    return (uint16_t)(sign | half);
+}
+
+/* A double narrowed to a half rounded once, as Python's struct rounds it: through a float rounded to odd
+ * (an inexact float gets an odd last bit; a float's 24 bits are at least the half's 11 + 2, so the second
+ * rounding is then exact). What a scaled f16's encoder uses: its raw value is computed as a double. */
+static inline uint16_t regmap_f16_to_bits_from_double(double value)
+{
+    float narrow;
+    uint32_t bits;
+    if (!(value > -65520.0 && value < 65520.0)) {
+        return value != value ? (uint16_t)0x7E00u : (uint16_t)(value < 0.0 ? 0xFC00u : 0x7C00u);
+    }
+    narrow = (float)value;
+    bits = regmap_f32_to_bits(narrow);
+    if ((double)narrow != value && (bits & 1u) == 0u) {
+        bool away = value > 0.0 ? (double)narrow > value : (double)narrow < value;
+        bits = away ? bits - 1u : bits + 1u;
+    }
+    return regmap_f16_to_bits(regmap_f32_from_bits(bits));
+}
+
+static inline float regmap_f16_from_wire(uint16_t word, regmap_byte_order byte_order)
+{
+    return regmap_f16_from_bits(regmap_u16_from_wire(word, byte_order));
+}
+
+static inline uint16_t regmap_f16_to_wire(float value, regmap_byte_order byte_order)
+{
+    return regmap_u16_to_wire(regmap_f16_to_bits(value), byte_order);
 }
 #endif
 

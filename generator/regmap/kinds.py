@@ -50,6 +50,7 @@ class DataType(enum.Enum):
     S32 = "s32"
     U64 = "u64"
     S64 = "s64"
+    F16 = "f16"
     F32 = "f32"
     F64 = "f64"
     STRING = "string"

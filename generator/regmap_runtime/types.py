@@ -3,7 +3,7 @@
 The model (`regmap.model.DataType`), the runtime (`RegisterSpec`, the codec) and every back end read
 their facts from here; a back end keeps only its own spelling of a type (`int16_t`, "signed 16-bit").
 
-Kinds: "int" (u16..s64, and timestamp: an unsigned 32-bit count of seconds, read as a time), "float" (IEEE 754 f32/f64), "string" (N words of text, N given by the
+Kinds: "int" (u16..s64, and timestamp: an unsigned 32-bit count of seconds, read as a time), "float" (IEEE 754 f16/f32/f64; struct's "e" is half precision), "string" (N words of text, N given by the
 register) and "bool" (one coil or discrete input: a bit, not a word).
 """
 
@@ -18,6 +18,7 @@ INT, FLOAT, STRING, BOOL = "int", "float", "string", "bool"
 
 # Largest finite values, so a float register's range check has bounds like an integer's.
 _FLOAT_MAX: dict[int, float] = {
+    2: struct.unpack(">e", b"\x7b\xff")[0],  # 65504
     4: struct.unpack(">f", b"\x7f\x7f\xff\xff")[0],
     8: struct.unpack(">d", b"\x7f\xef\xff\xff\xff\xff\xff\xff")[0],
 }
@@ -121,7 +122,9 @@ TYPES: dict[str, TypeInfo] = {
         TypeInfo("f64", words=4, signed=True, kind=FLOAT, codec="d"),
         TypeInfo("string", words=0, signed=False, kind=STRING, codec=""),
         TypeInfo("bool", words=1, signed=False, kind=BOOL, codec=""),
-        TypeInfo("timestamp", words=2, signed=False, kind=INT, codec="I"),  # last: the C header's type numbers stay
+        # Added types go last, so the C header's type numbers of the older ones stay.
+        TypeInfo("timestamp", words=2, signed=False, kind=INT, codec="I"),
+        TypeInfo("f16", words=1, signed=True, kind=FLOAT, codec="e"),
     )
 }
 

@@ -127,17 +127,19 @@ def add_back_end(copy: Path) -> None:
 
 
 def add_register_type(copy: Path) -> None:
+    # A second name for the half float (f16 is a real type): the same codec, its own row everywhere.
     runtime = copy / "generator" / "regmap_runtime" / "types.py"
-    edit(runtime, "    8: struct.unpack", '    2: struct.unpack(">e", b"\\x7b\\xff")[0],\n    8: struct.unpack')
     edit(
-        runtime, '        TypeInfo("f64",', '        TypeInfo("f16", words=1, signed=True, kind=FLOAT, codec="e"),\n        TypeInfo("f64",'
+        runtime,
+        '        TypeInfo("f64",',
+        '        TypeInfo("half", words=1, signed=True, kind=FLOAT, codec="e"),\n        TypeInfo("f64",',
     )
-    edit(copy / "generator" / "regmap" / "kinds.py", '    F64 = "f64"\n', '    F64 = "f64"\n    F16 = "f16"\n')
+    edit(copy / "generator" / "regmap" / "kinds.py", '    F64 = "f64"\n', '    F64 = "f64"\n    HALF = "half"\n')
     schema = copy / "generator" / "regmap" / "schema" / "map.schema.json"
     text = schema.read_text(encoding="utf-8")
-    schema.write_text(re.sub(r'^( *)"f64",\n', r'\1"f64",\n\1"f16",\n', text, flags=re.M), encoding="utf-8")
-    assert schema.read_text(encoding="utf-8").count('"f16"') == text.count('"f64"')
-    edit(copy / "docs" / "map-format.md", "| `f64` | 4 |", "| `f16` | 1 | IEEE 754 half precision | `1.5` |\n| `f64` | 4 |")
+    schema.write_text(re.sub(r'^( *)"f64",\n', r'\1"f64",\n\1"half",\n', text, flags=re.M), encoding="utf-8")
+    assert schema.read_text(encoding="utf-8").count('"half"') == text.count('"f64"')
+    edit(copy / "docs" / "map-format.md", "| `f64` | 4 |", "| `half` | 1 | IEEE 754 half precision | `1.5` |\n| `f64` | 4 |")
 
 
 def add_subcommand(copy: Path) -> None:
@@ -209,13 +211,13 @@ def test_a_register_type_loads_from_a_map_and_encodes(copy: Path) -> None:
         "transport:\n  serial: {baud: 9600, parity: none, data_bits: 8, stop_bits: 1}\n  slave_ids: {min: 1, max: 247}\n"
         "  function_codes: [0x03, 0x06, 0x10]\n  max_read_registers: 125\n  max_write_registers: 123\n  word_order: high_first\n"
         "groups:\n  - id: g\n    title: G\n    source: '1'\n    registers:\n"
-        "      - {name: level, address: 0x0010, type: f16, title: Level}\n",
+        "      - {name: level, address: 0x0010, type: half, title: Level}\n",
         encoding="utf-8",
     )
     result = regmap(copy, "-c", program)
     (copy / "m.yaml").unlink()
     assert result.returncode == 0, result.stderr
-    assert result.stdout.split() == ["f16", "[15872]", "1.5"]  # IEEE 754 half: 1.5 is 0x3E00
+    assert result.stdout.split() == ["half", "[15872]", "1.5"]  # IEEE 754 half: 1.5 is 0x3E00
     touched_equals_row(before, copy, "a data type")
 
 

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_ff7d1f9dd3.bits import BitfieldValue
-from regmap_runtime_ff7d1f9dd3.client import AsyncClient, SyncClient
-from regmap_runtime_ff7d1f9dd3.codec import Unlisted
-from regmap_runtime_ff7d1f9dd3.errors import (
+from regmap_runtime_9792c23ef4.bits import BitfieldValue
+from regmap_runtime_9792c23ef4.client import AsyncClient, SyncClient
+from regmap_runtime_9792c23ef4.codec import Unlisted
+from regmap_runtime_9792c23ef4.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_ff7d1f9dd3.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_ff7d1f9dd3.profile import DeviceProfile, load_profile
-from regmap_runtime_ff7d1f9dd3.spec import (
+from regmap_runtime_9792c23ef4.profile import DeviceProfile, load_profile
+from regmap_runtime_9792c23ef4.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

@@ -168,11 +168,11 @@ def c_double(value: Fraction | float) -> str:
 
 
 def c_float_literal(value: float, data_type: DataType) -> str:
-    """A literal of a float register's type: `900.0f` for f32 (rounded by the compiler as a float32 is), `0.1` for f64."""
+    """A literal of a float register's C type: `900.0f` for f16 and f32 (a float: rounded by the compiler as a float32 is), `0.1` for f64."""
     text = repr(float(value))
     if not any(c in text for c in ".e"):
         text += ".0"
-    return _negative(text + "f" if data_type is DataType.F32 else text)
+    return _negative(text + "f" if data_type in (DataType.F16, DataType.F32) else text)
 
 
 def c_value(value: int | float | str, reg: Register) -> str:
@@ -201,6 +201,7 @@ C_TYPES = {
     DataType.S32: CType("int32_t", "uint32_t"),
     DataType.U64: CType("uint64_t", "uint64_t"),
     DataType.S64: CType("int64_t", "uint64_t"),
+    DataType.F16: CType("float", "uint16_t"),  # converted by the shared header's regmap_f16_* (no _Float16 in C99 or C++)
     DataType.F32: CType("float", "uint32_t"),
     DataType.F64: CType("double", "uint64_t"),
     DataType.STRING: CType("char", "uint16_t"),
@@ -213,8 +214,8 @@ PLAIN_TYPES = frozenset({DataType.U16, DataType.S16, DataType.U32, DataType.S32}
 WIRE_FUNCTIONS: dict[DataType, tuple[str, str]] = {
     t: (f"regmap_{t.value}_from_wire", f"regmap_{t.value}_to_wire") for t in DataType if t is not DataType.BOOL
 }
-# A type whose helpers exist only where the C type is IEEE 754 (the shared header's REGMAP_HAS_F32/F64).
-FLOAT_GUARD = {DataType.F32: "REGMAP_HAS_F32", DataType.F64: "REGMAP_HAS_F64"}
+# A type whose helpers exist only where the C type is IEEE 754 (the shared header's REGMAP_HAS_F32/F64; an f16's value is a float).
+FLOAT_GUARD = {DataType.F16: "REGMAP_HAS_F32", DataType.F32: "REGMAP_HAS_F32", DataType.F64: "REGMAP_HAS_F64"}
 ACCESS_MACRO = {Access.READ: "REGMAP_ACCESS_R", Access.READ_WRITE: "REGMAP_ACCESS_RW", Access.WRITE: "REGMAP_ACCESS_W"}
 WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST: "REGMAP_LOW_FIRST"}
 # The shared header's enums, from the runtime's tables: spaces, types, paddings, poll classes, firmware formats.

@@ -25,7 +25,7 @@ from regmap.backends.c.names import (
     c_unsigned,
 )
 from regmap.core.text import eng, number, zone_text
-from regmap.model import EnumType, Register
+from regmap.model import DataType, EnumType, Register
 
 # The parameter a helper of a register whose word order follows the device's word-order register takes.
 ORDER_PARAM = "word_order"
@@ -355,21 +355,34 @@ def _bitfield_bodies(
 def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     raw_type = C_TYPES[reg.type].value
     lo, hi = c_float_literal(float(reg.raw_min), reg.type), c_float_literal(float(reg.raw_max), reg.type)
+    half = reg.type is DataType.F16
+    held: tuple[str, ...]
     if _scaled(reg):
         offset, num, den = _ratio(reg)
         raw = f"(value - {offset}) * {den} / {num}"
+        if half:  # rounded once from the double, as the Python client rounds it; the half it becomes is checked too
+            held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits_from_double(raw));",)
+            sent = f"words[0] = regmap_u16_to_wire(regmap_f16_to_bits_from_double({raw}), {WORD_ORDER_MACRO[reg.byte_order]});"
+        else:
+            held, sent = (), _to_wire(ctx, reg, f"({raw_type})({raw})")
         return (
             "double",
-            (f"double raw = {raw};", f"return raw >= {lo} && raw <= {hi}; /* NaN fails */"),
-            (*_refused_when_not(in_range), _to_wire(ctx, reg, f"({raw_type})({raw})"), "return true;"),
+            (f"double raw = {raw};", *held, f"return raw >= {lo} && raw <= {hi}{_held_inside(half, lo, hi)}; /* NaN fails */"),
+            (*_refused_when_not(in_range), sent, "return true;"),
             (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
         )
+    held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits(value));",) if half else ()
     return (
         raw_type,
-        (f"return value >= {lo} && value <= {hi}; /* NaN fails */",),
+        (*held, f"return value >= {lo} && value <= {hi}{_held_inside(half, lo, hi)}; /* NaN fails */"),
         (*_refused_when_not(in_range), _to_wire(ctx, reg, "value"), "return true;"),
         (f"*out = {_from_wire(ctx, reg)};", "return true;"),
     )
+
+
+def _held_inside(half: bool, lo: str, hi: str) -> str:
+    """An f16 is rounded to 11 bits on the way out: the half it becomes must be inside the range too (never infinity)."""
+    return f" && held >= {lo} && held <= {hi}" if half else ""
 
 
 def _na_conditions(reg: Register, raw: str) -> list[str]:
@@ -388,7 +401,10 @@ def _refusing_na(reg: Register, in_range: tuple[str, ...]) -> tuple[str, ...]:
     raw = "raw" if any(line.startswith("double raw") for line in head) else "value"
     expression = last.split(" /*")[0].removeprefix("return ").removesuffix(";")
     conditions = [expression] if expression != "true" else []
-    return (*head, f"return {' && '.join([*conditions, *_na_conditions(reg, raw)])};")
+    conditions += _na_conditions(reg, raw)
+    if any(line.startswith("float held") for line in head):  # an f16 that rounds onto a marker is refused too
+        conditions += [c for c in _na_conditions(reg, "held") if "NaN" not in c]
+    return (*head, f"return {' && '.join(conditions)};")
 
 
 def register_values(ctx: Context, reg: Register, label: str = "") -> tuple[ValueView, ...]:

@@ -1,5 +1,5 @@
 """C++ lambdas for what ESPHome's `value_type`s cannot say: byte-swapped values (ESPHome has no byte-swap
-type), IEEE doubles (no FP64 type), text as the Python client reads it, and writes of byte-swapped words.
+type), IEEE half floats and doubles (no FP16 or FP64 type), text as the Python client reads it, and writes of byte-swapped words.
 
 Each lambda is written from integers and the register's type alone, never from map text (see
 `homeauto.entities.Lambda`). They read the register's bytes from `data` at `item->offset` (the byte offset
@@ -46,6 +46,14 @@ def raw_lambda(reg: Register, field: Bitfield | None = None) -> str:
         lines += [f"if (raw == 0x{pattern:X}u) return NAN;  // the device's 'not available' marker" for pattern in reg.na_bits]
     if field is not None:
         lines.append(f"return static_cast<float>((raw >> {field.lsb}) & 0x{(1 << field.width) - 1:X}u);")
+    elif reg.type.is_float and bits == 16:
+        # A half (f16): sign, 5 exponent bits, 10 mantissa bits; std::ldexp is exact here (every half is a float).
+        lines += [
+            "const unsigned e = static_cast<unsigned>(raw >> 10) & 0x1Fu;",
+            "const float m = static_cast<float>(raw & 0x3FFu);",
+            "const float f = e == 0u ? std::ldexp(m, -24) : e == 31u ? (m != 0.0f ? NAN : INFINITY) : std::ldexp(m + 1024.0f, static_cast<int>(e) - 25);",
+            "return (raw & 0x8000u) != 0u ? -f : f;",
+        ]
     elif reg.type.is_float and bits == 32:
         lines += ["const uint32_t u = static_cast<uint32_t>(raw);", "float f;", "std::memcpy(&f, &u, sizeof f);", "return f;"]
     elif reg.type.is_float:

@@ -234,8 +234,9 @@ class DevicePackage:
 
     def _writable(self, reg: Register) -> bool:
         """Whether ESPHome's number can write the register (else its sensor is generated, and the header says so)."""
-        if reg.type is DataType.F64:
-            self.skipped.append(f"writes of {reg.name} (ESPHome has no 64-bit float type; its sensor reads it)")
+        if reg.type in (DataType.F16, DataType.F64):
+            bits = reg.type.bits
+            self.skipped.append(f"writes of {reg.name} (ESPHome has no {bits}-bit float type; its sensor reads it)")
             return False
         if swapped(reg) and reg.words > 1:
             self.skipped.append(f"writes of {reg.name} (ESPHome writes no byte-swapped value wider than a word; its sensor reads it)")
@@ -243,8 +244,8 @@ class DevicePackage:
         return True
 
     def _lambda(self, reg: Register) -> bool:
-        """A value_type cannot say how to read it: a double or a byte-swapped value."""
-        return reg.type is DataType.F64 or swapped(reg)
+        """A value_type cannot say how to read it: a half float or a double (no FP16, FP64) or a byte-swapped value."""
+        return reg.type in (DataType.F16, DataType.F64) or swapped(reg)
 
     def _bit(self, reg: Register) -> None:
         entity: dict[str, Any] = {"platform": "modbus_controller", "name": self._name(reg.title, reg.name)}
@@ -381,7 +382,7 @@ class DevicePackage:
     def _wire_type(self, reg: Register) -> str:
         """A select's value type: a byte-swapped register is compared word for word as it is on the wire."""
         if reg.type.is_float and not swapped(reg):  # a float's bits as the unsigned integer of its size (no FP32 select)
-            return VALUE_TYPE[({2: DataType.U32, 4: DataType.U64}[reg.words], reg.word_order)]
+            return VALUE_TYPE[({1: DataType.U16, 2: DataType.U32, 4: DataType.U64}[reg.words], reg.word_order)]
         return SIZED[reg.words] if swapped(reg) else self._value_type(reg)
 
     def _wire_value(self, reg: Register, raw: int) -> int:

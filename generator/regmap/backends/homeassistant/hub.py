@@ -60,6 +60,7 @@ DATA_TYPE = {
     DataType.S32: "int32",
     DataType.U64: "uint64",
     DataType.S64: "int64",
+    DataType.F16: "float16",
     DataType.F32: "float32",
     DataType.F64: "float64",
     DataType.STRING: "string",

@@ -41,7 +41,7 @@ from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 
 ACCESS_SHORT = {Access.READ: "R", Access.READ_WRITE: "R/W", Access.WRITE: "W"}
 ACCESS_LONG = {Access.READ: "read only", Access.READ_WRITE: "read/write", Access.WRITE: "write only"}
-NEW_WIDE = (DataType.U64, DataType.S64, DataType.F32, DataType.F64)  # their details state the word and byte order
+NEW_WIDE = (DataType.U64, DataType.S64, DataType.F16, DataType.F32, DataType.F64)  # their details state the word and byte order
 
 
 def _type_text(reg: Register) -> str:

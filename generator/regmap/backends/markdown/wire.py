@@ -23,6 +23,7 @@ TYPE_LONG = {
     DataType.S32: "signed 32-bit",
     DataType.U64: "unsigned 64-bit",
     DataType.S64: "signed 64-bit",
+    DataType.F16: "16-bit IEEE 754 half-precision float",
     DataType.F32: "32-bit IEEE 754 float",
     DataType.F64: "64-bit IEEE 754 float",
     DataType.STRING: "text",

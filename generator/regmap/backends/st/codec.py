@@ -29,6 +29,7 @@ NATURAL = {
     DataType.S32: "DINT",
     DataType.U64: "ULINT",
     DataType.S64: "LINT",
+    DataType.F16: "REAL",  # every half is a REAL exactly
     DataType.F32: "REAL",
     DataType.F64: "LREAL",
     DataType.BOOL: "BOOL",
@@ -169,6 +170,8 @@ class Helpers:
 
     f32_from_bits: StIdentifier
     f32_to_bits: StIdentifier
+    f16_from_bits: StIdentifier
+    f16_to_bits: StIdentifier
     f64_from_bits: StIdentifier
     f64_to_bits: StIdentifier
     char: StIdentifier
@@ -181,6 +184,8 @@ def helper_names(prefix: str) -> Helpers:
     return Helpers(
         StIdentifier("F", prefix, "F32", "FROM", "BITS"),
         StIdentifier("F", prefix, "F32", "TO", "BITS"),
+        StIdentifier("F", prefix, "F16", "FROM", "BITS"),
+        StIdentifier("F", prefix, "F16", "TO", "BITS"),
         StIdentifier("F", prefix, "F64", "FROM", "BITS"),
         StIdentifier("F", prefix, "F64", "TO", "BITS"),
         StIdentifier("F", prefix, "CHAR"),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from regmap.backends.st import codec
+from regmap.backends.st import codec, half
 from regmap.backends.st.codec import Dialect
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoder_targets, encoders
 from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
@@ -97,7 +97,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
         "unions": unions(names, dialect, helpers, values.used),
         "spaces": sorted({r.space for r in device.registers}),
         "has_bits": any(b.bits for b in plan),
-        "has_floats": bool(values.used & {"f32", "f64"}),
+        "has_floats": bool(values.used & {"f16", "f32", "f64"}),
         "has_text": any(r.type.is_string for r in device.registers),
         "poll_consts_used": any(
             r.type.words == 4 or r.firmware is not None or codec.swapped(r) or r.poll is not PollClass.NORMAL for r in device.registers
@@ -122,6 +122,21 @@ def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set
         )
 
     no_value = "" if union else "; FALSE for infinity and NaN, which plain IEC 61131-3 cannot hold"
+    if "f16" in used:  # no 16-bit float to reinterpret through a UNION: exact arithmetic in both dialects
+        add(
+            h.f16_from_bits,
+            "The IEEE 754 half of 16 bits, rebuilt from sign, exponent and mantissa with exact LREAL arithmetic; FALSE for infinity and NaN.",
+            [Member("nBits", "WORD")],
+            [Member("fValue", "LREAL")],
+            half.f16_from_bits_body(h),
+        )
+        add(
+            h.f16_to_bits,
+            "The 16 bits of the nearest IEEE 754 half (ties to even), with exact LREAL arithmetic; FALSE for infinity, NaN and 65520 on.",
+            [Member("fValue", "LREAL")],
+            [Member("nBits", "WORD")],
+            half.f16_to_bits_body(h),
+        )
     if "f32" in used:
         add(
             h.f32_from_bits,

@@ -133,7 +133,7 @@ def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionVie
         elif r.type.is_bool:
             functions.append(_bit_encoder(names, r, label))
         elif r.type.is_float:
-            used.add("f32" if r.words == 2 else "f64")
+            used.add({1: "f16", 2: "f32"}.get(r.words, "f64"))
             functions.append(_float_encoder(names, helpers, r, label))
         else:
             functions.append(_encoder(names, r, label))
@@ -201,7 +201,21 @@ def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) ->
         "END_IF;",
         *_refuse_na(reg, name, "rRaw"),
     ]
-    if reg.words == 2:
+    if reg.words == 1:  # the nearest half; the half it becomes is checked as the Python client checks it
+        local += [Member("nBits", "WORD"), Member("rHeld", "LREAL")]
+        body += [
+            f"IF NOT ({helpers.f16_to_bits}(fValue := rRaw, nBits := nBits) AND {helpers.f16_from_bits}(nBits := nBits, fValue := rHeld)) THEN",
+            f"    {name} := FALSE;",
+            "    RETURN;",
+            "END_IF;",
+            f"IF NOT (rHeld >= {st_real(reg.raw_min)} AND rHeld <= {st_real(reg.raw_max)}) THEN",
+            f"    {name} := FALSE;",
+            "    RETURN;",
+            "END_IF;",
+            *_refuse_na(reg, name, "rHeld"),
+            f"{output} := {'ROL(nBits, 8)' if swapped(reg) else 'nBits'};",
+        ]
+    elif reg.words == 2:
         local.append(Member("dw", "DWORD"))
         body += [
             f"IF NOT {helpers.f32_to_bits}(fValue := LREAL_TO_REAL(rRaw), nBits := dw) THEN",

@@ -31,7 +31,7 @@ from regmap.backends.st.views import (
     owner,
 )
 from regmap.core.text import na_list
-from regmap.model import Bitfield, Device, FirmwareGate, PollClass, Register, WordOrder
+from regmap.model import Bitfield, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
 from regmap.runtime_bridge import read_plan
 from regmap_runtime.plan import ReadBlock
 
@@ -63,7 +63,7 @@ class Block:
 def _raw_member_type(reg: Register) -> str:
     if reg.words > 1:
         return f"ARRAY[0..{reg.words - 1}] OF WORD"
-    return "WORD" if reg.bitfields or swapped(reg) else NATURAL[reg.type]
+    return "WORD" if reg.bitfields or swapped(reg) or reg.type is DataType.F16 else NATURAL[reg.type]  # a half: its bits
 
 
 def _combine(device: Device, reg: Register, words: str) -> list[str]:
@@ -115,6 +115,8 @@ class Values:
                 lines.append(assemble64(reg, raw))
                 locals_["lw"] = "LWORD"
             value = f"LWORD_TO_{natural}(lw)"
+        elif reg.type is DataType.F16:  # its bits, for the half's helper
+            value = f"ROL({raw}, 8)" if swapped(reg) else raw
         elif swapped(reg):
             value = f"WORD_TO_{natural}(ROL({raw}, 8))"
         else:
@@ -161,7 +163,7 @@ class Values:
                     lines.append(f"stValues.{field} := {getter};")
             return lines
         if reg.type.is_float:
-            return lines + self._float(reg, member, target, comment, locals_)
+            return lines + self._float(reg, member, target, comment, locals_, value)
         if reg.enum is not None:
             self.members.append(Member(member, names.enum_type(reg.enum), comment))
             decoder = StIdentifier("F", names.prefix, reg.enum.name, "FROM_RAW")
@@ -177,12 +179,15 @@ class Values:
             lines.append(f"{target} := {value};")
         return lines
 
-    def _float(self, reg: Register, member: str, target: str, comment: str, locals_: dict[str, str]) -> list[str]:
-        """An IEEE float: its bits through the device's helper (FALSE in plain IEC for infinity or NaN)."""
+    def _float(self, reg: Register, member: str, target: str, comment: str, locals_: dict[str, str], value: str) -> list[str]:
+        """An IEEE float: its bits through the device's helper (FALSE in plain IEC for infinity or NaN; for a half in both)."""
         kind = value_type(reg)
         self.members.append(Member(member, kind, comment))
         locals_["rValue"] = "LREAL"
-        if reg.words == 2:
+        if reg.words == 1:
+            self.used.add("f16")
+            call = f"{self.helpers.f16_from_bits}(nBits := {value}, fValue := rValue)"
+        elif reg.words == 2:
             self.used.add("f32")
             call = f"{self.helpers.f32_from_bits}(nBits := dw, fValue := rValue)"
         else:
@@ -248,7 +253,9 @@ def _na_conditions(reg: Register, value: str) -> list[str]:
     16-bit value compared as its type, a wider one by its bits (`dw`, `lw`, the halves of an f64)."""
     conditions: list[str] = []
     for mark, pattern in zip(reg.na, reg.na_bits, strict=True):
-        if reg.words == 1:
+        if reg.type is DataType.F16:
+            conditions.append(f"{value} <> {st_hex(pattern, 4)}")
+        elif reg.words == 1:
             conditions.append(f"{value} <> {st_int(int(mark))}")
         elif reg.words == 2:
             conditions.append(f"dw <> {st_hex(pattern, 8)}")
@@ -256,7 +263,9 @@ def _na_conditions(reg: Register, value: str) -> list[str]:
             conditions.append(f"(nHigh <> {st_hex(pattern >> 32, 8)} OR nLow <> {st_hex(pattern & 0xFFFFFFFF, 8)})")
         else:
             conditions.append(f"lw <> {st_hex(pattern, 16)}")
-    if reg.na_nan and reg.words == 2:
+    if reg.na_nan and reg.words == 1:
+        conditions.append(f"(({value} AND 16#7C00) <> 16#7C00 OR ({value} AND 16#03FF) = 0)")
+    elif reg.na_nan and reg.words == 2:
         conditions.append("((dw AND 16#7F800000) <> 16#7F800000 OR (dw AND 16#007FFFFF) = 0)")
     elif reg.na_nan:
         conditions.append("((nHigh AND 16#7FF00000) <> 16#7FF00000 OR ((nHigh AND 16#000FFFFF) = 0 AND nLow = 0))")
@@ -390,7 +399,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
         why = "a register holds a value its enum does not list (that member keeps its old value)"
-        if any(r.type.is_float for r in regs) and not names.dialect.unions:
+        if any(r.type.is_float and (r.type is DataType.F16 or not names.dialect.unions) for r in regs):
             why += ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
         decode = FunctionView(
             name,

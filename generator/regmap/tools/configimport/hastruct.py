@@ -2,7 +2,7 @@
 
 HA joins the `count` registers high byte first and unpacks the bytes with `struct.unpack(structure, ...)`
 (homeassistant/components/modbus/base_platform.py). Each value the structure holds is a register of ours
-when it starts on a word and fills whole words; a byte-sized value or a half float has no regmap type.
+when it starts on a word and fills whole words (a half float, 'e', is an f16); a byte-sized value has no regmap type.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 ORDERS = {"<": "little", ">": "big", "!": "big", "=": "native", "@": "native"}
 _ITEM = re.compile(r"\s*(\d*)([a-zA-Z?])")
 _INTEGERS = {2: "16", 4: "32", 8: "64"}
-_FLOATS = {"f": "f32", "d": "f64"}
+_FLOATS = {"e": "f16", "f": "f32", "d": "f64"}
 
 
 class StructureError(ValueError):
@@ -77,8 +77,6 @@ def structure_fields(structure: str, count: int) -> tuple[list[Field], str]:
 def _type(structure: str, code: str, width: int) -> str:
     if code in _FLOATS:
         return _FLOATS[code]
-    if code == "e":
-        raise StructureError(f"structure {structure!r}: '{code}' is a half float, which has no regmap type")
     if code in "hHiIlLqQ":
         return ("s" if code.islower() else "u") + _INTEGERS[width]
     raise StructureError(f"structure {structure!r}: '{code}' ({width} byte(s)) is not a whole-register value")

@@ -9,7 +9,7 @@ both), `scale` then `offset` (value = raw x scale + offset), `slave` or `device_
 enum; a coil is a bool) and read `verify`; a climate is its current temperature, its target
 temperature (read-write) and its mode, on/off and fan registers (enums of the states it names); a
 cover is its command register (or coil) and its status register. A `custom` structure becomes one register per value
-it unpacks (tools/configimport/hastruct.py). What a map cannot say (float16, a byte-sized value, `zero_suppress`, `min_value`/`max_value` clamps, a verify at
+it unpacks (tools/configimport/hastruct.py). What a map cannot say (a byte-sized value, `zero_suppress`, `min_value`/`max_value` clamps, a verify at
 another address) is kept as a note and reported.
 """
 
@@ -23,7 +23,7 @@ from regmap.tools.configimport.draft import Device, Flag, Import, Imported, Memb
 from regmap.tools.configimport.hastruct import StructureError, structure_fields
 from regmap.tools.configimport.reader import Config, ConfigError, ConfigReader, poll_class, substitute
 
-# HA's data_type -> regmap type (the inverse of backends/homeassistant's DATA_TYPE); float16 and custom have none.
+# HA's data_type -> regmap type (the inverse of backends/homeassistant's DATA_TYPE); custom has none (hastruct reads it).
 DATA_TYPE = {
     "int16": "s16",
     "uint16": "u16",
@@ -31,6 +31,7 @@ DATA_TYPE = {
     "uint32": "u32",
     "int64": "s64",
     "uint64": "u64",
+    "float16": "f16",
     "float32": "f32",
     "float64": "f64",
     "string": "string",
@@ -155,7 +156,7 @@ class _Reader(ConfigReader):
     def _value(self, reg: Imported, entity: dict[str, Any], path: tuple[str | int, ...], default_type: str = "int16") -> bool:
         """Type, word and byte order, scale and offset of a register read as a number or text."""
         data_type = entity.get("data_type", default_type)
-        if data_type in ("float16", "custom"):
+        if data_type == "custom":
             self.report.append(f"{reg.origin}: {reg.title}: data_type {data_type} has no regmap type: not imported")
             return False
         kind = self._choice(entity, path, "data_type", DATA_TYPE, default_type)
@@ -319,8 +320,8 @@ class _Reader(ConfigReader):
             low, high = entity.get("min_temp", 5), entity.get("max_temp", 35)
             if all(isinstance(v, int | float) for v in (low, high)):
                 raw = [(fraction(v) - target.offset) / target.scale for v in (low, high)]
-                if target.type == "f32" or all(r.denominator == 1 for r in raw):
-                    target.min, target.max = (float(r) if target.type in ("f32", "f64") else int(r) for r in raw)
+                if target.type in ("f16", "f32") or all(r.denominator == 1 for r in raw):
+                    target.min, target.max = (float(r) if target.type in ("f16", "f32", "f64") else int(r) for r in raw)
             out.append(target)
         for key, title, states in (
             ("hvac_mode_register", "HVAC mode", CLIMATE_MODES),

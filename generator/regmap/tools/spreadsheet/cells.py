@@ -305,6 +305,8 @@ TYPES = {
     "int64": "s64",
     "word": "u16",
     "dword": "u32",
+    "float16": "f16",
+    "half": "f16",
     "float": "f32",
     "float32": "f32",
     "real": "f32",

@@ -29,7 +29,7 @@ FIELDS: dict[str, str] = {
     "param": "the manual's parameter id",
     "address": "register address (0x0191, 0191h or 401)",
     "address_hex": "register address in hex (the export's second address column)",
-    "type": "u16 s16 u32 s32 u64 s64 f32 f64 string bool (also uint16, int32, float, double, 浮点数, 字符串 ...)",
+    "type": "u16 s16 u32 s32 u64 s64 f16 f32 f64 string bool (also uint16, int32, float16, float, double, 浮点数, 字符串 ...)",
     "words": "register count: a string's length, otherwise checked against type (1 or 2 gives u16/u32 without a type)",
     "word_order": "high_first or low_first",
     "paired": "iDM-RS pair (true/false)",

@@ -175,13 +175,26 @@ def value_to_raw(spec: RegisterSpec[Any], value: int | float | str | datetime) -
         except OverflowError:
             raise RangeError(f"{spec.label}: {value} is beyond any {spec.data_type} value") from None
         check_raw(spec, raw_float)
-        return raw_float
+        return _rounded_float(spec, raw_float)
     raw = round(raw_exact)
     if abs(raw_exact - raw) > Fraction(1, 1000):
         step = _fmt(spec.scale_num / spec.scale_den) if spec.scale_num != spec.scale_den else "1"
         raise RangeError(f"{spec.label}: {value} is not a multiple of the register's resolution {step}{_unit(spec)}")
     check_raw(spec, raw)
     return raw
+
+
+def _rounded_float(spec: RegisterSpec[Any], raw: float) -> float:
+    """The value the register's words hold (struct rounds to the nearest, ties to even: an f16 keeps 11
+    bits, 0.1 is 0.0999755859375); checked again, so rounding never carries it past the range or to infinity."""
+    info = spec.type_info
+    try:
+        held = float(info.from_words(info.to_words(raw)))
+    except OverflowError:
+        held = float("inf") if raw > 0 else float("-inf")
+    if held != raw:
+        check_raw(spec, held)
+    return held
 
 
 def _flag(spec: RegisterSpec[Any], value: int | float | str) -> int:
