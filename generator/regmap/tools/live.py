@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from regmap.core.decoding import DecodedValue, decode_words
 from regmap.diagnostics import LinkError, UsageError
 from regmap.model import Device, Register
-from regmap.runtime_bridge import documented_addresses, read_plan, runtime_device, runtime_specs
+from regmap.runtime_bridge import documented_addresses, read_plan, runtime_alignment, runtime_device, runtime_specs
 from regmap.tools.frames import (
     Assignment,
     WordRead,
@@ -193,7 +193,8 @@ def plan(device: Device, registers: Sequence[Register], profile: DeviceProfile |
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)
     names = {r.name for r in registers}
-    return plan_reads([s for s in runtime_specs(device) if s.name in names], limit, documented, max_bits=t.max_read_coils)
+    specs = [s for s in runtime_specs(device) if s.name in names]
+    return plan_reads(specs, limit, documented, max_bits=t.max_read_coils, alignment=runtime_alignment(device))
 
 
 @dataclass
