@@ -155,7 +155,7 @@ class SyncClient(ClientCore):
         A swap is a trigger: sent once, and a lost answer is OutcomeUnknown (the order is then not known)."""
         write = self.word_order_write(order)
         if write is not None:
-            self.write_many({write[0]: write[1]}, raw=True)
+            self.write_many({cast(Writable[Any], write[0]): write[1]}, raw=True)
         self.word_order = order
 
     def update(self, spec: ReadWrite[B], **fields: Any) -> B:
@@ -318,7 +318,7 @@ class AsyncClient(ClientCore):
         """As SyncClient.set_word_order: the word-order register written (a swap sent once), then `order` used."""
         write = self.word_order_write(order)
         if write is not None:
-            await self.write_many({write[0]: write[1]}, raw=True)
+            await self.write_many({cast(Writable[Any], write[0]): write[1]}, raw=True)
         self.word_order = order
 
     async def update(self, spec: ReadWrite[B], **fields: Any) -> B:

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_5b70b09f40.bits import BitfieldValue
-from regmap_runtime_5b70b09f40.client import AsyncClient, SyncClient
-from regmap_runtime_5b70b09f40.codec import Unlisted
-from regmap_runtime_5b70b09f40.errors import (
+from regmap_runtime_53a624ae60.bits import BitfieldValue
+from regmap_runtime_53a624ae60.client import AsyncClient, SyncClient
+from regmap_runtime_53a624ae60.codec import Unlisted
+from regmap_runtime_53a624ae60.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_5b70b09f40.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_5b70b09f40.profile import DeviceProfile, load_profile
-from regmap_runtime_5b70b09f40.spec import (
+from regmap_runtime_53a624ae60.profile import DeviceProfile, load_profile
+from regmap_runtime_53a624ae60.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

@@ -3,7 +3,6 @@ value (`word_order_register.swap_value`), checked against the registers for the 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any, Protocol
 
 from regmap.frontend.stages import Problems
@@ -19,7 +18,7 @@ class AlignmentHost(Protocol):
 
     problems: Problems
     registers: list[Register]
-    register_paths: Sequence[Path]
+    register_paths: tuple[Path, ...]
 
     def _ref(self, selector: str, by_selector: dict[str, Register], path: Path, what: str) -> Register | None: ...
 

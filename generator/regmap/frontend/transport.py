@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any, Protocol
 
 from regmap.frontend.alignment import read_alignment, swap_value_problems
@@ -19,7 +18,7 @@ class ReferenceHost(Protocol):
 
     problems: Problems
     registers: list[Register]
-    register_paths: Sequence[Path]
+    register_paths: tuple[Path, ...]
 
     def _ref(self, selector: str, by_selector: dict[str, Register], path: Path, what: str) -> Register | None: ...
 

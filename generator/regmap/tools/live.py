@@ -115,6 +115,8 @@ def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
         return None
     if link.word_order in ("high_first", "low_first"):
         return link.word_order
+    if control.swaps:  # a swap register tells nothing when read: the map's order (the device's default) is assumed
+        return None
     reg = control.register
     if client.broadcast:
         raise UsageError(f"a broadcast cannot read the word-order register {reg.label}: give --word-order high_first|low_first")

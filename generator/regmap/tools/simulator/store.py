@@ -128,7 +128,9 @@ class DeviceStore:
             self.store_raw(fw.register, self.firmware[1])
         control = self.device.transport.word_order_register
         if self.quirks.word_order is not None and control is not None and not control.swaps:
-            self.store_raw(control.register, control.high_first if self.quirks.word_order == "high_first" else control.low_first)
+            setting = control.high_first if self.quirks.word_order == "high_first" else control.low_first
+            assert setting is not None  # a register with a value per order
+            self.store_raw(control.register, setting)
         elif self.quirks.word_order is not None:
             self.relay(self.quirks.word_order)
         self.follow_word_order_register()

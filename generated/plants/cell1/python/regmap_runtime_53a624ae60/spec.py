@@ -8,8 +8,8 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Generic, Self, TypeVar
 
-from .errors import AccessError, FirmwareError
 from .align import Alignment
+from .errors import AccessError, FirmwareError
 from .spaces import DEFAULT_SPACE, SPACES, Space
 from .types import TYPES, TypeInfo
 

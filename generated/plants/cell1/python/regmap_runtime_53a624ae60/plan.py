@@ -42,7 +42,9 @@ def _block(regs: list[RegisterSpec[Any]], alignment: Alignment | None, readable:
     if alignment is not None and not alignment.allows(space, start, end - start):
         widened = padded(alignment, space, regs[0].first_address, end, lambda words: readable(space, words))
         if widened is None:
-            raise ValueError(f"{regs[0].label}: no read of it is aligned to {alignment.words} words without reading an address the device refuses")
+            raise ValueError(
+                f"{regs[0].label}: no read of it is aligned to {alignment.words} words without reading an address the device refuses"
+            )
         start, end = widened
     return ReadBlock(start, end - start, tuple(regs), space)
 
