@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_53a624ae60.bits import BitfieldValue
-from regmap_runtime_53a624ae60.client import AsyncClient, SyncClient
-from regmap_runtime_53a624ae60.codec import Unlisted
-from regmap_runtime_53a624ae60.errors import (
+from regmap_runtime_30639b6b7b.bits import BitfieldValue
+from regmap_runtime_30639b6b7b.client import AsyncClient, SyncClient
+from regmap_runtime_30639b6b7b.codec import Unlisted
+from regmap_runtime_30639b6b7b.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_53a624ae60.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_53a624ae60.profile import DeviceProfile, load_profile
-from regmap_runtime_53a624ae60.spec import (
+from regmap_runtime_30639b6b7b.profile import DeviceProfile, load_profile
+from regmap_runtime_30639b6b7b.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

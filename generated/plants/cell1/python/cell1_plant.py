@@ -10,7 +10,7 @@ import time
 from collections.abc import Callable
 from typing import TypedDict
 
-from regmap_runtime_53a624ae60.plant import PlantBus
+from regmap_runtime_30639b6b7b.plant import PlantBus
 from c630s import C630s, C630sValues
 from idm_rs import IdmRs, IdmRsValues
 
