@@ -18,6 +18,7 @@ from regmap.runtime_bridge import read_plan, runtime_device, runtime_specs
 from regmap.tools.live import plan as live_plan
 from regmap_runtime.align import Alignment
 from regmap_runtime.plan import ReadBlock, plan_reads
+from regmap_runtime.spec import RegisterSpec
 
 from conftest import ROOT
 from support.fixture_clients import flavour
@@ -100,6 +101,10 @@ def test_the_planner_pads_over_readable_words_and_splits_at_gaps() -> None:
     assert [(b.address, b.count) for b in plan_reads(pair, 3, spec.documented)] == [(7, 3)]  # without the rule: one misaligned read
     assert [(b.address, b.count) for b in plan_reads(pair, 3, spec.documented, alignment=spec.alignment)] == [(6, 2), (8, 2)]
     assert [(b.address, b.count) for b in plan_reads(pair, 4, spec.documented, alignment=spec.alignment)] == [(6, 4)]
+    # Padded at both ends: four words at 0x0001-0x0004 fit a limit of 4, their aligned read (0x0000-0x0005) does not.
+    odd = [RegisterSpec(f"r{a}", a, "u16", "r", space="input") for a in (1, 2, 3, 4)]
+    blocks = plan_reads(odd, 4, None, alignment=Alignment(2, ("input",)))
+    assert [(b.address, b.count, len(b.registers)) for b in blocks] == [(0, 4, 3), (4, 2, 1)]
     # A device that tolerates gaps: the CT ratio is padded over 0x0105 instead of read alone.
     (padded,) = plan_reads([specs["ct_ratio"]], 60, None, alignment=Alignment(2, ("holding",)))
     assert (padded.address, padded.count) == (0x0104, 2)

@@ -11,6 +11,9 @@ from pathlib import Path
 
 import pytest
 
+from regmap.frontend import load_map
+from regmap.tools.simulator.store import DeviceStore
+
 from conftest import ROOT, PtyPair, SimulatorFactory
 from support.fixture_clients import FLAVOURS, flavour, read
 from support.simulator_wire import Line, mbap
@@ -103,3 +106,12 @@ def test_a_lost_answer_to_the_swap_is_outcome_unknown_and_sent_once(simulator: S
             client.set_word_order("low_first")
         assert len(recorder.sent) == 1  # a trigger: never sent again
         assert client.word_order == "high_first"  # not assumed either way
+
+
+def test_the_simulator_answers_the_code_the_map_records(tmp_path: Path) -> None:
+    """A device that answers a misaligned read with 0x03 (as some float meters do) is played with 0x03."""
+    path = tmp_path / "float_meter.yaml"
+    path.write_text(FLOAT_METER.read_text(encoding="utf-8").replace("exception: 0x02", "exception: 0x03"), encoding="utf-8")
+    store = DeviceStore(load_map(path), 1)
+    assert [store.read(0x0001, 2, "input"), store.read(0x0000, 1, "input"), store.read(0x0104, 2, "holding")] == [0x03, 0x03, 0x02]
+    assert store.read(0x0006, 2, "input") == [0, 0] and store.read(0x0104, 1, "holding") == [5]
