@@ -102,7 +102,7 @@ def test_the_planner_pads_over_readable_words_and_splits_at_gaps() -> None:
     assert [(b.address, b.count) for b in plan_reads(pair, 3, spec.documented, alignment=spec.alignment)] == [(6, 2), (8, 2)]
     assert [(b.address, b.count) for b in plan_reads(pair, 4, spec.documented, alignment=spec.alignment)] == [(6, 4)]
     # Padded at both ends: four words at 0x0001-0x0004 fit a limit of 4, their aligned read (0x0000-0x0005) does not.
-    odd = [RegisterSpec(f"r{a}", a, "u16", "r", space="input") for a in (1, 2, 3, 4)]
+    odd: list[RegisterSpec[int]] = [RegisterSpec(f"r{a}", a, "u16", "r", space="input") for a in (1, 2, 3, 4)]
     blocks = plan_reads(odd, 4, None, alignment=Alignment(2, ("input",)))
     assert [(b.address, b.count, len(b.registers)) for b in blocks] == [(0, 4, 3), (4, 2, 1)]
     # A device that tolerates gaps: the CT ratio is padded over 0x0105 instead of read alone.
@@ -119,6 +119,6 @@ def test_the_client_refuses_a_misaligned_raw_read_before_sending() -> None:
         f = flavour(name, DEVICE.id)
         client = f.sync_class(Nothing(), 1)
         for address, count, space in ((0x0001, 2, "input"), (0x0000, 3, "input"), (0x0106, 1, "holding"), (0x0105, 1, "holding")):
-            with pytest.raises(f.errors.AccessError, match="read alignment.*exception 0x02.*nothing was sent"):
+            with pytest.raises(f.errors.AccessError, match=r"read alignment.*exception 0x02.*nothing was sent"):
                 client.read_raw(address, count, space=space)
         assert client.requests_sent == 0
