@@ -18,6 +18,7 @@ from regmap.kinds import WordOrder as WordOrder
 from regmap.transport import BadCrc as BadCrc
 from regmap.transport import DeviceIdentification as DeviceIdentification
 from regmap.transport import ModbusException as ModbusException
+from regmap.transport import ReadAlignment as ReadAlignment
 from regmap.transport import ServerId as ServerId
 from regmap.transport import TimingRow as TimingRow
 from regmap.transport import Transport as Transport

@@ -13,6 +13,7 @@ from typing import Any
 
 from regmap.model import ByteOrder, Device, EnumType, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
+from regmap_runtime.align import Alignment
 from regmap_runtime.line import frame_s, interleave
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
@@ -141,6 +142,18 @@ def device_extras(device: Device) -> dict[str, Any]:
         extras["max_write_coils"] = t.max_write_coils
     if device.info.variants:
         extras["variants"] = tuple(v.name for v in device.info.variants)
+    alignment = t.read_alignment
+    if alignment is not None:
+        extras["read_alignment"] = alignment.words
+        extras["aligned_spaces"] = alignment.spaces
+        if alignment.exempt:
+            extras["alignment_exempt"] = alignment.exempt_reads()
+        if alignment.exception is not None:
+            extras["misaligned_exception"] = alignment.exception
+    control = t.word_order_register
+    if control is not None:
+        extras["word_order_register"] = control.register.name
+        extras["word_order_values"] = (control.high_first, control.low_first, control.swap_value)
     firmware = device.info.firmware_register
     if firmware is not None:
         extras["firmware_register"] = firmware.register.name
@@ -193,7 +206,13 @@ def read_plan(
     if profile is not None:
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)
-    return plan_reads(specs, limit, documented, max_bits=t.max_read_coils)
+    return plan_reads(specs, limit, documented, max_bits=t.max_read_coils, alignment=runtime_alignment(device))
+
+
+def runtime_alignment(device: Device) -> Alignment | None:
+    """The map's read-alignment rule as the runtime's planner and checks take it (None: reads may start anywhere)."""
+    a = device.transport.read_alignment
+    return None if a is None else Alignment(a.words, a.spaces, a.exempt_reads(), a.exception)
 
 
 # -- plants: several devices on one bus ------------------------------------------------------------

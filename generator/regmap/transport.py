@@ -42,9 +42,50 @@ class BadCrc:
 
 @dataclass(frozen=True)
 class WordOrderRegister:
+    """The register that sets the word order: either a value per order (`high_first`, `low_first`), or
+    one magic value (`swap_value`) whose write swaps the order, whichever it is (a trigger: sent once)."""
+
     register: Register
-    high_first: int
-    low_first: int
+    high_first: int | float | None = None
+    low_first: int | float | None = None
+    swap_value: int | float | None = None
+
+    @property
+    def swaps(self) -> bool:
+        return self.swap_value is not None
+
+    def value_for(self, current: WordOrder, wanted: WordOrder) -> int | float | None:
+        """What to write so that a device using `current` uses `wanted`; None: nothing (a swap already there)."""
+        if self.swap_value is not None:
+            return None if current is wanted else self.swap_value
+        return self.high_first if wanted is WordOrder.HIGH_FIRST else self.low_first
+
+    def order_after(self, current: WordOrder, written: int | float) -> WordOrder:
+        """The word order once `written` reached the register of a device that used `current`."""
+        if self.swap_value is not None:
+            if written != self.swap_value:
+                return current
+            return WordOrder.LOW_FIRST if current is WordOrder.HIGH_FIRST else WordOrder.HIGH_FIRST
+        if written == self.high_first:
+            return WordOrder.HIGH_FIRST
+        return WordOrder.LOW_FIRST if written == self.low_first else current
+
+
+@dataclass(frozen=True)
+class ReadAlignment:
+    """Reads of `spaces` start on a multiple of `words` and cover a multiple of `words` (a float meter
+    answers `exception` otherwise); the `exempt` registers may be read alone as the manual allows."""
+
+    words: int
+    spaces: tuple[str, ...] = ("holding", "input")
+    exception: int | None = None
+    exempt: tuple[Register, ...] = ()
+    source: tuple[str, ...] = ()
+    notes: str = ""
+
+    def exempt_reads(self) -> tuple[tuple[str, int, int], ...]:
+        """(space, first address, count) of each exempt register read alone."""
+        return tuple((r.space, r.address, r.words) for r in self.exempt)
 
 
 @dataclass(frozen=True)
@@ -90,6 +131,7 @@ class Transport:
     broadcast_id: int | None = None
     max_message_bytes: int | None = None
     word_order_register: WordOrderRegister | None = None
+    read_alignment: ReadAlignment | None = None
     crc_byte_order: str = "low_first"
     undocumented_addresses: str = "reject"
     bad_crc: BadCrc = BadCrc()

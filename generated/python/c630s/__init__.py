@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_9792c23ef4.bits import BitfieldValue
-from regmap_runtime_9792c23ef4.client import AsyncClient, SyncClient
-from regmap_runtime_9792c23ef4.codec import Unlisted
-from regmap_runtime_9792c23ef4.errors import (
+from regmap_runtime_8459a869f9.bits import BitfieldValue
+from regmap_runtime_8459a869f9.client import AsyncClient, SyncClient
+from regmap_runtime_8459a869f9.codec import Unlisted
+from regmap_runtime_8459a869f9.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_9792c23ef4.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_9792c23ef4.profile import DeviceProfile, load_profile
-from regmap_runtime_9792c23ef4.spec import (
+from regmap_runtime_8459a869f9.profile import DeviceProfile, load_profile
+from regmap_runtime_8459a869f9.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,
@@ -7404,6 +7404,8 @@ DEVICE: Final = DeviceSpec(
         (0x03, "illegal_data_value", "Illegal data"),
         (0x04, "refused", "Refused to execute (P0C-14: slave device failure)"),
     ),
+    word_order_register="modbus_word_order",
+    word_order_values=(0, 1, None),
 )
 C630sValues = TypedDict(
     "C630sValues",

@@ -90,6 +90,15 @@ def register_json(r: Register) -> dict[str, Any]:
     }
 
 
+def _word_order_register_json(t: Transport) -> dict[str, Any] | None:
+    w = t.word_order_register
+    if w is None:
+        return None
+    if w.swap_value is not None:
+        return {"register": w.register.name, "swap_value": w.swap_value}
+    return {"register": w.register.name, "high_first": w.high_first, "low_first": w.low_first}
+
+
 def _transport_json(t: Transport) -> dict[str, Any]:
     return {
         "baud": t.baud,
@@ -104,12 +113,14 @@ def _transport_json(t: Transport) -> dict[str, Any]:
         "max_write_registers": t.max_write_registers,
         "max_message_bytes": t.max_message_bytes,
         "word_order": t.word_order.value,
-        "word_order_register": None
-        if t.word_order_register is None
+        "word_order_register": _word_order_register_json(t),
+        "read_alignment": None
+        if t.read_alignment is None
         else {
-            "register": t.word_order_register.register.name,
-            "high_first": t.word_order_register.high_first,
-            "low_first": t.word_order_register.low_first,
+            "words": t.read_alignment.words,
+            "spaces": list(t.read_alignment.spaces),
+            "exception": t.read_alignment.exception,
+            "exempt": [r.name for r in t.read_alignment.exempt],
         },
         "crc_byte_order": t.crc_byte_order,
         "undocumented_addresses": t.undocumented_addresses,

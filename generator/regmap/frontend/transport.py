@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any, Protocol
 
+from regmap.frontend.alignment import read_alignment, swap_value_problems
 from regmap.frontend.functions import identification, served_function_problems, server_id
 from regmap.frontend.stages import Problems
 from regmap.frontend.values import _source, serial_choices
@@ -17,6 +18,7 @@ class ReferenceHost(Protocol):
 
     problems: Problems
     registers: list[Register]
+    register_paths: tuple[Path, ...]
 
     def _ref(self, selector: str, by_selector: dict[str, Register], path: Path, what: str) -> Register | None: ...
 
@@ -30,22 +32,7 @@ def elaborate_transport(host: ReferenceHost, t: dict[str, Any], by_selector: dic
         host.problems.add((*path, "slave_ids", "min"), f"slave id min {ids['min']} is greater than max {ids['max']}")
     word_order_register = None
     if "word_order_register" in t:
-        w = t["word_order_register"]
-        reg = host._ref(w["register"], by_selector, (*path, "word_order_register", "register"), "word_order_register")
-        if reg is not None:
-            word_order_register = WordOrderRegister(register=reg, high_first=w["high_first"], low_first=w["low_first"])
-            if reg.default is not None and reg.default not in (w["high_first"], w["low_first"]):
-                host.problems.add(
-                    (*path, "word_order_register"),
-                    f"word_order_register: the default {reg.default} of {reg.name} is neither the high_first value {w['high_first']} nor the low_first value {w['low_first']}",
-                )
-            elif reg.default is not None:
-                configured = "high_first" if reg.default == w["high_first"] else "low_first"
-                if configured != t["word_order"]:
-                    host.problems.add(
-                        (*path, "word_order"),
-                        f"word_order {t['word_order']} disagrees with the default of {reg.name} ({reg.default} = {configured})",
-                    )
+        word_order_register = _word_order_register(host, t, by_selector)
     max_bytes = t.get("max_message_bytes")
     if max_bytes is not None:
         if 5 + 2 * t["max_read_registers"] > max_bytes:
@@ -92,6 +79,7 @@ def elaborate_transport(host: ReferenceHost, t: dict[str, Any], by_selector: dic
         max_read_coils=t.get("max_read_coils", MAX_READ_BITS),
         max_write_coils=t.get("max_write_coils", MAX_WRITE_BITS),
         word_order_register=word_order_register,
+        read_alignment=read_alignment(host, t, by_selector),
         crc_byte_order=t.get("crc_byte_order", "low_first"),
         undocumented_addresses=t.get("undocumented_addresses", "reject"),
         bad_crc=bad_crc,
@@ -141,3 +129,29 @@ def _check_space_limits(host: ReferenceHost, t: dict[str, Any], max_bytes: int |
                 (*path, key),
                 f"{what} of {t[key]} coils is {fixed + (t[key] + 7) // 8} bytes, more than max_message_bytes {max_bytes}",
             )
+
+
+def _word_order_register(host: ReferenceHost, t: dict[str, Any], by_selector: dict[str, Register]) -> WordOrderRegister | None:
+    path: Path = ("transport",)
+    w = t["word_order_register"]
+    reg = host._ref(w["register"], by_selector, (*path, "word_order_register", "register"), "word_order_register")
+    if reg is None:
+        return None
+    if "swap_value" in w:
+        for where, message in swap_value_problems(t, reg):
+            host.problems.add(where, message)
+        return WordOrderRegister(register=reg, swap_value=w["swap_value"])
+    control = WordOrderRegister(register=reg, high_first=w["high_first"], low_first=w["low_first"])
+    if reg.default is not None and reg.default not in (w["high_first"], w["low_first"]):
+        host.problems.add(
+            (*path, "word_order_register"),
+            f"word_order_register: the default {reg.default} of {reg.name} is neither the high_first value {w['high_first']} nor the low_first value {w['low_first']}",
+        )
+    elif reg.default is not None:
+        configured = "high_first" if reg.default == w["high_first"] else "low_first"
+        if configured != t["word_order"]:
+            host.problems.add(
+                (*path, "word_order"),
+                f"word_order {t['word_order']} disagrees with the default of {reg.name} ({reg.default} = {configured})",
+            )
+    return control

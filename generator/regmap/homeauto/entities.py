@@ -24,7 +24,7 @@ from regmap.homeauto.selection import Selection
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.render import header_lines
-from regmap.runtime_bridge import documented_addresses, runtime_specs
+from regmap.runtime_bridge import documented_addresses, runtime_alignment, runtime_specs
 from regmap_runtime.plan import ReadBlock, plan_reads
 
 # -- entity facts ------------------------------------------------------------------------------
@@ -274,7 +274,8 @@ def planned(
         chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == (first, until)}
         gate = FirmwareGate(first or None, until or None) if first or until else None
         specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
-        out += [(block, PollClass(poll), gate) for block in plan_reads(specs, t.max_read_registers, documented, max_bits=bits)]
+        blocks = plan_reads(specs, t.max_read_registers, documented, max_bits=bits, alignment=runtime_alignment(device))
+        out += [(block, PollClass(poll), gate) for block in blocks]
     spaces = ("holding", "input", "coil", "discrete_input")
     out.sort(key=lambda item: (spaces.index(item[0].space), item[0].address))
     return out

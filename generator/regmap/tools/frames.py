@@ -17,7 +17,7 @@ from regmap.core.decoding import FUNCTION_NAMES
 from regmap.core.text import article, space_label
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, Register
-from regmap.runtime_bridge import read_plan
+from regmap.runtime_bridge import read_plan, runtime_alignment
 from regmap.tools.selectors import Item, Located, Registers, check_slave, locate, parse_int, parse_items, suggest
 from regmap_runtime.codec import RangeError, check_raw, merge_fields, parse_fields, raw_to_words, value_to_raw
 from regmap_runtime.plan import WriteBlock, plan_writes
@@ -74,6 +74,7 @@ class WordRead:
 def word_reads(device: Device, items: Sequence[Item], space: str | None = None, *, modicon: bool = False) -> list[WordRead]:
     """One read per ADDR [COUNT] item (one word without a COUNT), in the item's space (Modicon's, -t's, else holding)."""
     t = device.transport
+    alignment = runtime_alignment(device)
     reads = []
     for item in items:
         located = item.located or word_location(item.selector, modicon=modicon, space=space)
@@ -86,6 +87,9 @@ def word_reads(device: Device, items: Sequence[Item], space: str | None = None, 
             raise UsageError(f"COUNT {read.count} is outside 1..{limit} ({device.info.model} reads at most {limit} {unit} per request)")
         if read.address + read.count > 0x10000:
             raise UsageError(f"{read.count} {unit} from 0x{read.address:04X} run past 0xFFFF")
+        why = None if alignment is None else alignment.refusal(read.space, read.address, read.count)
+        if why is not None:
+            raise UsageError(f"{device.info.model}: {why}")
         reads.append(read)
     return reads
 

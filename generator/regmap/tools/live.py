@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from regmap.core.decoding import DecodedValue, decode_words
 from regmap.diagnostics import LinkError, UsageError
 from regmap.model import Device, Register
-from regmap.runtime_bridge import documented_addresses, read_plan, runtime_device, runtime_specs
+from regmap.runtime_bridge import documented_addresses, read_plan, runtime_alignment, runtime_device, runtime_specs
 from regmap.tools.frames import (
     Assignment,
     WordRead,
@@ -115,6 +115,8 @@ def word_order(device: Device, client: SyncClient, link: Link) -> str | None:
         return None
     if link.word_order in ("high_first", "low_first"):
         return link.word_order
+    if control.swaps:  # a swap register tells nothing when read: the map's order (the device's default) is assumed
+        return None
     reg = control.register
     if client.broadcast:
         raise UsageError(f"a broadcast cannot read the word-order register {reg.label}: give --word-order high_first|low_first")
@@ -193,7 +195,8 @@ def plan(device: Device, registers: Sequence[Register], profile: DeviceProfile |
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)
     names = {r.name for r in registers}
-    return plan_reads([s for s in runtime_specs(device) if s.name in names], limit, documented, max_bits=t.max_read_coils)
+    specs = [s for s in runtime_specs(device) if s.name in names]
+    return plan_reads(specs, limit, documented, max_bits=t.max_read_coils, alignment=runtime_alignment(device))
 
 
 @dataclass

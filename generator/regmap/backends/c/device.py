@@ -18,6 +18,7 @@ from regmap.backends.c.names import (
     WORD_ORDER_MACRO,
     CIdentifier,
     Context,
+    c_float,
     c_hex,
     c_raw,
     c_unsigned,
@@ -37,7 +38,7 @@ from regmap.backends.c.views import (
 )
 from regmap.core.text import titled
 from regmap.diagnostics import UsageError
-from regmap.model import ByteOrder, Device, PollClass
+from regmap.model import ByteOrder, Device, PollClass, Register
 from regmap.render import templates
 from regmap.runtime_bridge import read_plan
 from regmap.target import Files
@@ -166,14 +167,29 @@ def _transport_macros(ctx: Context) -> list[Macro]:
             macros.append(Macro(ctx.const("FIRMWARE_DECIMALS"), c_unsigned(firmware.decimals)))
     if t.word_order_register is not None:
         w = t.word_order_register
-        macros += [
-            Macro(ctx.const("WORD_ORDER_REGISTER_ADDR"), ctx.addr(w.register), f"{w.register.label} selects the word order"),
-            Macro(ctx.const("WORD_ORDER_REGISTER_HIGH_FIRST"), c_raw(w.high_first, w.register.signed)),
-            Macro(ctx.const("WORD_ORDER_REGISTER_LOW_FIRST"), c_raw(w.low_first, w.register.signed)),
-        ]
+        macros.append(Macro(ctx.const("WORD_ORDER_REGISTER_ADDR"), ctx.addr(w.register), f"{w.register.label} selects the word order"))
+        if w.swap_value is not None:
+            macros.append(
+                Macro(
+                    ctx.const("WORD_ORDER_REGISTER_SWAP"),
+                    _order_value(w.register, w.swap_value),
+                    "written (in the current word order) to swap the word order; a trigger: send it once",
+                )
+            )
+        else:
+            assert w.high_first is not None and w.low_first is not None
+            macros += [
+                Macro(ctx.const("WORD_ORDER_REGISTER_HIGH_FIRST"), _order_value(w.register, w.high_first)),
+                Macro(ctx.const("WORD_ORDER_REGISTER_LOW_FIRST"), _order_value(w.register, w.low_first)),
+            ]
     if t.response_delay_ms is not None:
         macros.append(Macro(ctx.const("RESPONSE_DELAY_US"), f"{round(t.response_delay_ms * 1000)}ul", "response delay"))
     return macros
+
+
+def _order_value(reg: Register, value: int | float) -> str:
+    """A word-order register's value as its C type writes it: a float literal for a float register."""
+    return c_float(value) if reg.type.is_float else c_raw(int(value), reg.signed)
 
 
 def _bit_spaces(device: Device) -> bool:

@@ -63,10 +63,11 @@ from regmap.homeauto.entities import (
     writable_members,
 )
 from regmap.homeauto.selection import Selection
-from regmap.model import Command, DataType, Device, EnumMember, PollClass, Register, WordOrder
-from regmap.runtime_bridge import runtime_specs
+from regmap.model import Command, DataType, Device, EnumMember, FirmwareGate, PollClass, Register, WordOrder
+from regmap.runtime_bridge import runtime_alignment, runtime_specs
 from regmap.target import Files
 from regmap_runtime.codec import raw_to_words
+from regmap_runtime.plan import ReadBlock
 
 # ESPHome's spelling of a register's type: (type, word order) -> value_type.
 VALUE_TYPE = {
@@ -174,21 +175,44 @@ class DevicePackage:
         another read's register ends at starts a new range, so ESPHome never joins two reads."""
         keys: dict[str, dict[str, Any]] = {}
         blocks = planned(self.device, self._entity_registers(), MAX_RANGE_BITS)
+        self.widened = self._widened(blocks)
         ends: dict[tuple[str, int], int] = {}
         for index, (block, _, _) in enumerate(blocks):
             for spec in block.registers:
-                ends[(spec.space, spec.address + spec.words)] = index
+                start, count = self.widened.get(spec.name, (spec.address, spec.words))
+                ends[(spec.space, start + count)] = index
         for index, (block, poll, _) in enumerate(blocks):
             regs = [self.device.register(s.name) for s in block.registers]
             skip = self._skip(poll, all(is_parameter(r) for r in regs))
             for reg in regs:
                 item: dict[str, Any] = {}
-                if ends.get((reg.space, reg.address), index) != index:
+                start, count = self.widened.get(reg.name, (reg.address, reg.words))
+                if start != reg.address or count != reg.words:
+                    item.update(address=Hex(start), offset=2 * (reg.address - start), register_count=count)
+                if ends.get((reg.space, start), index) != index:
                     item["force_new_range"] = True
                 if skip is not None:
                     item["skip_updates"] = skip
                 keys[reg.name] = item
         return keys
+
+    def _widened(self, blocks: list[tuple[ReadBlock, PollClass, FirmwareGate | None]]) -> dict[str, tuple[int, int]]:
+        """(address, register_count) of each register whose own words break the map's read alignment, widened to
+        whole units: ESPHome joins items at contiguous addresses into one read, so items of whole units make
+        aligned reads only. A register the map exempts and its planned read reads alone keeps its own words."""
+        alignment = runtime_alignment(self.device)
+        widened: dict[str, tuple[int, int]] = {}
+        if alignment is None:
+            return widened
+        alone = {(b.space, b.address, b.count) for b, _, _ in blocks if len(b.registers) == 1}
+        for block, _, _ in blocks:
+            for spec in block.registers:
+                first, end = spec.first_address, spec.address + spec.words
+                if alignment.aligned(spec.space, first, end - first) or (spec.space, spec.address, spec.words) in alone:
+                    continue
+                low, high = alignment.extent(spec.space, first, end)
+                widened[spec.name] = (low, high - low)
+        return widened
 
     def _item(self, reg: Register, **extra: Any) -> dict[str, Any]:
         return {
@@ -216,6 +240,12 @@ class DevicePackage:
             return
         if not reg.access.readable:
             self.skipped.append(f"{reg.name} (write-only: ESPHome's number/select/switch read their register back)")
+            return
+        if reg.name in self.widened and reg.access.writable:
+            self.skipped.append(
+                f"{reg.name} (the device reads whole {self.widened[reg.name][1]}-word units, and ESPHome's number/select would write"
+                " the whole unit it reads)"
+            )
             return
         if reg.type.is_bool:
             self._bit(reg)

@@ -51,6 +51,7 @@ from regmap.homeauto.entities import (
 from regmap.homeauto.selection import DEFAULT_RULE, Selection, select
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
 from regmap.plant import Bus, Plant, PlantDevice
+from regmap.runtime_bridge import runtime_alignment
 from regmap.target import Files
 
 DATA_TYPE = {
@@ -66,6 +67,8 @@ DATA_TYPE = {
     DataType.STRING: "string",
     DataType.TIMESTAMP: "uint32",
 }
+HASS_STRUCT = {DataType.U16: "H", DataType.S16: "h", DataType.U32: "I", DataType.S32: "i", DataType.U64: "Q", DataType.S64: "q"}
+HASS_STRUCT |= {DataType.F32: "f", DataType.F64: "d"}  # the struct code of a custom sensor that reads a whole aligned unit
 INPUT_TYPE = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete_input"}
 TEXT_ENCODINGS = ("ascii", "utf-8")  # HA decodes a string register's bytes as UTF-8
 PARITY = {"none": "N", "even": "E", "odd": "O"}
@@ -130,6 +133,8 @@ class _Hub:
         self.scripts = Scripts(device, self.instance.hub, self.slave, self.instance.script_prefix, self.instance.name_prefix)
         plan = planned(device, [r for r in selection.registers if r.access.readable])
         self.block_of = {s.name: i for i, (block, _, _) in enumerate(plan) for s in block.registers}
+        self.alignment = runtime_alignment(device)
+        self.aligned_addresses: set[tuple[str, int]] = set()
 
     def _name(self, title: str, qualifier: str) -> str:
         return self.instance.name_prefix + self.names.name(title, qualifier)
@@ -179,6 +184,38 @@ class _Hub:
             self.skipped.append(f"{reg.name}'s labels and flags as templates (its name is not ASCII text)")
             return
         self._templates(reg, title, "sensor." + object_id(entity["name"]))
+
+    def _widened(self, reg: Register) -> tuple[int, int] | None:
+        """(address, count) of the aligned read of a register whose own words break the map's read alignment
+        (HA's sensor reads just its own words); None where its own read is one the device answers."""
+        alignment = self.alignment
+        if alignment is None or not reg.access.readable or alignment.allows(reg.space, reg.address, reg.words):
+            return None
+        low, high = alignment.extent(reg.space, reg.first_address, reg.address + reg.words)
+        return low, high - low
+
+    def _aligned_sensor(self, reg: Register) -> None:
+        """A sensor that reads the whole aligned unit (`data_type: custom`, the other words skipped as struct pad
+        bytes); HA loads one entity per address, so a second register of the same unit is listed as skipped."""
+        start, count = self._widened(reg) or (reg.address, reg.words)
+        code = HASS_STRUCT.get(reg.type)
+        key = (self._input_type(reg), start)
+        if code is None or swap_of(reg) is not None or reg.enum is not None or reg.bitfields or key in self.aligned_addresses:
+            self.skipped.append(
+                f"{reg.name} (the device answers reads of whole {count}-word units only, and HA reads one entity per address"
+                " with its own words)"
+            )
+            return
+        self.aligned_addresses.add(key)
+        self._sensor(reg, reg.title)
+        entity = self.sensors[-1]
+        before, after = 2 * (reg.address - start), 2 * (start + count - reg.address - reg.words)
+        entity.update(
+            address=Hex(start),
+            data_type="custom",
+            count=count,
+            structure=">" + (f"{before}x" if before else "") + code + (f"{after}x" if after else ""),
+        )
 
     def _not_available(self, reg: Register, entity: dict[str, Any]) -> None:
         """HA's sensor is unavailable for its one `nan_value` (compared with the unpacked, signed value) and for
@@ -292,6 +329,10 @@ class _Hub:
         i = 0
         while i < len(regs):
             reg = regs[i]
+            if self._widened(reg) is not None:
+                self._aligned_sensor(reg)
+                i += 1
+                continue
             n = self._run(regs, i)
             if n > 1:
                 assert reg.array is not None

@@ -21,7 +21,7 @@ from regmap.backends.markdown.views import (
     ReadingView,
     TimingView,
 )
-from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, uses
+from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, read_alignment_text, uses
 from regmap.core.decoding import FUNCTION_NAMES
 from regmap.core.text import number
 from regmap.diagnostics import UsageError
@@ -137,9 +137,14 @@ def _overview(device: Device) -> tuple[Fact, ...]:
         )
     if t.word_order_register is not None:
         w = t.word_order_register
-        facts.append(
-            Fact("Word-order register", Md(f"{md.reg_link(w.register)}: {w.high_first} = high word first, {w.low_first} = low word first"))
-        )
+        if w.swap_value is not None:
+            said = f"writing {w.swap_value} swaps the word order, whichever it is (a trigger: sent once; written in the current order)"
+        else:
+            said = f"{w.high_first} = high word first, {w.low_first} = low word first"
+        facts.append(Fact("Word-order register", Md(f"{md.reg_link(w.register)}: {said}")))
+    a = t.read_alignment
+    if a is not None:
+        facts.append(Fact("Read alignment", Md(read_alignment_text(a))))
     paired = [r for r in device.registers if r.paired]
     if paired:
         facts.append(

@@ -11,8 +11,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from regmap.backends.markdown.text import reg_link
 from regmap.core.text import number, zone_text
-from regmap.model import ByteOrder, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
+from regmap.model import ByteOrder, DataType, Device, FirmwareGate, PollClass, ReadAlignment, Register, WordOrder
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 
@@ -235,3 +236,16 @@ def shared(regs: tuple[Register, ...] | list[Register], key: str) -> object:
     """The value of `key` every register has (a group's inherited `space`, `firmware`, `poll`), or None."""
     values = {repr(getattr(r, key)) for r in regs}
     return getattr(regs[0], key) if regs and len(values) == 1 else None
+
+
+def read_alignment_text(a: ReadAlignment) -> str:
+    """The read-alignment rule in one sentence: the unit, the spaces, the device's answer otherwise, the exempt registers."""
+    spaces = " and ".join(SPACES[s].title for s in a.spaces)
+    answer = f"exception {hex2(a.exception)}" if a.exception is not None else "an exception"
+    text = (
+        f"reads of {spaces} start on an address that is a multiple of {a.words} and cover a multiple of {a.words} registers;"
+        f" the device answers {answer} otherwise (regmap's read plans, client and simulator keep the rule)"
+    )
+    if a.exempt:
+        text += "; may be read alone: " + ", ".join(reg_link(r) for r in a.exempt)
+    return text

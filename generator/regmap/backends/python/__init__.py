@@ -433,7 +433,7 @@ CLIENT_METHODS = frozenset(
     | {"check_writable", "check_exists", "writer", "reader", "write_args", "profile", "masked", "retries"}
     | {"check_firmware", "firmware", "firmware_text", "firmware_pending", "firmware_block", "learn_firmware", "detect_firmware"}
     | {"echo", "echoed", "report_server_id", "read_identification", "identification_code", "write_and_read", "read_write_arguments"}
-    | {"read_write_plan", "check_listed", "where"}
+    | {"read_write_plan", "check_listed", "where", "check_aligned", "set_word_order", "word_order_write"}
 )
 # Every error the runtime raises, re-exported by every generated module: `except drive.AccessError` must work
 # whichever map the module came from (a map without a firmware register still raises FirmwareError on request).

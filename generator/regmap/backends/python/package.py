@@ -15,6 +15,7 @@ from regmap.target import Files
 
 RUNTIME_MODULES = (
     "__init__.py",
+    "align.py",
     "base.py",
     "bits.py",
     "client.py",

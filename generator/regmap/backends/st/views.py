@@ -483,9 +483,28 @@ def device_consts(names: Names) -> Section:
                 st_hex(w.register.address),
                 f"{w.register.label} selects the word order",
             ),
-            Const(c("WORD_ORDER_HIGH_FIRST", what="the word-order parameter"), NATURAL[w.register.type], st_int(w.high_first)),
-            Const(c("WORD_ORDER_LOW_FIRST", what="the word-order parameter"), NATURAL[w.register.type], st_int(w.low_first)),
         ]
+        kind = NATURAL[w.register.type]
+        float_register = w.register.type.is_float
+
+        def literal(value: int | float) -> str:
+            return st_real(value) if float_register else st_int(int(value))
+
+        if w.swap_value is not None:
+            consts.append(
+                Const(
+                    c("WORD_ORDER_SWAP", what="the word-order parameter"),
+                    kind,
+                    literal(w.swap_value),
+                    "written (in the current word order) to swap the word order; a trigger: send it once",
+                )
+            )
+        else:
+            assert w.high_first is not None and w.low_first is not None
+            consts += [
+                Const(c("WORD_ORDER_HIGH_FIRST", what="the word-order parameter"), kind, literal(w.high_first)),
+                Const(c("WORD_ORDER_LOW_FIRST", what="the word-order parameter"), kind, literal(w.low_first)),
+            ]
     if t.max_message_bytes is not None:
         consts.append(Const(c("MAX_MESSAGE_BYTES", what="the message limit"), "UINT", st_int(t.max_message_bytes)))
     if t.response_delay_ms is not None:

@@ -69,12 +69,18 @@ def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) 
         if w is None:
             return None
         name = rename(w.register.name) if t is o else w.register.name
+        if w.swap_value is not None:
+            return {"register": name, "swap_value": w.swap_value}
         return {"register": name, "high_first": w.high_first, "low_first": w.low_first}
 
     a_wor, b_wor = wor(o), wor(n)
     if a_wor != b_wor:
-        show = lambda v: "none" if v is None else f"{v['register']} (high first {v['high_first']}, low first {v['low_first']})"  # noqa: E731
+        show = lambda v: "none" if v is None else f"{v['register']} ({_order_values(v)})"  # noqa: E731
         setting("word_order_register", MINOR if a_wor is None else MAJOR, a_wor, b_wor, show)
+    a_align, b_align = _alignment(o), _alignment(n)
+    if a_align != b_align:
+        note = "old read plans may break the new alignment" if b_align is not None else ""
+        setting("read_alignment", MAJOR if b_align is not None else MINOR, a_align, b_align, note=note)
     if o.undocumented_addresses != n.undocumented_addresses:
         stricter = n.undocumented_addresses == "reject"
         note = "old read plans that bridge gaps are refused now" if stricter else ""
@@ -99,3 +105,17 @@ def transport_changes(o: Transport, n: Transport, rename: Callable[[str], str]) 
             out.add("transport_changed", name, PATCH, *_pair(a, b), a, b)
 
     return out
+
+
+def _order_values(v: dict[str, Any]) -> str:
+    if "swap_value" in v:
+        return f"writing {v['swap_value']} swaps the order"
+    return f"high first {v['high_first']}, low first {v['low_first']}"
+
+
+def _alignment(t: Transport) -> str | None:
+    a = t.read_alignment
+    if a is None:
+        return None
+    exempt = f", exempt {', '.join(r.name for r in a.exempt)}" if a.exempt else ""
+    return f"{a.words} words in {', '.join(a.spaces)}{exempt}"

@@ -69,7 +69,7 @@ def infer(device: Device, reads: dict[str, RegisterRead]) -> tuple[WordOrder, li
         if len(plausible) == 1:
             result.votes[plausible[0]].append(reg.name)
     control = device.transport.word_order_register
-    if control is not None:
+    if control is not None and not control.swaps:  # a swap register holds no order to read
         result.register = control.register.label
         held = reads.get(control.register.name)
         if held is not None and held.words is not None:

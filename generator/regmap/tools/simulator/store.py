@@ -20,8 +20,8 @@ from pathlib import Path
 from typing import Any
 
 from regmap.diagnostics import UsageError
-from regmap.model import Device, Register
-from regmap.runtime_bridge import runtime_device, runtime_specs
+from regmap.model import Device, Register, WordOrder
+from regmap.runtime_bridge import runtime_alignment, runtime_device, runtime_specs
 from regmap.tools.output import write_output
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_raw
 from regmap_runtime.spaces import DEFAULT_SPACE
@@ -66,6 +66,7 @@ class DeviceStore:
         self.words: dict[tuple[str, int], int] = {}  # by (space, address)
         self.word_order = device.transport.word_order.value
         self.pending_after_read: dict[tuple[str, int], int] = {}
+        self.alignment = runtime_alignment(device)
         self._unreadable: dict[tuple[str, int, int], int | None] = {}  # (space, address, count) -> what unreadable() says
         self.faults = FaultPlan()
         self.load_defaults()
@@ -81,11 +82,17 @@ class DeviceStore:
     def follow_word_order_register(self) -> None:
         """Re-lay every 32-bit value when the word-order parameter changes: values stay, words swap."""
         control = self.device.transport.word_order_register
-        if control is None:
+        if control is None or control.swaps:  # a swap acts on the write itself (swap_if_magic), not on what the register holds
             return
         setting = self.raw_of(control.register)
         wanted = "high_first" if setting == control.high_first else "low_first" if setting == control.low_first else self.word_order
         self.relay(wanted)
+
+    def swap_if_magic(self, reg: Register, raw: Raw) -> None:
+        """The map's swap value written to its word-order register: from now on the words of every float go the other way."""
+        control = self.device.transport.word_order_register
+        if control is not None and control.swaps and reg.name == control.register.name and isinstance(raw, int | float):
+            self.relay(control.order_after(WordOrder(self.word_order), raw).value)
 
     def relay(self, wanted: str) -> None:
         """Lay every 32-bit value that follows the device's order in `wanted`: values stay, words swap."""
@@ -120,8 +127,10 @@ class DeviceStore:
         if self.firmware is not None and self.firmware[1] is not None and fw is not None:
             self.store_raw(fw.register, self.firmware[1])
         control = self.device.transport.word_order_register
-        if self.quirks.word_order is not None and control is not None:
-            self.store_raw(control.register, control.high_first if self.quirks.word_order == "high_first" else control.low_first)
+        if self.quirks.word_order is not None and control is not None and not control.swaps:
+            setting = control.high_first if self.quirks.word_order == "high_first" else control.low_first
+            assert setting is not None  # a register with a value per order
+            self.store_raw(control.register, setting)
         elif self.quirks.word_order is not None:
             self.relay(self.quirks.word_order)
         self.follow_word_order_register()
@@ -206,7 +215,9 @@ class DeviceStore:
             return self._unreadable[key]
         gaps = self.device.transport.tolerates_gaps or self.quirks.answer_gaps
         refused = None
-        for a in range(address, address + count):
+        if self.alignment is not None and not self.alignment.allows(space, address, count):
+            refused = self.alignment.exception or ILLEGAL_ADDRESS  # the code the map records; else the address error
+        for a in range(address, address + count if refused is None else address):
             reg = self.covering(a, space)
             if (reg is None and not gaps) or (reg is not None and not reg.access.readable):
                 refused = ILLEGAL_ADDRESS
@@ -268,6 +279,7 @@ class DeviceStore:
         for reg, raw in updates:
             self.store_raw(reg, raw)
             self._act(reg, raw)
+            self.swap_if_magic(reg, raw)
         self.follow_word_order_register()
         return None
 

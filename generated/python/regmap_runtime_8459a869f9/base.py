@@ -183,6 +183,29 @@ class ClientCore:
         """The spec with the word order this client was told the device uses (a device with a word-order register, `transport.word_order_register` in its map)."""
         return spec.in_word_order(self.word_order)
 
+    def check_aligned(self, space: str, address: int, count: int) -> None:
+        """Refuse a read the device's read alignment forbids (`transport.read_alignment`): nothing is sent."""
+        alignment = self.DEVICE.alignment
+        why = None if alignment is None else alignment.refusal(space, address, count)
+        if why is not None:
+            raise AccessError(f"{self.DEVICE.id}: {why}: nothing was sent")
+
+    def word_order_write(self, order: str) -> tuple[RegisterSpec[Any], Raw] | None:
+        """What `set_word_order(order)` writes to the word-order register: the map's value for `order`, or its
+        swap value when the device uses the other order now (as this client knows it); None: nothing to write."""
+        name = self.DEVICE.word_order_register
+        if name is None:
+            raise AccessError(f"{self.DEVICE.id} has no word-order register: its map fixes the word order ({self.DEVICE.word_order})")
+        if order not in ("high_first", "low_first"):
+            raise ValueError(f"word order {order!r}: high_first or low_first")
+        high, low, swap = self.DEVICE.word_order_values
+        spec = next(r for r in self.DEVICE.registers if r.name == name)
+        if swap is not None:
+            return None if order == self.word_order else (spec, swap)
+        value = high if order == "high_first" else low
+        assert value is not None  # a map without swap_value gives both values
+        return spec, value
+
     # -- firmware gates ------------------------------------------------------------------------
 
     @property
@@ -259,7 +282,9 @@ class ClientCore:
                     raise AccessError(f"{spec.label} is write-only: nothing was sent")
                 self.check_exists(spec)
             device = self.DEVICE
-            plan = plan_reads(chosen, device.max_read_registers, self._documented, max_bits=device.max_read_coils)
+            plan = plan_reads(
+                chosen, device.max_read_registers, self._documented, max_bits=device.max_read_coils, alignment=device.alignment
+            )
             self._plans[key] = plan
         return plan
 

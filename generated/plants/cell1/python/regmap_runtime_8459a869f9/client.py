@@ -102,6 +102,7 @@ class SyncClient(ClientCore):
         """Read `count` words from `address` of `space` (holding registers: 0x03; coils and discrete inputs: one 0/1 per bit)."""
         if self.broadcast:
             raise ValueError("a broadcast cannot read")
+        self.check_aligned(space, address, count)
         response = self._call(*self.reader(space), address, count=count)
         return self.read_words(response, ReadBlock(address, count, (), space))
 
@@ -147,6 +148,15 @@ class SyncClient(ClientCore):
 
     def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
         self.write_many({spec: value}, raw=raw)
+
+    def set_word_order(self, order: str) -> None:
+        """Make the device use `order` for its 32-bit values: write its word-order register (the map's value for
+        `order`, or the swap value when the device uses the other order now), then read and write with `order`.
+        A swap is a trigger: sent once, and a lost answer is OutcomeUnknown (the order is then not known)."""
+        write = self.word_order_write(order)
+        if write is not None:
+            self.write_many({cast(Writable[Any], write[0]): write[1]}, raw=True)
+        self.word_order = order
 
     def update(self, spec: ReadWrite[B], **fields: Any) -> B:
         """Change only the named fields of a bitfield register (every other bit, described or not, stays):
@@ -264,6 +274,7 @@ class AsyncClient(ClientCore):
     async def read_raw(self, address: int, count: int, *, space: str = DEFAULT_SPACE) -> list[int]:
         if self.broadcast:
             raise ValueError("a broadcast cannot read")
+        self.check_aligned(space, address, count)
         response = await self._call(*self.reader(space), address, count=count)
         return self.read_words(response, ReadBlock(address, count, (), space))
 
@@ -302,6 +313,13 @@ class AsyncClient(ClientCore):
 
     async def write(self, spec: Writable[T], value: T | int | float | str, *, raw: bool = False) -> None:
         await self.write_many({spec: value}, raw=raw)
+
+    async def set_word_order(self, order: str) -> None:
+        """As SyncClient.set_word_order: the word-order register written (a swap sent once), then `order` used."""
+        write = self.word_order_write(order)
+        if write is not None:
+            await self.write_many({cast(Writable[Any], write[0]): write[1]}, raw=True)
+        self.word_order = order
 
     async def update(self, spec: ReadWrite[B], **fields: Any) -> B:
         """Change only the named fields of a bitfield register (see SyncClient.update)."""

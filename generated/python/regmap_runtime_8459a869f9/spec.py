@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Generic, Self, TypeVar
 
+from .align import Alignment
 from .errors import AccessError, FirmwareError
 from .spaces import DEFAULT_SPACE, SPACES, Space
 from .types import TYPES, TypeInfo
@@ -274,6 +275,19 @@ class DeviceSpec:
     firmware_decimals: int = 0
     also_readable: frozenset[tuple[str, int]] = frozenset()  # (space, address) undocumented, but a device profile saw them answer
     variants: tuple[str, ...] = ()  # the device's variants (models, options) whose registers differ
+    read_alignment: int = 1  # reads of aligned_spaces start on a multiple of this and cover a multiple of it
+    aligned_spaces: tuple[str, ...] = ()
+    alignment_exempt: tuple[tuple[str, int, int], ...] = ()  # (space, address, count): reads the manual allows anyway
+    misaligned_exception: int | None = None  # what the device answers a misaligned read with
+    word_order_register: str | None = None  # the register that sets the word order, and what to write to it:
+    word_order_values: tuple[Raw | None, Raw | None, Raw | None] = (None, None, None)  # high_first, low_first, swap
+
+    @cached_property
+    def alignment(self) -> Alignment | None:
+        """The read-alignment rule (None: the device answers reads at any address)."""
+        if self.read_alignment == 1:
+            return None
+        return Alignment(self.read_alignment, self.aligned_spaces, self.alignment_exempt, self.misaligned_exception)
 
     @cached_property
     def documented(self) -> frozenset[tuple[str, int]] | None:

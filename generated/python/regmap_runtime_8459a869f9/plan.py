@@ -9,10 +9,11 @@ first cut can be moved right to the greedy cut without adding a request).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from .align import Alignment, padded
 from .spaces import DEFAULT_SPACE, MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from .spec import Raw, RegisterSpec
 
@@ -30,14 +31,22 @@ class ReadBlock:
         return list(words[start : start + spec.words])
 
 
-def _block(regs: list[RegisterSpec[Any]]) -> ReadBlock:
+def _block(regs: list[RegisterSpec[Any]], alignment: Alignment | None, readable: Callable[[str, Iterable[int]], bool]) -> ReadBlock:
     if len(regs) == 1:
         # A lone register reads just its own words (a lone pair reads its listed low word, as the maps' `paired` rule says).
         reg = regs[0]
-        return ReadBlock(reg.address, reg.words, (reg,), reg.space)
-    start = regs[0].first_address
-    end = regs[-1].address + regs[-1].words
-    return ReadBlock(start, end - start, tuple(regs), regs[0].space)
+        start, end = reg.address, reg.address + reg.words
+    else:
+        start, end = regs[0].first_address, regs[-1].address + regs[-1].words
+    space = regs[0].space
+    if alignment is not None and not alignment.allows(space, start, end - start):
+        widened = padded(alignment, space, regs[0].first_address, end, lambda words: readable(space, words))
+        if widened is None:
+            raise ValueError(
+                f"{regs[0].label}: no read of it is aligned to {alignment.words} words without reading an address the device refuses"
+            )
+        start, end = widened
+    return ReadBlock(start, end - start, tuple(regs), space)
 
 
 _SPACE_ORDER = {name: index for index, name in enumerate(SPACES)}
@@ -53,28 +62,47 @@ def plan_reads(
     documented: frozenset[tuple[str, int]] | None = None,
     *,
     max_bits: int = MAX_READ_BITS,
+    alignment: Alignment | None = None,
 ) -> list[ReadBlock]:
     """Blocks covering every register, space by space. `documented` is the set of (space, address)
     the device answers; None means the device tolerates reads of undocumented addresses.
-    `max_registers` limits a 0x03/0x04 request, `max_bits` a 0x01/0x02 request."""
+    `max_registers` limits a 0x03/0x04 request, `max_bits` a 0x01/0x02 request. With an `alignment`, every
+    block of a space it covers starts and ends on whole units, padded over readable words only; a register
+    it exempts whose padding is not readable is read alone, as the manual allows."""
     regs = sorted({r.name: r for r in registers if r.readable}.values(), key=_in_order)
+
+    def readable(space: str, words: Iterable[int]) -> bool:
+        return documented is None or all((space, a) in documented for a in words)
+
+    def alone(reg: RegisterSpec[Any]) -> bool:
+        end = reg.address + reg.words
+        if alignment is None or alignment.aligned(reg.space, reg.first_address, end - reg.first_address):
+            return False
+        exempt = alignment.allows(reg.space, reg.address, reg.words)
+        return exempt and padded(alignment, reg.space, reg.first_address, end, lambda words: readable(reg.space, words)) is None
+
     blocks: list[ReadBlock] = []
     current: list[RegisterSpec[Any]] = []
     for reg in regs:
-        if current:
+        if current and (alone(reg) or alone(current[0])):
+            blocks.append(_block(current, alignment, readable))
+        elif current:
             start = current[0].first_address
             prev_end = current[-1].address + current[-1].words
             gap = range(prev_end, reg.first_address)
             limit = max_bits if SPACES[reg.space].bits else max_registers
-            fits = reg.address + reg.words - start <= limit
-            gap_ok = documented is None or all((reg.space, a) in documented for a in gap)
-            if reg.space == current[0].space and fits and gap_ok and reg.first_address >= prev_end:
+            end = reg.address + reg.words
+            if alignment is not None:
+                start, end = alignment.extent(reg.space, start, end)
+                limit = alignment.limit(reg.space, limit)
+            fits = end - start <= limit
+            if reg.space == current[0].space and fits and readable(reg.space, gap) and reg.first_address >= prev_end:
                 current.append(reg)
                 continue
-            blocks.append(_block(current))
+            blocks.append(_block(current, alignment, readable))
         current = [reg]
     if current:
-        blocks.append(_block(current))
+        blocks.append(_block(current, alignment, readable))
     return blocks
 
 
