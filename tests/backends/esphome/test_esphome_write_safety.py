@@ -48,8 +48,10 @@ def _entities(data: dict[str, Any]) -> list[tuple[str, dict[str, Any]]]:
 
 
 def _register(device: Device, e: dict[str, Any]) -> Register:
-    reg = device.at_address(e["address"], SPACE[e.get("register_type")])
-    assert reg is not None and reg.address == e["address"], e
+    """The register an item reads: at its address, or `offset` bytes on where an aligned device's item reads a whole unit."""
+    address = e["address"] + e.get("offset", 0) // 2
+    reg = device.at_address(address, SPACE[e.get("register_type")])
+    assert reg is not None and reg.address == address, e
     return reg
 
 

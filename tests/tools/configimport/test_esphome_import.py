@@ -12,7 +12,7 @@ import pytest
 
 from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map
-from regmap.model import Device, Register
+from regmap.model import DataType, Device, Register
 from regmap.tools.configimport.drafts import read
 from regmap.tools.configimport.esphome import VALUE_TYPE, skip_poll_class
 from regmap.tools.configimport.reader import ConfigError, Tagged, read_config
@@ -215,7 +215,8 @@ def test_every_value_type_is_the_inverse_of_the_back_end() -> None:
 
     for (data_type, order), value_type in EMITTED.items():
         kind, read_order = VALUE_TYPE[value_type]
-        assert kind == data_type.value
+        # ESPHome has no time value type: a timestamp is the u32 of its seconds on the wire, and comes back as one
+        assert kind == ("u32" if data_type is DataType.TIMESTAMP else data_type.value)
         assert read_order == order.value or data_type.words == 1
 
 

@@ -8,8 +8,9 @@ plant one package (`esphome/<plant>.yaml`): a uart and modbus per serial bus, a 
 
 from __future__ import annotations
 
-from regmap.backends.esphome.package import VALUE_TYPE, esp_text, hexbytes, package, render_package
+from regmap.backends.esphome.package import VALUE_TYPE, package, render_package
 from regmap.backends.esphome.plant import plant_package, render_plant
+from regmap.backends.esphome.text import esp_text, hexbytes
 from regmap.homeauto.selection import select
 from regmap.homeauto.target import selecting_target
 from regmap.model import Device

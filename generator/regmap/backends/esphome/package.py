@@ -34,6 +34,7 @@ from __future__ import annotations
 from typing import Any
 
 from regmap.backends.esphome import lambdas
+from regmap.backends.esphome.text import esp_text, esp_unit, num
 from regmap.core.text import na_list
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
@@ -112,18 +113,6 @@ MAX_CMD_RETRIES = 0
 READ_ONLY_PLATFORMS = ("sensor", "binary_sensor", "text_sensor")
 PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
 COMMAND_THROTTLE_FLOOR_MS = 50  # between two requests to one device; longer when the map documents a slower device
-
-
-def esp_text(text: str) -> str:
-    """Map text as an ESPHome name or label: `$` would start a substitution or a Jinja expression, and
-    ESPHome reserves `/` in names (URL paths; `_validate_no_slash`); both become their look-alikes."""
-    return esp_unit(text).replace("/", "\u2044")
-
-
-def esp_unit(text: str) -> str:
-    """A unit as the map gives it (ESPHome checks units for length only); only `$`, which would start
-    a substitution, becomes its look-alike."""
-    return " ".join(text.split()).replace("$", "\uff04")
 
 
 class DevicePackage:
@@ -350,7 +339,7 @@ class DevicePackage:
         entity.update(self._item(reg, value_type=self._value_type(reg)))
         low, high = low + float(reg.offset), high + float(reg.offset)
         step = scale_float(reg.scale) if not reg.type.is_float else 10.0 ** -shown_decimals(reg)
-        entity.update({"min_value": _num(low), "max_value": _num(high), "step": step})
+        entity.update({"min_value": num(low), "max_value": num(high), "step": step})
         if reg.scaled:
             entity["multiply"] = scale_float(1 / reg.scale)  # ESPHome: raw = value x multiply, value = raw / multiply
         if swapped(reg):  # one word (wider ones are not numbers): read and write it through lambdas
@@ -545,22 +534,6 @@ class DevicePackage:
     def platforms(self) -> dict[str, list[dict[str, Any]]]:
         """The entity lists by platform, in ESPHome's usual order, the empty ones left out."""
         return {platform: self.entities[platform] for platform in PLATFORMS if platform in self.entities}
-
-
-def _num(value: float) -> float | int:
-    return int(value) if value == int(value) else value
-
-
-def _words(reg: Register, raw: int) -> list[int]:
-    """The wire words of a raw value, in the register's word order."""
-    unsigned = raw & ((1 << reg.type.bits) - 1)
-    words = [(unsigned >> (16 * i)) & 0xFFFF for i in reversed(range(reg.words))]
-    return words if reg.word_order is WordOrder.HIGH_FIRST else words[::-1]
-
-
-def hexbytes(reg: Register, raw: int) -> str:
-    """What ESPHome's `raw_encode: HEXBYTES` makes of a register holding `raw`: its wire bytes, `%02x` each."""
-    return "".join(f"{w:04x}" for w in _words(reg, raw))
 
 
 def package(device: Device, selection: Selection) -> dict[str, Any]:

@@ -29,6 +29,7 @@ class Field:
     type: str
     word_order: str
     byte_order: str
+    size: int  # registers it fills
     words: int | None = None  # strings only
 
 
@@ -62,14 +63,14 @@ def structure_fields(structure: str, count: int) -> tuple[list[Field], str]:
         if code == "s":
             start = struct.calcsize(prefix + done)
             _check_words(structure, code, start, repeat)
-            fields.append(Field(start // 2, "string", "high_first", "high_first", words=repeat // 2))
+            fields.append(Field(start // 2, "string", "high_first", "high_first", repeat // 2, words=repeat // 2))
             done += f"{repeat}{code}"
             continue
         for _ in range(repeat):
             start = struct.calcsize(f"{prefix}{done}0{code}")  # native order aligns each value as C would
             width = struct.calcsize(prefix + code)
             _check_words(structure, code, start, width)
-            fields.append(Field(start // 2, _type(structure, code, width), order, order))
+            fields.append(Field(start // 2, _type(structure, code, width), order, order, width // 2))
             done += f"0{code}{code}"
     return fields, ORDERS[prefix]
 

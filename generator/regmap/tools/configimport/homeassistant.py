@@ -242,6 +242,13 @@ class _Reader(ConfigReader):
             )
         elif order != "big":
             self._note(reg, f"custom structure {structure!r}: read {order} endian (byte and word order low first)")
+        unpacked = sum(f.size for f in fields)
+        if unpacked < count:  # padding: HA reads whole units, which a device may demand; a map says so only from its datasheet
+            self._note(
+                reg,
+                f"custom structure {structure!r} reads {count} registers for {unpacked} word(s) of values (padding): "
+                f"if the device answers only whole {count}-register reads, add transport.read_alignment (not inferred)",
+            )
         for r in regs:
             r.notes = list(reg.notes)
             if r.type == "string":
