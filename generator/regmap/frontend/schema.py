@@ -12,6 +12,7 @@ from typing import Any
 import jsonschema
 
 from regmap.diagnostics import Diagnostic
+from regmap.frontend.fastschema import Check, compile_schema
 from regmap.frontend.yamlsource import Positions
 
 
@@ -22,6 +23,7 @@ def _schema(file: str = "map.schema.json") -> dict[str, Any]:
 
 
 _VALIDATORS: dict[str, jsonschema.protocols.Validator] = {}
+_FAST_CHECKS: dict[str, Check | None] = {}
 
 
 def _validator(file: str = "map.schema.json") -> jsonschema.protocols.Validator:
@@ -29,6 +31,13 @@ def _validator(file: str = "map.schema.json") -> jsonschema.protocols.Validator:
     if file not in _VALIDATORS:
         _VALIDATORS[file] = jsonschema.Draft202012Validator(_schema(file))
     return _VALIDATORS[file]
+
+
+def _fast_check(file: str = "map.schema.json") -> Check | None:
+    """The schema compiled to closures (fastschema), once per process: a valid map skips jsonschema's walk."""
+    if file not in _FAST_CHECKS:
+        _FAST_CHECKS[file] = compile_schema(_schema(file))
+    return _FAST_CHECKS[file]
 
 
 def _kind(value: Any) -> str:
@@ -43,6 +52,9 @@ def _dotted(path: Iterable[str | int]) -> str:
 
 
 def _schema_problems(raw: dict[str, Any], positions: Positions, name: str, schema_file: str = "map.schema.json") -> list[Diagnostic]:
+    fast = _fast_check(schema_file)
+    if fast is not None and fast(raw):
+        return []
     problems = []
     for umbrella in _validator(schema_file).iter_errors(raw):
         error, message = _pick(umbrella)

@@ -1,0 +1,250 @@
+"""A JSON Schema compiled into Python closures that only answer "valid or not", for the fast path.
+
+jsonschema walks the schema for every value (a descend, an evolve and a keyword lookup per property), which
+for a 20,000-register table costs seconds. This compiles the keywords regmap's schemas use, once per process,
+into one closure per schema node. It decides exactly as jsonschema does (its equality, where true is not 1
+and 1 is 1.0, and its draft 2020-12 types); where it says "not valid", jsonschema runs and words the messages. A schema
+using a keyword it does not know is not compiled (`compile_schema` gives None) and jsonschema does all the work.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from numbers import Number
+from typing import Any
+
+Check = Callable[[Any], bool]
+
+# Keywords that never decide validity.
+_ANNOTATIONS = frozenset({"$schema", "$id", "$defs", "$comment", "title", "description", "default", "examples"})
+
+
+class _Unsupported(Exception):
+    """The schema uses a keyword (or a form of one) this compiler does not decide."""
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, Number) and not isinstance(value, bool)
+
+
+def _is_integer(value: Any) -> bool:
+    # draft 2020-12: a float with no fraction is an integer (jsonschema's is_integer)
+    if isinstance(value, bool):
+        return False
+    return isinstance(value, int) or (isinstance(value, float) and value.is_integer())
+
+
+def equal(one: Any, two: Any) -> bool:
+    """JSON equality as jsonschema decides it: a boolean equals only a boolean, lists and mappings item by item."""
+    if one is two:
+        return True
+    if isinstance(one, str) or isinstance(two, str):
+        return bool(one == two)
+    if isinstance(one, list) and isinstance(two, list):
+        return len(one) == len(two) and all(equal(a, b) for a, b in zip(one, two, strict=True))
+    if isinstance(one, dict) and isinstance(two, dict):
+        return one.keys() == two.keys() and all(equal(one[k], two[k]) for k in one)
+    if isinstance(one, bool) or isinstance(two, bool):
+        return type(one) is type(two) and one == two
+    return bool(one == two)
+
+
+def unique(items: list[Any]) -> bool:
+    """No two items equal (`equal`); the lists regmap marks unique are short."""
+    return not any(equal(a, b) for i, a in enumerate(items) for b in items[i + 1 :])
+
+
+_TYPES: dict[str, Check] = {
+    "object": lambda v: isinstance(v, dict),
+    "array": lambda v: isinstance(v, list),
+    "string": lambda v: isinstance(v, str),
+    "integer": _is_integer,
+    "number": _is_number,
+    "boolean": lambda v: isinstance(v, bool),
+    "null": lambda v: v is None,
+}
+
+
+def compile_schema(schema: dict[str, Any]) -> Check | None:
+    """A function telling whether an instance is valid against `schema`, or None where the schema uses a
+    keyword this module does not decide (the caller then validates with jsonschema alone)."""
+    try:
+        return _Compiler(schema).node(schema)
+    except _Unsupported:
+        return None
+
+
+class _Compiler:
+    def __init__(self, root: dict[str, Any]) -> None:
+        self.root = root
+        self.refs: dict[str, Check] = {}
+
+    def ref(self, target: str) -> Check:
+        """A local `#/$defs/x` reference, compiled once (and able to refer to itself)."""
+        if not target.startswith("#/$defs/") or "/" in target[len("#/$defs/") :]:
+            raise _Unsupported(target)
+        if target not in self.refs:
+            slot: list[Check] = []
+            self.refs[target] = lambda v: slot[0](v)
+            slot.append(self.node(self.root["$defs"][target[len("#/$defs/") :]]))
+            self.refs[target] = slot[0]
+        return self.refs[target]
+
+    def node(self, schema: Any) -> Check:
+        if schema is True:
+            return lambda v: True
+        if schema is False:
+            return lambda v: False
+        if not isinstance(schema, dict):
+            raise _Unsupported(repr(schema))
+        checks: list[Check] = []
+        for key, value in schema.items():
+            if key in _ANNOTATIONS or key in ("then", "else", "properties"):
+                continue  # then/else belong to if; properties to the object check below
+            make = getattr(self, "_" + key.replace("$", "dollar_"), None)
+            if make is None:
+                raise _Unsupported(key)
+            checks.append(make(value, schema))
+        if "properties" in schema and "additionalProperties" not in schema:
+            checks.append(self._properties_only(schema["properties"]))
+        return _all(checks)
+
+    # -- any type ------------------------------------------------------------------------------------------
+
+    def _dollar_ref(self, target: str, _: dict[str, Any]) -> Check:
+        return self.ref(target)
+
+    def _type(self, wanted: str | list[str], _: dict[str, Any]) -> Check:
+        tests = [_TYPES[t] for t in ([wanted] if isinstance(wanted, str) else wanted)]
+        return tests[0] if len(tests) == 1 else _any(tests)
+
+    def _enum(self, members: list[Any], _: dict[str, Any]) -> Check:
+        return lambda v: any(equal(v, m) for m in members)
+
+    def _const(self, member: Any, _: dict[str, Any]) -> Check:
+        return lambda v: equal(v, member)
+
+    def _anyOf(self, branches: list[Any], _: dict[str, Any]) -> Check:
+        return _any([self.node(b) for b in branches])
+
+    def _oneOf(self, branches: list[Any], _: dict[str, Any]) -> Check:
+        tests = [self.node(b) for b in branches]
+        return lambda v: sum(1 for t in tests if t(v)) == 1
+
+    def _not(self, branch: Any, _: dict[str, Any]) -> Check:
+        test = self.node(branch)
+        return lambda v: not test(v)
+
+    def _if(self, condition: Any, schema: dict[str, Any]) -> Check:
+        test = self.node(condition)
+        then = self.node(schema.get("then", True))
+        otherwise = self.node(schema.get("else", True))
+        return lambda v: then(v) if test(v) else otherwise(v)
+
+    # -- numbers ---------------------------------------------------------------------------------------------
+
+    def _minimum(self, bound: float, _: dict[str, Any]) -> Check:
+        return lambda v: not _is_number(v) or v >= bound
+
+    def _maximum(self, bound: float, _: dict[str, Any]) -> Check:
+        return lambda v: not _is_number(v) or v <= bound
+
+    def _exclusiveMinimum(self, bound: float, _: dict[str, Any]) -> Check:
+        return lambda v: not _is_number(v) or v > bound
+
+    # -- strings --------------------------------------------------------------------------------------------
+
+    def _pattern(self, pattern: str, _: dict[str, Any]) -> Check:
+        search = re.compile(pattern).search
+        return lambda v: not isinstance(v, str) or search(v) is not None
+
+    def _minLength(self, size: int, _: dict[str, Any]) -> Check:
+        return lambda v: not isinstance(v, str) or len(v) >= size
+
+    def _maxLength(self, size: int, _: dict[str, Any]) -> Check:
+        return lambda v: not isinstance(v, str) or len(v) <= size
+
+    # -- arrays ---------------------------------------------------------------------------------------------
+
+    def _items(self, item: Any, _: dict[str, Any]) -> Check:
+        if isinstance(item, list):
+            raise _Unsupported("items as a list")
+        test = self.node(item)
+        return lambda v: not isinstance(v, list) or all(test(x) for x in v)
+
+    def _minItems(self, size: int, _: dict[str, Any]) -> Check:
+        return lambda v: not isinstance(v, list) or len(v) >= size
+
+    def _maxItems(self, size: int, _: dict[str, Any]) -> Check:
+        return lambda v: not isinstance(v, list) or len(v) <= size
+
+    def _uniqueItems(self, unique_items: bool, _: dict[str, Any]) -> Check:
+        return (lambda v: not isinstance(v, list) or unique(v)) if unique_items else (lambda v: True)
+
+    # -- objects --------------------------------------------------------------------------------------------
+
+    def _required(self, names: list[str], _: dict[str, Any]) -> Check:
+        return lambda v: not isinstance(v, dict) or all(n in v for n in names)
+
+    def _minProperties(self, size: int, _: dict[str, Any]) -> Check:
+        return lambda v: not isinstance(v, dict) or len(v) >= size
+
+    def _propertyNames(self, names: Any, _: dict[str, Any]) -> Check:
+        test = self.node(names)
+        return lambda v: not isinstance(v, dict) or all(test(k) for k in v)
+
+    def _properties_only(self, properties: dict[str, Any]) -> Check:
+        tests = {name: self.node(s) for name, s in properties.items()}
+
+        def check(v: Any) -> bool:
+            if not isinstance(v, dict):
+                return True
+            for key, value in v.items():
+                test = tests.get(key)
+                if test is not None and not test(value):
+                    return False
+            return True
+
+        return check
+
+    def _additionalProperties(self, extra: Any, schema: dict[str, Any]) -> Check:
+        if "patternProperties" in schema:
+            raise _Unsupported("patternProperties")
+        tests = {name: self.node(s) for name, s in schema.get("properties", {}).items()}
+        other = self.node(extra)
+
+        def check(v: Any) -> bool:
+            if not isinstance(v, dict):
+                return True
+            for key, value in v.items():  # noqa: SIM110 (a loop: all() of a generator costs a frame per value)
+                if not tests.get(key, other)(value):
+                    return False
+            return True
+
+        return check
+
+
+def _all(checks: list[Check]) -> Check:
+    if not checks:
+        return lambda v: True
+    if len(checks) == 1:
+        return checks[0]
+
+    def every(v: Any) -> bool:
+        for check in checks:  # noqa: SIM110 (a loop: all() of a generator costs a frame per value)
+            if not check(v):
+                return False
+        return True
+
+    return every
+
+
+def _any(checks: list[Check]) -> Check:
+    def some(v: Any) -> bool:
+        for check in checks:  # noqa: SIM110 (a loop: any() of a generator costs a frame per value)
+            if check(v):
+                return True
+        return False
+
+    return some
