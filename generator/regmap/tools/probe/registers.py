@@ -79,10 +79,10 @@ def read_registers(bus: ProbeBus, device: Device, reads: dict[str, RegisterRead]
 def read_alone(bus: ProbeBus, device: Device, read: RegisterRead) -> Answer:
     """Read one register by itself, as the read plan would (widened to whole units where the map's reads
     must be aligned), and keep its own words."""
-    (block,) = read_plan(device, [read.register])
-    answer = bus.read(block.address, block.count, block.space)
-    (spec,) = block.registers
-    read.answer, read.words = answer, block.words_of(spec, answer.words) if answer.words is not None else None
+    (alone,) = read_plan(device, [read.register])
+    answer = bus.read(alone.address, alone.count, alone.space)
+    (spec,) = alone.registers
+    read.answer, read.words = answer, alone.words_of(spec, answer.words) if answer.words is not None else None
     return answer
 
 
