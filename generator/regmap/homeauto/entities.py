@@ -259,7 +259,12 @@ def gate_key(reg: Register) -> tuple[str, str, tuple[str, ...]]:
     have it (() every variant). Registers of two keys never share a read: one may answer, the other not."""
     gate = reg.firmware
     first, until = (gate.first or "", gate.until or "") if gate is not None else ("", "")
-    return (first, until, tuple(sorted(reg.variants)))
+    return (first, until, variant_set(reg))
+
+
+def variant_set(reg: Register) -> tuple[str, ...]:
+    """The variants that have the register, sorted (() every variant): one set however the map orders it."""
+    return tuple(sorted(reg.variants))
 
 
 def planned(
@@ -275,10 +280,10 @@ def planned(
     out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
     for poll, key in keys:
         chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == key}
-        first, until, _ = key
+        first, until, variants = key
         gate = FirmwareGate(first or None, until or None) if first or until else None
         specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
-        bridged = None if documented is None else documented - _elsewhere(device, key[2])
+        bridged = None if documented is None else documented - _other_variants_words(device, variants)
         blocks = plan_reads(specs, t.max_read_registers, bridged, max_bits=bits, alignment=runtime_alignment(device))
         out += [(block, PollClass(poll), gate) for block in blocks]
     spaces = ("holding", "input", "coil", "discrete_input")
@@ -286,12 +291,12 @@ def planned(
     return out
 
 
-def _elsewhere(device: Device, variants: tuple[str, ...]) -> frozenset[tuple[str, int]]:
+def _other_variants_words(device: Device, variants: tuple[str, ...]) -> frozenset[tuple[str, int]]:
     """The words of the registers only other variants have: a read of registers on `variants` never bridges them."""
     return frozenset(
         (r.space, a)
         for r in device.registers
-        if r.variants and tuple(sorted(r.variants)) != variants
+        if r.variants and variant_set(r) != variants
         for a in range(r.first_address, r.last_address + 1)
     )
 
@@ -308,13 +313,13 @@ def gate_notes(device: Device, registers: tuple[Register, ...] | list[Register])
         if reg.firmware is not None:
             by_gate.setdefault(reg.firmware.text, []).append(reg.name)
         if reg.variants:
-            by_variants.setdefault(tuple(sorted(reg.variants)), []).append(reg.name)
+            by_variants.setdefault(variant_set(reg), []).append(reg.name)
     notes = [f"Needs {gate}: {', '.join(names)} (older or newer firmware {ABSENT})." for gate, names in by_gate.items()]
     declared = [v.name for v in device.info.variants]
     for having, names in by_variants.items():
         others = [name for name in declared if name not in having]
         if others:  # a register every declared variant has answers always
-            notes.append(f"Only on variant {', '.join(having)}: {', '.join(names)} (the {', '.join(others)} variant {ABSENT}).")
+            notes.append(f"Only on variant {', '.join(having)}: {', '.join(names)} (on {', '.join(others)} the device {ABSENT}).")
     return notes
 
 
