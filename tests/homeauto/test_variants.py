@@ -13,14 +13,19 @@ from pathlib import Path
 import pytest
 
 from regmap.backends.esphome import render_device as esphome_files
+from regmap.backends.esphome import render_plant as esphome_plant
 from regmap.backends.homeassistant import render_device as hass_files
+from regmap.backends.homeassistant import render_plant as hass_plant
 from regmap.frontend import load_map
+from regmap.frontend.plant import load_plant
 from regmap.homeauto.entities import planned
 from regmap.model import Device, Register
+from regmap.plant import Plant
 
 from conftest import ROOT
 from support.esphome_ranges import items_of, ranges
 from support.homeauto_yaml import esphome_config, load
+from support.plant_tcp_bus import write_plant
 
 FLOAT_METER = ROOT / "tests" / "maps" / "fixtures" / "float_meter.yaml"
 ESP_SPACE = {"holding": "holding", "read": "input", "coil": "coil", "discrete_input": "discrete_input"}
@@ -79,17 +84,37 @@ def test_the_read_plan_neither_mixes_nor_bridges_variant_sets(meter: Device) -> 
             )
 
 
+def _note(device: Device) -> str:
+    having = device.register("voltage_l2").variants
+    lacking = [v.name for v in device.info.variants if v.name not in having]
+    assert having and lacking
+    return (
+        f"Only on variant {', '.join(having)}: voltage_l2 (on {', '.join(lacking)} the device answers them with an exception:"
+        " the entities become unavailable)."
+    )
+
+
+def _header(text: str) -> list[str]:
+    return [line for line in text.splitlines() if line.startswith("#")]
+
+
 @pytest.mark.parametrize("render", [esphome_files, hass_files], ids=["esphome", "homeassistant"])
 def test_the_header_names_the_entities_only_some_variants_have(render: Callable[[Device, tuple[str, ...]], dict[str, str]]) -> None:
     device = load_map(FLOAT_METER)
     (text,) = render(device, ALL).values()
-    header = [line for line in text.splitlines() if line.startswith("#")]
-    having = device.register("voltage_l2").variants
-    lacking = [v.name for v in device.info.variants if v.name not in having]
-    assert having and lacking
-    expected = (
-        f"# Only on variant {', '.join(having)}: voltage_l2 (on {', '.join(lacking)} the device answers them with an exception:"
-        " the entities become unavailable)."
-    )
-    assert expected in header, header
+    header = _header(text)
+    assert f"# {_note(device)}" in header, header
     assert sum("Only on variant" in line for line in header) == 1
+
+
+@pytest.mark.parametrize("render", [esphome_plant, hass_plant], ids=["esphome", "homeassistant"])
+def test_a_plant_header_names_them_per_device(render: Callable[[Plant], dict[str, str]], tmp_path: Path) -> None:
+    plant = load_plant(
+        write_plant(
+            tmp_path / "plant.yaml",
+            "meters",
+            [("line", "serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}", [("meter", FLOAT_METER, 1)])],
+        )
+    )
+    (text,) = render(plant).values()
+    assert f"# meter: {_note(plant.devices[0].device)}" in _header(text), _header(text)
