@@ -254,43 +254,73 @@ def swap_word(value: int) -> int:
     return ((value & 0xFF) << 8) | (value >> 8)
 
 
-def gate_key(reg: Register) -> tuple[str, str]:
+def gate_key(reg: Register) -> tuple[str, str, tuple[str, ...]]:
+    """What decides whether the register answers: its firmware gate (from, until) and the variants that
+    have it (() every variant). Registers of two keys never share a read: one may answer, the other not."""
     gate = reg.firmware
-    return (gate.first or "", gate.until or "") if gate is not None else ("", "")
+    first, until = (gate.first or "", gate.until or "") if gate is not None else ("", "")
+    return (first, until, variant_set(reg))
+
+
+def variant_set(reg: Register) -> tuple[str, ...]:
+    """The variants that have the register, sorted (() every variant): one set however the map orders it."""
+    return tuple(sorted(reg.variants))
 
 
 def planned(
     device: Device, registers: list[Register], max_bits: int | None = None
 ) -> list[tuple[ReadBlock, PollClass, FirmwareGate | None]]:
-    """The read plan of `registers` split by poll class and firmware gate (a read never mixes polling
-    rates, and never holds a register the connected firmware may lack beside one it has), in (space,
-    address) order. One class and no gates (the seed maps): the plain read plan."""
+    """The read plan of `registers` split by poll class and `gate_key` (a read never mixes polling rates,
+    and never holds a register the connected firmware or variant may lack beside one it has), in (space,
+    address) order. One class, no gates and no variants (the seed maps): the plain read plan."""
     t = device.transport
     documented = None if t.tolerates_gaps else documented_addresses(device)
     bits = t.max_read_coils if max_bits is None else min(t.max_read_coils, max_bits)
-    keys = sorted({(r.poll.value, *gate_key(r)) for r in registers})
+    keys = sorted({(r.poll.value, gate_key(r)) for r in registers})
     out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
-    for poll, first, until in keys:
-        chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == (first, until)}
+    for poll, key in keys:
+        chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == key}
+        first, until, variants = key
         gate = FirmwareGate(first or None, until or None) if first or until else None
         specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
-        blocks = plan_reads(specs, t.max_read_registers, documented, max_bits=bits, alignment=runtime_alignment(device))
+        bridged = None if documented is None else documented - _other_variants_words(device, variants)
+        blocks = plan_reads(specs, t.max_read_registers, bridged, max_bits=bits, alignment=runtime_alignment(device))
         out += [(block, PollClass(poll), gate) for block in blocks]
     spaces = ("holding", "input", "coil", "discrete_input")
     out.sort(key=lambda item: (spaces.index(item[0].space), item[0].address))
     return out
 
 
-def firmware_notes(registers: tuple[Register, ...] | list[Register]) -> list[str]:
-    """One line per firmware gate: which selected registers need which firmware (the others answer always)."""
+def _other_variants_words(device: Device, variants: tuple[str, ...]) -> frozenset[tuple[str, int]]:
+    """The words of the registers only other variants have: a read of registers on `variants` never bridges them."""
+    return frozenset(
+        (r.space, a)
+        for r in device.registers
+        if r.variants and variant_set(r) != variants
+        for a in range(r.first_address, r.last_address + 1)
+    )
+
+
+ABSENT = "answers them with an exception: the entities become unavailable"
+
+
+def gate_notes(device: Device, registers: tuple[Register, ...] | list[Register]) -> list[str]:
+    """One line per firmware gate and per set of variants: which selected registers only that firmware or
+    those variants have, and what the others do (the registers not named answer always)."""
     by_gate: dict[str, list[str]] = {}
+    by_variants: dict[tuple[str, ...], list[str]] = {}
     for reg in registers:
         if reg.firmware is not None:
             by_gate.setdefault(reg.firmware.text, []).append(reg.name)
-    return [
-        f"Needs {gate}: {', '.join(names)} (older or newer firmware answers them with an exception: the entities become unavailable)."
-        for gate, names in by_gate.items()
-    ]
+        if reg.variants:
+            by_variants.setdefault(variant_set(reg), []).append(reg.name)
+    notes = [f"Needs {gate}: {', '.join(names)} (older or newer firmware {ABSENT})." for gate, names in by_gate.items()]
+    declared = [v.name for v in device.info.variants]
+    for having, names in by_variants.items():
+        others = [name for name in declared if name not in having]
+        if others:  # a register every declared variant has answers always
+            notes.append(f"Only on variant {', '.join(having)}: {', '.join(names)} (on {', '.join(others)} the device {ABSENT}).")
+    return notes
 
 
 class Names:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import re
 import signal
 import subprocess
 import sys
@@ -338,3 +339,59 @@ def test_the_probe_compares_identification_and_server_id_with_the_map(simulator:
     assert code == ExitCode.PROBE_DISAGREES
     texts = sorted(n["text"] for n in report["disagreements"] if n["stage"] == "identity")
     assert texts == ["additional data b'PM-3000', the map 'PM-9'", "object 0x02 (revision): the device says '1.25', the map '1.30'"]
+
+
+# -- variants (issue #34's float meter): each register only some variants have is read by itself, and the
+# report names the variant whose registers answered as the device's did, or says that none does.
+
+FLOAT_METER = FIXTURE_DIR / "float_meter.yaml"
+GATED = "voltage_l2"  # on the three-phase model only
+
+
+def _variants_note(report: dict[str, Any]) -> dict[str, Any]:
+    (note,) = [n for kind in ("disagreements", "information") for n in report[kind] if n["stage"] == "variants"]
+    assert isinstance(note, dict)
+    return note
+
+
+@pytest.mark.parametrize("variant", ["single_phase", "three_phase"])
+def test_the_probe_names_the_variant_the_device_is(variant: str, simulator: SimulatorFactory) -> None:
+    sim = simulator(FLOAT_METER, "--variant", variant)
+    code, report = probe(sim.port or 0, FLOAT_METER)
+    assert code == ExitCode.OK, report["disagreements"]
+    device = load_map(FLOAT_METER)
+    has = device.register(GATED).on_variant(variant)
+    assert report["variants"] == {
+        "present": [GATED] if has else [],
+        "absent": [] if has else [GATED],
+        "unclear": [],
+        "matches": [variant],
+    }
+    note = _variants_note(report)
+    assert note["disagrees"] is False
+    assert str(note["text"]).startswith(f"the device is {variant} (of single_phase, three_phase): ")
+    # Every other register answered: the refused voltage_l2 took none of them down.
+    status = {r["register"]: r["status"] for r in report["registers"]}
+    assert status == {r.name: "answered" if r.on_variant(variant) else "exception" for r in device.registers if r.access.readable}
+    assert "variants" in report["stages"]
+
+
+def _also_single_phase_only(tmp_path: Path, register: str) -> Path:
+    """The fixture with `register` on the single-phase model only: a three-phase meter has it anyway."""
+    text = FLOAT_METER.read_text(encoding="utf-8")
+    line = re.search(rf"^.*\{{name: {register},.*$", text, re.MULTILINE)
+    assert line is not None and "variants" not in line[0]
+    path = tmp_path / "float_meter_two_gates.yaml"
+    path.write_text(text.replace(line[0], line[0].replace(", title:", ", variants: [single_phase], title:", 1)), encoding="utf-8")
+    return path
+
+
+def test_a_device_no_declared_variant_describes_disagrees(simulator: SimulatorFactory, tmp_path: Path) -> None:
+    sim = simulator(FLOAT_METER, "--variant", "three_phase")
+    probed = _also_single_phase_only(tmp_path, "pulse_count")  # answers on the three-phase meter, as voltage_l2 does
+    code, report = probe(sim.port or 0, probed)
+    assert code == ExitCode.PROBE_DISAGREES
+    assert disagreements(report) == {("variants", "variants", "transport")}
+    assert report["variants"]["matches"] == []
+    assert sorted(report["variants"]["present"]) == sorted([GATED, "pulse_count"])
+    assert str(_variants_note(report)["text"]).startswith("no declared variant (single_phase, three_phase) has these registers: ")

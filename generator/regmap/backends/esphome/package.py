@@ -47,8 +47,8 @@ from regmap.homeauto.entities import (
     device_class,
     dump,
     entity_category,
-    firmware_notes,
     flags,
+    gate_notes,
     is_parameter,
     planned,
     presses,
@@ -573,6 +573,6 @@ def render_package(device: Device, selection: Selection) -> Files:
         )
     if any(r.type.words == 4 and r.type.numeric for r in selection.registers):
         about.append("64-bit values: ESPHome publishes a float (24 significant bits).")
-    about += firmware_notes(selection.registers)
+    about += gate_notes(device, selection.registers)
     about += [f"Not generated: {s}" for s in pkg.skipped]
     return {f"{device.id}.yaml": dump(device, about, data)}

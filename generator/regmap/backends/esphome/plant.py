@@ -12,7 +12,7 @@ import re
 from typing import Any
 
 from regmap.backends.esphome.package import MAX_CMD_RETRIES, PARITY, PLATFORMS, DevicePackage
-from regmap.homeauto.entities import dump_commented, firmware_notes, plant_device_line, plant_header_lines, refuse_shared_ids
+from regmap.homeauto.entities import dump_commented, gate_notes, plant_device_line, plant_header_lines, refuse_shared_ids
 from regmap.homeauto.selection import DEFAULT_RULE, select
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.target import Files
@@ -113,7 +113,7 @@ def render_plant(plant: Plant) -> Files:
         *(plant_device_line(bus, dev, pkg.selection) for bus, dev, pkg in built),
     ]
     for _, dev, pkg in built:
-        about += [f"{dev.name}: {note}" for note in firmware_notes(pkg.selection.registers)]
+        about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, pkg.selection.registers)]
         about += [f"Not generated for {dev.name}: {s}" for s in pkg.skipped]
     about += [f"Not generated: {s}" for s in skipped]
     return {f"{plant.id}.yaml": dump_commented([*plant_header_lines(plant), *about], data)}

@@ -32,7 +32,8 @@ from regmap.homeauto.entities import (
     device_class,
     dump,
     dump_commented,
-    firmware_notes,
+    gate_key,
+    gate_notes,
     is_parameter,
     on_off,
     planned,
@@ -305,7 +306,7 @@ class _Hub:
                     first.space,
                     first.poll,
                 )
-                and nxt.firmware == first.firmware
+                and gate_key(nxt) == gate_key(first)
                 and (nxt.na, nxt.na_nan) == (first.na, first.na_nan)
                 and nxt.address == prev.address + prev.words
                 and not nxt.paired
@@ -428,7 +429,7 @@ def render_hub(device: Device, selection: Selection) -> Files:
         " nothing in this file can stop that.",
         "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
     ]
-    about += firmware_notes(selection.registers)
+    about += gate_notes(device, selection.registers)
     about += [f"Not generated: {s}" for s in h.skipped]
     return {f"{device.id}.yaml": dump(device, about, _package([h], data))}
 
@@ -520,7 +521,7 @@ def render_plant(plant: Plant) -> Files:
         "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
     ]
     for _, dev, h in built:
-        about += [f"{dev.name}: {note}" for note in firmware_notes(h.selection.registers)]
+        about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, h.selection.registers)]
         about += [f"Not generated for {dev.name}: {s}" for s in h.skipped]
     hubs = [h for _, _, h in built]
     return {f"{plant.id}.yaml": dump_commented([*plant_header_lines(plant), *about], _package(hubs, data))}

@@ -73,8 +73,17 @@ def read_registers(bus: ProbeBus, device: Device, reads: dict[str, RegisterRead]
             reads[block.registers[0].name].answer = answer
             continue
         for spec in block.registers:  # the block failed: which of its registers does the drive refuse?
-            single = bus.read(spec.address, spec.words, spec.space)
-            reads[spec.name].answer, reads[spec.name].words = single, single.words
+            read_alone(bus, device, reads[spec.name])
+
+
+def read_alone(bus: ProbeBus, device: Device, read: RegisterRead) -> Answer:
+    """Read one register by itself, as the read plan would (widened to whole units where the map's reads
+    must be aligned), and keep its own words."""
+    (alone,) = read_plan(device, [read.register])
+    answer = bus.read(alone.address, alone.count, alone.space)
+    (spec,) = alone.registers
+    read.answer, read.words = answer, alone.words_of(spec, answer.words) if answer.words is not None else None
+    return answer
 
 
 def judge(device: Device, reads: dict[str, RegisterRead], word_order: str | None) -> list[Note]:
@@ -92,6 +101,11 @@ def judge(device: Device, reads: dict[str, RegisterRead], word_order: str | None
             if reg.firmware is not None:
                 # Whether the firmware should have it is the firmware stage's judgement, made with the version read.
                 notes.append(Note("registers", reg.label, "not_answered", f"0x{reg.address:04X}: {what} ({reg.firmware.text})", False))
+                continue
+            if reg.variants:
+                # Whether the device should have it is the variants stage's judgement, made with every such register.
+                only = f"only on variant {', '.join(reg.variants)}"
+                notes.append(Note("registers", reg.label, "not_answered", f"0x{reg.address:04X}: {what} ({only})", False))
                 continue
             notes.append(Note("registers", reg.label, "not_answered", f"0x{reg.address:04X}: {what}", True))
             continue

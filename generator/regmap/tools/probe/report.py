@@ -11,7 +11,7 @@ from regmap.model import Device
 
 @dataclass(frozen=True)
 class Note:
-    stage: str  # registers, word_order, limits, gaps, scan, firmware, identity, write_test, sunspec
+    stage: str  # registers, word_order, limits, gaps, scan, firmware, variants, identity, write_test, sunspec
     subject: str  # a register's label, or "transport"
     kind: str
     text: str
@@ -75,6 +75,7 @@ STAGE_TITLES = {
     "gaps": "gap reads",
     "scan": "undocumented addresses",
     "firmware": "firmware",
+    "variants": "variants",
     "write_test": "write test",
     "sunspec": "SunSpec",
 }

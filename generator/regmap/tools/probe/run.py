@@ -11,7 +11,7 @@ from regmap.model import Device, Register
 from regmap_runtime.client import SyncClient
 from regmap_runtime.profile import DeviceProfile
 
-from . import firmware, gaps, identity, limits, profile, registers, sunspec, wordorder, writetest
+from . import firmware, gaps, identity, limits, profile, registers, sunspec, variants, wordorder, writetest
 from .bus import ProbeBus, Stop
 from .report import Findings, Note
 
@@ -67,6 +67,8 @@ def probe(device: Device, client: SyncClient, where: str, options: Options) -> t
         ("limits", lambda: limits.search(bus, device, gaps.holding_addresses(device) | bus.observed)),
         ("gaps", lambda: gaps.try_gaps(bus, device, _gap_limit(device, limit), options.progress)),
     ]
+    if variants.gated(device):
+        steps.insert(0, ("variants", lambda: variants.check(bus, device)))  # a few requests: before the long stages
     if options.scan_undocumented:
         steps.append(("scan", lambda: gaps.scan(bus, device, options.progress)))
     if options.sunspec:

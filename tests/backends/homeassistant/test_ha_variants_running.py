@@ -1,0 +1,155 @@
+"""Home Assistant (the hass tool env's pinned version, offline) polling the generated hub of issue #34's float
+meter on a meter of one variant: `regmap simulate float_meter.yaml --variant NAME` over Modbus TCP, where the
+registers the variant lacks answer exception 0x02. Every entity the variant has must reach the value the
+simulator holds; an entity it lacks (voltage_l2 on the single-phase model) is unavailable and takes no other
+entity with it, because no read of the generated hub holds registers of two variant sets."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import sqlite3
+import subprocess
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from regmap.backends.homeassistant import render_device
+from regmap.frontend import load_map
+from regmap.model import Device, Register
+
+from conftest import FIXTURE_MAPS, ROOT, SimulatorFactory, built_tool
+from support.homeauto_yaml import load
+
+METER = next(p for p in FIXTURE_MAPS if p.stem == "float_meter")
+HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
+STARTUP_S, STATES_S = 300, 120  # deadlines for a loaded machine; both come well within 30 s on an idle one
+# What the simulated meter holds (raw values): each register a value of its own, none a "not available" marker.
+SEED: dict[str, float | int] = {
+    "voltage_l1": 230.5,
+    "current_l1": 5.25,
+    "frequency": 50.0,
+    "temperature": 231,
+    "pulse_count": 1234,
+    "voltage_l2": 231.5,
+    "last_reset": 1709294400,
+}
+NO_VALUE = ("unknown", "unavailable")
+
+
+def _recorded(db: Path) -> dict[str, str]:
+    """friendly_name -> latest state, from the recorder's tables."""
+    if not db.exists():
+        return {}
+    query = (
+        "SELECT s.state, a.shared_attrs FROM states s JOIN states_meta m ON s.metadata_id = m.metadata_id"
+        " LEFT JOIN state_attributes a ON s.attributes_id = a.attributes_id ORDER BY s.state_id"
+    )
+    try:
+        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5) as con:
+            rows = con.execute(query).fetchall()
+    except sqlite3.OperationalError:
+        return {}  # the schema is still being created
+    out: dict[str, str] = {}
+    for state, attrs in rows:
+        name = json.loads(attrs).get("friendly_name") if attrs else None
+        if name is not None and state is not None:
+            out[str(name)] = str(state)
+    return out
+
+
+def _hub_on_tcp(text: str, port: int) -> dict[str, Any]:
+    """The generated package with its hub moved from the serial line to the simulator's TCP port: only the
+    connection keys change, every entity stays as generated."""
+    package = load(text)
+    (hub,) = package["modbus"]
+    for key in ("method", "port", "baudrate", "bytesize", "parity", "stopbits"):
+        hub.pop(key, None)
+    hub.update(type="tcp", host="127.0.0.1", port=port)
+    assert isinstance(package, dict)
+    return package
+
+
+def _register(device: Device, entity: dict[str, Any]) -> Register:
+    reg = device.covering(int(entity["address"]), entity["input_type"])
+    assert reg is not None, entity
+    return reg
+
+
+def _shows_value(reg: Register, precision: int, state: str) -> bool:
+    value = float(SEED[reg.name] * reg.scale + reg.offset)
+    try:
+        return abs(float(state) - value) <= 0.5 * 10.0**-precision + 1e-9
+    except ValueError:
+        return False
+
+
+def _configuration(config: Path, package: dict[str, Any]) -> None:
+    config.mkdir()
+    (config / "meter.yaml").write_text(yaml.safe_dump(package, sort_keys=False, allow_unicode=True), encoding="utf-8")
+    basics = {"name": "regmap variant test", "latitude": 0, "longitude": 0, "elevation": 0, "unit_system": "metric", "time_zone": "UTC"}
+    rest = {"recorder": {"db_url": f"sqlite:///{config / 'recorder.db'}", "commit_interval": 1}, "logger": {"default": "info"}}
+    head = yaml.safe_dump({"homeassistant": basics}, sort_keys=False) + "  packages:\n    meter: !include meter.yaml\n"
+    (config / "configuration.yaml").write_text(head + yaml.safe_dump(rest, sort_keys=False), encoding="utf-8")
+
+
+@pytest.mark.timeout(STARTUP_S + STATES_S + 120)
+@pytest.mark.parametrize("variant", ["single_phase", "three_phase"])
+def test_home_assistant_reads_what_the_variant_has_and_only_loses_what_it_lacks(
+    variant: str, simulator: SimulatorFactory, tmp_path: Path
+) -> None:
+    hass_python = built_tool("hass").parent / "python"
+    device = load_map(METER)
+    state = tmp_path / "meter.state.json"
+    state.write_text(json.dumps({"device": device.id, "map_version": device.info.map_version, "registers": SEED}), encoding="utf-8")
+    sim = simulator(METER, "--variant", variant, "--state", str(state))
+    (text,) = render_device(device, None).values()
+    package = _hub_on_tcp(text, sim.port or 0)
+    (hub,) = package["modbus"]
+    assert set(hub) & {"sensors", "binary_sensors", "switches"} == {"sensors"}  # the default selection: sensors and templates
+    sensors = {e["name"]: (_register(device, e), int(e.get("precision", 0))) for e in hub["sensors"]}
+    templates = [e["name"] for block in package.get("template", []) for entities in block.values() for e in entities]
+    absent = {name for name, (reg, _) in sensors.items() if not reg.on_variant(variant)}
+    assert {sensors[name][0].name for name in absent} == ({"voltage_l2"} if variant == "single_phase" else set())
+    config = tmp_path / "config"
+    _configuration(config, package)
+
+    def settled(recorded: dict[str, str]) -> bool:
+        values = all(
+            name in recorded and _shows_value(reg, precision, recorded[name])
+            for name, (reg, precision) in sensors.items()
+            if name not in absent
+        )
+        missing = all(recorded.get(name) == "unavailable" for name in absent)
+        return values and missing and all(recorded.get(name, "unknown") not in NO_VALUE for name in templates)
+
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
+    with (tmp_path / "hass.log").open("wb") as out:
+        started = time.monotonic()
+        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
+        try:
+            recorded: dict[str, str] = {}
+            while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
+                recorded = _recorded(config / "recorder.db")
+                if settled(recorded):
+                    break
+                time.sleep(1)
+            log = config / "home-assistant.log"
+            tail = log.read_text(errors="replace")[-3000:] if log.exists() else ""
+            wanted = {name: recorded.get(name) for name in [*sensors, *templates]}
+            assert settled(recorded), f"{variant}: {wanted}\n{tail}"
+            print(
+                f"{variant}: HA showed {len(sensors) + len(templates) - len(absent)} entities' values, {sorted(absent)} unavailable,"
+                f" {time.monotonic() - started:.1f} s after start"
+            )
+        finally:
+            process.send_signal(signal.SIGTERM)
+            try:
+                process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
