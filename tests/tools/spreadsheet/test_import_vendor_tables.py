@@ -214,6 +214,52 @@ def test_a_default_column_beside_a_range_is_a_printed_default_and_keeps_the_rang
     assert regs["top_speed"]["min"] is None and "0~∞" in regs["top_speed"]["notes"]
 
 
+# -- registers only some models have ------------------------------------------------------------------
+
+MODELS = """Register,Name,Title,Type,Access,Applicable models,Unit
+0x0000,voltage_a,Phase A voltage,U16,RO,,V
+0x0001,voltage_b,Phase B voltage,U16,RO,Three-phase,V
+0x0002,string_3,String 3 current,U16,RO,"X1-4 / Three-phase",A
+0x0003,string_5,String 5 current,U16,RO,4-string,A
+"""
+
+
+def test_a_models_column_makes_variants_the_draft_declares(tmp_path: Path) -> None:
+    run, draft = _import(tmp_path, MODELS)
+    assert "column 6 'Applicable models' -> variants" in run.stdout
+    assert f"{tmp_path / 'meter.csv'}:5:6: cannot read variant '4-string'" in run.stderr  # reported, never dropped
+    assert run.returncode == ExitCode.OK, run.stderr + run.stdout
+    device = load_map(draft)  # the draft declares every variant its registers name, so it validates
+    assert [v.name for v in device.info.variants] == ["three_phase", "x1_4"]
+    got = {r.name: r.variants for r in device.registers}
+    assert got == {"voltage_a": (), "voltage_b": ("three_phase",), "string_3": ("x1_4", "three_phase"), "string_5": ()}
+    assert "4-string" in (device.register("string_5").notes or "")  # on every model until the table is read again
+
+
+def test_an_update_naming_a_variant_the_map_does_not_declare_is_refused_and_writes_nothing(tmp_path: Path) -> None:
+    path = ROOT / "tests" / "maps" / "fixtures" / "float_meter.yaml"
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
+    rows[next(i for i, r in enumerate(rows) if r[0] == "voltage_l2")][rows[0].index("variants")] = "four_phase"
+    run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
+    assert run.returncode == ExitCode.INVALID_MAP, run.stdout
+    assert "four_phase" in run.stderr and "nothing written" in run.stderr and target.read_bytes() == path.read_bytes()
+
+
+def test_an_update_moving_a_register_to_another_declared_variant_changes_that_line_only(tmp_path: Path) -> None:
+    path = ROOT / "tests" / "maps" / "fixtures" / "float_meter.yaml"
+    target = tmp_path / path.name
+    target.write_bytes(path.read_bytes())
+    rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
+    rows[next(i for i, r in enumerate(rows) if r[0] == "voltage_l2")][rows[0].index("variants")] = "single_phase, three_phase"
+    run = _regmap("import", str(_write(rows, tmp_path / "t.csv")), "--into", str(target))
+    assert run.returncode == ExitCode.OK, run.stderr
+    changed = [line for line in difflib.ndiff(path.read_text().splitlines(), target.read_text().splitlines()) if line[:1] in "+-"]
+    assert len(changed) == 2 and all("voltage_l2" in line for line in changed), changed
+    assert load_map(target).register("voltage_l2").variants == ("single_phase", "three_phase")
+
+
 # -- the engineer's loop on every shipped map: export, edit in engineering units, add, import back ----
 
 

@@ -320,7 +320,7 @@ def test_new_writes_a_skeleton_that_validates(tmp_path: Path) -> None:
 # -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes --
 
 FIXTURES = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
-NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na", "zone"]
+NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na", "zone", "variants"]
 
 
 def _wire(r: Register) -> dict[str, Any]:
@@ -342,6 +342,7 @@ def _wire(r: Register) -> dict[str, Any]:
         "encoding": r.encoding if r.type.is_string else None,
         "padding": r.padding if r.type.is_string else None,
         "firmware": None if r.firmware is None else (r.firmware.first, r.firmware.until),
+        "variants": list(r.variants),
         "poll": r.poll.value,
         "na": (r.na, r.na_nan),  # issue #34: the "not available" markers survive the round trip
         "zone": r.zone,  # issue #34: a timestamp's clock survives the round trip
@@ -372,6 +373,7 @@ def _draft_wire(r: dict[str, Any]) -> dict[str, Any]:
         "encoding": r.get("encoding", "ascii") if kind == "string" else None,
         "padding": r.get("padding", "nul") if kind == "string" else None,
         "firmware": None if gate is None else (gate.get("from"), gate.get("until")),
+        "variants": r.get("variants", []),
         "poll": r.get("poll", "normal"),
         "na": _draft_na(kind, r.get("na") or []),
         "zone": r.get("zone"),
@@ -393,7 +395,7 @@ def test_seed_exports_only_gain_columns_at_the_end() -> None:
         rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
         assert rows[0][-len(NEW_COLUMNS) :] == NEW_COLUMNS
         assert rows[0][: -len(NEW_COLUMNS)][:4] == ["name", "param", "address_hex", "address"]
-        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal", "", "")}
+        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal", "", "", "")}
 
 
 @pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)

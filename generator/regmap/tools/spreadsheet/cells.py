@@ -470,6 +470,23 @@ def na_marks(text: str) -> list[int | float | str]:
     return marks
 
 
+def variant_names(text: str) -> list[str]:
+    """The variants a register is on, as datasheets print them (`Three-phase`, `X1-4 / X1-6`, `A and B`): each
+    made a snake_case name (`three_phase`, `x1_4`) by lowering it and joining its words with `_`."""
+    names: list[str] = []
+    for part in re.split(r"\s*(?:[,;/、，]|\band\b)\s*", _clean(text)):
+        if not part:
+            continue
+        name = re.sub(r"[^a-z0-9]+", "_", part.lower()).strip("_")
+        if not _IDENT.match(name):
+            raise CellProblem(f"cannot read variant {part!r}: it makes no snake_case name (letters first)")
+        if name not in names:
+            names.append(name)
+    if not names:
+        raise CellProblem(f"cannot read variants {text!r}")
+    return names
+
+
 def version(text: str) -> str:
     """A firmware version: digits and dots (`2.10`, `V2.1` -> `2.1`)."""
     t = _clean(text)

@@ -68,6 +68,7 @@ FIELDS: dict[str, str] = {
     "poll": "static, fast, normal or slow (also 静态, 快, 普通, 慢)",
     "zone": "a timestamp's clock: utc or local (the table's own word; never guessed)",
     "na": "'not available' markers the device sends for no value: 0xFFFF, 0x7FFF, NaN (a float's), comma separated",
+    "variants": "the models or options that have the register (device.variants), comma separated; empty: every one",
 }
 
 HEADERS: dict[str, str] = {
@@ -199,6 +200,12 @@ HEADERS: dict[str, str] = {
     "time zone": "zone",
     "timezone": "zone",
     "时区": "zone",
+    "variant": "variants",
+    "models": "variants",
+    "applicable models": "variants",
+    "available on": "variants",
+    "适用机型": "variants",
+    "适用型号": "variants",
 }
 
 

@@ -69,6 +69,7 @@ REGISTER_COLUMNS = (
     "poll",
     "na",
     "zone",
+    "variants",
 )
 
 Cell = str | int | float | bool | None
@@ -152,6 +153,7 @@ def register_row(r: Register) -> dict[str, Cell]:
         "poll": j["poll"],
         "na": na_list(r) or None,
         "zone": r.zone,
+        "variants": ", ".join(r.variants) or None,
     }
 
 

@@ -61,6 +61,7 @@ KEY_ORDER = (
     "settable",
     "modes",
     "firmware",
+    "variants",
     "poll",
     "source",
     "notes",
@@ -208,7 +209,8 @@ def build_draft(
 ) -> Draft:
     source = table_name(table)
     made_by = f"a draft made by `regmap import {source}`"
-    lines = head(device_id, vendor, model, made_by=made_by, function_codes=_function_codes(entries)).splitlines()
+    variants = list(dict.fromkeys(v for e in entries for v in e.values.get("variants", ())))
+    lines = head(device_id, vendor, model, made_by=made_by, function_codes=_function_codes(entries), variants=variants).splitlines()
     if problems:
         lines.append(f"# {len(problems)} cell(s) of the table could not be read: those values are null, with a note.")
     lines += [f"# {said}" for said in table.said]
@@ -318,6 +320,8 @@ def _current(reg: Register, key: str) -> Any:
         return reg.enum.name if reg.enum else None
     if key in ("source", "modes"):
         return list(getattr(reg, key))
+    if key == "variants":
+        return list(reg.variants) or None
     if key == "bitfields":
         return [
             {"name": b.name, "bits": b.lsb if b.lsb == b.msb else f"{b.lsb}-{b.msb}", "title": b.title}

@@ -276,6 +276,7 @@ class _Reader:
             e.give("firmware", gate)
         self.take(e, c, "poll", lambda t: cells.choice(t, cells.POLLS, "poll class"))
         self.take(e, c, "na", cells.na_marks)
+        self.take(e, c, "variants", cells.variant_names)
         settable_got = self.cell(c, "settable")
         settable_text = "" if settable_got is None else cells._squash(settable_got[0])
         if settable_text in READ_ONLY_SETTABLE:

@@ -12,10 +12,24 @@ from collections.abc import Sequence
 from regmap.tools.spreadsheet.yamltext import scalar
 
 
-def head(device_id: str, vendor: str, model: str, *, made_by: str, function_codes: Sequence[int] = (0x03, 0x06, 0x10)) -> str:
-    """The device and transport blocks; `function_codes` are those the registers' spaces need."""
+def head(
+    device_id: str,
+    vendor: str,
+    model: str,
+    *,
+    made_by: str,
+    function_codes: Sequence[int] = (0x03, 0x06, 0x10),
+    variants: Sequence[str] = (),
+) -> str:
+    """The device and transport blocks; `function_codes` are those the registers' spaces need, `variants` the
+    models or options the registers name (declared with their names as titles, for the manual's titles)."""
     v, m = scalar(vendor), scalar(model)
     codes = "[" + ", ".join(f"0x{c:02X}" for c in function_codes) + "]"
+    declared = "".join(f"    - {{name: {name}, title: {name}}}\n" for name in variants)
+    if declared:
+        declared = (
+            "  variants:                      # check: the models or options the table names; title each as the manual does\n" + declared
+        )
     return f"""\
 # {vendor} {model} register map - {made_by}.
 # Fill it from the manual (docs/map-format.md). Values marked "check" are Modbus's defaults, not the
@@ -31,7 +45,7 @@ device:
     file: {device_id}.txt             # the manual's text under ../shared/manuals/
   firmware: null                 # firmware the manual describes, or null when it names none
   map_version: 0.1.0             # semantic version of this map; 1.0.0 once it is checked against the manual
-transport:
+{declared}transport:
   serial:
     baud: 19200                  # check: the factory baud rate
     baud_rates: [9600, 19200]    # check: every rate the device offers (the default must be one of them)
