@@ -6,6 +6,7 @@ the Python client made with `variant=` (its read_all() plan, both flavours) and 
 from __future__ import annotations
 
 import subprocess
+from collections.abc import Iterable
 from pathlib import Path
 
 import pytest
@@ -26,20 +27,41 @@ FLAGS = ("-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wconversion", "-Wsign-co
 COMPILERS = {"gcc-c99": ("gcc", "-std=c99", *FLAGS), "g++-c++17": ("g++", "-x", "c++", "-std=c++17", *FLAGS)}
 
 
-def _program(device: Device) -> str:
-    """C that prints each variant's plan (`plan <variant> <function> <address> <count>`) and each helper's answer
-    for each variant (`has <register> <variant> <0|1>`); every name spelled as the back end spells it."""
+def _plans(device: Device) -> dict[tuple[str, str], list[str]]:
+    """(variant, poll class or "all") -> the requests the Python client made for the variant sends for read_all() (with
+    poll=, where the map has more than one poll class, as the C header has a plan per class), as the C program prints them."""
+    classes = sorted({r.poll.value for r in device.registers})
+    per_flavour = []
+    for name in FLAVOURS:
+        out = {}
+        for v in device.info.variants:
+            client = flavour(name, device.id).sync_class(object(), 1, variant=v.name)
+            for poll in [None, *classes] if len(classes) > 1 else [None]:
+                plan = client.plan_reads(client.readable(poll))
+                if plan or poll is None:
+                    shown = [f"plan {v.name} {poll or 'all'} {SPACES[b.space].read} {b.address} {b.count}" for b in plan]
+                    out[(v.name, poll or "all")] = shown
+        per_flavour.append(out)
+    assert all(plans == per_flavour[0] for plans in per_flavour), "the runtime and the generated client plan alike"
+    return per_flavour[0]
+
+
+def _program(device: Device, plans: Iterable[tuple[str, str]]) -> str:
+    """C that prints the plans of `plans` (`plan <variant> <class> <function> <address> <count>`) and each helper's
+    answer for each variant (`has <register> <variant> <0|1> <0|1>`); every name spelled as the back end spells it."""
     prefix = CIdentifier(device.id)
     implementation = CIdentifier(prefix, "IMPLEMENTATION")
     lines = ["#include <stdio.h>", f"#define {implementation}", f'#include "{device.id}.h"', "int main(void)", "{", "    size_t i;"]
     spaces = any(r.space != "holding" for r in device.registers if r.access.readable)
-    for v in device.info.variants:
-        table = CSymbol(device.id, "read_plan", v.name)
-        length = CIdentifier(prefix, "READ_PLAN", v.name, "LEN")
-        function = f"(unsigned){CSymbol(device.id, 'read_plan', v.name, 'function')}[i]" if spaces else "3u"
+    for variant, poll in plans:
+        parts = (variant,) if poll == "all" else (poll, variant)
+        table = CSymbol(device.id, "read_plan", *parts)
+        length = CIdentifier(prefix, "READ_PLAN", *parts, "LEN")
+        function = f"(unsigned){CSymbol(device.id, 'read_plan', *parts, 'function')}[i]" if spaces else "3u"
+        shown = f"plan {variant} {poll} %u %u %u"
         lines += [
             f"    for (i = 0; i < {length}; i++) {{",
-            f'        printf("plan {v.name} %u %u %u\\n", {function}, (unsigned){table}[i].address, (unsigned){table}[i].count);',
+            f'        printf("{shown}\\n", {function}, (unsigned){table}[i].address, (unsigned){table}[i].count);',
             "    }",
         ]
     for reg in device.registers:
@@ -54,11 +76,11 @@ def _program(device: Device) -> str:
     return "\n".join([*lines, "    return 0;", "}", ""])
 
 
-def _run(compiler: str, device: Device, tmp_path: Path) -> list[str]:
+def _run(compiler: str, device: Device, tmp_path: Path, plans: Iterable[tuple[str, str]] = ()) -> list[str]:
     for rel, text in render([device], ["c"])["c"].items():
         (tmp_path / rel).write_text(text, encoding="utf-8")
     source = tmp_path / "variants.c"
-    source.write_text(_program(device), encoding="utf-8")
+    source.write_text(_program(device, plans), encoding="utf-8")
     tool, *flags = COMPILERS[compiler]
     binary = tmp_path / "variants"
     built = subprocess.run([require_tool(tool), *flags, f"-I{tmp_path}", str(source), "-o", str(binary)], capture_output=True, text=True)
@@ -71,14 +93,12 @@ def _run(compiler: str, device: Device, tmp_path: Path) -> list[str]:
 @pytest.mark.parametrize("map_path", VARIANT_MAPS, ids=lambda p: p.stem)
 def test_each_variants_plan_is_what_its_python_client_reads(compiler: str, map_path: Path, tmp_path: Path) -> None:
     device = load_map(map_path)
-    printed = _run(compiler, device, tmp_path)
-    for name in FLAVOURS:
-        f = flavour(name, device.id)
-        for v in device.info.variants:
-            client = f.sync_class(object(), 1, variant=v.name)
-            plan = client.plan_reads(client.readable())
-            expected = [f"plan {v.name} {SPACES[b.space].read} {b.address} {b.count}" for b in plan]
-            assert [line for line in printed if line.startswith(f"plan {v.name} ")] == expected, (name, v.name)
+    expected = _plans(device)
+    printed = _run(compiler, device, tmp_path, expected)
+    for (variant, poll), lines in expected.items():
+        assert [line for line in printed if line.startswith(f"plan {variant} {poll} ")] == lines, (variant, poll)
+    if len({r.poll for r in device.registers}) > 1:  # the per-class plans are walked too
+        assert any(poll != "all" for _, poll in expected)
     _check_helpers(device, printed)
 
 
@@ -106,7 +126,8 @@ def _meter_with_variants(count: int) -> Device:
 @pytest.mark.parametrize("compiler", COMPILERS)
 def test_the_last_of_32_variant_bits_compiles_and_answers(compiler: str, tmp_path: Path) -> None:
     device = _meter_with_variants(32)
-    _check_helpers(device, _run(compiler, device, tmp_path))
+    printed = _run(compiler, device, tmp_path, [(v.name, "all") for v in device.info.variants])  # each variant's plan is there
+    _check_helpers(device, printed)
 
 
 def test_more_variants_than_bits_are_reported_at_the_device_id() -> None:

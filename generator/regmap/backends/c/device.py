@@ -211,7 +211,7 @@ def _plan_blocks(ctx: Context, poll: PollClass | None = None, variant: str | Non
 
 def _plans(ctx: Context) -> tuple[Plan, list[Plan], list[Plan]]:
     """The read plan of every readable register; where the map uses more than one poll class, one per class;
-    and one per declared variant, which leaves out (and never bridges over) what that variant lacks."""
+    and per declared variant the same again, leaving out (and never bridging over) what that variant lacks."""
     blocks = _plan_blocks(ctx)
     spaces = any(b.function != FUNCTION_MACROS[HOLDING.name]["read"] for b in blocks)
     main = Plan(
@@ -222,31 +222,38 @@ def _plans(ctx: Context) -> tuple[Plan, list[Plan], list[Plan]]:
         blocks=tuple(blocks),
     )
     classes = [p for p in PollClass if any(r.poll is p for r in ctx.device.registers)]
-    per_class = []
-    if len(classes) > 1:
-        for poll in classes:
-            blocks = _plan_blocks(ctx, poll)
-            if blocks:
-                per_class.append(
-                    Plan(
-                        comment=f"poll class {poll.value} ({POLL_MACRO[poll]})",
-                        length=ctx.const("READ_PLAN", poll.value, "LEN"),
-                        table=ctx.symbol("read_plan", poll.value),
-                        functions=ctx.symbol("read_plan", poll.value, "function") if spaces else "",
-                        blocks=tuple(blocks),
-                    )
-                )
-    per_variant = [
-        Plan(
-            comment=f"variant {v.name} ({titled(v.title, None)})",
-            length=ctx.const("READ_PLAN", v.name, "LEN"),
-            table=ctx.symbol("read_plan", v.name),
-            functions=ctx.symbol("read_plan", v.name, "function") if spaces else "",
-            blocks=tuple(_plan_blocks(ctx, variant=v.name)),
+    per_variant = []
+    for v in ctx.device.info.variants:
+        per_variant.append(
+            Plan(
+                comment=f"variant {v.name} ({titled(v.title, None)})",
+                length=ctx.const("READ_PLAN", v.name, "LEN"),
+                table=ctx.symbol("read_plan", v.name),
+                functions=ctx.symbol("read_plan", v.name, "function") if spaces else "",
+                blocks=tuple(_plan_blocks(ctx, variant=v.name)),
+            )
         )
-        for v in ctx.device.info.variants
-    ]
-    return main, per_class, per_variant
+        per_variant += _class_plans(ctx, classes, spaces, v.name)
+    return main, _class_plans(ctx, classes, spaces), per_variant
+
+
+def _class_plans(ctx: Context, classes: list[PollClass], spaces: bool, variant: str | None = None) -> list[Plan]:
+    """Where the map uses more than one poll class, a plan per class (of `variant`'s registers, when given)."""
+    plans = []
+    for poll in classes if len(classes) > 1 else ():
+        blocks = _plan_blocks(ctx, poll, variant)
+        if blocks:
+            parts = (poll.value, variant) if variant else (poll.value,)
+            plans.append(
+                Plan(
+                    comment=f"poll class {poll.value} ({POLL_MACRO[poll]})" + (f" of variant {variant}" if variant else ""),
+                    length=ctx.const("READ_PLAN", *parts, "LEN"),
+                    table=ctx.symbol("read_plan", *parts),
+                    functions=ctx.symbol("read_plan", *parts, "function") if spaces else "",
+                    blocks=tuple(blocks),
+                )
+            )
+    return plans
 
 
 def has_device_builder(device: Device, space: str, operation: str) -> bool:
