@@ -17,8 +17,9 @@ from typing import Any
 
 import pytest
 
+from regmap.backends import st as st_backend
 from regmap.backends.st.functions import SPACE_TAG, plan_blocks
-from regmap.frontend import load_map
+from regmap.frontend import load_map, load_map_text
 from regmap.generate import render
 from regmap.model import Device
 
@@ -114,3 +115,16 @@ def test_the_poller_skips_the_blocks_its_variant_lacks(variant: str | None, runt
         assert ((block.function, block.address, block.count) in requested) == on_variant, (variant, block.address)
     read = {r.name for b in bench.plan if (b.function, b.address, b.count) in requested for r in b.registers}
     assert read == readable
+
+
+def test_more_variants_than_a_dword_has_bits_are_reported_at_the_device_id() -> None:
+    text = METER.read_text(encoding="utf-8")
+    declared = "    - {name: three_phase, title: Three-phase model}\n"
+
+    def meter(count: int) -> Device:
+        more = "".join(f"    - {{name: extra_{i}, title: Extra variant {i}}}\n" for i in range(count - 2))
+        return load_map_text(text.replace(declared, declared + more), f"{count}_variants.yaml")
+
+    assert st_backend.check(meter(32)) == []
+    problems = [(p.line, p.message) for p in st_backend.check(meter(33))]
+    assert problems == [(12, "33 variants: Structured Text gives each one bit of a DWORD (at most 32)")]
