@@ -23,9 +23,15 @@ from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
 
 
-def documented_addresses(device: Device) -> frozenset[tuple[str, int]]:
-    """(space, address) of every word the device answers reads of: every readable register's, pairs included."""
-    return frozenset((r.space, a) for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
+def documented_addresses(device: Device, variants: Sequence[str] = ()) -> frozenset[tuple[str, int]]:
+    """(space, address) of every word the device answers reads of: every readable register's, pairs included;
+    with `variants`, only the registers every one of them has (a word one of them lacks answers 0x02 there)."""
+    return frozenset(
+        (r.space, a)
+        for r in device.registers
+        if r.access.readable and all(r.on_variant(v) for v in variants)
+        for a in range(r.first_address, r.last_address + 1)
+    )
 
 
 def runtime_enum(e: EnumType) -> type[enum.IntEnum]:
@@ -192,17 +198,20 @@ def read_plan(
     profile: DeviceProfile | None = None,
     *,
     poll: PollClass | None = None,
+    variants: Sequence[str] = (),
 ) -> list[ReadBlock]:
     """The requests that read `registers` (default: every readable one, as `read_all()` does), in order;
     with a device profile, the read limit and the readable gaps it observed (as the client uses them);
-    with a poll class, only that class's registers (as `read_all(poll=...)` does)."""
+    with a poll class, only that class's registers (as `read_all(poll=...)` does); with `variants`, only
+    the registers every one of them has, bridging only words all of them answer (one variant: as
+    `read_all()` of a client made with `variant=` does)."""
     t = device.transport
     chosen = device.registers if registers is None else registers
     if poll is not None:
         chosen = [r for r in chosen if r.poll is poll]
-    names = {r.name for r in chosen}
+    names = {r.name for r in chosen if all(r.on_variant(v) for v in variants)}
     specs = [s for s in runtime_specs(device) if s.name in names]
-    limit, documented = t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device)
+    limit, documented = t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device, variants)
     if profile is not None:
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)

@@ -103,10 +103,11 @@ class PollBench:
     def poll_text(self) -> str:
         return templates("regmap.backends.st").get_template("poll.st.jinja").render(**self.views, runtime=self.runtime, poller=self.poller)
 
-    def source(self, poll_text: str | None = None, high_word_first: bool = True) -> str:
+    def source(self, poll_text: str | None = None, high_word_first: bool = True, inputs: Sequence[str] = ()) -> str:
+        """`inputs`: more of the poller's inputs, as ST arguments (`dwVariant := ...`)."""
         stubs = (STUBS / f"vendor_stubs_{self.runtime.name}.st").read_text(encoding="utf-8")
         client = self.runtime.name == "codesys"
-        args = ["bEnable := TRUE", "nUnitId := 1"]
+        args = ["bEnable := TRUE", "nUnitId := 1", *inputs]
         if any(m.name == "bHighWordFirst" for m in self.poller.inputs):
             args.append(f"bHighWordFirst := {'TRUE' if high_word_first else 'FALSE'}")
         args.append("stWrite := stWrite")
@@ -129,8 +130,17 @@ class PollBench:
         )
         return program_text(st_files(self.device), program, "P_POLL")
 
-    def compile(self, matiec: Path, work: Path, poll_text: str | None = None, name: str = "poll", high_word_first: bool = True) -> Compiled:
-        return iec2c(matiec, self.source(poll_text, high_word_first), work, f"{self.device.id}_{self.runtime.name}_{name}", FLAGS)
+    def compile(
+        self,
+        matiec: Path,
+        work: Path,
+        poll_text: str | None = None,
+        name: str = "poll",
+        high_word_first: bool = True,
+        inputs: Sequence[str] = (),
+    ) -> Compiled:
+        source = self.source(poll_text, high_word_first, inputs)
+        return iec2c(matiec, source, work, f"{self.device.id}_{self.runtime.name}_{name}", FLAGS)
 
     # -- the driver --------------------------------------------------------------------------
 
@@ -288,9 +298,11 @@ class PollBench:
         steps: Sequence[WriteStep] = (),
         cycles: int = 20000,
         high_word_first: bool = True,
+        inputs: Sequence[str] = (),
     ) -> Run:
-        """`high_word_first`: the poller's bHighWordFirst, for a device whose word order is a parameter."""
-        compiled = self.compile(matiec, work, high_word_first=high_word_first)
+        """`high_word_first`: the poller's bHighWordFirst, for a device whose word order is a parameter; `inputs`: more
+        of its inputs, as ST arguments."""
+        compiled = self.compile(matiec, work, high_word_first=high_word_first, inputs=inputs)
         assert compiled.returncode == 0 and not compiled.errors, compiled.output[-3000:]
         stdout = build_and_run(
             matiec, compiled, self.driver(image, faults, cycles, steps), work / f"{self.device.id}_{self.runtime.name}_poll"

@@ -240,11 +240,11 @@ def test_fixture_blocks_cover_each_register_once_and_never_mix_spaces_classes_or
     covered: list[str] = []
     blocks = _blocks(device, consts)
     planned = plan_blocks(device)
-    assert blocks == [(b.space, b.address, b.count) for b, _, _ in planned]
-    for (space, address, count), (block, _, _) in zip(blocks, planned, strict=True):
+    assert blocks == [(b.space, b.address, b.count) for b, *_ in planned]
+    for (space, address, count), (block, *_) in zip(blocks, planned, strict=True):
         regs = [device.register(spec.name) for spec in block.registers]
         assert all(r.space == space and address <= r.address and r.address + r.words <= address + count for r in regs)
-        assert len({(r.poll, r.firmware) for r in regs}) == 1, (space, address)
+        assert len({(r.poll, r.firmware, r.variants) for r in regs}) == 1, (space, address)
         tag = f"{SPACE_TAG[space]}{address:04X}"
         assert _int(consts[f"{p}_BLOCK_{tag}_FUNCTION"]) == regs[0].space_info.read if space != "holding" else True
         struct = types.split(f"TYPE ST_{p}_RAW_{tag} :\nSTRUCT\n", 1)[1].split("END_STRUCT", 1)[0]

@@ -141,7 +141,7 @@ def _reads(bench: PollBench, run: Run, per_block: list[list[int]], high_word_fir
     for i, block in enumerate(bench.plan):
         mine = [r for r in reads if planned.get((r.function, r.address, r.count)) == i]
         ok = [r for r in mine if r.outcome == "ok"]
-        _, poll, gate = classes[i]
+        _, poll, gate, _ = classes[i]
         decoded, errors, timeouts = run.blocks[i]
         if errors != sum(r.outcome == "exception" for r in mine) or timeouts != sum(r.outcome == "timeout" for r in mine):
             problems.append(f"block {i}: counted {errors} errors and {timeouts} timeouts, the bus gave {[r.outcome for r in mine]}")

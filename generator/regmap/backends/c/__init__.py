@@ -11,6 +11,7 @@ from __future__ import annotations
 from regmap.backends.c.device import SHARED_HEADER, device_context, render_device, render_shared
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
 from regmap.backends.c.plant import render_plant
+from regmap.backends.c.variants import too_many_variants
 from regmap.backends.c.views import c_version
 from regmap.diagnostics import Diagnostic, at
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
@@ -20,8 +21,11 @@ from regmap.target import ReservedWords, Target
 
 def check(device: Device) -> list[Diagnostic]:
     """What the C header cannot say, at the map line that says it: a firmware gate whose version is not
-    major.minor with parts up to 65535 (REGMAP_VERSION compares two 16-bit parts)."""
+    major.minor with parts up to 65535 (REGMAP_VERSION compares two 16-bit parts); more variants than
+    a uint32_t has bits."""
     problems = []
+    if too_many_variants(device):
+        problems.append(at(device.source_path, device.info.id_pos, too_many_variants(device)))
     for reg in device.registers:
         for version in (reg.firmware.first, reg.firmware.until) if reg.firmware else ():
             if version is not None:

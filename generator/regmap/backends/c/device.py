@@ -18,6 +18,7 @@ from regmap.backends.c.names import (
     WORD_ORDER_MACRO,
     CIdentifier,
     Context,
+    Macro,
     c_float,
     c_hex,
     c_raw,
@@ -25,10 +26,10 @@ from regmap.backends.c.names import (
     file_header,
 )
 from regmap.backends.c.values import configurable
+from regmap.backends.c.variants import variant_macros
 from regmap.backends.c.views import (
     ArrayView,
     GroupView,
-    Macro,
     command_view,
     enum_view,
     group_views,
@@ -95,10 +96,10 @@ class TableView:
     declared: bool = True  # False: declared beside its array member
 
 
-def _tables(main: Plan, per_class: list[Plan], groups: list[GroupView]) -> list[TableView]:
+def _tables(plans: list[Plan], groups: list[GroupView]) -> list[TableView]:
     """The read plans and their function-code tables, then the per-element tables of array members."""
     tables = []
-    for plan in [main, *per_class]:
+    for plan in plans:
         if not plan.blocks:
             continue
         rows = tuple(TableRow(f"{{ {b.address}, {b.count} }}", b.comment) for b in plan.blocks)
@@ -196,9 +197,9 @@ def _bit_spaces(device: Device) -> bool:
     return any(r.space_info.bits for r in device.registers)
 
 
-def _plan_blocks(ctx: Context, poll: PollClass | None = None) -> list[PlanBlock]:
+def _plan_blocks(ctx: Context, poll: PollClass | None = None, variant: str | None = None) -> list[PlanBlock]:
     blocks = []
-    for block in read_plan(ctx.device, poll=poll):
+    for block in read_plan(ctx.device, poll=poll, variants=(variant,) if variant else ()):
         first, last = block.registers[0], block.registers[-1]
         names = [r.param or r.name for r in (first, last)]
         unit = f"{SPACES[block.space].unit}s" if SPACES[block.space].bits else "registers"
@@ -208,8 +209,9 @@ def _plan_blocks(ctx: Context, poll: PollClass | None = None) -> list[PlanBlock]
     return blocks
 
 
-def _plans(ctx: Context) -> tuple[Plan, list[Plan]]:
-    """The read plan of every readable register, and where the map uses more than one poll class, one per class."""
+def _plans(ctx: Context) -> tuple[Plan, list[Plan], list[Plan]]:
+    """The read plan of every readable register; where the map uses more than one poll class, one per class;
+    and per declared variant the same again, leaving out (and never bridging over) what that variant lacks."""
     blocks = _plan_blocks(ctx)
     spaces = any(b.function != FUNCTION_MACROS[HOLDING.name]["read"] for b in blocks)
     main = Plan(
@@ -220,21 +222,38 @@ def _plans(ctx: Context) -> tuple[Plan, list[Plan]]:
         blocks=tuple(blocks),
     )
     classes = [p for p in PollClass if any(r.poll is p for r in ctx.device.registers)]
-    per_class = []
-    if len(classes) > 1:
-        for poll in classes:
-            blocks = _plan_blocks(ctx, poll)
-            if blocks:
-                per_class.append(
-                    Plan(
-                        comment=f"poll class {poll.value} ({POLL_MACRO[poll]})",
-                        length=ctx.const("READ_PLAN", poll.value, "LEN"),
-                        table=ctx.symbol("read_plan", poll.value),
-                        functions=ctx.symbol("read_plan", poll.value, "function") if spaces else "",
-                        blocks=tuple(blocks),
-                    )
+    per_variant = []
+    for v in ctx.device.info.variants:
+        per_variant.append(
+            Plan(
+                comment=f"variant {v.name} ({titled(v.title, None)})",
+                length=ctx.const("READ_PLAN", v.name, "LEN"),
+                table=ctx.symbol("read_plan", v.name),
+                functions=ctx.symbol("read_plan", v.name, "function") if spaces else "",
+                blocks=tuple(_plan_blocks(ctx, variant=v.name)),
+            )
+        )
+        per_variant += _class_plans(ctx, classes, spaces, v.name)
+    return main, _class_plans(ctx, classes, spaces), per_variant
+
+
+def _class_plans(ctx: Context, classes: list[PollClass], spaces: bool, variant: str | None = None) -> list[Plan]:
+    """Where the map uses more than one poll class, a plan per class (of `variant`'s registers, when given)."""
+    plans = []
+    for poll in classes if len(classes) > 1 else ():
+        blocks = _plan_blocks(ctx, poll, variant)
+        if blocks:
+            parts = (poll.value, variant) if variant else (poll.value,)
+            plans.append(
+                Plan(
+                    comment=f"poll class {poll.value} ({POLL_MACRO[poll]})" + (f" of variant {variant}" if variant else ""),
+                    length=ctx.const("READ_PLAN", *parts, "LEN"),
+                    table=ctx.symbol("read_plan", *parts),
+                    functions=ctx.symbol("read_plan", *parts, "function") if spaces else "",
+                    blocks=tuple(blocks),
                 )
-    return main, per_class
+            )
+    return plans
 
 
 def has_device_builder(device: Device, space: str, operation: str) -> bool:
@@ -294,7 +313,7 @@ def device_context(device: Device) -> dict[str, Any]:
     groups = group_views(ctx)
     commands = [command_view(ctx, c) for c in device.commands]
     builders = _builders(ctx)
-    main, per_class = _plans(ctx)
+    main, per_class, per_variant = _plans(ctx)
     faults = [
         Macro(ctx.const("FAULT", f.name, what=f"fault {f.name}"), c_hex(f.value), f"{f.code} {titled(f.title, f.title_zh)} ({f.kind})")
         for f in device.faults
@@ -323,7 +342,10 @@ def device_context(device: Device) -> dict[str, Any]:
         "plan": main.blocks,
         "plan_len": main.length,
         "class_plans": per_class,
-        "tables": _tables(main, per_class, groups),
+        "variant_plans": per_variant,
+        "variants": variant_macros(ctx),
+        "variant_bits": CIdentifier(ctx.prefix, "VARIANT"),
+        "tables": _tables([main, *per_class, *per_variant], groups),
         "implementation": ctx.const("IMPLEMENTATION", what="the macro that defines the tables"),
         "implemented": CIdentifier("REGMAP", device.id, "IMPLEMENTED"),
         "word_order_param": any(configurable(ctx, r) for r in device.registers),

@@ -291,6 +291,15 @@ PARSERS = {
 PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
 
 
+@dataclass(frozen=True)
+class Macro:
+    """A named constant of the header (a macro, an enum member)."""
+
+    name: str
+    value: str
+    comment: str = ""  # plain text; the template escapes it
+
+
 class Context:
     """Names for one device: macro prefix, function prefix, and the address expression of each register."""
 

@@ -21,6 +21,7 @@ from regmap.backends.c.names import (
     CIdentifier,
     Context,
     CSymbol,
+    Macro,
     c_double,
     c_float,
     c_hex,
@@ -30,19 +31,13 @@ from regmap.backends.c.names import (
     c_value,
 )
 from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
+from regmap.backends.c.variants import VariantView, variant_view, variants_macro
 from regmap.core.text import eng, number, titled, zone_text
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.render import c_str
 from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import parse_version
-
-
-@dataclass(frozen=True)
-class Macro:
-    name: str
-    value: str
-    comment: str = ""  # plain text; the template escapes it
 
 
 @dataclass(frozen=True)
@@ -101,6 +96,7 @@ class RegisterView:
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
     gate: GateView | None = None
+    variant: VariantView | None = None
     values: tuple[ValueView, ...] = ()
 
 
@@ -127,6 +123,7 @@ class ArrayMemberView:
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
     gate: GateView | None = None
+    variant: VariantView | None = None
     values: tuple[ValueView, ...] = ()
 
 
@@ -224,6 +221,8 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
         facts.append("bytes of each word low first")
     if reg.firmware is not None:
         facts.append(reg.firmware.text)
+    if reg.variants:
+        facts.append(f"only on variant{'s' if len(reg.variants) > 1 else ''} {', '.join(reg.variants)}")
     if reg.poll is not PollClass.NORMAL:
         facts.append(f"poll {reg.poll.value}")
     return ", ".join(facts)
@@ -284,6 +283,7 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
         ]
     if modern(reg):
         macros += _feature_macros(ctx, reg, owner)
+    macros += variants_macro(ctx, reg, owner)
     return macros, tables
 
 
@@ -420,6 +420,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name),
         gate=_gate_view(ctx, reg, reg.name),
+        variant=variant_view(ctx, reg, reg.name),
         values=register_values(ctx, reg),
     )
 
@@ -453,6 +454,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 bitfields=_bitfield_views(ctx, reg, owner),
                 codec=_codec_view(ctx, reg, owner),
                 gate=_gate_view(ctx, reg, owner),
+                variant=variant_view(ctx, reg, owner),
                 values=member_values(ctx, elements, owner),
             )
         )

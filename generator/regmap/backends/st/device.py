@@ -26,6 +26,7 @@ from regmap.backends.st.views import (
     enum_views,
     needs_order_input,
     register_consts,
+    variant_consts,
 )
 from regmap.backends.st.writes import queue_function, write_functions, write_struct
 from regmap.diagnostics import Diagnostic
@@ -83,7 +84,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
         "names": names,
         "dialect": dialect,
         "enums": [access, *enums],
-        "device_consts": Section(dev.comment, dev.consts + tuple(poll_consts(names))),
+        "device_consts": Section(dev.comment, dev.consts + tuple(poll_consts(names)) + tuple(variant_consts(names))),
         "registers": registers,
         "arrays": array_consts(names),
         "bitfields": bitfields,

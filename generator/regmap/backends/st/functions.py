@@ -29,6 +29,7 @@ from regmap.backends.st.views import (
     firmware_consts,
     needs_order_input,
     owner,
+    variants_const,
 )
 from regmap.core.text import na_list
 from regmap.model import Bitfield, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
@@ -292,23 +293,27 @@ def getter_name(names: Names, reg: Register, b: Bitfield) -> StIdentifier:
     return StIdentifier("F", names.prefix, owner(reg), "GET", b.name)
 
 
-def plan_blocks(device: Device) -> list[tuple[ReadBlock, PollClass, FirmwareGate | None]]:
-    """The read plan split by poll class and firmware gate (so a PLC polls each block at its class's rate,
-    and a block never holds a register the connected firmware may lack beside one it has), in address
-    order per space. With one class and no gates (the seed maps) it is the Python client's read_all()."""
+Planned = tuple[ReadBlock, PollClass, FirmwareGate | None, tuple[str, ...]]  # a block, its class, gate and variants (() all)
+
+
+def _plan_key(reg: Register) -> tuple[str, str, str, tuple[str, ...]]:
+    gate = (reg.firmware.first or "", reg.firmware.until or "") if reg.firmware else ("", "")
+    return (reg.poll.value, *gate, reg.variants)
+
+
+def plan_blocks(device: Device) -> list[Planned]:
+    """The read plan split by poll class, firmware gate and variants (so a PLC polls each block at its class's
+    rate, and a block never holds a register the connected firmware or variant may lack beside one it has), in
+    address order per space. A block every variant reads bridges only words every variant answers. With one
+    class, no gates and no variants (the seed maps) it is the Python client's read_all()."""
     readable = [r for r in device.registers if r.access.readable]
-    keys = sorted(
-        {(r.poll.value, r.firmware.first or "", r.firmware.until or "") if r.firmware else (r.poll.value, "", "") for r in readable}
-    )
-    out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
-    for poll, first, until in keys:
-        chosen = [
-            r
-            for r in readable
-            if r.poll.value == poll and ((r.firmware.first or "", r.firmware.until or "") if r.firmware else ("", "")) == (first, until)
-        ]
+    every = tuple(v.name for v in device.info.variants)
+    out: list[Planned] = []
+    for key in sorted({_plan_key(r) for r in readable}):
+        poll, first, until, variants = key
+        chosen = [r for r in readable if _plan_key(r) == key]
         gate = FirmwareGate(first or None, until or None) if first or until else None
-        out += [(block, PollClass(poll), gate) for block in read_plan(device, chosen)]
+        out += [(block, PollClass(poll), gate, variants) for block in read_plan(device, chosen, variants=variants or every)]
     order = {name: i for i, name in enumerate(SPACE_TAG)}
     out.sort(key=lambda item: (order[item[0].space], item[0].address))
     return out
@@ -318,8 +323,8 @@ def blocks(names: Names, values: Values) -> list[Block]:
     device = names.device
     out = []
     planned = plan_blocks(device)
-    classes = {poll for _, poll, _ in planned}
-    for index, (block, poll, gate) in enumerate(planned):
+    classes = {poll for _, poll, _, _ in planned}
+    for index, (block, poll, gate, variants) in enumerate(planned):
         space = block.space
         bits = space in ("coil", "discrete_input")
         tag = "_".join(filter(None, (SPACE_TAG[space], f"{block.address:04X}")))
@@ -385,6 +390,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
             )
         if gate is not None:
             consts += firmware_consts(names, f"BLOCK_{tag}", gate.first, gate.until, what, None)
+        consts += variants_const(names, f"BLOCK_{tag}", variants, what, None)
         body = ["bOk := TRUE;"]
         local_types: dict[str, str] = {"bOk": "BOOL"}
         for reg in regs:

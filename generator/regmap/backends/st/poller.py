@@ -29,12 +29,13 @@ from typing import Any
 from regmap.backends.st.codec import NATURAL
 from regmap.backends.st.functions import Block, plan_blocks
 from regmap.backends.st.names import st_hex, st_int
-from regmap.backends.st.views import Member, Names, firmware_raw
+from regmap.backends.st.views import VARIANT_TYPE, Member, Names, firmware_raw, variants_mask
 from regmap.backends.st.writes import WRITE_COIL, WRITE_MULTIPLE, WRITE_SINGLE
-from regmap.model import PollClass
+from regmap.model import Device, PollClass
 
 READ_COILS, READ_DISCRETE, READ_HOLDING, READ_INPUT = 0x01, 0x02, 0x03, 0x04
 BIT_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE, WRITE_COIL})
+VARIANT_INPUT = "dwVariant"  # the connected variant's bit, 0 while it is not known
 
 
 @dataclass(frozen=True)
@@ -274,11 +275,14 @@ def _copy_in(block: Block, raw: str, runtime: Runtime) -> list[str]:
     return lines
 
 
-def _due(names: Names, index: int, poll: PollClass, gate: Any) -> str | None:
+def _due(names: Names, index: int, poll: PollClass, gate: Any, variants: tuple[str, ...]) -> str | None:
     """The condition under which block `index` is read (None: every pass)."""
     parts = []
     if poll is PollClass.STATIC:
         parts.append(f"NOT aHave[{index}]")
+    on_variant = _on_variant(names.device, variants)
+    if on_variant is not None:
+        parts.append(on_variant)
     if gate is not None:
         first = firmware_raw(names, gate.first) if gate.first else None
         until = firmware_raw(names, gate.until) if gate.until else None
@@ -292,6 +296,15 @@ def _due(names: Names, index: int, poll: PollClass, gate: Any) -> str | None:
     return " AND ".join(parts) if parts else None
 
 
+def _on_variant(device: Device, variants: tuple[str, ...]) -> str | None:
+    """When the poller reads a block of `variants` (None: always): the connected variant is one of them, or
+    not known (then every block is read, as the Python client without `variant=` reads every register)."""
+    if not variants:
+        return None
+    mask = st_hex(variants_mask(device, variants), 8)
+    return f"({VARIANT_INPUT} = 0 OR ({VARIANT_INPUT} AND {mask}) <> 0)"
+
+
 def _advance(n: int) -> list[str]:
     return ["nBlock := nBlock + 1;", f"IF nBlock >= {n} THEN", "    nBlock := 0;", "    nPasses := nPasses + 1;", "END_IF;"]
 
@@ -300,7 +313,7 @@ def _choose(names: Names, plan: list[Block], planned: list[Any], runtime: Runtim
     """Step 1: pick the next request (a waiting write first, else the next due block) and set it up."""
     n = len(plan)
     advance = _advance(n)
-    due_cases = [(i, _due(names, i, poll, gate)) for i, (_, poll, gate) in enumerate(planned)]
+    due_cases = [(i, _due(names, i, poll, gate, variants)) for i, (_, poll, gate, variants) in enumerate(planned)]
     due_cases = [(i, c) for i, c in due_cases if c is not None]
     search = ["bDue := TRUE;"]  # every block is due on every pass
     if due_cases:
@@ -440,8 +453,8 @@ def poller(context: dict[str, Any], runtime: Runtime, spelling: Spelling) -> Pol
     name = names.type("FB", "POLL", what="the poller")
     order = context["order_input"]
     firmware = device.info.firmware_register
-    gated = any(gate is not None for _, _, gate in planned)
-    static = any(poll is PollClass.STATIC for _, poll, _ in planned)
+    gated = any(gate is not None for _, _, gate, _ in planned)
+    static = any(poll is PollClass.STATIC for _, poll, _, _ in planned)
 
     inputs = [Member("bEnable", "BOOL", "TRUE: read the blocks over and over"), *runtime.inputs()]
     if order:
@@ -451,6 +464,10 @@ def poller(context: dict[str, Any], runtime: Runtime, spelling: Spelling) -> Pol
             Member("bFirmwareKnown", "BOOL", f"nFirmware holds {firmware.register.name} as the device reported it"),
             Member("nFirmware", NATURAL[firmware.register.type], f"the raw {firmware.register.name}: gated blocks follow it"),
         ]
+    if any(variants for _, _, _, variants in planned):
+        inputs.append(
+            Member(VARIANT_INPUT, VARIANT_TYPE, "the connected variant's VARIANT bit: blocks it lacks are skipped (0: not known, all read)")
+        )
     in_outs = [Member("stWrite", write.type_name, "a setting from F_..._WRITE_...: sent once"), *runtime.in_outs(spelling)]
     outputs = [
         Member("stValues", context["values"].type_name, "the decoded values"),

@@ -300,6 +300,7 @@ def register_consts(names: Names, reg: Register) -> Section:
         )
     if reg.firmware is not None:
         consts += firmware_consts(names, reg.name, reg.firmware.first, reg.firmware.until, what, reg.pos)
+    consts += variants_const(names, reg.name, reg.variants, what, reg.pos)
     if reg.poll is not PollClass.NORMAL:
         consts.append(
             Const(c(reg.name, "POLL", what=what, pos=reg.pos), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}")
@@ -351,6 +352,45 @@ def firmware_consts(names: Names, label: str, first: str | None, until: str | No
                 )
             )
     return out
+
+
+# Device variants: a DWORD bit per declared variant; a register or read block only some have gets their mask.
+VARIANT_TYPE = "DWORD"  # a variant is a bit of it
+VARIANT_BITS = 32
+
+
+def _bit(device: Device, name: str) -> int:
+    return 1 << [v.name for v in device.info.variants].index(name)
+
+
+def variant_consts(names: Names) -> list[Const]:
+    """<DEV>_VARIANT_<NAME>: one bit per declared variant, in the map's order (none for a map without variants)."""
+    device = names.device
+    if len(device.info.variants) > VARIANT_BITS:
+        names.globals._report(
+            device.info.id_pos, f"{len(device.info.variants)} variants: Structured Text gives each one bit of a DWORD (at most 32)"
+        )
+        return []
+    return [
+        Const(names.const("VARIANT", v.name, what=f"variant {v.name}"), VARIANT_TYPE, st_hex(_bit(device, v.name), 8), v.title)
+        for v in device.info.variants
+    ]
+
+
+def variants_mask(device: Device, variants: Sequence[str]) -> int:
+    """The bits of `variants`."""
+    mask = 0
+    for name in variants:
+        mask |= _bit(device, name)
+    return mask
+
+
+def variants_const(names: Names, label: str, variants: Sequence[str], what: str, pos: Any) -> list[Const]:
+    """<label>_VARIANTS: the mask of the variants that have it (none when every variant has it)."""
+    if not variants or len(names.device.info.variants) > VARIANT_BITS:
+        return []
+    mask = st_hex(variants_mask(names.device, variants), 8)
+    return [Const(names.const(label, "VARIANTS", what=what, pos=pos), VARIANT_TYPE, mask, f"only on {', '.join(variants)}")]
 
 
 def _register_comment(reg: Register) -> str:
