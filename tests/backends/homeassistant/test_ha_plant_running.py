@@ -17,7 +17,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import sqlite3
 import subprocess
 import time
 from collections.abc import Callable
@@ -35,6 +34,7 @@ from regmap.model import Device
 from regmap.plant import Plant, PlantDevice
 
 from conftest import ROOT, built_tool
+from support.hass_recorder import recorded_states
 from support.homeauto_yaml import ha_slug, load
 from support.plant_tcp_bus import REGMAP, ServedBus, free_port, serve_bus, write_plant
 
@@ -183,23 +183,7 @@ def _expected(plant: Plant, package: dict[str, Any], raws: dict[str, dict[str, A
 
 def _recorded(db: Path) -> dict[str, tuple[str, str]]:
     """friendly_name -> (entity id, latest state) from the recorder's tables."""
-    if not db.exists():
-        return {}
-    query = (
-        "SELECT m.entity_id, s.state, a.shared_attrs FROM states s JOIN states_meta m ON s.metadata_id = m.metadata_id"
-        " LEFT JOIN state_attributes a ON s.attributes_id = a.attributes_id ORDER BY s.state_id"
-    )
-    try:
-        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5) as con:
-            rows = con.execute(query).fetchall()
-    except sqlite3.OperationalError:
-        return {}  # the schema is still being created
-    out: dict[str, tuple[str, str]] = {}
-    for entity_id, state, attrs in rows:
-        name = json.loads(attrs).get("friendly_name") if attrs else None
-        if name is not None and state is not None:
-            out[name] = (entity_id, state)
-    return out
+    return {name: (entity_id, state) for name, (entity_id, state, _) in recorded_states(db).items()}
 
 
 def _wait(what: str, deadline_s: float, ready: Callable[[], bool], process: subprocess.Popen[bytes], log: Path) -> float:

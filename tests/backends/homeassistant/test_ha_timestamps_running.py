@@ -8,7 +8,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import sqlite3
 import subprocess
 import time
 from datetime import UTC, datetime
@@ -21,6 +20,7 @@ from regmap.backends.homeassistant import render_plant
 from regmap.frontend.plant import load_plant
 
 from conftest import FIXTURE_MAPS, ROOT, built_tool
+from support.hass_recorder import recorded_states
 from support.homeauto_yaml import load
 from support.plant_tcp_bus import free_port, serve_bus, write_plant
 
@@ -32,23 +32,7 @@ SECONDS = 1709294400  # 2024-03-01T12:00:00Z
 
 def _recorded(db: Path) -> dict[str, tuple[str, dict[str, object]]]:
     """friendly_name -> (latest state, its attributes) from the recorder's tables."""
-    if not db.exists():
-        return {}
-    query = (
-        "SELECT s.state, a.shared_attrs FROM states s JOIN states_meta m ON s.metadata_id = m.metadata_id"
-        " LEFT JOIN state_attributes a ON s.attributes_id = a.attributes_id ORDER BY s.state_id"
-    )
-    try:
-        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5) as con:
-            rows = con.execute(query).fetchall()
-    except sqlite3.OperationalError:
-        return {}
-    out: dict[str, tuple[str, dict[str, object]]] = {}
-    for state, attrs in rows:
-        attributes = json.loads(attrs) if attrs else {}
-        if "friendly_name" in attributes and state is not None:
-            out[str(attributes["friendly_name"])] = (state, attributes)
-    return out
+    return {name: (state, attributes) for name, (_, state, attributes) in recorded_states(db).items()}
 
 
 @pytest.mark.timeout(STARTUP_S + STATES_S + 120)

@@ -9,7 +9,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import sqlite3
 import subprocess
 import time
 from pathlib import Path
@@ -23,6 +22,7 @@ from regmap.frontend import load_map
 from regmap.model import Device, Register
 
 from conftest import FIXTURE_MAPS, ROOT, SimulatorFactory, built_tool
+from support.hass_recorder import recorded_states
 from support.homeauto_yaml import load
 
 METER = next(p for p in FIXTURE_MAPS if p.stem == "float_meter")
@@ -43,23 +43,7 @@ NO_VALUE = ("unknown", "unavailable")
 
 def _recorded(db: Path) -> dict[str, str]:
     """friendly_name -> latest state, from the recorder's tables."""
-    if not db.exists():
-        return {}
-    query = (
-        "SELECT s.state, a.shared_attrs FROM states s JOIN states_meta m ON s.metadata_id = m.metadata_id"
-        " LEFT JOIN state_attributes a ON s.attributes_id = a.attributes_id ORDER BY s.state_id"
-    )
-    try:
-        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5) as con:
-            rows = con.execute(query).fetchall()
-    except sqlite3.OperationalError:
-        return {}  # the schema is still being created
-    out: dict[str, str] = {}
-    for state, attrs in rows:
-        name = json.loads(attrs).get("friendly_name") if attrs else None
-        if name is not None and state is not None:
-            out[str(name)] = str(state)
-    return out
+    return {name: state for name, (_, state, _) in recorded_states(db).items()}
 
 
 def _hub_on_tcp(text: str, port: int) -> dict[str, Any]:
