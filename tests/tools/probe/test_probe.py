@@ -25,6 +25,7 @@ from regmap.frontend import load_map
 from regmap.model import Device
 from regmap.runtime_bridge import documented_addresses, read_plan
 from regmap.tools.probe.bus import ProbeBus, Stop
+from regmap.tools.probe.registers import probe_plan
 from regmap_runtime.errors import DeviceTimeout
 from regmap_runtime.profile import DeviceProfile, ProfileError, load_profile
 
@@ -374,6 +375,32 @@ def test_the_probe_names_the_variant_the_device_is(variant: str, simulator: Simu
     status = {r["register"]: r["status"] for r in report["registers"]}
     assert status == {r.name: "answered" if r.on_variant(variant) else "exception" for r in device.registers if r.access.readable}
     assert "variants" in report["stages"]
+
+
+def test_the_probes_reads_neither_mix_nor_bridge_variant_sets() -> None:
+    """A block holds registers of one set of variants, and every variant that has them answers each word it
+    reads: on a single-phase meter only the reads of what it lacks fail (before, the whole input block did)."""
+    device = load_map(FLOAT_METER)
+    declared = [v.name for v in device.info.variants]
+    blocks = probe_plan(device)
+    assert {s.name for b in blocks for s in b.registers} == {r.name for r in device.registers if r.access.readable}
+    for block in blocks:
+        sets = {tuple(sorted(device.register(s.name).variants)) for s in block.registers}
+        assert len(sets) == 1, block
+        for variant in declared:
+            if all(device.register(s.name).on_variant(variant) for s in block.registers):
+                answered = documented_addresses(device, (variant,))
+                assert all((block.space, a) in answered for a in range(block.address, block.address + block.count)), (variant, block)
+
+
+def test_a_variant_lacking_a_register_costs_the_probe_no_extra_request(simulator: SimulatorFactory) -> None:
+    """Its plan keeps voltage_l2 apart, so a single-phase meter refuses that read alone and nothing is read again."""
+    requests = {}
+    for variant in ("single_phase", "three_phase"):
+        code, report = probe(simulator(FLOAT_METER, "--variant", variant).port or 0, FLOAT_METER)
+        assert code == ExitCode.OK, report["disagreements"]
+        requests[variant] = report["requests"]
+    assert requests["single_phase"] == requests["three_phase"], requests
 
 
 def _also_single_phase_only(tmp_path: Path, register: str) -> Path:

@@ -13,7 +13,9 @@ from regmap.model import Device, Register
 from regmap.runtime_bridge import read_plan
 from regmap.tools.selectors import Registers
 from regmap_runtime.codec import words_to_raw
+from regmap_runtime.plan import ReadBlock
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS
+from regmap_runtime.spaces import SPACES
 from regmap_runtime.spec import Raw
 
 from .bus import Answer, ProbeBus
@@ -60,7 +62,7 @@ def read_registers(bus: ProbeBus, device: Device, reads: dict[str, RegisterRead]
     for reg in device.registers:
         if reg.access.readable:
             reads[reg.name] = RegisterRead(reg)
-    blocks = read_plan(device)
+    blocks = probe_plan(device)
     for number, block in enumerate(blocks, 1):
         if progress is not None:
             progress(f"registers: request {number} of {len(blocks)}")
@@ -74,6 +76,23 @@ def read_registers(bus: ProbeBus, device: Device, reads: dict[str, RegisterRead]
             continue
         for spec in block.registers:  # the block failed: which of its registers does the drive refuse?
             read_alone(bus, device, reads[spec.name])
+
+
+def probe_plan(device: Device) -> list[ReadBlock]:
+    """The map's read plan, split by the variants that have each register: a block never holds a register some
+    variant lacks beside one that variant has, nor reads across its words, so on any variant only the reads of
+    what it lacks fail (the device's variant is what the probe finds out)."""
+    if not device.info.variants:
+        return read_plan(device)
+    every = tuple(v.name for v in device.info.variants)
+    readable = [r for r in device.registers if r.access.readable]
+    blocks: list[ReadBlock] = []
+    for having in sorted({tuple(sorted(r.variants)) for r in readable}):
+        # variants=: only words every one of those variants answers are read across
+        chosen = [r for r in readable if tuple(sorted(r.variants)) == having]
+        blocks += read_plan(device, chosen, variants=having or every)
+    spaces = list(SPACES)
+    return sorted(blocks, key=lambda b: (spaces.index(b.space), b.address))
 
 
 def read_alone(bus: ProbeBus, device: Device, read: RegisterRead) -> Answer:
