@@ -130,3 +130,12 @@ def test_a_device_of_a_variant_has_only_that_variants_entities_and_says_so(tmp_p
         line.startswith("# m1 (") and "Variant single_phase: left out, as that variant lacks them: voltage_l2." in line for line in header
     )
     assert not any("Only on variant" in line for line in header)
+
+
+def test_esphome_config_accepts_the_plant_of_two_variants(esphome: Path, tmp_path: Path) -> None:
+    plant = load_plant(write_meter_plant(tmp_path, "meters", "serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}"))
+    text, data = _package(plant)
+    checked = _data(esphome_config(esphome, tmp_path, text))
+    assert [(c["id"], c["address"]) for c in checked["modbus_controller"]] == [("m1_controller", 1), ("m3_controller", 3)]
+    ids = {e["id"] for e in _entities(checked)}
+    assert len(ids) == len(_entities(data)) and "m3_voltage_l2" in ids and "m1_voltage_l2" not in ids

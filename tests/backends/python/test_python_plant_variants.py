@@ -7,6 +7,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
+
 from regmap.frontend.plant import load_plant
 from regmap.runtime_bridge import plant_schedule
 
@@ -27,6 +29,11 @@ def test_read_all_of_a_plant_of_two_variants_gets_every_value_and_no_exception(t
     with serve_bus(plant, bus, tmp_path) as served, module.Meters(line1_port=served.port) as meters:
         assert meters.m1.variant == "single_phase" and meters.m3.variant == "three_phase"
         values = meters.read_all()
+        sent = meters.m1.requests_sent
+        with pytest.raises(TypeError, match="voltage_l2 exists only on the variant") as refused:
+            meters.m1.read_voltage_l2()  # refused by the single-phase client: nothing sent
+        assert type(refused.value).__name__ == "AccessError"  # the generated tree's own runtime's
+        assert meters.m1.requests_sent == sent
     for name, (_, variant) in METER_VARIANTS.items():
         device = bus.device(name).device
         has = {r.name for r in device.registers if r.access.readable and r.on_variant(variant)}
