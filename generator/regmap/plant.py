@@ -46,7 +46,8 @@ class TcpLine:
 
 @dataclass(frozen=True)
 class PlantDevice:
-    """One device instance: its name (the prefix of every generated name), its map and its slave id."""
+    """One device instance: its name (the prefix of every generated name), its map, its slave id and, when its
+    map declares variants, the one it is (None: not said, so every variant's registers are its)."""
 
     name: str
     title: str
@@ -54,7 +55,13 @@ class PlantDevice:
     device: Device
     slave: int
     notes: str = ""
+    variant: str | None = None
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def variants(self) -> tuple[str, ...]:
+        """The variants a read plan of this device serves (`runtime_bridge.read_plan(variants=...)`): its own, or () for any."""
+        return () if self.variant is None else (self.variant,)
 
     def turnaround_s(self, baud: int | None = None) -> float:
         """How long the device may take to answer, as its map records it: the timing row of `baud` when the

@@ -287,9 +287,10 @@ class BusSchedule:
 
 
 def bus_schedule(bus: Bus) -> BusSchedule:
-    """The bus's poll order: each device's read plan (as its client's `read_all()` plans it), interleaved
-    round robin block by block, as the plant client's `read_all()` runs it (`regmap_runtime.line.interleave`)."""
-    plans = [read_plan(dev.device) for dev in bus.devices]
+    """The bus's poll order: each device's read plan (as its client's `read_all()` plans it: of a device the plant
+    names a variant of, only that variant's registers), interleaved round robin block by block, as the plant
+    client's `read_all()` runs it (`regmap_runtime.line.interleave`)."""
+    plans = [read_plan(dev.device, variants=dev.variants) for dev in bus.devices]
     order = interleave(plans)
     return BusSchedule(bus, tuple(PollEntry(bus.devices[index], block) for index, block in order))
 

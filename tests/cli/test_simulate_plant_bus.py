@@ -130,6 +130,10 @@ def _simulate(*args: str) -> subprocess.CompletedProcess[str]:
     [
         (["--bus", "line1", "--slave", "2"], "--slave: one device's setting"),
         (["--bus", "line1", "--firmware", "1.0"], "--firmware: one device's setting"),
+        (
+            ["--bus", "line1", "--variant", "three_phase"],
+            "--variant: one device's setting; a plant's bus takes its devices, slave ids and variants",
+        ),
         (["--bus", "line9"], "--bus line9: "),
         ([], "has 2 buses: name one with --bus (line1, line2)"),
         (["--bus", "line1", "--state-dir", "/nonexistent/dir"], "--state-dir /nonexistent/dir: not a directory"),

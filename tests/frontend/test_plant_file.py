@@ -15,6 +15,7 @@ from conftest import ROOT
 
 EXAMPLE = ROOT / "examples" / "plants" / "cell1.yaml"
 MAPS = ROOT / "maps"
+FLOAT_METER = ROOT / "tests" / "maps" / "fixtures" / "float_meter.yaml"
 
 TCP_PLANT = f"""format: regmap-plant/1
 plant: {{id: cell1, title: Assembly cell 1}}
@@ -115,6 +116,55 @@ def test_a_broken_map_is_reported_at_its_own_lines(tmp_path: Path) -> None:
     problems = _problems(tmp_path, TCP_PLANT.replace(f"{MAPS}/c630s.yaml", "broken.yaml"))
     assert any(":9:" in p and "map 'broken.yaml' is invalid" in p for p in problems)
     assert any(p.startswith(f"{broken}:") and "map_version" in p for p in problems), problems
+
+
+METERS = f"""format: regmap-plant/1
+plant: {{id: meters, title: Two meters}}
+buses:
+  - name: line1
+    tcp: {{host: 127.0.0.1, port: 1502}}
+    devices:
+      - {{name: m1, map: {FLOAT_METER}, slave: 1, variant: single_phase}}
+      - {{name: m3, map: {FLOAT_METER}, slave: 3, variant: three_phase}}
+      - {{name: axis_x, map: {MAPS}/idm_rs.yaml, slave: 5}}
+"""
+
+
+def test_each_device_is_the_variant_the_plant_names(tmp_path: Path) -> None:
+    path = _write(tmp_path, METERS)
+    plant = load_plant(path)
+    assert [(d.name, d.variant, d.variants) for d in plant.devices] == [
+        ("m1", "single_phase", ("single_phase",)),
+        ("m3", "three_phase", ("three_phase",)),
+        ("axis_x", None, ()),
+    ]
+    result = _validate(path)
+    assert result.returncode == 0, result.stderr
+    assert "m1@1 (fixture_float_meter, single_phase), m3@3 (fixture_float_meter, three_phase), axis_x@5 (idm_rs)" in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("change", "line", "message"),
+    [
+        (
+            ("variant: three_phase", "variant: split_phase"),
+            8,
+            "variant 'split_phase': device 'm3' (fixture_float_meter) declares single_phase, three_phase only",
+        ),
+        (("slave: 5}", "slave: 5, variant: single_phase}"), 9, "variant 'single_phase': device 'axis_x' (idm_rs) declares no variants"),
+    ],
+)
+def test_a_variant_the_map_does_not_declare_is_refused_at_its_line(
+    tmp_path: Path, change: tuple[str, str], line: int, message: str
+) -> None:
+    old, new = change
+    assert old in METERS
+    text = METERS.replace(old, new, 1)
+    path = _write(tmp_path, text)
+    result = _validate(path)
+    assert result.returncode == 1 and "Traceback" not in result.stderr
+    col = text.splitlines()[line - 1].index("variant: ") + len("variant: ") + 1  # at the value
+    assert f"{path}:{line}:{col}: {message}" in result.stderr, result.stderr
 
 
 def test_a_plant_is_told_from_a_map_by_its_format_line() -> None:

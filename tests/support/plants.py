@@ -46,3 +46,25 @@ def generate_python_plant(plant_file: Path, out: Path) -> ModuleType:
         return importlib.import_module(f"{plant_file.stem}_plant")
     finally:
         sys.path.remove(str(out / "python"))
+
+
+FLOAT_METER = ROOT / "tests" / "maps" / "fixtures" / "float_meter.yaml"
+METER_VARIANTS = {"m1": (1, "single_phase"), "m3": (3, "three_phase")}  # device -> (slave id, variant)
+
+
+def write_meter_plant(tmp_path: Path, plant_id: str, bus: str) -> Path:
+    """Two float meters (tests/maps/fixtures/float_meter.yaml) on one bus: `m1` single-phase at slave 1, `m3`
+    three-phase at slave 3 (only the three-phase model has voltage_l2)."""
+    path = tmp_path / f"{plant_id}.yaml"
+    rel = os.path.relpath(FLOAT_METER, tmp_path)
+    lines = [
+        "format: regmap-plant/1",
+        f"plant: {{id: {plant_id}, title: Two meters {plant_id}}}",
+        "buses:",
+        "  - name: line1",
+        f"    {bus}",
+        "    devices:",
+        *(f"      - {{name: {name}, map: {rel}, slave: {slave}, variant: {variant}}}" for name, (slave, variant) in METER_VARIANTS.items()),
+    ]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path

@@ -206,7 +206,7 @@ def _run_bus(args: argparse.Namespace, faults: FaultPlan, quirks: Quirks, policy
     ]
     if per_device:
         raise UsageError(
-            f"{', '.join(per_device)}: one device's setting; a plant's bus takes its devices and slave ids from the plant file"
+            f"{', '.join(per_device)}: one device's setting; a plant's bus takes its devices, slave ids and variants from the plant file"
         )
     plant = load_plant(args.map)
     if args.bus is None and len(plant.buses) > 1:

@@ -77,7 +77,7 @@ def _validate_plant(path: str) -> int:
             if bus.tcp
             else ""
         )
-        devices = ", ".join(f"{d.name}@{d.slave} ({d.device.id})" for d in bus.devices)
+        devices = ", ".join(f"{d.name}@{d.slave} ({d.device.id}{', ' + d.variant if d.variant else ''})" for d in bus.devices)
         print(f"{path}: bus {bus.name} ({line}): {devices}")
     print(f"{path}: ok: plant {plant.id}, {len(plant.buses)} bus(es), {len(plant.devices)} device(s), {len(plant.maps)} map(s)")
     return ExitCode.OK

@@ -105,6 +105,7 @@ class _PlantChecker:
                 if device is None:
                     continue
                 self._slave_rules(device, slave, (*at, "slave"))
+                self._variant_rules(device, dev_raw.get("variant"), (*at, "variant"), dev_name)
                 if "serial" in bus_raw:
                     self._line_rules(device, bus_raw["serial"], ("buses", i, "serial"), dev_name)
                 devices.append(
@@ -115,6 +116,7 @@ class _PlantChecker:
                         device=device,
                         slave=slave,
                         notes=dev_raw.get("notes", ""),
+                        variant=dev_raw.get("variant"),
                         pos=self.positions.locate(at),
                     )
                 )
@@ -166,6 +168,15 @@ class _PlantChecker:
             self.add(at, f"slave id {slave} is the broadcast address: every device would act on it and none would answer")
         elif not t.slave_min <= slave <= t.slave_max:
             self.add(at, f"slave id {slave} is outside {t.slave_min}..{t.slave_max}, the range the map {device.id} allows")
+
+    def _variant_rules(self, device: Device, variant: str | None, at: tuple[str | int, ...], dev_name: str) -> None:
+        if variant is None:
+            return
+        declared = [v.name for v in device.info.variants]
+        if not declared:
+            self.add(at, f"variant {variant!r}: device {dev_name!r} ({device.id}) declares no variants (device.variants)")
+        elif variant not in declared:
+            self.add(at, f"variant {variant!r}: device {dev_name!r} ({device.id}) declares {', '.join(declared)} only")
 
     def _line_rules(self, device: Device, line: dict[str, Any], at: tuple[str | int, ...], dev_name: str) -> None:
         t = device.transport

@@ -304,15 +304,16 @@ def _other_variants_words(device: Device, variants: tuple[str, ...]) -> frozense
 ABSENT = "answers them with an exception: the entities become unavailable"
 
 
-def gate_notes(device: Device, registers: tuple[Register, ...] | list[Register]) -> list[str]:
+def gate_notes(device: Device, registers: tuple[Register, ...] | list[Register], variant: str | None = None) -> list[str]:
     """One line per firmware gate and per set of variants: which selected registers only that firmware or
-    those variants have, and what the others do (the registers not named answer always)."""
+    those variants have, and what the others do (the registers not named answer always). A device known to
+    be one `variant` (a plant's): no variant lines, its registers are that variant's."""
     by_gate: dict[str, list[str]] = {}
     by_variants: dict[tuple[str, ...], list[str]] = {}
     for reg in registers:
         if reg.firmware is not None:
             by_gate.setdefault(reg.firmware.text, []).append(reg.name)
-        if reg.variants:
+        if reg.variants and variant is None:
             by_variants.setdefault(variant_set(reg), []).append(reg.name)
     notes = [f"Needs {gate}: {', '.join(names)} (older or newer firmware {ABSENT})." for gate, names in by_gate.items()]
     declared = [v.name for v in device.info.variants]
@@ -413,10 +414,16 @@ def plant_header_lines(plant: Plant) -> list[str]:
 def plant_device_line(bus: Bus, dev: PlantDevice, selection: Selection) -> str:
     """One line of a plant file's header per device: where it is and what of its map is generated."""
     info = dev.device.info
-    return (
+    line = (
         f"{dev.name} ({' '.join(dev.title.split())}): {info.vendor} {info.model} at slave {dev.slave} on {bus.name}"
         f" ({len(selection.registers)} registers, {len(selection.commands)} commands selected)."
     )
+    if dev.variant is not None:
+        left = (
+            f"left out, as that variant lacks them: {', '.join(selection.left_out)}" if selection.left_out else "it has every one selected"
+        )
+        line += f" Variant {dev.variant}: {left}."
+    return line
 
 
 def refuse_shared_ids(plant: Plant, ids: list[tuple[PlantDevice, list[str]]], tool: str) -> None:

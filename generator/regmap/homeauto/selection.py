@@ -34,6 +34,7 @@ class Selection:
     registers: tuple[Register, ...]
     commands: tuple[Command, ...]
     rule: str
+    left_out: tuple[str, ...] = ()  # what `for_variant` took out: the registers and commands the variant lacks
 
 
 def parse_patterns(spec: str) -> tuple[str, ...]:
@@ -79,6 +80,21 @@ def select(device: Device, patterns: tuple[str, ...] | None) -> Selection:
         tuple(r for r in device.registers if r.name in chosen_regs),
         tuple(c for c in device.commands if c.name in chosen_cmds),
         "patterns " + ", ".join(patterns),
+    )
+
+
+def for_variant(selection: Selection, variant: str | None) -> Selection:
+    """The selection for a device that is one variant (a plant's device, `variant:`): the registers that variant
+    lacks, and the commands that write them, left out (they would only ever answer an exception); None: as it is."""
+    if variant is None:
+        return selection
+    commands = tuple(c for c in selection.commands if c.register.on_variant(variant))
+    return Selection(
+        tuple(r for r in selection.registers if r.on_variant(variant)),
+        commands,
+        selection.rule,
+        tuple(r.name for r in selection.registers if not r.on_variant(variant))
+        + tuple(c.name for c in selection.commands if c not in commands),
     )
 
 

@@ -10,9 +10,12 @@ import pytest
 
 from regmap.backends.c.plant import plant_header
 from regmap.frontend.plant import load_plant
-from regmap.runtime_bridge import plant_schedule
+from regmap.runtime_bridge import plant_schedule, read_plan
+from regmap_runtime.line import interleave
+from regmap_runtime.spaces import SPACES
 
 from conftest import ROOT, require_tool
+from support.plants import METER_VARIANTS, write_meter_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 WARNINGS = ("-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wconversion", "-Wsign-conversion")
@@ -62,3 +65,46 @@ def test_the_poll_table_walks_as_the_shared_schedule(standard: str, tmp_path: Pa
     assert lines[1] == f"line 38400 E silence 1750 cycle {round((schedule.cycle_s or 0) * 1e6)}"
     rows = [tuple(int(x) for x in line.split()) for line in lines[2:]]
     assert rows == [(index[e.device.name], e.slave, e.function, e.start, e.count) for e in schedule.entries]
+
+
+METERS_WALK = """\
+#define METERS_PLANT_IMPLEMENTATION
+#include "meters_plant.h"
+#include <stdio.h>
+
+int main(void)
+{
+    unsigned i;
+    for (i = 0u; i < METERS_LINE1_POLL_LEN; i++) {
+        const meters_poll *row = &meters_line1_poll[i];
+        printf("%u %u %u %u %u\\n", (unsigned)row->device, (unsigned)row->slave, (unsigned)row->function,
+               (unsigned)row->start, (unsigned)row->count);
+    }
+    return 0;
+}
+"""
+
+
+def test_each_device_of_a_variant_polls_that_variants_plan(tmp_path: Path) -> None:
+    """Two float meters on one bus, single- and three-phase: the compiled poll table is each meter's own variant's
+    read plan (runtime_bridge.read_plan(variants=...)), interleaved; only the three-phase one reads voltage_l2."""
+    compiler = require_tool("gcc")
+    plant = load_plant(write_meter_plant(tmp_path, "meters", "tcp: {host: 127.0.0.1, port: 502}"))
+    (tmp_path / "meters_plant.h").write_text(plant_header(plant), encoding="utf-8")
+    (tmp_path / "walk.c").write_text(METERS_WALK, encoding="utf-8")
+    build = subprocess.run(
+        [compiler, "-std=c99", "-O2", *WARNINGS, f"-I{tmp_path}", str(tmp_path / "walk.c"), "-o", str(tmp_path / "walk")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert build.returncode == 0 and not build.stderr.strip(), build.stderr
+    lines = subprocess.run([str(tmp_path / "walk")], capture_output=True, text=True, check=True).stdout.splitlines()
+    rows = [tuple(int(x) for x in line.split()) for line in lines]
+    devices = plant.devices
+    plans = [read_plan(dev.device, variants=(METER_VARIANTS[dev.name][1],)) for dev in devices]
+    expected = [(i, devices[i].slave, SPACES[b.space].read, b.address, b.count) for i, b in interleave(plans)]
+    assert rows == expected
+    l2 = devices[0].device.register("voltage_l2")
+    reads_l2 = {slave for _, slave, fc, start, count in rows if fc == 0x04 and start <= l2.address < start + count}
+    assert reads_l2 == {3}

@@ -16,6 +16,7 @@ from regmap.plant import Plant
 from conftest import ROOT
 from support.homeauto_yaml import esphome_config, load, resolve
 from support.plant_tcp_bus import MAPS, write_plant
+from support.plants import write_meter_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 PLATFORMS = ("sensor", "binary_sensor", "text_sensor", "number", "select", "switch", "button")
@@ -111,3 +112,30 @@ def test_two_devices_that_would_share_an_object_id_are_refused(tmp_path: Path) -
     assert str(caught.value) == (
         f"{path}:8:9: devices 'sp' and 'sp_encoder' give ESPHome the same id sensor.sp_encoder_position_deviation_counter; rename one of them"
     )
+
+
+def test_a_device_of_a_variant_has_only_that_variants_entities_and_says_so(tmp_path: Path) -> None:
+    """Two float meters on a serial line, single- and three-phase: only the three-phase one has voltage_l2's sensor
+    (and a read of its address), and each one's header line names what its variant left out."""
+    plant = load_plant(write_meter_plant(tmp_path, "meters", "serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}"))
+    text, data = _package(plant)
+    subs = data["substitutions"]
+    ids = {resolve(e["id"], subs) for e in _entities(data)}
+    assert "m3_voltage_l2" in ids and "m1_voltage_l2" not in ids
+    assert {i.removeprefix("m3_") for i in ids if i.startswith("m3_")} - {i.removeprefix("m1_") for i in ids if i.startswith("m1_")} == {
+        "voltage_l2"
+    }
+    header = [line for line in text.splitlines() if line.startswith("#")]
+    assert any(
+        line.startswith("# m1 (") and "Variant single_phase: left out, as that variant lacks them: voltage_l2." in line for line in header
+    )
+    assert not any("Only on variant" in line for line in header)
+
+
+def test_esphome_config_accepts_the_plant_of_two_variants(esphome: Path, tmp_path: Path) -> None:
+    plant = load_plant(write_meter_plant(tmp_path, "meters", "serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}"))
+    text, data = _package(plant)
+    checked = _data(esphome_config(esphome, tmp_path, text))
+    assert [(c["id"], c["address"]) for c in checked["modbus_controller"]] == [("m1_controller", 1), ("m3_controller", 3)]
+    ids = {e["id"] for e in _entities(checked)}
+    assert len(ids) == len(_entities(data)) and "m3_voltage_l2" in ids and "m1_voltage_l2" not in ids

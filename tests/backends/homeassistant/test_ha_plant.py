@@ -17,6 +17,7 @@ from regmap.plant import Plant
 from conftest import ROOT
 from support.homeauto_yaml import ha_slug, load
 from support.plant_tcp_bus import MAPS, REGMAP, write_plant
+from support.plants import write_meter_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 ENTITY_KEYS = ("sensors", "binary_sensors", "switches")
@@ -181,3 +182,34 @@ def test_two_devices_that_would_share_an_entity_id_are_refused_at_the_second(tmp
         " sensor.sp_encoder_position_deviation_counter; rename one of them"
     )
     assert not out.exists()
+
+
+def _meters(tmp_path: Path, bus: str) -> Plant:
+    """Two float meters the plant names a variant of (m1 single-phase, m3 three-phase) and one it does not (m0)."""
+    path = write_meter_plant(tmp_path, "meters", bus)
+    text = path.read_text(encoding="utf-8")
+    m0 = next(line for line in text.splitlines() if "name: m1," in line).replace("m1", "m0").replace("slave: 1", "slave: 9")
+    path.write_text(text + m0.replace(", variant: single_phase", "") + "\n", encoding="utf-8")
+    return load_plant(path)
+
+
+def test_a_device_of_a_variant_has_only_that_variants_entities_and_says_so(tmp_path: Path) -> None:
+    """voltage_l2 is the three-phase model's alone: the single-phase meter has no entity for it, the three-phase
+    one has, and a meter the plant names no variant of keeps every entity (its header says which answer only
+    on which variant); each variant device's header line names what was left out."""
+    plant = _meters(tmp_path, "serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}")
+    (text,) = render_plant(plant).values()
+    (hub,) = load(text)["modbus"]
+    ids = {e["unique_id"] for e in _entities(hub)}
+    assert "meters_m3_voltage_l2" in ids and "meters_m0_voltage_l2" in ids and "meters_m1_voltage_l2" not in ids
+    single = {i.removeprefix("meters_m1_") for i in ids if i.startswith("meters_m1_")}
+    three = {i.removeprefix("meters_m3_") for i in ids if i.startswith("meters_m3_")}
+    every = {i.removeprefix("meters_m0_") for i in ids if i.startswith("meters_m0_")}
+    assert three - single == {"voltage_l2"} and three == every  # the one entity the single-phase model lacks
+    header = [line for line in text.splitlines() if line.startswith("#")]
+    assert any(
+        line.startswith("# m1 (") and "Variant single_phase: left out, as that variant lacks them: voltage_l2." in line for line in header
+    )
+    assert any(line.startswith("# m3 (") and "Variant three_phase: it has every one selected." in line for line in header)
+    assert any(line.startswith("# m0: Only on variant three_phase: voltage_l2") for line in header), header
+    assert not any(line.startswith(("# m1: Only on variant", "# m3: Only on variant")) for line in header)

@@ -4,12 +4,15 @@ their pages, the poll order as the shared schedule has it and the line's timing 
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 from regmap.backends.markdown.plant import render_plant
 from regmap.frontend.plant import load_plant
-from regmap.runtime_bridge import plant_schedule
+from regmap.runtime_bridge import plant_schedule, read_plan
+from regmap_runtime.line import interleave
 
 from conftest import ROOT
+from support.plants import METER_VARIANTS, write_meter_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
 
@@ -48,3 +51,23 @@ def test_the_poll_order_and_the_budget_are_the_schedules() -> None:
     assert line is not None
     wire = (8 + 5 + 2 * first.count) * line.character_bits / line.baud
     assert schedule.exchange_s(first) == wire + first.device.turnaround_s(line.baud) + line.silence_s
+
+
+def test_a_device_of_a_variant_is_polled_and_budgeted_for_that_variant_only(tmp_path: Path) -> None:
+    """Two float meters on a serial line, single- and three-phase: the page names each one's variant, and its poll
+    order and line-time budget are each meter's own variant's read plan, interleaved."""
+    plant = load_plant(write_meter_plant(tmp_path, "meters", "serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}"))
+    page = render_plant(plant)["meters_plant.md"]
+    devices = plant.devices
+    plans = [read_plan(dev.device, variants=(METER_VARIANTS[dev.name][1],)) for dev in devices]
+    expected = [(devices[i].name, devices[i].slave, b.address, b.count) for i, b in interleave(plans)]
+    rows = re.findall(r"^\| \d+ \| `(\w+)` \| (\d+) \| 0x[0-9A-F]{2} [^|]* \| 0x([0-9A-F]{4}) \| (\d+) \| [\d.]+ ms \|$", page, re.M)
+    assert [(d, int(s), int(a, 16), int(c)) for d, s, a, c in rows] == expected
+    assert len(plans[0]) != len(plans[1])  # the single-phase meter skips voltage_l2's words
+    for dev, plan in zip(devices, plans, strict=True):
+        row = re.search(rf"^\| `{dev.name}` \| (.*)$", page, re.M)
+        assert row is not None
+        cells = [c.strip() for c in row.group(1).split(" | ")]
+        assert f"variant `{dev.variant}`" in cells[1] and cells[4] == str(len(plan)), cells
+    (schedule,) = plant_schedule(plant)
+    assert f"{len(expected)} requests a cycle take at most **{(schedule.cycle_s or 0) * 1000:.2f} ms**" in page

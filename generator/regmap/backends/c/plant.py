@@ -110,6 +110,7 @@ def plant_header(plant: Plant) -> str:
             turnaround_value=_us(dev.turnaround_s(baud)),
             comment=c_comment(
                 f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} ({dev.map_path}, header {dev.device.id}.h) on bus {bus.name}"
+                + (f", variant {dev.variant}: its poll rows read only that variant's registers" if dev.variant else "")
             ),
         )
         for name in (view.index, view.slave, view.turnaround):

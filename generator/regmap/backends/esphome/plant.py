@@ -13,7 +13,7 @@ from typing import Any
 
 from regmap.backends.esphome.package import MAX_CMD_RETRIES, PARITY, PLATFORMS, DevicePackage
 from regmap.homeauto.entities import dump_commented, gate_notes, plant_device_line, plant_header_lines, refuse_shared_ids
-from regmap.homeauto.selection import DEFAULT_RULE, select
+from regmap.homeauto.selection import DEFAULT_RULE, for_variant, select
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.target import Files
 
@@ -54,7 +54,7 @@ def _plant_package(plant: Plant) -> tuple[dict[str, Any], list[tuple[Bus, PlantD
         uarts.append(uart)
         buses.append({"id": f"{bus.name}_modbus", "uart_id": f"{bus.name}_uart"})
         for dev in bus.devices:
-            pkg = DevicePackage(dev.device, select(dev.device, None), prefix=dev.name)
+            pkg = DevicePackage(dev.device, for_variant(select(dev.device, None), dev.variant), prefix=dev.name)
             pkg.build()
             built.append((bus, dev, pkg))
             substitutions |= {
@@ -113,7 +113,7 @@ def render_plant(plant: Plant) -> Files:
         *(plant_device_line(bus, dev, pkg.selection) for bus, dev, pkg in built),
     ]
     for _, dev, pkg in built:
-        about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, pkg.selection.registers)]
+        about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, pkg.selection.registers, dev.variant)]
         about += [f"Not generated for {dev.name}: {s}" for s in pkg.skipped]
     about += [f"Not generated: {s}" for s in skipped]
     return {f"{plant.id}.yaml": dump_commented([*plant_header_lines(plant), *about], data)}

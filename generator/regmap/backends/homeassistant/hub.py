@@ -49,7 +49,7 @@ from regmap.homeauto.entities import (
     swapped,
     unit_text,
 )
-from regmap.homeauto.selection import DEFAULT_RULE, Selection, select
+from regmap.homeauto.selection import DEFAULT_RULE, Selection, for_variant, select
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.runtime_bridge import runtime_alignment
@@ -476,7 +476,7 @@ def _plant_hubs(plant: Plant) -> tuple[list[dict[str, Any]], list[tuple[Bus, Pla
     for bus in plant.buses:
         hub_data = _bus_connection(plant, bus)
         for dev in bus.devices:
-            h = _Hub(dev.device, select(dev.device, None), plant_instance(plant, bus, dev))
+            h = _Hub(dev.device, for_variant(select(dev.device, None), dev.variant), plant_instance(plant, bus, dev))
             h.build()
             built.append((bus, dev, h))
             for key, entities in h.entities().items():
@@ -521,7 +521,7 @@ def render_plant(plant: Plant) -> Files:
         "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
     ]
     for _, dev, h in built:
-        about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, h.selection.registers)]
+        about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, h.selection.registers, dev.variant)]
         about += [f"Not generated for {dev.name}: {s}" for s in h.skipped]
     hubs = [h for _, _, h in built]
     return {f"{plant.id}.yaml": dump_commented([*plant_header_lines(plant), *about], _package(hubs, data))}

@@ -88,7 +88,10 @@ def _bus_view(schedule: BusSchedule) -> BusView:
             DeviceRow(
                 name=md.code(dev.name),
                 title=md.escaped(dev.title),
-                map=md.Md(f"[{md.DocId(dev.device.id)}]({md.DocId(dev.device.id)}.md) ({md_text(info.vendor)} {md_text(info.model)})"),
+                map=md.Md(
+                    f"[{md.DocId(dev.device.id)}]({md.DocId(dev.device.id)}.md) ({md_text(info.vendor)} {md_text(info.model)})"
+                    + (f", variant {md.code(dev.variant)}" if dev.variant else "")
+                ),
                 slave=dev.slave,
                 turnaround=_ms(dev.turnaround_s(baud)),
                 requests=len(mine),

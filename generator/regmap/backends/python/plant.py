@@ -24,6 +24,7 @@ class DeviceView:
     slave: int
     bus: str
     doc: str
+    variant: str  # the client's variant= argument, already a literal ("" when the plant names none)
 
 
 @dataclass(frozen=True)
@@ -65,8 +66,10 @@ def _bus_view(plant: Plant, index: int) -> BusView:
             slave=dev.slave,
             bus=bus.name,
             doc=py_doc(
-                f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} at slave {dev.slave} on bus {bus.name}."
+                f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} at slave {dev.slave} on bus {bus.name}"
+                + (f", variant {dev.variant}." if dev.variant else ".")
             ),
+            variant=py_str(dev.variant) if dev.variant else "",
         )
         for dev in bus.devices
     )

@@ -69,6 +69,7 @@ def plant_context(plant: Plant) -> dict[str, object]:
         baud = bus.serial.baud if bus.serial is not None else None
         what = st_comment(
             f"{dev.title or dev.name}: {dev.device.info.vendor} {dev.device.info.model} on bus {bus.name} ({dev.device.id}_constants.st)"
+            + (f", variant {dev.variant}: its poll rows read only that variant's registers" if dev.variant else "")
         )
         index_of[dev.name] = str(index)
         constants += [

@@ -155,13 +155,16 @@ def run_bus(
     streams, opened = _open_log(log, echo)
     first = bus.devices[0].device
     request_log = RequestLog(first, streams, by_unit={dev.slave: dev.device for dev in bus.devices}) if streams else None
-    units = {dev.slave: DeviceStore(dev.device, dev.slave, states[dev.name]) for dev in bus.devices}
+    units = {dev.slave: DeviceStore(dev.device, dev.slave, states[dev.name], Quirks(variant=dev.variant)) for dev in bus.devices}
     simulator = Simulator.serving(units, faults=faults, log=request_log, rtu_gap_s=rtu_gap_s, tcp_policy=tcp_policy)
 
     def banner(where: str) -> Listening:
         policy = tcp_policy or TcpPolicy()
         framing = "RTU" if serial or rtu_over_tcp else "Modbus TCP, as a gateway" if policy.gateway else "Modbus TCP, a unit id per device"
-        served = ", ".join(f"{dev.name} ({dev.device.info.model}, slave {dev.slave})" for dev in bus.devices)
+        served = ", ".join(
+            f"{dev.name} ({dev.device.info.model}, slave {dev.slave}{', variant ' + dev.variant if dev.variant else ''})"
+            for dev in bus.devices
+        )
         return Listening(f"bus {bus.name}: {served}", 0, where, framing, "")
 
     return _serve(simulator, tcp, serial, line, rtu_over_tcp, opened, banner, listening)
