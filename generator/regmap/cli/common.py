@@ -242,6 +242,7 @@ def link_from(args: argparse.Namespace) -> Link:
         retries=args.retries,
         rtu_over_tcp=args.rtu_over_tcp,
         word_order=args.word_order,
+        variant=getattr(args, "variant", None),
     )
 
 
@@ -284,7 +285,12 @@ def device_and_link(args: argparse.Namespace) -> tuple[Device, Link]:
     elif bus.tcp is not None and not given:
         tcp = f"{bus.tcp.host}:{bus.tcp.port}"
     slave = member.slave if args.slave is None else args.slave
-    return member.device, dataclasses.replace(link, serial=serial, tcp=tcp, slave=slave, baud=baud, parity=parity, stop_bits=stop_bits)
+    if link.variant is not None and member.variant is not None and link.variant != member.variant:
+        raise UsageError(f"--variant {link.variant}: the plant says {member.name} is {member.variant}")
+    variant = link.variant or member.variant
+    return member.device, dataclasses.replace(
+        link, serial=serial, tcp=tcp, slave=slave, baud=baud, parity=parity, stop_bits=stop_bits, variant=variant
+    )
 
 
 def examples(*lines: str) -> str:
@@ -295,7 +301,12 @@ WHERE = "--serial /dev/ttyUSB0"
 
 
 def live_parser(
-    sub: argparse._SubParsersAction[argparse.ArgumentParser], name: str, help: str, description: str, *example: str
+    sub: argparse._SubParsersAction[argparse.ArgumentParser],
+    name: str,
+    help: str,
+    description: str,
+    *example: str,
+    variant: bool = True,
 ) -> argparse.ArgumentParser:
     p = sub.add_parser(
         name, help=help, description=description, epilog=examples(*example), formatter_class=argparse.RawDescriptionHelpFormatter
@@ -303,6 +314,13 @@ def live_parser(
     add_map(p)
     add_link_options(p)
     add_plant_device(p)
+    if variant:  # the probe finds the variant out instead
+        p.add_argument(
+            "--variant",
+            metavar="NAME",
+            help="the device's model or option (one of the map's device.variants; a plant device: the plant's): "
+            "a register it lacks is refused, nothing sent, and left out of dump",
+        )
     return p
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -32,6 +33,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
         "regmap probe maps/c630s.yaml --tcp 127.0.0.1:5020 --json --profile c630s.profile.json",
         "regmap probe maps/id243pro.yaml --tcp 127.0.0.1:5020 --scan-undocumented --write-test 0x0000 --budget 60 --rate 20",
         "regmap probe examples/plants/cell1.yaml --bus line1 --device spindle --tcp 127.0.0.1:5020",
+        variant=False,
     )
     p.add_argument("--json", action="store_true", help="the report as JSON on stdout")
     p.add_argument("--profile", metavar="FILE", help="write the device profile learned (atomically)")
@@ -69,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
     device, link = device_and_link(args)
     if link.word_order not in (None, "auto"):
         raise UsageError("--word-order: the probe finds the word order itself")
+    link = replace(link, variant=None)  # the probe finds the variant out (a plant's says what to expect)
     target = Path(args.profile) if args.profile else None
     if args.profile:
         check_output(args.profile, "--profile")  # now: after the probe, a directory or a full disk would lose what was learned

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import ipaddress
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -14,6 +15,7 @@ from regmap.tools.link import serial_line
 from regmap.tools.simulator.policy import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CONNECTIONS
 
 if TYPE_CHECKING:
+    from regmap.plant import Bus
     from regmap.tools.simulator import FaultPlan, Quirks
     from regmap.tools.simulator.policy import TcpPolicy
     from regmap.tools.simulator.run import Listening
@@ -60,7 +62,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     add_map(p)
     where = p.add_mutually_exclusive_group()
-    where.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020)")
+    where.add_argument(
+        "--tcp", metavar="HOST:PORT", help="listen on TCP (default 127.0.0.1:5020; a plant's bus at a loopback address: that address)"
+    )
     where.add_argument("--serial", metavar="DEVICE", help="serve RTU on a serial device or pseudo-terminal")
     p.add_argument("--rtu-over-tcp", action="store_true", help="RTU framing on the TCP socket (serial gateways)")
     tcp = p.add_argument_group("Modbus TCP connections (with --tcp)")
@@ -231,7 +235,7 @@ def _run_bus(args: argparse.Namespace, faults: FaultPlan, quirks: Quirks, policy
     )
     served = run_bus(
         bus,
-        tcp=args.tcp,
+        tcp=args.tcp or _bus_address(bus, args.serial is not None),
         serial=args.serial,
         line=line,
         state_dir=state_dir,
@@ -245,6 +249,28 @@ def _run_bus(args: argparse.Namespace, faults: FaultPlan, quirks: Quirks, policy
     )
     print(f"regmap simulate: stopped after {served}", flush=True)
     return ExitCode.OK
+
+
+def _bus_address(bus: Bus, serial: bool) -> str | None:
+    """Where a plant's bus simulator listens when not told: the bus's own TCP address when it is this machine's
+    (so `regmap read PLANT` talks to the simulator), else the default, with a word that the plant's clients
+    talk to the real address, not to this simulator."""
+    if serial or bus.tcp is None:
+        return None
+    host = bus.tcp.host
+    try:
+        local = ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        local = host == "localhost"
+    if local:
+        return f"[{host}]:{bus.tcp.port}" if ":" in host else f"{host}:{bus.tcp.port}"
+    print(
+        f"regmap simulate: bus {bus.name} is at {host}:{bus.tcp.port} in the plant file: `regmap read/write PLANT` "
+        f"talk to that address, not to this simulator (give --tcp to listen elsewhere)",
+        file=sys.stderr,
+        flush=True,
+    )
+    return None
 
 
 def _say_bus_listening(at: Listening) -> None:

@@ -24,6 +24,7 @@ class Link:
     retries: int = 2
     rtu_over_tcp: bool = False
     word_order: str | None = None  # auto, high_first, low_first; None: auto where the map has a word-order register
+    variant: str | None = None  # the device's model or option (device.variants); None: not known, every register may be there
 
     @property
     def where(self) -> str:

@@ -68,6 +68,9 @@ def _why_unreachable(link: Link, device: Device) -> str:
 
 def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile | None = None) -> SyncClient:
     check_slave(device, link.slave, reading=reading)
+    declared = [v.name for v in device.info.variants]
+    if link.variant is not None and link.variant not in declared:
+        raise UsageError(f"--variant {link.variant}: {device.id} declares {', '.join(declared) if declared else 'no variants'}")
     serial_line(device, link.serial, link.baud, link.parity, link.stop_bits)
     client_class: type[SyncClient] = type(f"{device.id}_live", (SyncClient,), {"DEVICE": runtime_device(device)})
     if link.serial:
@@ -80,6 +83,7 @@ def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile
             timeout=link.timeout,
             retries=link.retries,
             profile=profile,
+            variant=link.variant,
         )
     elif link.tcp:
         host, _, port = link.tcp.rpartition(":")
@@ -93,6 +97,7 @@ def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile
             retries=link.retries,
             rtu_over_tcp=link.rtu_over_tcp,
             profile=profile,
+            variant=link.variant,
         )
     else:
         raise UsageError("say where the drive is: --serial DEVICE or --tcp HOST:PORT")
@@ -154,6 +159,14 @@ class Firmware:
             raise UsageError(f"{gates}; the drive reports firmware {self.text}: nothing was {doing}")
 
 
+def refuse_off_variant(registers: Sequence[Register], variant: str | None, doing: str) -> None:
+    """A UsageError naming the registers the device's variant lacks, before the port is opened."""
+    missing = [r for r in registers if not r.on_variant(variant)]
+    if missing:
+        only = "; ".join(f"{r.label} exists only on variant {', '.join(r.variants)}" for r in missing)
+        raise UsageError(f"{only}; the device is {variant}: nothing was {doing}")
+
+
 def firmware(device: Device, client: SyncClient, registers: Sequence[Register], order: str | None = None) -> Firmware | None:
     """The drive's firmware, read from the map's firmware register when some of `registers` are gated
     by firmware (None when none is, or the map names no firmware register: every register is asked for)."""
@@ -177,11 +190,14 @@ def firmware(device: Device, client: SyncClient, registers: Sequence[Register], 
     return Firmware(version, text, absent)
 
 
-def plan(device: Device, registers: Sequence[Register], profile: DeviceProfile | None, known: Firmware | None) -> list[ReadBlock]:
-    """The read plan (`read_plan`); with a firmware that lacks some registers, their addresses are
-    not read across either (the drive answers 0x02 for them)."""
+def plan(
+    device: Device, registers: Sequence[Register], profile: DeviceProfile | None, known: Firmware | None, variant: str | None = None
+) -> list[ReadBlock]:
+    """The read plan (`read_plan`); with a firmware that lacks some registers, or a variant, the addresses
+    of what they lack are not read across either (the drive answers 0x02 for them)."""
+    variants = () if variant is None else (variant,)
     if known is None or not known.absent:
-        return read_plan(device, registers, profile)
+        return read_plan(device, registers, profile, variants=variants)
     absent = {
         (r.space, a)
         for r in device.registers
@@ -189,7 +205,7 @@ def plan(device: Device, registers: Sequence[Register], profile: DeviceProfile |
         for a in range(r.first_address, r.last_address + 1)
     }
     t = device.transport
-    documented = None if t.tolerates_gaps else documented_addresses(device) - absent
+    documented = None if t.tolerates_gaps else documented_addresses(device, variants) - absent
     limit = t.max_read_registers
     if profile is not None:
         profile.check(device.id, device.fingerprint)
@@ -218,12 +234,13 @@ def read_registers(
     order: str | None = None,
     profile: DeviceProfile | None = None,
     known: Firmware | None = None,
+    variant: str | None = None,
 ) -> ReadResult:
-    """Read by the plan (with a device profile: the plan it allows; with a firmware: around the registers
-    it lacks); on a bus failure or Ctrl-C keep what was read and name what was not. Values come back
-    in the order `registers` names them."""
+    """Read by the plan (with a device profile: the plan it allows; with a firmware or a variant: around the
+    registers they lack); on a bus failure or Ctrl-C keep what was read and name what was not. Values come
+    back in the order `registers` names them."""
     wanted = [r.name for r in registers]
-    blocks = plan(device, registers, profile, known)
+    blocks = plan(device, registers, profile, known, variant)
     found: dict[str, DecodedValue] = {}
 
     def result(error: str | None = None, interrupted: bool = False) -> ReadResult:
@@ -267,6 +284,7 @@ def read(
     the notes on how addresses were read."""
     regs = Registers(device, space, modicon=modicon)
     registers = regs.select(items)
+    refuse_off_variant(registers, link.variant, "read")
 
     def refuse_absent(known: Firmware) -> list[Register]:
         known.refuse(registers, "read")
@@ -293,7 +311,7 @@ def _read_as_the_drive_runs(
         known = firmware(device, client, registers, order)
         if known is not None:
             registers = on_firmware(known)
-        return read_registers(client, device, registers, progress, order=order, profile=profile, known=known)
+        return read_registers(client, device, registers, progress, order=order, profile=profile, known=known, variant=link.variant)
     finally:
         client.close()
 
@@ -434,6 +452,7 @@ class Written:
 
 def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Written:
     assignments = plan.assignments
+    refuse_off_variant([a.register for a in assignments], link.variant, "written")
     client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
     try:
@@ -497,6 +516,7 @@ class CommandSent:
 
 def send_command(device: Device, link: Link, name: str, argument: str | None, confirm: str | None = None) -> CommandSent:
     command, _ = command_words(device, name, argument, confirm=confirm)  # checked before the port is opened
+    refuse_off_variant([command.register], link.variant, "sent")
     client = connect(device, link, reading=False)
     try:
         order = word_order(device, client, link) if command.register.wide else None
@@ -524,6 +544,7 @@ def dump(
     """Every readable register (or the `chosen` ones: -t, -r/-c) with the read plan. `progress` is told
     of each request done; `lacking` of a firmware that lacks some of the registers (left out), before they are read."""
     registers = [r for r in device.registers if r.access.readable] if chosen is None else list(chosen)
+    registers = [r for r in registers if r.on_variant(link.variant)]  # what the variant lacks is not there to read
 
     def leave_out_absent(known: Firmware) -> list[Register]:
         if known.absent and lacking is not None:
