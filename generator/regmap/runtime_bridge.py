@@ -71,6 +71,7 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             **command_extras(device, r),
         )
         for r in device.registers
+        if r.scale_from is None  # the runtime cannot yet scale by another register: such a register is unknown to the tools
     ]
     _SPECS[id(device)] = (device, specs)
     return specs
