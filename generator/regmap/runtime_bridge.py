@@ -71,7 +71,6 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
             **command_extras(device, r),
         )
         for r in device.registers
-        if r.scale_from is None  # the runtime cannot yet scale by another register: such a register is unknown to the tools
     ]
     _SPECS[id(device)] = (device, specs)
     return specs
@@ -118,6 +117,8 @@ def spec_extras(r: Register) -> dict[str, Any]:
         extras["variants"] = r.variants
     if r.zone is not None:
         extras["zone"] = r.zone
+    if r.scale_from is not None:
+        extras["scale_from"] = r.scale_from
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported

@@ -1,6 +1,5 @@
 """A register scaled by another (`scale_from`, value = raw x 10^sf) is never shown raw as if it were the value:
-a back end that cannot scale by another register leaves it out and lists it in its files' headers, and the
-tools' runtime does not know it (a read of it is refused by name)."""
+a back end that cannot scale by another register leaves it out and lists it in its files' headers; the runtime's specs carry the name of each one's scale factor."""
 
 from __future__ import annotations
 
@@ -55,11 +54,11 @@ def test_a_target_that_cannot_scale_by_a_register_lists_and_leaves_it_out(target
             assert not re.search(rf"{reg.title}(?! scale factor)", body), (path, reg.title)
 
 
-def test_the_tools_runtime_does_not_know_a_scaled_register() -> None:
+def test_the_runtime_specs_name_each_scale_factor() -> None:
     device = load_map(MAP)
-    names = {spec.name for spec in runtime_specs(device)}
-    assert names == {reg.name for reg in device.registers if reg.scale_from is None}
-    assert {spec.name for block in read_plan(device) for spec in block.registers} <= names
+    specs = {spec.name: spec.scale_from for spec in runtime_specs(device)}
+    assert specs == {reg.name: reg.scale_from for reg in device.registers}
+    assert {spec.name for block in read_plan(device) for spec in block.registers} == set(specs)
 
 
 def test_a_plant_target_refuses_a_scaled_map() -> None:
