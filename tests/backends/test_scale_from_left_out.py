@@ -68,4 +68,4 @@ def test_a_plant_target_refuses_a_scaled_map() -> None:
         maps = (load_map(MAP),)
 
     with pytest.raises(UsageError, match=r"scale_from: sf_inverter\.a"):
-        render_plant(_Plant(), ["c"])  # type: ignore[arg-type]
+        render_plant(_Plant(), ["st"])  # type: ignore[arg-type]
