@@ -69,3 +69,15 @@ def test_a_plant_target_refuses_a_scaled_map() -> None:
 
     with pytest.raises(UsageError, match=r"scale_from: sf_inverter\.a"):
         render_plant(_Plant(), ["st"])  # type: ignore[arg-type]
+
+
+def test_the_json_contract_names_the_factor_and_the_spreadsheets_refuse_it() -> None:
+    from regmap.core.contract import export_json
+    from regmap.tools.spreadsheet.export import export_csv, export_xlsx
+
+    device = load_map(MAP)
+    exported = {r["name"]: r["scale_from"] for r in export_json(device)["registers"]}
+    assert exported == {reg.name: reg.scale_from for reg in device.registers}
+    for export in (export_csv, export_xlsx):
+        with pytest.raises(UsageError, match="cannot carry scale_from"):
+            export(device)
