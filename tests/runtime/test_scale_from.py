@@ -132,3 +132,13 @@ def test_the_cli_reads_scaled_values_and_refuses_an_unscaled_write(simulator: Si
     refused = _regmap("write", MAP, "wmax_lim_pct=50", *link)
     assert refused.returncode != 0 and "--raw" in refused.stderr
     assert _regmap("frame", "write", MAP, "wmax_lim_pct=50").returncode != 0
+
+
+def test_show_gives_the_factor_and_raw_numbers_only() -> None:
+    device = load_map(MAP)
+    reg = device.register("wmax_lim_pct")
+    shown = _regmap("show", MAP, reg.name)
+    assert shown.returncode == 0, shown
+    facts = {line.split(maxsplit=1)[0]: line.split(maxsplit=1)[1] for line in shown.stdout.splitlines()[1:] if line.strip()}
+    assert facts["scale"] == f"10^{reg.scale_from} (read from the device)"
+    assert facts["range"] == f"raw {reg.raw_min}..{reg.raw_max}" and facts["default"] == f"raw {reg.default}"
