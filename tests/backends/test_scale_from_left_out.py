@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from regmap.diagnostics import UsageError
-from regmap.frontend import load_map
+from regmap.frontend import load_map, load_map_text
 from regmap.generate import _targets, render
 from regmap.runtime_bridge import read_plan, runtime_specs
 
@@ -81,3 +81,12 @@ def test_the_json_contract_names_the_factor_and_the_spreadsheets_refuse_it() -> 
     for export in (export_csv, export_xlsx):
         with pytest.raises(UsageError, match="cannot carry scale_from"):
             export(device)
+
+
+def test_diff_reports_a_scale_factor_added_or_removed_as_a_scale_change() -> None:
+    from regmap.tools.diff.compare import compare
+
+    device = load_map(MAP)
+    plain = load_map_text(MAP.read_text(encoding="utf-8").replace(", scale_from: w_sf", ""), "plain.yaml")
+    changes = [(c.kind, c.subject) for c in compare(plain, device).changes if c.kind == "register_scale_changed"]
+    assert changes == [("register_scale_changed", "w")]
