@@ -88,8 +88,9 @@ def render(devices: Sequence[Device], targets: Sequence[str], options: TargetOpt
     out: dict[str, Files] = {}
     for name in targets:
         target = known[name].configured(options or {})
-        files: Files = dict(target.shared(devices))
-        for device in devices:
+        shown = devices if target.scale_from else [device.without_scale_from() for device in devices]
+        files: Files = dict(target.shared(shown))
+        for device in shown:
             files.update(target.per_device(device))
         out[name] = files
     return out
@@ -114,6 +115,11 @@ def render_plant(plant: Plant, targets: Sequence[str]) -> dict[str, Files]:
         render_whole = known[name].plant
         if render_whole is None:
             raise UsageError(f"--target {name}: this target does not render plants (plant targets: {', '.join(plant_target_names())})")
+        scaled = sorted({f"{device.id}.{reg.name}" for device in plant.maps for reg in device.registers if reg.scale_from is not None})
+        if scaled and not known[name].scale_from:
+            raise UsageError(
+                f"--target {name}: a plant's {name} files cannot scale by another register yet (scale_from: {', '.join(scaled)})"
+            )
         out[name] = dict(render_whole(plant))
     return out
 

@@ -6,7 +6,7 @@ back ends would otherwise compute (masks, widths, raw ranges, scale fractions) a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
 
@@ -199,6 +199,7 @@ class Register:
     na_nan: bool = False  # any NaN of a float register means "not available"
     variants: tuple[str, ...] = ()  # the device variants (models, options) that have it; () every variant
     zone: str | None = None  # a timestamp's clock: utc or local (regmap_runtime.timestamps); None for other types
+    scale_from: str | None = None  # an s16 register's name: value = raw x 10^sf, sf its raw value read at run time
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -449,6 +450,7 @@ class Device:
     source_path: str
     fingerprint: str
     registers: tuple[Register, ...] = field(default=())
+    not_generated: tuple[str, ...] = ()  # registers a back end leaves out, each with why: listed in its files' headers
 
     @property
     def id(self) -> str:
@@ -464,6 +466,30 @@ class Device:
 
     def register(self, name: str) -> Register:
         return self._by_name[name]
+
+    def without_scale_from(self) -> Device:
+        """The device as a back end that cannot scale by another register sees it: each `scale_from` register left
+        out (never shown raw as if it were the value), and the commands and examples that touch one, each listed."""
+        gone = {reg.name for reg in self.registers if reg.scale_from is not None}
+        if not gone:
+            return self
+
+        def keep(reg: Register) -> bool:
+            return reg.name not in gone
+
+        examples = tuple(x for x in self.examples if all(keep(v.register) for v in x.values))
+        commands = tuple(c for c in self.commands if keep(c.register))
+        return replace(
+            self,
+            groups=tuple(replace(g, registers=tuple(filter(keep, g.registers))) for g in self.groups),
+            registers=tuple(filter(keep, self.registers)),
+            examples=examples,
+            commands=commands,
+            not_generated=self.not_generated
+            + tuple(f"{name} (scale_from)" for name in sorted(gone))
+            + tuple(f"command {c.name} (writes a scale_from register)" for c in self.commands if c not in commands)
+            + tuple(f"example {x.id} (carries a scale_from register)" for x in self.examples if x not in examples),
+        )
 
     def example(self, example_id: str) -> Example:
         for ex in self.examples:

@@ -117,6 +117,8 @@ def spec_extras(r: Register) -> dict[str, Any]:
         extras["variants"] = r.variants
     if r.zone is not None:
         extras["zone"] = r.zone
+    if r.scale_from is not None:
+        extras["scale_from"] = r.scale_from
     reported = reported_values(r.enum) if r.enum is not None and not r.bitfields else ()
     if reported:
         extras["reported"] = reported

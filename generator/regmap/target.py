@@ -53,6 +53,9 @@ class Target:
     # A plant (several devices on buses, regmap.plant): the target's files for the whole plant, under `subdir`
     # of `regmap generate PLANT --out DIR`. A target without it is skipped for plants.
     plant: Callable[[Plant], Files] | None = None
+    # The target shows `scale_from` registers (value = raw x 10^sf) as values; one that does not is given the
+    # device without them (Device.without_scale_from: each listed in `Device.not_generated`), never their raw values.
+    scale_from: bool = False
 
     def configured(self, options: TargetOptions) -> Target:
         """This target with the options it reads applied (itself when none of them was given)."""

@@ -13,7 +13,7 @@ from pymodbus.exceptions import ModbusException as PymodbusError
 from pymodbus.pdu import ExceptionResponse
 
 from .bits import BitfieldValue
-from .codec import check_raw, decode_value, value_to_raw, words_to_raw
+from .codec import RangeError, check_raw, decode_value, value_to_raw, words_to_raw
 from .errors import AccessError, DeviceException, FirmwareError, ProtocolError, RegmapError
 from .plan import ReadBlock, WriteBlock, plan_reads, plan_writes
 from .profile import DeviceProfile
@@ -23,6 +23,7 @@ from .rtu import (
     READ_WRITE_MULTIPLE,
     STANDARD_EXCEPTIONS,
 )
+from .scaling import scaled, unscaled
 from .spaces import HOLDING, MASK_WRITE_REGISTER, SPACES
 from .spec import DeviceSpec, Raw, Readable, RegisterSpec, Writable, poll_class, refuse_absent
 from .wire import (
@@ -248,8 +249,15 @@ class ClientCore:
         if not spec.writable:
             raise AccessError(f"{spec.label} is read-only: nothing was sent")
 
-    def encode(self, spec: RegisterSpec[Any], value: Any) -> Raw:
+    def encode(self, spec: RegisterSpec[Any], value: Any, factors: Mapping[str, Any] | None = None) -> Raw:
+        """`factors`: scale factors read fresh for this write, by name (a `scale_from` register needs its own)."""
         self.check_writable(spec)
+        if spec.scale_from is not None:
+            if factors is None or spec.scale_from not in factors:
+                raise RangeError(f"{spec.label}: its scale factor {spec.scale_from} must be read for this write: nothing was sent")
+            raw: Raw = unscaled(spec, value, factors[spec.scale_from])
+            check_raw(spec, raw)
+            return raw
         if spec.bitfield_type is not None and isinstance(value, spec.bitfield_type):
             raw = int(value.to_raw())
             check_raw(spec, raw)
@@ -288,14 +296,22 @@ class ClientCore:
             self._plans[key] = plan
         return plan
 
-    def plan_writes(self, values: Mapping[Writable[Any], Any], raw: bool = False, *, grouped: bool | None = None) -> list[WriteBlock]:
+    def plan_writes(
+        self,
+        values: Mapping[Writable[Any], Any],
+        raw: bool = False,
+        *,
+        grouped: bool | None = None,
+        factors: Mapping[str, Any] | None = None,
+    ) -> list[WriteBlock]:
         """Check and encode every value, then group them into requests, space by space. `raw`: values are register integers;
-        `grouped`: contiguous registers in one block (default: where the device lists the space's write multiple)."""
+        `grouped`: contiguous registers in one block (default: where the device lists the space's write multiple);
+        `factors`: the scale factors the values of `scale_from` registers were read with just now."""
         by_space: dict[str, list[tuple[RegisterSpec[Any], Raw]]] = {}
         for spec, value in values.items():
             self.check_writable(spec)
             self.check_exists(spec)
-            encoded = self.encode_raw(spec, value) if raw else self.encode(spec, value)
+            encoded = self.encode_raw(spec, value) if raw else self.encode(spec, value, factors)
             by_space.setdefault(spec.space, []).append((self.effective(spec), encoded))
         device = self.DEVICE
         blocks: list[WriteBlock] = []
@@ -351,9 +367,43 @@ class ClientCore:
             "once": True,
         }
 
-    def values_of(self, block: ReadBlock, words: list[int]) -> dict[str, Any]:
-        """Each register of a read block decoded from the block's words."""
-        return {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
+    def values_of(self, block: ReadBlock, words: list[int], factors: Mapping[str, Any] | None = None) -> dict[str, Any]:
+        """Each register of a read block decoded from the block's words; a `scale_from` register scaled by its
+        scale factor from `factors` (read in another block) or from this block, else refused, never shown raw."""
+        values = {spec.name: self.decode(spec, block.words_of(spec, words)) for spec in block.registers}
+        for spec in block.registers:
+            if spec.scale_from is not None:
+                known = {**(factors or {}), **values}
+                if spec.scale_from not in known:
+                    raise ValueError(f"{spec.label}: its scale factor {spec.scale_from} was not read with it")
+                values[spec.name] = scaled(values[spec.name], known[spec.scale_from])
+        return values
+
+    def scale_factors(self, specs: Iterable[RegisterSpec[Any]]) -> list[RegisterSpec[Any]]:
+        """The scale-factor registers of the `scale_from` registers among `specs`, each once."""
+        wanted = {spec.scale_from for spec in specs if spec.scale_from is not None}
+        return [r for r in self.DEVICE.registers if r.name in wanted]
+
+    def with_scale_factors(self, specs: Iterable[Readable[Any]]) -> list[Readable[Any]]:
+        """`specs` and the scale factors they need, so that one plan reads a point with its sf (one request where it can)."""
+        chosen = list(specs)
+        names = {spec.name for spec in chosen}
+        return chosen + cast(list[Readable[Any]], [sf for sf in self.scale_factors(chosen) if sf.name not in names])
+
+    def values_read(self, read: list[tuple[ReadBlock, list[int]]], specs: Iterable[RegisterSpec[Any]]) -> dict[str, Any]:
+        """The values of `specs` from the blocks read (`with_scale_factors`'s plan): scale factors first, then the rest."""
+        factor_names = {sf.name for sf in self.scale_factors([spec for block, _ in read for spec in block.registers])}
+        factors = {
+            spec.name: self.decode(spec, block.words_of(spec, words))
+            for block, words in read
+            for spec in block.registers
+            if spec.name in factor_names
+        }
+        values: dict[str, Any] = {}
+        for block, words in read:
+            values.update(self.values_of(block, words, factors))
+        names = {spec.name for spec in specs}
+        return {name: value for name, value in values.items() if name in names}
 
     def echoed(self, word: int, response: Any) -> int:
         """The word return query data sent back; a device that echoes something else is a ProtocolError."""

@@ -1,8 +1,9 @@
 """Run with pysunspec2's own Python (the `sunspec` tool env): decode SunSpec model blocks the way pysunspec2 does.
 
 stdin: a JSON list of {"file": model JSON path, "len": L, "data": hex of the block from the ID point on};
-stdout: a JSON list, per block, of [register name, value] for every point (None: pysunspec2 reads it as not
-implemented), named as regmap's SunSpec import names them (`<group>_<n>_<point>`, snake case).
+stdout: a JSON list, per block, of [register name, value, computed value] for every point (None: pysunspec2 reads
+it as not implemented; the computed value is pysunspec2's `cvalue`, scaled by the point's scale factor), named as
+regmap's SunSpec import names them (`<group>_<n>_<point>`, snake case).
 """
 
 from __future__ import annotations
@@ -23,7 +24,12 @@ def _snake(name: str) -> str:
 def _walk(group: Any, prefix: str, out: list[list[Any]]) -> None:
     for name, point in group.points.items():
         value = point.value
-        out.append([prefix + _snake(name), value.hex() if isinstance(value, bytes) else value])
+        shown = value.hex() if isinstance(value, bytes) else value
+        try:
+            computed = point.cvalue if point.sf_required else shown
+        except Exception as exc:  # reported as the point's computed value, so the test names the point
+            computed = f"pysunspec2 error: {type(exc).__name__}: {exc}"
+        out.append([prefix + _snake(name), shown, computed])
     for name, sub in group.groups.items():
         if isinstance(sub, list):
             for i, item in enumerate(sub):

@@ -87,6 +87,7 @@ def register_json(r: Register) -> dict[str, Any]:
         "poll": r.poll.value,
         "na": na_json(r),
         "zone": r.zone,
+        "scale_from": r.scale_from,  # value = raw x 10^(this register's raw value), read at run time; `scale` is then 1
     }
 
 

@@ -20,6 +20,7 @@ from regmap.model import Device, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import raw_to_value, words_to_raw
 from regmap_runtime.rtu import Frame
+from regmap_runtime.scaling import scaled
 from regmap_runtime.spaces import COIL, DEFAULT_SPACE, DISCRETE_INPUT, HOLDING, INPUT, SPACES
 from regmap_runtime.spec import Raw, RegisterSpec
 from regmap_runtime.timestamps import time_text
@@ -133,6 +134,8 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
         return bool(raw), BIT_NAMES[1 if raw else 0], True, None
     if reg.is_na(raw):
         return None, f"not available (raw {na_mark(reg, raw)}, the device's marker)", True, None
+    if reg.scale_from is not None:  # its value needs the scale factor: apply_scale_factors gives it where that was read
+        return None, f"raw {raw}; no value without its scale factor {reg.scale_from}", reg.raw_min <= raw <= reg.raw_max, None
     if isinstance(raw, float) and math.isnan(raw):
         return raw, "NaN  [NOT a number: no value the map admits]", False, None
     in_range = reg.raw_min <= raw <= reg.raw_max
@@ -212,4 +215,34 @@ def decode_words(
         value, text, in_range, fields = describe_value(device, reg, raw, regs)
         out.append(DecodedValue(reg.address, reg.name, reg.param, raw, own_words, value, reg.unit, text, in_range, fields, space))
         address = reg.last_address + 1
-    return out
+    return apply_scale_factors(device, out, out, "its scale factor {sf} is not in these words")
+
+
+def apply_scale_factors(device: Device, values: list[DecodedValue], among: Sequence[DecodedValue], missing: str) -> list[DecodedValue]:
+    """Each `scale_from` register of `values` scaled (value = raw x 10^sf) by its scale factor's value found `among`
+    the values decoded with it; where the scale factor is not there, no value: the raw number and why (`missing`,
+    with `{sf}` for its name). Returns `values`, changed in place."""
+    factors = {v.register: v for v in among if v.register is not None}
+    for v in values:
+        reg = device.register(v.register) if v.register is not None else None
+        if reg is None or reg.scale_from is None or v.raw is None or isinstance(v.raw, str):
+            continue
+        point = None if reg.is_na(v.raw) else int(v.raw)
+        sf = factors.get(reg.scale_from)
+        raw_text = "not available (raw its marker)" if point is None else f"raw {v.raw}"
+        if sf is None or sf.raw is None:
+            v.value, v.text = None, f"{raw_text}; no value: " + missing.format(sf=reg.scale_from)
+            continue
+        factor = None if device.register(reg.scale_from).is_na(sf.raw) else int(sf.raw)
+        v.value = scaled(point, factor)
+        unit = f" {reg.unit}" if reg.unit else ""
+        if v.value is None:
+            why = raw_text if point is None else f"{reg.scale_from} reads its 'not available' marker"
+            v.text = f"not available ({why})"
+        else:
+            v.text = (
+                f"{number_text(v.value)}{unit} (raw {v.raw} x 10^{factor}, {reg.scale_from})"
+                + v.text.partition("  [")[1]
+                + v.text.partition("  [")[2]
+            )
+    return values

@@ -15,6 +15,7 @@ from regmap.model import (
     Command,
     CommandArgument,
     CommandEffect,
+    DataType,
     Device,
     DeviceInfo,
     Erratum,
@@ -48,6 +49,7 @@ class _CrossReferences:
         self._check_unique_groups_and_arrays()
         self._check_unique_registers()
         self._check_overlaps()
+        self._check_scale_from()
         errata = self._errata(raw.get("errata", []), self._selector_index())
         final = {r.name: r for r in self.registers}
         groups = tuple(replace(g, registers=tuple(final[r.name] for r in g.registers)) for g in self.elaborated.groups)
@@ -140,6 +142,25 @@ class _CrossReferences:
                         (*path, "address"),
                         f"{reg.name} (0x{reg.first_address:04X}..0x{reg.last_address:04X}) overlaps {other.name} (0x{other.first_address:04X}..0x{other.last_address:04X}) at 0x{address:04X}",
                     )
+
+    def _check_scale_from(self) -> None:
+        """A `scale_from` names a readable s16 register (the sf, read as its signed raw value) that is no scaled point itself."""
+        by_name = {reg.name: reg for reg in self.registers}
+        for reg, path in zip(self.registers, self.register_paths, strict=True):
+            if reg.scale_from is None:
+                continue
+            sf = by_name.get(reg.scale_from)
+            where = (*path, "scale_from")
+            if sf is None:
+                self.problems.add(where, f"{reg.name}: scale_from names unknown register {reg.scale_from!r}")
+            elif sf.type is not DataType.S16:
+                self.problems.add(where, f"{reg.name}: scale_from {sf.name} is {sf.type.value}; a scale factor is an s16 register")
+            elif not sf.access.readable:
+                self.problems.add(where, f"{reg.name}: scale_from {sf.name} is write-only; the scale factor is read from the device")
+            elif sf.scale_from is not None:
+                self.problems.add(
+                    where, f"{reg.name}: scale_from {sf.name} is itself scaled by {sf.scale_from}; a scale factor is a plain s16"
+                )
 
     def _selector_index(self) -> dict[str, Register]:
         index: dict[str, Register] = {}

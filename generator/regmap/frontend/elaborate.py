@@ -314,6 +314,7 @@ class _Elaboration:
             na_nan=na_nan,
             variants=self._variants(r.get("variants", ()), (*path, "variants"), name),
             zone=zone,
+            scale_from=self._scale_from(r, path, name, dtype),
             pos=self.positions.locate(path),
         )
 
@@ -346,6 +347,22 @@ class _Elaboration:
             if refused and key in r and key not in inherited and r[key] is not None:
                 what = f"a {space.name.replace('_', ' ')}" if space.bits else article(f"{dtype.value} register")
                 self.problems.add((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
+
+    def _scale_from(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> str | None:
+        """`scale_from` (value = raw x 10^sf) scales a plain integer: no scale or offset of its own, no enum or flags;
+        the sf register itself is checked against the rest of the map (crossrefs)."""
+        sf: str | None = r.get("scale_from")
+        if sf is None:
+            return None
+        if dtype.kind != "int" or dtype.is_timestamp:
+            self.problems.add((*path, "scale_from"), f"{name}: `scale_from` scales an integer register (u16..s64), not {dtype.value}")
+        for key, plain in (("scale", 1), ("offset", 0)):
+            if key in r and r[key] != plain:
+                self.problems.add((*path, key), f"{name}: a register with `scale_from` has no {key} of its own (value = raw x 10^{sf})")
+        for key in ("enum", "bitfields"):
+            if r.get(key):
+                self.problems.add((*path, key), f"{name}: a register with `scale_from` is a number; it has no {key}")
+        return sf
 
     def _words(self, r: dict[str, Any], path: Path, name: str, dtype: DataType) -> int:
         if dtype.is_string:

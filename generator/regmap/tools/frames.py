@@ -221,6 +221,8 @@ def parse_assignment(regs: Registers, item: str, raw: bool, *, replace: bool = F
             return dataclasses.replace(Assignment(item, reg, spec, None, named).with_base(base or 0), note=note, located=located)
         if raw:
             number = parse_raw(spec, value_text, reg.label)
+        elif reg.scale_from is not None:
+            raise RangeError(f"{reg.label}: value = raw x 10^{reg.scale_from}, read at run time; give the raw value (--raw)")
         else:
             number = value_to_raw(spec, _unquoted(value_text) if spec.type_info.is_string else value_text)
         check_raw(spec, number)

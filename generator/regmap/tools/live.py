@@ -14,7 +14,7 @@ import socket
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from regmap.core.decoding import DecodedValue, decode_words
+from regmap.core.decoding import DecodedValue, apply_scale_factors, decode_words
 from regmap.diagnostics import LinkError, UsageError
 from regmap.model import Device, Register
 from regmap.runtime_bridge import documented_addresses, read_plan, runtime_alignment, runtime_device, runtime_specs
@@ -240,8 +240,10 @@ def read_registers(
     registers they lack); on a bus failure or Ctrl-C keep what was read and name what was not. Values come
     back in the order `registers` names them."""
     wanted = [r.name for r in registers]
-    blocks = plan(device, registers, profile, known, variant)
+    factors = [device.register(sf) for sf in dict.fromkeys(r.scale_from for r in registers if r.scale_from) if sf not in wanted]
+    blocks = plan(device, [*registers, *factors], profile, known, variant)
     found: dict[str, DecodedValue] = {}
+    decoded: list[DecodedValue] = []  # every value read, the scale factors of `scale_from` registers among them
 
     def result(error: str | None = None, interrupted: bool = False) -> ReadResult:
         values = [found[name] for name in dict.fromkeys(wanted) if name in found]
@@ -255,9 +257,12 @@ def read_registers(
             return result(f"{_bus(exc)} (request {number} of {len(blocks)}, 0x{block.address:04X} x {block.count})")
         except KeyboardInterrupt:
             return result("interrupted (Ctrl-C)", interrupted=True)
-        for value in decode_words(device, block.address, words, word_order=order, space=block.space):
+        these = decode_words(device, block.address, words, word_order=order, space=block.space)
+        decoded += these
+        for value in these:
             if value.register in wanted and value.raw is not None:
                 found[value.register] = value
+        apply_scale_factors(device, list(found.values()), decoded, "its scale factor {sf} could not be read")
         if progress is not None:
             progress(number, len(blocks))
     return result()

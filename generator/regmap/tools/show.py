@@ -11,6 +11,8 @@ from regmap_runtime.spaces import DEFAULT_SPACE
 
 def _eng(reg: Register, raw: int | float | str | None) -> str:
     """A raw value as the engineering value people read, every digit it has; `?` when the map gives none."""
+    if reg.scale_from is not None and raw is not None:
+        return f"raw {raw}"  # the value is raw x 10^sf, sf read from the device: no value is known here
     return "?" if raw is None else eng(reg, raw, every_digit=True)
 
 
@@ -19,6 +21,8 @@ def _range(reg: Register, unit: str) -> str:
         return f"text of up to {2 * reg.words} bytes"
     if reg.type.is_bool:
         return "off/on"
+    if reg.scale_from is not None:
+        return f"raw {reg.raw_min}..{reg.raw_max}"
     return f"{_eng(reg, reg.raw_min)}..{_eng(reg, reg.raw_max)}{unit}"
 
 
@@ -76,13 +80,19 @@ def register_detail(reg: Register) -> list[str]:
         ("type", _type_text(reg)),
         ("access", {"r": "read only", "rw": "read/write", "w": "write only"}[reg.access.value]),
         ("unit", reg.unit or "-"),
-        ("scale", str(reg.scale) if reg.type.numeric else "-"),
+        ("scale", f"10^{reg.scale_from} (read from the device)" if reg.scale_from else str(reg.scale) if reg.type.numeric else "-"),
         *([("offset", str(reg.offset))] if reg.offset_set else []),
         (
             "range",
-            _range(reg, unit) + (f" (raw {_raw_text(reg, reg.raw_min)}..{_raw_text(reg, reg.raw_max)})" if reg.type.numeric else ""),
+            _range(reg, unit)
+            + (f" (raw {_raw_text(reg, reg.raw_min)}..{_raw_text(reg, reg.raw_max)})" if reg.type.numeric and not reg.scale_from else ""),
         ),
-        ("default", f"{_eng(reg, reg.default)} (raw {_raw_text(reg, reg.default)})" if reg.default is not None else "unknown"),
+        (
+            "default",
+            "unknown"
+            if reg.default is None
+            else _eng(reg, reg.default) + ("" if reg.scale_from else f" (raw {_raw_text(reg, reg.default)})"),
+        ),
         *([("firmware", reg.firmware.text)] if reg.firmware is not None else []),
         *([("poll", reg.poll.value)] if reg.poll is not PollClass.NORMAL else []),
         ("takes effect", reg.takes_effect or "-"),

@@ -1,7 +1,10 @@
 """Every SunSpec model pysunspec2 ships becomes a map the front end accepts; the same register words decoded by
 pysunspec2 (in its own venv) and by regmap give the same values, point for point, "not implemented" included: every
-model through regmap's runtime codec (what a generated client vendors byte for byte), and a chained device of models
-1, 103 and 160 through its generated Python client."""
+model through regmap's runtime codec and client core (what a generated client vendors byte for byte), and a chained
+device of models 1, 103 and 160 through its generated Python client. A point scaled by a `sunssf` point
+(`scale_from`) is compared computed: pysunspec2's `cvalue` against the client's value (raw x 10^sf), except where
+the scale factor reads "not implemented": pysunspec2 then gives the raw number unscaled, regmap no value (None),
+counted apart and printed."""
 
 from __future__ import annotations
 
@@ -22,10 +25,12 @@ from regmap.diagnostics import ExitCode
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate
 from regmap.model import Device
-from regmap.runtime_bridge import runtime_specs
+from regmap.runtime_bridge import runtime_device, runtime_specs
 from regmap.tools.configimport import sunspec
 from regmap.tools.configimport.draft import map_text
+from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import words_to_raw
+from regmap_runtime.plan import ReadBlock
 
 from conftest import ROOT
 from support.sunspec_models import chain_map, model_files, pysunspec_python
@@ -45,6 +50,8 @@ def _words(pdef: dict[str, Any], rng: random.Random, counts: set[str]) -> list[i
     size = int(pdef.get("size") or words)
     if pdef["name"] in counts:
         return [REPEATS]
+    if pdef["type"] == "sunssf":  # SunSpec's range of a scale factor, or "not implemented"
+        return [0x8000 if rng.random() < 0.125 else rng.randrange(-10, 11) & 0xFFFF]
     if pdef["type"] == "string":
         text = bytes(rng.choice(b"ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 -") for _ in range(rng.randrange(0, 2 * size + 1)))
         raw = text.ljust(2 * size, b"\0")
@@ -109,8 +116,26 @@ def _block(
     return block, decoded
 
 
-def _compare(python: Path, blocks: list[dict[str, Any]], expected: list[dict[str, Any]]) -> tuple[list[Any], list[Any]]:
-    """(points decoded differently, points pysunspec2 has and regmap's map does not)."""
+def _computed(client_class: Any, specs: dict[int, Any], block: dict[str, Any], address: int, model: dict[str, Any]) -> dict[str, Any]:
+    """The client's value of each `scale_from` point of the block (its core's `values_of`: the sf read in the same block)."""
+    words = [int(block["data"][i : i + 4], 16) for i in range(0, len(block["data"]), 4)]
+    chosen = tuple(specs[a] for a in range(address, address + len(words)) if a in specs)
+    values = client_class.tcp("127.0.0.1", 1).values_of(ReadBlock(address, len(words), chosen), words)
+    return {
+        point.name: values[specs[address + point.offset].name]
+        for point in sunspec.points(model, REPEATS)
+        if address + point.offset in specs and specs[address + point.offset].scale_from is not None
+    }
+
+
+Counts = dict[str, int]
+
+
+def _compare(
+    python: Path, blocks: list[dict[str, Any]], expected: list[dict[str, Any]], computed: list[dict[str, Any]]
+) -> tuple[list[Any], list[Any], Counts]:
+    """(points decoded differently, points pysunspec2 has and regmap's map does not, counts): a scaled point is
+    compared by its computed value."""
     run = subprocess.run(
         [str(python), str(ROOT / "tests" / "support" / "sunspec_decode.py")],
         input=json.dumps(blocks),
@@ -119,13 +144,24 @@ def _compare(python: Path, blocks: list[dict[str, Any]], expected: list[dict[str
         check=True,
     )
     differences, absent = [], []
-    for block, mine, their in zip(blocks, expected, json.loads(run.stdout), strict=True):
+    counts = {"points": 0, "scaled": 0, "scaled_values": 0, "sf_not_implemented": 0}
+    for block, mine, scaled, their in zip(blocks, expected, computed, json.loads(run.stdout), strict=True):
         assert their["error"] == "", (block["file"], their["error"])
-        absent += [(Path(block["file"]).name, name) for name, _ in their["points"] if name not in mine]
-        for name, value in their["points"]:
-            if name in mine and mine[name] != value and not (isinstance(value, float) and math.isclose(value, mine[name], rel_tol=1e-6)):
-                differences.append((Path(block["file"]).name, name, value, mine[name]))
-    return differences, absent
+        absent += [(Path(block["file"]).name, name) for name, _, _ in their["points"] if name not in mine]
+        for name, value, cvalue in their["points"]:
+            if name not in mine:
+                continue
+            counts["points"] += 1
+            ours, theirs = (scaled[name], cvalue) if name in scaled else (mine[name], value)
+            if name in scaled:
+                counts["scaled"] += 1
+                counts["scaled_values"] += ours is not None
+                if ours is None and theirs is not None and theirs == value and mine[name] is not None:
+                    counts["sf_not_implemented"] += 1  # pysunspec2 shows the raw number unscaled; regmap: no value
+                    continue
+            if ours != theirs and not (isinstance(theirs, float) and ours is not None and math.isclose(theirs, ours, rel_tol=1e-9)):
+                differences.append((Path(block["file"]).name, name, theirs, ours))
+    return differences, absent, counts
 
 
 def _runtime_decode(device: Device) -> Decode:
@@ -137,6 +173,7 @@ def test_every_shipped_model_becomes_a_map_that_decodes_as_pysunspec2_decodes(py
     rng = random.Random(SEED)
     blocks: list[dict[str, Any]] = []
     expected: list[dict[str, Any]] = []
+    computed: list[dict[str, Any]] = []
     too_long = 0
     files = model_files(python)
     for path in files:
@@ -148,11 +185,18 @@ def test_every_shipped_model_becomes_a_map_that_decodes_as_pysunspec2_decodes(py
         block, decoded = _block(path, model, 40002, {r.address for r in device.registers}, _runtime_decode(device), rng)
         blocks.append(block)
         expected.append(decoded)
-    differences, absent = _compare(python, blocks, expected)
+        client_class = type("Client", (SyncClient,), {"DEVICE": runtime_device(device)})
+        computed.append(_computed(client_class, {s.address: s for s in runtime_specs(device)}, block, 40002, model))
+    differences, absent, counts = _compare(python, blocks, expected, computed)
     assert differences == []
     assert len(absent) == too_long == 9 and {file for file, _ in absent} == {"model_64411.json"}  # strings longer than one read
     assert len(files) == 112
-    print(f"{len(files)} models, {sum(map(len, expected))} points decoded alike")
+    assert counts["scaled"] == sum(map(len, computed)) > 0 and counts["scaled_values"] > 0 and counts["sf_not_implemented"] > 0
+    print(
+        f"{len(files)} models, {counts['points']} points decoded alike; {counts['scaled']} of them scaled by a sunssf point"
+        f" ({counts['scaled_values']} computed values equal; {counts['sf_not_implemented']} whose scale factor read"
+        " 'not implemented': pysunspec2 the raw number, regmap None)"
+    )
 
 
 def test_the_generated_client_of_a_chained_device_decodes_as_pysunspec2(python: Path, tmp_path: Path) -> None:
@@ -167,16 +211,19 @@ def test_the_generated_client_of_a_chained_device_decodes_as_pysunspec2(python: 
     specs = {spec.address: spec for spec in module.DEVICE.registers}
     rng = random.Random(SEED)
     files = {int(p.stem.split("_")[1]): p for p in model_files(python)}
-    blocks, expected = [], []
+    blocks, expected, computed = [], [], []
+    client_class = type("Client", (module.SyncClient,), {"DEVICE": module.DEVICE})
     address = 40002
     for mid in (1, 103, 160):
         (model,) = sunspec.read_models([files[mid]])
         block, decoded = _block(files[mid], model, address, set(specs), lambda a, w: codec.words_to_raw(specs[a], w), rng)
         blocks.append(block)
         expected.append(decoded)
+        computed.append(_computed(client_class, specs, block, address, model))
         address += 2 + sunspec.model_length(model, REPEATS)
-    differences, absent = _compare(python, blocks, expected)
+    differences, absent, counts = _compare(python, blocks, expected, computed)
     assert differences == [] and absent == []
+    assert counts["scaled"] > 0 and counts["scaled_values"] > 0
     assert sum(map(len, expected)) == len(device.registers) - 3  # every point but the SunS and end markers
 
 

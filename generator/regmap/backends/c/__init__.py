@@ -48,6 +48,7 @@ TARGET = Target(
     shared=render_shared,
     check=check,
     order=20,
+    scale_from=True,
     reserved_words=RESERVED_WORDS,
     plant=render_plant,
 )

@@ -60,6 +60,7 @@ class ValueView:
     guard: str  # "" or REGMAP_HAS_F32 / REGMAP_HAS_F64
     available: str = ""  # `<name>_is_available(words)`: false for the device's "not available" marker (`na`)
     available_body: tuple[str, ...] = ()
+    sf: str = ""  # ", int16_t sf": a `scale_from` register's helpers (`_decode_sf` ...) take its scale factor's raw value
 
 
 def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
@@ -219,6 +220,8 @@ def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
         return None
     readable, writable = reg.access.readable, reg.access.writable
     order = f", regmap_word_order {ORDER_PARAM}" if configurable(ctx, reg) else ""
+    if reg.scale_from is not None:
+        return _scale_from_view(ctx, reg, label, order)
     value_type, in_range, encode, decode = _bodies(ctx, reg, label)
     available = ""
     available_body: tuple[str, ...] = ()
@@ -243,6 +246,62 @@ def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
         decode=ctx.symbol(label, "decode", what=f"the decoder of {label}") if readable else "",
         decode_body=decode,
         guard=FLOAT_GUARD.get(reg.type, ""),
+    )
+
+
+def _scale_from_view(ctx: Context, reg: Register, label: str, order: str) -> ValueView:
+    """`_decode_sf`, `_is_in_range_sf`, `_encode_sf`: value = raw x 10^sf, `sf` the scale factor's raw value the caller
+    read (false for its "not available" marker, SunSpec's 0x8000, and for the point's own); a value to write must be a
+    whole multiple of 10^sf (within regmap_value_to_raw's 0.001 of a raw integer) inside the raw range."""
+    sf_reg = ctx.device.register(reg.scale_from or "")
+    sf_ok = " && ".join([f"sf != {c_raw(int(mark), True)}" for mark in sf_reg.na] or ["true"])
+    power = (
+        "double scale = 1.0;",
+        "int n;",
+        f"if (!({sf_ok})) {{",
+        f"    return false; /* {sf_reg.name} reads its 'not available' marker: no value */",
+        "}",
+        "for (n = sf < 0 ? -(int)sf : (int)sf; n > 0; n--) {",
+        "    scale *= 10.0;",
+        "}",
+    )
+    lo, hi = c_double(_inside(reg.raw_min, True)), c_double(_inside(reg.raw_max, False))
+    convert = f"regmap_value_to_raw(value, 0.0, sf < 0 ? 1.0 : scale, sf < 0 ? scale : 1.0, {lo}, {hi}, &raw)"
+    marks = _na_conditions(reg, "raw")
+    fits = " && ".join([convert, *marks])
+    raw_type = C_TYPES[reg.type].value
+    decode = (
+        *power,
+        f"{raw_type} raw = {_from_wire(ctx, reg)};",
+        *((f"if (!({' && '.join(marks)})) {{", "    return false; /* the point's 'not available' marker */", "}") if marks else ()),
+        "*out = sf < 0 ? (double)raw / scale : (double)raw * scale; /* raw / 10^-sf: correctly rounded, as the Python client */",
+        "return true;",
+    )
+    writable, readable = reg.access.writable, reg.access.readable
+    return ValueView(
+        comment=f"Value of {label} = raw x 10^{sf_reg.name} (sf: its raw value, read with it)"
+        + (f"; a write: {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)} raw" if writable else "")
+        + ("; word_order as the device is set" if order else "")
+        + ".",
+        value_type="double",
+        words=str(reg.words),
+        order=order,
+        in_range=ctx.symbol(label, "is_in_range_sf", what=f"the range test of {label}") if writable else "",
+        in_range_body=("double raw;", *power, f"return {fits};"),
+        encode=ctx.symbol(label, "encode_sf", what=f"the encoder of {label}") if writable else "",
+        encode_body=(
+            "double raw;",
+            *power,
+            f"if (!({fits})) {{",
+            "    return false;",
+            "}",
+            _to_wire(ctx, reg, f"({raw_type})raw"),
+            "return true;",
+        ),
+        decode=ctx.symbol(label, "decode_sf", what=f"the decoder of {label}") if readable else "",
+        decode_body=decode,
+        guard="",
+        sf=", int16_t sf",
     )
 
 

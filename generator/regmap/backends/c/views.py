@@ -272,15 +272,16 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
             c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
             count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
             tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
-    if numeric:
+    if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it
         # A float register's scale and offset are doubles (its value is computed in floating point anyway).
         spell = c_double if reg.type.is_float else c_float
         macros += [
             Macro(ctx.const(owner, "SCALE"), spell(reg.scale)),
             Macro(ctx.const(owner, "SCALE_NUM"), ratio_literal(reg, reg.scale.numerator, reg.scale)),
             Macro(ctx.const(owner, "SCALE_DEN"), ratio_literal(reg, reg.scale.denominator, reg.scale)),
-            Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"),
         ]
+    if numeric:
+        macros.append(Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"))
     if modern(reg):
         macros += _feature_macros(ctx, reg, owner)
     macros += variants_macro(ctx, reg, owner)

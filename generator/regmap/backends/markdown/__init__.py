@@ -19,6 +19,8 @@ from regmap.backends.markdown.page import INDEX_PAGE, device_page, render_device
 from regmap.backends.markdown.plant import render_plant
 from regmap.target import Target
 
-TARGET = Target(name="markdown", subdir="docs", per_device=render_device, shared=render_shared, order=30, plant=render_plant)
+TARGET = Target(
+    name="markdown", subdir="docs", per_device=render_device, shared=render_shared, order=30, plant=render_plant, scale_from=True
+)
 
 __all__ = ["INDEX_PAGE", "TARGET", "bitfield_svg", "device_page", "diagram_path", "render_device", "render_shared"]

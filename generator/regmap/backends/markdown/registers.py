@@ -60,6 +60,8 @@ def _range(reg: Register, *, full: bool) -> Md:
     if reg.min is None and reg.max is None:
         return md.escaped(reg.range_text) if reg.range_text and not full else Md(md.DASH)
     low, high = reg.raw_min, reg.raw_max
+    if reg.scale_from is not None:  # the value's scale is read at run time: only the raw range is known
+        return Md(f"raw {_raw(low)} … {_raw(high)}")
     text = f"{eng(reg, low)} … {eng(reg, high)}"
     if full:
         text += md.unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else "")
@@ -74,6 +76,8 @@ def _default(reg: Register, *, full: bool) -> Md:
         return Md(md_text(eng(reg, value)))  # text: quoted, escaped
     if reg.bitfields and isinstance(value, int):
         return Md(f"{md.hex_value(value, reg.words)} ({value})" if full else md.hex_value(value, reg.words))
+    if reg.scale_from is not None:
+        return Md(f"raw {_raw(value)}")
     text = eng(reg, value)
     if full:
         text += md.unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
@@ -203,6 +207,10 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
     if reg.range_text:
         facts.append(Fact("Range as printed", md.escaped(reg.range_text)))
     facts.append(Fact("Default", _default(reg, full=True)))
+    if reg.scale_from is not None:
+        sf = md.reg_link(ctx.device.register(reg.scale_from), param=False)
+        unit = f" in {md_text(reg.unit)}" if reg.unit else ""
+        facts.append(Fact("Scale", Md(f"value = raw × 10^{sf}{unit}: the scale factor is read from the device with it")))
     if has_conversion(reg):
         label = "Scale and offset" if reg.offset_set else "Scale"
         facts.append(Fact(label, Md(scale_fact(reg, md_text(reg.unit) if reg.unit else ""))))

@@ -179,7 +179,7 @@ def _value_type(reg: Register) -> str:
     """What a read returns: the bitfield class, the enum (or the number, for a value the manual does not
     list), text for a string, a bool for a coil or discrete input, a float for a float or a scaled or
     offset value, else an int; `| None` where the device may send its "not available" marker (`na`)."""
-    return _read_type(reg) + (" | None" if reg.has_na else "")
+    return _read_type(reg) + (" | None" if reg.has_na or reg.scale_from else "")
 
 
 def _read_type(reg: Register) -> str:
@@ -208,7 +208,7 @@ def _enum_write_type(e: EnumType) -> str:
 def _plain_type(reg: Register) -> str:
     if reg.type.is_string or reg.type.is_bool or reg.type.is_timestamp:  # a timestamp's datetime: aware (UTC) or naive (local)
         return {"string": "str", "bool": "bool", "timestamp": "datetime"}[reg.type.value]
-    return "float" if reg.type.is_float or reg.scaled or reg.offset_set else "int"
+    return "float" if reg.type.is_float or reg.scaled or reg.offset_set or reg.scale_from else "int"
 
 
 def _writable(reg: Register) -> bool:
@@ -255,10 +255,11 @@ def _register_doc(reg: Register) -> str:
     facts += _layout_facts(reg)
     if reg.unit:
         facts.append(f"unit {reg.unit}")
+    facts += [f"value = raw x 10^{reg.scale_from} (read with it; not available (None) when {reg.scale_from} is)"] if reg.scale_from else []
     if reg.min is not None or reg.max is not None:
-        facts.append(f"range {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}")
+        facts.append(f"{'raw ' if reg.scale_from else ''}range {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}")
     if reg.default is not None:
-        facts.append(f"default {eng(reg, reg.default)}")
+        facts.append(f"{'raw ' if reg.scale_from else ''}default {eng(reg, reg.default)}")
     if reg.takes_effect:
         facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
     if reg.firmware is not None:
@@ -275,8 +276,7 @@ def _register_doc(reg: Register) -> str:
     return py_doc(" ".join(parts))
 
 
-def _method_doc(verb: str, reg: Register, constant: str) -> str:
-    """A read/write method's docstring: what help() needs to pick the method, pointing to the full text at `constant`."""
+def _method_doc(verb: str, reg: Register, constant: str) -> str:  # what help() needs to pick the method; the rest at `constant`
     return py_doc(f"{verb} {constant}: {titled(reg.title, reg.title_zh)}; documented at the constant.")
 
 
@@ -593,6 +593,7 @@ TARGET = Target(
     post=post,
     check=check,
     order=10,
+    scale_from=True,
     reserved_words=ReservedWords("a Python keyword or a package the client would shadow", PYTHON_KEYWORDS | SHADOWED_PACKAGES),
     plant=render_plant,
 )

@@ -26,6 +26,7 @@ RUNTIME_MODULES = (
     "plant.py",
     "profile.py",
     "rtu.py",
+    "scaling.py",
     "spaces.py",
     "spec.py",
     "timestamps.py",

@@ -68,6 +68,7 @@ class Imported:
     default: int | str | None = None
     encoding: str | None = None  # of a string, when not ASCII
     na: list[int | float] = field(default_factory=list)  # raw values that mean "not available" (HA's nan_value)
+    scale_from: str | None = None  # a scale-factor register's key: value = raw x 10^sf (a SunSpec sunssf point)
 
     @property
     def width(self) -> int:
@@ -247,6 +248,8 @@ def _register_yaml(reg: Imported, name: str, enum: str | None) -> dict[str, Any]
         out["offset"] = scale_number(reg.offset)
     if reg.na:
         out["na"] = list(reg.na)
+    if reg.scale_from is not None:
+        out["scale_from"] = reg.scale_from
     info = TYPES[reg.type]
     if info.numeric:
         for key in ("min", "max"):

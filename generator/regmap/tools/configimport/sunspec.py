@@ -6,9 +6,12 @@ One map group per model. Types: int16/uint16/acc16/count/pad/sunssf/enum16/bitfi
 int32/uint32/acc32/enum32/bitfield32/ipaddr/float32 two, int64/uint64/acc64/float64 four, string `size`
 words; enum symbols become the enum, bitfield symbols (bit numbers) the bit fields.
 
-What a map cannot say is a note on the register and a line of the report: a scale factor that names a
-`sunssf` point (the scale is read from the device: 10^value; regmap's scale is fixed), the value that means
-"not implemented" (0xFFFF, 0x8000, NaN ...: the map has no n/a sentinel yet), an EUI-48 (read as the u64 of
+A scale factor that names a `sunssf` point (value = raw x 10^sf, sf read from the device) is `scale_from` on an
+integer point, found as pysunspec2 finds it (in the point's own group, else among the model's points); each
+`sunssf` register and each scaled point has its "not implemented" value as `na`, so the value reads as None.
+What a map cannot say is a note on the register and a line of the report: a scale factor on a point that is no
+plain integer or that names no `sunssf` point, the value that means
+"not implemented" on the other points (0xFFFF, 0x8000, NaN ...), an EUI-48 (read as the u64 of
 its four words) and an IPv6 address (its 16 bytes as latin-1 text). A repeating group whose count the
 device gives (count 0 or the name of a point) is repeated `repeats` times: the caller says how many the
 device has.
@@ -133,8 +136,8 @@ def _register(point: Point, address: int, model: dict[str, Any], prefix: str, or
     sf = pdef.get("sf")
     if isinstance(sf, int):
         reg.scale = Fraction(10) ** sf
-    elif sf is not None:
-        reg.notes.append(f"scaled by 10^{prefix}{_snake(str(sf))} (the {sf} point): value = raw x 10^{sf}; the map's scale is fixed")
+    if pdef["type"] == "sunssf":
+        reg.na = [0x8000]  # "not implemented": a point it scales reads as None
     if unimplemented is not None:
         shown = f"0x{unimplemented & ((1 << (16 * words)) - 1):X}" if isinstance(unimplemented, int) else unimplemented
         reg.notes.append(f"not implemented: {shown} (SunSpec's n/a value)")
@@ -152,6 +155,31 @@ def _register(point: Point, address: int, model: dict[str, Any], prefix: str, or
             for s in symbols
         ]
     return reg
+
+
+INTEGERS = {"s16", "u16", "s32", "u32", "s64", "u64"}
+
+
+def _scale_from(laid: list[Point], pairs: list[tuple[Point, Imported]]) -> None:
+    """Each point whose `sf` names a point: `scale_from` that `sunssf` register (pysunspec2 looks in the point's
+    own group, then among the model's points) and its "not implemented" value as `na`; else a note."""
+    by_name = {point.name: point for point in laid}
+    keys = {point.name: reg.key for point, reg in pairs}
+    for point, reg in pairs:
+        sf = point.pdef.get("sf")
+        if sf is None or isinstance(sf, int):
+            continue
+        own = f"{point.group}_{_snake(str(sf))}" if point.group else None
+        target = by_name.get(own or "") or by_name.get(_snake(str(sf)))
+        kind, _, unimplemented = TYPES[point.pdef["type"]]
+        plain = kind in INTEGERS and not point.pdef["type"].startswith(("enum", "bitfield"))
+        if target is None or target.pdef["type"] != "sunssf" or target.name not in keys or not plain:
+            why = "names no sunssf point" if target is None or target.pdef["type"] != "sunssf" else f"on a {point.pdef['type']} point"
+            reg.notes.append(f"scaled by 10^{sf} ({why}): value = raw x 10^{sf}; the map cannot express it")
+            continue
+        reg.scale_from = keys[target.name]
+        if isinstance(unimplemented, int):
+            reg.na = [unimplemented]
 
 
 def read_models(paths: list[Path]) -> list[dict[str, Any]]:
@@ -208,6 +236,7 @@ def device(models: list[dict[str, Any]], base: int = 40000, repeats: int = 1) ->
         taken.add(prefix)
         laid = points(model, repeats)
         counted = _count_points(model["group"])
+        pairs: list[tuple[Point, Imported]] = []
         for point in laid:
             size = int(point.pdef.get("size") or 0)
             if point.pdef["type"] == "string" and size > MAX_STRING_WORDS:
@@ -219,6 +248,8 @@ def device(models: list[dict[str, Any]], base: int = 40000, repeats: int = 1) ->
             elif (point.pdef["name"] in counted or point.pdef["type"] == "count") and not point.group:
                 reg.default = repeats  # the count of the repeating group as laid out
             found.registers.append(reg)
+            pairs.append((point, reg))
+        _scale_from(laid, pairs)
         address += model_length(model, repeats) + 2
     end = Imported(
         key="end_id", title="End of the SunSpec models", address=address, space="holding", type="u16", origin="SunSpec", default=END_ID
@@ -229,6 +260,9 @@ def device(models: list[dict[str, Any]], base: int = 40000, repeats: int = 1) ->
     for reg in (end, end_len):
         reg.group, reg.group_title = "sunspec_end", "End of the SunSpec models"
         found.registers.append(reg)
-    scaled = sum(1 for r in found.registers if any(n.startswith("scaled by") for n in r.notes))
-    report.append(f"{scaled} point(s) scaled by a scale-factor point: noted, the value read is the raw one")
+    scaled = sum(1 for r in found.registers if r.scale_from is not None)
+    noted = sum(1 for r in found.registers if any(n.startswith("scaled by") for n in r.notes))
+    report.append(f"{scaled} point(s) scaled by a scale-factor point (scale_from: value = raw x 10^sf, read from the device)")
+    if noted:
+        report.append(f"{noted} point(s) with a scale factor the map cannot express: noted, the value read is the raw one")
     return Import([found], report)

@@ -192,8 +192,10 @@ class _Diff:
             add("register_access_changed", subject, MAJOR if lost else MINOR, ACCESS[o.access], ACCESS[n.access], o.access, n.access)
         if o.unit != n.unit:
             add("register_unit_changed", subject, PATCH if o.unit is None else MAJOR, _show(o.unit), _show(n.unit), o.unit, n.unit)
-        if o.scale != n.scale:
-            add("register_scale_changed", subject, MAJOR, _fraction(o.scale), _fraction(n.scale), o.scale, n.scale)
+        if (o.scale, o.scale_from) != (n.scale, n.scale_from):  # a scale read from the device (scale_from) is 10^<its register>
+            old_scale, new_scale = (f"10^{r.scale_from}" if r.scale_from else r.scale for r in (o, n))
+            old_text, new_text = (s if isinstance(s, str) else _fraction(s) for s in (old_scale, new_scale))
+            add("register_scale_changed", subject, MAJOR, old_text, new_text, old_scale, new_scale)
         if o.offset != n.offset:
             add("register_offset_changed", subject, MAJOR, _fraction(o.offset), _fraction(n.offset), o.offset, n.offset)
         if (o.min, o.max) != (n.min, n.max):

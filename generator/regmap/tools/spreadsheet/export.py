@@ -23,6 +23,7 @@ from typing import Any
 
 from regmap.core.contract import export_json, register_json
 from regmap.core.text import na_list
+from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.tools.spreadsheet.table import FORMULA_LEAD
 
@@ -161,8 +162,17 @@ def _join(values: Sequence[Any]) -> str | None:
     return ", ".join(str(v) for v in values) or None
 
 
+def refuse_scale_from(device: Device) -> None:
+    """The spreadsheets have no column for `scale_from` yet: a map with one is refused, never exported as if raw
+    were the value (and re-imported without its scale factor)."""
+    scaled = [r.name for r in device.registers if r.scale_from is not None]
+    if scaled:
+        raise UsageError(f"{device.id}: the spreadsheets cannot carry scale_from yet ({', '.join(scaled)}); use regmap export (JSON)")
+
+
 def sheets(device: Device) -> dict[str, tuple[tuple[str, ...], list[dict[str, Cell]]]]:
     """Every sheet of the workbook: name -> (columns, rows). `registers` comes first."""
+    refuse_scale_from(device)
     doc = export_json(device)
     groups = [{"id": g["id"], "title": g["title"], "title_zh": g["title_zh"], "source": _join(g["source"])} for g in doc["groups"]]
     enums = [
@@ -227,6 +237,7 @@ def neutralised(text: str) -> str:
 
 def export_csv(device: Device) -> str:
     """UTF-8 with a BOM (Excel then shows Chinese correctly), CRLF rows, one row per register."""
+    refuse_scale_from(device)
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\r\n")
     writer.writerow(REGISTER_COLUMNS)

@@ -132,10 +132,11 @@ class SyncClient(ClientCore):
         """Read several registers with the fewest requests the device allows (a generated client types the result)."""
         if self.firmware_pending:
             self.detect_firmware()
-        values: dict[str, Any] = {}
-        for block in self.plan_reads(specs):
-            values.update(self.values_of(block, self.read_raw(block.address, block.count, space=block.space)))
-        return values
+        read = [
+            (block, self.read_raw(block.address, block.count, space=block.space))
+            for block in self.plan_reads(self.with_scale_factors(specs))
+        ]
+        return self.values_read(read, specs)
 
     def read_all(self, poll: object = None) -> Mapping[str, Any]:
         """Every readable register, by the device's read plan; `poll` ("static", "fast", "normal",
@@ -216,7 +217,9 @@ class SyncClient(ClientCore):
             self.check_writable(spec)  # refused before even the firmware is read
         if self.firmware_pending:
             self.detect_firmware()
-        for block in self.plan_writes(values, raw):
+        needed = [] if raw else self.scale_factors(values)
+        factors = self.read_many(*cast(list[Readable[Any]], needed)) if needed else None  # read fresh for this write, never a guess
+        for block in self.plan_writes(values, raw, factors=factors):
             self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
 
 
@@ -299,10 +302,11 @@ class AsyncClient(ClientCore):
     async def read_many(self, *specs: Readable[Any]) -> Mapping[str, Any]:
         if self.firmware_pending:
             await self.detect_firmware()
-        values: dict[str, Any] = {}
-        for block in self.plan_reads(specs):
-            values.update(self.values_of(block, await self.read_raw(block.address, block.count, space=block.space)))
-        return values
+        read = [
+            (block, await self.read_raw(block.address, block.count, space=block.space))
+            for block in self.plan_reads(self.with_scale_factors(specs))
+        ]
+        return self.values_read(read, specs)
 
     async def read_all(self, poll: object = None) -> Mapping[str, Any]:
         if poll is not None:
@@ -376,7 +380,9 @@ class AsyncClient(ClientCore):
             self.check_writable(spec)
         if self.firmware_pending:
             await self.detect_firmware()
-        for block in self.plan_writes(values, raw):
+        needed = [] if raw else self.scale_factors(values)
+        factors = await self.read_many(*cast(list[Readable[Any]], needed)) if needed else None  # read fresh for this write, never a guess
+        for block in self.plan_writes(values, raw, factors=factors):
             await self.write_raw(block.address, block.words, multiple=not block.single, space=block.space)
 
 

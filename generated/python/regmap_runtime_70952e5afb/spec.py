@@ -124,6 +124,7 @@ class RegisterSpec(Generic[T]):
     na_nan: bool = False  # any NaN means "not available"
     variants: tuple[str, ...] = ()  # the device variants that have the register; () every variant
     zone: str | None = None  # a timestamp's clock: utc or local (regmap_runtime.timestamps)
+    scale_from: str | None = None  # an s16 register's name: value = raw x 10^sf (regmap_runtime.scaling)
 
     @cached_property
     def type_info(self) -> TypeInfo:

@@ -127,6 +127,8 @@ _FLAGS = {"true": 1, "on": 1, "1": 1, "false": 0, "off": 0, "0": 0}
 def value_to_raw(spec: RegisterSpec[Any], value: int | float | str | datetime) -> Raw:
     """Raw value for an engineering value, an enum member name, text, a flag or a timestamp's time; checks range and resolution."""
     info = spec.type_info
+    if spec.scale_from is not None:  # the client's encode scales it by a freshly read factor (regmap_runtime.scaling)
+        raise RangeError(f"{spec.label}: value = raw x 10^{spec.scale_from}; its scale factor must be read to write a value")
     if value is None:  # what a read of the "not available" marker returns: no value to write back
         raise RangeError(f"{spec.label}: None is no value (a read returns it for the device's 'not available' marker)")
     if spec.zone is not None:
