@@ -11,11 +11,13 @@ what the manual prints wrongly or splits across lines stays so, and the import m
 from __future__ import annotations
 
 import csv
+import os
 import re
 import sys
 from pathlib import Path
 
-MANUAL = Path(__file__).resolve().parents[2].parent / "shared" / "manuals" / "c630s.txt"
+# ../shared beside the repository, or where REGMAP_SHARED_DIR says (as tests/conftest.py and tool_envs.py read it)
+MANUAL = Path(os.environ.get("REGMAP_SHARED_DIR") or Path(__file__).resolve().parents[2].parent / "shared") / "manuals" / "c630s.txt"
 HEADER = ["功能码", "名称", "设定范围", "单位", "出厂设定", "生效方式", "设定方式", "相关模式", "章节"]
 MAPPING = """\
 # C630S chapter 7: no address column; the address of PXX-YY is XX << 8 | YY (YY decimal), as in maps/c630s.yaml.
