@@ -403,6 +403,19 @@ def test_a_variant_lacking_a_register_costs_the_probe_no_extra_request(simulator
     assert requests["single_phase"] == requests["three_phase"], requests
 
 
+def test_a_failed_block_is_read_again_as_the_plan_reads_each_register_alone(simulator: SimulatorFactory) -> None:
+    """The fourth request (the input registers' block) is answered once with exception 0x04: its registers are
+    then read one by one, each widened to the meter's 2-word units (a lone humidity read at 0x0007 x 1 would be
+    refused 0x02), and all of them answer."""
+    _, plain = probe(simulator(FLOAT_METER, "--variant", "three_phase").port or 0, FLOAT_METER)
+    sim = simulator(FLOAT_METER, "--variant", "three_phase", "--fault", "exception", "--fault-count", "1", "--fault-after", "3")
+    code, report = probe(sim.port or 0, FLOAT_METER)
+    assert code == ExitCode.OK, report["disagreements"]
+    assert {r["status"] for r in report["registers"]} == {"answered"}
+    block = next(b for b in probe_plan(load_map(FLOAT_METER)) if b.space == "input" and b.address == 0)
+    assert report["requests"] == plain["requests"] + len(block.registers)  # the failed block, then each of its registers
+
+
 def _also_single_phase_only(tmp_path: Path, register: str) -> Path:
     """The fixture with `register` on the single-phase model only: a three-phase meter has it anyway."""
     text = FLOAT_METER.read_text(encoding="utf-8")
