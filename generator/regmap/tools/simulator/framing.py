@@ -126,7 +126,7 @@ class MbapError(ValueError):
     """A header no Modbus TCP client sends: the connection cannot be trusted to be in step."""
 
 
-_HEADER = struct.Struct(">HHHB")
+MBAP_HEADER_STRUCT = _HEADER = struct.Struct(">HHHB")  # transaction, protocol, length, unit
 
 
 class MbapReceiver:

@@ -10,7 +10,6 @@ import asyncio
 import contextlib
 import os
 import sys
-import time
 from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -22,8 +21,10 @@ from regmap.model import Device
 from regmap.tools.link import Line, port_reason
 from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 
+from .answers import READ_FUNCTIONS, AnswerCache
+from .connection import TcpConnection
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
-from .framing import TCP_PARTIAL_TIMEOUT_S, Adu, MbapError, MbapReceiver, RtuReceiver, mbap, rtu_gap_s
+from .framing import MBAP_HEADER, MBAP_HEADER_STRUCT, Adu, RtuReceiver, mbap, rtu_gap_s
 from .log import RequestLog
 from .pdu import Dispatcher, exception_pdu
 from .policy import DIRECT_UNITS, TcpPolicy
@@ -34,7 +35,9 @@ GATEWAY_TARGET_FAILED = 0x0B  # exception: a gateway found no answer from the ad
 PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
 TCP_RTU_GAP_S = 0.05
 KEEP_REQUESTS = 64
-RECEIVE_BUFFER = 4096  # bytes one read from a TCP connection takes; a request is at most 260
+MBAP_UNIT = 6  # the request from its unit id on: what the answer cache is keyed by
+AFTER_TRANSACTION = 2  # a kept answer is the frame after its transaction id
+MBAP_KEPT_FUNCTION = MBAP_UNIT - AFTER_TRANSACTION + 1  # the answer's function code in a kept answer
 
 Send = Callable[[bytes], None]
 
@@ -75,125 +78,6 @@ def is_pty(path: str) -> bool:
         return os.major(os.stat(path).st_rdev) in range(136, 144)
     except OSError:
         return False
-
-
-class _Connection(asyncio.BufferedProtocol):
-    """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only.
-
-    A buffered protocol: the transport receives into this connection's own small buffer, where a plain
-    protocol would have asyncio allocate (and free) 256 KiB for every segment, each request."""
-
-    def __init__(self, sim: Simulator, rtu: bool) -> None:
-        self.sim = sim
-        self._received = memoryview(bytearray(RECEIVE_BUFFER))
-        self.rtu_framing = rtu
-        self.transport: asyncio.Transport | None = None
-        self.peer = "tcp"
-        self.rtu: RtuReceiver | None = None
-        self.mbap = MbapReceiver()
-        self.partial_timer: asyncio.TimerHandle | None = None
-        self.idle_timer: asyncio.TimerHandle | None = None
-        self.last_heard = 0.0
-        self.clock: Callable[[], float] = time.monotonic
-
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self.transport = transport
-        peer = transport.get_extra_info("peername")
-        self.peer = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else "tcp"
-        self.clock = asyncio.get_running_loop().time
-        self.last_heard = self.clock()
-        self.sim.make_room(self.peer)
-        self.sim.connections.add(self)
-        self.sim.stats.connections += 1
-        self._arm_idle_timer(self.sim.tcp_policy.idle_timeout_s)
-        if self.rtu_framing:
-            sim = self.sim
-            self.rtu = RtuReceiver(
-                asyncio.get_running_loop(),
-                sim.tcp_gap_s,
-                sim.ours,
-                lambda f: sim.rtu_frame(f, self.send, self.peer),
-                lambda f: sim.rtu_bad_frame(f, self.send, self.peer),
-                lambda b: sim.dropped(b, self.peer),
-            )
-
-    def get_buffer(self, sizehint: int) -> memoryview:
-        return self._received
-
-    def buffer_updated(self, nbytes: int) -> None:
-        self.data_received(bytes(self._received[:nbytes]))
-
-    def data_received(self, data: bytes) -> None:
-        self.last_heard = self.clock()
-        if self.rtu is not None:
-            self.rtu.feed(data)
-            return
-        try:
-            adus = self.mbap.feed(data)
-        except MbapError as exc:
-            self.sim.refuse_connection(self.peer, str(exc), len(self.mbap.buffer))
-            self.close()
-            return
-        for adu in adus:
-            self.sim.tcp_adu(adu, self.send, self.peer)
-        partial = self.mbap.partial
-        if self.partial_timer is not None and (adus or not partial):
-            self._cancel_partial()
-        if partial and self.partial_timer is None:
-            self.partial_timer = asyncio.get_running_loop().call_later(TCP_PARTIAL_TIMEOUT_S, self._partial_expired)
-
-    def _partial_expired(self) -> None:
-        self.partial_timer = None
-        self.sim.refuse_connection(self.peer, f"request incomplete for {TCP_PARTIAL_TIMEOUT_S:g} s", len(self.mbap.buffer))
-        self.close()
-
-    def _arm_idle_timer(self, delay: float | None) -> None:
-        if delay is not None:
-            self.idle_timer = asyncio.get_running_loop().call_later(delay, self._idle_check)
-
-    def _idle_check(self) -> None:
-        """Close the connection if it has been silent for the idle timeout; else look again when it could be."""
-        self.idle_timer = None
-        timeout = self.sim.tcp_policy.idle_timeout_s
-        assert timeout is not None
-        silent = asyncio.get_running_loop().time() - self.last_heard
-        if silent < timeout:
-            self._arm_idle_timer(timeout - silent)
-            return
-        self.sim.stats.connections_idle_closed += 1
-        self.sim.connection_event(self.peer, f"closing the connection: no request for {timeout:g} s (--idle-timeout)")
-        self.close()
-
-    def _cancel_partial(self) -> None:
-        if self.partial_timer is not None:
-            self.partial_timer.cancel()
-            self.partial_timer = None
-
-    def send(self, data: bytes) -> None:
-        if self.transport is not None and not self.transport.is_closing():
-            self.transport.write(data)
-
-    def close(self) -> None:
-        if self.transport is not None:
-            self.transport.close()
-
-    def pause_writing(self) -> None:  # a client that does not read its answers stops being read
-        if self.transport is not None:
-            self.transport.pause_reading()
-
-    def resume_writing(self) -> None:
-        if self.transport is not None:
-            self.transport.resume_reading()
-
-    def connection_lost(self, exc: Exception | None) -> None:
-        self._cancel_partial()
-        if self.idle_timer is not None:
-            self.idle_timer.cancel()
-            self.idle_timer = None
-        if self.rtu is not None:
-            self.rtu.close()
-        self.sim.connections.discard(self)
 
 
 @dataclass(frozen=True)
@@ -277,11 +161,12 @@ class Simulator:
         for unit in self.units.values():
             unit.store.faults = self.faults
         self.stats = Stats(keep=keep_requests)
+        self.answers = AnswerCache()
         self.log = log
         self.rtu_gap_override = rtu_gap_s
         self.tcp_gap_s = rtu_gap_s if rtu_gap_s is not None else TCP_RTU_GAP_S
         self.servers: list[asyncio.Server] = []
-        self.connections: set[_Connection] = set()
+        self.connections: set[TcpConnection] = set()
         self.serial: Any = None
         self.serial_receiver: RtuReceiver | None = None
         self.failure: str | None = None
@@ -379,19 +264,48 @@ class Simulator:
     def tcp_request(self, transaction: int, unit: int, pdu: bytes, send: Send, peer: str) -> None:
         self.tcp_adu(Adu(transaction, 0, unit, pdu, mbap(transaction, unit, pdu)), send, peer)
 
+    def tcp_frame(self, raw: bytes, send: Send, peer: str) -> None:
+        """One whole Modbus TCP request whose header is checked; the hot path of the bench."""
+        if not self._kept_answer(raw, send):
+            transaction, _, _, unit = MBAP_HEADER_STRUCT.unpack_from(raw)
+            self._work_out(Adu(transaction, 0, unit, raw[MBAP_HEADER:], raw), send, peer)
+
     def tcp_adu(self, adu: Adu, send: Send, peer: str) -> None:
-        """One Modbus TCP request; the hot path of the bench, so the common case is written out flat."""
+        if not self._kept_answer(adu.raw, send):
+            self._work_out(adu, send, peer)
+
+    def _kept_answer(self, raw: bytes, send: Send) -> bool:
+        """Count the request in; answer it from the answer cache when it can be (True), written out flat.
+        With a request log or an injected fault nothing is kept (`_work_out`), so nothing is found."""
         stats = self.stats
         stats.frames_received += 1
-        stats.bytes_received += len(adu.raw)
-        stats.requests.append(adu.raw)
+        stats.bytes_received += len(raw)
+        stats.requests.append(raw)
+        kept = self.answers.get(raw[MBAP_UNIT:])
+        if kept is None:
+            return False
+        reply = raw[:AFTER_TRANSACTION] + kept  # a read answered before, the device's memory unchanged since
+        if kept[MBAP_KEPT_FUNCTION] & EXCEPTION_FLAG:
+            stats.exceptions_sent += 1
+        stats.frames_sent += 1
+        stats.bytes_sent += len(reply)
+        send(reply)
+        return True
+
+    def _work_out(self, adu: Adu, send: Send, peer: str) -> None:
+        stats, raw = self.stats, adu.raw
+        plain = self.log is None and self.faults.kind == "none"
         transaction, unit, pdu = adu.transaction, adu.unit, adu.pdu
+        store = self._read_store(unit, pdu) if plain else None
+        generation = store.generation if store is not None else 0
         answer, note = self._tcp_answer(unit, pdu)
         if self.log is not None:
             self.log.tcp(peer, transaction, unit, pdu, answer, note)
         if answer is None:
             return
         reply = mbap(transaction, unit, answer)
+        if store is not None and store.generation == generation:
+            self.answers.keep(raw[MBAP_UNIT:], store, generation, reply[AFTER_TRANSACTION:])
         if self.faults.kind != "none":
             self._send(send, reply, answer, damage_tcp)
             return
@@ -400,6 +314,16 @@ class Simulator:
         stats.frames_sent += 1
         stats.bytes_sent += len(reply)
         send(reply)
+
+    def _read_store(self, unit: int, pdu: bytes) -> DeviceStore | None:
+        """The one store a read addressed to `unit` answers from, when its answer may be kept (AnswerCache)."""
+        if not pdu or pdu[0] not in READ_FUNCTIONS:
+            return None
+        target = self.units.get(unit)
+        if target is None and not self.tcp_policy.gateway and len(self.units) == 1 and unit in DIRECT_UNITS:
+            target = self.units[self.slave]
+        # A read that changes memory (a value that changes on being read) moves the generation: never kept.
+        return None if target is None else target.store
 
     def dropped(self, data: bytes, peer: str) -> None:
         self.stats.bytes_dropped += len(data)
@@ -465,7 +389,7 @@ class Simulator:
         """Listen (raises OSError when the address cannot be had); requests are answered from now on."""
         loop = asyncio.get_running_loop()
         loop.set_exception_handler(self._loop_exception)
-        server = await loop.create_server(lambda: _Connection(self, rtu_over_tcp), host, port)
+        server = await loop.create_server(lambda: TcpConnection(self, rtu_over_tcp), host, port)
         self.servers.append(server)
 
     async def start_serial(self, port: str, line: Line | None = None) -> None:

@@ -64,6 +64,8 @@ class DeviceStore:
         ]
         self.registers = {r.name: r for r in self.present}
         self.words: dict[tuple[str, int], int] = {}  # by (space, address)
+        # Counts the changes of `words`: an answer worked out at one generation holds while it stays (the answer cache).
+        self.generation = 0
         self.word_order = device.transport.word_order.value
         self.pending_after_read: dict[tuple[str, int], int] = {}
         self.alignment = runtime_alignment(device)
@@ -111,6 +113,7 @@ class DeviceStore:
 
     def store_raw(self, reg: Register, raw: Raw) -> None:
         words = raw_to_words(self.spec(reg), raw, with_pair=True)
+        self.generation += 1
         for offset, word in enumerate(words):
             self.words[reg.space, reg.first_address + offset] = word
 
@@ -239,6 +242,7 @@ class DeviceStore:
         if self.pending_after_read:
             for a in range(address, address + count):
                 if (space, a) in self.pending_after_read:
+                    self.generation += 1
                     self.words[space, a] = self.pending_after_read.pop((space, a))
         return values
 

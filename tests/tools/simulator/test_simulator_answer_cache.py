@@ -1,0 +1,128 @@
+"""The simulator keeps the answers of repeated reads (a polling client's hot path) only while they hold.
+
+A kept answer is used only while the device's memory is unchanged since it was worked out: every write,
+command effect and value that changes on being read moves `DeviceStore.generation`. These tests look
+at what a client sees, and at the counters, after each kind of change.
+"""
+
+from __future__ import annotations
+
+import io
+import socket
+import struct
+
+from regmap.frontend import load_map
+from regmap.tools.simulator.faults import FaultPlan
+from regmap.tools.simulator.log import RequestLog
+from regmap.tools.simulator.server import Simulator
+
+from conftest import ROOT, SimulatorFactory
+
+IDM = load_map(ROOT / "maps" / "idm_rs.yaml")
+PEAK = IDM.register("peak_current")
+CONTROL = IDM.register("control_word")
+SAVE_STATUS = IDM.register("save_status")
+
+
+def mbap(transaction: int, unit: int, pdu: bytes) -> bytes:
+    return struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu
+
+
+def read(address: int, count: int = 1) -> bytes:
+    return struct.pack(">BHH", 0x03, address, count)
+
+
+def write(address: int, word: int) -> bytes:
+    return struct.pack(">BHH", 0x06, address, word)
+
+
+def command_value(name: str) -> int:
+    command = next(c for c in IDM.commands if c.name == name)
+    assert isinstance(command.value, int)
+    return command.value
+
+
+class Client:
+    """Requests straight into an in-process simulator; the answers it sent, in order."""
+
+    def __init__(self, sim: Simulator) -> None:
+        self.sim = sim
+        self.sent: list[bytes] = []
+        self.transaction = 0
+
+    def ask(self, pdu: bytes, unit: int = 1) -> bytes:
+        self.transaction += 1
+        self.sim.tcp_frame(mbap(self.transaction, unit, pdu), self.sent.append, "test")
+        answer = self.sent[-1]
+        assert answer[:2] == struct.pack(">H", self.transaction)  # each answer carries its own request's transaction id
+        return answer[7:]
+
+    def word(self, address: int, unit: int = 1) -> int:
+        answer = self.ask(read(address), unit)
+        assert answer[:2] == b"\x03\x02", answer.hex()
+        return int(struct.unpack(">H", answer[2:4])[0])
+
+
+def test_a_kept_read_follows_each_write_and_each_command_effect() -> None:
+    sim = Simulator(IDM, 1)
+    client = Client(sim)
+    default = client.word(PEAK.address)
+    assert client.word(PEAK.address) == default and len(sim.answers) == 1  # the second one was kept
+    assert client.ask(write(PEAK.address, default + 1)) == write(PEAK.address, default + 1)
+    assert client.word(PEAK.address) == default + 1
+    assert client.word(PEAK.address, unit=0xFF) == default + 1  # the device addressed directly: its own kept answer
+    client.ask(write(CONTROL.address, command_value("restore_factory_defaults")))
+    assert client.word(PEAK.address) == default
+    assert client.word(PEAK.address, unit=0xFF) == default
+
+
+def test_a_value_that_changes_on_being_read_is_read_fresh_each_time() -> None:
+    sim = Simulator(IDM, 1)
+    client = Client(sim)
+    client.word(SAVE_STATUS.address)  # kept before the save
+    client.ask(write(CONTROL.address, command_value("save_all_parameters")))
+    assert [client.word(SAVE_STATUS.address) for _ in range(3)] == [0x5555, 0x1111, 0x1111]
+
+
+def test_kept_answers_are_counted_as_answers_and_exceptions() -> None:
+    sim = Simulator(IDM, 1)
+    client = Client(sim)
+    undocumented = max(r.last_address for r in IDM.registers if r.space == "holding") + 1
+    for _ in range(3):
+        assert client.ask(read(undocumented)) == bytes([0x83, 0x02])
+        client.word(PEAK.address)
+    stats = sim.stats
+    assert (stats.frames_received, stats.frames_sent, stats.exceptions_sent) == (6, 6, 3)
+    assert stats.bytes_sent == sum(map(len, client.sent)) and list(stats.requests)[-1][:2] == struct.pack(">H", 6)
+
+
+def test_a_request_log_and_injected_faults_see_every_request() -> None:
+    stream = io.StringIO()
+    sim = Simulator(IDM, 1, log=RequestLog(IDM, [stream]))
+    client = Client(sim)
+    client.word(PEAK.address)
+    client.word(PEAK.address)
+    assert stream.getvalue().count("peak_current") >= 2 and len(sim.answers) == 0
+    faulty = Simulator(IDM, 1, faults=FaultPlan("exception", count=1))
+    client = Client(faulty)
+    assert client.ask(read(PEAK.address))[0] == 0x83  # the fault takes the first answer ...
+    assert client.ask(read(PEAK.address))[:2] == b"\x03\x02"  # ... and only the first
+
+
+def test_a_write_on_one_connection_is_seen_by_the_next_read_on_another(simulator: SimulatorFactory) -> None:
+    sim = simulator(ROOT / "maps" / "idm_rs.yaml")
+    assert sim.port is not None
+    with (
+        socket.create_connection(("127.0.0.1", sim.port), timeout=5) as poller,
+        socket.create_connection(("127.0.0.1", sim.port), timeout=5) as writer,
+    ):
+        answers = []
+        for transaction, value in enumerate((11, 12, 13), start=1):
+            poller.sendall(mbap(transaction, 1, read(PEAK.address)))
+            answers.append(poller.recv(64))
+            writer.sendall(mbap(transaction, 1, write(PEAK.address, value)))
+            assert writer.recv(64) == mbap(transaction, 1, write(PEAK.address, value))
+        poller.sendall(mbap(9, 1, read(PEAK.address)))
+        answers.append(poller.recv(64))
+    words = [struct.unpack(">H", a[9:11])[0] for a in answers]
+    assert words[1:] == [11, 12, 13]
