@@ -233,3 +233,23 @@ def test_home_assistant_check_config_accepts_the_package(hass: Path, tmp_path: P
     assert result.returncode == 0, out[-4000:]
     assert "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
     assert "components.modbus" not in out, out[-4000:]
+
+
+# -- the import reads the templates back -----------------------------------------------------------
+
+
+def test_importing_the_package_gives_each_point_its_scale_factor_back(tmp_path: Path) -> None:
+    from support.homeauto_roundtrip import reimport
+
+    (text,) = render_device(DEVICE, ("*",)).values()
+    (again,), report = reimport(text, tmp_path, "inverter")
+    for reg in POINTS:
+        back = again.at_address(reg.address, "holding")
+        sf, sf_back = DEVICE.register(reg.scale_from or ""), again.at_address(DEVICE.register(reg.scale_from or "").address, "holding")
+        assert back is not None and sf_back is not None
+        assert (back.type, back.title, back.unit, back.na, back.scale_from) == (reg.type, reg.title, reg.unit, reg.na, sf_back.name)
+        assert (sf_back.type, sf_back.na) == (sf.type, sf.na)
+    assert sum("from its template sensor" in line for line in report) == len(POINTS)
+    plain = text.replace("raw * 10 ** sf if sf >= 0", "raw * 10 ** sf if sf > 0")  # not the generated shape: not read
+    (other,), _ = reimport(plain, tmp_path, "other")
+    assert [r.name for r in other.registers if r.scale_from is not None] == []
