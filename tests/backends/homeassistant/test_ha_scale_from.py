@@ -221,9 +221,14 @@ def test_a_plant_of_scaled_devices_gets_each_device_its_templates(tmp_path: Path
         render_plant_targets(plant, ["esphome"])
 
 
-@pytest.mark.parametrize("patterns", [None, ("*",)], ids=["default", "all"])
-def test_home_assistant_check_config_accepts_the_package(hass: Path, tmp_path: Path, patterns: tuple[str, ...] | None) -> None:
-    (text,) = render_device(DEVICE, patterns).values()
+@pytest.mark.parametrize("patterns", [None, ("*",), "plant"], ids=["default", "all", "plant"])
+def test_home_assistant_check_config_accepts_the_package(hass: Path, tmp_path: Path, patterns: tuple[str, ...] | str | None) -> None:
+    if patterns == "plant":
+        line = [("line", "tcp: {host: 127.0.0.1, port: 1502}", [("inv1", MAP, 1), ("inv2", MAP, 2)])]
+        (text,) = render_plant(load_plant(write_plant(tmp_path / "plant.yaml", "pv", line))).values()
+    else:
+        assert not isinstance(patterns, str)
+        (text,) = render_device(DEVICE, patterns).values()
     (tmp_path / "device.yaml").write_text(text, encoding="utf-8")
     (tmp_path / "configuration.yaml").write_text("homeassistant:\n  packages:\n    device: !include device.yaml\n", encoding="utf-8")
     result = subprocess.run(
@@ -233,6 +238,7 @@ def test_home_assistant_check_config_accepts_the_package(hass: Path, tmp_path: P
     assert result.returncode == 0, out[-4000:]
     assert "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
     assert "components.modbus" not in out, out[-4000:]
+    assert "ERROR" not in out and "WARNING" not in out, out[-4000:]  # a script or template HA disables is only logged
 
 
 # -- the import reads the templates back -----------------------------------------------------------

@@ -8,7 +8,8 @@ express from the map is listed in the file's header instead of being approximate
 registers, multi-bit fields (in the register's sensor), text in encodings other than ASCII/UTF-8 (HA
 decodes UTF-8 only). Enum labels and flags other than a lone bit 0 (HA's binary sensor reads `value & 1`
 and loads one entity per address) are template entities over the register's sensor; a register with
-labels shows its raw code in a sensor named "<title> (code)".
+labels shows its raw code in a sensor named "<title> (code)". A register scaled by another (`scale_from`) is
+a raw sensor "<title> (raw)" and a template sensor with its value, a writable one also a set script (`scaled`).
 
 Spaces: `input_type` holding / input for registers; coils and discrete inputs are binary sensors
 (`input_type: coil` / `discrete_input`), a writable coil a switch (`write_type: coil`). Byte and word
