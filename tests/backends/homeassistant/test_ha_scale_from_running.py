@@ -5,7 +5,9 @@ a negative sf (12.34 A), a positive one, and nothing (unavailable) where the poi
 available'. An automation then calls the generated set script: at sf 1, three values the runtime refuses (no
 whole multiple of 10^sf, outside the raw range, not a number) must send nothing and a fourth exactly one write
 of its raw value; with the sf reading 'not available' a value that sf 1 would take must send nothing.
-HA's log says how each call's condition came out; the simulator's log holds every write it received."""
+HA's log says how each call's condition came out; the simulator's log holds every write it received.
+A plant of two inverters on one TCP bus (`regmap simulate PLANT --bus`): each device's templates show its own
+slave's values."""
 
 from __future__ import annotations
 
@@ -22,12 +24,14 @@ from typing import Any
 import pytest
 import yaml
 
-from regmap.backends.homeassistant import render_device
+from regmap.backends.homeassistant import render_device, render_plant
 from regmap.frontend import load_map
+from regmap.frontend.plant import load_plant
 
 from conftest import ROOT, SimulatorFactory, built_tool
 from support.hass_recorder import recorded_states
 from support.homeauto_yaml import load
+from support.plant_tcp_bus import free_port, serve_bus, write_plant
 
 MAP = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"
 HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
@@ -54,10 +58,10 @@ def _writes(log: Path) -> list[bytes]:
     return [bytes.fromhex(m["pdu"]) for m in _WRITE.finditer(text)]
 
 
-def _dump(port: int) -> dict[str, Any]:
+def _dump(port: int, slave: int = 1) -> dict[str, Any]:
     """Each register's value as the Python client reads it (None: not available)."""
     result = subprocess.run(
-        [REGMAP, "dump", str(MAP), "--tcp", f"127.0.0.1:{port}", "--slave", "1", "--json"],
+        [REGMAP, "dump", str(MAP), "--tcp", f"127.0.0.1:{port}", "--slave", str(slave), "--json"],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -79,9 +83,10 @@ def _package_on_tcp(port: int) -> dict[str, Any]:
     return package
 
 
-def _configuration(config: Path, package: dict[str, Any], values: tuple[object, ...]) -> None:
+def _configuration(config: Path, package: dict[str, Any] | str, values: tuple[object, ...]) -> None:
     config.mkdir()
-    (config / "inverter.yaml").write_text(yaml.safe_dump(package, sort_keys=False, allow_unicode=True), encoding="utf-8")
+    text = package if isinstance(package, str) else yaml.safe_dump(package, sort_keys=False, allow_unicode=True)
+    (config / "inverter.yaml").write_text(text, encoding="utf-8")
     calls = [{"service": SCRIPT, "data": {"value": value}} for value in values]
     automation = {
         "id": "regmap_set_scaled_point",
@@ -90,11 +95,12 @@ def _configuration(config: Path, package: dict[str, Any], values: tuple[object, 
         "action": [{"wait_template": "{{ has_value('sensor.ac_current') }}", "timeout": STARTUP_S, "continue_on_timeout": False}, *calls],
     }
     basics = {"name": "regmap scale_from test", "latitude": 0, "longitude": 0, "elevation": 0, "unit_system": "metric", "time_zone": "UTC"}
-    rest = {
+    rest: dict[str, Any] = {
         "recorder": {"db_url": f"sqlite:///{config / 'recorder.db'}", "commit_interval": 1},
-        "automation": [automation],
         "logger": {"default": "info"},
     }
+    if calls:
+        rest["automation"] = [automation]
     head = yaml.safe_dump({"homeassistant": basics}, sort_keys=False) + "  packages:\n    inverter: !include inverter.yaml\n"
     (config / "configuration.yaml").write_text(head + yaml.safe_dump(rest, sort_keys=False), encoding="utf-8")
 
@@ -167,3 +173,52 @@ def test_home_assistant_shows_scaled_values_and_the_script_sends_only_exact_ones
                 process.kill()
                 process.wait()
     assert _dump(sim.port)["wmax_lim_pct"] == (ACCEPTED if written else None)
+
+
+# The second inverter of the plant: other values, other signs of sf, none 'not available'.
+SECOND = {"a": 500, "a_sf": 1, "w": -1500, "w_sf": -1, "wh": 123456, "wh_sf": 2, "wmax_lim_pct": 700, "wmax_lim_pct_sf": -1}
+
+
+@pytest.mark.timeout(STARTUP_S + STATES_S + 180)
+def test_home_assistant_shows_each_plant_devices_own_scaled_values(tmp_path: Path) -> None:
+    hass_python = built_tool("hass").parent / "python"
+    line = [("line", f"tcp: {{host: 127.0.0.1, port: {free_port()}}}", [("inv1", MAP, 1), ("inv2", MAP, 2)])]
+    plant = load_plant(write_plant(tmp_path / "plant.yaml", "pv", line))
+    (bus,) = plant.buses
+    (text,) = render_plant(plant).values()
+    templates = {e["unique_id"]: e["name"] for block in load(text)["template"] for e in block["sensor"]}
+    states: dict[str, Path] = {}
+    for dev, seed in (("inv1", SEED), ("inv2", SECOND)):
+        device = plant.device(dev)[1].device
+        states[dev] = tmp_path / f"{dev}.state.json"
+        body = {"device": device.id, "map_version": device.info.map_version, "registers": seed}
+        states[dev].write_text(json.dumps(body), encoding="utf-8")
+    config = tmp_path / "config"
+    _configuration(config, text, ())
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
+    with serve_bus(plant, bus, tmp_path, states) as served, (tmp_path / "hass.log").open("wb") as out:
+        clients = {dev.name: _dump(served.port, dev.slave) for dev in bus.devices}
+        assert clients["inv2"]["a"] == 5000 and clients["inv2"]["w"] == -150.0 and clients["inv2"]["wh"] == 12345600
+        expected = {name: clients[uid.split("_")[1]][uid.split("_", 2)[2]] for uid, name in templates.items()}
+        assert len(expected) == 6 and expected["inv1 AC current"] == 12.34
+        started = time.monotonic()
+        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
+        try:
+            recorded: dict[str, str] = {}
+            while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
+                recorded = {name: s for name, (_, s, _) in recorded_states(config / "recorder.db").items()}
+                if all(_shows(recorded.get(name), value) for name, value in expected.items()):
+                    break
+                time.sleep(1)
+            log = config / "home-assistant.log"
+            tail = log.read_text(errors="replace")[-4000:] if log.exists() else ""
+            shown = {name: recorded.get(name) for name in expected}
+            assert all(_shows(shown[name], value) for name, value in expected.items()), f"{shown} expected {expected}\n{tail}"
+            print(f"plant: HA showed {shown}, {time.monotonic() - started:.1f} s after start")
+        finally:
+            process.send_signal(signal.SIGTERM)
+            try:
+                process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
