@@ -18,6 +18,6 @@ def render_device(device: Device, patterns: tuple[str, ...] | None = None) -> Fi
     return render_hub(device, select(device, patterns))
 
 
-TARGET = selecting_target("homeassistant", render_device, order=60, plant=render_plant)
+TARGET = selecting_target("homeassistant", render_device, order=60, plant=render_plant, scale_from=True)
 
 __all__ = ["DATA_TYPE", "TARGET", "hub", "plant_hubs", "render_device", "render_plant"]

@@ -8,7 +8,8 @@ express from the map is listed in the file's header instead of being approximate
 registers, multi-bit fields (in the register's sensor), text in encodings other than ASCII/UTF-8 (HA
 decodes UTF-8 only). Enum labels and flags other than a lone bit 0 (HA's binary sensor reads `value & 1`
 and loads one entity per address) are template entities over the register's sensor; a register with
-labels shows its raw code in a sensor named "<title> (code)".
+labels shows its raw code in a sensor named "<title> (code)". A register scaled by another (`scale_from`) is
+a raw sensor "<title> (raw)" and a template sensor with its value, a writable one also a set script (`scaled`).
 
 Spaces: `input_type` holding / input for registers; coils and discrete inputs are binary sensors
 (`input_type: coil` / `discrete_input`), a writable coil a switch (`write_type: coil`). Byte and word
@@ -23,7 +24,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.homeassistant.scripts import Scripts, flag_sensor, label_sensor, object_id, template_flags, time_sensor
+from regmap.backends.homeassistant import scaled
+from regmap.backends.homeassistant.scripts import RETRY_NOTE, Scripts, flag_sensor, label_sensor, object_id, template_flags, time_sensor
 from regmap.core.text import na_mark
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
@@ -136,6 +138,9 @@ class _Hub:
         self.block_of = {s.name: i for i, (block, _, _) in enumerate(plan) for s in block.registers}
         self.alignment = runtime_alignment(device)
         self.aligned_addresses: set[tuple[str, int]] = set()
+        self.factors = {r.scale_from for r in device.registers if r.scale_from is not None}  # the sf registers
+        self.sensor_of: dict[str, str] = {}  # register -> the entity id of its (one-register) sensor
+        self.scaled_points: list[tuple[Register, str, str]] = []  # (point, title, entity id of its raw sensor)
 
     def _name(self, title: str, qualifier: str) -> str:
         return self.instance.name_prefix + self.names.name(title, qualifier)
@@ -154,7 +159,9 @@ class _Hub:
 
     def _sensor(self, reg: Register, title: str, virtual: int = 0) -> None:
         labelled = reg.enum is not None and not virtual
-        entity = self._base(reg, f"{title} (code)" if labelled else title, reg.name)
+        point = reg.scale_from is not None  # its raw value: the template sensor (`scaled`) shows the value
+        shown = f"{title} (code)" if labelled else f"{title} (raw)" if point else title
+        entity = self._base(reg, shown, f"{reg.name}.raw" if point else reg.name)
         entity.update({"input_type": self._input_type(reg), "data_type": DATA_TYPE[reg.type]})
         if reg.type.is_string:
             entity["count"] = reg.words
@@ -163,6 +170,15 @@ class _Hub:
             entity["swap"] = swap
         if reg.type.is_string:
             self.sensors.append(entity)
+            return
+        if not virtual:
+            self.sensor_of[reg.name] = "sensor." + object_id(entity["name"])
+        if point:
+            entity["precision"] = 0
+            if reg.na:  # the template checks every marker; HA's sensor takes one
+                entity["nan_value"] = Hex(int(reg.na[0])) if reg.na[0] >= 0 else int(reg.na[0])
+            self.sensors.append(entity)
+            self.scaled_points.append((reg, title, self.sensor_of[reg.name]))
             return
         if reg.scaled:
             entity["scale"] = scale_float(reg.scale)
@@ -286,6 +302,8 @@ class _Hub:
         n = 1
         if first.array is None or first.enum is not None or first.bitfields or first.type.is_string:
             return 1
+        if first.scale_from is not None or first.name in self.factors:
+            return 1  # a point and its sf each need a sensor of their own (the template reads it)
         if first.type.is_bool and first.access.writable:
             return 1  # switches read one coil each
         while i + n < len(regs):
@@ -312,6 +330,8 @@ class _Hub:
                 and not nxt.paired
                 and not nxt.bitfields
                 and nxt.enum is None
+                and nxt.scale_from is None
+                and nxt.name not in self.factors
                 and self.block_of.get(nxt.name) == self.block_of.get(first.name)
             )
             if not same:
@@ -319,8 +339,41 @@ class _Hub:
             n += 1
         return n
 
+    def _scaled(self) -> None:
+        """The template sensor of each point scaled by another register, and a set script for a writable one."""
+        for reg, title, raw_source in self.scaled_points:
+            sf = self.device.register(reg.scale_from or "")
+            sf_source = self.sensor_of.get(sf.name)
+            if sf_source is None or not (raw_source.isascii() and sf_source.isascii()):
+                self.skipped.append(f"{reg.name}'s value (raw x 10^{sf.name}): no plain sensor with an ASCII name reads {sf.name}")
+                continue
+            entity: dict[str, Any] = {"name": self._name(title, reg.name), "unique_id": f"{self.instance.unique_prefix}_{reg.name}"}
+            if reg.unit:
+                entity["unit_of_measurement"] = unit_text(reg.unit)
+            if device_class(reg) is not None:
+                entity["device_class"] = device_class(reg)
+            if state_class(self.device, reg) is not None:
+                entity["state_class"] = state_class(self.device, reg)
+            self.template_sensors.append(scaled.scaled_sensor(reg, raw_source, sf, sf_source, entity))
+            if not reg.access.writable:
+                continue
+            reason = scaled.unwritable(reg)
+            if reason is not None:
+                self.skipped.append(reason)
+                continue
+            script_id = self.scripts.ids.id(object_id(f"{self.instance.script_prefix}_set_{reg.name}"))
+            write = {"hub": self.instance.hub, "slave": self.slave, "address": Hex(reg.address)}
+            alias = self.instance.name_prefix + "Set " + " ".join(title.split())
+            script = scaled.set_script(reg, sf, sf_source, alias, write, self.scripts.single_write, RETRY_NOTE)
+            self.scripts.scripts[script_id] = script
+
+    def _with_factors(self, regs: list[Register]) -> list[Register]:
+        """`regs` and the sf register of each point among them (a point's value needs it), in map order."""
+        names = {r.name for r in regs} | {r.scale_from for r in regs if r.scale_from is not None}
+        return [r for r in self.device.registers if r.name in names]
+
     def build(self) -> None:
-        regs = [r for r in self.selection.registers if r.access.readable]
+        regs = self._with_factors([r for r in self.selection.registers if r.access.readable])
         regs = [r for r in regs if not reserved(r.title)]
         for reg in self.selection.registers:
             if not reg.access.readable:
@@ -362,6 +415,7 @@ class _Hub:
             elif not self._flag_sensor(reg):
                 self._sensor(reg, reg.title)
             i += 1
+        self._scaled()
         for command in self.selection.commands:
             self.scripts.add(command)
         self.skipped += self.scripts.skipped
@@ -429,6 +483,8 @@ def render_hub(device: Device, selection: Selection) -> Files:
         " nothing in this file can stop that.",
         "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
     ]
+    if h.scaled_points:
+        about.append(scaled.SCALED_NOTE)
     about += gate_notes(device, selection.registers)
     about += [f"Not generated: {s}" for s in h.skipped]
     return {f"{device.id}.yaml": dump(device, about, _package([h], data))}
@@ -520,6 +576,8 @@ def render_plant(plant: Plant) -> Files:
         " is lost may be sent again; nothing in this file can stop that.",
         "Template entities read sensor.<slug of the sensor's name>, the id HA gives it at first start: rename both together.",
     ]
+    if any(h.scaled_points for _, _, h in built):
+        about.append(scaled.SCALED_NOTE)
     for _, dev, h in built:
         about += [f"{dev.name}: {note}" for note in gate_notes(dev.device, h.selection.registers, dev.variant)]
         about += [f"Not generated for {dev.name}: {s}" for s in h.skipped]

@@ -8,7 +8,8 @@ both), `scale` then `offset` (value = raw x scale + offset), `slave` or `device_
 `scan_interval` as a poll class. Switches, fans and lights write `command_on`/`command_off` (an on/off
 enum; a coil is a bool) and read `verify`; a climate is its current temperature, its target
 temperature (read-write) and its mode, on/off and fan registers (enums of the states it names); a
-cover is its command register (or coil) and its status register. A `custom` structure becomes one register per value
+cover is its command register (or coil) and its status register. A template sensor of the shape regmap writes
+for a register scaled by another makes the point `scale_from` its sf (tools/configimport/hatemplates.py). A `custom` structure becomes one register per value
 it unpacks (tools/configimport/hastruct.py). What a map cannot say (a byte-sized value, `zero_suppress`, `min_value`/`max_value` clamps, a verify at
 another address) is kept as a note and reported.
 """
@@ -21,6 +22,7 @@ from typing import Any
 
 from regmap.tools.configimport.draft import Device, Flag, Import, Imported, Member, fraction
 from regmap.tools.configimport.hastruct import StructureError, structure_fields
+from regmap.tools.configimport.hatemplates import entity_id, scaled_templates
 from regmap.tools.configimport.reader import Config, ConfigError, ConfigReader, poll_class, substitute
 
 # HA's data_type -> regmap type (the inverse of backends/homeassistant's DATA_TYPE); custom has none (hastruct reads it).
@@ -57,6 +59,7 @@ class _Reader(ConfigReader):
     def __init__(self, config: Config) -> None:
         super().__init__(config)
         self.devices: dict[tuple[str, int], Device] = {}
+        self.sensors: dict[str, tuple[Device, Imported]] = {}  # entity id -> a one-value sensor's register (templates read it)
 
     def read(self) -> Import:
         data = self.config.data
@@ -71,6 +74,7 @@ class _Reader(ConfigReader):
                 self.fail(("modbus", i), "a hub is a mapping (name, type, port ...)")
                 continue
             self._hub(hub, ("modbus", i))
+        scaled_templates(data, self.sensors, self.report)
         if self.problems:
             raise ConfigError(self.problems)
         return Import(list(self.devices.values()), self.report)
@@ -98,7 +102,10 @@ class _Reader(ConfigReader):
                     self.fail((*epath, "slave"), f"slave {slave!r}: expected a slave id 0..255")
                     continue
                 device = self.devices.setdefault((name, slave), Device(label=f"{name} slave {slave}", slave=slave, serial=dict(serial)))
-                for reg in getattr(self, "_" + platform)(entity, epath):
+                regs = getattr(self, "_" + platform)(entity, epath)
+                if platform == "sensors" and len(regs) == 1 and regs[0].count == 1 and isinstance(entity.get("name"), str):
+                    self.sensors[entity_id(entity["name"])] = (device, regs[0])
+                for reg in regs:
                     problem = device.add(reg)
                     if problem is not None:
                         self.report.append(f"{reg.origin}: not imported: {problem}")
