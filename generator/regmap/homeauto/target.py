@@ -21,9 +21,12 @@ def _no_shared_files(devices: Sequence[Device]) -> Files:
     return {}
 
 
-def selecting_target(name: str, render_device: SelectionRenderer, *, order: int, plant: Callable[[Plant], Files] | None = None) -> Target:
+def selecting_target(
+    name: str, render_device: SelectionRenderer, *, order: int, plant: Callable[[Plant], Files] | None = None, scale_from: bool = False
+) -> Target:
     """The target `name` (its files under `name/`), configured by the `select` option; `plant` renders a
-    plant file (each device's default selection: `regmap generate PLANT` takes no `--select`)."""
+    plant file (each device's default selection: `regmap generate PLANT` takes no `--select`); `scale_from`: it
+    shows `scale_from` registers (Target.scale_from)."""
 
     def configure(options: TargetOptions) -> Target:
         patterns = parse_patterns(options["select"])
@@ -38,5 +41,6 @@ def selecting_target(name: str, render_device: SelectionRenderer, *, order: int,
         configure=configure,
         order=order,
         plant=plant,
+        scale_from=scale_from,
     )
     return target
