@@ -7,6 +7,7 @@ values), and a number's write lambda sends exactly what the runtime's encode sen
 from __future__ import annotations
 
 import math
+import random
 import re
 import shutil
 import struct
@@ -23,7 +24,7 @@ from regmap.generate import render, render_plant
 from regmap.model import Device
 from regmap.runtime_bridge import runtime_device
 from regmap_runtime.base import ClientCore
-from regmap_runtime.codec import RangeError
+from regmap_runtime.codec import RangeError, raw_to_words
 from regmap_runtime.plan import ReadBlock
 from regmap_runtime.scaling import scaled
 
@@ -31,6 +32,7 @@ from conftest import ROOT
 from support.esphome_ranges import items_of, ranges
 from support.homeauto_yaml import esphome_config, load
 from support.plants import write_plant
+from support.sunspec_models import chain_map, pysunspec_python
 
 MAP = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"
 POINTS = ("a", "w", "wh", "wmax_lim_pct")
@@ -279,3 +281,75 @@ def test_a_plant_of_two_inverters_scales_each_by_its_own_factors(esphome: Path, 
         assert f"{device}_w_sf" not in _code(point["lambda"])  # read in the same range: from the response
         (factor,) = [e for e in config["sensor"] if e["id"] == f"{device}_w_sf"]
         assert "internal" not in factor or factor["internal"] is False  # the default selection shows it
+
+
+def test_a_sunspec_inverters_points_read_as_the_runtime_reads_them(esphome: Path, tmp_path: Path) -> None:
+    """The map `regmap import sunspec` makes of models 1, 103 (an inverter) and 160 (MPPT, two modules): ESPHome
+    accepts its package, and each point's lambda gives for random words (factors -10..10, SunSpec's 0x8000 and each
+    point's own marker one time in eight) the runtime's value. Where ESPHome reads a factor in another range (the
+    125-register limit puts model 160's DCA_SF in the request before; DCV_SF, first of the next, is read alone as
+    force_new_range), the factor's own sensor lambda runs on its response first, as ESPHome reads that range first,
+    and the point's lambda takes that state."""
+    device = load_map(chain_map(pysunspec_python(), [1, 103, 160], tmp_path / "chain.yaml", repeats=2))
+    points = [reg for reg in device.registers if reg.scale_from is not None]
+    assert len(points) >= 20
+    work = tmp_path / "esphome"
+    work.mkdir()
+    config = _validated(esphome, work, device, ("*",))
+    entities = _entities(config)
+    core = _core(device)
+    blocks = core.plan_reads(list(core.DEVICE.registers))
+    specs = {spec.name: spec for spec in core.DEVICE.registers}
+    items = {item.address: (r, item) for r in ranges(items_of(config)) for item in r.items}
+    rng = random.Random(35)
+    names: set[str] = set()
+    functions, calls, expected, apart = [], [], [], 0
+
+    def block_of(name: str) -> ReadBlock:
+        (block,) = [b for b in blocks if name in {s.name for s in b.registers}]
+        return block
+
+    def response(memory: dict[int, int], address: int) -> tuple[int, str]:
+        """(the item's offset, the bytes of the ESPHome range that reads `address`)."""
+        esp_range, item = items[address]
+        words = [memory.get(a, 0) for a in range(esp_range.start, esp_range.start + esp_range.count)]
+        return item.offset, ", ".join(str(b) for w in words for b in w.to_bytes(2, "big"))
+
+    for index, reg in enumerate(points):
+        sf = device.register(reg.scale_from or "")
+        code = _rewrite_ids(_code(entities[reg.address]["lambda"]), names)
+        functions.append(
+            f"static std::optional<float> read_{index}(Item *item, float x, const std::vector<uint8_t> &data) {{\n(void) x;\n{code}\n}}\n"
+        )
+        state = "->state" in code
+        assert (items[sf.address][0] is not items[reg.address][0]) == state, reg.name  # ESPHome's ranges decide
+        if state:  # the factor's range is read first: its sensor's lambda sets the state the point's lambda takes
+            apart += 1
+            factor = _rewrite_ids(_code(entities[sf.address]["lambda"]), names)
+            functions.append(
+                f"static std::optional<float> factor_{index}(Item *item, float x, const std::vector<uint8_t> &data) {{\n(void) x;\n{factor}\n}}\n"
+            )
+        block = block_of(reg.name)
+        for _ in range(8):
+            memory = {a: rng.randrange(0x10000) for b in blocks for a in range(b.address, b.address + b.count)}
+            memory[sf.address] = 0x8000 if rng.random() < 0.125 else rng.randrange(-10, 11) & 0xFFFF
+            if reg.na and rng.random() < 0.125:
+                for k, word in enumerate(raw_to_words(specs[reg.name], reg.na[0])):
+                    memory[reg.address + k] = word
+            call = ""
+            if state:
+                offset, data = response(memory, sf.address)
+                entity = _cpp_ident(str(entities[sf.address]["id"]))
+                call += f"{{ Item item{{{offset}}}; std::vector<uint8_t> data{{{data}}}; {entity}->state = *factor_{index}(&item, 0.0f, data); }}\n"
+            offset, data = response(memory, reg.address)
+            call += f'{{ Item item{{{offset}}}; std::vector<uint8_t> data{{{data}}}; auto r = read_{index}(&item, 0.0f, data); std::printf("%.9g\\n", static_cast<double>(*r)); }}\n'
+            calls.append(call)
+            factors = {
+                f.name: core.decode(specs[f.name], [memory[f.address]]) for f in {device.register(p.scale_from or "") for p in points}
+            }
+            value = core.values_of(block, [memory[a] for a in range(block.address, block.address + block.count)], factors)[reg.name]
+            expected.append("nan" if value is None else _float_text(float(value)))
+    got = _compile_and_run(tmp_path, functions, calls, names)
+    assert got == expected, [(i, e, g) for i, (e, g) in enumerate(zip(expected, got, strict=True)) if e != g][:10]
+    assert 0 < expected.count("nan") < len(expected) // 2
+    assert 0 < apart < len(points) // 4  # most factors share their point's request

@@ -128,7 +128,8 @@ def notes(pkg: DevicePackage) -> list[str]:
 
 def _ranges(pkg: DevicePackage) -> dict[str, int]:
     """Per register with an entity, the ESPHome range that reads it: its plan block's run of words that entities cover
-    without a gap (ESPHome joins only items at contiguous addresses into one read)."""
+    without a gap (ESPHome joins only items at contiguous addresses into one read); a `force_new_range` register
+    (a block's first where the block before ends) is a range of its own, as ESPHome reads it alone."""
     shown = {key[0] for key in pkg.made}
     out: dict[str, int] = {}
     run = 0
@@ -138,10 +139,13 @@ def _ranges(pkg: DevicePackage) -> dict[str, int]:
             if spec.name not in shown:
                 continue
             start, count = pkg.widened.get(spec.name, (spec.address, spec.words))
-            if end is not None and start > end:
+            alone = bool(pkg.item_keys[spec.name].get("force_new_range"))
+            if end is not None and (start > end or alone):
                 run += 1
             out[spec.name] = run
             end = max(end or 0, start + count)
+            if alone:
+                run, end = run + 1, None
     return out
 
 
