@@ -353,3 +353,16 @@ def test_a_sunspec_inverters_points_read_as_the_runtime_reads_them(esphome: Path
     assert got == expected, [(i, e, g) for i, (e, g) in enumerate(zip(expected, got, strict=True)) if e != g][:10]
     assert 0 < expected.count("nan") < len(expected) // 2
     assert 0 < apart < len(points) // 4  # most factors share their point's request
+
+
+def test_a_point_whose_factor_shows_no_raw_value_is_listed_not_guessed() -> None:
+    """A factor with a scale of its own: its sensor's state is no longer the s16 the point needs, so the point is left
+    out and named in the header, never scaled by a wrong power."""
+    text = MAP.read_text(encoding="utf-8").replace(
+        "default: -2, na: [0x8000], title: AC current scale factor", "default: -2, na: [0x8000], scale: 0.1, title: AC current scale factor"
+    )
+    device = load_map_text(text, "inverter.yaml")
+    (package,) = render_device(device, ("*",)).values()
+    assert "# Not generated: a (scale_from a_sf: its entity shows no plain raw value)" in package
+    ids = {e["id"] for e in _entities(load(package)).values()}
+    assert "${sf_inverter_device_id}_a" not in ids and "${sf_inverter_device_id}_w" in ids

@@ -96,17 +96,22 @@ def finish(pkg: DevicePackage) -> None:
     """Each point's lambdas (they name the factor's entity id), the added factors made internal, and a point whose
     factor got no entity left out."""
     ranges = _ranges(pkg)
+    kept = []
     for reg, entity, platform in pkg.scaled_points:
         sf = pkg.device.register(reg.scale_from or "")
         made = pkg.made.get((sf.name,))
-        if made is None or made[0] not in ("sensor", "number"):
+        if made is None or made[0] not in ("sensor", "number"):  # e.g. a writable factor an aligned device reads widened
             pkg.entities[platform].remove(entity)
+            if not pkg.entities[platform]:
+                del pkg.entities[platform]
             pkg.skipped.append(f"{reg.name} (scale_from {sf.name}: ESPHome has no entity that reads it)")
             continue
+        kept.append((reg, entity, platform))
         same = ranges.get(reg.name) is not None and ranges.get(reg.name) == ranges.get(sf.name)
         entity["lambda"] = Lambda(read_lambda(reg, sf, made[1]["id"], 2 * (sf.address - reg.address) if same else None))
         if platform == "number":
             entity["write_lambda"] = Lambda(write_lambda(reg, sf, made[1]["id"]))
+    pkg.scaled_points = kept
     for name in pkg.added_factors:
         if (name,) in pkg.made:
             pkg.made[(name,)][1]["internal"] = True
