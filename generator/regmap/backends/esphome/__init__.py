@@ -21,6 +21,6 @@ def render_device(device: Device, patterns: tuple[str, ...] | None = None) -> Fi
     return render_package(device, select(device, patterns))
 
 
-TARGET = selecting_target("esphome", render_device, order=50, plant=render_plant)
+TARGET = selecting_target("esphome", render_device, order=50, plant=render_plant, scale_from=True)
 
 __all__ = ["TARGET", "VALUE_TYPE", "esp_text", "hexbytes", "package", "plant_package", "render_device", "render_plant"]

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from regmap.backends.esphome import lambdas
+from regmap.backends.esphome import lambdas, scaled
 from regmap.backends.esphome.text import esp_text, esp_unit, num
 from regmap.core.text import na_list
 from regmap.homeauto.entities import (
@@ -133,6 +133,10 @@ class DevicePackage:
         self.single_coil_write = 0x05 in t.function_codes
         self.specs = {spec.name: spec for spec in runtime_specs(device)}
         self.skipped: list[str] = []
+        self.registers = scaled.with_factors(device, selection.registers)  # and the scale factors its points need
+        self.added_factors = [r.name for r in self.registers[len(selection.registers) :]]
+        self.made: dict[tuple[str, ...], tuple[str, dict[str, Any]]] = {}  # (platform, entity) by key
+        self.scaled_points: list[tuple[Register, dict[str, Any], str]] = []
         readable = self._entity_registers()
         self.fast = any(r.poll is PollClass.FAST for r in readable)
         self.used_skips: set[str] = set()
@@ -145,7 +149,7 @@ class DevicePackage:
     # -- read ranges -------------------------------------------------------------------------
 
     def _entity_registers(self) -> list[Register]:
-        return [r for r in self.selection.registers if r.access.readable]
+        return [r for r in self.registers if r.access.readable]
 
     def _skip(self, poll: PollClass, settings: bool) -> str | None:
         """The skip_updates substitution of a read of this class (None: every update)."""
@@ -163,7 +167,7 @@ class DevicePackage:
         """Per register, the range keys of its entities: `force_new_range`, `skip_updates`. A register
         another read's register ends at starts a new range, so ESPHome never joins two reads."""
         keys: dict[str, dict[str, Any]] = {}
-        blocks = planned(self.device, self._entity_registers(), MAX_RANGE_BITS)
+        self.blocks = blocks = planned(self.device, self._entity_registers(), MAX_RANGE_BITS)
         self.widened = self._widened(blocks)
         ends: dict[tuple[str, int], int] = {}
         for index, (block, _, _) in enumerate(blocks):
@@ -222,6 +226,8 @@ class DevicePackage:
         if category is not None:
             made["entity_category"] = category
         self.entities.setdefault(platform, []).append(made)
+        if platform != "button":
+            self.made[key] = (platform, made)
 
     def register(self, reg: Register) -> None:
         if reserved(reg.title):
@@ -246,6 +252,8 @@ class DevicePackage:
             self._bitfields(reg)
         elif reg.enum is not None:
             self._enum(reg)
+        elif reg.scale_from is not None:
+            scaled.add_point(self, reg)
         elif reg.access.writable and reg.raw_min < reg.raw_max and self._writable(reg):
             self._number(reg)
         else:
@@ -473,10 +481,11 @@ class DevicePackage:
     # -- the file ----------------------------------------------------------------------------
 
     def build(self) -> None:
-        for reg in self.selection.registers:
+        for reg in self.registers:
             self.register(reg)
         for command in self.selection.commands:
             self.command(command)
+        scaled.finish(self)
 
     def timing_substitutions(self) -> dict[str, str]:
         """The controller's polling and pacing substitutions (after `build`: which skips it uses)."""
@@ -574,5 +583,6 @@ def render_package(device: Device, selection: Selection) -> Files:
     if any(r.type.words == 4 and r.type.numeric for r in selection.registers):
         about.append("64-bit values: ESPHome publishes a float (24 significant bits).")
     about += gate_notes(device, selection.registers)
+    about += scaled.notes(pkg)
     about += [f"Not generated: {s}" for s in pkg.skipped]
     return {f"{device.id}.yaml": dump(device, about, data)}
