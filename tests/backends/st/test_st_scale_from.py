@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import random
+import re
 import shutil
 from pathlib import Path
 from typing import Any
@@ -168,6 +169,25 @@ def test_a_scale_factor_in_another_block_is_the_one_decoded_last(matiec: Path, t
     assert expected["sf_2"]["w"] == -150000 and expected["unread"]["w"] is None and expected["sf_na"]["w"] is None
 
 
+def test_a_factor_marker_within_the_exact_powers_is_no_value(matiec: Path, tmp_path: Path) -> None:
+    """A map may mark an ordinary-looking factor as "not available" (here w_sf -5): no value, and no write, although
+    10^-5 is an exact power (SunSpec's 0x8000 alone would be refused by |sf| > 22 anyway)."""
+    text = MAP.read_text(encoding="utf-8")
+    old = "default: 1, na: [0x8000], title: AC power scale factor}"
+    device = load_map_text(text.replace(old, old.replace("[0x8000]", "[0x8000, -5]")), "marked.yaml")
+    program = StProgram(device)
+    block = program.blocks[0]
+    cases, expected = [], {}
+    for name, sf in (("marked", -5), ("unmarked", -4)):
+        words = [1234, _sf(-2), 0xFA24, _sf(sf), 0, 7, 0]
+        cases.append(Decode(name, block, tuple(words), _members(device, block)))
+        expected[name] = _python_values(device, block, words)
+    results = program.run(matiec, tmp_path, cases)
+    problems = [p for case, values in expected.items() for p in _compare(device, case, values, results[case])]
+    assert not problems, "\n".join(problems)
+    assert expected["marked"]["w"] is None and expected["unmarked"]["w"] == -0.15
+
+
 # (value, sf, sf available): the runtime's answer decides each; ST's must equal it
 WRITES: tuple[tuple[float, int, bool], ...] = (
     (50.5, -1, True),
@@ -233,3 +253,28 @@ def test_the_st_lists_no_scaled_register_as_not_generated() -> None:
     functions = files["sf_inverter/iec/sf_inverter_functions.st"]
     for name in ("A", "W", "WH"):
         assert f"FUNCTION F_SF_INVERTER_SCALED_{name} : BOOL" in functions
+
+
+def test_a_plant_polls_each_scaled_point_with_its_factor(tmp_path: Path) -> None:
+    """The ST plant files take a scaled map: the bus's poll table reads the device's ST read plan, each point in the
+    request that reads its scale factor."""
+    from regmap.frontend.plant import load_plant
+    from regmap.generate import render_plant
+
+    plant_file = tmp_path / "sfplant.yaml"
+    plant_file.write_text(
+        "format: regmap-plant/1\nplant: {id: sfplant, title: Scaled plant}\nbuses:\n  - name: line1\n"
+        "    serial: {port: /dev/ttyUSB0, baud: 9600, parity: none}\n    devices:\n"
+        f"      - {{name: inverter, map: {MAP}, slave: 3}}\n",
+        encoding="utf-8",
+    )
+    files = render_plant(load_plant(plant_file), ["st"])["st"]
+    constants = files["sfplant_plant/sfplant_plant_constants.st"]
+    rows = re.findall(r"\(DEVICE := \d+, SLAVE := 3, FUNCTION_CODE := 16#03, START_ADDR := 16#(\w+), COUNT := (\d+)\)", constants)
+    device = load_map(MAP)
+    blocks = {(b.address, b.count) for b in StProgram(device).blocks}
+    assert {(int(address, 16), int(count)) for address, count in rows} == blocks
+    for reg in device.registers:
+        if reg.scale_from is not None:
+            sf = device.register(reg.scale_from)
+            assert any(a <= min(reg.address, sf.address) and max(reg.last_address, sf.address) < a + c for a, c in blocks), reg.name

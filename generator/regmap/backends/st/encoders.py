@@ -136,7 +136,9 @@ def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionVie
         elif r.scale_from is not None:
             put = _put_words(names.device, r, _output(r)[0])
             name = StIdentifier("F", names.prefix, "ENCODE", label)
-            functions.append(scaling.encoder(names, r, label, put, _refuse_destructive(names.device, r, name) + _refuse_na(r, name, "nRaw")))
+            functions.append(
+                scaling.encoder(names, r, label, put, _refuse_destructive(names.device, r, name) + _refuse_na(r, name, "nRaw"))
+            )
         elif r.type.is_float:
             used.add({1: "f16", 2: "f32"}.get(r.words, "f64"))
             functions.append(_float_encoder(names, helpers, r, label))

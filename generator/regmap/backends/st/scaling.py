@@ -112,7 +112,10 @@ def scaled_function(names: Names, reg: Register) -> FunctionView:
         body += _refuse(name, f"NOT ({' AND '.join(marks)})", f"{reg.name} reads its 'not available' marker")
     body += _sf_refusals(names, reg, name)
     body += [*_scale(natural, "fValue"), f"{name} := TRUE;"]
-    inputs = [Member(word, "WORD", f"{reg.name} as read" + (f", word {k} on the wire" if reg.words > 1 else "")) for k, word in enumerate(_word_names(reg))]
+    inputs = [
+        Member(word, "WORD", f"{reg.name} as read" + (f", word {k} on the wire" if reg.words > 1 else ""))
+        for k, word in enumerate(_word_names(reg))
+    ]
     if configurable(names.device, reg):
         inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
     inputs.append(Member("nSf", "INT", f"the raw value of {sf.name}, read with it"))
@@ -128,17 +131,18 @@ def decode_statements(names: Names, reg: Register, raw: str, target: str, availa
     """The block decoder's statements for scaled register R (`raw`: its raw member): with the sf of the same read
     when the block holds it, else the sf its own block decoded last (none yet: not available)."""
     sf = names.device.register(reg.scale_from or "")
+    same_read = sf.name in together
     words = [raw] if reg.words == 1 else [f"{raw}[{k}]" for k in range(reg.words)]
     args = [f"{name} := {word}" for name, word in zip(_word_names(reg), words, strict=True)]
     if configurable(names.device, reg):
         args.append("bHighWordFirst := bHighWordFirst")
-    if sf.name in together:
+    if same_read:
         sf_raw = f"stRaw.{StIdentifier(sf.name)}"
         args.append(f"nSf := {f'WORD_TO_INT(ROL({sf_raw}, 8))' if swapped(sf) else sf_raw}")
     else:
         args.append(f"nSf := stValues.{StIdentifier(sf.name)}")
     call = f"{available} := {scaled_name(reg, names)}({', '.join(args)}, fValue := {target});"
-    if sf.name in together:
+    if same_read:
         return [call]
     return [f"IF stValues.{StIdentifier(sf.name, 'available')} THEN", f"    {call}", "ELSE", f"    {available} := FALSE;", "END_IF;"]
 
