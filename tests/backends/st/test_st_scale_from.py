@@ -210,9 +210,9 @@ WRITES: tuple[tuple[float, int, bool], ...] = (
 )
 
 
-def _python_write(device: Device, value: float, sf: int, available: bool) -> tuple[int, ...] | None:
-    spec = next(s for s in runtime_specs(device) if s.name == "wmax_lim_pct")
-    factor = None if not available or device.register("wmax_lim_pct_sf").is_na(sf) else sf
+def _python_write(device: Device, value: float, sf: int, available: bool, name: str = "wmax_lim_pct") -> tuple[int, ...] | None:
+    spec = next(s for s in runtime_specs(device) if s.name == name)
+    factor = None if not available or device.register(f"{name}_sf").is_na(sf) else sf
     try:
         raw = unscaled(spec, value, factor)
         check_raw(spec, raw)
@@ -278,3 +278,38 @@ def test_a_plant_polls_each_scaled_point_with_its_factor(tmp_path: Path) -> None
         if reg.scale_from is not None:
             sf = device.register(reg.scale_from)
             assert any(a <= min(reg.address, sf.address) and max(reg.last_address, sf.address) < a + c for a, c in blocks), reg.name
+
+
+def test_a_64_bit_point_is_exact_up_to_2_to_the_53(matiec: Path, tmp_path: Path) -> None:
+    """wh as a writable s64 (SunSpec's acc64 counters are 64-bit): decoded and encoded as the Python client does while
+    the raw value is an LREAL exactly; beyond 2^53 the value is within one unit in the last place, and a write refused
+    (the raw integer would not be the one asked for)."""
+    text = MAP.read_text(encoding="utf-8")
+    old_wh, old_sf = "{name: wh, address: 0x0004, type: u32, access: r,", "address: 0x0006, type: s16, access: r, default: 0"
+    assert text.count(old_wh) == 1 and text.count(old_sf) == 1
+    text = text.replace(old_wh, "{name: wh, address: 0x0004, type: s64, access: rw,").replace(old_sf, old_sf.replace("0x0006", "0x0008"))
+    device = load_map_text(text, "wide.yaml")
+    program = StProgram(device)
+    block = program.blocks[0]
+    spec = next(s for s in runtime_specs(device) if s.name == "wh")
+    raws = {"exact": (-123456789012, -3), "limit": (2**53, 2), "beyond": (2**60 + 1, -1)}
+    cases: list[Decode | Encode] = []
+    expected = {}
+    for name, (raw, sf) in raws.items():
+        words = [1234, _sf(-2), 0xFA24, _sf(1), *raw_to_words(spec, raw), _sf(sf)]
+        cases.append(Decode(name, block, tuple(words), ("WH", "WH_AVAILABLE")))
+        expected[name] = _python_values(device, block, words)["wh"]
+    encoder = program.functions["F_SF_INVERTER_ENCODE_WH"]
+    writes = {"w_exact": (-123456789.012, -3), "w_limit": (2.0**53, 0), "w_beyond": (2.0**60, 0), "w_half": (0.0005, -3)}
+    cases += [Encode(name, encoder, value, 4, scale_factor=(sf, True)) for name, (value, sf) in writes.items()]
+    results = program.run(matiec, tmp_path, cases)
+    for name in ("exact", "limit"):
+        assert results[name].values["WH_AVAILABLE"] == "1" and float(results[name].values["WH"]) == float(expected[name]), name
+    beyond = float(results["beyond"].values["WH"])
+    assert results["beyond"].values["WH_AVAILABLE"] == "1" and math.isclose(beyond, float(expected["beyond"]), rel_tol=2**-52)
+    python = {name: _python_write(device, value, sf, True, "wh") for name, (value, sf) in writes.items()}
+    assert results["w_exact"].ok and results["w_exact"].words == python["w_exact"]
+    assert python["w_half"] is None and not results["w_half"].ok and results["w_half"].words == (SENTINEL,) * 4
+    assert python["w_beyond"] is not None, "the divergence case must be one Python sends"
+    assert not results["w_beyond"].ok and results["w_beyond"].words == (SENTINEL,) * 4
+    assert python["w_limit"] is not None and not results["w_limit"].ok  # 2^53 itself: LREAL cannot tell it from 2^53 + 1

@@ -109,6 +109,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
             r.type.words == 4 or r.firmware is not None or codec.swapped(r) or r.poll is not PollClass.NORMAL for r in device.registers
         ),
         "order_input": needs_order_input(device, device.registers),
+        "scaled": scaled,
         "example": example,
     }
 

@@ -137,7 +137,8 @@ class Values:
         if reg.has_na or reg.name in self.factors:
             # The device's "not available" marker is no value: a flag beside the value, which is left as it was.
             available = self.scope.add(StIdentifier(reg.name, "available"), f"the availability flag of {reg.name}", reg.pos)
-            marker = f"carries the device's 'not available' marker ({na_list(reg)})" if reg.has_na else "is not read yet"
+            marker = f"carries the device's 'not available' marker ({na_list(reg)})" if reg.has_na else ""
+            marker += (" or " if marker else "") + ("is not read yet" if reg.name in self.factors else "")
             self.members.append(Member(available, "BOOL", f"FALSE: {reg.name} {marker}"))
             decode = self._value(reg, member, target, comment, locals_, value, natural, raw)
             return [
