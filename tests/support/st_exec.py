@@ -41,6 +41,7 @@ class Decode:
     words: tuple[int, ...]  # one per address of the block (a bit block: one bit per address)
     members: tuple[str, ...]  # the values members to print
     high_word_first: bool | None = None  # for a decoder that takes the device's word order
+    before: tuple[tuple[Block, tuple[int, ...]], ...] = ()  # blocks decoded first into the same values (a poll's earlier reads)
 
 
 @dataclass(frozen=True)
@@ -50,6 +51,7 @@ class Encode:
     value: int | float | bool | bytes  # an enum member: its index; text: its bytes
     words: int  # output words
     high_word_first: bool | None = None
+    scale_factor: tuple[int, bool] | None = None  # a `scale_from` encoder's nSf and bSfAvailable
 
 
 @dataclass
@@ -122,12 +124,23 @@ class StProgram:
 
     def _decode(self, case: Decode) -> list[str]:
         order = "" if case.high_word_first is None else f", {int(case.high_word_first)}"
+        before: list[str] = []
+        for block, words in case.before:
+            before += [
+                "{",
+                f"    {block.struct.type_name} raw;",
+                "    memset(&raw, 0, sizeof raw);",
+                *("    " + line for line in self._fill(block, words)),
+                f"    (void){block.decode.name}(1, &eno, raw, &v);",
+                "}",
+            ]
         return [
             "{",
             f"    {case.block.struct.type_name} raw;",
             f"    {self.values_type} v;",
             "    memset(&raw, 0, sizeof raw);",
             "    memset(&v, 0, sizeof v);",
+            *("    " + line for line in before),
             *("    " + line for line in self._fill(case.block, case.words)),
             f"    ok = {case.block.decode.name}(1, &eno, raw{order}, &v);",
             f'    printf("{case.id} %d", (int)ok);',
@@ -168,6 +181,8 @@ class StProgram:
         value_input = next(m for m in function.inputs if m.name != "bHighWordFirst")
         setup, expression = self._literal(value_input.type, case.value)
         args = [expression]
+        if case.scale_factor is not None:
+            args += [f"(INT){case.scale_factor[0]}", str(int(case.scale_factor[1]))]
         if case.high_word_first is not None:
             args.append(str(int(case.high_word_first)))
         return [

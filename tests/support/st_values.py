@@ -30,7 +30,8 @@ def as_f32(value: float) -> float:
 def value_members(reg: Register) -> list[str]:
     if reg.bitfields:
         return [StIdentifier(reg.name), *(StIdentifier(reg.name, b.name) for b in reg.bitfields)]
-    return [StIdentifier(reg.name), *([StIdentifier(reg.name, "available")] if reg.has_na else [])]
+    flagged = reg.has_na or reg.scale_from is not None  # a scaled point: also FALSE for its factor's marker
+    return [StIdentifier(reg.name), *([StIdentifier(reg.name, "available")] if flagged else [])]
 
 
 def edge_words(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list[int]]:
@@ -94,7 +95,7 @@ def compare_value(reg: Register, value: DecodedValue, got: dict[str, str], kind:
     if reg.type.is_string:
         text = bytes.fromhex(st.rstrip("-")).decode(reg.encoding or "ascii", errors="replace")
         return True, [] if text == value.value else [f"ST {text!r}, Python {value.value!r}"]
-    if reg.has_na:
+    if reg.has_na or reg.scale_from is not None:
         available = int(got[StIdentifier(reg.name, "available")])
         if value.value is None:  # the device's "not available" marker: the flag says so, the value is left alone
             return True, [] if available == 0 else [f"ST available for the marker {value.raw!r}, Python None"]

@@ -29,8 +29,9 @@ from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool
 
 PARSE = ROOT / "tests" / "st" / "parse_st.py"
 HOSTILE = ROOT / "tests" / "maps" / "hostile" / "hostile.yaml"
+SCALED_FROM = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"  # scale factors (scale_from)
 CONST = re.compile(r"^\s+([A-Z0-9_]+) : ([A-Z]+(?:\(\d+\))?) := (.+?);(?: \(\*.*\*\))?$", re.M)
-ALL_MAPS = [*MAPS, *FIXTURE_MAPS]
+ALL_MAPS = [*MAPS, *FIXTURE_MAPS, SCALED_FROM]
 SPACE_TAG = {"holding": "", "input": "INPUT_", "coil": "COIL_", "discrete_input": "DISCRETE_"}
 
 
@@ -43,7 +44,7 @@ def st_python() -> Path:
 def out(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The ST of every map and of the hostile map, as `regmap generate --target st` writes it."""
     root = tmp_path_factory.mktemp("st")
-    devices = [load_map(p, display_name=p.relative_to(ROOT).as_posix()) for p in [*MAPS, HOSTILE, *FIXTURE_MAPS]]
+    devices = [load_map(p, display_name=p.relative_to(ROOT).as_posix()) for p in [*MAPS, HOSTILE, *FIXTURE_MAPS, SCALED_FROM]]
     for rel, text in render(devices, ["st"])["st"].items():
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         (root / rel).write_text(text, encoding="utf-8")

@@ -24,6 +24,7 @@ from conftest import FIXTURE_MAPS, MAPS, ROOT, SHARED, built_tool, skip_or_fail
 
 VALIDATE = ROOT / "tests" / "st" / "validate_plcopen.py"
 HOSTILE = ROOT / "tests" / "maps" / "hostile" / "hostile.yaml"
+SCALED_FROM = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"  # scale factors (scale_from)
 NS = {"p": "http://www.plcopen.org/xml/tc6_0201", "x": "http://www.w3.org/1999/xhtml"}
 FLOAT_HELPER = re.compile(r"^F_[A-Z0-9_]+_F(?:32|64)_(?:FROM|TO)_BITS$")
 FUNCTION = re.compile(r"^FUNCTION (\w+) : (\S+)\n(.*?)^END_FUNCTION$", re.M | re.S)
@@ -36,7 +37,7 @@ LISTS = {"VAR_INPUT": "inputVars", "VAR_IN_OUT": "inOutVars", "VAR": "localVars"
 @pytest.fixture(scope="module")
 def out(tmp_path_factory: pytest.TempPathFactory) -> Path:
     root = tmp_path_factory.mktemp("st-plcopen")
-    devices = [load_map(p, display_name=p.relative_to(ROOT).as_posix()) for p in [*MAPS, HOSTILE, *FIXTURE_MAPS]]
+    devices = [load_map(p, display_name=p.relative_to(ROOT).as_posix()) for p in [*MAPS, HOSTILE, *FIXTURE_MAPS, SCALED_FROM]]
     for rel, text in render(devices, ["st"])["st"].items():
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         (root / rel).write_text(text, encoding="utf-8")
@@ -63,7 +64,7 @@ def _validate(schema: Path, files: list[Path]) -> list[str]:
 
 def test_every_project_validates_against_the_tc6_schema(schema: Path, out: Path) -> None:
     files = sorted(out.glob("*/plcopen/*.xml"))
-    assert len(files) == len(MAPS) + len(FIXTURE_MAPS) + 1
+    assert len(files) == len(MAPS) + len(FIXTURE_MAPS) + 2
     assert _validate(schema, files) == []
 
 
@@ -106,7 +107,7 @@ def _st_functions(path: Path) -> dict[str, tuple[str, dict[str, list[tuple[str, 
     return out
 
 
-@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS], ids=lambda p: p.stem)
+@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS, SCALED_FROM], ids=lambda p: p.stem)
 def test_the_project_holds_what_the_codesys_files_hold(map_path: Path, out: Path) -> None:
     device_id = load_map(map_path).id
     root = ET.parse(out / device_id / "plcopen" / f"{device_id}.xml").getroot()

@@ -43,8 +43,10 @@ from support.st_poll import PollBench, Run, WriteStep
 from support.st_values import block_words, compare_value, edge_words, example_data, order_flag, register_spec
 
 RUNTIMES = ("codesys", "twincat")
+SCALED_FROM = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"  # scale factors (scale_from)
 PARSE = ROOT / "tests" / "st" / "parse_st.py"
 FAULTS = {2: "timeout", 3: "exception"}  # the second request gets no reply, the third an exception
+SCALE_FACTOR = -1  # a scale factor's word in the image and a scaled write's nSf (the s16 edges are no real device's)
 
 
 @pytest.fixture(scope="session")
@@ -65,6 +67,9 @@ def _image(bench: PollBench) -> tuple[dict[str, dict[int, int]], list[list[int]]
         words = block_words(block, edge_words(specs, "max" if index % 2 else "min"))
         for k, word in enumerate(words):
             image[block.space][block.address + k] = word
+        for reg in block.registers:
+            if any(r.scale_from == reg.name for r in device.registers):
+                image[block.space][reg.address] = SCALE_FACTOR & 0xFFFF
     for _, kind, space, address, words in example_data(device):  # the manuals' read responses, over the edges
         if kind == "read":
             for k, word in enumerate(words):
@@ -98,7 +103,14 @@ def _accepted_raw(device: Device, reg: Register) -> int:
     return next(int(r) for r in (reg.raw_min + 1, reg.raw_max, reg.raw_min) if r != 0 and not any(lo <= r <= hi for lo, hi in taken))
 
 
-def _c_value(device: Device, reg: Register, raw: int) -> str:
+def _c_value(device: Device, reg: Register, raw: int) -> tuple[str, ...]:
+    """The WRITE function's arguments for the raw value (a scaled point's: its value at SCALE_FACTOR, nSf, bSfAvailable)."""
+    if reg.scale_from is not None:
+        return (f"(LREAL){raw / 10**-SCALE_FACTOR!r}", f"(INT){SCALE_FACTOR}", "1")
+    return (_c_number(device, reg, raw),)
+
+
+def _c_number(device: Device, reg: Register, raw: int) -> str:
     if reg.scaled or reg.offset_set:
         return f"(LREAL){float(raw_to_value(register_spec(device, reg), raw))!r}"
     return f"({'UINT' if reg.type.value == 'u16' else 'INT' if reg.type.value == 's16' else 'UDINT' if reg.type.value == 'u32' else 'DINT'}){raw}LL"
@@ -172,7 +184,7 @@ def _reads(bench: PollBench, run: Run, per_block: list[list[int]], high_word_fir
 
 
 @pytest.mark.parametrize("runtime", RUNTIMES)
-@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS], ids=lambda p: p.stem)
+@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS, SCALED_FROM], ids=lambda p: p.stem)
 def test_poller_reads_the_plan_and_writes_once(map_path: Path, runtime: str, matiec: Path, tmp_path: Path) -> None:
     device = load_map(map_path, display_name=map_path.relative_to(ROOT).as_posix())
     bench = PollBench(device, runtime)
@@ -184,8 +196,8 @@ def test_poller_reads_the_plan_and_writes_once(map_path: Path, runtime: str, mat
         accepted = _accepted_raw(device, reg)
         cycles = 8 * len(bench.plan) + 20  # more than a pass: a re-sent write would show
         steps = [
-            WriteStep("refused", function, (_c_value(device, reg, int(reg.raw_max) + 1),), cycles),
-            WriteStep("timeout", function, (_c_value(device, reg, accepted),), cycles, fault="timeout"),
+            WriteStep("refused", function, _c_value(device, reg, int(reg.raw_max) + 1), cycles),
+            WriteStep("timeout", function, _c_value(device, reg, accepted), cycles, fault="timeout"),
         ]
     high_word_first = order_flag(device, None)
     run = bench.run(matiec, tmp_path, image, FAULTS, steps, high_word_first=high_word_first)
@@ -225,7 +237,7 @@ def st_python() -> Path:
 def test_vendor_pollers_parse_with_blark(st_python: Path, tmp_path: Path) -> None:
     """The CODESYS and TwinCAT text as generated (namespaces, actions, ADR, SIZEOF): blark, TwinCAT's grammar,
     reads the pollers of the fixture maps, whose logic is every map's."""
-    devices = [load_map(p, display_name=p.relative_to(ROOT).as_posix()) for p in FIXTURE_MAPS]
+    devices = [load_map(p, display_name=p.relative_to(ROOT).as_posix()) for p in [*FIXTURE_MAPS, SCALED_FROM]]
     files = []
     for rel, text in render(devices, ["st"])["st"].items():
         if rel.endswith("_poll.st"):

@@ -57,7 +57,7 @@ def render_device(device: Device) -> Files:
         )
     files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(device))
     codesys = views["codesys"]
-    plain = [f for f in codesys["write_functions"][1:] if not any(m.name == "nIndex" for m in f.inputs)]
+    plain = [f for f in codesys["write_functions"][1:] if not any(m.name in ("nIndex", "nSf") for m in f.inputs)]
     example = {"function": plain[0].name, "input": plain[0].inputs[0].name} if plain else None
     files[f"{device.id}/README.md"] = env.get_template("README.md.jinja").render(
         **codesys,
@@ -94,6 +94,7 @@ TARGET = Target(
     order=40,
     reserved_words=RESERVED_WORDS,
     plant=render_plant,
+    scale_from=True,  # F_<DEV>_SCALED_<R> and the encoders take the scale factor (scaling.py)
 )
 
 __all__ = ["DIALECTS", "TARGET", "StIdentifier", "check", "contexts", "device_views", "render_device", "render_shared", "st_string"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from regmap.backends.st import codec, half
+from regmap.backends.st import codec, half, scaling
 from regmap.backends.st.codec import Dialect
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoder_targets, encoders
 from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
@@ -60,10 +60,15 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
     )
     functions = [*enum_functions(names, dialect, enums), *bitfield_functions(names)]
     functions += helper_functions(names, dialect, helpers, values.used)
+    scaled = [r for r in device.registers if r.scale_from is not None]
+    if scaled:
+        functions += [scaling.power_function(names), *(scaling.scaled_function(names, r) for r in scaled if r.access.readable)]
     functions += [b.decode for b in plan]
     functions += writers
     functions += command_functions(names)
-    writable = next((r for r in device.registers if r.access.writable and r.array is None and not r.bitfields), None)
+    writable = next(
+        (r for r in device.registers if r.access.writable and r.array is None and not r.bitfields and r.scale_from is None), None
+    )
     example = None
     if writable is not None:
         example = {
@@ -104,6 +109,7 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
             r.type.words == 4 or r.firmware is not None or codec.swapped(r) or r.poll is not PollClass.NORMAL for r in device.registers
         ),
         "order_input": needs_order_input(device, device.registers),
+        "scaled": scaled,
         "example": example,
     }
 

@@ -3,6 +3,7 @@ what the Python client refuses: out of range, not a member, NaN, text that does 
 
 from __future__ import annotations
 
+from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
     Helpers,
@@ -132,6 +133,12 @@ def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionVie
             functions.append(_text_encoder(names, helpers, r, label))
         elif r.type.is_bool:
             functions.append(_bit_encoder(names, r, label))
+        elif r.scale_from is not None:
+            put = _put_words(names.device, r, _output(r)[0])
+            name = StIdentifier("F", names.prefix, "ENCODE", label)
+            functions.append(
+                scaling.encoder(names, r, label, put, _refuse_destructive(names.device, r, name) + _refuse_na(r, name, "nRaw"))
+            )
         elif r.type.is_float:
             used.add({1: "f16", 2: "f32"}.get(r.words, "f64"))
             functions.append(_float_encoder(names, helpers, r, label))

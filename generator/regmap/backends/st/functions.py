@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
     Dialect,
@@ -64,7 +65,8 @@ class Block:
 def _raw_member_type(reg: Register) -> str:
     if reg.words > 1:
         return f"ARRAY[0..{reg.words - 1}] OF WORD"
-    return "WORD" if reg.bitfields or swapped(reg) or reg.type is DataType.F16 else NATURAL[reg.type]  # a half: its bits
+    # a half: its bits; a scaled point: its word, for F_<DEV>_SCALED_<R>
+    return "WORD" if reg.bitfields or swapped(reg) or reg.type is DataType.F16 or reg.scale_from else NATURAL[reg.type]
 
 
 def _combine(device: Device, reg: Register, words: str) -> list[str]:
@@ -88,14 +90,24 @@ class Values:
         self.members: list[Member] = []
         self.type_name = names.type("ST", "VALUES", what="the values struct")
         self.used: set[str] = set()  # helpers the decoders call: f32, f64, char
+        # the scale factors: each gets an availability flag, FALSE until read (a point in another block waits for it)
+        self.factors = {r.scale_from for r in names.device.registers if r.scale_from is not None}
 
-    def add(self, reg: Register, locals_: dict[str, str], bit: tuple[int, int] | None = None) -> list[str]:
-        """Declare the register's members; the statements that decode it from `stRaw` (a bit: (byte, mask) in stRaw.BITS)."""
+    def add(
+        self, reg: Register, locals_: dict[str, str], bit: tuple[int, int] | None = None, together: frozenset[str] = frozenset()
+    ) -> list[str]:
+        """Declare the register's members; the statements that decode it from `stRaw` (a bit: (byte, mask) in stRaw.BITS;
+        `together`: the registers of the same block, whose raw values the decoder has)."""
         names = self.names
         member = self.scope.add(StIdentifier(reg.name), f"register {reg.name}", reg.pos)
         raw = f"stRaw.{member}"
         target = f"stValues.{member}"
         comment = _register_comment(reg)
+        if reg.scale_from is not None:
+            available = self.scope.add(StIdentifier(reg.name, "available"), f"the availability flag of {reg.name}", reg.pos)
+            why = f"FALSE: {reg.name} or {reg.scale_from} reads 'not available', {reg.scale_from} is not read yet or |sf| > 22"
+            self.members += [Member(member, "LREAL", comment), Member(available, "BOOL", why)]
+            return scaling.decode_statements(names, reg, raw, target, f"stValues.{available}", together)
         if reg.type.is_bool:
             assert bit is not None
             self.members.append(Member(member, "BOOL", comment))
@@ -122,16 +134,16 @@ class Values:
             value = f"WORD_TO_{natural}(ROL({raw}, 8))"
         else:
             value = raw
-        if reg.has_na:
+        if reg.has_na or reg.name in self.factors:
             # The device's "not available" marker is no value: a flag beside the value, which is left as it was.
             available = self.scope.add(StIdentifier(reg.name, "available"), f"the availability flag of {reg.name}", reg.pos)
-            self.members.append(
-                Member(available, "BOOL", f"FALSE: {reg.name} carries the device's 'not available' marker ({na_list(reg)})")
-            )
+            marker = f"carries the device's 'not available' marker ({na_list(reg)})" if reg.has_na else ""
+            marker += (" or " if marker else "") + ("is not read yet" if reg.name in self.factors else "")
+            self.members.append(Member(available, "BOOL", f"FALSE: {reg.name} {marker}"))
             decode = self._value(reg, member, target, comment, locals_, value, natural, raw)
             return [
                 *lines,
-                f"stValues.{available} := {' AND '.join(_na_conditions(reg, value))};",
+                f"stValues.{available} := {' AND '.join(_na_conditions(reg, value)) or 'TRUE'};",
                 f"IF stValues.{available} THEN",
                 *(f"    {line}" for line in decode),
                 "END_IF;",
@@ -398,7 +410,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
             if bits:
                 offset = reg.address - block.address
                 bit = (offset // 8, 1 << (offset % 8))
-            body += values.add(reg, local_types, bit)
+            body += values.add(reg, local_types, bit, frozenset(r.name for r in regs))
         name = names.function("DECODE", tag, what=what)
         body.append(f"{name} := bOk;")
         inputs = [Member("stRaw", struct.type_name)]

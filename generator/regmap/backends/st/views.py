@@ -401,6 +401,8 @@ def _register_comment(reg: Register) -> str:
         facts.append(f"unit {reg.unit}")
     if reg.scaled:
         facts.append(f"scale {number(reg.scale)}")
+    if reg.scale_from is not None:
+        facts.append(f"value = raw x 10^{reg.scale_from} (LREAL)")
     if reg.enum is not None:
         facts.append(f"values: enum {reg.enum.name}")
     if reg.paired:
