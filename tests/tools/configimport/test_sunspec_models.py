@@ -224,6 +224,11 @@ def test_the_generated_client_of_a_chained_device_decodes_as_pysunspec2(python: 
     differences, absent, counts = _compare(python, blocks, expected, computed)
     assert differences == [] and absent == []
     assert counts["scaled"] > 0 and counts["scaled_values"] > 0
+    # model 160's repeating block: each module's DCA, DCV, DCW and DCWH scaled by the factor in the fixed block,
+    # compared as values (pysunspec2's cvalue), not raw
+    repeated = {f"module_{n}_{point}" for n in range(1, REPEATS + 1) for point in ("dca", "dcv", "dcw", "dcwh")}
+    assert repeated <= set(computed[2]), sorted(computed[2])
+    assert {device.register(f"m160_{name}").scale_from for name in repeated} == {f"m160_{p}_sf" for p in ("dca", "dcv", "dcw", "dcwh")}
     assert sum(map(len, expected)) == len(device.registers) - 3  # every point but the SunS and end markers
 
 

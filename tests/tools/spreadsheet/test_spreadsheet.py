@@ -320,7 +320,10 @@ def test_new_writes_a_skeleton_that_validates(tmp_path: Path) -> None:
 # -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes --
 
 # issue #35: registers scaled by a scale-factor register (scale_from) go through the same round trips
-FIXTURES = [*sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml")), ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"]
+FIXTURES = [
+    *sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml")),
+    *sorted((ROOT / "tests" / "maps" / "scaled_from").glob("*.yaml")),
+]
 NEW_COLUMNS = [
     *("space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na", "zone", "variants"),
     "scale_from",
