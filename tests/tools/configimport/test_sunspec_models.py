@@ -232,6 +232,18 @@ def test_the_generated_client_of_a_chained_device_decodes_as_pysunspec2(python: 
     assert sum(map(len, expected)) == len(device.registers) - 3  # every point but the SunS and end markers
 
 
+def test_address_points_say_how_their_raw_value_reads(python: Path) -> None:
+    """An EUI-48, an IPv4 and an IPv6 address have no display form in a map: each is read raw, and its note says how."""
+    files = {int(p.stem.split("_")[1]): p for p in model_files(python)}
+    notes: dict[str, str] = {}
+    for mid in (11, 63001):
+        (found,) = sunspec.device(sunspec.read_models([files[mid]])).devices
+        notes |= {reg.key: " ".join(reg.notes) for reg in found.registers}
+    assert "an EUI-48: the low six bytes of the u64" in notes["m11_mac"]
+    assert "an IPv4 address: its four bytes high first" in notes["m63001_ipaddr"]
+    assert "an IPv6 address: its 16 bytes as latin-1 text" in notes["m63001_ipv6addr"]
+
+
 BAD_MODELS = [
     (
         '{"id": 1, "group": {"name": "common", "points": [{"name": "ID", "type": "int8"}]}}',
