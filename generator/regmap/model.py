@@ -477,11 +477,20 @@ class Device:
         def keep(reg: Register) -> bool:
             return reg.name not in gone
 
+        # an array member scaled by a register goes with its elements (one factor scales them all)
+        members_gone = {(r.array.array, r.array.member) for r in self.registers if r.array is not None and r.name in gone}
+
+        def trim(a: ArrayDef) -> ArrayDef:
+            return replace(a, members=tuple(m for m in a.members if (a.name, m.name) not in members_gone))
+
+        def arrays(g: Group) -> tuple[ArrayDef, ...]:
+            return tuple(t for t in map(trim, g.arrays) if t.members)
+
         examples = tuple(x for x in self.examples if all(keep(v.register) for v in x.values))
         commands = tuple(c for c in self.commands if keep(c.register))
         return replace(
             self,
-            groups=tuple(replace(g, registers=tuple(filter(keep, g.registers))) for g in self.groups),
+            groups=tuple(replace(g, registers=tuple(filter(keep, g.registers)), arrays=arrays(g)) for g in self.groups),
             registers=tuple(filter(keep, self.registers)),
             examples=examples,
             commands=commands,

@@ -84,16 +84,22 @@ def test_a_plant_target_refuses_a_scaled_map(monkeypatch: pytest.MonkeyPatch) ->
         generate.render_plant(_Plant(), ["st"])  # type: ignore[arg-type]
 
 
-def test_the_json_contract_names_the_factor_and_the_spreadsheets_refuse_it() -> None:
+def test_the_json_contract_and_the_spreadsheets_name_the_factor() -> None:
+    import csv
+    import io
+
     from regmap.core.contract import export_json
-    from regmap.tools.spreadsheet.export import export_csv, export_xlsx
+    from regmap.tools.spreadsheet.export import export_csv
 
     device = load_map(MAP)
     exported = {r["name"]: r["scale_from"] for r in export_json(device)["registers"]}
     assert exported == {reg.name: reg.scale_from for reg in device.registers}
-    for export in (export_csv, export_xlsx):
-        with pytest.raises(UsageError, match="cannot carry scale_from"):
-            export(device)
+    rows = list(csv.DictReader(io.StringIO(export_csv(device).lstrip("\ufeff"))))
+    assert {r["name"]: r["scale_from"] or None for r in rows} == exported
+    # raw x 10^sf is known only on the bus: a scaled register's value columns stay blank, its raw ones are raw
+    scaled = [r for r in rows if r["scale_from"]]
+    assert {(r["min_value"], r["max_value"], r["default_value"]) for r in scaled} == {("", "", "")}
+    assert {r["name"]: r["default"] for r in scaled} == {reg.name: str(reg.default) for reg in device.registers if reg.scale_from}
 
 
 def test_diff_reports_a_scale_factor_added_or_removed_as_a_scale_change() -> None:

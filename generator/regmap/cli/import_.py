@@ -135,7 +135,8 @@ def run(args: argparse.Namespace) -> int:
         table = read_table(args.table, args.sheet, mapping)
         print(f"{table.label}: header in row {table.header_row}; columns:")
         print("\n".join(table.describe_columns()))
-        entries, problems = read_entries(table, param_rules(rules), args.addresses or mapping.addresses)
+        known = {r.name: r.type.value for r in device.registers} if device is not None else {}  # scale factors of the map
+        entries, problems = read_entries(table, param_rules(rules), args.addresses or mapping.addresses, known)
         for line in table.said:
             print(f"  {line}")
     except TableError as exc:

@@ -146,21 +146,30 @@ class _CrossReferences:
     def _check_scale_from(self) -> None:
         """A `scale_from` names a readable s16 register (the sf, read as its signed raw value) that is no scaled point itself."""
         by_name = {reg.name: reg for reg in self.registers}
+        reported: set[tuple[str | int, ...]] = set()  # an array member's factor is every element's: one mistake, said once
         for reg, path in zip(self.registers, self.register_paths, strict=True):
-            if reg.scale_from is None:
+            if reg.scale_from is None or tuple(path) in reported:
                 continue
             sf = by_name.get(reg.scale_from)
             where = (*path, "scale_from")
+            name = reg.name if reg.array is None else f"array {reg.array.array} member {reg.array.member}"
+            found = len(self.problems.found())
             if sf is None:
-                self.problems.add(where, f"{reg.name}: scale_from names unknown register {reg.scale_from!r}")
+                self.problems.add(where, f"{name}: scale_from names unknown register {reg.scale_from!r}")
             elif sf.type is not DataType.S16:
-                self.problems.add(where, f"{reg.name}: scale_from {sf.name} is {sf.type.value}; a scale factor is an s16 register")
+                self.problems.add(where, f"{name}: scale_from {sf.name} is {sf.type.value}; a scale factor is an s16 register")
             elif not sf.access.readable:
-                self.problems.add(where, f"{reg.name}: scale_from {sf.name} is write-only; the scale factor is read from the device")
+                self.problems.add(where, f"{name}: scale_from {sf.name} is write-only; the scale factor is read from the device")
             elif sf.scale_from is not None:
+                self.problems.add(where, f"{name}: scale_from {sf.name} is itself scaled by {sf.scale_from}; a scale factor is a plain s16")
+            elif reg.array is not None and sf.array is not None and sf.array.array == reg.array.array:
                 self.problems.add(
-                    where, f"{reg.name}: scale_from {sf.name} is itself scaled by {sf.scale_from}; a scale factor is a plain s16"
+                    where,
+                    f"{name}: scale_from {sf.name} is one element of array {sf.array.array}, yet every element would scale by it; "
+                    "a member's factor is one register outside its array",
                 )
+            if len(self.problems.found()) > found:
+                reported.add(tuple(path))
 
     def _selector_index(self) -> dict[str, Register]:
         index: dict[str, Register] = {}

@@ -224,7 +224,24 @@ def test_the_generated_client_of_a_chained_device_decodes_as_pysunspec2(python: 
     differences, absent, counts = _compare(python, blocks, expected, computed)
     assert differences == [] and absent == []
     assert counts["scaled"] > 0 and counts["scaled_values"] > 0
+    # model 160's repeating block: each module's DCA, DCV, DCW and DCWH scaled by the factor in the fixed block,
+    # compared as values (pysunspec2's cvalue), not raw
+    repeated = {f"module_{n}_{point}" for n in range(1, REPEATS + 1) for point in ("dca", "dcv", "dcw", "dcwh")}
+    assert repeated <= set(computed[2]), sorted(computed[2])
+    assert {device.register(f"m160_{name}").scale_from for name in repeated} == {f"m160_{p}_sf" for p in ("dca", "dcv", "dcw", "dcwh")}
     assert sum(map(len, expected)) == len(device.registers) - 3  # every point but the SunS and end markers
+
+
+def test_address_points_say_how_their_raw_value_reads(python: Path) -> None:
+    """An EUI-48, an IPv4 and an IPv6 address have no display form in a map: each is read raw, and its note says how."""
+    files = {int(p.stem.split("_")[1]): p for p in model_files(python)}
+    notes: dict[str, str] = {}
+    for mid in (11, 63001):
+        (found,) = sunspec.device(sunspec.read_models([files[mid]])).devices
+        notes |= {reg.key: " ".join(reg.notes) for reg in found.registers}
+    assert "an EUI-48: the low six bytes of the u64" in notes["m11_mac"]
+    assert "an IPv4 address: its four bytes high first" in notes["m63001_ipaddr"]
+    assert "an IPv6 address: its 16 bytes as latin-1 text" in notes["m63001_ipv6addr"]
 
 
 BAD_MODELS = [

@@ -319,8 +319,15 @@ def test_new_writes_a_skeleton_that_validates(tmp_path: Path) -> None:
 
 # -- issue #19: spaces, wide and float types, strings, byte order, offsets, gates, poll classes --
 
-FIXTURES = sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml"))
-NEW_COLUMNS = ["space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na", "zone", "variants"]
+# issue #35: registers scaled by a scale-factor register (scale_from) go through the same round trips
+FIXTURES = [
+    *sorted((ROOT / "tests" / "maps" / "fixtures").glob("*.yaml")),
+    *sorted((ROOT / "tests" / "maps" / "scaled_from").glob("*.yaml")),
+]
+NEW_COLUMNS = [
+    *("space", "byte_order", "offset", "encoding", "padding", "firmware_from", "firmware_until", "poll", "na", "zone", "variants"),
+    "scale_from",
+]
 
 
 def _wire(r: Register) -> dict[str, Any]:
@@ -346,6 +353,7 @@ def _wire(r: Register) -> dict[str, Any]:
         "poll": r.poll.value,
         "na": (r.na, r.na_nan),  # issue #34: the "not available" markers survive the round trip
         "zone": r.zone,  # issue #34: a timestamp's clock survives the round trip
+        "scale_from": r.scale_from,  # issue #35: the scale-factor register survives the round trip
         "unit": r.unit,
         "title": r.title,
     }
@@ -377,6 +385,7 @@ def _draft_wire(r: dict[str, Any]) -> dict[str, Any]:
         "poll": r.get("poll", "normal"),
         "na": _draft_na(kind, r.get("na") or []),
         "zone": r.get("zone"),
+        "scale_from": r.get("scale_from"),
         "unit": r.get("unit"),
         "title": r["title"],
     }
@@ -395,7 +404,9 @@ def test_seed_exports_only_gain_columns_at_the_end() -> None:
         rows = list(csv.reader(io.StringIO(export_csv(load_map(path)).lstrip("\ufeff"))))
         assert rows[0][-len(NEW_COLUMNS) :] == NEW_COLUMNS
         assert rows[0][: -len(NEW_COLUMNS)][:4] == ["name", "param", "address_hex", "address"]
-        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {("holding", "high_first", "0", "", "", "", "", "normal", "", "", "")}
+        assert {tuple(r[-len(NEW_COLUMNS) :]) for r in rows[1:]} == {
+            ("holding", "high_first", "0", "", "", "", "", "normal", "", "", "", "")
+        }
 
 
 @pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.stem)

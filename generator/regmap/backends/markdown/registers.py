@@ -296,7 +296,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 unit=first.unit or md.DASH,
             )
         )
-        if first.enum is not None or first.bitfields or first.description or first.notes or errata:
+        if first.enum is not None or first.bitfields or first.description or first.notes or errata or first.scale_from:  # says raw x 10^sf
             facts = [Fact("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
             if first.param and regs[-1].param:
                 facts.append(Fact("Parameter", md.escaped(f"{first.param} … {regs[-1].param}")))

@@ -12,7 +12,7 @@ integer point, found as pysunspec2 finds it (in the point's own group, else amon
 What a map cannot say is a note on the register and a line of the report: a scale factor on a point that is no
 plain integer or that names no `sunssf` point, the value that means
 "not implemented" on the other points (0xFFFF, 0x8000, NaN ...), an EUI-48 (read as the u64 of
-its four words) and an IPv6 address (its 16 bytes as latin-1 text). A repeating group whose count the
+its four words), an IPv4 address (the u32 of its four bytes) and an IPv6 address (its 16 bytes as latin-1 text). A repeating group whose count the
 device gives (count 0 or the name of a point) is repeated `repeats` times: the caller says how many the
 device has.
 """
@@ -143,6 +143,8 @@ def _register(point: Point, address: int, model: dict[str, Any], prefix: str, or
         reg.notes.append(f"not implemented: {shown} (SunSpec's n/a value)")
     if pdef["type"] == "eui48":
         reg.notes.append("an EUI-48: the low six bytes of the u64")
+    if pdef["type"] == "ipaddr":  # the u32 pysunspec2 reads too; the map has no display form for an address
+        reg.notes.append("an IPv4 address: its four bytes high first (0xC0A80101 is 192.168.1.1)")
     if pdef["type"] == "ipv6addr":
         reg.encoding = "latin-1"
         reg.notes.append("an IPv6 address: its 16 bytes as latin-1 text")

@@ -9,7 +9,8 @@ A mapping file (`--columns MAPPING.yaml`) is YAML:
     addresses: modicon                                        # optional, like --addresses: modicon or plain
 
 A "Gain" column divides (value = raw / gain); "Scale", "Multiplier" and "Resolution" multiply
-(value = raw x scale). A header that may mean either ("Factor", "Scale factor", "Coefficient") is
+(value = raw x scale). "Scale factor register" and "SF" (比例因子寄存器) name the s16 register whose raw
+value sf scales the row's register (value = raw x 10^sf, SunSpec). A header that may mean either ("Factor", "Scale factor", "Coefficient") is
 refused until the mapping names it: `columns: {Factor: gain}` or `{Factor: scale}`.
 """
 
@@ -69,6 +70,7 @@ FIELDS: dict[str, str] = {
     "zone": "a timestamp's clock: utc or local (the table's own word; never guessed)",
     "na": "'not available' markers the device sends for no value: 0xFFFF, 0x7FFF, NaN (a float's), comma separated",
     "variants": "the models or options that have the register (device.variants), comma separated; empty: every one",
+    "scale_from": "the name of the s16 scale-factor register (SunSpec's SF): value = raw x 10^sf, sf read from the device",
 }
 
 HEADERS: dict[str, str] = {
@@ -206,6 +208,17 @@ HEADERS: dict[str, str] = {
     "available on": "variants",
     "适用机型": "variants",
     "适用型号": "variants",
+    # a register scaled by another (SunSpec's scale factors): the cell names that s16 register
+    "scale factor register": "scale_from",
+    "scale factor point": "scale_from",
+    "sf register": "scale_from",
+    "sf point": "scale_from",
+    "sf": "scale_from",
+    "scale from": "scale_from",
+    "比例因子寄存器": "scale_from",
+    "比例系数寄存器": "scale_from",
+    "缩放因子寄存器": "scale_from",
+    "倍率寄存器": "scale_from",
 }
 
 

@@ -8,6 +8,10 @@ No cell is a formula (OWASP, CSV injection): a CSV text cell that starts with = 
 title `=HYPERLINK(...)`, `-2+3`) is written behind a single quote, which `regmap import` takes off again, so
 the text comes back as the map has it; a plain number (-500, -0.5) is written as it is. The xlsx writes every
 text cell as a string, never as a formula, marked "quote prefix" so that Excel keeps it text when edited.
+
+A register scaled by another (`scale_from`: value = raw x 10^sf, sf that s16 register's raw value read from the
+device) names it in the `scale_from` column; its engineering columns (min_value, max_value, default_value) stay
+blank, as no value is known before the factor is read: the raw columns are never printed as if they were values.
 """
 
 from __future__ import annotations
@@ -23,7 +27,6 @@ from typing import Any
 
 from regmap.core.contract import export_json, register_json
 from regmap.core.text import na_list
-from regmap.diagnostics import UsageError
 from regmap.model import Device, Register
 from regmap.tools.spreadsheet.table import FORMULA_LEAD
 
@@ -71,6 +74,7 @@ REGISTER_COLUMNS = (
     "na",
     "zone",
     "variants",
+    "scale_from",  # value = raw x 10^(that s16 register's raw value), read from the device: the value columns stay blank
 )
 
 Cell = str | int | float | bool | None
@@ -127,9 +131,9 @@ def register_row(r: Register) -> dict[str, Cell]:
         "min": r.min,
         "max": r.max,
         "default": _raw(r, r.default),
-        "min_value": engineering(r, r.min),
-        "max_value": engineering(r, r.max),
-        "default_value": engineering(r, r.default),
+        "min_value": None if r.scale_from else engineering(r, r.min),  # raw x 10^sf is known only on the bus
+        "max_value": None if r.scale_from else engineering(r, r.max),
+        "default_value": None if r.scale_from else engineering(r, r.default),
         "range_text": r.range_text,
         "enum": j["enum"],
         "bitfields": bitfields_text(r) or None,
@@ -155,6 +159,7 @@ def register_row(r: Register) -> dict[str, Cell]:
         "na": na_list(r) or None,
         "zone": r.zone,
         "variants": ", ".join(r.variants) or None,
+        "scale_from": r.scale_from,
     }
 
 
@@ -162,17 +167,8 @@ def _join(values: Sequence[Any]) -> str | None:
     return ", ".join(str(v) for v in values) or None
 
 
-def refuse_scale_from(device: Device) -> None:
-    """The spreadsheets have no column for `scale_from` yet: a map with one is refused, never exported as if raw
-    were the value (and re-imported without its scale factor)."""
-    scaled = [r.name for r in device.registers if r.scale_from is not None]
-    if scaled:
-        raise UsageError(f"{device.id}: the spreadsheets cannot carry scale_from yet ({', '.join(scaled)}); use regmap export (JSON)")
-
-
 def sheets(device: Device) -> dict[str, tuple[tuple[str, ...], list[dict[str, Cell]]]]:
     """Every sheet of the workbook: name -> (columns, rows). `registers` comes first."""
-    refuse_scale_from(device)
     doc = export_json(device)
     groups = [{"id": g["id"], "title": g["title"], "title_zh": g["title_zh"], "source": _join(g["source"])} for g in doc["groups"]]
     enums = [
@@ -237,7 +233,6 @@ def neutralised(text: str) -> str:
 
 def export_csv(device: Device) -> str:
     """UTF-8 with a BOM (Excel then shows Chinese correctly), CRLF rows, one row per register."""
-    refuse_scale_from(device)
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\r\n")
     writer.writerow(REGISTER_COLUMNS)

@@ -49,6 +49,7 @@ KEY_ORDER = (
     "description",
     "unit",
     "scale",
+    "scale_from",
     "offset",
     "min",
     "max",
@@ -454,6 +455,9 @@ def _settle_printed(e: Entry, reg: Register) -> list[str]:
     refused = []
     kind = reg.type.info.kind
     for key, printed in e.printed.items():
+        if reg.scale_from is not None:  # raw x 10^sf: no value is known before the factor is read
+            refused.append(f"{e.printed_at[key]}: {reg.name}.{key}_value: value = raw x 10^{reg.scale_from}, read at run time: not applied")
+            continue
         current = getattr(reg, key)
         shown = engineering(reg, current)
         if isinstance(shown, int | float) and not isinstance(shown, bool) and Decimal(repr(shown)) == printed:  # as the export prints it

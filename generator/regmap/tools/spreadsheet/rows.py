@@ -12,6 +12,7 @@ from typing import Any
 from regmap.frontend.values import _ParamRule
 from regmap.tools.spreadsheet import cells, times
 from regmap.tools.spreadsheet.cells import CellProblem
+from regmap.tools.spreadsheet.scaled import check_scale_from
 from regmap.tools.spreadsheet.table import Table, TableError
 from regmap_runtime.types import TYPES
 
@@ -31,6 +32,7 @@ class Entry:
     printed_at: dict[str, str] = field(default_factory=dict)  # where each of those cells is
     modicon_space: str | None = None  # the space a Modicon register number names
     value_table: list[tuple[int, str]] = field(default_factory=list)  # the values a range or description cell lists
+    scale_from_at: str = ""  # where the cell naming the scale-factor register is (scaled.check_scale_from reads it)
 
     @property
     def type_unknown(self) -> bool:
@@ -136,6 +138,9 @@ class _Reader:
         self._numbers(e, cells_)
         self._text(e, cells_)
         self._value_table(e, cells_)
+        if (got := self.cell(cells_, "scale_from")) is not None and not cells.blank(got[0]):
+            e.give("scale_from", got[0].strip())  # a register's name or parameter id: resolved by scaled.check_scale_from
+            e.scale_from_at = got[1]
         return e
 
     def _value_table(self, e: Entry, c: list[str]) -> None:
@@ -549,11 +554,13 @@ def address_form(table: Table, told: str | None) -> str:
     return "modicon"
 
 
-def read_entries(table: Table, rules: list[_ParamRule], addresses: str | None = None) -> tuple[list[Entry], list[Problem]]:
+def read_entries(
+    table: Table, rules: list[_ParamRule], addresses: str | None = None, known: dict[str, str] | None = None
+) -> tuple[list[Entry], list[Problem]]:
     """Every row as an entry, and the cells that could not be read.
 
-    Raises TableError for a table that cannot be imported at all: no address column (and no
-    param_ids rule), or two rows at one address.
+    Raises TableError for a table that cannot be imported at all: no address column (and no param_ids rule), two
+    rows at one address, or a scale-factor register that is neither a row nor in `known` (the map's name -> type).
     """
     fields = set(table.columns.values())
     if not fields & {"address", "address_hex"} and not ("param" in fields and rules):
@@ -579,6 +586,7 @@ def read_entries(table: Table, rules: list[_ParamRule], addresses: str | None = 
             )
     if duplicates:
         raise TableError(duplicates)
+    check_scale_from(table, entries, known or {})
     return entries, reader.problems
 
 
