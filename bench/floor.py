@@ -1,10 +1,13 @@
 """Issue #36: `regmap generate` (every target, the three maps) in CPU seconds against the import floor
-`python -c "import jinja2, yaml, jsonschema, regmap"`, cold (REGMAP_NO_CACHE=1: every target rendered) and warm
-(the output cache filled by an untimed run), as the median of the ratios of paired runs; and `regmap import` of a
+`python -c "import jinja2, yaml, jsonschema, regmap"`, cold (REGMAP_NO_CACHE=1: every target rendered from the maps;
+compiled templates cached as Python's bytecode is, by the untimed first run), cold without the template cache either
+(REGMAP_NO_TEMPLATE_CACHE=1 too), and warm (the output cache filled by an untimed run), each as the median of the
+ratios of paired runs. The <= 3x target is judged on the cold run (`JUDGED_ON`); and `regmap import` of a
 20,000-row table (10 columns, u16, scale 0.1): wall and CPU seconds, peak memory, and whether the draft is the
 same bytes as the one made before the change.
 
-Each figure is printed beside the one `BEFORE` holds: the same measurement on commit ac2dd2b, before issue #36.
+Each figure is printed beside the one `BEFORE` holds: the same measurement on commit ac2dd2b, before issue #36, and
+the generate ratios also beside `BEFORE_BRANCH`: the same measurement on 2a842cd, before branch h-genperf's changes.
 """
 
 from __future__ import annotations
@@ -32,6 +35,12 @@ FLOOR_IMPORTS = "import jinja2, yaml, jsonschema, regmap"
 # average 7.3-7.7 on 2 cores; 9 paired runs each). There was no output cache yet, so "warm" renders too.
 BEFORE_COLD = (2.393, 0.191, 13.12)  # generate CPU s, floor CPU s, median ratio
 BEFORE_WARM = (2.316, 0.170, 14.40)
+# `measure_generate(repeats=9)` run with 2a842cd's generator/ first on PYTHONPATH (this branch's base: no template
+# cache, so its cold run is also its "cold, no template cache" run), this machine, 2026-12-07 04:33-04:38 UTC, load
+# average 4-6 on 2 cores from four other jobs. Per-pair cold ratios 11.91-15.06, warm 2.35-3.55.
+BEFORE_BRANCH_COLD = (2.934, 0.218, 12.36)
+BEFORE_BRANCH_WARM = (0.734, 0.231, 3.17)
+JUDGED_ON = "cold"
 BEFORE_IMPORT_WALL_S = 19.85
 BEFORE_IMPORT_CPU_S = 6.49
 BEFORE_IMPORT_MIB = 390.0
@@ -61,15 +70,15 @@ class Ratio:
 
 @dataclass(frozen=True)
 class GenerateFloor:
-    cold: Ratio
-    warm: Ratio
+    cold: Ratio  # no output cache: every target rendered from the maps (compiled templates cached)
+    warm: Ratio  # the output cache filled: unchanged maps neither read nor rendered
+    uncached: Ratio | None = None  # no output cache and no template cache: nothing cached but Python's bytecode
 
     @property
-    def met_by(self) -> str | None:
-        """Which run meets the target: 'cold' (no cache) first, else 'warm', else None."""
-        if self.cold.ratio <= GENERATE_RATIO_TARGET:
-            return "cold"
-        return "warm" if self.warm.ratio <= GENERATE_RATIO_TARGET else None
+    def met(self) -> bool:
+        """The <= 3x target, judged on the cold run: a map that changed is rendered, and that is what users wait for."""
+        judged: Ratio = getattr(self, JUDGED_ON)
+        return judged.ratio <= GENERATE_RATIO_TARGET
 
 
 @dataclass(frozen=True)
@@ -87,12 +96,15 @@ class ImportRun:
         return self.status == 0 and self.wall_s <= IMPORT_TARGET_S and self.peak_mib <= IMPORT_TARGET_MIB
 
 
-def _environment(work: Path, cache: bool) -> dict[str, str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONDONTWRITEBYTECODE", "REGMAP_NO_CACHE")}
+def _environment(work: Path, cache: bool, templates: bool = True) -> dict[str, str]:
+    ours = ("PYTHONDONTWRITEBYTECODE", "REGMAP_NO_CACHE", "REGMAP_NO_TEMPLATE_CACHE")
+    env = {k: v for k, v in os.environ.items() if k not in ours}
     env["PYTHONPYCACHEPREFIX"] = str(work / "pycache")  # as an installed regmap runs: its bytecode cached
     env["REGMAP_CACHE_DIR"] = str(work / "cache")
     if not cache:
         env["REGMAP_NO_CACHE"] = "1"
+    if not templates:
+        env["REGMAP_NO_TEMPLATE_CACHE"] = "1"
     return env
 
 
@@ -108,8 +120,8 @@ def _child(cmd: list[str], env: dict[str, str], cwd: Path = ROOT) -> tuple[float
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024, process.returncode, output
 
 
-def _pairs(work: Path, cache: bool, repeats: int, maps: list[Path] | None) -> Ratio:
-    env = _environment(work, cache)
+def _pairs(work: Path, cache: bool, repeats: int, maps: list[Path] | None, templates: bool = True) -> Ratio:
+    env = _environment(work, cache, templates)
     out = work / "out"
     generate = [*regmap_command(), "generate", *(str(m) for m in maps or []), "--out", str(out)]
     floor = [sys.executable, "-c", FLOOR_IMPORTS]
@@ -131,7 +143,11 @@ def _pairs(work: Path, cache: bool, repeats: int, maps: list[Path] | None) -> Ra
 def measure_generate(repeats: int = 9, maps: list[Path] | None = None) -> GenerateFloor:
     with tempfile.TemporaryDirectory(prefix="regmap-bench-floor-") as tmp:
         work = Path(tmp)
-        return GenerateFloor(cold=_pairs(work, False, repeats, maps), warm=_pairs(work, True, repeats, maps))
+        return GenerateFloor(
+            cold=_pairs(work, False, repeats, maps),
+            warm=_pairs(work, True, repeats, maps),
+            uncached=_pairs(work, False, repeats, maps, templates=False),
+        )
 
 
 def write_table(path: Path, rows: int) -> None:
@@ -162,7 +178,9 @@ def main(argv: list[str]) -> int:
     """`python -m bench.floor [--quick]`: print both measurements."""
     quick = "--quick" in argv
     gen = measure_generate(repeats=1 if quick else 9)
-    for label, ratio in (("cold", gen.cold), ("warm", gen.warm)):
+    for label, ratio in (("cold", gen.cold), ("warm", gen.warm), ("cold, no template cache", gen.uncached)):
+        if ratio is None:
+            continue
         print(f"generate {label}: {ratio.generate:.3f} s CPU, floor {ratio.floor:.3f} s, ratio {ratio.ratio:.2f}")
     run = measure_import(200 if quick else TABLE_ROWS)
     print(f"import {run.rows} rows: {run.wall_s:.2f} s wall, {run.cpu_s:.2f} s CPU, {run.peak_mib:.0f} MiB, exit {run.status}")

@@ -7,11 +7,15 @@ validated identifier or through one of the escaping filters below.
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
+import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import jinja2
+import jinja2.bccache
 
 from regmap.model import Device
 from regmap.plant import Plant
@@ -124,18 +128,56 @@ FILTERS: dict[str, Callable[..., Any]] = {
 }
 
 
+# How every template is compiled: part of the template cache's key, as the compiled code depends on it.
+_ENVIRONMENT_OPTIONS: dict[str, Any] = {"trim_blocks": True, "lstrip_blocks": True, "keep_trailing_newline": True, "autoescape": False}
+NO_TEMPLATE_CACHE_VARIABLE = "REGMAP_NO_TEMPLATE_CACHE"
+
+
+class TemplateCache(jinja2.FileSystemBytecodeCache):
+    """Compiled templates on disk, as Python keeps its bytecode: a template is compiled once per change, not once per
+    run. Jinja rejects an entry whose template source changed (its checksum) or whose Jinja/Python made it (its magic);
+    the directory name holds regmap's version and the environment's options. An entry that cannot be read or written
+    costs the run its compile time, nothing else."""
+
+    def load_bytecode(self, bucket: jinja2.bccache.Bucket) -> None:
+        try:
+            super().load_bytecode(bucket)
+        except Exception:  # a truncated or foreign file: compile the template as if there were no entry
+            bucket.reset()
+
+    def dump_bytecode(self, bucket: jinja2.bccache.Bucket) -> None:
+        try:
+            Path(self.directory).mkdir(parents=True, exist_ok=True)
+            super().dump_bytecode(bucket)
+        except OSError:
+            return
+
+
+def template_cache_dir() -> Path | None:
+    """Where compiled templates live (`$REGMAP_CACHE_DIR/templates`, else `$XDG_CACHE_HOME/regmap/templates`, else
+    `~/.cache/regmap/templates`), one directory per regmap version, Jinja version and environment options; None when
+    `REGMAP_NO_TEMPLATE_CACHE=1`. `REGMAP_NO_CACHE` (the output cache) leaves it on, as Python's bytecode stays on."""
+    from regmap import __version__
+
+    if os.environ.get(NO_TEMPLATE_CACHE_VARIABLE, "") not in ("", "0"):
+        return None
+    explicit = os.environ.get("REGMAP_CACHE_DIR")
+    base = Path(explicit) if explicit else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "regmap"
+    options = hashlib.sha256(json.dumps(_ENVIRONMENT_OPTIONS, sort_keys=True).encode()).hexdigest()[:12]
+    return base / "templates" / f"regmap-{__version__}-jinja-{jinja2.__version__}-{options}"
+
+
 @functools.cache
 def templates(module: str) -> jinja2.Environment:
     """The environment of the back end that `module` (a module's `__name__`) belongs to: the templates in
     the `templates/` folder beside that module, so a back end is one folder. Built once per process, so
-    each template is compiled once, not once per device."""
+    each template is compiled once, not once per device (and, with the template cache, once per change)."""
+    where = template_cache_dir()
     env = jinja2.Environment(
         loader=jinja2.PackageLoader(module, "templates"),
         undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
+        bytecode_cache=TemplateCache(str(where)) if where is not None else None,
+        **_ENVIRONMENT_OPTIONS,
     )
     env.filters.update(FILTERS)
     return env

@@ -14,7 +14,6 @@ from typing import Any
 from regmap.model import ByteOrder, Device, EnumType, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap_runtime.align import Alignment
-from regmap_runtime.line import frame_s, interleave
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
@@ -278,6 +277,8 @@ class BusSchedule:
         line = self.bus.serial
         if line is None:
             return None
+        from regmap_runtime.line import frame_s  # plants only: the line module brings pymodbus, which maps never need here
+
         frames = frame_s(READ_REQUEST_BYTES + entry.reply_bytes, line.character_bits, line.baud)
         return frames + entry.device.turnaround_s(line.baud) + line.silence_s
 
@@ -292,6 +293,8 @@ def bus_schedule(bus: Bus) -> BusSchedule:
     """The bus's poll order: each device's read plan (as its client's `read_all()` plans it: of a device the plant
     names a variant of, only that variant's registers), interleaved round robin block by block, as the plant
     client's `read_all()` runs it (`regmap_runtime.line.interleave`)."""
+    from regmap_runtime.line import interleave  # plants only, as in `exchange_s`
+
     plans = [read_plan(dev.device, variants=dev.variants) for dev in bus.devices]
     order = interleave(plans)
     return BusSchedule(bus, tuple(PollEntry(bus.devices[index], block) for index, block in order))

@@ -67,9 +67,10 @@ _TITLE_SLOT = "REGMAP_TITLE_SLOT"  # identifiers and fixed words only go in here
 @functools.lru_cache(maxsize=256)
 def _drawing(source: str) -> str:
     """wavedrom's SVG for one layout; registers sharing a layout (DI1..DI7) are drawn once."""
-    import wavedrom  # type: ignore[import-untyped,import-not-found,unused-ignore]
+    from wavedrom.bitfield import BitField  # type: ignore[import-untyped,import-not-found,unused-ignore]
 
-    drawing = wavedrom.render(source)
+    # What wavedrom.render(source) does for a `reg` source, without its YAML round trip of our JSON (a no-op for it).
+    drawing = BitField().renderJson(json.loads(source))
     drawing.set_desc(title=_TITLE_SLOT)
     text: str = drawing.tostring()
     return text

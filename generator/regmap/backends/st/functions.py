@@ -313,11 +313,23 @@ def _plan_key(reg: Register) -> tuple[str, str, str, tuple[str, ...]]:
     return (reg.poll.value, *gate, reg.variants)
 
 
+_PLANNED: dict[int, tuple[Device, tuple[Planned, ...]]] = {}  # by the device's identity: each dialect and the poller ask
+
+
 def plan_blocks(device: Device) -> list[Planned]:
     """The read plan split by poll class, firmware gate and variants (so a PLC polls each block at its class's
     rate, and a block never holds a register the connected firmware or variant may lack beside one it has), in
     address order per space. A block every variant reads bridges only words every variant answers. With one
     class, no gates and no variants (the seed maps) it is the Python client's read_all()."""
+    cached = _PLANNED.get(id(device))
+    if cached is not None and cached[0] is device:
+        return list(cached[1])
+    planned = _plan_blocks(device)
+    _PLANNED[id(device)] = (device, tuple(planned))
+    return planned
+
+
+def _plan_blocks(device: Device) -> list[Planned]:
     readable = [r for r in device.registers if r.access.readable]
     every = tuple(v.name for v in device.info.variants)
     out: list[Planned] = []

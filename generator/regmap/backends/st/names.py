@@ -4,6 +4,7 @@ spelling of numbers and strings."""
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -50,12 +51,19 @@ class StIdentifier(str):
     problem: str
 
     def __new__(cls, *parts: str) -> StIdentifier:
-        name = "_".join(p for p in parts if p).upper()
-        if name in IEC_KEYWORDS or name in LOCALS:
-            name = f"{name}_{KEYWORD_SUFFIX}"
+        name, problem = _spelled(parts)
         made = super().__new__(cls, name)
-        made.problem = _problem(name)
+        made.problem = problem
         return made
+
+
+@functools.cache  # the same names are spelled in every dialect and for every constant of a register
+def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
+    """The identifier joined from `parts` and its problem ("" when none)."""
+    name = "_".join(p for p in parts if p).upper()
+    if name in IEC_KEYWORDS or name in LOCALS:
+        name = f"{name}_{KEYWORD_SUFFIX}"
+    return name, _problem(name)
 
 
 def _problem(name: str) -> str:

@@ -393,7 +393,19 @@ def variants_const(names: Names, label: str, variants: Sequence[str], what: str,
     return [Const(names.const(label, "VARIANTS", what=what, pos=pos), VARIANT_TYPE, mask, f"only on {', '.join(variants)}")]
 
 
+_COMMENTS: dict[int, tuple[Register, str]] = {}  # by the register's identity: each dialect and the decoders ask again
+
+
 def _register_comment(reg: Register) -> str:
+    cached = _COMMENTS.get(id(reg))
+    if cached is not None and cached[0] is reg:
+        return cached[1]
+    text = _describe(reg)
+    _COMMENTS[id(reg)] = (reg, text)
+    return text
+
+
+def _describe(reg: Register) -> str:
     facts = [f"{reg.type.value} {reg.access.value}"]
     if reg.zone is not None:  # the count a DT holds: UDINT_TO_DT (matiec, CODESYS, TwinCAT) gives the date and time
         facts.append(f"UDINT {zone_text(reg)}; UDINT_TO_DT of it is the DT, DT_TO_UDINT the way back (no zone converted)")
