@@ -7,6 +7,8 @@ at what a client sees, and at the counters, after each kind of change.
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import io
 import socket
 import struct
@@ -126,3 +128,53 @@ def test_a_write_on_one_connection_is_seen_by_the_next_read_on_another(simulator
         answers.append(poller.recv(64))
     words = [struct.unpack(">H", a[9:11])[0] for a in answers]
     assert words[1:] == [11, 12, 13]
+
+
+def test_a_client_that_does_not_read_its_answers_is_not_read_until_it_does() -> None:
+    """Answers a client has not taken wait in the connection; meanwhile it is not read (its requests wait in
+    the socket), and once it reads, every answer arrives once, in order."""
+    from regmap.tools.simulator.connection import TcpConnection
+
+    total = 3000
+    requests = b"".join(mbap(t, 1, read(PEAK.address)) for t in range(total))
+
+    async def scenario() -> tuple[int, bool, bytes]:
+        sim = Simulator(IDM, 1)
+        server_side, client_side = socket.socketpair()
+        for sock, option in ((server_side, socket.SO_SNDBUF), (client_side, socket.SO_RCVBUF)):
+            sock.setsockopt(socket.SOL_SOCKET, option, 4096)
+            sock.setblocking(False)
+        connection = TcpConnection(sim, False, server_side, ("client", 1))
+        connection.start()
+        pending = memoryview(requests)
+        held = False
+        for _ in range(200):  # send without reading, until the simulator holds answers back
+            with contextlib.suppress(BlockingIOError):
+                pending = pending[client_side.send(pending) :]
+            await asyncio.sleep(0.005)
+            if connection.unsent:
+                held = True
+                break
+        received_while_held = sim.stats.frames_received
+        await asyncio.sleep(0.05)
+        held = held and sim.stats.frames_received == received_while_held  # no request read while answers wait
+        answers = b""
+        for _ in range(2000):  # now read, sending the rest
+            with contextlib.suppress(BlockingIOError):
+                answers += client_side.recv(65536)
+            if pending:
+                with contextlib.suppress(BlockingIOError):
+                    pending = pending[client_side.send(pending) :]
+            if len(answers) >= total * 11:
+                break
+            await asyncio.sleep(0.002)
+        connection.close()
+        client_side.close()
+        return received_while_held, held, answers
+
+    received_while_held, held, answers = asyncio.run(scenario())
+    assert held and received_while_held < total
+    assert len(answers) == total * 11
+    transactions = [struct.unpack_from(">H", answers, 11 * i)[0] for i in range(total)]
+    assert transactions == list(range(total))
+    assert all(answers[11 * i + 2 : 11 * i + 9] == bytes([0, 0, 0, 5, 1, 0x03, 2]) for i in range(total))  # each a whole answer

@@ -22,7 +22,7 @@ from regmap.tools.link import Line, port_reason
 from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 
 from .answers import READ_FUNCTIONS, AnswerCache
-from .connection import TcpConnection
+from .connection import TcpConnection, TcpListener, listen
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
 from .framing import MBAP_HEADER, MBAP_HEADER_STRUCT, Adu, RtuReceiver, mbap, rtu_gap_s
 from .log import RequestLog
@@ -165,7 +165,7 @@ class Simulator:
         self.log = log
         self.rtu_gap_override = rtu_gap_s
         self.tcp_gap_s = rtu_gap_s if rtu_gap_s is not None else TCP_RTU_GAP_S
-        self.servers: list[asyncio.Server] = []
+        self.listeners: list[TcpListener] = []
         self.connections: set[TcpConnection] = set()
         self.serial: Any = None
         self.serial_receiver: RtuReceiver | None = None
@@ -355,14 +355,6 @@ class Simulator:
             self.connection_event(oldest.peer, f"closing the connection to make room for {peer} (at most {cap} connections)")
             oldest.close()
 
-    def _loop_exception(self, loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
-        """Out of descriptors while accepting: one line, no traceback (asyncio retries the accept itself)."""
-        exc = context.get("exception")
-        if isinstance(exc, OSError) and "accept" in str(context.get("message", "")):
-            self.connection_event("tcp", f"cannot accept a connection: {exc.strerror or exc} (try a lower --max-connections)")
-            return
-        loop.default_exception_handler(context)
-
     # -- what goes out -----------------------------------------------------------------------
 
     def _send(self, send: Send, data: bytes, pdu: bytes, damage: Callable[[str, bytes], bytes]) -> None:
@@ -387,10 +379,7 @@ class Simulator:
 
     async def start_tcp(self, host: str, port: int, *, rtu_over_tcp: bool = False) -> None:
         """Listen (raises OSError when the address cannot be had); requests are answered from now on."""
-        loop = asyncio.get_running_loop()
-        loop.set_exception_handler(self._loop_exception)
-        server = await loop.create_server(lambda: TcpConnection(self, rtu_over_tcp), host, port)
-        self.servers.append(server)
+        self.listeners += [TcpListener(self, sock, rtu_over_tcp) for sock in await listen(host, port)]
 
     async def start_serial(self, port: str, line: Line | None = None) -> None:
         """Open the port with the map's line settings, or `line` (`--baud`, `--parity`, `--stop-bits`)."""
@@ -464,12 +453,9 @@ class Simulator:
     async def stop(self) -> None:
         for connection in list(self.connections):
             connection.close()
-        for server in self.servers:
-            server.close()
-        for server in self.servers:
-            with contextlib.suppress(Exception):
-                await asyncio.wait_for(server.wait_closed(), 5)
-        self.servers.clear()
+        for listener in self.listeners:
+            listener.close()
+        self.listeners.clear()
         if self.serial is not None:
             with contextlib.suppress(Exception):
                 asyncio.get_running_loop().remove_reader(self.serial.fileno())
