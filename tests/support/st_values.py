@@ -40,7 +40,7 @@ def edge_words(specs: dict[str, RegisterSpec[Any]], kind: str) -> dict[str, list
     for name, spec in specs.items():
         info = spec.type_info
         if info.is_string:
-            text = {"min": "", "max": "Z" * (2 * spec.words), "w8000": "A b"}.get(kind, "Ab")
+            text = {"min": "", "max": "Z" * (2 * spec.words), "w8000": "A b"[: 2 * spec.words]}.get(kind, "Ab")
             out[name] = raw_to_words(spec, text)
         elif info.is_bool:
             out[name] = [0 if kind == "min" else 1]

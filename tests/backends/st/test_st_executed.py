@@ -290,7 +290,10 @@ def example_cases(program: StProgram, decodes: Decodes, encodes: Encodes) -> int
     return count
 
 
-@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS], ids=lambda p: p.stem)
+EDGE_MAPS = [ROOT / "tests" / "maps" / "st" / "short_text.yaml"]  # text one word long: matiec's FOR 0 TO 0
+
+
+@pytest.mark.parametrize("map_path", [*MAPS, *FIXTURE_MAPS, *EDGE_MAPS], ids=lambda p: p.stem)
 def test_compiled_st_decodes_and_encodes_as_the_python_client(map_path: Path, matiec: Path, tmp_path: Path) -> None:
     device = load_map(map_path, display_name=map_path.relative_to(ROOT).as_posix())
     program = StProgram(device)

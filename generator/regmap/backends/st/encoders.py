@@ -271,10 +271,12 @@ def _text_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> 
         "    END_IF;",
         "    aBytes[i] := nByte;",
         "END_FOR;",
-        f"FOR i := 0 TO {reg.words - 1} DO",
+        "i := 0;",
+        f"WHILE i < {reg.words} DO  (* not FOR i := 0 TO {reg.words - 1}: matiec 6bb2c33 runs FOR 0 TO 0 no time *)",
         "    nWord := SHL(BYTE_TO_WORD(aBytes[2 * i]), 8) OR BYTE_TO_WORD(aBytes[2 * i + 1]);",
         f"    aWords[i] := {'ROL(nWord, 8)' if swapped(reg) else 'nWord'};",
-        "END_FOR;",
+        "    i := i + 1;",
+        "END_WHILE;",
         f"{name} := TRUE;",
     ]
     local = (

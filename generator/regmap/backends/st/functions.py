@@ -63,7 +63,7 @@ class Block:
 
 
 def _raw_member_type(reg: Register) -> str:
-    if reg.words > 1:
+    if reg.words > 1 or reg.type.is_string:  # text is read by index, one word long or not
         return f"ARRAY[0..{reg.words - 1}] OF WORD"
     # a half: its bits; a scaled point: its word, for F_<DEV>_SCALED_<R>
     return "WORD" if reg.bitfields or swapped(reg) or reg.type is DataType.F16 or reg.scale_from else NATURAL[reg.type]
