@@ -565,7 +565,8 @@ def _sim(r: Results) -> list[str]:
     if s.blocked is not None:
         return [f"Blocked: {s.blocked}.", ""]
     out = [
-        "`regmap simulate maps/idm_rs.yaml` (Modbus TCP, its own asyncio server, one process) and a libmodbus",
+        "`regmap simulate maps/idm_rs.yaml` (Modbus TCP, one process: its sockets read and written directly on the asyncio",
+        "loop, a repeated read answered from the answer cache while the device's memory is unchanged) and a libmodbus",
         "server (bench/c/modbus_server.c: `modbus_receive`/`modbus_reply`, select() over clients) on loopback, both",
         f"running, the load sent to each in turn, {s.rounds} rounds per level (the median round shown; the ratio is the",
         "median of the rounds' ratios). Load: bench/c/modbus_load.c, N threads with a libmodbus connection each, one",
@@ -604,7 +605,7 @@ def _sim(r: Results) -> list[str]:
         out += [
             f"With 10 clients the simulator answers {ten.rate:,.0f} requests/s ({s.ratios.get(10, ten.rate / ten_ref.rate):.2f}× libmodbus), p99"
             f" {ten.p99_us / 1000:.1f} ms; its memory moved {(after - before) / 1024:+.1f} MB over {s.rss_requests:,} requests"
-            " (no per-request retention: counters and a 64-frame ring).",
+            " (no per-request retention: counters, a 64-frame ring and at most 4,096 kept answers).",
             "",
         ]
     return out
