@@ -112,6 +112,7 @@ def _hass_check(hass: Path, tmp_path: Path, package: str) -> None:
     assert result.returncode == 0, out[-4000:]
     assert "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
     assert "components.modbus" not in out, out[-4000:]  # the integration's validators warn, e.g. "... is duplicate, not loaded!"
+    assert "ERROR" not in out and "WARNING" not in out, out[-4000:]  # a script or template HA disables is only logged, exit 0
 
 
 def _package(target: str, device: Device, selection: str) -> str:

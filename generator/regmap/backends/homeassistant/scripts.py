@@ -131,7 +131,7 @@ class Scripts:
             script["alias"] = "DESTRUCTIVE: " + script["alias"]
             about = f"Destructive. Sent only when called with confirm: {command.name}. {about}"
             script["fields"] = {
-                "confirm": {"description": f"the command's name, {command.name}, to send it", "required": True, "selector": {"text": {}}}
+                "confirm": {"description": f"the command's name, {command.name}, to send it", "required": True, "selector": {"text": None}}
             }
             sequence.append({"condition": "template", "value_template": f"{{{{ confirm | default('') == '{command.name}' }}}}"})
         script["description"] = " ".join(part for part in (about, RETRY_NOTE) if part)
