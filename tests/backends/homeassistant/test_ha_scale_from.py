@@ -16,7 +16,6 @@ import pytest
 from jinja2.sandbox import ImmutableSandboxedEnvironment
 
 from regmap.backends.homeassistant import render_device, render_plant
-from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.frontend.plant import load_plant
 from regmap.generate import render_plant as render_plant_targets
@@ -217,8 +216,6 @@ def test_a_plant_of_scaled_devices_gets_each_device_its_templates(tmp_path: Path
     assert sorted(templates) == sorted(f"pv_{dev}_{name}" for dev in ("inv1", "inv2") for name in read_only)
     assert templates["pv_inv2_a"]["name"] == "inv2 AC current" and "sensor.inv2_ac_current_raw" in templates["pv_inv2_a"]["state"]
     assert list(render_plant_targets(plant, ["homeassistant"])) == ["homeassistant"]
-    with pytest.raises(UsageError, match="cannot scale by another register"):
-        render_plant_targets(plant, ["esphome"])
 
 
 @pytest.mark.parametrize("patterns", [None, ("*",), "plant"], ids=["default", "all", "plant"])
