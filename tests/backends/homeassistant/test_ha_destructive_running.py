@@ -6,10 +6,7 @@ check passing is not enough: a script whose field HA cannot validate is disabled
 
 from __future__ import annotations
 
-import os
 import re
-import signal
-import subprocess
 import time
 from pathlib import Path
 from typing import Any
@@ -20,11 +17,11 @@ import yaml
 from regmap.backends.homeassistant import render_device
 from regmap.frontend import load_map
 
-from conftest import ROOT, SimulatorFactory, built_tool
+from conftest import ROOT, SimulatorFactory
+from support.hass_running import hub_on_tcp, running_hass
 from support.homeauto_yaml import load
 
 MAP = ROOT / "maps" / "idm_rs.yaml"
-HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
 STARTUP_S = 300
 COMMAND = "reset_history_alarms"
 SCRIPT = f"script.idm_rs_{COMMAND}"
@@ -42,17 +39,13 @@ def _package_on_tcp(port: int) -> dict[str, Any]:
     """The generated package (the command and one sensor selected), its hub moved to the simulator's TCP port."""
     (text,) = render_device(load_map(MAP), (COMMAND, "peak_current")).values()
     package = load(text)
-    (hub,) = package["modbus"]
-    for key in ("method", "port", "baudrate", "bytesize", "parity", "stopbits"):
-        hub.pop(key, None)
-    hub.update(type="tcp", host="127.0.0.1", port=port)
+    hub_on_tcp(package, port)
     assert isinstance(package, dict) and SCRIPT.removeprefix("script.") in package["script"]
     return package
 
 
 @pytest.mark.timeout(STARTUP_S + 180)
 def test_a_destructive_script_sends_only_when_confirmed_by_name(simulator: SimulatorFactory, tmp_path: Path) -> None:
-    hass_python = built_tool("hass").parent / "python"
     sim_log = tmp_path / "simulator.log"
     sim = simulator(MAP, "--log", str(sim_log))
     assert sim.port is not None
@@ -77,27 +70,17 @@ def test_a_destructive_script_sends_only_when_confirmed_by_name(simulator: Simul
     rest = {"automation": [automation], "logger": {"default": "info"}, "system_log": {}}
     head = yaml.safe_dump({"homeassistant": basics}, sort_keys=False) + "  packages:\n    drive: !include drive.yaml\n"
     (config / "configuration.yaml").write_text(head + yaml.safe_dump(rest, sort_keys=False), encoding="utf-8")
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
     home_log = config / "home-assistant.log"
-    with (tmp_path / "hass.log").open("wb") as out:
+    with running_hass(config, tmp_path / "hass.log") as process:
         started = time.monotonic()
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
-            while time.monotonic() - started < STARTUP_S and process.poll() is None:
-                text = home_log.read_text(errors="replace") if home_log.exists() else ""
-                if _DONE in text or "could not be validated" in text:
-                    break
-                time.sleep(1)
-            time.sleep(2)  # a write after the last call would be in the simulator's log by now
+        while time.monotonic() - started < STARTUP_S and process.poll() is None:
             text = home_log.read_text(errors="replace") if home_log.exists() else ""
-            assert _DONE in text, text[-4000:]
-            assert "could not be validated" not in text, text[-4000:]
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+            if _DONE in text or "could not be validated" in text:
+                break
+            time.sleep(1)
+        time.sleep(2)  # a write after the last call would be in the simulator's log by now
+        text = home_log.read_text(errors="replace") if home_log.exists() else ""
+        assert _DONE in text, text[-4000:]
+        assert "could not be validated" not in text, text[-4000:]
     control = load_map(MAP).register("control_word")
     assert _writes(sim_log) == [bytes([0x06]) + control.address.to_bytes(2, "big") + (0x1122).to_bytes(2, "big")]

@@ -15,8 +15,6 @@ command's write in the simulator's log, and the recorded states reaching the sim
 from __future__ import annotations
 
 import json
-import os
-import signal
 import subprocess
 import time
 from collections.abc import Callable
@@ -33,13 +31,13 @@ from regmap.homeauto.selection import select
 from regmap.model import Device
 from regmap.plant import Plant, PlantDevice
 
-from conftest import ROOT, built_tool
+from conftest import ROOT
 from support.hass_recorder import recorded_states
+from support.hass_running import running_hass
 from support.homeauto_yaml import ha_slug, load
 from support.plant_tcp_bus import REGMAP, ServedBus, free_port, serve_bus, write_plant
 
 CELL1 = ROOT / "examples" / "plants" / "cell1.yaml"
-HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
 STARTUP_S = 300  # HA imports and sets up in seconds to a minute; a loaded machine gets room
 WRITE_S = 180  # the automation waits for the drive's first value, then calls the script
 STATES_S = 120  # every entity polls every 10 s (settings 300 s, but their values do not change)
@@ -115,11 +113,6 @@ def _configuration(config: Path, package: str, script: str, waited: str) -> None
     # The package goes in with HA's own `!include`, which the safe dumper cannot write: one line by hand.
     text = yaml.safe_dump({"homeassistant": basics}, sort_keys=False) + "  packages:\n    cell1: !include cell1.yaml\n"
     (config / "configuration.yaml").write_text(text + yaml.safe_dump(rest, sort_keys=False), encoding="utf-8")
-
-
-@pytest.fixture
-def hass_python() -> Path:
-    return built_tool("hass").parent / "python"
 
 
 def _dump(dev: PlantDevice, bus: ServedBus) -> dict[str, Any]:
@@ -202,7 +195,7 @@ def _tail(log: Path) -> str:
 
 
 @pytest.mark.timeout(STARTUP_S + WRITE_S + STATES_S + 300)
-def test_home_assistant_polls_the_plant_and_presses_one_command(hass_python: Path, tmp_path: Path) -> None:
+def test_home_assistant_polls_the_plant_and_presses_one_command(tmp_path: Path) -> None:
     plant = _tcp_plant(tmp_path, free_port())
     (bus,) = plant.buses
     (text,) = render_plant(plant).values()
@@ -229,13 +222,11 @@ def test_home_assistant_polls_the_plant_and_presses_one_command(hass_python: Pat
     config.mkdir()
     _configuration(config, text, script, PRESSED[0])
     log = tmp_path / "hass.log"
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
-    with serve_bus(plant, bus, tmp_path, states) as served, log.open("wb") as out:
+    with serve_bus(plant, bus, tmp_path, states) as served:
         before = {dev.name: _dump(dev, served) for dev in bus.devices}
         assert before["axis_x"] != before["axis_y"]  # the two drives of one map hold different values
         assert before[PRESSED[0]][CLEARED] != 0
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
+        with running_hass(config, log) as process:
             home_log = config / "home-assistant.log"
             started = _wait(
                 "Home Assistant to start",
@@ -271,13 +262,6 @@ def test_home_assistant_polls_the_plant_and_presses_one_command(hass_python: Pat
             assert served.writes(PRESSED[0]) == [write]  # exactly once, at the pressed drive's slave id
             assert [served.writes(d.name) for d in bus.devices if d.name != PRESSED[0]] == [[], []]
             print(f"{len(expected)} entities of {len(bus.devices)} devices reached their simulators' values")
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
     registry = json.loads((config / ".storage" / "core.entity_registry").read_text(encoding="utf-8"))["data"]["entities"]
     registered = {e["unique_id"]: e["entity_id"] for e in registry if e["platform"] in ("modbus", "template")}
     (hub,) = package["modbus"]

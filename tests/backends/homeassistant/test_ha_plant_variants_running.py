@@ -7,9 +7,6 @@ single-phase meter, so every entity of both meters reaches the value its simulat
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
 import time
 from pathlib import Path
 from typing import Any
@@ -21,13 +18,12 @@ from regmap.backends.homeassistant import render_plant
 from regmap.frontend.plant import load_plant
 from regmap.model import Register
 
-from conftest import ROOT, built_tool
 from support.hass_recorder import recorded_states
+from support.hass_running import running_hass
 from support.homeauto_yaml import load
 from support.plant_tcp_bus import free_port, serve_bus
 from support.plants import write_meter_plant
 
-HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
 STARTUP_S, STATES_S = 300, 120  # deadlines for a loaded machine; both come well within 30 s on an idle one
 # Raw values per meter (each register its own value, none a "not available" marker), different per meter.
 SEED: dict[str, dict[str, float | int]] = {
@@ -70,7 +66,6 @@ def _configuration(config: Path, package: dict[str, Any]) -> None:
 
 @pytest.mark.timeout(STARTUP_S + STATES_S + 120)
 def test_home_assistant_shows_every_entity_of_both_variants_and_none_unavailable(tmp_path: Path) -> None:
-    hass_python = built_tool("hass").parent / "python"
     plant = load_plant(write_meter_plant(tmp_path, "meters", f"tcp: {{host: 127.0.0.1, port: {free_port()}}}"))
     (bus,) = plant.buses
     states: dict[str, Path] = {}
@@ -103,30 +98,20 @@ def test_home_assistant_shows_every_entity_of_both_variants_and_none_unavailable
         )
         return values and all(recorded.get(name, "unknown") not in ("unknown", "unavailable") for name in [*sensors, *templates])
 
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
-    with serve_bus(plant, bus, tmp_path, states) as served, (tmp_path / "hass.log").open("wb") as out:
+    with serve_bus(plant, bus, tmp_path, states) as served, running_hass(config, tmp_path / "hass.log") as process:
         started = time.monotonic()
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
-            recorded: dict[str, str] = {}
-            while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
-                recorded = {name: state for name, (_, state, _) in recorded_states(config / "recorder.db").items()}
-                if settled(recorded):
-                    break
-                time.sleep(1)
-            log = config / "home-assistant.log"
-            tail = log.read_text(errors="replace")[-3000:] if log.exists() else ""
-            assert settled(recorded), f"{ {name: recorded.get(name) for name in [*sensors, *templates]} }\n{tail}"
-            print(
-                f"HA showed {len(sensors) + len(templates)} entities of two meters, none unavailable, {time.monotonic() - started:.1f} s after start"
-            )
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        recorded: dict[str, str] = {}
+        while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
+            recorded = {name: state for name, (_, state, _) in recorded_states(config / "recorder.db").items()}
+            if settled(recorded):
+                break
+            time.sleep(1)
+        log = config / "home-assistant.log"
+        tail = log.read_text(errors="replace")[-3000:] if log.exists() else ""
+        assert settled(recorded), f"{ {name: recorded.get(name) for name in [*sensors, *templates]} }\n{tail}"
+        print(
+            f"HA showed {len(sensors) + len(templates)} entities of two meters, none unavailable, {time.monotonic() - started:.1f} s after start"
+        )
         exceptions = [
             line for line in served.log.read_text(encoding="utf-8").splitlines() if line.startswith("  < MBAP") and " PDU 8" in line
         ]

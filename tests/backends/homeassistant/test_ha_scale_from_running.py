@@ -12,9 +12,7 @@ slave's values."""
 from __future__ import annotations
 
 import json
-import os
 import re
-import signal
 import subprocess
 import sys
 import time
@@ -28,13 +26,13 @@ from regmap.backends.homeassistant import render_device, render_plant
 from regmap.frontend import load_map
 from regmap.frontend.plant import load_plant
 
-from conftest import ROOT, SimulatorFactory, built_tool
+from conftest import ROOT, SimulatorFactory
 from support.hass_recorder import recorded_states
+from support.hass_running import hub_on_tcp, running_hass
 from support.homeauto_yaml import load
 from support.plant_tcp_bus import free_port, serve_bus, write_plant
 
 MAP = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"
-HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
 REGMAP = str(Path(sys.executable).parent / "regmap")
 STARTUP_S, STATES_S = 300, 180
 # Raw values the simulator holds: a negative sf (a), the point's own n/a (w), its sf's n/a (wh), a positive sf.
@@ -75,10 +73,7 @@ def _package_on_tcp(port: int) -> dict[str, Any]:
     """The generated package with its hub moved to the simulator's TCP port: only the connection keys change."""
     (text,) = render_device(load_map(MAP), ("*",)).values()
     package = load(text)
-    (hub,) = package["modbus"]
-    for key in ("method", "port", "baudrate", "bytesize", "parity", "stopbits"):
-        hub.pop(key, None)
-    hub.update(type="tcp", host="127.0.0.1", port=port)
+    hub_on_tcp(package, port)
     assert isinstance(package, dict)
     return package
 
@@ -125,7 +120,6 @@ def test_home_assistant_shows_scaled_values_and_the_script_sends_only_exact_ones
     case: str, simulator: SimulatorFactory, tmp_path: Path
 ) -> None:
     seed, values, written = CASES[case]
-    hass_python = built_tool("hass").parent / "python"
     device = load_map(MAP)
     state = tmp_path / "inverter.state.json"
     state.write_text(json.dumps({"device": device.id, "map_version": device.info.map_version, "registers": seed}), encoding="utf-8")
@@ -141,7 +135,6 @@ def test_home_assistant_shows_scaled_values_and_the_script_sends_only_exact_ones
     expected = {templates[f"sf_inverter_{reg.name}"]: client[reg.name] for reg in points}
     config = tmp_path / "config"
     _configuration(config, package, values)
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
 
     home_log = config / "home-assistant.log"
 
@@ -149,29 +142,20 @@ def test_home_assistant_shows_scaled_values_and_the_script_sends_only_exact_ones
         called = len(_conditions(home_log)) == len(values) and len(_writes(sim_log)) >= len(written)
         return called and all(_shows(recorded.get(name), value) for name, value in expected.items())
 
-    with (tmp_path / "hass.log").open("wb") as out:
+    with running_hass(config, tmp_path / "hass.log") as process:
         started = time.monotonic()
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
-            recorded: dict[str, str] = {}
-            while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
-                recorded = {name: s for name, (_, s, _) in recorded_states(config / "recorder.db").items()}
-                if settled(recorded):
-                    break
-                time.sleep(1)
-            time.sleep(3)  # a write after the last condition would show in the simulator's log by now
-            tail = home_log.read_text(errors="replace")[-4000:] if home_log.exists() else ""
-            assert settled(recorded), f"{ {name: recorded.get(name) for name in expected} } expected {expected}\n{tail}"
-            assert _conditions(home_log) == ["False"] * (len(values) - len(written)) + ["True"] * len(written), tail
-            assert _writes(sim_log) == [bytes([0x06, 0x00, 0x10]) + raw.to_bytes(2, "big") for raw in written], tail
-            print(f"{case}: HA showed {expected}, sent {written}, {time.monotonic() - started:.1f} s after start")
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        recorded: dict[str, str] = {}
+        while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
+            recorded = {name: s for name, (_, s, _) in recorded_states(config / "recorder.db").items()}
+            if settled(recorded):
+                break
+            time.sleep(1)
+        time.sleep(3)  # a write after the last condition would show in the simulator's log by now
+        tail = home_log.read_text(errors="replace")[-4000:] if home_log.exists() else ""
+        assert settled(recorded), f"{ {name: recorded.get(name) for name in expected} } expected {expected}\n{tail}"
+        assert _conditions(home_log) == ["False"] * (len(values) - len(written)) + ["True"] * len(written), tail
+        assert _writes(sim_log) == [bytes([0x06, 0x00, 0x10]) + raw.to_bytes(2, "big") for raw in written], tail
+        print(f"{case}: HA showed {expected}, sent {written}, {time.monotonic() - started:.1f} s after start")
     assert _dump(sim.port)["wmax_lim_pct"] == (ACCEPTED if written else None)
 
 
@@ -181,7 +165,6 @@ SECOND = {"a": 500, "a_sf": 1, "w": -1500, "w_sf": -1, "wh": 123456, "wh_sf": 2,
 
 @pytest.mark.timeout(STARTUP_S + STATES_S + 180)
 def test_home_assistant_shows_each_plant_devices_own_scaled_values(tmp_path: Path) -> None:
-    hass_python = built_tool("hass").parent / "python"
     line = [("line", f"tcp: {{host: 127.0.0.1, port: {free_port()}}}", [("inv1", MAP, 1), ("inv2", MAP, 2)])]
     plant = load_plant(write_plant(tmp_path / "plant.yaml", "pv", line))
     (bus,) = plant.buses
@@ -195,30 +178,20 @@ def test_home_assistant_shows_each_plant_devices_own_scaled_values(tmp_path: Pat
         states[dev].write_text(json.dumps(body), encoding="utf-8")
     config = tmp_path / "config"
     _configuration(config, text, ())
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
-    with serve_bus(plant, bus, tmp_path, states) as served, (tmp_path / "hass.log").open("wb") as out:
+    with serve_bus(plant, bus, tmp_path, states) as served, running_hass(config, tmp_path / "hass.log") as process:
         clients = {dev.name: _dump(served.port, dev.slave) for dev in bus.devices}
         assert clients["inv2"]["a"] == 5000 and clients["inv2"]["w"] == -150.0 and clients["inv2"]["wh"] == 12345600
         expected = {name: clients[uid.split("_")[1]][uid.split("_", 2)[2]] for uid, name in templates.items()}
         assert len(expected) == 6 and expected["inv1 AC current"] == 12.34
         started = time.monotonic()
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
-            recorded: dict[str, str] = {}
-            while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
-                recorded = {name: s for name, (_, s, _) in recorded_states(config / "recorder.db").items()}
-                if all(_shows(recorded.get(name), value) for name, value in expected.items()):
-                    break
-                time.sleep(1)
-            log = config / "home-assistant.log"
-            tail = log.read_text(errors="replace")[-4000:] if log.exists() else ""
-            shown = {name: recorded.get(name) for name in expected}
-            assert all(_shows(shown[name], value) for name, value in expected.items()), f"{shown} expected {expected}\n{tail}"
-            print(f"plant: HA showed {shown}, {time.monotonic() - started:.1f} s after start")
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        recorded: dict[str, str] = {}
+        while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
+            recorded = {name: s for name, (_, s, _) in recorded_states(config / "recorder.db").items()}
+            if all(_shows(recorded.get(name), value) for name, value in expected.items()):
+                break
+            time.sleep(1)
+        log = config / "home-assistant.log"
+        tail = log.read_text(errors="replace")[-4000:] if log.exists() else ""
+        shown = {name: recorded.get(name) for name in expected}
+        assert all(_shows(shown[name], value) for name, value in expected.items()), f"{shown} expected {expected}\n{tail}"
+        print(f"plant: HA showed {shown}, {time.monotonic() - started:.1f} s after start")

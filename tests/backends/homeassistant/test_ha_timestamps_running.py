@@ -6,9 +6,6 @@ state file. HA's modbus sensor reads the raw seconds; the generated template sen
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
 import time
 from datetime import UTC, datetime
 from pathlib import Path
@@ -19,13 +16,13 @@ import yaml
 from regmap.backends.homeassistant import render_plant
 from regmap.frontend.plant import load_plant
 
-from conftest import FIXTURE_MAPS, ROOT, built_tool
+from conftest import FIXTURE_MAPS
 from support.hass_recorder import recorded_states
+from support.hass_running import running_hass
 from support.homeauto_yaml import load
 from support.plant_tcp_bus import free_port, serve_bus, write_plant
 
 METER = next(p for p in FIXTURE_MAPS if p.stem == "float_meter")
-HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
 STARTUP_S, STATES_S = 300, 180
 SECONDS = 1709294400  # 2024-03-01T12:00:00Z
 
@@ -37,7 +34,6 @@ def _recorded(db: Path) -> dict[str, tuple[str, dict[str, object]]]:
 
 @pytest.mark.timeout(STARTUP_S + STATES_S + 120)
 def test_home_assistant_shows_the_utc_timestamp_as_a_time(tmp_path: Path) -> None:
-    hass_python = built_tool("hass").parent / "python"
     port = free_port()
     plant = load_plant(
         write_plant(tmp_path / "plant.yaml", "tsplant", [("line", f"tcp: {{host: 127.0.0.1, port: {port}}}", [("meter", METER, 1)])])
@@ -66,28 +62,18 @@ def test_home_assistant_shows_the_utc_timestamp_as_a_time(tmp_path: Path) -> Non
     rest = {"recorder": {"db_url": f"sqlite:///{config / 'recorder.db'}", "commit_interval": 1}, "logger": {"default": "info"}}
     head = yaml.safe_dump({"homeassistant": basics}, sort_keys=False) + "  packages:\n    plant: !include plant.yaml\n"
     (config / "configuration.yaml").write_text(head + yaml.safe_dump(rest, sort_keys=False), encoding="utf-8")
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
     expected = datetime.fromtimestamp(SECONDS, UTC)
-    with serve_bus(plant, bus, tmp_path, {"meter": state}), (tmp_path / "hass.log").open("wb") as out:
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
-            deadline = time.monotonic() + STARTUP_S + STATES_S
-            recorded: dict[str, tuple[str, dict[str, object]]] = {}
-            while time.monotonic() < deadline and process.poll() is None:
-                recorded = _recorded(config / "recorder.db")
-                shown = recorded.get(time_entity["name"])
-                if shown is not None and shown[0] not in ("unknown", "unavailable"):
-                    break
-                time.sleep(1)
-            log = (config / "home-assistant.log").read_text(errors="replace") if (config / "home-assistant.log").exists() else ""
-            assert time_entity["name"] in recorded, f"not recorded: {sorted(recorded)}\n{log[-3000:]}"
-            shown_state, attributes = recorded[time_entity["name"]]
-            assert datetime.fromisoformat(shown_state) == expected, (shown_state, expected)  # the instant, whatever HA's own zone
-            assert attributes.get("device_class") == "timestamp", attributes
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+    with serve_bus(plant, bus, tmp_path, {"meter": state}), running_hass(config, tmp_path / "hass.log") as process:
+        deadline = time.monotonic() + STARTUP_S + STATES_S
+        recorded: dict[str, tuple[str, dict[str, object]]] = {}
+        while time.monotonic() < deadline and process.poll() is None:
+            recorded = _recorded(config / "recorder.db")
+            shown = recorded.get(time_entity["name"])
+            if shown is not None and shown[0] not in ("unknown", "unavailable"):
+                break
+            time.sleep(1)
+        log = (config / "home-assistant.log").read_text(errors="replace") if (config / "home-assistant.log").exists() else ""
+        assert time_entity["name"] in recorded, f"not recorded: {sorted(recorded)}\n{log[-3000:]}"
+        shown_state, attributes = recorded[time_entity["name"]]
+        assert datetime.fromisoformat(shown_state) == expected, (shown_state, expected)  # the instant, whatever HA's own zone
+        assert attributes.get("device_class") == "timestamp", attributes

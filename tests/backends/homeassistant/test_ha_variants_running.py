@@ -7,9 +7,6 @@ entity with it, because no read of the generated hub holds registers of two vari
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
 import time
 from pathlib import Path
 from typing import Any
@@ -21,12 +18,12 @@ from regmap.backends.homeassistant import render_device
 from regmap.frontend import load_map
 from regmap.model import Device, Register
 
-from conftest import FIXTURE_MAPS, ROOT, SimulatorFactory, built_tool
+from conftest import FIXTURE_MAPS, SimulatorFactory
 from support.hass_recorder import recorded_states
+from support.hass_running import hub_on_tcp, running_hass
 from support.homeauto_yaml import load
 
 METER = next(p for p in FIXTURE_MAPS if p.stem == "float_meter")
-HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
 STARTUP_S, STATES_S = 300, 120  # deadlines for a loaded machine; both come well within 30 s on an idle one
 # What the simulated meter holds (raw values): each register a value of its own, none a "not available" marker.
 SEED: dict[str, float | int] = {
@@ -50,10 +47,7 @@ def _hub_on_tcp(text: str, port: int) -> dict[str, Any]:
     """The generated package with its hub moved from the serial line to the simulator's TCP port: only the
     connection keys change, every entity stays as generated."""
     package = load(text)
-    (hub,) = package["modbus"]
-    for key in ("method", "port", "baudrate", "bytesize", "parity", "stopbits"):
-        hub.pop(key, None)
-    hub.update(type="tcp", host="127.0.0.1", port=port)
+    hub_on_tcp(package, port)
     assert isinstance(package, dict)
     return package
 
@@ -86,7 +80,6 @@ def _configuration(config: Path, package: dict[str, Any]) -> None:
 def test_home_assistant_reads_what_the_variant_has_and_only_loses_what_it_lacks(
     variant: str, simulator: SimulatorFactory, tmp_path: Path
 ) -> None:
-    hass_python = built_tool("hass").parent / "python"
     device = load_map(METER)
     state = tmp_path / "meter.state.json"
     state.write_text(json.dumps({"device": device.id, "map_version": device.info.map_version, "registers": SEED}), encoding="utf-8")
@@ -111,29 +104,19 @@ def test_home_assistant_reads_what_the_variant_has_and_only_loses_what_it_lacks(
         missing = all(recorded.get(name) == "unavailable" for name in absent)
         return values and missing and all(recorded.get(name, "unknown") not in NO_VALUE for name in templates)
 
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
-    with (tmp_path / "hass.log").open("wb") as out:
+    with running_hass(config, tmp_path / "hass.log") as process:
         started = time.monotonic()
-        process = subprocess.Popen([str(hass_python), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env)
-        try:
-            recorded: dict[str, str] = {}
-            while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
-                recorded = _recorded(config / "recorder.db")
-                if settled(recorded):
-                    break
-                time.sleep(1)
-            log = config / "home-assistant.log"
-            tail = log.read_text(errors="replace")[-3000:] if log.exists() else ""
-            wanted = {name: recorded.get(name) for name in [*sensors, *templates]}
-            assert settled(recorded), f"{variant}: {wanted}\n{tail}"
-            print(
-                f"{variant}: HA showed {len(sensors) + len(templates) - len(absent)} entities' values, {sorted(absent)} unavailable,"
-                f" {time.monotonic() - started:.1f} s after start"
-            )
-        finally:
-            process.send_signal(signal.SIGTERM)
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        recorded: dict[str, str] = {}
+        while time.monotonic() - started < STARTUP_S + STATES_S and process.poll() is None:
+            recorded = _recorded(config / "recorder.db")
+            if settled(recorded):
+                break
+            time.sleep(1)
+        log = config / "home-assistant.log"
+        tail = log.read_text(errors="replace")[-3000:] if log.exists() else ""
+        wanted = {name: recorded.get(name) for name in [*sensors, *templates]}
+        assert settled(recorded), f"{variant}: {wanted}\n{tail}"
+        print(
+            f"{variant}: HA showed {len(sensors) + len(templates) - len(absent)} entities' values, {sorted(absent)} unavailable,"
+            f" {time.monotonic() - started:.1f} s after start"
+        )

@@ -1,0 +1,51 @@
+"""A running Home Assistant (the hass tool env's 2024.3, offline) for the tests that let it poll the simulator."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+from conftest import ROOT, built_tool
+
+HASS_OFFLINE = ROOT / "tests" / "support" / "hass_offline.py"
+SERIAL_KEYS = ("method", "port", "baudrate", "bytesize", "parity", "stopbits")
+
+
+def hass_python() -> Path:
+    """The hass tool env's Python (skips, or fails under CI=true, without it)."""
+    return Path(built_tool("hass").parent / "python")
+
+
+@contextmanager
+def running_hass(config: Path, output: Path) -> Iterator[subprocess.Popen[bytes]]:
+    """Home Assistant on the configuration directory `config`, its stdout and stderr into `output`; stopped
+    (SIGTERM, then killed after 60 s) on leaving. It runs outside this venv: PYTHON* and VIRTUAL_ENV are not passed."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
+    with output.open("wb") as out:
+        process = subprocess.Popen(
+            [str(hass_python()), str(HASS_OFFLINE), "-c", str(config)], stdout=out, stderr=subprocess.STDOUT, env=env
+        )
+        try:
+            yield process
+        finally:
+            process.send_signal(signal.SIGTERM)
+            try:
+                process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+def hub_on_tcp(package: dict[str, Any], port: int) -> dict[str, Any]:
+    """The package with its one hub moved from the serial line to the simulator at 127.0.0.1:`port`: only the
+    connection keys change."""
+    (hub,) = package["modbus"]
+    for key in SERIAL_KEYS:
+        hub.pop(key, None)
+    hub.update(type="tcp", host="127.0.0.1", port=port)
+    return package
