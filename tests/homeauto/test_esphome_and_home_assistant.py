@@ -32,6 +32,7 @@ from regmap.model import ByteOrder, DataType, Device, Register, WordOrder
 from regmap.runtime_bridge import documented_addresses, read_plan
 
 from conftest import FIXTURE_MAPS, GENERATED, MAPS, ROOT
+from support.hass_running import check_config
 from support.homeauto_yaml import esphome_config
 
 HOSTILE = ROOT / "tests" / "maps" / "hostile" / "hostile.yaml"
@@ -102,19 +103,6 @@ def _esphome_config(esphome: Path, tmp_path: Path, package: str) -> None:
     esphome_config(esphome, tmp_path, package)
 
 
-def _hass_check(hass: Path, tmp_path: Path, package: str) -> None:
-    (tmp_path / "device.yaml").write_text(package, encoding="utf-8")
-    (tmp_path / "configuration.yaml").write_text("homeassistant:\n  packages:\n    device: !include device.yaml\n", encoding="utf-8")
-    result = subprocess.run(
-        [str(hass), "--script", "check_config", "-c", str(tmp_path)], capture_output=True, text=True, timeout=300, check=False
-    )
-    out = result.stdout + result.stderr
-    assert result.returncode == 0, out[-4000:]
-    assert "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
-    assert "components.modbus" not in out, out[-4000:]  # the integration's validators warn, e.g. "... is duplicate, not loaded!"
-    assert "ERROR" not in out and "WARNING" not in out, out[-4000:]  # a script or template HA disables is only logged, exit 0
-
-
 def _package(target: str, device: Device, selection: str) -> str:
     if selection == "all":
         return _file(target, device, ALL)
@@ -132,7 +120,7 @@ def test_esphome_config_accepts_the_package(esphome: Path, tmp_path: Path, devic
 @pytest.mark.parametrize("selection", ["default", "all"])
 @pytest.mark.parametrize("device", EVERY, ids=[d.id for d in EVERY])
 def test_home_assistant_check_config_accepts_the_hub(hass: Path, tmp_path: Path, device: Device, selection: str) -> None:
-    _hass_check(hass, tmp_path, _package("homeassistant", device, selection))
+    check_config(hass, tmp_path, _package("homeassistant", device, selection))
 
 
 # -- the hostile map ------------------------------------------------------------------------------
@@ -172,7 +160,7 @@ def test_hostile_map_validates_and_injects_nothing(esphome: Path, hass: Path, tm
     (tmp_path / "esp").mkdir()
     (tmp_path / "ha").mkdir()
     _esphome_config(esphome, tmp_path / "esp", package)
-    _hass_check(hass, tmp_path / "ha", hub)
+    check_config(hass, tmp_path / "ha", hub)
 
 
 # -- semantics: every entity equals the model -------------------------------------------------------

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import ast
 import math
-import subprocess
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +24,7 @@ from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words
 from regmap_runtime.scaling import scaled, unscaled
 
+from support.hass_running import check_config
 from support.homeauto_yaml import load
 from support.plant_tcp_bus import write_plant
 
@@ -226,16 +226,7 @@ def test_home_assistant_check_config_accepts_the_package(hass: Path, tmp_path: P
     else:
         assert not isinstance(patterns, str)
         (text,) = render_device(DEVICE, patterns).values()
-    (tmp_path / "device.yaml").write_text(text, encoding="utf-8")
-    (tmp_path / "configuration.yaml").write_text("homeassistant:\n  packages:\n    device: !include device.yaml\n", encoding="utf-8")
-    result = subprocess.run(
-        [str(hass), "--script", "check_config", "-c", str(tmp_path)], capture_output=True, text=True, timeout=300, check=False
-    )
-    out = result.stdout + result.stderr
-    assert result.returncode == 0, out[-4000:]
-    assert "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
-    assert "components.modbus" not in out, out[-4000:]
-    assert "ERROR" not in out and "WARNING" not in out, out[-4000:]  # a script or template HA disables is only logged
+    check_config(hass, tmp_path, text)
 
 
 # -- the import reads the templates back -----------------------------------------------------------

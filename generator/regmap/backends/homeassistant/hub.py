@@ -186,12 +186,7 @@ class _Hub:
             entity["offset"] = scale_float(reg.offset)
         entity["precision"] = shown_decimals(reg)
         self._not_available(reg, entity)
-        if reg.unit:
-            entity["unit_of_measurement"] = unit_text(reg.unit)
-        if device_class(reg) is not None:
-            entity["device_class"] = device_class(reg)
-        if state_class(self.device, reg) is not None:
-            entity["state_class"] = state_class(self.device, reg)
+        entity.update(self._measured(reg))
         if virtual:
             entity["virtual_count"] = virtual
         self.sensors.append(entity)
@@ -233,6 +228,12 @@ class _Hub:
             count=count,
             structure=">" + (f"{before}x" if before else "") + code + (f"{after}x" if after else ""),
         )
+
+    def _measured(self, reg: Register) -> dict[str, Any]:
+        """What HA is told of the quantity: its unit, device class and state class, where the register has them."""
+        keys: dict[str, Any] = {"unit_of_measurement": unit_text(reg.unit) if reg.unit else None}
+        keys |= {"device_class": device_class(reg), "state_class": state_class(self.device, reg)}
+        return {key: value for key, value in keys.items() if value is not None}
 
     def _not_available(self, reg: Register, entity: dict[str, Any]) -> None:
         """HA's sensor is unavailable for its one `nan_value` (compared with the unpacked, signed value) and for
@@ -348,12 +349,7 @@ class _Hub:
                 self.skipped.append(f"{reg.name}'s value (raw x 10^{sf.name}): no plain sensor with an ASCII name reads {sf.name}")
                 continue
             entity: dict[str, Any] = {"name": self._name(title, reg.name), "unique_id": f"{self.instance.unique_prefix}_{reg.name}"}
-            if reg.unit:
-                entity["unit_of_measurement"] = unit_text(reg.unit)
-            if device_class(reg) is not None:
-                entity["device_class"] = device_class(reg)
-            if state_class(self.device, reg) is not None:
-                entity["state_class"] = state_class(self.device, reg)
+            entity.update(self._measured(reg))
             self.template_sensors.append(scaled.scaled_sensor(reg, raw_source, sf, sf_source, entity))
             if not reg.access.writable:
                 continue
