@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 from collections.abc import Iterator
@@ -51,16 +52,17 @@ def hub_on_tcp(package: dict[str, Any], port: int) -> dict[str, Any]:
     return package
 
 
-def check_config(hass: Path, directory: Path, package: str) -> None:
-    """HA's own config check of `package` (one package in an otherwise empty configuration under `directory`).
-    Exit 0 is not enough: HA disables a script or template it cannot validate with one logged ERROR line."""
+def check_config(hass: Path, directory: Path, package: str, *info: str) -> str:
+    """HA's own config check of `package` (one package in an otherwise empty configuration under `directory`),
+    with `--info` for each domain in `info`; its output, colour codes removed. Exit 0 is not enough: HA disables
+    a script or template it cannot validate with one logged ERROR line."""
     (directory / "device.yaml").write_text(package, encoding="utf-8")
     (directory / "configuration.yaml").write_text("homeassistant:\n  packages:\n    device: !include device.yaml\n", encoding="utf-8")
-    result = subprocess.run(
-        [str(hass), "--script", "check_config", "-c", str(directory)], capture_output=True, text=True, timeout=300, check=False
-    )
-    out = result.stdout + result.stderr
+    command = [str(hass), "--script", "check_config", "-c", str(directory), *(a for domain in info for a in ("--info", domain))]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=300, check=False)
+    out = re.sub(r"\x1b\[[0-9;]*m", "", result.stdout + result.stderr)
     assert result.returncode == 0, out[-4000:]
     assert "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
     assert "components.modbus" not in out, out[-4000:]  # the integration's validators warn, e.g. "... is duplicate, not loaded!"
     assert "ERROR" not in out and "WARNING" not in out, out[-4000:]
+    return out

@@ -16,6 +16,7 @@ from regmap.homeauto.selection import select
 from regmap.model import Device
 
 from support.half_map import write_half_map
+from support.hass_running import check_config
 from support.homeauto_roundtrip import EVERYTHING, ha_round_trip
 from support.homeauto_yaml import load
 
@@ -49,14 +50,7 @@ def test_every_f16_register_is_a_float16_sensor(device: Device) -> None:
 def test_home_assistant_accepts_the_hub_and_reads_float16_as_struct_e(hass: Path, device: Device, tmp_path: Path) -> None:
     work = tmp_path / "ha"
     work.mkdir()
-    (work / "device.yaml").write_text(_hub(device), encoding="utf-8")
-    (work / "configuration.yaml").write_text("homeassistant:\n  packages:\n    device: !include device.yaml\n", encoding="utf-8")
-    result = subprocess.run(
-        [str(hass), "--script", "check_config", "-c", str(work)], capture_output=True, text=True, timeout=300, check=False
-    )
-    out = result.stdout + result.stderr
-    assert result.returncode == 0 and "Incorrect config" not in out and "Failed config" not in out, out[-4000:]
-    assert "components.modbus" not in out, out[-4000:]
+    check_config(hass, work, _hub(device))
     program = (
         "from homeassistant.components.modbus.validators import DEFAULT_STRUCT_FORMAT\n"
         "entry = DEFAULT_STRUCT_FORMAT['float16']\nprint(entry.struct_id, entry.register_count)\n"

@@ -15,6 +15,7 @@ from regmap.frontend.plant import load_plant
 from regmap.plant import Plant
 
 from conftest import ROOT
+from support.hass_running import check_config
 from support.homeauto_yaml import ha_slug, load
 from support.plant_tcp_bus import MAPS, REGMAP, write_plant
 from support.plants import write_meter_plant
@@ -140,17 +141,7 @@ def test_check_config_accepts_the_plant_with_nothing_dropped(hass: Path, tmp_pat
     """HA's own config check reads the whole plant: no duplicate hub, no entity dropped (its `--info modbus`
     lists every unique_id the file holds)."""
     (text,) = render_plant(cell1).values()
-    (tmp_path / "cell1.yaml").write_text(text, encoding="utf-8")
-    (tmp_path / "configuration.yaml").write_text("homeassistant:\n  packages:\n    cell1: !include cell1.yaml\n", encoding="utf-8")
-    result = subprocess.run(
-        [str(hass), "--script", "check_config", "-c", str(tmp_path), "--info", "modbus"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    out = re.sub(r"\x1b\[[0-9;]*m", "", result.stdout + result.stderr)
-    assert result.returncode == 0, out[-4000:]
+    out = check_config(hass, tmp_path, text, "modbus")
     assert "Successful config" in out, out[-4000:]
     for word in ("duplicate", "not loaded", "invalid", "Incorrect config", "Failed config", "components.modbus"):
         assert word.lower() not in out.lower(), [line for line in out.splitlines() if word.lower() in line.lower()]
