@@ -9,6 +9,7 @@ variables), optionally beside a test PROGRAM that the resource runs as a task.
 from __future__ import annotations
 
 import re
+import shutil
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,8 +17,18 @@ from pathlib import Path
 from regmap.generate import render
 from regmap.model import Device
 
+from conftest import built_tool, skip_or_fail
+
 # iec2c's three forms: FILE:LINE, FILE:LINE-COL..LINE-COL and FILE:LINE-COL..FILE:LINE-COL (stage1_2/iec_bison.yy).
 ERROR = re.compile(r"^(?P<file>[^:\n]+):(?P<line>\d+)(?:-\d+\.\.(?:[^:\n]+:)?\d+-\d+)?: error: (?P<what>.*)$", re.M)
+
+
+def matiec_and_gcc() -> Path:
+    """matiec's iec2c, and gcc to build the C it emits (each test using them skips without, or fails under CI=true)."""
+    path: Path = built_tool("matiec")
+    if shutil.which("gcc") is None:
+        skip_or_fail("gcc is not installed: the C that matiec emits cannot be built")
+    return path
 
 
 def st_files(device: Device, dialect: str = "iec") -> dict[str, str]:

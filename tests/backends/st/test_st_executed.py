@@ -19,7 +19,6 @@ skips (CI=true: fails).
 from __future__ import annotations
 
 import math
-import shutil
 from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
@@ -37,8 +36,9 @@ from regmap_runtime.codec import RangeError, raw_to_value, raw_to_words, value_t
 from regmap_runtime.spaces import COIL_ON
 from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, RegisterSpec
 
-from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool, skip_or_fail
+from conftest import FIXTURE_MAPS, MAPS, ROOT
 from support.st_exec import SENTINEL, Decode, Encode, Result, StProgram
+from support.st_matiec import matiec_and_gcc
 from support.st_values import block_words as _block_words
 from support.st_values import compare_value as _compare
 from support.st_values import edge_words as _edge
@@ -52,10 +52,7 @@ Case = Decode | Encode
 
 @pytest.fixture(scope="session")
 def matiec() -> Path:
-    path: Path = built_tool("matiec")
-    if shutil.which("gcc") is None:
-        skip_or_fail("gcc is not installed: the C that matiec emits cannot be built")
-    return path
+    return matiec_and_gcc()
 
 
 # -- the decoders --------------------------------------------------------------------------------

@@ -8,7 +8,6 @@ from __future__ import annotations
 import itertools
 import math
 import random
-import shutil
 from pathlib import Path
 from typing import Any
 
@@ -20,18 +19,14 @@ from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import RangeError, raw_to_words, value_to_raw
 from regmap_runtime.spec import RegisterSpec
 
-from conftest import built_tool, skip_or_fail
 from support.half_map import EDGE_VALUES, half, half_bits, write_half_map
 from support.st_exec import Decode, Encode, StProgram
-from support.st_matiec import DRIVER_PRELUDE, build_and_run, decoding_program, iec2c, program_text
+from support.st_matiec import DRIVER_PRELUDE, build_and_run, decoding_program, iec2c, matiec_and_gcc, program_text
 
 
 @pytest.fixture(scope="session")
 def matiec() -> Path:
-    path: Path = built_tool("matiec")
-    if shutil.which("gcc") is None:
-        skip_or_fail("gcc is not installed: the C that matiec emits cannot be built")
-    return path
+    return matiec_and_gcc()
 
 
 def _doubles() -> list[float]:

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
 import subprocess
 from pathlib import Path
 from typing import Any
@@ -38,7 +37,8 @@ from regmap.model import Device, Register
 from regmap_runtime.codec import raw_to_value, raw_to_words
 from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST
 
-from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool, skip_or_fail
+from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool
+from support.st_matiec import matiec_and_gcc
 from support.st_poll import PollBench, Run, WriteStep
 from support.st_values import block_words, compare_value, edge_words, example_data, order_flag, register_spec
 
@@ -51,10 +51,7 @@ SCALE_FACTOR = -1  # a scale factor's word in the image and a scaled write's nSf
 
 @pytest.fixture(scope="session")
 def matiec() -> Path:
-    path: Path = built_tool("matiec")
-    if shutil.which("gcc") is None:
-        skip_or_fail("gcc is not installed: the C that matiec emits cannot be built")
-    return path
+    return matiec_and_gcc()
 
 
 def _image(bench: PollBench) -> tuple[dict[str, dict[int, int]], list[list[int]]]:

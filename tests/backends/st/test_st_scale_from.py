@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 import random
 import re
-import shutil
 from pathlib import Path
 from typing import Any
 
@@ -29,8 +28,9 @@ from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import RangeError, check_raw, raw_to_words
 from regmap_runtime.scaling import unscaled
 
-from conftest import ROOT, built_tool, skip_or_fail
+from conftest import ROOT
 from support.st_exec import SENTINEL, Decode, Encode, Result, StProgram
+from support.st_matiec import matiec_and_gcc
 
 MAP = ROOT / "tests" / "maps" / "scaled_from" / "inverter.yaml"
 NA_SF = 0x8000  # the fixture's scale factors' "not available" marker (SunSpec's)
@@ -39,10 +39,7 @@ BEYOND_EXACT = 23  # 10^23 is no LREAL exactly: ST reports no value, the Python 
 
 @pytest.fixture(scope="session")
 def matiec() -> Path:
-    path: Path = built_tool("matiec")
-    if shutil.which("gcc") is None:
-        skip_or_fail("gcc is not installed: the C that matiec emits cannot be built")
-    return path
+    return matiec_and_gcc()
 
 
 def _sf(value: int) -> int:

@@ -11,7 +11,6 @@
 from __future__ import annotations
 
 import re
-import shutil
 from pathlib import Path
 from typing import Any
 
@@ -23,8 +22,9 @@ from regmap.frontend import load_map, load_map_text
 from regmap.generate import render
 from regmap.model import Device
 
-from conftest import FIXTURE_MAPS, ROOT, built_tool, skip_or_fail
+from conftest import FIXTURE_MAPS, ROOT
 from support.fixture_clients import flavour
+from support.st_matiec import matiec_and_gcc
 from support.st_poll import PollBench
 from support.st_values import block_words, edge_words, register_spec
 
@@ -83,10 +83,7 @@ def test_each_variants_blocks_read_what_its_python_client_reads(variant: str) ->
 
 @pytest.fixture(scope="session")
 def matiec() -> Path:
-    path: Path = built_tool("matiec")
-    if shutil.which("gcc") is None:
-        skip_or_fail("gcc is not installed: the C that matiec emits cannot be built")
-    return path
+    return matiec_and_gcc()
 
 
 def _image(bench: PollBench) -> dict[str, dict[int, int]]:
