@@ -92,7 +92,7 @@ class TcpConnection:
     """One TCP client: MBAP or RTU framing, its own buffer, closed on its own garbage only.
 
     Answers the client has not taken yet wait in `unsent`; while any wait, the client is not read (a client
-    that does not read its answers stops being served, and holds no more than one answer's worth)."""
+    that does not read its answers stops being served: what waits is at most the answers to one segment it sent)."""
 
     def __init__(self, sim: Simulator, rtu: bool, sock: socket.socket, address: object) -> None:
         self.sim = sim
