@@ -66,3 +66,13 @@ def port_reason(exc: Exception) -> str:
     not pyserial's "[Errno 2] could not open port X: [Errno 2] ..."."""
     errno = getattr(exc, "errno", None)
     return os.strerror(errno) if isinstance(errno, int) else str(exc)
+
+
+def parse_endpoint(text: str) -> tuple[str, int]:
+    """`--tcp HOST:PORT` (an IPv6 address in brackets, `[::1]:502`; no host: 127.0.0.1) as (host, port)."""
+    host, sep, port = text.rpartition(":")
+    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UsageError(f"--tcp wants HOST:PORT, got {text!r}")
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+    return host or "127.0.0.1", int(port)

@@ -28,7 +28,7 @@ from regmap.tools.frames import (
     write_blocks,
     write_function,
 )
-from regmap.tools.link import Link, port_reason, serial_line
+from regmap.tools.link import Link, parse_endpoint, port_reason, serial_line
 from regmap.tools.selectors import Item, Registers, check_slave
 from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
@@ -86,12 +86,10 @@ def connect(device: Device, link: Link, *, reading: bool, profile: DeviceProfile
             variant=link.variant,
         )
     elif link.tcp:
-        host, _, port = link.tcp.rpartition(":")
-        if not port.isdigit() or not 0 < int(port) < 65536:
-            raise UsageError(f"--tcp wants HOST:PORT, got {link.tcp!r}")
+        host, port = parse_endpoint(link.tcp)
         client = client_class.tcp(
-            host or "127.0.0.1",
-            int(port),
+            host,
+            port,
             link.slave,
             timeout=link.timeout,
             retries=link.retries,

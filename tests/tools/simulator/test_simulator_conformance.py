@@ -304,6 +304,38 @@ def test_busy_port_is_one_line_before_serving() -> None:
     assert result.stderr == f"regmap simulate: error: cannot listen on 127.0.0.1:{port}: address already in use\n"
 
 
+def test_a_host_that_does_not_resolve_is_one_line_with_the_resolver_s_reason() -> None:
+    result = regmap_simulate(str(IDM), "--tcp", "no-such-host.invalid:5020")
+    assert result.returncode == 2 and result.stdout == ""
+    assert result.stderr == "regmap simulate: error: cannot listen on no-such-host.invalid:5020: name or service not known\n"
+
+
+def test_an_ipv6_address_in_brackets_is_served_and_read() -> None:
+    """`--tcp [::1]:PORT`, as URLs write it, for the simulator and for the live commands alike."""
+    if not socket.has_ipv6:
+        pytest.skip("no IPv6 on this machine")
+    with socket.socket(socket.AF_INET6) as probe:
+        probe.bind(("::1", 0))
+        port = probe.getsockname()[1]
+    process = subprocess.Popen(
+        [sys.executable, "-m", "regmap", "simulate", str(IDM), "--tcp", f"[::1]:{port}"], cwd=ROOT, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert process.stdout is not None and f"on ::1:{port}" in process.stdout.readline()
+        result = subprocess.run(
+            [sys.executable, "-m", "regmap", "read", str(IDM), "peak_current", "--tcp", f"[::1]:{port}"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=False,
+            timeout=60,
+        )
+        assert result.returncode == 0 and result.stdout.startswith("Pr5.00 peak_current = "), result.stderr
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [

@@ -34,12 +34,14 @@ against its map (`slave_refusal`) and that each store was made for its id.
 
 from __future__ import annotations
 
+from regmap.tools.link import parse_endpoint
+
 from .faults import FAULT_KINDS, FaultPlan
 from .log import RequestLog
 from .pdu import Dispatcher, rtu_request_length
 from .policy import TcpPolicy
 from .quirks import Quirks
-from .run import check_start, parse_endpoint, run
+from .run import check_start, run
 from .server import Simulator, Stats, Unit, serve
 from .store import DeviceStore, slave_refusal
 

@@ -6,6 +6,7 @@ import asyncio
 import contextlib
 import os
 import signal
+import socket
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,7 +15,7 @@ from typing import TextIO
 from regmap.diagnostics import UsageError
 from regmap.model import Device
 from regmap.plant import Bus
-from regmap.tools.link import Line
+from regmap.tools.link import Line, parse_endpoint
 from regmap.tools.output import check_output
 
 from .faults import FaultPlan
@@ -23,13 +24,6 @@ from .policy import TcpPolicy
 from .quirks import Quirks
 from .server import Simulator
 from .store import DeviceStore, slave_refusal
-
-
-def parse_endpoint(text: str) -> tuple[str, int]:
-    host, sep, port = text.rpartition(":")
-    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
-        raise UsageError(f"--tcp wants HOST:PORT, got {text!r}")
-    return host or "127.0.0.1", int(port)
 
 
 def check_start(device: Device, slave: int, state: Path | None) -> None:
@@ -56,7 +50,9 @@ def _open_log(path: Path | None, echo: TextIO | None) -> tuple[list[TextIO], lis
 
 
 def _listen_error(where: str, exc: OSError) -> UsageError:
-    reason = os.strerror(exc.errno).lower() if exc.errno else str(exc)
+    # a name that does not resolve is a gaierror, whose errno (-2 ...) os.strerror does not know
+    reason = (exc.strerror or str(exc)) if isinstance(exc, socket.gaierror) else os.strerror(exc.errno) if exc.errno else str(exc)
+    reason = reason.lower()
     return UsageError(f"cannot listen on {where}: {reason}")
 
 
