@@ -82,5 +82,5 @@ def test_a_destructive_script_sends_only_when_confirmed_by_name(simulator: Simul
         text = home_log.read_text(errors="replace") if home_log.exists() else ""
         assert _DONE in text, text[-4000:]
         assert "could not be validated" not in text, text[-4000:]
-    control = load_map(MAP).register("control_word")
-    assert _writes(sim_log) == [bytes([0x06]) + control.address.to_bytes(2, "big") + (0x1122).to_bytes(2, "big")]
+    command = next(c for c in load_map(MAP).commands if c.name == COMMAND)  # the map's register and value, once
+    assert _writes(sim_log) == [bytes([0x06]) + command.register.address.to_bytes(2, "big") + command.raw_value().to_bytes(2, "big")]
