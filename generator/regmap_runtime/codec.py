@@ -261,6 +261,9 @@ def check_raw(spec: RegisterSpec[Any], raw: Raw) -> None:
     if raw != raw:
         raise RangeError(f"{spec.label}: NaN is not a value")
     if not spec.raw_min <= raw <= spec.raw_max:
+        if spec.scale_from is not None:  # its value depends on a factor read elsewhere: only the raw range is known here
+            bounds = f"{_exact(spec.raw_min)}..{_exact(spec.raw_max)}"
+            raise RangeError(f"{spec.label}: raw {_exact(raw)} is outside {bounds} (value = raw x 10^{spec.scale_from})")
         low, high = raw_to_value(spec, spec.raw_min), raw_to_value(spec, spec.raw_max)
         shown = _exact(raw_to_value(spec, raw))
         raise RangeError(f"{spec.label}: {shown}{_unit(spec)} is outside {_exact(low)}..{_exact(high)}{_unit(spec)}")

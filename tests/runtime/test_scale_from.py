@@ -85,9 +85,11 @@ def test_a_write_uses_a_fresh_scale_factor_and_refuses_what_raw_cannot_carry(sim
         client.write(spec, 50.5)
         assert client.read_raw(reg.address, 1) == raw_to_words(spec, unscaled(spec, 50.5, sf))
         assert client.read(spec) == 50.5
-        for refused in (50.55, _expected(device, reg.name, int(reg.raw_max) + 1, sf)):
-            with pytest.raises(RangeError):
+        too_big = int(reg.raw_max) + 1
+        for refused, reason in ((50.55, "whole multiple"), (_expected(device, reg.name, too_big, sf), f"raw {too_big} is outside")):
+            with pytest.raises(RangeError, match=reason) as refusal:
                 client.write(spec, refused)
+            assert reg.unit is None or f"{too_big} {reg.unit}" not in str(refusal.value)  # a raw number is not the value
             assert client.read(spec) == 50.5  # nothing was sent
         client.write(spec, 505, raw=True)
         assert client.read(spec) == 50.5
