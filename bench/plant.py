@@ -106,6 +106,16 @@ class _BusThread:
         return frames
 
 
+def _forget_modules_under(folder: Path, before: dict[str, Any]) -> None:
+    """Unload what was imported from `folder` (the plant and its device modules, about to be deleted) and put back
+    the modules of the same names imported before, so a later import of `c630s` finds the committed one."""
+    for name, module in list(sys.modules.items()):
+        if Path(getattr(module, "__file__", None) or "/").is_relative_to(folder) or (name in before and before[name] is not module):
+            del sys.modules[name]
+    for name, module in before.items():
+        sys.modules.setdefault(name, module)
+
+
 def measure(plant_file: Path = PLANT) -> PlantRun:
     original = load_plant(plant_file)
     bus = original.buses[0]
@@ -117,7 +127,8 @@ def measure(plant_file: Path = PLANT) -> PlantRun:
         command = [sys.executable, "-m", "regmap", "generate", str(copy), "--target", "python", "--out", str(out / "gen")]
         subprocess.run(command, cwd=ROOT, check=True, capture_output=True)
         name = f"{original.id}_plant"
-        earlier = sys.modules.pop(name, None)  # the committed plant of that name, imported before: not this one
+        before = dict(sys.modules)  # the committed plant and its devices, imported before: not these ones
+        sys.modules.pop(name, None)
         sys.path.insert(0, str(out / "gen" / "python"))
         try:
             module: Any = importlib.import_module(name)
@@ -131,9 +142,7 @@ def measure(plant_file: Path = PLANT) -> PlantRun:
                     single += served.take()
         finally:
             sys.path.remove(str(out / "gen" / "python"))
-            sys.modules.pop(name, None)
-            if earlier is not None:
-                sys.modules[name] = earlier
+            _forget_modules_under(out, before)
     (schedule,) = plant_schedule(original)[:1]
     line = bus.serial
     return PlantRun(

@@ -161,6 +161,8 @@ def test_the_plant_bench_polls_the_cycle_beside_the_devices_own_plans() -> None:
     """cell1's read_all() through the multi-unit simulator: the requests of the three single-device plans, in the
     schedule's order, and the same wire time as their sum and as the schedule's budget."""
     run = plant.measure()
+    leftover = [n for n, m in sys.modules.items() if "regmap-bench-plant-" in (getattr(m, "__file__", None) or "")]
+    assert not leftover, f"modules of the deleted temporary plant are still imported: {leftover}"
     assert run.devices == 3 and run.order_matches
     assert run.plant_requests == run.single_requests > 100
     assert run.plant_wire_s == pytest.approx(run.single_wire_s) and run.budget_s == pytest.approx(run.plant_wire_s)
