@@ -68,7 +68,7 @@ def words_to_raw(spec: RegisterSpec[Any], words: list[int] | tuple[int, ...]) ->
         if words[0] not in (0, 1):
             raise ValueError(f"{spec.label}: a bit is 0 or 1, got {words[0]}")
         return words[0]
-    if any(not 0 <= w <= 0xFFFF for w in words):
+    if min(words) < 0 or max(words) > 0xFFFF:  # two C calls: the check every read makes, kept cheap
         raise ValueError(f"{spec.label}: a register word is 0..0xFFFF, got {list(words)}")
     ordered = _wire_order(spec, list(words))
     if info.is_string:
@@ -324,7 +324,7 @@ class Unlisted(int):
 def decode_value(spec: RegisterSpec[Any], raw: Raw) -> Any:
     """The typed value a client returns: enum member, bitfield dict source, number, text or bool; None
     for the register's "not available" marker (`na`), which is never a value."""
-    if spec.is_na(raw):
+    if (spec.na or spec.na_nan) and spec.is_na(raw):
         return None
     if isinstance(raw, str):
         return raw

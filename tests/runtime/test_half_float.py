@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from regmap_runtime.codec import RangeError, raw_to_value, raw_to_words, value_to_raw, words_to_raw
+from regmap_runtime.codec import RangeError, decode_value, raw_to_value, raw_to_words, value_to_raw, words_to_raw
 from regmap_runtime.spec import RegisterSpec
 from regmap_runtime.types import TYPES
 
@@ -87,5 +87,7 @@ def test_the_nan_marker_reads_as_not_available_and_is_never_written() -> None:
     assert spec.is_na(words_to_raw(spec, [0x7E00]))
     assert spec.is_na(words_to_raw(spec, [0xFE01]))  # any NaN
     assert not spec.is_na(words_to_raw(spec, [0x7C00]))  # infinity is no NaN
+    assert decode_value(spec, words_to_raw(spec, [0x7E00])) is None  # NaN is its only marker: no `na` list
+    assert decode_value(spec, words_to_raw(spec, [0x7C00])) == math.inf
     with pytest.raises(RangeError):
         value_to_raw(spec, float("nan"))

@@ -118,9 +118,10 @@ def test_the_codec_follows_the_table_and_the_word_order(info: TypeInfo) -> None:
     assert words_to_raw(high, raw_to_words(high, raw)) == words_to_raw(low, raw_to_words(low, raw)) == raw
 
 
-def test_a_word_beyond_16_bits_is_refused() -> None:
+@pytest.mark.parametrize("words", [[0x10000], [-1], [0x1234, -1], [0x10000, 0]])
+def test_a_word_beyond_16_bits_is_refused(words: list[int]) -> None:
     with pytest.raises(ValueError, match=r"0\.\.0xFFFF"):
-        words_to_raw(_spec(TYPES["u16"]), [0x10000])
+        words_to_raw(_spec(TYPES["u16" if len(words) == 1 else "u32"]), words)
 
 
 def test_only_a_wide_register_follows_the_device_word_order() -> None:

@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_204f0906cd.bits import BitfieldValue
-from regmap_runtime_204f0906cd.client import AsyncClient, SyncClient
-from regmap_runtime_204f0906cd.codec import Unlisted
-from regmap_runtime_204f0906cd.errors import (
+from regmap_runtime_2df47000a5.bits import BitfieldValue
+from regmap_runtime_2df47000a5.client import AsyncClient, SyncClient
+from regmap_runtime_2df47000a5.codec import Unlisted
+from regmap_runtime_2df47000a5.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_204f0906cd.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_204f0906cd.profile import DeviceProfile, load_profile
-from regmap_runtime_204f0906cd.spec import (
+from regmap_runtime_2df47000a5.profile import DeviceProfile, load_profile
+from regmap_runtime_2df47000a5.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

@@ -28,7 +28,8 @@ class ReadBlock:
     def words_of(self, spec: RegisterSpec[Any], words: Sequence[int]) -> list[int]:
         """Slice one register's own words out of the words this block returned."""
         start = spec.address - self.address
-        return list(words[start : start + spec.words])
+        own = words[start : start + spec.words]
+        return own if isinstance(own, list) else list(own)  # a list's slice is already a copy
 
 
 def _block(regs: list[RegisterSpec[Any]], alignment: Alignment | None, readable: Callable[[str, Iterable[int]], bool]) -> ReadBlock:

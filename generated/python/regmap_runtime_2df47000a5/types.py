@@ -36,37 +36,29 @@ class TypeInfo:
     codec: str
     _value: struct.Struct | None = field(init=False, repr=False, compare=False)
     _words: struct.Struct | None = field(init=False, repr=False, compare=False)
+    # Worked out once: every decoded read asks them.
+    wide: bool = field(init=False, repr=False, compare=False)  # more than one register word, so the value has a word order
+    is_float: bool = field(init=False, repr=False, compare=False)
+    is_string: bool = field(init=False, repr=False, compare=False)
+    is_bool: bool = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         fixed = self.kind in (INT, FLOAT)
         object.__setattr__(self, "_value", struct.Struct(">" + self.codec) if fixed else None)
         object.__setattr__(self, "_words", struct.Struct(f">{self.words}H") if fixed else None)
+        object.__setattr__(self, "wide", self.words > 1 and self.kind != STRING)
+        object.__setattr__(self, "is_float", self.kind == FLOAT)
+        object.__setattr__(self, "is_string", self.kind == STRING)
+        object.__setattr__(self, "is_bool", self.kind == BOOL)
 
     @property
     def bits(self) -> int:
         return 1 if self.kind == BOOL else WORD_BITS * self.words
 
     @property
-    def wide(self) -> bool:
-        """More than one register word, so the value has a word order."""
-        return self.words > 1 and self.kind != STRING
-
-    @property
     def numeric(self) -> bool:
         """A number that may have a scale, an offset, a range and a unit."""
         return self.kind in (INT, FLOAT)
-
-    @property
-    def is_float(self) -> bool:
-        return self.kind == FLOAT
-
-    @property
-    def is_string(self) -> bool:
-        return self.kind == STRING
-
-    @property
-    def is_bool(self) -> bool:
-        return self.kind == BOOL
 
     @property
     def is_timestamp(self) -> bool:

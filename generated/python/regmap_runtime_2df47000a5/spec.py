@@ -225,7 +225,7 @@ class RegisterSpec(Generic[T]):
 
     def in_word_order(self, word_order: str | None) -> Self:
         """The spec in the word order the device uses now, when that is not the map's (a device whose word-order register was changed)."""
-        if word_order and self.wide and self.follows_device_order and self.word_order != word_order:
+        if self.follows_device_order and word_order and self.wide and self.word_order != word_order:
             return dataclasses.replace(self, word_order=word_order)
         return self
 
