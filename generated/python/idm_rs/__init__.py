@@ -10,10 +10,10 @@ import dataclasses
 import enum
 from typing import Any, ClassVar, Final, Literal, TypedDict, cast
 
-from regmap_runtime_2df47000a5.bits import BitfieldValue
-from regmap_runtime_2df47000a5.client import AsyncClient, SyncClient
-from regmap_runtime_2df47000a5.codec import Unlisted
-from regmap_runtime_2df47000a5.errors import (
+from regmap_runtime_34b378431b.bits import BitfieldValue
+from regmap_runtime_34b378431b.client import AsyncClient, SyncClient
+from regmap_runtime_34b378431b.codec import Unlisted
+from regmap_runtime_34b378431b.errors import (
     AccessError,
     ConnectionLost,
     CrcError,
@@ -25,8 +25,8 @@ from regmap_runtime_2df47000a5.errors import (
     RegmapError,
     WrongSlave,
 )
-from regmap_runtime_2df47000a5.profile import DeviceProfile, load_profile
-from regmap_runtime_2df47000a5.spec import (
+from regmap_runtime_34b378431b.profile import DeviceProfile, load_profile
+from regmap_runtime_34b378431b.spec import (
     BitfieldSpec,
     DeviceSpec,
     Readable,

@@ -10,7 +10,7 @@ import time
 from collections.abc import Callable
 from typing import TypedDict
 
-from regmap_runtime_2df47000a5.plant import PlantBus
+from regmap_runtime_34b378431b.plant import PlantBus
 from c630s import C630s, C630sValues
 from idm_rs import IdmRs, IdmRsValues
 

@@ -382,7 +382,7 @@ class ClientCore:
     def scale_factors(self, specs: Iterable[RegisterSpec[Any]]) -> list[RegisterSpec[Any]]:
         """The scale-factor registers of the `scale_from` registers among `specs`, each once."""
         wanted = {spec.scale_from for spec in specs if spec.scale_from is not None}
-        return [r for r in self.DEVICE.registers if r.name in wanted]
+        return [r for r in self.DEVICE.registers if r.name in wanted] if wanted else []  # most maps have none: no scan
 
     def with_scale_factors(self, specs: Iterable[Readable[Any]]) -> list[Readable[Any]]:
         """`specs` and the scale factors they need, so that one plan reads a point with its sf (one request where it can)."""
