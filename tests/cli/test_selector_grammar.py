@@ -201,3 +201,19 @@ def test_did_you_mean_offers_the_zero_padded_id_first(map_path: str, typed: str,
     line = one_line_error(regmap("frame", map_path, "read", typed), "did you mean")
     offered = line.split("did you mean ", 1)[1].rstrip("?)").split(" or ")
     assert offered[0] == first and len(offered) > 1, line
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("write", IDM, "--tcp", "127.0.0.1:1", "di1_function.function=stop"),  # refused before any connection is tried
+        ("write", IDM, "--tcp", "127.0.0.1:1", "Pr4.02.normally_closed=1"),
+        ("frame", IDM, "read", "di1_function.function"),
+    ],
+)
+def test_a_dotted_field_says_how_regmap_names_it(args: tuple[str, ...]) -> None:
+    """REGISTER.FIELD (how a C struct or an ST variable spells a bitfield member) is no register: the error says
+    the register's name and the field-write form, instead of 'did you mean' other registers."""
+    field = args[-1].split("=")[0].rsplit(".", 1)[1]
+    line = one_line_error(regmap(*args), f"{field} is a field of Pr4.02 di1_function", f"di1_function={field}:VALUE")
+    assert "did you mean" not in line

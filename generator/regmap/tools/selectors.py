@@ -305,7 +305,7 @@ class Registers:
         except UsageError:
             located = None
         if located is None:
-            return suggest(selector, [*self.by_name, *self.by_param])
+            return self._field_hint(selector) or suggest(selector, [*self.by_name, *self.by_param])
         address = located.address
         spaces = [located.space] if located.space is not None else list(SPACES)
         owners = [o for o in (self.device.covering(address, space) for space in spaces) if o is not None]
@@ -316,6 +316,17 @@ class Registers:
         if typed.isdigit():  # say the number as typed too: 40402 = 0x9DD2
             at = f"{'Modicon ' if self.modicon else ''}{typed} = {at}"
         return f" (no register at {at}{where}{self._nearby(located, selector)}; --words reads and writes any address)"
+
+    def _field_hint(self, selector: str) -> str:
+        """REGISTER.FIELD (a struct member's spelling) names one field of a bitfield register: say how regmap names it."""
+        head, dot, field = selector.strip().rpartition(".")
+        try:
+            reg = self.find(head) if dot else None
+        except UsageError:
+            reg = None
+        if reg is None or not any(f.name == field for f in reg.bitfields):
+            return ""
+        return f" ({field} is a field of {reg.label}: name the register; a write of one field is {reg.name}={field}:VALUE, the other bits kept)"
 
     def _nearby(self, located: Located, selector: str | None = None) -> str:
         """The notations a field engineer may have meant by a decimal address: a Modicon number, or mbpoll's 1-based -r."""
