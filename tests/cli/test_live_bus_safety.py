@@ -16,9 +16,10 @@ from pathlib import Path
 import pytest
 
 from regmap.core.decoding import carried
-from regmap.diagnostics import ExitCode
+from regmap.diagnostics import ExitCode, UsageError
 from regmap.frontend import load_map
 from regmap.tools.frames import read_words_frame, write_words_frames
+from regmap.tools.wordcheck import check_word_runs
 from regmap_runtime.rtu import parse_frame, to_hex, with_crc
 from regmap_runtime.spaces import SPACES
 
@@ -464,3 +465,80 @@ def test_a_port_that_refuses_the_line_settings_says_so(monkeypatch: pytest.Monke
         text
         == "the port refuses 19200 baud, even parity, 1 stop bit(s): Invalid argument (a pseudo-terminal may refuse parity: try --parity none)"
     )
+
+
+# -- write --words on a live bus ---------------------------------------------------------------
+
+
+def _words_refusals(path: Path) -> list[tuple[str, str, list[int]]]:
+    """(--words item, what the error must say, addresses to watch) for each way raw words could break the map's rules,
+    each taken from the map: a destructive command's value, a read-only register, a value its enum lacks, half of a
+    32-bit register, a pair's high word alone and a pair's high word that is not the sign extension."""
+    device = load_map(path)
+    holding = [r for r in device.registers if r.space == "holding"]
+    destructive = next(c for c in device.commands if c.destructive and c.argument is None)
+    read_only = next(r for r in holding if not r.access.writable and not r.paired and r.words == 1)
+    enum_reg = next(r for r in holding if r.access.writable and r.enum is not None and not r.bitfields and not r.paired)
+    missing = max(m.value for m in enum_reg.enum.members) + 1
+    wide = next(r for r in holding if r.access.writable and r.words == 2)
+    pair = next(r for r in holding if r.access.writable and r.paired and r.type.value == "u16" and r.scale == 1 and r.min is not None)
+    low = int(pair.min or 0)  # a value the low word may hold: only the high word is wrong
+    return [
+        (
+            f"0x{destructive.register.address:04X}=0x{destructive.value:04X}",
+            f"{destructive.name} is destructive",
+            [destructive.register.address],
+        ),
+        (f"0x{read_only.address:04X}=1", f"{read_only.label} is read-only", [read_only.address]),
+        (f"0x{enum_reg.address:04X}={missing}", f"{missing} is not one of", [enum_reg.address]),
+        (f"0x{wide.address:04X}=0", f"writes 1 of the 2 word(s) of {wide.label}", [wide.address, wide.address + 1]),
+        (f"0x{pair.first_address:04X}=0", f"the unused high word of {pair.label}; write it together", [pair.first_address, pair.address]),
+        (
+            f"0x{pair.first_address:04X}=0xFFFF,{low}",
+            "sign extension of its low word: 0x0000, not 0xFFFF",
+            [pair.first_address, pair.address],
+        ),
+    ]
+
+
+def test_write_words_sends_nothing_the_map_forbids_at_a_register_it_lists(simulator: SimulatorFactory, tmp_path: Path) -> None:
+    """--words reaches any address, but words landing on a listed register pass the register's checks, as a named
+    write would: each refusal is one line (exit 2) and the simulator's request log shows nothing sent; a valid
+    write of a pair (high word 0, as the manual's 0x10 frames send it) goes out."""
+    log = tmp_path / "requests.log"
+    sim = simulator(ROOT / IDM, "--log", str(log))
+    assert sim.port is not None
+    tcp = ["--tcp", f"127.0.0.1:{sim.port}"]
+    for item, needle, _ in _words_refusals(ROOT / IDM):
+        one_line_error(regmap("write", IDM, *tcp, "--words", item), ExitCode.USAGE, needle, "nothing was sent")
+    assert not log.exists() or "PDU" not in log.read_text(encoding="utf-8"), "a refused --words write reached the drive"
+    device = load_map(ROOT / IDM)
+    pair = next(r for r in device.registers if r.access.writable and r.paired and r.type.value == "u16" and r.max)
+    allowed = int(pair.max)
+    result = regmap("write", IDM, *tcp, "--words", f"0x{pair.first_address:04X}=0,{allowed}")
+    assert result.returncode == 0, result.stderr
+    idm = client_module("idm_rs")
+    with idm.IdmRs.tcp("127.0.0.1", sim.port, timeout=2) as drive:
+        assert drive.read_raw(pair.address, 1) == [allowed]
+
+
+def test_frame_words_stays_raw_so_the_manuals_frames_print_as_printed() -> None:
+    """Printing bytes sends nothing: `frame --words` builds a destructive command's frame as the manual prints it."""
+    device = load_map(ROOT / IDM)
+    destructive = next(c for c in device.commands if c.destructive and c.argument is None)
+    result = regmap("frame", IDM, "write", "--words", f"0x{destructive.register.address:04X}=0x{destructive.value:04X}")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split()[4:6] == [f"{destructive.value >> 8:02X}", f"{destructive.value & 0xFF:02X}"]
+
+
+def test_write_words_on_a_drive_whose_word_order_can_change_must_be_allowed_in_both_orders() -> None:
+    """C630S's 32-bit parameters follow P0C-26, which a field engineer may have changed: --words cannot know which
+    order the drive holds, so words whose other reading is out of range are refused (naming the register reads P0C-26)."""
+    device = load_map(ROOT / C630S)
+    reg = next(r for r in device.registers if r.param == "P05-02")
+    assert reg.words == 2 and not reg.word_order_fixed and reg.word_order.value == "low_first" and reg.max is not None
+    small = (int(reg.max) >> 16) + 1  # allowed as the map reads it; shifted into the high word it exceeds the maximum
+    low_first = (reg.space, [(reg.address, (small, 0))])
+    with pytest.raises(UsageError, match=r"outside .* \(read high first\); nothing was sent"):
+        check_word_runs(device, *low_first)
+    check_word_runs(device, reg.space, [(reg.address, (1, 0))])  # 1 one way, 65536 the other: both allowed

@@ -27,7 +27,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("assignments", nargs="+", metavar="SELECTOR=VALUE")
     p.add_argument("--raw", action="store_true", help="values are raw register integers")
     p.add_argument(
-        "--words", action="store_true", help="ADDR=WORD[,WORD...]: 16-bit words (bits 0/1 with -t 0) at any address (no read-back)"
+        "--words",
+        action="store_true",
+        help="ADDR=WORD[,WORD...]: 16-bit words (bits 0/1 with -t 0) at any address (no read-back); words on a register the map lists pass its checks",
     )
     add_space(p)
     add_addressing(p, start=False)

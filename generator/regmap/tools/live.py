@@ -30,6 +30,7 @@ from regmap.tools.frames import (
 )
 from regmap.tools.link import Link, parse_endpoint, port_reason, serial_line
 from regmap.tools.selectors import Item, Registers, check_slave
+from regmap.tools.wordcheck import check_word_runs
 from regmap_runtime.client import SyncClient
 from regmap_runtime.codec import raw_to_words, words_to_raw
 from regmap_runtime.errors import OutcomeUnknown, RegmapError
@@ -420,10 +421,13 @@ def plan_write(
 ) -> WritePlan:
     word_writes = parse_word_writes(items, space, modicon=modicon) if words else []
     assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
+    runs = word_runs(device, word_writes) if words else []
+    run_space = word_writes[0].space if word_writes else DEFAULT_SPACE
+    check_word_runs(device, run_space, runs)
     return WritePlan(
         words,
-        word_writes[0].space if word_writes else DEFAULT_SPACE,
-        word_runs(device, word_writes) if words else [],
+        run_space,
+        runs,
         assignments,
         [n for n in (*(w.located for w in word_writes), *(a.located for a in assignments)) if n],
     )

@@ -1,0 +1,68 @@
+"""`write --words` on a live bus: words at addresses the map does not list go out as given (that is what
+--words is for), but words that land on a register the map lists pass that register's own checks first,
+as a named write would: it is writable, all of its words are written (no torn 32-bit value), and their raw
+value is in its range, a member of its enum, no state it only reports and no destructive command's value
+(that goes through `regmap command NAME --confirm NAME`). `frame --words` only prints bytes and stays raw,
+so the manuals' frames can be reproduced as printed."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from regmap.diagnostics import UsageError
+from regmap.model import Device
+from regmap.runtime_bridge import runtime_specs
+from regmap_runtime.codec import RangeError, check_raw, words_to_raw
+from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, RegisterSpec
+
+NOTHING_SENT = "nothing was sent; --words writes only what the map allows at a register it lists"
+
+
+def check_word_runs(device: Device, space: str, runs: Sequence[tuple[int, Sequence[int]]]) -> None:
+    """Refuse (UsageError) a run of words that writes a listed register in a way a named write could not."""
+    written = {address + i: word for address, run in runs for i, word in enumerate(run)}
+    if not written:
+        return
+    specs = {spec.name: spec for spec in runtime_specs(device)}
+    for reg in device.registers:
+        if reg.space != space or not any(address in written for address in range(reg.first_address, reg.address + reg.words)):
+            continue
+        at = f"--words 0x{max(reg.first_address, min(written)):04X}"
+        if not reg.access.writable:
+            raise UsageError(f"{at}: {reg.label} is read-only (access {reg.access.value}); {NOTHING_SENT}")
+        own = range(reg.address, reg.address + reg.words)  # without a pair's unused high word
+        missing = [address for address in own if address not in written]
+        if reg.paired and len(missing) == reg.words:
+            raise UsageError(
+                f"{at}: 0x{reg.first_address:04X} is the unused high word of {reg.label}; write it together with the "
+                f"low word 0x{reg.address:04X}, or 0x{reg.address:04X} alone; {NOTHING_SENT}"
+            )
+        if missing:
+            raise UsageError(
+                f"{at}: writes {reg.words - len(missing)} of the {reg.words} word(s) of {reg.label} ({reg.type.value} at "
+                f"0x{reg.address:04X}), which would leave it half old, half new; write all of them or name the register; {NOTHING_SENT}"
+            )
+        _check_value(specs[reg.name], [written[address] for address in own], at)
+        if reg.paired and reg.first_address in written:
+            # The pair is one 32-bit parameter of which only the low word is used: its high word is the sign extension.
+            low = words_to_raw(specs[reg.name], [written[reg.address]])
+            extension = 0xFFFF if isinstance(low, int) and low < 0 else 0x0000
+            if written[reg.first_address] != extension:
+                raise UsageError(
+                    f"{at}: 0x{reg.first_address:04X} is the unused high word of {reg.label}, which holds the sign "
+                    f"extension of its low word: 0x{extension:04X}, not 0x{written[reg.first_address]:04X}; {NOTHING_SENT}"
+                )
+
+
+def _check_value(spec: RegisterSpec[Any], words: list[int], at: str) -> None:
+    """check_raw on the words as the device reads them: a device whose word order can be switched may hold
+    either order, so the words must be allowed read either way."""
+    orders = (HIGH_FIRST, LOW_FIRST) if spec.wide and spec.follows_device_order else (spec.word_order,)
+    for order in orders:
+        candidate = spec.in_word_order(order)
+        try:
+            check_raw(candidate, words_to_raw(candidate, words))
+        except (RangeError, ValueError) as exc:
+            read_as = f" (read {order.replace('_', ' ')})" if len(orders) > 1 else ""
+            raise UsageError(f"{at}: {exc}{read_as}; {NOTHING_SENT}") from None
