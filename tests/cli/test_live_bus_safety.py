@@ -479,6 +479,7 @@ def _words_refusals(path: Path) -> list[tuple[str, str, list[int]]]:
     destructive = next(c for c in device.commands if c.destructive and c.argument is None)
     read_only = next(r for r in holding if not r.access.writable and not r.paired and r.words == 1)
     enum_reg = next(r for r in holding if r.access.writable and r.enum is not None and not r.bitfields and not r.paired)
+    assert enum_reg.enum is not None
     missing = max(m.value for m in enum_reg.enum.members) + 1
     wide = next(r for r in holding if r.access.writable and r.words == 2)
     pair = next(r for r in holding if r.access.writable and r.paired and r.type.value == "u16" and r.scale == 1 and r.min is not None)
@@ -513,8 +514,8 @@ def test_write_words_sends_nothing_the_map_forbids_at_a_register_it_lists(simula
         one_line_error(regmap("write", IDM, *tcp, "--words", item), ExitCode.USAGE, needle, "nothing was sent")
     assert not log.exists() or "PDU" not in log.read_text(encoding="utf-8"), "a refused --words write reached the drive"
     device = load_map(ROOT / IDM)
-    pair = next(r for r in device.registers if r.access.writable and r.paired and r.type.value == "u16" and r.max)
-    allowed = int(pair.max)
+    pair = next(r for r in device.registers if r.access.writable and r.paired and r.type.value == "u16" and r.scale == 1 and r.max)
+    allowed = int(pair.max or 0)
     result = regmap("write", IDM, *tcp, "--words", f"0x{pair.first_address:04X}=0,{allowed}")
     assert result.returncode == 0, result.stderr
     idm = client_module("idm_rs")
