@@ -185,9 +185,10 @@ def generate(
         staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir.parent))
     try:
         tree = staging / "tree"
+        replaced = {os.path.join(out_dir, known[name].subdir) for name in rendered} if complete else set()
         with _writing(given):
             if out_dir.exists():
-                shutil.copytree(out_dir, tree, symlinks=True)
+                shutil.copytree(out_dir, tree, symlinks=True, ignore=functools.partial(_replaced_dirs, replaced))
             else:
                 tree.mkdir()
         written: list[Path] = []
@@ -197,9 +198,8 @@ def generate(
             with _writing(given):
                 if complete and sub.exists():
                     shutil.rmtree(sub)
-                for rel, content in sorted(files.items()):
-                    _write(sub, rel, content)
-                    written.append(out_dir / target.subdir / rel)
+                _write(sub, files)
+                written.extend(out_dir / target.subdir / rel for rel in sorted(files))
             if name in found:
                 continue
             if target.post is not None:
@@ -208,13 +208,19 @@ def generate(
                 with _writing(given):
                     cached.store(name, {rel: (sub / rel).read_bytes().decode("utf-8") for rel in files})
         with _writing(given):
-            for rel, content in sorted((extra or {}).items()):
-                _write(tree, rel, content)
-                written.append(out_dir / rel)
+            _write(tree, extra or {})
+            written.extend(out_dir / rel for rel in sorted(extra or {}))
             _swap(tree, out_dir, staging)
         return written
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _replaced_dirs(replaced: set[str], directory: str, names: list[str]) -> list[str]:
+    """The target subdirectories a complete run removes anyway: copying the old output into staging would be wasted."""
+    return [
+        name for name in names if (path := os.path.join(directory, name)) in replaced and os.path.isdir(path) and not os.path.islink(path)
+    ]
 
 
 @contextlib.contextmanager
@@ -226,10 +232,13 @@ def _writing(out_dir: Path) -> Iterator[None]:
         raise OutputError(f"cannot write {out_dir}: {exc.strerror or exc}") from None
 
 
-def _write(root: Path, rel: str, content: str) -> None:
-    path = root / rel
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(content, encoding="utf-8", newline="\n")
+def _write(root: Path, files: Files) -> None:
+    """Each directory is made once, not once per file it holds (a made one costs a failed mkdir call each time)."""
+    paths = {rel: root / rel for rel in files}
+    for directory in sorted({path.parent for path in paths.values()}):
+        directory.mkdir(parents=True, exist_ok=True)
+    for rel, content in sorted(files.items()):
+        paths[rel].write_text(content, encoding="utf-8", newline="\n")
 
 
 STAGING_PREFIX = ".regmap-staging-"

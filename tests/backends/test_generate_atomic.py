@@ -101,3 +101,21 @@ def test_recover_restores_output_killed_between_renames(tmp_path: Path) -> None:
     recover(out)
     assert (out / "keep.txt").read_text(encoding="utf-8") == "old"
     assert not staging.exists()
+
+
+def test_a_complete_run_replaces_only_its_targets_directories(tmp_path: Path) -> None:
+    """The staged tree starts from the old output without the directories the run replaces: their stale files go,
+    everything else (another target's directory, a file of the user's) stays; a run that is not complete keeps them."""
+    out = tmp_path / "generated"
+    devices = [load_map(p) for p in SMALL_MAPS]
+    generate(devices, out, ["python", "c"], complete=True)
+    (out / "notes.txt").write_text("mine\n", encoding="utf-8")
+    (out / "c" / "stale.h").write_text("/* from a removed map */\n", encoding="utf-8")
+    python_before = tree(out / "python")
+    c_before = tree(out / "c")
+    generate(devices, out, ["c"], complete=False)
+    assert tree(out / "c") == c_before
+    generate(devices, out, ["c"], complete=True)
+    assert (out / "notes.txt").read_text(encoding="utf-8") == "mine\n"
+    assert tree(out / "python") == python_before
+    assert tree(out / "c") == {rel: content for rel, content in c_before.items() if rel != "stale.h"}

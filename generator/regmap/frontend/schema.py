@@ -7,13 +7,14 @@ import json
 import re
 from collections.abc import Iterable
 from importlib import resources
-from typing import Any
-
-import jsonschema
+from typing import TYPE_CHECKING, Any
 
 from regmap.diagnostics import Diagnostic
 from regmap.frontend.fastschema import Check, compile_schema
 from regmap.frontend.yamlsource import Positions
+
+if TYPE_CHECKING:  # jsonschema is imported only when a map fails the compiled check (its import costs ~30 ms)
+    import jsonschema
 
 
 def _schema(file: str = "map.schema.json") -> dict[str, Any]:
@@ -28,6 +29,8 @@ _FAST_CHECKS: dict[str, Check | None] = {}
 
 def _validator(file: str = "map.schema.json") -> jsonschema.protocols.Validator:
     """One validator per schema file and process (building one costs more than validating a map)."""
+    import jsonschema
+
     if file not in _VALIDATORS:
         _VALIDATORS[file] = jsonschema.Draft202012Validator(_schema(file))
     return _VALIDATORS[file]
@@ -84,12 +87,14 @@ def _pick(error: jsonschema.ValidationError) -> tuple[jsonschema.ValidationError
     The branch that takes the value's type explains best (a string that misses a pattern, not "is not an
     integer"); when no branch takes it, the message names every type that would do.
     """
+    from jsonschema.exceptions import best_match
+
     while error.context:
         typed = [e for e in error.context if not (e.validator == "type" and not e.relative_path)]
         if not typed:
             types = [t for e in error.context for t in _as_list(e.validator_value)]
             return error, _type_message(error.instance, types)
-        error = jsonschema.exceptions.best_match(typed)
+        error = best_match(typed)
     return error, _schema_message(error)
 
 

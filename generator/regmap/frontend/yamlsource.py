@@ -323,11 +323,18 @@ class _EventReader:
             else:
                 keys.setdefault(key_path, key_mark)
             value = get()
-            if type(value) is yaml.AliasEvent:
+            kind = type(value)
+            if kind is scalar_event and value.anchor is None and not self.recording:
+                # the common case, what `value` does for it without the call: its position, then its value
+                start = value.start_mark
+                by_path.setdefault(key_path, (start.line + 1, start.column + 1))
+                result[key] = self.scalar(value)
+                continue
+            if kind is yaml.AliasEvent:
                 anchored = self.anchors.get(value.anchor)
                 starts, collection = (anchored.mark[0] - 1, anchored.collection) if anchored else (line, False)
             else:
-                starts, collection = value.start_mark.line, type(value) is not scalar_event
+                starts, collection = value.start_mark.line, kind is not scalar_event
             if collection and starts != line:
                 if self.recording:
                     self.record(_KEY_LINE, key_path, key_mark)
@@ -356,7 +363,7 @@ class _EventReader:
         if tag is None or tag == "!":
             if not event.implicit[0]:
                 return text  # quoted: a string, as the resolver says for every non-plain scalar
-            tag = self._plain_tag(text)
+            tag = self.plain_tags.get(text) or self._plain_tag(text)
         if tag == _STR_TAG:
             return text  # what the checks and SafeConstructor make of any string
         key = (tag, text)
