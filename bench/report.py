@@ -565,8 +565,9 @@ def _sim(r: Results) -> list[str]:
     if s.blocked is not None:
         return [f"Blocked: {s.blocked}.", ""]
     out = [
-        "`regmap simulate maps/idm_rs.yaml` (Modbus TCP, one process: its sockets read and written directly on the asyncio",
-        "loop, a repeated read answered from the answer cache while the device's memory is unchanged) and a libmodbus",
+        "`regmap simulate maps/idm_rs.yaml` (Modbus TCP, one process: its sockets read and written directly, all on one",
+        "epoll that the asyncio loop watches, a repeated read answered from the answer cache while the device's memory",
+        "is unchanged) and a libmodbus",
         "server (bench/c/modbus_server.c: `modbus_receive`/`modbus_reply`, select() over clients) on loopback, both",
         f"running, the load sent to each in turn, {s.rounds} rounds per level (the median round shown; the ratio is the",
         "median of the rounds' ratios). Load: bench/c/modbus_load.c, N threads with a libmodbus connection each, one",

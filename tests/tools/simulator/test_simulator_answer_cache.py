@@ -13,7 +13,10 @@ import io
 import socket
 import struct
 
+import pytest
+
 from regmap.frontend import load_map
+from regmap.tools.simulator.connection import Poller, TcpConnection
 from regmap.tools.simulator.faults import FaultPlan
 from regmap.tools.simulator.log import RequestLog
 from regmap.tools.simulator.server import Simulator
@@ -130,16 +133,39 @@ def test_a_write_on_one_connection_is_seen_by_the_next_read_on_another(simulator
     assert words[1:] == [11, 12, 13]
 
 
-def test_a_client_that_does_not_read_its_answers_is_not_read_until_it_does() -> None:
+def in_process_connection(sim: Simulator, use_epoll: bool) -> tuple[TcpConnection, socket.socket]:
+    """A connection of `sim` (its sockets watched by one epoll, or each by the event loop) and its client's side."""
+    if sim.poller is None:
+        sim.poller = Poller(asyncio.get_running_loop(), use_epoll=use_epoll)
+    server_side, client_side = socket.socketpair()
+    server_side.setblocking(False)
+    client_side.setblocking(False)
+    connection = TcpConnection(sim, False, server_side, ("client", 1))
+    connection.start()
+    return connection, client_side
+
+
+async def read_answers(client_side: socket.socket, want: int) -> bytes:
+    got = b""
+    for _ in range(300):
+        with contextlib.suppress(BlockingIOError):
+            got += client_side.recv(4096)
+        if len(got) >= want:
+            break
+        await asyncio.sleep(0.005)
+    return got
+
+
+@pytest.mark.parametrize("use_epoll", [True, False], ids=["epoll", "event-loop"])
+def test_a_client_that_does_not_read_its_answers_is_not_read_until_it_does(use_epoll: bool) -> None:
     """Answers a client has not taken wait in the connection; meanwhile it is not read (its requests wait in
     the socket), and once it reads, every answer arrives once, in order."""
-    from regmap.tools.simulator.connection import TcpConnection
-
     total = 3000
     requests = b"".join(mbap(t, 1, read(PEAK.address)) for t in range(total))
 
     async def scenario() -> tuple[int, bool, bytes]:
         sim = Simulator(IDM, 1)
+        sim.poller = Poller(asyncio.get_running_loop(), use_epoll=use_epoll)
         server_side, client_side = socket.socketpair()
         for sock, option in ((server_side, socket.SO_SNDBUF), (client_side, socket.SO_RCVBUF)):
             sock.setsockopt(socket.SOL_SOCKET, option, 4096)
@@ -178,3 +204,52 @@ def test_a_client_that_does_not_read_its_answers_is_not_read_until_it_does() -> 
     transactions = [struct.unpack_from(">H", answers, 11 * i)[0] for i in range(total)]
     assert transactions == list(range(total))
     assert all(answers[11 * i + 2 : 11 * i + 9] == bytes([0, 0, 0, 5, 1, 0x03, 2]) for i in range(total))  # each a whole answer
+
+
+def test_a_write_whose_data_looks_like_a_repeated_read_is_a_write() -> None:
+    """A request cut across segments: its last one equals a kept read after a transaction id (the written words
+    spell that read), and is still the tail of the write, not a read answered from the answer cache."""
+    values = [0x1234, *struct.unpack(">5H", mbap(0, 1, read(PEAK.address))[2:])]
+    pdu = struct.pack(">BHHB6H", 0x10, PEAK.address, len(values), 2 * len(values), *values)
+    request = mbap(7, 1, pdu)
+
+    async def scenario() -> tuple[bytes, bytes]:
+        sim = Simulator(IDM, 1)
+        connection, client_side = in_process_connection(sim, use_epoll=True)
+        client_side.send(mbap(1, 1, read(PEAK.address)))
+        kept = await read_answers(client_side, 11)
+        client_side.send(request[:-12])
+        await asyncio.sleep(0.05)
+        client_side.send(request[-12:])
+        got = await read_answers(client_side, 12)
+        connection.close()
+        client_side.close()
+        return kept, got
+
+    kept, got = asyncio.run(scenario())
+    assert kept[7:9] == b"\x03\x02"
+    assert got[:2] == struct.pack(">H", 7) and got[7] & 0x7F == 0x10, got.hex()
+
+
+@pytest.mark.parametrize("use_epoll", [True, False], ids=["epoll", "event-loop"])
+def test_a_connection_after_a_closed_one_is_served_on_the_same_descriptor(use_epoll: bool) -> None:
+    async def scenario() -> tuple[list[int], list[bytes]]:
+        sim = Simulator(IDM, 1)
+        descriptors, got = [], []
+        for transaction in (1, 2):
+            connection, client_side = in_process_connection(sim, use_epoll)
+            descriptors.append(connection.fd)
+            client_side.send(mbap(transaction, 1, read(PEAK.address)))
+            got.append(await read_answers(client_side, 11))
+            client_side.close()  # the simulator closes its side on reading the end
+            for _ in range(100):
+                if connection.closed:
+                    break
+                await asyncio.sleep(0.005)
+        assert sim.poller is not None
+        sim.poller.close()
+        return descriptors, got
+
+    descriptors, (first, second) = asyncio.run(scenario())
+    assert descriptors[0] == descriptors[1]
+    assert first[:2] == struct.pack(">H", 1) and second[:2] == struct.pack(">H", 2) and first[2:] == second[2:]

@@ -22,7 +22,7 @@ from regmap.tools.link import Line, port_reason
 from regmap_runtime.rtu import EXCEPTION_FLAG, with_crc
 
 from .answers import READ_FUNCTIONS, AnswerCache
-from .connection import TcpConnection, TcpListener, listen
+from .connection import Poller, TcpConnection, TcpListener, listen
 from .faults import ANSWER_FAULTS, FaultPlan, damage_rtu, damage_tcp
 from .framing import MBAP_HEADER, MBAP_HEADER_STRUCT, Adu, RtuReceiver, mbap, rtu_gap_s
 from .log import RequestLog
@@ -35,9 +35,7 @@ GATEWAY_TARGET_FAILED = 0x0B  # exception: a gateway found no answer from the ad
 PTY_GAP_S = 0.02  # a pty or a socket delivers bytes in bursts, not at the line's pace: a longer silence ends a frame
 TCP_RTU_GAP_S = 0.05
 KEEP_REQUESTS = 64
-MBAP_UNIT = 6  # the request from its unit id on: what the answer cache is keyed by
-AFTER_TRANSACTION = 2  # a kept answer is the frame after its transaction id
-MBAP_KEPT_FUNCTION = MBAP_UNIT - AFTER_TRANSACTION + 1  # the answer's function code in a kept answer
+AFTER_TRANSACTION = 2  # a kept request and its answer are the frames after their transaction ids
 
 Send = Callable[[bytes], None]
 
@@ -167,6 +165,7 @@ class Simulator:
         self.tcp_gap_s = rtu_gap_s if rtu_gap_s is not None else TCP_RTU_GAP_S
         self.listeners: list[TcpListener] = []
         self.connections: set[TcpConnection] = set()
+        self.poller: Poller | None = None
         self.serial: Any = None
         self.serial_receiver: RtuReceiver | None = None
         self.failure: str | None = None
@@ -261,32 +260,32 @@ class Simulator:
         if reply is not None:
             self._send(send, reply, reply[1:-2], damage_rtu)
 
-    def tcp_request(self, transaction: int, unit: int, pdu: bytes, send: Send, peer: str) -> None:
-        self.tcp_adu(Adu(transaction, 0, unit, pdu, mbap(transaction, unit, pdu)), send, peer)
-
     def tcp_frame(self, raw: bytes, send: Send, peer: str) -> None:
-        """One whole Modbus TCP request whose header is checked; the hot path of the bench."""
-        if not self._kept_answer(raw, send):
-            transaction, _, _, unit = MBAP_HEADER_STRUCT.unpack_from(raw)
-            self._work_out(Adu(transaction, 0, unit, raw[MBAP_HEADER:], raw), send, peer)
+        """One whole Modbus TCP request whose header is checked."""
+        transaction, _, _, unit = MBAP_HEADER_STRUCT.unpack_from(raw)
+        self.tcp_adu(Adu(transaction, 0, unit, raw[MBAP_HEADER:], raw), send, peer)
 
     def tcp_adu(self, adu: Adu, send: Send, peer: str) -> None:
-        if not self._kept_answer(adu.raw, send):
+        if not self.answer_kept(adu.raw, send):
+            self._received(adu.raw)
             self._work_out(adu, send, peer)
 
-    def _kept_answer(self, raw: bytes, send: Send) -> bool:
-        """Count the request in; answer it from the answer cache when it can be (True), written out flat.
-        With a request log or an injected fault nothing is kept (`_work_out`), so nothing is found."""
+    def answer_kept(self, raw: bytes, send: Send) -> bool:
+        """Answer `raw` from the answer cache when it can be (True), counting it in and its answer out.
+
+        The cache is keyed by all of a request after its transaction id, so `raw` can be a TCP segment
+        as it came: equal to a kept key, it is one whole request with a sound header. With a request
+        log or an injected fault nothing is kept (`_work_out`), so nothing is found."""
+        kept = self.answers.get(raw[AFTER_TRANSACTION:])
+        if kept is None:
+            return False
+        answer, exception = kept
+        reply = raw[:AFTER_TRANSACTION] + answer  # a read answered before, the device's memory unchanged since
         stats = self.stats
         stats.frames_received += 1
         stats.bytes_received += len(raw)
         stats.requests.append(raw)
-        kept = self.answers.get(raw[MBAP_UNIT:])
-        if kept is None:
-            return False
-        reply = raw[:AFTER_TRANSACTION] + kept  # a read answered before, the device's memory unchanged since
-        if kept[MBAP_KEPT_FUNCTION] & EXCEPTION_FLAG:
-            stats.exceptions_sent += 1
+        stats.exceptions_sent += exception
         stats.frames_sent += 1
         stats.bytes_sent += len(reply)
         send(reply)
@@ -305,7 +304,7 @@ class Simulator:
             return
         reply = mbap(transaction, unit, answer)
         if store is not None and store.generation == generation:
-            self.answers.keep(raw[MBAP_UNIT:], store, generation, reply[AFTER_TRANSACTION:])
+            self.answers.keep(raw[AFTER_TRANSACTION:], store, generation, reply[AFTER_TRANSACTION:])
         if self.faults.kind != "none":
             self._send(send, reply, answer, damage_tcp)
             return
@@ -376,6 +375,12 @@ class Simulator:
         send(data)
 
     # -- serving -----------------------------------------------------------------------------
+
+    def tcp_poller(self) -> Poller:
+        """What watches every TCP connection's socket; made in the running event loop on first use."""
+        if self.poller is None:
+            self.poller = Poller(asyncio.get_running_loop())
+        return self.poller
 
     async def start_tcp(self, host: str, port: int, *, rtu_over_tcp: bool = False) -> None:
         """Listen (raises OSError when the address cannot be had); requests are answered from now on."""
@@ -456,6 +461,9 @@ class Simulator:
         for listener in self.listeners:
             listener.close()
         self.listeners.clear()
+        if self.poller is not None:
+            self.poller.close()
+            self.poller = None
         if self.serial is not None:
             with contextlib.suppress(Exception):
                 asyncio.get_running_loop().remove_reader(self.serial.fileno())
