@@ -103,8 +103,7 @@ _ANALYZER = Emitter(io.StringIO(), allow_unicode=True)  # only its analysis of a
 # line break, tab, `#` or `:`; not starting with an indicator, a space or `.` (`...`), not ending with a space. For
 # such a string the analysis allows plain style, so only the resolver decides (`yes`, `12`, `~` are quoted).
 _ORDINARY = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])(?:(?![#:\ufeff\u2028\u2029])[\x20-\x7e\xa0-\ud7ff\ue000-\ufffd])+(?<! )")
-_BREAKS = re.compile("[\n\x85\u2028\u2029]")
-_SPECIAL = re.compile("[^\n\x20-\x7e\xa0-\ud7ff\ue000-\ufffd]|\ufeff")
+_SPECIAL = re.compile("[^\n\x20-\x7e\xa0-\ud7ff\ue000-\ufffd]|[\ufeff\u2028\u2029]")  # PyYAML escapes it, or a break other than \n
 _RUNS = re.compile(r"( +)|(')|([^ ']+)")  # spaces, a quote, text between
 
 
@@ -205,16 +204,7 @@ class _Writer:
 
     def literal(self, code: str, indent: int) -> None:
         """A `!lambda |-` block: code without a leading space, trailing spaces, trailing line break or special characters."""
-        if (
-            not code
-            or code[0] in " \n"
-            or code[-1] in " \n"
-            or " \n" in code
-            or _SPECIAL.search(code)
-            or "\x85" in code
-            or "\u2028" in code
-            or "\u2029" in code
-        ):
+        if not code or code[0] in " \n" or code[-1] in " \n" or " \n" in code or _SPECIAL.search(code):
             raise _Unsupported(code)
         self.write(" !lambda |-")
         for line in code.split("\n"):
