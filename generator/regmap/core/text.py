@@ -110,6 +110,8 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
     if reg.zone is not None and isinstance(raw, int):
         return time_text(raw, reg.zone)  # a timestamp: ISO 8601, Z for utc, no zone for local
     if not every_digit:
+        if type(raw) is int and not reg.scaled and not reg.offset_set:
+            return str(raw)  # most registers: what the exact fraction below prints, without its arithmetic (issue #36)
         return number(raw * float(reg.scale) + float(reg.offset) if isinstance(raw, float) else raw * reg.scale + reg.offset)
     if isinstance(raw, float):
         scaled = reg.scaled or reg.offset_set

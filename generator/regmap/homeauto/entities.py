@@ -1,9 +1,9 @@
 """What the ESPHome and Home Assistant back ends share: entity facts computed from the model, and YAML output.
 
-Both files are emitted with PyYAML's safe dumper from plain data the views computed, never from a
-template: a string from a map is always a quoted-or-plain *string* scalar (the dumper quotes anything
-that would read back as another type, a tag `!lambda`/`!secret`/`!include`, an anchor or an alias),
-so map text cannot become YAML structure. The only tagged nodes are `Lambda`s, which the ESPHome
+Both files are emitted as PyYAML's safe dumper writes them (`yamltext`) from plain data the views computed,
+never from a template: a string from a map is always a quoted-or-plain *string* scalar (anything that would
+read back as another type, a tag `!lambda`/`!secret`/`!include`, an anchor or an alias is quoted), so map
+text cannot become YAML structure. The only tagged nodes are `Lambda`s, which the ESPHome
 views build from integers and validated identifiers alone.
 """
 
@@ -17,10 +17,9 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-import yaml
-
 from regmap.diagnostics import MapError, at
 from regmap.homeauto.selection import Selection
+from regmap.homeauto.yamltext import yaml_text
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.render import header_lines
@@ -361,41 +360,6 @@ def _cut(text: str, limit: int) -> str:
 # -- YAML -----------------------------------------------------------------------------------
 
 
-class Hex(int):
-    """An integer written in hex (addresses, masks); YAML 1.1 reads `0x0010` back as 16."""
-
-    digits: int
-
-    def __new__(cls, value: int, digits: int = 4) -> Hex:
-        made = super().__new__(cls, value)
-        made.digits = digits
-        return made
-
-
-@dataclass(frozen=True)
-class Lambda:
-    """An ESPHome `!lambda` whose code the back end wrote from integers and identifiers, never from map text."""
-
-    code: str
-
-
-class _Dumper(yaml.SafeDumper):
-    def ignore_aliases(self, data: Any) -> bool:
-        return True  # no anchors/aliases: repeated values are written out
-
-
-def _hex(dumper: yaml.SafeDumper, value: Hex) -> yaml.Node:
-    return dumper.represent_scalar("tag:yaml.org,2002:int", f"0x{int(value):0{value.digits}X}")
-
-
-def _lambda(dumper: yaml.SafeDumper, value: Lambda) -> yaml.Node:
-    return dumper.represent_scalar("!lambda", value.code, style="|")
-
-
-_Dumper.add_representer(Hex, _hex)
-_Dumper.add_representer(Lambda, _lambda)
-
-
 def dump(device: Device, about: list[str], data: dict[str, Any]) -> str:
     """The YAML file: the do-not-edit header and `about` as comments, then `data` (keys in the order given)."""
     return dump_commented([*header_lines(device, "regmap generate"), *about], data)
@@ -445,5 +409,4 @@ def refuse_shared_ids(plant: Plant, ids: list[tuple[PlantDevice, list[str]]], to
 def dump_commented(comments: list[str], data: dict[str, Any]) -> str:
     """`data` as YAML under `comments` (each one `#` line; an empty one a bare `#`)."""
     head = "".join("# " + " ".join(line.split()) + "\n" if line else "#\n" for line in comments)
-    body = yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=120, default_flow_style=False)
-    return head + body
+    return head + yaml_text(data)

@@ -38,9 +38,7 @@ from regmap.backends.esphome.text import esp_text, esp_unit, num
 from regmap.core.text import na_list
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
-    Hex,
     Ids,
-    Lambda,
     Names,
     command_category,
     command_throttle_ms,
@@ -64,6 +62,7 @@ from regmap.homeauto.entities import (
     writable_members,
 )
 from regmap.homeauto.selection import Selection
+from regmap.homeauto.yamltext import Hex, Lambda
 from regmap.model import Command, DataType, Device, EnumMember, FirmwareGate, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_alignment, runtime_specs
 from regmap.target import Files

@@ -22,7 +22,8 @@ from typing import TYPE_CHECKING, Any
 
 from regmap.backends.esphome.lambdas import wire_bytes
 from regmap.backends.esphome.text import esp_unit, num
-from regmap.homeauto.entities import MAX_DECIMALS, Lambda, device_class, entity_category, reserved, state_class, swapped, unit_text
+from regmap.homeauto.entities import MAX_DECIMALS, device_class, entity_category, reserved, state_class, swapped, unit_text
+from regmap.homeauto.yamltext import Lambda
 from regmap.model import Device, Register
 
 if TYPE_CHECKING:

@@ -29,7 +29,6 @@ from regmap.backends.homeassistant.scripts import RETRY_NOTE, Scripts, flag_sens
 from regmap.core.text import na_mark
 from regmap.homeauto.entities import (
     MAX_NAME_BYTES,
-    Hex,
     Names,
     device_class,
     dump,
@@ -52,6 +51,7 @@ from regmap.homeauto.entities import (
     unit_text,
 )
 from regmap.homeauto.selection import DEFAULT_RULE, Selection, for_variant, select
+from regmap.homeauto.yamltext import Hex
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
 from regmap.plant import Bus, Plant, PlantDevice
 from regmap.runtime_bridge import runtime_alignment

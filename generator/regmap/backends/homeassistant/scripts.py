@@ -20,7 +20,8 @@ import re
 import unicodedata
 from typing import Any
 
-from regmap.homeauto.entities import Hex, Ids, flags, presses, reserved, too_many_presses
+from regmap.homeauto.entities import Ids, flags, presses, reserved, too_many_presses
+from regmap.homeauto.yamltext import Hex
 from regmap.model import Command, Device, EnumMember, Register
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import raw_to_words

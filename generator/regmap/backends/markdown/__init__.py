@@ -9,7 +9,7 @@ hyphen in its slug, so no two ids on a page can collide.
 
 Modules: `text` (text types, escaping, links, numbers), `views` (the view classes and the per-device
 context), `registers`, `frames` (frame annotation of the examples), `page` (the page and the index),
-`diagrams` (wavedrom) and `hook` (the mkdocs hook that mkdocs.yml names).
+`diagrams` (wavedrom's bitfield drawing) and `hook` (the mkdocs hook that mkdocs.yml names).
 """
 
 from __future__ import annotations

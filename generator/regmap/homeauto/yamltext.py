@@ -1,0 +1,234 @@
+"""The YAML text of the ESPHome and Home Assistant files, written directly for the shapes their views build.
+
+PyYAML's emitter walks every scalar through events and a character-by-character analysis in pure Python: a third
+of `regmap generate`'s time went into it (issue #36). `yaml_text` writes what `yaml.dump` with `_Dumper` writes,
+byte for byte, for block mappings with string keys, sequences, strings, integers, `Hex`, booleans, None, floats and
+`Lambda`s; anything else (a string PyYAML would double-quote, a multi-line one, an unknown type) it leaves to
+`yaml.dump` itself. Every style decision is PyYAML's: a string is written plain only when PyYAML's own resolver
+reads it back as a string and PyYAML's own `analyze_scalar` allows plain (a cheap pattern stands in for the
+analysis where it cannot differ), else single-quoted; so map text stays data (a `!secret`, `*alias`, `yes`,
+`0x10` or `- x` is quoted exactly as PyYAML quotes it). The property tests compare the two on generated data.
+"""
+
+from __future__ import annotations
+
+import functools
+import io
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import yaml
+from yaml.emitter import Emitter
+
+WIDTH = 120  # the line width the files are folded at (PyYAML folds a scalar at a space once past it)
+INDENT = 2
+MAX_SIMPLE_KEY = 128 - len("!!str")  # PyYAML writes a longer key as a complex `? key` (it counts the unwritten tag)
+
+
+class Hex(int):
+    """An integer written in hex (addresses, masks); YAML 1.1 reads `0x0010` back as 16."""
+
+    digits: int
+
+    def __new__(cls, value: int, digits: int = 4) -> Hex:
+        made = super().__new__(cls, value)
+        made.digits = digits
+        return made
+
+
+@dataclass(frozen=True)
+class Lambda:
+    """An ESPHome `!lambda` whose code the back end wrote from integers and identifiers, never from map text."""
+
+    code: str
+
+
+class _Dumper(yaml.SafeDumper):
+    def ignore_aliases(self, data: Any) -> bool:
+        return True  # no anchors/aliases: repeated values are written out
+
+
+def _hex(dumper: yaml.SafeDumper, value: Hex) -> yaml.Node:
+    return dumper.represent_scalar("tag:yaml.org,2002:int", _hex_text(value))
+
+
+def _hex_text(value: Hex) -> str:
+    return f"0x{int(value):0{value.digits}X}"
+
+
+def _lambda(dumper: yaml.SafeDumper, value: Lambda) -> yaml.Node:
+    return dumper.represent_scalar("!lambda", value.code, style="|")
+
+
+_Dumper.add_representer(Hex, _hex)
+_Dumper.add_representer(Lambda, _lambda)
+
+
+def pyyaml_text(data: Any) -> str:
+    """What PyYAML writes for `data`: the reference `yaml_text` matches, and its fallback."""
+    return yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=WIDTH, default_flow_style=False)
+
+
+def yaml_text(data: Any) -> str:
+    """`data` as YAML, byte for byte `pyyaml_text(data)`: written directly when every node is of a supported shape."""
+    direct = direct_text(data)
+    return pyyaml_text(data) if direct is None else direct
+
+
+def direct_text(data: Any) -> str | None:
+    """`pyyaml_text(data)` written without PyYAML, or None when a node is of a shape this writer leaves to PyYAML."""
+    if type(data) is not dict or not data:
+        return None
+    out: list[str] = []
+    try:
+        _Writer(out).mapping(data, 0, inline=True)
+    except _Unsupported:
+        return None
+    out.append("\n")
+    return "".join(out)
+
+
+class _Unsupported(Exception):
+    """A node this writer leaves to PyYAML."""
+
+
+_STR = "tag:yaml.org,2002:str"
+_INT = "tag:yaml.org,2002:int"
+_FLOAT = "tag:yaml.org,2002:float"
+_RESOLVER = yaml.resolver.Resolver()
+_ANALYZER = Emitter(io.StringIO(), allow_unicode=True)  # only its analysis of a scalar is used: it writes nothing
+
+# A string whose every character PyYAML's analysis treats as ordinary text: printable (unicode allowed, no BOM), no
+# line break, tab, `#` or `:`; not starting with an indicator, a space or `.` (`...`), not ending with a space. For
+# such a string the analysis allows plain style, so only the resolver decides (`yes`, `12`, `~` are quoted).
+_ORDINARY = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])(?:(?![#:\ufeff\u2028\u2029])[\x20-\x7e\xa0-\ud7ff\ue000-\ufffd])+(?<! )")
+_SPECIAL = re.compile("[^\n\x20-\x7e\xa0-\ud7ff\ue000-\ufffd]|[\ufeff\u2028\u2029]")  # PyYAML escapes it, or a break other than \n
+_RUNS = re.compile(r"( +)|(')|([^ ']+)")  # spaces, a quote, text between
+
+
+def _resolves(text: str) -> str:
+    """The tag PyYAML's resolver gives `text` written plain."""
+    tag: str = _RESOLVER.resolve(yaml.ScalarNode, text, (True, False))  # type: ignore[no-untyped-call]
+    return tag
+
+
+@functools.lru_cache(maxsize=4096)
+def _plain(text: str) -> bool:
+    """PyYAML writes the string plain (else single-quoted: double-quoted and multi-line strings are unsupported)."""
+    if _ORDINARY.fullmatch(text):
+        return _resolves(text) == _STR
+    analysis = _ANALYZER.analyze_scalar(text)
+    if analysis.multiline or not analysis.allow_single_quoted:
+        raise _Unsupported(text)
+    return bool(analysis.allow_block_plain) and _resolves(text) == _STR
+
+
+class _Writer:
+    """PyYAML's block emitter for the supported shapes; `column` is where the next character goes, as PyYAML counts it."""
+
+    def __init__(self, out: list[str]) -> None:
+        self.out = out
+        self.column = 0
+
+    def write(self, text: str) -> None:
+        self.out.append(text)
+        self.column += len(text)
+
+    def newline(self, indent: int) -> None:
+        self.out.append("\n" + " " * indent)
+        self.column = indent
+
+    def mapping(self, data: dict[Any, Any], indent: int, inline: bool) -> None:
+        """A block mapping whose keys start at `indent`; `inline`: its first key follows a `- ` (or starts the file)."""
+        for key, value in data.items():
+            if inline:
+                self.write(" " * (indent - self.column))
+            else:
+                self.newline(indent)
+            inline = False
+            if type(key) is not str or not key or len(key) >= MAX_SIMPLE_KEY:
+                raise _Unsupported(key)
+            self.write((key if _plain(key) else "'" + key.replace("'", "''") + "'") + ":")  # a key is never folded
+            self.node(value, indent, in_mapping=True)
+
+    def sequence(self, data: list[Any], indent: int, inline: bool) -> None:
+        for item in data:
+            if inline:
+                self.write(" " * (indent - self.column) + "-")
+            else:
+                self.newline(indent)
+                self.write("-")
+            inline = False
+            self.node(item, indent, in_mapping=False)
+
+    def node(self, value: Any, indent: int, in_mapping: bool) -> None:
+        """`value` after `key:` of a mapping at `indent` or after `-` of a sequence at `indent`."""
+        kind = type(value)
+        if kind is dict or kind is list:
+            if not value:
+                self.write(" {}" if kind is dict else " []")
+            elif kind is dict:
+                self.mapping(value, indent + INDENT, inline=not in_mapping)
+            elif in_mapping:
+                self.sequence(value, indent, inline=False)  # PyYAML does not indent a sequence under a key
+            else:
+                self.sequence(value, indent + INDENT, inline=True)
+        elif kind is str:
+            self.string(value, indent + INDENT)
+        elif kind is Lambda:
+            self.literal(value.code, indent + INDENT)
+        else:
+            self.write(" " + _scalar_text(value))
+
+    def string(self, text: str, indent: int) -> None:
+        """A string value, plain or single-quoted, folded at a single space once past WIDTH as PyYAML folds it."""
+        quoted = not _plain(text)
+        self.write(" '" if quoted else " ")
+        if self.column + len(text) <= WIDTH and "'" not in text:
+            self.write(text)
+        else:
+            last = len(text)
+            for match in _RUNS.finditer(text):
+                spaces, quote, words = match.groups()
+                if quote:
+                    self.write("''" if quoted else "'")
+                elif words:
+                    self.write(words)
+                elif len(spaces) == 1 and self.column > WIDTH and (not quoted or 0 < match.start() < last - 1):
+                    self.newline(indent)
+                else:
+                    self.write(spaces)
+        if quoted:
+            self.write("'")
+
+    def literal(self, code: str, indent: int) -> None:
+        """A `!lambda |-` block: code without a leading space, trailing spaces, trailing line break or special characters."""
+        if not code or code[0] in " \n" or code[-1] in " \n" or " \n" in code or _SPECIAL.search(code):
+            raise _Unsupported(code)
+        self.write(" !lambda |-")
+        for line in code.split("\n"):
+            self.out.append("\n" + (" " * indent + line if line else ""))
+        self.column = indent + len(line) if line else 0
+
+
+def _scalar_text(value: Any) -> str:
+    """A non-string scalar as PyYAML's safe representer writes it, when it reads back as that type written plain."""
+    kind = type(value)
+    if kind is bool:
+        return "true" if value else "false"
+    if value is None:
+        return "null"
+    if kind is int:
+        return str(value)
+    if kind is Hex:
+        text = _hex_text(value)
+        if _resolves(text) == _INT:
+            return text
+    elif kind is float and value == value and value not in (float("inf"), float("-inf")):
+        text = repr(value).lower()
+        if "." not in text and "e" in text:
+            text = text.replace("e", ".0e", 1)
+        if _resolves(text) == _FLOAT:
+            return text
+    raise _Unsupported(value)
