@@ -26,7 +26,7 @@ from pathlib import Path
 
 ENTRY_FORMAT = 1
 KEEP_ENTRIES = 64  # the newest entries kept; older ones are removed after a write
-_LIBRARIES = ("Jinja2", "MarkupSafe", "PyYAML", "wavedrom", "svgwrite", "ruff")
+_LIBRARIES = ("Jinja2", "MarkupSafe", "PyYAML", "ruff")
 NO_CACHE_VARIABLE = "REGMAP_NO_CACHE"
 DIR_VARIABLE = "REGMAP_CACHE_DIR"
 
