@@ -431,26 +431,23 @@ def blocks(names: Names, values: Values) -> list[Block]:
         inputs = [Member("stRaw", struct.type_name)]
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
-        why = "a register holds a value its enum does not list (that member keeps its old value)"
-        no_value = ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
-        decode = FunctionView(
-            name,
-            "BOOL",
-            f"Decode read block {index} into stValues; FALSE when {why}"
-            + (no_value if any(r.type is DataType.F16 for r in regs) else "")
-            + ".",
-            tuple(inputs),
-            (Member("stValues", values.type_name),),
-            tuple(Member(k, v) for k, v in local_types.items()),
-            tuple(body),
-        )
-        exact = decode
-        if any(r.type.is_float for r in regs):
-            exact = replace(decode, comment=f"Decode read block {index} into stValues; FALSE when {why}{no_value}.")
+        locals_ = tuple(Member(k, v) for k, v in local_types.items())
+        decode = FunctionView(name, "BOOL", "", tuple(inputs), (Member("stValues", values.type_name),), locals_, tuple(body))
+        with_unions, exact = (replace(decode, comment=comment) for comment in _decoder_comments(index, regs))
         out.append(
-            Block(block.address, block.count, struct, regs, tuple(consts), decode, exact, space, bits, read_call, channel, info.read)
+            Block(block.address, block.count, struct, regs, tuple(consts), with_unions, exact, space, bits, read_call, channel, info.read)
         )
     return out
+
+
+def _decoder_comments(index: int, regs: tuple[Register, ...]) -> tuple[str, str]:
+    """A block decoder's comment where floats go through a UNION, and where they are rebuilt exactly (which
+    refuses infinity and NaN, as a half's helper does in both)."""
+    why = "a register holds a value its enum does not list (that member keeps its old value)"
+    no_value = ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
+    head = f"Decode read block {index} into stValues; FALSE when {why}"
+    with_unions = head + (no_value if any(r.type is DataType.F16 for r in regs) else "") + "."
+    return with_unions, head + (no_value if any(r.type.is_float for r in regs) else "") + "."
 
 
 # -- bitfield accessors and encoders -------------------------------------------------------------
