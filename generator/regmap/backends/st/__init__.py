@@ -56,9 +56,10 @@ def render_device(device: Device) -> Files:
     for dialect, context in views.items():
         for name in FILES:
             files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    polls = {runtime.name: poller(views["codesys"], runtime, VENDOR) for runtime in RUNTIMES}  # the README shows the first
     for runtime in RUNTIMES:
         files[f"{device.id}/{runtime.name}/{device.id}_poll.st"] = env.get_template("poll.st.jinja").render(
-            **views["codesys"], runtime=runtime, poller=poller(views["codesys"], runtime, VENDOR)
+            **views["codesys"], runtime=runtime, poller=polls[runtime.name]
         )
     files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(shared.context(PLCOPEN)))
     codesys = views["codesys"]
@@ -68,7 +69,7 @@ def render_device(device: Device) -> Files:
         **codesys,
         iec=views["iec"],
         files=FILES,
-        poll=poller(codesys, RUNTIMES[0], VENDOR),
+        poll=polls[RUNTIMES[0].name],
         serial=serial_settings(device),
         write_example=example,
     )

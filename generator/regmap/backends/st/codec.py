@@ -76,9 +76,9 @@ def char_code_body(name: str) -> list[str]:
 
 
 @dataclass(frozen=True)
-class Spelling:
+class Notation:
     """How a dialect writes enums and text: every view but the float helpers reads the dialect only through it,
-    so dialects that share a spelling share those views."""
+    so dialects that share a notation share those views."""
 
     enum_base: bool  # `(A := 1, ...) UINT;`: CODESYS' enum values and base type; plain `(A, ...)` otherwise
     qualifier: str  # `E_X.MEMBER` (CODESYS qualified_only) or `E_X#MEMBER` (the standard's typed enum value)
@@ -100,32 +100,32 @@ class Dialect:
     name: str
     title: str
     pragmas: tuple[str, ...]  # before every enum type
-    spelling: Spelling
+    notation: Notation
     unions: bool  # floats' bits through a UNION (CODESYS / TwinCAT); otherwise exact LREAL arithmetic
 
     @property
     def enum_base(self) -> bool:
-        return self.spelling.enum_base
+        return self.notation.enum_base
 
     def string(self, size: int) -> str:
-        return self.spelling.string(size)
+        return self.notation.string(size)
 
     def member(self, type_name: str, member: str) -> str:
-        return self.spelling.member(type_name, member)
+        return self.notation.member(type_name, member)
 
 
-CODESYS_SPELLING = Spelling(enum_base=True, qualifier=".", sized_strings=True)
-CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), CODESYS_SPELLING, True)
+CODESYS_NOTATION = Notation(enum_base=True, qualifier=".", sized_strings=True)
+CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), CODESYS_NOTATION, True)
 # matiec implements edition 2: no enum values (the FROM_RAW / TO_RAW CASEs carry the numbers), no string lengths.
-IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), Spelling(enum_base=False, qualifier="#", sized_strings=False), False)
+IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), Notation(enum_base=False, qualifier="#", sized_strings=False), False)
 DIALECTS = (CODESYS, IEC)
 # The PLCopen XML project (TwinCAT 3 / CODESYS import): CODESYS' text, but TC6 XML has no UNION.
-PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), CODESYS_SPELLING, False)
+PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), CODESYS_NOTATION, False)
 
 
-def st_type(reg: Register, spelling: Spelling) -> str:
+def st_type(reg: Register, notation: Notation) -> str:
     if reg.type.is_string:
-        return spelling.string(2 * reg.words)
+        return notation.string(2 * reg.words)
     return NATURAL[reg.type]
 
 

@@ -1,8 +1,8 @@
 """One device's Structured Text context per dialect, from the views and the statements.
 
 The names are the same in every dialect, so one `DeviceViews` per device checks them once and makes each
-view once: what no dialect changes once, what the spelling changes (an enum value, a text type) once per
-`Spelling` (CODESYS and the PLCopen XML share one), and only the float helpers, their UNIONs and the
+view once: what no dialect changes once, what the notation changes (an enum value, a text type) once per
+`Notation` (CODESYS and the PLCopen XML share one), and only the float helpers, their UNIONs and the
 decoders' comments per dialect."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from functools import cached_property
 from typing import Any
 
 from regmap.backends.st import codec, half, scaling
-from regmap.backends.st.codec import Dialect, Spelling
+from regmap.backends.st.codec import Dialect, Notation
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoder_targets, encoders
 from regmap.backends.st.functions import Block, Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
@@ -47,13 +47,13 @@ class DeviceViews:
         self.device = device
         self.names = Names(device, problems)
         self.helpers = codec.helper_names(device.id)
-        self._spellings: dict[Spelling, SpelledViews] = {}
+        self._notations: dict[Notation, SpelledViews] = {}
 
-    def spelled(self, spelling: Spelling) -> SpelledViews:
-        if spelling not in self._spellings:
-            first = next(iter(self._spellings.values()), None)
-            self._spellings[spelling] = SpelledViews(self, spelling, first)
-        return self._spellings[spelling]
+    def spelled(self, notation: Notation) -> SpelledViews:
+        if notation not in self._notations:
+            first = next(iter(self._notations.values()), None)
+            self._notations[notation] = SpelledViews(self, notation, first)
+        return self._notations[notation]
 
     @cached_property
     def values(self) -> Values:
@@ -125,7 +125,7 @@ class DeviceViews:
 
     def context(self, dialect: Dialect) -> dict[str, Any]:
         device, names = self.device, self.names
-        spelled = self.spelled(dialect.spelling)
+        spelled = self.spelled(dialect.notation)
         enums = spelled.enums
         values = self.values
         plan = self.plan
@@ -192,47 +192,47 @@ class DeviceViews:
 
 
 class SpelledViews:
-    """The views of one device whose text a dialect's spelling changes (an enum value, a text type). `other`:
-    another spelling's, whose encoders and write functions this one takes where the spelling changes nothing."""
+    """The views of one device whose text a dialect's notation changes (an enum value, a text type). `other`:
+    another notation's, whose encoders and write functions this one takes where the notation changes nothing."""
 
-    def __init__(self, views: DeviceViews, spelling: Spelling, other: SpelledViews | None) -> None:
+    def __init__(self, views: DeviceViews, notation: Notation, other: SpelledViews | None) -> None:
         self.views = views
-        self.spelling = spelling
+        self.notation = notation
         self.other = other
 
     @cached_property
     def enums(self) -> list[EnumView]:
-        return enum_views(self.views.names, self.spelling)
+        return enum_views(self.views.names, self.notation)
 
     @cached_property
     def encoders(self) -> list[FunctionView]:
         v = self.views
-        return encoders(v.names, self.spelling, v.helpers, v.values.used, self.other.encoders if self.other else ())
+        return encoders(v.names, self.notation, v.helpers, v.values.used, self.other.encoders if self.other else ())
 
     @cached_property
     def registers(self) -> list[Section]:
-        return [s.spelled(self.spelling) for s in self.views.registers]
+        return [s.spelled(self.notation) for s in self.views.registers]
 
     @cached_property
     def access(self) -> EnumView:
         return EnumView(
             self.views.names.access_type,
-            "UINT" if self.spelling.enum_base else "",
+            "UINT" if self.notation.enum_base else "",
             "Access of a register.",
             (EnumValue("R", "1", "read only"), EnumValue("W", "2", "write only"), EnumValue("RW", "3", "read and write")),
         )
 
     @cached_property
     def enum_functions(self) -> list[FunctionView]:
-        return enum_functions(self.views.names, self.spelling, self.enums)
+        return enum_functions(self.views.names, self.notation, self.enums)
 
     @cached_property
     def commands(self) -> list[Section]:
-        return [s.spelled(self.spelling) for s in self.views.commands]
+        return [s.spelled(self.notation) for s in self.views.commands]
 
     @cached_property
     def values(self) -> StructView:
-        return self.views.values.struct(self.spelling)
+        return self.views.values.struct(self.notation)
 
     @cached_property
     def write_functions(self) -> list[FunctionView]:

@@ -9,7 +9,7 @@ from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
     Helpers,
-    Spelling,
+    Notation,
     put_halves64,
     put_word,
     st_type,
@@ -27,13 +27,13 @@ def _range_lines(name: str, lo: int | float, hi: int | float) -> list[str]:
     return [f"IF nRaw < {lo} OR nRaw > {hi} THEN", f"    {name} := FALSE;", "    RETURN;", "END_IF;"]
 
 
-def _refuse_reported(names: Names, spelling: Spelling, name: str, variable: str, enum: EnumType) -> list[str]:
+def _refuse_reported(names: Names, notation: Notation, name: str, variable: str, enum: EnumType) -> list[str]:
     """FALSE for a member the device only reports (access r): a state, never a value to write."""
     reported = [m for m in enum.members if not m.writable]
     if not reported:
         return []
     type_name = names.enum_type(enum)
-    labels = [f"    {spelling.member(type_name, StIdentifier(m.name))}" for m in reported]
+    labels = [f"    {notation.member(type_name, StIdentifier(m.name))}" for m in reported]
     return [
         f"CASE {variable} OF",
         *(label + ("," if i < len(labels) - 1 else ":") for i, label in enumerate(labels)),
@@ -116,20 +116,20 @@ def encoder_targets(device: Device) -> list[tuple[str, list[Register]]]:
     return out
 
 
-def encoders(names: Names, spelling: Spelling, helpers: Helpers, used: set[str], other: Sequence[FunctionView] = ()) -> list[FunctionView]:
+def encoders(names: Names, notation: Notation, helpers: Helpers, used: set[str], other: Sequence[FunctionView] = ()) -> list[FunctionView]:
     """An encoder per writable register (one per array member when its elements share the range):
     the value into the words to write, or FALSE (words unchanged) when the Python client would
     refuse it (out of range, not a multiple of the resolution, not a member of the enum, NaN,
     text too long or not in the register's encoding). `other`: the same encoders in another
-    spelling, taken as they are where `spelled` says the spelling changes nothing."""
+    notation, taken as they are where `differs_by_notation` says the notation changes nothing."""
     functions = []
     for index, (label, regs) in enumerate(encoder_targets(names.device)):
         r = regs[0]
-        if other and not spelled(r):
+        if other and not differs_by_notation(r):
             functions.append(other[index])
         elif r.type.is_string:
             used.add("code")
-            functions.append(_text_encoder(names, spelling, helpers, r, label))
+            functions.append(_text_encoder(names, notation, helpers, r, label))
         elif r.type.is_bool:
             functions.append(_bit_encoder(names, r, label))
         elif r.scale_from is not None:
@@ -140,14 +140,14 @@ def encoders(names: Names, spelling: Spelling, helpers: Helpers, used: set[str],
             )
         elif r.type.is_float:
             used.add({1: "f16", 2: "f32"}.get(r.words, "f64"))
-            functions.append(_float_encoder(names, spelling, helpers, r, label))
+            functions.append(_float_encoder(names, notation, helpers, r, label))
         else:
-            functions.append(_encoder(names, spelling, r, label))
+            functions.append(_encoder(names, notation, r, label))
     return functions
 
 
-def spelled(reg: Register) -> bool:
-    """Whether the spelling changes the encoder of `reg`: text (its STRING input), or an enum with a member the
+def differs_by_notation(reg: Register) -> bool:
+    """Whether the notation changes the encoder of `reg`: text (its STRING input), or an enum with a member the
     device only reports (`_refuse_reported` names it)."""
     enums = [reg.enum, *(b.enum for b in reg.bitfields)]
     return reg.type.is_string or any(e is not None and any(not m.writable for m in e.members) for e in enums)
@@ -191,7 +191,7 @@ def _bit_encoder(names: Names, reg: Register, label: str) -> FunctionView:
     return FunctionView(name, "BOOL", comment, (Member("bValue", "BOOL"),), (Member("nWord", "WORD"),), (), body)
 
 
-def _float_encoder(names: Names, spelling: Spelling, helpers: Helpers, reg: Register, label: str) -> FunctionView:
+def _float_encoder(names: Names, notation: Notation, helpers: Helpers, reg: Register, label: str) -> FunctionView:
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
     output, out_type = _output(reg)
     natural = NATURAL[reg.type]
@@ -199,7 +199,7 @@ def _float_encoder(names: Names, spelling: Spelling, helpers: Helpers, reg: Regi
     body: list[str] = []
     if reg.enum is not None:  # a setting coded as a float: the member's value, as a float
         inputs = [Member("eValue", names.enum_type(reg.enum))]
-        body += _refuse_reported(names, spelling, name, "eValue", reg.enum)
+        body += _refuse_reported(names, notation, name, "eValue", reg.enum)
         body.append(f"rRaw := DINT_TO_LREAL({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
     elif reg.scaled or reg.offset_set:
         inputs = [Member("fValue", "LREAL", f"in {reg.unit}" if reg.unit else "engineering value")]
@@ -254,7 +254,7 @@ def _float_encoder(names: Names, spelling: Spelling, helpers: Helpers, reg: Regi
     )
 
 
-def _text_encoder(names: Names, spelling: Spelling, helpers: Helpers, reg: Register, label: str) -> FunctionView:
+def _text_encoder(names: Names, notation: Notation, helpers: Helpers, reg: Register, label: str) -> FunctionView:
     """Text into words: its bytes, first character in the high byte, padded; FALSE when too long or,
     for ascii, a byte above 16#7F (bytes are taken as they are: no transcoding)."""
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
@@ -296,14 +296,14 @@ def _text_encoder(names: Names, spelling: Spelling, helpers: Helpers, reg: Regis
         name,
         "BOOL",
         _encoder_comment(reg, label, "aWords"),
-        (Member("sValue", st_type(reg, spelling)),),
+        (Member("sValue", st_type(reg, notation)),),
         (Member("aWords", f"ARRAY[0..{reg.words - 1}] OF WORD"),),
         local,
         tuple(body),
     )
 
 
-def _encoder(names: Names, spelling: Spelling, reg: Register, label: str) -> FunctionView:
+def _encoder(names: Names, notation: Notation, reg: Register, label: str) -> FunctionView:
     device = names.device
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
     natural = NATURAL[reg.type]
@@ -326,11 +326,11 @@ def _encoder(names: Names, spelling: Spelling, reg: Register, label: str) -> Fun
                     f"    {name} := FALSE;",
                     "    RETURN;",
                     "END_IF;",
-                    *_refuse_reported(names, spelling, name, local_name, b.enum),
+                    *_refuse_reported(names, notation, name, local_name, b.enum),
                 ]
     elif reg.enum is not None:
         inputs.append(Member("eValue", names.enum_type(reg.enum)))
-        body += _refuse_reported(names, spelling, name, "eValue", reg.enum)
+        body += _refuse_reported(names, notation, name, "eValue", reg.enum)
         body.append(f"nRaw := DINT_TO_LINT({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
         checked = True
     elif reg.scaled or reg.offset_set:

@@ -10,7 +10,7 @@ from regmap.backends.st.codec import (
     NATURAL,
     Dialect,
     Helpers,
-    Spelling,
+    Notation,
     assemble64,
     halves64,
     swapped,
@@ -256,11 +256,11 @@ class Values:
             ]
         return lines
 
-    def struct(self, spelling: Spelling) -> StructView:
+    def struct(self, notation: Notation) -> StructView:
         return StructView(
             self.type_name,
             "Decoded values of every readable register (the Python client's read_all()).",
-            tuple(m.spelled(spelling) for m in self.members),
+            tuple(m.spelled(notation) for m in self.members),
         )
 
 

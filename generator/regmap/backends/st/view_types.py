@@ -1,12 +1,12 @@
 """The view objects of one device's Structured Text, which the templates print: constants, struct members,
 enums, structs and functions. What a dialect writes its own way (an enum value, a text type) is a
-`MemberConst` / `TextConst` / `TextMember` until `spelled` with that dialect's `Spelling`."""
+`MemberConst` / `TextConst` / `TextMember` until `spelled` with that dialect's `Notation`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from regmap.backends.st.codec import Spelling
+from regmap.backends.st.codec import Notation
 
 
 @dataclass(frozen=True)
@@ -16,7 +16,7 @@ class Const:
     value: str
     comment: str = ""  # plain text; the template escapes it
 
-    def spelled(self, spelling: Spelling) -> Const:
+    def spelled(self, notation: Notation) -> Const:
         return self
 
 
@@ -28,8 +28,8 @@ class MemberConst:
     type: str
     member: str
 
-    def spelled(self, spelling: Spelling) -> Const:
-        return Const(self.name, self.type, spelling.member(self.type, self.member))
+    def spelled(self, notation: Notation) -> Const:
+        return Const(self.name, self.type, notation.member(self.type, self.member))
 
 
 @dataclass(frozen=True)
@@ -41,8 +41,8 @@ class TextConst:
     value: str
     comment: str = ""
 
-    def spelled(self, spelling: Spelling) -> Const:
-        return Const(self.name, spelling.string(self.size), self.value, self.comment)
+    def spelled(self, notation: Notation) -> Const:
+        return Const(self.name, notation.string(self.size), self.value, self.comment)
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,7 @@ class Member:
     type: str
     comment: str = ""
 
-    def spelled(self, spelling: Spelling) -> Member:
+    def spelled(self, notation: Notation) -> Member:
         return self
 
 
@@ -63,8 +63,8 @@ class TextMember:
     size: int
     comment: str = ""
 
-    def spelled(self, spelling: Spelling) -> Member:
-        return Member(self.name, spelling.string(self.size), self.comment)
+    def spelled(self, notation: Notation) -> Member:
+        return Member(self.name, notation.string(self.size), self.comment)
 
 
 @dataclass(frozen=True)
@@ -113,5 +113,5 @@ class SectionToSpell:
     comment: str
     consts: tuple[Const | MemberConst | TextConst, ...]
 
-    def spelled(self, spelling: Spelling) -> Section:
-        return Section(self.comment, tuple(c.spelled(spelling) for c in self.consts))
+    def spelled(self, notation: Notation) -> Section:
+        return Section(self.comment, tuple(c.spelled(notation) for c in self.consts))

@@ -1,7 +1,7 @@
 """The views of one device's Structured Text: enums, constants, raw read-plan blocks, the typed values
 and the functions. Every identifier, literal and statement is computed here, once per device: what a
 dialect writes its own way (an enum value, a text type) waits as a `MemberConst` / `TextConst` /
-`TextMember` until `spelled` with that dialect's `Spelling`. The templates only print, escaping map text
+`TextMember` until `spelled` with that dialect's `Notation`. The templates only print, escaping map text
 with `st_comment`."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from regmap.backends.st.codec import NATURAL, Spelling, swapped
+from regmap.backends.st.codec import NATURAL, Notation, swapped
 from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_real, st_string
 from regmap.backends.st.view_types import (
     Const,
@@ -95,7 +95,7 @@ def _enum_base(e: EnumType) -> str:
     return "DINT"
 
 
-def enum_views(names: Names, spelling: Spelling) -> list[EnumView]:
+def enum_views(names: Names, notation: Notation) -> list[EnumView]:
     views = []
     for e in names.device.enums:
         type_name = names.type("E", e.name, what=f"the type of enum {e.name}", pos=e.pos)
@@ -112,18 +112,18 @@ def enum_views(names: Names, spelling: Spelling) -> list[EnumView]:
                 )
             )
         comment = sentences(titled(e.title, e.title_zh), e.description, _manual(e.source))
-        views.append(EnumView(type_name, _enum_base(e) if spelling.enum_base else "", comment, tuple(members)))
+        views.append(EnumView(type_name, _enum_base(e) if notation.enum_base else "", comment, tuple(members)))
     return views
 
 
-def enum_functions(names: Names, spelling: Spelling, enums: Sequence[EnumView]) -> list[FunctionView]:
+def enum_functions(names: Names, notation: Notation, enums: Sequence[EnumView]) -> list[FunctionView]:
     """FROM_RAW (a raw number into the enum, FALSE for a value the manual does not list) and
     TO_RAW of every enum: a CASE each way, which strict enums and matiec both accept."""
     functions = []
     for e, view in zip(names.device.enums, enums, strict=True):
         from_raw = names.function(e.name, "FROM_RAW", what=f"the decoder of enum {e.name}", pos=e.pos)
         to_raw = names.function(e.name, "TO_RAW", what=f"the encoder of enum {e.name}", pos=e.pos)
-        cases = [f"    {m.value}: eValue := {spelling.member(view.type_name, m.name)};" for m in view.members]
+        cases = [f"    {m.value}: eValue := {notation.member(view.type_name, m.name)};" for m in view.members]
         functions.append(
             FunctionView(
                 from_raw,
@@ -135,7 +135,7 @@ def enum_functions(names: Names, spelling: Spelling, enums: Sequence[EnumView]) 
                 ("CASE nRaw OF", *cases, "ELSE", f"    {from_raw} := FALSE;", "    RETURN;", "END_CASE;", f"{from_raw} := TRUE;"),
             )
         )
-        back = [f"    {spelling.member(view.type_name, m.name)}: {to_raw} := {m.value};" for m in view.members]
+        back = [f"    {notation.member(view.type_name, m.name)}: {to_raw} := {m.value};" for m in view.members]
         functions.append(
             FunctionView(
                 to_raw,
