@@ -32,6 +32,7 @@ FILES = ("types", "constants", "functions")
 
 
 def _contexts(device: Device) -> tuple[DeviceViews, dict[str, dict[str, Any]], list[Diagnostic]]:
+    """The device's views (shared by the dialects, the PLCopen XML's included), each dialect's context and the problems."""
     problems: list[Diagnostic] = []
     shared = DeviceViews(device, problems)
     out = {dialect.name: shared.context(dialect) for dialect in DIALECTS}
