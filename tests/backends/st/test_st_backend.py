@@ -333,3 +333,17 @@ def test_a_decoder_says_it_refuses_infinity_and_nan_where_it_does(map_path: Path
             refuses = any(r.type is DataType.F16 or (r.type.is_float and not dialect.unions) for r in block.registers)
             comment = printed[block.decode.name].comment
             assert ("infinity or NaN" in comment) == refuses, (dialect.name, block.decode.name, comment)
+
+
+@pytest.mark.parametrize("map_path", ALL_MAPS, ids=lambda p: p.stem)
+def test_each_dialect_gets_from_the_shared_views_what_it_makes_alone(map_path: Path) -> None:
+    """One DeviceViews serves CODESYS, then plain IEC, then the PLCopen XML, each taking what an earlier one made
+    where its notation changes nothing: every view of each equals the one that dialect makes on its own."""
+    device = load_map(map_path)
+    shared = DeviceViews(device, [])
+    for dialect in (CODESYS, IEC, PLCOPEN):
+        together = {k: v for k, v in shared.context(dialect).items() if k != "names"}
+        alone = {k: v for k, v in DeviceViews(device, []).context(dialect).items() if k != "names"}
+        assert together.keys() == alone.keys()
+        for key in alone:
+            assert together[key] == alone[key], (dialect.name, key)
