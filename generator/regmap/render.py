@@ -10,6 +10,7 @@ import functools
 import hashlib
 import json
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -91,10 +92,15 @@ _XML_ESCAPES = str.maketrans(
 )
 
 
+# The characters `_XML_ESCAPES` changes: most text has none, and a search costs far less than a translate.
+_XML_SPECIAL = re.compile("[" + re.escape("".join(map(chr, _XML_ESCAPES))) + "]")
+
+
 def xml_text(text: str | None) -> str:
     """XML character data or an attribute value: markup characters as entities, and the control
     characters XML 1.0 cannot carry at all as U+FFFD."""
-    return (text or "").translate(_XML_ESCAPES)
+    text = text or ""
+    return text.translate(_XML_ESCAPES) if _XML_SPECIAL.search(text) else text
 
 
 def xml_comment(text: str | None) -> str:

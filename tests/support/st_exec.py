@@ -24,7 +24,7 @@ from pathlib import Path
 from regmap.backends.st.codec import IEC
 from regmap.backends.st.device import device_views
 from regmap.backends.st.functions import Block
-from regmap.backends.st.views import FunctionView
+from regmap.backends.st.view_types import FunctionView
 from regmap.model import Device
 
 from support.st_matiec import DRIVER_PRELUDE, build_and_run, decoding_program, iec2c, program_text, st_files

@@ -19,10 +19,12 @@ import pytest
 import yaml
 
 from regmap.backends import st
+from regmap.backends.st.codec import CODESYS, IEC, PLCOPEN
+from regmap.backends.st.device import DeviceViews
 from regmap.backends.st.functions import plan_blocks
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import render
-from regmap.model import ByteOrder, Device
+from regmap.model import ByteOrder, DataType, Device
 from regmap.runtime_bridge import read_plan
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT, built_tool
@@ -315,3 +317,33 @@ def test_validate_reports_st_name_problems_at_their_line(tmp_path: Path) -> None
     path.write_text(text, encoding="utf-8")
     result = subprocess.run([sys.executable, "-m", "regmap", "validate", str(path)], cwd=ROOT, capture_output=True, text=True, check=False)
     assert result.returncode == 1 and "two underscores" in result.stdout + result.stderr, result.stdout + result.stderr
+
+
+@pytest.mark.parametrize("map_path", ALL_MAPS, ids=lambda p: p.stem)
+def test_a_decoder_says_it_refuses_infinity_and_nan_where_it_does(map_path: Path) -> None:
+    """A block decoder refuses infinity and NaN where its floats are rebuilt with exact arithmetic (plain IEC and the
+    PLCopen XML, and a half in every dialect); CODESYS reads a single or a double through a UNION and keeps them.
+    The dialects share one set of views (DeviceViews), so each must still print its own decoders."""
+    device = load_map(map_path)
+    views = DeviceViews(device, [])
+    for dialect in (CODESYS, IEC, PLCOPEN):
+        context = views.context(dialect)
+        printed = {f.name: f for f in context["functions"]}
+        for block in context["plan"]:
+            refuses = any(r.type is DataType.F16 or (r.type.is_float and not dialect.unions) for r in block.registers)
+            comment = printed[block.decode.name].comment
+            assert ("infinity or NaN" in comment) == refuses, (dialect.name, block.decode.name, comment)
+
+
+@pytest.mark.parametrize("map_path", ALL_MAPS, ids=lambda p: p.stem)
+def test_each_dialect_gets_from_the_shared_views_what_it_makes_alone(map_path: Path) -> None:
+    """One DeviceViews serves CODESYS, then plain IEC, then the PLCopen XML, each taking what an earlier one made
+    where its notation changes nothing: every view of each equals the one that dialect makes on its own."""
+    device = load_map(map_path)
+    shared = DeviceViews(device, [])
+    for dialect in (CODESYS, IEC, PLCOPEN):
+        together = {k: v for k, v in shared.context(dialect).items() if k != "names"}
+        alone = {k: v for k, v in DeviceViews(device, []).context(dialect).items() if k != "names"}
+        assert together.keys() == alone.keys()
+        for key in alone:
+            assert together[key] == alone[key], (dialect.name, key)

@@ -28,7 +28,8 @@ import pytest
 
 from regmap.backends.st.functions import Block
 from regmap.backends.st.names import StIdentifier
-from regmap.backends.st.views import FunctionView, configurable, owner
+from regmap.backends.st.view_types import FunctionView
+from regmap.backends.st.views import configurable, owner
 from regmap.core.decoding import DecodedValue, decode_words
 from regmap.frontend import load_map
 from regmap.model import Register

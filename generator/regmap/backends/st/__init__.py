@@ -16,8 +16,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from regmap.backends.st.codec import DIALECTS
-from regmap.backends.st.device import device_views
+from regmap.backends.st.codec import DIALECTS, PLCOPEN
+from regmap.backends.st.device import DeviceViews, device_views
 from regmap.backends.st.names import StIdentifier, st_string
 from regmap.backends.st.plant import render_plant
 from regmap.backends.st.plcopen import plcopen_context
@@ -31,11 +31,17 @@ from regmap.target import Files, ReservedWords, Target
 FILES = ("types", "constants", "functions")
 
 
+def _contexts(device: Device) -> tuple[DeviceViews, dict[str, dict[str, Any]], list[Diagnostic]]:
+    """The device's views (shared by the dialects, the PLCopen XML's included), each dialect's context and the problems."""
+    problems: list[Diagnostic] = []
+    shared = DeviceViews(device, problems)
+    out = {dialect.name: shared.context(dialect) for dialect in DIALECTS}
+    return shared, out, sorted(set(problems))
+
+
 def contexts(device: Device) -> tuple[dict[str, dict[str, Any]], list[Diagnostic]]:
     """Each dialect's template context, and every name problem of the map (found in either dialect)."""
-    problems: list[Diagnostic] = []
-    out = {dialect.name: device_views(device, dialect, problems) for dialect in DIALECTS}
-    return out, sorted(set(problems))
+    return _contexts(device)[1:]
 
 
 def check(device: Device) -> list[Diagnostic]:
@@ -43,7 +49,7 @@ def check(device: Device) -> list[Diagnostic]:
 
 
 def render_device(device: Device) -> Files:
-    views, problems = contexts(device)
+    shared, views, problems = _contexts(device)
     if problems:
         raise UsageError("\n".join(str(p) for p in problems))
     env = templates(__name__)
@@ -51,11 +57,12 @@ def render_device(device: Device) -> Files:
     for dialect, context in views.items():
         for name in FILES:
             files[f"{device.id}/{dialect}/{device.id}_{name}.st"] = env.get_template(f"{name}.st.jinja").render(**context)
+    polls = {runtime.name: poller(views["codesys"], runtime, VENDOR) for runtime in RUNTIMES}  # the README shows the first
     for runtime in RUNTIMES:
         files[f"{device.id}/{runtime.name}/{device.id}_poll.st"] = env.get_template("poll.st.jinja").render(
-            **views["codesys"], runtime=runtime, poller=poller(views["codesys"], runtime, VENDOR)
+            **views["codesys"], runtime=runtime, poller=polls[runtime.name]
         )
-    files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(device))
+    files[f"{device.id}/plcopen/{device.id}.xml"] = env.get_template("plcopen.xml.jinja").render(**plcopen_context(shared.context(PLCOPEN)))
     codesys = views["codesys"]
     plain = [f for f in codesys["write_functions"][1:] if not any(m.name in ("nIndex", "nSf") for m in f.inputs)]
     example = {"function": plain[0].name, "input": plain[0].inputs[0].name} if plain else None
@@ -63,7 +70,7 @@ def render_device(device: Device) -> Files:
         **codesys,
         iec=views["iec"],
         files=FILES,
-        poll=poller(codesys, RUNTIMES[0], VENDOR),
+        poll=polls[RUNTIMES[0].name],
         serial=serial_settings(device),
         write_example=example,
     )

@@ -76,16 +76,13 @@ def char_code_body(name: str) -> list[str]:
 
 
 @dataclass(frozen=True)
-class Dialect:
-    """What differs between CODESYS / TwinCAT and plain IEC 61131-3 (OpenPLC / matiec)."""
+class Notation:
+    """How a dialect writes enums and text: every view but the float helpers reads the dialect only through it,
+    so dialects that share a notation share those views."""
 
-    name: str
-    title: str
-    pragmas: tuple[str, ...]  # before every enum type
     enum_base: bool  # `(A := 1, ...) UINT;`: CODESYS' enum values and base type; plain `(A, ...)` otherwise
     qualifier: str  # `E_X.MEMBER` (CODESYS qualified_only) or `E_X#MEMBER` (the standard's typed enum value)
     sized_strings: bool  # `STRING(16)`; matiec reads no length in a STRUCT member or a VAR_INPUT: plain `STRING`
-    unions: bool  # floats' bits through a UNION (CODESYS / TwinCAT); otherwise exact LREAL arithmetic
 
     def string(self, size: int) -> str:
         """The text type of `size` bytes (plain IEC: matiec's STRING, 126 bytes; the encoders check the length)."""
@@ -96,17 +93,39 @@ class Dialect:
         return f"{type_name}{self.qualifier}{member}"
 
 
-CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), True, ".", True, True)
+@dataclass(frozen=True)
+class Dialect:
+    """What differs between CODESYS / TwinCAT and plain IEC 61131-3 (OpenPLC / matiec)."""
+
+    name: str
+    title: str
+    pragmas: tuple[str, ...]  # before every enum type
+    notation: Notation
+    unions: bool  # floats' bits through a UNION (CODESYS / TwinCAT); otherwise exact LREAL arithmetic
+
+    @property
+    def enum_base(self) -> bool:
+        return self.notation.enum_base
+
+    def string(self, size: int) -> str:
+        return self.notation.string(size)
+
+    def member(self, type_name: str, member: str) -> str:
+        return self.notation.member(type_name, member)
+
+
+CODESYS_NOTATION = Notation(enum_base=True, qualifier=".", sized_strings=True)
+CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), CODESYS_NOTATION, True)
 # matiec implements edition 2: no enum values (the FROM_RAW / TO_RAW CASEs carry the numbers), no string lengths.
-IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), False, "#", False, False)
+IEC = Dialect("iec", "IEC 61131-3 (OpenPLC / matiec)", (), Notation(enum_base=False, qualifier="#", sized_strings=False), False)
 DIALECTS = (CODESYS, IEC)
 # The PLCopen XML project (TwinCAT 3 / CODESYS import): CODESYS' text, but TC6 XML has no UNION.
-PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), True, ".", True, False)
+PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), CODESYS_NOTATION, False)
 
 
-def st_type(reg: Register, dialect: Dialect) -> str:
+def st_type(reg: Register, notation: Notation) -> str:
     if reg.type.is_string:
-        return dialect.string(2 * reg.words)
+        return notation.string(2 * reg.words)
     return NATURAL[reg.type]
 
 

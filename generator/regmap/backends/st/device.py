@@ -1,23 +1,23 @@
-"""One device's Structured Text context per dialect, from the views and the statements."""
+"""One device's Structured Text context per dialect, from the views and the statements.
+
+The names are the same in every dialect, so one `DeviceViews` per device checks them once and makes each
+view once: what no dialect changes once, what the notation changes (an enum value, a text type) once per
+`Notation` (CODESYS and the PLCopen XML share one), and only the float helpers, their UNIONs and the
+decoders' comments per dialect."""
 
 from __future__ import annotations
 
+from functools import cached_property
 from typing import Any
 
 from regmap.backends.st import codec, half, scaling
-from regmap.backends.st.codec import Dialect
+from regmap.backends.st.codec import Dialect, Notation
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoder_targets, encoders
-from regmap.backends.st.functions import Values, bitfield_functions, blocks, owners
+from regmap.backends.st.functions import Block, Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
+from regmap.backends.st.view_types import Const, EnumValue, EnumView, FunctionView, Member, Section, SectionToSpell, StructView
 from regmap.backends.st.views import (
-    Const,
-    EnumValue,
-    EnumView,
-    FunctionView,
-    Member,
     Names,
-    Section,
-    StructView,
     array_consts,
     bitfield_consts,
     command_consts,
@@ -28,50 +28,160 @@ from regmap.backends.st.views import (
     register_consts,
     variant_consts,
 )
-from regmap.backends.st.writes import queue_function, write_functions, write_struct
+from regmap.backends.st.writes import WriteStruct, queue_function, write_function, write_functions, write_struct
 from regmap.diagnostics import Diagnostic
-from regmap.model import Device, PollClass
+from regmap.model import Device, PollClass, Register
 from regmap.render import header_lines
 
 
 def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -> dict[str, Any]:
-    names = Names(device, dialect, problems)
-    enums = enum_views(names, dialect)
-    helpers = codec.helper_names(device.id)
-    values = Values(names, dialect, helpers)
-    plan = blocks(names, values)
-    writers = encoders(names, helpers, values.used)
-    targets = encoder_targets(device)
-    request = write_struct(names, targets)
-    queue = queue_function(names, request)
-    registers = []
-    for reg in device.registers:
-        registers.append(register_consts(names, reg))
-    bitfields = []
-    for regs in owners(device):
-        section = bitfield_consts(names, regs[0])
-        if section is not None:
-            bitfields.append(section)
-    access = EnumView(
-        names.access_type,
-        "UINT" if dialect.enum_base else "",
-        "Access of a register.",
-        (EnumValue("R", "1", "read only"), EnumValue("W", "2", "write only"), EnumValue("RW", "3", "read and write")),
-    )
-    functions = [*enum_functions(names, dialect, enums), *bitfield_functions(names)]
-    functions += helper_functions(names, dialect, helpers, values.used)
-    scaled = [r for r in device.registers if r.scale_from is not None]
-    if scaled:
-        functions += [scaling.power_function(names), *(scaling.scaled_function(names, r) for r in scaled if r.access.readable)]
-    functions += [b.decode for b in plan]
-    functions += writers
-    functions += command_functions(names)
-    writable = next(
-        (r for r in device.registers if r.access.writable and r.array is None and not r.bitfields and r.scale_from is None), None
-    )
-    example = None
-    if writable is not None:
-        example = {
+    """The template context of one dialect alone."""
+    return DeviceViews(device, problems).context(dialect)
+
+
+class DeviceViews:
+    """One device's views in every dialect. Each is made when `context` first asks for it, in the order it
+    asks: the first dialect checks the names in that order, and the others reuse what they share."""
+
+    def __init__(self, device: Device, problems: list[Diagnostic]) -> None:
+        self.device = device
+        self.names = Names(device, problems)
+        self.helpers = codec.helper_names(device.id)
+        self._notations: dict[Notation, SpelledViews] = {}
+
+    def spelled(self, notation: Notation) -> SpelledViews:
+        if notation not in self._notations:
+            first = next(iter(self._notations.values()), None)
+            self._notations[notation] = SpelledViews(self, notation, first)
+        return self._notations[notation]
+
+    @cached_property
+    def values(self) -> Values:
+        return Values(self.names, self.helpers)
+
+    @cached_property
+    def plan(self) -> list[Block]:
+        return blocks(self.names, self.values)
+
+    @cached_property
+    def targets(self) -> list[tuple[str, list[Register]]]:
+        return encoder_targets(self.device)
+
+    @cached_property
+    def request(self) -> WriteStruct:
+        return write_struct(self.names, self.targets)
+
+    @cached_property
+    def queue(self) -> FunctionView:
+        return queue_function(self.names, self.request)
+
+    @cached_property
+    def registers(self) -> list[SectionToSpell]:
+        return [register_consts(self.names, reg) for reg in self.device.registers]
+
+    @cached_property
+    def bitfields(self) -> list[Section]:
+        sections = (bitfield_consts(self.names, regs[0]) for regs in owners(self.device))
+        return [s for s in sections if s is not None]
+
+    @cached_property
+    def bitfield_functions(self) -> list[FunctionView]:
+        return bitfield_functions(self.names)
+
+    @cached_property
+    def scaled(self) -> list[Register]:
+        return [r for r in self.device.registers if r.scale_from is not None]
+
+    @cached_property
+    def scaled_functions(self) -> list[FunctionView]:
+        if not self.scaled:
+            return []
+        return [scaling.power_function(self.names), *(scaling.scaled_function(self.names, r) for r in self.scaled if r.access.readable)]
+
+    @cached_property
+    def command_functions(self) -> list[FunctionView]:
+        return command_functions(self.names)
+
+    @cached_property
+    def device_consts(self) -> Section:
+        return device_consts(self.names)
+
+    @cached_property
+    def plan_len(self) -> Const:
+        what = "requests that read every readable register"
+        return Const(self.names.const("READ_PLAN_LEN", what="the read plan"), "UINT", st_int(len(self.plan)), what)
+
+    @cached_property
+    def poll_and_variant_consts(self) -> tuple[Const, ...]:
+        return (*poll_consts(self.names), *variant_consts(self.names))
+
+    @cached_property
+    def arrays(self) -> list[Section]:
+        return array_consts(self.names)
+
+    @cached_property
+    def commands(self) -> list[SectionToSpell]:
+        return command_consts(self.names)
+
+    def context(self, dialect: Dialect) -> dict[str, Any]:
+        device, names = self.device, self.names
+        spelled = self.spelled(dialect.notation)
+        enums = spelled.enums
+        values = self.values
+        plan = self.plan
+        writers = spelled.encoders
+        registers = spelled.registers
+        bitfields = self.bitfields
+        access = spelled.access
+        functions = [*spelled.enum_functions, *self.bitfield_functions]
+        functions += helper_functions(names, dialect, self.helpers, values.used)
+        functions += self.scaled_functions
+        functions += [b.decoder(dialect) for b in plan]
+        functions += writers
+        functions += self.command_functions
+        dev = self.device_consts
+        plan_len = self.plan_len
+        return {
+            "header": header_lines(device, "regmap generate"),
+            "device": device,
+            "names": names,
+            "dialect": dialect,
+            "enums": [access, *enums],
+            "device_consts": Section(dev.comment, dev.consts + self.poll_and_variant_consts),
+            "registers": registers,
+            "arrays": self.arrays,
+            "bitfields": bitfields,
+            "commands": spelled.commands,
+            "plan": plan,
+            "plan_len": plan_len,
+            "values": spelled.values,
+            "write": self.request.struct,
+            "write_functions": spelled.write_functions,
+            "functions": functions,
+            "unions": unions(names, dialect, self.helpers, values.used),
+            "spaces": sorted({r.space for r in device.registers}),
+            "has_bits": any(b.bits for b in plan),
+            "has_floats": bool(values.used & {"f16", "f32", "f64"}),
+            "has_text": any(r.type.is_string for r in device.registers),
+            "poll_consts_used": any(
+                r.type.words == 4 or r.firmware is not None or codec.swapped(r) or r.poll is not PollClass.NORMAL for r in device.registers
+            ),
+            "order_input": needs_order_input(device, device.registers),
+            "scaled": self.scaled,
+            "example": self.example,
+        }
+
+    @cached_property
+    def example(self) -> dict[str, Any] | None:
+        """A writable plain register, for the README's write example."""
+        writable = next(
+            (r for r in self.device.registers if r.access.writable and r.array is None and not r.bitfields and r.scale_from is None),
+            None,
+        )
+        if writable is None:
+            return None
+        device = self.device
+        return {
             "register": writable,
             "encoder": StIdentifier("F", device.id, "ENCODE", writable.name),
             "addr": StIdentifier(device.id, writable.name, "FIRST_ADDR" if writable.paired else "ADDR"),
@@ -79,39 +189,64 @@ def device_views(device: Device, dialect: Dialect, problems: list[Diagnostic]) -
             "input": _encoder_input(writable),
             "single": writable.words == 1 and not writable.paired,
         }
-    dev = device_consts(names)
-    plan_len = Const(
-        names.const("READ_PLAN_LEN", what="the read plan"), "UINT", st_int(len(plan)), "requests that read every readable register"
-    )
-    return {
-        "header": header_lines(device, "regmap generate"),
-        "device": device,
-        "names": names,
-        "dialect": dialect,
-        "enums": [access, *enums],
-        "device_consts": Section(dev.comment, dev.consts + tuple(poll_consts(names)) + tuple(variant_consts(names))),
-        "registers": registers,
-        "arrays": array_consts(names),
-        "bitfields": bitfields,
-        "commands": command_consts(names),
-        "plan": plan,
-        "plan_len": plan_len,
-        "values": values.struct(),
-        "write": request.struct,
-        "write_functions": [queue, *write_functions(names, targets, writers, request, queue)],
-        "functions": functions,
-        "unions": unions(names, dialect, helpers, values.used),
-        "spaces": sorted({r.space for r in device.registers}),
-        "has_bits": any(b.bits for b in plan),
-        "has_floats": bool(values.used & {"f16", "f32", "f64"}),
-        "has_text": any(r.type.is_string for r in device.registers),
-        "poll_consts_used": any(
-            r.type.words == 4 or r.firmware is not None or codec.swapped(r) or r.poll is not PollClass.NORMAL for r in device.registers
-        ),
-        "order_input": needs_order_input(device, device.registers),
-        "scaled": scaled,
-        "example": example,
-    }
+
+
+class SpelledViews:
+    """The views of one device whose text a dialect's notation changes (an enum value, a text type). `other`:
+    another notation's, whose encoders and write functions this one takes where the notation changes nothing."""
+
+    def __init__(self, views: DeviceViews, notation: Notation, other: SpelledViews | None) -> None:
+        self.views = views
+        self.notation = notation
+        self.other = other
+
+    @cached_property
+    def enums(self) -> list[EnumView]:
+        return enum_views(self.views.names, self.notation)
+
+    @cached_property
+    def encoders(self) -> list[FunctionView]:
+        v = self.views
+        return encoders(v.names, self.notation, v.helpers, v.values.used, self.other.encoders if self.other else ())
+
+    @cached_property
+    def registers(self) -> list[Section]:
+        return [s.spelled(self.notation) for s in self.views.registers]
+
+    @cached_property
+    def access(self) -> EnumView:
+        return EnumView(
+            self.views.names.access_type,
+            "UINT" if self.notation.enum_base else "",
+            "Access of a register.",
+            (EnumValue("R", "1", "read only"), EnumValue("W", "2", "write only"), EnumValue("RW", "3", "read and write")),
+        )
+
+    @cached_property
+    def enum_functions(self) -> list[FunctionView]:
+        return enum_functions(self.views.names, self.notation, self.enums)
+
+    @cached_property
+    def commands(self) -> list[Section]:
+        return [s.spelled(self.notation) for s in self.views.commands]
+
+    @cached_property
+    def values(self) -> StructView:
+        return self.views.values.struct(self.notation)
+
+    @cached_property
+    def write_functions(self) -> list[FunctionView]:
+        v = self.views
+        if self.other is None:
+            return [v.queue, *write_functions(v.names, v.targets, self.encoders, v.request, v.queue)]
+        theirs = zip(self.other.encoders, self.other.write_functions[1:], strict=True)
+        return [
+            v.queue,
+            *(
+                same if encoder is their_encoder else write_function(v.names, label, regs, encoder, v.request, v.queue)
+                for (label, regs), encoder, (their_encoder, same) in zip(v.targets, self.encoders, theirs, strict=True)
+            ),
+        ]
 
 
 def helper_functions(names: Names, dialect: Dialect, h: codec.Helpers, used: set[str]) -> list[FunctionView]:

@@ -3,10 +3,13 @@ what the Python client refuses: out of range, not a member, NaN, text that does 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
     Helpers,
+    Notation,
     put_halves64,
     put_word,
     st_type,
@@ -14,15 +17,8 @@ from regmap.backends.st.codec import (
 )
 from regmap.backends.st.functions import getter_name, getter_type, owners
 from regmap.backends.st.names import StIdentifier, st_real
-from regmap.backends.st.views import (
-    FunctionView,
-    Member,
-    Names,
-    _word,
-    configurable,
-    owner,
-    sentences,
-)
+from regmap.backends.st.view_types import FunctionView, Member
+from regmap.backends.st.views import Names, _word, configurable, owner, sentences
 from regmap.core.text import eng
 from regmap.model import Command, Device, EnumType, Register, WordOrder
 
@@ -31,13 +27,13 @@ def _range_lines(name: str, lo: int | float, hi: int | float) -> list[str]:
     return [f"IF nRaw < {lo} OR nRaw > {hi} THEN", f"    {name} := FALSE;", "    RETURN;", "END_IF;"]
 
 
-def _refuse_reported(names: Names, name: str, variable: str, enum: EnumType) -> list[str]:
+def _refuse_reported(names: Names, notation: Notation, name: str, variable: str, enum: EnumType) -> list[str]:
     """FALSE for a member the device only reports (access r): a state, never a value to write."""
     reported = [m for m in enum.members if not m.writable]
     if not reported:
         return []
     type_name = names.enum_type(enum)
-    labels = [f"    {names.dialect.member(type_name, StIdentifier(m.name))}" for m in reported]
+    labels = [f"    {notation.member(type_name, StIdentifier(m.name))}" for m in reported]
     return [
         f"CASE {variable} OF",
         *(label + ("," if i < len(labels) - 1 else ":") for i, label in enumerate(labels)),
@@ -120,17 +116,20 @@ def encoder_targets(device: Device) -> list[tuple[str, list[Register]]]:
     return out
 
 
-def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionView]:
+def encoders(names: Names, notation: Notation, helpers: Helpers, used: set[str], other: Sequence[FunctionView] = ()) -> list[FunctionView]:
     """An encoder per writable register (one per array member when its elements share the range):
     the value into the words to write, or FALSE (words unchanged) when the Python client would
     refuse it (out of range, not a multiple of the resolution, not a member of the enum, NaN,
-    text too long or not in the register's encoding)."""
+    text too long or not in the register's encoding). `other`: the same encoders in another
+    notation, taken as they are where `differs_by_notation` says the notation changes nothing."""
     functions = []
-    for label, regs in encoder_targets(names.device):
+    for index, (label, regs) in enumerate(encoder_targets(names.device)):
         r = regs[0]
-        if r.type.is_string:
+        if other and not differs_by_notation(r):
+            functions.append(other[index])
+        elif r.type.is_string:
             used.add("code")
-            functions.append(_text_encoder(names, helpers, r, label))
+            functions.append(_text_encoder(names, notation, helpers, r, label))
         elif r.type.is_bool:
             functions.append(_bit_encoder(names, r, label))
         elif r.scale_from is not None:
@@ -141,10 +140,17 @@ def encoders(names: Names, helpers: Helpers, used: set[str]) -> list[FunctionVie
             )
         elif r.type.is_float:
             used.add({1: "f16", 2: "f32"}.get(r.words, "f64"))
-            functions.append(_float_encoder(names, helpers, r, label))
+            functions.append(_float_encoder(names, notation, helpers, r, label))
         else:
-            functions.append(_encoder(names, r, label))
+            functions.append(_encoder(names, notation, r, label))
     return functions
+
+
+def differs_by_notation(reg: Register) -> bool:
+    """Whether the notation changes the encoder of `reg`: text (its STRING input), or an enum with a member the
+    device only reports (`_refuse_reported` names it)."""
+    enums = [reg.enum, *(b.enum for b in reg.bitfields)]
+    return reg.type.is_string or any(e is not None and any(not m.writable for m in e.members) for e in enums)
 
 
 def _less_offset(reg: Register) -> str:
@@ -185,7 +191,7 @@ def _bit_encoder(names: Names, reg: Register, label: str) -> FunctionView:
     return FunctionView(name, "BOOL", comment, (Member("bValue", "BOOL"),), (Member("nWord", "WORD"),), (), body)
 
 
-def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> FunctionView:
+def _float_encoder(names: Names, notation: Notation, helpers: Helpers, reg: Register, label: str) -> FunctionView:
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
     output, out_type = _output(reg)
     natural = NATURAL[reg.type]
@@ -193,7 +199,7 @@ def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) ->
     body: list[str] = []
     if reg.enum is not None:  # a setting coded as a float: the member's value, as a float
         inputs = [Member("eValue", names.enum_type(reg.enum))]
-        body += _refuse_reported(names, name, "eValue", reg.enum)
+        body += _refuse_reported(names, notation, name, "eValue", reg.enum)
         body.append(f"rRaw := DINT_TO_LREAL({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
     elif reg.scaled or reg.offset_set:
         inputs = [Member("fValue", "LREAL", f"in {reg.unit}" if reg.unit else "engineering value")]
@@ -248,7 +254,7 @@ def _float_encoder(names: Names, helpers: Helpers, reg: Register, label: str) ->
     )
 
 
-def _text_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> FunctionView:
+def _text_encoder(names: Names, notation: Notation, helpers: Helpers, reg: Register, label: str) -> FunctionView:
     """Text into words: its bytes, first character in the high byte, padded; FALSE when too long or,
     for ascii, a byte above 16#7F (bytes are taken as they are: no transcoding)."""
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
@@ -290,14 +296,14 @@ def _text_encoder(names: Names, helpers: Helpers, reg: Register, label: str) -> 
         name,
         "BOOL",
         _encoder_comment(reg, label, "aWords"),
-        (Member("sValue", st_type(reg, names.dialect)),),
+        (Member("sValue", st_type(reg, notation)),),
         (Member("aWords", f"ARRAY[0..{reg.words - 1}] OF WORD"),),
         local,
         tuple(body),
     )
 
 
-def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
+def _encoder(names: Names, notation: Notation, reg: Register, label: str) -> FunctionView:
     device = names.device
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
     natural = NATURAL[reg.type]
@@ -320,11 +326,11 @@ def _encoder(names: Names, reg: Register, label: str) -> FunctionView:
                     f"    {name} := FALSE;",
                     "    RETURN;",
                     "END_IF;",
-                    *_refuse_reported(names, name, local_name, b.enum),
+                    *_refuse_reported(names, notation, name, local_name, b.enum),
                 ]
     elif reg.enum is not None:
         inputs.append(Member("eValue", names.enum_type(reg.enum)))
-        body += _refuse_reported(names, name, "eValue", reg.enum)
+        body += _refuse_reported(names, notation, name, "eValue", reg.enum)
         body.append(f"nRaw := DINT_TO_LINT({StIdentifier('F', names.prefix, reg.enum.name, 'TO_RAW')}(eValue));")
         checked = True
     elif reg.scaled or reg.offset_set:

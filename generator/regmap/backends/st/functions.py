@@ -3,26 +3,24 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
     Dialect,
     Helpers,
+    Notation,
     assemble64,
     halves64,
     swapped,
     value_type,
 )
 from regmap.backends.st.names import StIdentifier, st_hex, st_int, st_real
+from regmap.backends.st.view_types import Const, FunctionView, Member, StructView, TextMember
 from regmap.backends.st.views import (
     POLL_VALUE,
-    Const,
-    FunctionView,
-    Member,
     Names,
-    StructView,
     _bitfield_comment,
     _register_comment,
     _word,
@@ -54,12 +52,16 @@ class Block:
     struct: StructView
     registers: tuple[Register, ...]
     consts: tuple[Const, ...]
-    decode: FunctionView
+    decode: FunctionView  # for a dialect with UNIONs (CODESYS / TwinCAT)
+    exact_decode: FunctionView  # for one without (its float helpers refuse infinity and NaN): only the comment differs
     space: str = "holding"
     bits: bool = False
     read_call: str = "ReadRegs"
     channel: str = "Read Holding Registers"
     function: int = 0x03
+
+    def decoder(self, dialect: Dialect) -> FunctionView:
+        return self.decode if dialect.unions else self.exact_decode
 
 
 def _raw_member_type(reg: Register) -> str:
@@ -82,12 +84,11 @@ def _combine(device: Device, reg: Register, words: str) -> list[str]:
 class Values:
     """The typed values struct (`ST_<DEV>_VALUES`): one member per readable register, and one per bitfield."""
 
-    def __init__(self, names: Names, dialect: Dialect, helpers: Helpers) -> None:
+    def __init__(self, names: Names, helpers: Helpers) -> None:
         self.names = names
-        self.dialect = dialect
         self.helpers = helpers
         self.scope = names.scope("a member of the values struct")
-        self.members: list[Member] = []
+        self.members: list[Member | TextMember] = []
         self.type_name = names.type("ST", "VALUES", what="the values struct")
         self.used: set[str] = set()  # helpers the decoders call: f32, f64, char
         # the scale factors: each gets an availability flag, FALSE until read (a point in another block waits for it)
@@ -226,7 +227,7 @@ class Values:
     def _text(self, reg: Register, member: str, raw: str, target: str, comment: str, locals_: dict[str, str]) -> list[str]:
         """Text: bytes in order (first character in the high byte), up to the first NUL; space padding removed."""
         self.used.add("char")
-        self.members.append(Member(member, self.dialect.string(2 * reg.words), comment))
+        self.members.append(TextMember(member, 2 * reg.words, comment))
         locals_.update(i="INT", nByte="BYTE", nWord="WORD")
         word = f"ROL({raw}[i / 2], 8)" if swapped(reg) else f"{raw}[i / 2]"
         lines = [
@@ -255,9 +256,11 @@ class Values:
             ]
         return lines
 
-    def struct(self) -> StructView:
+    def struct(self, notation: Notation) -> StructView:
         return StructView(
-            self.type_name, "Decoded values of every readable register (the Python client's read_all()).", tuple(self.members)
+            self.type_name,
+            "Decoded values of every readable register (the Python client's read_all()).",
+            tuple(m.spelled(notation) for m in self.members),
         )
 
 
@@ -428,20 +431,23 @@ def blocks(names: Names, values: Values) -> list[Block]:
         inputs = [Member("stRaw", struct.type_name)]
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
-        why = "a register holds a value its enum does not list (that member keeps its old value)"
-        if any(r.type.is_float and (r.type is DataType.F16 or not names.dialect.unions) for r in regs):
-            why += ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
-        decode = FunctionView(
-            name,
-            "BOOL",
-            f"Decode read block {index} into stValues; FALSE when {why}.",
-            tuple(inputs),
-            (Member("stValues", values.type_name),),
-            tuple(Member(k, v) for k, v in local_types.items()),
-            tuple(body),
+        locals_ = tuple(Member(k, v) for k, v in local_types.items())
+        decode = FunctionView(name, "BOOL", "", tuple(inputs), (Member("stValues", values.type_name),), locals_, tuple(body))
+        with_unions, exact = (replace(decode, comment=comment) for comment in _decoder_comments(index, regs))
+        out.append(
+            Block(block.address, block.count, struct, regs, tuple(consts), with_unions, exact, space, bits, read_call, channel, info.read)
         )
-        out.append(Block(block.address, block.count, struct, regs, tuple(consts), decode, space, bits, read_call, channel, info.read))
     return out
+
+
+def _decoder_comments(index: int, regs: tuple[Register, ...]) -> tuple[str, str]:
+    """A block decoder's comment where floats go through a UNION, and where they are rebuilt exactly (which
+    refuses infinity and NaN, as a half's helper does in both)."""
+    why = "a register holds a value its enum does not list (that member keeps its old value)"
+    no_value = ", or a float is infinity or NaN (plain IEC 61131-3 has no value for them)"
+    head = f"Decode read block {index} into stValues; FALSE when {why}"
+    with_unions = head + (no_value if any(r.type is DataType.F16 for r in regs) else "") + "."
+    return with_unions, head + (no_value if any(r.type.is_float for r in regs) else "") + "."
 
 
 # -- bitfield accessors and encoders -------------------------------------------------------------

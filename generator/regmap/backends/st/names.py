@@ -60,7 +60,7 @@ class StIdentifier(str):
 @functools.cache  # the same names are spelled in every dialect and for every constant of a register
 def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
     """The identifier joined from `parts` and its problem ("" when none)."""
-    name = "_".join(p for p in parts if p).upper()
+    name = "_".join(filter(None, parts)).upper()
     if name in IEC_KEYWORDS or name in LOCALS:
         name = f"{name}_{KEYWORD_SUFFIX}"
     return name, _problem(name)

@@ -9,14 +9,12 @@ no UNION. Every element type is computed here from the ST type the views give; t
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.st.codec import PLCOPEN
-from regmap.backends.st.device import device_views
-from regmap.backends.st.views import Const, FunctionView, Member, Section
-from regmap.model import Device
+from regmap.backends.st.view_types import Const, FunctionView, Member, Section
 
 ELEMENTARY = frozenset(
     [
@@ -45,6 +43,7 @@ _ARRAY = re.compile(r"^ARRAY\[(\d+)\.\.(\d+)\] OF (\w+)$")
 _STRING = re.compile(r"^STRING(?:\((\d+)\))?$")
 
 
+@functools.cache  # a few dozen types, asked for by every member, variable and constant
 def xml_type(st_type: str) -> str:
     """The TC6 `dataType` element of an ST type the views use (elementary, STRING(n), ARRAY, a named type)."""
     if st_type in ELEMENTARY:
@@ -99,9 +98,9 @@ def _constants(context: dict[str, Any]) -> list[Variable]:
     return [Variable(c.name, xml_type(c.type), c.value, c.comment) for c in consts]
 
 
-def plcopen_context(device: Device) -> dict[str, Any]:
-    """The template context of `<device>/plcopen/<device>.xml`."""
-    context = device_views(device, PLCOPEN, [])  # the names are CODESYS', checked with that dialect
+def plcopen_context(context: dict[str, Any]) -> dict[str, Any]:
+    """The template context of `<device>/plcopen/<device>.xml`, from the views in the PLCopen dialect."""
+    device = context["device"]
     structs = [*(b.struct for b in context["plan"]), context["values"]]
     return {
         "header": context["header"],

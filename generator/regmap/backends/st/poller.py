@@ -29,7 +29,8 @@ from typing import Any
 from regmap.backends.st.codec import NATURAL
 from regmap.backends.st.functions import Block, plan_blocks
 from regmap.backends.st.names import st_hex, st_int
-from regmap.backends.st.views import VARIANT_TYPE, Member, Names, firmware_raw, variants_mask
+from regmap.backends.st.view_types import Member
+from regmap.backends.st.views import VARIANT_TYPE, Names, firmware_raw, variants_mask
 from regmap.backends.st.writes import WRITE_COIL, WRITE_MULTIPLE, WRITE_SINGLE
 from regmap.model import Device, PollClass
 

@@ -17,7 +17,8 @@ from __future__ import annotations
 
 from regmap.backends.st.codec import NATURAL, assemble64, swapped
 from regmap.backends.st.names import StIdentifier, st_int, st_real
-from regmap.backends.st.views import FunctionView, Member, Names, configurable
+from regmap.backends.st.view_types import FunctionView, Member
+from regmap.backends.st.views import Names, configurable
 from regmap.model import Register
 
 EXACT_POWER = 22  # 10^22 is the largest power of ten an LREAL (IEEE double) holds exactly

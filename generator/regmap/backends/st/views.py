@@ -1,75 +1,33 @@
 """The views of one device's Structured Text: enums, constants, raw read-plan blocks, the typed values
-and the functions. Every identifier, literal and statement is computed here, once per dialect; the
-templates only print, escaping map text with `st_comment`."""
+and the functions. Every identifier, literal and statement is computed here, once per device: what a
+dialect writes its own way (an enum value, a text type) waits as a `MemberConst` / `TextConst` /
+`TextMember` until `spelled` with that dialect's `Notation`. The templates only print, escaping map text
+with `st_comment`."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
-from regmap.backends.st.codec import NATURAL, Dialect, st_type, swapped
+from regmap.backends.st.codec import NATURAL, Notation, swapped
 from regmap.backends.st.names import Scope, StIdentifier, st_hex, st_int, st_real, st_string
+from regmap.backends.st.view_types import (
+    Const,
+    EnumValue,
+    EnumView,
+    FunctionView,
+    Member,
+    MemberConst,
+    Section,
+    SectionToSpell,
+    TextConst,
+)
 from regmap.core.text import number, titled, zone_text
 from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device
 
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
-
-
-@dataclass(frozen=True)
-class Const:
-    name: str
-    type: str
-    value: str
-    comment: str = ""  # plain text; the template escapes it
-
-
-@dataclass(frozen=True)
-class Member:
-    name: str
-    type: str
-    comment: str = ""
-
-
-@dataclass(frozen=True)
-class EnumValue:
-    name: str
-    value: str
-    comment: str
-
-
-@dataclass(frozen=True)
-class EnumView:
-    type_name: str
-    base: str
-    comment: str
-    members: tuple[EnumValue, ...]
-
-
-@dataclass(frozen=True)
-class StructView:
-    type_name: str
-    comment: str
-    members: tuple[Member, ...]
-
-
-@dataclass(frozen=True)
-class FunctionView:
-    name: str
-    returns: str
-    comment: str
-    inputs: tuple[Member, ...]
-    in_outs: tuple[Member, ...]
-    locals: tuple[Member, ...]
-    body: tuple[str, ...]  # ST statements, indented by the template
-
-
-@dataclass(frozen=True)
-class Section:
-    comment: str
-    consts: tuple[Const, ...]
 
 
 def _sentence(text: str | None) -> str:
@@ -86,11 +44,10 @@ def _manual(source: tuple[str, ...]) -> str:
 
 
 class Names:
-    """The names of one device: every global one passes one case-insensitive scope."""
+    """The names of one device, the same in every dialect: every global one passes one case-insensitive scope."""
 
-    def __init__(self, device: Device, dialect: Dialect, problems: list[Diagnostic]) -> None:
+    def __init__(self, device: Device, problems: list[Diagnostic]) -> None:
         self.device = device
-        self.dialect = dialect
         self.problems = problems
         self.prefix = device.id
         self.globals = Scope(device, "a global name", problems)
@@ -138,7 +95,7 @@ def _enum_base(e: EnumType) -> str:
     return "DINT"
 
 
-def enum_views(names: Names, dialect: Dialect) -> list[EnumView]:
+def enum_views(names: Names, notation: Notation) -> list[EnumView]:
     views = []
     for e in names.device.enums:
         type_name = names.type("E", e.name, what=f"the type of enum {e.name}", pos=e.pos)
@@ -155,18 +112,18 @@ def enum_views(names: Names, dialect: Dialect) -> list[EnumView]:
                 )
             )
         comment = sentences(titled(e.title, e.title_zh), e.description, _manual(e.source))
-        views.append(EnumView(type_name, _enum_base(e) if dialect.enum_base else "", comment, tuple(members)))
+        views.append(EnumView(type_name, _enum_base(e) if notation.enum_base else "", comment, tuple(members)))
     return views
 
 
-def enum_functions(names: Names, dialect: Dialect, enums: Sequence[EnumView]) -> list[FunctionView]:
+def enum_functions(names: Names, notation: Notation, enums: Sequence[EnumView]) -> list[FunctionView]:
     """FROM_RAW (a raw number into the enum, FALSE for a value the manual does not list) and
     TO_RAW of every enum: a CASE each way, which strict enums and matiec both accept."""
     functions = []
     for e, view in zip(names.device.enums, enums, strict=True):
         from_raw = names.function(e.name, "FROM_RAW", what=f"the decoder of enum {e.name}", pos=e.pos)
         to_raw = names.function(e.name, "TO_RAW", what=f"the encoder of enum {e.name}", pos=e.pos)
-        cases = [f"    {m.value}: eValue := {dialect.member(view.type_name, m.name)};" for m in view.members]
+        cases = [f"    {m.value}: eValue := {notation.member(view.type_name, m.name)};" for m in view.members]
         functions.append(
             FunctionView(
                 from_raw,
@@ -178,7 +135,7 @@ def enum_functions(names: Names, dialect: Dialect, enums: Sequence[EnumView]) ->
                 ("CASE nRaw OF", *cases, "ELSE", f"    {from_raw} := FALSE;", "    RETURN;", "END_CASE;", f"{from_raw} := TRUE;"),
             )
         )
-        back = [f"    {dialect.member(view.type_name, m.name)}: {to_raw} := {m.value};" for m in view.members]
+        back = [f"    {notation.member(view.type_name, m.name)}: {to_raw} := {m.value};" for m in view.members]
         functions.append(
             FunctionView(
                 to_raw,
@@ -215,18 +172,20 @@ def _ratio(value: int) -> str:
     return "DINT" if -(1 << 31) <= value < (1 << 31) else "LINT"
 
 
-def register_consts(names: Names, reg: Register) -> Section:
+def _typed_const(name: str, reg: Register, value: str, comment: str = "") -> Const | TextConst:
+    """A constant of the register's raw type."""
+    if reg.type.is_string:
+        return TextConst(name, 2 * reg.words, value, comment)
+    return Const(name, NATURAL[reg.type], value, comment)
+
+
+def register_consts(names: Names, reg: Register) -> SectionToSpell:
     what = f"register {reg.name}"
-    t = st_type(reg, names.dialect)
     c = names.const
-    consts = [
+    consts: list[Const | MemberConst | TextConst] = [
         Const(c(reg.name, "ADDR", what=what, pos=reg.pos), "UINT", st_hex(reg.address)),
         Const(c(reg.name, "WORDS", what=what, pos=reg.pos), "UINT", st_int(reg.words)),
-        Const(
-            c(reg.name, "ACCESS", what=what, pos=reg.pos),
-            names.access_type,
-            names.dialect.member(names.access_type, ACCESS_MEMBER[reg.access]),
-        ),
+        MemberConst(c(reg.name, "ACCESS", what=what, pos=reg.pos), names.access_type, ACCESS_MEMBER[reg.access]),
     ]
     space = reg.space_info
     if space.name != "holding":
@@ -241,8 +200,8 @@ def register_consts(names: Names, reg: Register) -> Section:
         )
     if reg.type.numeric:
         consts += [
-            Const(c(reg.name, "RAW_MIN", what=what, pos=reg.pos), t, _literal(reg, reg.raw_min)),
-            Const(c(reg.name, "RAW_MAX", what=what, pos=reg.pos), t, _literal(reg, reg.raw_max)),
+            Const(c(reg.name, "RAW_MIN", what=what, pos=reg.pos), NATURAL[reg.type], _literal(reg, reg.raw_min)),
+            Const(c(reg.name, "RAW_MAX", what=what, pos=reg.pos), NATURAL[reg.type], _literal(reg, reg.raw_max)),
         ]
     elif reg.type.is_string:
         consts.append(
@@ -254,7 +213,7 @@ def register_consts(names: Names, reg: Register) -> Section:
             )
         )
     if reg.default is not None:
-        consts.append(Const(c(reg.name, "DEFAULT", what=what, pos=reg.pos), t, _literal(reg, reg.default)))
+        consts.append(_typed_const(c(reg.name, "DEFAULT", what=what, pos=reg.pos), reg, _literal(reg, reg.default)))
     if reg.type.numeric:
         consts += [
             Const(c(reg.name, "SCALE_NUM", what=what, pos=reg.pos), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
@@ -305,7 +264,7 @@ def register_consts(names: Names, reg: Register) -> Section:
         consts.append(
             Const(c(reg.name, "POLL", what=what, pos=reg.pos), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}")
         )
-    return Section(_register_comment(reg), tuple(consts))
+    return SectionToSpell(_register_comment(reg), tuple(consts))
 
 
 def firmware_raw(names: Names, version: str) -> int | None:
@@ -476,14 +435,14 @@ def array_consts(names: Names) -> list[Section]:
     return sections
 
 
-def command_consts(names: Names) -> list[Section]:
+def command_consts(names: Names) -> list[SectionToSpell]:
     sections = []
     for cmd in names.device.commands:
         what = f"command {cmd.name}"
         reg = cmd.register
-        consts = [
+        consts: list[Const | MemberConst | TextConst] = [
             Const(names.const("CMD", cmd.name, "ADDR", what=what, pos=cmd.pos), "UINT", st_hex(reg.address)),
-            Const(names.const("CMD", cmd.name, "VALUE", what=what, pos=cmd.pos), st_type(reg, names.dialect), st_int(cmd.value)),
+            _typed_const(names.const("CMD", cmd.name, "VALUE", what=what, pos=cmd.pos), reg, st_int(cmd.value)),
         ]
         if cmd.argument is not None:
             arg = cmd.argument
@@ -491,7 +450,7 @@ def command_consts(names: Names) -> list[Section]:
             consts.append(Const(names.const("CMD", cmd.name, arg.name, "MAX", what=what, pos=cmd.pos), "DINT", st_int(arg.max)))
         how = f"write {cmd.value}" + (f" + {cmd.argument.name}" if cmd.argument else "") + f" to {reg.label}"
         sections.append(
-            Section(sentences(f"{titled(cmd.title, cmd.title_zh)}: {how}", cmd.description, _manual(cmd.source)), tuple(consts))
+            SectionToSpell(sentences(f"{titled(cmd.title, cmd.title_zh)}: {how}", cmd.description, _manual(cmd.source)), tuple(consts))
         )
     return sections
 

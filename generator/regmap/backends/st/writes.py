@@ -12,7 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from regmap.backends.st.names import st_hex, st_int
-from regmap.backends.st.views import FunctionView, Member, Names, StructView
+from regmap.backends.st.view_types import FunctionView, Member, StructView
+from regmap.backends.st.views import Names
 from regmap.model import Register
 
 # Modbus function codes of the writes the poller sends.
@@ -92,52 +93,54 @@ def write_functions(
     names: Names, targets: list[tuple[str, list[Register]]], encoders: list[FunctionView], request: WriteStruct, queue: FunctionView
 ) -> list[FunctionView]:
     """F_<DEV>_WRITE_<X> per encoder (`targets` and `encoders` in the same order): encode, then queue."""
-    out = []
-    for (label, regs), encoder in zip(targets, encoders, strict=True):
-        name = names.function("WRITE", label, what=f"the write request of {label}", pos=regs[0].pos)
-        reg = regs[0]
-        indexed = reg.array is not None and label != reg.name
-        output = encoder.in_outs[0]
-        encode = f"{encoder.name}({', '.join(f'{m.name} := {m.name}' for m in (*encoder.inputs, output))})"
-        words = [f"aWords[{k}]" for k in range(reg.span)] if output.name == "aWords" else ["nWord"]
-        words += ["16#0000"] * (request.words - len(words))
-        count = 1 if reg.space == "coil" else reg.span
-        inputs = list(encoder.inputs)
-        body: list[str] = []
-        local = [Member(output.name, output.type), Member("bEncoded", "BOOL")]
-        if indexed:
-            assert reg.array is not None
-            inputs.append(Member("nIndex", "UINT", f"the element of {reg.array.array}"))
-            local.append(Member("nAddr", "UINT"))
-            body.append("CASE nIndex OF")
-            body += [f"    {r.array.index if r.array else 0}: nAddr := {st_hex(r.first_address)};" for r in regs]
-            body += ["ELSE", f"    {name} := FALSE;", "    stWrite.bRefused := TRUE; (* no such element *)", "    RETURN;", "END_CASE;"]
-            address = "nAddr"
-        else:
-            address = st_hex(reg.first_address)
-        args = ", ".join(
-            [
-                "bEncoded := bEncoded",
-                f"nFunction := {st_hex(write_function_code(reg), 2)}",
-                f"nAddr := {address}",
-                f"nCount := {st_int(count)}",
-                *(f"nWord{k} := {w}" for k, w in enumerate(words)),
-                "stWrite := stWrite",
-            ]
-        )
-        # the encoder first, on its own: the order in which a call's arguments are evaluated is the compiler's
-        body += [f"bEncoded := {encode};", f"{name} := {queue.name}({args});"]
-        out.append(
-            FunctionView(
-                name,
-                "BOOL",
-                f"Queue a write of {label} through {encoder.name}: FALSE (bRefused, nothing queued) when the encoder refuses the value"
-                + (" or the index is no element" if indexed else "")
-                + ", FALSE when a write is still waiting.",
-                tuple(inputs),
-                (Member("stWrite", request.struct.type_name),),
-                tuple(local),
-                tuple(body),
-            )
-        )
-    return out
+    return [write_function(names, label, regs, encoder, request, queue) for (label, regs), encoder in zip(targets, encoders, strict=True)]
+
+
+def write_function(
+    names: Names, label: str, regs: list[Register], encoder: FunctionView, request: WriteStruct, queue: FunctionView
+) -> FunctionView:
+    """F_<DEV>_WRITE_<X>: encode `label` (its registers `regs`) with `encoder`, then queue the words."""
+    name = names.function("WRITE", label, what=f"the write request of {label}", pos=regs[0].pos)
+    reg = regs[0]
+    indexed = reg.array is not None and label != reg.name
+    output = encoder.in_outs[0]
+    encode = f"{encoder.name}({', '.join(f'{m.name} := {m.name}' for m in (*encoder.inputs, output))})"
+    words = [f"aWords[{k}]" for k in range(reg.span)] if output.name == "aWords" else ["nWord"]
+    words += ["16#0000"] * (request.words - len(words))
+    count = 1 if reg.space == "coil" else reg.span
+    inputs = list(encoder.inputs)
+    body: list[str] = []
+    local = [Member(output.name, output.type), Member("bEncoded", "BOOL")]
+    if indexed:
+        assert reg.array is not None
+        inputs.append(Member("nIndex", "UINT", f"the element of {reg.array.array}"))
+        local.append(Member("nAddr", "UINT"))
+        body.append("CASE nIndex OF")
+        body += [f"    {r.array.index if r.array else 0}: nAddr := {st_hex(r.first_address)};" for r in regs]
+        body += ["ELSE", f"    {name} := FALSE;", "    stWrite.bRefused := TRUE; (* no such element *)", "    RETURN;", "END_CASE;"]
+        address = "nAddr"
+    else:
+        address = st_hex(reg.first_address)
+    args = ", ".join(
+        [
+            "bEncoded := bEncoded",
+            f"nFunction := {st_hex(write_function_code(reg), 2)}",
+            f"nAddr := {address}",
+            f"nCount := {st_int(count)}",
+            *(f"nWord{k} := {w}" for k, w in enumerate(words)),
+            "stWrite := stWrite",
+        ]
+    )
+    # the encoder first, on its own: the order in which a call's arguments are evaluated is the compiler's
+    body += [f"bEncoded := {encode};", f"{name} := {queue.name}({args});"]
+    return FunctionView(
+        name,
+        "BOOL",
+        f"Queue a write of {label} through {encoder.name}: FALSE (bRefused, nothing queued) when the encoder refuses the value"
+        + (" or the index is no element" if indexed else "")
+        + ", FALSE when a write is still waiting.",
+        tuple(inputs),
+        (Member("stWrite", request.struct.type_name),),
+        tuple(local),
+        tuple(body),
+    )
