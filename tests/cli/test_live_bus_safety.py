@@ -532,14 +532,28 @@ def test_frame_words_stays_raw_so_the_manuals_frames_print_as_printed() -> None:
     assert result.stdout.split()[4:6] == [f"{destructive.value >> 8:02X}", f"{destructive.value & 0xFF:02X}"]
 
 
-def test_write_words_on_a_drive_whose_word_order_can_change_must_be_allowed_in_both_orders() -> None:
-    """C630S's 32-bit parameters follow P0C-26, which a field engineer may have changed: --words cannot know which
-    order the drive holds, so words whose other reading is out of range are refused (naming the register reads P0C-26)."""
+def test_write_words_on_a_drive_whose_word_order_can_change_is_checked_in_the_order_it_reads(simulator: SimulatorFactory) -> None:
+    """C630S's 32-bit parameters follow P0C-26: as a named write does, `write --words` reads P0C-26 and checks the
+    words in that order before sending (a value in range one way round and not the other goes out only when the drive
+    reads it in range); without a drive (the plan) the check waits for the order."""
     device = load_map(ROOT / C630S)
     reg = next(r for r in device.registers if r.param == "P05-02")
-    assert reg.words == 2 and not reg.word_order_fixed and reg.word_order.value == "low_first" and reg.max is not None
-    small = (int(reg.max) >> 16) + 1  # allowed as the map reads it; shifted into the high word it exceeds the maximum
-    low_first = (reg.space, [(reg.address, (small, 0))])
-    with pytest.raises(UsageError, match=r"outside .* \(read high first\); nothing was sent"):
-        check_word_runs(device, *low_first)
-    check_word_runs(device, reg.space, [(reg.address, (1, 0))])  # 1 one way, 65536 the other: both allowed
+    control = device.transport.word_order_register
+    assert control is not None and reg.words == 2 and not reg.word_order_fixed and reg.max is not None
+    small = (int(reg.max) >> 16) + 1  # in range as one word; shifted into the high word it exceeds the maximum
+    assert check_word_runs(device, reg.space, [(reg.address, (small, 0))]) is True  # left until the order is read
+    with pytest.raises(UsageError, match=r"outside .* \(read high first, the drive's word order\); nothing was sent"):
+        check_word_runs(device, reg.space, [(reg.address, (small, 0))], "high_first")
+    assert check_word_runs(device, reg.space, [(reg.address, (small, 0))], "low_first") is False
+    sim = simulator(ROOT / C630S)
+    assert sim.port is not None
+    tcp = ["--tcp", f"127.0.0.1:{sim.port}"]
+    order = "low_first" if control.register.default == control.low_first else "high_first"
+    in_order = (small, 0) if order == "low_first" else (0, small)
+    reversed_words = in_order[::-1]
+    refused = regmap("write", C630S, *tcp, "--words", f"0x{reg.address:04X}={reversed_words[0]},{reversed_words[1]}")
+    one_line_error(refused, ExitCode.USAGE, f"(read {order.replace('_', ' ')}, the drive's word order)", "nothing was sent")
+    sent = regmap("write", C630S, *tcp, "--words", f"0x{reg.address:04X}={in_order[0]},{in_order[1]}")
+    assert sent.returncode == 0, sent.stderr
+    shown = regmap("read", C630S, *tcp, reg.param or reg.name)
+    assert f"= {small} " in shown.stdout, shown.stdout

@@ -410,6 +410,7 @@ class WritePlan:
     runs: list[tuple[int, tuple[int, ...]]]
     assignments: list[Assignment]
     notes: list[str]  # how addresses were read
+    order_pending: bool = False  # --words on 32-bit registers that follow the drive's word order: checked once it is read
 
     @property
     def unit(self) -> str:
@@ -423,13 +424,14 @@ def plan_write(
     assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
     runs = word_runs(device, word_writes) if words else []
     run_space = word_writes[0].space if word_writes else DEFAULT_SPACE
-    check_word_runs(device, run_space, runs)
+    order_pending = check_word_runs(device, run_space, runs)
     return WritePlan(
         words,
         run_space,
         runs,
         assignments,
         [n for n in (*(w.located for w in word_writes), *(a.located for a in assignments)) if n],
+        order_pending,
     )
 
 
@@ -463,6 +465,8 @@ def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Writt
     client = connect(device, link, reading=any(a.raw is None for a in assignments))  # a broadcast may write, not read
     log = WriteLog()
     try:
+        if plan.order_pending:  # as a named write does: the drive's word order read (or given), then checked
+            check_word_runs(device, plan.space, plan.runs, word_order(device, client, link))
         for address, run in plan.runs:
             single = write_function(device, plan.space, len(run))
             try:

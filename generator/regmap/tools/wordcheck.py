@@ -2,7 +2,9 @@
 --words is for), but words that land on a register the map lists pass that register's own checks first,
 as a named write would: it is writable, all of its words are written (no torn 32-bit value), and their raw
 value is in its range, a member of its enum, no state it only reports and no destructive command's value
-(that goes through `regmap command NAME --confirm NAME`). `frame --words` only prints bytes and stays raw,
+(that goes through `regmap command NAME --confirm NAME`), read in the drive's word order (a 32-bit value of a
+drive whose order can be switched is checked once `write` has read it, as a named write reads it, and before
+anything is sent). `frame --words` only prints bytes and stays raw,
 so the manuals' frames can be reproduced as printed."""
 
 from __future__ import annotations
@@ -14,21 +16,28 @@ from regmap.diagnostics import UsageError
 from regmap.model import Device
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import RangeError, check_raw, words_to_raw
-from regmap_runtime.spec import HIGH_FIRST, LOW_FIRST, RegisterSpec
+from regmap_runtime.spec import RegisterSpec
 
 NOTHING_SENT = "nothing was sent; --words writes only what the map allows at a register it lists"
 
 
-def check_word_runs(device: Device, space: str, runs: Sequence[tuple[int, Sequence[int]]]) -> None:
-    """Refuse (UsageError) a run of words that writes a listed register in a way a named write could not."""
+# The drive's word order is not known yet (the port is not open): the values of its 32-bit registers that follow
+# that order are checked once it is read (`live.word_order`), before anything is sent.
+ORDER_NOT_READ = "not read"
+
+
+def check_word_runs(device: Device, space: str, runs: Sequence[tuple[int, Sequence[int]]], order: str | None = ORDER_NOT_READ) -> bool:
+    """Refuse (UsageError) a run of words that writes a listed register in a way a named write could not. `order`
+    is the drive's word order (None: the map's); with ORDER_NOT_READ the values that depend on it are left for a
+    second call, and the answer says whether there are any."""
     written = {address + i: word for address, run in runs for i, word in enumerate(run)}
-    if not written:
-        return
-    specs = {spec.name: spec for spec in runtime_specs(device)}
+    specs = {spec.name: spec for spec in runtime_specs(device)} if written else {}
+    pending = False
     for reg in device.registers:
-        if reg.space != space or not any(address in written for address in range(reg.first_address, reg.address + reg.words)):
+        touched = [address for address in range(reg.first_address, reg.address + reg.words) if address in written]
+        if reg.space != space or not touched:
             continue
-        at = f"--words 0x{max(reg.first_address, min(written)):04X}"
+        at = f"--words 0x{touched[0]:04X}"
         if not reg.access.writable:
             raise UsageError(f"{at}: {reg.label} is read-only (access {reg.access.value}); {NOTHING_SENT}")
         own = range(reg.address, reg.address + reg.words)  # without a pair's unused high word
@@ -43,26 +52,27 @@ def check_word_runs(device: Device, space: str, runs: Sequence[tuple[int, Sequen
                 f"{at}: writes {reg.words - len(missing)} of the {reg.words} word(s) of {reg.label} ({reg.type.value} at "
                 f"0x{reg.address:04X}), which would leave it half old, half new; write all of them or name the register; {NOTHING_SENT}"
             )
-        _check_value(specs[reg.name], [written[address] for address in own], at)
+        spec = specs[reg.name]
+        if spec.wide and spec.follows_device_order and order == ORDER_NOT_READ:
+            pending = True
+            continue
+        _check_value(spec if order in (None, ORDER_NOT_READ) else spec.in_word_order(order), [written[a] for a in own], at)
         if reg.paired and reg.first_address in written:
             # The pair is one 32-bit parameter of which only the low word is used: its high word is the sign extension.
-            low = words_to_raw(specs[reg.name], [written[reg.address]])
+            low = words_to_raw(spec, [written[reg.address]])
             extension = 0xFFFF if isinstance(low, int) and low < 0 else 0x0000
             if written[reg.first_address] != extension:
                 raise UsageError(
                     f"{at}: 0x{reg.first_address:04X} is the unused high word of {reg.label}, which holds the sign "
                     f"extension of its low word: 0x{extension:04X}, not 0x{written[reg.first_address]:04X}; {NOTHING_SENT}"
                 )
+    return pending
 
 
 def _check_value(spec: RegisterSpec[Any], words: list[int], at: str) -> None:
-    """check_raw on the words as the device reads them: a device whose word order can be switched may hold
-    either order, so the words must be allowed read either way."""
-    orders = (HIGH_FIRST, LOW_FIRST) if spec.wide and spec.follows_device_order else (spec.word_order,)
-    for order in orders:
-        candidate = spec.in_word_order(order)
-        try:
-            check_raw(candidate, words_to_raw(candidate, words))
-        except (RangeError, ValueError) as exc:
-            read_as = f" (read {order.replace('_', ' ')})" if len(orders) > 1 else ""
-            raise UsageError(f"{at}: {exc}{read_as}; {NOTHING_SENT}") from None
+    """check_raw on the words as the drive reads them (`spec` in the drive's word order)."""
+    try:
+        check_raw(spec, words_to_raw(spec, words))
+    except (RangeError, ValueError) as exc:
+        read_as = f" (read {spec.word_order.replace('_', ' ')}, the drive's word order)" if spec.wide else ""
+        raise UsageError(f"{at}: {exc}{read_as}; {NOTHING_SENT}") from None
