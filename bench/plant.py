@@ -110,10 +110,9 @@ def _forget_modules_under(folder: Path, before: dict[str, Any]) -> None:
     """Unload what was imported from `folder` (the plant and its device modules, about to be deleted) and put back
     the modules of the same names imported before, so a later import of `c630s` finds the committed one."""
     for name, module in list(sys.modules.items()):
-        if Path(getattr(module, "__file__", None) or "/").is_relative_to(folder) or (name in before and before[name] is not module):
+        if Path(getattr(module, "__file__", None) or "/").is_relative_to(folder):
             del sys.modules[name]
-    for name, module in before.items():
-        sys.modules.setdefault(name, module)
+    sys.modules.update(before)
 
 
 def measure(plant_file: Path = PLANT) -> PlantRun:

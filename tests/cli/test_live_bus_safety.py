@@ -543,8 +543,8 @@ def test_write_words_on_a_drive_whose_word_order_can_change_is_checked_in_the_or
     small = (int(reg.max) >> 16) + 1  # in range as one word; shifted into the high word it exceeds the maximum
     assert check_word_runs(device, reg.space, [(reg.address, (small, 0))]) is True  # left until the order is read
     with pytest.raises(UsageError, match=r"outside .* \(read high first, the drive's word order\); nothing was sent"):
-        check_word_runs(device, reg.space, [(reg.address, (small, 0))], "high_first")
-    assert check_word_runs(device, reg.space, [(reg.address, (small, 0))], "low_first") is False
+        check_word_runs(device, reg.space, [(reg.address, (small, 0))], "high_first", order_read=True)
+    assert check_word_runs(device, reg.space, [(reg.address, (small, 0))], "low_first", order_read=True) is False
     sim = simulator(ROOT / C630S)
     assert sim.port is not None
     tcp = ["--tcp", f"127.0.0.1:{sim.port}"]

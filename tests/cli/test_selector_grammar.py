@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from regmap.frontend import load_map
+
 from conftest import ROOT, SimulatorFactory
 
 IDM = "maps/idm_rs.yaml"
@@ -203,17 +205,21 @@ def test_did_you_mean_offers_the_zero_padded_id_first(map_path: str, typed: str,
     assert offered[0] == first and len(offered) > 1, line
 
 
-@pytest.mark.parametrize(
-    "args",
-    [
-        ("write", IDM, "--tcp", "127.0.0.1:1", "di1_function.function=stop"),  # refused before any connection is tried
-        ("write", IDM, "--tcp", "127.0.0.1:1", "Pr4.02.normally_closed=1"),
-        ("frame", IDM, "read", "di1_function.function"),
-    ],
-)
-def test_a_dotted_field_says_how_regmap_names_it(args: tuple[str, ...]) -> None:
+def _field_selectors() -> list[tuple[tuple[str, ...], str, str]]:
+    """(arguments, field, label) for a register.field spelling: the map's first writable bitfield register, by name and by parameter id."""
+    reg = next(r for r in load_map(ROOT / IDM).registers if r.bitfields and r.access.writable and r.param)
+    first, last = reg.bitfields[0].name, reg.bitfields[-1].name
+    return [
+        (("write", IDM, "--tcp", "127.0.0.1:1", f"{reg.name}.{first}=1"), first, reg.label),  # refused before any connection
+        (("write", IDM, "--tcp", "127.0.0.1:1", f"{reg.param}.{last}=1"), last, reg.label),
+        (("frame", IDM, "read", f"{reg.name}.{first}"), first, reg.label),
+    ]
+
+
+@pytest.mark.parametrize(("args", "field", "label"), _field_selectors())
+def test_a_dotted_field_says_how_regmap_names_it(args: tuple[str, ...], field: str, label: str) -> None:
     """REGISTER.FIELD (how a C struct or an ST variable spells a bitfield member) is no register: the error says
     the register's name and the field-write form, instead of 'did you mean' other registers."""
-    field = args[-1].split("=")[0].rsplit(".", 1)[1]
-    line = one_line_error(regmap(*args), f"{field} is a field of Pr4.02 di1_function", f"di1_function={field}:VALUE")
+    name = label.split()[-1]
+    line = one_line_error(regmap(*args), f"{field} is a field of {label}", f"{name}={field}:VALUE")
     assert "did you mean" not in line

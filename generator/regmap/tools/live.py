@@ -424,7 +424,7 @@ def plan_write(
     assignments = [] if words else parse_assignments(device, items, raw, replace=replace, space=space, modicon=modicon)
     runs = word_runs(device, word_writes) if words else []
     run_space = word_writes[0].space if word_writes else DEFAULT_SPACE
-    order_pending = check_word_runs(device, run_space, runs)
+    order_pending = check_word_runs(device, run_space, runs) if words else False
     return WritePlan(
         words,
         run_space,
@@ -466,7 +466,7 @@ def write(device: Device, link: Link, plan: WritePlan, *, verify: bool) -> Writt
     log = WriteLog()
     try:
         if plan.order_pending:  # as a named write does: the drive's word order read (or given), then checked
-            check_word_runs(device, plan.space, plan.runs, word_order(device, client, link))
+            check_word_runs(device, plan.space, plan.runs, word_order(device, client, link), order_read=True)
         for address, run in plan.runs:
             single = write_function(device, plan.space, len(run))
             try:

@@ -15,32 +15,27 @@ from typing import Any
 from regmap.diagnostics import UsageError
 from regmap.model import Device
 from regmap.runtime_bridge import runtime_specs
-from regmap_runtime.codec import RangeError, check_raw, words_to_raw
+from regmap_runtime.codec import RangeError, check_raw, raw_to_words, words_to_raw
 from regmap_runtime.spec import RegisterSpec
 
 NOTHING_SENT = "nothing was sent; --words writes only what the map allows at a register it lists"
 
 
-# The drive's word order is not known yet (the port is not open): the values of its 32-bit registers that follow
-# that order are checked once it is read (`live.word_order`), before anything is sent.
-ORDER_NOT_READ = "not read"
-
-
-def check_word_runs(device: Device, space: str, runs: Sequence[tuple[int, Sequence[int]]], order: str | None = ORDER_NOT_READ) -> bool:
-    """Refuse (UsageError) a run of words that writes a listed register in a way a named write could not. `order`
-    is the drive's word order (None: the map's); with ORDER_NOT_READ the values that depend on it are left for a
-    second call, and the answer says whether there are any."""
+def check_word_runs(
+    device: Device, space: str, runs: Sequence[tuple[int, Sequence[int]]], order: str | None = None, *, order_read: bool = False
+) -> bool:
+    """Refuse (UsageError) a run of words that writes a listed register in a way a named write could not. Before
+    the drive's word order is read (`order_read` False), the values of the 32-bit registers that follow it wait for
+    a second call with `order` (None: the map's); the answer says whether any did."""
     written = {address + i: word for address, run in runs for i, word in enumerate(run)}
-    specs = {spec.name: spec for spec in runtime_specs(device)} if written else {}
+    touched = dict.fromkeys(reg for reg in (device.covering(address, space) for address in sorted(written)) if reg is not None)
+    specs = {spec.name: spec for spec in runtime_specs(device)} if touched else {}
     pending = False
-    for reg in device.registers:
-        touched = [address for address in range(reg.first_address, reg.address + reg.words) if address in written]
-        if reg.space != space or not touched:
-            continue
-        at = f"--words 0x{touched[0]:04X}"
+    for reg in touched:  # each register once, in the order its first word is written
+        at = f"--words 0x{next(a for a in sorted(written) if reg.first_address <= a <= reg.last_address):04X}"
         if not reg.access.writable:
             raise UsageError(f"{at}: {reg.label} is read-only (access {reg.access.value}); {NOTHING_SENT}")
-        own = range(reg.address, reg.address + reg.words)  # without a pair's unused high word
+        own = range(reg.address, reg.last_address + 1)  # without a pair's unused high word
         missing = [address for address in own if address not in written]
         if reg.paired and len(missing) == reg.words:
             raise UsageError(
@@ -53,14 +48,13 @@ def check_word_runs(device: Device, space: str, runs: Sequence[tuple[int, Sequen
                 f"0x{reg.address:04X}), which would leave it half old, half new; write all of them or name the register; {NOTHING_SENT}"
             )
         spec = specs[reg.name]
-        if spec.wide and spec.follows_device_order and order == ORDER_NOT_READ:
+        if spec.wide and spec.follows_device_order and not order_read:
             pending = True
             continue
-        _check_value(spec if order in (None, ORDER_NOT_READ) else spec.in_word_order(order), [written[a] for a in own], at)
+        _check_value(spec.in_word_order(order), [written[a] for a in own], at)
         if reg.paired and reg.first_address in written:
             # The pair is one 32-bit parameter of which only the low word is used: its high word is the sign extension.
-            low = words_to_raw(spec, [written[reg.address]])
-            extension = 0xFFFF if isinstance(low, int) and low < 0 else 0x0000
+            extension = raw_to_words(spec, words_to_raw(spec, [written[reg.address]]), with_pair=True)[0]
             if written[reg.first_address] != extension:
                 raise UsageError(
                     f"{at}: 0x{reg.first_address:04X} is the unused high word of {reg.label}, which holds the sign "

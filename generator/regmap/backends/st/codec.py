@@ -110,9 +110,6 @@ class Dialect:
     def string(self, size: int) -> str:
         return self.notation.string(size)
 
-    def member(self, type_name: str, member: str) -> str:
-        return self.notation.member(type_name, member)
-
 
 CODESYS_NOTATION = Notation(enum_base=True, qualifier=".", sized_strings=True)
 CODESYS = Dialect("codesys", "CODESYS / TwinCAT 3", ("{attribute 'qualified_only'}", "{attribute 'strict'}"), CODESYS_NOTATION, True)
