@@ -27,21 +27,39 @@ class PollClass(enum.Enum):
     SLOW = "slow"
 
 
-class Access(enum.Enum):
+class _AccessFacts:  # declared outside the enum's body, so mypy takes neither for a member
+    readable: bool
+    writable: bool
+
+
+class Access(_AccessFacts, enum.Enum):
     READ = "r"
     READ_WRITE = "rw"
     WRITE = "w"
 
-    @property
-    def readable(self) -> bool:
-        return self is not Access.WRITE
 
-    @property
-    def writable(self) -> bool:
-        return self is not Access.READ
+for _access in Access:  # worked out once per member: asked of every register, many times
+    _access.readable = _access is not Access.WRITE
+    _access.writable = _access is not Access.READ
+del _access
 
 
-class DataType(enum.Enum):
+class _TypeFacts:  # each read from the runtime's table once, when the module loads: back ends ask them of every register
+    words: int
+    wide: bool  # more than one word, so the value has a word order
+    bits: int
+    signed: bool
+    raw_min: int | float
+    raw_max: int | float
+    kind: str
+    numeric: bool
+    is_float: bool
+    is_string: bool
+    is_bool: bool
+    is_timestamp: bool
+
+
+class DataType(_TypeFacts, enum.Enum):
     """A map's `type`; every fact about it comes from the runtime's one table, `regmap_runtime.types.TYPES`."""
 
     U16 = "u16"
@@ -59,53 +77,12 @@ class DataType(enum.Enum):
 
     @property
     def info(self) -> TypeInfo:
-        return TYPES[self._value_]  # `_value_`, not `value`: Enum's `value` descriptor is slow, and this is read often
+        return TYPES[self._value_]
 
-    @property
-    def words(self) -> int:
-        return self.info.words
 
-    @property
-    def wide(self) -> bool:
-        """More than one word, so the value has a word order."""
-        return self.info.wide
-
-    @property
-    def bits(self) -> int:
-        return self.info.bits
-
-    @property
-    def signed(self) -> bool:
-        return self.info.signed
-
-    @property
-    def raw_min(self) -> int | float:
-        return self.info.raw_min
-
-    @property
-    def raw_max(self) -> int | float:
-        return self.info.raw_max
-
-    @property
-    def kind(self) -> str:
-        return self.info.kind
-
-    @property
-    def numeric(self) -> bool:
-        return self.info.numeric
-
-    @property
-    def is_float(self) -> bool:
-        return self.info.is_float
-
-    @property
-    def is_string(self) -> bool:
-        return self.info.is_string
-
-    @property
-    def is_bool(self) -> bool:
-        return self.info.is_bool
-
-    @property
-    def is_timestamp(self) -> bool:
-        return self.info.is_timestamp
+for _type in DataType:
+    _info = _type.info
+    _type.words, _type.wide, _type.bits, _type.signed = _info.words, _info.wide, _info.bits, _info.signed
+    _type.raw_min, _type.raw_max, _type.kind, _type.numeric = _info.raw_min, _info.raw_max, _info.kind, _info.numeric
+    _type.is_float, _type.is_string, _type.is_bool, _type.is_timestamp = _info.is_float, _info.is_string, _info.is_bool, _info.is_timestamp
+del _type, _info

@@ -202,55 +202,55 @@ class Register:
     scale_from: str | None = None  # an s16 register's name: value = raw x 10^sf, sf its raw value read at run time
     pos: SourcePos | None = field(default=None, compare=False, repr=False)
 
-    @property
+    @cached_property  # asked of every register many times by every back end
     def words(self) -> int:
         """Addresses the register takes: register words, or one bit for a coil or discrete input."""
         return self.string_words if self.type.is_string else self.type.words
 
-    @property
+    @cached_property
     def space_info(self) -> Space:
         return SPACES[self.space]
 
-    @property
+    @cached_property
     def offset_set(self) -> bool:
         return self.offset != 0
 
-    @property
+    @cached_property
     def wide(self) -> bool:
         """More than one word, so the value has a word order."""
         return self.type.wide
 
-    @property
+    @cached_property
     def signed(self) -> bool:
         return self.type.signed
 
-    @property
+    @cached_property
     def first_address(self) -> int:
         """First address the register occupies on the bus (the unused high word of a pair)."""
         return self.address - 1 if self.paired else self.address
 
-    @property
+    @cached_property
     def span(self) -> int:
         """Words from `first_address` that belong to this register."""
         return self.words + (1 if self.paired else 0)
 
-    @property
+    @cached_property
     def last_address(self) -> int:
         return self.address + self.words - 1
 
-    @property
+    @cached_property
     def raw_min(self) -> int | float:
         return self.min if self.min is not None else self.type.raw_min
 
-    @property
+    @cached_property
     def raw_max(self) -> int | float:
         return self.max if self.max is not None else self.type.raw_max
 
-    @property
+    @cached_property
     def scaled(self) -> bool:
         return self.scale != 1
 
-    @property
+    @cached_property
     def has_na(self) -> bool:
         """The device sends a "not available" marker in this register (`na`)."""
         return bool(self.na) or self.na_nan

@@ -20,6 +20,7 @@ from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
+_PLANS: dict[int, tuple[Device, tuple[ReadBlock, ...]]] = {}  # read_all()'s plan of each device
 
 
 def documented_addresses(device: Device, variants: Sequence[str] = ()) -> frozenset[tuple[str, int]]:
@@ -206,6 +207,11 @@ def read_plan(
     with a poll class, only that class's registers (as `read_all(poll=...)` does); with `variants`, only
     the registers every one of them has, bridging only words all of them answer (one variant: as
     `read_all()` of a client made with `variant=` does)."""
+    whole = registers is None and profile is None and poll is None and not variants
+    if whole:  # every back end asks for read_all()'s plan: planned once per device
+        cached = _PLANS.get(id(device))
+        if cached is not None and cached[0] is device:
+            return list(cached[1])
     t = device.transport
     chosen = device.registers if registers is None else registers
     if poll is not None:
@@ -216,7 +222,10 @@ def read_plan(
     if profile is not None:
         profile.check(device.id, device.fingerprint)
         limit, documented = profile.plan_limits(limit, documented)
-    return plan_reads(specs, limit, documented, max_bits=t.max_read_coils, alignment=runtime_alignment(device))
+    plan = plan_reads(specs, limit, documented, max_bits=t.max_read_coils, alignment=runtime_alignment(device))
+    if whole:
+        _PLANS[id(device)] = (device, tuple(plan))
+    return plan
 
 
 def runtime_alignment(device: Device) -> Alignment | None:
