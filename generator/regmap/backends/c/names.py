@@ -4,6 +4,7 @@ table that refuses two map items generating one name, and the C spelling of numb
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -62,6 +63,10 @@ STANDARD_NAMES = frozenset(
 _RESERVED = re.compile(r"^_|__|_t$")
 _UPPER = re.compile(r"^[A-Z_][A-Z0-9_]*$")
 _LOWER = re.compile(r"^[a-z_][a-z0-9_]*$")
+# Names that pass every check above at once (no leading, doubled or trailing underscore): nearly all of them. The
+# others take the checks one by one, which say what is wrong.
+_PLAIN_UPPER = re.compile(r"[A-Z][A-Z0-9]*(?:_[A-Z0-9]+)*")
+_PLAIN_LOWER = re.compile(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)*")
 
 
 def _check_reserved(name: str) -> None:
@@ -76,10 +81,11 @@ class CIdentifier(str):
     never reserved. Upper-case names cannot be C or C++ keywords; they can be standard macros."""
 
     def __new__(cls, *parts: str) -> CIdentifier:
-        name = "_".join(p for p in parts if p).upper()
-        if not _UPPER.match(name):
-            raise UsageError(f"{name!r} is not a valid C identifier")
-        _check_reserved(name)
+        name = "_".join(filter(None, parts)).upper()
+        if not _PLAIN_UPPER.fullmatch(name):
+            if not _UPPER.match(name):
+                raise UsageError(f"{name!r} is not a valid C identifier")
+            _check_reserved(name)
         if name in STANDARD_NAMES:
             raise UsageError(f"{name!r} is a name of the C standard library; rename it in the map")
         return super().__new__(cls, name)
@@ -90,12 +96,14 @@ class CSymbol(str):
     gets a trailing underscore (`register` -> `register_`); reserved names are refused."""
 
     def __new__(cls, *parts: str) -> CSymbol:
-        name = "_".join(p for p in parts if p).lower()
-        if not _LOWER.match(name):
+        name = "_".join(filter(None, parts)).lower()
+        plain = _PLAIN_LOWER.fullmatch(name) and not name.endswith("_t")
+        if not plain and not _LOWER.match(name):
             raise UsageError(f"{name!r} is not a valid C identifier")
         if name in C_KEYWORDS or name in CPP_KEYWORDS or name in STANDARD_NAMES:
             name += "_"
-        _check_reserved(name)
+        if not plain:
+            _check_reserved(name)
         return super().__new__(cls, name)
 
 
@@ -298,6 +306,12 @@ class Macro:
     name: str
     value: str
     comment: str = ""  # plain text; the template escapes it
+
+
+def define_lines(macros: Iterable[Macro]) -> str:
+    """The `#define` of each macro, one a line, values in one column: what a header prints of a register's or an
+    array's macros (a block the template prints as it is, not four pieces per macro)."""
+    return "\n".join(f"#define {m.name:<48} {m.value}" for m in macros)
 
 
 class Context:

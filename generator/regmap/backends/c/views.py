@@ -29,6 +29,7 @@ from regmap.backends.c.names import (
     c_signed,
     c_unsigned,
     c_value,
+    define_lines,
 )
 from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
@@ -92,7 +93,7 @@ class RegisterView:
     template: str
     comment: str
     description: str
-    macros: tuple[Macro, ...]
+    defines: str  # the #define lines of its macros
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
     gate: GateView | None = None
@@ -118,7 +119,7 @@ class ArrayMemberView:
     offset: str
     pair_addr_macro: str | None
     addr_function: str
-    macros: tuple[Macro, ...]
+    defines: str  # the #define lines of its macros
     tables: tuple[ElementTable, ...]
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
@@ -135,7 +136,7 @@ class ArrayView:
     first: str
     count: str
     stride: str
-    macros: tuple[Macro, ...]
+    defines: str  # the #define lines of its macros
     check: str  # C condition: index n in range
     members: tuple[ArrayMemberView, ...]
 
@@ -417,7 +418,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         template="register.h.jinja",
         comment=_register_comment(reg, reg.label, (reg,)),
         description=reg.description,
-        macros=tuple(macros),
+        defines=define_lines(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name),
         gate=_gate_view(ctx, reg, reg.name),
@@ -450,7 +451,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 offset=c_unsigned(member.offset),
                 pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
                 addr_function=ctx.symbol(owner, "addr"),
-                macros=tuple(values),
+                defines=define_lines(values),
                 tables=tuple(tables),
                 bitfields=_bitfield_views(ctx, reg, owner),
                 codec=_codec_view(ctx, reg, owner),
@@ -473,7 +474,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         first=first.name,
         count=count.name,
         stride=stride.name,
-        macros=macros,
+        defines=define_lines(macros),
         check=check,
         members=tuple(members),
     )
