@@ -12,12 +12,22 @@ from regmap.backends.markdown.text import DocId, Md
 from regmap.backends.markdown.wire import uses
 from regmap.core.decoding import RegisterSpecs
 from regmap.model import Device
+from regmap.render import md_text
+
+
+def table_row(cells: Iterable[str]) -> str:
+    """A Markdown table row of cells that are ready to print (one string for the template, not two pieces a cell)."""
+    return "| " + " | ".join(cells) + " |"
 
 
 @dataclass(frozen=True)
 class Fact:
     label: str
     value: Md
+
+    @property
+    def row(self) -> str:
+        return f"| {self.label} | {self.value} |"
 
 
 @dataclass(frozen=True)
@@ -35,6 +45,25 @@ class QuickRow:
     unit: str
     takes_effect: str
 
+    @property
+    def row(self) -> str:
+        return table_row(
+            (
+                md_text(self.param),
+                self.address,
+                self.name,
+                md_text(self.title),
+                md_text(self.title_zh),
+                self.access,
+                self.type,
+                self.range,
+                self.default,
+                md_text(self.unit),
+                md_text(self.takes_effect),
+                *self.extra,
+            )
+        )
+
 
 @dataclass(frozen=True)
 class EnumRow:
@@ -46,6 +75,23 @@ class EnumRow:
     title_zh: str
     description: str
     direction: str  # "read only" (a state the device reports), "write only" (a command), "read/write"; "" when the enum has no directions
+
+    @property
+    def row(self) -> str:
+        """The row of its table: with the Direction column when the enum has directions."""
+        directed = (self.direction,) if self.direction else ()
+        return table_row(
+            (
+                self.value,
+                self.hex,
+                self.name,
+                *directed,
+                md_text(self.symbol),
+                md_text(self.title),
+                md_text(self.title_zh),
+                md_text(self.description),
+            )
+        )
 
 
 @dataclass(frozen=True)
@@ -70,6 +116,10 @@ class BitRow:
     title_zh: str
     values: Md
     description: str
+
+    @property
+    def row(self) -> str:
+        return table_row((self.bits, f"`{self.mask}`", self.name, md_text(self.title), md_text(self.title_zh), self.values, md_text(self.description)))
 
 
 @dataclass(frozen=True)
@@ -106,6 +156,25 @@ class MemberRow:
     range: Md
     default: Md
     unit: str
+
+    @property
+    def row(self) -> str:
+        return table_row(
+            (
+                str(self.offset),
+                self.address,
+                self.name,
+                self.registers,
+                md_text(self.title),
+                md_text(self.title_zh),
+                self.type,
+                self.access,
+                self.range,
+                self.default,
+                md_text(self.unit),
+                *self.extra,
+            )
+        )
 
 
 @dataclass(frozen=True)
