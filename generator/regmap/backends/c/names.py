@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
 from fractions import Fraction
+from typing import NamedTuple
 
 from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
@@ -194,8 +194,7 @@ def c_value(value: int | float | str, reg: Register) -> str:
     return c_raw(int(value), reg.signed)
 
 
-@dataclass(frozen=True)
-class CType:
+class CType(NamedTuple):
     """C's spelling of a data type: the type of its value, and the unsigned type that holds its bits."""
 
     value: str
@@ -255,8 +254,7 @@ FUNCTION_MACROS = {
 
 # The shared builders (and their parameters after the address) of each space's operations, and the
 # name a device header's wrapper gets (`<device>_<suffix>`); holding's wrappers are the first maps' own.
-@dataclass(frozen=True)
-class Builder:
+class Builder(NamedTuple):
     shared: str
     suffix: str
     params: str  # after `uint16_t address`
@@ -299,8 +297,7 @@ PARSERS = {
 PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
 
 
-@dataclass(frozen=True)
-class Macro:
+class Macro(NamedTuple):
     """A named constant of the header (a macro, an enum member)."""
 
     name: str

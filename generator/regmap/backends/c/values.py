@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from fractions import Fraction
+from typing import NamedTuple
 
 from regmap.backends.c.names import (
     C_TYPES,
@@ -31,8 +31,7 @@ from regmap.model import DataType, EnumType, Register
 ORDER_PARAM = "word_order"
 
 
-@dataclass(frozen=True)
-class EnumCheckView:
+class EnumCheckView(NamedTuple):
     """`<enum>_is_member(value)` and `<enum>_is_writable(value)` (a member a write may send: not a state the device only reports)."""
 
     member_fn: str
@@ -43,8 +42,7 @@ class EnumCheckView:
     all_writable: bool
 
 
-@dataclass(frozen=True)
-class ValueView:
+class ValueView(NamedTuple):
     """The value helpers of one register (or of every element of an array member)."""
 
     comment: str

@@ -116,7 +116,9 @@ class BitRow(NamedTuple):
 
     @property
     def row(self) -> str:
-        return table_row((self.bits, f"`{self.mask}`", self.name, md_text(self.title), md_text(self.title_zh), self.values, md_text(self.description)))
+        return table_row(
+            (self.bits, f"`{self.mask}`", self.name, md_text(self.title), md_text(self.title_zh), self.values, md_text(self.description))
+        )
 
 
 class BitfieldView(NamedTuple):
