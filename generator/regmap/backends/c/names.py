@@ -88,7 +88,7 @@ class CIdentifier(str):
             _check_reserved(name)
         if name in STANDARD_NAMES:
             raise UsageError(f"{name!r} is a name of the C standard library; rename it in the map")
-        return super().__new__(cls, name)
+        return str.__new__(cls, name)
 
 
 class CSymbol(str):
@@ -104,7 +104,7 @@ class CSymbol(str):
             name += "_"
         if not plain:
             _check_reserved(name)
-        return super().__new__(cls, name)
+        return str.__new__(cls, name)
 
 
 class _Names:
@@ -112,12 +112,14 @@ class _Names:
 
     def __init__(self, device: Device) -> None:
         self.device = device
-        self.seen: dict[str, str] = {}
+        # What each name is for: a description, or the parts it was made of (joined only for the error, as it is rare).
+        self.seen: dict[str, str | tuple[str, ...]] = {}
 
-    def add(self, name: str, what: str) -> str:
+    def add(self, name: str, what: str | tuple[str, ...]) -> str:
         if name in self.seen:
+            first, second = (w if isinstance(w, str) else " ".join(w) for w in (self.seen[name], what))
             raise UsageError(
-                f"{self.device.source_path}: generated C name {name} is used by both {self.seen[name]} and {what}; rename one in the map"
+                f"{self.device.source_path}: generated C name {name} is used by both {first} and {second}; rename one in the map"
             )
         self.seen[name] = what
         return name
@@ -322,10 +324,10 @@ class Context:
         self.arrays = {a.name: a for a in device.arrays}
 
     def const(self, *parts: str, what: str = "") -> str:
-        return self.names.add(CIdentifier(self.prefix, *parts), what or " ".join(parts))
+        return self.names.add(CIdentifier(self.prefix, *parts), what or parts)
 
     def symbol(self, *parts: str, what: str = "") -> str:
-        return self.names.add(CSymbol(self.lower, *parts), what or " ".join(parts))
+        return self.names.add(CSymbol(self.lower, *parts), what or parts)
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""

@@ -323,6 +323,7 @@ class Context:
         self.examples_by_register: dict[str, list[str]] = {}
         self.responses: dict[str, list[str]] = {}
         self.enum_users: dict[str, list[Md]] = {}
+        self.enum_views: dict[int, EnumView] = {}  # by id() of the EnumType (the device holds each for the run)
         for ex in device.examples:
             if ex.request is not None:
                 self.responses.setdefault(ex.request, []).append(ex.id)
