@@ -21,6 +21,7 @@ from regmap.backends.markdown import diagram_path
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
 from regmap.model import Device, Register
+from regmap.render import md_text
 
 from conftest import ROOT
 
@@ -183,6 +184,15 @@ def test_map_text_cannot_inject_markup() -> None:
     row = next(line for line in page.splitlines() if "(#peak_current)" in line and line.startswith("| "))
     assert len(re.findall(r"(?<!\\)\|", row)) == 12, "a pipe in a title must not add a table column"
     assert "\n\\# not a heading" in page
+
+
+def test_md_text_folds_whitespace_and_escapes_markup() -> None:
+    """Plain text passes as it is; any other whitespace run becomes one space, and markup is escaped."""
+    assert md_text("Outdoor temperature 外温") == "Outdoor temperature 外温"
+    assert md_text("  two\tspaces  and\nlines ") == "two spaces and lines"
+    assert md_text("full\u3000width") == "full width"
+    assert md_text("a_b | <c>") == "a\\_b \\| &lt;c&gt;"
+    assert md_text(None) == md_text("") == ""
 
 
 def test_site_builds_strict(site: Path, devices: list[Device]) -> None:
