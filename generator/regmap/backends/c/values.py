@@ -63,12 +63,13 @@ class ValueView(NamedTuple):
 
 def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
     top = max((m.value for m in e.members), default=0)
+    labels = [_member_label(ctx, e, m.name, m.value) for m in e.members]
     return EnumCheckView(
         member_fn=ctx.symbol(e.name, "is_member", what=f"the member test of enum {e.name}"),
         writable_fn=ctx.symbol(e.name, "is_writable", what=f"the write test of enum {e.name}"),
         param="unsigned long long" if top >= 1 << 63 else "long long",
-        members=tuple(_member_label(ctx, e, m.name, m.value) for m in e.members),
-        writable=tuple(_member_label(ctx, e, m.name, m.value) for m in e.members if m.writable),
+        members=tuple(labels),
+        writable=tuple(label for label, m in zip(labels, e.members, strict=True) if m.writable),
         all_writable=all(m.writable for m in e.members),
     )
 
