@@ -18,6 +18,8 @@ from typing import NoReturn
 import pytest
 
 from regmap.backends.markdown import diagram_path
+from regmap.backends.markdown.text import DocId
+from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
 from regmap.model import Device, Register
@@ -193,6 +195,13 @@ def test_md_text_folds_whitespace_and_escapes_markup() -> None:
     assert md_text("full\u3000width") == "full width"
     assert md_text("a_b | <c>") == "a\\_b \\| &lt;c&gt;"
     assert md_text(None) == md_text("") == ""
+
+
+def test_doc_ids_are_letters_digits_and_underscores() -> None:
+    assert DocId("peak_current2") == "peak_current2"
+    for bad in ("_peak", "2peak", "peak-current", "peak current", "", "peak\u00e9", "peak\n"):
+        with pytest.raises(UsageError, match="cannot name an anchor"):
+            DocId(bad)
 
 
 def test_site_builds_strict(site: Path, devices: list[Device]) -> None:
