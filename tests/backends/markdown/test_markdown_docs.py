@@ -131,6 +131,18 @@ def test_every_register_on_its_page_at_its_address(map_file: Path, devices: list
 
 
 @pytest.mark.parametrize("map_file", MAP_FILES, ids=lambda p: p.stem)
+def test_every_register_shows_its_own_value_table(map_file: Path, devices: list[Device], docs: Path) -> None:
+    """A register with an enum lists that enum's members (the view of a value table is built once and shared)."""
+    device = _device(devices, map_file)
+    page = _page(docs, device)
+    for reg in _plain(device):
+        if reg.enum is not None:
+            table = _section(page, reg.name).split("Values:", 1)[1].split("\nSource: ", 1)[0]
+            rows = [line for line in table.splitlines() if line.startswith("| ") and line.split("|")[1].strip().lstrip("-").isdigit()]
+            assert [row.split("|")[3].strip() for row in rows] == [f"`{m.name}`" for m in reg.enum.members], reg.name
+
+
+@pytest.mark.parametrize("map_file", MAP_FILES, ids=lambda p: p.stem)
 def test_every_bitfield_register_has_a_diagram(map_file: Path, devices: list[Device], docs: Path) -> None:
     device = _device(devices, map_file)
     page = _page(docs, device)
