@@ -322,9 +322,30 @@ class Context:
         self.prefix = CIdentifier(device.id)
         self.lower = device.id  # only ever the start of a name; CSymbol checks the whole name
         self.arrays = {a.name: a for a in device.arrays}
+        # The upper-case spelling of each part a constant's name was made of that is plain on its own: a name of
+        # plain parts is plain, so the parts a header repeats (an owner, WORDS, ACCESS ...) are checked once, not per name.
+        self._plain_parts: dict[str, str] = {self.prefix: self.prefix} if _PLAIN_UPPER.fullmatch(self.prefix) else {}
 
     def const(self, *parts: str, what: str = "") -> str:
-        return self.names.add(CIdentifier(self.prefix, *parts), what or parts)
+        return self.names.add(self._identifier(parts), what or parts)
+
+    def _identifier(self, parts: tuple[str, ...]) -> str:
+        """CIdentifier(prefix, *parts), with each plain part checked once per device."""
+        known = self._plain_parts
+        if self.prefix not in known:
+            return CIdentifier(self.prefix, *parts)
+        spelled = [self.prefix]
+        for part in parts:
+            if part:
+                upper = known.get(part)
+                if upper is None:
+                    upper = part.upper()
+                    if not _PLAIN_UPPER.fullmatch(upper):
+                        return CIdentifier(self.prefix, *parts)
+                    known[part] = upper
+                spelled.append(upper)
+        name = "_".join(spelled)
+        return name if name not in STANDARD_NAMES else CIdentifier(self.prefix, *parts)
 
     def symbol(self, *parts: str, what: str = "") -> str:
         return self.names.add(CSymbol(self.lower, *parts), what or parts)
