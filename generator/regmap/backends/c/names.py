@@ -334,7 +334,7 @@ class Context:
         known = self._plain_parts
         if self.prefix not in known:
             return CIdentifier(self.prefix, *parts)
-        spelled = [self.prefix]
+        spelled: list[str] = [self.prefix]
         for part in parts:
             if part:
                 upper = known.get(part)
