@@ -81,9 +81,18 @@ _MD_ESCAPES = str.maketrans(
 )
 
 
+# Text md_text leaves as it is: single spaces between words of characters that need no escape. Most map text is
+# such, and a match costs far less than a split, a join and a translate.
+_MD_PLAIN = re.compile(r"[^\s\\&~|<>`*_\[\]]+(?: [^\s\\&~|<>`*_\[\]]+)*")
+
+
 def md_text(text: str | None) -> str:
     """Inline Markdown text: table pipes, HTML and line breaks neutralised (one pass: no escape is escaped again)."""
-    return " ".join((text or "").split()).translate(_MD_ESCAPES)
+    if not text:
+        return ""
+    if _MD_PLAIN.fullmatch(text):
+        return text
+    return " ".join(text.split()).translate(_MD_ESCAPES)
 
 
 # Markup characters as entities; the control characters XML 1.0 cannot carry at all as U+FFFD.
@@ -182,6 +191,7 @@ def templates(module: str) -> jinja2.Environment:
     env = jinja2.Environment(
         loader=jinja2.PackageLoader(module, "templates"),
         undefined=jinja2.StrictUndefined,
+        auto_reload=False,  # a run never edits its templates: no stat of the file at every include
         bytecode_cache=TemplateCache(str(where)) if where is not None else None,
         **_ENVIRONMENT_OPTIONS,
     )

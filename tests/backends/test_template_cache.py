@@ -4,6 +4,7 @@ regmap version and template text, and never a reason for a run to fail."""
 from __future__ import annotations
 
 import marshal
+import os
 import pickle
 import sys
 from collections.abc import Iterator
@@ -88,6 +89,13 @@ def test_a_damaged_entry_is_compiled_again(cache_root: Path, probe: Path, damage
     broken = {"truncated": data[: len(jinja2.bccache.bc_magic) + 3], "garbage": jinja2.bccache.bc_magic + b"\x80\x02junk", "empty": b""}
     entry.write_bytes(broken[damage])
     assert _render() == "real x\n"
+
+
+def test_a_run_does_not_look_at_a_template_file_again(cache_root: Path, probe: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A template is loaded once per process: an include in a loop does not stat its file each time."""
+    assert _render() == "real x\n"
+    monkeypatch.setattr(os.path, "getmtime", lambda path: pytest.fail(f"{path} was looked at again"))
+    assert render.templates(PACKAGE).get_template("t.jinja").render(value="y") == "real y\n"
 
 
 def test_an_unwritable_cache_costs_nothing_but_time(tmp_path: Path, probe: Path, monkeypatch: pytest.MonkeyPatch) -> None:

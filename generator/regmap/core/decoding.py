@@ -174,12 +174,18 @@ def describe_value(device: Device, reg: Register, raw: Raw, regs: SpecSource | N
 
 
 def decode_words(
-    device: Device, start: int, words: Sequence[int], *, word_order: str | None = None, space: str = DEFAULT_SPACE
+    device: Device,
+    start: int,
+    words: Sequence[int],
+    *,
+    word_order: str | None = None,
+    space: str = DEFAULT_SPACE,
+    regs: SpecSource | None = None,
 ) -> list[DecodedValue]:
     """Split words read from (or written to) `start` of `space` into the registers they carry
-    (for coils and discrete inputs: bits, one per address)."""
+    (for coils and discrete inputs: bits, one per address). `regs`: the device's specs where the caller has them."""
     out: list[DecodedValue] = []
-    regs = RegisterSpecs(device)
+    regs = regs or RegisterSpecs(device)
     address = start
     end = start + len(words)
     bits = SPACES[space].bits

@@ -32,6 +32,7 @@ import pytest
 import yaml
 
 from regmap.backends import c as c_backend
+from regmap.backends.c.names import Context
 from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
@@ -404,6 +405,16 @@ def test_identifiers() -> None:
             CSymbol(bad)
     with pytest.raises(UsageError):
         CIdentifier("null")  # NULL
+
+
+def test_a_constant_name_is_checked_part_by_part() -> None:
+    """Context.const checks each part of a name once per device; a name it cannot vouch for is checked whole."""
+    ctx = Context(_device(SMALL_MAPS[0]))
+    assert ctx.const("peak_current", "ADDR") == c_backend.CIdentifier(ctx.prefix, "peak_current", "ADDR")
+    assert ctx.const("peak_current", "", "min") == f"{ctx.prefix}_PEAK_CURRENT_MIN"
+    for bad in (("_x",), ("peak_current", "_words"), ("a-b",), ("a__b",), ("peak\u00e9",)):
+        with pytest.raises(UsageError):
+            ctx.const(*bad)
 
 
 def test_literals() -> None:

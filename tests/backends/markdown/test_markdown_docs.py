@@ -18,9 +18,12 @@ from typing import NoReturn
 import pytest
 
 from regmap.backends.markdown import diagram_path
+from regmap.backends.markdown.text import DocId
+from regmap.diagnostics import UsageError
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import generate, render
 from regmap.model import Device, Register
+from regmap.render import md_text
 
 from conftest import ROOT
 
@@ -128,6 +131,18 @@ def test_every_register_on_its_page_at_its_address(map_file: Path, devices: list
 
 
 @pytest.mark.parametrize("map_file", MAP_FILES, ids=lambda p: p.stem)
+def test_every_register_shows_its_own_value_table(map_file: Path, devices: list[Device], docs: Path) -> None:
+    """A register with an enum lists that enum's members (the view of a value table is built once and shared)."""
+    device = _device(devices, map_file)
+    page = _page(docs, device)
+    for reg in _plain(device):
+        if reg.enum is not None:
+            table = _section(page, reg.name).split("Values:", 1)[1].split("\nSource: ", 1)[0]
+            rows = [line for line in table.splitlines() if line.startswith("| ") and line.split("|")[1].strip().lstrip("-").isdigit()]
+            assert [row.split("|")[3].strip() for row in rows] == [f"`{m.name}`" for m in reg.enum.members], reg.name
+
+
+@pytest.mark.parametrize("map_file", MAP_FILES, ids=lambda p: p.stem)
 def test_every_bitfield_register_has_a_diagram(map_file: Path, devices: list[Device], docs: Path) -> None:
     device = _device(devices, map_file)
     page = _page(docs, device)
@@ -183,6 +198,22 @@ def test_map_text_cannot_inject_markup() -> None:
     row = next(line for line in page.splitlines() if "(#peak_current)" in line and line.startswith("| "))
     assert len(re.findall(r"(?<!\\)\|", row)) == 12, "a pipe in a title must not add a table column"
     assert "\n\\# not a heading" in page
+
+
+def test_md_text_folds_whitespace_and_escapes_markup() -> None:
+    """Plain text passes as it is; any other whitespace run becomes one space, and markup is escaped."""
+    assert md_text("Outdoor temperature 外温") == "Outdoor temperature 外温"
+    assert md_text("  two\tspaces  and\nlines ") == "two spaces and lines"
+    assert md_text("full\u3000width") == "full width"
+    assert md_text("a_b | <c>") == "a\\_b \\| &lt;c&gt;"
+    assert md_text(None) == md_text("") == ""
+
+
+def test_doc_ids_are_letters_digits_and_underscores() -> None:
+    assert DocId("peak_current2") == "peak_current2"
+    for bad in ("_peak", "2peak", "peak-current", "peak current", "", "peak\u00e9"):
+        with pytest.raises(UsageError, match="cannot name an anchor"):
+            DocId(bad)
 
 
 def test_site_builds_strict(site: Path, devices: list[Device]) -> None:

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from regmap.backends.c.names import (
     BUILDERS,
@@ -59,16 +58,14 @@ from regmap_runtime.spaces import (
 SHARED_HEADER = "regmap_rtu.h"
 
 
-@dataclass(frozen=True)
-class PlanBlock:
+class PlanBlock(NamedTuple):
     address: str
-    count: str
+    quantity: str  # of registers (or bits) it reads
     comment: str
     function: str  # the macro of the read function of its space
 
 
-@dataclass(frozen=True)
-class Plan:
+class Plan(NamedTuple):
     """A read plan table; `functions` names the table of each request's function code ("" when every request reads holding registers)."""
 
     comment: str
@@ -78,14 +75,12 @@ class Plan:
     blocks: tuple[PlanBlock, ...]
 
 
-@dataclass(frozen=True)
-class TableRow:
+class TableRow(NamedTuple):
     value: str
     comment: str = ""
 
 
-@dataclass(frozen=True)
-class TableView:
+class TableView(NamedTuple):
     """A constant table: declared `extern` in the header, defined once where <DEVICE>_IMPLEMENTATION is defined."""
 
     comment: str
@@ -102,7 +97,7 @@ def _tables(plans: list[Plan], groups: list[GroupView]) -> list[TableView]:
     for plan in plans:
         if not plan.blocks:
             continue
-        rows = tuple(TableRow(f"{{ {b.address}, {b.count} }}", b.comment) for b in plan.blocks)
+        rows = tuple(TableRow(f"{{ {b.address}, {b.quantity} }}", b.comment) for b in plan.blocks)
         tables.append(TableView(f"Read plan of {plan.comment}" if plan.comment else "", "regmap_read_block", plan.table, plan.length, rows))
         if plan.functions:
             functions = tuple(TableRow(b.function) for b in plan.blocks)
@@ -116,8 +111,7 @@ def _tables(plans: list[Plan], groups: list[GroupView]) -> list[TableView]:
     return tables
 
 
-@dataclass(frozen=True)
-class BuilderView:
+class BuilderView(NamedTuple):
     function: str
     params: str
     body: str  # the returned C expression
@@ -205,7 +199,7 @@ def _plan_blocks(ctx: Context, poll: PollClass | None = None, variant: str | Non
         unit = f"{SPACES[block.space].unit}s" if SPACES[block.space].bits else "registers"
         comment = names[0] if first is last else f"{names[0]} .. {names[1]} ({len(block.registers)} {unit})"
         function = FUNCTION_MACROS[block.space]["read"]
-        blocks.append(PlanBlock(address=c_hex(block.address), count=c_unsigned(block.count), comment=comment, function=function))
+        blocks.append(PlanBlock(address=c_hex(block.address), quantity=c_unsigned(block.count), comment=comment, function=function))
     return blocks
 
 

@@ -4,8 +4,9 @@ table that refuses two map items generating one name, and the C spelling of numb
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from collections.abc import Iterable
 from fractions import Fraction
+from typing import NamedTuple
 
 from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
@@ -62,6 +63,10 @@ STANDARD_NAMES = frozenset(
 _RESERVED = re.compile(r"^_|__|_t$")
 _UPPER = re.compile(r"^[A-Z_][A-Z0-9_]*$")
 _LOWER = re.compile(r"^[a-z_][a-z0-9_]*$")
+# Names that pass every check above at once (no leading, doubled or trailing underscore): nearly all of them. The
+# others take the checks one by one, which say what is wrong.
+_PLAIN_UPPER = re.compile(r"[A-Z][A-Z0-9]*(?:_[A-Z0-9]+)*")
+_PLAIN_LOWER = re.compile(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)*")
 
 
 def _check_reserved(name: str) -> None:
@@ -76,13 +81,14 @@ class CIdentifier(str):
     never reserved. Upper-case names cannot be C or C++ keywords; they can be standard macros."""
 
     def __new__(cls, *parts: str) -> CIdentifier:
-        name = "_".join(p for p in parts if p).upper()
-        if not _UPPER.match(name):
-            raise UsageError(f"{name!r} is not a valid C identifier")
-        _check_reserved(name)
+        name = "_".join(filter(None, parts)).upper()
+        if not _PLAIN_UPPER.fullmatch(name):
+            if not _UPPER.match(name):
+                raise UsageError(f"{name!r} is not a valid C identifier")
+            _check_reserved(name)
         if name in STANDARD_NAMES:
             raise UsageError(f"{name!r} is a name of the C standard library; rename it in the map")
-        return super().__new__(cls, name)
+        return str.__new__(cls, name)
 
 
 class CSymbol(str):
@@ -90,13 +96,15 @@ class CSymbol(str):
     gets a trailing underscore (`register` -> `register_`); reserved names are refused."""
 
     def __new__(cls, *parts: str) -> CSymbol:
-        name = "_".join(p for p in parts if p).lower()
-        if not _LOWER.match(name):
+        name = "_".join(filter(None, parts)).lower()
+        plain = _PLAIN_LOWER.fullmatch(name) and not name.endswith("_t")
+        if not plain and not _LOWER.match(name):
             raise UsageError(f"{name!r} is not a valid C identifier")
         if name in C_KEYWORDS or name in CPP_KEYWORDS or name in STANDARD_NAMES:
             name += "_"
-        _check_reserved(name)
-        return super().__new__(cls, name)
+        if not plain:
+            _check_reserved(name)
+        return str.__new__(cls, name)
 
 
 class _Names:
@@ -104,12 +112,14 @@ class _Names:
 
     def __init__(self, device: Device) -> None:
         self.device = device
-        self.seen: dict[str, str] = {}
+        # What each name is for: a description, or the parts it was made of (joined only for the error, as it is rare).
+        self.seen: dict[str, str | tuple[str, ...]] = {}
 
-    def add(self, name: str, what: str) -> str:
+    def add(self, name: str, what: str | tuple[str, ...]) -> str:
         if name in self.seen:
+            first, second = (w if isinstance(w, str) else " ".join(w) for w in (self.seen[name], what))
             raise UsageError(
-                f"{self.device.source_path}: generated C name {name} is used by both {self.seen[name]} and {what}; rename one in the map"
+                f"{self.device.source_path}: generated C name {name} is used by both {first} and {second}; rename one in the map"
             )
         self.seen[name] = what
         return name
@@ -186,8 +196,7 @@ def c_value(value: int | float | str, reg: Register) -> str:
     return c_raw(int(value), reg.signed)
 
 
-@dataclass(frozen=True)
-class CType:
+class CType(NamedTuple):
     """C's spelling of a data type: the type of its value, and the unsigned type that holds its bits."""
 
     value: str
@@ -247,8 +256,7 @@ FUNCTION_MACROS = {
 
 # The shared builders (and their parameters after the address) of each space's operations, and the
 # name a device header's wrapper gets (`<device>_<suffix>`); holding's wrappers are the first maps' own.
-@dataclass(frozen=True)
-class Builder:
+class Builder(NamedTuple):
     shared: str
     suffix: str
     params: str  # after `uint16_t address`
@@ -291,13 +299,18 @@ PARSERS = {
 PARITY_CHAR = {"none": "'N'", "even": "'E'", "odd": "'O'"}
 
 
-@dataclass(frozen=True)
-class Macro:
+class Macro(NamedTuple):
     """A named constant of the header (a macro, an enum member)."""
 
     name: str
     value: str
     comment: str = ""  # plain text; the template escapes it
+
+
+def define_lines(macros: Iterable[Macro]) -> str:
+    """The `#define` of each macro, one a line, values in one column: what a header prints of a register's or an
+    array's macros (a block the template prints as it is, not four pieces per macro)."""
+    return "\n".join(f"#define {m.name:<48} {m.value}" for m in macros)
 
 
 class Context:
@@ -309,12 +322,33 @@ class Context:
         self.prefix = CIdentifier(device.id)
         self.lower = device.id  # only ever the start of a name; CSymbol checks the whole name
         self.arrays = {a.name: a for a in device.arrays}
+        # The upper-case spelling of each part a constant's name was made of that is plain on its own: a name of
+        # plain parts is plain, so the parts a header repeats (an owner, WORDS, ACCESS ...) are checked once, not per name.
+        self._plain_parts: dict[str, str] = {self.prefix: self.prefix} if _PLAIN_UPPER.fullmatch(self.prefix) else {}
 
     def const(self, *parts: str, what: str = "") -> str:
-        return self.names.add(CIdentifier(self.prefix, *parts), what or " ".join(parts))
+        return self.names.add(self._identifier(parts), what or parts)
+
+    def _identifier(self, parts: tuple[str, ...]) -> str:
+        """CIdentifier(prefix, *parts), with each plain part checked once per device."""
+        known = self._plain_parts
+        if self.prefix not in known:
+            return CIdentifier(self.prefix, *parts)
+        spelled: list[str] = [self.prefix]
+        for part in parts:
+            if part:
+                upper = known.get(part)
+                if upper is None:
+                    upper = part.upper()
+                    if not _PLAIN_UPPER.fullmatch(upper):
+                        return CIdentifier(self.prefix, *parts)
+                    known[part] = upper
+                spelled.append(upper)
+        name = "_".join(spelled)
+        return name if name not in STANDARD_NAMES else CIdentifier(self.prefix, *parts)
 
     def symbol(self, *parts: str, what: str = "") -> str:
-        return self.names.add(CSymbol(self.lower, *parts), what or " ".join(parts))
+        return self.names.add(CSymbol(self.lower, *parts), what or parts)
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""

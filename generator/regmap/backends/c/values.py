@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from fractions import Fraction
+from typing import NamedTuple
 
 from regmap.backends.c.names import (
     C_TYPES,
@@ -31,8 +31,7 @@ from regmap.model import DataType, EnumType, Register
 ORDER_PARAM = "word_order"
 
 
-@dataclass(frozen=True)
-class EnumCheckView:
+class EnumCheckView(NamedTuple):
     """`<enum>_is_member(value)` and `<enum>_is_writable(value)` (a member a write may send: not a state the device only reports)."""
 
     member_fn: str
@@ -43,8 +42,7 @@ class EnumCheckView:
     all_writable: bool
 
 
-@dataclass(frozen=True)
-class ValueView:
+class ValueView(NamedTuple):
     """The value helpers of one register (or of every element of an array member)."""
 
     comment: str
@@ -65,12 +63,13 @@ class ValueView:
 
 def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
     top = max((m.value for m in e.members), default=0)
+    labels = [_member_label(ctx, e, m.name, m.value) for m in e.members]
     return EnumCheckView(
         member_fn=ctx.symbol(e.name, "is_member", what=f"the member test of enum {e.name}"),
         writable_fn=ctx.symbol(e.name, "is_writable", what=f"the write test of enum {e.name}"),
         param="unsigned long long" if top >= 1 << 63 else "long long",
-        members=tuple(_member_label(ctx, e, m.name, m.value) for m in e.members),
-        writable=tuple(_member_label(ctx, e, m.name, m.value) for m in e.members if m.writable),
+        members=tuple(labels),
+        writable=tuple(label for label, m in zip(labels, e.members, strict=True) if m.writable),
         all_writable=all(m.writable for m in e.members),
     )
 

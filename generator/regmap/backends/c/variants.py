@@ -3,7 +3,7 @@ variant, and for a register only some variants have, the mask of those bits and 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from regmap.backends.c.names import CIdentifier, Context, Macro
 from regmap.core.text import titled
@@ -12,8 +12,7 @@ from regmap.model import Device, Register
 VARIANT_BITS = 32  # a variant is a bit of a uint32_t
 
 
-@dataclass(frozen=True)
-class VariantView:
+class VariantView(NamedTuple):
     """Whether a device variant has the register (its `variants`)."""
 
     function: str

@@ -4,7 +4,7 @@ literal and expression is computed here; the templates only print, escaping map 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
@@ -29,6 +29,7 @@ from regmap.backends.c.names import (
     c_signed,
     c_unsigned,
     c_value,
+    define_lines,
 )
 from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
@@ -40,8 +41,7 @@ from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import parse_version
 
 
-@dataclass(frozen=True)
-class EnumView:
+class EnumView(NamedTuple):
     type_name: str
     comment: str
     members: tuple[Macro, ...]
@@ -49,8 +49,7 @@ class EnumView:
     checks: EnumCheckView
 
 
-@dataclass(frozen=True)
-class BitfieldView:
+class BitfieldView(NamedTuple):
     comment: str
     mask: Macro
     shift: Macro
@@ -61,8 +60,7 @@ class BitfieldView:
     refused: str  # C condition on `value` under which the setter refuses it
 
 
-@dataclass(frozen=True)
-class CodecView:
+class CodecView(NamedTuple):
     """A register's own value helpers: its words on the wire <-> its raw value, in its word and byte order."""
 
     template: str  # codec_word.h.jinja (one word), codec_words.h.jinja (wide), codec_string.h.jinja
@@ -78,8 +76,7 @@ class CodecView:
     guard: str  # "" or the shared header's macro that says the C type is IEEE 754 (REGMAP_HAS_F32/F64)
 
 
-@dataclass(frozen=True)
-class GateView:
+class GateView(NamedTuple):
     """Whether a firmware version has the register (its `firmware` gate)."""
 
     function: str
@@ -87,12 +84,11 @@ class GateView:
     condition: str  # C expression on `version`; "" when every version has it
 
 
-@dataclass(frozen=True)
-class RegisterView:
+class RegisterView(NamedTuple):
     template: str
     comment: str
     description: str
-    macros: tuple[Macro, ...]
+    defines: str  # the #define lines of its macros
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
     gate: GateView | None = None
@@ -100,8 +96,7 @@ class RegisterView:
     values: tuple[ValueView, ...] = ()
 
 
-@dataclass(frozen=True)
-class ElementTable:
+class ElementTable(NamedTuple):
     """Per-element values of an array member whose elements differ (e.g. a default per path)."""
 
     c_type: str
@@ -110,15 +105,14 @@ class ElementTable:
     length: str  # the array's COUNT macro
 
 
-@dataclass(frozen=True)
-class ArrayMemberView:
+class ArrayMemberView(NamedTuple):
     comment: str
     description: str
     addr_macro: str
     offset: str
     pair_addr_macro: str | None
     addr_function: str
-    macros: tuple[Macro, ...]
+    defines: str  # the #define lines of its macros
     tables: tuple[ElementTable, ...]
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
@@ -127,27 +121,24 @@ class ArrayMemberView:
     values: tuple[ValueView, ...] = ()
 
 
-@dataclass(frozen=True)
-class ArrayView:
+class ArrayView(NamedTuple):
     template: str
     comment: str
     base: str  # names of the BASE, FIRST, COUNT and STRIDE macros
     first: str
-    count: str
+    count_name: str  # (a NamedTuple cannot have a field `count`)
     stride: str
-    macros: tuple[Macro, ...]
+    defines: str  # the #define lines of its macros
     check: str  # C condition: index n in range
     members: tuple[ArrayMemberView, ...]
 
 
-@dataclass(frozen=True)
-class GroupView:
+class GroupView(NamedTuple):
     comment: str
     items: tuple[RegisterView | ArrayView, ...]
 
 
-@dataclass(frozen=True)
-class CommandView:
+class CommandView(NamedTuple):
     comment: str
     addr: Macro
     value: Macro
@@ -417,7 +408,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         template="register.h.jinja",
         comment=_register_comment(reg, reg.label, (reg,)),
         description=reg.description,
-        macros=tuple(macros),
+        defines=define_lines(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name),
         gate=_gate_view(ctx, reg, reg.name),
@@ -450,7 +441,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 offset=c_unsigned(member.offset),
                 pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
                 addr_function=ctx.symbol(owner, "addr"),
-                macros=tuple(values),
+                defines=define_lines(values),
                 tables=tuple(tables),
                 bitfields=_bitfield_views(ctx, reg, owner),
                 codec=_codec_view(ctx, reg, owner),
@@ -471,9 +462,9 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         comment=comment,
         base=base.name,
         first=first.name,
-        count=count.name,
+        count_name=count.name,
         stride=stride.name,
-        macros=macros,
+        defines=define_lines(macros),
         check=check,
         members=tuple(members),
     )

@@ -256,7 +256,7 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
     space = parsed.space or DEFAULT_SPACE
     has_data = parsed.kind in ("read_response", "write_single", "write_multiple_request")
     # The words (bits) a frame carries, split into registers by the decoder `regmap decode` uses.
-    found = decode_words(device, span.start, carried(parsed)[: len(span)], space=space) if has_data and span else []
+    found = decode_words(device, span.start, carried(parsed)[: len(span)], space=space, regs=ctx.registers) if has_data and span else []
     words = {v.address + i: w for v in found for i, w in enumerate(v.words)}
     raws = {v.register: v.raw for v in found if v.register is not None and v.raw is not None}
     regs: list[Register] = []

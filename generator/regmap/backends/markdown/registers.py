@@ -138,6 +138,14 @@ def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -
 
 
 def enum_view(ctx: Context, e: EnumType) -> EnumView:
+    """The view of a value table: built once per device, as the table and every register using it show the same."""
+    built = ctx.enum_views.get(id(e))
+    if built is None:
+        built = ctx.enum_views[id(e)] = _enum_view(ctx, e)
+    return built
+
+
+def _enum_view(ctx: Context, e: EnumType) -> EnumView:
     directed = any(m.access is not Access.READ_WRITE for m in e.members)
     rows = tuple(
         EnumRow(
