@@ -8,9 +8,10 @@ import os
 import shutil
 import tempfile
 from collections.abc import Iterator, Sequence
-from importlib.metadata import EntryPoint, entry_points
 from pathlib import Path
+from typing import Any, Protocol
 
+from regmap import entrypoints
 from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
 from regmap.model import Device
 from regmap.outputcache import OutputCache, Source, entry_key
@@ -56,8 +57,20 @@ def _targets() -> dict[str, Target]:
     return {name: found[name] for name in sorted(found, key=lambda name: (found[name].order, name))}
 
 
+class _EntryPoint(Protocol):
+    name: str
+    value: str
+
+    def load(self) -> Any: ...
+
+
 @functools.cache  # the installed packages do not change while regmap runs, and reading their metadata is slow
-def _entry_points() -> tuple[EntryPoint, ...]:
+def _entry_points() -> tuple[_EntryPoint, ...]:
+    found = entrypoints.read(TARGET_GROUP)
+    if found is not None:
+        return tuple(found)
+    from importlib.metadata import entry_points  # a layout only it reads (a zip on sys.path, another finder)
+
     return tuple(entry_points(group=TARGET_GROUP))
 
 

@@ -6,7 +6,7 @@ back ends would otherwise compute (masks, widths, raw ranges, scale fractions) a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 from functools import cached_property
 
@@ -15,6 +15,7 @@ from regmap.kinds import ByteOrder as ByteOrder
 from regmap.kinds import DataType as DataType
 from regmap.kinds import PollClass as PollClass
 from regmap.kinds import WordOrder as WordOrder
+from regmap.records import dataclass
 from regmap.transport import BadCrc as BadCrc
 from regmap.transport import DeviceIdentification as DeviceIdentification
 from regmap.transport import ModbusException as ModbusException

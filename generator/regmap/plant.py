@@ -7,10 +7,11 @@ and returns a frozen `Plant`; the back ends that render plants (`Target.plant`) 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from functools import cached_property
 
 from regmap.model import Device, SourcePos
+from regmap.records import dataclass
 
 PLANT_FORMAT = "regmap-plant/1"
 

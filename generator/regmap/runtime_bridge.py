@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 from regmap.model import ByteOrder, Device, EnumType, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
+from regmap.records import dataclass
 from regmap_runtime.align import Alignment
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile

@@ -7,12 +7,13 @@ A back end, built-in or a third party's, imports this module and nothing of the 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from regmap.diagnostics import Diagnostic, at
 from regmap.model import Device
 from regmap.plant import Plant
+from regmap.records import dataclass
 
 Files = dict[str, str]  # relative path -> content
 TargetOptions = Mapping[str, str]  # `regmap generate` target options (e.g. `--select`) -> their text

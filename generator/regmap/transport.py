@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from regmap.kinds import ByteOrder, WordOrder
+from regmap.records import dataclass
 
 if TYPE_CHECKING:
     from regmap.model import Register

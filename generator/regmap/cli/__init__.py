@@ -9,10 +9,8 @@ from __future__ import annotations
 import argparse
 import importlib
 import keyword
-import logging
 import os
 import sys
-import traceback
 from collections.abc import Sequence
 from types import ModuleType
 
@@ -70,13 +68,20 @@ def _tolerant_streams() -> None:
             reconfigure(errors="backslashreplace")
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    # pymodbus logs transport trouble itself; regmap reports it once, as one line of its own.
+def _quiet_pymodbus() -> None:
+    """pymodbus logs transport trouble itself; regmap reports it once, as one line of its own."""
+    import logging
+
     logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
     _tolerant_streams()
     args_list = list(sys.argv[1:] if argv is None else argv)
     position = next((i for i, a in enumerate(args_list) if not a.startswith("-")), None)
     named = None if position is None else ALIASES.get(args_list[position], args_list[position])
+    if named != "generate":  # generate talks to no bus (tests/project/test_generate_imports.py): it skips importing logging
+        _quiet_pymodbus()
     parser, parsers = build_parser(named if named in SUBCOMMANDS else None)
     if position is None or named not in parsers:
         try:
@@ -124,6 +129,8 @@ def _run(command: str, args: argparse.Namespace) -> int:
             print(f"regmap {command}: interrupted", file=sys.stderr)
             return ExitCode.INTERRUPTED
         if os.environ.get("REGMAP_DEBUG"):
+            import traceback  # only here: a run without a bug does not pay for importing it
+
             traceback.print_exc()
         print(f"regmap {command}: internal error: {type(exc).__name__}: {exc} (set REGMAP_DEBUG=1 for the traceback)", file=sys.stderr)
         return ExitCode.INTERNAL

@@ -11,11 +11,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from regmap.diagnostics import MapError, UsageError
-from regmap.tools.link import Link
 
 if TYPE_CHECKING:
     from regmap.model import Device
     from regmap.plant import Plant
+    from regmap.tools.link import Link
 
 DEFAULT_MAPS_DIR = Path("maps")
 VALUE_SYNTAX = (
@@ -231,6 +231,8 @@ def add_link_options(p: argparse.ArgumentParser) -> None:
 
 
 def link_from(args: argparse.Namespace) -> Link:
+    from regmap.tools.link import Link  # here: generate, validate and the other commands without a bus skip it
+
     return Link(
         tcp=args.tcp,
         serial=args.serial,

@@ -12,11 +12,11 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any, Protocol
 
 from regmap.core.text import BIT_NAMES, na_mark, number_text
 from regmap.model import Device, Register
+from regmap.records import dataclass
 from regmap.runtime_bridge import runtime_specs
 from regmap_runtime.codec import raw_to_value, words_to_raw
 from regmap_runtime.rtu import Frame

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 import json
 import re
 from collections.abc import Iterable
@@ -68,6 +67,8 @@ def _schema_problems(raw: dict[str, Any], positions: Positions, name: str, schem
             known = sorted(error.schema.get("properties", {})) if isinstance(error.schema, dict) else []
             for key in sorted(set(instance) - set(known)):
                 line, col = positions.locate_key((*path, key))
+                import difflib  # only for a map with an unknown key
+
                 close = difflib.get_close_matches(key, known, n=1)
                 hint = f" (did you mean {close[0]!r}?)" if close else ""
                 problems.append(Diagnostic(name, line, col, f"{_dotted(path)}: unknown key {key!r}{hint}"))

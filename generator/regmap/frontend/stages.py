@@ -9,12 +9,12 @@ cross-reference stage raises them with its own as one `MapError`.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 from regmap.diagnostics import Diagnostic, MapError
 from regmap.frontend.yamlsource import Path, Positions
 from regmap.model import EnumType, Group, Register
+from regmap.records import dataclass
 
 
 @dataclass(frozen=True)

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
 from regmap.kinds import DataType
+from regmap.records import dataclass
 
 
 def _source(value: Any) -> tuple[str, ...]:

@@ -11,10 +11,12 @@ from __future__ import annotations
 import copy
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 import yaml
+
+from regmap.records import dataclass
 
 Path = tuple[str | int, ...]
 
@@ -234,6 +236,10 @@ class _EventReader:
         self.checks = _Builder(self.positions)  # the scalar rules, shared with the checked reader
         self.resolver = yaml.resolver.Resolver()
         self.plain_tags: dict[str, str] = {}  # a plain scalar's tag depends on its text alone
+        # The resolver tries only the patterns listed under a text's first character (a name's letter has none): any
+        # other text is a string, with no pattern to match, unless a pattern is listed for every text (None) or by path.
+        self.patterns: dict[str | None, Any] = self.resolver.yaml_implicit_resolvers
+        self.resolve_every = None in self.patterns or bool(self.resolver.yaml_path_resolvers)
         self.scalars: dict[tuple[str, str], Any] = {}  # (tag, text) -> value, for the tags other than str
         self.anchors: dict[Any, _Anchored | None] = {}  # None: the anchored collection is still open
         self.recording: list[tuple[int, list[tuple[int, Path, tuple[int, int]]]]] = []  # (depth of the anchor's path, records)
@@ -354,7 +360,10 @@ class _EventReader:
     def _plain_tag(self, text: str) -> str:
         tag = self.plain_tags.get(text)
         if tag is None:
-            tag = self.plain_tags[text] = str(self.resolver.resolve(yaml.ScalarNode, text, (True, False)))  # type: ignore[no-untyped-call]
+            if text and text[0] not in self.patterns and not self.resolve_every:
+                tag = self.plain_tags[text] = _STR_TAG
+            else:
+                tag = self.plain_tags[text] = str(self.resolver.resolve(yaml.ScalarNode, text, (True, False)))  # type: ignore[no-untyped-call]
         return tag
 
     def scalar(self, event: Any) -> Any:

@@ -13,7 +13,6 @@ import enum
 import math
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
@@ -22,6 +21,7 @@ from regmap.homeauto.selection import Selection
 from regmap.homeauto.yamltext import yaml_text
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.plant import Bus, Plant, PlantDevice
+from regmap.records import dataclass
 from regmap.render import header_lines
 from regmap.runtime_bridge import documented_addresses, runtime_alignment, runtime_specs
 from regmap_runtime.plan import ReadBlock, plan_reads

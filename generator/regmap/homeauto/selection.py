@@ -17,12 +17,12 @@ deliberate step away: it is generated only when a pattern names it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fnmatch import fnmatchcase
 from pathlib import Path
 
 from regmap.diagnostics import UsageError
 from regmap.model import Command, Device, Register
+from regmap.records import dataclass
 
 DEFAULT_RULE = "the default: every read-only register, every command that is not destructive and the readable registers the commands write"
 

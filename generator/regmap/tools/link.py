@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from regmap.diagnostics import UsageError
+from regmap.records import dataclass
 
 if TYPE_CHECKING:
     from regmap.model import Device

@@ -15,11 +15,11 @@ import stat
 import sys
 import tempfile
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from regmap.diagnostics import OutputError, UsageError
+from regmap.records import dataclass
 
 if TYPE_CHECKING:
     from _typeshed import ReadableBuffer
