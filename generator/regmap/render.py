@@ -193,7 +193,6 @@ def templates(module: str) -> jinja2.Environment:
         undefined=jinja2.StrictUndefined,
         auto_reload=False,  # a run never edits its templates: no stat of the file at every include
         bytecode_cache=TemplateCache(str(where)) if where is not None else None,
-        auto_reload=False,  # package files do not change during a run: no stat of the template at every include (2,300)
         **_ENVIRONMENT_OPTIONS,
     )
     env.filters.update(FILTERS)
