@@ -53,7 +53,7 @@ class StIdentifier(str):
 
     def __new__(cls, *parts: str) -> StIdentifier:
         name, problem = _spelled(parts)
-        made = super().__new__(cls, name)
+        made = str.__new__(cls, name)
         if problem:
             made.problem = problem
         return made
@@ -65,7 +65,8 @@ def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
     name = "_".join(filter(None, parts)).upper()
     if name in _ESCAPED:
         name = f"{name}_{KEYWORD_SUFFIX}"
-    return name, _problem(name)
+    sound = _IDENTIFIER.match(name) and "__" not in name and not name.endswith("_") and len(name) <= MAX_LENGTH
+    return name, "" if sound else _problem(name)  # `_problem` only says which rule a name breaks
 
 
 def _problem(name: str) -> str:
