@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import functools
 import re
-from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from regmap.backends.st.view_types import Const, FunctionView, Member, Section
@@ -66,8 +65,7 @@ class Variable(NamedTuple):  # thousands per device: a named tuple is cheap to m
     comment: str  # plain text; the template escapes it
 
 
-@dataclass(frozen=True)
-class Pou:
+class Pou(NamedTuple):
     name: str
     returns: str
     comment: str

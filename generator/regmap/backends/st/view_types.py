@@ -111,14 +111,12 @@ class FunctionView:
         return xml_text("\n".join(self.body))
 
 
-@dataclass(frozen=True)
-class Section:
+class Section(NamedTuple):
     comment: str
     consts: tuple[Const, ...]
 
 
-@dataclass(frozen=True)
-class SectionToSpell:
+class SectionToSpell(NamedTuple):
     """A section some of whose constants each dialect writes its own way."""
 
     comment: str
