@@ -54,10 +54,13 @@ def c_str(text: str | None) -> str:
     return '"' + "".join(out) + '"'
 
 
+@functools.cache  # the dialects print the same comments: each text is escaped once
 def st_comment(text: str | None) -> str:
     """Text safe inside a Structured Text (* *) comment on one line: CODESYS nests comments, so an
     opener must not reach it either; IEC 61131-3 edition 3's /* */ and // are broken up too."""
     cleaned = " ".join((text or "").split())
+    if "*" not in cleaned:  # every token below has one; most text has none
+        return cleaned
     for token, broken in (("(*", "( *"), ("*)", "* )"), ("/*", "/ *"), ("*/", "* /")):
         while token in cleaned:
             cleaned = cleaned.replace(token, broken)
@@ -105,6 +108,7 @@ _XML_ESCAPES = str.maketrans(
 _XML_SPECIAL = re.compile("[" + re.escape("".join(map(chr, _XML_ESCAPES))) + "]")
 
 
+@functools.cache  # the PLCopen XML repeats values and comments: each text is escaped once
 def xml_text(text: str | None) -> str:
     """XML character data or an attribute value: markup characters as entities, and the control
     characters XML 1.0 cannot carry at all as U+FFFD."""

@@ -14,6 +14,7 @@ import re
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
@@ -298,14 +299,41 @@ def test_hostile_map_injects_nothing(out: Path) -> None:
     assert "RETURN_KW" in (out / "hostile_dev" / "iec" / "hostile_dev_types.st").read_text(encoding="utf-8")
 
 
+def test_hostile_comments_hold_no_other_comment_marker(out: Path) -> None:
+    """CODESYS nests (* *) and IEC 61131-3 edition 3 also reads /* */: inside a comment the map's text holds neither
+    an opener nor a /* */ closer, also where it has no (* at all."""
+    for path in sorted((out / "hostile_dev").rglob("*.st")):
+        for comment in re.findall(r"\(\*(.*?)\*\)", path.read_text(encoding="utf-8")):
+            assert not any(token in comment for token in ("(*", "/*", "*/")), (path, comment)
+
+
+def test_function_statements_sit_under_their_declarations(out: Path) -> None:
+    """In the functions files only a function's declaration lines and comments start at the margin; its statements
+    and variables are indented."""
+    margin = re.compile(r"(?:FUNCTION |VAR_INPUT$|VAR_IN_OUT$|VAR$|END_VAR$|END_FUNCTION$|\(\*|$)")
+    for path in sorted(out.glob("*/*/*_functions.st")):
+        flush = [line for line in path.read_text(encoding="utf-8").splitlines() if not line.startswith("    ") and not margin.match(line)]
+        assert flush == [], (path, flush[:3])
+
+
+def _small_map() -> dict[str, Any]:
+    small = ROOT / "tests" / "maps" / "small"
+    data: dict[str, Any] = yaml.safe_load((small / sorted(p.name for p in small.glob("*.yaml"))[0]).read_text(encoding="utf-8"))
+    return data
+
+
+def test_a_name_past_64_characters_is_refused() -> None:
+    """matiec and several IDE views cut names past 64 characters: a map whose generated name is longer is refused."""
+    data = _small_map()
+    data["enums"]["e" + "x" * 63] = next(iter(data["enums"].values()))  # as long as a map name may be: E_<DEV>_<it> is longer
+    problems = st.check(load_map_text(yaml.safe_dump(data, allow_unicode=True, sort_keys=False), "small.yaml"))
+    assert any("longer than 64 characters" in p.message for p in problems), problems
+
+
 def test_validate_reports_st_name_problems_at_their_line(tmp_path: Path) -> None:
     """Names ST cannot take (two underscores, names differing only by case in one scope) are found by
     `regmap validate` and refused by `generate`, at file:line:col."""
-    data = yaml.safe_load(
-        (ROOT / "tests" / "maps" / "small" / sorted(p.name for p in (ROOT / "tests" / "maps" / "small").glob("*.yaml"))[0]).read_text(
-            encoding="utf-8"
-        )
-    )
+    data = _small_map()
     enum = next(iter(data["enums"].values()))
     enum["values"][0]["name"] = "bad__name"
     text = yaml.safe_dump(data, allow_unicode=True, sort_keys=False)

@@ -40,6 +40,7 @@ LOCALS = frozenset(
     )
 )
 KEYWORD_SUFFIX = "KW"  # `return` -> RETURN_KW: ST has no trailing-underscore escape as C and Python do
+_ESCAPED = IEC_KEYWORDS | LOCALS  # the names that get the suffix
 
 
 class StIdentifier(str):
@@ -48,12 +49,13 @@ class StIdentifier(str):
     its own gets `_KW` (`return` -> `RETURN_KW`); a problem is kept in `problem`, so that one run
     reports every name of a map."""
 
-    problem: str
+    problem: str = ""  # set on the instance only when there is one: most names then need no instance dict
 
     def __new__(cls, *parts: str) -> StIdentifier:
         name, problem = _spelled(parts)
-        made = super().__new__(cls, name)
-        made.problem = problem
+        made = str.__new__(cls, name)
+        if problem:
+            made.problem = problem
         return made
 
 
@@ -61,9 +63,10 @@ class StIdentifier(str):
 def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
     """The identifier joined from `parts` and its problem ("" when none)."""
     name = "_".join(filter(None, parts)).upper()
-    if name in IEC_KEYWORDS or name in LOCALS:
+    if name in _ESCAPED:
         name = f"{name}_{KEYWORD_SUFFIX}"
-    return name, _problem(name)
+    sound = _IDENTIFIER.match(name) and "__" not in name and not name.endswith("_") and len(name) <= MAX_LENGTH
+    return name, "" if sound else _problem(name)  # `_problem` only says which rule a name breaks
 
 
 def _problem(name: str) -> str:

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import functools
 import re
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from regmap.backends.st.view_types import Const, FunctionView, Member, Section
 
@@ -59,21 +58,19 @@ def xml_type(st_type: str) -> str:
     return f'<derived name="{st_type}"/>'
 
 
-@dataclass(frozen=True)
-class Variable:
+class Variable(NamedTuple):  # thousands per device: a named tuple is cheap to make
     name: str
     type: str  # a TC6 dataType element
     initial: str | None  # an ST literal, for simpleValue
     comment: str  # plain text; the template escapes it
 
 
-@dataclass(frozen=True)
-class Pou:
+class Pou(NamedTuple):
     name: str
     returns: str
     comment: str
     lists: tuple[tuple[str, tuple[Variable, ...]], ...]  # (inputVars | inOutVars | localVars, variables)
-    body: str  # ST statements, one per line
+    body_xml: str  # ST statements, one per line, escaped as XML character data
 
 
 def _variables(members: tuple[Member, ...]) -> tuple[Variable, ...]:
@@ -82,7 +79,7 @@ def _variables(members: tuple[Member, ...]) -> tuple[Variable, ...]:
 
 def _pou(f: FunctionView) -> Pou:
     lists = [(tag, _variables(members)) for tag, members in (("inputVars", f.inputs), ("inOutVars", f.in_outs), ("localVars", f.locals))]
-    return Pou(f.name, xml_type(f.returns), f.comment, tuple((tag, v) for tag, v in lists if v), "\n".join(f.body))
+    return Pou(f.name, xml_type(f.returns), f.comment, tuple((tag, v) for tag, v in lists if v), f.xml_body)
 
 
 def _constants(context: dict[str, Any]) -> list[Variable]:

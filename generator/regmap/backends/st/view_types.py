@@ -1,16 +1,21 @@
 """The view objects of one device's Structured Text, which the templates print: constants, struct members,
 enums, structs and functions. What a dialect writes its own way (an enum value, a text type) is a
-`MemberConst` / `TextConst` / `TextMember` until `spelled` with that dialect's `Notation`."""
+`MemberConst` / `TextConst` / `TextMember` until `spelled` with that dialect's `Notation`.
+
+A device has thousands of constants and members: they are named tuples, which cost far less to make than
+frozen dataclasses, and which a template's `for` unpacks without an attribute lookup per field."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
+from typing import NamedTuple
 
 from regmap.backends.st.codec import Notation
+from regmap.render import xml_text
 
 
-@dataclass(frozen=True)
-class Const:
+class Const(NamedTuple):
     name: str
     type: str
     value: str
@@ -20,8 +25,7 @@ class Const:
         return self
 
 
-@dataclass(frozen=True)
-class MemberConst:
+class MemberConst(NamedTuple):
     """A constant whose value is a member of the enum `type`: `E_X.R` (CODESYS) or `E_X#R` (plain IEC)."""
 
     name: str
@@ -32,8 +36,7 @@ class MemberConst:
         return Const(self.name, self.type, notation.member(self.type, self.member))
 
 
-@dataclass(frozen=True)
-class TextConst:
+class TextConst(NamedTuple):
     """A constant of `size` text bytes: typed `STRING(size)` (CODESYS) or `STRING` (plain IEC)."""
 
     name: str
@@ -45,8 +48,7 @@ class TextConst:
         return Const(self.name, notation.string(self.size), self.value, self.comment)
 
 
-@dataclass(frozen=True)
-class Member:
+class Member(NamedTuple):
     name: str
     type: str
     comment: str = ""
@@ -55,8 +57,7 @@ class Member:
         return self
 
 
-@dataclass(frozen=True)
-class TextMember:
+class TextMember(NamedTuple):
     """A struct member of `size` text bytes: `STRING(size)` (CODESYS) or `STRING` (plain IEC)."""
 
     name: str
@@ -67,8 +68,7 @@ class TextMember:
         return Member(self.name, notation.string(self.size), self.comment)
 
 
-@dataclass(frozen=True)
-class EnumValue:
+class EnumValue(NamedTuple):
     name: str
     value: str
     comment: str
@@ -97,17 +97,26 @@ class FunctionView:
     inputs: tuple[Member, ...]
     in_outs: tuple[Member, ...]
     locals: tuple[Member, ...]
-    body: tuple[str, ...]  # ST statements, indented by the template
+    body: tuple[str, ...]  # ST statements
+
+    # The body's text, joined once per function: the dialects and the XML share most functions' views.
+    @cached_property
+    def indented_body(self) -> str:
+        """The statements, one a line, each indented by four spaces and ended by a newline (the ST files)."""
+        return "".join(f"    {line}\n" for line in self.body)
+
+    @cached_property
+    def xml_body(self) -> str:
+        """The statements, one a line, as XML character data (the PLCopen POU's ST body)."""
+        return xml_text("\n".join(self.body))
 
 
-@dataclass(frozen=True)
-class Section:
+class Section(NamedTuple):
     comment: str
     consts: tuple[Const, ...]
 
 
-@dataclass(frozen=True)
-class SectionToSpell:
+class SectionToSpell(NamedTuple):
     """A section some of whose constants each dialect writes its own way."""
 
     comment: str
