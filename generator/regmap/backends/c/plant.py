@@ -3,12 +3,12 @@ start, count) in line order, the order the Python plant client polls (`runtime_b
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.c.names import CIdentifier, CSymbol, c_hex, c_unsigned
 from regmap.diagnostics import UsageError
 from regmap.plant import Plant
+from regmap.records import dataclass
 from regmap.render import c_comment, plant_header_lines, templates
 from regmap.runtime_bridge import BusSchedule, microseconds, plant_schedule
 from regmap.target import Files

@@ -21,7 +21,6 @@ slow 60 s, static 0 (HA reads the entity once at start-up and never polls it).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.homeassistant import scaled
@@ -54,6 +53,7 @@ from regmap.homeauto.selection import DEFAULT_RULE, Selection, for_variant, sele
 from regmap.homeauto.yamltext import Hex
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
 from regmap.plant import Bus, Plant, PlantDevice
+from regmap.records import dataclass
 from regmap.runtime_bridge import runtime_alignment
 from regmap.target import Files
 

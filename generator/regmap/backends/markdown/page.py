@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from regmap.backends.markdown import text as md
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
@@ -26,6 +25,7 @@ from regmap.core.decoding import FUNCTION_NAMES
 from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Command, Device, Erratum, PollClass, WordOrder
+from regmap.records import dataclass
 from regmap.render import header_lines, hex2, md_text, templates
 from regmap.runtime_bridge import read_plan
 from regmap.target import Files

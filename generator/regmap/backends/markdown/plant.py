@@ -4,12 +4,11 @@ line's timing budget per cycle, every number computed here (`runtime_bridge.plan
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from regmap.backends.markdown import text as md
 from regmap.backends.markdown.page import render_device
 from regmap.core.decoding import FUNCTION_NAMES
 from regmap.plant import Plant
+from regmap.records import dataclass
 from regmap.render import md_text, plant_header_lines, templates
 from regmap.runtime_bridge import BusSchedule, plant_schedule
 from regmap.target import Files

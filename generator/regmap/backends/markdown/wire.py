@@ -9,11 +9,10 @@ new on every page: a wide value whose order is not Modbus's ABCD names it in its
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from regmap.backends.markdown.text import reg_link
 from regmap.core.text import number, zone_text
 from regmap.model import ByteOrder, DataType, Device, FirmwareGate, PollClass, ReadAlignment, Register, WordOrder
+from regmap.records import dataclass
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 

@@ -6,7 +6,6 @@ The views below compute every identifier, literal and docstring line; the templa
 from __future__ import annotations
 
 import keyword
-from dataclasses import dataclass
 from typing import Any
 
 from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
@@ -15,6 +14,7 @@ from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.plant import Plant
+from regmap.records import dataclass
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target

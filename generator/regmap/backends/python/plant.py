@@ -3,11 +3,10 @@ attribute, bound to its slave id on its bus's connection; `read_all()` polls eac
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from regmap.backends.python.package import render_shared, runtime_package
 from regmap.diagnostics import MapError, at
 from regmap.plant import Plant
+from regmap.records import dataclass
 from regmap.render import plant_header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import plant_schedule
 from regmap.target import Files

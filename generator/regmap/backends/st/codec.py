@@ -16,10 +16,9 @@ has no CHAR/BYTE conversion). Text bytes are kept as the device sends them (no t
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from regmap.backends.st.names import StIdentifier
 from regmap.model import ByteOrder, DataType, Register, WordOrder
+from regmap.records import dataclass
 
 # The ST type of a register's raw value (strings: STRING of its bytes, see `st_type`).
 NATURAL = {

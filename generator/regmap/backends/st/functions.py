@@ -3,7 +3,7 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
@@ -32,6 +32,7 @@ from regmap.backends.st.views import (
 )
 from regmap.core.text import na_list
 from regmap.model import Bitfield, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
+from regmap.records import dataclass
 from regmap.runtime_bridge import read_plan
 from regmap_runtime.plan import ReadBlock
 

@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import functools
 import re
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from regmap.diagnostics import Diagnostic, at
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device, SourcePos
+from regmap.records import dataclass
 
 # Both dialects: CODESYS / TwinCAT accept long names, but matiec (OpenPLC) and several IDE views
 # truncate past 64 characters; IEC 61131-3 guarantees only the first 6 significant, which no real

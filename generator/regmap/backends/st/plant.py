@@ -4,11 +4,10 @@ its poll table as an ARRAY OF STRUCT constant, in the line order the Python plan
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from regmap.backends.st.names import StIdentifier
 from regmap.diagnostics import UsageError
 from regmap.plant import Plant
+from regmap.records import dataclass
 from regmap.render import plant_header_lines, st_comment, templates
 from regmap.runtime_bridge import microseconds, plant_schedule
 from regmap.target import Files

@@ -7,11 +7,11 @@ frozen dataclasses, and which a template's `for` unpacks without an attribute lo
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
 
 from regmap.backends.st.codec import Notation
+from regmap.records import dataclass
 from regmap.render import xml_text
 
 

@@ -9,12 +9,11 @@ nothing to send. The poller sends a waiting write once and never again: a reply 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from regmap.backends.st.names import st_hex, st_int
 from regmap.backends.st.view_types import FunctionView, Member, StructView
 from regmap.backends.st.views import Names
 from regmap.model import Register
+from regmap.records import dataclass
 
 # Modbus function codes of the writes the poller sends.
 WRITE_COIL = 0x05
