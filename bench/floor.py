@@ -7,7 +7,8 @@ ratios of paired runs. The <= 3x target is judged on the cold run (`JUDGED_ON`);
 same bytes as the one made before the change.
 
 Each figure is printed beside the one `BEFORE` holds: the same measurement on commit ac2dd2b, before issue #36, and
-the generate ratios also beside `BEFORE_BRANCH`: the same measurement on 2a842cd, before branch h-genperf's changes.
+the generate ratios also beside `BEFORE_BRANCH`: the same measurement on `BEFORE_BRANCH_COMMIT`, the base of the
+latest round of changes.
 """
 
 from __future__ import annotations
@@ -35,11 +36,12 @@ FLOOR_IMPORTS = "import jinja2, yaml, jsonschema, regmap"
 # average 7.3-7.7 on 2 cores; 9 paired runs each). There was no output cache yet, so "warm" renders too.
 BEFORE_COLD = (2.393, 0.191, 13.12)  # generate CPU s, floor CPU s, median ratio
 BEFORE_WARM = (2.316, 0.170, 14.40)
-# `measure_generate(repeats=9)` run with 2a842cd's generator/ first on PYTHONPATH (this branch's base: no template
-# cache, so its cold run is also its "cold, no template cache" run), this machine, 2026-12-07 04:33-04:38 UTC, load
-# average 4-6 on 2 cores from four other jobs. Per-pair cold ratios 11.91-15.06, warm 2.35-3.55.
-BEFORE_BRANCH_COLD = (2.934, 0.218, 12.36)
-BEFORE_BRANCH_WARM = (0.734, 0.231, 3.17)
+# `measure_generate(repeats=9)` run with 7267b5a's generator/ first on PYTHONPATH (the base of this round: stop 44's
+# helpers' branches and its own commits), this machine, 2026-12-07 15:16 UTC, load average 0.8-1.1 on 2 cores. Per-pair
+# cold ratios 5.81-8.99. (Stop 43's `make bench` on a4e01d9, the same generator, printed 8.75x cold at its hour.)
+BEFORE_BRANCH_COMMIT = "7267b5a"
+BEFORE_BRANCH_COLD = (1.326, 0.190, 7.05)
+BEFORE_BRANCH_WARM = (0.485, 0.174, 2.65)
 JUDGED_ON = "cold"
 BEFORE_IMPORT_WALL_S = 19.85
 BEFORE_IMPORT_CPU_S = 6.49

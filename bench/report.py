@@ -12,6 +12,7 @@ from bench.chelpers import CASES, CResult
 from bench.common import Machine
 from bench.floor import (
     BEFORE_BRANCH_COLD,
+    BEFORE_BRANCH_COMMIT,
     BEFORE_BRANCH_WARM,
     BEFORE_COLD,
     BEFORE_DRAFT_SHA256,
@@ -137,8 +138,8 @@ def targets(r: Results) -> list[tuple[str, str, bool | None]]:
         rows.append(
             (
                 f"`regmap generate` ≤ {GENERATE_RATIO_TARGET:g}× the CPU of `{FLOOR_IMPORTS}`",
-                f"cold {f.cold.ratio:.2f}× (before {BEFORE_COLD[2]:.2f}×, on 2a842cd {BEFORE_BRANCH_COLD[2]:.2f}×), "
-                f"warm {f.warm.ratio:.2f}× (before {BEFORE_WARM[2]:.2f}×, on 2a842cd {BEFORE_BRANCH_WARM[2]:.2f}×): "
+                f"cold {f.cold.ratio:.2f}× (before {BEFORE_COLD[2]:.2f}×, on {BEFORE_BRANCH_COMMIT} {BEFORE_BRANCH_COLD[2]:.2f}×), "
+                f"warm {f.warm.ratio:.2f}× (before {BEFORE_WARM[2]:.2f}×, on {BEFORE_BRANCH_COMMIT} {BEFORE_BRANCH_WARM[2]:.2f}×): "
                 f"judged on the {JUDGED_ON} run",
                 f.met,
             )
@@ -658,9 +659,9 @@ def _floor(r: Results) -> list[str]:
                 (
                     label,
                     len(ratio.generate_s),
-                    f"{secs(ratio.generate)} (before {secs(before[0])}; 2a842cd {secs(branch[0])})",
-                    f"{secs(ratio.floor)} (before {secs(before[1])}; 2a842cd {secs(branch[1])})",
-                    f"**{ratio.ratio:.2f}×** (before {before[2]:.2f}×; 2a842cd {branch[2]:.2f}×)",
+                    f"{secs(ratio.generate)} (before {secs(before[0])}; {BEFORE_BRANCH_COMMIT} {secs(branch[0])})",
+                    f"{secs(ratio.floor)} (before {secs(before[1])}; {BEFORE_BRANCH_COMMIT} {secs(branch[1])})",
+                    f"**{ratio.ratio:.2f}×** (before {before[2]:.2f}×; {BEFORE_BRANCH_COMMIT} {branch[2]:.2f}×)",
                     yes(ratio.ratio <= GENERATE_RATIO_TARGET),
                 )
             )
@@ -670,7 +671,7 @@ def _floor(r: Results) -> list[str]:
             + ("met." if r.floor.met else "**missed**."),
             "- The warm run is what an unchanged tree costs (the output cache); the cold run without the template cache is a",
             "  first run after installing or upgrading regmap (templates compiled, as Python compiles its modules once).",
-            "- Before, there was no cache: its warm run rendered everything too. 2a842cd: this branch's base, measured on the",
+            f"- Before, there was no cache: its warm run rendered everything too. {BEFORE_BRANCH_COMMIT}: this round's base, measured on the",
             "  same machine the same day (`BEFORE_BRANCH_*` in bench/floor.py), the fairer comparison on a shared machine.",
             "",
         ]
