@@ -56,10 +56,20 @@ class Ratio:
 
     generate_s: tuple[float, ...]
     floor_s: tuple[float, ...]
+    base_s: tuple[float, ...] = ()  # `BEFORE_BRANCH_COMMIT`'s generate in the same runs, when its source could be had
 
     @property
     def ratio(self) -> float:
         return median([g / f for g, f in zip(self.generate_s, self.floor_s, strict=True)])
+
+    @property
+    def base_ratio(self) -> float | None:
+        """The base's ratio over the same floor runs: the comparison a busy or throttled machine does not skew."""
+        return median([g / f for g, f in zip(self.base_s, self.floor_s, strict=True)]) if self.base_s else None
+
+    @property
+    def base(self) -> float | None:
+        return median(list(self.base_s)) if self.base_s else None
 
     @property
     def generate(self) -> float:
@@ -122,33 +132,52 @@ def _child(cmd: list[str], env: dict[str, str], cwd: Path = ROOT) -> tuple[float
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024, process.returncode, output
 
 
-def _pairs(work: Path, cache: bool, repeats: int, maps: list[Path] | None, templates: bool = True) -> Ratio:
+def _pairs(work: Path, cache: bool, repeats: int, maps: list[Path] | None, templates: bool = True, base: Path | None = None) -> Ratio:
+    """`repeats` runs of generate and of the floor (and of the base's generate, from the source tree `base`), in turns."""
     env = _environment(work, cache, templates)
-    out = work / "out"
-    generate = [*regmap_command(), "generate", *(str(m) for m in maps or []), "--out", str(out)]
+    named = [str(m) for m in maps or []]
+    generate = [*regmap_command(), "generate", *named, "--out", str(work / "out")]
     floor = [sys.executable, "-c", FLOOR_IMPORTS]
-    for cmd in (generate, floor):  # untimed: fills the bytecode cache (and, warm, the output cache)
-        _child(cmd, env)
-    gen_s: list[float] = []
-    floor_s: list[float] = []
+    commands: list[tuple[list[str], dict[str, str]]] = [(generate, env), (floor, env)]
+    if base is not None:  # its own bytecode, template and output caches: nothing of one tree serves the other
+        base_env = {**_environment(work / "base", cache, templates), "PYTHONPATH": str(base / "generator")}
+        commands.append(([*regmap_command(), "generate", *named, "--out", str(work / "base" / "out")], base_env))
+    for cmd, cmd_env in commands:  # untimed: fills the bytecode cache (and, warm, the output cache)
+        _child(cmd, cmd_env)
+    spent: list[list[float]] = [[] for _ in commands]
     for i in range(repeats):
-        shutil.rmtree(out, ignore_errors=True)
-        order = (generate, floor) if i % 2 == 0 else (floor, generate)
-        for cmd in order:
-            _, cpu, _, status, output = _child(cmd, env)
+        shutil.rmtree(work / "out", ignore_errors=True)
+        shutil.rmtree(work / "base" / "out", ignore_errors=True)
+        for k in range(len(commands)):  # each command first in its turn
+            index = (i + k) % len(commands)
+            cmd, cmd_env = commands[index]
+            _, cpu, _, status, output = _child(cmd, cmd_env)
             if status != 0:
                 raise RuntimeError(f"{' '.join(cmd)} failed ({status}):\n{output}")
-            (gen_s if cmd is generate else floor_s).append(cpu)
-    return Ratio(tuple(gen_s), tuple(floor_s))
+            spent[index].append(cpu)
+    return Ratio(tuple(spent[0]), tuple(spent[1]), tuple(spent[2]) if base is not None else ())
+
+
+def base_source(work: Path) -> Path | None:
+    """`BEFORE_BRANCH_COMMIT`'s generator/ unpacked under `work`, or None where it cannot be had (no git, or a clone
+    without that commit): then the report shows the figures measured when the round began."""
+    target = work / "base-source"
+    target.mkdir(parents=True, exist_ok=True)
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", BEFORE_BRANCH_COMMIT, "generator"], capture_output=True, check=False)
+    if archive.returncode != 0:
+        return None
+    unpacked = subprocess.run(["tar", "-x", "-C", str(target)], input=archive.stdout, capture_output=True, check=False)
+    return target if unpacked.returncode == 0 else None
 
 
 def measure_generate(repeats: int = 9, maps: list[Path] | None = None) -> GenerateFloor:
     with tempfile.TemporaryDirectory(prefix="regmap-bench-floor-") as tmp:
         work = Path(tmp)
+        base = base_source(work)
         return GenerateFloor(
-            cold=_pairs(work, False, repeats, maps),
-            warm=_pairs(work, True, repeats, maps),
-            uncached=_pairs(work, False, repeats, maps, templates=False),
+            cold=_pairs(work, False, repeats, maps, base=base),
+            warm=_pairs(work, True, repeats, maps, base=base),
+            uncached=_pairs(work, False, repeats, maps, templates=False, base=base),
         )
 
 
