@@ -152,9 +152,18 @@ def test_generation_floor_and_big_import_measure_and_render(tmp_path: Path) -> N
     assert run.status == 0 and run.peak_mib > 0 and run.draft_sha256 and "valid" in run.verdict
     text = render(Results(machine(), [], [], None, [], [], None, quick=True, floor=gen, big_import=run))
     assert "## 7. Generation against its import floor" in text and "warm" in text and "draft = before's bytes" in text
+    if floor.base_source(tmp_path) is not None:  # a clone with the round's base: it ran in the same pairs
+        assert len(gen.cold.base_s) == len(gen.cold.floor_s) == 1 and f"{floor.BEFORE_BRANCH_COMMIT} in the same runs" in text
     assert any(
         "import floor" not in t and "import" in t for t, _, _ in targets(Results(machine(), [], [], None, [], [], None, big_import=run))
     )
+
+
+def test_the_base_ratio_is_over_the_same_floor_runs() -> None:
+    same_runs = floor.Ratio(generate_s=(3.0, 5.0, 4.0), floor_s=(1.0, 2.0, 1.0), base_s=(4.0, 6.0, 6.0))
+    assert (same_runs.ratio, same_runs.base_ratio, same_runs.base) == (3.0, 4.0, 6.0)
+    alone = floor.Ratio(generate_s=(3.0,), floor_s=(1.0,))
+    assert alone.base_ratio is None and alone.base is None
 
 
 def test_the_plant_bench_polls_the_cycle_beside_the_devices_own_plans() -> None:
