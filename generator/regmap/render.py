@@ -21,6 +21,10 @@ import jinja2.bccache
 from regmap.model import Device
 from regmap.plant import Plant
 
+# How many texts each escaping cache keeps: a run over three maps meets about 5,000; a process that generates for
+# hours (a build server, a test run) keeps no more than this.
+TEXT_CACHE_SIZE = 1 << 15
+
 
 def py_str(text: str | None) -> str:
     """A Python string literal (repr escapes quotes, backslashes, newlines and control characters)."""
@@ -54,7 +58,7 @@ def c_str(text: str | None) -> str:
     return '"' + "".join(out) + '"'
 
 
-@functools.cache  # the dialects print the same comments: each text is escaped once
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # the dialects print the same comments: each text is escaped once
 def st_comment(text: str | None) -> str:
     """Text safe inside a Structured Text (* *) comment on one line: CODESYS nests comments, so an
     opener must not reach it either; IEC 61131-3 edition 3's /* */ and // are broken up too."""
@@ -108,7 +112,7 @@ _XML_ESCAPES = str.maketrans(
 _XML_SPECIAL = re.compile("[" + re.escape("".join(map(chr, _XML_ESCAPES))) + "]")
 
 
-@functools.cache  # the PLCopen XML repeats values and comments: each text is escaped once
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # the PLCopen XML repeats values and comments: each text is escaped once
 def xml_text(text: str | None) -> str:
     """XML character data or an attribute value: markup characters as entities, and the control
     characters XML 1.0 cannot carry at all as U+FFFD."""

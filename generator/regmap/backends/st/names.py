@@ -13,6 +13,7 @@ from regmap.diagnostics import Diagnostic, at
 from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device, SourcePos
 from regmap.records import dataclass
+from regmap.render import TEXT_CACHE_SIZE
 
 # Both dialects: CODESYS / TwinCAT accept long names, but matiec (OpenPLC) and several IDE views
 # truncate past 64 characters; IEC 61131-3 guarantees only the first 6 significant, which no real
@@ -60,7 +61,7 @@ class StIdentifier(str):
         return made
 
 
-@functools.cache  # the same names are spelled in every dialect and for every constant of a register
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # the same names are spelled in every dialect and for every constant of a register
 def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
     """The identifier joined from `parts` and its problem ("" when none)."""
     name = "_".join(filter(None, parts)).upper()
