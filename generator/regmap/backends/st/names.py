@@ -67,8 +67,7 @@ def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
     name = "_".join(filter(None, parts)).upper()
     if name in _ESCAPED:
         name = f"{name}_{KEYWORD_SUFFIX}"
-    sound = _IDENTIFIER.match(name) and "__" not in name and not name.endswith("_") and len(name) <= MAX_LENGTH
-    return name, "" if sound else _problem(name)  # `_problem` only says which rule a name breaks
+    return name, _problem(name)
 
 
 def _problem(name: str) -> str:
