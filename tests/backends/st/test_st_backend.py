@@ -330,6 +330,41 @@ def test_a_name_past_64_characters_is_refused() -> None:
     assert any("longer than 64 characters" in p.message for p in problems), problems
 
 
+@pytest.mark.parametrize(
+    ("parts", "suffix"),
+    [
+        (("dev", "speed"), "RAW_MIN"),  # the usual name: spelled from the stem
+        (("dev", "x" * 56), "ADDR"),  # the stem fits in 64 characters, the name does not
+        (("dev", "bad__name"), "ADDR"),  # the stem has a problem of its own
+        (("dev", "ends_"), "ADDR"),
+        (("var",), "INPUT"),  # the whole name is a keyword: VAR_INPUT_KW
+        (("dev", ""), "ADDR"),
+        (("dev", "speed"), "raw_min"),  # a suffix not upper-case: spelled in full
+        (("dev", "speed"), "_ADDR"),
+    ],
+)
+def test_a_stem_spells_each_name_as_its_parts_do(parts: tuple[str, ...], suffix: str) -> None:
+    """A register's constants are spelled from its stem (`<DEV>_<REG>`, checked once): each equals the name spelled
+    from all its parts, problem and keyword escape included."""
+    made = st.StIdentifier.stem(*parts)(suffix)
+    whole = st.StIdentifier(*parts, suffix)
+    assert (made, made.problem, type(made)) == (whole, whole.problem, st.StIdentifier)
+
+
+def test_a_name_two_map_items_generate_is_refused_naming_both() -> None:
+    """A register named like a read block's constants (`block_0300` for the block at 0x0300) generates the block's
+    `<DEV>_BLOCK_0300_ADDR` again: refused once, naming the block first and the register second."""
+    data = _small_map()
+    reg = data["groups"][0]["registers"][0]  # the first register starts the first read block
+    reg["name"] = f"block_{reg['address']:04x}"
+    problems = st.check(load_map_text(yaml.safe_dump(data, allow_unicode=True, sort_keys=False), "small.yaml"))
+    assert len(problems) == 1, problems
+    assert (
+        f"_BLOCK_{reg['address']:04X}_ADDR (a global name) is used by both read block 0 at holding 0x{reg['address']:04X} and register {reg['name']}"
+        in problems[0].message
+    )
+
+
 def test_validate_reports_st_name_problems_at_their_line(tmp_path: Path) -> None:
     """Names ST cannot take (two underscores, names differing only by case in one scope) are found by
     `regmap validate` and refused by `generate`, at file:line:col."""

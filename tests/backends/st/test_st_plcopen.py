@@ -19,6 +19,7 @@ import pytest
 
 from regmap.frontend import load_map
 from regmap.generate import render
+from regmap.render import xml_text
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT, SHARED, built_tool, skip_or_fail
 
@@ -155,6 +156,15 @@ def test_the_project_holds_what_the_codesys_files_hold(map_path: Path, out: Path
         assert value is not None
         found[variable.attrib["name"]] = (_type_text(variable.find("p:type", NS)), value.attrib["value"])  # type: ignore[arg-type]
     assert found == constants
+
+
+def test_xml_text_escapes_markup_once_and_control_characters_as_replacement() -> None:
+    """Markup characters become entities, `&` first so that no entity is escaped again; a control character XML 1.0
+    cannot carry becomes U+FFFD, while tabs and line breaks stay."""
+    assert xml_text('a < b & "c" > d') == "a &lt; b &amp; &quot;c&quot; &gt; d"
+    assert xml_text("x\x01y\t<\n\x1f") == "x\ufffdy\t&lt;\n\ufffd"
+    assert xml_text("plain text") == "plain text"
+    assert xml_text(None) == ""
 
 
 def test_hostile_text_stays_text(out: Path) -> None:

@@ -56,6 +56,11 @@ class DeviceViews:
         return self._notations[notation]
 
     @cached_property
+    def enums(self) -> list[EnumView]:
+        """The enums with their base types, made and their names checked once for every notation."""
+        return enum_views(self.names)
+
+    @cached_property
     def values(self) -> Values:
         return Values(self.names, self.helpers)
 
@@ -202,12 +207,15 @@ class SpelledViews:
 
     @cached_property
     def enums(self) -> list[EnumView]:
-        return enum_views(self.views.names, self.notation)
+        made = self.views.enums
+        if self.notation.enum_base:
+            return made
+        return [EnumView(e.type_name, "", e.comment, e.members) for e in made]
 
     @cached_property
     def encoders(self) -> list[FunctionView]:
         v = self.views
-        return encoders(v.names, self.notation, v.helpers, v.values.used, self.other.encoders if self.other else ())
+        return encoders(v.names, v.targets, self.notation, v.helpers, v.values.used, self.other.encoders if self.other else ())
 
     @cached_property
     def registers(self) -> list[Section]:

@@ -116,14 +116,21 @@ def encoder_targets(device: Device) -> list[tuple[str, list[Register]]]:
     return out
 
 
-def encoders(names: Names, notation: Notation, helpers: Helpers, used: set[str], other: Sequence[FunctionView] = ()) -> list[FunctionView]:
-    """An encoder per writable register (one per array member when its elements share the range):
-    the value into the words to write, or FALSE (words unchanged) when the Python client would
+def encoders(
+    names: Names,
+    targets: Sequence[tuple[str, list[Register]]],
+    notation: Notation,
+    helpers: Helpers,
+    used: set[str],
+    other: Sequence[FunctionView] = (),
+) -> list[FunctionView]:
+    """An encoder per target of `encoder_targets` (one per writable register, one per array member when its elements
+    share the range): the value into the words to write, or FALSE (words unchanged) when the Python client would
     refuse it (out of range, not a multiple of the resolution, not a member of the enum, NaN,
     text too long or not in the register's encoding). `other`: the same encoders in another
     notation, taken as they are where `differs_by_notation` says the notation changes nothing."""
     functions = []
-    for index, (label, regs) in enumerate(encoder_targets(names.device)):
+    for index, (label, regs) in enumerate(targets):
         r = regs[0]
         if other and not differs_by_notation(r):
             functions.append(other[index])

@@ -421,12 +421,13 @@ def blocks(names: Names, values: Values) -> list[Block]:
         consts += variants_const(names, f"BLOCK_{tag}", variants, what, None)
         body = ["bOk := TRUE;"]
         local_types: dict[str, str] = {"bOk": "BOOL"}
+        together = frozenset(r.name for r in regs)
         for reg in regs:
             bit = None
             if bits:
                 offset = reg.address - block.address
                 bit = (offset // 8, 1 << (offset % 8))
-            body += values.add(reg, local_types, bit, frozenset(r.name for r in regs))
+            body += values.add(reg, local_types, bit, together)
         name = names.function("DECODE", tag, what=what)
         body.append(f"{name} := bOk;")
         inputs = [Member("stRaw", struct.type_name)]

@@ -21,6 +21,7 @@ from regmap.render import TEXT_CACHE_SIZE
 MAX_LENGTH = 64
 # IEC 61131-3 6.1.2: a letter or an underscore first, no two underscores in a row, none at the end.
 _IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_SUFFIX = re.compile(r"[A-Z0-9]+(?:_[A-Z0-9]+)*")  # appended to a sound name after an underscore, it keeps it sound
 # Names the generated functions declare for their own parameters and locals; an enum member printed
 # bare (the plain-standard dialect) or a map name must not shadow them.
 LOCALS = frozenset(
@@ -60,6 +61,34 @@ class StIdentifier(str):
             made.problem = problem
         return made
 
+    @staticmethod
+    def stem(*parts: str) -> Stem:
+        """The first parts of a family of names (`<DEV>_<REG>` of a register's constants), joined and checked once."""
+        return Stem(parts)
+
+
+class Stem:
+    """The parts a family of names begins with. `stem(suffix)` is `StIdentifier(*parts, suffix)`: when the joined
+    parts have no problem and the suffix is upper-case words joined by single underscores, the name can only be
+    too long or a keyword, so it checks just those two and skips the whole spelling (a register has up to 16
+    constants); any other name is spelled and checked in full."""
+
+    def __init__(self, parts: tuple[str, ...]) -> None:
+        self.parts = parts
+        self.joined = "_".join(filter(None, parts)).upper()
+        self.sound = bool(self.joined) and not _problem(self.joined)
+
+    def __call__(self, suffix: str) -> StIdentifier:
+        name = f"{self.joined}_{suffix}"
+        if self.sound and _sound_suffix(suffix) and len(name) <= MAX_LENGTH and name not in _ESCAPED:
+            return str.__new__(StIdentifier, name)
+        return StIdentifier(*self.parts, suffix)
+
+
+@functools.cache  # a few dozen suffixes (ADDR, RAW_MIN ...), each asked for by every register
+def _sound_suffix(suffix: str) -> bool:
+    return _SUFFIX.fullmatch(suffix) is not None
+
 
 @functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # the same names are spelled in every dialect and for every constant of a register
 def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
@@ -95,14 +124,13 @@ class Scope:
     def add(self, name: StIdentifier, what: str, pos: SourcePos | None = None) -> StIdentifier:
         if name.problem:
             self._report(pos, f"generated Structured Text name of {what}: {name.problem}")
-        key = name.upper()
-        if key in self.seen and self.seen[key] != what:
+        first = self.seen.setdefault(name.upper(), what)
+        if first != what:
             self._report(
                 pos,
-                f"generated Structured Text name {name} ({self.what}) is used by both {self.seen[key]} and {what}"
+                f"generated Structured Text name {name} ({self.what}) is used by both {first} and {what}"
                 " (ST names ignore case); rename one in the map",
             )
-        self.seen.setdefault(key, what)
         return name
 
     def _report(self, pos: SourcePos | None, message: str) -> None:

@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 from regmap.backends.st.codec import Notation
 from regmap.records import dataclass
-from regmap.render import xml_text
+from regmap.render import st_comment, xml_text
 
 
 class Const(NamedTuple):
@@ -115,6 +115,17 @@ class Section(NamedTuple):
     comment: str
     consts: tuple[Const, ...]
 
+    @property
+    def lines(self) -> str:
+        """The constants' declarations, one a line, each ended by a newline (an ST file's VAR_GLOBAL CONSTANT): made
+        here, as the functions' bodies are, since a template's loop costs several times the line it prints."""
+        return "".join(
+            [
+                f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind} := {value};\n"
+                for name, kind, value, comment in self.consts
+            ]
+        )
+
 
 class SectionToSpell(NamedTuple):
     """A section some of whose constants each dialect writes its own way."""
@@ -123,4 +134,4 @@ class SectionToSpell(NamedTuple):
     consts: tuple[Const | MemberConst | TextConst, ...]
 
     def spelled(self, notation: Notation) -> Section:
-        return Section(self.comment, tuple(c.spelled(notation) for c in self.consts))
+        return Section(self.comment, tuple([c.spelled(notation) for c in self.consts]))

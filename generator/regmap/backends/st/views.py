@@ -95,7 +95,8 @@ def _enum_base(e: EnumType) -> str:
     return "DINT"
 
 
-def enum_views(names: Names, notation: Notation) -> list[EnumView]:
+def enum_views(names: Names) -> list[EnumView]:
+    """Every enum with its base type; a notation without one (plain IEC) drops it (`SpelledViews.enums`)."""
     views = []
     for e in names.device.enums:
         type_name = names.type("E", e.name, what=f"the type of enum {e.name}", pos=e.pos)
@@ -112,7 +113,7 @@ def enum_views(names: Names, notation: Notation) -> list[EnumView]:
                 )
             )
         comment = sentences(titled(e.title, e.title_zh), e.description, _manual(e.source))
-        views.append(EnumView(type_name, _enum_base(e) if notation.enum_base else "", comment, tuple(members)))
+        views.append(EnumView(type_name, _enum_base(e), comment, tuple(members)))
     return views
 
 
@@ -181,18 +182,22 @@ def _typed_const(name: str, reg: Register, value: str, comment: str = "") -> Con
 
 def register_consts(names: Names, reg: Register) -> SectionToSpell:
     what = f"register {reg.name}"
-    c = names.const
+    stem = StIdentifier.stem(names.prefix, reg.name)
+
+    def c(suffix: str) -> str:
+        return names.globals.add(stem(suffix), what, reg.pos)
+
     consts: list[Const | MemberConst | TextConst] = [
-        Const(c(reg.name, "ADDR", what=what, pos=reg.pos), "UINT", st_hex(reg.address)),
-        Const(c(reg.name, "WORDS", what=what, pos=reg.pos), "UINT", st_int(reg.words)),
-        MemberConst(c(reg.name, "ACCESS", what=what, pos=reg.pos), names.access_type, ACCESS_MEMBER[reg.access]),
+        Const(c("ADDR"), "UINT", st_hex(reg.address)),
+        Const(c("WORDS"), "UINT", st_int(reg.words)),
+        MemberConst(c("ACCESS"), names.access_type, ACCESS_MEMBER[reg.access]),
     ]
     space = reg.space_info
     if space.name != "holding":
         writes = ", ".join(f"{op.replace('_', ' ')} 16#{code:02X}" for op, code in space.codes.items() if op != "read")
         consts.append(
             Const(
-                c(reg.name, "FUNCTION", what=what, pos=reg.pos),
+                c("FUNCTION"),
                 "USINT",
                 st_hex(space.read, 2),
                 f"read with function 16#{space.read:02X} ({space.title})" + (f"; {writes}" if writes else ""),
@@ -200,40 +205,40 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
         )
     if reg.type.numeric:
         consts += [
-            Const(c(reg.name, "RAW_MIN", what=what, pos=reg.pos), NATURAL[reg.type], _literal(reg, reg.raw_min)),
-            Const(c(reg.name, "RAW_MAX", what=what, pos=reg.pos), NATURAL[reg.type], _literal(reg, reg.raw_max)),
+            Const(c("RAW_MIN"), NATURAL[reg.type], _literal(reg, reg.raw_min)),
+            Const(c("RAW_MAX"), NATURAL[reg.type], _literal(reg, reg.raw_max)),
         ]
     elif reg.type.is_string:
         consts.append(
             Const(
-                c(reg.name, "BYTES", what=what, pos=reg.pos),
+                c("BYTES"),
                 "UINT",
                 st_int(2 * reg.words),
                 f"text bytes ({reg.encoding}, padded with {'spaces' if reg.padding == 'space' else 'NUL'})",
             )
         )
     if reg.default is not None:
-        consts.append(_typed_const(c(reg.name, "DEFAULT", what=what, pos=reg.pos), reg, _literal(reg, reg.default)))
+        consts.append(_typed_const(c("DEFAULT"), reg, _literal(reg, reg.default)))
     if reg.type.numeric:
         consts += [
-            Const(c(reg.name, "SCALE_NUM", what=what, pos=reg.pos), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
-            Const(c(reg.name, "SCALE_DEN", what=what, pos=reg.pos), "DINT", st_int(reg.scale.denominator)),
+            Const(c("SCALE_NUM"), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
+            Const(c("SCALE_DEN"), "DINT", st_int(reg.scale.denominator)),
         ]
     if reg.offset_set:
         consts += [
             Const(
-                c(reg.name, "OFFSET_NUM", what=what, pos=reg.pos),
+                c("OFFSET_NUM"),
                 _ratio(reg.offset.numerator),
                 st_int(reg.offset.numerator),
                 "value = raw * SCALE_NUM / SCALE_DEN + OFFSET_NUM / OFFSET_DEN",
             ),
-            Const(c(reg.name, "OFFSET_DEN", what=what, pos=reg.pos), _ratio(reg.offset.denominator), st_int(reg.offset.denominator)),
+            Const(c("OFFSET_DEN"), _ratio(reg.offset.denominator), st_int(reg.offset.denominator)),
         ]
     if reg.wide:
         order = "device word order (parameter)" if configurable(names.device, reg) else f"{reg.word_order.value.replace('_', ' ')}"
         consts.append(
             Const(
-                c(reg.name, "HIGH_WORD_FIRST", what=what, pos=reg.pos),
+                c("HIGH_WORD_FIRST"),
                 "BOOL",
                 "TRUE" if reg.word_order is WordOrder.HIGH_FIRST else "FALSE",
                 order if not configurable(names.device, reg) else f"{order}; this is its default",
@@ -242,7 +247,7 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     if swapped(reg):
         consts.append(
             Const(
-                c(reg.name, "HIGH_BYTE_FIRST", what=what, pos=reg.pos),
+                c("HIGH_BYTE_FIRST"),
                 "BOOL",
                 "FALSE",
                 "each word arrives with its low byte first (ROL(word, 8) restores it)",
@@ -251,7 +256,7 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     if reg.paired:
         consts.append(
             Const(
-                c(reg.name, "FIRST_ADDR", what=what, pos=reg.pos),
+                c("FIRST_ADDR"),
                 "UINT",
                 st_hex(reg.first_address),
                 "the unused high word a block read or a write starts at",
@@ -261,9 +266,7 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
         consts += firmware_consts(names, reg.name, reg.firmware.first, reg.firmware.until, what, reg.pos)
     consts += variants_const(names, reg.name, reg.variants, what, reg.pos)
     if reg.poll is not PollClass.NORMAL:
-        consts.append(
-            Const(c(reg.name, "POLL", what=what, pos=reg.pos), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}")
-        )
+        consts.append(Const(c("POLL"), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}"))
     return SectionToSpell(_register_comment(reg), tuple(consts))
 
 
