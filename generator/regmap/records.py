@@ -1,21 +1,26 @@
-"""`dataclass`: the standard library's, with `__repr__`, `__eq__` and `__hash__` built from the class's fields instead
-of compiled from source for each class. Python 3.11 compiles six functions for each frozen dataclass (about 0.9 ms a
-class); half of them go this way. The methods answer as the generated ones do: the same text, the same comparisons,
-the same hashes (tests/project/test_records.py compares them). mypy sees the standard decorator itself.
+"""`dataclass`: the standard library's, with the methods it compiles from source for each class built here instead:
+`__repr__`, `__eq__` and `__hash__` from the class's fields, a frozen class's `__setattr__` and `__delattr__` as
+closures, and `__init__` compiled from a short source of its own. Python 3.11 compiles each of these functions from
+text, one `exec` each (about 0.9 ms a class; a `regmap generate` makes some 90 classes at import). The methods answer
+as the generated ones do: the same text, comparisons, hashes, signature and errors (tests/project/test_records.py
+compares them). mypy sees the standard decorator itself.
 
-A class that writes one of the three methods itself, or asks for another option than `frozen`, is left to the
-standard decorator whole.
+A class that writes one of these methods itself, or asks for another option than `frozen`, is left to the standard
+decorator whole; one with a `__post_init__`, a dataclass base, an `InitVar`, a keyword-only field or a field named
+`self` has the standard `__init__` (and `__setattr__`, `__delattr__`), and the other three methods from here.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import operator
 import reprlib
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 _BUILT_HERE = ("__repr__", "__eq__", "__hash__")
+_INIT_BUILT_HERE = ("__init__", "__setattr__", "__delattr__")
 
 if TYPE_CHECKING:
     from dataclasses import dataclass as dataclass
@@ -25,9 +30,102 @@ else:
         def made(cls: type) -> type:
             if set(options) - {"frozen"} or any(name in cls.__dict__ for name in _BUILT_HERE):
                 return dataclasses.dataclass(cls, **options)
-            return _with_methods(dataclasses.dataclass(cls, repr=False, eq=False, **options), options.get("frozen", False))
+            frozen = options.get("frozen", False)
+            if _standard_init(cls):
+                return _with_methods(dataclasses.dataclass(cls, repr=False, eq=False, **options), frozen)
+            return _with_methods(_with_init(cls, frozen), frozen)
 
         return made if cls is None else made(cls)
+
+
+def _standard_init(cls: type) -> bool:
+    """Whether the class needs what only the standard `__init__` does (or writes one of those methods itself)."""
+    annotations = inspect.get_annotations(cls)
+    return (
+        any(name in cls.__dict__ for name in _INIT_BUILT_HERE)
+        or hasattr(cls, "__post_init__")
+        or any(hasattr(base, "__dataclass_fields__") for base in cls.__mro__[1:])
+        or "self" in annotations
+        or any("InitVar" in str(kind) or "KW_ONLY" in str(kind) for kind in annotations.values())
+        or any(isinstance(value, dataclasses.Field) and value.kw_only is True for value in cls.__dict__.values())
+    )
+
+
+def _with_init(cls: type, frozen: bool) -> type:
+    """The standard decorator's fields, defaults and `__match_args__`, with `__init__` (and a frozen class's
+    `__setattr__`, `__delattr__`) built here."""
+    documented = bool(cls.__doc__)
+    if not documented:  # the standard decorator would word one from a signature without the `__init__` made below
+        cls.__doc__ = cls.__name__
+    cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
+    fields = dataclasses.fields(cls)
+    methods = {"__init__": _init(fields, frozen, cls.__module__)}
+    if frozen:
+        methods |= _frozen_methods(cls, frozenset(field.name for field in fields))
+        vars(cls)["__dataclass_params__"].frozen = True  # what a subclass's decorator checks: frozen inherits frozen only
+    for name, method in methods.items():
+        method.__qualname__ = f"{cls.__qualname__}.{name}"
+        setattr(cls, name, method)
+    if not documented:  # as the standard decorator words it: the name and the signature
+        cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
+    return cls
+
+
+class _Factory:
+    """The default an `__init__` parameter shows for a field with a default factory, as the standard one's does."""
+
+    def __repr__(self) -> str:
+        return "<factory>"
+
+
+_FACTORY = _Factory()
+
+
+def _init(fields: tuple[dataclasses.Field[Any], ...], frozen: bool, module: str) -> Callable[..., None]:
+    """`__init__(self, <the init fields>)` setting every field (a frozen record's through object.__setattr__), with
+    the fields' own default objects: compiled from a short text, without the annotations (they are set after)."""
+    names: dict[str, Any] = {"__name__": module, "__set": object.__setattr__ if frozen else setattr, "__factory": _FACTORY}
+    parameters = ["self"]
+    lines = []
+    for field in fields:
+        default = f"__default_{field.name}"
+        factory = field.default_factory is not dataclasses.MISSING
+        if factory:
+            names[default] = field.default_factory
+        elif field.default is not dataclasses.MISSING:
+            names[default] = field.default
+        if field.init:
+            if default not in names and "=" in parameters[-1]:
+                raise TypeError(f"non-default argument {field.name!r} follows default argument")
+            parameters.append(f"{field.name}=__factory" if factory else f"{field.name}={default}" if default in names else field.name)
+            value = f"{default}() if {field.name} is __factory else {field.name}" if factory else field.name
+        elif factory:
+            value = f"{default}()"
+        else:
+            continue  # neither a parameter nor made by a factory: the class attribute holds the default
+        lines.append(f" __set(self, {field.name!r}, {value})")
+    source = f"def __init__({', '.join(parameters)}):\n" + ("\n".join(lines) or " pass")
+    exec(source, names)
+    init: Callable[..., None] = names["__init__"]
+    init.__annotations__ = {field.name: field.type for field in fields if field.init} | {"return": None}
+    return init
+
+
+def _frozen_methods(cls: type[Any], names: frozenset[str]) -> dict[str, Callable[..., None]]:
+    """A frozen record's `__setattr__` and `__delattr__`: a field of it (or of a subclass that is no dataclass), or
+    any attribute of an instance of the class itself, cannot be set or deleted."""
+
+    def __setattr__(self: Any, name: str, value: Any) -> None:
+        if type(self) is cls or name in names:
+            raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
+        super(cls, self).__setattr__(name, value)
+
+    def __delattr__(self: Any, name: str) -> None:
+        if type(self) is cls or name in names:
+            raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
+        super(cls, self).__delattr__(name)
+
+    return {"__setattr__": __setattr__, "__delattr__": __delattr__}
 
 
 def _with_methods(cls: type, frozen: bool) -> type:

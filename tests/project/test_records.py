@@ -1,13 +1,15 @@
 """regmap.records.dataclass makes classes that answer as the standard decorator's do: the same repr (recursion
 included), the same equality (NaN, other classes, subclasses), the same hashes, unhashable when mutable, frozen
-when frozen; and a class it cannot serve (its own __eq__, another option) is the standard decorator's alone."""
+when frozen, the same __init__ (signature, defaults, factories, errors); and a class it cannot serve (its own __eq__,
+another option) is the standard decorator's alone."""
 
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, ClassVar
 
 import pytest
 
@@ -43,7 +45,36 @@ def _shapes(decorate: Decorator) -> dict[str, type]:
     class Child(Point):
         extra: tuple[int, ...] = ()
 
-    return {"Point": Point, "Single": Single, "Empty": Empty, "Mutable": Mutable, "Child": Child}
+    @decorate(frozen=True)
+    class Made:
+        """Fields the __init__ does not take, or fills from a factory."""
+
+        items: tuple[int, ...] = dataclasses.field(default_factory=tuple)
+        hidden: int = dataclasses.field(default=5, init=False)
+        made: list[int] = dataclasses.field(default_factory=list, init=False, compare=False)
+        shared: ClassVar[int] = 3
+
+    class Plain(Point):  # no dataclass itself: may have attributes of its own, not set the fields
+        pass
+
+    @decorate(frozen=True)
+    class Checked:
+        value: int
+
+        def __post_init__(self) -> None:
+            if self.value < 0:
+                raise ValueError(f"negative: {self.value}")
+
+    return {
+        "Point": Point,
+        "Single": Single,
+        "Empty": Empty,
+        "Mutable": Mutable,
+        "Child": Child,
+        "Made": Made,
+        "Plain": Plain,
+        "Checked": Checked,
+    }
 
 
 STANDARD = _shapes(dataclasses.dataclass)
@@ -67,7 +98,58 @@ def _samples(shapes: dict[str, type]) -> list[Any]:
         mutable([1, 2]),
         child(1, 2.5, "a", "hidden", 3),
         child(1, 2.5, "a", "hidden", 3, (7,)),
+        shapes["Made"](),
+        shapes["Made"]((1, 2)),
+        shapes["Plain"](1),
     ]
+
+
+def _outcome(action: Callable[[], object]) -> str:
+    """What an action answers, or the exception it raises (its class and words)."""
+    try:
+        return repr(action())
+    except Exception as exc:
+        return f"{type(exc).__name__}: {exc}"
+
+
+def _given_another_attribute(instance: object) -> dict[str, Any]:
+    instance.other = 2  # type: ignore[attr-defined]
+    return vars(instance)
+
+
+def _own(shapes: dict[str, type], method: str) -> dict[str, Any]:
+    """The method each class defines itself."""
+    return {name: vars(cls)[method] for name, cls in shapes.items() if method in vars(cls)}
+
+
+def _instances(shapes: dict[str, type]) -> dict[str, Any]:
+    """How the classes are made and how their instances take changes."""
+    point, plain, mutable, made = (shapes[n] for n in ("Point", "Plain", "Mutable", "Made"))
+    attempts: dict[str, Callable[[], object]] = {
+        "no argument": lambda: point(),
+        "too many": lambda: point(1, 2.0, "", "", 0, 9),
+        "unknown keyword": lambda: point(1, z=2),
+        "not taken": lambda: made(hidden=1),
+        "set a field": lambda: setattr(point(1), "x", 2),
+        "set another attribute": lambda: setattr(point(1), "other", 2),
+        "delete a field": lambda: delattr(point(1), "x"),
+        "plain: set a field": lambda: setattr(plain(1), "x", 2),
+        "plain: delete a field": lambda: delattr(plain(1), "x"),
+        "plain: set its own": lambda: _given_another_attribute(plain(1)),
+        "mutable: set a field": lambda: setattr(mutable(), "items", [3]),
+        "made: defaults": lambda: (made().items, made().hidden, made().made),
+        "made: own list each": lambda: made().made is made().made,
+        "mutable: own list each": lambda: mutable().items is mutable().items,
+        "replace": lambda: dataclasses.replace(point(1, 2.0), label="b"),
+        "post init": lambda: shapes["Checked"](-1),
+    }
+    return {
+        "signature": {name: str(inspect.signature(cls)) for name, cls in shapes.items()},
+        "init": {name: (init.__qualname__.split(".")[-2:], init.__module__) for name, init in _own(shapes, "__init__").items()},
+        "setattr": {name: method.__qualname__.split(".")[-2:] for name, method in _own(shapes, "__setattr__").items()},
+        "frozen": {name: cls.__dataclass_params__.frozen for name, cls in shapes.items()},  # type: ignore[attr-defined]
+        "outcomes": {name: _outcome(action) for name, action in attempts.items()},
+    }
 
 
 def _answers(shapes: dict[str, type]) -> dict[str, Any]:
@@ -88,6 +170,27 @@ def _answers(shapes: dict[str, type]) -> dict[str, Any]:
 
 def test_the_methods_answer_as_the_standard_ones() -> None:
     assert _answers(OURS) == _answers(STANDARD)
+
+
+def test_the_init_and_the_frozen_methods_answer_as_the_standard_ones() -> None:
+    assert _instances(OURS) == _instances(STANDARD)
+
+
+def test_a_subclass_made_by_the_standard_decorator_is_frozen_only_as_its_base_is() -> None:
+    for base in (OURS["Point"], OURS["Mutable"]):
+        frozen = base.__dataclass_params__.frozen  # type: ignore[attr-defined]
+        standard: Any = dataclasses.dataclass(frozen=frozen)(type("Sub", (base,), {"__annotations__": {"more": "int"}, "more": 0}))
+        assert standard(1).more == 0 if frozen else standard().more == 0
+        with pytest.raises(TypeError, match="cannot inherit"):
+            dataclasses.dataclass(frozen=not frozen)(type("Wrong", (base,), {}))
+
+
+def test_a_field_without_a_default_after_one_with_a_default_is_refused_as_the_standard_decorator_refuses_it() -> None:
+    def shape(decorate: Decorator) -> str:
+        return _outcome(lambda: decorate(type("Bad", (), {"__annotations__": {"a": "int", "b": "int"}, "a": 0})))
+
+    assert shape(records.dataclass).startswith("TypeError: non-default argument 'b'")
+    assert shape(records.dataclass) == shape(dataclasses.dataclass)
 
 
 def test_a_frozen_record_stays_frozen_and_a_recursive_one_prints() -> None:
