@@ -1,7 +1,8 @@
 """What a `regmap generate` process imports (issue #36: its CPU against the import floor): a map's targets never
 need pymodbus, which only a plant's bus schedule (regmap_runtime.line) and the live tools use, nor jsonschema, which
 only words the problems of a map that fails the compiled schema check (fastschema), nor any plant module (the plant
-model, its front end, a back end's plant renderer), which only a plant's run uses."""
+model, its front end, a back end's plant renderer), which only a plant's run uses, nor importlib.resources (regmap's
+package data is read beside its code)."""
 
 from __future__ import annotations
 
@@ -35,6 +36,7 @@ def _plant_modules(modules: list[str]) -> list[str]:
 def test_generating_a_valid_map_imports_no_pymodbus_nor_jsonschema_nor_a_plant_module(tmp_path: Path) -> None:
     modules = _imported("generate", str(ROOT / "maps" / "idm_rs.yaml"), "--out", str(tmp_path / "out"))
     assert [name for name in modules if name.split(".")[0] in ("pymodbus", "jsonschema")] == []
+    assert [name for name in modules if name.startswith("importlib.resources")] == []
     assert _plant_modules(modules) == []
     assert (tmp_path / "out" / "python" / "idm_rs" / "__init__.py").is_file()  # every target ran, Python's included
 
