@@ -39,15 +39,20 @@ else:
 
 
 def _standard_init(cls: type) -> bool:
-    """Whether the class needs what only the standard `__init__` does (or writes one of those methods itself)."""
+    """Whether the class needs what only the standard `__init__` does: a `__post_init__`, a dataclass base, an
+    `InitVar` or a keyword-only field, a field named `self`; or keeps its fields other than in the instance's
+    `__dict__` (slots, a base's `__setattr__`, a descriptor as a field's default); or writes one of the methods."""
     annotations = inspect.get_annotations(cls)
+    defaults = [cls.__dict__.get(name) for name in annotations]
     return (
         any(name in cls.__dict__ for name in _INIT_BUILT_HERE)
         or hasattr(cls, "__post_init__")
-        or any(hasattr(base, "__dataclass_fields__") for base in cls.__mro__[1:])
+        or any(hasattr(base, "__dataclass_fields__") or "__setattr__" in vars(base) for base in cls.__mro__[1:-1])
+        or any("__slots__" in vars(klass) for klass in cls.__mro__[:-1])
         or "self" in annotations
         or any("InitVar" in str(kind) or "KW_ONLY" in str(kind) for kind in annotations.values())
-        or any(isinstance(value, dataclasses.Field) and value.kw_only is True for value in cls.__dict__.values())
+        or any(isinstance(default, dataclasses.Field) and default.kw_only is True for default in defaults)
+        or any(hasattr(type(default.default if isinstance(default, dataclasses.Field) else default), "__set__") for default in defaults)
     )
 
 
@@ -59,16 +64,30 @@ def _with_init(cls: type, frozen: bool) -> type:
         cls.__doc__ = cls.__name__
     cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
     fields = dataclasses.fields(cls)
-    methods = {"__init__": _init(fields, frozen, cls.__module__)}
+    methods = {"__init__": _init(fields, cls.__module__)}
     if frozen:
         methods |= _frozen_methods(cls, frozenset(field.name for field in fields))
         vars(cls)["__dataclass_params__"].frozen = True  # what a subclass's decorator checks: frozen inherits frozen only
     for name, method in methods.items():
         method.__qualname__ = f"{cls.__qualname__}.{name}"
         setattr(cls, name, method)
-    if not documented:  # as the standard decorator words it: the name and the signature
-        cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
+    if not documented:
+        cls.__doc__ = _doc(cls.__name__, methods["__init__"])
     return cls
+
+
+def _doc(name: str, init: Callable[..., None]) -> str:
+    """The text the standard decorator gives a class without a docstring, `Name(x: 'int', y: 'float' = 0.0)`: its
+    name and the signature inspect prints for its `__init__`, worded here from the parameters' annotations and
+    defaults (inspect.signature would first look for the callable the class stands for)."""
+    annotations = {name: kind for name, kind in init.__annotations__.items() if name != "return"}
+    defaults = init.__defaults__ or ()
+    first_default = len(annotations) - len(defaults)
+    parameters = [
+        f"{parameter}: {inspect.formatannotation(kind)}" + (f" = {defaults[index - first_default]!r}" if index >= first_default else "")
+        for index, (parameter, kind) in enumerate(annotations.items())
+    ]
+    return f"{name}({', '.join(parameters)})"
 
 
 class _Factory:
@@ -81,34 +100,46 @@ class _Factory:
 _FACTORY = _Factory()
 
 
-def _init(fields: tuple[dataclasses.Field[Any], ...], frozen: bool, module: str) -> Callable[..., None]:
-    """`__init__(self, <the init fields>)` setting every field (a frozen record's through object.__setattr__), with
-    the fields' own default objects: compiled from a short text, without the annotations (they are set after)."""
-    names: dict[str, Any] = {"__name__": module, "__set": object.__setattr__ if frozen else setattr, "__factory": _FACTORY}
-    parameters = ["self"]
-    lines = []
-    for field in fields:
-        default = f"__default_{field.name}"
-        factory = field.default_factory is not dataclasses.MISSING
-        if factory:
-            names[default] = field.default_factory
+def _init(fields: tuple[dataclasses.Field[Any], ...], module: str) -> Callable[..., None]:
+    """`__init__(self, <the init fields>)`, its defaults the fields' own objects (in `__defaults__`, as the standard
+    one's are), storing the fields in the instance's `__dict__` in their order, as the standard one's assignments
+    do: compiled from a text that names each field twice, where the standard one's names it five times."""
+    taken = [field for field in fields if field.init]
+    defaults: list[Any] = []
+    for field in taken:
+        if field.default_factory is not dataclasses.MISSING:
+            defaults.append(_FACTORY)
         elif field.default is not dataclasses.MISSING:
-            names[default] = field.default
-        if field.init:
-            if default not in names and "=" in parameters[-1]:
-                raise TypeError(f"non-default argument {field.name!r} follows default argument")
-            parameters.append(f"{field.name}=__factory" if factory else f"{field.name}={default}" if default in names else field.name)
-            value = f"{default}() if {field.name} is __factory else {field.name}" if factory else field.name
-        elif factory:
-            value = f"{default}()"
-        else:
-            continue  # neither a parameter nor made by a factory: the class attribute holds the default
-        lines.append(f" __set(self, {field.name!r}, {value})")
-    source = f"def __init__({', '.join(parameters)}):\n" + ("\n".join(lines) or " pass")
-    exec(source, names)
+            defaults.append(field.default)
+        elif defaults:
+            raise TypeError(f"non-default argument {field.name!r} follows default argument")
+    values = f"({', '.join(field.name for field in taken)},)" if taken else "()"
+    factories = {field.name: field.default_factory for field in fields if field.default_factory is not dataclasses.MISSING}
+    names: dict[str, Any] = {"__name__": module, "__names": tuple(field.name for field in taken)}
+    if factories:
+        names["__fill"] = _filler(fields, names["__names"], factories)
+        body = f"__fill(self, {values})"
+    else:
+        body = f"self.__dict__.update(zip(__names, {values}))"
+    exec(f"def __init__(self, {', '.join(field.name for field in taken)}):\n {body}", names)
     init: Callable[..., None] = names["__init__"]
-    init.__annotations__ = {field.name: field.type for field in fields if field.init} | {"return": None}
+    init.__defaults__ = tuple(defaults) or None
+    init.__annotations__ = {field.name: field.type for field in taken} | {"return": None}
     return init
+
+
+def _filler(
+    fields: tuple[dataclasses.Field[Any], ...], taken: tuple[str, ...], factories: dict[str, Callable[[], Any]]
+) -> Callable[[Any, tuple[Any, ...]], None]:
+    """What stores the fields of a class with default factories: each field not given (or not taken) made by its own."""
+    stored = [field.name for field in fields if field.init or field.name in factories]
+
+    def fill(record: Any, values: tuple[Any, ...]) -> None:
+        given = dict(zip(taken, values, strict=True))
+        made = {name: factories[name]() for name in factories if given.get(name, _FACTORY) is _FACTORY}
+        record.__dict__.update({name: made[name] if name in made else given[name] for name in stored})
+
+    return fill
 
 
 def _frozen_methods(cls: type[Any], names: frozenset[str]) -> dict[str, Callable[..., None]]:

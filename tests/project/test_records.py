@@ -65,7 +65,11 @@ def _shapes(decorate: Decorator) -> dict[str, type]:
             if self.value < 0:
                 raise ValueError(f"negative: {self.value}")
 
+    # annotations that are objects, not text (a module without `from __future__ import annotations`)
+    typed = decorate(frozen=True)(type("Typed", (), {"__annotations__": {"count": int, "items": list[int], "kind": Any}, "kind": None}))
+
     return {
+        "Typed": typed,
         "Point": Point,
         "Single": Single,
         "Empty": Empty,
