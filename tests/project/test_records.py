@@ -8,8 +8,10 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
+import types
+import typing
 from collections.abc import Callable
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import pytest
 
@@ -225,3 +227,83 @@ def test_a_class_with_its_own_eq_or_another_option_is_the_standard_decorators() 
 
     assert OwnEq(1) == OwnEq(2)  # its own __eq__ kept
     assert Ordered(1) < Ordered(2)  # order=True needs the standard decorator's __eq__ (with eq=False it refuses)
+
+
+def _tuples(base: Any) -> dict[str, Any]:
+    """The same NamedTuple bodies, made on `base` (typing's NamedTuple or regmap.records')."""
+
+    class Point(base):  # type: ignore[misc]
+        """A point on the plane."""
+
+        x: int
+        y: float = 0.0
+        label: str = "origin"
+
+        def norm(self) -> float:
+            return abs(self.x) + abs(self.y)
+
+        @property
+        def text(self) -> str:
+            return f"{self.x},{self.y}"
+
+    class Bare(base):  # type: ignore[misc]
+        items: tuple[int, ...]
+
+    return {"Point": Point, "Bare": Bare}
+
+
+def _text(annotation: Any) -> Any:
+    """An annotation as the class body wrote it: typing's NamedTuple makes a ForwardRef of it, regmap.records' keeps it."""
+    return getattr(annotation, "__forward_arg__", annotation)
+
+
+def _tuple_answers(shapes: dict[str, Any]) -> dict[str, Any]:
+    point, bare = shapes["Point"], shapes["Bare"]
+    made = point(3, -1.5)
+
+    answers: dict[str, Any] = {
+        "fields": {name: (cls._fields, cls._field_defaults) for name, cls in shapes.items()},
+        "names": {name: (cls.__name__, cls.__qualname__.split(".")[-1], cls.__module__, cls.__doc__) for name, cls in shapes.items()},
+        "annotations": {
+            name: {key: getattr(kind, "__forward_arg__", kind) for key, kind in cls.__annotations__.items()} for name, cls in shapes.items()
+        },
+        "signature": {
+            name: [(p.name, p.default, _text(p.annotation)) for p in inspect.signature(cls).parameters.values()]
+            for name, cls in shapes.items()
+        },
+        "instance": [
+            repr(made),
+            made.norm(),
+            made.text,
+            made._asdict(),
+            made._replace(y=2.0),
+            tuple(made),
+            hash(made) == hash((3, -1.5, "origin")),
+        ],
+        "equal": [made == (3, -1.5, "origin"), made == point(3, -1.5), bare((1,)) == ((1,),)],
+        "outcomes": {
+            "missing": _outcome(lambda: point()),
+            "too many": _outcome(lambda: point(1, 2.0, "a", "b")),
+            "set": _outcome(lambda: setattr(made, "x", 1)),
+        },
+    }
+    return answers
+
+
+def test_a_records_named_tuple_answers_as_typings() -> None:
+    assert _tuple_answers(_tuples(records.NamedTuple)) == _tuple_answers(_tuples(NamedTuple))
+    assert typing.get_type_hints(_tuples(records.NamedTuple)["Point"]) == typing.get_type_hints(_tuples(NamedTuple)["Point"])
+
+
+def test_a_records_named_tuple_refuses_what_typings_refuses() -> None:
+    def made(base: Any, namespace: dict[str, Any]) -> str:
+        return _outcome(lambda: types.new_class("Wrong", (base,), exec_body=lambda body: body.update(namespace, __module__=__name__)))
+
+    refused: list[dict[str, Any]] = [
+        {"__annotations__": {"a": "int", "b": "int", "c": "int"}, "a": 0, "b": 1},  # a field without a default after two with
+        {"__annotations__": {"a": "int"}, "_replace": None},
+        {"__annotations__": {"a": "int"}, "__init__": None},
+    ]
+    for namespace in refused:
+        assert made(records.NamedTuple, namespace) == made(NamedTuple, namespace)
+        assert made(records.NamedTuple, namespace).split(":")[0] in ("TypeError", "AttributeError")
