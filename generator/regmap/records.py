@@ -5,8 +5,8 @@ text, one `exec` each (about 0.9 ms a class; a `regmap generate` makes some 90 c
 as the generated ones do: the same text, comparisons, hashes, signature and errors (tests/project/test_records.py
 compares them). mypy sees the standard decorator itself.
 
-A class that writes one of these methods itself, or asks for another option than `frozen`, is left to the standard
-decorator whole; one with a `__post_init__`, a dataclass base, an `InitVar`, a keyword-only field or a field named
+A class that writes one of these methods itself, or asks for another option than `frozen` and `order`, is left to
+the standard decorator whole; one with a `__post_init__`, a dataclass base, an `InitVar`, a keyword-only field or a field named
 `self` has the standard `__init__` (and `__setattr__`, `__delattr__`), and the other three methods from here.
 
 `NamedTuple`: typing's, with each field's annotation kept as written. typing's makes a ForwardRef of each annotation
@@ -25,6 +25,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 _BUILT_HERE = ("__repr__", "__eq__", "__hash__")
+_ORDER = ("__lt__", "__le__", "__gt__", "__ge__")  # with `order=True`, as the standard decorator's: by the compared fields
 _INIT_BUILT_HERE = ("__init__", "__setattr__", "__delattr__")
 
 if TYPE_CHECKING:
@@ -34,12 +35,13 @@ else:
 
     def dataclass(cls: type | None = None, /, **options: Any) -> Any:
         def made(cls: type) -> type:
-            if set(options) - {"frozen"} or any(name in cls.__dict__ for name in _BUILT_HERE):
+            order = options.get("order", False)
+            if set(options) - {"frozen", "order"} or any(name in cls.__dict__ for name in _BUILT_HERE + (_ORDER if order else ())):
                 return dataclasses.dataclass(cls, **options)
             frozen = options.get("frozen", False)
             if _standard_init(cls):
-                return _with_methods(dataclasses.dataclass(cls, repr=False, eq=False, **options), frozen)
-            return _with_methods(_with_init(cls, frozen), frozen)
+                return _with_methods(dataclasses.dataclass(cls, repr=False, eq=False, frozen=frozen), frozen, order)
+            return _with_methods(_with_init(cls, frozen), frozen, order)
 
         return made if cls is None else made(cls)
 
@@ -165,7 +167,7 @@ def _frozen_methods(cls: type[Any], names: frozenset[str]) -> dict[str, Callable
     return {"__setattr__": __setattr__, "__delattr__": __delattr__}
 
 
-def _with_methods(cls: type, frozen: bool) -> type:
+def _with_methods(cls: type, frozen: bool, order: bool) -> type:
     fields = dataclasses.fields(cls)
     compared = _values([field.name for field in fields if field.compare])
     hashed = _values([field.name for field in fields if (field.compare if field.hash is None else field.hash)])
@@ -185,11 +187,26 @@ def _with_methods(cls: type, frozen: bool) -> type:
 
     # As the standard decorator does: a frozen class hashes its compared fields, a mutable one is unhashable.
     methods = {"__repr__": __repr__, "__eq__": __eq__, "__hash__": __hash__ if frozen else None}
+    if order:
+        methods |= {name: _comparison(compared, name) for name in _ORDER}
     for name, method in methods.items():
         if method is not None:
             method.__qualname__ = f"{cls.__qualname__}.{name}"
         setattr(cls, name, method)
     return cls
+
+
+def _comparison(compared: Callable[[Any], tuple[Any, ...]], name: str) -> Callable[[Any, Any], Any]:
+    """`__lt__` (`__le__` ...): the compared fields' tuples in that order, for two records of one class."""
+    holds = getattr(operator, name)
+
+    def compare(self: Any, other: Any) -> Any:
+        if other.__class__ is self.__class__:
+            return holds(compared(self), compared(other))
+        return NotImplemented
+
+    compare.__name__ = name
+    return compare
 
 
 def _values(names: list[str]) -> Callable[[Any], tuple[Any, ...]]:

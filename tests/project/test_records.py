@@ -6,8 +6,10 @@ another option) is the standard decorator's alone."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import math
+import operator
 import types
 import typing
 from collections.abc import Callable
@@ -221,12 +223,33 @@ def test_a_class_with_its_own_eq_or_another_option_is_the_standard_decorators() 
 
         __hash__ = object.__hash__
 
-    @records.dataclass(frozen=True, order=True)
-    class Ordered:
+    @records.dataclass(frozen=True, slots=True)
+    class Slotted:
         x: int
 
     assert OwnEq(1) == OwnEq(2)  # its own __eq__ kept
-    assert Ordered(1) < Ordered(2)  # order=True needs the standard decorator's __eq__ (with eq=False it refuses)
+    assert Slotted.__slots__ == ("x",)
+    assert not hasattr(Slotted(1), "__dict__")
+
+
+def test_an_ordered_record_compares_as_the_standard_ones() -> None:
+    def answers(decorate: Decorator) -> list[str]:
+        class Version:
+            major: int
+            minor: int
+            note: str = dataclasses.field(default="", compare=False)
+
+        ordered: Any = decorate(frozen=True, order=True)(Version)
+        versions = [ordered(1, 2, "b"), ordered(1, 2, "a"), ordered(1, 10), ordered(0, 99), ordered(2, 0)]
+        tests = (operator.lt, operator.le, operator.gt, operator.ge)
+        return [
+            repr(sorted(versions)),
+            *(_outcome(functools.partial(test, a, b)) for a in versions for b in versions for test in tests),
+            *(_outcome(functools.partial(test, versions[0], (1, 2))) for test in tests),
+            *(vars(ordered)[name].__name__ for name in ("__lt__", "__ge__")),
+        ]
+
+    assert answers(records.dataclass) == answers(dataclasses.dataclass)
 
 
 def _tuples(base: Any) -> dict[str, Any]:
