@@ -22,7 +22,6 @@ from regmap_runtime.spaces import DEFAULT_SPACE
 
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
     from regmap.plant import Plant
-
 __all__ = ["RUNTIME_MODULES", "TARGET", "PythonIdentifier", "check", "device_context", "render_device", "render_shared", "runtime_package"]
 
 
