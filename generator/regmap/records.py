@@ -1,13 +1,13 @@
-"""`dataclass`: the standard library's, with the methods it compiles from source for each class built here instead:
-`__repr__`, `__eq__` and `__hash__` from the class's fields, a frozen class's `__setattr__` and `__delattr__` as
-closures, and `__init__` compiled from a short source of its own. Python 3.11 compiles each of these functions from
-text, one `exec` each (about 0.9 ms a class; a `regmap generate` makes some 90 classes at import). The methods answer
-as the generated ones do: the same text, comparisons, hashes, signature and errors (tests/project/test_records.py
-compares them). mypy sees the standard decorator itself.
+"""`dataclass`: the standard library's, with the methods it compiles from text for each class built here instead:
+`__repr__`, `__eq__`, `__hash__` (and with `order=True` the four comparisons) from the class's fields, a frozen
+class's `__setattr__` and `__delattr__` as closures, and `__init__` compiled from a short text of its own. Python 3.11
+compiles each of those functions with an `exec` of its own text (about 0.9 ms a class; a `regmap generate` makes some
+90 classes at import). The methods answer as the generated ones do: the same text, comparisons, hashes, signature
+and errors (tests/project/test_records.py compares them). mypy sees the standard decorator itself.
 
 A class that writes one of these methods itself, or asks for another option than `frozen` and `order`, is left to
-the standard decorator whole; one with a `__post_init__`, a dataclass base, an `InitVar`, a keyword-only field or a field named
-`self` has the standard `__init__` (and `__setattr__`, `__delattr__`), and the other three methods from here.
+the standard decorator whole; one that needs what only the standard `__init__` does (`_standard_init`: a
+`__post_init__`, a dataclass base, an `InitVar` ...) gets it, and the other methods from here.
 
 `NamedTuple`: typing's, with each field's annotation kept as written. typing's makes a ForwardRef of each annotation
 that is text (all of them, under `from __future__ import annotations`), compiling it: a fifth of the CPU of importing
