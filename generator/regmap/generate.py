@@ -9,19 +9,21 @@ import shutil
 import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from regmap import entrypoints
 from regmap.diagnostics import Diagnostic, MapError, OutputError, UsageError
 from regmap.model import Device
 from regmap.outputcache import OutputCache, Source, entry_key
-from regmap.plant import Plant
 
 # The contract lives in regmap.target; these names stay importable from here for the runner's users.
 from regmap.target import TARGET_GROUP, reserved_id_problems
 from regmap.target import Files as Files
 from regmap.target import Target as Target
 from regmap.target import TargetOptions as TargetOptions
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Plant
 
 
 def check(devices: Sequence[Device], targets: Sequence[str] | None = None) -> list[Diagnostic]:

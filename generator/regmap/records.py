@@ -1,36 +1,173 @@
-"""`dataclass`: the standard library's, with `__repr__`, `__eq__` and `__hash__` built from the class's fields instead
-of compiled from source for each class. Python 3.11 compiles six functions for each frozen dataclass (about 0.9 ms a
-class); half of them go this way. The methods answer as the generated ones do: the same text, the same comparisons,
-the same hashes (tests/project/test_records.py compares them). mypy sees the standard decorator itself.
+"""`dataclass`: the standard library's, with the methods it compiles from text for each class built here instead:
+`__repr__`, `__eq__`, `__hash__` (and with `order=True` the four comparisons) from the class's fields, a frozen
+class's `__setattr__` and `__delattr__` as closures, and `__init__` compiled from a short text of its own. Python 3.11
+compiles each of those functions with an `exec` of its own text (about 0.9 ms a class; a `regmap generate` makes some
+90 classes at import). The methods answer as the generated ones do: the same text, comparisons, hashes, signature
+and errors (tests/project/test_records.py compares them). mypy sees the standard decorator itself.
 
-A class that writes one of the three methods itself, or asks for another option than `frozen`, is left to the
-standard decorator whole.
+A class that writes one of these methods itself, or asks for another option than `frozen` and `order`, is left to
+the standard decorator whole; one that needs what only the standard `__init__` does (`_standard_init`: a
+`__post_init__`, a dataclass base, an `InitVar` ...) gets it, and the other methods from here.
+
+`NamedTuple`: typing's, with each field's annotation kept as written. typing's makes a ForwardRef of each annotation
+that is text (all of them, under `from __future__ import annotations`), compiling it: a fifth of the CPU of importing
+the C, Markdown and ST back ends. mypy sees typing's class itself.
 """
 
 from __future__ import annotations
 
+import collections
 import dataclasses
+import inspect
 import operator
 import reprlib
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 _BUILT_HERE = ("__repr__", "__eq__", "__hash__")
+_ORDER = ("__lt__", "__le__", "__gt__", "__ge__")  # with `order=True`, as the standard decorator's: by the compared fields
+_INIT_BUILT_HERE = ("__init__", "__setattr__", "__delattr__")
 
 if TYPE_CHECKING:
     from dataclasses import dataclass as dataclass
+    from typing import NamedTuple as NamedTuple
 else:
 
     def dataclass(cls: type | None = None, /, **options: Any) -> Any:
         def made(cls: type) -> type:
-            if set(options) - {"frozen"} or any(name in cls.__dict__ for name in _BUILT_HERE):
+            order = options.get("order", False)
+            if set(options) - {"frozen", "order"} or any(name in cls.__dict__ for name in _BUILT_HERE + (_ORDER if order else ())):
                 return dataclasses.dataclass(cls, **options)
-            return _with_methods(dataclasses.dataclass(cls, repr=False, eq=False, **options), options.get("frozen", False))
+            frozen = options.get("frozen", False)
+            if _standard_init(cls):
+                return _with_methods(dataclasses.dataclass(cls, repr=False, eq=False, frozen=frozen), frozen, order)
+            return _with_methods(_with_init(cls, frozen), frozen, order)
 
         return made if cls is None else made(cls)
 
 
-def _with_methods(cls: type, frozen: bool) -> type:
+def _standard_init(cls: type) -> bool:
+    """Whether the class needs what only the standard `__init__` does: a `__post_init__`, a dataclass base, an
+    `InitVar` or a keyword-only field, a field named `self`; or keeps its fields other than in the instance's
+    `__dict__` (slots, a base's `__setattr__`, a descriptor as a field's default); or writes one of the methods."""
+    annotations = inspect.get_annotations(cls)
+    defaults = [cls.__dict__.get(name) for name in annotations]
+    return (
+        any(name in cls.__dict__ for name in _INIT_BUILT_HERE)
+        or hasattr(cls, "__post_init__")
+        or any(hasattr(base, "__dataclass_fields__") or "__setattr__" in vars(base) for base in cls.__mro__[1:-1])
+        or any("__slots__" in vars(klass) for klass in cls.__mro__[:-1])
+        or "self" in annotations
+        or any("InitVar" in str(kind) or "KW_ONLY" in str(kind) for kind in annotations.values())
+        or any(isinstance(default, dataclasses.Field) and default.kw_only is True for default in defaults)
+        or any(hasattr(type(default.default if isinstance(default, dataclasses.Field) else default), "__set__") for default in defaults)
+    )
+
+
+def _with_init(cls: type, frozen: bool) -> type:
+    """The standard decorator's fields, defaults and `__match_args__`, with `__init__` (and a frozen class's
+    `__setattr__`, `__delattr__`) built here."""
+    documented = bool(cls.__doc__)
+    if not documented:  # the standard decorator would word one from a signature without the `__init__` made below
+        cls.__doc__ = cls.__name__
+    cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
+    fields = dataclasses.fields(cls)
+    methods = {"__init__": _init(fields, cls.__module__)}
+    if frozen:
+        methods |= _frozen_methods(cls, frozenset(field.name for field in fields))
+        vars(cls)["__dataclass_params__"].frozen = True  # what a subclass's decorator checks: frozen inherits frozen only
+    for name, method in methods.items():
+        method.__qualname__ = f"{cls.__qualname__}.{name}"
+        setattr(cls, name, method)
+    if not documented:
+        cls.__doc__ = _doc(cls.__name__, methods["__init__"])
+    return cls
+
+
+def _doc(name: str, init: Callable[..., None]) -> str:
+    """The text the standard decorator gives a class without a docstring, `Name(x: 'int', y: 'float' = 0.0)`: its
+    name and the signature inspect prints for its `__init__`, worded here from the parameters' annotations and
+    defaults (inspect.signature would first look for the callable the class stands for)."""
+    annotations = {name: kind for name, kind in init.__annotations__.items() if name != "return"}
+    defaults = init.__defaults__ or ()
+    first_default = len(annotations) - len(defaults)
+    parameters = [
+        f"{parameter}: {inspect.formatannotation(kind)}" + (f" = {defaults[index - first_default]!r}" if index >= first_default else "")
+        for index, (parameter, kind) in enumerate(annotations.items())
+    ]
+    return f"{name}({', '.join(parameters)})"
+
+
+class _Factory:
+    """The default an `__init__` parameter shows for a field with a default factory, as the standard one's does."""
+
+    def __repr__(self) -> str:
+        return "<factory>"
+
+
+_FACTORY = _Factory()
+
+
+def _init(fields: tuple[dataclasses.Field[Any], ...], module: str) -> Callable[..., None]:
+    """`__init__(self, <the init fields>)`, its defaults the fields' own objects (in `__defaults__`, as the standard
+    one's are), storing the fields in the instance's `__dict__` in their order, as the standard one's assignments
+    do: compiled from a text that names each field twice, where the standard one's names it five times."""
+    taken = [field for field in fields if field.init]
+    defaults: list[Any] = []
+    for field in taken:
+        if field.default_factory is not dataclasses.MISSING:
+            defaults.append(_FACTORY)
+        elif field.default is not dataclasses.MISSING:
+            defaults.append(field.default)
+        elif defaults:
+            raise TypeError(f"non-default argument {field.name!r} follows default argument")
+    values = f"({', '.join(field.name for field in taken)},)" if taken else "()"
+    factories = {field.name: field.default_factory for field in fields if field.default_factory is not dataclasses.MISSING}
+    names: dict[str, Any] = {"__name__": module, "__names": tuple(field.name for field in taken)}
+    if factories:
+        names["__fill"] = _filler(fields, names["__names"], factories)
+        body = f"__fill(self, {values})"
+    else:
+        body = f"self.__dict__.update(zip(__names, {values}))"
+    exec(f"def __init__(self, {', '.join(field.name for field in taken)}):\n {body}", names)
+    init: Callable[..., None] = names["__init__"]
+    init.__defaults__ = tuple(defaults) or None
+    init.__annotations__ = {field.name: field.type for field in taken} | {"return": None}
+    return init
+
+
+def _filler(
+    fields: tuple[dataclasses.Field[Any], ...], taken: tuple[str, ...], factories: dict[str, Callable[[], Any]]
+) -> Callable[[Any, tuple[Any, ...]], None]:
+    """What stores the fields of a class with default factories: each field not given (or not taken) made by its own."""
+    stored = [field.name for field in fields if field.init or field.name in factories]
+
+    def fill(record: Any, values: tuple[Any, ...]) -> None:
+        given = dict(zip(taken, values, strict=True))
+        made = {name: factories[name]() for name in factories if given.get(name, _FACTORY) is _FACTORY}
+        record.__dict__.update({name: made[name] if name in made else given[name] for name in stored})
+
+    return fill
+
+
+def _frozen_methods(cls: type[Any], names: frozenset[str]) -> dict[str, Callable[..., None]]:
+    """A frozen record's `__setattr__` and `__delattr__`: a field of it (or of a subclass that is no dataclass), or
+    any attribute of an instance of the class itself, cannot be set or deleted."""
+
+    def __setattr__(self: Any, name: str, value: Any) -> None:
+        if type(self) is cls or name in names:
+            raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
+        super(cls, self).__setattr__(name, value)
+
+    def __delattr__(self: Any, name: str) -> None:
+        if type(self) is cls or name in names:
+            raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
+        super(cls, self).__delattr__(name)
+
+    return {"__setattr__": __setattr__, "__delattr__": __delattr__}
+
+
+def _with_methods(cls: type, frozen: bool, order: bool) -> type:
     fields = dataclasses.fields(cls)
     compared = _values([field.name for field in fields if field.compare])
     hashed = _values([field.name for field in fields if (field.compare if field.hash is None else field.hash)])
@@ -50,11 +187,26 @@ def _with_methods(cls: type, frozen: bool) -> type:
 
     # As the standard decorator does: a frozen class hashes its compared fields, a mutable one is unhashable.
     methods = {"__repr__": __repr__, "__eq__": __eq__, "__hash__": __hash__ if frozen else None}
+    if order:
+        methods |= {name: _comparison(compared, name) for name in _ORDER}
     for name, method in methods.items():
         if method is not None:
             method.__qualname__ = f"{cls.__qualname__}.{name}"
         setattr(cls, name, method)
     return cls
+
+
+def _comparison(compared: Callable[[Any], tuple[Any, ...]], name: str) -> Callable[[Any, Any], Any]:
+    """`__lt__` (`__le__` ...): the compared fields' tuples in that order, for two records of one class."""
+    holds = getattr(operator, name)
+
+    def compare(self: Any, other: Any) -> Any:
+        if other.__class__ is self.__class__:
+            return holds(compared(self), compared(other))
+        return NotImplemented
+
+    compare.__name__ = name
+    return compare
 
 
 def _values(names: list[str]) -> Callable[[Any], tuple[Any, ...]]:
@@ -65,3 +217,44 @@ def _values(names: list[str]) -> Callable[[Any], tuple[Any, ...]]:
         [name] = names
         return lambda record: (getattr(record, name),)
     return lambda record: ()
+
+
+# What typing.NamedTuple refuses in a class body, and what it does not copy from it onto the class.
+_TUPLE_PROHIBITED = frozenset(
+    {"__new__", "__init__", "__slots__", "__getnewargs__", "_fields", "_field_defaults", "_make", "_replace", "_asdict", "_source"}
+)
+_TUPLE_SPECIAL = frozenset({"__module__", "__name__", "__annotations__"})
+
+
+_namedtuple: Callable[..., Any] = collections.namedtuple  # called with names known only here (mypy wants literals)
+
+
+class _TupleMaker(type):
+    """typing.NamedTupleMeta's work (typing 3.11), without Generic bases, the annotations kept as the body wrote them."""
+
+    def __new__(cls, typename: str, bases: tuple[type, ...], namespace: dict[str, Any]) -> Any:
+        if any(base is not NamedTuple for base in bases):
+            raise TypeError("can only inherit from a NamedTuple type (regmap.records: not from Generic)")
+        annotations: dict[str, Any] = namespace.get("__annotations__", {})
+        default_names: list[str] = []
+        for field_name in annotations:
+            if field_name in namespace:
+                default_names.append(field_name)
+            elif default_names:
+                raise TypeError(
+                    f"Non-default namedtuple field {field_name} cannot follow default field"
+                    f"{'s' if len(default_names) > 1 else ''} {', '.join(default_names)}"
+                )
+        defaults = [namespace[name] for name in default_names]
+        made: Any = _namedtuple(typename, list(annotations), defaults=defaults, module=namespace["__module__"])
+        made.__annotations__ = made.__new__.__annotations__ = dict(annotations)
+        for key, value in namespace.items():
+            if key in _TUPLE_PROHIBITED:
+                raise AttributeError("Cannot overwrite NamedTuple attribute " + key)
+            if key not in _TUPLE_SPECIAL and key not in made._fields:
+                setattr(made, key, value)
+        return made
+
+
+if not TYPE_CHECKING:
+    NamedTuple = type.__new__(_TupleMaker, "NamedTuple", (), {})  # the base a class names; itself never made by __new__

@@ -13,13 +13,15 @@ import os
 import re
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import jinja2
 import jinja2.bccache
 
 from regmap.model import Device
-from regmap.plant import Plant
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Plant
 
 # How many texts each escaping cache keeps: a run over three maps meets about 5,000; a process that generates for
 # hours (a build server, a test run) keeps no more than this.

@@ -8,16 +8,18 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from regmap.model import ByteOrder, Device, EnumType, PollClass, Register
-from regmap.plant import Bus, Plant, PlantDevice
 from regmap.records import dataclass
 from regmap_runtime.align import Alignment
 from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Bus, Plant, PlantDevice
 
 _SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
 _PLANS: dict[int, tuple[Device, tuple[ReadBlock, ...]]] = {}  # read_all()'s plan of each device

@@ -9,11 +9,14 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from regmap.diagnostics import Diagnostic, at
 from regmap.model import Device
-from regmap.plant import Plant
 from regmap.records import dataclass
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Plant
 
 Files = dict[str, str]  # relative path -> content
 TargetOptions = Mapping[str, str]  # `regmap generate` target options (e.g. `--select`) -> their text

@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 from regmap.diagnostics import MapError
-from regmap.frontend.plant import is_plant_text, load_plant
+from regmap.frontend.plant import load_plant
+from regmap.frontend.plantfile import is_plant_text
 
 from conftest import ROOT
 

@@ -1,13 +1,19 @@
 """regmap.records.dataclass makes classes that answer as the standard decorator's do: the same repr (recursion
 included), the same equality (NaN, other classes, subclasses), the same hashes, unhashable when mutable, frozen
-when frozen; and a class it cannot serve (its own __eq__, another option) is the standard decorator's alone."""
+when frozen, the same __init__ (signature, defaults, factories, errors); and a class it cannot serve (its own __eq__,
+another option) is the standard decorator's alone."""
 
 from __future__ import annotations
 
 import dataclasses
+import functools
+import inspect
 import math
+import operator
+import types
+import typing
 from collections.abc import Callable
-from typing import Any
+from typing import Any, ClassVar, NamedTuple
 
 import pytest
 
@@ -43,7 +49,40 @@ def _shapes(decorate: Decorator) -> dict[str, type]:
     class Child(Point):
         extra: tuple[int, ...] = ()
 
-    return {"Point": Point, "Single": Single, "Empty": Empty, "Mutable": Mutable, "Child": Child}
+    @decorate(frozen=True)
+    class Made:
+        """Fields the __init__ does not take, or fills from a factory."""
+
+        items: tuple[int, ...] = dataclasses.field(default_factory=tuple)
+        hidden: int = dataclasses.field(default=5, init=False)
+        made: list[int] = dataclasses.field(default_factory=list, init=False, compare=False)
+        shared: ClassVar[int] = 3
+
+    class Plain(Point):  # no dataclass itself: may have attributes of its own, not set the fields
+        pass
+
+    @decorate(frozen=True)
+    class Checked:
+        value: int
+
+        def __post_init__(self) -> None:
+            if self.value < 0:
+                raise ValueError(f"negative: {self.value}")
+
+    # annotations that are objects, not text (a module without `from __future__ import annotations`)
+    typed = decorate(frozen=True)(type("Typed", (), {"__annotations__": {"count": int, "items": list[int], "kind": Any}, "kind": None}))
+
+    return {
+        "Typed": typed,
+        "Point": Point,
+        "Single": Single,
+        "Empty": Empty,
+        "Mutable": Mutable,
+        "Child": Child,
+        "Made": Made,
+        "Plain": Plain,
+        "Checked": Checked,
+    }
 
 
 STANDARD = _shapes(dataclasses.dataclass)
@@ -67,7 +106,58 @@ def _samples(shapes: dict[str, type]) -> list[Any]:
         mutable([1, 2]),
         child(1, 2.5, "a", "hidden", 3),
         child(1, 2.5, "a", "hidden", 3, (7,)),
+        shapes["Made"](),
+        shapes["Made"]((1, 2)),
+        shapes["Plain"](1),
     ]
+
+
+def _outcome(action: Callable[[], object]) -> str:
+    """What an action answers, or the exception it raises (its class and words)."""
+    try:
+        return repr(action())
+    except Exception as exc:
+        return f"{type(exc).__name__}: {exc}"
+
+
+def _given_another_attribute(instance: object) -> dict[str, Any]:
+    instance.other = 2  # type: ignore[attr-defined]
+    return vars(instance)
+
+
+def _own(shapes: dict[str, type], method: str) -> dict[str, Any]:
+    """The method each class defines itself."""
+    return {name: vars(cls)[method] for name, cls in shapes.items() if method in vars(cls)}
+
+
+def _instances(shapes: dict[str, type]) -> dict[str, Any]:
+    """How the classes are made and how their instances take changes."""
+    point, plain, mutable, made = (shapes[n] for n in ("Point", "Plain", "Mutable", "Made"))
+    attempts: dict[str, Callable[[], object]] = {
+        "no argument": lambda: point(),
+        "too many": lambda: point(1, 2.0, "", "", 0, 9),
+        "unknown keyword": lambda: point(1, z=2),
+        "not taken": lambda: made(hidden=1),
+        "set a field": lambda: setattr(point(1), "x", 2),
+        "set another attribute": lambda: setattr(point(1), "other", 2),
+        "delete a field": lambda: delattr(point(1), "x"),
+        "plain: set a field": lambda: setattr(plain(1), "x", 2),
+        "plain: delete a field": lambda: delattr(plain(1), "x"),
+        "plain: set its own": lambda: _given_another_attribute(plain(1)),
+        "mutable: set a field": lambda: setattr(mutable(), "items", [3]),
+        "made: defaults": lambda: (made().items, made().hidden, made().made),
+        "made: own list each": lambda: made().made is made().made,
+        "mutable: own list each": lambda: mutable().items is mutable().items,
+        "replace": lambda: dataclasses.replace(point(1, 2.0), label="b"),
+        "post init": lambda: shapes["Checked"](-1),
+    }
+    return {
+        "signature": {name: str(inspect.signature(cls)) for name, cls in shapes.items()},
+        "init": {name: (init.__qualname__.split(".")[-2:], init.__module__) for name, init in _own(shapes, "__init__").items()},
+        "setattr": {name: method.__qualname__.split(".")[-2:] for name, method in _own(shapes, "__setattr__").items()},
+        "frozen": {name: cls.__dataclass_params__.frozen for name, cls in shapes.items()},  # type: ignore[attr-defined]
+        "outcomes": {name: _outcome(action) for name, action in attempts.items()},
+    }
 
 
 def _answers(shapes: dict[str, type]) -> dict[str, Any]:
@@ -88,6 +178,27 @@ def _answers(shapes: dict[str, type]) -> dict[str, Any]:
 
 def test_the_methods_answer_as_the_standard_ones() -> None:
     assert _answers(OURS) == _answers(STANDARD)
+
+
+def test_the_init_and_the_frozen_methods_answer_as_the_standard_ones() -> None:
+    assert _instances(OURS) == _instances(STANDARD)
+
+
+def test_a_subclass_made_by_the_standard_decorator_is_frozen_only_as_its_base_is() -> None:
+    for base in (OURS["Point"], OURS["Mutable"]):
+        frozen = base.__dataclass_params__.frozen  # type: ignore[attr-defined]
+        standard: Any = dataclasses.dataclass(frozen=frozen)(type("Sub", (base,), {"__annotations__": {"more": "int"}, "more": 0}))
+        assert standard(1).more == 0 if frozen else standard().more == 0
+        with pytest.raises(TypeError, match="cannot inherit"):
+            dataclasses.dataclass(frozen=not frozen)(type("Wrong", (base,), {}))
+
+
+def test_a_field_without_a_default_after_one_with_a_default_is_refused_as_the_standard_decorator_refuses_it() -> None:
+    def shape(decorate: Decorator) -> str:
+        return _outcome(lambda: decorate(type("Bad", (), {"__annotations__": {"a": "int", "b": "int"}, "a": 0})))
+
+    assert shape(records.dataclass).startswith("TypeError: non-default argument 'b'")
+    assert shape(records.dataclass) == shape(dataclasses.dataclass)
 
 
 def test_a_frozen_record_stays_frozen_and_a_recursive_one_prints() -> None:
@@ -112,9 +223,110 @@ def test_a_class_with_its_own_eq_or_another_option_is_the_standard_decorators() 
 
         __hash__ = object.__hash__
 
-    @records.dataclass(frozen=True, order=True)
-    class Ordered:
+    @records.dataclass(frozen=True, slots=True)
+    class Slotted:
         x: int
 
     assert OwnEq(1) == OwnEq(2)  # its own __eq__ kept
-    assert Ordered(1) < Ordered(2)  # order=True needs the standard decorator's __eq__ (with eq=False it refuses)
+    assert Slotted.__slots__ == ("x",)
+    assert not hasattr(Slotted(1), "__dict__")
+
+
+def test_an_ordered_record_compares_as_the_standard_ones() -> None:
+    def answers(decorate: Decorator) -> list[str]:
+        class Version:
+            major: int
+            minor: int
+            note: str = dataclasses.field(default="", compare=False)
+
+        ordered: Any = decorate(frozen=True, order=True)(Version)
+        versions = [ordered(1, 2, "b"), ordered(1, 2, "a"), ordered(1, 10), ordered(0, 99), ordered(2, 0)]
+        tests = (operator.lt, operator.le, operator.gt, operator.ge)
+        return [
+            repr(sorted(versions)),
+            *(_outcome(functools.partial(test, a, b)) for a in versions for b in versions for test in tests),
+            *(_outcome(functools.partial(test, versions[0], (1, 2))) for test in tests),
+            *(vars(ordered)[name].__name__ for name in ("__lt__", "__ge__")),
+        ]
+
+    assert answers(records.dataclass) == answers(dataclasses.dataclass)
+
+
+def _tuples(base: Any) -> dict[str, Any]:
+    """The same NamedTuple bodies, made on `base` (typing's NamedTuple or regmap.records')."""
+
+    class Point(base):  # type: ignore[misc]
+        """A point on the plane."""
+
+        x: int
+        y: float = 0.0
+        label: str = "origin"
+
+        def norm(self) -> float:
+            return abs(self.x) + abs(self.y)
+
+        @property
+        def text(self) -> str:
+            return f"{self.x},{self.y}"
+
+    class Bare(base):  # type: ignore[misc]
+        items: tuple[int, ...]
+
+    return {"Point": Point, "Bare": Bare}
+
+
+def _text(annotation: Any) -> Any:
+    """An annotation as the class body wrote it: typing's NamedTuple makes a ForwardRef of it, regmap.records' keeps it."""
+    return getattr(annotation, "__forward_arg__", annotation)
+
+
+def _tuple_answers(shapes: dict[str, Any]) -> dict[str, Any]:
+    point, bare = shapes["Point"], shapes["Bare"]
+    made = point(3, -1.5)
+
+    answers: dict[str, Any] = {
+        "fields": {name: (cls._fields, cls._field_defaults) for name, cls in shapes.items()},
+        "names": {name: (cls.__name__, cls.__qualname__.split(".")[-1], cls.__module__, cls.__doc__) for name, cls in shapes.items()},
+        "annotations": {
+            name: {key: getattr(kind, "__forward_arg__", kind) for key, kind in cls.__annotations__.items()} for name, cls in shapes.items()
+        },
+        "signature": {
+            name: [(p.name, p.default, _text(p.annotation)) for p in inspect.signature(cls).parameters.values()]
+            for name, cls in shapes.items()
+        },
+        "instance": [
+            repr(made),
+            made.norm(),
+            made.text,
+            made._asdict(),
+            made._replace(y=2.0),
+            tuple(made),
+            hash(made) == hash((3, -1.5, "origin")),
+        ],
+        "equal": [made == (3, -1.5, "origin"), made == point(3, -1.5), bare((1,)) == ((1,),)],
+        "outcomes": {
+            "missing": _outcome(lambda: point()),
+            "too many": _outcome(lambda: point(1, 2.0, "a", "b")),
+            "set": _outcome(lambda: setattr(made, "x", 1)),
+        },
+    }
+    return answers
+
+
+def test_a_records_named_tuple_answers_as_typings() -> None:
+    assert _tuple_answers(_tuples(records.NamedTuple)) == _tuple_answers(_tuples(NamedTuple))
+    assert typing.get_type_hints(_tuples(records.NamedTuple)["Point"]) == typing.get_type_hints(_tuples(NamedTuple)["Point"])
+
+
+def test_a_records_named_tuple_refuses_what_typings_refuses() -> None:
+    def made(base: Any, namespace: dict[str, Any]) -> str:
+        return _outcome(lambda: types.new_class("Wrong", (base,), exec_body=lambda body: body.update(namespace, __module__=__name__)))
+
+    refused: list[dict[str, Any]] = [
+        {"__annotations__": {"a": "int", "b": "int", "c": "int"}, "a": 0, "b": 1},  # a field without a default after two with
+        {"__annotations__": {"a": "int"}, "_replace": None},
+        {"__annotations__": {"a": "int"}, "__init__": None},
+    ]
+    for namespace in refused:
+        assert made(records.NamedTuple, namespace) == made(NamedTuple, namespace)
+        assert made(records.NamedTuple, namespace).split(":")[0] in ("TypeError", "AttributeError")

@@ -57,7 +57,7 @@ def load_plant(path: str | Path) -> Plant:
 
 
 def is_plant(path: str | Path) -> bool:
-    from regmap.frontend.plant import is_plant_file
+    from regmap.frontend.plantfile import is_plant_file
 
     return is_plant_file(path)
 

@@ -7,7 +7,6 @@ problems of a device's map at that map's own lines.
 from __future__ import annotations
 
 import hashlib
-import re
 from pathlib import Path as FsPath
 from typing import Any
 
@@ -21,23 +20,6 @@ from regmap.plant import PLANT_FORMAT, Bus, Plant, PlantDevice, SerialLine, TcpL
 
 SCHEMA_FILE = "plant.schema.json"
 MODBUS_BROADCAST = 0  # a write to slave 0 reaches every device on a serial line, and none replies
-
-
-_PLANT_LINE = re.compile(r"""^format:[ \t]*["']?regmap-plant/""", re.MULTILINE)
-
-
-def is_plant_text(text: str) -> bool:
-    """Whether a file's text declares the plant format (a top-level `format: regmap-plant/…` line)."""
-    return _PLANT_LINE.search(text) is not None
-
-
-def is_plant_file(path: str | FsPath) -> bool:
-    try:
-        with open(path, encoding="utf-8", errors="replace") as handle:
-            head = handle.read(64 * 1024)
-    except OSError:
-        return False
-    return is_plant_text(head)
 
 
 def load_plant(path: str | FsPath, display_name: str | None = None) -> Plant:

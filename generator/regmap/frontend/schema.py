@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Iterable
-from importlib import resources
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from regmap.diagnostics import Diagnostic
@@ -16,8 +16,11 @@ if TYPE_CHECKING:  # jsonschema is imported only when a map fails the compiled c
     import jsonschema
 
 
+SCHEMA_DIR = Path(__file__).parent.parent / "schema"  # regmap/schema: package data, beside the code
+
+
 def _schema(file: str = "map.schema.json") -> dict[str, Any]:
-    text = resources.files("regmap").joinpath(f"schema/{file}").read_text(encoding="utf-8")
+    text = (SCHEMA_DIR / file).read_text(encoding="utf-8")
     schema: dict[str, Any] = json.loads(text)
     return schema
 

@@ -14,17 +14,19 @@ import math
 import re
 from collections.abc import Callable
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from regmap.diagnostics import MapError, at
 from regmap.homeauto.selection import Selection
 from regmap.homeauto.yamltext import yaml_text
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
-from regmap.plant import Bus, Plant, PlantDevice
 from regmap.records import dataclass
 from regmap.render import header_lines
 from regmap.runtime_bridge import documented_addresses, runtime_alignment, runtime_specs
 from regmap_runtime.plan import ReadBlock, plan_reads
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Bus, Plant, PlantDevice
 
 # -- entity facts ------------------------------------------------------------------------------
 

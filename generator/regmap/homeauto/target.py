@@ -5,12 +5,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from regmap.homeauto.selection import parse_patterns
 from regmap.model import Device
-from regmap.plant import Plant
 from regmap.target import Files, Target, TargetOptions
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Plant
 
 
 class SelectionRenderer(Protocol):

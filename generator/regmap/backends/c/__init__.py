@@ -8,15 +8,19 @@ the items of a header, `device` the header's context; `templates/` the header te
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from regmap.backends.c.device import SHARED_HEADER, device_context, render_device, render_shared
 from regmap.backends.c.names import CIdentifier, CSymbol, c_float, c_hex, c_raw, c_signed, c_unsigned
-from regmap.backends.c.plant import render_plant
 from regmap.backends.c.variants import too_many_variants
 from regmap.backends.c.views import c_version
 from regmap.diagnostics import Diagnostic, at
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Device
-from regmap.target import ReservedWords, Target
+from regmap.target import Files, ReservedWords, Target
+
+if TYPE_CHECKING:
+    from regmap.plant import Plant
 
 
 def check(device: Device) -> list[Diagnostic]:
@@ -40,6 +44,14 @@ def check(device: Device) -> list[Diagnostic]:
 RESERVED_WORDS = ReservedWords(
     "a C/C++ keyword or the shared header's name", C_KEYWORDS | CPP_KEYWORDS | {SHARED_HEADER.removesuffix(".h")}
 )
+
+
+def render_plant(plant: Plant) -> Files:
+    """The plant's header and schedule (backends/c/plant.py): imported only when a plant is rendered."""
+    from regmap.backends.c.plant import render_plant as render
+
+    return render(plant)
+
 
 TARGET = Target(
     name="c",

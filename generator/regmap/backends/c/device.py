@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 from regmap.backends.c.names import (
     BUILDERS,
@@ -39,6 +39,7 @@ from regmap.backends.c.views import (
 from regmap.core.text import titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, PollClass, Register
+from regmap.records import NamedTuple
 from regmap.render import templates
 from regmap.runtime_bridge import read_plan
 from regmap.target import Files

@@ -6,11 +6,11 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable
 from fractions import Fraction
-from typing import NamedTuple
 
 from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Access, DataType, Device, PollClass, Register, WordOrder
+from regmap.records import NamedTuple
 from regmap.render import header_lines
 from regmap_runtime.spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT, SPACES
 from regmap_runtime.types import TYPES

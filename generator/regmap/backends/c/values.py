@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from fractions import Fraction
-from typing import NamedTuple
 
 from regmap.backends.c.names import (
     C_TYPES,
@@ -26,6 +25,7 @@ from regmap.backends.c.names import (
 )
 from regmap.core.text import eng, number, zone_text
 from regmap.model import DataType, EnumType, Register
+from regmap.records import NamedTuple
 
 # The parameter a helper of a register whose word order follows the device's word-order register takes.
 ORDER_PARAM = "word_order"

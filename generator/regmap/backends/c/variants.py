@@ -3,11 +3,10 @@ variant, and for a register only some variants have, the mask of those bits and 
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 from regmap.backends.c.names import CIdentifier, Context, Macro
 from regmap.core.text import titled
 from regmap.model import Device, Register
+from regmap.records import NamedTuple
 
 VARIANT_BITS = 32  # a variant is a bit of a uint32_t
 

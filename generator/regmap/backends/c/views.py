@@ -4,7 +4,6 @@ literal and expression is computed here; the templates only print, escaping map 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
@@ -36,6 +35,7 @@ from regmap.backends.c.variants import VariantView, variant_view, variants_macro
 from regmap.core.text import eng, number, titled, zone_text
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
+from regmap.records import NamedTuple
 from regmap.render import c_str
 from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import parse_version

@@ -21,7 +21,7 @@ slow 60 s, static 0 (HA reads the entity once at start-up and never polls it).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from regmap.backends.homeassistant import scaled
 from regmap.backends.homeassistant.scripts import RETRY_NOTE, Scripts, flag_sensor, label_sensor, object_id, template_flags, time_sensor
@@ -52,10 +52,12 @@ from regmap.homeauto.entities import (
 from regmap.homeauto.selection import DEFAULT_RULE, Selection, for_variant, select
 from regmap.homeauto.yamltext import Hex
 from regmap.model import DataType, Device, PollClass, Register, WordOrder
-from regmap.plant import Bus, Plant, PlantDevice
 from regmap.records import dataclass
 from regmap.runtime_bridge import runtime_alignment
 from regmap.target import Files
+
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Bus, Plant, PlantDevice
 
 DATA_TYPE = {
     DataType.U16: "uint16",

@@ -14,10 +14,22 @@ context), `registers`, `frames` (frame annotation of the examples), `page` (the 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from regmap.backends.markdown.diagrams import bitfield_svg, diagram_path
 from regmap.backends.markdown.page import INDEX_PAGE, device_page, render_device, render_shared
-from regmap.backends.markdown.plant import render_plant
-from regmap.target import Target
+from regmap.target import Files, Target
+
+if TYPE_CHECKING:
+    from regmap.plant import Plant
+
+
+def render_plant(plant: Plant) -> Files:
+    """The plant's page (backends/markdown/plant.py): imported only when a plant is rendered."""
+    from regmap.backends.markdown.plant import render_plant as render
+
+    return render(plant)
+
 
 TARGET = Target(
     name="markdown", subdir="docs", per_device=render_device, shared=render_shared, order=30, plant=render_plant, scale_from=True

@@ -7,13 +7,13 @@ The views are NamedTuples, not frozen dataclasses: as immutable, and a class cos
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import NamedTuple
 
 from regmap.backends.markdown import text as md
 from regmap.backends.markdown.text import DocId, Md
 from regmap.backends.markdown.wire import uses
 from regmap.core.decoding import RegisterSpecs
 from regmap.model import Device
+from regmap.records import NamedTuple
 from regmap.render import md_text
 
 

@@ -6,14 +6,13 @@ The views below compute every identifier, literal and docstring line; the templa
 from __future__ import annotations
 
 import keyword
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
 from regmap.core.text import eng, na_list, titled, zone_text
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
-from regmap.plant import Plant
 from regmap.records import dataclass
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
@@ -21,6 +20,8 @@ from regmap.target import Files, ReservedWords, Target
 from regmap_runtime import errors
 from regmap_runtime.spaces import DEFAULT_SPACE
 
+if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
+    from regmap.plant import Plant
 __all__ = ["RUNTIME_MODULES", "TARGET", "PythonIdentifier", "check", "device_context", "render_device", "render_shared", "runtime_package"]
 
 

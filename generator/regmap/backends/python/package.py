@@ -6,10 +6,10 @@ import functools
 import hashlib
 import subprocess
 import sys
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import regmap_runtime
 from regmap.diagnostics import UsageError
 from regmap.target import Files
 
@@ -35,15 +35,21 @@ RUNTIME_MODULES = (
 )
 
 
+def _runtime_source() -> Path:
+    """The runtime's own directory (as the output cache reads it; importlib.resources would cost a generate run
+    the import of it and its readers)."""
+    return Path(regmap_runtime.__file__ or "").parent
+
+
 @functools.cache
 def runtime_package() -> str:
     """The name the vendored runtime gets in a generated tree: `regmap_runtime_` and a digest of its
     source, so two generated trees from different regmap versions on one sys.path cannot shadow each
     other's runtime (and two of the same version share one, identical, copy)."""
-    source = resources.files("regmap_runtime")
+    source = _runtime_source()
     digest = hashlib.sha256()
     for module in RUNTIME_MODULES:
-        digest.update(module.encode() + b"\0" + source.joinpath(module).read_bytes() + b"\0")
+        digest.update(module.encode() + b"\0" + (source / module).read_bytes() + b"\0")
     return f"regmap_runtime_{digest.hexdigest()[:10]}"
 
 
@@ -51,9 +57,9 @@ def render_shared(devices: Any) -> Files:
     """The runtime, copied byte for byte (its modules import each other relatively)."""
     package = runtime_package()
     files: Files = {f"{package}/py.typed": ""}
-    source = resources.files("regmap_runtime")
+    source = _runtime_source()
     for module in RUNTIME_MODULES:
-        files[f"{package}/{module}"] = source.joinpath(module).read_text(encoding="utf-8")
+        files[f"{package}/{module}"] = (source / module).read_text(encoding="utf-8")
     return files
 
 

@@ -14,12 +14,11 @@ double or trailing underscore, 64 characters, names that differ only by case col
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from regmap.backends.st.codec import DIALECTS, PLCOPEN
 from regmap.backends.st.device import DeviceViews, device_views
 from regmap.backends.st.names import StIdentifier, st_string
-from regmap.backends.st.plant import render_plant
 from regmap.backends.st.plcopen import plcopen_context
 from regmap.backends.st.poller import RUNTIMES, VENDOR, poller, serial_settings
 from regmap.diagnostics import Diagnostic, UsageError
@@ -27,6 +26,9 @@ from regmap.keywords import IEC_KEYWORDS
 from regmap.model import Device
 from regmap.render import templates
 from regmap.target import Files, ReservedWords, Target
+
+if TYPE_CHECKING:
+    from regmap.plant import Plant
 
 FILES = ("types", "constants", "functions")
 
@@ -91,6 +93,14 @@ def render_shared(devices: Sequence[Device]) -> Files:
 
 # The device id prefixes the ST names; ST reads every name case-insensitively.
 RESERVED_WORDS = ReservedWords("an IEC 61131-3 or CODESYS reserved word", IEC_KEYWORDS, case_sensitive=False)
+
+
+def render_plant(plant: Plant) -> Files:
+    """The plant's files (backends/st/plant.py): imported only when a plant is rendered."""
+    from regmap.backends.st.plant import render_plant as render
+
+    return render(plant)
+
 
 TARGET = Target(
     name="st",

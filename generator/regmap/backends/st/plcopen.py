@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import functools
 import re
-from typing import Any, NamedTuple
+from typing import Any
 
 from regmap.backends.st.view_types import Const, FunctionView, Member, Section
+from regmap.records import NamedTuple
 
 ELEMENTARY = frozenset(
     [

@@ -8,10 +8,9 @@ frozen dataclasses, and which a template's `for` unpacks without an attribute lo
 from __future__ import annotations
 
 from functools import cached_property
-from typing import NamedTuple
 
 from regmap.backends.st.codec import Notation
-from regmap.records import dataclass
+from regmap.records import NamedTuple, dataclass
 from regmap.render import st_comment, xml_text
 
 
