@@ -200,6 +200,21 @@ def template_cache_dir() -> Path | None:
     return base / "templates" / f"regmap-{__version__}-jinja-{jinja2.__version__}-{options}"
 
 
+class _Template(jinja2.Template):
+    """Jinja's template, whose `render` also undoes the cycle a macro makes: the macro's function holds the render's
+    context, whose variables hold the macro. Left alone, each render that defines a macro keeps its context, and the
+    views it was given, until the cyclic collector runs, which a generate run asks for rarely (cli/generate.py)."""
+
+    def render(self, *args: Any, **kwargs: Any) -> str:
+        context = self.new_context(dict(*args, **kwargs))
+        try:
+            return self.environment.concat(self.root_render_func(context))
+        except Exception:
+            self.environment.handle_exception()
+        finally:
+            context.vars.clear()
+
+
 @functools.cache
 def templates(module: str) -> jinja2.Environment:
     """The environment of the back end that `module` (a module's `__name__`) belongs to: the templates in
@@ -213,6 +228,7 @@ def templates(module: str) -> jinja2.Environment:
         bytecode_cache=TemplateCache(str(where)) if where is not None else None,
         **_ENVIRONMENT_OPTIONS,
     )
+    env.template_class = _Template
     env.filters.update(FILTERS)
     return env
 

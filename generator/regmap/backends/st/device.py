@@ -7,6 +7,7 @@ decoders' comments per dialect."""
 
 from __future__ import annotations
 
+import weakref
 from functools import cached_property
 from typing import Any
 
@@ -52,7 +53,9 @@ class DeviceViews:
     def spelled(self, notation: Notation) -> SpelledViews:
         if notation not in self._notations:
             first = next(iter(self._notations.values()), None)
-            self._notations[notation] = SpelledViews(self, notation, first)
+            # Weakly: a cycle would leave the device's views (tens of thousands of objects) to the cyclic collector,
+            # which a generate run calls rarely (cli/generate.py), instead of freeing them when the device is done.
+            self._notations[notation] = SpelledViews(weakref.proxy(self), notation, first)
         return self._notations[notation]
 
     @cached_property
