@@ -82,7 +82,7 @@ class RegisterView:
     write_type: str
     readable: bool
     writable: bool
-    kwargs: tuple[tuple[str, str], ...]  # constructor keyword arguments, already literals
+    arguments: str  # the constructor's keyword arguments, already literals: one `    key=value,` a line
     doc: str  # the register's documentation, written once: under its constant
     read_doc: str  # the methods' one line: the constant they use and the register's title
     write_doc: str
@@ -205,6 +205,12 @@ def _enum_write_type(e: EnumType) -> str:
     return f"Literal[{members}, {names}]"
 
 
+def _write_type(reg: Register) -> str:
+    if reg.enum is not None and not reg.bitfields:
+        return _enum_write_type(reg.enum)
+    return _read_type(reg) if reg.bitfields or reg.enum else _plain_type(reg)
+
+
 def _plain_type(reg: Register) -> str:
     if reg.type.is_string or reg.type.is_bool or reg.type.is_timestamp:  # a timestamp's datetime: aware (UTC) or naive (local)
         return {"string": "str", "bool": "bool", "timestamp": "datetime"}[reg.type.value]
@@ -291,6 +297,7 @@ def _register_view(
     `commands`: what the device's commands make of the register (`command_extras`: trigger, destructive values)."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
+    constant_name = const(reg.name)
     kwargs: list[tuple[str, str]] = [
         ("name", py_str(reg.name)),
         ("address", f"0x{reg.address:04X}"),
@@ -307,10 +314,7 @@ def _register_view(
         kwargs.append(("paired", "True"))
     if reg.scaled:
         kwargs += [("scale_num", str(reg.scale.numerator)), ("scale_den", str(reg.scale.denominator))]
-    for key in ("min", "max"):
-        value = getattr(reg, key)
-        if value is not None:
-            kwargs.append((key, str(value)))
+    kwargs += [(key, str(value)) for key, value in (("min", reg.min), ("max", reg.max)) if value is not None]
     if reg.unit:
         kwargs.append(("unit", py_str(reg.unit)))
     if reg.param:
@@ -322,22 +326,19 @@ def _register_view(
         kwargs.append(("bitfield_type", _bits_class_name(reg)))
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
     kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
-    value_type = _value_type(reg)
-    write_type = _read_type(reg) if reg.bitfields or reg.enum else _plain_type(reg)
-    if reg.enum is not None and not reg.bitfields:
-        write_type = _enum_write_type(reg.enum)
+    methods = reg.array is None or attr is not None  # an array element's are its member's: no method text of its own
     return RegisterView(
-        const=const(reg.name),
+        const=constant_name,
         attr=PythonIdentifier(attr or reg.name),
         spec_class=spec_class,
-        value_type=value_type,
-        write_type=write_type,
+        value_type=_value_type(reg),
+        write_type=_write_type(reg) if methods else "",
         readable=reg.access.readable,
         writable=_writable(reg),
-        kwargs=tuple(kwargs),
+        arguments="\n".join(f"    {key}={value}," for key, value in kwargs),
         doc=_register_doc(reg),
-        read_doc=_method_doc("Read", reg, constant or const(reg.name)),
-        write_doc=_method_doc("Write", reg, constant or const(reg.name)),
+        read_doc=_method_doc("Read", reg, constant or constant_name) if methods else "",
+        write_doc=_method_doc("Write", reg, constant or constant_name) if methods else "",
     )
 
 
