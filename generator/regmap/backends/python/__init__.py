@@ -6,7 +6,7 @@ The views below compute every identifier, literal and docstring line; the templa
 from __future__ import annotations
 
 import keyword
-from typing import Any
+from typing import Any, NamedTuple
 
 from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
 from regmap.core.text import eng, na_list, titled, zone_text
@@ -14,7 +14,6 @@ from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.plant import Plant
-from regmap.records import dataclass
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target
@@ -48,15 +47,13 @@ def _int_literal(value: int) -> str:
     return f"0x{value:02X}" if value >= 0x10 else str(value)
 
 
-@dataclass(frozen=True)
-class EnumView:
+class EnumView(NamedTuple):
     class_name: str
     doc: str
     members: tuple[tuple[str, str, str], ...]  # (NAME, literal value, docstring)
 
 
-@dataclass(frozen=True)
-class BitfieldView:
+class BitfieldView(NamedTuple):
     attr: str
     name_literal: str
     lsb: int
@@ -66,15 +63,13 @@ class BitfieldView:
     default: str  # literal for the dataclass field: False for a flag, 0 otherwise
 
 
-@dataclass(frozen=True)
-class BitsClassView:
+class BitsClassView(NamedTuple):
     class_name: str
     doc: str
     fields: tuple[BitfieldView, ...]
 
 
-@dataclass(frozen=True)
-class RegisterView:
+class RegisterView(NamedTuple):
     const: str
     attr: str  # method suffix / bundle attribute
     spec_class: str  # ReadOnly / ReadWrite / WriteOnly
@@ -88,8 +83,7 @@ class RegisterView:
     write_doc: str
 
 
-@dataclass(frozen=True)
-class ArrayView:
+class ArrayView(NamedTuple):
     name: str
     bundle_class: str
     element_class: str
@@ -102,8 +96,7 @@ class ArrayView:
     elements: tuple[tuple[int, tuple[tuple[str, str], ...]], ...]  # (index, ((attr, CONST), ...))
 
 
-@dataclass(frozen=True)
-class SnapshotView:
+class SnapshotView(NamedTuple):
     """The TypedDict read_all() and read_many() return: each readable register's name and value type."""
 
     name: str
@@ -126,8 +119,7 @@ def _snapshot_view(device: Device) -> SnapshotView:
     return SnapshotView(name=name, name_literal=py_str(name), doc=py_doc(doc), fields=fields)
 
 
-@dataclass(frozen=True)
-class CommandView:
+class CommandView(NamedTuple):
     method: str
     const: str
     raw: str
