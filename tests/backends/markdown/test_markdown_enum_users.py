@@ -23,5 +23,5 @@ def test_a_table_only_bitfields_use_lists_their_registers_and_fields() -> None:
 
 def test_a_table_a_register_holds_lists_that_register() -> None:
     device = load_map(ROOT / "maps" / "c630s.yaml")
-    reg = next(r for r in device.registers if r.enum is not None and r.array is None)
-    assert f"[`{reg.name}`](#{reg.name})" in used_by("c630s", reg.enum.name)
+    reg, enum = next((r, r.enum) for r in device.registers if r.enum is not None and r.array is None)
+    assert f"[`{reg.name}`](#{reg.name})" in used_by("c630s", enum.name)
