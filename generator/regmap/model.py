@@ -511,9 +511,18 @@ class Device:
     def _trigger_names(self) -> frozenset[str]:
         return frozenset(reg.name for reg in self.registers if reg.trigger) | {c.register.name for c in self.commands}
 
+    @cached_property
+    def _destructive_by_register(self) -> dict[str, tuple[Command, ...]]:
+        by_register: dict[str, tuple[Command, ...]] = {}
+        for c in self.commands:
+            if c.destructive:
+                by_register[c.register.name] = (*by_register.get(c.register.name, ()), c)
+        return by_register
+
     def destructive_commands(self, reg: Register) -> tuple[Command, ...]:
-        """The destructive commands that write `reg`: a plain write of their values is refused everywhere."""
-        return tuple(c for c in self.commands if c.destructive and c.register.name == reg.name)
+        """The destructive commands that write `reg`: a plain write of their values is refused everywhere (each
+        back end asks for every register: the commands are sorted by register once)."""
+        return self._destructive_by_register.get(reg.name, ())
 
     def is_trigger(self, reg: Register) -> bool:
         """A write to `reg` makes the device act (the map says so, or a command writes it): never retried."""

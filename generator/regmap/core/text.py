@@ -112,7 +112,9 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
     if not every_digit:
         if type(raw) is int and not reg.scaled and not reg.offset_set:
             return str(raw)  # most registers: what the exact fraction below prints, without its arithmetic (issue #36)
-        return number(raw * float(reg.scale) + float(reg.offset) if isinstance(raw, float) else raw * reg.scale + reg.offset)
+        if isinstance(raw, float):
+            return number(raw * float(reg.scale) + float(reg.offset))
+        return number(raw * reg.scale + reg.offset if reg.offset else raw * reg.scale)  # adding a Fraction 0 costs a gcd
     if isinstance(raw, float):
         scaled = reg.scaled or reg.offset_set
         return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)

@@ -189,21 +189,22 @@ class _Writer:
     def string(self, text: str, indent: int) -> None:
         """A string value, plain or single-quoted, folded at a single space once past WIDTH as PyYAML folds it."""
         quoted = not _plain(text)
-        self.write(" '" if quoted else " ")
-        if self.column + len(text) <= WIDTH and "'" not in text:
-            self.write(text)
-        else:
-            last = len(text)
-            for match in _RUNS.finditer(text):
-                spaces, quote, words = match.groups()
-                if quote:
-                    self.write("''" if quoted else "'")
-                elif words:
-                    self.write(words)
-                elif len(spaces) == 1 and self.column > WIDTH and (not quoted or 0 < match.start() < last - 1):
-                    self.newline(indent)
-                else:
-                    self.write(spaces)
+        lead = " '" if quoted else " "
+        if self.column + len(lead) + len(text) <= WIDTH and "'" not in text:  # most strings: one piece, nothing folded
+            self.write(lead + text + "'" if quoted else lead + text)
+            return
+        self.write(lead)
+        last = len(text)
+        for match in _RUNS.finditer(text):
+            spaces, quote, words = match.groups()
+            if quote:
+                self.write("''" if quoted else "'")
+            elif words:
+                self.write(words)
+            elif len(spaces) == 1 and self.column > WIDTH and (not quoted or 0 < match.start() < last - 1):
+                self.newline(indent)
+            else:
+                self.write(spaces)
         if quoted:
             self.write("'")
 

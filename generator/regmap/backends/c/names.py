@@ -325,6 +325,7 @@ class Context:
         # The upper-case spelling of each part a constant's name was made of that is plain on its own: a name of
         # plain parts is plain, so the parts a header repeats (an owner, WORDS, ACCESS ...) are checked once, not per name.
         self._plain_parts: dict[str, str] = {self.prefix: self.prefix} if _PLAIN_UPPER.fullmatch(self.prefix) else {}
+        self._refs: dict[tuple[str, ...], str] = {}  # the functions referred to: an enum's tests, once per register using it
 
     def const(self, *parts: str, what: str = "") -> str:
         return self.names.add(self._identifier(parts), what or parts)
@@ -368,7 +369,10 @@ class Context:
 
     def symbol_ref(self, *parts: str) -> str:
         """A function the header declares (referring to it does not declare it again)."""
-        return CSymbol(self.lower, *parts)
+        name = self._refs.get(parts)
+        if name is None:
+            name = self._refs[parts] = CSymbol(self.lower, *parts)
+        return name
 
 
 def file_header(device: Device) -> list[str]:

@@ -7,7 +7,7 @@ a member the device only reports (EnumMember.writable), NaN. Every line of C is 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from fractions import Fraction
 
 from regmap.backends.c.names import (
@@ -37,8 +37,8 @@ class EnumCheckView(NamedTuple):
     member_fn: str
     writable_fn: str
     param: str  # C type of the value: long long, or unsigned long long for a member beyond it
-    members: tuple[str, ...]  # the case labels
-    writable: tuple[str, ...]
+    member_cases: str  # `    case <label>:`, one a line (printed as one string, not a loop per member)
+    writable_cases: str  # the same for the members a write may send; "" when there is none
     all_writable: bool
 
 
@@ -68,10 +68,14 @@ def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
         member_fn=ctx.symbol(e.name, "is_member", what=f"the member test of enum {e.name}"),
         writable_fn=ctx.symbol(e.name, "is_writable", what=f"the write test of enum {e.name}"),
         param="unsigned long long" if top >= 1 << 63 else "long long",
-        members=tuple(labels),
-        writable=tuple(label for label, m in zip(labels, e.members, strict=True) if m.writable),
+        member_cases=_cases(labels),
+        writable_cases=_cases(label for label, m in zip(labels, e.members, strict=True) if m.writable),
         all_writable=all(m.writable for m in e.members),
     )
+
+
+def _cases(labels: Iterable[str]) -> str:
+    return "\n".join([f"    case {label}:" for label in labels])
 
 
 def _member_label(ctx: Context, e: EnumType, name: str, value: int) -> str:

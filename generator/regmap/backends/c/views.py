@@ -36,7 +36,7 @@ from regmap.core.text import eng, number, titled, zone_text
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.records import NamedTuple
-from regmap.render import c_str
+from regmap.render import c_comment, c_str
 from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import parse_version
 
@@ -44,7 +44,7 @@ from regmap_runtime.spec import parse_version
 class EnumView(NamedTuple):
     type_name: str
     comment: str
-    members: tuple[Macro, ...]
+    lines: str  # the members, one a line: `#define`s (as_macros) or the enum's constants
     as_macros: bool  # a value does not fit an int, which a C enum constant must
     checks: EnumCheckView
 
@@ -497,10 +497,15 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
         for m in e.members
     )
     comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
+    if as_macros:
+        lines = [f"#define {m.name:<48} {m.value} /* {c_comment(m.comment)} */" for m in members]
+    else:
+        last = len(members) - 1
+        lines = [f"    {m.name} = {m.value}{',' if i < last else ''} /* {c_comment(m.comment)} */" for i, m in enumerate(members)]
     return EnumView(
         type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"),
         comment=comment,
-        members=members,
+        lines="\n".join(lines),
         as_macros=as_macros,
         checks=enum_checks(ctx, e),
     )

@@ -259,16 +259,18 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
     found = decode_words(device, span.start, carried(parsed)[: len(span)], space=space, regs=ctx.registers) if has_data and span else []
     words = {v.address + i: w for v in found for i, w in enumerate(v.words)}
     raws = {v.register: v.raw for v in found if v.register is not None and v.raw is not None}
-    regs: list[Register] = []
+    # By name (unique in a device): comparing two registers compares every field.
+    regs: dict[str, Register] = {}
     for address in span:
         reg = device.covering(address, space)
-        if reg is not None and reg not in regs:
-            regs.append(reg)
+        if reg is not None:
+            regs.setdefault(reg.name, reg)
+    records: dict[str, ExampleValue] = {}
     for v in example.values:
-        if v.register not in regs:
-            regs.append(v.register)
+        regs.setdefault(v.register.name, v.register)
+        records.setdefault(v.register.name, v)
     rows = []
-    for reg in regs:
+    for reg in regs.values():
         own = range(reg.address, reg.last_address + 1)
         decoded_raw = raws.get(reg.name)  # every word of the register is in the frame
         if decoded_raw is not None:
@@ -279,7 +281,7 @@ def _decoded_rows(ctx: Context, example: Example, parsed: Frame, start: int | No
             value = Md(f"{len(present)} of {reg.words} words in this frame")
         else:
             raw_text, value = md.DASH, Md("read" if parsed.kind == "read_request" else md.DASH)
-        record = next((v for v in example.values if v.register == reg), None)
+        record = records.get(reg.name)
         recorded = _recorded(reg, record) if record is not None else Md(md.DASH)
         if record is not None and record.raw is not None and decoded_raw is not None:
             recorded = Md(recorded + (" ✓" if record.raw == decoded_raw else " — **differs from the frame**"))

@@ -20,7 +20,7 @@ from regmap.backends.markdown.views import (
     ReadingView,
     TimingView,
 )
-from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, read_alignment_text, uses
+from regmap.backends.markdown.wire import Uses, firmware_register_text, order_name, read_alignment_text
 from regmap.core.decoding import FUNCTION_NAMES
 from regmap.core.text import number
 from regmap.diagnostics import UsageError
@@ -87,9 +87,8 @@ def _erratum_view(ctx: Context, erratum: Erratum) -> ErratumView:
     )
 
 
-def _overview(device: Device) -> tuple[Fact, ...]:
+def _overview(device: Device, used: Uses) -> tuple[Fact, ...]:
     info, t = device.info, device.transport
-    used = uses(device)
     vendor = md_text(info.vendor) + (f" ({md_text(info.vendor_zh)})" if info.vendor_zh else "")
     manual = [md_text(info.manual_title)]
     if info.manual_version:
@@ -244,7 +243,7 @@ def device_page(device: Device) -> DevicePage:
         header=tuple(md.html_comment(line) for line in header_lines(device, "regmap generate")),
         title=Md(f"{md_text(device.info.vendor)} {md_text(device.info.model)}"),
         description=md.paragraph(device.info.description),
-        overview=_overview(device),
+        overview=_overview(device, used),
         transport_notes=md.paragraph(t.notes),
         timing=_timing(device),
         quick_note=Md("raw × scale + offset" if used.offsets else "raw × scale"),

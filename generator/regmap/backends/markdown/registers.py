@@ -170,6 +170,7 @@ def _enum_view(ctx: Context, e: EnumType) -> EnumView:
         rows=rows,
         used_by=md.join(ctx.enum_users.get(e.name, [])),
         directed=directed,
+        table="\n".join([r.row for r in rows]),
     )
 
 

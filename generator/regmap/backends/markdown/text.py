@@ -86,7 +86,7 @@ def join(parts: Iterable[str], sep: str = ", ") -> Md:
 
 
 def hex_value(value: int, words: int = 1) -> str:
-    return f"0x{value:0{4 * words}X}"
+    return f"0x{value:04X}" if words == 1 else f"0x{value:0{4 * words}X}"  # one word: most values, without the nested width
 
 
 def address(value: int) -> Md:

@@ -31,6 +31,11 @@ class Fact(NamedTuple):
         return f"| {self.label} | {self.value} |"
 
 
+def fact_rows(facts: Iterable[Fact]) -> str:
+    """The rows of a facts table, one a line: one string for the template, not a loop over a dozen rows per register."""
+    return "\n".join([f.row for f in facts])
+
+
 class QuickRow(NamedTuple):
     extra: tuple[Md, ...]  # the space, firmware and poll columns of a device that uses them
     param: str
@@ -103,6 +108,7 @@ class EnumView(NamedTuple):
     rows: tuple[EnumRow, ...]
     used_by: Md
     directed: bool  # some member goes one way only: the table has a Direction column
+    table: str  # the rows, one a line: built once, as the table is printed again under every register using it
 
 
 class BitRow(NamedTuple):
@@ -140,6 +146,10 @@ class RegisterView(NamedTuple):
     @property
     def template(self) -> str:
         return "_register.md.jinja"
+
+    @property
+    def fact_rows(self) -> str:
+        return fact_rows(self.facts)
 
 
 class MemberRow(NamedTuple):
@@ -191,6 +201,10 @@ class ArrayView(NamedTuple):
     @property
     def template(self) -> str:
         return "_array.md.jinja"
+
+    @property
+    def fact_rows(self) -> str:
+        return fact_rows(self.facts)
 
 
 class GroupView(NamedTuple):
@@ -331,6 +345,8 @@ class Context:
             self.enum_users[e.name] = []
         seen: set[tuple[str, str]] = set()
         for reg in device.registers:
+            if reg.enum is None and not any(b.enum is not None for b in reg.bitfields):
+                continue  # no value table to list it under: its label is not needed (most registers)
             owner = reg.array.array + "." + reg.array.member if reg.array else reg.name
             label = (
                 Md(f"{md.link(md.code(reg.array.array), md.anchor('array', reg.array.array))} member {md.code(reg.array.member)}")

@@ -13,7 +13,7 @@ from regmap.core.text import eng, na_list, titled, zone_text
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
-from regmap.records import dataclass
+from regmap.records import NamedTuple
 from regmap.render import header_lines, py_doc, py_str, templates
 from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
 from regmap.target import Files, ReservedWords, Target
@@ -49,15 +49,13 @@ def _int_literal(value: int) -> str:
     return f"0x{value:02X}" if value >= 0x10 else str(value)
 
 
-@dataclass(frozen=True)
-class EnumView:
+class EnumView(NamedTuple):
     class_name: str
     doc: str
     members: tuple[tuple[str, str, str], ...]  # (NAME, literal value, docstring)
 
 
-@dataclass(frozen=True)
-class BitfieldView:
+class BitfieldView(NamedTuple):
     attr: str
     name_literal: str
     lsb: int
@@ -67,15 +65,13 @@ class BitfieldView:
     default: str  # literal for the dataclass field: False for a flag, 0 otherwise
 
 
-@dataclass(frozen=True)
-class BitsClassView:
+class BitsClassView(NamedTuple):
     class_name: str
     doc: str
     fields: tuple[BitfieldView, ...]
 
 
-@dataclass(frozen=True)
-class RegisterView:
+class RegisterView(NamedTuple):
     const: str
     attr: str  # method suffix / bundle attribute
     spec_class: str  # ReadOnly / ReadWrite / WriteOnly
@@ -83,14 +79,13 @@ class RegisterView:
     write_type: str
     readable: bool
     writable: bool
-    kwargs: tuple[tuple[str, str], ...]  # constructor keyword arguments, already literals
+    arguments: str  # the constructor's keyword arguments, already literals: one `    key=value,` a line
     doc: str  # the register's documentation, written once: under its constant
     read_doc: str  # the methods' one line: the constant they use and the register's title
     write_doc: str
 
 
-@dataclass(frozen=True)
-class ArrayView:
+class ArrayView(NamedTuple):
     name: str
     bundle_class: str
     element_class: str
@@ -103,8 +98,7 @@ class ArrayView:
     elements: tuple[tuple[int, tuple[tuple[str, str], ...]], ...]  # (index, ((attr, CONST), ...))
 
 
-@dataclass(frozen=True)
-class SnapshotView:
+class SnapshotView(NamedTuple):
     """The TypedDict read_all() and read_many() return: each readable register's name and value type."""
 
     name: str
@@ -127,8 +121,7 @@ def _snapshot_view(device: Device) -> SnapshotView:
     return SnapshotView(name=name, name_literal=py_str(name), doc=py_doc(doc), fields=fields)
 
 
-@dataclass(frozen=True)
-class CommandView:
+class CommandView(NamedTuple):
     method: str
     const: str
     raw: str
@@ -204,6 +197,12 @@ def _enum_write_type(e: EnumType) -> str:
         return cls  # nothing may be written: the runtime refuses every member
     members = ", ".join(f"{cls}.{const(PythonIdentifier(m.name))}" for m in writable)
     return f"Literal[{members}, {names}]"
+
+
+def _write_type(reg: Register) -> str:
+    if reg.enum is not None and not reg.bitfields:
+        return _enum_write_type(reg.enum)
+    return _read_type(reg) if reg.bitfields or reg.enum else _plain_type(reg)
 
 
 def _plain_type(reg: Register) -> str:
@@ -292,6 +291,7 @@ def _register_view(
     `commands`: what the device's commands make of the register (`command_extras`: trigger, destructive values)."""
     access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
     spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
+    constant_name = const(reg.name)
     kwargs: list[tuple[str, str]] = [
         ("name", py_str(reg.name)),
         ("address", f"0x{reg.address:04X}"),
@@ -308,10 +308,7 @@ def _register_view(
         kwargs.append(("paired", "True"))
     if reg.scaled:
         kwargs += [("scale_num", str(reg.scale.numerator)), ("scale_den", str(reg.scale.denominator))]
-    for key in ("min", "max"):
-        value = getattr(reg, key)
-        if value is not None:
-            kwargs.append((key, str(value)))
+    kwargs += [(key, str(value)) for key, value in (("min", reg.min), ("max", reg.max)) if value is not None]
     if reg.unit:
         kwargs.append(("unit", py_str(reg.unit)))
     if reg.param:
@@ -323,22 +320,19 @@ def _register_view(
         kwargs.append(("bitfield_type", _bits_class_name(reg)))
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
     kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
-    value_type = _value_type(reg)
-    write_type = _read_type(reg) if reg.bitfields or reg.enum else _plain_type(reg)
-    if reg.enum is not None and not reg.bitfields:
-        write_type = _enum_write_type(reg.enum)
+    methods = reg.array is None or attr is not None  # an array element's are its member's: no method text of its own
     return RegisterView(
-        const=const(reg.name),
+        const=constant_name,
         attr=PythonIdentifier(attr or reg.name),
         spec_class=spec_class,
-        value_type=value_type,
-        write_type=write_type,
+        value_type=_value_type(reg),
+        write_type=_write_type(reg) if methods else "",
         readable=reg.access.readable,
         writable=_writable(reg),
-        kwargs=tuple(kwargs),
+        arguments="\n".join(f"    {key}={value}," for key, value in kwargs),
         doc=_register_doc(reg),
-        read_doc=_method_doc("Read", reg, constant or const(reg.name)),
-        write_doc=_method_doc("Write", reg, constant or const(reg.name)),
+        read_doc=_method_doc("Read", reg, constant or constant_name) if methods else "",
+        write_doc=_method_doc("Write", reg, constant or constant_name) if methods else "",
     )
 
 
