@@ -8,14 +8,13 @@ from __future__ import annotations
 
 from dataclasses import field, replace
 from fractions import Fraction
-from functools import cached_property
 
 from regmap.kinds import Access as Access
 from regmap.kinds import ByteOrder as ByteOrder
 from regmap.kinds import DataType as DataType
 from regmap.kinds import PollClass as PollClass
 from regmap.kinds import WordOrder as WordOrder
-from regmap.records import dataclass
+from regmap.records import cached_property, dataclass
 from regmap.transport import BadCrc as BadCrc
 from regmap.transport import DeviceIdentification as DeviceIdentification
 from regmap.transport import ModbusException as ModbusException

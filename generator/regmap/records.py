@@ -9,6 +9,8 @@ A class that writes one of these methods itself, or asks for another option than
 the standard decorator whole; one that needs what only the standard `__init__` does (`_standard_init`: a
 `__post_init__`, a dataclass base, an `InitVar` ...) gets it, and the other methods from here.
 
+`cached_property`: functools', without the lock Python 3.11 takes on each first read of a value.
+
 `NamedTuple`: typing's, with each field's annotation kept as written. typing's makes a ForwardRef of each annotation
 that is text (all of them, under `from __future__ import annotations`), compiling it: a fifth of the CPU of importing
 the C, Markdown and ST back ends. mypy sees typing's class itself.
@@ -30,8 +32,28 @@ _INIT_BUILT_HERE = ("__init__", "__setattr__", "__delattr__")
 
 if TYPE_CHECKING:
     from dataclasses import dataclass as dataclass
+    from functools import cached_property as cached_property
     from typing import NamedTuple as NamedTuple
 else:
+
+    class cached_property:
+        """functools.cached_property without its lock: Python 3.11's takes an RLock on every first read (3.12 dropped
+        it), and the back ends read thousands of register facts once each. A value computed twice by two threads is
+        the same value."""
+
+        def __init__(self, func: Callable[[Any], Any]) -> None:
+            self.func = func
+            self.attrname: str | None = None
+            self.__doc__ = func.__doc__
+
+        def __set_name__(self, owner: type, name: str) -> None:
+            self.attrname = name
+
+        def __get__(self, instance: Any, owner: type | None = None) -> Any:
+            if instance is None:
+                return self
+            value = instance.__dict__[self.attrname] = self.func(instance)
+            return value
 
     def dataclass(cls: type | None = None, /, **options: Any) -> Any:
         def made(cls: type) -> type:

@@ -124,6 +124,13 @@ def test_a_random_edit_of_a_map_is_decided_as_jsonschema_decides(base: int, wher
         ({"items": {"type": "integer"}, "minItems": 2, "maxItems": 3}, [1]),
         ({"items": {"type": "integer"}, "minItems": 2, "maxItems": 3}, [1, 2, 3, 4]),
         ({"$defs": {"n": {"type": "integer"}}, "items": {"$ref": "#/$defs/n"}}, [1, "x"]),
+        ({"enum": ["a", 1]}, "b"),  # a text is looked up among the texts alone
+        ({"enum": ["a", 1]}, "a"),
+        ({"enum": ["1", 2]}, 1),
+        ({"enum": ["a", 1]}, 1.0),
+        ({"type": ["integer", "string"]}, True),  # a list of types: its exact classes first, then each test
+        ({"type": ["integer", "null"]}, 2.0),
+        ({"type": ["number", "string"]}, False),
     ],
 )
 def test_json_corners_are_decided_as_jsonschema_decides(schema: dict[str, Any], instance: Any) -> None:

@@ -330,3 +330,22 @@ def test_a_records_named_tuple_refuses_what_typings_refuses() -> None:
     for namespace in refused:
         assert made(records.NamedTuple, namespace) == made(NamedTuple, namespace)
         assert made(records.NamedTuple, namespace).split(":")[0] in ("TypeError", "AttributeError")
+
+
+def test_a_cached_property_is_worked_out_once_per_instance() -> None:
+    worked_out: list[int] = []
+
+    @records.dataclass(frozen=True)
+    class Square:
+        side: int
+
+        @records.cached_property
+        def area(self) -> int:
+            """The side squared."""
+            worked_out.append(self.side)
+            return self.side * self.side
+
+    small, large = Square(2), Square(3)
+    assert (small.area, small.area, large.area, large.area) == (4, 4, 9, 9)
+    assert worked_out == [2, 3]
+    assert Square.__dict__["area"].__doc__ == "The side squared."

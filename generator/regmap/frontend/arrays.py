@@ -36,8 +36,8 @@ class ElaborationHost(Protocol):
 
 
 def elaborate_bitfields(host: ElaborationHost, specs: list[dict[str, Any]], path: Path, dtype: DataType, name: str) -> tuple[Bitfield, ...]:
-    if dtype.kind != "int":
-        return ()  # reported by _check_type_in_space
+    if dtype.kind != "int" or not specs:
+        return ()  # another type's bitfields: reported by _check_type_in_space
     fields: list[Bitfield] = []
     used: dict[int, str] = {}
     names: set[str] = set()

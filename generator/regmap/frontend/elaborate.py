@@ -30,6 +30,20 @@ from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 from regmap_runtime.spec import na_marks, parse_version
 
 GROUP_KEYS = ("space", "firmware", "poll", "variants")  # a group's own keys that its registers inherit
+# The keys a type refuses: (key, whether the type refuses it, what the key needs), in the order problems are reported.
+_NEEDS = (
+    ("scale", lambda t: not t.numeric, "a number"),
+    ("offset", lambda t: not t.numeric, "a number"),
+    ("unit", lambda t: t.is_bool, "a number or text"),
+    ("bitfields", lambda t: t.kind != "int", "an integer"),
+    ("enum", lambda t: t.kind not in ("int", "float"), "a number"),
+    ("byte_order", lambda t: not t.info.has_byte_order, "a value in register words"),
+    ("encoding", lambda t: not t.is_string, "a string"),
+    ("padding", lambda t: not t.is_string, "a string"),
+    ("min", lambda t: not t.numeric, "a number"),
+    ("max", lambda t: not t.numeric, "a number"),
+    ("na", lambda t: not t.numeric, "a number"),
+)
 
 
 def elaborate(source: MapSource) -> Elaborated:
@@ -49,6 +63,7 @@ class _Elaboration:
         self.rules: list[_ParamRule] = []
         self.registers: list[Register] = []
         self.register_paths: list[Path] = []  # where each of self.registers is declared, in step with it
+        self.defaults_keys: dict[Path, set[str]] = {}  # _defaults_keys by group path
 
     def run(self) -> Elaborated:
         raw = self.raw
@@ -329,22 +344,9 @@ class _Elaboration:
                 (*path, "type"),
                 f"{name}: bool is the type of coils and discrete inputs; {space.title} hold numbers (a u16 with a bitfield for flags, or `space: coil`)",
             )
-        not_for: dict[str, tuple[bool, str]] = {
-            "scale": (not dtype.numeric, "a number"),
-            "offset": (not dtype.numeric, "a number"),
-            "unit": (dtype.is_bool, "a number or text"),
-            "bitfields": (dtype.kind != "int", "an integer"),
-            "enum": (dtype.kind not in ("int", "float"), "a number"),
-            "byte_order": (not dtype.info.has_byte_order, "a value in register words"),
-            "encoding": (not dtype.is_string, "a string"),
-            "padding": (not dtype.is_string, "a string"),
-            "min": (not dtype.numeric, "a number"),
-            "max": (not dtype.numeric, "a number"),
-            "na": (not dtype.numeric, "a number"),
-        }
         inherited = self._defaults_keys(path)
-        for key, (refused, needs) in not_for.items():
-            if refused and key in r and key not in inherited and r[key] is not None:
+        for key, refused, needs in _NEEDS:
+            if key in r and r[key] is not None and key not in inherited and refused(dtype):
                 what = f"a {space.name.replace('_', ' ')}" if space.bits else article(f"{dtype.value} register")
                 self.problems.add((*path, key), f"{name}: `{key}` needs {needs}; {what} has none")
 
@@ -412,6 +414,8 @@ class _Elaboration:
 
     def _variants(self, names: Any, path: Path, name: str) -> tuple[str, ...]:
         """The device variants that have the register: each one `device.variants` declares."""
+        if not names:
+            return ()
         known = [v["name"] for v in self.raw["device"].get("variants", [])]
         for i, variant in enumerate(names):
             if variant not in known:
@@ -472,9 +476,13 @@ class _Elaboration:
         return gate
 
     def _defaults_keys(self, path: Path) -> set[str]:
+        """The keys the register at `path` takes from its group's `defaults` (asked several times of each register)."""
         group_path = path[:2]
-        group = self.raw["groups"][group_path[1]] if len(group_path) == 2 else {}
-        return set(group.get("defaults", {}))
+        keys = self.defaults_keys.get(group_path)
+        if keys is None:
+            group = self.raw["groups"][group_path[1]] if len(group_path) == 2 else {}
+            keys = self.defaults_keys[group_path] = set(group.get("defaults", {}))
+        return keys
 
     def _check_param(self, reg: Register, path: Path) -> None:
         if reg.param is None:

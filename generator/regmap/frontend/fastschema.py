@@ -25,6 +25,11 @@ class _Unsupported(Exception):
 
 
 def _is_number(value: Any) -> bool:
+    kind = type(value)
+    if kind is int or kind is float:
+        return True
+    if kind is str:
+        return False  # what the Number check below answers, without asking the ABC
     return isinstance(value, Number) and not isinstance(value, bool)
 
 
@@ -63,6 +68,17 @@ _TYPES: dict[str, Check] = {
     "number": _is_number,
     "boolean": lambda v: isinstance(v, bool),
     "null": lambda v: v is None,
+}
+
+
+_EXACT_TYPES: dict[str, tuple[type, ...]] = {
+    "object": (dict,),
+    "array": (list,),
+    "string": (str,),
+    "integer": (int,),
+    "number": (int, float),
+    "boolean": (bool,),
+    "null": (type(None),),
 }
 
 
@@ -116,11 +132,28 @@ class _Compiler:
         return self.ref(target)
 
     def _type(self, wanted: str | list[str], _: dict[str, Any]) -> Check:
-        tests = [_TYPES[t] for t in ([wanted] if isinstance(wanted, str) else wanted)]
-        return tests[0] if len(tests) == 1 else _any(tests)
+        names = [wanted] if isinstance(wanted, str) else wanted
+        tests = [_TYPES[t] for t in names]
+        if len(tests) == 1:
+            return tests[0]
+        # A value of one of these exact classes passes one of the tests; any other value asks each test.
+        passing = frozenset(kind for t in names for kind in _EXACT_TYPES[t])
+        some = _any(tests)
+        return lambda v: type(v) in passing or some(v)
 
     def _enum(self, members: list[Any], _: dict[str, Any]) -> Check:
-        return lambda v: any(equal(v, m) for m in members)
+        texts = frozenset(m for m in members if isinstance(m, str))  # a text equals (`equal`) only the same text
+        others = [m for m in members if not isinstance(m, str)]
+
+        def check(v: Any) -> bool:
+            if isinstance(v, str):
+                return v in texts
+            for member in others:  # noqa: SIM110 (a loop: any() of a generator costs a frame per value)
+                if equal(v, member):
+                    return True
+            return False
+
+        return check
 
     def _const(self, member: Any, _: dict[str, Any]) -> Check:
         return lambda v: equal(v, member)
@@ -130,7 +163,15 @@ class _Compiler:
 
     def _oneOf(self, branches: list[Any], _: dict[str, Any]) -> Check:
         tests = [self.node(b) for b in branches]
-        return lambda v: sum(1 for t in tests if t(v)) == 1
+
+        def check(v: Any) -> bool:
+            passed = 0
+            for test in tests:
+                if test(v):
+                    passed += 1
+            return passed == 1
+
+        return check
 
     def _not(self, branch: Any, _: dict[str, Any]) -> Check:
         test = self.node(branch)
@@ -171,7 +212,15 @@ class _Compiler:
         if isinstance(item, list):
             raise _Unsupported("items as a list")
         test = self.node(item)
-        return lambda v: not isinstance(v, list) or all(test(x) for x in v)
+
+        def check(v: Any) -> bool:
+            if isinstance(v, list):
+                for x in v:  # a loop: all() of a generator costs a frame per value
+                    if not test(x):
+                        return False
+            return True
+
+        return check
 
     def _minItems(self, size: int, _: dict[str, Any]) -> Check:
         return lambda v: not isinstance(v, list) or len(v) >= size
@@ -185,7 +234,14 @@ class _Compiler:
     # -- objects --------------------------------------------------------------------------------------------
 
     def _required(self, names: list[str], _: dict[str, Any]) -> Check:
-        return lambda v: not isinstance(v, dict) or all(n in v for n in names)
+        def check(v: Any) -> bool:
+            if isinstance(v, dict):
+                for name in names:
+                    if name not in v:
+                        return False
+            return True
+
+        return check
 
     def _minProperties(self, size: int, _: dict[str, Any]) -> Check:
         return lambda v: not isinstance(v, dict) or len(v) >= size

@@ -20,7 +20,14 @@ def _source(value: Any) -> tuple[str, ...]:
 
 def _scale(value: Any) -> Fraction:
     # Decimal(str()) keeps 0.1 as 1/10 instead of the binary float's 3602879701896397/36028797018963968.
-    return Fraction(Decimal(str(value)))
+    key = (type(value), value)  # a map has few scales and offsets (most are the 1 and 0 every register takes)
+    scale = _SCALES.get(key)
+    if scale is None:
+        scale = _SCALES[key] = Fraction(Decimal(str(value)))
+    return scale
+
+
+_SCALES: dict[tuple[type, Any], Fraction] = {}
 
 
 def _bits(spec: int | str) -> tuple[int, int]:

@@ -308,6 +308,7 @@ class _EventReader:
         result: dict[str, Any] = {}
         get, keys, by_path, plain_tags = self.get, self.positions.keys, self.by_path, self.plain_tags
         scalar_event = yaml.ScalarEvent
+        recording = bool(self.recording)  # an anchor's value below this mapping is recorded, and done with, in `value`
         while True:
             event = get()
             kind = type(event)
@@ -322,19 +323,23 @@ class _EventReader:
                 raise _Unsure  # a plain key that reads as a number, a boolean, null or `<<`
             start = event.start_mark
             line = start.line
-            key_path = (*path, key)
+            key_path = path + (key,)  # noqa: RUF005 (one tuple built, not a list turned into one)
             key_mark = (line + 1, start.column + 1)
-            if self.recording:
+            if recording:
                 self.record(_KEY, key_path, key_mark)
             else:
                 keys.setdefault(key_path, key_mark)
             value = get()
             kind = type(value)
-            if kind is scalar_event and value.anchor is None and not self.recording:
+            if kind is scalar_event and value.anchor is None and not recording:
                 # the common case, what `value` does for it without the call: its position, then its value
                 start = value.start_mark
                 by_path.setdefault(key_path, (start.line + 1, start.column + 1))
-                result[key] = self.scalar(value)
+                text = value.value
+                if value.tag is None and (not value.implicit[0] or (plain_tags.get(text) or self._plain_tag(text)) == _STR_TAG):
+                    result[key] = text  # `scalar`'s first answer: a quoted text, or a plain one that reads as a string
+                else:
+                    result[key] = self.scalar(value)
                 continue
             if kind is yaml.AliasEvent:
                 anchored = self.anchors.get(value.anchor)
@@ -342,7 +347,7 @@ class _EventReader:
             else:
                 starts, collection = value.start_mark.line, kind is not scalar_event
             if collection and starts != line:
-                if self.recording:
+                if recording:
                     self.record(_KEY_LINE, key_path, key_mark)
                 else:
                     by_path.setdefault(key_path, key_mark)
@@ -355,7 +360,7 @@ class _EventReader:
             event = get()
             if type(event) is yaml.SequenceEndEvent:
                 return result
-            result.append(self.value(event, (*path, len(result))))
+            result.append(self.value(event, path + (len(result),)))  # noqa: RUF005 (as in mapping)
 
     def _plain_tag(self, text: str) -> str:
         tag = self.plain_tags.get(text)
