@@ -85,7 +85,10 @@ def read_yaml(text: str) -> tuple[Any, Positions]:
     root = _compose_checked(text)
     positions = Positions()
     builder = _Builder(positions)
-    data = builder.build(root, ())
+    try:
+        data = builder.build(root, ())
+    finally:
+        builder.close()
     return data, positions
 
 
@@ -93,12 +96,14 @@ def _read_fast(text: str) -> tuple[Any, Positions] | None:
     if _FAST_PARSER is None:
         return None
     parser = _FAST_PARSER(text)
+    reader = _EventReader(parser)
     try:
-        return _EventReader(parser).document()
+        return reader.document()
     except (_Unsure, YamlProblem, yaml.YAMLError, ValueError, RecursionError):
         return None
     finally:
         parser.dispose()
+        reader.checks.close()
 
 
 def _compose_checked(text: str) -> yaml.Node:
@@ -138,6 +143,11 @@ class _Builder:
         self.built: set[int] = set()  # ids of the nodes built once (the tree holds them, so ids stay unique)
         self.open: list[yaml.Node] = []  # collections being built, outermost first
         self.constructor = yaml.SafeLoader("")
+
+    def close(self) -> None:
+        """Let the constructor go with this builder: PyYAML's parser state points back at the loader (a cycle, which a
+        generate run's rare collector passes would leave holding every node the constructor built and remembers)."""
+        self.constructor.dispose()
 
     def build(self, node: yaml.Node, path: Path) -> Any:
         if id(node) in self.built:
