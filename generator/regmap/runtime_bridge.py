@@ -7,6 +7,7 @@ The read plan is computed once, by the very planner the runtime uses, so the Pyt
 from __future__ import annotations
 
 import enum
+import weakref
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -21,8 +22,22 @@ from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
     from regmap.plant import Bus, Plant, PlantDevice
 
-_SPECS: dict[int, tuple[Device, list[RegisterSpec[Any]]]] = {}
-_PLANS: dict[int, tuple[Device, tuple[ReadBlock, ...]]] = {}  # read_all()'s plan of each device
+# Worked out once per device while it lives: keyed by its id (hashing a whole model would cost more than the work),
+# each entry dropped when its device is freed, so a process that loads many maps keeps only the live ones'.
+_SPECS: dict[int, list[RegisterSpec[Any]]] = {}
+_PLANS: dict[int, tuple[ReadBlock, ...]] = {}  # read_all()'s plan of each device
+
+
+def _kept(device: Device, cache: dict[int, Any], value: Any) -> None:
+    key = id(device)
+    if key not in _SPECS and key not in _PLANS:
+        weakref.finalize(device, _forget, key)
+    cache[key] = value
+
+
+def _forget(key: int) -> None:
+    _SPECS.pop(key, None)
+    _PLANS.pop(key, None)
 
 
 def documented_addresses(device: Device, variants: Sequence[str] = ()) -> frozenset[tuple[str, int]]:
@@ -48,8 +63,8 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
     check (`regmap_runtime.codec.check_raw`) serves the CLI and the simulator as it serves the
     generated clients. Built once per device."""
     cached = _SPECS.get(id(device))
-    if cached is not None and cached[0] is device:
-        return cached[1]
+    if cached is not None:
+        return cached
     enums = {e.name: runtime_enum(e) for e in device.enums}
     specs: list[RegisterSpec[Any]] = [
         RegisterSpec(
@@ -74,7 +89,7 @@ def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
         )
         for r in device.registers
     ]
-    _SPECS[id(device)] = (device, specs)
+    _kept(device, _SPECS, specs)
     return specs
 
 
@@ -212,8 +227,8 @@ def read_plan(
     whole = registers is None and profile is None and poll is None and not variants
     if whole:  # every back end asks for read_all()'s plan: planned once per device
         cached = _PLANS.get(id(device))
-        if cached is not None and cached[0] is device:
-            return list(cached[1])
+        if cached is not None:
+            return list(cached)
     t = device.transport
     chosen = device.registers if registers is None else registers
     if poll is not None:
@@ -226,7 +241,7 @@ def read_plan(
         limit, documented = profile.plan_limits(limit, documented)
     plan = plan_reads(specs, limit, documented, max_bits=t.max_read_coils, alignment=runtime_alignment(device))
     if whole:
-        _PLANS[id(device)] = (device, tuple(plan))
+        _kept(device, _PLANS, tuple(plan))
     return plan
 
 

@@ -83,3 +83,16 @@ def test_the_escaping_caches_are_bounded() -> None:
     assert 0 < TEXT_CACHE_SIZE <= 1 << 16
     assert st_comment("a (* b *) c") == st_comment("a (* b *) c") == "a ( * b * ) c"
     assert xml_text("<a & b>") == "&lt;a &amp; b&gt;"
+
+
+def test_what_is_worked_out_once_per_device_goes_with_the_device() -> None:
+    """A process that loads many maps (a test run, a build server) keeps the specs and plans of live devices only."""
+    from regmap import runtime_bridge
+
+    device = load_map(MAPS[0])
+    key = id(device)
+    read_plan(device)
+    assert key in runtime_bridge._SPECS and key in runtime_bridge._PLANS
+    del device
+    gc.collect()
+    assert key not in runtime_bridge._SPECS and key not in runtime_bridge._PLANS
