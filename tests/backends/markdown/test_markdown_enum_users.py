@@ -16,9 +16,13 @@ def used_by(name: str, enum: str) -> str:
 
 
 def test_a_table_only_bitfields_use_lists_their_registers_and_fields() -> None:
+    device = load_map(ROOT / "maps" / "idm_rs.yaml")
+    users = [(r, b) for r in device.registers for b in r.bitfields if b.enum is not None and b.enum.name == "di_function"]
+    assert users and not any(r.enum is not None and r.enum.name == "di_function" for r in device.registers)
     line = used_by("idm_rs", "di_function")
-    assert "[`di1_function`](#di1_function) bits 0-6 (`function`)" in line
-    assert line.count("bits 0-6") == 7  # DI1 ... DI7
+    for reg, field in users:  # DI1 ... DI7 in the map
+        assert f"[`{reg.name}`](#{reg.name}) bits {field.bits_text} (`{field.name}`)" in line
+    assert line.count(" bits ") == len(users)
 
 
 def test_a_table_a_register_holds_lists_that_register() -> None:
