@@ -226,3 +226,37 @@ def test_a_client_that_cannot_connect_names_the_place_not_pymodbus_s_class() -> 
         with pytest.raises(ConnectionLost) as refused:
             client.connect()
         assert str(refused.value) == f"cannot connect to {where}"
+
+
+# -- options before the command (mbpoll's order) -------------------------------------------------
+
+
+def test_options_before_the_command_are_its_options_as_after_it(capsys: pytest.CaptureFixture[str]) -> None:
+    from regmap.cli import main
+
+    frame = ["frame", str(ROOT / IDM), "read", "Pr5.00"]
+    assert main(["--slave", "2", *frame]) == ExitCode.OK
+    before = capsys.readouterr().out
+    assert main([*frame, "--slave", "2"]) == ExitCode.OK
+    assert before == capsys.readouterr().out == "02 03 01 91 00 01 D4 28\n"
+
+
+def test_an_options_value_before_the_command_is_not_taken_for_the_command() -> None:
+    before = one_line_error(regmap(*CLOSED_PORT, "read", IDM, "Pr5.00"), ExitCode.BUS)  # the read ran: the port refused it
+    assert (
+        before
+        == one_line_error(regmap("read", IDM, "Pr5.00", *CLOSED_PORT), ExitCode.BUS)
+        == "regmap read: bus error: cannot open 127.0.0.1:1: Connection refused"
+    )
+    line = one_line_error(regmap("--slave", "300", "read", IDM, "Pr5.00", *CLOSED_PORT), ExitCode.USAGE)
+    assert line == "regmap read: error: argument --slave: 300 is outside 0..255"
+
+
+def test_a_first_word_that_names_no_command_is_refused_with_the_commands(capsys: pytest.CaptureFixture[str]) -> None:
+    from regmap.cli import main
+
+    assert main(["3", "read", str(ROOT / IDM)]) == ExitCode.USAGE
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert line.startswith("regmap: error: argument COMMAND: invalid choice: '3' (choose from 'validate',"), line
+    assert main(["--version", "read"]) == ExitCode.OK  # --version before a command is still the top parser's
+    assert capsys.readouterr().out.startswith("regmap ")

@@ -1,7 +1,8 @@
 """The `regmap` command line: one module per subcommand, each with `add_parser()` and `run()`.
 
-Options may come anywhere after the subcommand (argparse's intermixed parsing), an argument error
-shows the subcommand's own usage, and every outcome maps to one documented `ExitCode`.
+Options may come anywhere, before the subcommand too (`regmap --tcp HOST:PORT read ...`, the order mbpoll users
+type): they all go to the subcommand's parser (argparse's intermixed parsing). An argument error shows the
+subcommand's own usage, and every outcome maps to one documented `ExitCode`.
 """
 
 from __future__ import annotations
@@ -78,7 +79,7 @@ def _quiet_pymodbus() -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     _tolerant_streams()
     args_list = list(sys.argv[1:] if argv is None else argv)
-    position = next((i for i, a in enumerate(args_list) if not a.startswith("-")), None)
+    position = _command_position(args_list)
     named = None if position is None else ALIASES.get(args_list[position], args_list[position])
     if named != "generate":  # generate talks to no bus (tests/project/test_generate_imports.py): it skips importing logging
         _quiet_pymodbus()
@@ -91,14 +92,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         return ExitCode.USAGE
     command = ALIASES.get(args_list[position], args_list[position])
     try:
-        if position:
-            parser.error(f"options before the command: {' '.join(args_list[:position])} (give them after {command!r})")
-        args = parsers[command].parse_intermixed_args(args_list[position + 1 :])
+        args = parsers[command].parse_intermixed_args(args_list[:position] + args_list[position + 1 :])
     except SystemExit as exc:
         return _exit_for(exc)
     args.command = command
     with guarded_stdout():
         return _run(command, args)
+
+
+def _command_position(args: list[str]) -> int | None:
+    """Where the command is: the first word that names one. Words before it must be options and their values
+    (`--tcp 127.0.0.1:502 read`: the value is not the command); a first word that names no command, or --version,
+    leaves it to the top parser (the error listing the commands, or the version)."""
+    position = next((i for i, a in enumerate(args) if a in SUBCOMMANDS or a in ALIASES), None)
+    if position and (not args[0].startswith("-") or "--version" in args[:position]):
+        return None
+    return position
 
 
 def _run(command: str, args: argparse.Namespace) -> int:
