@@ -260,3 +260,16 @@ def test_a_first_word_that_names_no_command_is_refused_with_the_commands(capsys:
     assert line.startswith("regmap: error: argument COMMAND: invalid choice: '3' (choose from 'validate',"), line
     assert main(["--version", "read"]) == ExitCode.OK  # --version before a command is still the top parser's
     assert capsys.readouterr().out.startswith("regmap ")
+
+
+def test_a_bad_option_value_is_one_line_and_a_bad_shape_shows_the_usage(capsys: pytest.CaptureFixture[str]) -> None:
+    from regmap.cli import main
+
+    read = ["read", str(ROOT / IDM), "Pr5.00"]
+    assert main([*read, "--slave", "300"]) == ExitCode.USAGE
+    assert capsys.readouterr().err == "regmap read: error: argument --slave: 300 is outside 0..255\n"
+    assert main([*read, "--parity", "bogus"]) == ExitCode.USAGE
+    assert capsys.readouterr().err == "regmap read: error: argument --parity: invalid choice: 'bogus' (choose from 'none', 'even', 'odd')\n"
+    for shape in (["--slave"], ["--serial", "/dev/x", "--tcp", "127.0.0.1:1"], ["--no-such-option"]):
+        assert main([*read, *shape]) == ExitCode.USAGE
+        assert capsys.readouterr().err.startswith("usage: regmap read"), shape

@@ -14,6 +14,7 @@ import os
 import sys
 from collections.abc import Sequence
 from types import ModuleType
+from typing import NoReturn
 
 from regmap import __version__
 from regmap.diagnostics import ExitCode, LinkError, MapError, OutputError, UsageError
@@ -43,9 +44,19 @@ def _module(name: str) -> ModuleType:
     return importlib.import_module(f"regmap.cli.{name}_" if keyword.iskeyword(name) else f"regmap.cli.{name}")  # import -> import_.py
 
 
+class _Parser(argparse.ArgumentParser):
+    """A bad value of an option is one line (the option, the value, what is allowed), as regmap's own checks say it;
+    the usage block stays for what is wrong with the command line's shape (a missing, extra or unknown argument)."""
+
+    def error(self, message: str) -> NoReturn:
+        if message.startswith("argument -") and not any(shape in message for shape in ("expected ", "not allowed with")):
+            self.exit(ExitCode.USAGE, f"{self.prog}: error: {message}\n")
+        super().error(message)
+
+
 def build_parser(only: str | None = None) -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
     """The parser and each subcommand's; with `only`, that subcommand's alone (the others' modules stay unimported)."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="regmap",
         description="Declarative Modbus register maps for motor drives: validate, generate, build and decode frames, talk to drives.",
         epilog="`regmap COMMAND --help` shows each command's options and examples. Exit statuses: README, 'Exit status'.",
