@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from regmap.cli import main
 from regmap.frontend import load_map
 from regmap.generate import Target, generate, recover
 
@@ -119,3 +120,20 @@ def test_a_complete_run_replaces_only_its_targets_directories(tmp_path: Path) ->
     assert (out / "notes.txt").read_text(encoding="utf-8") == "mine\n"
     assert tree(out / "python") == python_before
     assert tree(out / "c") == {rel: content for rel, content in c_before.items() if rel != "stale.h"}
+
+
+def test_a_run_that_ends_without_teardown_has_written_and_printed_everything(tmp_path: Path) -> None:
+    """`regmap generate` ends with os._exit once it succeeded (entry.ENDS_WITHOUT_TEARDOWN): what it printed to a pipe
+    and every file it wrote are all there, the same as a run in this process makes them."""
+    out, here = tmp_path / "generated", tmp_path / "in-process"
+    result = subprocess.run(
+        [sys.executable, "-m", "regmap", "generate", *map(str, SMALL_MAPS), "--out", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert (result.returncode, result.stderr) == (0, "")
+    assert result.stdout.startswith("regmap generate: ") and result.stdout.endswith(f" -> {out}/\n"), result.stdout
+    assert main(["generate", *map(str, SMALL_MAPS), "--out", str(here)]) == 0
+    assert tree(out) == tree(here) and tree(out)

@@ -111,6 +111,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _run(command, args)
 
 
+def command_of(args: Sequence[str]) -> str | None:
+    """The command a command line runs (an alias as the command it names), or None if it names none."""
+    position = _command_position(list(args))
+    return None if position is None else ALIASES.get(args[position], args[position])
+
+
 def _command_position(args: list[str]) -> int | None:
     """Where the command is: the first word that names one. Words before it must be options and their values
     (`--tcp 127.0.0.1:502 read`: the value is not the command); a first word that names no command, or --version,
