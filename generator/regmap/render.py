@@ -204,7 +204,7 @@ def template_cache_dir() -> Path | None:
 
 # The file names of compiled templates: the code `_CodeGenerator` writes differs from Jinja's, so its entries must not
 # meet those of a regmap that compiled with Jinja's own generator. Bump the number when `_CodeGenerator` changes.
-_COMPILED_NAMES = "__regmap_codegen1_%s.cache"
+_COMPILED_NAMES = "__regmap_codegen3_%s.cache"
 
 
 class _CodeGenerator(CodeGenerator):
@@ -221,6 +221,50 @@ class _CodeGenerator(CodeGenerator):
         self.write("(_rm_v if (_rm_v := getattr((_rm_o := ")
         self.visit(node.node, frame)
         self.write(f"), {node.attr!r}, missing)) is not missing else environment.getattr(_rm_o, {node.attr!r}))")
+
+    def visit_Output(self, node: nodes.Output, frame: Frame) -> None:
+        """Jinja 3.1's, but a run of text and `{{ }}` outside a buffer is one `yield` of the pieces joined, not a
+        `yield` per piece: each yield is a turn of the generator that the render's join drives (hundreds of
+        thousands in a run). The pieces are the same, made by Jinja's own code in the same order."""
+        if frame.require_output_check:
+            if self.has_known_extends:
+                return
+            self.writeline("if parent_template is None:")
+            self.indent()
+        finalize = self._make_finalize()
+        body: list[list[Any] | nodes.Expr] = []
+        for child in node.nodes:
+            try:
+                if not (finalize.const or isinstance(child, nodes.TemplateData)):
+                    raise nodes.Impossible()
+                const = self._output_child_to_const(child, frame, finalize)
+            except Exception:  # Jinja's: not constant (Impossible) or failing, left to run time
+                body.append(child)
+                continue
+            if body and isinstance(body[-1], list):
+                body[-1].append(const)
+            else:
+                body.append([const])
+        single = len(body) == 1
+        if frame.buffer is not None:
+            self.writeline(f"{frame.buffer}.append(" if single else f"{frame.buffer}.extend((")
+        else:
+            self.writeline("yield (" if single else "yield ''.join((")
+        after = "" if single and frame.buffer is None else ","  # `yield (x,)` would yield a tuple
+        self.indent()
+        for item in body:
+            if isinstance(item, list):
+                self.writeline(self._output_const_repr(item) + after)
+            else:
+                self.newline(item)
+                self._output_child_pre(item, frame, finalize)
+                self.visit(item, frame)
+                self._output_child_post(item, frame, finalize)
+                self.write(after)
+        self.outdent()
+        self.writeline(")" if single else "))")
+        if frame.require_output_check:
+            self.outdent()
 
 
 class _Template(jinja2.Template):
