@@ -292,6 +292,7 @@ def templates(module: str) -> jinja2.Environment:
         loader=jinja2.PackageLoader(module, "templates"),
         undefined=jinja2.StrictUndefined,
         auto_reload=False,  # a run never edits its templates: no stat of the file at every include
+        cache_size=-1,  # a plain dict of the folder's few templates: no LRU bookkeeping under a lock at every include
         bytecode_cache=TemplateCache(str(where), _COMPILED_NAMES) if where is not None else None,
         **_ENVIRONMENT_OPTIONS,
     )
