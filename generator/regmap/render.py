@@ -202,11 +202,6 @@ def template_cache_dir() -> Path | None:
     return base / "templates" / f"regmap-{__version__}-jinja-{jinja2.__version__}-{options}"
 
 
-# The file names of compiled templates: the code `_CodeGenerator` writes differs from Jinja's, so its entries must not
-# meet those of a regmap that compiled with Jinja's own generator. Bump the number when `_CodeGenerator` changes.
-_COMPILED_NAMES = "__regmap_codegen3_%s.cache"
-
-
 class _CodeGenerator(CodeGenerator):
     """Jinja's code generator, but `x.name` asks Python's `getattr` first, inline: Jinja's `environment.getattr` is a
     Python call per attribute (about 90,000 in a run over three maps). Only when Python finds no such attribute does it
@@ -267,6 +262,18 @@ class _CodeGenerator(CodeGenerator):
             self.outdent()
 
 
+@functools.cache
+def compiled_names() -> str:
+    """The file names of compiled templates (`%s`: Jinja's key of the template), named by this module's text: the code
+    `_CodeGenerator` writes differs from Jinja's and changes with it, so an entry compiled by Jinja's own generator or
+    by another version of this one is never read (Jinja's checksum covers the template's text only)."""
+    try:
+        code = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()[:12]
+    except OSError:  # no file to read (an import from a zip): the regmap version in the directory's name still tells
+        code = "unread"
+    return f"__regmap_{code}_%s.cache"
+
+
 class _Template(jinja2.Template):
     """Jinja's template, whose `render` also undoes the cycle a macro makes: the macro's function holds the render's
     context, whose variables hold the macro. Left alone, each render that defines a macro keeps its context, and the
@@ -293,7 +300,7 @@ def templates(module: str) -> jinja2.Environment:
         undefined=jinja2.StrictUndefined,
         auto_reload=False,  # a run never edits its templates: no stat of the file at every include
         cache_size=-1,  # a plain dict of the folder's few templates: no LRU bookkeeping under a lock at every include
-        bytecode_cache=TemplateCache(str(where), _COMPILED_NAMES) if where is not None else None,
+        bytecode_cache=TemplateCache(str(where), compiled_names()) if where is not None else None,
         **_ENVIRONMENT_OPTIONS,
     )
     env.template_class = _Template
