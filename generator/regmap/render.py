@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import jinja2
 import jinja2.bccache
+from jinja2 import nodes
+from jinja2.compiler import CodeGenerator, Frame, optimizeconst
 
 from regmap.model import Device
 
@@ -200,6 +202,78 @@ def template_cache_dir() -> Path | None:
     return base / "templates" / f"regmap-{__version__}-jinja-{jinja2.__version__}-{options}"
 
 
+class _CodeGenerator(CodeGenerator):
+    """Jinja's code generator, but `x.name` asks Python's `getattr` first, inline: Jinja's `environment.getattr` is a
+    Python call per attribute (about 90,000 in a run over three maps). Only when Python finds no such attribute does it
+    call `environment.getattr`, which looks for an item and otherwise makes the undefined value, as Jinja does."""
+
+    @optimizeconst
+    def visit_Getattr(self, node: nodes.Getattr, frame: Frame) -> None:
+        if self.environment.is_async:
+            super().visit_Getattr(node, frame)
+            return
+        # The object is evaluated once: the fallback gets it from `_rm_o`, bound just before Python's lookup.
+        self.write("(_rm_v if (_rm_v := getattr((_rm_o := ")
+        self.visit(node.node, frame)
+        self.write(f"), {node.attr!r}, missing)) is not missing else environment.getattr(_rm_o, {node.attr!r}))")
+
+    def visit_Output(self, node: nodes.Output, frame: Frame) -> None:
+        """Jinja 3.1's, but a run of text and `{{ }}` outside a buffer is one `yield` of the pieces joined, not a
+        `yield` per piece: each yield is a turn of the generator that the render's join drives (hundreds of
+        thousands in a run). The pieces are the same, made by Jinja's own code in the same order."""
+        if frame.require_output_check:
+            if self.has_known_extends:
+                return
+            self.writeline("if parent_template is None:")
+            self.indent()
+        finalize = self._make_finalize()
+        body: list[list[Any] | nodes.Expr] = []
+        for child in node.nodes:
+            try:
+                if not (finalize.const or isinstance(child, nodes.TemplateData)):
+                    raise nodes.Impossible()
+                const = self._output_child_to_const(child, frame, finalize)
+            except Exception:  # Jinja's: not constant (Impossible) or failing, left to run time
+                body.append(child)
+                continue
+            if body and isinstance(body[-1], list):
+                body[-1].append(const)
+            else:
+                body.append([const])
+        single = len(body) == 1
+        if frame.buffer is not None:
+            self.writeline(f"{frame.buffer}.append(" if single else f"{frame.buffer}.extend((")
+        else:
+            self.writeline("yield (" if single else "yield ''.join((")
+        after = "" if single and frame.buffer is None else ","  # `yield (x,)` would yield a tuple
+        self.indent()
+        for item in body:
+            if isinstance(item, list):
+                self.writeline(self._output_const_repr(item) + after)
+            else:
+                self.newline(item)
+                self._output_child_pre(item, frame, finalize)
+                self.visit(item, frame)
+                self._output_child_post(item, frame, finalize)
+                self.write(after)
+        self.outdent()
+        self.writeline(")" if single else "))")
+        if frame.require_output_check:
+            self.outdent()
+
+
+@functools.cache
+def compiled_names() -> str:
+    """The file names of compiled templates (`%s`: Jinja's key of the template), named by this module's text: the code
+    `_CodeGenerator` writes differs from Jinja's and changes with it, so an entry compiled by Jinja's own generator or
+    by another version of this one is never read (Jinja's checksum covers the template's text only)."""
+    try:
+        code = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()[:12]
+    except OSError:  # no file to read (an import from a zip): the regmap version in the directory's name still tells
+        code = "unread"
+    return f"__regmap_{code}_%s.cache"
+
+
 class _Template(jinja2.Template):
     """Jinja's template, whose `render` also undoes the cycle a macro makes: the macro's function holds the render's
     context, whose variables hold the macro. Left alone, each render that defines a macro keeps its context, and the
@@ -225,10 +299,12 @@ def templates(module: str) -> jinja2.Environment:
         loader=jinja2.PackageLoader(module, "templates"),
         undefined=jinja2.StrictUndefined,
         auto_reload=False,  # a run never edits its templates: no stat of the file at every include
-        bytecode_cache=TemplateCache(str(where)) if where is not None else None,
+        cache_size=-1,  # a plain dict of the folder's few templates: no LRU bookkeeping under a lock at every include
+        bytecode_cache=TemplateCache(str(where), compiled_names()) if where is not None else None,
         **_ENVIRONMENT_OPTIONS,
     )
     env.template_class = _Template
+    env.code_generator_class = _CodeGenerator
     env.filters.update(FILTERS)
     return env
 

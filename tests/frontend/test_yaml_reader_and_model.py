@@ -136,6 +136,8 @@ AGREEING_DOCUMENTS = [
     "- 1\n- [2, 3]\n- {a: b}\n- ~\n- true\n- 0x10\n- 1.5\n- ''\n- 'yes'\n- no\n",
     "x: |\n  block\n  text\ny: >\n  folded\n",
     "a:\n- x: 1\n  y: 2\n- &z\n  p: q\nb: *z\n",
+    # integers in every spelling: the decimal and hexadecimal ones are read without a node, the others with one
+    "- 0\n- -0\n- +5\n- -17\n- 0x1F\n- -0x1f\n- +0xFF\n- 0X1F\n- 0b11\n- 1_000\n- 0x1_0\n- !!int '0x2A'\n- !!int '-3'\n",
 ]
 
 
@@ -168,6 +170,7 @@ def test_the_fast_reader_reads_as_the_checked_reader(text: str) -> None:
         "? [a]\n: 1\n",
         "*u : 1\n",
         "a: 012\n",
+        "a: !!int '0X1F'\n",
         "a: .nan\n",
         "a: 2001-01-01\n",
         "a: 1\n---\nb: 2\n",

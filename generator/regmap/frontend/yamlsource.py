@@ -395,12 +395,24 @@ class _EventReader:
             return self.scalars[key]
         except KeyError:
             pass
+        if tag == _INT_TAG and len(text) <= MAX_INT_CHARS:
+            # A decimal or hexadecimal integer without `_` is what SafeConstructor reads it as, and breaks no rule of
+            # `scalar` (no octal or base-60 look): most of a map's numbers, read without building a node for them.
+            if _DECIMAL.fullmatch(text):
+                value = self.scalars[key] = int(text)
+                return value
+            if _HEXADECIMAL.fullmatch(text):
+                value = self.scalars[key] = int(text, 16)
+                return value
         node = yaml.ScalarNode(tag, text, event.start_mark, event.end_mark, event.style)
         value = self.scalars[key] = self.checks.scalar(node)  # a problem: _Unsure's reader, the checked one, says it
         return value
 
 
 _STR_TAG = _YAML_TAG + "str"
+_INT_TAG = _YAML_TAG + "int"
+_DECIMAL = re.compile(r"[-+]?(?:0|[1-9][0-9]*)")
+_HEXADECIMAL = re.compile(r"[-+]?0x[0-9a-fA-F]+")
 _MERGE_TAG = "tag:yaml.org,2002:merge"
 
 
