@@ -4,6 +4,7 @@ accessors; the encoders and command helpers are in encoders.py."""
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import cached_property
 
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
@@ -17,7 +18,7 @@ from regmap.backends.st.codec import (
     value_type,
 )
 from regmap.backends.st.names import StIdentifier, st_hex, st_int, st_real
-from regmap.backends.st.view_types import Const, FunctionView, Member, StructView, TextMember
+from regmap.backends.st.view_types import Const, FunctionView, Member, Section, StructView, TextMember
 from regmap.backends.st.views import (
     POLL_VALUE,
     Names,
@@ -63,6 +64,11 @@ class Block:
 
     def decoder(self, dialect: Dialect) -> FunctionView:
         return self.decode if dialect.unions else self.exact_decode
+
+    @cached_property
+    def const_lines(self) -> str:
+        """The block's constants as the ST files declare them (the same in every dialect)."""
+        return Section("", self.consts).lines
 
 
 def _raw_member_type(reg: Register) -> str:

@@ -76,9 +76,21 @@ class EnumValue(NamedTuple):
 @dataclass(frozen=True)
 class EnumView:
     type_name: str
-    base: str
+    base: str  # "" in a notation without enum base types (plain IEC), which gives the members no values either
     comment: str
     members: tuple[EnumValue, ...]
+
+    # The member lines an ST file prints, made here as a function's are: joined in a template they cost several times more.
+    @cached_property
+    def st_members(self) -> str:
+        """The members, one a line, the last without a comma; each with its value where the notation has a base type."""
+        last = len(self.members) - 1
+        return "".join(
+            [
+                f"    {name}{f' := {value}' if self.base else ''}{',' if i != last else ''} (* {st_comment(comment)} *)\n"
+                for i, (name, value, comment) in enumerate(self.members)
+            ]
+        )
 
 
 @dataclass(frozen=True)
@@ -86,6 +98,11 @@ class StructView:
     type_name: str
     comment: str
     members: tuple[Member, ...]
+
+    @cached_property
+    def st_members(self) -> str:
+        """The members as an ST STRUCT declares them, one a line (the dialects share the read blocks' structs)."""
+        return "".join([f"    {name} : {kind}; (* {st_comment(comment)} *)\n" for name, kind, comment in self.members])
 
 
 @dataclass(frozen=True)
@@ -103,6 +120,30 @@ class FunctionView:
     def indented_body(self) -> str:
         """The statements, one a line, each indented by four spaces and ended by a newline (the ST files)."""
         return "".join(f"    {line}\n" for line in self.body)
+
+    @cached_property
+    def st_text(self) -> str:
+        """The whole function as an ST file prints it, from the blank line before its comment to END_FUNCTION: made
+        once here (the dialects share most functions), since a template's loops cost several times the lines."""
+        lines = [f"\n(* {st_comment(self.comment)} *)\n", f"FUNCTION {self.name} : {self.returns}\n"]
+        if self.inputs:
+            lines.append("VAR_INPUT\n")
+            lines += [
+                f"    {name} : {kind}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind};\n"
+                for name, kind, comment in self.inputs
+            ]
+            lines.append("END_VAR\n")
+        if self.in_outs:
+            lines.append("VAR_IN_OUT\n")
+            lines += [f"    {m.name} : {m.type};\n" for m in self.in_outs]
+            lines.append("END_VAR\n")
+        if self.locals:
+            lines.append("VAR\n")
+            lines += [f"    {m.name} : {m.type};\n" for m in self.locals]
+            lines.append("END_VAR\n")
+        lines.append(self.indented_body)
+        lines.append("END_FUNCTION\n")
+        return "".join(lines)
 
     @cached_property
     def xml_body(self) -> str:
