@@ -23,6 +23,7 @@ the client a struct (matiec 6bb2c33 crashes on a function block in VAR_IN_OUT).
 
 from __future__ import annotations
 
+from functools import cached_property
 from typing import Any
 
 from regmap.backends.st.codec import NATURAL
@@ -242,6 +243,11 @@ class Poller:
     locals: tuple[Member, ...]
     body: tuple[str, ...]
     functions: tuple[int, ...]  # the Modbus function codes it sends
+
+    @cached_property
+    def body_text(self) -> str:
+        """The statements, one a line (thousands: joined here, not looped over in the template)."""
+        return "".join([f"{line}\n" for line in self.body])
 
 
 def _convert(value: str, source: str, target: str) -> str:

@@ -125,15 +125,23 @@ class FunctionView:
     def st_text(self) -> str:
         """The whole function as an ST file prints it, from the blank line before its comment to END_FUNCTION: made
         once here (the dialects share most functions), since a template's loops cost several times the lines."""
+        return self._text(declare_empty=False)
+
+    @cached_property
+    def poll_text(self) -> str:
+        """The same as the poller's file prints it (both runtimes share it), VAR_INPUT and VAR_IN_OUT even when empty."""
+        return self._text(declare_empty=True)
+
+    def _text(self, declare_empty: bool) -> str:
         lines = [f"\n(* {st_comment(self.comment)} *)\n", f"FUNCTION {self.name} : {self.returns}\n"]
-        if self.inputs:
+        if self.inputs or declare_empty:
             lines.append("VAR_INPUT\n")
             lines += [
                 f"    {name} : {kind}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind};\n"
                 for name, kind, comment in self.inputs
             ]
             lines.append("END_VAR\n")
-        if self.in_outs:
+        if self.in_outs or declare_empty:
             lines.append("VAR_IN_OUT\n")
             lines += [f"    {m.name} : {m.type};\n" for m in self.in_outs]
             lines.append("END_VAR\n")
