@@ -343,11 +343,17 @@ def _plan_blocks(device: Device) -> list[Planned]:
     readable = [r for r in device.registers if r.access.readable]
     every = tuple(v.name for v in device.info.variants)
     out: list[Planned] = []
-    for key in sorted({_plan_key(r) for r in readable}):
+    keys = sorted({_plan_key(r) for r in readable})
+    for key in keys:
         poll, first, until, variants = key
-        chosen = [r for r in readable if _plan_key(r) == key]
         gate = FirmwareGate(first or None, until or None) if first or until else None
-        out += [(block, PollClass(poll), gate, variants) for block in read_plan(device, chosen, variants=variants or every)]
+        if len(keys) == 1 and not (variants or every):
+            # one class, gate and variant set for every readable register: read_all()'s plan, which the other back ends
+            # ask for too and the runtime bridge makes once per device
+            made = read_plan(device)
+        else:
+            made = read_plan(device, [r for r in readable if _plan_key(r) == key], variants=variants or every)
+        out += [(block, PollClass(poll), gate, variants) for block in made]
     order = {name: i for i, name in enumerate(SPACE_TAG)}
     out.sort(key=lambda item: (order[item[0].space], item[0].address))
     return out
