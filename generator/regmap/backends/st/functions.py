@@ -4,7 +4,6 @@ accessors; the encoders and command helpers are in encoders.py."""
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import cached_property
 
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
@@ -33,7 +32,7 @@ from regmap.backends.st.views import (
 )
 from regmap.core.text import na_list
 from regmap.model import Bitfield, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
-from regmap.records import dataclass
+from regmap.records import cached_property, dataclass
 from regmap.runtime_bridge import read_plan
 from regmap_runtime.plan import ReadBlock
 

@@ -23,7 +23,6 @@ the client a struct (matiec 6bb2c33 crashes on a function block in VAR_IN_OUT).
 
 from __future__ import annotations
 
-from functools import cached_property
 from typing import Any
 
 from regmap.backends.st.codec import NATURAL
@@ -33,7 +32,7 @@ from regmap.backends.st.view_types import Member
 from regmap.backends.st.views import VARIANT_TYPE, Names, firmware_raw, variants_mask
 from regmap.backends.st.writes import WRITE_COIL, WRITE_MULTIPLE, WRITE_SINGLE
 from regmap.model import Device, PollClass
-from regmap.records import dataclass
+from regmap.records import cached_property, dataclass
 
 READ_COILS, READ_DISCRETE, READ_HOLDING, READ_INPUT = 0x01, 0x02, 0x03, 0x04
 BIT_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE, WRITE_COIL})

@@ -7,10 +7,8 @@ frozen dataclasses, and which a template's `for` unpacks without an attribute lo
 
 from __future__ import annotations
 
-from functools import cached_property
-
 from regmap.backends.st.codec import Notation
-from regmap.records import NamedTuple, dataclass
+from regmap.records import NamedTuple, cached_property, dataclass
 from regmap.render import st_comment, xml_text
 
 
