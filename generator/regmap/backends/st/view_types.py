@@ -162,6 +162,11 @@ class Section(NamedTuple):
     consts: tuple[Const, ...]
 
     @property
+    def text(self) -> str:
+        """The section as an ST file's VAR_GLOBAL CONSTANT prints it: a blank line, its comment, its constants."""
+        return f"\n    (* {st_comment(self.comment)} *)\n{self.lines}"
+
+    @property
     def lines(self) -> str:
         """The constants' declarations, one a line, each ended by a newline (an ST file's VAR_GLOBAL CONSTANT): made
         here, as the functions' bodies are, since a template's loop costs several times the line it prints."""
