@@ -185,4 +185,4 @@ class SectionToSpell(NamedTuple):
     consts: tuple[Const | MemberConst | TextConst, ...]
 
     def spelled(self, notation: Notation) -> Section:
-        return Section(self.comment, tuple([c.spelled(notation) for c in self.consts]))
+        return Section(self.comment, tuple([c if type(c) is Const else c.spelled(notation) for c in self.consts]))  # most are plain
