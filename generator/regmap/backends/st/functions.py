@@ -349,10 +349,10 @@ def _plan_blocks(device: Device) -> list[Planned]:
         if len(keys) == 1 and not (variants or every):
             # one class, gate and variant set for every readable register: read_all()'s plan, which the other back ends
             # ask for too and the runtime bridge makes once per device
-            made = read_plan(device)
-        else:
-            made = read_plan(device, [r for r in readable if _plan_key(r) == key], variants=variants or every)
-        out += [(block, PollClass(poll), gate, variants) for block in made]
+            out += [(block, PollClass(poll), gate, variants) for block in read_plan(device)]
+            continue
+        chosen = [r for r in readable if _plan_key(r) == key]
+        out += [(block, PollClass(poll), gate, variants) for block in read_plan(device, chosen, variants=variants or every)]
     order = {name: i for i, name in enumerate(SPACE_TAG)}
     out.sort(key=lambda item: (order[item[0].space], item[0].address))
     return out
