@@ -3,8 +3,6 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
@@ -445,8 +443,12 @@ def blocks(names: Names, values: Values) -> list[Block]:
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
         locals_ = tuple(Member(k, v) for k, v in local_types.items())
-        decode = FunctionView(name, "BOOL", "", tuple(inputs), (Member("stValues", values.type_name),), locals_, tuple(body))
-        with_unions, exact = (replace(decode, comment=comment) for comment in _decoder_comments(index, regs))
+        in_outs, statements = (Member("stValues", values.type_name),), tuple(body)
+        union_comment, exact_comment = _decoder_comments(index, regs)
+        with_unions = FunctionView(name, "BOOL", union_comment, tuple(inputs), in_outs, locals_, statements)
+        exact = with_unions  # one view when the comments agree (a block without floats): the dialects print one text
+        if exact_comment != union_comment:
+            exact = FunctionView(name, "BOOL", exact_comment, tuple(inputs), in_outs, locals_, statements)
         out.append(
             Block(block.address, block.count, struct, regs, tuple(consts), with_unions, exact, space, bits, read_call, channel, info.read)
         )
