@@ -120,11 +120,12 @@ def _constants(context: dict[str, Any]) -> str:
         *context["bitfields"],
         *context["commands"],
     ]
+    head, tail = "            <documentation><xhtml:p>", "</xhtml:p></documentation>\n          </variable>\n"
     return "".join(
         [
             f'          <variable name="{name}">\n            <type>{xml_type(kind)}</type>\n'
             f'            <initialValue><simpleValue value="{xml_text(value)}"/></initialValue>\n'
-            f"{_documentation(comment, '            ')}          </variable>\n"
+            + (f"{head}{xml_text(comment)}{tail}" if comment else "          </variable>\n")
             for s in sections
             for name, kind, value, comment in s.consts
         ]

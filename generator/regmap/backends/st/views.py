@@ -189,8 +189,10 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     what = f"register {reg.name}"
     stem = StIdentifier.stem(names.prefix, reg.name)
 
+    add, pos = names.globals.add, reg.pos
+
     def c(suffix: str) -> str:
-        return names.globals.add(stem(suffix), what, reg.pos)
+        return add(stem(suffix), what, pos)
 
     consts: list[Const | MemberConst | TextConst] = [
         Const(c("ADDR"), "UINT", st_hex(reg.address)),
