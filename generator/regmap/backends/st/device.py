@@ -8,7 +8,6 @@ decoders' comments per dialect."""
 from __future__ import annotations
 
 import weakref
-from functools import cached_property
 from typing import Any
 
 from regmap.backends.st import codec, half, scaling
@@ -32,6 +31,7 @@ from regmap.backends.st.views import (
 from regmap.backends.st.writes import WriteStruct, queue_function, write_function, write_functions, write_struct
 from regmap.diagnostics import Diagnostic
 from regmap.model import Device, PollClass, Register
+from regmap.records import cached_property
 from regmap.render import header_lines
 
 
@@ -167,16 +167,24 @@ class DeviceViews:
             "write_functions": spelled.write_functions,
             "functions": functions,
             "unions": unions(names, dialect, self.helpers, values.used),
-            "spaces": sorted({r.space for r in device.registers}),
-            "has_bits": any(b.bits for b in plan),
+            **self.facts,
             "has_floats": bool(values.used & {"f16", "f32", "f64"}),
+            "scaled": self.scaled,
+            "example": self.example,
+        }
+
+    @cached_property
+    def facts(self) -> dict[str, Any]:
+        """What the templates ask of the device as a whole, the same in every dialect."""
+        device = self.device
+        return {
+            "spaces": sorted({r.space for r in device.registers}),
+            "has_bits": any(b.bits for b in self.plan),
             "has_text": any(r.type.is_string for r in device.registers),
             "poll_consts_used": any(
                 r.type.words == 4 or r.firmware is not None or codec.swapped(r) or r.poll is not PollClass.NORMAL for r in device.registers
             ),
             "order_input": needs_order_input(device, device.registers),
-            "scaled": self.scaled,
-            "example": self.example,
         }
 
     @cached_property

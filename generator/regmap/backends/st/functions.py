@@ -3,8 +3,6 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
@@ -17,7 +15,7 @@ from regmap.backends.st.codec import (
     value_type,
 )
 from regmap.backends.st.names import StIdentifier, st_hex, st_int, st_real
-from regmap.backends.st.view_types import Const, FunctionView, Member, StructView, TextMember
+from regmap.backends.st.view_types import Const, FunctionView, Member, Section, StructView, TextMember
 from regmap.backends.st.views import (
     POLL_VALUE,
     Names,
@@ -32,7 +30,7 @@ from regmap.backends.st.views import (
 )
 from regmap.core.text import na_list
 from regmap.model import Bitfield, DataType, Device, FirmwareGate, PollClass, Register, WordOrder
-from regmap.records import dataclass
+from regmap.records import cached_property, dataclass
 from regmap.runtime_bridge import read_plan
 from regmap_runtime.plan import ReadBlock
 
@@ -63,6 +61,11 @@ class Block:
 
     def decoder(self, dialect: Dialect) -> FunctionView:
         return self.decode if dialect.unions else self.exact_decode
+
+    @cached_property
+    def const_lines(self) -> str:
+        """The block's constants as the ST files declare them (the same in every dialect)."""
+        return Section("", self.consts).lines
 
 
 def _raw_member_type(reg: Register) -> str:
@@ -337,10 +340,16 @@ def _plan_blocks(device: Device) -> list[Planned]:
     readable = [r for r in device.registers if r.access.readable]
     every = tuple(v.name for v in device.info.variants)
     out: list[Planned] = []
-    for key in sorted({_plan_key(r) for r in readable}):
+    keys = sorted({_plan_key(r) for r in readable})
+    for key in keys:
         poll, first, until, variants = key
-        chosen = [r for r in readable if _plan_key(r) == key]
         gate = FirmwareGate(first or None, until or None) if first or until else None
+        if len(keys) == 1 and not (variants or every):
+            # one class, gate and variant set for every readable register: read_all()'s plan, which the other back ends
+            # ask for too and the runtime bridge makes once per device
+            out += [(block, PollClass(poll), gate, variants) for block in read_plan(device)]
+            continue
+        chosen = [r for r in readable if _plan_key(r) == key]
         out += [(block, PollClass(poll), gate, variants) for block in read_plan(device, chosen, variants=variants or every)]
     order = {name: i for i, name in enumerate(SPACE_TAG)}
     out.sort(key=lambda item: (order[item[0].space], item[0].address))
@@ -434,8 +443,12 @@ def blocks(names: Names, values: Values) -> list[Block]:
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
         locals_ = tuple(Member(k, v) for k, v in local_types.items())
-        decode = FunctionView(name, "BOOL", "", tuple(inputs), (Member("stValues", values.type_name),), locals_, tuple(body))
-        with_unions, exact = (replace(decode, comment=comment) for comment in _decoder_comments(index, regs))
+        in_outs, statements = (Member("stValues", values.type_name),), tuple(body)
+        union_comment, exact_comment = _decoder_comments(index, regs)
+        with_unions = FunctionView(name, "BOOL", union_comment, tuple(inputs), in_outs, locals_, statements)
+        exact = with_unions  # one view when the comments agree (a block without floats): the dialects print one text
+        if exact_comment != union_comment:
+            exact = FunctionView(name, "BOOL", exact_comment, tuple(inputs), in_outs, locals_, statements)
         out.append(
             Block(block.address, block.count, struct, regs, tuple(consts), with_unions, exact, space, bits, read_call, channel, info.read)
         )

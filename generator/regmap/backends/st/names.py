@@ -124,7 +124,7 @@ class Scope:
     def add(self, name: StIdentifier, what: str, pos: SourcePos | None = None) -> StIdentifier:
         if name.problem:
             self._report(pos, f"generated Structured Text name of {what}: {name.problem}")
-        first = self.seen.setdefault(name.upper(), what)
+        first = self.seen.setdefault(name, what)  # an StIdentifier is upper-case: as ST compares names
         if first != what:
             self._report(
                 pos,

@@ -13,8 +13,8 @@ import functools
 import re
 from typing import Any
 
-from regmap.backends.st.view_types import Const, FunctionView, Member, Section
-from regmap.records import NamedTuple
+from regmap.backends.st.view_types import EnumView, FunctionView, Member, Section, StructView
+from regmap.render import xml_text
 
 ELEMENTARY = frozenset(
     [
@@ -59,31 +59,59 @@ def xml_type(st_type: str) -> str:
     return f'<derived name="{st_type}"/>'
 
 
-class Variable(NamedTuple):  # thousands per device: a named tuple is cheap to make
-    name: str
-    type: str  # a TC6 dataType element
-    initial: str | None  # an ST literal, for simpleValue
-    comment: str  # plain text; the template escapes it
+def _documentation(comment: str, indent: str) -> str:
+    return f"{indent}<documentation><xhtml:p>{xml_text(comment)}</xhtml:p></documentation>\n" if comment else ""
 
 
-class Pou(NamedTuple):
-    name: str
-    returns: str
-    comment: str
-    lists: tuple[tuple[str, tuple[Variable, ...]], ...]  # (inputVars | inOutVars | localVars, variables)
-    body_xml: str  # ST statements, one per line, escaped as XML character data
+# The elements are joined here, not looped over in the template: a device has thousands of constants and members,
+# and a template's loop costs several times the line it prints.
 
 
-def _variables(members: tuple[Member, ...]) -> tuple[Variable, ...]:
-    return tuple(Variable(m.name, xml_type(m.type), None, m.comment) for m in members)
+def _enum(e: EnumView) -> str:
+    values = "".join([f'              <value name="{name}" value="{value}"/>\n' for name, value, _ in e.members])
+    return (
+        f'      <dataType name="{e.type_name}">\n        <baseType>\n          <enum>\n            <values>\n{values}'
+        f"            </values>\n            <baseType>{xml_type(e.base)}</baseType>\n          </enum>\n        </baseType>\n"
+        f"        <documentation><xhtml:p>{xml_text(e.comment)}</xhtml:p></documentation>\n      </dataType>\n"
+    )
 
 
-def _pou(f: FunctionView) -> Pou:
-    lists = [(tag, _variables(members)) for tag, members in (("inputVars", f.inputs), ("inOutVars", f.in_outs), ("localVars", f.locals))]
-    return Pou(f.name, xml_type(f.returns), f.comment, tuple((tag, v) for tag, v in lists if v), f.xml_body)
+def _struct(s: StructView) -> str:
+    members = "".join(
+        [
+            f'            <variable name="{name}">\n              <type>{xml_type(kind)}</type>\n'
+            f"{_documentation(comment, '              ')}            </variable>\n"
+            for name, kind, comment in s.members
+        ]
+    )
+    return (
+        f'      <dataType name="{s.type_name}">\n        <baseType>\n          <struct>\n{members}          </struct>\n'
+        f"        </baseType>\n        <documentation><xhtml:p>{xml_text(s.comment)}</xhtml:p></documentation>\n      </dataType>\n"
+    )
 
 
-def _constants(context: dict[str, Any]) -> list[Variable]:
+def _variables(tag: str, members: tuple[Member, ...]) -> str:
+    if not members:
+        return ""
+    lines = [
+        f'            <variable name="{name}"><type>{xml_type(kind)}</type>'
+        + (f"<documentation><xhtml:p>{xml_text(comment)}</xhtml:p></documentation>" if comment else "")
+        + "</variable>\n"
+        for name, kind, comment in members
+    ]
+    return f"          <{tag}>\n{''.join(lines)}          </{tag}>\n"
+
+
+def _pou(f: FunctionView) -> str:
+    return (
+        f'      <pou name="{f.name}" pouType="function">\n        <interface>\n          <returnType>{xml_type(f.returns)}</returnType>\n'
+        f"{_variables('inputVars', f.inputs)}{_variables('inOutVars', f.in_outs)}{_variables('localVars', f.locals)}"
+        f'        </interface>\n        <body>\n          <ST><xhtml:p xml:space="preserve">{f.xml_body}</xhtml:p></ST>\n        </body>\n'
+        f"        <documentation><xhtml:p>{xml_text(f.comment)}</xhtml:p></documentation>\n      </pou>\n"
+    )
+
+
+def _constants(context: dict[str, Any]) -> str:
     sections: list[Section] = [
         context["device_consts"],
         Section("The read plan.", (context["plan_len"], *(c for b in context["plan"] for c in b.consts))),
@@ -92,28 +120,28 @@ def _constants(context: dict[str, Any]) -> list[Variable]:
         *context["bitfields"],
         *context["commands"],
     ]
-    consts: list[Const] = [c for s in sections for c in s.consts]
-    return [Variable(c.name, xml_type(c.type), c.value, c.comment) for c in consts]
+    head, tail = "            <documentation><xhtml:p>", "</xhtml:p></documentation>\n          </variable>\n"
+    return "".join(
+        [
+            f'          <variable name="{name}">\n            <type>{xml_type(kind)}</type>\n'
+            f'            <initialValue><simpleValue value="{xml_text(value)}"/></initialValue>\n'
+            + (f"{head}{xml_text(comment)}{tail}" if comment else "          </variable>\n")
+            for s in sections
+            for name, kind, value, comment in s.consts
+        ]
+    )
 
 
 def plcopen_context(context: dict[str, Any]) -> dict[str, Any]:
-    """The template context of `<device>/plcopen/<device>.xml`, from the views in the PLCopen dialect."""
+    """The template context of `<device>/plcopen/<device>.xml`, from the views in the PLCopen dialect: each list of
+    elements as its XML text."""
     device = context["device"]
     structs = [*(b.struct for b in context["plan"]), context["values"]]
     return {
         "header": context["header"],
         "device": device,
-        "enums": [
-            {
-                "name": e.type_name,
-                "comment": e.comment,
-                "base": xml_type(e.base),
-                "members": e.members,
-            }
-            for e in context["enums"]
-        ],
-        "structs": [{"name": s.type_name, "comment": s.comment, "members": _variables(s.members)} for s in structs],
-        "pous": [_pou(f) for f in context["functions"]],
+        "data_types": "".join([*(_enum(e) for e in context["enums"]), *(_struct(s) for s in structs)]),
+        "pous": "".join([_pou(f) for f in context["functions"]]),
         "configuration": f"C_{device.id.upper()}",
         "global_list": f"GVL_{device.id.upper()}",
         "constants": _constants(context),

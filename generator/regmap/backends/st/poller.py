@@ -32,7 +32,7 @@ from regmap.backends.st.view_types import Member
 from regmap.backends.st.views import VARIANT_TYPE, Names, firmware_raw, variants_mask
 from regmap.backends.st.writes import WRITE_COIL, WRITE_MULTIPLE, WRITE_SINGLE
 from regmap.model import Device, PollClass
-from regmap.records import dataclass
+from regmap.records import cached_property, dataclass
 
 READ_COILS, READ_DISCRETE, READ_HOLDING, READ_INPUT = 0x01, 0x02, 0x03, 0x04
 BIT_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE, WRITE_COIL})
@@ -242,6 +242,11 @@ class Poller:
     locals: tuple[Member, ...]
     body: tuple[str, ...]
     functions: tuple[int, ...]  # the Modbus function codes it sends
+
+    @cached_property
+    def body_text(self) -> str:
+        """The statements, one a line (thousands: joined here, not looped over in the template)."""
+        return "".join([f"{line}\n" for line in self.body])
 
 
 def _convert(value: str, source: str, target: str) -> str:

@@ -7,10 +7,8 @@ frozen dataclasses, and which a template's `for` unpacks without an attribute lo
 
 from __future__ import annotations
 
-from functools import cached_property
-
 from regmap.backends.st.codec import Notation
-from regmap.records import NamedTuple, dataclass
+from regmap.records import NamedTuple, cached_property, dataclass
 from regmap.render import st_comment, xml_text
 
 
@@ -76,9 +74,21 @@ class EnumValue(NamedTuple):
 @dataclass(frozen=True)
 class EnumView:
     type_name: str
-    base: str
+    base: str  # "" in a notation without enum base types (plain IEC), which gives the members no values either
     comment: str
     members: tuple[EnumValue, ...]
+
+    # The member lines an ST file prints, made here as a function's are: joined in a template they cost several times more.
+    @cached_property
+    def st_members(self) -> str:
+        """The members, one a line, the last without a comma; each with its value where the notation has a base type."""
+        last = len(self.members) - 1
+        return "".join(
+            [
+                f"    {name}{f' := {value}' if self.base else ''}{',' if i != last else ''} (* {st_comment(comment)} *)\n"
+                for i, (name, value, comment) in enumerate(self.members)
+            ]
+        )
 
 
 @dataclass(frozen=True)
@@ -86,6 +96,11 @@ class StructView:
     type_name: str
     comment: str
     members: tuple[Member, ...]
+
+    @cached_property
+    def st_members(self) -> str:
+        """The members as an ST STRUCT declares them, one a line (the dialects share the read blocks' structs)."""
+        return "".join([f"    {name} : {kind}; (* {st_comment(comment)} *)\n" for name, kind, comment in self.members])
 
 
 @dataclass(frozen=True)
@@ -105,6 +120,38 @@ class FunctionView:
         return "".join(f"    {line}\n" for line in self.body)
 
     @cached_property
+    def st_text(self) -> str:
+        """The whole function as an ST file prints it, from the blank line before its comment to END_FUNCTION: made
+        once here (the dialects share most functions), since a template's loops cost several times the lines."""
+        return self._text(declare_empty=False)
+
+    @cached_property
+    def poll_text(self) -> str:
+        """The same as the poller's file prints it (both runtimes share it), VAR_INPUT and VAR_IN_OUT even when empty."""
+        return self._text(declare_empty=True)
+
+    def _text(self, declare_empty: bool) -> str:
+        lines = [f"\n(* {st_comment(self.comment)} *)\n", f"FUNCTION {self.name} : {self.returns}\n"]
+        if self.inputs or declare_empty:
+            lines.append("VAR_INPUT\n")
+            lines += [
+                f"    {name} : {kind}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind};\n"
+                for name, kind, comment in self.inputs
+            ]
+            lines.append("END_VAR\n")
+        if self.in_outs or declare_empty:
+            lines.append("VAR_IN_OUT\n")
+            lines += [f"    {m.name} : {m.type};\n" for m in self.in_outs]
+            lines.append("END_VAR\n")
+        if self.locals:
+            lines.append("VAR\n")
+            lines += [f"    {m.name} : {m.type};\n" for m in self.locals]
+            lines.append("END_VAR\n")
+        lines.append(self.indented_body)
+        lines.append("END_FUNCTION\n")
+        return "".join(lines)
+
+    @cached_property
     def xml_body(self) -> str:
         """The statements, one a line, as XML character data (the PLCopen POU's ST body)."""
         return xml_text("\n".join(self.body))
@@ -113,6 +160,11 @@ class FunctionView:
 class Section(NamedTuple):
     comment: str
     consts: tuple[Const, ...]
+
+    @property
+    def text(self) -> str:
+        """The section as an ST file's VAR_GLOBAL CONSTANT prints it: a blank line, its comment, its constants."""
+        return f"\n    (* {st_comment(self.comment)} *)\n{self.lines}"
 
     @property
     def lines(self) -> str:
@@ -133,4 +185,4 @@ class SectionToSpell(NamedTuple):
     consts: tuple[Const | MemberConst | TextConst, ...]
 
     def spelled(self, notation: Notation) -> Section:
-        return Section(self.comment, tuple([c.spelled(notation) for c in self.consts]))
+        return Section(self.comment, tuple([c if type(c) is Const else c.spelled(notation) for c in self.consts]))  # most are plain

@@ -30,13 +30,18 @@ from regmap.runtime_bridge import runtime_device
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
 
 
-def _sentence(text: str | None) -> str:
-    text = " ".join((text or "").split())
-    return text if not text or text[-1] in ".!?。" else text + "."
+def _sentence(text: str) -> str:
+    # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
+    # space doubled or at an end, the split and join would give it back as it is.
+    if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
+        text = " ".join(text.split())
+        if not text:
+            return text
+    return text if text[-1] in ".!?。" else text + "."
 
 
 def sentences(*parts: str | None) -> str:
-    return " ".join(filter(None, (_sentence(p) for p in parts)))
+    return " ".join([s for s in (_sentence(p) for p in parts if p) if s])
 
 
 def _manual(source: tuple[str, ...]) -> str:
@@ -184,8 +189,10 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     what = f"register {reg.name}"
     stem = StIdentifier.stem(names.prefix, reg.name)
 
+    add, pos = names.globals.add, reg.pos
+
     def c(suffix: str) -> str:
-        return names.globals.add(stem(suffix), what, reg.pos)
+        return add(stem(suffix), what, pos)
 
     consts: list[Const | MemberConst | TextConst] = [
         Const(c("ADDR"), "UINT", st_hex(reg.address)),
