@@ -110,6 +110,7 @@ _SPECIAL = re.compile(
     "[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]"
 )  # PyYAML escapes it, or a break other than \n
 _RUNS = re.compile(r"( +)|(')|([^ ']+)")  # spaces, a quote, text between
+_SINGLE_SPACE = re.compile(r"(?<! ) (?! )")  # where PyYAML may fold: a space that is not part of a run
 
 
 def _resolves(text: str) -> str:
@@ -194,6 +195,9 @@ class _Writer:
             self.write(lead + text + "'" if quoted else lead + text)
             return
         self.write(lead)
+        if "'" not in text:
+            self._folded(text, indent, quoted)
+            return
         last = len(text)
         for match in _RUNS.finditer(text):
             spaces, quote, words = match.groups()
@@ -205,6 +209,23 @@ class _Writer:
                 self.newline(indent)
             else:
                 self.write(spaces)
+        if quoted:
+            self.write("'")
+
+    def _folded(self, text: str, indent: int, quoted: bool) -> None:
+        """What the loop over runs in `string` writes for a text without a quote (each character one column), found by
+        jumping to the first single space past WIDTH instead of writing run by run: most of a long text is not near a fold."""
+        start = 0  # the first character not yet written
+        after = 0  # where the next single space may be
+        while (match := _SINGLE_SPACE.search(text, max(after, start + WIDTH - self.column + 1))) is not None:
+            space = match.start()
+            after = space + 1
+            if quoted and not 0 < space < len(text) - 1:  # a quoted text's first and last space are kept
+                continue
+            self.write(text[start:space])
+            self.newline(indent)
+            start = space + 1
+        self.write(text[start:])
         if quoted:
             self.write("'")
 
