@@ -245,7 +245,7 @@ def _register_doc(reg: Register) -> str:
     if reg.space != DEFAULT_SPACE:
         facts.append(reg.space_info.title[:-1])  # "input register", "coil", "discrete input"
     facts.append(f"address 0x{reg.address:04X}" + (" (low word of a 32-bit pair)" if reg.paired else ""))
-    facts.append(f"{reg.type.value}" + (f" ({zone_text(reg)})" if reg.zone else ""))
+    facts.append(reg.type._value_ + (f" ({zone_text(reg)})" if reg.zone else ""))
     facts += _layout_facts(reg)
     if reg.unit:
         facts.append(f"unit {reg.unit}")
@@ -281,7 +281,7 @@ def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
 
-_SPEC_CLASSES = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}
+_SPEC_CLASSES = {"r": "ReadOnly", "rw": "ReadWrite", "w": "WriteOnly"}  # by the access's value: an enum hashes in Python
 
 
 def _register_view(
@@ -296,13 +296,13 @@ def _register_view(
     kwargs: list[tuple[str, str]] = [
         ("name", py_str(reg.name)),
         ("address", f"0x{reg.address:04X}"),
-        ("data_type", py_str(reg.type.value)),
-        ("access", py_str(reg.access.value)),
+        ("data_type", py_str(reg.type._value_)),  # _value_: an enum's .value is a Python-level property in 3.11
+        ("access", py_str(reg.access._value_)),
     ]
     if reg.space != DEFAULT_SPACE:
         kwargs.append(("space", py_str(reg.space)))
     if reg.wide:
-        kwargs.append(("word_order", py_str(reg.word_order.value)))
+        kwargs.append(("word_order", py_str(reg.word_order._value_)))
         if reg.word_order_fixed:
             kwargs.append(("follows_device_order", "False"))
     if reg.paired:
@@ -329,7 +329,7 @@ def _register_view(
     return RegisterView(
         const=constant_name,
         attr=PythonIdentifier(attr or reg.name),
-        spec_class=_SPEC_CLASSES[access],
+        spec_class=_SPEC_CLASSES[access._value_],
         value_type=read_type + " | None" if reg.has_na or reg.scale_from else read_type,  # as _value_type
         write_type=(_enum_write_type(reg.enum) if reg.enum is not None and not reg.bitfields else read_type) if methods else "",
         readable=readable,
