@@ -109,7 +109,6 @@ _ORDINARY = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])[^\x00-\x1f#:\x7f-\x9f\u
 _SPECIAL = re.compile(
     "[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]"
 )  # PyYAML escapes it, or a break other than \n
-_RUNS = re.compile(r"( +)|(')|([^ ']+)")  # spaces, a quote, text between
 _SINGLE_SPACE = re.compile(r"(?<! ) (?! )")  # where PyYAML may fold: a space that is not part of a run
 
 
@@ -201,26 +200,12 @@ class _Writer:
             self.write(lead + text + "'" if quoted else lead + text)
             return
         self.write(lead)
-        if "'" not in text:
-            self._folded(text, indent, quoted)
-            return
-        last = len(text)
-        for match in _RUNS.finditer(text):
-            spaces, quote, words = match.groups()
-            if quote:
-                self.write("''" if quoted else "'")
-            elif words:
-                self.write(words)
-            elif len(spaces) == 1 and self.column > WIDTH and (not quoted or 0 < match.start() < last - 1):
-                self.newline(indent)
-            else:
-                self.write(spaces)
-        if quoted:
-            self.write("'")
+        self._folded(text.replace("'", "''") if quoted else text, indent, quoted)  # a doubled quote: two columns
 
     def _folded(self, text: str, indent: int, quoted: bool) -> None:
-        """What the loop over runs in `string` writes for a text without a quote (each character one column), found by
-        jumping to the first single space past WIDTH instead of writing run by run: most of a long text is not near a fold."""
+        """`text` (its quotes doubled if `quoted`) folded at each single space where the column has passed WIDTH, but not
+        at a quoted text's first or last character; found by jumping to the first single space past WIDTH rather than
+        writing space by space: most of a long text is not near a fold."""
         start = 0  # the first character not yet written
         after = 0  # where the next single space may be
         while (match := _SINGLE_SPACE.search(text, max(after, start + WIDTH - self.column + 1))) is not None:
