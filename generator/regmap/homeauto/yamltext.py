@@ -106,6 +106,7 @@ _ANALYZER = Emitter(io.StringIO(), allow_unicode=True)  # only its analysis of a
 # Both classes are written as what they exclude (controls, C1, surrogates, U+FFFE and above): a class reaching past
 # U+FFFF compiles in about 1 ms, the allowed ranges spelled out took 10-20 ms each at import (issue #36).
 _ORDINARY = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])[^\x00-\x1f#:\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]+(?<! )")
+_FIRST_INDICATORS = frozenset("#,[]{}&*!|>'\"%@`")  # PyYAML's analysis: as a first character, a flow and block indicator
 _SPECIAL = re.compile(
     "[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]"
 )  # PyYAML escapes it, or a break other than \n
@@ -129,6 +130,9 @@ def _plain(text: str) -> bool:
     marked = text.replace(":", "a").replace("#", "a")
     if marked != text and text[0] not in "#:" and _ORDINARY.fullmatch(marked):
         return not (": " in text or text.endswith(":") or " #" in text) and _resolves(text) == _STR
+    # An indicator first (a Home Assistant template's `{{`), the rest ordinary: the analysis forbids plain, allows quotes.
+    if text[:1] in _FIRST_INDICATORS and _ORDINARY.fullmatch("a" + marked[1:]):
+        return False
     analysis = _ANALYZER.analyze_scalar(text)
     if analysis.multiline or not analysis.allow_single_quoted:
         raise _Unsupported(text)
