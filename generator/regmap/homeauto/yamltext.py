@@ -106,10 +106,11 @@ _ANALYZER = Emitter(io.StringIO(), allow_unicode=True)  # only its analysis of a
 # Both classes are written as what they exclude (controls, C1, surrogates, U+FFFE and above): a class reaching past
 # U+FFFF compiles in about 1 ms, the allowed ranges spelled out took 10-20 ms each at import (issue #36).
 _ORDINARY = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])[^\x00-\x1f#:\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]+(?<! )")
+_FIRST_INDICATORS = frozenset("#,[]{}&*!|>'\"%@`")  # PyYAML's analysis: as a first character, a flow and block indicator
 _SPECIAL = re.compile(
     "[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]"
 )  # PyYAML escapes it, or a break other than \n
-_RUNS = re.compile(r"( +)|(')|([^ ']+)")  # spaces, a quote, text between
+_SINGLE_SPACE = re.compile(r"(?<! ) (?! )")  # where PyYAML may fold: a space that is not part of a run
 
 
 def _resolves(text: str) -> str:
@@ -123,6 +124,15 @@ def _plain(text: str) -> bool:
     """PyYAML writes the string plain (else single-quoted: double-quoted and multi-line strings are unsupported)."""
     if _ORDINARY.fullmatch(text):
         return _resolves(text) == _STR
+    # Ordinary but for a `:` or `#` after the first character (`Run status: Fault`): PyYAML's analysis, about 3.5 ms of a
+    # run over these, finds a block indicator exactly at `: `, a final `:` or ` #` (the only whitespace allowed is the
+    # space), and nothing else that could stop plain or single-quoted style.
+    marked = text.replace(":", "a").replace("#", "a")
+    if marked != text and text[0] not in "#:" and _ORDINARY.fullmatch(marked):
+        return not (": " in text or text.endswith(":") or " #" in text) and _resolves(text) == _STR
+    # An indicator first (a Home Assistant template's `{{`), the rest ordinary: the analysis forbids plain, allows quotes.
+    if text[:1] in _FIRST_INDICATORS and _ORDINARY.fullmatch("a" + marked[1:]):
+        return False
     analysis = _ANALYZER.analyze_scalar(text)
     if analysis.multiline or not analysis.allow_single_quoted:
         raise _Unsupported(text)
@@ -194,17 +204,23 @@ class _Writer:
             self.write(lead + text + "'" if quoted else lead + text)
             return
         self.write(lead)
-        last = len(text)
-        for match in _RUNS.finditer(text):
-            spaces, quote, words = match.groups()
-            if quote:
-                self.write("''" if quoted else "'")
-            elif words:
-                self.write(words)
-            elif len(spaces) == 1 and self.column > WIDTH and (not quoted or 0 < match.start() < last - 1):
-                self.newline(indent)
-            else:
-                self.write(spaces)
+        self._folded(text.replace("'", "''") if quoted else text, indent, quoted)  # a doubled quote: two columns
+
+    def _folded(self, text: str, indent: int, quoted: bool) -> None:
+        """`text` (its quotes doubled if `quoted`) folded at each single space where the column has passed WIDTH, but not
+        at a quoted text's first or last character; found by jumping to the first single space past WIDTH rather than
+        writing space by space: most of a long text is not near a fold."""
+        start = 0  # the first character not yet written
+        after = 0  # where the next single space may be
+        while (match := _SINGLE_SPACE.search(text, max(after, start + WIDTH - self.column + 1))) is not None:
+            space = match.start()
+            after = space + 1
+            if quoted and not 0 < space < len(text) - 1:  # a quoted text's first and last space are kept
+                continue
+            self.write(text[start:space])
+            self.newline(indent)
+            start = space + 1
+        self.write(text[start:])
         if quoted:
             self.write("'")
 

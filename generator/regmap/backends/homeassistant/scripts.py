@@ -17,7 +17,6 @@ runs is dropped) and say so in their description.
 from __future__ import annotations
 
 import re
-import unicodedata
 from typing import Any
 
 from regmap.homeauto.entities import Ids, flags, presses, reserved, too_many_presses
@@ -35,7 +34,12 @@ _NOT_SLUG = re.compile(r"[^a-z0-9]+")
 
 def object_id(name: str) -> str:
     """The object id HA gives an entity named `name` (its `slugify`, for ASCII text; the tests compare them)."""
-    text = unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode().lower()
+    if name.isascii():  # NFKD leaves ASCII as it is: unicodedata (a shared library) is loaded only for other text
+        text = name.lower()
+    else:
+        import unicodedata
+
+        text = unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode().lower()
     return _NOT_SLUG.sub("_", _QUOTES.sub("", text)).strip("_") or "unknown"
 
 

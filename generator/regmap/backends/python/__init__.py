@@ -199,12 +199,6 @@ def _enum_write_type(e: EnumType) -> str:
     return f"Literal[{members}, {names}]"
 
 
-def _write_type(reg: Register) -> str:
-    if reg.enum is not None and not reg.bitfields:
-        return _enum_write_type(reg.enum)
-    return _read_type(reg) if reg.bitfields or reg.enum else _plain_type(reg)
-
-
 def _plain_type(reg: Register) -> str:
     if reg.type.is_string or reg.type.is_bool or reg.type.is_timestamp:  # a timestamp's datetime: aware (UTC) or naive (local)
         return {"string": "str", "bool": "bool", "timestamp": "datetime"}[reg.type.value]
@@ -251,7 +245,7 @@ def _register_doc(reg: Register) -> str:
     if reg.space != DEFAULT_SPACE:
         facts.append(reg.space_info.title[:-1])  # "input register", "coil", "discrete input"
     facts.append(f"address 0x{reg.address:04X}" + (" (low word of a 32-bit pair)" if reg.paired else ""))
-    facts.append(f"{reg.type.value}" + (f" ({zone_text(reg)})" if reg.zone else ""))
+    facts.append(reg.type._value_ + (f" ({zone_text(reg)})" if reg.zone else ""))
     facts += _layout_facts(reg)
     if reg.unit:
         facts.append(f"unit {reg.unit}")
@@ -276,12 +270,18 @@ def _register_doc(reg: Register) -> str:
     return py_doc(" ".join(parts))
 
 
-def _method_doc(verb: str, reg: Register, constant: str) -> str:  # what help() needs to pick the method; the rest at `constant`
-    return py_doc(f"{verb} {constant}: {titled(reg.title, reg.title_zh)}; documented at the constant.")
+def _method_docs(reg: Register, constant: str) -> tuple[str, str]:
+    """The read and write methods' docstrings: what help() needs to pick the method; the rest at `constant`.
+    The title is cleaned once for both (what precedes it, a verb and a constant, holds no quote, space run or escape)."""
+    tail = py_doc(f"{titled(reg.title, reg.title_zh)}; documented at the constant.")
+    return f"Read {constant}: {tail}", f"Write {constant}: {tail}"
 
 
 def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
+
+
+_SPEC_CLASSES = {"r": "ReadOnly", "rw": "ReadWrite", "w": "WriteOnly"}  # by the access's value: an enum hashes in Python
 
 
 def _register_view(
@@ -289,50 +289,55 @@ def _register_view(
 ) -> RegisterView:
     """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant;
     `commands`: what the device's commands make of the register (`command_extras`: trigger, destructive values)."""
-    access = reg.access if _writable(reg) or not reg.access.readable else Access.READ
-    spec_class = {Access.READ: "ReadOnly", Access.READ_WRITE: "ReadWrite", Access.WRITE: "WriteOnly"}[access]
+    writable = _writable(reg)
+    readable = reg.access.readable
+    access = reg.access if writable or not readable else Access.READ
     constant_name = const(reg.name)
     kwargs: list[tuple[str, str]] = [
         ("name", py_str(reg.name)),
         ("address", f"0x{reg.address:04X}"),
-        ("data_type", py_str(reg.type.value)),
-        ("access", py_str(reg.access.value)),
+        ("data_type", py_str(reg.type._value_)),  # _value_: an enum's .value is a Python-level property in 3.11
+        ("access", py_str(reg.access._value_)),
     ]
     if reg.space != DEFAULT_SPACE:
         kwargs.append(("space", py_str(reg.space)))
     if reg.wide:
-        kwargs.append(("word_order", py_str(reg.word_order.value)))
+        kwargs.append(("word_order", py_str(reg.word_order._value_)))
         if reg.word_order_fixed:
             kwargs.append(("follows_device_order", "False"))
     if reg.paired:
         kwargs.append(("paired", "True"))
     if reg.scaled:
         kwargs += [("scale_num", str(reg.scale.numerator)), ("scale_den", str(reg.scale.denominator))]
-    kwargs += [(key, str(value)) for key, value in (("min", reg.min), ("max", reg.max)) if value is not None]
+    if reg.min is not None:
+        kwargs.append(("min", str(reg.min)))
+    if reg.max is not None:
+        kwargs.append(("max", str(reg.max)))
     if reg.unit:
         kwargs.append(("unit", py_str(reg.unit)))
     if reg.param:
         kwargs.append(("param", py_str(reg.param)))
     if reg.enum is not None:
         kwargs.append(("enum", camel(reg.enum.name)))
+    read_type = _read_type(reg)
     if reg.bitfields:
-        kwargs.append(("bitfields", f"{_bits_class_name(reg)}.FIELDS"))
-        kwargs.append(("bitfield_type", _bits_class_name(reg)))
+        kwargs += [("bitfields", f"{read_type}.FIELDS"), ("bitfield_type", read_type)]  # the read type: the bits class
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
     kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
     methods = reg.array is None or attr is not None  # an array element's are its member's: no method text of its own
+    read_doc, write_doc = _method_docs(reg, constant or constant_name) if methods else ("", "")
     return RegisterView(
         const=constant_name,
         attr=PythonIdentifier(attr or reg.name),
-        spec_class=spec_class,
-        value_type=_value_type(reg),
-        write_type=_write_type(reg) if methods else "",
-        readable=reg.access.readable,
-        writable=_writable(reg),
-        arguments="\n".join(f"    {key}={value}," for key, value in kwargs),
+        spec_class=_SPEC_CLASSES[access._value_],
+        value_type=read_type + " | None" if reg.has_na or reg.scale_from else read_type,  # as _value_type
+        write_type=(_enum_write_type(reg.enum) if reg.enum is not None and not reg.bitfields else read_type) if methods else "",
+        readable=readable,
+        writable=writable,
+        arguments="\n".join([f"    {key}={value}," for key, value in kwargs]),
         doc=_register_doc(reg),
-        read_doc=_method_doc("Read", reg, constant or constant_name) if methods else "",
-        write_doc=_method_doc("Write", reg, constant or constant_name) if methods else "",
+        read_doc=read_doc,
+        write_doc=write_doc,
     )
 
 
