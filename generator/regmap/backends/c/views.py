@@ -30,7 +30,7 @@ from regmap.backends.c.names import (
     c_value,
     define_lines,
 )
-from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
+from regmap.backends.c.values import EnumCheckView, enum_checks, member_values, ratio_literal, register_values, values_text
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
 from regmap.core.text import eng, number, titled, zone_text
 from regmap.diagnostics import UsageError, at
@@ -93,7 +93,7 @@ class RegisterView(NamedTuple):
     codec: CodecView | None = None
     gate: GateView | None = None
     variant: VariantView | None = None
-    values: tuple[ValueView, ...] = ()
+    values: str = ""  # the value helpers' C (values_text), printed as it is
 
 
 class ElementTable(NamedTuple):
@@ -118,7 +118,7 @@ class ArrayMemberView(NamedTuple):
     codec: CodecView | None = None
     gate: GateView | None = None
     variant: VariantView | None = None
-    values: tuple[ValueView, ...] = ()
+    values: str = ""  # the value helpers' C (values_text), printed as it is
 
 
 class ArrayView(NamedTuple):
@@ -241,7 +241,9 @@ def _literal(reg: Register, value: int | float | str) -> str:
     return c_str(value) if isinstance(value, str) else c_value(value, reg)
 
 
-def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Register]) -> tuple[list[Macro], list[ElementTable]]:
+def _value_macros(
+    ctx: Context, reg: Register, owner: str, elements: Sequence[Register], is_modern: bool
+) -> tuple[list[Macro], list[ElementTable]]:
     """The macros every register (or array member) gets. An array member whose elements differ in
     min, max or default gets a table indexed by n - FIRST instead of the macro."""
     numeric = reg.type.numeric
@@ -273,7 +275,7 @@ def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Re
         ]
     if numeric:
         macros.append(Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"))
-    if modern(reg):
+    if is_modern:
         macros += _feature_macros(ctx, reg, owner)
     macros += variants_macro(ctx, reg, owner)
     return macros, tables
@@ -327,9 +329,9 @@ def c_version(text: str) -> str:
     return f"REGMAP_VERSION({major}u, {minor}u)"
 
 
-def _codec_view(ctx: Context, reg: Register, owner: str) -> CodecView | None:
+def _codec_view(ctx: Context, reg: Register, owner: str, is_modern: bool) -> CodecView | None:
     """The value helpers of a modern register (a coil or discrete input needs none: its bit is its value)."""
-    if not modern(reg) or reg.type.is_bool:
+    if not is_modern or reg.type.is_bool:
         return None
     shared_from, shared_to = WIRE_FUNCTIONS[reg.type]
     if reg.type.is_string:
@@ -400,7 +402,8 @@ def _bitfield_comment(b: Bitfield) -> str:
 
 
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
-    values, _ = _value_macros(ctx, reg, reg.name, (reg,))
+    is_modern = modern(reg)
+    values, _ = _value_macros(ctx, reg, reg.name, (reg,), is_modern)
     macros = [Macro(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
     if reg.paired:
         macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
@@ -410,10 +413,10 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
         description=reg.description,
         defines=define_lines(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
-        codec=_codec_view(ctx, reg, reg.name),
+        codec=_codec_view(ctx, reg, reg.name, is_modern),
         gate=_gate_view(ctx, reg, reg.name),
         variant=variant_view(ctx, reg, reg.name),
-        values=register_values(ctx, reg),
+        values=values_text(register_values(ctx, reg)),
     )
 
 
@@ -432,7 +435,8 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         elements = [ctx.device.register(f"{array.name}_{n}_{member.name}") for n in range(array.first_index, array.last_index + 1)]
         reg = elements[0]
         owner = f"{array.name}_{member.name}"
-        values, tables = _value_macros(ctx, reg, owner, elements)
+        is_modern = modern(reg)
+        values, tables = _value_macros(ctx, reg, owner, elements, is_modern)
         members.append(
             ArrayMemberView(
                 comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
@@ -444,10 +448,10 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 defines=define_lines(values),
                 tables=tuple(tables),
                 bitfields=_bitfield_views(ctx, reg, owner),
-                codec=_codec_view(ctx, reg, owner),
+                codec=_codec_view(ctx, reg, owner, is_modern),
                 gate=_gate_view(ctx, reg, owner),
                 variant=variant_view(ctx, reg, owner),
-                values=member_values(ctx, elements, owner),
+                values=values_text(member_values(ctx, elements, owner)),
             )
         )
     comment = sentences(
