@@ -98,6 +98,14 @@ class EnumRow(NamedTuple):
         )
 
 
+_DIRECTED_HEADER = (
+    "Direction: read only is a state the device reports and is never written; write only is a command it accepts.\n\n"
+    "| Value | Hex | Name | Direction | Symbol | Meaning | 中文 | Notes |\n"
+    "|---:|---|---|---|---|---|---|---|\n"
+)
+_PLAIN_HEADER = "| Value | Hex | Name | Symbol | Meaning | 中文 | Notes |\n|---:|---|---|---|---|---|---|\n"
+
+
 class EnumView(NamedTuple):
     anchor: str
     heading: Md
@@ -109,6 +117,15 @@ class EnumView(NamedTuple):
     used_by: Md
     directed: bool  # some member goes one way only: the table has a Direction column
     table: str  # the rows, one a line: built once, as the table is printed again under every register using it
+
+    @property
+    def block(self) -> str:
+        """The whole value table as a page prints it (description, direction note, header, rows, source): one string, not
+        an include per register that shows the table (the template's line ends it, then a blank line)."""
+        parts = [f"{self.description}\n\n"] if self.description else []
+        parts.append(_DIRECTED_HEADER if self.directed else _PLAIN_HEADER)
+        parts.append(f"{self.table}\n\nSource: {md_text(self.source)}.\n")
+        return "".join(parts)
 
 
 class BitRow(NamedTuple):
