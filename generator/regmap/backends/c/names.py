@@ -327,6 +327,8 @@ class Context:
         self._plain_parts: dict[str, str] = {self.prefix: self.prefix} if _PLAIN_UPPER.fullmatch(self.prefix) else {}
         self._plain_symbol_parts: dict[str, str] = {}  # as _plain_parts, for the lower-case names of functions and types
         self._refs: dict[tuple[str, ...], str] = {}  # the functions referred to: an enum's tests, once per register using it
+        # Literals registers share, by what they depend on (a scale's three spellings ...): spelled once per device.
+        self.literals: dict[tuple[object, ...], tuple[str, ...]] = {}
 
     def const(self, *parts: str, what: str = "") -> str:
         name = self._identifier(parts)
@@ -335,6 +337,23 @@ class Context:
             return self.names.add(name, what or parts)  # refused: two map items made the name
         seen[name] = what or parts
         return name
+
+    def stem(self, owner: str) -> str:
+        """`<PREFIX>_<OWNER>` when the owner part is plain, for `owned`; "" when each name must take the full check."""
+        name = self._identifier((owner,))
+        return name if owner in self._plain_parts else ""
+
+    def owned(self, stem: str, owner: str, suffix: str) -> str:
+        """const(owner, suffix) for the dozen constants of one register: the owner spelled once (`stem`), a suffix met
+        before joined to it by lookup."""
+        upper = self._plain_parts.get(suffix) if stem else None
+        if upper is not None:
+            name = f"{stem}_{upper}"
+            seen = self.names.seen
+            if name not in seen and name not in STANDARD_NAMES:
+                seen[name] = (owner, suffix)
+                return name
+        return self.const(owner, suffix)
 
     def _identifier(self, parts: tuple[str, ...]) -> str:
         """CIdentifier(prefix, *parts), with each plain part checked once per device."""

@@ -4,6 +4,7 @@ literal and expression is computed here; the templates only print, escaping map 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from fractions import Fraction
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
@@ -247,38 +248,54 @@ def _value_macros(
     """The macros every register (or array member) gets. An array member whose elements differ in
     min, max or default gets a table indexed by n - FIRST instead of the macro."""
     numeric = reg.type.numeric
+    stem = ctx.stem(owner)
     macros = [
-        Macro(ctx.const(owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
-        Macro(ctx.const(owner, "ACCESS"), ACCESS_MACRO[reg.access]),
+        Macro(ctx.owned(stem, owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
+        Macro(ctx.owned(stem, owner, "ACCESS"), ACCESS_MACRO[reg.access]),
     ]
     if numeric:
-        macros.append(Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"))
+        macros.append(Macro(ctx.owned(stem, owner, "SIGNED"), "1" if reg.signed else "0"))
     tables = []
     if reg.wide:
-        macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
+        macros.append(Macro(ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
     for key in ("min", "max", "default"):
         values = [getattr(r, key) for r in elements]
         if len(set(values)) == 1:
             if values[0] is not None:
-                macros.append(Macro(ctx.const(owner, key), _literal(reg, values[0])))
+                macros.append(Macro(ctx.owned(stem, owner, key), _literal(reg, values[0])))
         elif None not in values:
             c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
             count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
             tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
     if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it
-        # A float register's scale and offset are doubles (its value is computed in floating point anyway).
-        spell = c_double if reg.type.is_float else c_float
+        scale, num, den = _ratio_literals(ctx, reg, reg.scale)
         macros += [
-            Macro(ctx.const(owner, "SCALE"), spell(reg.scale)),
-            Macro(ctx.const(owner, "SCALE_NUM"), ratio_literal(reg, reg.scale.numerator, reg.scale)),
-            Macro(ctx.const(owner, "SCALE_DEN"), ratio_literal(reg, reg.scale.denominator, reg.scale)),
+            Macro(ctx.owned(stem, owner, "SCALE"), scale),
+            Macro(ctx.owned(stem, owner, "SCALE_NUM"), num),
+            Macro(ctx.owned(stem, owner, "SCALE_DEN"), den),
         ]
     if numeric:
-        macros.append(Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"))
+        macros.append(Macro(ctx.owned(stem, owner, "PAIRED"), "1" if reg.paired else "0"))
     if is_modern:
         macros += _feature_macros(ctx, reg, owner)
     macros += variants_macro(ctx, reg, owner)
     return macros, tables
+
+
+def _ratio_literals(ctx: Context, reg: Register, ratio: Fraction) -> tuple[str, ...]:
+    """A scale's or offset's value, numerator and denominator as the register's macros spell them; once per device
+    for each ratio, type and signedness (most registers share a handful of scales)."""
+    key = (ratio.numerator, ratio.denominator, reg.type.is_float, reg.signed)
+    spelled = ctx.literals.get(key)
+    if spelled is None:
+        # A float register's scale and offset are doubles (its value is computed in floating point anyway).
+        spell = c_double if reg.type.is_float else c_float
+        spelled = ctx.literals[key] = (
+            spell(ratio),
+            ratio_literal(reg, ratio.numerator, ratio),
+            ratio_literal(reg, ratio.denominator, ratio),
+        )
+    return spelled
 
 
 def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
@@ -292,11 +309,11 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
     if reg.type.info.has_byte_order:
         macros.append(Macro(ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order]))
     if reg.type.numeric:
-        spell = c_double if reg.type.is_float else c_float
+        offset, num, den = _ratio_literals(ctx, reg, reg.offset)
         macros += [
-            Macro(ctx.const(owner, "OFFSET"), spell(reg.offset)),
-            Macro(ctx.const(owner, "OFFSET_NUM"), ratio_literal(reg, reg.offset.numerator, reg.offset)),
-            Macro(ctx.const(owner, "OFFSET_DEN"), ratio_literal(reg, reg.offset.denominator, reg.offset)),
+            Macro(ctx.const(owner, "OFFSET"), offset),
+            Macro(ctx.const(owner, "OFFSET_NUM"), num),
+            Macro(ctx.const(owner, "OFFSET_DEN"), den),
         ]
     if reg.type.is_string:
         macros += [
