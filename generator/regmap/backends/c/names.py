@@ -325,7 +325,6 @@ class Context:
         # The upper-case spelling of each part a constant's name was made of that is plain on its own: a name of
         # plain parts is plain, so the parts a header repeats (an owner, WORDS, ACCESS ...) are checked once, not per name.
         self._plain_parts: dict[str, str] = {self.prefix: self.prefix} if _PLAIN_UPPER.fullmatch(self.prefix) else {}
-        self._plain_symbol_parts: dict[str, str] = {}  # as _plain_parts, for the lower-case names of functions and types
         self._refs: dict[tuple[str, ...], str] = {}  # the functions referred to: an enum's tests, once per register using it
         # Literals registers share, by what they depend on (a scale's three spellings ...): spelled once per device.
         self.literals: dict[tuple[object, ...], tuple[str, ...]] = {}
@@ -358,17 +357,6 @@ class Context:
     def _identifier(self, parts: tuple[str, ...]) -> str:
         """CIdentifier(prefix, *parts), with each plain part checked once per device."""
         known = self._plain_parts
-        if not known:  # a prefix that is not plain: every name takes the full check
-            return CIdentifier(self.prefix, *parts)
-        try:  # the parts of nearly every name were met before: spelled by lookup alone
-            name = "_".join([self.prefix, *[known[part] for part in parts if part]])
-        except KeyError:
-            return self._first_identifier(parts)
-        return name if name not in STANDARD_NAMES else CIdentifier(self.prefix, *parts)
-
-    def _first_identifier(self, parts: tuple[str, ...]) -> str:
-        """`_identifier` of a name with a part not met before: each new part is checked and remembered when plain."""
-        known = self._plain_parts
         if self.prefix not in known:
             return CIdentifier(self.prefix, *parts)
         spelled: list[str] = [self.prefix]
@@ -385,22 +373,7 @@ class Context:
         return name if name not in STANDARD_NAMES else CIdentifier(self.prefix, *parts)
 
     def symbol(self, *parts: str, what: str = "") -> str:
-        return self.names.add(self._symbol(parts), what or parts)
-
-    def _symbol(self, parts: tuple[str, ...]) -> str:
-        """CSymbol(lower, *parts), with each plain part checked once per device: plain parts joined make a plain
-        name unless it ends in `_t` (left to CSymbol, which refuses it); a keyword still gets its underscore."""
-        known = self._plain_symbol_parts
-        try:
-            name = "_".join([known[self.lower], *[known[part] for part in parts if part]])
-        except KeyError:
-            for part in (self.lower, *parts):
-                if part and part not in known and _PLAIN_LOWER.fullmatch(part.lower()):
-                    known[part] = part.lower()
-            return CSymbol(self.lower, *parts)
-        if name.endswith("_t"):
-            return CSymbol(self.lower, *parts)
-        return name + "_" if name in C_KEYWORDS or name in CPP_KEYWORDS or name in STANDARD_NAMES else name
+        return self.names.add(CSymbol(self.lower, *parts), what or parts)
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""
@@ -422,7 +395,7 @@ class Context:
         """A function the header declares (referring to it does not declare it again)."""
         name = self._refs.get(parts)
         if name is None:
-            name = self._refs[parts] = self._symbol(parts)
+            name = self._refs[parts] = CSymbol(self.lower, *parts)
         return name
 
 
