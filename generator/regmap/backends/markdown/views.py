@@ -149,6 +149,10 @@ class BitfieldView(NamedTuple):
     alt: str
     rows: tuple[BitRow, ...]
 
+    @property
+    def table(self) -> str:
+        return "\n".join([r.row for r in self.rows])
+
 
 class RegisterView(NamedTuple):
     level: str  # heading marker: a register is a level-4 heading, an array member level 5
@@ -220,6 +224,15 @@ class ArrayView(NamedTuple):
         return "_array.md.jinja"
 
     @property
+    def member_rows(self) -> str:
+        return "\n".join([m.row for m in self.members])
+
+    @property
+    def element_rows(self) -> str:
+        """The element table's rows, one a line (a cell is ready to print)."""
+        return "\n".join(["|" + "".join([f" {cell} |" for cell in row]) for row in self.elements])
+
+    @property
     def fact_rows(self) -> str:
         return fact_rows(self.facts)
 
@@ -233,6 +246,10 @@ class GroupView(NamedTuple):
     shared: Md  # what every register of the group shares: space, firmware gate, poll class
     quick: tuple[QuickRow, ...]
     items: tuple[RegisterView | ArrayView, ...]
+
+    @property
+    def quick_rows(self) -> str:
+        return "\n".join([r.row for r in self.quick])
 
 
 class TimingView(NamedTuple):
@@ -290,6 +307,11 @@ class FrameView(NamedTuple):
     rows: tuple[ByteRow, ...]
     problems: tuple[str, ...]
 
+    @property
+    def table(self) -> str:
+        """The byte table's rows, one a line: one string, not four cells a byte for the template to print."""
+        return "\n".join([f"| {b.offset} | `{b.hex}` | {b.field} | {b.meaning} |" for b in self.rows])
+
 
 class DecodedRow(NamedTuple):
     register: Md
@@ -308,6 +330,10 @@ class ExampleView(NamedTuple):
     frames: tuple[FrameView, ...]
     decoded: tuple[DecodedRow, ...]
     notes: Md
+
+    @property
+    def decoded_rows(self) -> str:
+        return "\n".join([f"| {d.register} | {d.address} | {d.raw} | {d.value} | {d.recorded} |" for d in self.decoded])
 
 
 class ReadingView(NamedTuple):
