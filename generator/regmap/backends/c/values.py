@@ -14,7 +14,6 @@ from regmap.backends.c.names import (
     C_TYPES,
     FLOAT_GUARD,
     WORD_ORDER_MACRO,
-    CIdentifier,
     Context,
     c_double,
     c_float_literal,
@@ -62,9 +61,10 @@ class ValueView(NamedTuple):
     sf: str = ""  # ", int16_t sf": a `scale_from` register's helpers (`_decode_sf` ...) take its scale factor's raw value
 
 
-def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
+def enum_checks(ctx: Context, e: EnumType, constants: Sequence[str]) -> EnumCheckView:
+    """The tests of enum `e`, whose members' constants (as its view named them) are `constants`."""
     top = max((m.value for m in e.members), default=0)
-    labels = [_member_label(ctx, e, m.name, m.value) for m in e.members]
+    labels = [_member_label(name, m.value) for name, m in zip(constants, e.members, strict=True)]
     return EnumCheckView(
         member_fn=ctx.symbol(e.name, "is_member", what=f"the member test of enum {e.name}"),
         writable_fn=ctx.symbol(e.name, "is_writable", what=f"the write test of enum {e.name}"),
@@ -79,9 +79,9 @@ def _cases(labels: Iterable[str]) -> str:
     return "\n".join([f"    case {label}:" for label in labels])
 
 
-def _member_label(ctx: Context, e: EnumType, name: str, value: int) -> str:
+def _member_label(constant: str, value: int) -> str:
     # A table spelled as macros (a value beyond int) has no enum constants to compare with a long long.
-    return CIdentifier(ctx.prefix, e.name, name) if -(1 << 31) <= value < (1 << 31) else c_raw(value, value < 0)
+    return constant if -(1 << 31) <= value < (1 << 31) else c_raw(value, value < 0)
 
 
 def configurable(ctx: Context, reg: Register) -> bool:

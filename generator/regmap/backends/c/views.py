@@ -528,7 +528,7 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
         comment=comment,
         lines="\n".join(lines),
         as_macros=as_macros,
-        checks=enum_checks(ctx, e),
+        checks=enum_checks(ctx, e, [m.name for m in members]),
     )
 
 
