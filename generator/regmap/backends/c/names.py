@@ -373,8 +373,8 @@ class Context:
         return name if name not in STANDARD_NAMES else CIdentifier(self.prefix, *parts)
 
     def symbol(self, *parts: str, what: str = "") -> str:
-        name = self._refs.get(parts) or CSymbol(self.lower, *parts)  # a helper's body may have named it first (symbol_ref)
-        return self.names.add(name, what or parts)
+        referred = self._refs.get(parts)  # a helper's body may have named it first (symbol_ref)
+        return self.names.add(referred or CSymbol(self.lower, *parts), what or parts)
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""
