@@ -11,10 +11,15 @@ import functools
 import re
 from collections.abc import Iterable, Sequence
 
+from regmap import render
 from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import EnumType, Register
-from regmap.render import TEXT_CACHE_SIZE, md_text
+from regmap.render import TEXT_CACHE_SIZE
+
+# `md_text` for the views: a page escapes the same titles, units and names again and again (quick reference, sections,
+# tables), and every map's text again for each page of a plant. Each text is escaped once.
+md_text = functools.lru_cache(maxsize=TEXT_CACHE_SIZE)(render.md_text)
 
 DASH = "—"
 

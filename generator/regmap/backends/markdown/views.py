@@ -9,12 +9,11 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from regmap.backends.markdown import text as md
-from regmap.backends.markdown.text import DocId, Md
+from regmap.backends.markdown.text import DocId, Md, md_text
 from regmap.backends.markdown.wire import uses
 from regmap.core.decoding import RegisterSpecs
 from regmap.model import Device
 from regmap.records import NamedTuple
-from regmap.render import md_text
 
 
 def table_row(cells: Iterable[str]) -> str:
