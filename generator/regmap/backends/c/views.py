@@ -86,7 +86,7 @@ class GateView(NamedTuple):
 
 
 class RegisterView(NamedTuple):
-    template: str
+    template: str  # "": device.h.jinja prints a register itself (an ArrayView names its template)
     comment: str
     description: str
     defines: str  # the #define lines of its macros
@@ -425,7 +425,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
     if reg.paired:
         macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
     return RegisterView(
-        template="register.h.jinja",
+        template="",
         comment=_register_comment(reg, reg.label, (reg,)),
         description=reg.description,
         defines=define_lines(macros),
