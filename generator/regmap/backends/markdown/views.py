@@ -165,7 +165,12 @@ class RegisterView(NamedTuple):
 
     @property
     def template(self) -> str:
-        return "_register.md.jinja"
+        return ""  # device.md.jinja prints its section itself
+
+    @property
+    def sections(self) -> tuple[RegisterView, ...]:
+        """The register sections device.md.jinja prints after the item's template: a register's own."""
+        return (self,)
 
     @property
     def fact_rows(self) -> str:
@@ -221,6 +226,11 @@ class ArrayView(NamedTuple):
     @property
     def template(self) -> str:
         return "_array.md.jinja"
+
+    @property
+    def sections(self) -> tuple[RegisterView, ...]:
+        """The register sections device.md.jinja prints after the array's: its members with details."""
+        return self.details
 
     @property
     def member_rows(self) -> str:
