@@ -281,6 +281,12 @@ class CommandView(NamedTuple):
     source: str
     destructive: bool  # loses data or state (factory defaults, initialisation, encoder reset, software reset, forced enable)
 
+    @property
+    def row(self) -> str:
+        name = f'<a id="{self.anchor}"></a>{self.name}' + (" **destructive**" if self.destructive else "")
+        cells = (md_text(self.title), md_text(self.title_zh), self.register, self.writes, self.frame, md_text(self.description))
+        return table_row((name, *cells, md_text(self.source)))
+
 
 class FaultView(NamedTuple):
     anchor: str
@@ -294,6 +300,12 @@ class FaultView(NamedTuple):
     description: str
     source: str
 
+    @property
+    def row(self) -> str:
+        code = f'<a id="{self.anchor}"></a>{md_text(self.code)}'
+        cells = (self.value, self.name, md_text(self.title), md_text(self.title_zh), md_text(self.kind), self.resettable)
+        return table_row((code, *cells, md_text(self.description), md_text(self.source)))
+
 
 class ExceptionView(NamedTuple):
     code: str
@@ -301,6 +313,10 @@ class ExceptionView(NamedTuple):
     title: str
     title_zh: str
     source: str
+
+    @property
+    def row(self) -> str:
+        return table_row((self.code, self.name, md_text(self.title), md_text(self.title_zh), md_text(self.source)))
 
 
 class ByteRow(NamedTuple):
