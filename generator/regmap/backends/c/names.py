@@ -326,9 +326,33 @@ class Context:
         # plain parts is plain, so the parts a header repeats (an owner, WORDS, ACCESS ...) are checked once, not per name.
         self._plain_parts: dict[str, str] = {self.prefix: self.prefix} if _PLAIN_UPPER.fullmatch(self.prefix) else {}
         self._refs: dict[tuple[str, ...], str] = {}  # the functions referred to: an enum's tests, once per register using it
+        # Literals registers share, by what they depend on (a scale's three spellings ...): spelled once per device.
+        self.literals: dict[tuple[object, ...], tuple[str, ...]] = {}
 
     def const(self, *parts: str, what: str = "") -> str:
-        return self.names.add(self._identifier(parts), what or parts)
+        name = self._identifier(parts)
+        seen = self.names.seen
+        if name in seen:
+            return self.names.add(name, what or parts)  # refused: two map items made the name
+        seen[name] = what or parts
+        return name
+
+    def stem(self, owner: str) -> str:
+        """`<PREFIX>_<OWNER>` when the owner part is plain, for `owned`; "" when each name must take the full check."""
+        name = self._identifier((owner,))
+        return name if owner in self._plain_parts else ""
+
+    def owned(self, stem: str, owner: str, suffix: str) -> str:
+        """const(owner, suffix) for the dozen constants of one register: the owner spelled once (`stem`), a suffix met
+        before joined to it by lookup."""
+        upper = self._plain_parts.get(suffix) if stem else None
+        if upper is not None:
+            name = f"{stem}_{upper}"
+            seen = self.names.seen
+            if name not in seen and name not in STANDARD_NAMES:
+                seen[name] = (owner, suffix)
+                return name
+        return self.const(owner, suffix)
 
     def _identifier(self, parts: tuple[str, ...]) -> str:
         """CIdentifier(prefix, *parts), with each plain part checked once per device."""
@@ -349,7 +373,8 @@ class Context:
         return name if name not in STANDARD_NAMES else CIdentifier(self.prefix, *parts)
 
     def symbol(self, *parts: str, what: str = "") -> str:
-        return self.names.add(CSymbol(self.lower, *parts), what or parts)
+        referred = self._refs.get(parts)  # a helper's body may have named it first (symbol_ref)
+        return self.names.add(referred or CSymbol(self.lower, *parts), what or parts)
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""

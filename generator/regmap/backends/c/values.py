@@ -14,7 +14,6 @@ from regmap.backends.c.names import (
     C_TYPES,
     FLOAT_GUARD,
     WORD_ORDER_MACRO,
-    CIdentifier,
     Context,
     c_double,
     c_float_literal,
@@ -26,6 +25,7 @@ from regmap.backends.c.names import (
 from regmap.core.text import eng, number, zone_text
 from regmap.model import DataType, EnumType, Register
 from regmap.records import NamedTuple
+from regmap.render import c_comment
 
 # The parameter a helper of a register whose word order follows the device's word-order register takes.
 ORDER_PARAM = "word_order"
@@ -61,9 +61,10 @@ class ValueView(NamedTuple):
     sf: str = ""  # ", int16_t sf": a `scale_from` register's helpers (`_decode_sf` ...) take its scale factor's raw value
 
 
-def enum_checks(ctx: Context, e: EnumType) -> EnumCheckView:
+def enum_checks(ctx: Context, e: EnumType, constants: Sequence[str]) -> EnumCheckView:
+    """The tests of enum `e`, whose members' constants (as its view named them) are `constants`."""
     top = max((m.value for m in e.members), default=0)
-    labels = [_member_label(ctx, e, m.name, m.value) for m in e.members]
+    labels = [_member_label(name, m.value) for name, m in zip(constants, e.members, strict=True)]
     return EnumCheckView(
         member_fn=ctx.symbol(e.name, "is_member", what=f"the member test of enum {e.name}"),
         writable_fn=ctx.symbol(e.name, "is_writable", what=f"the write test of enum {e.name}"),
@@ -78,9 +79,9 @@ def _cases(labels: Iterable[str]) -> str:
     return "\n".join([f"    case {label}:" for label in labels])
 
 
-def _member_label(ctx: Context, e: EnumType, name: str, value: int) -> str:
+def _member_label(constant: str, value: int) -> str:
     # A table spelled as macros (a value beyond int) has no enum constants to compare with a long long.
-    return CIdentifier(ctx.prefix, e.name, name) if -(1 << 31) <= value < (1 << 31) else c_raw(value, value < 0)
+    return constant if -(1 << 31) <= value < (1 << 31) else c_raw(value, value < 0)
 
 
 def configurable(ctx: Context, reg: Register) -> bool:
@@ -467,6 +468,35 @@ def _refusing_na(reg: Register, in_range: tuple[str, ...]) -> tuple[str, ...]:
     if any(line.startswith("float held") for line in head):  # an f16 that rounds onto a marker is refused too
         conditions += [c for c in _na_conditions(reg, "held") if "NaN" not in c]
     return (*head, f"return {' && '.join(conditions)};")
+
+
+def _function(head: str, body: tuple[str, ...]) -> list[str]:
+    return [head, "{", *["    " + line for line in body], "}"]
+
+
+def value_lines(view: ValueView) -> list[str]:
+    """The C of one register's value helpers, one line an item: printed by the header as one block (a register has
+    a dozen small fields; a template would spend more steps on them than the lines take to join)."""
+    v = view
+    lines = [f"#if {v.guard}"] if v.guard else []
+    lines.append(f"/* {c_comment(v.comment)} */")
+    if v.in_range:
+        lines += _function(f"static inline bool {v.in_range}({v.value_type} value{v.sf})", v.in_range_body)
+        lines += _function(f"static inline bool {v.encode}({v.value_type} value{v.sf}{v.order}, uint16_t words[{v.words}])", v.encode_body)
+    if v.available:
+        lines += _function(f"static inline bool {v.available}(const uint16_t words[{v.words}]{v.order})", v.available_body)
+    if v.decode:
+        lines += _function(
+            f"static inline bool {v.decode}(const uint16_t words[{v.words}]{v.order}{v.sf}, {v.value_type} *out)", v.decode_body
+        )
+    if v.guard:
+        lines.append("#endif")
+    return lines
+
+
+def values_text(views: Iterable[ValueView]) -> str:
+    """The value helpers of a register or array member as the header prints them ("" when it has none)."""
+    return "\n".join([line for v in views for line in value_lines(v)])
 
 
 def register_values(ctx: Context, reg: Register, label: str = "") -> tuple[ValueView, ...]:

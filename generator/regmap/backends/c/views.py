@@ -4,6 +4,7 @@ literal and expression is computed here; the templates only print, escaping map 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from fractions import Fraction
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
@@ -30,7 +31,7 @@ from regmap.backends.c.names import (
     c_value,
     define_lines,
 )
-from regmap.backends.c.values import EnumCheckView, ValueView, enum_checks, member_values, ratio_literal, register_values
+from regmap.backends.c.values import EnumCheckView, enum_checks, member_values, ratio_literal, register_values, values_text
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
 from regmap.core.text import eng, number, titled, zone_text
 from regmap.diagnostics import UsageError, at
@@ -85,7 +86,7 @@ class GateView(NamedTuple):
 
 
 class RegisterView(NamedTuple):
-    template: str
+    template: str  # "": device.h.jinja prints a register itself (an ArrayView names its template)
     comment: str
     description: str
     defines: str  # the #define lines of its macros
@@ -93,7 +94,7 @@ class RegisterView(NamedTuple):
     codec: CodecView | None = None
     gate: GateView | None = None
     variant: VariantView | None = None
-    values: tuple[ValueView, ...] = ()
+    values: str = ""  # the value helpers' C (values_text), printed as it is
 
 
 class ElementTable(NamedTuple):
@@ -118,7 +119,7 @@ class ArrayMemberView(NamedTuple):
     codec: CodecView | None = None
     gate: GateView | None = None
     variant: VariantView | None = None
-    values: tuple[ValueView, ...] = ()
+    values: str = ""  # the value helpers' C (values_text), printed as it is
 
 
 class ArrayView(NamedTuple):
@@ -241,42 +242,60 @@ def _literal(reg: Register, value: int | float | str) -> str:
     return c_str(value) if isinstance(value, str) else c_value(value, reg)
 
 
-def _value_macros(ctx: Context, reg: Register, owner: str, elements: Sequence[Register]) -> tuple[list[Macro], list[ElementTable]]:
+def _value_macros(
+    ctx: Context, reg: Register, owner: str, elements: Sequence[Register], is_modern: bool
+) -> tuple[list[Macro], list[ElementTable]]:
     """The macros every register (or array member) gets. An array member whose elements differ in
     min, max or default gets a table indexed by n - FIRST instead of the macro."""
     numeric = reg.type.numeric
+    stem = ctx.stem(owner)
     macros = [
-        Macro(ctx.const(owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
-        Macro(ctx.const(owner, "ACCESS"), ACCESS_MACRO[reg.access]),
+        Macro(ctx.owned(stem, owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
+        Macro(ctx.owned(stem, owner, "ACCESS"), ACCESS_MACRO[reg.access]),
     ]
     if numeric:
-        macros.append(Macro(ctx.const(owner, "SIGNED"), "1" if reg.signed else "0"))
+        macros.append(Macro(ctx.owned(stem, owner, "SIGNED"), "1" if reg.signed else "0"))
     tables = []
     if reg.wide:
-        macros.append(Macro(ctx.const(owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
+        macros.append(Macro(ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
     for key in ("min", "max", "default"):
         values = [getattr(r, key) for r in elements]
         if len(set(values)) == 1:
             if values[0] is not None:
-                macros.append(Macro(ctx.const(owner, key), _literal(reg, values[0])))
+                macros.append(Macro(ctx.owned(stem, owner, key), _literal(reg, values[0])))
         elif None not in values:
             c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
             count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
             tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
     if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it
-        # A float register's scale and offset are doubles (its value is computed in floating point anyway).
-        spell = c_double if reg.type.is_float else c_float
+        scale, num, den = _ratio_literals(ctx, reg, reg.scale)
         macros += [
-            Macro(ctx.const(owner, "SCALE"), spell(reg.scale)),
-            Macro(ctx.const(owner, "SCALE_NUM"), ratio_literal(reg, reg.scale.numerator, reg.scale)),
-            Macro(ctx.const(owner, "SCALE_DEN"), ratio_literal(reg, reg.scale.denominator, reg.scale)),
+            Macro(ctx.owned(stem, owner, "SCALE"), scale),
+            Macro(ctx.owned(stem, owner, "SCALE_NUM"), num),
+            Macro(ctx.owned(stem, owner, "SCALE_DEN"), den),
         ]
     if numeric:
-        macros.append(Macro(ctx.const(owner, "PAIRED"), "1" if reg.paired else "0"))
-    if modern(reg):
+        macros.append(Macro(ctx.owned(stem, owner, "PAIRED"), "1" if reg.paired else "0"))
+    if is_modern:
         macros += _feature_macros(ctx, reg, owner)
     macros += variants_macro(ctx, reg, owner)
     return macros, tables
+
+
+def _ratio_literals(ctx: Context, reg: Register, ratio: Fraction) -> tuple[str, ...]:
+    """A scale's or offset's value, numerator and denominator as the register's macros spell them; once per device
+    for each ratio, type and signedness (most registers share a handful of scales)."""
+    key = (ratio.numerator, ratio.denominator, reg.type.is_float, reg.signed)
+    spelled = ctx.literals.get(key)
+    if spelled is None:
+        # A float register's scale and offset are doubles (its value is computed in floating point anyway).
+        spell = c_double if reg.type.is_float else c_float
+        spelled = ctx.literals[key] = (
+            spell(ratio),
+            ratio_literal(reg, ratio.numerator, ratio),
+            ratio_literal(reg, ratio.denominator, ratio),
+        )
+    return spelled
 
 
 def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
@@ -290,11 +309,11 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
     if reg.type.info.has_byte_order:
         macros.append(Macro(ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order]))
     if reg.type.numeric:
-        spell = c_double if reg.type.is_float else c_float
+        offset, num, den = _ratio_literals(ctx, reg, reg.offset)
         macros += [
-            Macro(ctx.const(owner, "OFFSET"), spell(reg.offset)),
-            Macro(ctx.const(owner, "OFFSET_NUM"), ratio_literal(reg, reg.offset.numerator, reg.offset)),
-            Macro(ctx.const(owner, "OFFSET_DEN"), ratio_literal(reg, reg.offset.denominator, reg.offset)),
+            Macro(ctx.const(owner, "OFFSET"), offset),
+            Macro(ctx.const(owner, "OFFSET_NUM"), num),
+            Macro(ctx.const(owner, "OFFSET_DEN"), den),
         ]
     if reg.type.is_string:
         macros += [
@@ -327,9 +346,9 @@ def c_version(text: str) -> str:
     return f"REGMAP_VERSION({major}u, {minor}u)"
 
 
-def _codec_view(ctx: Context, reg: Register, owner: str) -> CodecView | None:
+def _codec_view(ctx: Context, reg: Register, owner: str, is_modern: bool) -> CodecView | None:
     """The value helpers of a modern register (a coil or discrete input needs none: its bit is its value)."""
-    if not modern(reg) or reg.type.is_bool:
+    if not is_modern or reg.type.is_bool:
         return None
     shared_from, shared_to = WIRE_FUNCTIONS[reg.type]
     if reg.type.is_string:
@@ -400,20 +419,21 @@ def _bitfield_comment(b: Bitfield) -> str:
 
 
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
-    values, _ = _value_macros(ctx, reg, reg.name, (reg,))
+    is_modern = modern(reg)
+    values, _ = _value_macros(ctx, reg, reg.name, (reg,), is_modern)
     macros = [Macro(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
     if reg.paired:
         macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
     return RegisterView(
-        template="register.h.jinja",
+        template="",
         comment=_register_comment(reg, reg.label, (reg,)),
         description=reg.description,
         defines=define_lines(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
-        codec=_codec_view(ctx, reg, reg.name),
+        codec=_codec_view(ctx, reg, reg.name, is_modern),
         gate=_gate_view(ctx, reg, reg.name),
         variant=variant_view(ctx, reg, reg.name),
-        values=register_values(ctx, reg),
+        values=values_text(register_values(ctx, reg)),
     )
 
 
@@ -432,7 +452,8 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         elements = [ctx.device.register(f"{array.name}_{n}_{member.name}") for n in range(array.first_index, array.last_index + 1)]
         reg = elements[0]
         owner = f"{array.name}_{member.name}"
-        values, tables = _value_macros(ctx, reg, owner, elements)
+        is_modern = modern(reg)
+        values, tables = _value_macros(ctx, reg, owner, elements, is_modern)
         members.append(
             ArrayMemberView(
                 comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
@@ -444,10 +465,10 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 defines=define_lines(values),
                 tables=tuple(tables),
                 bitfields=_bitfield_views(ctx, reg, owner),
-                codec=_codec_view(ctx, reg, owner),
+                codec=_codec_view(ctx, reg, owner, is_modern),
                 gate=_gate_view(ctx, reg, owner),
                 variant=variant_view(ctx, reg, owner),
-                values=member_values(ctx, elements, owner),
+                values=values_text(member_values(ctx, elements, owner)),
             )
         )
     comment = sentences(
@@ -507,7 +528,7 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
         comment=comment,
         lines="\n".join(lines),
         as_macros=as_macros,
-        checks=enum_checks(ctx, e),
+        checks=enum_checks(ctx, e, [m.name for m in members]),
     )
 
 

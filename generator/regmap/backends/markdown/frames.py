@@ -8,12 +8,12 @@ functions (0x01/0x02/0x05/0x0F) are annotated bit by bit, the first bit in the l
 from __future__ import annotations
 
 from regmap.backends.markdown import text as md
-from regmap.backends.markdown.text import DocId, Md
+from regmap.backends.markdown.text import DocId, Md, md_text
 from regmap.backends.markdown.views import ByteRow, Context, DecodedRow, ExampleView, Fact, FrameView
 from regmap.core.decoding import FUNCTION_NAMES, carried, decode_words, trim_bits
 from regmap.core.text import eng, number, number_text, space_label
 from regmap.model import Device, Example, ExampleValue, Register, WordOrder
-from regmap.render import hex2, md_text
+from regmap.render import hex2
 from regmap_runtime.codec import words_to_raw
 from regmap_runtime.rtu import STANDARD_EXCEPTIONS, Frame, crc_bytes, crc_ok, parse_frame, to_hex, unpack_bits
 from regmap_runtime.spaces import COIL_OFF, COIL_ON, DEFAULT_SPACE, SPACES

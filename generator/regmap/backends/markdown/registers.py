@@ -6,7 +6,7 @@ from collections.abc import Sequence
 
 from regmap.backends.markdown import text as md
 from regmap.backends.markdown.diagrams import diagram_path
-from regmap.backends.markdown.text import DocId, Md
+from regmap.backends.markdown.text import DocId, Md, md_text
 from regmap.backends.markdown.views import (
     ArrayView,
     BitfieldView,
@@ -36,7 +36,7 @@ from regmap.backends.markdown.wire import (
 )
 from regmap.core.text import eng, na_list, number, variants_text
 from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, FirmwareGate, Group, PollClass, Register
-from regmap.render import hex2, md_text
+from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 
 ACCESS_SHORT = {Access.READ: "R", Access.READ_WRITE: "R/W", Access.WRITE: "W"}

@@ -7,13 +7,19 @@ The views use it as one module (`from regmap.backends.markdown import text as md
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Iterable, Sequence
 
+from regmap import render
 from regmap.core.text import number
 from regmap.diagnostics import UsageError
 from regmap.model import EnumType, Register
-from regmap.render import md_text
+from regmap.render import TEXT_CACHE_SIZE
+
+# `md_text` for the views: a page escapes the same titles, units and names again and again (quick reference, sections,
+# tables), and every map's text again for each page of a plant. Each text is escaped once.
+md_text = functools.lru_cache(maxsize=TEXT_CACHE_SIZE)(render.md_text)
 
 DASH = "—"
 
@@ -41,6 +47,7 @@ def escaped(text: str | None) -> Md:
     return Md(md_text(text))
 
 
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # a page names each register and enum several times: each is checked once
 def code(name: str) -> Md:
     return Md(f"`{DocId(name)}`")
 
@@ -49,6 +56,7 @@ def link(label: str, anchor: str, page: str = "") -> Md:
     return Md(f"[{label}]({page}#{anchor})")
 
 
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)
 def anchor(prefix: str, *names: str) -> str:
     return "-".join([prefix, *(DocId(n) for n in names)])
 
@@ -129,8 +137,5 @@ def reg_link(reg: Register, *, param: bool = True) -> Md:
 
 
 def errata_links(ids: Iterable[str]) -> Md:
-    unique: list[str] = []
-    for i in ids:
-        if i not in unique:
-            unique.append(i)
+    unique = dict.fromkeys(ids)  # an array member's errata repeat once per element: kept once each, in order
     return join(link(md_text(i), anchor("erratum", i)) for i in unique)

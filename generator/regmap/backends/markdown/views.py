@@ -9,12 +9,11 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from regmap.backends.markdown import text as md
-from regmap.backends.markdown.text import DocId, Md
+from regmap.backends.markdown.text import DocId, Md, md_text
 from regmap.backends.markdown.wire import uses
 from regmap.core.decoding import RegisterSpecs
 from regmap.model import Device
 from regmap.records import NamedTuple
-from regmap.render import md_text
 
 
 def table_row(cells: Iterable[str]) -> str:
@@ -98,6 +97,14 @@ class EnumRow(NamedTuple):
         )
 
 
+_DIRECTED_HEADER = (
+    "Direction: read only is a state the device reports and is never written; write only is a command it accepts.\n\n"
+    "| Value | Hex | Name | Direction | Symbol | Meaning | 中文 | Notes |\n"
+    "|---:|---|---|---|---|---|---|---|\n"
+)
+_PLAIN_HEADER = "| Value | Hex | Name | Symbol | Meaning | 中文 | Notes |\n|---:|---|---|---|---|---|---|\n"
+
+
 class EnumView(NamedTuple):
     anchor: str
     heading: Md
@@ -109,6 +116,15 @@ class EnumView(NamedTuple):
     used_by: Md
     directed: bool  # some member goes one way only: the table has a Direction column
     table: str  # the rows, one a line: built once, as the table is printed again under every register using it
+
+    @property
+    def block(self) -> str:
+        """The whole value table as a page prints it (description, direction note, header, rows, source): one string, not
+        an include per register that shows the table (the template's line ends it, then a blank line)."""
+        parts = [f"{self.description}\n\n"] if self.description else []
+        parts.append(_DIRECTED_HEADER if self.directed else _PLAIN_HEADER)
+        parts.append(f"{self.table}\n\nSource: {md_text(self.source)}.\n")
+        return "".join(parts)
 
 
 class BitRow(NamedTuple):
@@ -132,6 +148,10 @@ class BitfieldView(NamedTuple):
     alt: str
     rows: tuple[BitRow, ...]
 
+    @property
+    def table(self) -> str:
+        return "\n".join([r.row for r in self.rows])
+
 
 class RegisterView(NamedTuple):
     level: str  # heading marker: a register is a level-4 heading, an array member level 5
@@ -145,7 +165,12 @@ class RegisterView(NamedTuple):
 
     @property
     def template(self) -> str:
-        return "_register.md.jinja"
+        return ""  # device.md.jinja prints its section itself
+
+    @property
+    def sections(self) -> tuple[RegisterView, ...]:
+        """The register sections device.md.jinja prints after the item's template: a register's own."""
+        return (self,)
 
     @property
     def fact_rows(self) -> str:
@@ -203,6 +228,20 @@ class ArrayView(NamedTuple):
         return "_array.md.jinja"
 
     @property
+    def sections(self) -> tuple[RegisterView, ...]:
+        """The register sections device.md.jinja prints after the array's: its members with details."""
+        return self.details
+
+    @property
+    def member_rows(self) -> str:
+        return "\n".join([m.row for m in self.members])
+
+    @property
+    def element_rows(self) -> str:
+        """The element table's rows, one a line (a cell is ready to print)."""
+        return "\n".join(["|" + "".join([f" {cell} |" for cell in row]) for row in self.elements])
+
+    @property
     def fact_rows(self) -> str:
         return fact_rows(self.facts)
 
@@ -216,6 +255,10 @@ class GroupView(NamedTuple):
     shared: Md  # what every register of the group shares: space, firmware gate, poll class
     quick: tuple[QuickRow, ...]
     items: tuple[RegisterView | ArrayView, ...]
+
+    @property
+    def quick_rows(self) -> str:
+        return "\n".join([r.row for r in self.quick])
 
 
 class TimingView(NamedTuple):
@@ -238,6 +281,12 @@ class CommandView(NamedTuple):
     source: str
     destructive: bool  # loses data or state (factory defaults, initialisation, encoder reset, software reset, forced enable)
 
+    @property
+    def row(self) -> str:
+        name = f'<a id="{self.anchor}"></a>{self.name}' + (" **destructive**" if self.destructive else "")
+        cells = (md_text(self.title), md_text(self.title_zh), self.register, self.writes, self.frame, md_text(self.description))
+        return table_row((name, *cells, md_text(self.source)))
+
 
 class FaultView(NamedTuple):
     anchor: str
@@ -251,6 +300,12 @@ class FaultView(NamedTuple):
     description: str
     source: str
 
+    @property
+    def row(self) -> str:
+        code = f'<a id="{self.anchor}"></a>{md_text(self.code)}'
+        cells = (self.value, self.name, md_text(self.title), md_text(self.title_zh), md_text(self.kind), self.resettable)
+        return table_row((code, *cells, md_text(self.description), md_text(self.source)))
+
 
 class ExceptionView(NamedTuple):
     code: str
@@ -258,6 +313,10 @@ class ExceptionView(NamedTuple):
     title: str
     title_zh: str
     source: str
+
+    @property
+    def row(self) -> str:
+        return table_row((self.code, self.name, md_text(self.title), md_text(self.title_zh), md_text(self.source)))
 
 
 class ByteRow(NamedTuple):
@@ -272,6 +331,11 @@ class FrameView(NamedTuple):
     hex: str
     rows: tuple[ByteRow, ...]
     problems: tuple[str, ...]
+
+    @property
+    def table(self) -> str:
+        """The byte table's rows, one a line: one string, not four cells a byte for the template to print."""
+        return "\n".join([f"| {b.offset} | `{b.hex}` | {b.field} | {b.meaning} |" for b in self.rows])
 
 
 class DecodedRow(NamedTuple):
@@ -291,6 +355,10 @@ class ExampleView(NamedTuple):
     frames: tuple[FrameView, ...]
     decoded: tuple[DecodedRow, ...]
     notes: Md
+
+    @property
+    def decoded_rows(self) -> str:
+        return "\n".join([f"| {d.register} | {d.address} | {d.raw} | {d.value} | {d.recorded} |" for d in self.decoded])
 
 
 class ReadingView(NamedTuple):
