@@ -21,6 +21,7 @@ from regmap.target import TARGET_GROUP, reserved_id_problems
 from regmap.target import Files as Files
 from regmap.target import Target as Target
 from regmap.target import TargetOptions as TargetOptions
+from regmap.tools.output import write_all
 
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
     from regmap.plant import Plant
@@ -258,13 +259,7 @@ def _write(root: Path, files: Files) -> None:
 
 
 def _write_bytes(path: str, data: bytes) -> None:
-    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o666)  # as open(path, "w") makes it (not inherited)
-    try:
-        view = memoryview(data)
-        while view:
-            view = view[os.write(fd, view) :]
-    finally:
-        os.close(fd)
+    write_all(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o666), data)  # as open(path, "w") makes it
 
 
 STAGING_PREFIX = ".regmap-staging-"

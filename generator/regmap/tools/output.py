@@ -101,7 +101,11 @@ def write_output(where: str | Path, data: bytes, option: str = "output") -> None
 
 
 def _write_in_place(path: Path, data: bytes) -> None:
-    fd = os.open(path, os.O_WRONLY | os.O_NOCTTY)  # no O_CREAT: it exists, and must not become a regular file
+    write_all(os.open(path, os.O_WRONLY | os.O_NOCTTY), data)  # no O_CREAT: it exists, and must not become a regular file
+
+
+def write_all(fd: int, data: bytes) -> None:
+    """Write every byte of `data` to the descriptor (os.write may take only part), then close it."""
     try:
         view = memoryview(data)
         while view:
