@@ -262,6 +262,24 @@ class _CodeGenerator(CodeGenerator):
             self.outdent()
 
 
+# The Jinja internals `_CodeGenerator` builds on (Jinja 3.1's). A Jinja without them renders with its own code generator:
+# slower, the same text (tests/frontend/test_render_codegen.py fails first, so the change is seen).
+JINJA_HOOKS = (
+    "visit_Getattr",
+    "visit_Output",
+    "_make_finalize",
+    "_output_child_to_const",
+    "_output_const_repr",
+    "_output_child_pre",
+    "_output_child_post",
+)
+
+
+def own_code_generator() -> bool:
+    """Whether this Jinja has what `_CodeGenerator` overrides and calls."""
+    return all(callable(getattr(CodeGenerator, name, None)) for name in JINJA_HOOKS)
+
+
 @functools.cache
 def compiled_names() -> str:
     """The file names of compiled templates (`%s`: Jinja's key of the template), named by this module's text: the code
@@ -304,7 +322,8 @@ def templates(module: str) -> jinja2.Environment:
         **_ENVIRONMENT_OPTIONS,
     )
     env.template_class = _Template
-    env.code_generator_class = _CodeGenerator
+    if own_code_generator():
+        env.code_generator_class = _CodeGenerator
     env.filters.update(FILTERS)
     return env
 

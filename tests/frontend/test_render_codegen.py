@@ -26,7 +26,18 @@ class _Record:
 
 
 def test_every_back_end_environment_compiles_with_the_code_generator() -> None:
+    assert render.own_code_generator()  # this Jinja has every internal the generator builds on
     assert render.templates("regmap.backends.c.device").code_generator_class is render._CodeGenerator
+
+
+def test_a_jinja_without_the_internals_renders_with_its_own_generator(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A later Jinja that renamed what `_CodeGenerator` overrides or calls must not break a run: its own generator serves."""
+    monkeypatch.delattr(CodeGenerator, "_output_child_to_const")
+    assert not render.own_code_generator()
+    env = render.templates.__wrapped__("regmap.backends.c.device")  # a new environment, not the process's kept one
+    assert env.code_generator_class is CodeGenerator
+    template = env.from_string("{{ r.title }}, {{ r.nothing }}!")
+    assert template.render(r=_Record()) == "a title, None!"
 
 
 def test_an_attribute_is_read_and_an_item_is_the_fallback() -> None:
