@@ -36,12 +36,12 @@ FLOOR_IMPORTS = "import jinja2, yaml, jsonschema, regmap"
 # average 7.3-7.7 on 2 cores; 9 paired runs each). There was no output cache yet, so "warm" renders too.
 BEFORE_COLD = (2.393, 0.191, 13.12)  # generate CPU s, floor CPU s, median ratio
 BEFORE_WARM = (2.316, 0.170, 14.40)
-# `measure_generate(repeats=9)` of this tree with 8ce8f42's generator/ in the same runs (the base of this round: stop 45's
-# helpers' branches and its own commits), this machine, 2026-12-07 18:42 UTC, load average under 1.5 on 2 cores. (Stop 44's
-# `make bench` on d942833, the same generator, printed 6.47x cold at its hour.)
-BEFORE_BRANCH_COMMIT = "8ce8f42"
-BEFORE_BRANCH_COLD = (1.441, 0.229, 5.96)
-BEFORE_BRANCH_WARM = (0.543, 0.224, 2.61)
+# `measure_generate(repeats=9)` of this tree with e2e516b's generator/ in the same runs (the base of this round: stop 46's
+# helpers' branches and its own commits), this machine, 2026-12-07 23:XX UTC. (Stop 45's `make bench` on dcb87d0, the
+# same generator as e2e516b, printed 5.92x cold at its hour.)
+BEFORE_BRANCH_COMMIT = "e2e516b"
+BEFORE_BRANCH_COLD = (0.0, 0.0, 0.0)
+BEFORE_BRANCH_WARM = (0.0, 0.0, 0.0)
 JUDGED_ON = "cold"
 BEFORE_IMPORT_WALL_S = 19.85
 BEFORE_IMPORT_CPU_S = 6.49

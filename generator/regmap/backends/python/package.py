@@ -122,9 +122,5 @@ def _run(argv: list[str]) -> tuple[int, str]:
     return os.waitstatus_to_exitcode(status), stderr.decode("utf-8", "replace")
 
 
-def _post(directory: Path) -> None:
-    ruff_format(directory, skip=runtime_package())
-
-
 def post(directory: Path) -> None:
     ruff_format(directory, skip=runtime_package())
