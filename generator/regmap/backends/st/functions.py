@@ -3,6 +3,8 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
+import weakref
+
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
@@ -20,7 +22,6 @@ from regmap.backends.st.views import (
     POLL_VALUE,
     Names,
     _bitfield_comment,
-    _register_comment,
     _word,
     configurable,
     firmware_consts,
@@ -107,7 +108,7 @@ class Values:
         member = self.scope.add(StIdentifier(reg.name), f"register {reg.name}", reg.pos)
         raw = f"stRaw.{member}"
         target = f"stValues.{member}"
-        comment = _register_comment(reg)
+        comment = names.register_comment(reg)
         if reg.scale_from is not None:
             available = self.scope.add(StIdentifier(reg.name, "available"), f"the availability flag of {reg.name}", reg.pos)
             why = f"FALSE: {reg.name} or {reg.scale_from} reads 'not available', {reg.scale_from} is not read yet or |sf| > 22"
@@ -320,7 +321,9 @@ def _plan_key(reg: Register) -> tuple[str, str, str, tuple[str, ...]]:
     return (reg.poll.value, *gate, reg.variants)
 
 
-_PLANNED: dict[int, tuple[Device, tuple[Planned, ...]]] = {}  # by the device's identity: each dialect and the poller ask
+# By the device's identity (hashing a whole model would cost more than the work): each dialect and the poller ask. Each
+# entry is dropped when its device is freed, as runtime_bridge's are, so a process that loads many maps keeps only the live ones'.
+_PLANNED: dict[int, tuple[Planned, ...]] = {}
 
 
 def plan_blocks(device: Device) -> list[Planned]:
@@ -328,11 +331,13 @@ def plan_blocks(device: Device) -> list[Planned]:
     rate, and a block never holds a register the connected firmware or variant may lack beside one it has), in
     address order per space. A block every variant reads bridges only words every variant answers. With one
     class, no gates and no variants (the seed maps) it is the Python client's read_all()."""
-    cached = _PLANNED.get(id(device))
-    if cached is not None and cached[0] is device:
-        return list(cached[1])
+    key = id(device)
+    cached = _PLANNED.get(key)
+    if cached is not None:
+        return list(cached)
     planned = _plan_blocks(device)
-    _PLANNED[id(device)] = (device, tuple(planned))
+    _PLANNED[key] = tuple(planned)
+    weakref.finalize(device, _PLANNED.pop, key, None)
     return planned
 
 

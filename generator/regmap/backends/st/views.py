@@ -57,6 +57,14 @@ class Names:
         self.prefix = device.id
         self.globals = Scope(device, "a global name", problems)
         self.access_type = self.type("E", "ACCESS", what="the access type")
+        self._comments: dict[int, str] = {}  # by the register's identity: its constants and its decoder ask
+
+    def register_comment(self, reg: Register) -> str:
+        """The register's comment (its constants' section, its member of the values struct), described once."""
+        comment = self._comments.get(id(reg))
+        if comment is None:
+            comment = self._comments[id(reg)] = _describe(reg)
+        return comment
 
     def const(self, *parts: str, what: str, pos: Any = None) -> str:
         return self.globals.add(StIdentifier(self.prefix, *parts), what, pos)
@@ -274,7 +282,7 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     consts += variants_const(names, reg.name, reg.variants, what, reg.pos)
     if reg.poll is not PollClass.NORMAL:
         consts.append(Const(c("POLL"), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}"))
-    return SectionToSpell(_register_comment(reg), tuple(consts))
+    return SectionToSpell(names.register_comment(reg), tuple(consts))
 
 
 def firmware_raw(names: Names, version: str) -> int | None:
@@ -360,18 +368,6 @@ def variants_const(names: Names, label: str, variants: Sequence[str], what: str,
         return []
     mask = st_hex(variants_mask(names.device, variants), 8)
     return [Const(names.const(label, "VARIANTS", what=what, pos=pos), VARIANT_TYPE, mask, f"only on {', '.join(variants)}")]
-
-
-_COMMENTS: dict[int, tuple[Register, str]] = {}  # by the register's identity: each dialect and the decoders ask again
-
-
-def _register_comment(reg: Register) -> str:
-    cached = _COMMENTS.get(id(reg))
-    if cached is not None and cached[0] is reg:
-        return cached[1]
-    text = _describe(reg)
-    _COMMENTS[id(reg)] = (reg, text)
-    return text
 
 
 def _describe(reg: Register) -> str:
