@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Callable
 from dataclasses import field
 from fractions import Fraction
 
@@ -83,6 +84,20 @@ class Stem:
         if self.sound and _sound_suffix(suffix) and len(name) <= MAX_LENGTH and name not in _ESCAPED:
             return str.__new__(StIdentifier, name)
         return StIdentifier(*self.parts, suffix)
+
+    def declared_in(self, scope: Scope, what: str, pos: SourcePos | None) -> Callable[[str], StIdentifier]:
+        """`suffix -> scope.add(self(suffix), what, pos)` in one call for a sound name (a register declares up to 16)."""
+        joined, sound, seen = self.joined, self.sound, scope.seen
+
+        def declare(suffix: str) -> StIdentifier:
+            name = f"{joined}_{suffix}"
+            if sound and _sound_suffix(suffix) and len(name) <= MAX_LENGTH and name not in _ESCAPED:
+                made = str.__new__(StIdentifier, name)
+                if seen.setdefault(made, what) == what:
+                    return made
+            return scope.add(self(suffix), what, pos)  # a problem to report, or a name some other item took
+
+        return declare
 
 
 @functools.cache  # a few dozen suffixes (ADDR, RAW_MIN ...), each asked for by every register

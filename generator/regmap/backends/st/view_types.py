@@ -157,9 +157,15 @@ class FunctionView:
         return xml_text("\n".join(self.body))
 
 
+def const_line(name: str, kind: str, value: str, comment: str) -> str:
+    """One constant's declaration as an ST file's VAR_GLOBAL CONSTANT prints it, ended by a newline."""
+    return f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind} := {value};\n"
+
+
 class Section(NamedTuple):
     comment: str
     consts: tuple[Const, ...]
+    made_lines: str = ""  # the constants' lines when made already (a `SectionToSpell` shares its plain ones)
 
     @property
     def text(self) -> str:
@@ -170,19 +176,24 @@ class Section(NamedTuple):
     def lines(self) -> str:
         """The constants' declarations, one a line, each ended by a newline (an ST file's VAR_GLOBAL CONSTANT): made
         here, as the functions' bodies are, since a template's loop costs several times the line it prints."""
-        return "".join(
-            [
-                f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind} := {value};\n"
-                for name, kind, value, comment in self.consts
-            ]
-        )
+        return self.made_lines or "".join([const_line(*c) for c in self.consts])
 
 
-class SectionToSpell(NamedTuple):
-    """A section some of whose constants each dialect writes its own way."""
+class SectionToSpell:
+    """A section some of whose constants each dialect writes its own way: the lines of the plain ones (most) are
+    made once, for every notation."""
 
-    comment: str
-    consts: tuple[Const | MemberConst | TextConst, ...]
+    __slots__ = ("_plain_lines", "comment", "consts")
+
+    def __init__(self, comment: str, consts: tuple[Const | MemberConst | TextConst, ...]) -> None:
+        self.comment = comment
+        self.consts = consts
+        self._plain_lines: list[str] | None = None
 
     def spelled(self, notation: Notation) -> Section:
-        return Section(self.comment, tuple([c if type(c) is Const else c.spelled(notation) for c in self.consts]))  # most are plain
+        plain = self._plain_lines
+        if plain is None:
+            plain = self._plain_lines = [const_line(*c) if type(c) is Const else "" for c in self.consts]
+        consts = tuple([c if type(c) is Const else c.spelled(notation) for c in self.consts])
+        lines = "".join([line or const_line(*c) for line, c in zip(plain, consts, strict=True)])
+        return Section(self.comment, consts, lines)

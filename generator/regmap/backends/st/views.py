@@ -195,12 +195,7 @@ def _typed_const(name: str, reg: Register, value: str, comment: str = "") -> Con
 
 def register_consts(names: Names, reg: Register) -> SectionToSpell:
     what = f"register {reg.name}"
-    stem = StIdentifier.stem(names.prefix, reg.name)
-
-    add, pos = names.globals.add, reg.pos
-
-    def c(suffix: str) -> str:
-        return add(stem(suffix), what, pos)
+    c = StIdentifier.stem(names.prefix, reg.name).declared_in(names.globals, what, reg.pos)
 
     consts: list[Const | MemberConst | TextConst] = [
         Const(c("ADDR"), "UINT", st_hex(reg.address)),
