@@ -117,7 +117,7 @@ class FunctionView:
     @cached_property
     def indented_body(self) -> str:
         """The statements, one a line, each indented by four spaces and ended by a newline (the ST files)."""
-        return "".join(f"    {line}\n" for line in self.body)
+        return "".join([f"    {line}\n" for line in self.body])
 
     @cached_property
     def st_text(self) -> str:
@@ -157,15 +157,9 @@ class FunctionView:
         return xml_text("\n".join(self.body))
 
 
-def const_line(name: str, kind: str, value: str, comment: str) -> str:
-    """One constant's declaration as an ST file's VAR_GLOBAL CONSTANT prints it, ended by a newline."""
-    return f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind} := {value};\n"
-
-
 class Section(NamedTuple):
     comment: str
     consts: tuple[Const, ...]
-    made_lines: str = ""  # the constants' lines when made already (a `SectionToSpell` shares its plain ones)
 
     @property
     def text(self) -> str:
@@ -176,24 +170,19 @@ class Section(NamedTuple):
     def lines(self) -> str:
         """The constants' declarations, one a line, each ended by a newline (an ST file's VAR_GLOBAL CONSTANT): made
         here, as the functions' bodies are, since a template's loop costs several times the line it prints."""
-        return self.made_lines or "".join([const_line(*c) for c in self.consts])
+        return "".join(
+            [
+                f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind} := {value};\n"
+                for name, kind, value, comment in self.consts
+            ]
+        )
 
 
-class SectionToSpell:
-    """A section some of whose constants each dialect writes its own way: the lines of the plain ones (most) are
-    made once, for every notation."""
+class SectionToSpell(NamedTuple):
+    """A section some of whose constants each dialect writes its own way."""
 
-    __slots__ = ("_plain_lines", "comment", "consts")
-
-    def __init__(self, comment: str, consts: tuple[Const | MemberConst | TextConst, ...]) -> None:
-        self.comment = comment
-        self.consts = consts
-        self._plain_lines: list[str] | None = None
+    comment: str
+    consts: tuple[Const | MemberConst | TextConst, ...]
 
     def spelled(self, notation: Notation) -> Section:
-        plain = self._plain_lines
-        if plain is None:
-            plain = self._plain_lines = [const_line(*c) if type(c) is Const else "" for c in self.consts]
-        consts = tuple([c if type(c) is Const else c.spelled(notation) for c in self.consts])
-        lines = "".join([line or const_line(*c) for line, c in zip(plain, consts, strict=True)])
-        return Section(self.comment, consts, lines)
+        return Section(self.comment, tuple([c if type(c) is Const else c.spelled(notation) for c in self.consts]))  # most are plain

@@ -30,18 +30,21 @@ from regmap.runtime_bridge import runtime_device
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
 
 
-def _sentence(text: str) -> str:
-    # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
-    # space doubled or at an end, the split and join would give it back as it is.
-    if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
-        text = " ".join(text.split())
-        if not text:
-            return text
-    return text if text[-1] in ".!?。" else text + "."
-
-
 def sentences(*parts: str | None) -> str:
-    return " ".join([s for s in (_sentence(p) for p in parts if p) if s])
+    """The parts as sentences, each ended by a full stop unless it ends one already, the empty ones left out: a loop
+    (no generator, no call per part), since every register's and function's comment is made here."""
+    out = []
+    for text in parts:
+        if not text:
+            continue
+        # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
+        # space doubled or at an end, the split and join would give it back as it is.
+        if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
+            text = " ".join(text.split())
+            if not text:
+                continue
+        out.append(text if text[-1] in ".!?。" else text + ".")
+    return " ".join(out)
 
 
 def _manual(source: tuple[str, ...]) -> str:
