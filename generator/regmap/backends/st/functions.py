@@ -265,7 +265,7 @@ class Values:
         return StructView(
             self.type_name,
             "Decoded values of every readable register (the Python client's read_all()).",
-            tuple(m.spelled(notation) for m in self.members),
+            tuple([m.spelled(notation) for m in self.members]),
         )
 
 
@@ -371,7 +371,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         bits = space in ("coil", "discrete_input")
         tag = "_".join(filter(None, (SPACE_TAG[space], f"{block.address:04X}")))
         what = f"read block {index} at {space} 0x{block.address:04X}"
-        regs = tuple(device.register(spec.name) for spec in block.registers)
+        regs = tuple([device.register(spec.name) for spec in block.registers])
         scope = names.scope(f"a member of raw block {tag}")
         members: list[Member] = []
         if bits:
@@ -447,7 +447,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         inputs = [Member("stRaw", struct.type_name)]
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
-        locals_ = tuple(Member(k, v) for k, v in local_types.items())
+        locals_ = tuple([Member(k, v) for k, v in local_types.items()])
         in_outs, statements = (Member("stValues", values.type_name),), tuple(body)
         union_comment, exact_comment = _decoder_comments(index, regs)
         with_unions = FunctionView(name, "BOOL", union_comment, tuple(inputs), in_outs, locals_, statements)

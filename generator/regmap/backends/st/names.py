@@ -166,7 +166,7 @@ def st_hex(value: int, digits: int = 4) -> str:
 def st_real(value: Fraction | int | float) -> str:
     """An LREAL literal of an exact integer, ratio part or float (always with a point, as ST requires)."""
     text = f"{float(value):.17g}"
-    return text if any(c in text for c in ".e") else text + ".0"
+    return text if "." in text or "e" in text else text + ".0"
 
 
 def st_string(text: str) -> str:
