@@ -486,13 +486,14 @@ def bitfield_functions(names: Names) -> list[FunctionView]:
     for regs in owners(names.device):
         reg = regs[0]
         word = _word(reg)
+        label = owner(reg)
         for b in reg.bitfields:
             # Literals, not the MASK / SHIFT constants: an IEC function cannot see global variables.
             mask = st_hex(b.mask, 4 * reg.words)
             shift = st_int(b.lsb)
-            what = f"the accessors of bitfield {b.name} of {owner(reg)}"
+            what = f"the accessors of bitfield {b.name} of {label}"
             get = names.globals.add(getter_name(names, reg, b), what, b.pos)
-            put = names.function(owner(reg), "SET", b.name, what=what, pos=b.pos)
+            put = names.function(label, "SET", b.name, what=what, pos=b.pos)
             to_uint = f"{word}_TO_UINT(SHR(nWord AND {mask}, {shift}))"
             get_body: tuple[str, ...]
             set_body: tuple[str, ...]
@@ -507,14 +508,14 @@ def bitfield_functions(names: Names) -> list[FunctionView]:
                 value = Member("nValue", "UINT")
             functions.append(
                 FunctionView(
-                    get, returns, f"Bits {b.bits_text} ({b.name}) of a {owner(reg)} word.", (Member("nWord", word),), (), (), get_body
+                    get, returns, f"Bits {b.bits_text} ({b.name}) of a {label} word.", (Member("nWord", word),), (), (), get_body
                 )
             )
             functions.append(
                 FunctionView(
                     put,
                     word,
-                    f"The {owner(reg)} word with bits {b.bits_text} ({b.name}) replaced; every other bit kept.",
+                    f"The {label} word with bits {b.bits_text} ({b.name}) replaced; every other bit kept.",
                     (Member("nWord", word), value),
                     (),
                     (),

@@ -400,13 +400,14 @@ def bitfield_consts(names: Names, reg: Register) -> Section | None:
         return None
     digits = 4 * reg.words
     consts = []
+    label = owner(reg)
     for b in reg.bitfields:
-        what = f"bitfield {b.name} of {owner(reg)}"
+        what = f"bitfield {b.name} of {label}"
         consts.append(
-            Const(names.const(owner(reg), b.name, "MASK", what=what, pos=b.pos), _word(reg), st_hex(b.mask, digits), _bitfield_comment(b))
+            Const(names.const(label, b.name, "MASK", what=what, pos=b.pos), _word(reg), st_hex(b.mask, digits), _bitfield_comment(b))
         )
-        consts.append(Const(names.const(owner(reg), b.name, "SHIFT", what=what, pos=b.pos), "UINT", st_int(b.lsb)))
-    return Section(f"Bitfields of {owner(reg)}.", tuple(consts))
+        consts.append(Const(names.const(label, b.name, "SHIFT", what=what, pos=b.pos), "UINT", st_int(b.lsb)))
+    return Section(f"Bitfields of {label}.", tuple(consts))
 
 
 def _bitfield_comment(b: Bitfield) -> str:
