@@ -507,9 +507,7 @@ def bitfield_functions(names: Names) -> list[FunctionView]:
                 set_body = (f"{put} := (nWord AND NOT {mask}) OR (SHL(UINT_TO_{word}(nValue), {shift}) AND {mask});",)
                 value = Member("nValue", "UINT")
             functions.append(
-                FunctionView(
-                    get, returns, f"Bits {b.bits_text} ({b.name}) of a {label} word.", (Member("nWord", word),), (), (), get_body
-                )
+                FunctionView(get, returns, f"Bits {b.bits_text} ({b.name}) of a {label} word.", (Member("nWord", word),), (), (), get_body)
             )
             functions.append(
                 FunctionView(

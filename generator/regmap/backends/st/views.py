@@ -21,6 +21,7 @@ from regmap.backends.st.view_types import (
     Section,
     SectionToSpell,
     TextConst,
+    new_const,
 )
 from regmap.core.text import number, titled, zone_text
 from regmap.diagnostics import Diagnostic
@@ -201,85 +202,83 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     c = StIdentifier.stem(names.prefix, reg.name).declared_in(names.globals, what, reg.pos)
 
     consts: list[Const | MemberConst | TextConst] = [
-        Const(c("ADDR"), "UINT", st_hex(reg.address)),
-        Const(c("WORDS"), "UINT", st_int(reg.words)),
+        new_const((c("ADDR"), "UINT", st_hex(reg.address), "")),
+        new_const((c("WORDS"), "UINT", st_int(reg.words), "")),
         MemberConst(c("ACCESS"), names.access_type, ACCESS_MEMBER[reg.access]),
     ]
     space = reg.space_info
     if space.name != "holding":
         writes = ", ".join(f"{op.replace('_', ' ')} 16#{code:02X}" for op, code in space.codes.items() if op != "read")
         consts.append(
-            Const(
-                c("FUNCTION"),
-                "USINT",
-                st_hex(space.read, 2),
-                f"read with function 16#{space.read:02X} ({space.title})" + (f"; {writes}" if writes else ""),
+            new_const(
+                (
+                    c("FUNCTION"),
+                    "USINT",
+                    st_hex(space.read, 2),
+                    f"read with function 16#{space.read:02X} ({space.title})" + (f"; {writes}" if writes else ""),
+                )
             )
         )
     if reg.type.numeric:
         consts += [
-            Const(c("RAW_MIN"), NATURAL[reg.type], _literal(reg, reg.raw_min)),
-            Const(c("RAW_MAX"), NATURAL[reg.type], _literal(reg, reg.raw_max)),
+            new_const((c("RAW_MIN"), NATURAL[reg.type], _literal(reg, reg.raw_min), "")),
+            new_const((c("RAW_MAX"), NATURAL[reg.type], _literal(reg, reg.raw_max), "")),
         ]
     elif reg.type.is_string:
         consts.append(
-            Const(
-                c("BYTES"),
-                "UINT",
-                st_int(2 * reg.words),
-                f"text bytes ({reg.encoding}, padded with {'spaces' if reg.padding == 'space' else 'NUL'})",
+            new_const(
+                (
+                    c("BYTES"),
+                    "UINT",
+                    st_int(2 * reg.words),
+                    f"text bytes ({reg.encoding}, padded with {'spaces' if reg.padding == 'space' else 'NUL'})",
+                )
             )
         )
     if reg.default is not None:
         consts.append(_typed_const(c("DEFAULT"), reg, _literal(reg, reg.default)))
     if reg.type.numeric:
         consts += [
-            Const(c("SCALE_NUM"), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
-            Const(c("SCALE_DEN"), "DINT", st_int(reg.scale.denominator)),
+            new_const((c("SCALE_NUM"), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN")),
+            new_const((c("SCALE_DEN"), "DINT", st_int(reg.scale.denominator), "")),
         ]
     if reg.offset_set:
         consts += [
-            Const(
-                c("OFFSET_NUM"),
-                _ratio(reg.offset.numerator),
-                st_int(reg.offset.numerator),
-                "value = raw * SCALE_NUM / SCALE_DEN + OFFSET_NUM / OFFSET_DEN",
+            new_const(
+                (
+                    c("OFFSET_NUM"),
+                    _ratio(reg.offset.numerator),
+                    st_int(reg.offset.numerator),
+                    "value = raw * SCALE_NUM / SCALE_DEN + OFFSET_NUM / OFFSET_DEN",
+                )
             ),
-            Const(c("OFFSET_DEN"), _ratio(reg.offset.denominator), st_int(reg.offset.denominator)),
+            new_const((c("OFFSET_DEN"), _ratio(reg.offset.denominator), st_int(reg.offset.denominator), "")),
         ]
     if reg.wide:
         order = "device word order (parameter)" if configurable(names.device, reg) else f"{reg.word_order.value.replace('_', ' ')}"
         consts.append(
-            Const(
-                c("HIGH_WORD_FIRST"),
-                "BOOL",
-                "TRUE" if reg.word_order is WordOrder.HIGH_FIRST else "FALSE",
-                order if not configurable(names.device, reg) else f"{order}; this is its default",
+            new_const(
+                (
+                    c("HIGH_WORD_FIRST"),
+                    "BOOL",
+                    "TRUE" if reg.word_order is WordOrder.HIGH_FIRST else "FALSE",
+                    order if not configurable(names.device, reg) else f"{order}; this is its default",
+                )
             )
         )
     if swapped(reg):
         consts.append(
-            Const(
-                c("HIGH_BYTE_FIRST"),
-                "BOOL",
-                "FALSE",
-                "each word arrives with its low byte first (ROL(word, 8) restores it)",
-            )
+            new_const((c("HIGH_BYTE_FIRST"), "BOOL", "FALSE", "each word arrives with its low byte first (ROL(word, 8) restores it)"))
         )
     if reg.paired:
         consts.append(
-            Const(
-                c("FIRST_ADDR"),
-                "UINT",
-                st_hex(reg.first_address),
-                "the unused high word a block read or a write starts at",
-            )
+            new_const((c("FIRST_ADDR"), "UINT", st_hex(reg.first_address), "the unused high word a block read or a write starts at"))
         )
     if reg.firmware is not None:
         consts += firmware_consts(names, reg.name, reg.firmware.first, reg.firmware.until, what, reg.pos)
     consts += variants_const(names, reg.name, reg.variants, what, reg.pos)
     if reg.poll is not PollClass.NORMAL:
-        consts.append(Const(c("POLL"), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}"))
+        consts.append(new_const((c("POLL"), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}")))
     return SectionToSpell(names.register_comment(reg), tuple(consts))
 
 
