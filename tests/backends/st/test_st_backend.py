@@ -23,6 +23,7 @@ from regmap.backends import st
 from regmap.backends.st.codec import CODESYS, IEC, PLCOPEN
 from regmap.backends.st.device import DeviceViews
 from regmap.backends.st.functions import plan_blocks
+from regmap.backends.st.names import Scope
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import render
 from regmap.model import ByteOrder, DataType, Device
@@ -349,6 +350,25 @@ def test_a_stem_spells_each_name_as_its_parts_do(parts: tuple[str, ...], suffix:
     made = st.StIdentifier.stem(*parts)(suffix)
     whole = st.StIdentifier(*parts, suffix)
     assert (made, made.problem, type(made)) == (whole, whole.problem, st.StIdentifier)
+
+
+@pytest.mark.parametrize("suffix", ["RAW_MIN", "raw_min", "_ADDR"])
+@pytest.mark.parametrize("parts", [("dev", "speed"), ("dev", "x" * 56), ("dev", "bad__name"), ("var",), ("dev", "")])
+@pytest.mark.parametrize("taken_by", [None, "register speed", "register other"])
+def test_a_stem_declares_each_name_as_the_scope_adds_it(parts: tuple[str, ...], suffix: str, taken_by: str | None) -> None:
+    """`Stem.declared_in` (a register's constants) gives the name `Scope.add` gives and reports what it reports: the
+    name's own problem, and a name another item declared first (the same item declaring it again is no collision)."""
+    device = load_map(MAPS[0])
+    results = []
+    for declare in ("stem", "scope"):
+        problems: list[Any] = []
+        scope = Scope(device, "a global name", problems)
+        if taken_by is not None:
+            scope.add(st.StIdentifier(*parts, suffix), taken_by)
+        stem = st.StIdentifier.stem(*parts)
+        made = stem.declared_in(scope, "register speed", None)(suffix) if declare == "stem" else scope.add(stem(suffix), "register speed")
+        results.append((made, made.problem, type(made), problems, scope.seen))
+    assert results[0] == results[1]
 
 
 def test_a_name_two_map_items_generate_is_refused_naming_both() -> None:

@@ -3,6 +3,8 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
+import weakref
+
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
     NATURAL,
@@ -20,7 +22,6 @@ from regmap.backends.st.views import (
     POLL_VALUE,
     Names,
     _bitfield_comment,
-    _register_comment,
     _word,
     configurable,
     firmware_consts,
@@ -107,7 +108,7 @@ class Values:
         member = self.scope.add(StIdentifier(reg.name), f"register {reg.name}", reg.pos)
         raw = f"stRaw.{member}"
         target = f"stValues.{member}"
-        comment = _register_comment(reg)
+        comment = names.register_comment(reg)
         if reg.scale_from is not None:
             available = self.scope.add(StIdentifier(reg.name, "available"), f"the availability flag of {reg.name}", reg.pos)
             why = f"FALSE: {reg.name} or {reg.scale_from} reads 'not available', {reg.scale_from} is not read yet or |sf| > 22"
@@ -264,7 +265,7 @@ class Values:
         return StructView(
             self.type_name,
             "Decoded values of every readable register (the Python client's read_all()).",
-            tuple(m.spelled(notation) for m in self.members),
+            tuple([m.spelled(notation) for m in self.members]),
         )
 
 
@@ -320,7 +321,9 @@ def _plan_key(reg: Register) -> tuple[str, str, str, tuple[str, ...]]:
     return (reg.poll.value, *gate, reg.variants)
 
 
-_PLANNED: dict[int, tuple[Device, tuple[Planned, ...]]] = {}  # by the device's identity: each dialect and the poller ask
+# By the device's identity (hashing a whole model would cost more than the work): each dialect and the poller ask. Each
+# entry is dropped when its device is freed, as runtime_bridge's are, so a process that loads many maps keeps only the live ones'.
+_PLANNED: dict[int, tuple[Planned, ...]] = {}
 
 
 def plan_blocks(device: Device) -> list[Planned]:
@@ -328,11 +331,13 @@ def plan_blocks(device: Device) -> list[Planned]:
     rate, and a block never holds a register the connected firmware or variant may lack beside one it has), in
     address order per space. A block every variant reads bridges only words every variant answers. With one
     class, no gates and no variants (the seed maps) it is the Python client's read_all()."""
-    cached = _PLANNED.get(id(device))
-    if cached is not None and cached[0] is device:
-        return list(cached[1])
+    key = id(device)
+    cached = _PLANNED.get(key)
+    if cached is not None:
+        return list(cached)
     planned = _plan_blocks(device)
-    _PLANNED[id(device)] = (device, tuple(planned))
+    _PLANNED[key] = tuple(planned)
+    weakref.finalize(device, _PLANNED.pop, key, None)
     return planned
 
 
@@ -366,7 +371,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         bits = space in ("coil", "discrete_input")
         tag = "_".join(filter(None, (SPACE_TAG[space], f"{block.address:04X}")))
         what = f"read block {index} at {space} 0x{block.address:04X}"
-        regs = tuple(device.register(spec.name) for spec in block.registers)
+        regs = tuple([device.register(spec.name) for spec in block.registers])
         scope = names.scope(f"a member of raw block {tag}")
         members: list[Member] = []
         if bits:
@@ -442,7 +447,7 @@ def blocks(names: Names, values: Values) -> list[Block]:
         inputs = [Member("stRaw", struct.type_name)]
         if needs_order_input(device, regs):
             inputs.append(Member("bHighWordFirst", "BOOL", "the device's word-order parameter"))
-        locals_ = tuple(Member(k, v) for k, v in local_types.items())
+        locals_ = tuple([Member(k, v) for k, v in local_types.items()])
         in_outs, statements = (Member("stValues", values.type_name),), tuple(body)
         union_comment, exact_comment = _decoder_comments(index, regs)
         with_unions = FunctionView(name, "BOOL", union_comment, tuple(inputs), in_outs, locals_, statements)
@@ -481,13 +486,14 @@ def bitfield_functions(names: Names) -> list[FunctionView]:
     for regs in owners(names.device):
         reg = regs[0]
         word = _word(reg)
+        label = owner(reg)
         for b in reg.bitfields:
             # Literals, not the MASK / SHIFT constants: an IEC function cannot see global variables.
             mask = st_hex(b.mask, 4 * reg.words)
             shift = st_int(b.lsb)
-            what = f"the accessors of bitfield {b.name} of {owner(reg)}"
+            what = f"the accessors of bitfield {b.name} of {label}"
             get = names.globals.add(getter_name(names, reg, b), what, b.pos)
-            put = names.function(owner(reg), "SET", b.name, what=what, pos=b.pos)
+            put = names.function(label, "SET", b.name, what=what, pos=b.pos)
             to_uint = f"{word}_TO_UINT(SHR(nWord AND {mask}, {shift}))"
             get_body: tuple[str, ...]
             set_body: tuple[str, ...]
@@ -501,15 +507,13 @@ def bitfield_functions(names: Names) -> list[FunctionView]:
                 set_body = (f"{put} := (nWord AND NOT {mask}) OR (SHL(UINT_TO_{word}(nValue), {shift}) AND {mask});",)
                 value = Member("nValue", "UINT")
             functions.append(
-                FunctionView(
-                    get, returns, f"Bits {b.bits_text} ({b.name}) of a {owner(reg)} word.", (Member("nWord", word),), (), (), get_body
-                )
+                FunctionView(get, returns, f"Bits {b.bits_text} ({b.name}) of a {label} word.", (Member("nWord", word),), (), (), get_body)
             )
             functions.append(
                 FunctionView(
                     put,
                     word,
-                    f"The {owner(reg)} word with bits {b.bits_text} ({b.name}) replaced; every other bit kept.",
+                    f"The {label} word with bits {b.bits_text} ({b.name}) replaced; every other bit kept.",
                     (Member("nWord", word), value),
                     (),
                     (),

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Callable
 from dataclasses import field
 from fractions import Fraction
 
@@ -84,6 +85,20 @@ class Stem:
             return str.__new__(StIdentifier, name)
         return StIdentifier(*self.parts, suffix)
 
+    def declared_in(self, scope: Scope, what: str, pos: SourcePos | None) -> Callable[[str], StIdentifier]:
+        """`suffix -> scope.add(self(suffix), what, pos)` in one call for a sound name (a register declares up to 16)."""
+        joined, sound, seen = self.joined, self.sound, scope.seen
+
+        def declare(suffix: str) -> StIdentifier:
+            name = f"{joined}_{suffix}"
+            if sound and _sound_suffix(suffix) and len(name) <= MAX_LENGTH and name not in _ESCAPED:
+                made = str.__new__(StIdentifier, name)
+                if seen.setdefault(made, what) == what:
+                    return made
+            return scope.add(self(suffix), what, pos)  # a problem to report, or a name some other item took
+
+        return declare
+
 
 @functools.cache  # a few dozen suffixes (ADDR, RAW_MIN ...), each asked for by every register
 def _sound_suffix(suffix: str) -> bool:
@@ -140,8 +155,8 @@ class Scope:
 # -- literals ----------------------------------------------------------------------------------
 
 
-def st_int(value: int) -> str:
-    return str(value)
+# An integer's ST literal is its decimal text: `str` itself, no call of ours around it (thousands a device).
+st_int: Callable[[int], str] = str
 
 
 def st_hex(value: int, digits: int = 4) -> str:
@@ -151,7 +166,7 @@ def st_hex(value: int, digits: int = 4) -> str:
 def st_real(value: Fraction | int | float) -> str:
     """An LREAL literal of an exact integer, ratio part or float (always with a point, as ST requires)."""
     text = f"{float(value):.17g}"
-    return text if any(c in text for c in ".e") else text + ".0"
+    return text if "." in text or "e" in text else text + ".0"
 
 
 def st_string(text: str) -> str:

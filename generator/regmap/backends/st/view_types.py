@@ -7,6 +7,9 @@ frozen dataclasses, and which a template's `for` unpacks without an attribute lo
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable
+
 from regmap.backends.st.codec import Notation
 from regmap.records import NamedTuple, cached_property, dataclass
 from regmap.render import st_comment, xml_text
@@ -20,6 +23,10 @@ class Const(NamedTuple):
 
     def spelled(self, notation: Notation) -> Const:
         return self
+
+
+# A Const through namedtuple's `__new__` costs a Python call; the thousands of register constants are made with tuple's own.
+new_const: Callable[[tuple[str, str, str, str]], Const] = functools.partial(tuple.__new__, Const)
 
 
 class MemberConst(NamedTuple):
@@ -117,7 +124,7 @@ class FunctionView:
     @cached_property
     def indented_body(self) -> str:
         """The statements, one a line, each indented by four spaces and ended by a newline (the ST files)."""
-        return "".join(f"    {line}\n" for line in self.body)
+        return "".join([f"    {line}\n" for line in self.body])
 
     @cached_property
     def st_text(self) -> str:

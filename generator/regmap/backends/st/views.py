@@ -21,6 +21,7 @@ from regmap.backends.st.view_types import (
     Section,
     SectionToSpell,
     TextConst,
+    new_const,
 )
 from regmap.core.text import number, titled, zone_text
 from regmap.diagnostics import Diagnostic
@@ -30,18 +31,21 @@ from regmap.runtime_bridge import runtime_device
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
 
 
-def _sentence(text: str) -> str:
-    # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
-    # space doubled or at an end, the split and join would give it back as it is.
-    if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
-        text = " ".join(text.split())
-        if not text:
-            return text
-    return text if text[-1] in ".!?。" else text + "."
-
-
 def sentences(*parts: str | None) -> str:
-    return " ".join([s for s in (_sentence(p) for p in parts if p) if s])
+    """The parts as sentences, each ended by a full stop unless it ends one already, the empty ones left out: a loop
+    (no generator, no call per part), since every register's and function's comment is made here."""
+    out = []
+    for text in parts:
+        if not text:
+            continue
+        # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
+        # space doubled or at an end, the split and join would give it back as it is.
+        if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
+            text = " ".join(text.split())
+            if not text:
+                continue
+        out.append(text if text[-1] in ".!?。" else text + ".")
+    return " ".join(out)
 
 
 def _manual(source: tuple[str, ...]) -> str:
@@ -57,6 +61,14 @@ class Names:
         self.prefix = device.id
         self.globals = Scope(device, "a global name", problems)
         self.access_type = self.type("E", "ACCESS", what="the access type")
+        self._comments: dict[int, str] = {}  # by the register's identity: its constants and its decoder ask
+
+    def register_comment(self, reg: Register) -> str:
+        """The register's comment (its constants' section, its member of the values struct), described once."""
+        comment = self._comments.get(id(reg))
+        if comment is None:
+            comment = self._comments[id(reg)] = _describe(reg)
+        return comment
 
     def const(self, *parts: str, what: str, pos: Any = None) -> str:
         return self.globals.add(StIdentifier(self.prefix, *parts), what, pos)
@@ -187,94 +199,87 @@ def _typed_const(name: str, reg: Register, value: str, comment: str = "") -> Con
 
 def register_consts(names: Names, reg: Register) -> SectionToSpell:
     what = f"register {reg.name}"
-    stem = StIdentifier.stem(names.prefix, reg.name)
-
-    add, pos = names.globals.add, reg.pos
-
-    def c(suffix: str) -> str:
-        return add(stem(suffix), what, pos)
+    c = StIdentifier.stem(names.prefix, reg.name).declared_in(names.globals, what, reg.pos)
 
     consts: list[Const | MemberConst | TextConst] = [
-        Const(c("ADDR"), "UINT", st_hex(reg.address)),
-        Const(c("WORDS"), "UINT", st_int(reg.words)),
+        new_const((c("ADDR"), "UINT", st_hex(reg.address), "")),
+        new_const((c("WORDS"), "UINT", st_int(reg.words), "")),
         MemberConst(c("ACCESS"), names.access_type, ACCESS_MEMBER[reg.access]),
     ]
     space = reg.space_info
     if space.name != "holding":
         writes = ", ".join(f"{op.replace('_', ' ')} 16#{code:02X}" for op, code in space.codes.items() if op != "read")
         consts.append(
-            Const(
-                c("FUNCTION"),
-                "USINT",
-                st_hex(space.read, 2),
-                f"read with function 16#{space.read:02X} ({space.title})" + (f"; {writes}" if writes else ""),
+            new_const(
+                (
+                    c("FUNCTION"),
+                    "USINT",
+                    st_hex(space.read, 2),
+                    f"read with function 16#{space.read:02X} ({space.title})" + (f"; {writes}" if writes else ""),
+                )
             )
         )
     if reg.type.numeric:
         consts += [
-            Const(c("RAW_MIN"), NATURAL[reg.type], _literal(reg, reg.raw_min)),
-            Const(c("RAW_MAX"), NATURAL[reg.type], _literal(reg, reg.raw_max)),
+            new_const((c("RAW_MIN"), NATURAL[reg.type], _literal(reg, reg.raw_min), "")),
+            new_const((c("RAW_MAX"), NATURAL[reg.type], _literal(reg, reg.raw_max), "")),
         ]
     elif reg.type.is_string:
         consts.append(
-            Const(
-                c("BYTES"),
-                "UINT",
-                st_int(2 * reg.words),
-                f"text bytes ({reg.encoding}, padded with {'spaces' if reg.padding == 'space' else 'NUL'})",
+            new_const(
+                (
+                    c("BYTES"),
+                    "UINT",
+                    st_int(2 * reg.words),
+                    f"text bytes ({reg.encoding}, padded with {'spaces' if reg.padding == 'space' else 'NUL'})",
+                )
             )
         )
     if reg.default is not None:
         consts.append(_typed_const(c("DEFAULT"), reg, _literal(reg, reg.default)))
     if reg.type.numeric:
         consts += [
-            Const(c("SCALE_NUM"), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN"),
-            Const(c("SCALE_DEN"), "DINT", st_int(reg.scale.denominator)),
+            new_const((c("SCALE_NUM"), "DINT", st_int(reg.scale.numerator), "value = raw * NUM / DEN")),
+            new_const((c("SCALE_DEN"), "DINT", st_int(reg.scale.denominator), "")),
         ]
     if reg.offset_set:
         consts += [
-            Const(
-                c("OFFSET_NUM"),
-                _ratio(reg.offset.numerator),
-                st_int(reg.offset.numerator),
-                "value = raw * SCALE_NUM / SCALE_DEN + OFFSET_NUM / OFFSET_DEN",
+            new_const(
+                (
+                    c("OFFSET_NUM"),
+                    _ratio(reg.offset.numerator),
+                    st_int(reg.offset.numerator),
+                    "value = raw * SCALE_NUM / SCALE_DEN + OFFSET_NUM / OFFSET_DEN",
+                )
             ),
-            Const(c("OFFSET_DEN"), _ratio(reg.offset.denominator), st_int(reg.offset.denominator)),
+            new_const((c("OFFSET_DEN"), _ratio(reg.offset.denominator), st_int(reg.offset.denominator), "")),
         ]
     if reg.wide:
         order = "device word order (parameter)" if configurable(names.device, reg) else f"{reg.word_order.value.replace('_', ' ')}"
         consts.append(
-            Const(
-                c("HIGH_WORD_FIRST"),
-                "BOOL",
-                "TRUE" if reg.word_order is WordOrder.HIGH_FIRST else "FALSE",
-                order if not configurable(names.device, reg) else f"{order}; this is its default",
+            new_const(
+                (
+                    c("HIGH_WORD_FIRST"),
+                    "BOOL",
+                    "TRUE" if reg.word_order is WordOrder.HIGH_FIRST else "FALSE",
+                    order if not configurable(names.device, reg) else f"{order}; this is its default",
+                )
             )
         )
     if swapped(reg):
         consts.append(
-            Const(
-                c("HIGH_BYTE_FIRST"),
-                "BOOL",
-                "FALSE",
-                "each word arrives with its low byte first (ROL(word, 8) restores it)",
-            )
+            new_const((c("HIGH_BYTE_FIRST"), "BOOL", "FALSE", "each word arrives with its low byte first (ROL(word, 8) restores it)"))
         )
     if reg.paired:
         consts.append(
-            Const(
-                c("FIRST_ADDR"),
-                "UINT",
-                st_hex(reg.first_address),
-                "the unused high word a block read or a write starts at",
-            )
+            new_const((c("FIRST_ADDR"), "UINT", st_hex(reg.first_address), "the unused high word a block read or a write starts at"))
         )
     if reg.firmware is not None:
         consts += firmware_consts(names, reg.name, reg.firmware.first, reg.firmware.until, what, reg.pos)
     consts += variants_const(names, reg.name, reg.variants, what, reg.pos)
     if reg.poll is not PollClass.NORMAL:
-        consts.append(Const(c("POLL"), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}"))
-    return SectionToSpell(_register_comment(reg), tuple(consts))
+        consts.append(new_const((c("POLL"), "USINT", st_int(POLL_VALUE[reg.poll]), f"poll class {reg.poll.value}")))
+    return SectionToSpell(names.register_comment(reg), tuple(consts))
 
 
 def firmware_raw(names: Names, version: str) -> int | None:
@@ -362,18 +367,6 @@ def variants_const(names: Names, label: str, variants: Sequence[str], what: str,
     return [Const(names.const(label, "VARIANTS", what=what, pos=pos), VARIANT_TYPE, mask, f"only on {', '.join(variants)}")]
 
 
-_COMMENTS: dict[int, tuple[Register, str]] = {}  # by the register's identity: each dialect and the decoders ask again
-
-
-def _register_comment(reg: Register) -> str:
-    cached = _COMMENTS.get(id(reg))
-    if cached is not None and cached[0] is reg:
-        return cached[1]
-    text = _describe(reg)
-    _COMMENTS[id(reg)] = (reg, text)
-    return text
-
-
 def _describe(reg: Register) -> str:
     facts = [f"{reg.type.value} {reg.access.value}"]
     if reg.zone is not None:  # the count a DT holds: UDINT_TO_DT (matiec, CODESYS, TwinCAT) gives the date and time
@@ -406,13 +399,14 @@ def bitfield_consts(names: Names, reg: Register) -> Section | None:
         return None
     digits = 4 * reg.words
     consts = []
+    label = owner(reg)
     for b in reg.bitfields:
-        what = f"bitfield {b.name} of {owner(reg)}"
+        what = f"bitfield {b.name} of {label}"
         consts.append(
-            Const(names.const(owner(reg), b.name, "MASK", what=what, pos=b.pos), _word(reg), st_hex(b.mask, digits), _bitfield_comment(b))
+            Const(names.const(label, b.name, "MASK", what=what, pos=b.pos), _word(reg), st_hex(b.mask, digits), _bitfield_comment(b))
         )
-        consts.append(Const(names.const(owner(reg), b.name, "SHIFT", what=what, pos=b.pos), "UINT", st_int(b.lsb)))
-    return Section(f"Bitfields of {owner(reg)}.", tuple(consts))
+        consts.append(Const(names.const(label, b.name, "SHIFT", what=what, pos=b.pos), "UINT", st_int(b.lsb)))
+    return Section(f"Bitfields of {label}.", tuple(consts))
 
 
 def _bitfield_comment(b: Bitfield) -> str:
