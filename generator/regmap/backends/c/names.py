@@ -307,10 +307,14 @@ class Macro(NamedTuple):
     comment: str = ""  # plain text; the template escapes it
 
 
-def define_lines(macros: Iterable[Macro]) -> str:
+# A macro's name and value, for a macro only ever printed as a `#define` line: a plain pair costs less than a Macro.
+Define = tuple[str, str]
+
+
+def define_lines(macros: Iterable[Macro | Define]) -> str:
     """The `#define` of each macro, one a line, values in one column: what a header prints of a register's or an
     array's macros (a block the template prints as it is, not four pieces per macro)."""
-    return "\n".join(f"#define {m.name:<48} {m.value}" for m in macros)
+    return "\n".join(f"#define {m[0]:<48} {m[1]}" for m in macros)
 
 
 class Context:
