@@ -260,14 +260,17 @@ def _value_macros(
     if reg.wide:
         macros.append((ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
     for key in ("min", "max", "default"):
-        values = [getattr(r, key) for r in elements]
-        if len(set(values)) == 1:
-            if values[0] is not None:
-                macros.append((ctx.owned(stem, owner, key), _literal(reg, values[0])))
-        elif None not in values:
-            c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
-            count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
-            tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
+        if len(elements) > 1:  # an array member, whose elements may differ (a lone register is its own elements[0])
+            values = [getattr(r, key) for r in elements]
+            if len(set(values)) > 1:
+                if None not in values:
+                    c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
+                    count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
+                    tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
+                continue
+        value = getattr(reg, key)
+        if value is not None:
+            macros.append((ctx.owned(stem, owner, key), _literal(reg, value)))
     if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it
         scale, num, den = _ratio_literals(ctx, reg, reg.scale)
         macros += [
