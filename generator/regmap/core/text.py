@@ -9,6 +9,7 @@ the field tools print every digit a value has (`number_text`, `eng(..., every_di
 
 from __future__ import annotations
 
+import functools
 import math
 import struct
 from fractions import Fraction
@@ -114,12 +115,23 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
             return str(raw)  # most registers: what the exact fraction below prints, without its arithmetic (issue #36)
         if isinstance(raw, float):
             return number(raw * float(reg.scale) + float(reg.offset))
-        return number(raw * reg.scale + reg.offset if reg.offset else raw * reg.scale)  # adding a Fraction 0 costs a gcd
+        return _scaled_number(raw, reg.scale, reg.offset)
     if isinstance(raw, float):
         scaled = reg.scaled or reg.offset_set
         return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)
     exact = Fraction(raw) * reg.scale + reg.offset
     return exact_decimal(exact) or number_text(float(exact))
+
+
+# How many engineering values `_scaled_number` keeps: a run over three maps meets a few hundred; a process that
+# generates for hours keeps no more than this.
+_SCALED_CACHE_SIZE = 1 << 15
+
+
+@functools.lru_cache(maxsize=_SCALED_CACHE_SIZE)  # registers share scales, offsets and limits: each value is worked out once
+def _scaled_number(raw: int, scale: Fraction, offset: Fraction) -> str:
+    """`number` of raw x scale + offset, kept by those exact values (Fraction arithmetic and the decimal test are slow)."""
+    return number(raw * scale + offset if offset else raw * scale)  # adding a Fraction 0 costs a gcd
 
 
 def zone_text(reg: Register) -> str:

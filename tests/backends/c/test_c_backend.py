@@ -417,6 +417,16 @@ def test_a_constant_name_is_checked_part_by_part() -> None:
             ctx.const(*bad)
 
 
+def test_a_function_name_takes_every_check_of_csymbol() -> None:
+    """Context.symbol spells a plain name itself; a name CSymbol would change or refuse, it leaves to CSymbol."""
+    ctx = Context(_device(SMALL_MAPS[0]))
+    assert ctx.symbol("peak_current", "get") == c_backend.CSymbol(ctx.lower, "peak_current", "get")
+    with pytest.raises(UsageError):
+        ctx.symbol("speed", "t")  # POSIX reserves _t names
+    ctx.lower = "static"  # a device id that makes a keyword of the whole name
+    assert ctx.symbol("assert") == ctx.symbol_ref("assert") == "static_assert_"
+
+
 def test_literals() -> None:
     assert c_backend.c_signed(-(1 << 31)) == "(-2147483647 - 1)"
     assert c_backend.c_signed(-5) == "(-5)"

@@ -40,7 +40,7 @@ from regmap.core.text import titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, PollClass, Register
 from regmap.records import NamedTuple
-from regmap.render import templates
+from regmap.render import c_comment, templates
 from regmap.runtime_bridge import read_plan
 from regmap.target import Files
 from regmap_runtime.spaces import (
@@ -76,11 +76,6 @@ class Plan(NamedTuple):
     blocks: tuple[PlanBlock, ...]
 
 
-class TableRow(NamedTuple):
-    value: str
-    comment: str = ""
-
-
 class TableView(NamedTuple):
     """A constant table: declared `extern` in the header, defined once where <DEVICE>_IMPLEMENTATION is defined."""
 
@@ -88,8 +83,20 @@ class TableView(NamedTuple):
     c_type: str
     name: str
     length: str
-    rows: tuple[TableRow, ...]
+    body: str  # the initialiser's rows, one a line (_table_body)
     declared: bool = True  # False: declared beside its array member
+
+
+def _table_body(rows: Sequence[tuple[str, str]]) -> str:
+    """A table's rows (value, comment), one a line, a comma after each but the last: one string for the template,
+    not a loop that asks at every row whether it is the last."""
+    last = len(rows) - 1
+    return "\n".join(
+        [
+            f"    {value}{',' if i < last else ''}{f' /* {c_comment(comment)} */' if comment else ''}"
+            for i, (value, comment) in enumerate(rows)
+        ]
+    )
 
 
 def _tables(plans: list[Plan], groups: list[GroupView]) -> list[TableView]:
@@ -98,17 +105,17 @@ def _tables(plans: list[Plan], groups: list[GroupView]) -> list[TableView]:
     for plan in plans:
         if not plan.blocks:
             continue
-        rows = tuple(TableRow(f"{{ {b.address}, {b.quantity} }}", b.comment) for b in plan.blocks)
+        rows = _table_body([(f"{{ {b.address}, {b.quantity} }}", b.comment) for b in plan.blocks])
         tables.append(TableView(f"Read plan of {plan.comment}" if plan.comment else "", "regmap_read_block", plan.table, plan.length, rows))
         if plan.functions:
-            functions = tuple(TableRow(b.function) for b in plan.blocks)
+            functions = _table_body([(b.function, "") for b in plan.blocks])
             comment = f"The function code of each request of {plan.table} (the Modbus table it reads)"
             tables.append(TableView(comment, "uint8_t", plan.functions, plan.length, functions))
     for group in groups:
         for item in group.items:
             for member in item.members if isinstance(item, ArrayView) else ():
                 for t in member.tables:
-                    tables.append(TableView("", t.c_type, t.name, t.length, tuple(TableRow(v) for v in t.values), declared=False))
+                    tables.append(TableView("", t.c_type, t.name, t.length, _table_body([(v, "") for v in t.values]), declared=False))
     return tables
 
 

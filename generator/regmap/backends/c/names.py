@@ -107,6 +107,10 @@ class CSymbol(str):
         return str.__new__(cls, name)
 
 
+# The names CSymbol gives a trailing underscore (keywords, standard names): a name among them takes CSymbol itself.
+_NOT_PLAIN_SYMBOLS = C_KEYWORDS | CPP_KEYWORDS | STANDARD_NAMES
+
+
 class _Names:
     """Every file-scope name one header declares, so two map items never generate the same one."""
 
@@ -307,10 +311,14 @@ class Macro(NamedTuple):
     comment: str = ""  # plain text; the template escapes it
 
 
-def define_lines(macros: Iterable[Macro]) -> str:
+# A macro's name and value, for a macro only ever printed as a `#define` line: a plain pair costs less than a Macro.
+Define = tuple[str, str]
+
+
+def define_lines(macros: Iterable[Macro | Define]) -> str:
     """The `#define` of each macro, one a line, values in one column: what a header prints of a register's or an
     array's macros (a block the template prints as it is, not four pieces per macro)."""
-    return "\n".join(f"#define {m.name:<48} {m.value}" for m in macros)
+    return "\n".join(f"#define {m[0]:<48} {m[1]}" for m in macros)
 
 
 class Context:
@@ -374,7 +382,15 @@ class Context:
 
     def symbol(self, *parts: str, what: str = "") -> str:
         referred = self._refs.get(parts)  # a helper's body may have named it first (symbol_ref)
-        return self.names.add(referred or CSymbol(self.lower, *parts), what or parts)
+        return self.names.add(referred or self._symbol(parts), what or parts)
+
+    def _symbol(self, parts: tuple[str, ...]) -> str:
+        """CSymbol(lower, *parts), the name a plain str when it takes none of CSymbol's changes: nearly every name."""
+        if "" not in parts:
+            name = f"{self.lower}_{'_'.join(parts)}".lower()
+            if _PLAIN_LOWER.fullmatch(name) and not name.endswith("_t") and name not in _NOT_PLAIN_SYMBOLS:
+                return name
+        return CSymbol(self.lower, *parts)
 
     def owner(self, reg: Register) -> str:
         """The name the macros of a register carry: its own, or `<array>_<member>` for an array element."""
@@ -396,7 +412,7 @@ class Context:
         """A function the header declares (referring to it does not declare it again)."""
         name = self._refs.get(parts)
         if name is None:
-            name = self._refs[parts] = CSymbol(self.lower, *parts)
+            name = self._refs[parts] = self._symbol(parts)
         return name
 
 

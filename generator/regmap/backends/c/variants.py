@@ -3,7 +3,7 @@ variant, and for a register only some variants have, the mask of those bits and 
 
 from __future__ import annotations
 
-from regmap.backends.c.names import CIdentifier, Context, Macro
+from regmap.backends.c.names import CIdentifier, Context, Define, Macro
 from regmap.core.text import titled
 from regmap.model import Device, Register
 from regmap.records import NamedTuple
@@ -38,12 +38,12 @@ def variant_macros(ctx: Context) -> list[Macro]:
     ]
 
 
-def variants_macro(ctx: Context, reg: Register, owner: str) -> list[Macro]:
+def variants_macro(ctx: Context, reg: Register, owner: str) -> list[Define]:
     """The mask of the variants that have the register (none for a register every variant has)."""
     if not reg.variants:
         return []
     bits = " | ".join(variant_bit(ctx, name) for name in reg.variants)
-    return [Macro(ctx.const(owner, "VARIANTS"), f"({bits})" if len(reg.variants) > 1 else bits)]
+    return [(ctx.const(owner, "VARIANTS"), f"({bits})" if len(reg.variants) > 1 else bits)]
 
 
 def variant_view(ctx: Context, reg: Register, owner: str) -> VariantView | None:

@@ -21,6 +21,7 @@ from regmap.backends.c.names import (
     CIdentifier,
     Context,
     CSymbol,
+    Define,
     Macro,
     c_double,
     c_float,
@@ -244,38 +245,41 @@ def _literal(reg: Register, value: int | float | str) -> str:
 
 def _value_macros(
     ctx: Context, reg: Register, owner: str, elements: Sequence[Register], is_modern: bool
-) -> tuple[list[Macro], list[ElementTable]]:
+) -> tuple[list[Define], list[ElementTable]]:
     """The macros every register (or array member) gets. An array member whose elements differ in
     min, max or default gets a table indexed by n - FIRST instead of the macro."""
     numeric = reg.type.numeric
     stem = ctx.stem(owner)
     macros = [
-        Macro(ctx.owned(stem, owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
-        Macro(ctx.owned(stem, owner, "ACCESS"), ACCESS_MACRO[reg.access]),
+        (ctx.owned(stem, owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
+        (ctx.owned(stem, owner, "ACCESS"), ACCESS_MACRO[reg.access]),
     ]
     if numeric:
-        macros.append(Macro(ctx.owned(stem, owner, "SIGNED"), "1" if reg.signed else "0"))
+        macros.append((ctx.owned(stem, owner, "SIGNED"), "1" if reg.signed else "0"))
     tables = []
     if reg.wide:
-        macros.append(Macro(ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
+        macros.append((ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
     for key in ("min", "max", "default"):
-        values = [getattr(r, key) for r in elements]
-        if len(set(values)) == 1:
-            if values[0] is not None:
-                macros.append(Macro(ctx.owned(stem, owner, key), _literal(reg, values[0])))
-        elif None not in values:
-            c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
-            count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
-            tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
+        if len(elements) > 1:  # an array member, whose elements may differ (a lone register is its own elements[0])
+            values = [getattr(r, key) for r in elements]
+            if len(set(values)) > 1:
+                if None not in values:
+                    c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
+                    count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
+                    tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
+                continue
+        value = getattr(reg, key)
+        if value is not None:
+            macros.append((ctx.owned(stem, owner, key), _literal(reg, value)))
     if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it
         scale, num, den = _ratio_literals(ctx, reg, reg.scale)
         macros += [
-            Macro(ctx.owned(stem, owner, "SCALE"), scale),
-            Macro(ctx.owned(stem, owner, "SCALE_NUM"), num),
-            Macro(ctx.owned(stem, owner, "SCALE_DEN"), den),
+            (ctx.owned(stem, owner, "SCALE"), scale),
+            (ctx.owned(stem, owner, "SCALE_NUM"), num),
+            (ctx.owned(stem, owner, "SCALE_DEN"), den),
         ]
     if numeric:
-        macros.append(Macro(ctx.owned(stem, owner, "PAIRED"), "1" if reg.paired else "0"))
+        macros.append((ctx.owned(stem, owner, "PAIRED"), "1" if reg.paired else "0"))
     if is_modern:
         macros += _feature_macros(ctx, reg, owner)
     macros += variants_macro(ctx, reg, owner)
@@ -298,30 +302,30 @@ def _ratio_literals(ctx: Context, reg: Register, ratio: Fraction) -> tuple[str, 
     return spelled
 
 
-def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
+def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Define]:
     """The macros of the features beyond the first maps' (space, type, byte order, offset, text, poll class, firmware gate)."""
     space = reg.space_info
     macros = [
-        Macro(ctx.const(owner, "SPACE"), SPACE_MACRO[space.name]),
-        Macro(ctx.const(owner, "READ_FUNCTION"), FUNCTION_MACROS[space.name]["read"]),
-        Macro(ctx.const(owner, "TYPE"), TYPE_MACRO[reg.type]),
+        (ctx.const(owner, "SPACE"), SPACE_MACRO[space.name]),
+        (ctx.const(owner, "READ_FUNCTION"), FUNCTION_MACROS[space.name]["read"]),
+        (ctx.const(owner, "TYPE"), TYPE_MACRO[reg.type]),
     ]
     if reg.type.info.has_byte_order:
-        macros.append(Macro(ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order]))
+        macros.append((ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order]))
     if reg.type.numeric:
         offset, num, den = _ratio_literals(ctx, reg, reg.offset)
         macros += [
-            Macro(ctx.const(owner, "OFFSET"), offset),
-            Macro(ctx.const(owner, "OFFSET_NUM"), num),
-            Macro(ctx.const(owner, "OFFSET_DEN"), den),
+            (ctx.const(owner, "OFFSET"), offset),
+            (ctx.const(owner, "OFFSET_NUM"), num),
+            (ctx.const(owner, "OFFSET_DEN"), den),
         ]
     if reg.type.is_string:
         macros += [
-            Macro(ctx.const(owner, "ENCODING"), c_str(reg.encoding)),
-            Macro(ctx.const(owner, "PADDING"), PADDING_MACRO[reg.padding]),
-            Macro(ctx.const(owner, "TEXT_SIZE"), c_unsigned(2 * reg.words + 1)),
+            (ctx.const(owner, "ENCODING"), c_str(reg.encoding)),
+            (ctx.const(owner, "PADDING"), PADDING_MACRO[reg.padding]),
+            (ctx.const(owner, "TEXT_SIZE"), c_unsigned(2 * reg.words + 1)),
         ]
-    macros.append(Macro(ctx.const(owner, "POLL"), POLL_MACRO[reg.poll]))
+    macros.append((ctx.const(owner, "POLL"), POLL_MACRO[reg.poll]))
     gate = reg.firmware
     if gate is not None:
         for key, version in (("FROM", gate.first), ("UNTIL", gate.until)):
@@ -331,8 +335,8 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Macro]:
                 except ValueError as exc:
                     raise UsageError(str(at(ctx.device.source_path, reg.pos, f"{reg.name}: {exc}"))) from None
                 macros += [
-                    Macro(ctx.const(owner, "FIRMWARE", key), spelled),
-                    Macro(ctx.const(owner, "FIRMWARE", key, "TEXT"), c_str(version)),
+                    (ctx.const(owner, "FIRMWARE", key), spelled),
+                    (ctx.const(owner, "FIRMWARE", key, "TEXT"), c_str(version)),
                 ]
     return macros
 
@@ -421,9 +425,9 @@ def _bitfield_comment(b: Bitfield) -> str:
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
     is_modern = modern(reg)
     values, _ = _value_macros(ctx, reg, reg.name, (reg,), is_modern)
-    macros = [Macro(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
+    macros = [(ctx.const(reg.name, "ADDR", what=f"the address of register {reg.name}"), c_hex(reg.address)), *values]
     if reg.paired:
-        macros.append(Macro(ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
+        macros.append((ctx.const(reg.name, "PAIR_ADDR"), c_hex(reg.first_address)))
     return RegisterView(
         template="",
         comment=_register_comment(reg, reg.label, (reg,)),

@@ -14,7 +14,7 @@ from regmap.backends.markdown.views import (
     Context,
     EnumRow,
     EnumView,
-    Fact,
+    FactPair,
     GroupView,
     MemberRow,
     QuickRow,
@@ -199,54 +199,54 @@ def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
     return BitfieldView(diagram=diagram_path(ctx.device, reg), alt=f"Bit layout of {owner}", rows=rows)
 
 
-def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[Fact, ...]:
-    facts = [Fact("Address", _address_facts(reg))]
+def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[FactPair, ...]:
+    facts: list[FactPair] = [("Address", _address_facts(reg))]
     if reg.param:
-        facts.append(Fact("Parameter", md.escaped(reg.param)))
+        facts.append(("Parameter", md.escaped(reg.param)))
     if ctx.uses.other_spaces:
-        facts.append(Fact("Space", Md(space_fact(reg))))
-    facts.append(Fact("Type", md.escaped(type_fact(reg))))
+        facts.append(("Space", Md(space_fact(reg))))
+    facts.append(("Type", md.escaped(type_fact(reg))))
     if reg.type.info.has_byte_order and (ctx.uses.byte_order or reg.type in NEW_WIDE):
-        facts.append(Fact("Word and byte order", Md(order_fact(reg))))
-    facts.append(Fact("Access", Md(ACCESS_LONG[reg.access])))
+        facts.append(("Word and byte order", Md(order_fact(reg))))
+    facts.append(("Access", Md(ACCESS_LONG[reg.access])))
     if ctx.device.is_trigger(reg):
-        facts.append(Fact("Trigger", Md("a write makes the device act: sent once, never retried")))
+        facts.append(("Trigger", Md("a write makes the device act: sent once, never retried")))
     if reg.min is not None or reg.max is not None:
-        facts.append(Fact("Range", _range(reg, full=True)))
+        facts.append(("Range", _range(reg, full=True)))
     if reg.range_text:
-        facts.append(Fact("Range as printed", md.escaped(reg.range_text)))
-    facts.append(Fact("Default", _default(reg, full=True)))
+        facts.append(("Range as printed", md.escaped(reg.range_text)))
+    facts.append(("Default", _default(reg, full=True)))
     if reg.scale_from is not None:
         sf = md.reg_link(ctx.device.register(reg.scale_from), param=False)
         unit = f" in {md_text(reg.unit)}" if reg.unit else ""
-        facts.append(Fact("Scale", Md(f"value = raw × 10^{sf}{unit}: the scale factor is read from the device with it")))
+        facts.append(("Scale", Md(f"value = raw × 10^{sf}{unit}: the scale factor is read from the device with it")))
     if has_conversion(reg):
         label = "Scale and offset" if reg.offset_set else "Scale"
-        facts.append(Fact(label, Md(scale_fact(reg, md_text(reg.unit) if reg.unit else ""))))
+        facts.append((label, Md(scale_fact(reg, md_text(reg.unit) if reg.unit else ""))))
     if reg.unit:
-        facts.append(Fact("Unit", md.escaped(reg.unit)))
+        facts.append(("Unit", md.escaped(reg.unit)))
     if reg.enum is not None:
-        facts.append(Fact("Values", md.link(md.code(reg.enum.name), md.anchor("enum", reg.enum.name))))
+        facts.append(("Values", md.link(md.code(reg.enum.name), md.anchor("enum", reg.enum.name))))
     if reg.takes_effect:
-        facts.append(Fact("Takes effect", Md(reg.takes_effect.replace("_", " "))))
+        facts.append(("Takes effect", Md(reg.takes_effect.replace("_", " "))))
     if reg.settable:
-        facts.append(Fact("Settable", Md(reg.settable.replace("_", " "))))
+        facts.append(("Settable", Md(reg.settable.replace("_", " "))))
     if reg.modes:
-        facts.append(Fact("Control modes", md.escaped(", ".join(reg.modes))))
+        facts.append(("Control modes", md.escaped(", ".join(reg.modes))))
     if reg.firmware is not None:
-        facts.append(Fact("Firmware", Md(gate_fact(reg.firmware))))
+        facts.append(("Firmware", Md(gate_fact(reg.firmware))))
     if reg.variants:
-        facts.append(Fact("Variants", md.escaped(f"only on {variants_text(ctx.device, reg)}; other variants do not have it")))
+        facts.append(("Variants", md.escaped(f"only on {variants_text(ctx.device, reg)}; other variants do not have it")))
     if reg.has_na:
-        facts.append(Fact("Not available", md.escaped(f"{na_list(reg)}: the device's marker for no value; read as none, never written")))
+        facts.append(("Not available", md.escaped(f"{na_list(reg)}: the device's marker for no value; read as none, never written")))
     if ctx.uses.poll:
-        facts.append(Fact("Poll class", Md(POLL_MEANING[reg.poll])))
-    facts.append(Fact("Source", md.escaped(md.sources(reg.source))))
+        facts.append(("Poll class", Md(POLL_MEANING[reg.poll])))
+    facts.append(("Source", md.escaped(md.sources(reg.source))))
     if errata:
-        facts.append(Fact("Errata", md.errata_links(errata)))
+        facts.append(("Errata", md.errata_links(errata)))
     links = ctx.example_links(example_names)
     if links:
-        facts.append(Fact("Examples", links))
+        facts.append(("Examples", links))
     return tuple(facts)
 
 
@@ -306,10 +306,10 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
             )
         )
         if first.enum is not None or first.bitfields or first.description or first.notes or errata or first.scale_from:  # says raw x 10^sf
-            facts = [Fact("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
+            facts: list[FactPair] = [("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
             if first.param and regs[-1].param:
-                facts.append(Fact("Parameter", md.escaped(f"{first.param} … {regs[-1].param}")))
-            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f.label not in ("Address", "Parameter")]
+                facts.append(("Parameter", md.escaped(f"{first.param} … {regs[-1].param}")))
+            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f[0] not in ("Address", "Parameter")]
             details.append(
                 RegisterView(
                     level="#####",
@@ -340,13 +340,13 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         f"Element registers are named `{DocId(array.name)}_<n>_<member>`."
     )
     facts = [
-        Fact("Addresses", Md(f"{md.address(array.base)} … {md.address(last.last_address)} ({array.base} … {last.last_address})")),
-        Fact("Stride", Md(f"{array.stride} {unit}{'s' if array.stride != 1 else ''} per element")),
-        Fact("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
+        ("Addresses", Md(f"{md.address(array.base)} … {md.address(last.last_address)} ({array.base} … {last.last_address})")),
+        ("Stride", Md(f"{array.stride} {unit}{'s' if array.stride != 1 else ''} per element")),
+        ("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
     ]
     if array.element_title:
-        facts.append(Fact("Element title", md.escaped(array.element_title)))
-    facts.append(Fact("Source", md.escaped(md.sources(array.source))))
+        facts.append(("Element title", md.escaped(array.element_title)))
+    facts.append(("Source", md.escaped(md.sources(array.source))))
     zh = f" ({md_text(array.title_zh)})" if array.title_zh else ""
     return ArrayView(
         anchor=md.anchor("array", array.name),

@@ -30,9 +30,13 @@ class Fact(NamedTuple):
         return f"| {self.label} | {self.value} |"
 
 
-def fact_rows(facts: Iterable[Fact]) -> str:
+# A fact as a register's facts table has it, label and value: a plain pair costs less than a Fact.
+FactPair = tuple[str, Md]
+
+
+def fact_rows(facts: Iterable[FactPair]) -> str:
     """The rows of a facts table, one a line: one string for the template, not a loop over a dozen rows per register."""
-    return "\n".join([f.row for f in facts])
+    return "\n".join([f"| {label} | {value} |" for label, value in facts])
 
 
 class QuickRow(NamedTuple):
@@ -157,7 +161,7 @@ class RegisterView(NamedTuple):
     level: str  # heading marker: a register is a level-4 heading, an array member level 5
     anchor: str
     heading: Md
-    facts: tuple[Fact, ...]
+    facts: tuple[FactPair, ...]
     description: Md
     notes: Md
     enum: EnumView | None
@@ -215,7 +219,7 @@ class ArrayView(NamedTuple):
     anchor: str
     heading: Md
     summary: Md
-    facts: tuple[Fact, ...]
+    facts: tuple[FactPair, ...]
     description: Md
     notes: Md
     members: tuple[MemberRow, ...]
