@@ -85,6 +85,12 @@ def test_the_escaping_caches_are_bounded() -> None:
     assert 0 < TEXT_CACHE_SIZE <= 1 << 16
     assert st_comment("a (* b *) c") == st_comment("a (* b *) c") == "a ( * b * ) c"
     assert xml_text("<a & b>") == "&lt;a &amp; b&gt;"
+    from fractions import Fraction
+
+    from regmap.core.text import _scaled_number
+
+    assert 0 < (_scaled_number.cache_info().maxsize or 0) <= 1 << 16  # engineering values, kept the same way
+    assert _scaled_number(15, Fraction(1, 10), Fraction(0)) == _scaled_number(15, Fraction(1, 10), Fraction(0)) == "1.5"
 
 
 def test_what_is_worked_out_once_per_device_goes_with_the_device() -> None:
