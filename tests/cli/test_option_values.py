@@ -273,3 +273,12 @@ def test_a_bad_option_value_is_one_line_and_a_bad_shape_shows_the_usage(capsys: 
     for shape in (["--slave"], ["--serial", "/dev/x", "--tcp", "127.0.0.1:1"], ["--no-such-option"]):
         assert main([*read, *shape]) == ExitCode.USAGE
         assert capsys.readouterr().err.startswith("usage: regmap read"), shape
+
+
+def test_options_then_a_misspelt_command_names_the_words_not_an_options_value(capsys: pytest.CaptureFixture[str]) -> None:
+    from regmap.cli import main
+
+    assert main(["--tcp", "127.0.0.1:1", "reed", str(ROOT / IDM)]) == ExitCode.USAGE
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert line.startswith(f"regmap: error: no command among '127.0.0.1:1', 'reed', '{ROOT / IDM}' (choose from 'validate',"), line
+    assert "invalid choice" not in line

@@ -97,6 +97,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser, parsers = build_parser(named if named in SUBCOMMANDS else None)
     if position is None or named not in parsers:
         try:
+            words = [a for a in args_list if not a.startswith("-")]
+            if words and args_list[0].startswith("-") and not {"-h", "--help", "--version"} & set(args_list):
+                # Options first, then a misspelt command: any of these words may be an option's value, so name them all.
+                parser.error(
+                    f"no command among {', '.join(map(repr, words))} (choose from {', '.join(map(repr, [*SUBCOMMANDS, *ALIASES]))})"
+                )
             parser.parse_args(args_list)  # --help, --version, or the error naming the valid commands
         except SystemExit as exc:
             return _exit_for(exc)
