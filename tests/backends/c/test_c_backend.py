@@ -417,6 +417,23 @@ def test_a_constant_name_is_checked_part_by_part() -> None:
             ctx.const(*bad)
 
 
+def test_a_registers_constants_are_named_as_const_names_them() -> None:
+    """Context.owned (the owner spelled once per register) gives what const gives, also where the device id and the
+    owner alone make a name of the C standard library (INT8_MAX) that the whole name (INT8_MAX_WORDS) is not."""
+    text = SMALL_MAPS[0].read_text(encoding="utf-8")
+    device = load_map_text(text, SMALL_MAPS[0].name)
+    owners = [r.name for r in device.registers[:3]]
+    for device_id in (device.id, "int8", "size"):
+        renamed = load_map_text(text.replace(f"id: {device.id}\n", f"id: {device_id}\n", 1), f"{device_id}.yaml")
+        assert renamed.id == device_id
+        by_owned, by_const = Context(renamed), Context(renamed)
+        for owner in [*owners, "max"]:
+            for suffix in ("ADDR", "WORDS", "MAX"):
+                assert by_owned.owned(by_owned.stem(owner), owner, suffix) == by_const.const(owner, suffix)
+        if device_id == "int8":
+            assert Context(renamed).const("max", "ADDR") == "INT8_MAX_ADDR"  # INT8_MAX alone is <stdint.h>'s
+
+
 def test_a_function_name_takes_every_check_of_csymbol() -> None:
     """Context.symbol spells a plain name itself; a name CSymbol would change or refuse, it leaves to CSymbol."""
     ctx = Context(_device(SMALL_MAPS[0]))

@@ -346,9 +346,19 @@ class Context:
         return name
 
     def stem(self, owner: str) -> str:
-        """`<PREFIX>_<OWNER>` when the owner part is plain, for `owned`; "" when each name must take the full check."""
-        name = self._identifier((owner,))
-        return name if owner in self._plain_parts else ""
+        """`<PREFIX>_<OWNER>` when the prefix and the owner part are plain, for `owned`; "" when each name must take the
+        full check. Only ever the start of a name: `owned` checks the whole (`INT8_MAX` is a standard name,
+        `INT8_MAX_WORDS` is not)."""
+        known = self._plain_parts
+        if self.prefix not in known:
+            return ""
+        upper = known.get(owner)
+        if upper is None:
+            upper = owner.upper()
+            if not _PLAIN_UPPER.fullmatch(upper):
+                return ""
+            known[owner] = upper
+        return f"{self.prefix}_{upper}"
 
     def owned(self, stem: str, owner: str, suffix: str) -> str:
         """const(owner, suffix) for the dozen constants of one register: the owner spelled once (`stem`), a suffix met
