@@ -77,10 +77,11 @@ def test_generate_leaves_the_callers_garbage_collector_settings(tmp_path: Path) 
 def test_the_escaping_caches_are_bounded() -> None:
     """Texts escaped once per process, in caches a long-running process (a build server, a test run) cannot grow
     without bound; a text met again is answered from the cache, the same as escaped afresh."""
+    from regmap.backends.markdown import text as md
     from regmap.backends.st.names import _spelled
     from regmap.render import TEXT_CACHE_SIZE, st_comment, xml_text
 
-    for cached in (st_comment, xml_text, _spelled):
+    for cached in (st_comment, xml_text, _spelled, md.md_text, md.code, md.anchor):
         assert cached.cache_info().maxsize == TEXT_CACHE_SIZE, cached
     assert 0 < TEXT_CACHE_SIZE <= 1 << 16
     assert st_comment("a (* b *) c") == st_comment("a (* b *) c") == "a ( * b * ) c"

@@ -160,3 +160,26 @@ def variants_text(device: Device, reg: Register) -> str:
     """The variants that have `reg`, by name and title: `three_phase (Three-phase model)`."""
     titles = {v.name: v.title for v in device.info.variants}
     return ", ".join(f"{name} ({titles[name]})" if name in titles else name for name in reg.variants)
+
+
+def sentences(*parts: str | None) -> str:
+    """The parts as sentences, for generated comments: each one's whitespace made single spaces and ended by a full stop
+    unless it ends one already, the empty ones left out. A loop (no generator, no call per part): every register's,
+    enum's and function's comment of the C and ST back ends is made here."""
+    out = []
+    for text in parts:
+        if not text:
+            continue
+        # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
+        # space doubled or at an end, the split and join would give it back as it is.
+        if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
+            text = " ".join(text.split())
+            if not text:
+                continue
+        out.append(text if text[-1] in ".!?。" else text + ".")
+    return " ".join(out)
+
+
+def manual_sections(source: tuple[str, ...]) -> str:
+    """The manual sections a fact comes from, as a sentence of a generated comment."""
+    return f"Manual {', '.join(source)}." if source else ""

@@ -32,11 +32,9 @@ from regmap.backends.c.views import (
     command_view,
     enum_view,
     group_views,
-    manual_sections,
     modern,
-    sentences,
 )
-from regmap.core.text import titled
+from regmap.core.text import manual_sections, sentences, titled
 from regmap.diagnostics import UsageError
 from regmap.model import ByteOrder, Device, PollClass, Register
 from regmap.records import NamedTuple

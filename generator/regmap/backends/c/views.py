@@ -34,7 +34,7 @@ from regmap.backends.c.names import (
 )
 from regmap.backends.c.values import EnumCheckView, enum_checks, member_values, ratio_literal, register_values, values_text
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
-from regmap.core.text import eng, number, titled, zone_text
+from regmap.core.text import eng, manual_sections, number, sentences, titled, zone_text
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.records import NamedTuple
@@ -157,19 +157,6 @@ class CommandView(NamedTuple):
 
 def _enum_literal(value: int) -> str:
     return f"0x{value:02X}" if value >= 0x10 else c_signed(value)
-
-
-def manual_sections(source: tuple[str, ...]) -> str:
-    return f"Manual {', '.join(source)}." if source else ""
-
-
-def _sentence(text: str | None) -> str:
-    text = " ".join((text or "").split())
-    return text if not text or text[-1] in ".!?。" else text + "."
-
-
-def sentences(*parts: str | None) -> str:
-    return " ".join(filter(None, (_sentence(p) for p in parts)))
 
 
 def _register_facts(reg: Register, elements: Sequence[Register]) -> str:

@@ -18,8 +18,8 @@ from regmap.backends.st.codec import (
 from regmap.backends.st.functions import getter_name, getter_type, owners
 from regmap.backends.st.names import StIdentifier, st_real
 from regmap.backends.st.view_types import FunctionView, Member
-from regmap.backends.st.views import Names, _word, configurable, owner, sentences
-from regmap.core.text import eng
+from regmap.backends.st.views import Names, _word, configurable, owner
+from regmap.core.text import eng, sentences
 from regmap.model import Command, Device, EnumType, Register, WordOrder
 
 

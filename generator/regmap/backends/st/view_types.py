@@ -3,7 +3,8 @@ enums, structs and functions. What a dialect writes its own way (an enum value, 
 `MemberConst` / `TextConst` / `TextMember` until `spelled` with that dialect's `Notation`.
 
 A device has thousands of constants and members: they are named tuples, which cost far less to make than
-frozen dataclasses, and which a template's `for` unpacks without an attribute lookup per field."""
+frozen dataclasses; their text (`Section.lines`, a function's `text`, a struct's members) is joined here in
+Python, once, and the templates print it."""
 
 from __future__ import annotations
 

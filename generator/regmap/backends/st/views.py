@@ -23,33 +23,12 @@ from regmap.backends.st.view_types import (
     TextConst,
     new_const,
 )
-from regmap.core.text import number, titled, zone_text
+from regmap.core.text import manual_sections, number, sentences, titled, zone_text
 from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device
 
 ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
-
-
-def sentences(*parts: str | None) -> str:
-    """The parts as sentences, each ended by a full stop unless it ends one already, the empty ones left out: a loop
-    (no generator, no call per part), since every register's and function's comment is made here."""
-    out = []
-    for text in parts:
-        if not text:
-            continue
-        # Most map text has its words apart by single spaces already: printable (no whitespace but the space) with no
-        # space doubled or at an end, the split and join would give it back as it is.
-        if not (text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " "):
-            text = " ".join(text.split())
-            if not text:
-                continue
-        out.append(text if text[-1] in ".!?。" else text + ".")
-    return " ".join(out)
-
-
-def _manual(source: tuple[str, ...]) -> str:
-    return f"Manual {', '.join(source)}." if source else ""
 
 
 class Names:
@@ -129,7 +108,7 @@ def enum_views(names: Names) -> list[EnumView]:
                     sentences(titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description),
                 )
             )
-        comment = sentences(titled(e.title, e.title_zh), e.description, _manual(e.source))
+        comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
         views.append(EnumView(type_name, _enum_base(e), comment, tuple(members)))
     return views
 
@@ -391,7 +370,7 @@ def _describe(reg: Register) -> str:
         facts.append(reg.firmware.text)
     if reg.poll is not PollClass.NORMAL:
         facts.append(f"poll {reg.poll.value}")
-    return sentences(f"{reg.label}: {titled(reg.title, reg.title_zh)}", ", ".join(facts), _manual(reg.source))
+    return sentences(f"{reg.label}: {titled(reg.title, reg.title_zh)}", ", ".join(facts), manual_sections(reg.source))
 
 
 def bitfield_consts(names: Names, reg: Register) -> Section | None:
@@ -433,7 +412,7 @@ def array_consts(names: Names) -> list[Section]:
         comment = sentences(
             titled(a.title, a.title_zh)
             + ": member m of element n is at BASE + STRIDE * (n - FIRST) + OFFSET of m; every element's address is a constant below",
-            _manual(a.source),
+            manual_sections(a.source),
         )
         sections.append(Section(comment, tuple(consts)))
     return sections
@@ -454,7 +433,9 @@ def command_consts(names: Names) -> list[SectionToSpell]:
             consts.append(Const(names.const("CMD", cmd.name, arg.name, "MAX", what=what, pos=cmd.pos), "DINT", st_int(arg.max)))
         how = f"write {cmd.value}" + (f" + {cmd.argument.name}" if cmd.argument else "") + f" to {reg.label}"
         sections.append(
-            SectionToSpell(sentences(f"{titled(cmd.title, cmd.title_zh)}: {how}", cmd.description, _manual(cmd.source)), tuple(consts))
+            SectionToSpell(
+                sentences(f"{titled(cmd.title, cmd.title_zh)}: {how}", cmd.description, manual_sections(cmd.source)), tuple(consts)
+            )
         )
     return sections
 
