@@ -1,8 +1,8 @@
 """`dataclass`: the standard library's, with the methods it compiles from text for each class built here instead:
 `__repr__`, `__eq__`, `__hash__` (and with `order=True` the four comparisons) from the class's fields, a frozen
-class's `__setattr__` and `__delattr__` as closures, and `__init__` compiled from a short text of its own. Python 3.11
-compiles each of those functions with an `exec` of its own text (about 0.9 ms a class; a `regmap generate` makes some
-90 classes at import). The methods answer as the generated ones do: the same text, comparisons, hashes, signature
+class's `__setattr__` and `__delattr__` as closures, and `__init__` from a code compiled once per number of fields.
+Python 3.11 compiles each of those functions with an `exec` of its own text (about 0.9 ms a class; a `regmap generate`
+makes some 90 classes at import). The methods answer as the generated ones do: the same text, comparisons, hashes, signature
 and errors (tests/project/test_records.py compares them). mypy sees the standard decorator itself.
 
 A class that writes one of these methods itself, or asks for another option than `frozen` and `order`, is left to
@@ -13,7 +13,8 @@ the standard decorator whole; one that needs what only the standard `__init__` d
 
 `NamedTuple`: typing's, with each field's annotation kept as written. typing's makes a ForwardRef of each annotation
 that is text (all of them, under `from __future__ import annotations`), compiling it: a fifth of the CPU of importing
-the C, Markdown and ST back ends. mypy sees typing's class itself.
+the C, Markdown and ST back ends. Its class is collections.namedtuple's, whose `__new__` comes from a code compiled once
+per number of fields too (namedtuple compiles a text per class). mypy sees typing's class itself.
 """
 
 from __future__ import annotations
@@ -21,8 +22,11 @@ from __future__ import annotations
 import collections
 import dataclasses
 import inspect
+import keyword
 import operator
 import reprlib
+import sys
+import types
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -143,19 +147,35 @@ def _init(fields: tuple[dataclasses.Field[Any], ...], module: str) -> Callable[.
             defaults.append(field.default)
         elif defaults:
             raise TypeError(f"non-default argument {field.name!r} follows default argument")
-    values = f"({', '.join(field.name for field in taken)},)" if taken else "()"
     factories = {field.name: field.default_factory for field in fields if field.default_factory is not dataclasses.MISSING}
     names: dict[str, Any] = {"__name__": module, "__names": tuple(field.name for field in taken)}
     if factories:
         names["__fill"] = _filler(fields, names["__names"], factories)
-        body = f"__fill(self, {values})"
-    else:
-        body = f"self.__dict__.update(zip(__names, {values}))"
-    exec(f"def __init__(self, {', '.join(field.name for field in taken)}):\n {body}", names)
-    init: Callable[..., None] = names["__init__"]
+    code = _renamed(_FILL if factories else _UPDATE, len(taken), ("self", *names["__names"]))
+    init: Callable[..., None] = types.FunctionType(code, names)
     init.__defaults__ = tuple(defaults) or None
     init.__annotations__ = {field.name: field.type for field in taken} | {"return": None}
     return init
+
+
+# The functions a class's fields name: `__init__` (storing its parameters, or handing them to the default factories'
+# filler) and a named tuple's `__new__`. Each is compiled once per number of parameters, its parameters named _0, _1
+# ..., then given the field names (`_renamed`): an `exec` of a text per class would compile it once per class.
+_UPDATE = "def __init__(self, {0}):\n self.__dict__.update(zip(__names, ({0}{1})))"
+_FILL = "def __init__(self, {0}):\n __fill(self, ({0}{1}))"
+_NEW = "lambda _cls, {0}{1}: _tuple_new(_cls, ({0}{1}))"  # collections.namedtuple's
+_COMPILED: dict[tuple[str, int], types.CodeType] = {}
+
+
+def _renamed(text: str, count: int, parameters: tuple[str, ...]) -> types.CodeType:
+    """The code of `text` (one of the texts above) for `count` parameters after the first, its parameters named
+    `parameters`: the code the text with those names would compile to."""
+    compiled = _COMPILED.get((text, count))
+    if compiled is None:
+        source = text.format(", ".join(f"_{index}" for index in range(count)), "," if count == 1 else "")
+        module = compile(source, "<string>", "eval" if text.startswith("lambda") else "exec")
+        compiled = _COMPILED[text, count] = next(const for const in module.co_consts if isinstance(const, types.CodeType))
+    return compiled.replace(co_varnames=parameters)
 
 
 def _filler(
@@ -248,7 +268,83 @@ _TUPLE_PROHIBITED = frozenset(
 _TUPLE_SPECIAL = frozenset({"__module__", "__name__", "__annotations__"})
 
 
-_namedtuple: Callable[..., Any] = collections.namedtuple  # called with names known only here (mypy wants literals)
+def _namedtuple(typename: str, field_names: list[str], *, defaults: list[Any], module: str) -> Any:
+    """collections.namedtuple (Python 3.11's) without `rename`, its `__new__` not compiled from a text of its own."""
+    for name in [typename, *field_names]:
+        if not name.isidentifier():
+            raise ValueError(f"Type names and field names must be valid identifiers: {name!r}")
+        if keyword.iskeyword(name):
+            raise ValueError(f"Type names and field names cannot be a keyword: {name!r}")
+    seen: set[str] = set()
+    for name in field_names:
+        if name.startswith("_"):
+            raise ValueError(f"Field names cannot start with an underscore: {name!r}")
+        if name in seen:
+            raise ValueError(f"Encountered duplicate field name: {name!r}")
+        seen.add(name)
+    typename = sys.intern(typename)
+    fields = tuple(map(sys.intern, field_names))
+    arguments = ", ".join(fields) + ("," if len(fields) == 1 else "")
+    new = types.FunctionType(
+        _renamed(_NEW, len(fields), ("_cls", *fields)),
+        {"_tuple_new": tuple.__new__, "__builtins__": {}, "__name__": f"namedtuple_{typename}"},
+    )
+    new.__name__ = "__new__"
+    new.__doc__ = f"Create new instance of {typename}({arguments})"
+    new.__defaults__ = tuple(defaults)
+    count, shown = len(fields), "(" + ", ".join(f"{name}=%r" for name in fields) + ")"
+
+    def _make(cls: Any, iterable: Any) -> Any:
+        result = tuple.__new__(cls, iterable)
+        if len(result) != count:
+            raise TypeError(f"Expected {count} arguments, got {len(result)}")
+        return result
+
+    _make.__doc__ = f"Make a new {typename} object from a sequence or iterable"
+
+    def _replace(self: Any, /, **kwds: Any) -> Any:
+        result = self._make(map(kwds.pop, fields, self))
+        if kwds:
+            raise ValueError(f"Got unexpected field names: {list(kwds)!r}")
+        return result
+
+    _replace.__doc__ = f"Return a new {typename} object replacing specified fields with new values"
+
+    def __repr__(self: Any) -> Any:
+        "Return a nicely formatted representation string"
+        return self.__class__.__name__ + shown % self
+
+    def _asdict(self: Any) -> dict[str, Any]:
+        "Return a new dict which maps field names to their values."
+        return dict(zip(self._fields, self, strict=False))
+
+    def __getnewargs__(self: Any) -> tuple[Any, ...]:
+        "Return self as a plain tuple.  Used by copy and pickle."
+        return tuple(self)
+
+    for method in (new, _make, _replace, __repr__, _asdict, __getnewargs__):
+        method.__qualname__ = f"{typename}.{method.__name__}"
+    namespace: dict[str, Any] = {
+        "__doc__": f"{typename}({arguments})",
+        "__slots__": (),
+        "_fields": fields,
+        "_field_defaults": dict(zip(fields[len(fields) - len(defaults) :], defaults, strict=True)),
+        "__new__": new,
+        "_make": classmethod(_make),
+        "_replace": _replace,
+        "__repr__": __repr__,
+        "_asdict": _asdict,
+        "__getnewargs__": __getnewargs__,
+        "__match_args__": fields,
+    }
+    for index, name in enumerate(fields):
+        namespace[name] = _tuple_getter(index, sys.intern(f"Alias for field number {index}"))
+    result = type(typename, (tuple,), namespace)
+    result.__module__ = module
+    return result
+
+
+_tuple_getter: Callable[[int, str], Any] = vars(collections)["_tuplegetter"]  # the field descriptor namedtuple's classes use
 
 
 class _TupleMaker(type):

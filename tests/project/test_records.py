@@ -349,3 +349,41 @@ def test_a_cached_property_is_worked_out_once_per_instance() -> None:
     assert (small.area, small.area, large.area, large.area) == (4, 4, 9, 9)
     assert worked_out == [2, 3]
     assert Square.__dict__["area"].__doc__ == "The side squared."
+
+
+def test_records_of_the_same_number_of_fields_keep_their_own_names() -> None:
+    """The code of an `__init__` or a named tuple's `__new__` is shared by the classes of as many fields: each class's
+    parameters are still its own fields, in order, with its own defaults."""
+
+    @records.dataclass(frozen=True)
+    class First:
+        a: int
+        b: int = 1
+
+    @records.dataclass(frozen=True)
+    class Second:
+        y: str
+        x: str = "x"
+
+    class Pair(records.NamedTuple):
+        left: int
+        right: int = 2
+
+    class Other(records.NamedTuple):
+        up: str
+        down: str = "d"
+
+    assert (vars(First(5)), vars(Second(y="z")), Pair(1)._asdict(), Other(up="u")._asdict()) == (
+        {"a": 5, "b": 1},
+        {"y": "z", "x": "x"},
+        {"left": 1, "right": 2},
+        {"up": "u", "down": "d"},
+    )
+    assert [str(inspect.signature(cls)) for cls in (First, Second, Pair, Other)] == [
+        "(a: 'int', b: 'int' = 1) -> None",
+        "(y: 'str', x: 'str' = 'x') -> None",
+        "(left: 'int', right: 'int' = 2)",
+        "(up: 'str', down: 'str' = 'd')",
+    ]
+    assert _outcome(lambda: Second(x="q")).endswith(".Second.__init__() missing 1 required positional argument: 'y'")
+    assert _outcome(lambda: Other(down="q")) == "TypeError: Other.__new__() missing 1 required positional argument: 'up'"
