@@ -14,7 +14,7 @@ import pytest
 
 from regmap.cli import main
 from regmap.frontend import load_map
-from regmap.generate import Target, generate, recover
+from regmap.generate import UTF8_SLICE, Target, generate, recover, utf8
 
 from conftest import MAPS, ROOT, SMALL_MAPS
 from support.trees import tree
@@ -137,3 +137,17 @@ def test_a_run_that_ends_without_teardown_has_written_and_printed_everything(tmp
     assert result.stdout.startswith("regmap generate: ") and result.stdout.endswith(f" -> {out}/\n"), result.stdout
     assert main(["generate", *map(str, SMALL_MAPS), "--out", str(here)]) == 0
     assert tree(out) == tree(here) and tree(out)
+
+
+def test_a_file_is_written_as_the_utf8_of_its_text_whatever_slices_it_is_encoded_by() -> None:
+    """A long text is encoded slice by slice: the bytes are its UTF-8 all the same, characters at the cuts included."""
+    wide, astral, latin = "\uff0c", "\U0001f600", "\u00b0"
+    texts = [
+        "",
+        "a" * (UTF8_SLICE * 3),
+        "a" * (UTF8_SLICE - 1) + wide + "b" * (UTF8_SLICE + 7),
+        astral + "c" * UTF8_SLICE + astral + latin * 3,
+        (latin + "d" * 100 + wide) * (UTF8_SLICE // 50),
+        "e" * UTF8_SLICE + wide,
+    ]
+    assert [utf8(text) for text in texts] == [text.encode("utf-8") for text in texts]
