@@ -19,6 +19,7 @@ per number of fields too (namedtuple compiles a text per class). mypy sees typin
 
 from __future__ import annotations
 
+import abc
 import collections
 import dataclasses
 import inspect
@@ -96,7 +97,8 @@ def _with_init(cls: type, frozen: bool) -> type:
     documented = bool(cls.__doc__)
     if not documented:  # the standard decorator would word one from a signature without the `__init__` made below
         cls.__doc__ = cls.__name__
-    cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
+    if not _with_fields(cls):
+        cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
     fields = dataclasses.fields(cls)
     methods = {"__init__": _init(fields, cls.__module__)}
     if frozen:
@@ -108,6 +110,46 @@ def _with_init(cls: type, frozen: bool) -> type:
     if not documented:
         cls.__doc__ = _doc(cls.__name__, methods["__init__"])
     return cls
+
+
+# What the standard decorator marks a field and a class with (Python 3.11's dataclasses, as `_with_fields` makes them).
+_FIELD = vars(dataclasses)["_FIELD"]
+_PARAMS: Callable[..., Any] = vars(dataclasses)["_DataclassParams"]
+
+
+def _with_fields(cls: type) -> bool:
+    """What `dataclasses.dataclass(cls, init=False, repr=False, eq=False)` does to a class that `_standard_init` leaves
+    here (no dataclass base, no InitVar, no keyword-only field, no slots): its fields, their defaults as class
+    attributes, `__match_args__`; done here without the standard decorator's three pattern matches a field. False,
+    the class untouched, when a field may be a ClassVar: the standard decorator tells."""
+    annotations = inspect.get_annotations(cls)
+    if any("ClassVar" in str(kind) for kind in annotations.values()):
+        return False
+    fields: dict[str, dataclasses.Field[Any]] = {}
+    for name, kind in annotations.items():
+        default = getattr(cls, name, dataclasses.MISSING)
+        made: Any = default if isinstance(default, dataclasses.Field) else dataclasses.field(default=default)
+        made.name, made.type, made._field_type = name, kind, _FIELD
+        if made.kw_only is dataclasses.MISSING:
+            made.kw_only = False
+        if made.default.__class__.__hash__ is None:
+            raise ValueError(f"mutable default {type(made.default)} for field {name} is not allowed: use default_factory")
+        fields[name] = made
+    for name, kept in fields.items():
+        if isinstance(getattr(cls, name, None), dataclasses.Field):
+            if kept.default is dataclasses.MISSING:
+                delattr(cls, name)
+            else:
+                setattr(cls, name, kept.default)
+    for name, value in cls.__dict__.items():
+        if isinstance(value, dataclasses.Field) and name not in annotations:
+            raise TypeError(f"{name!r} is a field but has no type annotation")
+    cls.__dataclass_params__ = _PARAMS(False, False, False, False, False, False)  # type: ignore[attr-defined]
+    cls.__dataclass_fields__ = fields  # type: ignore[attr-defined]
+    if "__match_args__" not in cls.__dict__:
+        cls.__match_args__ = tuple(name for name, kept in fields.items() if kept.init)  # type: ignore[attr-defined, misc]
+    abc.update_abstractmethods(cls)
+    return True
 
 
 def _doc(name: str, init: Callable[..., None]) -> str:

@@ -387,3 +387,42 @@ def test_records_of_the_same_number_of_fields_keep_their_own_names() -> None:
     ]
     assert _outcome(lambda: Second(x="q")).endswith(".Second.__init__() missing 1 required positional argument: 'y'")
     assert _outcome(lambda: Other(down="q")) == "TypeError: Other.__new__() missing 1 required positional argument: 'up'"
+
+
+def _field_facts(cls: type) -> dict[str, Any]:
+    """What the standard decorator records of a class's fields, and leaves on the class itself."""
+    fields: dict[str, Any] = cls.__dataclass_fields__  # type: ignore[attr-defined]
+    return {
+        "fields": [
+            (f.name, f.type, f.default, f.default_factory, f.init, f.repr, f.hash, f.compare, f.kw_only, f._field_type.name)
+            for f in fields.values()
+        ],
+        "match_args": getattr(cls, "__match_args__", None),
+        "class attributes": {name: vars(cls).get(name, "absent") for name in fields},
+    }
+
+
+def test_a_records_fields_are_the_standard_decorators() -> None:
+    standard, ours = (
+        {name: _field_facts(cls) for name, cls in shapes.items() if "__dataclass_fields__" in vars(cls)} for shapes in (STANDARD, OURS)
+    )
+    assert ours == standard
+
+    def hidden(decorate: Decorator) -> dict[str, Any]:
+        @decorate(frozen=True)
+        class Hidden:
+            shown: int = 0
+            kept: int = dataclasses.field(default=5, init=False)
+
+        return _field_facts(Hidden)
+
+    assert hidden(records.dataclass) == hidden(dataclasses.dataclass)
+
+    def refusal(decorate: Decorator, namespace: dict[str, Any]) -> str:
+        return _outcome(lambda: decorate(frozen=True)(type("Bad", (), namespace)))
+
+    for namespace in (
+        {"__annotations__": {"items": "list[int]"}, "items": []},  # a mutable default
+        {"__annotations__": {"x": "int"}, "y": dataclasses.field(default=1)},  # a field without an annotation
+    ):
+        assert refusal(records.dataclass, dict(namespace)) == refusal(dataclasses.dataclass, dict(namespace))
