@@ -78,17 +78,25 @@ def _standard_init(cls: type) -> bool:
     `InitVar` or a keyword-only field, a field named `self`; or keeps its fields other than in the instance's
     `__dict__` (slots, a base's `__setattr__`, a descriptor as a field's default); or writes one of the methods."""
     annotations = inspect.get_annotations(cls)
-    defaults = [cls.__dict__.get(name) for name in annotations]
-    return (
-        any(name in cls.__dict__ for name in _INIT_BUILT_HERE)
+    own = cls.__dict__
+    if (
+        any(name in own for name in _INIT_BUILT_HERE)
+        or "self" in annotations
         or hasattr(cls, "__post_init__")
         or any(hasattr(base, "__dataclass_fields__") or "__setattr__" in vars(base) for base in cls.__mro__[1:-1])
         or any("__slots__" in vars(klass) for klass in cls.__mro__[:-1])
-        or "self" in annotations
-        or any("InitVar" in str(kind) or "KW_ONLY" in str(kind) for kind in annotations.values())
-        or any(isinstance(default, dataclasses.Field) and default.kw_only is True for default in defaults)
-        or any(hasattr(type(default.default if isinstance(default, dataclasses.Field) else default), "__set__") for default in defaults)
-    )
+    ):
+        return True
+    for name, kind in annotations.items():  # one pass over the fields: most classes have many
+        text = str(kind)
+        default = own.get(name)
+        if isinstance(default, dataclasses.Field):
+            if default.kw_only is True:
+                return True
+            default = default.default
+        if "InitVar" in text or "KW_ONLY" in text or hasattr(type(default), "__set__"):
+            return True
+    return False
 
 
 def _with_init(cls: type, frozen: bool) -> type:
