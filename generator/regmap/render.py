@@ -97,13 +97,23 @@ _MD_ESCAPES = str.maketrans(
 _MD_PLAIN = re.compile(r"[^\s\\&~|<>`*_\[\]]+(?: [^\s\\&~|<>`*_\[\]]+)*")
 
 
+# `_MD_ESCAPES` as replacements one after the other, `\\` first and `&` second: the later escapes bring in those two and
+# no other character escaped here, so each character is escaped once, as by `translate`. A `replace` copies; `translate`
+# through a table looks each character up (a KeyError for each one left as it is).
+_MD_IN_ORDER = tuple((chr(code), escaped) for code, escaped in _MD_ESCAPES.items())
+
+
 def md_text(text: str | None) -> str:
     """Inline Markdown text: table pipes, HTML and line breaks neutralised (one pass: no escape is escaped again)."""
     if not text:
         return ""
     if _MD_PLAIN.fullmatch(text):
         return text
-    return " ".join(text.split()).translate(_MD_ESCAPES)
+    cleaned = " ".join(text.split())
+    for char, escaped in _MD_IN_ORDER:
+        if char in cleaned:
+            cleaned = cleaned.replace(char, escaped)
+    return cleaned
 
 
 # Markup characters as entities; the control characters XML 1.0 cannot carry at all as U+FFFD.
@@ -119,12 +129,18 @@ _XML_CONTROL = re.compile("[" + re.escape("".join(chr(c) for c in range(0x20) if
 _XML_MARKUP = (("&", "&amp;"), ("<", "&lt;"), (">", "&gt;"), ('"', "&quot;"))
 
 
+def _printable(text: str) -> bool:
+    """True when `text` has no control character but tabs and line breaks (False may still have none): a character
+    class searched for costs several times Python's own test of each character."""
+    return text.isprintable() or text.replace("\n", "").replace("\t", "").replace("\r", "").isprintable()
+
+
 @functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # the PLCopen XML repeats values and comments: each text is escaped once
 def xml_text(text: str | None) -> str:
     """XML character data or an attribute value: markup characters as entities, and the control
     characters XML 1.0 cannot carry at all as U+FFFD."""
     text = text or ""
-    if _XML_CONTROL.search(text):
+    if not _printable(text) and _XML_CONTROL.search(text):
         return text.translate(_XML_ESCAPES)
     for char, entity in _XML_MARKUP:
         if char in text:

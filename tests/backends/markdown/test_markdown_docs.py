@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import random
 import re
 import shutil
 import struct
@@ -304,3 +305,20 @@ def test_device_page_renders_in_chromium(site: Path, devices: list[Device], tmp_
     ink = sum(1 for p in pixels if p != b"\xff\xff\xff") / len(pixels)
     assert len(colours) > 64, f"only {len(colours)} colours: the page looks blank"
     assert 0.05 < ink < 0.98, f"{ink:.0%} of the page is not white"
+
+
+def test_md_text_and_xml_text_escape_as_their_tables_do() -> None:
+    """md_text escapes by replacements one after the other and xml_text looks for control characters only in text
+    Python does not call printable: both answer as one pass through their tables, on text made of every character
+    they treat, whitespace of each kind and wide characters."""
+    from regmap.render import _MD_ESCAPES, _XML_ESCAPES, xml_text
+
+    pieces = ["\\", "&", "~", "|", "<", ">", "`", "*", "_", "[", "]", '"', " ", "  ", "\t", "\n", "\r", "\x0b", "\x01"]
+    pieces += ["\x1f", "\x7f", "\x85", "\xa0", "\u3000", "\u200b", "外温", "a", "b1", "&amp;", "\\*"]
+    generator = random.Random(36)
+    texts = ["".join(generator.choice(pieces) for _ in range(generator.randrange(1, 12))) for _ in range(3000)]
+    assert [md_text(text) for text in texts] == [" ".join(text.split()).translate(_MD_ESCAPES) for text in texts]
+    markup = {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;"}
+    assert [xml_text(text) for text in texts] == [
+        text.translate(_XML_ESCAPES) if any(c in text for c in "\x01\x0b\x1f") else text.translate(str.maketrans(markup)) for text in texts
+    ]
