@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any, Protocol
 
 from regmap.frontend.stages import Problems
-from regmap.frontend.values import _bits, _source
+from regmap.frontend.values import DATA_TYPES, _bits, _source
 from regmap.frontend.yamlsource import Path, Positions
 from regmap.model import ArrayDef, ArrayMember, ArrayRef, Bitfield, DataType, EnumType, Register, WordOrder
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
@@ -98,7 +98,7 @@ def elaborate_array(
             repeated.add(j)
         member_names.add(m["name"])
         member_space = SPACES[m.get("space", defaults.get("space", DEFAULT_SPACE))]
-        member_type = DataType(m.get("type", defaults.get("type", "bool" if member_space.bits else "u16")))
+        member_type = DATA_TYPES[m.get("type", defaults.get("type", "bool" if member_space.bits else "u16"))]
         words = m.get("words", 1) if member_type.is_string else member_type.words
         if "word_offset" not in m:
             moved = "offset" in m and isinstance(m["offset"], int) and "scale" not in m
