@@ -131,6 +131,18 @@ def test_a_random_edit_of_a_map_is_decided_as_jsonschema_decides(base: int, wher
         ({"type": ["integer", "string"]}, True),  # a list of types: its exact classes first, then each test
         ({"type": ["integer", "null"]}, 2.0),
         ({"type": ["number", "string"]}, False),
+        ({"type": "integer", "minimum": 0, "maximum": 5}, 6),  # the fused nodes (`_typed`): a bound, a type, both
+        ({"type": "integer", "minimum": 0, "maximum": 5}, 5.0),
+        ({"type": "integer", "minimum": 0, "maximum": 5}, 6.0),
+        ({"type": "integer", "minimum": 0}, True),
+        ({"type": "string", "minLength": 2, "maxLength": 3, "pattern": "^a"}, "ab"),
+        ({"type": "string", "minLength": 2, "maxLength": 3, "pattern": "^a"}, "ba"),
+        ({"type": "string", "maxLength": 3}, "abcd"),
+        ({"type": "array", "items": {"type": "integer"}, "maxItems": 2, "uniqueItems": True}, [1, 1.0]),
+        ({"type": "array", "minItems": 1}, []),
+        ({"type": "object", "required": ["a"], "minProperties": 2}, {"a": 1}),
+        ({"type": "object", "required": ["a"]}, {"b": 1}),
+        ({"type": "object", "properties": {"a": {"type": "string"}}, "required": ["a"]}, {"a": 1}),
     ],
 )
 def test_json_corners_are_decided_as_jsonschema_decides(schema: dict[str, Any], instance: Any) -> None:

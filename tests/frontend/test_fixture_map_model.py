@@ -161,6 +161,21 @@ def test_an_array_member_with_the_old_offset_key_is_told_to_rename_it() -> None:
     assert "rename this member's `offset` to `word_offset`" in message
 
 
+def test_an_array_members_problem_is_named_for_each_element_and_a_clean_member_expands_in_full() -> None:
+    array = """\
+      - array: a
+        title: A
+        count: 3
+        stride: 2
+        base: 4
+        source: "1"
+        members: [{name: x, word_offset: 0, title: X, enum: nope}, {name: y, word_offset: 1, title: Y, default: 7}]"""
+    assert [m.split(": ", 1)[1] for m in messages(minimal(array))] == [f"a_{i}_x: unknown enum 'nope'" for i in range(3)]
+    device = load_map_text(minimal(array.replace(", enum: nope", "")), "m.yaml")
+    elements = [(r.name, r.address, r.array.index if r.array else None, r.default) for r in device.registers]
+    assert elements == [(f"a_{i}_{m}", 4 + 2 * i + (m == "y"), i, 7 if m == "y" else None) for i in range(3) for m in "xy"]
+
+
 def test_the_firmware_register_is_checked_against_its_format() -> None:
     reg = "      - {name: fw, address: 0, type: f32, title: Firmware}"
     device = ", firmware_register: {register: fw, format: major_minor}"

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Protocol
 
 from regmap.frontend.stages import Problems
-from regmap.frontend.values import _bits, _source
+from regmap.frontend.values import DATA_TYPES, _bits, _source
 from regmap.frontend.yamlsource import Path, Positions
 from regmap.model import ArrayDef, ArrayMember, ArrayRef, Bitfield, DataType, EnumType, Register, WordOrder
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
@@ -98,7 +99,7 @@ def elaborate_array(
             repeated.add(j)
         member_names.add(m["name"])
         member_space = SPACES[m.get("space", defaults.get("space", DEFAULT_SPACE))]
-        member_type = DataType(m.get("type", defaults.get("type", "bool" if member_space.bits else "u16")))
+        member_type = DATA_TYPES[m.get("type", defaults.get("type", "bool" if member_space.bits else "u16"))]
         words = m.get("words", 1) if member_type.is_string else member_type.words
         if "word_offset" not in m:
             moved = "offset" in m and isinstance(m["offset"], int) and "scale" not in m
@@ -139,24 +140,44 @@ def elaborate_array(
                 (*path, "members", j, "default"),
                 f"array {array.name}: member {spec['name']} lists {len(spec['default'])} defaults for {array.count} elements",
             )
+    clean: dict[int, Register] = {}  # a member's first element, where building it found no problem
     for i in range(array.count):
         index = index_base + i
         for j, (member, spec) in enumerate(zip(members, a["members"], strict=True)):
             if j in repeated:
                 continue
             address = array.element_address(index, member)
-            if isinstance(spec.get("default"), list):
-                spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
-            reg = host._register(
-                {**inherited, **{k: v for k, v in spec.items() if k != "word_offset"}},
-                (*path, "members", j),
-                group,
-                word_order,
-                name=f"{array.name}_{index}_{member.name}",
-                address=address,
-                param=host._rule_param(address),
-                array=ArrayRef(array=array.name, index=index, member=member.name),
-            )
+            name = f"{array.name}_{index}_{member.name}"
+            param = host._rule_param(address)
+            ref = ArrayRef(array=array.name, index=index, member=member.name)
+            first = clean.get(j)
+            if first is not None and address + first.words - 1 <= 0xFFFF and not (first.paired and address == 0):
+                # The other elements of a clean member differ only in what names and places them (the register's
+                # checks read the name only to word their messages, the address only in the two tests above).
+                reg: Register | None = replace(
+                    first,
+                    name=name,
+                    address=address,
+                    param=param if param is not None else spec.get("param", inherited.get("param")),
+                    array=ref,
+                )
+            else:
+                per_element = isinstance(spec.get("default"), list)
+                if per_element:
+                    spec = {**spec, "default": spec["default"][i] if i < len(spec["default"]) else None}
+                found = host.problems.count()
+                reg = host._register(
+                    {**inherited, **{k: v for k, v in spec.items() if k != "word_offset"}},
+                    (*path, "members", j),
+                    group,
+                    word_order,
+                    name=name,
+                    address=address,
+                    param=param,
+                    array=ref,
+                )
+                if reg is not None and not per_element and host.problems.count() == found:
+                    clean[j] = reg
             if reg is not None:
                 expanded.append((reg, (*path, "members", j)))
     # Report per-member problems once, not once per element.

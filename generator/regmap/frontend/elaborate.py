@@ -10,10 +10,20 @@ from regmap.core.text import article
 from regmap.frontend.arrays import elaborate_array, elaborate_bitfields
 from regmap.frontend.stages import Elaborated, MapSource, Problems
 from regmap.frontend.timestamps import timestamp_facts
-from regmap.frontend.values import _FORMAT_SPEC, _ParamRule, _scale, _source, na_markers
+from regmap.frontend.values import (
+    _FORMAT_SPEC,
+    ACCESSES,
+    BYTE_ORDERS,
+    DATA_TYPES,
+    POLL_CLASSES,
+    WORD_ORDERS,
+    _ParamRule,
+    _scale,
+    _source,
+    na_markers,
+)
 from regmap.frontend.yamlsource import Path
 from regmap.model import (
-    Access,
     ArrayDef,
     ArrayRef,
     ByteOrder,
@@ -22,7 +32,6 @@ from regmap.model import (
     EnumType,
     FirmwareGate,
     Group,
-    PollClass,
     Register,
     WordOrder,
 )
@@ -180,7 +189,7 @@ class _Elaboration:
                         symbol=v.get("symbol"),
                         description=v.get("description", ""),
                         source=_source(v.get("source")),
-                        access=Access(v.get("access", "rw")),
+                        access=ACCESSES[v.get("access", "rw")],
                     )
                 )
             self.enums[enum_name] = EnumType(
@@ -251,7 +260,7 @@ class _Elaboration:
         name = name or r["name"]
         address = r["address"] if address is None else address
         space = SPACES[r.get("space", DEFAULT_SPACE)]
-        dtype = DataType(r.get("type", "bool" if space.bits else "u16"))
+        dtype = DATA_TYPES[r.get("type", "bool" if space.bits else "u16")]
         self._check_type_in_space(r, path, name, dtype, space)
         words = self._words(r, path, name, dtype)
         if address + words - 1 > 0xFFFF:
@@ -266,8 +275,8 @@ class _Elaboration:
             self.problems.add((*path, "address"), f"{name}: a paired register needs its high word at address-1, but the address is 0")
         if "word_order" in r and not dtype.wide and "word_order" not in self._defaults_keys(path):
             self.problems.add((*path, "word_order"), f"{name}: word_order applies only to values wider than 16 bits; type is {dtype.value}")
-        order = WordOrder(r["word_order"]) if "word_order" in r and dtype.wide else word_order
-        byte_order = ByteOrder(r.get("byte_order", self.raw["transport"].get("byte_order", "high_first")))
+        order = WORD_ORDERS[r["word_order"]] if "word_order" in r and dtype.wide else word_order
+        byte_order = BYTE_ORDERS[r.get("byte_order", self.raw["transport"].get("byte_order", "high_first"))]
         if not dtype.info.has_byte_order:
             byte_order = ByteOrder.HIGH_FIRST
         enum_type = self._enum_ref(r.get("enum"), (*path, "enum"), name)
@@ -280,7 +289,7 @@ class _Elaboration:
             self._check_members_fit(enum_type, dtype, path, name)
         if not r.get("source"):
             self.problems.add(path, f"{name}: no source; give the manual section it was read from (on the register or in the group)")
-        access = Access(r.get("access", "rw" if space.writable else "r"))
+        access = ACCESSES[r.get("access", "rw" if space.writable else "r")]
         if access.writable and not space.writable:
             self.problems.add(
                 (*path, "access"),
@@ -323,7 +332,7 @@ class _Elaboration:
             encoding=r.get("encoding", "ascii"),
             padding=r.get("padding", "nul"),
             firmware=self._firmware_gate(r.get("firmware"), (*path, "firmware"), name),
-            poll=PollClass(r.get("poll", "normal")),
+            poll=POLL_CLASSES[r.get("poll", "normal")],
             trigger=bool(r.get("trigger", False)),
             na=na,
             na_nan=na_nan,

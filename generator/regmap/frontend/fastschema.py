@@ -9,6 +9,7 @@ using a keyword it does not know is not compiled (`compile_schema` gives None) a
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Callable
 from numbers import Number
@@ -114,6 +115,9 @@ class _Compiler:
             return lambda v: False
         if not isinstance(schema, dict):
             raise _Unsupported(repr(schema))
+        fused = self._typed(schema)
+        if fused is not None:
+            return fused
         checks: list[Check] = []
         for key, value in schema.items():
             if key in _ANNOTATIONS or key in ("then", "else", "properties"):
@@ -125,6 +129,26 @@ class _Compiler:
         if "properties" in schema and "additionalProperties" not in schema:
             checks.append(self._properties_only(schema["properties"]))
         return _all(checks)
+
+    def _typed(self, schema: dict[str, Any]) -> Check | None:
+        """The commonest nodes (a string with lengths or a pattern, a bounded integer, a list of items, a mapping of
+        properties) as one closure that tests the type once: the same answers as the keyword closures `_all` joins,
+        for a call or three less per value. None for any other node."""
+        kind = schema.get("type")
+        keys = {key for key in schema if key not in _ANNOTATIONS} - {"type"}
+        if kind == "string" and keys <= {"minLength", "maxLength", "pattern"}:
+            return _string(schema.get("minLength", 0), schema.get("maxLength"), schema.get("pattern"))
+        if kind == "integer" and keys <= {"minimum", "maximum"} and keys:
+            return _integer(schema.get("minimum", -math.inf), schema.get("maximum", math.inf))
+        if kind == "array" and keys <= {"items", "minItems", "maxItems", "uniqueItems"} and not isinstance(schema.get("items"), list):
+            test = self.node(schema.get("items", True))
+            return _array(test, schema.get("minItems", 0), schema.get("maxItems", math.inf), bool(schema.get("uniqueItems")))
+        if kind == "object" and keys <= {"properties", "additionalProperties", "required", "minProperties"}:
+            values = self._additionalProperties(schema["additionalProperties"], schema) if "additionalProperties" in keys else None
+            if values is None:
+                values = self._properties_only(schema.get("properties", {}))
+            return _object(values, tuple(schema.get("required", ())), schema.get("minProperties", 0))
+        return None
 
     # -- any type ------------------------------------------------------------------------------------------
 
@@ -279,6 +303,47 @@ class _Compiler:
             return True
 
         return check
+
+
+def _string(shortest: int, longest: int | None, pattern: str | None) -> Check:
+    most = math.inf if longest is None else longest
+    if pattern is None:
+        return lambda v: isinstance(v, str) and shortest <= len(v) <= most
+    search = re.compile(pattern).search
+    return lambda v: isinstance(v, str) and shortest <= len(v) <= most and search(v) is not None
+
+
+def _integer(low: float, high: float) -> Check:
+    def check(v: Any) -> bool:
+        if type(v) is int:
+            return low <= v <= high
+        return _is_integer(v) and low <= v <= high
+
+    return check
+
+
+def _array(test: Check, shortest: int, longest: float, unique_items: bool) -> Check:
+    def check(v: Any) -> bool:
+        if not isinstance(v, list) or not shortest <= len(v) <= longest:
+            return False
+        for x in v:  # a loop: all() of a generator costs a frame per value
+            if not test(x):
+                return False
+        return not unique_items or unique(v)
+
+    return check
+
+
+def _object(values: Check, required: tuple[str, ...], fewest: int) -> Check:
+    def check(v: Any) -> bool:
+        if not isinstance(v, dict) or len(v) < fewest:
+            return False
+        for name in required:
+            if name not in v:
+                return False
+        return values(v)
+
+    return check
 
 
 def _all(checks: list[Check]) -> Check:

@@ -50,6 +50,9 @@ class Problems:
         line, col = self._source.positions.locate(path)
         self._found.append(Diagnostic(self._source.name, line, col, message))
 
+    def count(self) -> int:
+        return len(self._found)
+
     def forget_repeats(self) -> None:
         """An array member's problem is found once per element; it is one mistake."""
         self._found = list(dict.fromkeys(self._found))

@@ -2,14 +2,36 @@
 
 from __future__ import annotations
 
+import enum
 import re
 from collections.abc import Callable
 from decimal import Decimal
 from fractions import Fraction
-from typing import Any
+from typing import Any, TypeVar
 
-from regmap.kinds import DataType
+from regmap.kinds import Access, DataType, PollClass, WordOrder
 from regmap.records import dataclass
+
+_Member = TypeVar("_Member", bound=enum.Enum)
+
+
+class _ByValue(dict[Any, _Member]):
+    """An enum's members by value: a dict lookup, where calling the enum costs a metaclass call (five a register); an
+    unknown value still gets the enum's own error."""
+
+    def __init__(self, kind: type[_Member]) -> None:
+        super().__init__((member.value, member) for member in kind)
+        self.kind = kind
+
+    def __missing__(self, value: Any) -> _Member:
+        return self.kind(value)
+
+
+DATA_TYPES = _ByValue(DataType)
+ACCESSES = _ByValue(Access)
+WORD_ORDERS = _ByValue(WordOrder)
+BYTE_ORDERS = WORD_ORDERS  # ByteOrder is WordOrder
+POLL_CLASSES = _ByValue(PollClass)
 
 
 def _source(value: Any) -> tuple[str, ...]:

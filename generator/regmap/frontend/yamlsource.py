@@ -246,6 +246,7 @@ class _EventReader:
         self.checks = _Builder(self.positions)  # the scalar rules, shared with the checked reader
         self.resolver = yaml.resolver.Resolver()
         self.plain_tags: dict[str, str] = {}  # a plain scalar's tag depends on its text alone
+        self.str_texts: set[str] = set()  # the texts of plain_tags that read as strings: one lookup answers most scalars
         # The resolver tries only the patterns listed under a text's first character (a name's letter has none): any
         # other text is a string, with no pattern to match, unless a pattern is listed for every text (None) or by path.
         self.patterns: dict[str | None, Any] = self.resolver.yaml_implicit_resolvers
@@ -316,7 +317,7 @@ class _EventReader:
 
     def mapping(self, path: Path) -> dict[str, Any]:
         result: dict[str, Any] = {}
-        get, keys, by_path, plain_tags = self.get, self.positions.keys, self.by_path, self.plain_tags
+        get, keys, by_path, str_texts = self.get, self.positions.keys, self.by_path, self.str_texts
         scalar_event = yaml.ScalarEvent
         recording = bool(self.recording)  # an anchor's value below this mapping is recorded, and done with, in `value`
         while True:
@@ -329,7 +330,7 @@ class _EventReader:
             key = event.value
             if event.anchor is not None or event.tag is not None or key in result:
                 raise _Unsure  # a tagged key, an anchored one or one given twice: the checked reader says what is wrong
-            if event.implicit[0] and (plain_tags.get(key) or self._plain_tag(key)) != _STR_TAG:
+            if key not in str_texts and event.implicit[0] and self._plain_tag(key) != _STR_TAG:
                 raise _Unsure  # a plain key that reads as a number, a boolean, null or `<<`
             start = event.start_mark
             line = start.line
@@ -346,7 +347,7 @@ class _EventReader:
                 start = value.start_mark
                 by_path.setdefault(key_path, (start.line + 1, start.column + 1))
                 text = value.value
-                if value.tag is None and (not value.implicit[0] or (plain_tags.get(text) or self._plain_tag(text)) == _STR_TAG):
+                if value.tag is None and (text in str_texts or not value.implicit[0] or self._plain_tag(text) == _STR_TAG):
                     result[key] = text  # `scalar`'s first answer: a quoted text, or a plain one that reads as a string
                 else:
                     result[key] = self.scalar(value)
@@ -365,12 +366,26 @@ class _EventReader:
 
     def sequence(self, path: Path) -> list[Any]:
         result: list[Any] = []
-        get = self.get
+        get, by_path, str_texts = self.get, self.by_path, self.str_texts
+        scalar_event = yaml.ScalarEvent
+        recording = bool(self.recording)
         while True:
             event = get()
-            if type(event) is yaml.SequenceEndEvent:
+            kind = type(event)
+            if kind is yaml.SequenceEndEvent:
                 return result
-            result.append(self.value(event, path + (len(result),)))  # noqa: RUF005 (as in mapping)
+            item_path = path + (len(result),)  # noqa: RUF005 (as in mapping)
+            if kind is scalar_event and event.anchor is None and not recording:
+                # a plain item, as in mapping: its position, then its value
+                start = event.start_mark
+                by_path.setdefault(item_path, (start.line + 1, start.column + 1))
+                text = event.value
+                if event.tag is None and (text in str_texts or not event.implicit[0] or self._plain_tag(text) == _STR_TAG):
+                    result.append(text)
+                else:
+                    result.append(self.scalar(event))
+                continue
+            result.append(self.value(event, item_path))
 
     def _plain_tag(self, text: str) -> str:
         tag = self.plain_tags.get(text)
@@ -379,6 +394,8 @@ class _EventReader:
                 tag = self.plain_tags[text] = _STR_TAG
             else:
                 tag = self.plain_tags[text] = str(self.resolver.resolve(yaml.ScalarNode, text, (True, False)))  # type: ignore[no-untyped-call]
+            if tag == _STR_TAG:
+                self.str_texts.add(text)
         return tag
 
     def scalar(self, event: Any) -> Any:
