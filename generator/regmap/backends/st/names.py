@@ -79,7 +79,7 @@ class Stem:
     def __init__(self, parts: tuple[str, ...]) -> None:
         self.parts = parts
         self.joined = "_".join(filter(None, parts)).upper()
-        self.sound = _SOUND.fullmatch(self.joined) is not None
+        self.sound = bool(self.joined) and not _problem(self.joined)
 
     def __call__(self, suffix: str) -> StIdentifier:
         name = f"{self.joined}_{suffix}"
