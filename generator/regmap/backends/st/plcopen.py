@@ -14,7 +14,7 @@ import re
 from typing import Any
 
 from regmap.backends.st.view_types import Const, EnumView, FunctionView, Member, StructView
-from regmap.render import xml_text
+from regmap.render import TEXT_CACHE_SIZE, xml_text
 
 ELEMENTARY = frozenset(
     [
@@ -90,6 +90,7 @@ def _struct(s: StructView) -> str:
     )
 
 
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # functions share parameter lists (a FROM_RAW's nRaw, eValue ...): each made once
 def _variables(tag: str, members: tuple[Member, ...]) -> str:
     if not members:
         return ""

@@ -206,7 +206,13 @@ class SpelledText:
             run.append(f"\n    (* {st_comment(section.comment)} *)\n")
             for c in section.consts:
                 if isinstance(c, Const):
-                    run.append(const_line(c))
+                    name, kind, value, comment = c
+                    # const_line's text, without a call for each of the thousands of constants
+                    run.append(
+                        f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n"
+                        if comment
+                        else f"    {name} : {kind} := {value};\n"
+                    )
                 else:
                     pieces += ["".join(run), c]
                     run = []
