@@ -24,6 +24,7 @@ from regmap.backends.st.codec import CODESYS, IEC, PLCOPEN
 from regmap.backends.st.device import DeviceViews
 from regmap.backends.st.functions import plan_blocks
 from regmap.backends.st.names import Scope
+from regmap.backends.st.view_types import SectionToSpell
 from regmap.frontend import load_map, load_map_text
 from regmap.generate import render
 from regmap.model import ByteOrder, DataType, Device
@@ -430,3 +431,24 @@ def test_each_dialect_gets_from_the_shared_views_what_it_makes_alone(map_path: P
         assert together.keys() == alone.keys()
         for key in alone:
             assert together[key] == alone[key], (dialect.name, key)
+
+
+@pytest.mark.parametrize("map_path", ALL_MAPS, ids=lambda p: p.stem)
+def test_the_constants_text_is_each_sections_text_in_each_notation(map_path: Path) -> None:
+    """The constants files print the register, array, bitfield and command sections from one text made for every
+    notation (`SpelledText`): in each dialect it is what those sections, spelled in its notation, print one by one."""
+    views = DeviceViews(load_map(map_path), [])
+    for dialect in (CODESYS, IEC):
+        context = views.context(dialect)
+        one_by_one = "".join(
+            s.spelled(dialect.notation).text if isinstance(s, SectionToSpell) else s.text for s in context["const_sections"]
+        )
+        assert context["const_text"] == one_by_one, dialect.name
+
+
+def test_the_plcopen_variable_lists_cache_is_bounded() -> None:
+    """The PLCopen XML's parameter lists are made once per list of members, in a cache no bigger than the text caches."""
+    from regmap.backends.st.plcopen import _variables
+    from regmap.render import TEXT_CACHE_SIZE
+
+    assert _variables.cache_info().maxsize == TEXT_CACHE_SIZE

@@ -15,7 +15,17 @@ from regmap.backends.st.codec import Dialect, Notation
 from regmap.backends.st.encoders import _encoder_input, command_functions, encoder_targets, encoders
 from regmap.backends.st.functions import Block, Values, bitfield_functions, blocks, owners
 from regmap.backends.st.names import StIdentifier, st_int
-from regmap.backends.st.view_types import Const, EnumValue, EnumView, FunctionView, Member, Section, SectionToSpell, StructView
+from regmap.backends.st.view_types import (
+    Const,
+    EnumValue,
+    EnumView,
+    FunctionView,
+    Member,
+    Section,
+    SectionToSpell,
+    SpelledText,
+    StructView,
+)
 from regmap.backends.st.views import (
     Names,
     array_consts,
@@ -131,6 +141,22 @@ class DeviceViews:
     def commands(self) -> list[SectionToSpell]:
         return command_consts(self.names)
 
+    @cached_property
+    def const_sections(self) -> list[Section | SectionToSpell]:
+        """The sections of the registers, arrays, bitfields and commands, in the order the constants files print them;
+        the constants a notation spells its own way are spelled as they are printed (`const_text`, the PLCopen XML)."""
+        return [*self.registers, *self.arrays, *self.bitfields, *self.commands]
+
+    @cached_property
+    def const_text(self) -> SpelledText:
+        """`const_sections` as an ST file prints them, made once for every notation but the few constants it spells."""
+        return SpelledText(self.const_sections)
+
+    @cached_property
+    def plan_const_lines(self) -> str:
+        """The read blocks' constants, as the constants file prints them (the same in every dialect)."""
+        return "".join([b.const_lines for b in self.plan])
+
     def context(self, dialect: Dialect) -> dict[str, Any]:
         device, names = self.device, self.names
         spelled = self.spelled(dialect.notation)
@@ -138,8 +164,9 @@ class DeviceViews:
         values = self.values
         plan = self.plan
         writers = spelled.encoders
-        registers = spelled.registers
-        bitfields = self.bitfields
+        # The registers' and bitfields' constants are made here, though printed later: the first dialect checks the names
+        # in this order, which decides the item a collision names first.
+        _ = self.registers, self.bitfields
         access = spelled.access
         functions = [*spelled.enum_functions, *self.bitfield_functions]
         functions += helper_functions(names, dialect, self.helpers, values.used)
@@ -156,10 +183,9 @@ class DeviceViews:
             "dialect": dialect,
             "enums": [access, *enums],
             "device_consts": Section(dev.comment, dev.consts + self.poll_and_variant_consts),
-            "registers": registers,
-            "arrays": self.arrays,
-            "bitfields": bitfields,
-            "commands": spelled.commands,
+            "plan_const_lines": self.plan_const_lines,
+            "const_sections": self.const_sections,
+            "const_text": spelled.const_text,
             "plan": plan,
             "plan_len": plan_len,
             "values": spelled.values,
@@ -229,10 +255,6 @@ class SpelledViews:
         return encoders(v.names, v.targets, self.notation, v.helpers, v.values.used, self.other.encoders if self.other else ())
 
     @cached_property
-    def registers(self) -> list[Section]:
-        return [s.spelled(self.notation) for s in self.views.registers]
-
-    @cached_property
     def access(self) -> EnumView:
         return EnumView(
             self.views.names.access_type,
@@ -246,8 +268,8 @@ class SpelledViews:
         return enum_functions(self.views.names, self.notation, self.enums)
 
     @cached_property
-    def commands(self) -> list[Section]:
-        return [s.spelled(self.notation) for s in self.views.commands]
+    def const_text(self) -> str:
+        return self.views.const_text.text(self.notation)
 
     @cached_property
     def values(self) -> StructView:

@@ -3,6 +3,7 @@ accessors; the encoders and command helpers are in encoders.py."""
 
 from __future__ import annotations
 
+import operator
 import weakref
 
 from regmap.backends.st import scaling
@@ -98,6 +99,7 @@ class Values:
         self.used: set[str] = set()  # helpers the decoders call: f32, f64, char
         # the scale factors: each gets an availability flag, FALSE until read (a point in another block waits for it)
         self.factors = {r.scale_from for r in names.device.registers if r.scale_from is not None}
+        self._struct: StructView | None = None  # the struct of every notation, when they agree
 
     def add(
         self, reg: Register, locals_: dict[str, str], bit: tuple[int, int] | None = None, together: frozenset[str] = frozenset()
@@ -262,11 +264,14 @@ class Values:
         return lines
 
     def struct(self, notation: Notation) -> StructView:
-        return StructView(
-            self.type_name,
-            "Decoded values of every readable register (the Python client's read_all()).",
-            tuple([m.spelled(notation) for m in self.members]),
-        )
+        """The struct in `notation`: one view for every notation when no member is text (its members' text made once)."""
+        if self._struct is not None:
+            return self._struct
+        members = tuple([m if type(m) is Member else m.spelled(notation) for m in self.members])
+        struct = StructView(self.type_name, "Decoded values of every readable register (the Python client's read_all()).", members)
+        if all(map(operator.is_, members, self.members)):  # no text member: every notation spells them alike
+            self._struct = struct
+        return struct
 
 
 def _na_conditions(reg: Register, value: str) -> list[str]:

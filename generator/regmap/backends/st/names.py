@@ -22,6 +22,8 @@ from regmap.render import TEXT_CACHE_SIZE
 MAX_LENGTH = 64
 # IEC 61131-3 6.1.2: a letter or an underscore first, no two underscores in a row, none at the end.
 _IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+# A name `_problem` finds nothing wrong with, in one match (most names): its checks below say why each part is there.
+_SOUND = re.compile(rf"(?!.*__)[A-Za-z_][A-Za-z0-9_]{{0,{MAX_LENGTH - 1}}}(?<!_)")
 _SUFFIX = re.compile(r"[A-Z0-9]+(?:_[A-Z0-9]+)*")  # appended to a sound name after an underscore, it keeps it sound
 # Names the generated functions declare for their own parameters and locals; an enum member printed
 # bare (the plain-standard dialect) or a map name must not shadow them.
@@ -111,7 +113,7 @@ def _spelled(parts: tuple[str, ...]) -> tuple[str, str]:
     name = "_".join(filter(None, parts)).upper()
     if name in _ESCAPED:
         name = f"{name}_{KEYWORD_SUFFIX}"
-    return name, _problem(name)
+    return name, "" if _SOUND.fullmatch(name) else _problem(name)
 
 
 def _problem(name: str) -> str:

@@ -13,8 +13,8 @@ import functools
 import re
 from typing import Any
 
-from regmap.backends.st.view_types import EnumView, FunctionView, Member, Section, StructView
-from regmap.render import xml_text
+from regmap.backends.st.view_types import Const, EnumView, FunctionView, Member, StructView
+from regmap.render import TEXT_CACHE_SIZE, xml_text
 
 ELEMENTARY = frozenset(
     [
@@ -90,6 +90,7 @@ def _struct(s: StructView) -> str:
     )
 
 
+@functools.lru_cache(maxsize=TEXT_CACHE_SIZE)  # functions share parameter lists (a FROM_RAW's nRaw, eValue ...): each made once
 def _variables(tag: str, members: tuple[Member, ...]) -> str:
     if not members:
         return ""
@@ -112,22 +113,18 @@ def _pou(f: FunctionView) -> str:
 
 
 def _constants(context: dict[str, Any]) -> str:
-    sections: list[Section] = [
-        context["device_consts"],
-        Section("The read plan.", (context["plan_len"], *(c for b in context["plan"] for c in b.consts))),
-        *context["registers"],
-        *context["arrays"],
-        *context["bitfields"],
-        *context["commands"],
-    ]
+    notation = context["dialect"].notation
+    consts = [*context["device_consts"].consts, context["plan_len"]]
+    for block in context["plan"]:
+        consts += block.consts
+    consts += [c if type(c) is Const else c.spelled(notation) for s in context["const_sections"] for c in s.consts]
     head, tail = "            <documentation><xhtml:p>", "</xhtml:p></documentation>\n          </variable>\n"
     return "".join(
         [
             f'          <variable name="{name}">\n            <type>{xml_type(kind)}</type>\n'
             f'            <initialValue><simpleValue value="{xml_text(value)}"/></initialValue>\n'
             + (f"{head}{xml_text(comment)}{tail}" if comment else "          </variable>\n")
-            for s in sections
-            for name, kind, value, comment in s.consts
+            for name, kind, value, comment in consts
         ]
     )
 

@@ -9,7 +9,7 @@ Python, once, and the templates print it."""
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 from regmap.backends.st.codec import Notation
 from regmap.records import NamedTuple, cached_property, dataclass
@@ -184,6 +184,44 @@ class Section(NamedTuple):
                 for name, kind, value, comment in self.consts
             ]
         )
+
+
+def const_line(const: Const) -> str:
+    """One constant's declaration in an ST file's VAR_GLOBAL CONSTANT (as `Section.lines` prints each)."""
+    name, kind, value, comment = const
+    return f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n" if comment else f"    {name} : {kind} := {value};\n"
+
+
+class SpelledText:
+    """The text of sections whose constants every notation prints alike but a few (an enum value, a text type): the
+    runs printed alike are joined once, and `text` spells and prints only the few, so the second notation costs a
+    fraction of the first (every register has one such constant among its ten or so)."""
+
+    __slots__ = ("pieces",)
+
+    def __init__(self, sections: Sequence[Section | SectionToSpell]) -> None:
+        pieces: list[str | MemberConst | TextConst] = []
+        run: list[str] = []
+        for section in sections:
+            run.append(f"\n    (* {st_comment(section.comment)} *)\n")
+            for c in section.consts:
+                if isinstance(c, Const):
+                    name, kind, value, comment = c
+                    # const_line's text, without a call for each of the thousands of constants
+                    run.append(
+                        f"    {name} : {kind} := {value}; (* {st_comment(comment)} *)\n"
+                        if comment
+                        else f"    {name} : {kind} := {value};\n"
+                    )
+                else:
+                    pieces += ["".join(run), c]
+                    run = []
+        pieces.append("".join(run))
+        self.pieces = pieces
+
+    def text(self, notation: Notation) -> str:
+        """What the sections' `Section.text` would print, one after another, in `notation`."""
+        return "".join([p if isinstance(p, str) else const_line(p.spelled(notation)) for p in self.pieces])
 
 
 class SectionToSpell(NamedTuple):

@@ -120,7 +120,8 @@ def enum_functions(names: Names, notation: Notation, enums: Sequence[EnumView]) 
     for e, view in zip(names.device.enums, enums, strict=True):
         from_raw = names.function(e.name, "FROM_RAW", what=f"the decoder of enum {e.name}", pos=e.pos)
         to_raw = names.function(e.name, "TO_RAW", what=f"the encoder of enum {e.name}", pos=e.pos)
-        cases = [f"    {m.value}: eValue := {notation.member(view.type_name, m.name)};" for m in view.members]
+        spelled = [notation.member(view.type_name, m.name) for m in view.members]  # each member as both CASEs name it
+        cases = [f"    {m.value}: eValue := {member};" for m, member in zip(view.members, spelled, strict=True)]
         functions.append(
             FunctionView(
                 from_raw,
@@ -132,7 +133,7 @@ def enum_functions(names: Names, notation: Notation, enums: Sequence[EnumView]) 
                 ("CASE nRaw OF", *cases, "ELSE", f"    {from_raw} := FALSE;", "    RETURN;", "END_CASE;", f"{from_raw} := TRUE;"),
             )
         )
-        back = [f"    {notation.member(view.type_name, m.name)}: {to_raw} := {m.value};" for m in view.members]
+        back = [f"    {member}: {to_raw} := {m.value};" for m, member in zip(view.members, spelled, strict=True)]
         functions.append(
             FunctionView(
                 to_raw,
