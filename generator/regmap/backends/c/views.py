@@ -181,8 +181,8 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
         facts.append(f"raw {reg.raw_min}..{reg.raw_max}{scaled}")
     if reg.range_text:
         facts.append(f"printed range {reg.range_text}")
-    defaults = {r.default for r in elements}
-    if len(defaults) > 1:
+    # A lone register is its own elements[0]: only an array member's elements can differ.
+    if len(elements) > 1 and len({r.default for r in elements}) > 1:
         facts.append("default differs per element")
     elif reg.default is not None and (reg.type.is_string or reg.type.is_bool):
         facts.append(f"default {eng(reg, reg.default)}")
@@ -194,9 +194,9 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
         facts.append("low word of a 32-bit pair whose unused high word is at ADDR - 1")
     if reg.takes_effect:
         facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
-    errata = sorted({e for r in elements for e in r.errata})
+    errata = reg.errata if len(elements) == 1 else [e for r in elements for e in r.errata]
     if errata:
-        facts.append(f"errata {', '.join(errata)}")
+        facts.append(f"errata {', '.join(sorted(set(errata)))}")
     if reg.type.info.has_byte_order and reg.byte_order is not ByteOrder.HIGH_FIRST:
         facts.append("bytes of each word low first")
     if reg.firmware is not None:
@@ -246,8 +246,9 @@ def _value_macros(
     tables = []
     if reg.wide:
         macros.append((ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
-    for key in ("min", "max", "default"):
-        if len(elements) > 1:  # an array member, whose elements may differ (a lone register is its own elements[0])
+    member = len(elements) > 1  # an array member, whose elements may differ (a lone register is its own elements[0])
+    for key, value in (("min", reg.min), ("max", reg.max), ("default", reg.default)):
+        if member:
             values = [getattr(r, key) for r in elements]
             if len(set(values)) > 1:
                 if None not in values:
@@ -255,7 +256,6 @@ def _value_macros(
                     count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
                     tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
                 continue
-        value = getattr(reg, key)
         if value is not None:
             macros.append((ctx.owned(stem, owner, key), _literal(reg, value)))
     if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it

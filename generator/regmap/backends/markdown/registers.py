@@ -19,6 +19,7 @@ from regmap.backends.markdown.views import (
     MemberRow,
     QuickRow,
     RegisterView,
+    ValueCells,
 )
 from regmap.backends.markdown.wire import (
     POLL_MEANING,
@@ -55,34 +56,48 @@ def _raw(value: int | float) -> str:
     return number(value) if isinstance(value, float) else str(value)
 
 
-def _range(reg: Register, *, full: bool) -> Md:
-    """Engineering range; `full` adds the unit and the raw values (the quick reference has a unit column)."""
+def _value_cells(ctx: Context, reg: Register) -> ValueCells:
+    """The register's range and default, as its table row and as its facts show them: worked out once per register,
+    as the quick reference and the register's section (or an array's member table and details) both print them."""
+    cells = ctx.value_cells.get(reg.name)
+    if cells is None:
+        cells = ctx.value_cells[reg.name] = ValueCells(*_range(reg), *_default(reg))
+    return cells
+
+
+def _range(reg: Register) -> tuple[Md, Md]:
+    """Engineering range: the row's cell, and the fact, which adds the unit and the raw values (the quick
+    reference has a unit column)."""
     if reg.min is None and reg.max is None:
-        return md.escaped(reg.range_text) if reg.range_text and not full else Md(md.DASH)
+        return md.escaped(reg.range_text) if reg.range_text else Md(md.DASH), Md(md.DASH)  # the facts have no range then
     low, high = reg.raw_min, reg.raw_max
     if reg.scale_from is not None:  # the value's scale is read at run time: only the raw range is known
-        return Md(f"raw {_raw(low)} … {_raw(high)}")
+        raw = Md(f"raw {_raw(low)} … {_raw(high)}")
+        return raw, raw
     text = f"{eng(reg, low)} … {eng(reg, high)}"
-    if full:
-        text += md.unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else "")
-    return Md(text)
+    return Md(text), Md(text + md.unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else ""))
 
 
-def _default(reg: Register, *, full: bool) -> Md:
+def _default(reg: Register) -> tuple[Md, Md]:
+    """The default: the row's cell, and the fact, which adds the unit and the raw value."""
     if reg.default is None:
-        return Md(md.DASH)
+        return Md(md.DASH), Md(md.DASH)
     value = reg.default
     if isinstance(value, str):
-        return Md(md_text(eng(reg, value)))  # text: quoted, escaped
+        quoted = Md(md_text(eng(reg, value)))  # text: quoted, escaped
+        return quoted, quoted
     if reg.bitfields and isinstance(value, int):
-        return Md(f"{md.hex_value(value, reg.words)} ({value})" if full else md.hex_value(value, reg.words))
+        bits = md.hex_value(value, reg.words)
+        return Md(bits), Md(f"{bits} ({value})")
     if reg.scale_from is not None:
-        return Md(f"raw {_raw(value)}")
+        raw = Md(f"raw {_raw(value)}")
+        return raw, raw
     text = eng(reg, value)
-    if full:
-        text += md.unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
+    full = text + md.unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
     label = md.enum_label(reg.enum, value) if reg.enum is not None and isinstance(value, int) else None
-    return Md(f"{text} = {label}" if label else text)
+    if label:
+        return Md(f"{text} = {label}"), Md(f"{full} = {label}")
+    return Md(text), Md(full)
 
 
 def _addresses(reg: Register) -> str:
@@ -121,6 +136,7 @@ def extra_headers(uses: Uses) -> tuple[str, ...]:
 def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -> QuickRow:
     """A row of the quick reference: where the register is and what it is called (the caller's, as an
     array member reads differently), then the register's own columns."""
+    cells = _value_cells(ctx, reg)
     return QuickRow(
         extra=_extra_cells(ctx.uses, reg),
         param=param,
@@ -130,8 +146,8 @@ def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -
         title_zh=reg.title_zh or md.DASH,
         access=ACCESS_SHORT[reg.access],
         type=_type_text(reg),
-        range=_range(reg, full=False),
-        default=_default(reg, full=False),
+        range=cells.range,
+        default=cells.default,
         unit=reg.unit or md.DASH,
         takes_effect=reg.takes_effect.replace("_", " ") if reg.takes_effect else md.DASH,
     )
@@ -201,6 +217,7 @@ def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
 
 def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[FactPair, ...]:
     facts: list[FactPair] = [("Address", _address_facts(reg))]
+    cells = _value_cells(ctx, reg)
     if reg.param:
         facts.append(("Parameter", md.escaped(reg.param)))
     if ctx.uses.other_spaces:
@@ -212,10 +229,10 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
     if ctx.device.is_trigger(reg):
         facts.append(("Trigger", Md("a write makes the device act: sent once, never retried")))
     if reg.min is not None or reg.max is not None:
-        facts.append(("Range", _range(reg, full=True)))
+        facts.append(("Range", cells.range_fact))
     if reg.range_text:
         facts.append(("Range as printed", md.escaped(reg.range_text)))
-    facts.append(("Default", _default(reg, full=True)))
+    facts.append(("Default", cells.default_fact))
     if reg.scale_from is not None:
         sf = md.reg_link(ctx.device.register(reg.scale_from), param=False)
         unit = f" in {md_text(reg.unit)}" if reg.unit else ""
@@ -289,6 +306,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         hex_formula, _ = _formula(array, first.address)
         address = Md(f"`{hex_formula}`" + (f" ({first.words} words)" if first.words > 1 else ""))
         errata = [e for r in regs for e in r.errata]
+        cells = _value_cells(ctx, first)
         rows.append(
             MemberRow(
                 extra=_extra_cells(ctx.uses, first),
@@ -300,8 +318,8 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 title_zh=first.title_zh or md.DASH,
                 type=_type_text(first),
                 access=ACCESS_SHORT[first.access],
-                range=_range(first, full=False),
-                default=_default(first, full=False),
+                range=cells.range,
+                default=cells.default,
                 unit=first.unit or md.DASH,
             )
         )
