@@ -222,7 +222,8 @@ C_TYPES = {
     DataType.TIMESTAMP: CType("uint32_t", "uint32_t"),
 }
 # The 16/32-bit integers of the first maps: their registers need no helper beyond the word conversions.
-PLAIN_TYPES = frozenset({DataType.U16, DataType.S16, DataType.U32, DataType.S32})
+# A tuple: `in` compares by identity, where a set would call the enum's __hash__ (Python code) for every register.
+PLAIN_TYPES = (DataType.U16, DataType.S16, DataType.U32, DataType.S32)
 # Shared helpers that move a register's value to and from its words on the wire (word and byte order applied).
 WIRE_FUNCTIONS: dict[DataType, tuple[str, str]] = {
     t: (f"regmap_{t.value}_from_wire", f"regmap_{t.value}_to_wire") for t in DataType if t is not DataType.BOOL

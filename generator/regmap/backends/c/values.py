@@ -183,14 +183,20 @@ def _scaled(reg: Register) -> bool:
     return reg.scale != 1 or reg.offset_set
 
 
-def _ratio(reg: Register) -> tuple[str, str, str]:
-    """The offset, numerator and denominator as double literals (value = raw x num / den + offset)."""
-    return c_double(reg.offset), c_double(Fraction(reg.scale.numerator)), c_double(Fraction(reg.scale.denominator))
+def _ratio(ctx: Context, reg: Register) -> tuple[str, ...]:
+    """The offset, numerator and denominator as double literals (value = raw x num / den + offset); once per device for
+    each scale and offset (registers share a handful)."""
+    scale, offset = reg.scale, reg.offset
+    key = ("double ratio", scale.numerator, scale.denominator, offset.numerator, offset.denominator)
+    spelled = ctx.literals.get(key)
+    if spelled is None:
+        spelled = ctx.literals[key] = (c_double(offset), c_double(Fraction(scale.numerator)), c_double(Fraction(scale.denominator)))
+    return spelled
 
 
-def _scaled_value(reg: Register, raw: str) -> str:
+def _scaled_value(ctx: Context, reg: Register, raw: str) -> str:
     """The engineering value of `raw` as the Python client computes it: raw x num / den (+ offset when there is one)."""
-    offset, num, den = _ratio(reg)
+    offset, num, den = _ratio(ctx, reg)
     value = f"(double){raw} * {num} / {den}"
     return f"{value} + {offset}" if reg.offset_set else value
 
@@ -320,14 +326,14 @@ def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ..
     if reg.type.is_float:
         return _float_bodies(ctx, reg, in_range)
     if _scaled(reg):
-        offset, num, den = _ratio(reg)
+        offset, num, den = _ratio(ctx, reg)
         lo, hi = c_double(_inside(reg.raw_min, True)), c_double(_inside(reg.raw_max, False))
         convert = f"regmap_value_to_raw(value, {offset}, {num}, {den}, {lo}, {hi}, &raw)"
         return (
             "double",
             ("double raw;", f"return {convert};"),
             ("double raw;", f"if (!{convert}) {{", "    return false;", "}", _to_wire(ctx, reg, f"({raw_type})raw"), "return true;"),
-            (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
+            (f"*out = {_scaled_value(ctx, reg, _from_wire(ctx, reg))};", "return true;"),
         )
     conditions = _range_conditions(reg, "value", reg.type.raw_min, reg.type.raw_max) + _not_destructive(ctx, reg)
     return (
@@ -421,7 +427,7 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
     half = reg.type is DataType.F16
     held: tuple[str, ...]
     if _scaled(reg):
-        offset, num, den = _ratio(reg)
+        offset, num, den = _ratio(ctx, reg)
         raw = f"(value - {offset}) * {den} / {num}"
         if half:  # rounded once from the double, as the Python client rounds it; the half it becomes is checked too
             held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits_from_double(raw));",)
@@ -432,7 +438,7 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
             "double",
             (f"double raw = {raw};", *held, f"return raw >= {lo} && raw <= {hi}{_held_inside(half, lo, hi)}; /* NaN fails */"),
             (*_refused_when_not(in_range), sent, "return true;"),
-            (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
+            (f"*out = {_scaled_value(ctx, reg, _from_wire(ctx, reg))};", "return true;"),
         )
     held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits(value));",) if half else ()
     return (
