@@ -11,7 +11,7 @@ from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Access, DataType, Device, PollClass, Register, WordOrder
 from regmap.records import NamedTuple
-from regmap.render import header_lines
+from regmap.render import c_comment, header_lines
 from regmap_runtime.spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT, SPACES
 from regmap_runtime.types import TYPES
 
@@ -320,6 +320,14 @@ def define_lines(macros: Iterable[Macro | Define]) -> str:
     """The `#define` of each macro, one a line, values in one column: what a header prints of a register's or an
     array's macros (a block the template prints as it is, not four pieces per macro)."""
     return "\n".join(f"#define {m[0]:<48} {m[1]}" for m in macros)
+
+
+def sentence_comment(text: str) -> str:
+    """`c_comment` of text `sentences` made, whose whitespace is single spaces already: text without a slash, a
+    backslash or `??` is then its own escape (most comments), without the split and join `c_comment` spends on it."""
+    if "/" in text or "\\" in text or "??" in text:
+        return c_comment(text)
+    return text
 
 
 class Context:

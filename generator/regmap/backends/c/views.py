@@ -31,6 +31,7 @@ from regmap.backends.c.names import (
     c_unsigned,
     c_value,
     define_lines,
+    sentence_comment,
 )
 from regmap.backends.c.values import EnumCheckView, enum_checks, member_values, ratio_literal, register_values, values_text
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
@@ -38,7 +39,7 @@ from regmap.core.text import eng, manual_sections, number, sentences, titled, zo
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.records import NamedTuple
-from regmap.render import c_comment, c_str
+from regmap.render import c_str
 from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import parse_version
 
@@ -52,7 +53,7 @@ class EnumView(NamedTuple):
 
 
 class BitfieldView(NamedTuple):
-    comment: str
+    comment: str  # escaped for a C comment (sentence_comment)
     mask: Macro
     shift: Macro
     word_type: str
@@ -88,7 +89,7 @@ class GateView(NamedTuple):
 
 class RegisterView(NamedTuple):
     template: str  # "": device.h.jinja prints a register itself (an ArrayView names its template)
-    comment: str
+    comment: str  # escaped for a C comment (sentence_comment)
     description: str
     defines: str  # the #define lines of its macros
     bitfields: tuple[BitfieldView, ...]
@@ -108,7 +109,7 @@ class ElementTable(NamedTuple):
 
 
 class ArrayMemberView(NamedTuple):
-    comment: str
+    comment: str  # escaped for a C comment (sentence_comment)
     description: str
     addr_macro: str
     offset: str
@@ -209,7 +210,10 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
 
 
 def _register_comment(reg: Register, label: str, elements: Sequence[Register]) -> str:
-    return sentences(f"{label}: {titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), manual_sections(reg.source))
+    """The register's comment, escaped for a C comment."""
+    return sentence_comment(
+        sentences(f"{label}: {titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), manual_sections(reg.source))
+    )
 
 
 def modern(reg: Register) -> bool:
@@ -405,8 +409,9 @@ def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldVi
 
 
 def _bitfield_comment(b: Bitfield) -> str:
+    """The field's comment, escaped for a C comment."""
     head = f"bit{'s' if b.width > 1 else ''} {b.bits_text} {b.name}: {titled(b.title, b.title_zh)}"
-    return sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description)
+    return sentence_comment(sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description))
 
 
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
@@ -500,26 +505,24 @@ def group_views(ctx: Context) -> list[GroupView]:
 def enum_view(ctx: Context, e: EnumType) -> EnumView:
     # A C enum constant is an int; a table with a value outside int becomes macros instead.
     as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
-    members = tuple(
-        Macro(
-            ctx.const(e.name, m.name, what=f"member {m.name} of enum {e.name}"),
-            c_raw(m.value, m.value < 0) if as_macros else _enum_literal(m.value),
-            sentences(titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description),
-        )
-        for m in e.members
-    )
+    names = []
+    lines = []
+    last = len(e.members) - 1
+    for i, m in enumerate(e.members):
+        name = ctx.const(e.name, m.name, what=f"member {m.name} of enum {e.name}")
+        comment = sentence_comment(sentences(titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description))
+        if as_macros:
+            lines.append(f"#define {name:<48} {c_raw(m.value, m.value < 0)} /* {comment} */")
+        else:
+            lines.append(f"    {name} = {_enum_literal(m.value)}{',' if i < last else ''} /* {comment} */")
+        names.append(name)
     comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
-    if as_macros:
-        lines = [f"#define {m.name:<48} {m.value} /* {c_comment(m.comment)} */" for m in members]
-    else:
-        last = len(members) - 1
-        lines = [f"    {m.name} = {m.value}{',' if i < last else ''} /* {c_comment(m.comment)} */" for i, m in enumerate(members)]
     return EnumView(
         type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"),
         comment=comment,
         lines="\n".join(lines),
         as_macros=as_macros,
-        checks=enum_checks(ctx, e, [m.name for m in members]),
+        checks=enum_checks(ctx, e, names),
     )
 
 
