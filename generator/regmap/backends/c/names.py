@@ -322,12 +322,22 @@ def define_lines(macros: Iterable[Macro | Define]) -> str:
     return "\n".join(f"#define {m[0]:<48} {m[1]}" for m in macros)
 
 
-def sentence_comment(text: str) -> str:
+def comment_text(text: str) -> str:
+    """`c_comment(text)`, without the split and join it spends on text whose whitespace is single spaces already
+    (printable, no space doubled or at an end: most map text) when it has nothing to escape either."""
+    if not text:
+        return ""
+    if text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " ":
+        return sentence_comment(text)
+    return c_comment(text)
+
+
+def sentence_comment(sentence: str) -> str:
     """`c_comment` of text `sentences` made, whose whitespace is single spaces already: text without a slash, a
-    backslash or `??` is then its own escape (most comments), without the split and join `c_comment` spends on it."""
-    if "/" in text or "\\" in text or "??" in text:
-        return c_comment(text)
-    return text
+    backslash or `??` is then its own escape (most comments)."""
+    if "/" in sentence or "\\" in sentence or "??" in sentence:
+        return c_comment(sentence)
+    return sentence
 
 
 class Context:

@@ -21,11 +21,11 @@ from regmap.backends.c.names import (
     c_raw,
     c_signed,
     c_unsigned,
+    comment_text,
 )
 from regmap.core.text import eng, number, zone_text
 from regmap.model import DataType, EnumType, Register
 from regmap.records import NamedTuple
-from regmap.render import c_comment
 
 # The parameter a helper of a register whose word order follows the device's word-order register takes.
 ORDER_PARAM = "word_order"
@@ -485,7 +485,7 @@ def value_lines(view: ValueView) -> list[str]:
     a dozen small fields; a template would spend more steps on them than the lines take to join)."""
     v = view
     lines = [f"#if {v.guard}"] if v.guard else []
-    lines.append(f"/* {c_comment(v.comment)} */")
+    lines.append(f"/* {comment_text(v.comment)} */")
     if v.in_range:
         lines += _function(f"static inline bool {v.in_range}({v.value_type} value{v.sf})", v.in_range_body)
         lines += _function(f"static inline bool {v.encode}({v.value_type} value{v.sf}{v.order}, uint16_t words[{v.words}])", v.encode_body)

@@ -30,6 +30,7 @@ from regmap.backends.c.names import (
     c_signed,
     c_unsigned,
     c_value,
+    comment_text,
     define_lines,
     sentence_comment,
 )
@@ -46,7 +47,7 @@ from regmap_runtime.spec import parse_version
 
 class EnumView(NamedTuple):
     type_name: str
-    comment: str
+    comment: str  # escaped for a C comment (sentence_comment)
     lines: str  # the members, one a line: `#define`s (as_macros) or the enum's constants
     as_macros: bool  # a value does not fit an int, which a C enum constant must
     checks: EnumCheckView
@@ -90,7 +91,7 @@ class GateView(NamedTuple):
 class RegisterView(NamedTuple):
     template: str  # "": device.h.jinja prints a register itself (an ArrayView names its template)
     comment: str  # escaped for a C comment (sentence_comment)
-    description: str
+    description: str  # escaped for a C comment (comment_text)
     defines: str  # the #define lines of its macros
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
@@ -110,7 +111,7 @@ class ElementTable(NamedTuple):
 
 class ArrayMemberView(NamedTuple):
     comment: str  # escaped for a C comment (sentence_comment)
-    description: str
+    description: str  # escaped for a C comment (comment_text)
     addr_macro: str
     offset: str
     pair_addr_macro: str | None
@@ -423,7 +424,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
     return RegisterView(
         template="",
         comment=_register_comment(reg, reg.label, (reg,)),
-        description=reg.description,
+        description=comment_text(reg.description),
         defines=define_lines(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name, is_modern),
@@ -453,7 +454,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         members.append(
             ArrayMemberView(
                 comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
-                description=reg.description,
+                description=comment_text(reg.description),
                 addr_macro=ctx.const(owner, "ADDR", what=f"the address of member {member.name} of array {array.name}"),
                 offset=c_unsigned(member.offset),
                 pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
@@ -516,7 +517,7 @@ def enum_view(ctx: Context, e: EnumType) -> EnumView:
         else:
             lines.append(f"    {name} = {_enum_literal(m.value)}{',' if i < last else ''} /* {comment} */")
         names.append(name)
-    comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
+    comment = sentence_comment(sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source)))
     return EnumView(
         type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"),
         comment=comment,
