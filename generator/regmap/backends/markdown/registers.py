@@ -107,8 +107,8 @@ def _addresses(reg: Register) -> str:
     return f"{md.address(reg.address)} ({reg.address})"
 
 
-def _address_facts(reg: Register) -> Md:
-    text = _addresses(reg)
+def _address_facts(reg: Register, text: str) -> Md:
+    """The Address fact: the register's addresses (`_addresses`, as its quick-reference row has them), and its pair."""
     if reg.paired:
         text += (
             f"; low word of a 32-bit pair whose unused high word is {md.address(reg.first_address)}:"
@@ -215,11 +215,14 @@ def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
     return BitfieldView(diagram=diagram_path(ctx.device, reg), alt=f"Bit layout of {owner}", rows=rows)
 
 
-def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[FactPair, ...]:
-    facts: list[FactPair] = [("Address", _address_facts(reg))]
+def _register_facts(
+    ctx: Context, reg: Register, address: Md, param: Md | None, errata: Sequence[str], example_names: Sequence[str]
+) -> tuple[FactPair, ...]:
+    """The facts table of a register, or of an array member (whose caller says its address and parameters)."""
+    facts: list[FactPair] = [("Address", address)]
     cells = _value_cells(ctx, reg)
-    if reg.param:
-        facts.append(("Parameter", md.escaped(reg.param)))
+    if param:
+        facts.append(("Parameter", param))
     if ctx.uses.other_spaces:
         facts.append(("Space", Md(space_fact(reg))))
     facts.append(("Type", md.escaped(type_fact(reg))))
@@ -273,12 +276,13 @@ def _heading(reg: Register) -> Md:
     return Md(f"{param}{md.code(reg.name)} — {md_text(reg.title)}{zh}")
 
 
-def _register_view(ctx: Context, reg: Register) -> RegisterView:
+def _register_view(ctx: Context, reg: Register, addresses: str) -> RegisterView:
+    param = md.escaped(reg.param) if reg.param else None
     return RegisterView(
         level="####",
         anchor=DocId(reg.name),
         heading=_heading(reg),
-        facts=_register_facts(ctx, reg, reg.errata, [reg.name]),
+        facts=_register_facts(ctx, reg, _address_facts(reg, addresses), param, reg.errata, [reg.name]),
         description=md.paragraph(reg.description),
         notes=md.paragraph(reg.notes),
         enum=enum_view(ctx, reg.enum) if reg.enum is not None else None,
@@ -324,10 +328,9 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
             )
         )
         if first.enum is not None or first.bitfields or first.description or first.notes or errata or first.scale_from:  # says raw x 10^sf
-            facts: list[FactPair] = [("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
-            if first.param and regs[-1].param:
-                facts.append(("Parameter", md.escaped(f"{first.param} … {regs[-1].param}")))
-            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f[0] not in ("Address", "Parameter")]
+            where = Md(f"{address}, n = {array.first_index} … {array.last_index}")
+            param_range = md.escaped(f"{first.param} … {regs[-1].param}") if first.param and regs[-1].param else None
+            facts = _register_facts(ctx, first, where, param_range, errata, [r.name for r in regs])
             details.append(
                 RegisterView(
                     level="#####",
@@ -335,7 +338,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                     heading=Md(
                         f"Member {md.code(m.name)} — {md_text(first.title)}" + (f" ({md_text(first.title_zh)})" if first.title_zh else "")
                     ),
-                    facts=tuple(facts),
+                    facts=facts,
                     description=md.paragraph(first.description),
                     notes=md.paragraph(first.notes),
                     enum=enum_view(ctx, first.enum) if first.enum is not None else None,
@@ -357,20 +360,20 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         f"`{hex_formula}` ({dec_formula}); a member at offset k sits k {unit}s further. "
         f"Element registers are named `{DocId(array.name)}_<n>_<member>`."
     )
-    facts = [
+    array_facts = [
         ("Addresses", Md(f"{md.address(array.base)} … {md.address(last.last_address)} ({array.base} … {last.last_address})")),
         ("Stride", Md(f"{array.stride} {unit}{'s' if array.stride != 1 else ''} per element")),
         ("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
     ]
     if array.element_title:
-        facts.append(("Element title", md.escaped(array.element_title)))
-    facts.append(("Source", md.escaped(md.sources(array.source))))
+        array_facts.append(("Element title", md.escaped(array.element_title)))
+    array_facts.append(("Source", md.escaped(md.sources(array.source))))
     zh = f" ({md_text(array.title_zh)})" if array.title_zh else ""
     return ArrayView(
         anchor=md.anchor("array", array.name),
         heading=Md(f"Array {md.code(array.name)} — {md_text(array.title)}{zh}"),
         summary=summary,
-        facts=tuple(facts),
+        facts=tuple(array_facts),
         description=md.paragraph(array.description),
         notes=md.paragraph(array.notes),
         members=tuple(rows),
@@ -399,8 +402,9 @@ def group_view(ctx: Context, group: Group) -> GroupView:
     done: set[str] = set()
     for reg in group.registers:
         if reg.array is None:
-            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(_addresses(reg)), md.link(md.code(reg.name), DocId(reg.name))))
-            items.append(_register_view(ctx, reg))
+            addresses = _addresses(reg)
+            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(addresses), md.link(md.code(reg.name), DocId(reg.name))))
+            items.append(_register_view(ctx, reg, addresses))
         elif reg.array.array not in done:
             done.add(reg.array.array)
             array = arrays[reg.array.array]
