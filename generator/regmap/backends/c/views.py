@@ -381,6 +381,8 @@ def _gate_view(ctx: Context, reg: Register, owner: str) -> GateView | None:
 
 
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
+    if not reg.bitfields:  # most registers
+        return ()
     word_type = C_TYPES[reg.type].bits
     word_bits = 16 * reg.words
     views = []

@@ -276,11 +276,11 @@ def _heading(reg: Register) -> Md:
     return Md(f"{param}{md.code(reg.name)} — {md_text(reg.title)}{zh}")
 
 
-def _register_view(ctx: Context, reg: Register, addresses: str) -> RegisterView:
+def _register_view(ctx: Context, reg: Register, anchor: DocId, addresses: str) -> RegisterView:
     param = md.escaped(reg.param) if reg.param else None
     return RegisterView(
         level="####",
-        anchor=DocId(reg.name),
+        anchor=anchor,
         heading=_heading(reg),
         facts=_register_facts(ctx, reg, _address_facts(reg, addresses), param, reg.errata, [reg.name]),
         description=md.paragraph(reg.description),
@@ -402,9 +402,9 @@ def group_view(ctx: Context, group: Group) -> GroupView:
     done: set[str] = set()
     for reg in group.registers:
         if reg.array is None:
-            addresses = _addresses(reg)
-            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(addresses), md.link(md.code(reg.name), DocId(reg.name))))
-            items.append(_register_view(ctx, reg, addresses))
+            addresses, anchor = _addresses(reg), DocId(reg.name)
+            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(addresses), md.link(md.code(reg.name), anchor)))
+            items.append(_register_view(ctx, reg, anchor, addresses))
         elif reg.array.array not in done:
             done.add(reg.array.array)
             array = arrays[reg.array.array]
