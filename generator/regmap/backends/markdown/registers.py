@@ -119,6 +119,8 @@ def _address_facts(reg: Register, text: str) -> Md:
 
 def _extra_cells(uses: Uses, reg: Register) -> tuple[Md, ...]:
     """The columns only some devices have: space, firmware gate, poll class (`extra_headers` names them)."""
+    if not (uses.gates or uses.poll or uses.other_spaces):  # most devices
+        return ()
     cells = []
     if uses.other_spaces:
         cells.append(Md(space_cell(reg)))

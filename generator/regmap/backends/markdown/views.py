@@ -430,7 +430,7 @@ class Context:
             self.enum_users[e.name] = []
         seen: set[tuple[str, str]] = set()
         for reg in device.registers:
-            if reg.enum is None and not any(b.enum is not None for b in reg.bitfields):
+            if reg.enum is None and not (reg.bitfields and any(b.enum is not None for b in reg.bitfields)):
                 continue  # no value table to list it under: its label is not needed (most registers)
             owner = reg.array.array + "." + reg.array.member if reg.array else reg.name
             label = (
