@@ -430,8 +430,10 @@ class Context:
             self.enum_users[e.name] = []
         seen: set[tuple[str, str]] = set()
         for reg in device.registers:
-            if reg.enum is None and not (reg.bitfields and any(b.enum is not None for b in reg.bitfields)):
-                continue  # no value table to list it under: its label is not needed (most registers)
+            if reg.enum is None and not reg.bitfields:
+                continue  # no value table to list it under (most registers), told without a generator over no bitfields
+            if reg.enum is None and not any(b.enum is not None for b in reg.bitfields):
+                continue  # nor one of its fields: its label is not needed
             owner = reg.array.array + "." + reg.array.member if reg.array else reg.name
             label = (
                 Md(f"{md.link(md.code(reg.array.array), md.anchor('array', reg.array.array))} member {md.code(reg.array.member)}")
