@@ -355,6 +355,8 @@ class Context:
         self._refs: dict[tuple[str, ...], str] = {}  # the functions referred to: an enum's tests, once per register using it
         # Literals registers share, by what they depend on (a scale's three spellings ...): spelled once per device.
         self.literals: dict[tuple[object, ...], tuple[str, ...]] = {}
+        # Per enum (by name): whether its members fit an int, its lowest and highest writable member (values._enum_span).
+        self.enum_spans: dict[str, tuple[bool, int | None, int | None]] = {}
 
     def const(self, *parts: str, what: str = "") -> str:
         name = self._identifier(parts)

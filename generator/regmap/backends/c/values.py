@@ -344,19 +344,30 @@ def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ..
     )
 
 
+def _enum_span(ctx: Context, e: EnumType) -> tuple[bool, int | None, int | None]:
+    """Whether every member of `e` fits an int (the enum's C type holds them), and its lowest and highest member a
+    write may send (None when none may be): once per device for each enum, which several registers may use."""
+    span = ctx.enum_spans.get(e.name)
+    if span is None:
+        writable = [m.value for m in e.members if m.writable]
+        typed = all(-(1 << 31) <= m.value < (1 << 31) for m in e.members)
+        span = ctx.enum_spans[e.name] = (typed, min(writable, default=None), max(writable, default=None))
+    return span
+
+
 def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     e = reg.enum
     assert e is not None
     raw_type = C_TYPES[reg.type].value
-    typed = all(-(1 << 31) <= m.value < (1 << 31) for m in e.members)
+    typed, lowest_writable, highest_writable = _enum_span(ctx, e)
     value_type = ctx.symbol_ref(e.name) if typed else raw_type
     writable, member = ctx.symbol_ref(e.name, "is_writable"), ctx.symbol_ref(e.name, "is_member")
     conditions = [f"{writable}(value)"]
     # The range where a member a write may send lies outside it (else membership says it all, and a bound
     # the enum's type already keeps would be flagged by -Wtype-limits).
-    if any(m.value < reg.raw_min for m in e.members if m.writable):
+    if lowest_writable is not None and lowest_writable < reg.raw_min:
         conditions.append(f"(long long)value >= (long long){c_signed(int(reg.raw_min))}")
-    if any(m.value > reg.raw_max for m in e.members if m.writable):
+    if highest_writable is not None and highest_writable > reg.raw_max:
         conditions.append(f"(long long)value <= (long long){c_signed(int(reg.raw_max))}")
     conditions += _not_destructive(ctx, reg)
     cast = f"({value_type})raw" if typed else "raw"
