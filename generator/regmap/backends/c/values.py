@@ -13,6 +13,7 @@ from fractions import Fraction
 from regmap.backends.c.names import (
     C_TYPES,
     FLOAT_GUARD,
+    WIRE_FUNCTIONS,
     WORD_ORDER_MACRO,
     Context,
     c_double,
@@ -95,7 +96,7 @@ def _word_order(ctx: Context, reg: Register) -> str:
 
 def _to_wire(ctx: Context, reg: Register, value: str) -> str:
     byte_order = WORD_ORDER_MACRO[reg.byte_order]
-    function = f"regmap_{reg.type.value}_to_wire"
+    function = WIRE_FUNCTIONS[reg.type][1]
     if reg.words == 1:
         return f"words[0] = {function}({value}, {byte_order});"
     return f"{function}({value}, {_word_order(ctx, reg)}, {byte_order}, words);"
@@ -103,7 +104,7 @@ def _to_wire(ctx: Context, reg: Register, value: str) -> str:
 
 def _from_wire(ctx: Context, reg: Register) -> str:
     byte_order = WORD_ORDER_MACRO[reg.byte_order]
-    function = f"regmap_{reg.type.value}_from_wire"
+    function = WIRE_FUNCTIONS[reg.type][0]
     if reg.words == 1:
         return f"{function}(words[0], {byte_order})"
     return f"{function}(words, {_word_order(ctx, reg)}, {byte_order})"

@@ -163,7 +163,7 @@ def _enum_literal(value: int) -> str:
 
 def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
     """Type, access, unit, scale, range, default and errata of a register (or of every element of an array member)."""
-    facts = [f"{reg.type.value} {reg.access.value}"]
+    facts = [f"{reg.type._value_} {reg.access._value_}"]  # _value_: the member's value, without Enum.value's Python descriptor
     if reg.zone is not None:
         facts.append(f"raw uint32_t {zone_text(reg)}, never converted to another zone")
     if reg.space != DEFAULT_SPACE:

@@ -46,7 +46,7 @@ NEW_WIDE = (DataType.U64, DataType.S64, DataType.F16, DataType.F32, DataType.F64
 
 
 def _type_text(reg: Register) -> str:
-    text = reg.type.value + order_suffix(reg)
+    text = reg.type._value_ + order_suffix(reg)  # _value_: the member's value, without Enum.value's Python descriptor
     if reg.paired:
         text += ", paired"
     return text

@@ -138,7 +138,7 @@ def type_fact(reg: Register) -> str:
         )
     if reg.zone is not None:  # the clock the seconds count, read as a date and time
         return f"{reg.type.value} ({zone_text(reg)}, unsigned 32-bit; read as a {'UTC' if reg.zone == 'utc' else 'local, zone-less'} date and time)"
-    return f"{reg.type.value} ({TYPE_LONG[reg.type]})"
+    return f"{reg.type._value_} ({TYPE_LONG[reg.type]})"  # _value_: the member's value, without Enum.value's Python descriptor
 
 
 def scale_fact(reg: Register, unit: str) -> str:
