@@ -115,7 +115,8 @@ def eng(reg: Register, raw: int | float | str, *, every_digit: bool = False) -> 
             return str(raw)  # most registers: what the exact fraction below prints, without its arithmetic (issue #36)
         if isinstance(raw, float):
             return number(raw * float(reg.scale) + float(reg.offset))
-        return _scaled_number(raw, reg.scale, reg.offset)
+        scale, offset = reg.scale, reg.offset
+        return _scaled_text(raw, scale.numerator, scale.denominator, offset.numerator, offset.denominator)
     if isinstance(raw, float):
         scaled = reg.scaled or reg.offset_set
         return number_text(raw * float(reg.scale) + float(reg.offset) if scaled else raw, None if scaled else reg.type.value)
@@ -132,6 +133,13 @@ _SCALED_CACHE_SIZE = 1 << 15
 def _scaled_number(raw: int, scale: Fraction, offset: Fraction) -> str:
     """`number` of raw x scale + offset, kept by those exact values (Fraction arithmetic and the decimal test are slow)."""
     return number(raw * scale + offset if offset else raw * scale)  # adding a Fraction 0 costs a gcd
+
+
+@functools.lru_cache(maxsize=_SCALED_CACHE_SIZE)
+def _scaled_text(raw: int, scale_num: int, scale_den: int, offset_num: int, offset_den: int) -> str:
+    """`_scaled_number` kept by the ratios' integers: a key of ints hashes in C, a Fraction's hash is Python code
+    (two of them cost more than the look-up saves, for the thousand values the back ends ask of a run)."""
+    return _scaled_number(raw, Fraction(scale_num, scale_den), Fraction(offset_num, offset_den))
 
 
 def zone_text(reg: Register) -> str:

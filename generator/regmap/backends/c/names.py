@@ -11,7 +11,7 @@ from regmap.diagnostics import UsageError
 from regmap.keywords import C_KEYWORDS, CPP_KEYWORDS
 from regmap.model import Access, DataType, Device, PollClass, Register, WordOrder
 from regmap.records import NamedTuple
-from regmap.render import header_lines
+from regmap.render import c_comment, header_lines
 from regmap_runtime.spaces import COIL, DISCRETE_INPUT, HOLDING, INPUT, SPACES
 from regmap_runtime.types import TYPES
 
@@ -222,7 +222,8 @@ C_TYPES = {
     DataType.TIMESTAMP: CType("uint32_t", "uint32_t"),
 }
 # The 16/32-bit integers of the first maps: their registers need no helper beyond the word conversions.
-PLAIN_TYPES = frozenset({DataType.U16, DataType.S16, DataType.U32, DataType.S32})
+# A tuple: `in` compares by identity, where a set would call the enum's __hash__ (Python code) for every register.
+PLAIN_TYPES = (DataType.U16, DataType.S16, DataType.U32, DataType.S32)
 # Shared helpers that move a register's value to and from its words on the wire (word and byte order applied).
 WIRE_FUNCTIONS: dict[DataType, tuple[str, str]] = {
     t: (f"regmap_{t.value}_from_wire", f"regmap_{t.value}_to_wire") for t in DataType if t is not DataType.BOOL
@@ -321,6 +322,24 @@ def define_lines(macros: Iterable[Macro | Define]) -> str:
     return "\n".join(f"#define {m[0]:<48} {m[1]}" for m in macros)
 
 
+def comment_text(text: str) -> str:
+    """`c_comment(text)`, without the split and join it spends on text whose whitespace is single spaces already
+    (printable, no space doubled or at an end: most map text) when it has nothing to escape either."""
+    if not text:
+        return ""
+    if text.isprintable() and "  " not in text and text[0] != " " and text[-1] != " ":
+        return sentence_comment(text)
+    return c_comment(text)
+
+
+def sentence_comment(sentence: str) -> str:
+    """`c_comment` of text `sentences` made, whose whitespace is single spaces already: text without a slash, a
+    backslash or `??` is then its own escape (most comments)."""
+    if "/" in sentence or "\\" in sentence or "??" in sentence:
+        return c_comment(sentence)
+    return sentence
+
+
 class Context:
     """Names for one device: macro prefix, function prefix, and the address expression of each register."""
 
@@ -336,6 +355,8 @@ class Context:
         self._refs: dict[tuple[str, ...], str] = {}  # the functions referred to: an enum's tests, once per register using it
         # Literals registers share, by what they depend on (a scale's three spellings ...): spelled once per device.
         self.literals: dict[tuple[object, ...], tuple[str, ...]] = {}
+        # Per enum (by name): whether its members fit an int, its lowest and highest writable member (values._enum_span).
+        self.enum_spans: dict[str, tuple[bool, int | None, int | None]] = {}
 
     def const(self, *parts: str, what: str = "") -> str:
         name = self._identifier(parts)

@@ -13,6 +13,7 @@ from fractions import Fraction
 from regmap.backends.c.names import (
     C_TYPES,
     FLOAT_GUARD,
+    WIRE_FUNCTIONS,
     WORD_ORDER_MACRO,
     Context,
     c_double,
@@ -21,11 +22,11 @@ from regmap.backends.c.names import (
     c_raw,
     c_signed,
     c_unsigned,
+    comment_text,
 )
 from regmap.core.text import eng, number, zone_text
 from regmap.model import DataType, EnumType, Register
 from regmap.records import NamedTuple
-from regmap.render import c_comment
 
 # The parameter a helper of a register whose word order follows the device's word-order register takes.
 ORDER_PARAM = "word_order"
@@ -95,7 +96,7 @@ def _word_order(ctx: Context, reg: Register) -> str:
 
 def _to_wire(ctx: Context, reg: Register, value: str) -> str:
     byte_order = WORD_ORDER_MACRO[reg.byte_order]
-    function = f"regmap_{reg.type.value}_to_wire"
+    function = WIRE_FUNCTIONS[reg.type][1]
     if reg.words == 1:
         return f"words[0] = {function}({value}, {byte_order});"
     return f"{function}({value}, {_word_order(ctx, reg)}, {byte_order}, words);"
@@ -103,7 +104,7 @@ def _to_wire(ctx: Context, reg: Register, value: str) -> str:
 
 def _from_wire(ctx: Context, reg: Register) -> str:
     byte_order = WORD_ORDER_MACRO[reg.byte_order]
-    function = f"regmap_{reg.type.value}_from_wire"
+    function = WIRE_FUNCTIONS[reg.type][0]
     if reg.words == 1:
         return f"{function}(words[0], {byte_order})"
     return f"{function}(words, {_word_order(ctx, reg)}, {byte_order})"
@@ -183,14 +184,20 @@ def _scaled(reg: Register) -> bool:
     return reg.scale != 1 or reg.offset_set
 
 
-def _ratio(reg: Register) -> tuple[str, str, str]:
-    """The offset, numerator and denominator as double literals (value = raw x num / den + offset)."""
-    return c_double(reg.offset), c_double(Fraction(reg.scale.numerator)), c_double(Fraction(reg.scale.denominator))
+def _ratio(ctx: Context, reg: Register) -> tuple[str, ...]:
+    """The offset, numerator and denominator as double literals (value = raw x num / den + offset); once per device for
+    each scale and offset (registers share a handful)."""
+    scale, offset = reg.scale, reg.offset
+    key = ("double ratio", scale.numerator, scale.denominator, offset.numerator, offset.denominator)
+    spelled = ctx.literals.get(key)
+    if spelled is None:
+        spelled = ctx.literals[key] = (c_double(offset), c_double(Fraction(scale.numerator)), c_double(Fraction(scale.denominator)))
+    return spelled
 
 
-def _scaled_value(reg: Register, raw: str) -> str:
+def _scaled_value(ctx: Context, reg: Register, raw: str) -> str:
     """The engineering value of `raw` as the Python client computes it: raw x num / den (+ offset when there is one)."""
-    offset, num, den = _ratio(reg)
+    offset, num, den = _ratio(ctx, reg)
     value = f"(double){raw} * {num} / {den}"
     return f"{value} + {offset}" if reg.offset_set else value
 
@@ -320,14 +327,14 @@ def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ..
     if reg.type.is_float:
         return _float_bodies(ctx, reg, in_range)
     if _scaled(reg):
-        offset, num, den = _ratio(reg)
+        offset, num, den = _ratio(ctx, reg)
         lo, hi = c_double(_inside(reg.raw_min, True)), c_double(_inside(reg.raw_max, False))
         convert = f"regmap_value_to_raw(value, {offset}, {num}, {den}, {lo}, {hi}, &raw)"
         return (
             "double",
             ("double raw;", f"return {convert};"),
             ("double raw;", f"if (!{convert}) {{", "    return false;", "}", _to_wire(ctx, reg, f"({raw_type})raw"), "return true;"),
-            (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
+            (f"*out = {_scaled_value(ctx, reg, _from_wire(ctx, reg))};", "return true;"),
         )
     conditions = _range_conditions(reg, "value", reg.type.raw_min, reg.type.raw_max) + _not_destructive(ctx, reg)
     return (
@@ -338,19 +345,30 @@ def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ..
     )
 
 
+def _enum_span(ctx: Context, e: EnumType) -> tuple[bool, int | None, int | None]:
+    """Whether every member of `e` fits an int (the enum's C type holds them), and its lowest and highest member a
+    write may send (None when none may be): once per device for each enum, which several registers may use."""
+    span = ctx.enum_spans.get(e.name)
+    if span is None:
+        writable = [m.value for m in e.members if m.writable]
+        typed = all(-(1 << 31) <= m.value < (1 << 31) for m in e.members)
+        span = ctx.enum_spans[e.name] = (typed, min(writable, default=None), max(writable, default=None))
+    return span
+
+
 def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     e = reg.enum
     assert e is not None
     raw_type = C_TYPES[reg.type].value
-    typed = all(-(1 << 31) <= m.value < (1 << 31) for m in e.members)
+    typed, lowest_writable, highest_writable = _enum_span(ctx, e)
     value_type = ctx.symbol_ref(e.name) if typed else raw_type
     writable, member = ctx.symbol_ref(e.name, "is_writable"), ctx.symbol_ref(e.name, "is_member")
     conditions = [f"{writable}(value)"]
     # The range where a member a write may send lies outside it (else membership says it all, and a bound
     # the enum's type already keeps would be flagged by -Wtype-limits).
-    if any(m.value < reg.raw_min for m in e.members if m.writable):
+    if lowest_writable is not None and lowest_writable < reg.raw_min:
         conditions.append(f"(long long)value >= (long long){c_signed(int(reg.raw_min))}")
-    if any(m.value > reg.raw_max for m in e.members if m.writable):
+    if highest_writable is not None and highest_writable > reg.raw_max:
         conditions.append(f"(long long)value <= (long long){c_signed(int(reg.raw_max))}")
     conditions += _not_destructive(ctx, reg)
     cast = f"({value_type})raw" if typed else "raw"
@@ -421,7 +439,7 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
     half = reg.type is DataType.F16
     held: tuple[str, ...]
     if _scaled(reg):
-        offset, num, den = _ratio(reg)
+        offset, num, den = _ratio(ctx, reg)
         raw = f"(value - {offset}) * {den} / {num}"
         if half:  # rounded once from the double, as the Python client rounds it; the half it becomes is checked too
             held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits_from_double(raw));",)
@@ -432,7 +450,7 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
             "double",
             (f"double raw = {raw};", *held, f"return raw >= {lo} && raw <= {hi}{_held_inside(half, lo, hi)}; /* NaN fails */"),
             (*_refused_when_not(in_range), sent, "return true;"),
-            (f"*out = {_scaled_value(reg, _from_wire(ctx, reg))};", "return true;"),
+            (f"*out = {_scaled_value(ctx, reg, _from_wire(ctx, reg))};", "return true;"),
         )
     held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits(value));",) if half else ()
     return (
@@ -479,7 +497,7 @@ def value_lines(view: ValueView) -> list[str]:
     a dozen small fields; a template would spend more steps on them than the lines take to join)."""
     v = view
     lines = [f"#if {v.guard}"] if v.guard else []
-    lines.append(f"/* {c_comment(v.comment)} */")
+    lines.append(f"/* {comment_text(v.comment)} */")
     if v.in_range:
         lines += _function(f"static inline bool {v.in_range}({v.value_type} value{v.sf})", v.in_range_body)
         lines += _function(f"static inline bool {v.encode}({v.value_type} value{v.sf}{v.order}, uint16_t words[{v.words}])", v.encode_body)

@@ -30,7 +30,9 @@ from regmap.backends.c.names import (
     c_signed,
     c_unsigned,
     c_value,
+    comment_text,
     define_lines,
+    sentence_comment,
 )
 from regmap.backends.c.values import EnumCheckView, enum_checks, member_values, ratio_literal, register_values, values_text
 from regmap.backends.c.variants import VariantView, variant_view, variants_macro
@@ -38,21 +40,21 @@ from regmap.core.text import eng, manual_sections, number, sentences, titled, zo
 from regmap.diagnostics import UsageError, at
 from regmap.model import ArrayDef, Bitfield, ByteOrder, Command, EnumType, PollClass, Register
 from regmap.records import NamedTuple
-from regmap.render import c_comment, c_str
+from regmap.render import c_str
 from regmap_runtime.spaces import DEFAULT_SPACE
 from regmap_runtime.spec import parse_version
 
 
 class EnumView(NamedTuple):
     type_name: str
-    comment: str
+    comment: str  # escaped for a C comment (sentence_comment)
     lines: str  # the members, one a line: `#define`s (as_macros) or the enum's constants
     as_macros: bool  # a value does not fit an int, which a C enum constant must
     checks: EnumCheckView
 
 
 class BitfieldView(NamedTuple):
-    comment: str
+    comment: str  # escaped for a C comment (sentence_comment)
     mask: Macro
     shift: Macro
     word_type: str
@@ -88,8 +90,8 @@ class GateView(NamedTuple):
 
 class RegisterView(NamedTuple):
     template: str  # "": device.h.jinja prints a register itself (an ArrayView names its template)
-    comment: str
-    description: str
+    comment: str  # escaped for a C comment (sentence_comment)
+    description: str  # escaped for a C comment (comment_text)
     defines: str  # the #define lines of its macros
     bitfields: tuple[BitfieldView, ...]
     codec: CodecView | None = None
@@ -108,8 +110,8 @@ class ElementTable(NamedTuple):
 
 
 class ArrayMemberView(NamedTuple):
-    comment: str
-    description: str
+    comment: str  # escaped for a C comment (sentence_comment)
+    description: str  # escaped for a C comment (comment_text)
     addr_macro: str
     offset: str
     pair_addr_macro: str | None
@@ -161,7 +163,7 @@ def _enum_literal(value: int) -> str:
 
 def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
     """Type, access, unit, scale, range, default and errata of a register (or of every element of an array member)."""
-    facts = [f"{reg.type.value} {reg.access.value}"]
+    facts = [f"{reg.type._value_} {reg.access._value_}"]  # _value_: the member's value, without Enum.value's Python descriptor
     if reg.zone is not None:
         facts.append(f"raw uint32_t {zone_text(reg)}, never converted to another zone")
     if reg.space != DEFAULT_SPACE:
@@ -181,8 +183,8 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
         facts.append(f"raw {reg.raw_min}..{reg.raw_max}{scaled}")
     if reg.range_text:
         facts.append(f"printed range {reg.range_text}")
-    defaults = {r.default for r in elements}
-    if len(defaults) > 1:
+    # A lone register is its own elements[0]: only an array member's elements can differ.
+    if len(elements) > 1 and len({r.default for r in elements}) > 1:
         facts.append("default differs per element")
     elif reg.default is not None and (reg.type.is_string or reg.type.is_bool):
         facts.append(f"default {eng(reg, reg.default)}")
@@ -194,9 +196,9 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
         facts.append("low word of a 32-bit pair whose unused high word is at ADDR - 1")
     if reg.takes_effect:
         facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
-    errata = sorted({e for r in elements for e in r.errata})
+    errata = reg.errata if len(elements) == 1 else [e for r in elements for e in r.errata]
     if errata:
-        facts.append(f"errata {', '.join(errata)}")
+        facts.append(f"errata {', '.join(sorted(set(errata)))}")
     if reg.type.info.has_byte_order and reg.byte_order is not ByteOrder.HIGH_FIRST:
         facts.append("bytes of each word low first")
     if reg.firmware is not None:
@@ -209,7 +211,10 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
 
 
 def _register_comment(reg: Register, label: str, elements: Sequence[Register]) -> str:
-    return sentences(f"{label}: {titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), manual_sections(reg.source))
+    """The register's comment, escaped for a C comment."""
+    return sentence_comment(
+        sentences(f"{label}: {titled(reg.title, reg.title_zh)}", _register_facts(reg, elements), manual_sections(reg.source))
+    )
 
 
 def modern(reg: Register) -> bool:
@@ -246,8 +251,9 @@ def _value_macros(
     tables = []
     if reg.wide:
         macros.append((ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
-    for key in ("min", "max", "default"):
-        if len(elements) > 1:  # an array member, whose elements may differ (a lone register is its own elements[0])
+    member = len(elements) > 1  # an array member, whose elements may differ (a lone register is its own elements[0])
+    for key, value in (("min", reg.min), ("max", reg.max), ("default", reg.default)):
+        if member:
             values = [getattr(r, key) for r in elements]
             if len(set(values)) > 1:
                 if None not in values:
@@ -255,7 +261,6 @@ def _value_macros(
                     count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
                     tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
                 continue
-        value = getattr(reg, key)
         if value is not None:
             macros.append((ctx.owned(stem, owner, key), _literal(reg, value)))
     if numeric and reg.scale_from is None:  # a scale_from register's scale is read at run time: no constant to mistake for it
@@ -376,6 +381,8 @@ def _gate_view(ctx: Context, reg: Register, owner: str) -> GateView | None:
 
 
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
+    if not reg.bitfields:  # most registers
+        return ()
     word_type = C_TYPES[reg.type].bits
     word_bits = 16 * reg.words
     views = []
@@ -405,8 +412,9 @@ def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldVi
 
 
 def _bitfield_comment(b: Bitfield) -> str:
+    """The field's comment, escaped for a C comment."""
     head = f"bit{'s' if b.width > 1 else ''} {b.bits_text} {b.name}: {titled(b.title, b.title_zh)}"
-    return sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description)
+    return sentence_comment(sentences(head, f"Values: enum {b.enum.name}" if b.enum else None, b.description))
 
 
 def _register_view(ctx: Context, reg: Register) -> RegisterView:
@@ -418,7 +426,7 @@ def _register_view(ctx: Context, reg: Register) -> RegisterView:
     return RegisterView(
         template="",
         comment=_register_comment(reg, reg.label, (reg,)),
-        description=reg.description,
+        description=comment_text(reg.description),
         defines=define_lines(macros),
         bitfields=_bitfield_views(ctx, reg, reg.name),
         codec=_codec_view(ctx, reg, reg.name, is_modern),
@@ -448,7 +456,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         members.append(
             ArrayMemberView(
                 comment=_register_comment(reg, f"{owner} (element {array.first_index}: {reg.label})", elements),
-                description=reg.description,
+                description=comment_text(reg.description),
                 addr_macro=ctx.const(owner, "ADDR", what=f"the address of member {member.name} of array {array.name}"),
                 offset=c_unsigned(member.offset),
                 pair_addr_macro=ctx.const(owner, "PAIR_ADDR") if reg.paired else None,
@@ -500,26 +508,24 @@ def group_views(ctx: Context) -> list[GroupView]:
 def enum_view(ctx: Context, e: EnumType) -> EnumView:
     # A C enum constant is an int; a table with a value outside int becomes macros instead.
     as_macros = any(not -(1 << 31) <= m.value < (1 << 31) for m in e.members)
-    members = tuple(
-        Macro(
-            ctx.const(e.name, m.name, what=f"member {m.name} of enum {e.name}"),
-            c_raw(m.value, m.value < 0) if as_macros else _enum_literal(m.value),
-            sentences(titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description),
-        )
-        for m in e.members
-    )
-    comment = sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source))
-    if as_macros:
-        lines = [f"#define {m.name:<48} {m.value} /* {c_comment(m.comment)} */" for m in members]
-    else:
-        last = len(members) - 1
-        lines = [f"    {m.name} = {m.value}{',' if i < last else ''} /* {c_comment(m.comment)} */" for i, m in enumerate(members)]
+    names = []
+    lines = []
+    last = len(e.members) - 1
+    for i, m in enumerate(e.members):
+        name = ctx.const(e.name, m.name, what=f"member {m.name} of enum {e.name}")
+        comment = sentence_comment(sentences(titled(m.title, m.title_zh) + (f" [{m.symbol}]" if m.symbol else ""), m.description))
+        if as_macros:
+            lines.append(f"#define {name:<48} {c_raw(m.value, m.value < 0)} /* {comment} */")
+        else:
+            lines.append(f"    {name} = {_enum_literal(m.value)}{',' if i < last else ''} /* {comment} */")
+        names.append(name)
+    comment = sentence_comment(sentences(titled(e.title, e.title_zh), e.description, manual_sections(e.source)))
     return EnumView(
         type_name=ctx.symbol(e.name, what=f"the type of enum {e.name}"),
         comment=comment,
         lines="\n".join(lines),
         as_macros=as_macros,
-        checks=enum_checks(ctx, e, [m.name for m in members]),
+        checks=enum_checks(ctx, e, names),
     )
 
 

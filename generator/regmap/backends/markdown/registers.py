@@ -19,6 +19,7 @@ from regmap.backends.markdown.views import (
     MemberRow,
     QuickRow,
     RegisterView,
+    ValueCells,
 )
 from regmap.backends.markdown.wire import (
     POLL_MEANING,
@@ -45,7 +46,7 @@ NEW_WIDE = (DataType.U64, DataType.S64, DataType.F16, DataType.F32, DataType.F64
 
 
 def _type_text(reg: Register) -> str:
-    text = reg.type.value + order_suffix(reg)
+    text = reg.type._value_ + order_suffix(reg)  # _value_: the member's value, without Enum.value's Python descriptor
     if reg.paired:
         text += ", paired"
     return text
@@ -55,34 +56,48 @@ def _raw(value: int | float) -> str:
     return number(value) if isinstance(value, float) else str(value)
 
 
-def _range(reg: Register, *, full: bool) -> Md:
-    """Engineering range; `full` adds the unit and the raw values (the quick reference has a unit column)."""
+def _value_cells(ctx: Context, reg: Register) -> ValueCells:
+    """The register's range and default, as its table row and as its facts show them: worked out once per register,
+    as the quick reference and the register's section (or an array's member table and details) both print them."""
+    cells = ctx.value_cells.get(reg.name)
+    if cells is None:
+        cells = ctx.value_cells[reg.name] = ValueCells(*_range(reg), *_default(reg))
+    return cells
+
+
+def _range(reg: Register) -> tuple[Md, Md]:
+    """Engineering range: the row's cell, and the fact, which adds the unit and the raw values (the quick
+    reference has a unit column)."""
     if reg.min is None and reg.max is None:
-        return md.escaped(reg.range_text) if reg.range_text and not full else Md(md.DASH)
+        return md.escaped(reg.range_text) if reg.range_text else Md(md.DASH), Md(md.DASH)  # the facts have no range then
     low, high = reg.raw_min, reg.raw_max
     if reg.scale_from is not None:  # the value's scale is read at run time: only the raw range is known
-        return Md(f"raw {_raw(low)} … {_raw(high)}")
+        raw = Md(f"raw {_raw(low)} … {_raw(high)}")
+        return raw, raw
     text = f"{eng(reg, low)} … {eng(reg, high)}"
-    if full:
-        text += md.unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else "")
-    return Md(text)
+    return Md(text), Md(text + md.unit_suffix(reg) + (f" (raw {_raw(low)} … {_raw(high)})" if has_conversion(reg) else ""))
 
 
-def _default(reg: Register, *, full: bool) -> Md:
+def _default(reg: Register) -> tuple[Md, Md]:
+    """The default: the row's cell, and the fact, which adds the unit and the raw value."""
     if reg.default is None:
-        return Md(md.DASH)
+        return Md(md.DASH), Md(md.DASH)
     value = reg.default
     if isinstance(value, str):
-        return Md(md_text(eng(reg, value)))  # text: quoted, escaped
+        quoted = Md(md_text(eng(reg, value)))  # text: quoted, escaped
+        return quoted, quoted
     if reg.bitfields and isinstance(value, int):
-        return Md(f"{md.hex_value(value, reg.words)} ({value})" if full else md.hex_value(value, reg.words))
+        bits = md.hex_value(value, reg.words)
+        return Md(bits), Md(f"{bits} ({value})")
     if reg.scale_from is not None:
-        return Md(f"raw {_raw(value)}")
+        raw = Md(f"raw {_raw(value)}")
+        return raw, raw
     text = eng(reg, value)
-    if full:
-        text += md.unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
+    full = text + md.unit_suffix(reg) + (f" (raw {_raw(value)})" if has_conversion(reg) else "")
     label = md.enum_label(reg.enum, value) if reg.enum is not None and isinstance(value, int) else None
-    return Md(f"{text} = {label}" if label else text)
+    if label:
+        return Md(f"{text} = {label}"), Md(f"{full} = {label}")
+    return Md(text), Md(full)
 
 
 def _addresses(reg: Register) -> str:
@@ -92,8 +107,8 @@ def _addresses(reg: Register) -> str:
     return f"{md.address(reg.address)} ({reg.address})"
 
 
-def _address_facts(reg: Register) -> Md:
-    text = _addresses(reg)
+def _address_facts(reg: Register, text: str) -> Md:
+    """The Address fact: the register's addresses (`_addresses`, as its quick-reference row has them), and its pair."""
     if reg.paired:
         text += (
             f"; low word of a 32-bit pair whose unused high word is {md.address(reg.first_address)}:"
@@ -104,6 +119,8 @@ def _address_facts(reg: Register) -> Md:
 
 def _extra_cells(uses: Uses, reg: Register) -> tuple[Md, ...]:
     """The columns only some devices have: space, firmware gate, poll class (`extra_headers` names them)."""
+    if not (uses.gates or uses.poll or uses.other_spaces):  # most devices
+        return ()
     cells = []
     if uses.other_spaces:
         cells.append(Md(space_cell(reg)))
@@ -121,6 +138,7 @@ def extra_headers(uses: Uses) -> tuple[str, ...]:
 def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -> QuickRow:
     """A row of the quick reference: where the register is and what it is called (the caller's, as an
     array member reads differently), then the register's own columns."""
+    cells = _value_cells(ctx, reg)
     return QuickRow(
         extra=_extra_cells(ctx.uses, reg),
         param=param,
@@ -130,8 +148,8 @@ def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -
         title_zh=reg.title_zh or md.DASH,
         access=ACCESS_SHORT[reg.access],
         type=_type_text(reg),
-        range=_range(reg, full=False),
-        default=_default(reg, full=False),
+        range=cells.range,
+        default=cells.default,
         unit=reg.unit or md.DASH,
         takes_effect=reg.takes_effect.replace("_", " ") if reg.takes_effect else md.DASH,
     )
@@ -199,10 +217,14 @@ def _bitfield_view(ctx: Context, reg: Register) -> BitfieldView:
     return BitfieldView(diagram=diagram_path(ctx.device, reg), alt=f"Bit layout of {owner}", rows=rows)
 
 
-def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_names: Sequence[str]) -> tuple[FactPair, ...]:
-    facts: list[FactPair] = [("Address", _address_facts(reg))]
-    if reg.param:
-        facts.append(("Parameter", md.escaped(reg.param)))
+def _register_facts(
+    ctx: Context, reg: Register, address: Md, param: Md | None, errata: Sequence[str], example_names: Sequence[str]
+) -> tuple[FactPair, ...]:
+    """The facts table of a register, or of an array member (whose caller says its address and parameters)."""
+    facts: list[FactPair] = [("Address", address)]
+    cells = _value_cells(ctx, reg)
+    if param:
+        facts.append(("Parameter", param))
     if ctx.uses.other_spaces:
         facts.append(("Space", Md(space_fact(reg))))
     facts.append(("Type", md.escaped(type_fact(reg))))
@@ -212,10 +234,10 @@ def _register_facts(ctx: Context, reg: Register, errata: Sequence[str], example_
     if ctx.device.is_trigger(reg):
         facts.append(("Trigger", Md("a write makes the device act: sent once, never retried")))
     if reg.min is not None or reg.max is not None:
-        facts.append(("Range", _range(reg, full=True)))
+        facts.append(("Range", cells.range_fact))
     if reg.range_text:
         facts.append(("Range as printed", md.escaped(reg.range_text)))
-    facts.append(("Default", _default(reg, full=True)))
+    facts.append(("Default", cells.default_fact))
     if reg.scale_from is not None:
         sf = md.reg_link(ctx.device.register(reg.scale_from), param=False)
         unit = f" in {md_text(reg.unit)}" if reg.unit else ""
@@ -256,12 +278,13 @@ def _heading(reg: Register) -> Md:
     return Md(f"{param}{md.code(reg.name)} — {md_text(reg.title)}{zh}")
 
 
-def _register_view(ctx: Context, reg: Register) -> RegisterView:
+def _register_view(ctx: Context, reg: Register, anchor: DocId, addresses: str) -> RegisterView:
+    param = md.escaped(reg.param) if reg.param else None
     return RegisterView(
         level="####",
-        anchor=DocId(reg.name),
+        anchor=anchor,
         heading=_heading(reg),
-        facts=_register_facts(ctx, reg, reg.errata, [reg.name]),
+        facts=_register_facts(ctx, reg, _address_facts(reg, addresses), param, reg.errata, [reg.name]),
         description=md.paragraph(reg.description),
         notes=md.paragraph(reg.notes),
         enum=enum_view(ctx, reg.enum) if reg.enum is not None else None,
@@ -289,6 +312,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         hex_formula, _ = _formula(array, first.address)
         address = Md(f"`{hex_formula}`" + (f" ({first.words} words)" if first.words > 1 else ""))
         errata = [e for r in regs for e in r.errata]
+        cells = _value_cells(ctx, first)
         rows.append(
             MemberRow(
                 extra=_extra_cells(ctx.uses, first),
@@ -300,16 +324,15 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 title_zh=first.title_zh or md.DASH,
                 type=_type_text(first),
                 access=ACCESS_SHORT[first.access],
-                range=_range(first, full=False),
-                default=_default(first, full=False),
+                range=cells.range,
+                default=cells.default,
                 unit=first.unit or md.DASH,
             )
         )
         if first.enum is not None or first.bitfields or first.description or first.notes or errata or first.scale_from:  # says raw x 10^sf
-            facts: list[FactPair] = [("Address", Md(f"{address}, n = {array.first_index} … {array.last_index}"))]
-            if first.param and regs[-1].param:
-                facts.append(("Parameter", md.escaped(f"{first.param} … {regs[-1].param}")))
-            facts += [f for f in _register_facts(ctx, first, errata, [r.name for r in regs]) if f[0] not in ("Address", "Parameter")]
+            where = Md(f"{address}, n = {array.first_index} … {array.last_index}")
+            param_range = md.escaped(f"{first.param} … {regs[-1].param}") if first.param and regs[-1].param else None
+            facts = _register_facts(ctx, first, where, param_range, errata, [r.name for r in regs])
             details.append(
                 RegisterView(
                     level="#####",
@@ -317,7 +340,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                     heading=Md(
                         f"Member {md.code(m.name)} — {md_text(first.title)}" + (f" ({md_text(first.title_zh)})" if first.title_zh else "")
                     ),
-                    facts=tuple(facts),
+                    facts=facts,
                     description=md.paragraph(first.description),
                     notes=md.paragraph(first.notes),
                     enum=enum_view(ctx, first.enum) if first.enum is not None else None,
@@ -339,20 +362,20 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
         f"`{hex_formula}` ({dec_formula}); a member at offset k sits k {unit}s further. "
         f"Element registers are named `{DocId(array.name)}_<n>_<member>`."
     )
-    facts = [
+    array_facts = [
         ("Addresses", Md(f"{md.address(array.base)} … {md.address(last.last_address)} ({array.base} … {last.last_address})")),
         ("Stride", Md(f"{array.stride} {unit}{'s' if array.stride != 1 else ''} per element")),
         ("Elements", Md(f"{array.count}, numbered from {array.index_base}")),
     ]
     if array.element_title:
-        facts.append(("Element title", md.escaped(array.element_title)))
-    facts.append(("Source", md.escaped(md.sources(array.source))))
+        array_facts.append(("Element title", md.escaped(array.element_title)))
+    array_facts.append(("Source", md.escaped(md.sources(array.source))))
     zh = f" ({md_text(array.title_zh)})" if array.title_zh else ""
     return ArrayView(
         anchor=md.anchor("array", array.name),
         heading=Md(f"Array {md.code(array.name)} — {md_text(array.title)}{zh}"),
         summary=summary,
-        facts=tuple(facts),
+        facts=tuple(array_facts),
         description=md.paragraph(array.description),
         notes=md.paragraph(array.notes),
         members=tuple(rows),
@@ -381,8 +404,9 @@ def group_view(ctx: Context, group: Group) -> GroupView:
     done: set[str] = set()
     for reg in group.registers:
         if reg.array is None:
-            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(_addresses(reg)), md.link(md.code(reg.name), DocId(reg.name))))
-            items.append(_register_view(ctx, reg))
+            addresses, anchor = _addresses(reg), DocId(reg.name)
+            quick.append(_quick_row(ctx, reg, reg.param or md.DASH, Md(addresses), md.link(md.code(reg.name), anchor)))
+            items.append(_register_view(ctx, reg, anchor, addresses))
         elif reg.array.array not in done:
             done.add(reg.array.array)
             array = arrays[reg.array.array]

@@ -43,6 +43,9 @@ class Md(str):
     """Markdown a view assembled from escaped map text and validated identifiers: printed as is."""
 
 
+_EMPTY = Md("")
+
+
 def escaped(text: str | None) -> Md:
     return Md(md_text(text))
 
@@ -67,6 +70,8 @@ _BLOCK_START = re.compile(r"^(?:[#>+\-]|\d+[.)])")
 def paragraph(text: str | None) -> Md:
     """Escaped text that stays one paragraph: a leading `#`, `>`, `-`, `+`, `1.` or `~~~` would start
     a block (`md_text` already folds the text onto one line and escapes everything inline)."""
+    if not text:  # most registers have no notes, many no description
+        return _EMPTY
     inline = md_text(text)
     match = _BLOCK_START.match(inline)
     if match:

@@ -39,6 +39,15 @@ def fact_rows(facts: Iterable[FactPair]) -> str:
     return "\n".join([f"| {label} | {value} |" for label, value in facts])
 
 
+class ValueCells(NamedTuple):
+    """A register's range and default as a table row shows them, and as its facts do (with the unit and the raw values)."""
+
+    range: Md
+    range_fact: Md
+    default: Md
+    default_fact: Md
+
+
 class QuickRow(NamedTuple):
     extra: tuple[Md, ...]  # the space, firmware and poll columns of a device that uses them
     param: str
@@ -399,6 +408,9 @@ class DevicePage(NamedTuple):
     errata: tuple[ErratumView, ...]
 
 
+_NO_LINKS = Md("")
+
+
 class Context:
     """What the views of one device share: register look-ups and specs, the example and errata cross-links."""
 
@@ -410,6 +422,7 @@ class Context:
         self.responses: dict[str, list[str]] = {}
         self.enum_users: dict[str, list[Md]] = {}
         self.enum_views: dict[int, EnumView] = {}  # by id() of the EnumType (the device holds each for the run)
+        self.value_cells: dict[str, ValueCells] = {}  # by register name
         for ex in device.examples:
             if ex.request is not None:
                 self.responses.setdefault(ex.request, []).append(ex.id)
@@ -417,8 +430,10 @@ class Context:
             self.enum_users[e.name] = []
         seen: set[tuple[str, str]] = set()
         for reg in device.registers:
+            if reg.enum is None and not reg.bitfields:
+                continue  # no value table to list it under (most registers), told without a generator over no bitfields
             if reg.enum is None and not any(b.enum is not None for b in reg.bitfields):
-                continue  # no value table to list it under: its label is not needed (most registers)
+                continue  # nor one of its fields: its label is not needed
             owner = reg.array.array + "." + reg.array.member if reg.array else reg.name
             label = (
                 Md(f"{md.link(md.code(reg.array.array), md.anchor('array', reg.array.array))} member {md.code(reg.array.member)}")
@@ -439,4 +454,6 @@ class Context:
             for ex in self.examples_by_register.get(name, []):
                 if ex not in ids:
                     ids.append(ex)
-        return md.join(md.link(md.code(i), md.anchor("example", i)) for i in ids)
+        if not ids:  # most registers are in no example
+            return _NO_LINKS
+        return md.join([md.link(md.code(i), md.anchor("example", i)) for i in ids])

@@ -95,7 +95,7 @@ def order_name(words: int, word_order: WordOrder, byte_order: ByteOrder) -> str:
 
 
 def bytes_swapped(reg: Register) -> bool:
-    return reg.type.info.has_byte_order and reg.byte_order is ByteOrder.LOW_FIRST
+    return reg.byte_order is ByteOrder.LOW_FIRST and reg.type.info.has_byte_order  # the cheap test first: most keep the order
 
 
 def order_suffix(reg: Register) -> str:
@@ -138,7 +138,7 @@ def type_fact(reg: Register) -> str:
         )
     if reg.zone is not None:  # the clock the seconds count, read as a date and time
         return f"{reg.type.value} ({zone_text(reg)}, unsigned 32-bit; read as a {'UTC' if reg.zone == 'utc' else 'local, zone-less'} date and time)"
-    return f"{reg.type.value} ({TYPE_LONG[reg.type]})"
+    return f"{reg.type._value_} ({TYPE_LONG[reg.type]})"  # _value_: the member's value, without Enum.value's Python descriptor
 
 
 def scale_fact(reg: Register, unit: str) -> str:
@@ -233,8 +233,11 @@ def uses(device: Device) -> Uses:
 
 def shared(regs: tuple[Register, ...] | list[Register], key: str) -> object:
     """The value of `key` every register has (a group's inherited `space`, `firmware`, `poll`), or None."""
-    values = {repr(getattr(r, key)) for r in regs}
-    return getattr(regs[0], key) if regs and len(values) == 1 else None
+    if not regs:
+        return None
+    values = [getattr(r, key) for r in regs]
+    first = values[0]
+    return first if values.count(first) == len(values) else None  # equal values (list.count tries identity first)
 
 
 def read_alignment_text(a: ReadAlignment) -> str:
