@@ -22,7 +22,7 @@ from regmap.homeauto.yamltext import yaml_text
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.records import dataclass
 from regmap.render import header_lines
-from regmap.runtime_bridge import documented_addresses, runtime_alignment, runtime_specs
+from regmap.runtime_bridge import documented_addresses, runtime_alignment, wire_specs
 from regmap_runtime.plan import ReadBlock, plan_reads
 
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
@@ -283,7 +283,7 @@ def planned(
         chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == key}
         first, until, variants = key
         gate = FirmwareGate(first or None, until or None) if first or until else None
-        specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
+        specs = [spec for spec in wire_specs(device) if spec.name in chosen]
         bridged = None if documented is None else documented - _other_variants_words(device, variants)
         blocks = plan_reads(specs, t.max_read_registers, bridged, max_bits=bits, alignment=runtime_alignment(device))
         out += [(block, PollClass(poll), gate) for block in blocks]
