@@ -28,7 +28,8 @@ if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/t
 _SPECS: dict[int, list[RegisterSpec[Any]]] = {}  # wire_specs(): what planning and the wire need
 _RUNTIME: dict[int, list[RegisterSpec[Any]]] = {}  # runtime_specs(): the same with the enum classes the checks use
 _PLANS: dict[int, tuple[ReadBlock, ...]] = {}  # read_all()'s plan of each device
-_MEMOS = (_SPECS, _RUNTIME, _PLANS)
+_EXTRAS: dict[int, dict[str, tuple[dict[str, Any], dict[str, Any]]]] = {}  # register_extras()
+_MEMOS = (_SPECS, _RUNTIME, _PLANS, _EXTRAS)
 
 
 def _kept(device: Device, cache: dict[int, Any], value: Any) -> None:
@@ -84,6 +85,7 @@ def wire_specs(device: Device) -> list[RegisterSpec[Any]]:
     if cached is not None:
         return cached
     specs: list[RegisterSpec[Any]] = []
+    extras = register_extras(device)
     for r in device.registers:
         fields = {
             "name": r.name,
@@ -102,11 +104,22 @@ def wire_specs(device: Device) -> list[RegisterSpec[Any]]:
             "bitfields": tuple(BitfieldSpec(b.name, b.lsb, b.width) for b in r.bitfields),
             "space": r.space,
         }
-        fields.update(spec_extras(r))
-        fields.update(command_extras(device, r))
+        own, commands = extras[r.name]
+        fields.update(own)
+        fields.update(commands)
         specs.append(_spec(fields))
     _kept(device, _SPECS, specs)
     return specs
+
+
+def register_extras(device: Device) -> dict[str, tuple[dict[str, Any], dict[str, Any]]]:
+    """Each register's `spec_extras` and `command_extras` by its name: worked out once per device for the wire specs
+    and the back ends that print them (the Python modules). Shared: read them, never change them."""
+    cached = _EXTRAS.get(id(device))
+    if cached is None:
+        cached = {r.name: (spec_extras(r), command_extras(device, r)) for r in device.registers}
+        _kept(device, _EXTRAS, cached)
+    return cached
 
 
 def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:

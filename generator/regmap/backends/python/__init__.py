@@ -15,7 +15,7 @@ from regmap.keywords import PYTHON_KEYWORDS
 from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
 from regmap.records import NamedTuple
 from regmap.render import header_lines, py_doc, py_str, templates
-from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
+from regmap.runtime_bridge import device_extras, read_plan, register_extras
 from regmap.target import Files, ReservedWords, Target
 from regmap_runtime import errors
 from regmap_runtime.spaces import DEFAULT_SPACE
@@ -285,10 +285,10 @@ _SPEC_CLASSES = {"r": "ReadOnly", "rw": "ReadWrite", "w": "WriteOnly"}  # by the
 
 
 def _register_view(
-    reg: Register, attr: str | None = None, constant: str | None = None, *, commands: dict[str, Any] | None = None
+    reg: Register, own: dict[str, Any], commands: dict[str, Any] | None = None, *, attr: str | None = None, constant: str | None = None
 ) -> RegisterView:
-    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant;
-    `commands`: what the device's commands make of the register (`command_extras`: trigger, destructive values)."""
+    """`own`, `commands`: the register's `register_extras` (spec fields beyond the basic ones; trigger and destructive
+    values); `attr` and `constant` for an array member: its attribute and how an element's method reaches its constant."""
     writable = _writable(reg)
     readable = reg.access.readable
     access = reg.access if writable or not readable else Access.READ
@@ -323,7 +323,7 @@ def _register_view(
     if reg.bitfields:
         kwargs += [("bitfields", f"{read_type}.FIELDS"), ("bitfield_type", read_type)]  # the read type: the bits class
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
-    kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
+    kwargs += [(key, _literal(value)) for key, value in (own | commands if commands else own).items()]
     methods = reg.array is None or attr is not None  # an array element's are its member's: no method text of its own
     read_doc, write_doc = _method_docs(reg, constant or constant_name) if methods else ("", "")
     return RegisterView(
@@ -341,7 +341,7 @@ def _register_view(
     )
 
 
-def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
+def _array_view(by_name: dict[str, Register], array: ArrayDef, extras: dict[str, tuple[dict[str, Any], dict[str, Any]]]) -> ArrayView:
     elements = []
     members: dict[str, RegisterView] = {}
     for index in range(array.first_index, array.last_index + 1):
@@ -351,7 +351,7 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
             pairs.append((str(PythonIdentifier(member.name)), const(reg.name)))
             if member.name not in members:
                 attr = PythonIdentifier(member.name)
-                members[member.name] = _register_view(reg, attr, f"{const(array.name)}[n].{attr}")
+                members[member.name] = _register_view(reg, extras[reg.name][0], attr=attr, constant=f"{const(array.name)}[n].{attr}")
         elements.append((index, tuple(pairs)))
     doc = (
         titled(array.title, array.title_zh)
@@ -533,8 +533,9 @@ def device_context(device: Device) -> dict[str, Any]:
     by_name: dict[str, Register] = {}
     for reg in device.registers:
         by_name.setdefault(reg.name, reg)
-    arrays = [_array_view(by_name, a) for a in device.arrays]
-    all_regs = [_register_view(r, commands=command_extras(device, r)) for r in device.registers]
+    extras = register_extras(device)
+    arrays = [_array_view(by_name, a, extras) for a in device.arrays]
+    all_regs = [_register_view(r, *extras[r.name]) for r in device.registers]
     plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
     problems = check(device)
