@@ -19,6 +19,7 @@ from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
+from regmap_runtime.types import TYPES
 
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
     from regmap.plant import Bus, Plant, PlantDevice
@@ -69,11 +70,16 @@ _new_spec = object.__new__
 
 def _spec(fields: dict[str, Any]) -> RegisterSpec[Any]:
     """RegisterSpec(**fields), made as its __init__ makes it (the fields, in order, in the instance's dict; the class
-    has no __post_init__) at a fifth of the cost: a frozen dataclass's __init__ sets each of its 35 fields by a call."""
+    has no __post_init__) at a fifth of the cost: a frozen dataclass's __init__ sets each of its 35 fields by a call.
+    The three cached facts every planner asks first are filled in as the class works them out: Python 3.11's
+    cached_property takes a lock on each first read."""
     spec: RegisterSpec[Any] = _new_spec(RegisterSpec)
     own = spec.__dict__
     own.update(_SPEC_FIELDS)
     own.update(fields)
+    info = own["type_info"] = TYPES[own["data_type"]]
+    own["words"] = own["string_words"] if info.is_string else info.words
+    own["first_address"] = own["address"] - 1 if own["paired"] else own["address"]
     return spec
 
 
@@ -283,7 +289,7 @@ def read_plan(
     chosen = device.registers if registers is None else registers
     if poll is not None:
         chosen = [r for r in chosen if r.poll is poll]
-    names = {r.name for r in chosen if all(r.on_variant(v) for v in variants)}
+    names = {r.name for r in chosen if all(r.on_variant(v) for v in variants)} if variants else {r.name for r in chosen}
     specs = [s for s in wire_specs(device) if s.name in names]
     limit, documented = t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device, variants)
     if profile is not None:

@@ -19,6 +19,7 @@ from regmap_runtime.spec import BitfieldSpec, RegisterSpec
 
 from conftest import FIXTURE_MAPS, MAPS, ROOT
 
+SEEDED = ("type_info", "words", "first_address")  # RegisterSpec's cached properties, filled in when the spec is made
 EVERY = [*MAPS, *FIXTURE_MAPS, *sorted((ROOT / "tests" / "maps" / "scaled_from").glob("*.yaml"))]
 
 
@@ -70,7 +71,9 @@ def test_the_specs_are_what_the_constructor_makes(path: Path) -> None:
     assert len(built) == len(wire) == len(expected) == len(device.registers)
     for spec, plain, want in zip(built, wire, expected, strict=True):
         assert type(spec) is type(plain) is RegisterSpec
-        assert list(vars(plain)) == list(vars(want))  # every field, in the constructor's order, nothing else
+        # every field, in the constructor's order, then the facts the class caches, as its properties work them out
+        assert list(vars(plain)) == list(vars(spec)) == [*vars(want), *SEEDED]
+        assert [vars(plain)[name] for name in SEEDED] == [vars(spec)[name] for name in SEEDED] == [getattr(want, name) for name in SEEDED]
         assert _without_enums(spec) == _without_enums(want) == _without_enums(plain)
         assert _enum_facts(spec) == _enum_facts(want)
         assert plain.enum is None and all(b.enum is None for b in plain.bitfields)
