@@ -112,13 +112,14 @@ def snapshot_name(device: Device) -> str:
     return camel(device.id) + "Values"
 
 
-def _snapshot_view(device: Device) -> SnapshotView:
+def _snapshot_view(device: Device, views: list[RegisterView]) -> SnapshotView:
+    """`views`: each register's, whose value type the snapshot gives a readable one."""
     name = snapshot_name(device)
     doc = (
         "What read_all() and read_many() return: register name -> value, typed per register; a register"
         " not read (another poll class, absent in the firmware, not asked for) is not there."
     )
-    fields = tuple((py_str(r.name), _value_type(r)) for r in device.registers if r.access.readable)
+    fields = tuple((py_str(r.name), view.value_type) for r, view in zip(device.registers, views, strict=True) if view.readable)
     return SnapshotView(name=name, name_literal=py_str(name), doc=py_doc(doc), fields=fields)
 
 
@@ -166,14 +167,11 @@ def _bitfield_view(b: Bitfield) -> BitfieldView:
     )
 
 
-def _value_type(reg: Register) -> str:
+def _read_type(reg: Register) -> str:
     """What a read returns: the bitfield class, the enum (or the number, for a value the manual does not
     list), text for a string, a bool for a coil or discrete input, a float for a float or a scaled or
-    offset value, else an int; `| None` where the device may send its "not available" marker (`na`)."""
-    return _read_type(reg) + (" | None" if reg.has_na or reg.scale_from else "")
-
-
-def _read_type(reg: Register) -> str:
+    offset value, else an int (the register's view adds `| None` where the device may send its "not
+    available" marker, `na`, or the value waits for its scale factor)."""
     if reg.bitfields:
         return _bits_class_name(reg)
     if reg.enum is not None:  # a float enum register also reads a value no member can be (2.5) as the float
@@ -258,7 +256,7 @@ def _register_view(
         const=constant_name,
         attr=PythonIdentifier(attr or reg.name),
         spec_class=_SPEC_CLASSES[access._value_],
-        value_type=read_type + " | None" if reg.has_na or reg.scale_from else read_type,  # as _value_type
+        value_type=read_type + " | None" if reg.has_na or reg.scale_from else read_type,
         write_type=(_enum_write_type(reg.enum) if reg.enum is not None and not reg.bitfields else read_type) if methods else "",
         readable=readable,
         writable=writable,
@@ -482,7 +480,7 @@ def device_context(device: Device) -> dict[str, Any]:
         "plain": plain,
         "arrays": arrays,
         "commands": [_command_view(c) for c in device.commands],
-        "snapshot": _snapshot_view(device),
+        "snapshot": _snapshot_view(device, all_regs),
         "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
         "device_kwargs": [(key, _literal(value)) for key, value in device_extras(device).items()],
         "errors": module_errors(device),
