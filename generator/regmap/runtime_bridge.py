@@ -30,7 +30,8 @@ _SPECS: dict[int, list[RegisterSpec[Any]]] = {}  # wire_specs(): what planning a
 _RUNTIME: dict[int, list[RegisterSpec[Any]]] = {}  # runtime_specs(): the same with the enum classes the checks use
 _PLANS: dict[int, tuple[ReadBlock, ...]] = {}  # read_all()'s plan of each device
 _EXTRAS: dict[int, dict[str, tuple[dict[str, Any], dict[str, Any]]]] = {}  # register_extras()
-_MEMOS = (_SPECS, _RUNTIME, _PLANS, _EXTRAS)
+_DOCUMENTED: dict[int, frozenset[tuple[str, int]]] = {}  # documented_addresses() of every variant
+_MEMOS = (_SPECS, _RUNTIME, _PLANS, _EXTRAS, _DOCUMENTED)
 
 
 def _kept(device: Device, cache: dict[int, Any], value: Any) -> None:
@@ -47,13 +48,20 @@ def _forget(key: int) -> None:
 
 def documented_addresses(device: Device, variants: Sequence[str] = ()) -> frozenset[tuple[str, int]]:
     """(space, address) of every word the device answers reads of: every readable register's, pairs included;
-    with `variants`, only the registers every one of them has (a word one of them lacks answers 0x02 there)."""
-    return frozenset(
-        (r.space, a)
-        for r in device.registers
-        if r.access.readable and all(r.on_variant(v) for v in variants)
-        for a in range(r.first_address, r.last_address + 1)
-    )
+    with `variants`, only the registers every one of them has (a word one of them lacks answers 0x02 there).
+    Without variants (the read plans and the ESPHome and HA ranges ask for it) worked out once per device."""
+    if variants:
+        return frozenset(
+            (r.space, a)
+            for r in device.registers
+            if r.access.readable and all(r.on_variant(v) for v in variants)
+            for a in range(r.first_address, r.last_address + 1)
+        )
+    cached = _DOCUMENTED.get(id(device))
+    if cached is None:
+        cached = frozenset((r.space, a) for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
+        _kept(device, _DOCUMENTED, cached)
+    return cached
 
 
 def runtime_enum(e: EnumType) -> type[enum.IntEnum]:

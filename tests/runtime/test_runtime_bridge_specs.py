@@ -13,7 +13,7 @@ import pytest
 
 from regmap.frontend import load_map
 from regmap.model import Device
-from regmap.runtime_bridge import command_extras, read_plan, runtime_enum, runtime_specs, spec_extras, wire_specs
+from regmap.runtime_bridge import command_extras, documented_addresses, read_plan, runtime_enum, runtime_specs, spec_extras, wire_specs
 from regmap_runtime.codec import RangeError, check_raw
 from regmap_runtime.spec import BitfieldSpec, RegisterSpec
 
@@ -102,7 +102,31 @@ def test_the_plan_holds_wire_specs_and_both_go_with_the_device() -> None:
     wire = {s.name: s for s in wire_specs(device)}
     assert all(wire[s.name] is s for block in read_plan(device) for s in block.registers)
     runtime_specs(device)
-    assert all(key in memo for memo in (runtime_bridge._SPECS, runtime_bridge._RUNTIME, runtime_bridge._PLANS))
+    documented = documented_addresses(device)
+    assert documented_addresses(device) is documented  # worked out once
+    words = {(r.space, a) for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1)}
+    assert documented == words
+    memos = (runtime_bridge._SPECS, runtime_bridge._RUNTIME, runtime_bridge._PLANS, runtime_bridge._EXTRAS, runtime_bridge._DOCUMENTED)
+    assert all(key in memo for memo in memos)
     del device, wire
     gc.collect()
-    assert all(key not in memo for memo in (runtime_bridge._SPECS, runtime_bridge._RUNTIME, runtime_bridge._PLANS))
+    assert all(key not in memo for memo in memos)
+
+
+def test_the_documented_words_of_some_variants_are_never_the_kept_ones() -> None:
+    """The words of every variant are kept per device; a question about some variants is answered afresh."""
+    device = next(d for d in map(load_map, EVERY) if d.info.variants)
+    every = documented_addresses(device)
+    fewer = 0
+    for variant in device.info.variants:
+        some = documented_addresses(device, (variant.name,))
+        assert some == {
+            (r.space, a)
+            for r in device.registers
+            if r.access.readable and r.on_variant(variant.name)
+            for a in range(r.first_address, r.last_address + 1)
+        }
+        assert some <= every
+        fewer += some != every
+    assert fewer  # some variant lacks a register, so the kept answer would be wrong for it
+    assert documented_addresses(device) is every
