@@ -277,14 +277,15 @@ def planned(
     t = device.transport
     documented = None if t.tolerates_gaps else documented_addresses(device)
     bits = t.max_read_coils if max_bits is None else min(t.max_read_coils, max_bits)
-    keys = sorted({(r.poll.value, gate_key(r)) for r in registers})
+    keyed = [((r.poll._value_, gate_key(r)), r.name) for r in registers]  # _value_: .value is a Python-level property in 3.11
     out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
-    for poll, key in keys:
-        chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == key}
+    for poll, key in sorted({both for both, _ in keyed}):
+        chosen = {name for both, name in keyed if both == (poll, key)}
         first, until, variants = key
         gate = FirmwareGate(first or None, until or None) if first or until else None
         specs = [spec for spec in wire_specs(device) if spec.name in chosen]
-        bridged = None if documented is None else documented - _other_variants_words(device, variants)
+        others = _other_variants_words(device, variants) if documented is not None else frozenset()
+        bridged = documented - others if documented is not None and others else documented  # most maps: no variant's own words
         blocks = plan_reads(specs, t.max_read_registers, bridged, max_bits=bits, alignment=runtime_alignment(device))
         out += [(block, PollClass(poll), gate) for block in blocks]
     spaces = ("holding", "input", "coil", "discrete_input")
