@@ -284,8 +284,7 @@ def planned(
         first, until, variants = key
         gate = FirmwareGate(first or None, until or None) if first or until else None
         specs = [spec for spec in wire_specs(device) if spec.name in chosen]
-        others = _other_variants_words(device, variants) if documented is not None else frozenset()
-        bridged = documented - others if documented is not None and others else documented  # most maps: no variant's own words
+        bridged = None if documented is None else documented - _other_variants_words(device, variants)
         blocks = plan_reads(specs, t.max_read_registers, bridged, max_bits=bits, alignment=runtime_alignment(device))
         out += [(block, PollClass(poll), gate) for block in blocks]
     spaces = ("holding", "input", "coil", "discrete_input")
