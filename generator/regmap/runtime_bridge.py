@@ -6,6 +6,7 @@ The read plan is computed once, by the very planner the runtime uses, so the Pyt
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import weakref
 from collections.abc import Sequence
@@ -18,37 +19,49 @@ from regmap_runtime.plan import ReadBlock, plan_reads
 from regmap_runtime.profile import DeviceProfile
 from regmap_runtime.spaces import MAX_READ_BITS, MAX_WRITE_BITS, SPACES
 from regmap_runtime.spec import BitfieldSpec, DeviceSpec, RegisterSpec
+from regmap_runtime.types import TYPES
 
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
     from regmap.plant import Bus, Plant, PlantDevice
 
 # Worked out once per device while it lives: keyed by its id (hashing a whole model would cost more than the work),
 # each entry dropped when its device is freed, so a process that loads many maps keeps only the live ones'.
-_SPECS: dict[int, list[RegisterSpec[Any]]] = {}
+_SPECS: dict[int, list[RegisterSpec[Any]]] = {}  # wire_specs(): what planning and the wire need
+_RUNTIME: dict[int, list[RegisterSpec[Any]]] = {}  # runtime_specs(): the same with the enum classes the checks use
 _PLANS: dict[int, tuple[ReadBlock, ...]] = {}  # read_all()'s plan of each device
+_EXTRAS: dict[int, dict[str, tuple[dict[str, Any], dict[str, Any]]]] = {}  # register_extras()
+_DOCUMENTED: dict[int, frozenset[tuple[str, int]]] = {}  # documented_addresses() of every variant
+_MEMOS = (_SPECS, _RUNTIME, _PLANS, _EXTRAS, _DOCUMENTED)
 
 
 def _kept(device: Device, cache: dict[int, Any], value: Any) -> None:
     key = id(device)
-    if key not in _SPECS and key not in _PLANS:
+    if all(key not in memo for memo in _MEMOS):
         weakref.finalize(device, _forget, key)
     cache[key] = value
 
 
 def _forget(key: int) -> None:
-    _SPECS.pop(key, None)
-    _PLANS.pop(key, None)
+    for memo in _MEMOS:
+        memo.pop(key, None)
 
 
 def documented_addresses(device: Device, variants: Sequence[str] = ()) -> frozenset[tuple[str, int]]:
     """(space, address) of every word the device answers reads of: every readable register's, pairs included;
-    with `variants`, only the registers every one of them has (a word one of them lacks answers 0x02 there)."""
-    return frozenset(
-        (r.space, a)
-        for r in device.registers
-        if r.access.readable and all(r.on_variant(v) for v in variants)
-        for a in range(r.first_address, r.last_address + 1)
-    )
+    with `variants`, only the registers every one of them has (a word one of them lacks answers 0x02 there).
+    Without variants (the read plans and the ESPHome and HA ranges ask for it) worked out once per device."""
+    if variants:
+        return frozenset(
+            (r.space, a)
+            for r in device.registers
+            if r.access.readable and all(r.on_variant(v) for v in variants)
+            for a in range(r.first_address, r.last_address + 1)
+        )
+    cached = _DOCUMENTED.get(id(device))
+    if cached is None:
+        cached = frozenset((r.space, a) for r in device.registers if r.access.readable for a in range(r.first_address, r.last_address + 1))
+        _kept(device, _DOCUMENTED, cached)
+    return cached
 
 
 def runtime_enum(e: EnumType) -> type[enum.IntEnum]:
@@ -58,38 +71,89 @@ def runtime_enum(e: EnumType) -> type[enum.IntEnum]:
     return made
 
 
-def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
-    """Every register as the runtime sees it, enums and bitfields included, so that the one
-    check (`regmap_runtime.codec.check_raw`) serves the CLI and the simulator as it serves the
-    generated clients. Built once per device."""
+# Every RegisterSpec field with its default, in the dataclass's order (the four without one are always given).
+_SPEC_FIELDS: dict[str, Any] = {f.name: f.default for f in dataclasses.fields(RegisterSpec)}
+_new_spec = object.__new__
+
+
+def _spec(fields: dict[str, Any]) -> RegisterSpec[Any]:
+    """RegisterSpec(**fields), made as its __init__ makes it (the fields, in order, in the instance's dict; the class
+    has no __post_init__) at a fifth of the cost: a frozen dataclass's __init__ sets each of its 35 fields by a call.
+    The three cached facts every planner asks first are filled in as the class works them out: Python 3.11's
+    cached_property takes a lock on each first read."""
+    spec: RegisterSpec[Any] = _new_spec(RegisterSpec)
+    own = spec.__dict__
+    own.update(_SPEC_FIELDS)
+    own.update(fields)
+    info = own["type_info"] = TYPES[own["data_type"]]
+    own["words"] = own["string_words"] if info.is_string else info.words
+    own["first_address"] = own["address"] - 1 if own["paired"] else own["address"]
+    return spec
+
+
+def wire_specs(device: Device) -> list[RegisterSpec[Any]]:
+    """Every register as the runtime plans its reads and puts it on the wire: `runtime_specs` without the enum
+    classes, which only the runtime's value checks use (building them cost a generator target a quarter of its
+    per-device time). The read plans and the back ends take these. Built once per device."""
     cached = _SPECS.get(id(device))
     if cached is not None:
         return cached
-    enums = {e.name: runtime_enum(e) for e in device.enums}
-    specs: list[RegisterSpec[Any]] = [
-        RegisterSpec(
-            name=r.name,
-            address=r.address,
-            data_type=r.type.value,
-            access=r.access.value,
-            word_order=r.word_order.value,
-            follows_device_order=not r.word_order_fixed,
-            paired=r.paired,
-            scale_num=r.scale.numerator,
-            scale_den=r.scale.denominator,
-            min=r.min,
-            max=r.max,
-            unit=r.unit,
-            param=r.param,
-            enum=enums[r.enum.name] if r.enum is not None else None,
-            bitfields=tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields),
-            space=r.space,
-            **spec_extras(r),
-            **command_extras(device, r),
-        )
-        for r in device.registers
-    ]
+    specs: list[RegisterSpec[Any]] = []
+    extras = register_extras(device)
+    for r in device.registers:
+        fields = {
+            "name": r.name,
+            "address": r.address,
+            "data_type": r.type._value_,  # _value_: an enum's .value is a Python-level property in 3.11
+            "access": r.access._value_,
+            "word_order": r.word_order._value_,
+            "follows_device_order": not r.word_order_fixed,
+            "paired": r.paired,
+            "scale_num": r.scale.numerator,
+            "scale_den": r.scale.denominator,
+            "min": r.min,
+            "max": r.max,
+            "unit": r.unit,
+            "param": r.param,
+            "bitfields": tuple(BitfieldSpec(b.name, b.lsb, b.width) for b in r.bitfields),
+            "space": r.space,
+        }
+        own, commands = extras[r.name]
+        fields.update(own)
+        fields.update(commands)
+        specs.append(_spec(fields))
     _kept(device, _SPECS, specs)
+    return specs
+
+
+def register_extras(device: Device) -> dict[str, tuple[dict[str, Any], dict[str, Any]]]:
+    """Each register's `spec_extras` and `command_extras` by its name: worked out once per device for the wire specs
+    and the back ends that print them (the Python modules). Shared: read them, never change them."""
+    cached = _EXTRAS.get(id(device))
+    if cached is None:
+        cached = {r.name: (spec_extras(r), command_extras(device, r)) for r in device.registers}
+        _kept(device, _EXTRAS, cached)
+    return cached
+
+
+def runtime_specs(device: Device) -> list[RegisterSpec[Any]]:
+    """Every register as the runtime sees it, enums and bitfields included, so that the one
+    check (`regmap_runtime.codec.check_raw`) serves the CLI and the simulator as it serves the
+    generated clients. Built once per device: a register without an enum is its wire spec."""
+    cached = _RUNTIME.get(id(device))
+    if cached is not None:
+        return cached
+    enums = {e.name: runtime_enum(e) for e in device.enums}
+    specs: list[RegisterSpec[Any]] = []
+    for r, wire in zip(device.registers, wire_specs(device), strict=True):
+        if r.enum is None and not any(b.enum for b in r.bitfields):
+            specs.append(wire)
+            continue
+        fields = {name: wire.__dict__[name] for name in _SPEC_FIELDS}
+        fields["enum"] = enums[r.enum.name] if r.enum is not None else None
+        fields["bitfields"] = tuple(BitfieldSpec(b.name, b.lsb, b.width, enums[b.enum.name] if b.enum else None) for b in r.bitfields)
+        specs.append(_spec(fields))
+    _kept(device, _RUNTIME, specs)
     return specs
 
 
@@ -233,8 +297,8 @@ def read_plan(
     chosen = device.registers if registers is None else registers
     if poll is not None:
         chosen = [r for r in chosen if r.poll is poll]
-    names = {r.name for r in chosen if all(r.on_variant(v) for v in variants)}
-    specs = [s for s in runtime_specs(device) if s.name in names]
+    names = {r.name for r in chosen if all(r.on_variant(v) for v in variants)} if variants else {r.name for r in chosen}
+    specs = [s for s in wire_specs(device) if s.name in names]
     limit, documented = t.max_read_registers, None if t.tolerates_gaps else documented_addresses(device, variants)
     if profile is not None:
         profile.check(device.id, device.fingerprint)

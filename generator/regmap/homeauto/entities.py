@@ -22,7 +22,7 @@ from regmap.homeauto.yamltext import yaml_text
 from regmap.model import Bitfield, ByteOrder, Command, Device, EnumMember, EnumType, FirmwareGate, PollClass, Register
 from regmap.records import dataclass
 from regmap.render import header_lines
-from regmap.runtime_bridge import documented_addresses, runtime_alignment, runtime_specs
+from regmap.runtime_bridge import documented_addresses, runtime_alignment, wire_specs
 from regmap_runtime.plan import ReadBlock, plan_reads
 
 if TYPE_CHECKING:  # only a plant's run imports the plant model (tests/project/test_generate_imports.py)
@@ -277,13 +277,13 @@ def planned(
     t = device.transport
     documented = None if t.tolerates_gaps else documented_addresses(device)
     bits = t.max_read_coils if max_bits is None else min(t.max_read_coils, max_bits)
-    keys = sorted({(r.poll.value, gate_key(r)) for r in registers})
+    keyed = [((r.poll._value_, gate_key(r)), r.name) for r in registers]  # _value_: .value is a Python-level property in 3.11
     out: list[tuple[ReadBlock, PollClass, FirmwareGate | None]] = []
-    for poll, key in keys:
-        chosen = {r.name for r in registers if r.poll.value == poll and gate_key(r) == key}
+    for poll, key in sorted({both for both, _ in keyed}):
+        chosen = {name for both, name in keyed if both == (poll, key)}
         first, until, variants = key
         gate = FirmwareGate(first or None, until or None) if first or until else None
-        specs = [spec for spec in runtime_specs(device) if spec.name in chosen]
+        specs = [spec for spec in wire_specs(device) if spec.name in chosen]
         bridged = None if documented is None else documented - _other_variants_words(device, variants)
         blocks = plan_reads(specs, t.max_read_registers, bridged, max_bits=bits, alignment=runtime_alignment(device))
         out += [(block, PollClass(poll), gate) for block in blocks]

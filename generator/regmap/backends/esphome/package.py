@@ -64,7 +64,7 @@ from regmap.homeauto.entities import (
 from regmap.homeauto.selection import Selection
 from regmap.homeauto.yamltext import Hex, Lambda
 from regmap.model import Command, DataType, Device, EnumMember, FirmwareGate, PollClass, Register, WordOrder
-from regmap.runtime_bridge import runtime_alignment, runtime_specs
+from regmap.runtime_bridge import runtime_alignment, wire_specs
 from regmap.target import Files
 from regmap_runtime.codec import raw_to_words
 from regmap_runtime.plan import ReadBlock
@@ -130,7 +130,7 @@ class DevicePackage:
         self.register_type = "holding" if 0x03 in t.function_codes else "read"
         self.single_write = 0x06 in t.function_codes
         self.single_coil_write = 0x05 in t.function_codes
-        self.specs = {spec.name: spec for spec in runtime_specs(device)}
+        self.specs = {spec.name: spec for spec in wire_specs(device)}
         self.skipped: list[str] = []
         self.registers = scaled.with_factors(device, selection.registers)  # and the scale factors its points need
         self.added_factors = [r.name for r in self.registers[len(selection.registers) :]]

@@ -22,7 +22,7 @@ from typing import Any
 from regmap.homeauto.entities import Ids, flags, presses, reserved, too_many_presses
 from regmap.homeauto.yamltext import Hex
 from regmap.model import Command, Device, EnumMember, Register
-from regmap.runtime_bridge import runtime_specs
+from regmap.runtime_bridge import wire_specs
 from regmap_runtime.codec import raw_to_words
 
 RETRY_NOTE = (
@@ -105,7 +105,7 @@ class Scripts:
         self.prefix = prefix  # of every script id
         self.name_prefix = name_prefix  # of every alias
         self.ids = Ids()
-        self.specs = {spec.name: spec for spec in runtime_specs(device)}
+        self.specs = {spec.name: spec for spec in wire_specs(device)}
         self.single_write = 0x06 in device.transport.function_codes
         self.scripts: dict[str, dict[str, Any]] = {}
         self.skipped: list[str] = []

@@ -8,14 +8,15 @@ from __future__ import annotations
 import keyword
 from typing import TYPE_CHECKING, Any
 
+from regmap.backends.python.docs import method_docs, register_doc, sources
 from regmap.backends.python.package import RUNTIME_MODULES, post, render_shared, runtime_package
-from regmap.core.text import eng, na_list, titled, zone_text
+from regmap.core.text import titled
 from regmap.diagnostics import Diagnostic, MapError, UsageError, at
 from regmap.keywords import PYTHON_KEYWORDS
-from regmap.model import Access, ArrayDef, Bitfield, ByteOrder, Command, Device, EnumType, PollClass, Register, WordOrder
+from regmap.model import Access, ArrayDef, Bitfield, Command, Device, EnumType, Register
 from regmap.records import NamedTuple
 from regmap.render import header_lines, py_doc, py_str, templates
-from regmap.runtime_bridge import command_extras, device_extras, read_plan, spec_extras
+from regmap.runtime_bridge import device_extras, read_plan, register_extras
 from regmap.target import Files, ReservedWords, Target
 from regmap_runtime import errors
 from regmap_runtime.spaces import DEFAULT_SPACE
@@ -111,13 +112,14 @@ def snapshot_name(device: Device) -> str:
     return camel(device.id) + "Values"
 
 
-def _snapshot_view(device: Device) -> SnapshotView:
+def _snapshot_view(device: Device, views: list[RegisterView]) -> SnapshotView:
+    """`views`: each register's, whose value type the snapshot gives a readable one."""
     name = snapshot_name(device)
     doc = (
         "What read_all() and read_many() return: register name -> value, typed per register; a register"
         " not read (another poll class, absent in the firmware, not asked for) is not there."
     )
-    fields = tuple((py_str(r.name), _value_type(r)) for r in device.registers if r.access.readable)
+    fields = tuple((py_str(r.name), view.value_type) for r, view in zip(device.registers, views, strict=True) if view.readable)
     return SnapshotView(name=name, name_literal=py_str(name), doc=py_doc(doc), fields=fields)
 
 
@@ -142,11 +144,7 @@ def _enum_view(e: EnumType) -> EnumView:
         )
         for m in e.members
     )
-    return EnumView(class_name=camel(e.name), doc=py_doc(titled(e.title, e.title_zh) + _sources(e.source)), members=members)
-
-
-def _sources(source: tuple[str, ...]) -> str:
-    return f". Manual section {', '.join(source)}." if source else "."
+    return EnumView(class_name=camel(e.name), doc=py_doc(titled(e.title, e.title_zh) + sources(e.source)), members=members)
 
 
 def _bits_class_name(reg: Register) -> str:
@@ -169,14 +167,11 @@ def _bitfield_view(b: Bitfield) -> BitfieldView:
     )
 
 
-def _value_type(reg: Register) -> str:
+def _read_type(reg: Register) -> str:
     """What a read returns: the bitfield class, the enum (or the number, for a value the manual does not
     list), text for a string, a bool for a coil or discrete input, a float for a float or a scaled or
-    offset value, else an int; `| None` where the device may send its "not available" marker (`na`)."""
-    return _read_type(reg) + (" | None" if reg.has_na or reg.scale_from else "")
-
-
-def _read_type(reg: Register) -> str:
+    offset value, else an int (the register's view adds `| None` where the device may send its "not
+    available" marker, `na`, or the value waits for its scale factor)."""
     if reg.bitfields:
         return _bits_class_name(reg)
     if reg.enum is not None:  # a float enum register also reads a value no member can be (2.5) as the float
@@ -210,73 +205,6 @@ def _writable(reg: Register) -> bool:
     return reg.access.writable and reg.space_info.writable
 
 
-def wire_order(reg: Register) -> str:
-    """The register's bytes on the wire, A the most significant: ABCD, CDAB (words low first), BADC
-    (bytes swapped), DCBA (both), and the same for four words (ABCDEFGH ...)."""
-    letters = "ABCDEFGH"[: 2 * reg.words]
-    pairs = [letters[i : i + 2] for i in range(0, len(letters), 2)]
-    if reg.byte_order is ByteOrder.LOW_FIRST:
-        pairs = [pair[::-1] for pair in pairs]
-    if reg.wide and reg.word_order is WordOrder.LOW_FIRST:
-        pairs = pairs[::-1]
-    return "".join(pairs)
-
-
-def _layout_facts(reg: Register) -> list[str]:
-    """Where the map goes beyond 16/32-bit holding registers: the byte order of floats, 64-bit and
-    byte-swapped values, a string's length, encoding and padding (seed maps' docstrings stay as they were)."""
-    if reg.type.is_string:
-        swapped = ", bytes swapped in each word" if reg.byte_order is ByteOrder.LOW_FIRST else ""
-        return [
-            f"{reg.words} words ({2 * reg.words} bytes of {reg.encoding}, {reg.padding.upper() if reg.padding == 'nul' else reg.padding} padded{swapped})"
-        ]
-    if reg.type.is_bool:
-        return []
-    if reg.byte_order is ByteOrder.LOW_FIRST or reg.type.is_float or reg.type.words > 2:
-        return [f"byte order {wire_order(reg)}"]
-    return []
-
-
-def _register_doc(reg: Register) -> str:
-    parts = [titled(reg.title, reg.title_zh) + "."]
-    facts = []
-    if reg.param:
-        facts.append(f"Parameter {reg.param}")
-    if reg.space != DEFAULT_SPACE:
-        facts.append(reg.space_info.title[:-1])  # "input register", "coil", "discrete input"
-    facts.append(f"address 0x{reg.address:04X}" + (" (low word of a 32-bit pair)" if reg.paired else ""))
-    facts.append(reg.type._value_ + (f" ({zone_text(reg)})" if reg.zone else ""))
-    facts += _layout_facts(reg)
-    if reg.unit:
-        facts.append(f"unit {reg.unit}")
-    facts += [f"value = raw x 10^{reg.scale_from} (read with it; not available (None) when {reg.scale_from} is)"] if reg.scale_from else []
-    if reg.min is not None or reg.max is not None:
-        facts.append(f"{'raw ' if reg.scale_from else ''}range {eng(reg, reg.raw_min)}..{eng(reg, reg.raw_max)}")
-    if reg.default is not None:
-        facts.append(f"{'raw ' if reg.scale_from else ''}default {eng(reg, reg.default)}")
-    if reg.takes_effect:
-        facts.append(f"takes effect {reg.takes_effect.replace('_', ' ')}")
-    if reg.firmware is not None:
-        facts.append(f"exists with {reg.firmware.text}")
-    if reg.poll is not PollClass.NORMAL:
-        facts.append(f"poll {reg.poll.value}")
-    if reg.variants:
-        facts.append(f"only on the variant(s) {', '.join(reg.variants)} (a client made with variant= refuses it on another)")
-    if reg.has_na:
-        facts.append(f"not available (read as None): {na_list(reg)}")
-    parts.append(", ".join(facts) + _sources(reg.source))
-    if reg.description:
-        parts.append(reg.description)
-    return py_doc(" ".join(parts))
-
-
-def _method_docs(reg: Register, constant: str) -> tuple[str, str]:
-    """The read and write methods' docstrings: what help() needs to pick the method; the rest at `constant`.
-    The title is cleaned once for both (what precedes it, a verb and a constant, holds no quote, space run or escape)."""
-    tail = py_doc(f"{titled(reg.title, reg.title_zh)}; documented at the constant.")
-    return f"Read {constant}: {tail}", f"Write {constant}: {tail}"
-
-
 def _literal(value: object) -> str:
     return py_str(value) if isinstance(value, str) else str(value)
 
@@ -285,63 +213,61 @@ _SPEC_CLASSES = {"r": "ReadOnly", "rw": "ReadWrite", "w": "WriteOnly"}  # by the
 
 
 def _register_view(
-    reg: Register, attr: str | None = None, constant: str | None = None, *, commands: dict[str, Any] | None = None
+    reg: Register, own: dict[str, Any], commands: dict[str, Any] | None = None, *, attr: str | None = None, constant: str | None = None
 ) -> RegisterView:
-    """`attr` and `constant` for an array member: its attribute and how an element's method reaches its constant;
-    `commands`: what the device's commands make of the register (`command_extras`: trigger, destructive values)."""
+    """`own`, `commands`: the register's `register_extras` (spec fields beyond the basic ones; trigger and destructive
+    values); `attr` and `constant` for an array member: its attribute and how an element's method reaches its constant."""
     writable = _writable(reg)
     readable = reg.access.readable
     access = reg.access if writable or not readable else Access.READ
-    constant_name = const(reg.name)
-    kwargs: list[tuple[str, str]] = [
-        ("name", py_str(reg.name)),
-        ("address", f"0x{reg.address:04X}"),
-        ("data_type", py_str(reg.type._value_)),  # _value_: an enum's .value is a Python-level property in 3.11
-        ("access", py_str(reg.access._value_)),
-    ]
+    constant_name = reg.name.upper()  # const()
+    # The constructor's keyword arguments, one `    key=value,` a line (repr: py_str of a text that is never empty).
+    lines = [
+        f"    name={reg.name!r},\n    address=0x{reg.address:04X},\n    data_type={reg.type._value_!r},\n    access={reg.access._value_!r},"
+    ]  # _value_: an enum's .value is a Python-level property in 3.11
     if reg.space != DEFAULT_SPACE:
-        kwargs.append(("space", py_str(reg.space)))
+        lines.append(f"    space={reg.space!r},")
     if reg.wide:
-        kwargs.append(("word_order", py_str(reg.word_order._value_)))
+        lines.append(f"    word_order={reg.word_order._value_!r},")
         if reg.word_order_fixed:
-            kwargs.append(("follows_device_order", "False"))
+            lines.append("    follows_device_order=False,")
     if reg.paired:
-        kwargs.append(("paired", "True"))
+        lines.append("    paired=True,")
     if reg.scaled:
-        kwargs += [("scale_num", str(reg.scale.numerator)), ("scale_den", str(reg.scale.denominator))]
+        lines.append(f"    scale_num={reg.scale.numerator},\n    scale_den={reg.scale.denominator},")
     if reg.min is not None:
-        kwargs.append(("min", str(reg.min)))
+        lines.append(f"    min={reg.min},")
     if reg.max is not None:
-        kwargs.append(("max", str(reg.max)))
+        lines.append(f"    max={reg.max},")
     if reg.unit:
-        kwargs.append(("unit", py_str(reg.unit)))
+        lines.append(f"    unit={reg.unit!r},")
     if reg.param:
-        kwargs.append(("param", py_str(reg.param)))
+        lines.append(f"    param={reg.param!r},")
     if reg.enum is not None:
-        kwargs.append(("enum", camel(reg.enum.name)))
+        lines.append(f"    enum={camel(reg.enum.name)},")
     read_type = _read_type(reg)
     if reg.bitfields:
-        kwargs += [("bitfields", f"{read_type}.FIELDS"), ("bitfield_type", read_type)]  # the read type: the bits class
+        lines.append(f"    bitfields={read_type}.FIELDS,\n    bitfield_type={read_type},")  # the read type: the bits class
     # The wider types, spaces and gates: only where they differ from the defaults (seed output unchanged).
-    kwargs += [(key, _literal(value)) for key, value in (spec_extras(reg) | (commands or {})).items()]
+    lines += [f"    {key}={_literal(value)}," for key, value in (own | commands if commands else own).items()]
     methods = reg.array is None or attr is not None  # an array element's are its member's: no method text of its own
-    read_doc, write_doc = _method_docs(reg, constant or constant_name) if methods else ("", "")
+    read_doc, write_doc = method_docs(reg, constant or constant_name) if methods else ("", "")
     return RegisterView(
         const=constant_name,
         attr=PythonIdentifier(attr or reg.name),
         spec_class=_SPEC_CLASSES[access._value_],
-        value_type=read_type + " | None" if reg.has_na or reg.scale_from else read_type,  # as _value_type
+        value_type=read_type + " | None" if reg.has_na or reg.scale_from else read_type,
         write_type=(_enum_write_type(reg.enum) if reg.enum is not None and not reg.bitfields else read_type) if methods else "",
         readable=readable,
         writable=writable,
-        arguments="\n".join([f"    {key}={value}," for key, value in kwargs]),
-        doc=_register_doc(reg),
+        arguments="\n".join(lines),
+        doc=register_doc(reg),
         read_doc=read_doc,
         write_doc=write_doc,
     )
 
 
-def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
+def _array_view(by_name: dict[str, Register], array: ArrayDef, extras: dict[str, tuple[dict[str, Any], dict[str, Any]]]) -> ArrayView:
     elements = []
     members: dict[str, RegisterView] = {}
     for index in range(array.first_index, array.last_index + 1):
@@ -351,12 +277,12 @@ def _array_view(by_name: dict[str, Register], array: ArrayDef) -> ArrayView:
             pairs.append((str(PythonIdentifier(member.name)), const(reg.name)))
             if member.name not in members:
                 attr = PythonIdentifier(member.name)
-                members[member.name] = _register_view(reg, attr, f"{const(array.name)}[n].{attr}")
+                members[member.name] = _register_view(reg, extras[reg.name][0], attr=attr, constant=f"{const(array.name)}[n].{attr}")
         elements.append((index, tuple(pairs)))
     doc = (
         titled(array.title, array.title_zh)
         + f": {array.count} elements {array.first_index}..{array.last_index}, element n at 0x{array.base:04X} + {array.stride} x {'n' if array.index_base == 0 else f'(n - {array.index_base})'}"
-        + _sources(array.source)
+        + sources(array.source)
     )
     return ArrayView(
         name=PythonIdentifier(array.name),
@@ -378,7 +304,7 @@ def _command_view(cmd: Command) -> CommandView:
         + f": writes 0x{cmd.value:04X}"
         + (f" + {cmd.argument.name}" if cmd.argument else "")
         + f" to {cmd.register.label} (0x{cmd.register.address:04X})"
-        + _sources(cmd.source)
+        + sources(cmd.source)
     )
     if cmd.description:
         doc += " " + cmd.description
@@ -533,8 +459,9 @@ def device_context(device: Device) -> dict[str, Any]:
     by_name: dict[str, Register] = {}
     for reg in device.registers:
         by_name.setdefault(reg.name, reg)
-    arrays = [_array_view(by_name, a) for a in device.arrays]
-    all_regs = [_register_view(r, commands=command_extras(device, r)) for r in device.registers]
+    extras = register_extras(device)
+    arrays = [_array_view(by_name, a, extras) for a in device.arrays]
+    all_regs = [_register_view(r, *extras[r.name]) for r in device.registers]
     plain = [view for view, r in zip(all_regs, device.registers, strict=True) if r.array is None]
     client_class = camel(device.id)
     problems = check(device)
@@ -553,7 +480,7 @@ def device_context(device: Device) -> dict[str, Any]:
         "plain": plain,
         "arrays": arrays,
         "commands": [_command_view(c) for c in device.commands],
-        "snapshot": _snapshot_view(device),
+        "snapshot": _snapshot_view(device, all_regs),
         "exceptions": [(e.code, py_str(e.name), py_str(e.title)) for e in t.exceptions],
         "device_kwargs": [(key, _literal(value)) for key, value in device_extras(device).items()],
         "errors": module_errors(device),
