@@ -17,7 +17,7 @@ from typing import Any, Protocol
 from regmap.core.text import BIT_NAMES, na_mark, number_text
 from regmap.model import Device, Register
 from regmap.records import dataclass
-from regmap.runtime_bridge import runtime_specs
+from regmap.runtime_bridge import wire_specs
 from regmap_runtime.codec import raw_to_value, words_to_raw
 from regmap_runtime.rtu import Frame
 from regmap_runtime.scaling import scaled
@@ -69,10 +69,11 @@ class SpecSource(Protocol):
 
 
 class RegisterSpecs:
-    """Every register's runtime spec by name, built once per device."""
+    """Every register's wire spec by name, built once per device: decoding scales and orders words by the spec and
+    takes enum members from the model, so the runtime's enum classes are not built for it."""
 
     def __init__(self, device: Device) -> None:
-        self.specs: dict[str, RegisterSpec[Any]] = {s.name: s for s in runtime_specs(device)}
+        self.specs: dict[str, RegisterSpec[Any]] = {s.name: s for s in wire_specs(device)}
 
     def spec(self, reg: Register) -> RegisterSpec[Any]:
         return self.specs[reg.name]

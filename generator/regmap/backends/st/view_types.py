@@ -125,7 +125,7 @@ class FunctionView:
     @cached_property
     def indented_body(self) -> str:
         """The statements, one a line, each indented by four spaces and ended by a newline (the ST files)."""
-        return "".join([f"    {line}\n" for line in self.body])
+        return "    " + "\n    ".join(self.body) + "\n" if self.body else ""
 
     @cached_property
     def st_text(self) -> str:
