@@ -36,12 +36,12 @@ FLOOR_IMPORTS = "import jinja2, yaml, jsonschema, regmap"
 # average 7.3-7.7 on 2 cores; 9 paired runs each). There was no output cache yet, so "warm" renders too.
 BEFORE_COLD = (2.393, 0.191, 13.12)  # generate CPU s, floor CPU s, median ratio
 BEFORE_WARM = (2.316, 0.170, 14.40)
-# `measure_generate(repeats=9)` of this tree with e2e516b's generator/ in the same runs (the base of this round: stop 46's
-# helpers' branches and its own commits), this machine, 2026-12-07 23:07 UTC, in `make bench`. (Stop 45's `make bench`
-# on dcb87d0, the same generator as e2e516b, printed 5.92x cold at its hour.)
-BEFORE_BRANCH_COMMIT = "e2e516b"
-BEFORE_BRANCH_COLD = (0.66, 0.12, 5.32)
-BEFORE_BRANCH_WARM = (0.27, 0.13, 2.11)
+# `measure_generate(repeats=9)` of this tree with 31afb28's generator/ in the same runs (the base of this round: stop 47's
+# helpers' branches and its own commits), this machine, 2026-12-08 01:32 UTC, in `make bench`. (Stop 46's `make bench`
+# on 6832e21, the same generator as 31afb28 but for review mends, printed 4.63x cold and 1.92x warm at its hour.)
+BEFORE_BRANCH_COMMIT = "31afb28"
+BEFORE_BRANCH_COLD = (0.59, 0.14, 4.28)
+BEFORE_BRANCH_WARM = (0.26, 0.13, 2.03)
 JUDGED_ON = "cold"
 BEFORE_IMPORT_WALL_S = 19.85
 BEFORE_IMPORT_CPU_S = 6.49
