@@ -105,7 +105,7 @@ def _with_init(cls: type, frozen: bool) -> type:
     documented = bool(cls.__doc__)
     if not documented:  # the standard decorator would word one from a signature without the `__init__` made below
         cls.__doc__ = cls.__name__
-    if not _with_fields(cls):
+    if not (_MIRRORS_THIS_PYTHON and _with_fields(cls)):
         cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
     fields = dataclasses.fields(cls)
     methods = {"__init__": _init(fields, cls.__module__)}
@@ -120,6 +120,10 @@ def _with_init(cls: type, frozen: bool) -> type:
     return cls
 
 
+# `_with_fields` and `_namedtuple_311` do what Python 3.11's dataclasses and collections.namedtuple do, with their
+# private parts; another Python (3.12 gave `_DataclassParams` more fields, 3.13 dataclasses a `__replace__`) gets the
+# standard library's own.
+_MIRRORS_THIS_PYTHON = sys.version_info[:2] == (3, 11)
 # What the standard decorator marks a field and a class with (Python 3.11's dataclasses, as `_with_fields` makes them).
 _FIELD = vars(dataclasses)["_FIELD"]
 _PARAMS: Callable[..., Any] = vars(dataclasses)["_DataclassParams"]
@@ -318,7 +322,7 @@ _TUPLE_PROHIBITED = frozenset(
 _TUPLE_SPECIAL = frozenset({"__module__", "__name__", "__annotations__"})
 
 
-def _namedtuple(typename: str, field_names: list[str], *, defaults: list[Any], module: str) -> Any:
+def _namedtuple_311(typename: str, field_names: list[str], *, defaults: list[Any], module: str) -> Any:
     """collections.namedtuple (Python 3.11's) without `rename`, its `__new__` not compiled from a text of its own."""
     for name in [typename, *field_names]:
         if not name.isidentifier():
@@ -395,6 +399,7 @@ def _namedtuple(typename: str, field_names: list[str], *, defaults: list[Any], m
 
 
 _tuple_getter: Callable[[int, str], Any] = vars(collections)["_tuplegetter"]  # the field descriptor namedtuple's classes use
+_namedtuple: Callable[..., Any] = _namedtuple_311 if _MIRRORS_THIS_PYTHON else collections.namedtuple
 
 
 class _TupleMaker(type):

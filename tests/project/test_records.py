@@ -10,9 +10,14 @@ import functools
 import inspect
 import math
 import operator
+import os
+import shutil
+import subprocess
+import sys
 import types
 import typing
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, ClassVar, NamedTuple
 
 import pytest
@@ -428,3 +433,54 @@ def test_a_records_fields_are_the_standard_decorators() -> None:
         {"__annotations__": {"x": "int"}, "y": dataclasses.field(default=1)},  # a field without an annotation
     ):
         assert refusal(records.dataclass, dict(namespace)) == refusal(dataclasses.dataclass, dict(namespace))
+
+
+_ON_ANOTHER_PYTHON = """\
+import dataclasses
+from regmap import records
+
+@records.dataclass(frozen=True)
+class Point:
+    x: int
+    y: float = 0.0
+    items: tuple[int, ...] = dataclasses.field(default_factory=tuple)
+
+@dataclasses.dataclass(frozen=True)
+class Standard:
+    x: int
+    y: float = 0.0
+    items: tuple[int, ...] = dataclasses.field(default_factory=tuple)
+
+class Pair(records.NamedTuple):
+    a: int
+    b: str = ""
+
+made, standard = Point(1, items=(2,)), Standard(1, items=(2,))
+assert repr(made) == repr(standard).replace("Standard", "Point"), repr(made)
+assert dataclasses.astuple(made) == dataclasses.astuple(standard) and hash(made) == hash(Point(1, items=(2,)))
+assert Pair(1)._replace(b="x") == (1, "x") and repr(Pair(1)) == "Pair(a=1, b='')"
+print("records ok")
+"""
+
+
+def _pythons() -> list[str]:
+    """This interpreter, and every other CPython >= 3.11 found on PATH or under pyenv (records copies 3.11's private
+    parts and must fall back to the standard library's own elsewhere: a newer dataclasses once refused regmap at
+    import). A candidate that does not run (a pyenv shim of a version not selected) is left out."""
+    candidates = {shutil.which(f"python3.{minor}") for minor in range(11, 16)}
+    candidates |= {str(p) for p in (Path(os.environ.get("PYENV_ROOT", Path.home() / ".pyenv")) / "versions").glob("3.1*/bin/python3")}
+    found = {sys.executable}
+    for path in sorted(c for c in candidates if c is not None):
+        check = "import sys; print(sys.implementation.name == 'cpython' and sys.version_info >= (3, 11))"
+        if subprocess.run([path, "-c", check], capture_output=True, text=True, check=False).stdout == "True\n":
+            found.add(path)
+    return sorted(found)
+
+
+@pytest.mark.parametrize("python", _pythons())
+def test_records_builds_classes_on_every_python_found(python: str) -> None:
+    source = str(Path(records.__file__).parents[1])
+    done = subprocess.run(
+        [python, "-c", _ON_ANOTHER_PYTHON], env={**os.environ, "PYTHONPATH": source}, capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0 and done.stdout == "records ok\n", done.stderr
