@@ -59,10 +59,6 @@ def xml_type(st_type: str) -> str:
     return f'<derived name="{st_type}"/>'
 
 
-def _documentation(comment: str, indent: str) -> str:
-    return f"{indent}<documentation><xhtml:p>{xml_text(comment)}</xhtml:p></documentation>\n" if comment else ""
-
-
 # The elements are joined here, not looped over in the template: a device has thousands of constants and members,
 # and a template's loop costs several times the line it prints.
 
@@ -77,10 +73,12 @@ def _enum(e: EnumView) -> str:
 
 
 def _struct(s: StructView) -> str:
+    head, tail = "              <documentation><xhtml:p>", "</xhtml:p></documentation>\n"  # a member's, where it has a comment
     members = "".join(
         [
             f'            <variable name="{name}">\n              <type>{xml_type(kind)}</type>\n'
-            f"{_documentation(comment, '              ')}            </variable>\n"
+            + (f"{head}{xml_text(comment)}{tail}" if comment else "")
+            + "            </variable>\n"
             for name, kind, comment in s.members
         ]
     )

@@ -258,22 +258,27 @@ def _loop(count: int, body: list[str], start: int = 0) -> list[str]:
     return [f"k := {start};", f"WHILE k < {start + count} DO", *(f"    {line}" for line in body), "    k := k + 1;", "END_WHILE;"]
 
 
-def _copy_in(block: Block, raw: str, runtime: Runtime) -> list[str]:
-    """Statements that fill the block's raw struct from the request buffer, member by member in wire order."""
+def _copy_in(block: Block, raw: str, runtime: Runtime, indent: str = "") -> list[str]:
+    """Statements that fill the block's raw struct from the request buffer, member by member in wire order, each
+    after `indent` (made indented here: a block has a statement per word, each runtime's poller copies every block)."""
     if block.bits:
         count = block.count
         if runtime.bit_type == "BYTE":  # packed as the response carries them
-            return _loop((count + 7) // 8, [f"{raw}.BITS[k] := aBits[k];"])
-        return _loop((count + 7) // 8, [f"{raw}.BITS[k] := 0;"]) + _loop(
-            count, ["IF aBits[k] THEN", f"    {raw}.BITS[k / 8] := {raw}.BITS[k / 8] OR SHL(BYTE#1, k MOD 8);", "END_IF;"]
-        )
+            looped = _loop((count + 7) // 8, [f"{raw}.BITS[k] := aBits[k];"])
+        else:
+            looped = _loop((count + 7) // 8, [f"{raw}.BITS[k] := 0;"]) + _loop(
+                count, ["IF aBits[k] THEN", f"    {raw}.BITS[k / 8] := {raw}.BITS[k / 8] OR SHL(BYTE#1, k MOD 8);", "END_IF;"]
+            )
+        return [f"{indent}{line}" for line in looped]
     lines = []
     at = 0
+    # an array's elements are WORDs: the buffer's word converted to WORD the same way for each (`_convert`)
+    before, after = ("", "") if runtime.word_type == "WORD" else (f"{runtime.word_type}_TO_WORD(", ")")
     for member in block.struct.members:
-        target = f"{raw}.{member.name}"
+        target = f"{indent}{raw}.{member.name}"
         if member.type.startswith("ARRAY["):
             count = int(member.type.split("..")[1].split("]")[0]) + 1
-            lines += [f"{target}[{j}] := {_convert(f'aWords[{at + j}]', runtime.word_type, 'WORD')};" for j in range(count)]
+            lines += [f"{target}[{j}] := {before}aWords[{at + j}]{after};" for j in range(count)]
             at += count
         else:
             lines.append(f"{target} := {_convert(f'aWords[{at}]', runtime.word_type, member.type)};")
@@ -419,7 +424,7 @@ def _run(plan: list[Block], planned: list[Any], runtime: Runtime, spelling: Spel
         raw = f"stRaw{i}"
         order_arg = ", bHighWordFirst := bHighWordFirst" if len(b.decode.inputs) > 1 else ""
         body.append(f"                {i}:")
-        body += [f"                    {line}" for line in _copy_in(b, raw, runtime)]
+        body += _copy_in(b, raw, runtime, "                    ")
         body.append(f"                    aDecoded[{i}] := {b.decode.name}(stRaw := {raw}{order_arg}, stValues := stValues);")
         if planned[i][1] is PollClass.STATIC:
             body.append(f"                    aHave[{i}] := TRUE;")

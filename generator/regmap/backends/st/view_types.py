@@ -40,6 +40,12 @@ class MemberConst(NamedTuple):
     def spelled(self, notation: Notation) -> Const:
         return Const(self.name, self.type, notation.member(self.type, self.member))
 
+    def line(self, notation: Notation) -> str:
+        """`const_line` of the spelled constant, made in one step (every register has one): the value as
+        `Notation.member` writes it, and no comment."""
+        name, kind, member = self
+        return f"    {name} : {kind} := {kind}{notation.qualifier}{member};\n"
+
 
 class TextConst(NamedTuple):
     """A constant of `size` text bytes: typed `STRING(size)` (CODESYS) or `STRING` (plain IEC)."""
@@ -51,6 +57,9 @@ class TextConst(NamedTuple):
 
     def spelled(self, notation: Notation) -> Const:
         return Const(self.name, notation.string(self.size), self.value, self.comment)
+
+    def line(self, notation: Notation) -> str:
+        return const_line(self.spelled(notation))
 
 
 class Member(NamedTuple):
@@ -221,7 +230,7 @@ class SpelledText:
 
     def text(self, notation: Notation) -> str:
         """What the sections' `Section.text` would print, one after another, in `notation`."""
-        return "".join([p if isinstance(p, str) else const_line(p.spelled(notation)) for p in self.pieces])
+        return "".join([p if isinstance(p, str) else p.line(notation) for p in self.pieces])
 
 
 class SectionToSpell(NamedTuple):

@@ -28,7 +28,8 @@ from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device
 
-ACCESS_MEMBER = {Access.READ: "R", Access.WRITE: "W", Access.READ_WRITE: "RW"}
+# By the access's `_value_`: an enum key is hashed by a Python-level `Enum.__hash__` (3.11), asked once per register.
+ACCESS_MEMBER = {access._value_: member for access, member in ((Access.READ, "R"), (Access.WRITE, "W"), (Access.READ_WRITE, "RW"))}
 
 
 class Names:
@@ -184,7 +185,7 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
     consts: list[Const | MemberConst | TextConst] = [
         new_const((c("ADDR"), "UINT", st_hex(reg.address), "")),
         new_const((c("WORDS"), "UINT", st_int(reg.words), "")),
-        MemberConst(c("ACCESS"), names.access_type, ACCESS_MEMBER[reg.access]),
+        MemberConst(c("ACCESS"), names.access_type, ACCESS_MEMBER[reg.access._value_]),
     ]
     space = reg.space_info
     if space.name != "holding":
@@ -235,7 +236,7 @@ def register_consts(names: Names, reg: Register) -> SectionToSpell:
             new_const((c("OFFSET_DEN"), _ratio(reg.offset.denominator), st_int(reg.offset.denominator), "")),
         ]
     if reg.wide:
-        order = "device word order (parameter)" if configurable(names.device, reg) else f"{reg.word_order.value.replace('_', ' ')}"
+        order = "device word order (parameter)" if configurable(names.device, reg) else f"{reg.word_order._value_.replace('_', ' ')}"
         consts.append(
             new_const(
                 (
@@ -348,7 +349,7 @@ def variants_const(names: Names, label: str, variants: Sequence[str], what: str,
 
 
 def _describe(reg: Register) -> str:
-    facts = [f"{reg.type.value} {reg.access.value}"]
+    facts = [f"{reg.type._value_} {reg.access._value_}"]  # _value_: an enum's .value is a Python-level property in 3.11
     if reg.zone is not None:  # the count a DT holds: UDINT_TO_DT (matiec, CODESYS, TwinCAT) gives the date and time
         facts.append(f"UDINT {zone_text(reg)}; UDINT_TO_DT of it is the DT, DT_TO_UDINT the way back (no zone converted)")
     if reg.unit:
@@ -370,7 +371,7 @@ def _describe(reg: Register) -> str:
     if reg.firmware is not None:
         facts.append(reg.firmware.text)
     if reg.poll is not PollClass.NORMAL:
-        facts.append(f"poll {reg.poll.value}")
+        facts.append(f"poll {reg.poll._value_}")
     return sentences(f"{reg.label}: {titled(reg.title, reg.title_zh)}", ", ".join(facts), manual_sections(reg.source))
 
 
