@@ -5,6 +5,7 @@ is compared with PyYAML on generated strings and structures, and must not leave 
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -129,3 +130,30 @@ def test_the_seed_files_are_written_without_pyyaml(path: Path, monkeypatch: pyte
     for target, render in (("esphome", esphome_files), ("homeassistant", hass_files)):
         for name, text in render(device).items():
             assert text == (ROOT / "generated" / target / name).read_text(encoding="utf-8")
+
+
+# The one-pattern spellings the checks replaced (issue #36: compiling them cost a cold run about 5M instructions).
+ORDINARY_PATTERN = re.compile(
+    r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])[^\x00-\x1f#:\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]+(?<! )"
+)
+SPECIAL_PATTERN = re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]")
+EDGES = ["\x9f", "\xa0", "\u2027", "\u2028", "\u2029", "\u202a", "\ud7ff", "\ud800", "\udfff", "\ue000", "\ufefe", "\ufeff"]
+EDGES += ["\ufffd", "\ufffe", "\uffff", "\U00010000", "\u3000", "\u1680", "\x85", "\x1c", "\t", "\n", " ", "#", ":", "."]
+CHARACTERS = st.one_of(st.characters(), st.sampled_from([*EDGES, "a", "-", "!"]))
+
+
+@given(st.text(CHARACTERS, max_size=6))
+def test_ordinary_text_is_what_the_one_pattern_matched(text: str) -> None:
+    assert yamltext._ordinary(text) == bool(ORDINARY_PATTERN.fullmatch(text))
+
+
+@given(st.text(CHARACTERS, max_size=6))
+def test_special_characters_are_what_the_one_pattern_found(text: str) -> None:
+    assert yamltext._special(text) == bool(SPECIAL_PATTERN.search(text))
+
+
+@pytest.mark.parametrize("text", EDGES)
+def test_every_edge_character_alone_and_inside_text_is_ordinary_as_before(text: str) -> None:
+    for written in (text, "a" + text, text + "a", "a" + text + "a"):
+        assert yamltext._ordinary(written) == bool(ORDINARY_PATTERN.fullmatch(written))
+        assert yamltext._special(written) == bool(SPECIAL_PATTERN.search(written))

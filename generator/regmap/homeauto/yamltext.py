@@ -103,13 +103,44 @@ _ANALYZER = Emitter(io.StringIO(), allow_unicode=True)  # only its analysis of a
 # A string whose every character PyYAML's analysis treats as ordinary text: printable (unicode allowed, no BOM), no
 # line break, tab, `#` or `:`; not starting with an indicator, a space or `.` (`...`), not ending with a space. For
 # such a string the analysis allows plain style, so only the resolver decides (`yes`, `12`, `~` are quoted).
-# Both classes are written as what they exclude (controls, C1, surrogates, U+FFFE and above): a class reaching past
-# U+FFFF compiles in about 1 ms, the allowed ranges spelled out took 10-20 ms each at import (issue #36).
-_ORDINARY = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])[^\x00-\x1f#:\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]+(?<! )")
+# The pattern excludes only ASCII (a class reaching past U+FFFF cost a cold run about 3M instructions to compile, and
+# the allowed ranges spelled out 10-20 ms each: issue #36); `_ordinary` checks each other character in Python.
+_ORDINARY_ASCII = re.compile(r"(?![\s#,\[\]{}&*!|>'\"%@`?:.-])[^\x00-\x1f#:\x7f]+(?<! )")
 _FIRST_INDICATORS = frozenset("#,[]{}&*!|>'\"%@`")  # PyYAML's analysis: as a first character, a flow and block indicator
-_SPECIAL = re.compile(
-    "[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]"
-)  # PyYAML escapes it, or a break other than \n
+
+
+def _ordinary_char(c: str) -> bool:
+    """A character beyond ASCII that PyYAML's analysis takes for ordinary text: not C1, a line or paragraph separator,
+    a surrogate, the BOM, or U+FFFE and above."""
+    code = ord(c)
+    return code > 0x9F and code not in (0x2028, 0x2029, 0xFEFF) and not 0xD800 <= code <= 0xDFFF and code < 0xFFFE
+
+
+def _ordinary(text: str) -> bool:
+    """Whether `text` is ordinary text (above). Most text is ASCII, which the pattern alone decides; in other text each
+    character beyond ASCII is spelled as one the pattern allows (`a`) or refuses (NUL): a first one that is whitespace
+    (`\\s` matches Unicode whitespace, as str.isspace) is refused, as the pattern's look-ahead refuses it."""
+    if not text.isascii():
+        if not text[0].isascii() and text[0].isspace():
+            return False
+        text = "".join([c if c.isascii() else "a" if _ordinary_char(c) else "\x00" for c in text])
+    return _ORDINARY_ASCII.fullmatch(text) is not None
+
+
+def _special(code: str) -> bool:
+    """Whether `code` holds a character PyYAML escapes, or a line break other than `\\n`: in ASCII a control other than
+    `\\n` (what str.isprintable refuses there), beyond it the pattern's (compiled only for such code: about 2M
+    instructions, and a lambda's code is ASCII)."""
+    if code.isascii():
+        return not code.replace("\n", " ").isprintable()
+    return _special_pattern().search(code) is not None
+
+
+@functools.cache
+def _special_pattern() -> re.Pattern[str]:
+    return re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufeff\ufffe-\U0010ffff]")
+
+
 _SINGLE_SPACE = re.compile(r"(?<! ) (?! )")  # where PyYAML may fold: a space that is not part of a run
 
 
@@ -122,16 +153,16 @@ def _resolves(text: str) -> str:
 @functools.lru_cache(maxsize=4096)
 def _plain(text: str) -> bool:
     """PyYAML writes the string plain (else single-quoted: double-quoted and multi-line strings are unsupported)."""
-    if _ORDINARY.fullmatch(text):
+    if _ordinary(text):
         return _resolves(text) == _STR
     # Ordinary but for a `:` or `#` after the first character (`Run status: Fault`): PyYAML's analysis, about 3.5 ms of a
     # run over these, finds a block indicator exactly at `: `, a final `:` or ` #` (the only whitespace allowed is the
     # space), and nothing else that could stop plain or single-quoted style.
     marked = text.replace(":", "a").replace("#", "a")
-    if marked != text and text[0] not in "#:" and _ORDINARY.fullmatch(marked):
+    if marked != text and text[0] not in "#:" and _ordinary(marked):
         return not (": " in text or text.endswith(":") or " #" in text) and _resolves(text) == _STR
     # An indicator first (a Home Assistant template's `{{`), the rest ordinary: the analysis forbids plain, allows quotes.
-    if text[:1] in _FIRST_INDICATORS and _ORDINARY.fullmatch("a" + marked[1:]):
+    if text[:1] in _FIRST_INDICATORS and _ordinary("a" + marked[1:]):
         return False
     analysis = _ANALYZER.analyze_scalar(text)
     if analysis.multiline or not analysis.allow_single_quoted:
@@ -226,7 +257,7 @@ class _Writer:
 
     def literal(self, code: str, indent: int) -> None:
         """A `!lambda |-` block: code without a leading space, trailing spaces, trailing line break or special characters."""
-        if not code or code[0] in " \n" or code[-1] in " \n" or " \n" in code or _SPECIAL.search(code):
+        if not code or code[0] in " \n" or code[-1] in " \n" or " \n" in code or _special(code):
             raise _Unsupported(code)
         self.write(" !lambda |-")
         for line in code.split("\n"):

@@ -253,3 +253,12 @@ def test_labels_with_quotes_and_braces_stay_text() -> None:
     assert reg.enum is not None
     for member in reg.enum.members[: len(evil)]:
         assert _render(label["state"], {"sensor." + _slug(source["name"]): str(member.value)}) == member.title
+
+
+@pytest.mark.parametrize(
+    ("name", "slug"),
+    [('Don’t "stop" it\'s', "dont_stop_its"), ("‘Quoted’ name", "quoted_name"), ("a'b", "ab"), ('"', "unknown"), ("É’t'é", "ete")],
+)
+def test_quotes_are_dropped_from_object_ids(name: str, slug: str) -> None:
+    """Straight and curly quotes are dropped, joining the words around them (`dont`, not `don_t`)."""
+    assert _slug(name) == slug

@@ -149,9 +149,9 @@ def _transport_macros(ctx: Context) -> list[Macro]:
         ]
     if t.max_message_bytes is not None:
         macros.append(Macro(ctx.const("MAX_MESSAGE_BYTES"), c_unsigned(t.max_message_bytes)))
-    macros.append(Macro(ctx.const("WORD_ORDER"), WORD_ORDER_MACRO[t.word_order], "order of the words of 32-bit values"))
+    macros.append(Macro(ctx.const("WORD_ORDER"), WORD_ORDER_MACRO[t.word_order._value_], "order of the words of 32-bit values"))
     if t.byte_order is not ByteOrder.HIGH_FIRST:
-        macros.append(Macro(ctx.const("BYTE_ORDER"), WORD_ORDER_MACRO[t.byte_order], "order of the bytes in each word"))
+        macros.append(Macro(ctx.const("BYTE_ORDER"), WORD_ORDER_MACRO[t.byte_order._value_], "order of the bytes in each word"))
     firmware = ctx.device.info.firmware_register
     if firmware is not None:
         macros += [
@@ -243,10 +243,10 @@ def _class_plans(ctx: Context, classes: list[PollClass], spaces: bool, variant: 
     for poll in classes if len(classes) > 1 else ():
         blocks = _plan_blocks(ctx, poll, variant)
         if blocks:
-            parts = (poll.value, variant) if variant else (poll.value,)
+            parts = (poll._value_, variant) if variant else (poll._value_,)
             plans.append(
                 Plan(
-                    comment=f"poll class {poll.value} ({POLL_MACRO[poll]})" + (f" of variant {variant}" if variant else ""),
+                    comment=f"poll class {poll._value_} ({POLL_MACRO[poll._value_]})" + (f" of variant {variant}" if variant else ""),
                     length=ctx.const("READ_PLAN", *parts, "LEN"),
                     table=ctx.symbol("read_plan", *parts),
                     functions=ctx.symbol("read_plan", *parts, "function") if spaces else "",

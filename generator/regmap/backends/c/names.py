@@ -60,9 +60,11 @@ STANDARD_NAMES = frozenset(
         "UINTPTR_MAX",
     ]
 )
-_RESERVED = re.compile(r"^_|__|_t$")
-_UPPER = re.compile(r"^[A-Z_][A-Z0-9_]*$")
-_LOWER = re.compile(r"^[a-z_][a-z0-9_]*$")
+# Patterns only a name that is not plain (below) is checked against, rarely: compiled on first use (re's cache), not
+# at import, where compiling them cost every cold run about 1.5M instructions.
+_RESERVED = r"^_|__|_t$"
+_UPPER = r"^[A-Z_][A-Z0-9_]*$"
+_LOWER = r"^[a-z_][a-z0-9_]*$"
 # Names that pass every check above at once (no leading, doubled or trailing underscore): nearly all of them. The
 # others take the checks one by one, which say what is wrong.
 _PLAIN_UPPER = re.compile(r"[A-Z][A-Z0-9]*(?:_[A-Z0-9]+)*")
@@ -72,7 +74,7 @@ _PLAIN_LOWER = re.compile(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)*")
 def _check_reserved(name: str) -> None:
     # Leading underscores and `__` anywhere are reserved to the implementation (C 7.1.3, C++
     # [lex.name]); `_t` names to POSIX.
-    if _RESERVED.search(name):
+    if re.search(_RESERVED, name):
         raise UsageError(f"{name!r} is a reserved C identifier (leading underscore, '__' or a '_t' suffix); rename it in the map")
 
 
@@ -83,7 +85,7 @@ class CIdentifier(str):
     def __new__(cls, *parts: str) -> CIdentifier:
         name = "_".join(filter(None, parts)).upper()
         if not _PLAIN_UPPER.fullmatch(name):
-            if not _UPPER.match(name):
+            if not re.match(_UPPER, name):
                 raise UsageError(f"{name!r} is not a valid C identifier")
             _check_reserved(name)
         if name in STANDARD_NAMES:
@@ -98,7 +100,7 @@ class CSymbol(str):
     def __new__(cls, *parts: str) -> CSymbol:
         name = "_".join(filter(None, parts)).lower()
         plain = _PLAIN_LOWER.fullmatch(name) and not name.endswith("_t")
-        if not plain and not _LOWER.match(name):
+        if not plain and not re.match(_LOWER, name):
             raise UsageError(f"{name!r} is not a valid C identifier")
         if name in C_KEYWORDS or name in CPP_KEYWORDS or name in STANDARD_NAMES:
             name += "_"
@@ -221,22 +223,30 @@ C_TYPES = {
     DataType.BOOL: CType("bool", "bool"),
     DataType.TIMESTAMP: CType("uint32_t", "uint32_t"),
 }
+# C_TYPES by the type's value string (`reg.type._value_`), as the back end looks it up: a str hashes in C, where a
+# lookup by the enum member calls Enum.__hash__ (Python code), several times a register. The tables below are keyed
+# by value strings too (type, access, order, poll class).
+C_TYPE = {t._value_: spelled for t, spelled in C_TYPES.items()}
 # The 16/32-bit integers of the first maps: their registers need no helper beyond the word conversions.
 # A tuple: `in` compares by identity, where a set would call the enum's __hash__ (Python code) for every register.
 PLAIN_TYPES = (DataType.U16, DataType.S16, DataType.U32, DataType.S32)
 # Shared helpers that move a register's value to and from its words on the wire (word and byte order applied).
-WIRE_FUNCTIONS: dict[DataType, tuple[str, str]] = {
-    t: (f"regmap_{t.value}_from_wire", f"regmap_{t.value}_to_wire") for t in DataType if t is not DataType.BOOL
+WIRE_FUNCTIONS: dict[str, tuple[str, str]] = {
+    t._value_: (f"regmap_{t._value_}_from_wire", f"regmap_{t._value_}_to_wire") for t in DataType if t is not DataType.BOOL
 }
 # A type whose helpers exist only where the C type is IEEE 754 (the shared header's REGMAP_HAS_F32/F64; an f16's value is a float).
-FLOAT_GUARD = {DataType.F16: "REGMAP_HAS_F32", DataType.F32: "REGMAP_HAS_F32", DataType.F64: "REGMAP_HAS_F64"}
-ACCESS_MACRO = {Access.READ: "REGMAP_ACCESS_R", Access.READ_WRITE: "REGMAP_ACCESS_RW", Access.WRITE: "REGMAP_ACCESS_W"}
-WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST: "REGMAP_LOW_FIRST"}
+FLOAT_GUARD = {"f16": "REGMAP_HAS_F32", "f32": "REGMAP_HAS_F32", "f64": "REGMAP_HAS_F64"}
+ACCESS_MACRO = {
+    Access.READ._value_: "REGMAP_ACCESS_R",
+    Access.READ_WRITE._value_: "REGMAP_ACCESS_RW",
+    Access.WRITE._value_: "REGMAP_ACCESS_W",
+}
+WORD_ORDER_MACRO = {WordOrder.HIGH_FIRST._value_: "REGMAP_HIGH_FIRST", WordOrder.LOW_FIRST._value_: "REGMAP_LOW_FIRST"}
 # The shared header's enums, from the runtime's tables: spaces, types, paddings, poll classes, firmware formats.
 SPACE_MACRO = {name: CIdentifier("REGMAP_SPACE", name) for name in SPACES}
-TYPE_MACRO = {DataType(name): CIdentifier("REGMAP_TYPE", name) for name in TYPES}
+TYPE_MACRO = {name: CIdentifier("REGMAP_TYPE", name) for name in TYPES}
 PADDING_MACRO = {"nul": "REGMAP_PADDING_NUL", "space": "REGMAP_PADDING_SPACE"}
-POLL_MACRO = {p: CIdentifier("REGMAP_POLL", p.value) for p in PollClass}
+POLL_MACRO = {p._value_: CIdentifier("REGMAP_POLL", p._value_) for p in PollClass}
 FIRMWARE_FORMAT_MACRO = {
     "decimal": "REGMAP_FIRMWARE_DECIMAL",
     "major_minor": "REGMAP_FIRMWARE_MAJOR_MINOR",

@@ -11,7 +11,7 @@ from collections.abc import Iterable, Sequence
 from fractions import Fraction
 
 from regmap.backends.c.names import (
-    C_TYPES,
+    C_TYPE,
     FLOAT_GUARD,
     WIRE_FUNCTIONS,
     WORD_ORDER_MACRO,
@@ -91,20 +91,20 @@ def configurable(ctx: Context, reg: Register) -> bool:
 
 
 def _word_order(ctx: Context, reg: Register) -> str:
-    return ORDER_PARAM if configurable(ctx, reg) else WORD_ORDER_MACRO[reg.word_order]
+    return ORDER_PARAM if configurable(ctx, reg) else WORD_ORDER_MACRO[reg.word_order._value_]
 
 
 def _to_wire(ctx: Context, reg: Register, value: str) -> str:
-    byte_order = WORD_ORDER_MACRO[reg.byte_order]
-    function = WIRE_FUNCTIONS[reg.type][1]
+    byte_order = WORD_ORDER_MACRO[reg.byte_order._value_]
+    function = WIRE_FUNCTIONS[reg.type._value_][1]
     if reg.words == 1:
         return f"words[0] = {function}({value}, {byte_order});"
     return f"{function}({value}, {_word_order(ctx, reg)}, {byte_order}, words);"
 
 
 def _from_wire(ctx: Context, reg: Register) -> str:
-    byte_order = WORD_ORDER_MACRO[reg.byte_order]
-    function = WIRE_FUNCTIONS[reg.type][0]
+    byte_order = WORD_ORDER_MACRO[reg.byte_order._value_]
+    function = WIRE_FUNCTIONS[reg.type._value_][0]
     if reg.words == 1:
         return f"{function}(words[0], {byte_order})"
     return f"{function}(words, {_word_order(ctx, reg)}, {byte_order})"
@@ -112,16 +112,16 @@ def _from_wire(ctx: Context, reg: Register) -> str:
 
 def _bits_to_wire(ctx: Context, reg: Register, value: str) -> str:
     """The words of a bitfield register's whole word (its unsigned bits) in its orders."""
-    bits = C_TYPES[reg.type].bits.removeprefix("uint").removesuffix("_t")
-    byte_order = WORD_ORDER_MACRO[reg.byte_order]
+    bits = C_TYPE[reg.type._value_].bits.removeprefix("uint").removesuffix("_t")
+    byte_order = WORD_ORDER_MACRO[reg.byte_order._value_]
     if reg.words == 1:
         return f"words[0] = regmap_u16_to_wire({value}, {byte_order});"
     return f"regmap_u{bits}_to_wire({value}, {_word_order(ctx, reg)}, {byte_order}, words);"
 
 
 def _bits_from_wire(ctx: Context, reg: Register) -> str:
-    bits = C_TYPES[reg.type].bits.removeprefix("uint").removesuffix("_t")
-    byte_order = WORD_ORDER_MACRO[reg.byte_order]
+    bits = C_TYPE[reg.type._value_].bits.removeprefix("uint").removesuffix("_t")
+    byte_order = WORD_ORDER_MACRO[reg.byte_order._value_]
     if reg.words == 1:
         return f"regmap_u16_from_wire(words[0], {byte_order})"
     return f"regmap_u{bits}_from_wire(words, {_word_order(ctx, reg)}, {byte_order})"
@@ -143,7 +143,7 @@ def _signed_bits(reg: Register, bits: str) -> str:
     if width == 16:
         return f"regmap_s16_from_word({bits})"
     half = c_hex(1 << (width - 1))
-    signed = C_TYPES[reg.type].value
+    signed = C_TYPE[reg.type._value_].value
     return f"({bits} < {half} ? ({signed}){bits} : ({signed})({bits} - {half}) - {c_raw((1 << (width - 1)) - 1, True)} - 1)"
 
 
@@ -238,7 +238,10 @@ def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
     available_body: tuple[str, ...] = ()
     if reg.has_na and readable:
         available = ctx.symbol(label, "is_available", what=f"the availability test of {label}")
-        available_body = (f"{C_TYPES[reg.type].value} raw = {_from_wire(ctx, reg)};", f"return {' && '.join(_na_conditions(reg, 'raw'))};")
+        available_body = (
+            f"{C_TYPE[reg.type._value_].value} raw = {_from_wire(ctx, reg)};",
+            f"return {' && '.join(_na_conditions(reg, 'raw'))};",
+        )
         call = f"{available}(words{', ' + ORDER_PARAM if order else ''})"
         decode = (f"if (!{call}) {{", "    return false; /* the device's 'not available' marker: no value */", "}", *decode)
     if reg.has_na and writable:
@@ -256,7 +259,7 @@ def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
         encode_body=encode,
         decode=ctx.symbol(label, "decode", what=f"the decoder of {label}") if readable else "",
         decode_body=decode,
-        guard=FLOAT_GUARD.get(reg.type, ""),
+        guard=FLOAT_GUARD.get(reg.type._value_, ""),
     )
 
 
@@ -280,7 +283,7 @@ def _scale_from_view(ctx: Context, reg: Register, label: str, order: str) -> Val
     convert = f"regmap_value_to_raw(value, 0.0, sf < 0 ? 1.0 : scale, sf < 0 ? scale : 1.0, {lo}, {hi}, &raw)"
     marks = _na_conditions(reg, "raw")
     fits = " && ".join([convert, *marks])
-    raw_type = C_TYPES[reg.type].value
+    raw_type = C_TYPE[reg.type._value_].value
     decode = (
         *power,
         f"{raw_type} raw = {_from_wire(ctx, reg)};",
@@ -319,7 +322,7 @@ def _scale_from_view(ctx: Context, reg: Register, label: str, order: str) -> Val
 def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     """(value type, is_in_range body, encode body, decode body) of a numeric register."""
     in_range = ctx.symbol_ref(label, "is_in_range")
-    raw_type = C_TYPES[reg.type].value
+    raw_type = C_TYPE[reg.type._value_].value
     if reg.bitfields:
         return _bitfield_bodies(ctx, reg, label, in_range)
     if reg.enum is not None:
@@ -359,7 +362,7 @@ def _enum_span(ctx: Context, e: EnumType) -> tuple[bool, int | None, int | None]
 def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     e = reg.enum
     assert e is not None
-    raw_type = C_TYPES[reg.type].value
+    raw_type = C_TYPE[reg.type._value_].value
     typed, lowest_writable, highest_writable = _enum_span(ctx, e)
     value_type = ctx.symbol_ref(e.name) if typed else raw_type
     writable, member = ctx.symbol_ref(e.name, "is_writable"), ctx.symbol_ref(e.name, "is_member")
@@ -415,7 +418,7 @@ def _bitfield_bodies(
 ) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     """A bitfield register's value is its whole word (built with the field setters); a write refuses a
     field whose enum does not have the value, or has it as a state the device only reports."""
-    bits_type = C_TYPES[reg.type].bits
+    bits_type = C_TYPE[reg.type._value_].bits
     if reg.signed:
         signed = _signed_bits(reg, "value")
         conditions = _range_conditions(reg, signed, reg.type.raw_min, reg.type.raw_max)
@@ -434,7 +437,7 @@ def _bitfield_bodies(
 
 
 def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
-    raw_type = C_TYPES[reg.type].value
+    raw_type = C_TYPE[reg.type._value_].value
     lo, hi = c_float_literal(float(reg.raw_min), reg.type), c_float_literal(float(reg.raw_max), reg.type)
     half = reg.type is DataType.F16
     held: tuple[str, ...]
@@ -443,7 +446,7 @@ def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tupl
         raw = f"(value - {offset}) * {den} / {num}"
         if half:  # rounded once from the double, as the Python client rounds it; the half it becomes is checked too
             held = ("float held = regmap_f16_from_bits(regmap_f16_to_bits_from_double(raw));",)
-            sent = f"words[0] = regmap_u16_to_wire(regmap_f16_to_bits_from_double({raw}), {WORD_ORDER_MACRO[reg.byte_order]});"
+            sent = f"words[0] = regmap_u16_to_wire(regmap_f16_to_bits_from_double({raw}), {WORD_ORDER_MACRO[reg.byte_order._value_]});"
         else:
             held, sent = (), _to_wire(ctx, reg, f"({raw_type})({raw})")
         return (

@@ -8,7 +8,7 @@ from fractions import Fraction
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
-    C_TYPES,
+    C_TYPE,
     FLOAT_GUARD,
     FUNCTION_MACROS,
     PADDING_MACRO,
@@ -206,7 +206,7 @@ def _register_facts(reg: Register, elements: Sequence[Register]) -> str:
     if reg.variants:
         facts.append(f"only on variant{'s' if len(reg.variants) > 1 else ''} {', '.join(reg.variants)}")
     if reg.poll is not PollClass.NORMAL:
-        facts.append(f"poll {reg.poll.value}")
+        facts.append(f"poll {reg.poll._value_}")
     return ", ".join(facts)
 
 
@@ -244,20 +244,20 @@ def _value_macros(
     stem = ctx.stem(owner)
     macros = [
         (ctx.owned(stem, owner, "BITS" if reg.space_info.bits else "WORDS"), c_unsigned(reg.words)),
-        (ctx.owned(stem, owner, "ACCESS"), ACCESS_MACRO[reg.access]),
+        (ctx.owned(stem, owner, "ACCESS"), ACCESS_MACRO[reg.access._value_]),
     ]
     if numeric:
         macros.append((ctx.owned(stem, owner, "SIGNED"), "1" if reg.signed else "0"))
     tables = []
     if reg.wide:
-        macros.append((ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order]))
+        macros.append((ctx.owned(stem, owner, "WORD_ORDER"), WORD_ORDER_MACRO[reg.word_order._value_]))
     member = len(elements) > 1  # an array member, whose elements may differ (a lone register is its own elements[0])
     for key, value in (("min", reg.min), ("max", reg.max), ("default", reg.default)):
         if member:
             values = [getattr(r, key) for r in elements]
             if len(set(values)) > 1:
                 if None not in values:
-                    c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
+                    c_type = "char *const" if reg.type.is_string else C_TYPE[reg.type._value_].value
                     count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
                     tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
                 continue
@@ -300,10 +300,10 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Define]:
     macros = [
         (ctx.const(owner, "SPACE"), SPACE_MACRO[space.name]),
         (ctx.const(owner, "READ_FUNCTION"), FUNCTION_MACROS[space.name]["read"]),
-        (ctx.const(owner, "TYPE"), TYPE_MACRO[reg.type]),
+        (ctx.const(owner, "TYPE"), TYPE_MACRO[reg.type._value_]),
     ]
     if reg.type.info.has_byte_order:
-        macros.append((ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order]))
+        macros.append((ctx.const(owner, "BYTE_ORDER"), WORD_ORDER_MACRO[reg.byte_order._value_]))
     if reg.type.numeric:
         offset, num, den = _ratio_literals(ctx, reg, reg.offset)
         macros += [
@@ -317,7 +317,7 @@ def _feature_macros(ctx: Context, reg: Register, owner: str) -> list[Define]:
             (ctx.const(owner, "PADDING"), PADDING_MACRO[reg.padding]),
             (ctx.const(owner, "TEXT_SIZE"), c_unsigned(2 * reg.words + 1)),
         ]
-    macros.append((ctx.const(owner, "POLL"), POLL_MACRO[reg.poll]))
+    macros.append((ctx.const(owner, "POLL"), POLL_MACRO[reg.poll._value_]))
     gate = reg.firmware
     if gate is not None:
         for key, version in (("FROM", gate.first), ("UNTIL", gate.until)):
@@ -346,13 +346,13 @@ def _codec_view(ctx: Context, reg: Register, owner: str, is_modern: bool) -> Cod
     """The value helpers of a modern register (a coil or discrete input needs none: its bit is its value)."""
     if not is_modern or reg.type.is_bool:
         return None
-    shared_from, shared_to = WIRE_FUNCTIONS[reg.type]
+    shared_from, shared_to = WIRE_FUNCTIONS[reg.type._value_]
     if reg.type.is_string:
         template, value_type = "codec_string.h.jinja", "char"
     elif reg.words == 1:
-        template, value_type = "codec_word.h.jinja", C_TYPES[reg.type].value
+        template, value_type = "codec_word.h.jinja", C_TYPE[reg.type._value_].value
     else:
-        template, value_type = "codec_words.h.jinja", C_TYPES[reg.type].value
+        template, value_type = "codec_words.h.jinja", C_TYPE[reg.type._value_].value
     return CodecView(
         template=template,
         value_type=value_type,
@@ -364,7 +364,7 @@ def _codec_view(ctx: Context, reg: Register, owner: str, is_modern: bool) -> Cod
         word_order=ctx.member_const(reg, "WORD_ORDER") if reg.wide else "",
         byte_order=ctx.member_const(reg, "BYTE_ORDER"),
         padding=ctx.member_const(reg, "PADDING") if reg.type.is_string else "",
-        guard=FLOAT_GUARD.get(reg.type, ""),
+        guard=FLOAT_GUARD.get(reg.type._value_, ""),
     )
 
 
@@ -383,7 +383,7 @@ def _gate_view(ctx: Context, reg: Register, owner: str) -> GateView | None:
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
     if not reg.bitfields:  # most registers
         return ()
-    word_type = C_TYPES[reg.type].bits
+    word_type = C_TYPE[reg.type._value_].bits
     word_bits = 16 * reg.words
     views = []
     for b in reg.bitfields:

@@ -28,7 +28,6 @@ from regmap_runtime.codec import raw_to_words
 RETRY_NOTE = (
     "Home Assistant's modbus hub retries a request without reply up to 3 times: if the reply is lost the command may be sent again."
 )
-_QUOTES = re.compile("['\u2018\u2019\"]")
 _NOT_SLUG = re.compile(r"[^a-z0-9]+")
 
 
@@ -40,7 +39,9 @@ def object_id(name: str) -> str:
         import unicodedata
 
         text = unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode().lower()
-    return _NOT_SLUG.sub("_", _QUOTES.sub("", text)).strip("_") or "unknown"
+    # The quotes (' " ‘ ’) are dropped before slugging: the text is ASCII by now, so only ' and " can be left (a pattern
+    # with the other two cost every cold run about 2.5M instructions to compile).
+    return _NOT_SLUG.sub("_", text.replace("'", "").replace('"', "")).strip("_") or "unknown"
 
 
 def jinja_text(text: str) -> str:

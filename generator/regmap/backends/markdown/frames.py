@@ -232,7 +232,7 @@ def _raw_shown(reg: Register, raw: int | float | str) -> str:
     if isinstance(raw, str):
         return f"“{md_text(raw)}”"
     if isinstance(raw, float):
-        return number_text(raw, reg.type.value)
+        return number_text(raw, reg.type._value_)
     return md.raw_literal(reg, raw)
 
 

@@ -164,7 +164,7 @@ def _overview(device: Device, used: Uses) -> tuple[Fact, ...]:
     reading = f"{len(read_plan(device))} requests (the fewest the limits allow)"
     if used.poll:
         classes = [p for p in PollClass if any(r.poll is p and r.access.readable for r in device.registers)]
-        reading += "; by poll class: " + ", ".join(f"{p.value} {len(read_plan(device, poll=p))}" for p in classes)
+        reading += "; by poll class: " + ", ".join(f"{p._value_} {len(read_plan(device, poll=p))}" for p in classes)
     facts.append(Fact("Reading everything", Md(reading)))
     facts.append(Fact("Source", md.escaped(md.sources(t.source))))
     return tuple(facts)

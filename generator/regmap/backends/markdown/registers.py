@@ -40,8 +40,9 @@ from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, Firmwar
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 
-ACCESS_SHORT = {Access.READ: "R", Access.READ_WRITE: "R/W", Access.WRITE: "W"}
-ACCESS_LONG = {Access.READ: "read only", Access.READ_WRITE: "read/write", Access.WRITE: "write only"}
+# By the access's value string (`reg.access._value_`): a str hashes in C, an enum member calls Enum.__hash__ (Python).
+ACCESS_SHORT = {"r": "R", "rw": "R/W", "w": "W"}
+ACCESS_LONG = {"r": "read only", "rw": "read/write", "w": "write only"}
 NEW_WIDE = (DataType.U64, DataType.S64, DataType.F16, DataType.F32, DataType.F64)  # their details state the word and byte order
 
 
@@ -127,7 +128,7 @@ def _extra_cells(uses: Uses, reg: Register) -> tuple[Md, ...]:
     if uses.gates:
         cells.append(Md(gate_text(reg.firmware) if reg.firmware is not None else md.DASH))
     if uses.poll:
-        cells.append(Md(reg.poll.value))
+        cells.append(Md(reg.poll._value_))
     return tuple(cells)
 
 
@@ -146,7 +147,7 @@ def _quick_row(ctx: Context, reg: Register, param: str, address: Md, name: Md) -
         name=name,
         title=reg.title,
         title_zh=reg.title_zh or md.DASH,
-        access=ACCESS_SHORT[reg.access],
+        access=ACCESS_SHORT[reg.access._value_],
         type=_type_text(reg),
         range=cells.range,
         default=cells.default,
@@ -174,7 +175,7 @@ def _enum_view(ctx: Context, e: EnumType) -> EnumView:
             title=m.title,
             title_zh=m.title_zh or "",
             description=m.description,
-            direction=ACCESS_LONG[m.access] if directed else "",
+            direction=ACCESS_LONG[m.access._value_] if directed else "",
         )
         for m in e.members
     )
@@ -230,7 +231,7 @@ def _register_facts(
     facts.append(("Type", md.escaped(type_fact(reg))))
     if reg.type.info.has_byte_order and (ctx.uses.byte_order or reg.type in NEW_WIDE):
         facts.append(("Word and byte order", Md(order_fact(reg))))
-    facts.append(("Access", Md(ACCESS_LONG[reg.access])))
+    facts.append(("Access", Md(ACCESS_LONG[reg.access._value_])))
     if ctx.device.is_trigger(reg):
         facts.append(("Trigger", Md("a write makes the device act: sent once, never retried")))
     if reg.min is not None or reg.max is not None:
@@ -262,7 +263,7 @@ def _register_facts(
     if reg.has_na:
         facts.append(("Not available", md.escaped(f"{na_list(reg)}: the device's marker for no value; read as none, never written")))
     if ctx.uses.poll:
-        facts.append(("Poll class", Md(POLL_MEANING[reg.poll])))
+        facts.append(("Poll class", Md(POLL_MEANING[reg.poll._value_])))
     facts.append(("Source", md.escaped(md.sources(reg.source))))
     if errata:
         facts.append(("Errata", md.errata_links(errata)))
@@ -323,7 +324,7 @@ def _array_view(ctx: Context, array: ArrayDef) -> ArrayView:
                 title=first.title,
                 title_zh=first.title_zh or md.DASH,
                 type=_type_text(first),
-                access=ACCESS_SHORT[first.access],
+                access=ACCESS_SHORT[first.access._value_],
                 range=cells.range,
                 default=cells.default,
                 unit=first.unit or md.DASH,
@@ -438,5 +439,5 @@ def _group_facts(ctx: Context, group: Group) -> Md:
         parts.append(gate_text(gate))
     poll = shared(regs, "poll")
     if isinstance(poll, PollClass) and poll is not PollClass.NORMAL:
-        parts.append(f"poll class {poll.value}")
+        parts.append(f"poll class {poll._value_}")
     return Md(f"Every register of this group: {', '.join(parts)}.") if parts else Md("")

@@ -25,7 +25,8 @@ DASH = "—"
 
 # ---------------------------------------------------------------------------------------------- text types
 
-_DOC_ID = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+# Compiled on first use (re's cache), not at import: the test in DocId answers nearly every name without it.
+_DOC_ID = r"^[A-Za-z][A-Za-z0-9_]*$"
 
 
 class DocId(str):
@@ -34,7 +35,7 @@ class DocId(str):
 
     def __new__(cls, name: str) -> DocId:
         # An ASCII identifier not starting with _ is what _DOC_ID matches, told without the regex (thousands a page).
-        if not (name.isascii() and name.isidentifier() and name[0] != "_") and not _DOC_ID.match(name):
+        if not (name.isascii() and name.isidentifier() and name[0] != "_") and not re.match(_DOC_ID, name):
             raise UsageError(f"{name!r} cannot name an anchor or a file in the docs; use letters, digits and _")
         return super().__new__(cls, name)
 

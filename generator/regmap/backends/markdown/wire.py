@@ -11,24 +11,25 @@ from __future__ import annotations
 
 from regmap.backends.markdown.text import reg_link
 from regmap.core.text import number, zone_text
-from regmap.model import ByteOrder, DataType, Device, FirmwareGate, PollClass, ReadAlignment, Register, WordOrder
+from regmap.model import ByteOrder, Device, FirmwareGate, PollClass, ReadAlignment, Register, WordOrder
 from regmap.records import dataclass
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 
+# Keyed by the type's value string, as POLL_MEANING by the poll class's: a str hashes in C, an enum member in Python.
 TYPE_LONG = {
-    DataType.U16: "unsigned 16-bit",
-    DataType.S16: "signed 16-bit",
-    DataType.U32: "unsigned 32-bit",
-    DataType.S32: "signed 32-bit",
-    DataType.U64: "unsigned 64-bit",
-    DataType.S64: "signed 64-bit",
-    DataType.F16: "16-bit IEEE 754 half-precision float",
-    DataType.F32: "32-bit IEEE 754 float",
-    DataType.F64: "64-bit IEEE 754 float",
-    DataType.STRING: "text",
-    DataType.BOOL: "one bit: on or off",
-    DataType.TIMESTAMP: "seconds since 1970, unsigned 32-bit",
+    "u16": "unsigned 16-bit",
+    "s16": "signed 16-bit",
+    "u32": "unsigned 32-bit",
+    "s32": "signed 32-bit",
+    "u64": "unsigned 64-bit",
+    "s64": "signed 64-bit",
+    "f16": "16-bit IEEE 754 half-precision float",
+    "f32": "32-bit IEEE 754 float",
+    "f64": "64-bit IEEE 754 float",
+    "string": "text",
+    "bool": "one bit: on or off",
+    "timestamp": "seconds since 1970, unsigned 32-bit",
 }
 
 SPACE_SHORT = {"holding": "holding", "input": "input", "coil": "coil", "discrete_input": "discrete input"}
@@ -36,10 +37,10 @@ SPACE_SHORT = {"holding": "holding", "input": "input", "coil": "coil", "discrete
 ENCODING_NAMES = {"ascii": "ASCII", "latin-1": "Latin-1", "utf-8": "UTF-8", "gbk": "GBK"}
 
 POLL_MEANING = {
-    PollClass.STATIC: "static: read once (nameplate, limits), not polled",
-    PollClass.FAST: "fast: polled at the fast rate",
-    PollClass.NORMAL: "normal: polled with everything else",
-    PollClass.SLOW: "slow: polled at the slow rate",
+    "static": "static: read once (nameplate, limits), not polled",
+    "fast": "fast: polled at the fast rate",
+    "normal": "normal: polled with everything else",
+    "slow": "slow: polled at the slow rate",
 }
 
 FIRMWARE_FORMATS = {
@@ -137,8 +138,8 @@ def type_fact(reg: Register) -> str:
             f"{padding}; a read stops at the first NUL)"
         )
     if reg.zone is not None:  # the clock the seconds count, read as a date and time
-        return f"{reg.type.value} ({zone_text(reg)}, unsigned 32-bit; read as a {'UTC' if reg.zone == 'utc' else 'local, zone-less'} date and time)"
-    return f"{reg.type._value_} ({TYPE_LONG[reg.type]})"  # _value_: the member's value, without Enum.value's Python descriptor
+        return f"{reg.type._value_} ({zone_text(reg)}, unsigned 32-bit; read as a {'UTC' if reg.zone == 'utc' else 'local, zone-less'} date and time)"
+    return f"{reg.type._value_} ({TYPE_LONG[reg.type._value_]})"  # _value_: the member's value, without Enum.value's Python descriptor
 
 
 def scale_fact(reg: Register, unit: str) -> str:
