@@ -3,7 +3,10 @@
 
 import keyword
 
-PYTHON_KEYWORDS = frozenset([*keyword.kwlist, *keyword.softkwlist])
+# The soft keywords of Python 3.11, the oldest regmap supports, not the running interpreter's: generated names must not
+# change with the Python that runs regmap (3.12 made `type` one; it is still a valid name, as `match` is).
+PYTHON_SOFT_KEYWORDS = frozenset(["_", "case", "match"])
+PYTHON_KEYWORDS = frozenset([*keyword.kwlist, *PYTHON_SOFT_KEYWORDS])
 
 C_KEYWORDS = frozenset(
     [

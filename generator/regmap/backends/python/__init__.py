@@ -5,7 +5,6 @@ The views below compute every identifier, literal and docstring line; the templa
 
 from __future__ import annotations
 
-import keyword
 from typing import TYPE_CHECKING, Any
 
 from regmap.backends.python.docs import method_docs, register_doc, sources
@@ -32,7 +31,7 @@ class PythonIdentifier(str):
     def __new__(cls, name: str) -> PythonIdentifier:
         if not name.isidentifier():
             raise UsageError(f"{name!r} is not a valid Python identifier")
-        if keyword.iskeyword(name) or keyword.issoftkeyword(name):
+        if name in PYTHON_KEYWORDS:  # soft keywords as of Python 3.11: the names do not change with the interpreter
             name = name + "_"
         return super().__new__(cls, name)
 
