@@ -20,7 +20,11 @@ def test_a_lazy_reading_locates_every_value_where_the_eager_one_does(map_path: P
     assert eager is not None
     assert data == eager[0]
     assert positions.complete is not None  # the three maps are read lazily: this test is about that reading
+    for path, mark in eager[1].keys.items():
+        assert positions.locate_key(path) == mark, path
+    assert positions.complete is None
     assert list(positions.keys.items()) == list(eager[1].keys.items())
+    _, positions = yamlsource.read_yaml(text)
     for path, mark in eager[1].by_path.items():
         assert positions.locate(path) == mark, path
     assert positions.complete is None
@@ -33,3 +37,5 @@ def test_a_deep_scalar_is_located_at_its_own_column_not_its_mapping() -> None:
     assert positions.locate(("groups", 0, "registers", 0, "address")) == (6, 18)
     assert positions.locate(("groups", 0, "registers", 0, "name")) == (5, 15)
     assert positions.locate(("groups", 0, "registers", 0, "nothing")) == (5, 9)
+    _, positions = yamlsource.read_yaml(text)
+    assert positions.locate_key(("groups", 0, "registers", 0, "address")) == (6, 9)

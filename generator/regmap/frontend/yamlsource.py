@@ -42,22 +42,30 @@ class Positions:
 
     by_path: dict[Path, tuple[int, int]] = field(default_factory=dict)
     keys: dict[Path, tuple[int, int]] = field(default_factory=dict)
-    # Where `by_path` lacks the deeper scalar values (the fast reader leaves them out: most are never asked), what
-    # reads the document again with every position; called, once, when a path `by_path` lacks is asked.
+    # Where `by_path` lacks the deeper scalar values and `keys` the deeper keys (the fast reader leaves them out: most
+    # are never asked), what reads the document again with every position; called, once, when a path they lack is asked.
     complete: Callable[[], Positions] | None = field(default=None, compare=False, repr=False)
 
     def locate(self, path: Path) -> tuple[int, int]:
         """Position of `path`, or of its closest ancestor that has one."""
         probe = tuple(path)
         if self.complete is not None and probe not in self.by_path:
-            self.by_path, self.complete = self.complete().by_path, None
+            self._complete()
         while probe not in self.by_path and probe:
             probe = probe[:-1]
         return self.by_path.get(probe, (1, 1))
 
     def locate_key(self, path: Path) -> tuple[int, int]:
         """Position of the key that names `path` (its last element), falling back to `locate`."""
-        return self.keys.get(tuple(path)) or self.locate(path)
+        probe = tuple(path)
+        if self.complete is not None and probe not in self.keys:
+            self._complete()
+        return self.keys.get(probe) or self.locate(path)
+
+    def _complete(self) -> None:
+        assert self.complete is not None
+        every = self.complete()
+        self.by_path, self.keys, self.complete = every.by_path, every.keys, None
 
 
 class YamlProblem(Exception):
@@ -257,7 +265,7 @@ class _EventReader:
 
     def __init__(self, parser: Any, every_value: bool) -> None:
         self.get = parser.get_event
-        # Scalar values below the top two levels are located only when a diagnostic asks (`Positions.complete`).
+        # Keys and scalar values below the top two levels are located only when a diagnostic asks (`Positions.complete`).
         self.every_value = every_value
         self.positions = Positions()
         self.by_path = self.positions.by_path
@@ -357,7 +365,7 @@ class _EventReader:
             key_mark = (line + 1, start.column + 1)
             if recording:
                 self.record(_KEY, key_path, key_mark)
-            else:
+            elif scalars_too:
                 keys.setdefault(key_path, key_mark)
             value = get()
             kind = type(value)
