@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Any, Protocol
 
+from regmap.frontend.copies import replaced
 from regmap.frontend.stages import Problems
 from regmap.frontend.values import DATA_TYPES, _bits, _source
 from regmap.frontend.yamlsource import Path, Positions
@@ -154,7 +154,7 @@ def elaborate_array(
             if first is not None and address + first.words - 1 <= 0xFFFF and not (first.paired and address == 0):
                 # The other elements of a clean member differ only in what names and places them (the register's
                 # checks read the name only to word their messages, the address only in the two tests above).
-                reg: Register | None = replace(
+                reg: Register | None = replaced(
                     first,
                     name=name,
                     address=address,

@@ -7,6 +7,7 @@ from dataclasses import replace
 from typing import Any
 
 from regmap.core.text import na_list
+from regmap.frontend.copies import replaced
 from regmap.frontend.stages import Elaborated, Problems
 from regmap.frontend.transport import elaborate_transport
 from regmap.frontend.values import _source
@@ -52,7 +53,7 @@ class _CrossReferences:
         self._check_scale_from()
         errata = self._errata(raw.get("errata", []), self._selector_index())
         final = {r.name: r for r in self.registers}
-        groups = tuple(replace(g, registers=tuple(final[r.name] for r in g.registers)) for g in self.elaborated.groups)
+        groups = tuple(replaced(g, registers=tuple(final[r.name] for r in g.registers)) for g in self.elaborated.groups)
         by_selector = self._selector_index()
         transport = elaborate_transport(self, raw["transport"], by_selector)
         commands = self._commands(raw.get("commands", []), by_selector)
@@ -495,4 +496,4 @@ class _CrossReferences:
 
 
 def _with_errata(reg: Register, errata: tuple[str, ...]) -> Register:
-    return replace(reg, errata=errata) if errata else reg
+    return replaced(reg, errata=errata) if errata else reg

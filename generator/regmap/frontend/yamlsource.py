@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import math
 import re
+from collections.abc import Callable
 from dataclasses import field
 from typing import Any
 
@@ -41,17 +42,30 @@ class Positions:
 
     by_path: dict[Path, tuple[int, int]] = field(default_factory=dict)
     keys: dict[Path, tuple[int, int]] = field(default_factory=dict)
+    # Where `by_path` lacks the deeper scalar values and `keys` the deeper keys (the fast reader leaves them out: most
+    # are never asked), what reads the document again with every position; called, once, when a path they lack is asked.
+    complete: Callable[[], Positions] | None = field(default=None, compare=False, repr=False)
 
     def locate(self, path: Path) -> tuple[int, int]:
         """Position of `path`, or of its closest ancestor that has one."""
         probe = tuple(path)
+        if self.complete is not None and probe not in self.by_path:
+            self._complete()
         while probe not in self.by_path and probe:
             probe = probe[:-1]
         return self.by_path.get(probe, (1, 1))
 
     def locate_key(self, path: Path) -> tuple[int, int]:
         """Position of the key that names `path` (its last element), falling back to `locate`."""
-        return self.keys.get(tuple(path)) or self.locate(path)
+        probe = tuple(path)
+        if self.complete is not None and probe not in self.keys:
+            self._complete()
+        return self.keys.get(probe) or self.locate(path)
+
+    def _complete(self) -> None:
+        assert self.complete is not None
+        every = self.complete()
+        self.by_path, self.keys, self.complete = every.by_path, every.keys, None
 
 
 class YamlProblem(Exception):
@@ -79,7 +93,7 @@ _FAST_PARSER: type[Any] | None = getattr(getattr(yaml, "cyaml", None), "CParser"
 
 def read_yaml(text: str) -> tuple[Any, Positions]:
     """Parse one YAML document into plain data plus the position of every value."""
-    fast = _read_fast(text)
+    fast = _read_fast(text, every_value=False)
     if fast is not None:
         return fast
     root = _compose_checked(text)
@@ -92,18 +106,28 @@ def read_yaml(text: str) -> tuple[Any, Positions]:
     return data, positions
 
 
-def _read_fast(text: str) -> tuple[Any, Positions] | None:
+def _read_fast(text: str, every_value: bool = True) -> tuple[Any, Positions] | None:
     if _FAST_PARSER is None:
         return None
     parser = _FAST_PARSER(text)
-    reader = _EventReader(parser)
+    reader = _EventReader(parser, every_value)
     try:
-        return reader.document()
+        data, positions = reader.document()
     except (_Unsure, YamlProblem, yaml.YAMLError, ValueError, RecursionError):
         return None
     finally:
         parser.dispose()
         reader.checks.close()
+    if not every_value:
+        positions.complete = lambda: _complete_positions(text)
+    return data, positions
+
+
+def _complete_positions(text: str) -> Positions:
+    """Every position of a document the fast reader took: it reads the same text the same way again."""
+    again = _read_fast(text)
+    assert again is not None  # the same text, read by the same reader
+    return again[1]
 
 
 def _compose_checked(text: str) -> yaml.Node:
@@ -239,8 +263,10 @@ _VALUE, _KEY, _KEY_LINE = 0, 1, 2
 class _EventReader:
     """Data and positions from libyaml's events, recording exactly what `_Builder` records for the same document."""
 
-    def __init__(self, parser: Any) -> None:
+    def __init__(self, parser: Any, every_value: bool) -> None:
         self.get = parser.get_event
+        # Keys and scalar values below the top two levels are located only when a diagnostic asks (`Positions.complete`).
+        self.every_value = every_value
         self.positions = Positions()
         self.by_path = self.positions.by_path
         self.checks = _Builder(self.positions)  # the scalar rules, shared with the checked reader
@@ -320,6 +346,7 @@ class _EventReader:
         get, keys, by_path, str_texts = self.get, self.positions.keys, self.by_path, self.str_texts
         scalar_event = yaml.ScalarEvent
         recording = bool(self.recording)  # an anchor's value below this mapping is recorded, and done with, in `value`
+        scalars_too = self.every_value or len(path) < 2
         while True:
             event = get()
             kind = type(event)
@@ -338,14 +365,15 @@ class _EventReader:
             key_mark = (line + 1, start.column + 1)
             if recording:
                 self.record(_KEY, key_path, key_mark)
-            else:
+            elif scalars_too:
                 keys.setdefault(key_path, key_mark)
             value = get()
             kind = type(value)
             if kind is scalar_event and value.anchor is None and not recording:
                 # the common case, what `value` does for it without the call: its position, then its value
-                start = value.start_mark
-                by_path.setdefault(key_path, (start.line + 1, start.column + 1))
+                if scalars_too:
+                    start = value.start_mark
+                    by_path.setdefault(key_path, (start.line + 1, start.column + 1))
                 text = value.value
                 if value.tag is None and (text in str_texts or not value.implicit[0] or self._plain_tag(text) == _STR_TAG):
                     result[key] = text  # `scalar`'s first answer: a quoted text, or a plain one that reads as a string
@@ -369,6 +397,7 @@ class _EventReader:
         get, by_path, str_texts = self.get, self.by_path, self.str_texts
         scalar_event = yaml.ScalarEvent
         recording = bool(self.recording)
+        scalars_too = self.every_value or len(path) < 2
         while True:
             event = get()
             kind = type(event)
@@ -377,8 +406,9 @@ class _EventReader:
             item_path = path + (len(result),)  # noqa: RUF005 (as in mapping)
             if kind is scalar_event and event.anchor is None and not recording:
                 # a plain item, as in mapping: its position, then its value
-                start = event.start_mark
-                by_path.setdefault(item_path, (start.line + 1, start.column + 1))
+                if scalars_too:
+                    start = event.start_mark
+                    by_path.setdefault(item_path, (start.line + 1, start.column + 1))
                 text = event.value
                 if event.tag is None and (text in str_texts or not event.implicit[0] or self._plain_tag(text) == _STR_TAG):
                     result.append(text)
