@@ -7,7 +7,14 @@ import enum
 from regmap_runtime.types import TYPES, TypeInfo
 
 
-class WordOrder(enum.Enum):
+class _Kind(enum.Enum):
+    """A kind whose members hash in C: Python 3.11's `Enum.__hash__` is Python code, and the back ends look tables up
+    by these members for every register. A member equals only itself, so its identity is a sound hash."""
+
+    __hash__ = object.__hash__
+
+
+class WordOrder(_Kind):
     """Which comes first on the wire: the high or the low word of a wide value (or byte of a word)."""
 
     HIGH_FIRST = "high_first"
@@ -18,7 +25,7 @@ ByteOrder = WordOrder
 """Bytes inside each word: the same two choices, kept apart in the model by field name."""
 
 
-class PollClass(enum.Enum):
+class PollClass(_Kind):
     """How often a poller reads a register: once (nameplate, limits), fast, normal (the default) or slow."""
 
     STATIC = "static"
@@ -32,7 +39,7 @@ class _AccessFacts:  # declared outside the enum's body, so mypy takes neither f
     writable: bool
 
 
-class Access(_AccessFacts, enum.Enum):
+class Access(_AccessFacts, _Kind):
     READ = "r"
     READ_WRITE = "rw"
     WRITE = "w"
@@ -59,7 +66,7 @@ class _TypeFacts:  # each read from the runtime's table once, when the module lo
     is_timestamp: bool
 
 
-class DataType(_TypeFacts, enum.Enum):
+class DataType(_TypeFacts, _Kind):
     """A map's `type`; every fact about it comes from the runtime's one table, `regmap_runtime.types.TYPES`."""
 
     U16 = "u16"

@@ -223,12 +223,9 @@ C_TYPES = {
     DataType.BOOL: CType("bool", "bool"),
     DataType.TIMESTAMP: CType("uint32_t", "uint32_t"),
 }
-# C_TYPES by the type's value string (`reg.type._value_`), as the back end looks it up: a str hashes in C, where a
-# lookup by the enum member calls Enum.__hash__ (Python code), several times a register. The tables below are keyed
-# by value strings too (type, access, order, poll class).
-C_TYPE = {t._value_: spelled for t, spelled in C_TYPES.items()}
+# The tables below are keyed by value strings (type, access, order, poll class), as the views spell them.
 # The 16/32-bit integers of the first maps: their registers need no helper beyond the word conversions.
-# A tuple: `in` compares by identity, where a set would call the enum's __hash__ (Python code) for every register.
+# A tuple: `in` compares by identity.
 PLAIN_TYPES = (DataType.U16, DataType.S16, DataType.U32, DataType.S32)
 # Shared helpers that move a register's value to and from its words on the wire (word and byte order applied).
 WIRE_FUNCTIONS: dict[str, tuple[str, str]] = {

@@ -11,7 +11,7 @@ from collections.abc import Iterable, Sequence
 from fractions import Fraction
 
 from regmap.backends.c.names import (
-    C_TYPE,
+    C_TYPES,
     FLOAT_GUARD,
     WIRE_FUNCTIONS,
     WORD_ORDER_MACRO,
@@ -112,7 +112,7 @@ def _from_wire(ctx: Context, reg: Register) -> str:
 
 def _bits_to_wire(ctx: Context, reg: Register, value: str) -> str:
     """The words of a bitfield register's whole word (its unsigned bits) in its orders."""
-    bits = C_TYPE[reg.type._value_].bits.removeprefix("uint").removesuffix("_t")
+    bits = C_TYPES[reg.type].bits.removeprefix("uint").removesuffix("_t")
     byte_order = WORD_ORDER_MACRO[reg.byte_order._value_]
     if reg.words == 1:
         return f"words[0] = regmap_u16_to_wire({value}, {byte_order});"
@@ -120,7 +120,7 @@ def _bits_to_wire(ctx: Context, reg: Register, value: str) -> str:
 
 
 def _bits_from_wire(ctx: Context, reg: Register) -> str:
-    bits = C_TYPE[reg.type._value_].bits.removeprefix("uint").removesuffix("_t")
+    bits = C_TYPES[reg.type].bits.removeprefix("uint").removesuffix("_t")
     byte_order = WORD_ORDER_MACRO[reg.byte_order._value_]
     if reg.words == 1:
         return f"regmap_u16_from_wire(words[0], {byte_order})"
@@ -143,7 +143,7 @@ def _signed_bits(reg: Register, bits: str) -> str:
     if width == 16:
         return f"regmap_s16_from_word({bits})"
     half = c_hex(1 << (width - 1))
-    signed = C_TYPE[reg.type._value_].value
+    signed = C_TYPES[reg.type].value
     return f"({bits} < {half} ? ({signed}){bits} : ({signed})({bits} - {half}) - {c_raw((1 << (width - 1)) - 1, True)} - 1)"
 
 
@@ -239,7 +239,7 @@ def value_view(ctx: Context, reg: Register, label: str) -> ValueView | None:
     if reg.has_na and readable:
         available = ctx.symbol(label, "is_available", what=f"the availability test of {label}")
         available_body = (
-            f"{C_TYPE[reg.type._value_].value} raw = {_from_wire(ctx, reg)};",
+            f"{C_TYPES[reg.type].value} raw = {_from_wire(ctx, reg)};",
             f"return {' && '.join(_na_conditions(reg, 'raw'))};",
         )
         call = f"{available}(words{', ' + ORDER_PARAM if order else ''})"
@@ -283,7 +283,7 @@ def _scale_from_view(ctx: Context, reg: Register, label: str, order: str) -> Val
     convert = f"regmap_value_to_raw(value, 0.0, sf < 0 ? 1.0 : scale, sf < 0 ? scale : 1.0, {lo}, {hi}, &raw)"
     marks = _na_conditions(reg, "raw")
     fits = " && ".join([convert, *marks])
-    raw_type = C_TYPE[reg.type._value_].value
+    raw_type = C_TYPES[reg.type].value
     decode = (
         *power,
         f"{raw_type} raw = {_from_wire(ctx, reg)};",
@@ -322,7 +322,7 @@ def _scale_from_view(ctx: Context, reg: Register, label: str, order: str) -> Val
 def _bodies(ctx: Context, reg: Register, label: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     """(value type, is_in_range body, encode body, decode body) of a numeric register."""
     in_range = ctx.symbol_ref(label, "is_in_range")
-    raw_type = C_TYPE[reg.type._value_].value
+    raw_type = C_TYPES[reg.type].value
     if reg.bitfields:
         return _bitfield_bodies(ctx, reg, label, in_range)
     if reg.enum is not None:
@@ -362,7 +362,7 @@ def _enum_span(ctx: Context, e: EnumType) -> tuple[bool, int | None, int | None]
 def _enum_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     e = reg.enum
     assert e is not None
-    raw_type = C_TYPE[reg.type._value_].value
+    raw_type = C_TYPES[reg.type].value
     typed, lowest_writable, highest_writable = _enum_span(ctx, e)
     value_type = ctx.symbol_ref(e.name) if typed else raw_type
     writable, member = ctx.symbol_ref(e.name, "is_writable"), ctx.symbol_ref(e.name, "is_member")
@@ -418,7 +418,7 @@ def _bitfield_bodies(
 ) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     """A bitfield register's value is its whole word (built with the field setters); a write refuses a
     field whose enum does not have the value, or has it as a state the device only reports."""
-    bits_type = C_TYPE[reg.type._value_].bits
+    bits_type = C_TYPES[reg.type].bits
     if reg.signed:
         signed = _signed_bits(reg, "value")
         conditions = _range_conditions(reg, signed, reg.type.raw_min, reg.type.raw_max)
@@ -437,7 +437,7 @@ def _bitfield_bodies(
 
 
 def _float_bodies(ctx: Context, reg: Register, in_range: str) -> tuple[str, tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
-    raw_type = C_TYPE[reg.type._value_].value
+    raw_type = C_TYPES[reg.type].value
     lo, hi = c_float_literal(float(reg.raw_min), reg.type), c_float_literal(float(reg.raw_max), reg.type)
     half = reg.type is DataType.F16
     held: tuple[str, ...]

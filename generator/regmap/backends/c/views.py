@@ -8,7 +8,7 @@ from fractions import Fraction
 
 from regmap.backends.c.names import (
     ACCESS_MACRO,
-    C_TYPE,
+    C_TYPES,
     FLOAT_GUARD,
     FUNCTION_MACROS,
     PADDING_MACRO,
@@ -257,7 +257,7 @@ def _value_macros(
             values = [getattr(r, key) for r in elements]
             if len(set(values)) > 1:
                 if None not in values:
-                    c_type = "char *const" if reg.type.is_string else C_TYPE[reg.type._value_].value
+                    c_type = "char *const" if reg.type.is_string else C_TYPES[reg.type].value
                     count = CIdentifier(ctx.prefix, ctx.arrays[reg.array.array].name, "COUNT") if reg.array else c_unsigned(len(values))
                     tables.append(ElementTable(c_type, ctx.symbol(owner, key), tuple(_literal(reg, v) for v in values), count))
                 continue
@@ -350,9 +350,9 @@ def _codec_view(ctx: Context, reg: Register, owner: str, is_modern: bool) -> Cod
     if reg.type.is_string:
         template, value_type = "codec_string.h.jinja", "char"
     elif reg.words == 1:
-        template, value_type = "codec_word.h.jinja", C_TYPE[reg.type._value_].value
+        template, value_type = "codec_word.h.jinja", C_TYPES[reg.type].value
     else:
-        template, value_type = "codec_words.h.jinja", C_TYPE[reg.type._value_].value
+        template, value_type = "codec_words.h.jinja", C_TYPES[reg.type].value
     return CodecView(
         template=template,
         value_type=value_type,
@@ -383,7 +383,7 @@ def _gate_view(ctx: Context, reg: Register, owner: str) -> GateView | None:
 def _bitfield_views(ctx: Context, reg: Register, owner: str) -> tuple[BitfieldView, ...]:
     if not reg.bitfields:  # most registers
         return ()
-    word_type = C_TYPE[reg.type._value_].bits
+    word_type = C_TYPES[reg.type].bits
     word_bits = 16 * reg.words
     views = []
     for b in reg.bitfields:

@@ -40,7 +40,7 @@ from regmap.model import Access, ArrayDef, Bitfield, DataType, EnumType, Firmwar
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES
 
-# By the access's value string (`reg.access._value_`): a str hashes in C, an enum member calls Enum.__hash__ (Python).
+# By the access's value string (`reg.access._value_`), as the map writes it.
 ACCESS_SHORT = {"r": "R", "rw": "R/W", "w": "W"}
 ACCESS_LONG = {"r": "read only", "rw": "read/write", "w": "write only"}
 NEW_WIDE = (DataType.U64, DataType.S64, DataType.F16, DataType.F32, DataType.F64)  # their details state the word and byte order

@@ -16,7 +16,7 @@ from regmap.records import dataclass
 from regmap.render import hex2
 from regmap_runtime.spaces import DEFAULT_SPACE, SPACES, Space
 
-# Keyed by the type's value string, as POLL_MEANING by the poll class's: a str hashes in C, an enum member in Python.
+# Keyed by the type's value string, as POLL_MEANING by the poll class's: as the map writes them.
 TYPE_LONG = {
     "u16": "unsigned 16-bit",
     "s16": "signed 16-bit",

@@ -34,9 +34,6 @@ NATURAL = {
     DataType.BOOL: "BOOL",
     DataType.TIMESTAMP: "UDINT",
 }
-# The same by the type's `_value_` ("u16" ...): an enum key is hashed by a Python-level `Enum.__hash__` (3.11), and the
-# views ask for every register's raw type several times.
-NATURAL_BY_VALUE = {kind._value_: natural for kind, natural in NATURAL.items()}
 
 # Bit string of the same width: the word a register's words are assembled into.
 BITS = {1: "WORD", 2: "DWORD", 4: "LWORD"}
@@ -125,7 +122,7 @@ PLCOPEN = Dialect("plcopen", "PLCopen XML (TwinCAT 3 / CODESYS)", (), CODESYS_NO
 def st_type(reg: Register, notation: Notation) -> str:
     if reg.type.is_string:
         return notation.string(2 * reg.words)
-    return NATURAL_BY_VALUE[reg.type._value_]
+    return NATURAL[reg.type]
 
 
 def swapped(reg: Register) -> bool:
@@ -137,7 +134,7 @@ def value_type(reg: Register) -> str:
     """The decoded value's ST type of a number: scaled (or offset) ones become REAL, 64-bit ones LREAL."""
     if reg.type.numeric and (reg.scaled or reg.offset_set):
         return "LREAL" if reg.type.words == 4 else "REAL"
-    return NATURAL_BY_VALUE[reg.type._value_]
+    return NATURAL[reg.type]
 
 
 def wire_word(reg: Register, index: int, words: str) -> str:

@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
-    NATURAL_BY_VALUE,
+    NATURAL,
     Helpers,
     Notation,
     put_halves64,
@@ -63,7 +63,7 @@ def _refuse_na(reg: Register, name: str, raw: str) -> list[str]:
 
 
 def _put_words(device: Device, reg: Register, output: str) -> list[str]:
-    natural = NATURAL_BY_VALUE[reg.type._value_]
+    natural = NATURAL[reg.type]
     if reg.words == 1:
         word = f"{natural}_TO_WORD(LINT_TO_{natural}(nRaw))"
         if swapped(reg):
@@ -201,7 +201,7 @@ def _bit_encoder(names: Names, reg: Register, label: str) -> FunctionView:
 def _float_encoder(names: Names, notation: Notation, helpers: Helpers, reg: Register, label: str) -> FunctionView:
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
     output, out_type = _output(reg)
-    natural = NATURAL_BY_VALUE[reg.type._value_]
+    natural = NATURAL[reg.type]
     local = [Member("rRaw", "LREAL")]
     body: list[str] = []
     if reg.enum is not None:  # a setting coded as a float: the member's value, as a float
@@ -313,7 +313,7 @@ def _text_encoder(names: Names, notation: Notation, helpers: Helpers, reg: Regis
 def _encoder(names: Names, notation: Notation, reg: Register, label: str) -> FunctionView:
     device = names.device
     name = names.function("ENCODE", label, what=f"the encoder of {label}", pos=reg.pos)
-    natural = NATURAL_BY_VALUE[reg.type._value_]
+    natural = NATURAL[reg.type]
     raw_type = "ULINT" if reg.type.value == "u64" else "LINT"
     inputs: list[Member] = []
     local = [Member("nRaw", raw_type)]

@@ -8,7 +8,7 @@ import weakref
 
 from regmap.backends.st import scaling
 from regmap.backends.st.codec import (
-    NATURAL_BY_VALUE,
+    NATURAL,
     Dialect,
     Helpers,
     Notation,
@@ -74,7 +74,7 @@ def _raw_member_type(reg: Register) -> str:
     if reg.words > 1 or reg.type.is_string:  # text is read by index, one word long or not
         return f"ARRAY[0..{reg.words - 1}] OF WORD"
     # a half: its bits; a scaled point: its word, for F_<DEV>_SCALED_<R>
-    return "WORD" if reg.bitfields or swapped(reg) or reg.type is DataType.F16 or reg.scale_from else NATURAL_BY_VALUE[reg.type._value_]
+    return "WORD" if reg.bitfields or swapped(reg) or reg.type is DataType.F16 or reg.scale_from else NATURAL[reg.type]
 
 
 def _combine(device: Device, reg: Register, words: str) -> list[str]:
@@ -122,7 +122,7 @@ class Values:
             return [f"{target} := (stRaw.BITS[{bit[0]}] AND {st_hex(bit[1], 2)}) <> 0;"]
         if reg.type.is_string:
             return self._text(reg, member, raw, target, comment, locals_)
-        natural = NATURAL_BY_VALUE[reg.type._value_]
+        natural = NATURAL[reg.type]
         lines: list[str] = []
         if reg.words == 2:
             lines += _combine(names.device, reg, raw)

@@ -15,7 +15,7 @@ as the Python client's (64-bit raws beyond 2^53 are rounded to an LREAL first: w
 
 from __future__ import annotations
 
-from regmap.backends.st.codec import NATURAL_BY_VALUE, assemble64, swapped
+from regmap.backends.st.codec import NATURAL, assemble64, swapped
 from regmap.backends.st.names import StIdentifier, st_int, st_real
 from regmap.backends.st.view_types import FunctionView, Member
 from regmap.backends.st.views import Names, configurable
@@ -61,7 +61,7 @@ def _word_names(reg: Register) -> list[str]:
 
 def _raw_from_words(names: Names, reg: Register) -> tuple[list[str], list[Member]]:
     """Statements that set `nRaw` from the register's words, and the locals they need."""
-    natural = NATURAL_BY_VALUE[reg.type._value_]
+    natural = NATURAL[reg.type]
     if reg.words == 1:
         word = "ROL(nWord, 8)" if swapped(reg) else "nWord"
         return [f"nRaw := WORD_TO_{natural}({word});"], []
@@ -105,7 +105,7 @@ def scaled_function(names: Names, reg: Register) -> FunctionView:
 
     sf = names.device.register(reg.scale_from or "")
     name = names.function("SCALED", reg.name, what=f"the scaled value of {reg.name}", pos=reg.pos)
-    natural = NATURAL_BY_VALUE[reg.type._value_]
+    natural = NATURAL[reg.type]
     combine, wide_locals = _raw_from_words(names, reg)
     body = list(combine)
     marks = _na_conditions(reg, "nRaw")

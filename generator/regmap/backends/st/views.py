@@ -28,7 +28,7 @@ from regmap.diagnostics import Diagnostic
 from regmap.model import Access, Bitfield, Device, EnumType, PollClass, Register, WordOrder
 from regmap.runtime_bridge import runtime_device
 
-# By the access's `_value_`: an enum key is hashed by a Python-level `Enum.__hash__` (3.11), asked once per register.
+# By the access's value string (`_value_`), as the map writes it.
 ACCESS_MEMBER = {access._value_: member for access, member in ((Access.READ, "R"), (Access.WRITE, "W"), (Access.READ_WRITE, "RW"))}
 
 
